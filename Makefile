@@ -1,0 +1,85 @@
+# plume — top-level build. `make` builds libplume.{a,so} and the apps; `make test` runs the suite;
+# `make asan` runs it under AddressSanitizer + UBSan; `make bench`, `make demo`, `make install`.
+PREFIX ?= /usr/local
+CC ?= cc
+CXX ?= c++
+OPT ?= -O2 -g
+BUILD ?= build
+DEPS_PKGS := ipopt nlopt hdf5 gsl jansson
+
+PKG_CFLAGS := $(shell pkg-config --cflags $(DEPS_PKGS) 2>/dev/null)
+PKG_LIBS := $(shell pkg-config --libs $(DEPS_PKGS) 2>/dev/null)
+CPPFLAGS += -I/usr/include/suitesparse $(PKG_CFLAGS)
+CFLAGS += -std=c11 -Wall -Wextra -Wpedantic -fPIC $(OPT) -D_POSIX_C_SOURCE=200809L
+CXXFLAGS += -std=c++17 -Wall -Wextra -fPIC $(OPT) -DCGAL_DISABLE_GMP=0
+LDLIBS += -lcholmod -lsuitesparseconfig $(PKG_LIBS) -lgmp -lmpfr -lstdc++ -lm
+
+LIB_C := $(wildcard lib/*.c) $(wildcard micro/*.c) $(wildcard macro/*.c)
+LIB_CXX := $(wildcard lib/*.cpp)
+LIB_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(LIB_C)) $(patsubst %.cpp,$(BUILD)/%.o,$(LIB_CXX))
+APP_SRC := $(wildcard apps/*.c)
+APPS := $(patsubst %.c,%,$(APP_SRC))
+TEST_SRC := $(wildcard tests/*.c)
+TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
+HEADERS := $(wildcard lib/*.h) $(wildcard micro/*.h) $(wildcard macro/*.h)
+
+.PHONY: all deps test asan bench demo install clean
+all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)
+
+deps:
+	@bash scripts/install-deps.sh
+
+$(BUILD)/%.o: %.c $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/%.o: %.cpp $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c $< -o $@
+
+$(BUILD)/libplume.a: $(LIB_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(BUILD)/libplume.so: $(LIB_OBJ)
+	$(CXX) -shared -o $@ $^ $(LDFLAGS) $(LDLIBS)
+
+apps/%: apps/%.c $(BUILD)/libplume.a $(HEADERS)
+	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(BUILD)/libplume.a $(LDFLAGS) $(LDLIBS)
+
+$(BUILD)/run_tests: $(TEST_OBJ) $(BUILD)/libplume.a
+	$(CC) $(CFLAGS) $(TEST_OBJ) -o $@ $(BUILD)/libplume.a $(LDFLAGS) $(LDLIBS)
+
+$(BUILD)/tests/run_tests.o: tests/test_list.h
+
+# The README's test command. TESTS=substring runs a subset.
+test: deps
+	@$(MAKE) --no-print-directory all $(BUILD)/run_tests
+	cd tests && ../$(BUILD)/run_tests $(TESTS)
+
+asan: deps
+	@$(MAKE) --no-print-directory BUILD=build-asan OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer" \
+	    LDFLAGS="-fsanitize=address,undefined" build-asan/run_tests
+	cd tests && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ../build-asan/run_tests $(TESTS)
+
+bench: deps all
+	@$(MAKE) --no-print-directory $(BUILD)/bench_traction
+	./$(BUILD)/bench_traction
+
+$(BUILD)/bench_traction: bench/bench_traction.c $(BUILD)/libplume.a
+	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(BUILD)/libplume.a $(LDFLAGS) $(LDLIBS)
+
+# The README's main command: the tilted traction test on the shipped parameters, both solvers.
+demo: deps all
+	bash scripts/demo.sh
+
+install: all
+	install -d $(DESTDIR)$(PREFIX)/lib $(DESTDIR)$(PREFIX)/include/plume $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin
+	install -m 644 $(BUILD)/libplume.a $(BUILD)/libplume.so $(DESTDIR)$(PREFIX)/lib/
+	for h in $(HEADERS); do install -d $(DESTDIR)$(PREFIX)/include/plume/$$(dirname $$h); \
+	    install -m 644 $$h $(DESTDIR)$(PREFIX)/include/plume/$$h; done
+	install -m 755 $(APPS) $(DESTDIR)$(PREFIX)/bin/
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBS@|$(LDLIBS)|' plume.pc.in > $(DESTDIR)$(PREFIX)/lib/pkgconfig/plume.pc
+
+clean:
+	rm -rf build build-asan $(APPS)

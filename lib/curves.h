@@ -1,0 +1,58 @@
+/* plume: result curves and moduli in HDF5 (layout of DESIGN.md), written atomically. */
+#ifndef PLUME_CURVES_H
+#define PLUME_CURVES_H
+
+#include "status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The homogenised / macroscale orthotropic moduli (Pa, 3D moduli). */
+typedef struct {
+    double E_xx, E_yy, nu_xy, G_xy;
+} plume_ortho;
+
+/* A named scalar parameter stored as an HDF5 attribute. */
+typedef struct {
+    const char *name;
+    double value;
+} plume_param;
+
+/* A named string parameter stored as an HDF5 attribute. */
+typedef struct {
+    const char *name;
+    const char *value;
+} plume_sparam;
+
+/* One curve of a quasi-static run: n points. Arrays owned by whoever fills the struct; a curve
+ * read by plume_curve_read owns them (free with plume_curve_free). */
+typedef struct {
+    plume_index n;
+    double *strain;      /* nominal strain */
+    double *stress;      /* nominal stress, Pa */
+    double *wbar;        /* average relative width change (supplementary eq. 7) */
+    double *iterations;  /* solver iterations of each step */
+    double *seconds;     /* wall time of each step */
+} plume_curve;
+
+/* Writes `curve` as /curves/<scale>/<scenario>/{strain,stress,wbar,iterations,seconds} with the
+ * parameters as attributes of the group. If `path` exists its other content is kept (a group of
+ * the same name is replaced). Written to a temporary file and renamed over `path`. */
+plume_status plume_curve_write(const char *path, const char *scale, const char *scenario,
+                               const plume_curve *curve, const plume_param *params, int nparams,
+                               const plume_sparam *sparams, int nsparams, plume_err *err);
+plume_status plume_curve_read(const char *path, const char *scale, const char *scenario,
+                              plume_curve *curve, plume_err *err);
+void plume_curve_free(plume_curve *curve);
+
+/* /moduli with attributes E_xx, E_yy, nu_xy, G_xy and a string attribute "provenance". */
+plume_status plume_moduli_write(const char *path, const plume_ortho *m, const char *provenance,
+                                plume_err *err);
+/* Reads /moduli; validates that the moduli are finite and positive (nu finite). */
+plume_status plume_moduli_read(const char *path, plume_ortho *m, plume_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

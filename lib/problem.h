@@ -1,0 +1,87 @@
+/* plume: a minimisation problem  min_u f(u)  s.t.  g(u) = 0  built from energy terms and
+ * constraint sets over the vertices of a mesh. Prescribed (Dirichlet) coordinates are eliminated
+ * from the unknowns u: u holds only the free coordinates, in increasing dof order. */
+#ifndef PLUME_PROBLEM_H
+#define PLUME_PROBLEM_H
+
+#include "status.h"
+#include "term.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct plume_problem plume_problem;
+
+/* Upper triangle of a symmetric n x n matrix in compressed sparse columns (row indices sorted). */
+typedef struct {
+    plume_index n, nnz;
+    const plume_index *colptr; /* [n+1] */
+    const plume_index *rowind; /* [nnz] */
+} plume_sparsity;
+
+/* A problem over nv vertices with dim coordinates each (dof = dim*vertex + axis).
+ * length_scale: a typical size of the body (m), used by solvers for step-size tolerances. */
+plume_status plume_problem_create(plume_index nv, int dim, double length_scale, plume_problem **out);
+void plume_problem_destroy(plume_problem **p);
+
+/* Adds a term / constraint set. The problem takes ownership of its ctx (freed with `destroy`)
+ * on success and on failure. Only before plume_problem_finalize. */
+plume_status plume_problem_add_term(plume_problem *p, const plume_term *t);
+plume_status plume_problem_add_constraint(plume_problem *p, const plume_constraint *c);
+
+/* Marks a coordinate as prescribed (its value is whatever plume_problem_x holds). Before finalize. */
+plume_status plume_problem_fix_dof(plume_problem *p, plume_index dof);
+
+/* Builds the free-dof map, the Hessian sparsity (terms and constraints) and the Jacobian
+ * sparsity; drops constraints whose stencil is entirely prescribed. Allocates every workspace
+ * the evaluations need, so nothing is allocated afterwards. */
+plume_status plume_problem_finalize(plume_problem *p, plume_err *err);
+
+int plume_problem_dim(const plume_problem *p);
+plume_index plume_problem_nvert(const plume_problem *p);
+plume_index plume_problem_nfree(const plume_problem *p);
+plume_index plume_problem_ncons(const plume_problem *p); /* kept constraints, after finalize */
+double plume_problem_length_scale(const plume_problem *p);
+int plume_problem_is_fixed(const plume_problem *p, plume_index dof);
+
+/* Full coordinate vector (dim*nv): set prescribed values and the initial guess here. */
+double *plume_problem_x(plume_problem *p);
+/* u <- free part of x;  x <- u on the free part. */
+void plume_problem_gather(const plume_problem *p, double *u);
+void plume_problem_scatter(plume_problem *p, const double *u);
+
+/* f(u) and, if grad != NULL, its gradient (nfree). Sets x's free part to u (u may be NULL: use x). */
+plume_status plume_problem_objective(plume_problem *p, const double *u, double *f, double *grad);
+
+/* Sparsity of the Hessian of the Lagrangian on the free dofs (upper triangle, fixed). */
+plume_sparsity plume_problem_hessian_pattern(const plume_problem *p);
+
+/* values[nnz] <- obj_factor * Hess f(u) + sum_c lambda_c Hess g_c(u) on the fixed pattern;
+ * lambda may be NULL (no constraint part). project != 0 projects every element block to PSD
+ * (constraint blocks included), giving a PSD matrix for projected Newton. */
+plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj_factor,
+                                   const double *lambda, int project, double *values);
+
+/* g[ncons] <- g(u); *max_rel (may be NULL) <- max_c |g_c| / scale_c. */
+plume_status plume_problem_constraints(plume_problem *p, const double *u, double *g, double *max_rel);
+
+/* Jacobian of g on the free dofs as triplets in a fixed order: nnz, row and column arrays
+ * (owned by the problem, valid until destroy). */
+void plume_problem_jacobian_pattern(const plume_problem *p, plume_index *nnz,
+                                    const plume_index **rows, const plume_index **cols);
+plume_status plume_problem_jacobian(plume_problem *p, const double *u, double *values);
+
+/* Generalised forces at the current x on every dof (dim*nv): grad W + J^T lambda, including the
+ * prescribed dofs, where they are the reactions the supports exert (negated). lambda may be NULL. */
+plume_status plume_problem_forces(plume_problem *p, const double *lambda, double *force);
+
+/* Relative stationarity of the Lagrangian f + lambda.g at u:
+ * ||grad f + J^T lambda||_inf / max(||grad f||_inf, ||J^T lambda||_inf) (0 when both vanish). */
+plume_status plume_problem_kkt_residual(plume_problem *p, const double *u, const double *lambda,
+                                        double *rel_residual);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

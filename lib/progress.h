@@ -1,0 +1,28 @@
+/* plume: a one-line progress indicator on stderr for long runs. */
+#ifndef PLUME_PROGRESS_H
+#define PLUME_PROGRESS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct {
+    const char *label;
+    int total;
+    int enabled;        /* 0: silent (e.g. --quiet, or stderr not a terminal and not forced) */
+    double t_start;
+} plume_progress;
+
+/* Starts a progress line; enabled when stderr is a terminal or `force` is non-zero. */
+void plume_progress_start(plume_progress *p, const char *label, int total, int force);
+/* Rewrites the line: "label  step k/total  [info]  elapsed s, eta s". */
+void plume_progress_update(plume_progress *p, int k, const char *info);
+void plume_progress_finish(plume_progress *p);
+
+/* Monotonic wall clock in seconds. */
+double plume_wall_seconds(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,81 @@
+/* plume: nonlinear solvers with one report struct. Backends: native projected Newton / SQP with
+ * CHOLMOD ("newton"), Ipopt ("ipopt"), a single linearised step ("linearized"). */
+#ifndef PLUME_SOLVER_H
+#define PLUME_SOLVER_H
+
+#include "problem.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    PLUME_SOLVER_NEWTON = 0,
+    PLUME_SOLVER_IPOPT = 1,
+    PLUME_SOLVER_LINEARIZED = 2
+} plume_solver_kind;
+
+/* Why a solve stopped. Only CONVERGED means the tolerances below were met. */
+typedef enum {
+    PLUME_REASON_CONVERGED = 0,
+    PLUME_REASON_ITERATION_CAP,   /* max_iter reached */
+    PLUME_REASON_LINE_SEARCH,     /* no step decreased the merit function */
+    PLUME_REASON_INFEASIBLE,      /* constraints could not be satisfied */
+    PLUME_REASON_NUMERICAL,       /* non-finite values or a factorisation that kept failing */
+    PLUME_REASON_SINGLE_STEP      /* `linearized`: one step taken, convergence not sought */
+} plume_reason;
+
+const char *plume_reason_name(plume_reason r);
+/* Parses "newton" | "ipopt" | "linearized"; PLUME_EINVAL otherwise. */
+plume_status plume_solver_kind_parse(const char *s, plume_solver_kind *out);
+const char *plume_solver_kind_name(plume_solver_kind k);
+
+typedef struct {
+    plume_reason reason;
+    int converged;        /* reason == CONVERGED */
+    int iterations;       /* Newton / SQP / Ipopt iterations */
+    int factorizations;   /* numeric factorisations (native solvers) */
+    double energy;        /* f at the returned point */
+    double kkt_residual;  /* plume_problem_kkt_residual at the returned point */
+    double max_violation; /* max relative constraint violation at the returned point */
+    double seconds;       /* wall time of the solve */
+} plume_solve_report;
+
+typedef struct {
+    int max_iter;          /* default 100 */
+    double tol_kkt;        /* relative KKT residual (see plume_problem_kkt_residual); default 1e-9 */
+    double tol_violation;  /* max relative constraint violation; default 1e-10 */
+    double tol_step;       /* also converged when max|du| <= tol_step * length_scale and the
+                              violation is met; default 1e-13 */
+    int verbose;           /* print one line per iteration on stderr */
+} plume_solver_opts;
+
+void plume_solver_opts_default(plume_solver_opts *o);
+
+typedef struct plume_solver plume_solver;
+
+/* Creates a solver for a finalised problem (kept by reference, not owned). Symbolic analysis
+ * of the sparse systems happens here, once. */
+plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p,
+                                 const plume_solver_opts *o, plume_solver **out);
+void plume_solver_destroy(plume_solver **s);
+
+/* Solves from u (nfree, in: start, out: result) and lambda (ncons, in: guess, out: multipliers
+ * of the Lagrangian f + lambda.g). The problem's x holds the result on return. Returns an error
+ * status only for errors (bad input, memory, dependency); convergence is in rep->reason. */
+plume_status plume_solver_solve(plume_solver *s, double *u, double *lambda, plume_solve_report *rep);
+
+/* Time spent and count of numeric factorisations / symbolic analyses so far (benchmarks). */
+void plume_solver_stats(const plume_solver *s, int *analyses, int *factorizations,
+                        double *factor_seconds);
+
+/* Backend entry points used by plume_solver_*; exposed for tests and benchmarks. */
+typedef struct plume_ipopt plume_ipopt;
+plume_status plume_ipopt_create(plume_problem *p, const plume_solver_opts *o, plume_ipopt **out);
+void plume_ipopt_destroy(plume_ipopt **s);
+plume_status plume_ipopt_solve(plume_ipopt *s, double *u, double *lambda, plume_solve_report *rep);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,50 @@
+/* plume: the energy-term and constraint interfaces every model plugs into a problem. */
+#ifndef PLUME_TERM_H
+#define PLUME_TERM_H
+
+#include "status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* An energy term is a sum over stencils; each stencil couples `arity` vertices. With d = dim and
+ * k = arity*d, the term adds its energy to *energy and its gradient to grad (full vector of
+ * dim*nv entries, vertex-major) and, when hblocks is non-NULL, writes one dense k x k row-major
+ * Hessian block per stencil at hblocks + s*k*k (overwritten, not added). When `project` is
+ * non-zero each block is projected to the nearest positive semidefinite matrix.
+ * Any of energy/grad/hblocks may be NULL. `ctx` belongs to the term; `destroy` frees it. */
+typedef struct {
+    const char *name;
+    int arity;
+    plume_index nstencil;
+    const plume_index *stencil; /* [nstencil*arity], owned by ctx */
+    plume_status (*eval)(void *ctx, int dim, const double *x, double *energy, double *grad,
+                         double *hblocks, int project);
+    void (*destroy)(void *ctx);
+    void *ctx;
+} plume_term;
+
+/* A set of m equality constraints g_c(x) = 0; constraint c couples the `arity` vertices of
+ * stencil c. eval writes g (m values) and, if jac is non-NULL, the dense gradient of each
+ * constraint with respect to its stencil's k = arity*dim coordinates at jac + c*k.
+ * hess writes, per constraint, the k x k block of lambda_c * Hessian(g_c) at hblocks + c*k*k;
+ * with project != 0 a block is projected to PSD. `scale` (m values, owned by ctx) gives the
+ * natural size of each g_c, so |g_c| / scale_c is the relative violation reported by solvers. */
+typedef struct {
+    const char *name;
+    int arity;
+    plume_index m;
+    const plume_index *stencil; /* [m*arity], owned by ctx */
+    const double *scale;        /* [m], owned by ctx */
+    plume_status (*eval)(void *ctx, int dim, const double *x, double *g, double *jac);
+    plume_status (*hess)(void *ctx, int dim, const double *x, const double *lambda,
+                         double *hblocks, int project);
+    void (*destroy)(void *ctx);
+    void *ctx;
+} plume_constraint;
+
+#ifdef __cplusplus
+}
+#endif
+#endif

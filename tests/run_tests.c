@@ -1,0 +1,48 @@
+/* The one test runner: runs every test in tests/test_list.h (or those whose name contains argv[1])
+ * and ends with "N passed, N failed". Exit status is non-zero when anything failed. */
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include "harness.h"
+
+int plume_test_failures;
+
+#define PLUME_TEST(name) void name(void);
+#include "test_list.h"
+#undef PLUME_TEST
+
+typedef struct {
+    const char *name;
+    void (*fn)(void);
+} test_case;
+
+static const test_case all_tests[] = {
+#define PLUME_TEST(name) {#name, name},
+#include "test_list.h"
+#undef PLUME_TEST
+};
+
+int main(int argc, char **argv)
+{
+    const char *filter = argc > 1 ? argv[1] : NULL;
+    int passed = 0, failed = 0;
+    for (size_t i = 0; i < sizeof all_tests / sizeof all_tests[0]; i++) {
+        if (filter && !strstr(all_tests[i].name, filter))
+            continue;
+        plume_test_failures = 0;
+        clock_t t0 = clock();
+        fprintf(stderr, "[ RUN  ] %s\n", all_tests[i].name);
+        all_tests[i].fn();
+        double s = (double)(clock() - t0) / CLOCKS_PER_SEC;
+        if (plume_test_failures == 0) {
+            passed++;
+            fprintf(stderr, "[  OK  ] %s (%.2f s)\n", all_tests[i].name, s);
+        } else {
+            failed++;
+            fprintf(stderr, "[ FAIL ] %s (%d checks)\n", all_tests[i].name, plume_test_failures);
+        }
+    }
+    printf("%d passed, %d failed\n", passed, failed);
+    return failed ? 1 : 0;
+}
