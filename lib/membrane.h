@@ -1,0 +1,44 @@
+/* plume: the membrane element of DESIGN.md — orthotropic St Venant–Kirchhoff in the barb frame
+ * plus the cubic compression term (supplementary eq. 6), planar (dim 2) and shell (dim 3) modes,
+ * exact gradient and Hessian. */
+#ifndef PLUME_MEMBRANE_H
+#define PLUME_MEMBRANE_H
+
+#include "mesh.h"
+#include "term.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One membrane material: 3D moduli (Pa) in the barb frame (x along the barbs), thickness h (m)
+ * and the compression coefficient kappa (Pa; 0 disables the term). */
+typedef struct {
+    double E_xx, E_yy, nu_xy, G_xy;
+    double h;
+    double kappa;
+} plume_membrane_material;
+
+/* Checks a material: moduli finite and > 0, h > 0, kappa >= 0, and the plane-stress tensor
+ * positive definite (nu_xy^2 < E_xx/E_yy). PLUME_EINVAL naming the parameter otherwise. */
+plume_status plume_membrane_material_check(const plume_membrane_material *mat, plume_err *err);
+
+/* The plane-stress stiffness C (3x3 row-major, Voigt order E11, E22, 2E12) of a material. */
+void plume_membrane_stiffness(const plume_membrane_material *mat, double C[9]);
+
+/* Energy density per reference area (J/m^2) of a uniform deformation gradient F (dim x 2,
+ * row-major) for barb direction d (unit, material space): h [1/2 e.C e + psi_c(J)]. */
+double plume_membrane_density(const plume_membrane_material *mat, int dim, const double *F,
+                              const double d[2]);
+
+/* Creates a term over every triangle of `mesh` whose material id is in [0, nmat): triangle t uses
+ * mats[mesh->material[t]] and mesh->barb_dir[t]. Reference geometry is precomputed (copied), so the
+ * mesh may be freed afterwards. The term's stencils are the triangles (arity 3). */
+plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
+                                        const plume_membrane_material *mats, int nmat,
+                                        plume_term *out, plume_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
