@@ -1,0 +1,605 @@
+#include "problem.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A term or constraint set with its scatter maps into the free-dof structures. */
+typedef struct {
+    plume_term t;
+    plume_index *hmap; /* [nstencil*k*k] position in the Hessian values or -1 */
+    double *blocks;    /* [nstencil*k*k] workspace */
+} term_slot;
+
+typedef struct {
+    plume_constraint c;
+    plume_index *row;  /* [m] global constraint row or -1 (dropped: all of its dofs prescribed) */
+    plume_index *hmap; /* [m*k*k] */
+    plume_index *jmap; /* [m*k] position in the Jacobian triplets or -1 */
+    double *g, *jac, *lam, *blocks; /* workspaces [m], [m*k], [m], [m*k*k] */
+} cons_slot;
+
+struct plume_problem {
+    plume_index nv, ndof, nfree, ncons;
+    int dim;
+    double length_scale;
+    int finalized;
+    double *x;
+    unsigned char *fixed;
+    plume_index *free_of_dof; /* [ndof] free index or -1 */
+    plume_index *dof_of_free; /* [nfree] */
+    term_slot *terms;
+    int nterms;
+    cons_slot *cons;
+    int ncsets;
+    plume_index *colptr, *rowind, nnz; /* Hessian upper triangle, CSC */
+    plume_index jnnz, *jrow, *jcol;    /* Jacobian triplets */
+    double *gradfull;                  /* [ndof] workspace */
+    double *jtwork;                    /* [ndof] workspace for J^T lambda */
+    double *scale;                     /* [ncons] */
+};
+
+plume_status plume_problem_create(plume_index nv, int dim, double length_scale, plume_problem **out)
+{
+    if (!out)
+        return PLUME_EINVAL;
+    *out = NULL;
+    if (nv <= 0 || (dim != 2 && dim != 3) || !(length_scale > 0.0) || !isfinite(length_scale))
+        return PLUME_EINVAL;
+    plume_problem *p = calloc(1, sizeof *p);
+    if (!p)
+        return PLUME_ENOMEM;
+    p->nv = nv;
+    p->dim = dim;
+    p->ndof = nv * dim;
+    p->length_scale = length_scale;
+    p->x = calloc((size_t)p->ndof, sizeof *p->x);
+    p->fixed = calloc((size_t)p->ndof, 1);
+    p->gradfull = calloc((size_t)p->ndof, sizeof *p->gradfull);
+    p->jtwork = calloc((size_t)p->ndof, sizeof *p->jtwork);
+    if (!p->x || !p->fixed || !p->gradfull || !p->jtwork) {
+        plume_problem_destroy(&p);
+        return PLUME_ENOMEM;
+    }
+    *out = p;
+    return PLUME_OK;
+}
+
+void plume_problem_destroy(plume_problem **pp)
+{
+    if (!pp || !*pp)
+        return;
+    plume_problem *p = *pp;
+    for (int i = 0; i < p->nterms; i++) {
+        if (p->terms[i].t.destroy)
+            p->terms[i].t.destroy(p->terms[i].t.ctx);
+        free(p->terms[i].hmap);
+        free(p->terms[i].blocks);
+    }
+    for (int i = 0; i < p->ncsets; i++) {
+        cons_slot *c = p->cons + i;
+        if (c->c.destroy)
+            c->c.destroy(c->c.ctx);
+        free(c->row);
+        free(c->hmap);
+        free(c->jmap);
+        free(c->g);
+        free(c->jac);
+        free(c->lam);
+        free(c->blocks);
+    }
+    free(p->terms);
+    free(p->cons);
+    free(p->x);
+    free(p->fixed);
+    free(p->free_of_dof);
+    free(p->dof_of_free);
+    free(p->colptr);
+    free(p->rowind);
+    free(p->jrow);
+    free(p->jcol);
+    free(p->gradfull);
+    free(p->jtwork);
+    free(p->scale);
+    free(p);
+    *pp = NULL;
+}
+
+plume_status plume_problem_add_term(plume_problem *p, const plume_term *t)
+{
+    if (!p || !t)
+        return PLUME_EINVAL;
+    if (p->finalized || !t->eval || t->arity <= 0 || t->nstencil < 0 || (t->nstencil && !t->stencil)) {
+        if (t->destroy)
+            t->destroy(t->ctx);
+        return PLUME_EINVAL;
+    }
+    term_slot *ts = realloc(p->terms, (size_t)(p->nterms + 1) * sizeof *ts);
+    if (!ts) {
+        if (t->destroy)
+            t->destroy(t->ctx);
+        return PLUME_ENOMEM;
+    }
+    p->terms = ts;
+    memset(ts + p->nterms, 0, sizeof *ts);
+    ts[p->nterms++].t = *t;
+    return PLUME_OK;
+}
+
+plume_status plume_problem_add_constraint(plume_problem *p, const plume_constraint *c)
+{
+    if (!p || !c)
+        return PLUME_EINVAL;
+    if (p->finalized || !c->eval || !c->hess || c->arity <= 0 || c->m < 0 || (c->m && (!c->stencil || !c->scale))) {
+        if (c->destroy)
+            c->destroy(c->ctx);
+        return PLUME_EINVAL;
+    }
+    cons_slot *cs = realloc(p->cons, (size_t)(p->ncsets + 1) * sizeof *cs);
+    if (!cs) {
+        if (c->destroy)
+            c->destroy(c->ctx);
+        return PLUME_ENOMEM;
+    }
+    p->cons = cs;
+    memset(cs + p->ncsets, 0, sizeof *cs);
+    cs[p->ncsets++].c = *c;
+    return PLUME_OK;
+}
+
+plume_status plume_problem_fix_dof(plume_problem *p, plume_index dof)
+{
+    if (!p || p->finalized || dof < 0 || dof >= p->ndof)
+        return PLUME_EINVAL;
+    p->fixed[dof] = 1;
+    return PLUME_OK;
+}
+
+/* (row, col) pair of the upper triangle, sorted column-major */
+typedef struct {
+    plume_index r, c;
+} pair;
+
+static int pair_cmp(const void *a, const void *b)
+{
+    const pair *x = a, *y = b;
+    if (x->c != y->c)
+        return x->c < y->c ? -1 : 1;
+    return x->r < y->r ? -1 : (x->r > y->r);
+}
+
+static plume_index find_entry(const plume_problem *p, plume_index r, plume_index c)
+{
+    plume_index lo = p->colptr[c], hi = p->colptr[c + 1] - 1;
+    while (lo <= hi) {
+        plume_index mid = lo + (hi - lo) / 2;
+        if (p->rowind[mid] == r)
+            return mid;
+        if (p->rowind[mid] < r)
+            lo = mid + 1;
+        else
+            hi = mid - 1;
+    }
+    return -1;
+}
+
+/* Adds the upper-triangle free pairs of one stencil to `pairs` (if non-NULL); returns their count. */
+static plume_index stencil_pairs(const plume_problem *p, const plume_index *st, int arity, pair *pairs)
+{
+    plume_index n = 0;
+    int d = p->dim;
+    for (int a = 0; a < arity * d; a++) {
+        plume_index fa = p->free_of_dof[st[a / d] * d + a % d];
+        if (fa < 0)
+            continue;
+        for (int b = 0; b < arity * d; b++) {
+            plume_index fb = p->free_of_dof[st[b / d] * d + b % d];
+            if (fb < 0 || fa > fb)
+                continue;
+            if (pairs) {
+                pairs[n].r = fa;
+                pairs[n].c = fb;
+            }
+            n++;
+        }
+    }
+    return n;
+}
+
+static void stencil_hmap(const plume_problem *p, const plume_index *st, int arity, plume_index *map)
+{
+    int d = p->dim, k = arity * d;
+    for (int a = 0; a < k; a++) {
+        plume_index fa = p->free_of_dof[st[a / d] * d + a % d];
+        for (int b = 0; b < k; b++) {
+            plume_index fb = p->free_of_dof[st[b / d] * d + b % d];
+            map[a * k + b] = (fa < 0 || fb < 0 || fa > fb) ? -1 : find_entry(p, fa, fb);
+        }
+    }
+}
+
+static int stencil_ok(const plume_problem *p, const plume_index *st, plume_index n)
+{
+    for (plume_index i = 0; i < n; i++)
+        if (st[i] < 0 || st[i] >= p->nv)
+            return 0;
+    return 1;
+}
+
+plume_status plume_problem_finalize(plume_problem *p, plume_err *err)
+{
+    if (!p || p->finalized)
+        return PLUME_EINVAL;
+    plume_status st = PLUME_OK;
+    pair *pairs = NULL;
+    int d = p->dim;
+    p->free_of_dof = malloc((size_t)p->ndof * sizeof *p->free_of_dof);
+    if (!p->free_of_dof)
+        return PLUME_ENOMEM;
+    p->nfree = 0;
+    for (plume_index i = 0; i < p->ndof; i++)
+        p->free_of_dof[i] = p->fixed[i] ? -1 : p->nfree++;
+    if (p->nfree == 0)
+        return plume_err_set(err, PLUME_EINVAL, "problem has no free coordinate");
+    p->dof_of_free = malloc((size_t)p->nfree * sizeof *p->dof_of_free);
+    if (!p->dof_of_free)
+        return PLUME_ENOMEM;
+    for (plume_index i = 0; i < p->ndof; i++)
+        if (p->free_of_dof[i] >= 0)
+            p->dof_of_free[p->free_of_dof[i]] = i;
+
+    /* constraint rows: drop those whose stencil is entirely prescribed */
+    p->ncons = 0;
+    for (int s = 0; s < p->ncsets; s++) {
+        cons_slot *c = p->cons + s;
+        int k = c->c.arity * d;
+        if (!stencil_ok(p, c->c.stencil, c->c.m * c->c.arity)) {
+            st = plume_err_set(err, PLUME_EINVAL, "constraint set '%s': vertex id out of range", c->c.name);
+            goto cleanup;
+        }
+        c->row = malloc((size_t)(c->c.m + 1) * sizeof *c->row);
+        c->g = calloc((size_t)(c->c.m + 1), sizeof *c->g);
+        c->lam = calloc((size_t)(c->c.m + 1), sizeof *c->lam);
+        c->jac = calloc((size_t)(c->c.m * k + 1), sizeof *c->jac);
+        c->blocks = calloc((size_t)(c->c.m * k * k + 1), sizeof *c->blocks);
+        c->hmap = malloc((size_t)(c->c.m * k * k + 1) * sizeof *c->hmap);
+        c->jmap = malloc((size_t)(c->c.m * k + 1) * sizeof *c->jmap);
+        if (!c->row || !c->g || !c->lam || !c->jac || !c->blocks || !c->hmap || !c->jmap) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+        for (plume_index i = 0; i < c->c.m; i++) {
+            int any_free = 0;
+            for (int a = 0; a < k; a++)
+                any_free |= p->free_of_dof[c->c.stencil[i * c->c.arity + a / d] * d + a % d] >= 0;
+            c->row[i] = any_free ? p->ncons++ : -1;
+        }
+    }
+    p->scale = malloc((size_t)(p->ncons + 1) * sizeof *p->scale);
+    if (!p->scale) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+
+    /* Hessian pattern from every term and constraint stencil */
+    plume_index npairs = 0;
+    for (int t = 0; t < p->nterms; t++) {
+        term_slot *ts = p->terms + t;
+        if (!stencil_ok(p, ts->t.stencil, ts->t.nstencil * ts->t.arity)) {
+            st = plume_err_set(err, PLUME_EINVAL, "term '%s': vertex id out of range", ts->t.name);
+            goto cleanup;
+        }
+        for (plume_index s = 0; s < ts->t.nstencil; s++)
+            npairs += stencil_pairs(p, ts->t.stencil + s * ts->t.arity, ts->t.arity, NULL);
+    }
+    for (int s = 0; s < p->ncsets; s++)
+        for (plume_index i = 0; i < p->cons[s].c.m; i++)
+            npairs += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, NULL);
+    npairs += p->nfree; /* the diagonal is always present (regularisation, KKT) */
+    pairs = malloc((size_t)npairs * sizeof *pairs);
+    if (!pairs) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    plume_index n = 0;
+    for (int t = 0; t < p->nterms; t++)
+        for (plume_index s = 0; s < p->terms[t].t.nstencil; s++)
+            n += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity, pairs + n);
+    for (int s = 0; s < p->ncsets; s++)
+        for (plume_index i = 0; i < p->cons[s].c.m; i++)
+            n += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, pairs + n);
+    for (plume_index i = 0; i < p->nfree; i++, n++)
+        pairs[n].r = pairs[n].c = i;
+    qsort(pairs, (size_t)n, sizeof *pairs, pair_cmp);
+    plume_index u = 0;
+    for (plume_index i = 0; i < n; i++)
+        if (u == 0 || pairs[i].r != pairs[u - 1].r || pairs[i].c != pairs[u - 1].c)
+            pairs[u++] = pairs[i];
+    p->nnz = u;
+    p->colptr = calloc((size_t)p->nfree + 1, sizeof *p->colptr);
+    p->rowind = malloc((size_t)u * sizeof *p->rowind);
+    if (!p->colptr || !p->rowind) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    for (plume_index i = 0; i < u; i++) {
+        p->rowind[i] = pairs[i].r;
+        p->colptr[pairs[i].c + 1]++;
+    }
+    for (plume_index c = 0; c < p->nfree; c++)
+        p->colptr[c + 1] += p->colptr[c];
+
+    for (int t = 0; t < p->nterms; t++) {
+        term_slot *ts = p->terms + t;
+        size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
+        ts->hmap = malloc(((size_t)ts->t.nstencil * kk + 1) * sizeof *ts->hmap);
+        ts->blocks = malloc(((size_t)ts->t.nstencil * kk + 1) * sizeof *ts->blocks);
+        if (!ts->hmap || !ts->blocks) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+        for (plume_index s = 0; s < ts->t.nstencil; s++)
+            stencil_hmap(p, ts->t.stencil + s * ts->t.arity, ts->t.arity, ts->hmap + s * kk);
+    }
+    /* Jacobian triplets */
+    p->jnnz = 0;
+    for (int s = 0; s < p->ncsets; s++) {
+        cons_slot *c = p->cons + s;
+        int k = c->c.arity * d;
+        for (plume_index i = 0; i < c->c.m; i++) {
+            stencil_hmap(p, c->c.stencil + i * c->c.arity, c->c.arity, c->hmap + i * k * k);
+            for (int a = 0; a < k; a++)
+                p->jnnz += c->row[i] >= 0 && p->free_of_dof[c->c.stencil[i * c->c.arity + a / d] * d + a % d] >= 0;
+        }
+    }
+    p->jrow = malloc((size_t)(p->jnnz + 1) * sizeof *p->jrow);
+    p->jcol = malloc((size_t)(p->jnnz + 1) * sizeof *p->jcol);
+    if (!p->jrow || !p->jcol) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    plume_index j = 0;
+    for (int s = 0; s < p->ncsets; s++) {
+        cons_slot *c = p->cons + s;
+        int k = c->c.arity * d;
+        for (plume_index i = 0; i < c->c.m; i++)
+            for (int a = 0; a < k; a++) {
+                plume_index f = p->free_of_dof[c->c.stencil[i * c->c.arity + a / d] * d + a % d];
+                if (c->row[i] >= 0 && f >= 0) {
+                    p->jrow[j] = c->row[i];
+                    p->jcol[j] = f;
+                    c->jmap[i * k + a] = j++;
+                } else {
+                    c->jmap[i * k + a] = -1;
+                }
+            }
+        for (plume_index i = 0; i < c->c.m; i++)
+            if (c->row[i] >= 0)
+                p->scale[c->row[i]] = c->c.scale[i] > 0 ? c->c.scale[i] : 1.0;
+    }
+    p->finalized = 1;
+cleanup:
+    free(pairs);
+    return st;
+}
+
+int plume_problem_dim(const plume_problem *p) { return p->dim; }
+plume_index plume_problem_nvert(const plume_problem *p) { return p->nv; }
+plume_index plume_problem_nfree(const plume_problem *p) { return p->nfree; }
+plume_index plume_problem_ncons(const plume_problem *p) { return p->ncons; }
+double plume_problem_length_scale(const plume_problem *p) { return p->length_scale; }
+int plume_problem_is_fixed(const plume_problem *p, plume_index dof) { return p->fixed[dof]; }
+double *plume_problem_x(plume_problem *p) { return p->x; }
+
+void plume_problem_gather(const plume_problem *p, double *u)
+{
+    for (plume_index i = 0; i < p->nfree; i++)
+        u[i] = p->x[p->dof_of_free[i]];
+}
+
+void plume_problem_scatter(plume_problem *p, const double *u)
+{
+    if (!u)
+        return;
+    for (plume_index i = 0; i < p->nfree; i++)
+        p->x[p->dof_of_free[i]] = u[i];
+}
+
+/* grad f over all dofs into p->gradfull; *f total energy */
+static plume_status full_gradient(plume_problem *p, double *f)
+{
+    memset(p->gradfull, 0, (size_t)p->ndof * sizeof *p->gradfull);
+    *f = 0.0;
+    for (int t = 0; t < p->nterms; t++) {
+        plume_status st = p->terms[t].t.eval(p->terms[t].t.ctx, p->dim, p->x, f, p->gradfull, NULL, 0);
+        if (st != PLUME_OK)
+            return st;
+    }
+    return PLUME_OK;
+}
+
+plume_status plume_problem_objective(plume_problem *p, const double *u, double *f, double *grad)
+{
+    if (!p || !p->finalized || !f)
+        return PLUME_EINVAL;
+    plume_problem_scatter(p, u);
+    if (!grad) {
+        *f = 0.0;
+        for (int t = 0; t < p->nterms; t++) {
+            plume_status st = p->terms[t].t.eval(p->terms[t].t.ctx, p->dim, p->x, f, NULL, NULL, 0);
+            if (st != PLUME_OK)
+                return st;
+        }
+        return PLUME_OK;
+    }
+    plume_status st = full_gradient(p, f);
+    if (st != PLUME_OK)
+        return st;
+    for (plume_index i = 0; i < p->nfree; i++)
+        grad[i] = p->gradfull[p->dof_of_free[i]];
+    return PLUME_OK;
+}
+
+plume_sparsity plume_problem_hessian_pattern(const plume_problem *p)
+{
+    plume_sparsity s = {p->nfree, p->nnz, p->colptr, p->rowind};
+    return s;
+}
+
+static void scatter_blocks(double *values, const plume_index *map, const double *blocks, size_t n, double w)
+{
+    for (size_t i = 0; i < n; i++)
+        if (map[i] >= 0)
+            values[map[i]] += w * blocks[i];
+}
+
+plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj_factor,
+                                   const double *lambda, int project, double *values)
+{
+    if (!p || !p->finalized || !values)
+        return PLUME_EINVAL;
+    plume_problem_scatter(p, u);
+    memset(values, 0, (size_t)p->nnz * sizeof *values);
+    int d = p->dim;
+    for (int t = 0; t < p->nterms; t++) {
+        term_slot *ts = p->terms + t;
+        plume_status st = ts->t.eval(ts->t.ctx, d, p->x, NULL, NULL, ts->blocks, project);
+        if (st != PLUME_OK)
+            return st;
+        size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
+        scatter_blocks(values, ts->hmap, ts->blocks, (size_t)ts->t.nstencil * kk, obj_factor);
+    }
+    if (!lambda)
+        return PLUME_OK;
+    for (int s = 0; s < p->ncsets; s++) {
+        cons_slot *c = p->cons + s;
+        for (plume_index i = 0; i < c->c.m; i++)
+            c->lam[i] = c->row[i] >= 0 ? lambda[c->row[i]] : 0.0;
+        plume_status st = c->c.hess(c->c.ctx, d, p->x, c->lam, c->blocks, project);
+        if (st != PLUME_OK)
+            return st;
+        size_t kk = (size_t)(c->c.arity * d) * (size_t)(c->c.arity * d);
+        scatter_blocks(values, c->hmap, c->blocks, (size_t)c->c.m * kk, 1.0);
+    }
+    return PLUME_OK;
+}
+
+plume_status plume_problem_constraints(plume_problem *p, const double *u, double *g, double *max_rel)
+{
+    if (!p || !p->finalized)
+        return PLUME_EINVAL;
+    plume_problem_scatter(p, u);
+    double mx = 0.0;
+    for (int s = 0; s < p->ncsets; s++) {
+        cons_slot *c = p->cons + s;
+        plume_status st = c->c.eval(c->c.ctx, p->dim, p->x, c->g, NULL);
+        if (st != PLUME_OK)
+            return st;
+        for (plume_index i = 0; i < c->c.m; i++) {
+            if (c->row[i] < 0)
+                continue;
+            if (g)
+                g[c->row[i]] = c->g[i];
+            double r = fabs(c->g[i]) / p->scale[c->row[i]];
+            if (!(r <= mx))
+                mx = r; /* NaN propagates */
+        }
+    }
+    if (max_rel)
+        *max_rel = mx;
+    return PLUME_OK;
+}
+
+void plume_problem_jacobian_pattern(const plume_problem *p, plume_index *nnz,
+                                    const plume_index **rows, const plume_index **cols)
+{
+    *nnz = p->jnnz;
+    *rows = p->jrow;
+    *cols = p->jcol;
+}
+
+plume_status plume_problem_jacobian(plume_problem *p, const double *u, double *values)
+{
+    if (!p || !p->finalized || (!values && p->jnnz))
+        return PLUME_EINVAL;
+    plume_problem_scatter(p, u);
+    for (int s = 0; s < p->ncsets; s++) {
+        cons_slot *c = p->cons + s;
+        plume_status st = c->c.eval(c->c.ctx, p->dim, p->x, c->g, c->jac);
+        if (st != PLUME_OK)
+            return st;
+        plume_index n = c->c.m * c->c.arity * p->dim;
+        for (plume_index i = 0; i < n; i++)
+            if (c->jmap[i] >= 0)
+                values[c->jmap[i]] = c->jac[i];
+    }
+    return PLUME_OK;
+}
+
+/* force[dof] += sum_c lambda_c dg_c/dx_dof over all dofs (prescribed included) */
+static plume_status add_jt_lambda(plume_problem *p, const double *lambda, double *force)
+{
+    int d = p->dim;
+    for (int s = 0; s < p->ncsets; s++) {
+        cons_slot *c = p->cons + s;
+        int k = c->c.arity * d;
+        plume_status st = c->c.eval(c->c.ctx, d, p->x, c->g, c->jac);
+        if (st != PLUME_OK)
+            return st;
+        for (plume_index i = 0; i < c->c.m; i++) {
+            if (c->row[i] < 0)
+                continue;
+            double l = lambda[c->row[i]];
+            for (int a = 0; a < k; a++)
+                force[c->c.stencil[i * c->c.arity + a / d] * d + a % d] += l * c->jac[i * k + a];
+        }
+    }
+    return PLUME_OK;
+}
+
+plume_status plume_problem_forces(plume_problem *p, const double *lambda, double *force)
+{
+    if (!p || !p->finalized || !force)
+        return PLUME_EINVAL;
+    double f;
+    plume_status st = full_gradient(p, &f);
+    if (st != PLUME_OK)
+        return st;
+    memcpy(force, p->gradfull, (size_t)p->ndof * sizeof *force);
+    return lambda ? add_jt_lambda(p, lambda, force) : PLUME_OK;
+}
+
+plume_status plume_problem_kkt_residual(plume_problem *p, const double *u, const double *lambda,
+                                        double *rel_residual)
+{
+    if (!p || !p->finalized || !rel_residual)
+        return PLUME_EINVAL;
+    plume_problem_scatter(p, u);
+    double f;
+    plume_status st = full_gradient(p, &f);
+    if (st != PLUME_OK)
+        return st;
+    double gmax = 0.0, jmax = 0.0, rmax = 0.0;
+    for (plume_index i = 0; i < p->nfree; i++)
+        gmax = fmax(gmax, fabs(p->gradfull[p->dof_of_free[i]]));
+    if (lambda && p->ncons) {
+        /* r = grad f + J^T lambda; J^T lambda alone = r - grad f */
+        double *jt = p->jtwork;
+        memset(jt, 0, (size_t)p->ndof * sizeof *jt);
+        st = add_jt_lambda(p, lambda, jt);
+        for (plume_index i = 0; i < p->nfree && st == PLUME_OK; i++) {
+            plume_index dof = p->dof_of_free[i];
+            jmax = fmax(jmax, fabs(jt[dof]));
+            rmax = fmax(rmax, fabs(jt[dof] + p->gradfull[dof]));
+        }
+        if (st != PLUME_OK)
+            return st;
+    } else {
+        rmax = gmax;
+    }
+    double ref = fmax(gmax, jmax);
+    *rel_residual = ref > 0.0 ? rmax / ref : 0.0;
+    if (!isfinite(gmax) || !isfinite(rmax))
+        *rel_residual = NAN;
+    return PLUME_OK;
+}
