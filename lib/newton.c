@@ -1,0 +1,404 @@
+/* Native solver. Constraints are handled by SQP on the KKT system
+ *   [H + dw I   J^T ] [du     ]   [-grad f          ]
+ *   [J        -dc I ] [lam_new] = [-g - dc lam      ]
+ * where H is the Hessian of the Lagrangian with every element block projected to PSD. The
+ * -dc I block makes the matrix quasi-definite, so CHOLMOD's LDL^T without pivoting exists for
+ * any ordering and the symbolic analysis is done once; the "- dc lam" term (a proximal term on
+ * the multipliers) keeps the fixed point exact: at du = 0, lam_new = lam we have g = 0.
+ * Globalisation: l1 merit f + mu |g|_1 with Armijo backtracking and one second-order correction
+ * (against the Maratos effect). Without constraints this is projected Newton with LL^T. */
+#include "newton.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "cholesky.h"
+
+struct plume_newton {
+    plume_problem *p;
+    plume_solver_opts o;
+    int single_step;
+    plume_index n, m, nk;  /* free dofs, constraints, KKT size */
+    plume_sparsity hp;
+    plume_index jnnz;
+    const plume_index *jrow, *jcol;
+    plume_index *kcolptr, *krowind, *jpos, *diagpos; /* KKT pattern, J entry -> KKT slot, diag slots */
+    double *hval, *kval, *jval, *grad, *g, *gt, *rhs, *sol, *ut, *jtl;
+    plume_chol *chol;
+};
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void plume_newton_destroy(plume_newton **ps)
+{
+    if (!ps || !*ps)
+        return;
+    plume_newton *s = *ps;
+    plume_chol_destroy(&s->chol);
+    free(s->kcolptr);
+    free(s->krowind);
+    free(s->jpos);
+    free(s->diagpos);
+    free(s->hval);
+    free(s->kval);
+    free(s->jval);
+    free(s->grad);
+    free(s->g);
+    free(s->gt);
+    free(s->rhs);
+    free(s->sol);
+    free(s->ut);
+    free(s->jtl);
+    free(s);
+    *ps = NULL;
+}
+
+/* KKT pattern: columns < n are the Hessian's; column n + r holds the free dofs of constraint r
+ * (rows sorted) and its diagonal. */
+static plume_status build_kkt_pattern(plume_newton *s)
+{
+    plume_index n = s->n, m = s->m;
+    s->kcolptr = calloc((size_t)(n + m + 1), sizeof *s->kcolptr);
+    s->krowind = malloc((size_t)(s->hp.nnz + s->jnnz + m + 1) * sizeof *s->krowind);
+    s->jpos = malloc((size_t)(s->jnnz + 1) * sizeof *s->jpos);
+    plume_index *order = malloc((size_t)(s->jnnz + 1) * sizeof *order);
+    plume_index *cnt = calloc((size_t)(m + 1), sizeof *cnt);
+    if (!s->kcolptr || !s->krowind || !s->jpos || !order || !cnt) {
+        free(order);
+        free(cnt);
+        return PLUME_ENOMEM;
+    }
+    memcpy(s->kcolptr, s->hp.colptr, (size_t)(n + 1) * sizeof *s->kcolptr);
+    memcpy(s->krowind, s->hp.rowind, (size_t)s->hp.nnz * sizeof *s->krowind);
+    for (plume_index k = 0; k < s->jnnz; k++)
+        cnt[s->jrow[k]]++;
+    /* bucket the triplets by constraint row (counting sort), then sort each bucket by column */
+    plume_index *start = calloc((size_t)(m + 1), sizeof *start);
+    if (!start) {
+        free(order);
+        free(cnt);
+        return PLUME_ENOMEM;
+    }
+    for (plume_index r = 0; r < m; r++)
+        start[r + 1] = start[r] + cnt[r];
+    memset(cnt, 0, (size_t)(m + 1) * sizeof *cnt);
+    for (plume_index k = 0; k < s->jnnz; k++)
+        order[start[s->jrow[k]] + cnt[s->jrow[k]]++] = k;
+    plume_index pos = s->hp.nnz;
+    for (plume_index r = 0; r < m; r++) {
+        plume_index *b = order + start[r];
+        for (plume_index i = 1; i < cnt[r]; i++) /* insertion sort: a row has a handful of entries */
+            for (plume_index j = i; j > 0 && s->jcol[b[j - 1]] > s->jcol[b[j]]; j--) {
+                plume_index t = b[j];
+                b[j] = b[j - 1];
+                b[j - 1] = t;
+            }
+        for (plume_index i = 0; i < cnt[r]; i++) {
+            s->krowind[pos] = s->jcol[b[i]];
+            s->jpos[b[i]] = pos++;
+        }
+        s->krowind[pos++] = n + r;
+        s->kcolptr[n + r + 1] = pos;
+    }
+    free(start);
+    free(order);
+    free(cnt);
+    return PLUME_OK;
+}
+
+plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, int single_step,
+                                 plume_newton **out, plume_err *err)
+{
+    if (!p || !o || !out)
+        return plume_err_set(err, PLUME_EINVAL, "newton: invalid arguments");
+    *out = NULL;
+    plume_status st = PLUME_OK;
+    plume_newton *s = calloc(1, sizeof *s);
+    if (!s)
+        return PLUME_ENOMEM;
+    s->p = p;
+    s->o = *o;
+    s->single_step = single_step;
+    s->n = plume_problem_nfree(p);
+    s->m = plume_problem_ncons(p);
+    s->nk = s->n + s->m;
+    s->hp = plume_problem_hessian_pattern(p);
+    plume_problem_jacobian_pattern(p, &s->jnnz, &s->jrow, &s->jcol);
+    size_t n = (size_t)s->n, m = (size_t)s->m, nk = (size_t)s->nk;
+    s->hval = malloc(((size_t)s->hp.nnz + 1) * sizeof *s->hval);
+    s->jval = malloc(((size_t)s->jnnz + 1) * sizeof *s->jval);
+    s->grad = malloc((n + 1) * sizeof *s->grad);
+    s->g = malloc((m + 1) * sizeof *s->g);
+    s->gt = malloc((m + 1) * sizeof *s->gt);
+    s->rhs = malloc((nk + 1) * sizeof *s->rhs);
+    s->sol = malloc((nk + 1) * sizeof *s->sol);
+    s->ut = malloc((n + 1) * sizeof *s->ut);
+    s->jtl = malloc((n + 1) * sizeof *s->jtl);
+    s->diagpos = malloc((nk + 1) * sizeof *s->diagpos);
+    if (!s->hval || !s->jval || !s->grad || !s->g || !s->gt || !s->rhs || !s->sol || !s->ut || !s->jtl ||
+        !s->diagpos) {
+        st = PLUME_ENOMEM;
+        goto fail;
+    }
+    if (s->m > 0) {
+        if ((st = build_kkt_pattern(s)) != PLUME_OK)
+            goto fail;
+        s->kval = malloc(((size_t)s->kcolptr[nk] + 1) * sizeof *s->kval);
+        if (!s->kval) {
+            st = PLUME_ENOMEM;
+            goto fail;
+        }
+        st = plume_chol_create(s->nk, s->kcolptr, s->krowind, 1, &s->chol, err);
+    } else {
+        st = plume_chol_create(s->n, s->hp.colptr, s->hp.rowind, 0, &s->chol, err);
+    }
+    if (st != PLUME_OK)
+        goto fail;
+    const plume_index *cp = s->m > 0 ? s->kcolptr : s->hp.colptr;
+    for (plume_index c = 0; c < s->nk; c++)
+        s->diagpos[c] = cp[c + 1] - 1; /* rows sorted and the diagonal is always present */
+    *out = s;
+    return PLUME_OK;
+fail:
+    plume_newton_destroy(&s);
+    return st;
+}
+
+/* f, grad, g, |g|_1, max relative violation and the Jacobian at u */
+static plume_status evaluate(plume_newton *s, const double *u, double *f, double *g1, double *viol)
+{
+    plume_status st = plume_problem_objective(s->p, u, f, s->grad);
+    if (st != PLUME_OK)
+        return st;
+    *g1 = 0.0;
+    *viol = 0.0;
+    if (s->m == 0)
+        return PLUME_OK;
+    if ((st = plume_problem_constraints(s->p, NULL, s->g, viol)) != PLUME_OK)
+        return st;
+    for (plume_index r = 0; r < s->m; r++)
+        *g1 += fabs(s->g[r]);
+    return plume_problem_jacobian(s->p, NULL, s->jval);
+}
+
+/* merit f + mu |g|_1 at u (no gradient) */
+static plume_status merit_at(plume_newton *s, const double *u, double mu, double *phi, double *fval)
+{
+    double f;
+    plume_status st = plume_problem_objective(s->p, u, &f, NULL);
+    if (st != PLUME_OK)
+        return st;
+    double g1 = 0.0;
+    if (s->m > 0) {
+        if ((st = plume_problem_constraints(s->p, NULL, s->gt, NULL)) != PLUME_OK)
+            return st;
+        for (plume_index r = 0; r < s->m; r++)
+            g1 += fabs(s->gt[r]);
+    }
+    *fval = f;
+    *phi = f + mu * g1;
+    if (!isfinite(*phi))
+        *phi = INFINITY;
+    return PLUME_OK;
+}
+
+/* relative KKT residual from the current grad, jval and lambda */
+static double kkt_residual(plume_newton *s, const double *lambda)
+{
+    memset(s->jtl, 0, (size_t)s->n * sizeof *s->jtl);
+    for (plume_index k = 0; k < s->jnnz; k++)
+        s->jtl[s->jcol[k]] += s->jval[k] * lambda[s->jrow[k]];
+    double gm = 0.0, jm = 0.0, rm = 0.0;
+    for (plume_index i = 0; i < s->n; i++) {
+        gm = fmax(gm, fabs(s->grad[i]));
+        jm = fmax(jm, fabs(s->jtl[i]));
+        rm = fmax(rm, fabs(s->grad[i] + s->jtl[i]));
+    }
+    if (!isfinite(rm) || !isfinite(gm))
+        return NAN;
+    double ref = fmax(gm, jm);
+    return ref > 0.0 ? rm / ref : 0.0;
+}
+
+/* Assembles and factorises the Newton/KKT matrix at u with multipliers lambda; raises the
+ * regularisation dw until the factorisation succeeds. */
+static plume_status factorize(plume_newton *s, const double *u, const double *lambda, double *dc_out)
+{
+    plume_status st = plume_problem_hessian(s->p, u, 1.0, s->m ? lambda : NULL, 1, s->hval);
+    if (st != PLUME_OK)
+        return st;
+    double hmax = 0.0;
+    for (plume_index c = 0; c < s->n; c++)
+        hmax = fmax(hmax, fabs(s->hval[s->hp.colptr[c + 1] - 1]));
+    if (!(hmax > 0.0) || !isfinite(hmax))
+        hmax = 1.0;
+    double jmax = 0.0;
+    for (plume_index k = 0; k < s->jnnz; k++)
+        jmax = fmax(jmax, fabs(s->jval[k]));
+    double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
+    *dc_out = dc;
+    double dw = s->m ? 1e-12 * hmax : 0.0;
+    for (int attempt = 0; attempt < 12; attempt++) {
+        if (s->m > 0) {
+            memcpy(s->kval, s->hval, (size_t)s->hp.nnz * sizeof *s->kval);
+            for (plume_index c = 0; c < s->n; c++)
+                s->kval[s->diagpos[c]] += dw;
+            for (plume_index k = 0; k < s->jnnz; k++)
+                s->kval[s->jpos[k]] = s->jval[k];
+            for (plume_index r = 0; r < s->m; r++)
+                s->kval[s->diagpos[s->n + r]] = -dc;
+            st = plume_chol_factor(s->chol, s->kval, 0.0);
+        } else {
+            st = plume_chol_factor(s->chol, s->hval, dw);
+        }
+        if (st == PLUME_OK)
+            return PLUME_OK;
+        if (st != PLUME_ESINGULAR)
+            return st;
+        dw = dw > 0.0 ? dw * 100.0 : 1e-10 * hmax;
+    }
+    return PLUME_ESINGULAR;
+}
+
+plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plume_solve_report *rep)
+{
+    if (!s || !u || (s->m && !lambda) || !rep)
+        return PLUME_EINVAL;
+    double t0 = now_seconds();
+    memset(rep, 0, sizeof *rep);
+    int f0;
+    plume_chol_stats(s->chol, NULL, &f0, NULL);
+    plume_index n = s->n, m = s->m;
+    double L = plume_problem_length_scale(s->p);
+    double f, g1, viol, mu = 0.0;
+    plume_status st = evaluate(s, u, &f, &g1, &viol);
+    if (st != PLUME_OK)
+        return st;
+    rep->reason = PLUME_REASON_ITERATION_CAP;
+    int max_iter = s->single_step ? 1 : s->o.max_iter;
+    int it = 0;
+    for (;; it++) {
+        double res = kkt_residual(s, lambda);
+        if (!isfinite(f) || !isfinite(res)) {
+            rep->reason = PLUME_REASON_NUMERICAL;
+            break;
+        }
+        if (s->o.verbose)
+            fprintf(stderr, "  newton %3d  f % .10e  kkt %.3e  viol %.3e\n", it, f, res, viol);
+        if (!s->single_step && res <= s->o.tol_kkt && viol <= s->o.tol_violation) {
+            rep->reason = PLUME_REASON_CONVERGED;
+            break;
+        }
+        if (it >= max_iter)
+            break;
+        double dc;
+        st = factorize(s, u, lambda, &dc);
+        if (st == PLUME_ESINGULAR) {
+            rep->reason = PLUME_REASON_NUMERICAL;
+            break;
+        }
+        if (st != PLUME_OK)
+            return st;
+        for (plume_index i = 0; i < n; i++)
+            s->rhs[i] = -s->grad[i];
+        for (plume_index r = 0; r < m; r++)
+            s->rhs[n + r] = -s->g[r] - dc * lambda[r];
+        if ((st = plume_chol_solve(s->chol, s->rhs, s->sol)) != PLUME_OK) {
+            if (st != PLUME_ESINGULAR)
+                return st;
+            rep->reason = PLUME_REASON_NUMERICAL;
+            break;
+        }
+        const double *du = s->sol, *lnew = s->sol + n;
+        double step_max = 0.0, dirderiv = 0.0, lmax = 0.0;
+        for (plume_index i = 0; i < n; i++) {
+            step_max = fmax(step_max, fabs(du[i]));
+            dirderiv += s->grad[i] * du[i];
+        }
+        for (plume_index r = 0; r < m; r++)
+            lmax = fmax(lmax, fabs(lnew[r]));
+        mu = fmax(mu, 1.5 * lmax);
+        dirderiv -= mu * g1;
+        double phi0 = f + mu * g1, alpha = 1.0, phi, ft;
+        int accepted = 0;
+        if (s->single_step) {
+            for (plume_index i = 0; i < n; i++)
+                u[i] += du[i];
+            memcpy(lambda, lnew, (size_t)m * sizeof *lambda);
+            accepted = 1;
+        } else {
+            for (int ls = 0; ls < 60 && !accepted; ls++, alpha *= 0.5) {
+                for (plume_index i = 0; i < n; i++)
+                    s->ut[i] = u[i] + alpha * du[i];
+                if ((st = merit_at(s, s->ut, mu, &phi, &ft)) != PLUME_OK)
+                    return st;
+                /* accept on Armijo, or when the change is at round-off level of the merit */
+                if (phi <= phi0 + 1e-4 * alpha * dirderiv ||
+                    (isfinite(phi) && fabs(phi - phi0) <= 1e-14 * fabs(phi0) && alpha == 1.0)) {
+                    accepted = 1;
+                    break;
+                }
+                if (ls == 0 && m > 0) {
+                    /* second-order correction: re-solve with the constraint values at the trial */
+                    for (plume_index i = 0; i < n; i++)
+                        s->rhs[i] = 0.0;
+                    for (plume_index r = 0; r < m; r++)
+                        s->rhs[n + r] = -s->gt[r];
+                    if (plume_chol_solve(s->chol, s->rhs, s->rhs) == PLUME_OK) {
+                        for (plume_index i = 0; i < n; i++)
+                            s->ut[i] = u[i] + du[i] + s->rhs[i];
+                        if ((st = merit_at(s, s->ut, mu, &phi, &ft)) != PLUME_OK)
+                            return st;
+                        if (phi <= phi0 + 1e-4 * dirderiv) {
+                            accepted = 1;
+                            break;
+                        }
+                    }
+                }
+            }
+            if (!accepted) {
+                rep->reason = PLUME_REASON_LINE_SEARCH;
+                break;
+            }
+            memcpy(u, s->ut, (size_t)n * sizeof *u);
+            for (plume_index r = 0; r < m; r++)
+                lambda[r] += alpha * (lnew[r] - lambda[r]);
+        }
+        if ((st = evaluate(s, u, &f, &g1, &viol)) != PLUME_OK)
+            return st;
+        if (s->single_step) {
+            it++;
+            rep->reason = PLUME_REASON_SINGLE_STEP;
+            break;
+        }
+        if (alpha * step_max <= s->o.tol_step * L && viol <= s->o.tol_violation) {
+            it++;
+            rep->reason = PLUME_REASON_CONVERGED;
+            break;
+        }
+    }
+    plume_problem_scatter(s->p, u);
+    int f1;
+    plume_chol_stats(s->chol, NULL, &f1, NULL);
+    rep->converged = rep->reason == PLUME_REASON_CONVERGED;
+    rep->iterations = it;
+    rep->factorizations = f1 - f0;
+    rep->energy = f;
+    rep->kkt_residual = kkt_residual(s, lambda);
+    rep->max_violation = viol;
+    rep->seconds = now_seconds() - t0;
+    return PLUME_OK;
+}
+
+void plume_newton_stats(const plume_newton *s, int *analyses, int *factorizations, double *factor_seconds)
+{
+    plume_chol_stats(s ? s->chol : NULL, analyses, factorizations, factor_seconds);
+}

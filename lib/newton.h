@@ -1,0 +1,25 @@
+/* plume: the native solver — projected Newton (no constraints) or SQP on the regularised KKT
+ * system (constraints), CHOLMOD factorisations, merit line search. `linearized` is the same
+ * machinery limited to one full step. */
+#ifndef PLUME_NEWTON_H
+#define PLUME_NEWTON_H
+
+#include "solver.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct plume_newton plume_newton;
+
+/* single_step = 1 gives the `linearized` backend. Analyses the sparse pattern once. */
+plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, int single_step,
+                                 plume_newton **out, plume_err *err);
+void plume_newton_destroy(plume_newton **s);
+plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plume_solve_report *rep);
+void plume_newton_stats(const plume_newton *s, int *analyses, int *factorizations, double *factor_seconds);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,94 @@
+#include "solver.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "newton.h"
+
+struct plume_solver {
+    plume_solver_kind kind;
+    plume_newton *newton; /* newton and linearized */
+    plume_ipopt *ipopt;
+};
+
+const char *plume_reason_name(plume_reason r)
+{
+    switch (r) {
+    case PLUME_REASON_CONVERGED: return "converged";
+    case PLUME_REASON_ITERATION_CAP: return "iteration cap";
+    case PLUME_REASON_LINE_SEARCH: return "line-search failure";
+    case PLUME_REASON_INFEASIBLE: return "infeasible";
+    case PLUME_REASON_NUMERICAL: return "numerical failure";
+    case PLUME_REASON_SINGLE_STEP: return "single linearised step";
+    }
+    return "unknown";
+}
+
+static const char *const kind_names[] = {"newton", "ipopt", "linearized"};
+
+plume_status plume_solver_kind_parse(const char *s, plume_solver_kind *out)
+{
+    for (int k = 0; k < 3 && s; k++)
+        if (strcmp(s, kind_names[k]) == 0) {
+            *out = (plume_solver_kind)k;
+            return PLUME_OK;
+        }
+    return PLUME_EINVAL;
+}
+
+const char *plume_solver_kind_name(plume_solver_kind k)
+{
+    return (unsigned)k < 3 ? kind_names[k] : "unknown";
+}
+
+void plume_solver_opts_default(plume_solver_opts *o)
+{
+    o->max_iter = 100;
+    o->tol_kkt = 1e-9;
+    o->tol_violation = 1e-10;
+    o->tol_step = 1e-13;
+    o->verbose = 0;
+}
+
+plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p, const plume_solver_opts *o,
+                                 plume_solver **out)
+{
+    if (!p || !o || !out || (unsigned)kind > 2)
+        return PLUME_EINVAL;
+    *out = NULL;
+    plume_solver *s = calloc(1, sizeof *s);
+    if (!s)
+        return PLUME_ENOMEM;
+    s->kind = kind;
+    plume_status st = kind == PLUME_SOLVER_IPOPT
+                          ? plume_ipopt_create(p, o, &s->ipopt)
+                          : plume_newton_create(p, o, kind == PLUME_SOLVER_LINEARIZED, &s->newton, NULL);
+    if (st != PLUME_OK) {
+        free(s);
+        return st;
+    }
+    *out = s;
+    return PLUME_OK;
+}
+
+void plume_solver_destroy(plume_solver **ps)
+{
+    if (!ps || !*ps)
+        return;
+    plume_newton_destroy(&(*ps)->newton);
+    plume_ipopt_destroy(&(*ps)->ipopt);
+    free(*ps);
+    *ps = NULL;
+}
+
+plume_status plume_solver_solve(plume_solver *s, double *u, double *lambda, plume_solve_report *rep)
+{
+    if (!s)
+        return PLUME_EINVAL;
+    return s->ipopt ? plume_ipopt_solve(s->ipopt, u, lambda, rep) : plume_newton_solve(s->newton, u, lambda, rep);
+}
+
+void plume_solver_stats(const plume_solver *s, int *analyses, int *factorizations, double *factor_seconds)
+{
+    plume_newton_stats(s ? s->newton : NULL, analyses, factorizations, factor_seconds);
+}
