@@ -1,0 +1,318 @@
+#include "traction.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "progress.h"
+
+void plume_traction_opts_default(plume_traction_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->strain_max = 0.05;
+    o->steps = 10;
+    o->probe_strain = 1e-6;
+    o->solver = PLUME_SOLVER_NEWTON;
+    plume_solver_opts_default(&o->solver_opts);
+    o->progress = 1;
+}
+
+void plume_traction_result_free(plume_traction_result *r)
+{
+    if (!r)
+        return;
+    free(r->curve.strain);
+    free(r->curve.stress);
+    free(r->curve.wbar);
+    free(r->curve.iterations);
+    free(r->curve.seconds);
+    memset(&r->curve, 0, sizeof r->curve);
+}
+
+static plume_index uf_find(plume_index *parent, plume_index i)
+{
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+/* Which vertices sit on the grips and on the free sides (reference coordinates). */
+typedef struct {
+    plume_index *top, ntop, *left, nleft, *right, nright;
+    unsigned char *bottom_flag, *top_flag;
+} grips;
+
+static void grips_free(grips *g)
+{
+    free(g->top);
+    free(g->left);
+    free(g->right);
+    free(g->bottom_flag);
+    free(g->top_flag);
+}
+
+typedef struct {
+    double y;
+    plume_index v;
+} keyed_vertex;
+
+static int by_y(const void *a, const void *b)
+{
+    double ya = ((const keyed_vertex *)a)->y, yb = ((const keyed_vertex *)b)->y;
+    return (ya > yb) - (ya < yb);
+}
+
+/* sorts vertex ids by reference Y (qsort has no context argument, so sort keyed copies) */
+static plume_status sort_by_y(const double *X, plume_index *v, plume_index n)
+{
+    keyed_vertex *k = malloc((size_t)(n + 1) * sizeof *k);
+    if (!k)
+        return PLUME_ENOMEM;
+    for (plume_index i = 0; i < n; i++)
+        k[i].y = X[2 * v[i] + 1], k[i].v = v[i];
+    qsort(k, (size_t)n, sizeof *k, by_y);
+    for (plume_index i = 0; i < n; i++)
+        v[i] = k[i].v;
+    free(k);
+    return PLUME_OK;
+}
+
+static plume_status find_grips(const plume_mesh *m, double lx, double ly, grips *g, plume_err *err)
+{
+    double tol = 1e-9 * fmax(lx, ly);
+    memset(g, 0, sizeof *g);
+    size_t nv = (size_t)m->nv;
+    g->top = malloc(nv * sizeof *g->top);
+    g->left = malloc(nv * sizeof *g->left);
+    g->right = malloc(nv * sizeof *g->right);
+    g->bottom_flag = calloc(nv, 1);
+    g->top_flag = calloc(nv, 1);
+    if (!g->top || !g->left || !g->right || !g->bottom_flag || !g->top_flag)
+        return PLUME_ENOMEM;
+    plume_index nbottom = 0;
+    double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
+    for (plume_index v = 0; v < m->nv; v++) {
+        double X = m->X[2 * v], Y = m->X[2 * v + 1];
+        xmin = fmin(xmin, X), xmax = fmax(xmax, X), ymin = fmin(ymin, Y), ymax = fmax(ymax, Y);
+        if (fabs(Y) <= tol)
+            g->bottom_flag[v] = 1, nbottom++;
+        if (fabs(Y - ly) <= tol)
+            g->top_flag[v] = 1, g->top[g->ntop++] = v;
+        if (fabs(X) <= tol)
+            g->left[g->nleft++] = v;
+        if (fabs(X - lx) <= tol)
+            g->right[g->nright++] = v;
+    }
+    if (fabs(xmin) > tol || fabs(xmax - lx) > tol || fabs(ymin) > tol || fabs(ymax - ly) > tol)
+        return plume_err_set(err, PLUME_EINVAL,
+                             "traction: mesh bounding box [%g, %g] x [%g, %g] does not match the sample %g x %g m",
+                             xmin, xmax, ymin, ymax, lx, ly);
+    if (nbottom < 2 || g->ntop < 2 || g->nleft < 2 || g->nright < 2)
+        return plume_err_set(err, PLUME_EINVAL, "traction: mesh has too few vertices on the sample's edges");
+    plume_status st = sort_by_y(m->X, g->left, g->nleft);
+    return st == PLUME_OK ? sort_by_y(m->X, g->right, g->nright) : st;
+}
+
+/* trapezoidal integral over y of u_x along a side, vertices sorted by Y */
+static double side_integral(const plume_mesh *m, const double *x, int dim, const plume_index *v, plume_index n)
+{
+    double s = 0.0;
+    for (plume_index k = 0; k + 1 < n; k++) {
+        double ua = x[dim * v[k]] - m->X[2 * v[k]], ub = x[dim * v[k + 1]] - m->X[2 * v[k + 1]];
+        s += 0.5 * (ua + ub) * (m->X[2 * v[k + 1] + 1] - m->X[2 * v[k] + 1]);
+    }
+    return s;
+}
+
+/* Sets the top grip at displacement delta and predicts the free dofs: the previous solution plus
+ * the increment of an affine stretch. */
+static void set_grip(const plume_mesh *m, plume_problem *p, const grips *g, double ly, double delta,
+                     double delta_prev)
+{
+    int dim = plume_problem_dim(p);
+    double *x = plume_problem_x(p);
+    for (plume_index v = 0; v < m->nv; v++) {
+        if (g->top_flag[v])
+            x[dim * v + 1] = m->X[2 * v + 1] + delta;
+        else if (!plume_problem_is_fixed(p, dim * v + 1))
+            x[dim * v + 1] += (delta - delta_prev) * m->X[2 * v + 1] / ly;
+    }
+}
+
+plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const plume_index *rigid_edges,
+                                plume_index nrigid, const plume_traction_opts *o,
+                                plume_traction_result *res, plume_err *err)
+{
+    if (!mesh || !p || !o || !res || (nrigid > 0 && !rigid_edges))
+        return plume_err_set(err, PLUME_EINVAL, "traction: invalid arguments");
+    memset(res, 0, sizeof *res);
+    res->failed_step = -1;
+    if (!(o->lx > 0) || !(o->ly > 0) || !(o->h > 0) || !isfinite(o->lx * o->ly * o->h))
+        return plume_err_set(err, PLUME_EINVAL, "traction: lx, ly and thickness must be finite and > 0 (got %g, %g, %g)",
+                             o->lx, o->ly, o->h);
+    if (!(o->strain_max > 0) || !isfinite(o->strain_max) || o->steps < 1 || !(o->probe_strain > 0))
+        return plume_err_set(err, PLUME_EINVAL, "traction: strain-max must be > 0 and steps >= 1 (got %g, %d)",
+                             o->strain_max, o->steps);
+    if (plume_problem_nvert(p) != mesh->nv)
+        return plume_err_set(err, PLUME_EINVAL, "traction: problem and mesh sizes differ");
+    plume_status st;
+    grips g;
+    plume_solver *solver = NULL;
+    double *u = NULL, *lambda = NULL, *force = NULL, *u_rest = NULL, *lam_rest = NULL;
+    plume_index *parent = NULL;
+    double t_start = plume_wall_seconds();
+    if ((st = find_grips(mesh, o->lx, o->ly, &g, err)) != PLUME_OK)
+        goto cleanup;
+
+    /* barbs spanning both grips cannot stretch: union-find over the rigid edges */
+    if (nrigid > 0) {
+        parent = malloc((size_t)mesh->nv * sizeof *parent);
+        if (!parent) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+        for (plume_index v = 0; v < mesh->nv; v++)
+            parent[v] = v;
+        for (plume_index e = 0; e < nrigid; e++)
+            parent[uf_find(parent, rigid_edges[2 * e])] = uf_find(parent, rigid_edges[2 * e + 1]);
+        unsigned char *root_bottom = calloc((size_t)mesh->nv, 1);
+        if (!root_bottom) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+        for (plume_index v = 0; v < mesh->nv; v++)
+            if (g.bottom_flag[v])
+                root_bottom[uf_find(parent, v)] = 1;
+        plume_index culprit = -1;
+        for (plume_index k = 0; k < g.ntop && culprit < 0; k++)
+            if (root_bottom[uf_find(parent, g.top[k])])
+                culprit = g.top[k];
+        free(root_bottom);
+        if (culprit >= 0) {
+            st = plume_err_set(err, PLUME_EINFEASIBLE,
+                               "traction: inextensible barbs span both grips (e.g. the barb through (%g, %g) m), "
+                               "so the sample cannot stretch; use --constraint off, or a barb angle whose barbs "
+                               "leave through the free sides",
+                               mesh->X[2 * culprit], mesh->X[2 * culprit + 1]);
+            goto cleanup;
+        }
+    }
+
+    int dim = plume_problem_dim(p);
+    double *x = plume_problem_x(p);
+    for (plume_index v = 0; v < mesh->nv; v++) {
+        x[dim * v] = mesh->X[2 * v];
+        x[dim * v + 1] = mesh->X[2 * v + 1];
+        if (dim == 3)
+            x[dim * v + 2] = 0.0;
+        if (g.bottom_flag[v] || g.top_flag[v])
+            for (int k = 0; k < dim; k++)
+                if ((st = plume_problem_fix_dof(p, dim * v + k)) != PLUME_OK)
+                    goto cleanup;
+    }
+    if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
+        goto cleanup;
+    if ((st = plume_solver_create(o->solver, p, &o->solver_opts, &solver)) != PLUME_OK) {
+        plume_err_set(err, st, "traction: could not create the %s solver (%s)", plume_solver_kind_name(o->solver),
+                      plume_strerror(st));
+        goto cleanup;
+    }
+    plume_index n = plume_problem_nfree(p), m = plume_problem_ncons(p);
+    size_t np = (size_t)o->steps + 1;
+    u = malloc((size_t)(n + 1) * sizeof *u);
+    u_rest = malloc((size_t)(n + 1) * sizeof *u_rest);
+    lambda = calloc((size_t)(m + 1), sizeof *lambda);
+    lam_rest = calloc((size_t)(m + 1), sizeof *lam_rest);
+    force = malloc((size_t)(dim * mesh->nv) * sizeof *force);
+    res->curve.strain = calloc(np, sizeof(double));
+    res->curve.stress = calloc(np, sizeof(double));
+    res->curve.wbar = calloc(np, sizeof(double));
+    res->curve.iterations = calloc(np, sizeof(double));
+    res->curve.seconds = calloc(np, sizeof(double));
+    if (!u || !u_rest || !lambda || !lam_rest || !force || !res->curve.strain || !res->curve.stress ||
+        !res->curve.wbar || !res->curve.iterations || !res->curve.seconds) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    plume_problem_gather(p, u_rest);
+    res->curve.n = 1; /* the rest state */
+    res->converged = 1;
+    plume_progress prog;
+    plume_progress_start(&prog, "traction", o->steps, o->progress == 2);
+    if (o->progress == 0)
+        prog.enabled = 0;
+
+    /* step 0 is the small-strain probe (initial slope), then the quasi-static steps */
+    double delta_prev = 0.0;
+    for (int k = 0; k <= o->steps; k++) {
+        int probe = k == 0;
+        double strain = probe ? o->probe_strain : o->strain_max * k / o->steps;
+        double delta = strain * o->ly;
+        set_grip(mesh, p, &g, o->ly, delta, delta_prev);
+        plume_problem_gather(p, u);
+        plume_solve_report rep;
+        if ((st = plume_solver_solve(solver, u, lambda, &rep)) != PLUME_OK) {
+            plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
+            goto cleanup;
+        }
+        res->newton_iterations += rep.iterations;
+        int ok = rep.converged || (o->solver == PLUME_SOLVER_LINEARIZED && rep.reason == PLUME_REASON_SINGLE_STEP);
+        if (!rep.converged && res->converged) {
+            res->converged = 0;
+            res->failed_step = k;
+            res->failed_reason = rep.reason;
+        }
+        if (!ok)
+            break;
+        if (rep.converged)
+            res->max_violation = fmax(res->max_violation, rep.max_violation);
+        if ((st = plume_problem_forces(p, m ? lambda : NULL, force)) != PLUME_OK)
+            goto cleanup;
+        double F = 0.0;
+        for (plume_index t = 0; t < g.ntop; t++)
+            F += force[dim * g.top[t] + 1];
+        double stress = F / (o->lx * o->h);
+        if (probe) {
+            res->initial_slope = stress / strain;
+            /* back to the rest state for the stepping proper */
+            plume_problem_scatter(p, u_rest);
+            set_grip(mesh, p, &g, o->ly, 0.0, 0.0);
+            memcpy(lambda, lam_rest, (size_t)m * sizeof *lambda);
+            res->curve.iterations[0] = rep.iterations;
+            res->curve.seconds[0] = rep.seconds;
+            delta_prev = 0.0;
+            continue;
+        }
+        double wbar = (side_integral(mesh, x, dim, g.right, g.nright) - side_integral(mesh, x, dim, g.left, g.nleft)) /
+                      (o->lx * o->ly);
+        size_t i = (size_t)res->curve.n++;
+        res->curve.strain[i] = strain;
+        res->curve.stress[i] = stress;
+        res->curve.wbar[i] = wbar;
+        res->curve.iterations[i] = rep.iterations;
+        res->curve.seconds[i] = rep.seconds;
+        delta_prev = delta;
+        char info[128];
+        snprintf(info, sizeof info, "strain %.4f  stress %.4g Pa  %d it", strain, stress, rep.iterations);
+        plume_progress_update(&prog, k, info);
+    }
+    plume_progress_finish(&prog);
+    plume_solver_stats(solver, NULL, &res->factorizations, &res->factor_seconds);
+    st = PLUME_OK;
+cleanup:
+    res->seconds = plume_wall_seconds() - t_start;
+    if (st != PLUME_OK)
+        plume_traction_result_free(res);
+    plume_solver_destroy(&solver);
+    grips_free(&g);
+    free(parent);
+    free(u);
+    free(u_rest);
+    free(lambda);
+    free(lam_rest);
+    free(force);
+    return st;
+}
