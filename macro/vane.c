@@ -1,0 +1,94 @@
+#include "vane.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "../lib/edge_length.h"
+
+void plume_vane_default(plume_vane *v)
+{
+    v->moduli.E_xx = 1e4;
+    v->moduli.E_yy = 1.0;
+    v->moduli.nu_xy = 0.0;
+    v->moduli.G_xy = 1.0;
+    v->h = 1.0;
+    v->kappa = 0.0;
+    v->constraint = 1;
+    v->align_tol = 1e-6;
+}
+
+static plume_membrane_material vane_material(const plume_vane *v)
+{
+    plume_membrane_material mat = {v->moduli.E_xx, v->moduli.E_yy, v->moduli.nu_xy, v->moduli.G_xy, v->h, v->kappa};
+    return mat;
+}
+
+plume_status plume_vane_check(const plume_vane *v, plume_err *err)
+{
+    plume_membrane_material mat = vane_material(v);
+    return plume_membrane_material_check(&mat, err);
+}
+
+plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_index **edges, plume_index *n)
+{
+    *edges = NULL;
+    *n = 0;
+    plume_index *e = malloc((size_t)(2 * m->ne + 1) * sizeof *e);
+    if (!e)
+        return PLUME_ENOMEM;
+    plume_index k = 0;
+    for (plume_index i = 0; i < m->ne; i++) {
+        plume_index a = m->edges[2 * i], b = m->edges[2 * i + 1];
+        double ex = m->X[2 * b] - m->X[2 * a], ey = m->X[2 * b + 1] - m->X[2 * a + 1];
+        double len = hypot(ex, ey);
+        int aligned = 0;
+        for (int s = 0; s < 2 && !aligned; s++) {
+            plume_index t = m->edge_tri[2 * i + s];
+            if (t < 0)
+                continue;
+            const double *d = m->barb_dir + 2 * t;
+            aligned = fabs(ex * d[1] - ey * d[0]) <= align_tol * len * hypot(d[0], d[1]);
+        }
+        if (aligned) {
+            e[2 * k] = a;
+            e[2 * k + 1] = b;
+            k++;
+        }
+    }
+    *edges = e;
+    *n = k;
+    return PLUME_OK;
+}
+
+plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, const plume_vane *v,
+                            plume_index **barb_edges, plume_index *nbarb, plume_err *err)
+{
+    if (barb_edges)
+        *barb_edges = NULL;
+    if (nbarb)
+        *nbarb = 0;
+    plume_status st = plume_vane_check(v, err);
+    if (st != PLUME_OK)
+        return st;
+    plume_membrane_material mat = vane_material(v);
+    plume_term term;
+    if ((st = plume_membrane_term_create(m, plume_problem_dim(p), &mat, 1, &term, err)) != PLUME_OK)
+        return st;
+    if ((st = plume_problem_add_term(p, &term)) != PLUME_OK)
+        return st;
+    if (!v->constraint)
+        return PLUME_OK;
+    plume_index *edges = NULL, n = 0;
+    if ((st = plume_vane_barb_edges(m, v->align_tol, &edges, &n)) != PLUME_OK)
+        return st;
+    plume_constraint c;
+    if ((st = plume_edge_length_create(edges, n, m->X, m->nv, &c, err)) == PLUME_OK)
+        st = plume_problem_add_constraint(p, &c);
+    if (st == PLUME_OK && barb_edges) {
+        *barb_edges = edges;
+        *nbarb = n;
+    } else {
+        free(edges);
+    }
+    return st;
+}

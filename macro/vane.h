@@ -1,0 +1,44 @@
+/* plume: the macroscale orthotropic vane — membrane from (E_xx, E_yy, nu_xy, G_xy) in the barb
+ * frame, and the inextensibility constraint on barb-aligned edges (or the penalty alternative:
+ * finite E_xx and no constraint). */
+#ifndef PLUME_VANE_H
+#define PLUME_VANE_H
+
+#include "../lib/curves.h"
+#include "../lib/membrane.h"
+#include "../lib/mesh.h"
+#include "../lib/problem.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct {
+    plume_ortho moduli;   /* Pa */
+    double h;             /* thickness, m */
+    double kappa;         /* compression coefficient (Pa); 0 disables it */
+    int constraint;       /* 1: barb edges inextensible; 0: penalty (E_xx only) */
+    double align_tol;     /* |sin| of the angle below which an edge counts as barb-aligned; default 1e-6 */
+} plume_vane;
+
+void plume_vane_default(plume_vane *v);
+
+/* Validates the moduli and thickness (message names the parameter: "E_yy must be finite and > 0"). */
+plume_status plume_vane_check(const plume_vane *v, plume_err *err);
+
+/* Edges of the mesh (topology built) parallel to the barb direction of an adjacent triangle;
+ * returns a malloc'ed array of 2*n vertex ids (free with free()). */
+plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_index **edges,
+                                   plume_index *n);
+
+/* Adds the vane membrane (every triangle, material 0) and, when v->constraint is set, the
+ * inextensibility constraint of the barb edges to `p` (created over mesh->nv vertices).
+ * If barb_edges/nbarb are non-NULL they receive the constrained edges (malloc'ed; NULL/0 when
+ * the constraint is off). */
+plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, const plume_vane *v,
+                            plume_index **barb_edges, plume_index *nbarb, plume_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
