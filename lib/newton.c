@@ -224,7 +224,7 @@ static double kkt_residual(plume_newton *s, const double *lambda)
     }
     if (!isfinite(rm) || !isfinite(gm))
         return NAN;
-    double ref = fmax(gm, jm);
+    double ref = fmax(plume_problem_force_scale(s->p), fmax(gm, jm));
     return ref > 0.0 ? rm / ref : 0.0;
 }
 
@@ -232,7 +232,20 @@ static double kkt_residual(plume_newton *s, const double *lambda)
  * regularisation dw until the factorisation succeeds. */
 static plume_status factorize(plume_newton *s, const double *u, const double *lambda, double *dc_out)
 {
-    plume_status st = plume_problem_hessian(s->p, u, 1.0, s->m ? lambda : NULL, 1, s->hval);
+    plume_status st;
+    if (s->m == 0 && s->o.exact_hessian_first) {
+        /* Projection per element slows Newton down to a crawl where elements are indefinite but
+         * the assembled Hessian is not (stiff fibres in compression): use the exact Hessian
+         * whenever CHOLMOD accepts it as positive definite, the projected one otherwise. */
+        if ((st = plume_problem_hessian(s->p, u, 1.0, NULL, 0, s->hval)) != PLUME_OK)
+            return st;
+        st = plume_chol_factor(s->chol, s->hval, 0.0);
+        if (st != PLUME_ESINGULAR) {
+            *dc_out = 0.0;
+            return st;
+        }
+    }
+    st = plume_problem_hessian(s->p, u, 1.0, s->m ? lambda : NULL, 1, s->hval);
     if (st != PLUME_OK)
         return st;
     double hmax = 0.0;

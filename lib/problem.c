@@ -36,6 +36,7 @@ struct plume_problem {
     plume_index jnnz, *jrow, *jcol;    /* Jacobian triplets */
     double *gradfull;                  /* [ndof] workspace */
     double *jtwork;                    /* [ndof] workspace for J^T lambda */
+    double force_scale;                /* max |grad f| over all dofs at the last gradient */
     double *scale;                     /* [ncons] */
 };
 
@@ -389,6 +390,7 @@ plume_index plume_problem_nfree(const plume_problem *p) { return p->nfree; }
 plume_index plume_problem_ncons(const plume_problem *p) { return p->ncons; }
 double plume_problem_length_scale(const plume_problem *p) { return p->length_scale; }
 int plume_problem_is_fixed(const plume_problem *p, plume_index dof) { return p->fixed[dof]; }
+double plume_problem_force_scale(const plume_problem *p) { return p->force_scale; }
 double *plume_problem_x(plume_problem *p) { return p->x; }
 
 void plume_problem_gather(const plume_problem *p, double *u)
@@ -415,6 +417,10 @@ static plume_status full_gradient(plume_problem *p, double *f)
         if (st != PLUME_OK)
             return st;
     }
+    double s = 0.0;
+    for (plume_index i = 0; i < p->ndof; i++)
+        s = fmax(s, fabs(p->gradfull[i]));
+    p->force_scale = s;
     return PLUME_OK;
 }
 
@@ -597,7 +603,7 @@ plume_status plume_problem_kkt_residual(plume_problem *p, const double *u, const
     } else {
         rmax = gmax;
     }
-    double ref = fmax(gmax, jmax);
+    double ref = fmax(p->force_scale, fmax(gmax, jmax));
     *rel_residual = ref > 0.0 ? rmax / ref : 0.0;
     if (!isfinite(gmax) || !isfinite(rmax))
         *rel_residual = NAN;

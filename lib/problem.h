@@ -76,8 +76,14 @@ plume_status plume_problem_jacobian(plume_problem *p, const double *u, double *v
  * prescribed dofs, where they are the reactions the supports exert (negated). lambda may be NULL. */
 plume_status plume_problem_forces(plume_problem *p, const double *lambda, double *force);
 
-/* Relative stationarity of the Lagrangian f + lambda.g at u:
- * ||grad f + J^T lambda||_inf / max(||grad f||_inf, ||J^T lambda||_inf) (0 when both vanish). */
+/* max |grad f| over every dof, prescribed ones included (where it is the support reaction), at
+ * the last evaluation of a gradient: the force scale that residuals are measured against. */
+double plume_problem_force_scale(const plume_problem *p);
+
+/* Relative stationarity of the Lagrangian f + lambda.g at u, on the free dofs:
+ * ||grad f + J^T lambda||_inf / max(force scale, ||grad f||_inf, ||J^T lambda||_inf), with the
+ * force scale above (so a loaded body at equilibrium is measured against its reactions);
+ * 0 when everything vanishes. */
 plume_status plume_problem_kkt_residual(plume_problem *p, const double *u, const double *lambda,
                                         double *rel_residual);
 

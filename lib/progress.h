@@ -15,7 +15,8 @@ typedef struct {
 
 /* Starts a progress line; enabled when stderr is a terminal or `force` is non-zero. */
 void plume_progress_start(plume_progress *p, const char *label, int total, int force);
-/* Rewrites the line: "label  step k/total  [info]  elapsed s, eta s". */
+/* Rewrites the line as "\r<label> step k/total [info]  elapsed 1.2 s  eta 3.4 s", padded with
+ * spaces to 79 columns so a shorter line hides a longer previous one ("eta ? s" before step 1). */
 void plume_progress_update(plume_progress *p, int k, const char *info);
 void plume_progress_finish(plume_progress *p);
 

@@ -20,6 +20,13 @@ typedef struct {
  * non-numeric key, PLUME_EINVAL non-positive/NaN dimension, unknown id) name the file. */
 plume_status plume_sample_load(const char *path, const char *id, plume_sample *out, plume_err *err);
 
+/* Number of samples in the file (every entry validated as by plume_sample_load). */
+plume_status plume_sample_count(const char *path, int *count, plume_err *err);
+
+/* Sample number `index` (0-based, file order) of the file; PLUME_EINVAL if out of range. With
+ * plume_sample_count this enumerates a file without knowing its ids. */
+plume_status plume_sample_at(const char *path, int index, plume_sample *out, plume_err *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -48,6 +48,7 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->tol_violation = 1e-10;
     o->tol_step = 1e-13;
     o->verbose = 0;
+    o->exact_hessian_first = 1;
 }
 
 plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p, const plume_solver_opts *o,

@@ -48,6 +48,9 @@ typedef struct {
     double tol_step;       /* also converged when max|du| <= tol_step * length_scale and the
                               violation is met; default 1e-13 */
     int verbose;           /* print one line per iteration on stderr */
+    int exact_hessian_first; /* newton without constraints: factorise the exact Hessian first and
+                                fall back to the PSD-projected one if it is not positive definite;
+                                default 1 */
 } plume_solver_opts;
 
 void plume_solver_opts_default(plume_solver_opts *o);

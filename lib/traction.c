@@ -127,19 +127,35 @@ static double side_integral(const plume_mesh *m, const double *x, int dim, const
     return s;
 }
 
-/* Sets the top grip at displacement delta and predicts the free dofs: the previous solution plus
- * the increment of an affine stretch. */
-static void set_grip(const plume_mesh *m, plume_problem *p, const grips *g, double ly, double delta,
-                     double delta_prev)
+/* Sets the top grip at displacement delta and predicts the free dofs. With no history
+ * (da == db) the prediction is the previous state plus the increment of an affine stretch;
+ * otherwise it extrapolates linearly through the last two converged states xa (at da) and xb (at
+ * db) — from the small-strain probe this is the linear response, a far better start for Newton
+ * than an affine stretch that loads the stiff barbs. */
+static void predict(const plume_mesh *m, plume_problem *p, const grips *g, double ly, double delta,
+                    const double *xa, double da, const double *xb, double db)
 {
     int dim = plume_problem_dim(p);
     double *x = plume_problem_x(p);
-    for (plume_index v = 0; v < m->nv; v++) {
-        if (g->top_flag[v])
-            x[dim * v + 1] = m->X[2 * v + 1] + delta;
-        else if (!plume_problem_is_fixed(p, dim * v + 1))
-            x[dim * v + 1] += (delta - delta_prev) * m->X[2 * v + 1] / ly;
+    plume_index ndof = dim * m->nv;
+    if (da == db) {
+        for (plume_index i = 0; i < ndof; i++)
+            x[i] = xa[i];
+        for (plume_index v = 0; v < m->nv; v++)
+            x[dim * v + 1] += (delta - da) * m->X[2 * v + 1] / ly;
+    } else {
+        double s = (delta - da) / (da - db);
+        for (plume_index i = 0; i < ndof; i++)
+            x[i] = xa[i] + s * (xa[i] - xb[i]);
     }
+    for (plume_index v = 0; v < m->nv; v++)
+        if (g->top_flag[v]) {
+            x[dim * v] = m->X[2 * v];
+            x[dim * v + 1] = m->X[2 * v + 1] + delta;
+        } else if (g->bottom_flag[v]) {
+            x[dim * v] = m->X[2 * v];
+            x[dim * v + 1] = m->X[2 * v + 1];
+        }
 }
 
 plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const plume_index *rigid_edges,
@@ -161,7 +177,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     plume_status st;
     grips g;
     plume_solver *solver = NULL;
-    double *u = NULL, *lambda = NULL, *force = NULL, *u_rest = NULL, *lam_rest = NULL;
+    double *u = NULL, *lambda = NULL, *force = NULL, *xa = NULL, *xb = NULL;
     plume_index *parent = NULL;
     double t_start = plume_wall_seconds();
     if ((st = find_grips(mesh, o->lx, o->ly, &g, err)) != PLUME_OK)
@@ -223,21 +239,23 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     plume_index n = plume_problem_nfree(p), m = plume_problem_ncons(p);
     size_t np = (size_t)o->steps + 1;
     u = malloc((size_t)(n + 1) * sizeof *u);
-    u_rest = malloc((size_t)(n + 1) * sizeof *u_rest);
     lambda = calloc((size_t)(m + 1), sizeof *lambda);
-    lam_rest = calloc((size_t)(m + 1), sizeof *lam_rest);
     force = malloc((size_t)(dim * mesh->nv) * sizeof *force);
+    xa = malloc((size_t)(dim * mesh->nv) * sizeof *xa);
+    xb = malloc((size_t)(dim * mesh->nv) * sizeof *xb);
     res->curve.strain = calloc(np, sizeof(double));
     res->curve.stress = calloc(np, sizeof(double));
     res->curve.wbar = calloc(np, sizeof(double));
     res->curve.iterations = calloc(np, sizeof(double));
     res->curve.seconds = calloc(np, sizeof(double));
-    if (!u || !u_rest || !lambda || !lam_rest || !force || !res->curve.strain || !res->curve.stress ||
+    if (!u || !lambda || !force || !xa || !xb || !res->curve.strain || !res->curve.stress ||
         !res->curve.wbar || !res->curve.iterations || !res->curve.seconds) {
         st = PLUME_ENOMEM;
         goto cleanup;
     }
-    plume_problem_gather(p, u_rest);
+    memcpy(xa, x, (size_t)(dim * mesh->nv) * sizeof *xa);
+    memcpy(xb, x, (size_t)(dim * mesh->nv) * sizeof *xb);
+    double da = 0.0, db = 0.0; /* grip displacements of the states xa, xb */
     res->curve.n = 1; /* the rest state */
     res->converged = 1;
     plume_progress prog;
@@ -246,12 +264,11 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         prog.enabled = 0;
 
     /* step 0 is the small-strain probe (initial slope), then the quasi-static steps */
-    double delta_prev = 0.0;
     for (int k = 0; k <= o->steps; k++) {
         int probe = k == 0;
         double strain = probe ? o->probe_strain : o->strain_max * k / o->steps;
         double delta = strain * o->ly;
-        set_grip(mesh, p, &g, o->ly, delta, delta_prev);
+        predict(mesh, p, &g, o->ly, delta, xa, da, xb, db);
         plume_problem_gather(p, u);
         plume_solve_report rep;
         if ((st = plume_solver_solve(solver, u, lambda, &rep)) != PLUME_OK) {
@@ -275,15 +292,14 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         for (plume_index t = 0; t < g.ntop; t++)
             F += force[dim * g.top[t] + 1];
         double stress = F / (o->lx * o->h);
-        if (probe) {
+        double *t = xb;
+        xb = xa, db = da;
+        xa = t, da = delta;
+        memcpy(xa, x, (size_t)(dim * mesh->nv) * sizeof *xa);
+        if (probe) { /* the probe's equilibrium is the first state of the history */
             res->initial_slope = stress / strain;
-            /* back to the rest state for the stepping proper */
-            plume_problem_scatter(p, u_rest);
-            set_grip(mesh, p, &g, o->ly, 0.0, 0.0);
-            memcpy(lambda, lam_rest, (size_t)m * sizeof *lambda);
             res->curve.iterations[0] = rep.iterations;
             res->curve.seconds[0] = rep.seconds;
-            delta_prev = 0.0;
             continue;
         }
         double wbar = (side_integral(mesh, x, dim, g.right, g.nright) - side_integral(mesh, x, dim, g.left, g.nleft)) /
@@ -294,7 +310,6 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         res->curve.wbar[i] = wbar;
         res->curve.iterations[i] = rep.iterations;
         res->curve.seconds[i] = rep.seconds;
-        delta_prev = delta;
         char info[128];
         snprintf(info, sizeof info, "strain %.4f  stress %.4g Pa  %d it", strain, stress, rep.iterations);
         plume_progress_update(&prog, k, info);
@@ -310,9 +325,9 @@ cleanup:
     grips_free(&g);
     free(parent);
     free(u);
-    free(u_rest);
+    free(xa);
+    free(xb);
     free(lambda);
-    free(lam_rest);
     free(force);
     return st;
 }

@@ -160,7 +160,8 @@ static plume_status aligned_geometry(double lx, double ly, double angle_deg, dou
             double t = tlo + len * (double)k / (double)pieces;
             double x = p0[0] + t * d[0], y = p0[1] + t * d[1];
             plume_index id;
-            if (k == 0 || k == pieces) {
+            int on_side = fabs(x) <= tol || fabs(x - lx) <= tol || fabs(y) <= tol || fabs(y - ly) <= tol;
+            if (k == 0 || k == pieces || on_side) {
                 id = boundary_point(g, sd, lx, ly, x, y, tol);
             } else {
                 if (push_point(g, x, y) < 0)

@@ -1,0 +1,740 @@
+/* plume: result curves and moduli in HDF5 (DESIGN.md "Data and files"), written atomically.
+ *
+ * Every public function here silences HDF5's automatic error-stack printing for its own duration
+ * (and restores the caller's handler), so failures surface only as a plume_status and a message
+ * naming the file and the missing object. The handler is process-global HDF5 state: two threads
+ * calling into HDF5 at once would race on it, as they would on the (non thread-safe) serial HDF5
+ * library itself. */
+#include "curves.h"
+
+#include <hdf5.h>
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* Names of the five datasets of a curve group, in plume_curve field order. */
+static const char *const curve_fields[5] = {"strain", "stress", "wbar", "iterations", "seconds"};
+
+static double **curve_field(plume_curve *c, int i)
+{
+    switch (i) {
+    case 0: return &c->strain;
+    case 1: return &c->stress;
+    case 2: return &c->wbar;
+    case 3: return &c->iterations;
+    default: return &c->seconds;
+    }
+}
+
+static const double *curve_cfield(const plume_curve *c, int i)
+{
+    return *curve_field((plume_curve *)c, i); /* read-only use of the same switch */
+}
+
+/* ---------------------------------------------------------------- HDF5 error handling --- */
+
+typedef struct {
+    H5E_auto2_t func;
+    void *data;
+} h5_quiet;
+
+static void quiet_begin(h5_quiet *q)
+{
+    q->func = NULL;
+    q->data = NULL;
+    H5Eget_auto2(H5E_DEFAULT, &q->func, &q->data);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+}
+
+static void quiet_end(const h5_quiet *q)
+{
+    H5Eset_auto2(H5E_DEFAULT, q->func, q->data);
+}
+
+typedef struct {
+    char text[160];
+} h5_detail;
+
+static herr_t detail_cb(unsigned n, const H5E_error2_t *e, void *data)
+{
+    h5_detail *d = data;
+    if (n == 0 && e && e->desc)
+        snprintf(d->text, sizeof d->text, "%s", e->desc);
+    return 0;
+}
+
+/* The most specific message on HDF5's current error stack (walked from the innermost call), or
+ * "unknown HDF5 error"; used to give EIO messages a cause. */
+static const char *h5_cause(h5_detail *d)
+{
+    d->text[0] = '\0';
+    H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, detail_cb, d);
+    if (!d->text[0])
+        snprintf(d->text, sizeof d->text, "unknown HDF5 error");
+    return d->text;
+}
+
+/* -------------------------------------------------------------------------- helpers --- */
+
+/* A group or attribute name component: non-empty, no '/', not "." (which HDF5 reads as "here"). */
+static int bad_component(const char *s)
+{
+    return !s || !*s || strchr(s, '/') || strcmp(s, ".") == 0;
+}
+
+/* Sets `err` and returns 1 unless scale and scenario are usable group names. */
+static int bad_names(const char *path, const char *scale, const char *scenario, plume_err *err)
+{
+    if (bad_component(scale) || bad_component(scenario)) {
+        plume_err_set(err, PLUME_EINVAL,
+                      "curves file '%s': scale '%s' and scenario '%s' must be non-empty names without '/'",
+                      path, scale ? scale : "(null)", scenario ? scenario : "(null)");
+        return 1;
+    }
+    if (strlen(scale) + strlen(scenario) > 512) {
+        plume_err_set(err, PLUME_EINVAL, "curves file '%s': scale/scenario names too long", path);
+        return 1;
+    }
+    return 0;
+}
+
+static int is_hdf5(const char *path)
+{
+#if H5_VERSION_GE(1, 12, 0)
+    return H5Fis_accessible(path, H5P_DEFAULT) > 0;
+#else
+    return H5Fis_hdf5(path) > 0;
+#endif
+}
+
+/* 1 if every prefix of the absolute `objpath` exists as a link in `fid`, 0 if one is missing,
+ * -1 on error. Checking prefixes one by one keeps H5Lexists well defined on every HDF5 version. */
+static int path_exists(hid_t fid, const char *objpath)
+{
+    char buf[1024];
+    size_t len = strlen(objpath);
+    if (len >= sizeof buf)
+        return -1;
+    memcpy(buf, objpath, len + 1);
+    for (size_t i = 1; i <= len; i++) {
+        if (buf[i] != '/' && buf[i] != '\0')
+            continue;
+        char save = buf[i];
+        buf[i] = '\0';
+        htri_t e = H5Lexists(fid, buf, H5P_DEFAULT);
+        buf[i] = save;
+        if (e < 0)
+            return -1;
+        if (e == 0)
+            return 0;
+    }
+    return 1;
+}
+
+/* Opens an existing HDF5 file read-only with messages for the missing / non-HDF5 cases. */
+static plume_status open_for_read(const char *path, const char *what, hid_t *fid, plume_err *err)
+{
+    struct stat st;
+    *fid = H5I_INVALID_HID;
+    if (stat(path, &st) != 0)
+        return plume_err_set(err, PLUME_EIO, "%s '%s': cannot open: %s", what, path, strerror(errno));
+    if (!S_ISREG(st.st_mode))
+        return plume_err_set(err, PLUME_EIO, "%s '%s': not a regular file", what, path);
+    if (!is_hdf5(path))
+        return plume_err_set(err, PLUME_EFORMAT, "%s '%s': is not an HDF5 file", what, path);
+    *fid = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (*fid < 0) {
+        h5_detail d;
+        return plume_err_set(err, PLUME_EIO, "%s '%s': cannot open (HDF5: %s)", what, path,
+                             h5_cause(&d));
+    }
+    return PLUME_OK;
+}
+
+static int write_attr_double(hid_t obj, const char *name, double v)
+{
+    int ok = 0;
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = sp < 0 ? H5I_INVALID_HID
+                     : H5Acreate2(obj, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT);
+    if (a >= 0 && H5Awrite(a, H5T_NATIVE_DOUBLE, &v) >= 0)
+        ok = 1;
+    if (a >= 0)
+        H5Aclose(a);
+    if (sp >= 0)
+        H5Sclose(sp);
+    return ok ? 0 : -1;
+}
+
+/* Variable-length UTF-8 strings: read back as str by h5py and h5dump alike. */
+static int write_attr_string(hid_t obj, const char *name, const char *v)
+{
+    int ok = 0;
+    hid_t t = H5Tcopy(H5T_C_S1);
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = H5I_INVALID_HID;
+    if (t >= 0 && sp >= 0 && H5Tset_size(t, H5T_VARIABLE) >= 0 && H5Tset_cset(t, H5T_CSET_UTF8) >= 0)
+        a = H5Acreate2(obj, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
+    if (a >= 0 && H5Awrite(a, t, &v) >= 0)
+        ok = 1;
+    if (a >= 0)
+        H5Aclose(a);
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (t >= 0)
+        H5Tclose(t);
+    return ok ? 0 : -1;
+}
+
+static int write_dataset(hid_t g, const char *name, const double *v, plume_index n)
+{
+    int ok = 0;
+    hsize_t dims[1] = {(hsize_t)n};
+    hid_t sp = H5Screate_simple(1, dims, NULL);
+    hid_t ds = sp < 0 ? H5I_INVALID_HID
+                      : H5Dcreate2(g, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT,
+                                   H5P_DEFAULT);
+    if (ds >= 0 && (n == 0 || H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0))
+        ok = 1;
+    if (ds >= 0)
+        H5Dclose(ds);
+    if (sp >= 0)
+        H5Sclose(sp);
+    return ok ? 0 : -1;
+}
+
+/* Copies the bytes of `src` into a new file `dst` (created with src's permission bits). */
+static plume_status copy_file(const char *src, const char *dst, mode_t mode, const char *what,
+                              plume_err *err)
+{
+    plume_status s = PLUME_OK;
+    int in = open(src, O_RDONLY);
+    int out = -1;
+    if (in < 0) {
+        s = plume_err_set(err, PLUME_EIO, "%s '%s': cannot open: %s", what, src, strerror(errno));
+        goto cleanup;
+    }
+    out = open(dst, O_WRONLY | O_CREAT | O_TRUNC, mode);
+    if (out < 0) {
+        s = plume_err_set(err, PLUME_EIO, "%s '%s': cannot create temporary file '%s': %s", what,
+                          src, dst, strerror(errno));
+        goto cleanup;
+    }
+    char buf[65536];
+    for (;;) {
+        ssize_t r = read(in, buf, sizeof buf);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r < 0) {
+            s = plume_err_set(err, PLUME_EIO, "%s '%s': read error: %s", what, src, strerror(errno));
+            goto cleanup;
+        }
+        if (r == 0)
+            break;
+        for (ssize_t off = 0; off < r;) {
+            ssize_t w = write(out, buf + off, (size_t)(r - off));
+            if (w < 0 && errno == EINTR)
+                continue;
+            if (w < 0) {
+                s = plume_err_set(err, PLUME_EIO, "%s '%s': cannot write temporary file '%s': %s",
+                                  what, src, dst, strerror(errno));
+                goto cleanup;
+            }
+            off += w;
+        }
+    }
+cleanup:
+    if (out >= 0 && close(out) != 0 && s == PLUME_OK)
+        s = plume_err_set(err, PLUME_EIO, "%s '%s': cannot write temporary file '%s': %s", what,
+                          src, dst, strerror(errno));
+    if (in >= 0)
+        close(in);
+    return s;
+}
+
+/* Fills an open, writable file; returns a status with `err` set on failure. */
+typedef plume_status (*fill_fn)(hid_t fid, const char *path, const void *ctx, plume_err *err);
+
+/* The atomic-write protocol of DESIGN.md: build "<path>.tmp.<pid>" (a byte copy of `path` when
+ * it exists, so its other content survives), let `fill` edit it, close, fsync and rename over
+ * `path`. On any failure the temporary file is removed and `path` is untouched. */
+static plume_status atomic_write(const char *path, const char *what, fill_fn fill, const void *ctx,
+                                 plume_err *err)
+{
+    plume_status s = PLUME_OK;
+    hid_t fid = H5I_INVALID_HID;
+    int tmp_made = 0;
+    char *tmp = NULL;
+    h5_detail d;
+
+    struct stat st;
+    int exists = stat(path, &st) == 0;
+    if (!exists && errno != ENOENT) {
+        s = plume_err_set(err, PLUME_EIO, "%s '%s': cannot access: %s", what, path, strerror(errno));
+        goto cleanup;
+    }
+    if (exists && !S_ISREG(st.st_mode)) {
+        s = plume_err_set(err, PLUME_EIO, "%s '%s': exists and is not a regular file", what, path);
+        goto cleanup;
+    }
+    if (exists && !is_hdf5(path)) {
+        s = plume_err_set(err, PLUME_EFORMAT, "%s '%s': is not an HDF5 file (refusing to overwrite it)",
+                          what, path);
+        goto cleanup;
+    }
+
+    size_t len = strlen(path) + 32;
+    tmp = malloc(len);
+    if (!tmp) {
+        s = plume_err_set(err, PLUME_ENOMEM, "%s '%s': out of memory", what, path);
+        goto cleanup;
+    }
+    snprintf(tmp, len, "%s.tmp.%ld", path, (long)getpid());
+
+    if (exists) {
+        s = copy_file(path, tmp, st.st_mode & 07777, what, err);
+        tmp_made = 1; /* copy_file may have created it before failing */
+        if (s != PLUME_OK)
+            goto cleanup;
+        fid = H5Fopen(tmp, H5F_ACC_RDWR, H5P_DEFAULT);
+    } else {
+        /* Create the file ourselves first so a bad directory gets a proper strerror. */
+        int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0666);
+        if (fd < 0) {
+            s = plume_err_set(err, PLUME_EIO, "%s '%s': cannot create temporary file '%s': %s",
+                              what, path, tmp, strerror(errno));
+            goto cleanup;
+        }
+        close(fd);
+        tmp_made = 1;
+        fid = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    }
+    if (fid < 0) {
+        s = plume_err_set(err, PLUME_EIO, "%s '%s': cannot open temporary file '%s' (HDF5: %s)",
+                          what, path, tmp, h5_cause(&d));
+        goto cleanup;
+    }
+
+    s = fill(fid, path, ctx, err);
+    if (s != PLUME_OK)
+        goto cleanup;
+
+    herr_t closed = H5Fclose(fid);
+    fid = H5I_INVALID_HID;
+    if (closed < 0) {
+        s = plume_err_set(err, PLUME_EIO, "%s '%s': cannot close temporary file '%s' (HDF5: %s)",
+                          what, path, tmp, h5_cause(&d));
+        goto cleanup;
+    }
+    /* Data on disk before the rename makes it visible: a crash leaves either file, never half. */
+    int fd = open(tmp, O_RDONLY);
+    if (fd < 0 || fsync(fd) != 0) {
+        s = plume_err_set(err, PLUME_EIO, "%s '%s': cannot sync temporary file '%s': %s", what,
+                          path, tmp, strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        goto cleanup;
+    }
+    close(fd);
+    if (rename(tmp, path) != 0) {
+        s = plume_err_set(err, PLUME_EIO, "%s '%s': cannot rename '%s' over it: %s", what, path,
+                          tmp, strerror(errno));
+        goto cleanup;
+    }
+    tmp_made = 0;
+
+cleanup:
+    if (fid >= 0)
+        H5Fclose(fid);
+    if (tmp_made)
+        unlink(tmp);
+    free(tmp);
+    return s;
+}
+
+/* ------------------------------------------------------------------------- curves ---- */
+
+typedef struct {
+    const char *scale, *scenario;
+    const plume_curve *curve;
+    const plume_param *params;
+    int nparams;
+    const plume_sparam *sparams;
+    int nsparams;
+} curve_ctx;
+
+static plume_status fill_curve(hid_t fid, const char *path, const void *vctx, plume_err *err)
+{
+    const curve_ctx *c = vctx;
+    plume_status s = PLUME_OK;
+    hid_t lcpl = H5I_INVALID_HID, g = H5I_INVALID_HID;
+    h5_detail d;
+    char gpath[640];
+    snprintf(gpath, sizeof gpath, "/curves/%s/%s", c->scale, c->scenario);
+
+    int e = path_exists(fid, gpath);
+    if (e < 0 || (e == 1 && H5Ldelete(fid, gpath, H5P_DEFAULT) < 0)) {
+        s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot replace %s (HDF5: %s)", path,
+                          gpath, h5_cause(&d));
+        goto cleanup;
+    }
+    lcpl = H5Pcreate(H5P_LINK_CREATE);
+    if (lcpl < 0 || H5Pset_create_intermediate_group(lcpl, 1) < 0 ||
+        (g = H5Gcreate2(fid, gpath, lcpl, H5P_DEFAULT, H5P_DEFAULT)) < 0) {
+        s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot create group %s (HDF5: %s)",
+                          path, gpath, h5_cause(&d));
+        goto cleanup;
+    }
+    for (int i = 0; i < 5; i++) {
+        if (write_dataset(g, curve_fields[i], curve_cfield(c->curve, i), c->curve->n) < 0) {
+            s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot write dataset %s/%s (HDF5: %s)",
+                              path, gpath, curve_fields[i], h5_cause(&d));
+            goto cleanup;
+        }
+    }
+    for (int i = 0; i < c->nparams; i++) {
+        if (write_attr_double(g, c->params[i].name, c->params[i].value) < 0) {
+            s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot write attribute %s of %s (HDF5: %s)",
+                              path, c->params[i].name, gpath, h5_cause(&d));
+            goto cleanup;
+        }
+    }
+    for (int i = 0; i < c->nsparams; i++) {
+        if (write_attr_string(g, c->sparams[i].name, c->sparams[i].value) < 0) {
+            s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot write attribute %s of %s (HDF5: %s)",
+                              path, c->sparams[i].name, gpath, h5_cause(&d));
+            goto cleanup;
+        }
+    }
+cleanup:
+    if (g >= 0)
+        H5Gclose(g);
+    if (lcpl >= 0)
+        H5Pclose(lcpl);
+    return s;
+}
+
+plume_status plume_curve_write(const char *path, const char *scale, const char *scenario,
+                               const plume_curve *curve, const plume_param *params, int nparams,
+                               const plume_sparam *sparams, int nsparams, plume_err *err)
+{
+    if (!path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "curves file: empty path");
+    if (bad_names(path, scale, scenario, err))
+        return PLUME_EINVAL;
+    if (!curve || curve->n < 0)
+        return plume_err_set(err, PLUME_EINVAL, "curves file '%s': no curve or negative point count", path);
+    for (int i = 0; i < 5 && curve->n > 0; i++)
+        if (!curve_cfield(curve, i))
+            return plume_err_set(err, PLUME_EINVAL, "curves file '%s': curve %s/%s has no %s array",
+                                 path, scale, scenario, curve_fields[i]);
+    if (nparams < 0 || nsparams < 0 || (nparams > 0 && !params) || (nsparams > 0 && !sparams))
+        return plume_err_set(err, PLUME_EINVAL, "curves file '%s': bad parameter list", path);
+    /* Attribute names must be unique across both lists: HDF5 would refuse the second one. */
+    for (int i = 0; i < nparams + nsparams; i++) {
+        const char *a = i < nparams ? params[i].name : sparams[i - nparams].name;
+        if (!a || !*a)
+            return plume_err_set(err, PLUME_EINVAL, "curves file '%s': parameter %d has no name", path, i);
+        if (i >= nparams && !sparams[i - nparams].value)
+            return plume_err_set(err, PLUME_EINVAL, "curves file '%s': string parameter %s has no value",
+                                 path, a);
+        for (int j = 0; j < i; j++) {
+            const char *b = j < nparams ? params[j].name : sparams[j - nparams].name;
+            if (strcmp(a, b) == 0)
+                return plume_err_set(err, PLUME_EINVAL, "curves file '%s': parameter %s given twice",
+                                     path, a);
+        }
+    }
+
+    curve_ctx ctx = {scale, scenario, curve, params, nparams, sparams, nsparams};
+    h5_quiet q;
+    quiet_begin(&q);
+    plume_status s = atomic_write(path, "curves file", fill_curve, &ctx, err);
+    quiet_end(&q);
+    return s;
+}
+
+void plume_curve_free(plume_curve *curve)
+{
+    if (!curve)
+        return;
+    for (int i = 0; i < 5; i++)
+        free(*curve_field(curve, i));
+    memset(curve, 0, sizeof *curve);
+}
+
+plume_status plume_curve_read(const char *path, const char *scale, const char *scenario,
+                              plume_curve *curve, plume_err *err)
+{
+    if (!curve)
+        return plume_err_set(err, PLUME_EINVAL, "curves file: no output curve");
+    memset(curve, 0, sizeof *curve);
+    if (!path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "curves file: empty path");
+    if (bad_names(path, scale, scenario, err))
+        return PLUME_EINVAL;
+
+    plume_status s = PLUME_OK;
+    hid_t fid = H5I_INVALID_HID, g = H5I_INVALID_HID, ds = H5I_INVALID_HID, sp = H5I_INVALID_HID,
+          ty = H5I_INVALID_HID;
+    h5_detail d;
+    char gpath[640];
+    snprintf(gpath, sizeof gpath, "/curves/%s/%s", scale, scenario);
+    h5_quiet q;
+    quiet_begin(&q);
+
+    s = open_for_read(path, "curves file", &fid, err);
+    if (s != PLUME_OK)
+        goto cleanup;
+    int e = path_exists(fid, gpath);
+    if (e != 1) {
+        s = plume_err_set(err, PLUME_EFORMAT, "curves file '%s': no %s group", path, gpath);
+        goto cleanup;
+    }
+    g = H5Gopen2(fid, gpath, H5P_DEFAULT);
+    if (g < 0) {
+        s = plume_err_set(err, PLUME_EFORMAT, "curves file '%s': %s is not a group", path, gpath);
+        goto cleanup;
+    }
+    hsize_t n = 0;
+    for (int i = 0; i < 5; i++) {
+        const char *f = curve_fields[i];
+        htri_t has = H5Lexists(g, f, H5P_DEFAULT);
+        if (has <= 0 || (ds = H5Dopen2(g, f, H5P_DEFAULT)) < 0) {
+            s = plume_err_set(err, PLUME_EFORMAT, "curves file '%s': dataset %s/%s missing", path,
+                              gpath, f);
+            goto cleanup;
+        }
+        sp = H5Dget_space(ds);
+        ty = H5Dget_type(ds);
+        hsize_t dims[1] = {0};
+        H5T_class_t cls = ty < 0 ? H5T_NO_CLASS : H5Tget_class(ty);
+        if (sp < 0 || H5Sget_simple_extent_ndims(sp) != 1 || H5Sget_simple_extent_dims(sp, dims, NULL) != 1 ||
+            (cls != H5T_FLOAT && cls != H5T_INTEGER)) {
+            s = plume_err_set(err, PLUME_EFORMAT,
+                              "curves file '%s': dataset %s/%s is not a 1-D numeric array", path,
+                              gpath, f);
+            goto cleanup;
+        }
+        if (i == 0)
+            n = dims[0];
+        else if (dims[0] != n) {
+            s = plume_err_set(err, PLUME_EFORMAT,
+                              "curves file '%s': dataset %s/%s has %llu points but strain has %llu",
+                              path, gpath, f, (unsigned long long)dims[0], (unsigned long long)n);
+            goto cleanup;
+        }
+        double *v = malloc((n ? (size_t)n : 1) * sizeof *v);
+        if (!v) {
+            s = plume_err_set(err, PLUME_ENOMEM, "curves file '%s': out of memory for %llu points",
+                              path, (unsigned long long)n);
+            goto cleanup;
+        }
+        *curve_field(curve, i) = v;
+        if (n > 0 && H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) < 0) {
+            s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot read dataset %s/%s (HDF5: %s)",
+                              path, gpath, f, h5_cause(&d));
+            goto cleanup;
+        }
+        H5Tclose(ty);
+        H5Sclose(sp);
+        H5Dclose(ds);
+        ty = sp = ds = H5I_INVALID_HID;
+    }
+    curve->n = (plume_index)n;
+
+cleanup:
+    if (ty >= 0)
+        H5Tclose(ty);
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (ds >= 0)
+        H5Dclose(ds);
+    if (g >= 0)
+        H5Gclose(g);
+    if (fid >= 0)
+        H5Fclose(fid);
+    quiet_end(&q);
+    if (s != PLUME_OK)
+        plume_curve_free(curve);
+    return s;
+}
+
+/* ------------------------------------------------------------------------- moduli ---- */
+
+static const char *const moduli_names[4] = {"E_xx", "E_yy", "nu_xy", "G_xy"};
+
+static double *moduli_field(plume_ortho *m, int i)
+{
+    switch (i) {
+    case 0: return &m->E_xx;
+    case 1: return &m->E_yy;
+    case 2: return &m->nu_xy;
+    default: return &m->G_xy;
+    }
+}
+
+/* Checks the moduli describe a usable orthotropic material; on failure fills `why` with the
+ * offending attribute and value. Beyond finiteness and positivity, the plane-stress tensor of
+ * DESIGN.md is positive definite only if nu_xy nu_yx = nu_xy^2 E_yy / E_xx < 1. */
+static int moduli_invalid(const plume_ortho *m, char *why, size_t len)
+{
+    plume_ortho c = *m;
+    for (int i = 0; i < 4; i++) {
+        double v = *moduli_field(&c, i);
+        if (!isfinite(v) || (i != 2 && !(v > 0))) {
+            snprintf(why, len, "%s must be %s (got %g)", moduli_names[i],
+                     i == 2 ? "finite" : "finite and > 0", v);
+            return 1;
+        }
+    }
+    if (!(m->nu_xy * m->nu_xy * m->E_yy < m->E_xx)) {
+        snprintf(why, len,
+                 "nu_xy = %g with E_xx = %g, E_yy = %g makes the stiffness tensor indefinite "
+                 "(need nu_xy^2 E_yy / E_xx < 1)",
+                 m->nu_xy, m->E_xx, m->E_yy);
+        return 1;
+    }
+    return 0;
+}
+
+typedef struct {
+    const plume_ortho *m;
+    const char *provenance;
+} moduli_ctx;
+
+static plume_status fill_moduli(hid_t fid, const char *path, const void *vctx, plume_err *err)
+{
+    const moduli_ctx *c = vctx;
+    plume_status s = PLUME_OK;
+    hid_t g = H5I_INVALID_HID;
+    h5_detail d;
+    htri_t e = H5Lexists(fid, "/moduli", H5P_DEFAULT);
+    if (e < 0 || (e > 0 && H5Ldelete(fid, "/moduli", H5P_DEFAULT) < 0)) {
+        s = plume_err_set(err, PLUME_EIO, "moduli file '%s': cannot replace /moduli (HDF5: %s)",
+                          path, h5_cause(&d));
+        goto cleanup;
+    }
+    g = H5Gcreate2(fid, "/moduli", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (g < 0) {
+        s = plume_err_set(err, PLUME_EIO, "moduli file '%s': cannot create /moduli (HDF5: %s)",
+                          path, h5_cause(&d));
+        goto cleanup;
+    }
+    plume_ortho m = *c->m;
+    for (int i = 0; i < 4; i++) {
+        if (write_attr_double(g, moduli_names[i], *moduli_field(&m, i)) < 0) {
+            s = plume_err_set(err, PLUME_EIO, "moduli file '%s': cannot write attribute %s (HDF5: %s)",
+                              path, moduli_names[i], h5_cause(&d));
+            goto cleanup;
+        }
+    }
+    if (write_attr_string(g, "provenance", c->provenance) < 0) {
+        s = plume_err_set(err, PLUME_EIO, "moduli file '%s': cannot write attribute provenance (HDF5: %s)",
+                          path, h5_cause(&d));
+        goto cleanup;
+    }
+cleanup:
+    if (g >= 0)
+        H5Gclose(g);
+    return s;
+}
+
+plume_status plume_moduli_write(const char *path, const plume_ortho *m, const char *provenance,
+                                plume_err *err)
+{
+    char why[256];
+    if (!path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "moduli file: empty path");
+    if (!m)
+        return plume_err_set(err, PLUME_EINVAL, "moduli file '%s': no moduli given", path);
+    if (moduli_invalid(m, why, sizeof why))
+        return plume_err_set(err, PLUME_EINVAL, "moduli file '%s': not written: %s", path, why);
+    moduli_ctx ctx = {m, provenance ? provenance : "unspecified"};
+    h5_quiet q;
+    quiet_begin(&q);
+    plume_status s = atomic_write(path, "moduli file", fill_moduli, &ctx, err);
+    quiet_end(&q);
+    return s;
+}
+
+plume_status plume_moduli_read(const char *path, plume_ortho *m, plume_err *err)
+{
+    if (!path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "moduli file: empty path");
+    if (!m)
+        return plume_err_set(err, PLUME_EINVAL, "moduli file '%s': no output given", path);
+
+    plume_status s = PLUME_OK;
+    hid_t fid = H5I_INVALID_HID, g = H5I_INVALID_HID, a = H5I_INVALID_HID, sp = H5I_INVALID_HID,
+          ty = H5I_INVALID_HID;
+    h5_detail d;
+    plume_ortho r = {0, 0, 0, 0};
+    char why[256];
+    h5_quiet q;
+    quiet_begin(&q);
+
+    s = open_for_read(path, "moduli file", &fid, err);
+    if (s != PLUME_OK)
+        goto cleanup;
+    if (H5Lexists(fid, "/moduli", H5P_DEFAULT) <= 0) {
+        s = plume_err_set(err, PLUME_EFORMAT, "moduli file '%s': no /moduli group", path);
+        goto cleanup;
+    }
+    g = H5Gopen2(fid, "/moduli", H5P_DEFAULT);
+    if (g < 0) {
+        s = plume_err_set(err, PLUME_EFORMAT, "moduli file '%s': /moduli is not a group", path);
+        goto cleanup;
+    }
+    for (int i = 0; i < 4; i++) {
+        const char *name = moduli_names[i];
+        if (H5Aexists(g, name) <= 0 || (a = H5Aopen(g, name, H5P_DEFAULT)) < 0) {
+            s = plume_err_set(err, PLUME_EFORMAT, "moduli file '%s': /moduli attribute %s missing",
+                              path, name);
+            goto cleanup;
+        }
+        sp = H5Aget_space(a);
+        ty = H5Aget_type(a);
+        H5T_class_t cls = ty < 0 ? H5T_NO_CLASS : H5Tget_class(ty);
+        if (sp < 0 || H5Sget_simple_extent_npoints(sp) != 1 || (cls != H5T_FLOAT && cls != H5T_INTEGER)) {
+            s = plume_err_set(err, PLUME_EFORMAT,
+                              "moduli file '%s': /moduli attribute %s is not a single number", path,
+                              name);
+            goto cleanup;
+        }
+        if (H5Aread(a, H5T_NATIVE_DOUBLE, moduli_field(&r, i)) < 0) {
+            s = plume_err_set(err, PLUME_EIO, "moduli file '%s': cannot read attribute %s (HDF5: %s)",
+                              path, name, h5_cause(&d));
+            goto cleanup;
+        }
+        H5Tclose(ty);
+        H5Sclose(sp);
+        H5Aclose(a);
+        ty = sp = a = H5I_INVALID_HID;
+    }
+    if (moduli_invalid(&r, why, sizeof why)) {
+        s = plume_err_set(err, PLUME_EINVAL, "moduli file '%s': %s", path, why);
+        goto cleanup;
+    }
+    *m = r;
+
+cleanup:
+    if (ty >= 0)
+        H5Tclose(ty);
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (a >= 0)
+        H5Aclose(a);
+    if (g >= 0)
+        H5Gclose(g);
+    if (fid >= 0)
+        H5Fclose(fid);
+    quiet_end(&q);
+    return s;
+}

@@ -1,0 +1,418 @@
+/* The membrane element (DESIGN.md "Equations every part agrees on"; supplementary eq. 6).
+ *
+ * Everything is written in terms of G = F R = Ds B with B = Dm^-1 R precomputed per triangle:
+ * the Green strain in the barb frame is E = (G^T G - I)/2 and J = |g1 x g2| for the columns g1, g2
+ * of G (planar mode embeds G in 3D with z = 0, so J = |det F|). The energy density, its gradient
+ * dpsi/dG and its Hessian (2 dim x 2 dim) are computed in G, projected there when asked (G -> x is
+ * a linear surjection, so PSD in G gives PSD in x), and mapped to the three vertices with
+ * G[:,c] = sum_v W[v][c] x_v. */
+#include "membrane.h"
+
+#include "dense.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Below this area ratio the current triangle is collapsed and the second derivative of J, which
+ * divides by J, is dropped; the first derivative (a unit normal) stays well defined down to 0. */
+#define MEMBRANE_J_TINY 1e-14
+
+/* A reference triangle whose doubled area is below this fraction of its squared edge lengths is
+ * degenerate up to rounding (collinear points computed in floating point): Dm^-1 would be noise. */
+#define MEMBRANE_DEGENERATE_REL (64.0 * DBL_EPSILON)
+
+typedef struct {
+    double C[9];  /* plane-stress stiffness, Voigt (E11, E22, 2E12) */
+    double kappa; /* compression coefficient (Pa) */
+} mem_mat;
+
+typedef struct {
+    double Ah;   /* reference area times thickness */
+    double B[4]; /* Dm^-1 R, row-major 2x2 */
+    int mat;
+} mem_tri;
+
+typedef struct {
+    int dim;
+    plume_index nt;
+    plume_index *stencil; /* [3*nt] */
+    mem_tri *tri;         /* [nt] */
+    mem_mat *mat;         /* [nmat] */
+} mem_ctx;
+
+/* 1 - nu_xy nu_yx, the plane-stress denominator; > 0 iff C is positive definite (moduli > 0). */
+static double plane_stress_det(const plume_membrane_material *m)
+{
+    double nu_yx = m->nu_xy * m->E_yy / m->E_xx;
+    return 1.0 - m->nu_xy * nu_yx;
+}
+
+plume_status plume_membrane_material_check(const plume_membrane_material *m, plume_err *err)
+{
+    if (!m)
+        return plume_err_set(err, PLUME_EINVAL, "material is NULL");
+    if (!(isfinite(m->E_xx) && m->E_xx > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "E_xx must be finite and > 0 (got %g)", m->E_xx);
+    if (!(isfinite(m->E_yy) && m->E_yy > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "E_yy must be finite and > 0 (got %g)", m->E_yy);
+    if (!(isfinite(m->G_xy) && m->G_xy > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "G_xy must be finite and > 0 (got %g)", m->G_xy);
+    if (!isfinite(m->nu_xy))
+        return plume_err_set(err, PLUME_EINVAL, "nu_xy must be finite (got %g)", m->nu_xy);
+    if (!(isfinite(m->h) && m->h > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "h must be finite and > 0 (got %g)", m->h);
+    if (!(isfinite(m->kappa) && m->kappa >= 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "kappa must be finite and >= 0 (got %g)", m->kappa);
+    double D = plane_stress_det(m);
+    if (!(D > 0.0) || !isfinite(m->E_xx / D) || !isfinite(m->E_yy / D))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "nu_xy^2 must be < E_xx/E_yy for a positive definite plane-stress "
+                             "tensor (got nu_xy = %g, E_xx/E_yy = %g)",
+                             m->nu_xy, m->E_xx / m->E_yy);
+    return PLUME_OK;
+}
+
+void plume_membrane_stiffness(const plume_membrane_material *m, double C[9])
+{
+    double nu_yx = m->nu_xy * m->E_yy / m->E_xx;
+    double D = 1.0 - m->nu_xy * nu_yx;
+    C[0] = m->E_xx / D;
+    C[1] = nu_yx * m->E_xx / D;
+    C[2] = 0.0;
+    C[3] = C[1];
+    C[4] = m->E_yy / D;
+    C[5] = 0.0;
+    C[6] = 0.0;
+    C[7] = 0.0;
+    C[8] = m->G_xy;
+}
+
+static void cross3(const double a[3], const double b[3], double c[3])
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Density per unit volume psi(G) (without h) for the columns g[0], g[1] of G (3-vectors, z = 0 in
+ * planar mode). P (if non-NULL): dpsi/dg_c. HG (if non-NULL): Hessian, (2 dim)^2 row-major, the
+ * entry G[i][c] having index c*dim + i. g is read only; it is not const-qualified because C11 does
+ * not convert double (*)[3] to const double (*)[3] implicitly. */
+static inline double density_G(const mem_mat *m, int dim, double g[2][3], double P[2][3],
+                        double *HG)
+{
+    const double *C = m->C;
+    double c11 = dot3(g[0], g[0]), c22 = dot3(g[1], g[1]), c12 = dot3(g[0], g[1]);
+    double e[3] = {0.5 * (c11 - 1.0), 0.5 * (c22 - 1.0), c12};
+    double s[3] = {C[0] * e[0] + C[1] * e[1] + C[2] * e[2], C[3] * e[0] + C[4] * e[1] + C[5] * e[2],
+                   C[6] * e[0] + C[7] * e[1] + C[8] * e[2]};
+    double psi = 0.5 * (e[0] * s[0] + e[1] * s[1] + e[2] * s[2]);
+
+    /* compression term, supplementary eq. 6: psi_c = kappa/12 ((1-J)/6)^3 for J < 1 */
+    double n[3], nh[3] = {0.0, 0.0, 0.0};
+    cross3(g[0], g[1], n);
+    double J = sqrt(dot3(n, n));
+    int comp = m->kappa > 0.0 && J < 1.0;
+    double dpc = 0.0, ddpc = 0.0;
+    if (comp) {
+        double t = (1.0 - J) / 6.0;
+        psi += m->kappa / 12.0 * t * t * t;
+        dpc = -m->kappa * t * t / 24.0; /* d psi_c / dJ */
+        ddpc = m->kappa * t / 72.0;     /* d2 psi_c / dJ2 */
+        if (J > 0.0)
+            for (int k = 0; k < 3; k++)
+                nh[k] = n[k] / J;
+    }
+
+    if (P) {
+        /* dpsi/dG = G S, S = [[s0, s2], [s2, s1]] */
+        for (int k = 0; k < 3; k++) {
+            P[0][k] = s[0] * g[0][k] + s[2] * g[1][k];
+            P[1][k] = s[2] * g[0][k] + s[1] * g[1][k];
+        }
+        if (comp && J > 0.0) {
+            /* dJ/dg1 = g2 x n^, dJ/dg2 = n^ x g1 */
+            double a[3], b[3];
+            cross3(g[1], nh, a);
+            cross3(nh, g[0], b);
+            for (int k = 0; k < 3; k++) {
+                P[0][k] += dpc * a[k];
+                P[1][k] += dpc * b[k];
+            }
+        }
+    }
+
+    if (HG) {
+        const int k = 2 * dim;
+        const double S[2][2] = {{s[0], s[2]}, {s[2], s[1]}};
+        double v[6][3], Cv[6][3], dn[6][3], dJ[6];
+        for (int c = 0; c < 2; c++) {
+            for (int i = 0; i < dim; i++) {
+                int a = c * dim + i;
+                /* Voigt vector of sym(G^T e_a): dE for a unit change of G[i][c] */
+                if (c == 0) {
+                    v[a][0] = g[0][i];
+                    v[a][1] = 0.0;
+                    v[a][2] = g[1][i];
+                } else {
+                    v[a][0] = 0.0;
+                    v[a][1] = g[1][i];
+                    v[a][2] = g[0][i];
+                }
+                for (int r = 0; r < 3; r++)
+                    Cv[a][r] = C[3 * r] * v[a][0] + C[3 * r + 1] * v[a][1] + C[3 * r + 2] * v[a][2];
+                if (comp) {
+                    double ei[3] = {0.0, 0.0, 0.0};
+                    ei[i] = 1.0;
+                    if (c == 0)
+                        cross3(ei, g[1], dn[a]);
+                    else
+                        cross3(g[0], ei, dn[a]);
+                    dJ[a] = dot3(nh, dn[a]);
+                }
+            }
+        }
+        for (int a = 0; a < k; a++) {
+            int ca = a / dim, ia = a % dim;
+            for (int b = a; b < k; b++) {
+                int cb = b / dim, ib = b % dim;
+                double h = dot3(v[a], Cv[b]);
+                if (ia == ib)
+                    h += S[ca][cb];
+                if (comp) {
+                    h += ddpc * dJ[a] * dJ[b];
+                    if (J >= MEMBRANE_J_TINY) {
+                        double d2J = (dot3(dn[a], dn[b]) - dJ[a] * dJ[b]) / J;
+                        /* n^ . (dg1_a x dg2_b + dg1_b x dg2_a): only mixed columns, i != j */
+                        if (ca != cb && ia != ib) {
+                            int i0 = ca == 0 ? ia : ib, i1 = ca == 0 ? ib : ia; /* column 0, 1 */
+                            int l = 3 - i0 - i1; /* e_i0 x e_i1 = +-e_l */
+                            double sign = (i1 == (i0 + 1) % 3) ? 1.0 : -1.0;
+                            d2J += sign * nh[l];
+                        }
+                        h += dpc * d2J;
+                    }
+                }
+                HG[a * k + b] = HG[b * k + a] = h;
+            }
+        }
+    }
+    return psi;
+}
+
+double plume_membrane_density(const plume_membrane_material *mat, int dim, const double *F,
+                              const double d[2])
+{
+    if (!mat || !F || !d || (dim != 2 && dim != 3))
+        return NAN;
+    mem_mat m;
+    plume_membrane_stiffness(mat, m.C);
+    m.kappa = mat->kappa;
+    double len = hypot(d[0], d[1]);
+    double R[2][2] = {{d[0] / len, -d[1] / len}, {d[1] / len, d[0] / len}};
+    double g[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+    for (int i = 0; i < dim; i++)
+        for (int c = 0; c < 2; c++)
+            g[c][i] = F[2 * i] * R[0][c] + F[2 * i + 1] * R[1][c];
+    return mat->h * density_G(&m, dim, g, NULL, NULL);
+}
+
+/* The element loop; returns the energy. Called with a literal dim so that the compiler
+ * specialises it (fixed trip counts, unrolled small loops). */
+static inline double eval_loop(const mem_ctx *ctx, const int dim, const double *x, double *grad,
+                               double *hblocks, int project)
+{
+    const int k = 2 * dim, kk = 3 * dim;
+    double HG[36], T[6 * 9];
+    double E = 0.0;
+    for (plume_index t = 0; t < ctx->nt; t++) {
+        const mem_tri *tr = &ctx->tri[t];
+        const plume_index *vid = ctx->stencil + 3 * t;
+        const double *B = tr->B;
+        const double W[3][2] = {{-(B[0] + B[2]), -(B[1] + B[3])}, {B[0], B[1]}, {B[2], B[3]}};
+        double e1[3] = {0.0, 0.0, 0.0}, e2[3] = {0.0, 0.0, 0.0};
+        const double *x0 = x + dim * vid[0], *x1 = x + dim * vid[1], *x2 = x + dim * vid[2];
+        for (int i = 0; i < dim; i++) {
+            e1[i] = x1[i] - x0[i];
+            e2[i] = x2[i] - x0[i];
+        }
+        double g[2][3];
+        for (int i = 0; i < 3; i++) {
+            g[0][i] = e1[i] * B[0] + e2[i] * B[2];
+            g[1][i] = e1[i] * B[1] + e2[i] * B[3];
+        }
+        double P[2][3];
+        double psi =
+            density_G(&ctx->mat[tr->mat], dim, g, grad ? P : NULL, hblocks ? HG : NULL);
+        E += tr->Ah * psi;
+        if (grad) {
+            for (int v = 0; v < 3; v++) {
+                double *gv = grad + dim * vid[v];
+                for (int i = 0; i < dim; i++)
+                    gv[i] += tr->Ah * (W[v][0] * P[0][i] + W[v][1] * P[1][i]);
+            }
+        }
+        if (hblocks) {
+            if (project)
+                plume_dense_project_psd(k, HG);
+            /* T[(c,i), (w,j)] = Ah sum_d HG[(c,i), (d,j)] W[w][d] */
+            for (int a = 0; a < k; a++) {
+                const double *row = HG + a * k;
+                for (int w = 0; w < 3; w++)
+                    for (int j = 0; j < dim; j++)
+                        T[a * kk + w * dim + j] =
+                            tr->Ah * (W[w][0] * row[j] + W[w][1] * row[dim + j]);
+            }
+            /* H[(v,i), (w,j)] = sum_c W[v][c] T[(c,i), (w,j)]: upper triangle, mirrored so that
+             * the block is exactly symmetric */
+            double *H = hblocks + (size_t)t * kk * kk;
+            for (int v = 0; v < 3; v++)
+                for (int i = 0; i < dim; i++) {
+                    const int row = v * dim + i;
+                    const double *t0 = T + i * kk, *t1 = T + (dim + i) * kk;
+                    for (int col = row; col < kk; col++)
+                        H[row * kk + col] = H[col * kk + row] =
+                            W[v][0] * t0[col] + W[v][1] * t1[col];
+                }
+        }
+    }
+    return E;
+}
+
+static plume_status membrane_eval(void *vctx, int dim, const double *x, double *energy,
+                                  double *grad, double *hblocks, int project)
+{
+    const mem_ctx *ctx = vctx;
+    if (!ctx || !x || dim != ctx->dim)
+        return PLUME_EINVAL;
+    double E = dim == 2 ? eval_loop(ctx, 2, x, grad, hblocks, project)
+                        : eval_loop(ctx, 3, x, grad, hblocks, project);
+    if (energy)
+        *energy += E;
+    return PLUME_OK;
+}
+
+static void membrane_destroy(void *vctx)
+{
+    mem_ctx *ctx = vctx;
+    if (!ctx)
+        return;
+    free(ctx->stencil);
+    free(ctx->tri);
+    free(ctx->mat);
+    free(ctx);
+}
+
+plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
+                                        const plume_membrane_material *mats, int nmat,
+                                        plume_term *out, plume_err *err)
+{
+    plume_status st = PLUME_OK;
+    mem_ctx *ctx = NULL;
+    if (out)
+        memset(out, 0, sizeof *out);
+    if (!mesh || !mats || !out)
+        return plume_err_set(err, PLUME_EINVAL, "membrane: NULL mesh, materials or output");
+    if (dim != 2 && dim != 3)
+        return plume_err_set(err, PLUME_EINVAL, "membrane: dim must be 2 or 3 (got %d)", dim);
+    if (nmat < 1)
+        return plume_err_set(err, PLUME_EINVAL, "membrane: nmat must be >= 1 (got %d)", nmat);
+    if (mesh->nv < 0 || mesh->nt < 0 || (mesh->nt > 0 && (!mesh->X || !mesh->tri ||
+                                                          !mesh->barb_dir || !mesh->material)))
+        return plume_err_set(err, PLUME_EINVAL, "membrane: mesh arrays missing or sizes negative");
+    for (int i = 0; i < nmat; i++) {
+        plume_err e;
+        if (plume_membrane_material_check(&mats[i], &e) != PLUME_OK)
+            return plume_err_set(err, PLUME_EINVAL, "membrane: material %d: %s", i, e.msg);
+    }
+
+    const plume_index nt = mesh->nt;
+    ctx = calloc(1, sizeof *ctx);
+    if (!ctx)
+        return plume_err_set(err, PLUME_ENOMEM, "membrane: out of memory");
+    ctx->dim = dim;
+    ctx->nt = nt;
+    ctx->stencil = malloc((size_t)(3 * nt + 1) * sizeof *ctx->stencil);
+    ctx->tri = malloc((size_t)(nt + 1) * sizeof *ctx->tri);
+    ctx->mat = malloc((size_t)nmat * sizeof *ctx->mat);
+    if (!ctx->stencil || !ctx->tri || !ctx->mat) {
+        st = plume_err_set(err, PLUME_ENOMEM, "membrane: out of memory");
+        goto cleanup;
+    }
+    for (int i = 0; i < nmat; i++) {
+        plume_membrane_stiffness(&mats[i], ctx->mat[i].C);
+        ctx->mat[i].kappa = mats[i].kappa;
+    }
+
+    for (plume_index t = 0; t < nt; t++) {
+        const plume_index *v = mesh->tri + 3 * t;
+        for (int l = 0; l < 3; l++) {
+            if (v[l] < 0 || v[l] >= mesh->nv) {
+                st = plume_err_set(err, PLUME_EINVAL,
+                                   "membrane: triangle %ld: vertex id %ld out of range [0, %ld)",
+                                   (long)t, (long)v[l], (long)mesh->nv);
+                goto cleanup;
+            }
+            ctx->stencil[3 * t + l] = v[l];
+        }
+        int mid = mesh->material[t];
+        if (mid < 0 || mid >= nmat) {
+            st = plume_err_set(err, PLUME_EINVAL,
+                               "membrane: triangle %ld: material id %d out of range [0, %d)",
+                               (long)t, mid, nmat);
+            goto cleanup;
+        }
+        const double *X0 = mesh->X + 2 * v[0], *X1 = mesh->X + 2 * v[1], *X2 = mesh->X + 2 * v[2];
+        double d00 = X1[0] - X0[0], d01 = X2[0] - X0[0]; /* Dm = [X1-X0, X2-X0] */
+        double d10 = X1[1] - X0[1], d11 = X2[1] - X0[1];
+        double det = d00 * d11 - d01 * d10;
+        double area = 0.5 * fabs(det);
+        double scale = d00 * d00 + d10 * d10 + d01 * d01 + d11 * d11 +
+                       (d01 - d00) * (d01 - d00) + (d11 - d10) * (d11 - d10);
+        if (!isfinite(area) || !isfinite(scale) || !(fabs(det) > MEMBRANE_DEGENERATE_REL * scale)) {
+            st = plume_err_set(err, PLUME_EINVAL,
+                               "membrane: triangle %ld: degenerate reference triangle (area %g)",
+                               (long)t, area);
+            goto cleanup;
+        }
+        double dx = mesh->barb_dir[2 * t], dy = mesh->barb_dir[2 * t + 1];
+        double len = hypot(dx, dy);
+        if (!isfinite(len) || !(len > 0.0)) {
+            st = plume_err_set(err, PLUME_EINVAL,
+                               "membrane: triangle %ld: barb direction (%g, %g) cannot be "
+                               "normalised", (long)t, dx, dy);
+            goto cleanup;
+        }
+        dx /= len;
+        dy /= len;
+        /* B = Dm^-1 R, R = [d, d_perp], d_perp = (-d_y, d_x) */
+        double i00 = d11 / det, i01 = -d01 / det, i10 = -d10 / det, i11 = d00 / det;
+        mem_tri *tr = &ctx->tri[t];
+        tr->B[0] = i00 * dx + i01 * dy;
+        tr->B[1] = -i00 * dy + i01 * dx;
+        tr->B[2] = i10 * dx + i11 * dy;
+        tr->B[3] = -i10 * dy + i11 * dx;
+        tr->Ah = area * mats[mid].h;
+        tr->mat = mid;
+    }
+
+    out->name = "membrane";
+    out->arity = 3;
+    out->nstencil = nt;
+    out->stencil = ctx->stencil;
+    out->eval = membrane_eval;
+    out->destroy = membrane_destroy;
+    out->ctx = ctx;
+    return PLUME_OK;
+
+cleanup:
+    membrane_destroy(ctx);
+    return st;
+}

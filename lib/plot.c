@@ -1,0 +1,322 @@
+/* plume: charts of curves as PNG and SVG through gnuplot.
+ *
+ * The data and a script go to a private mkdtemp directory; one gnuplot run draws both outputs
+ * there; each is then copied beside its destination under "<dest>.tmp.<pid>" and renamed, so a
+ * failed or interrupted plot never leaves a truncated image under the final name. gnuplot is run
+ * with posix_spawnp (no shell, so no quoting of paths on a command line) and its exit status and
+ * output are checked. */
+#include "plot.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <spawn.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char **environ;
+
+enum { PLOT_PATH_MAX = 4096 };
+
+/* The scratch directory and the files in it. */
+typedef struct {
+    char dir[PLOT_PATH_MAX - 32]; /* room for the file names below */
+    char data[PLOT_PATH_MAX], script[PLOT_PATH_MAX], png[PLOT_PATH_MAX], svg[PLOT_PATH_MAX],
+        log[PLOT_PATH_MAX];
+} scratch;
+
+static const char *scratch_file(const scratch *s, int i)
+{
+    const char *f[5] = {s->data, s->script, s->png, s->svg, s->log};
+    return f[i];
+}
+
+/* Writes `s` as a gnuplot single-quoted string: inside one only '' is special (it stands for a
+ * quote); control characters would end the command, so they become spaces. */
+static void put_quoted(FILE *f, const char *s)
+{
+    fputc('\'', f);
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '\'')
+            fputs("''", f);
+        else if (c < 0x20 || c == 0x7f)
+            fputc(' ', f);
+        else
+            fputc(c, f);
+    }
+    fputc('\'', f);
+}
+
+static void put_value(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, "%.17g", v);
+    else
+        fputs("NaN", f); /* gnuplot skips undefined points */
+}
+
+static int write_data(const char *path, const plume_curve *curves, int ncurves)
+{
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return -1;
+    for (int c = 0; c < ncurves; c++) {
+        fprintf(f, "# curve %d: strain (%%) stress (Pa) wbar\n", c + 1);
+        for (plume_index i = 0; i < curves[c].n; i++) {
+            put_value(f, 100.0 * curves[c].strain[i]);
+            fputc(' ', f);
+            put_value(f, curves[c].stress[i]);
+            fputc(' ', f);
+            put_value(f, curves[c].wbar[i]);
+            fputc('\n', f);
+        }
+        fputs("\n\n", f); /* two blank lines: next gnuplot "index" */
+    }
+    int bad = ferror(f);
+    return (fclose(f) != 0 || bad) ? -1 : 0;
+}
+
+static void write_body(FILE *f, const scratch *s, const char *title, const char *const *labels,
+                       int ncurves)
+{
+    fputs("set multiplot layout 1,2", f);
+    if (title && *title) {
+        fputs(" title ", f);
+        put_quoted(f, title);
+    }
+    fputs("\nset grid\nset key top left box opaque\nset xlabel 'nominal strain (%)'\n", f);
+    static const char *const ylabel[2] = {"nominal stress (Pa)",
+                                          "w-bar (average relative width change)"};
+    for (int panel = 0; panel < 2; panel++) {
+        fputs("set ylabel ", f);
+        put_quoted(f, ylabel[panel]);
+        fputs("\nplot ", f);
+        for (int c = 0; c < ncurves; c++) {
+            char fallback[32];
+            const char *label = labels && labels[c] ? labels[c] : NULL;
+            if (!label) {
+                snprintf(fallback, sizeof fallback, "curve %d", c + 1);
+                label = fallback;
+            }
+            if (c == 0)
+                put_quoted(f, s->data);
+            else
+                fputs(", ''", f);
+            fprintf(f, " index %d using 1:%d with linespoints lc %d pt 7 ps 0.5 title ", c,
+                    panel == 0 ? 2 : 3, c + 1);
+            put_quoted(f, label);
+        }
+        fputc('\n', f);
+    }
+    fputs("unset multiplot\nunset output\n", f);
+}
+
+static int write_script(const scratch *s, const char *title, const char *const *labels, int ncurves)
+{
+    FILE *f = fopen(s->script, "w");
+    if (!f)
+        return -1;
+    fputs("# written by plume_plot_curves\nset encoding utf8\n"
+          "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
+          "    set terminal pngcairo size 1200,500 noenhanced\n"
+          "} else {\n"
+          "    set terminal png size 1200,500 noenhanced\n"
+          "}\nset output ",
+          f);
+    put_quoted(f, s->png);
+    fputc('\n', f);
+    write_body(f, s, title, labels, ncurves);
+    fputs("set terminal svg size 1200,500 noenhanced\nset output ", f);
+    put_quoted(f, s->svg);
+    fputc('\n', f);
+    write_body(f, s, title, labels, ncurves);
+    int bad = ferror(f);
+    return (fclose(f) != 0 || bad) ? -1 : 0;
+}
+
+/* The last non-empty line of gnuplot's output (its error), for the message. */
+static void log_tail(const char *path, char *out, size_t len)
+{
+    out[0] = '\0';
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return;
+    char line[512];
+    while (fgets(line, sizeof line, f)) {
+        size_t n = strlen(line);
+        while (n > 0 && (line[n - 1] == '\n' || line[n - 1] == '\r' || line[n - 1] == ' '))
+            line[--n] = '\0';
+        if (n > 0)
+            snprintf(out, len, "%s", line);
+    }
+    fclose(f);
+}
+
+static plume_status run_gnuplot(const scratch *s, plume_err *err)
+{
+    posix_spawn_file_actions_t fa;
+    if (posix_spawn_file_actions_init(&fa) != 0)
+        return plume_err_set(err, PLUME_ENOMEM, "plot: cannot prepare to run gnuplot");
+    plume_status st = PLUME_OK;
+    if (posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0) != 0 ||
+        posix_spawn_file_actions_addopen(&fa, 1, s->log, O_WRONLY | O_CREAT | O_TRUNC, 0600) != 0 ||
+        posix_spawn_file_actions_adddup2(&fa, 1, 2) != 0) {
+        st = plume_err_set(err, PLUME_ENOMEM, "plot: cannot prepare to run gnuplot");
+        goto cleanup;
+    }
+    char arg0[] = "gnuplot";
+    char *argv[3] = {arg0, (char *)s->script, NULL};
+    pid_t pid;
+    int rc = posix_spawnp(&pid, "gnuplot", &fa, NULL, argv, environ);
+    if (rc == ENOENT) {
+        st = plume_err_set(err, PLUME_EDEP, "gnuplot not found (install gnuplot-nox)");
+        goto cleanup;
+    }
+    if (rc != 0) {
+        st = plume_err_set(err, PLUME_EDEP, "cannot run gnuplot: %s", strerror(rc));
+        goto cleanup;
+    }
+    int status;
+    pid_t w;
+    do
+        w = waitpid(pid, &status, 0);
+    while (w < 0 && errno == EINTR);
+    if (w < 0) {
+        st = plume_err_set(err, PLUME_EDEP, "gnuplot: cannot wait for it: %s", strerror(errno));
+        goto cleanup;
+    }
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+        /* A libc whose posix_spawnp reports exec failure only through the child's status. */
+        st = plume_err_set(err, PLUME_EDEP, "gnuplot not found (install gnuplot-nox)");
+        goto cleanup;
+    }
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        char tail[400];
+        log_tail(s->log, tail, sizeof tail);
+        if (WIFEXITED(status))
+            st = plume_err_set(err, PLUME_EDEP, "gnuplot failed (exit status %d): %s",
+                               WEXITSTATUS(status), tail[0] ? tail : "no message");
+        else
+            st = plume_err_set(err, PLUME_EDEP, "gnuplot killed by signal %d",
+                               WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    }
+cleanup:
+    posix_spawn_file_actions_destroy(&fa);
+    return st;
+}
+
+/* Copies `src` to "<dst>.tmp.<pid>" and renames it over `dst`. */
+static plume_status install_file(const char *src, const char *dst, plume_err *err)
+{
+    plume_status st = PLUME_OK;
+    char tmp[PLOT_PATH_MAX + 32];
+    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", dst, (long)getpid());
+    FILE *in = fopen(src, "rb");
+    FILE *out = NULL;
+    if (!in)
+        return plume_err_set(err, PLUME_EDEP, "plot '%s': gnuplot wrote no output", dst);
+    out = fopen(tmp, "wb");
+    if (!out) {
+        st = plume_err_set(err, PLUME_EIO, "plot '%s': cannot create '%s': %s", dst, tmp,
+                           strerror(errno));
+        fclose(in);
+        return st;
+    }
+    char buf[65536];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, in)) > 0)
+        if (fwrite(buf, 1, n, out) != n)
+            break;
+    int bad = ferror(in) || ferror(out);
+    fclose(in);
+    if (fclose(out) != 0 || bad)
+        st = plume_err_set(err, PLUME_EIO, "plot '%s': cannot write '%s': %s", dst, tmp,
+                           strerror(errno));
+    else if (rename(tmp, dst) != 0)
+        st = plume_err_set(err, PLUME_EIO, "plot '%s': cannot rename '%s' over it: %s", dst, tmp,
+                           strerror(errno));
+    if (st != PLUME_OK)
+        unlink(tmp);
+    return st;
+}
+
+static int non_empty(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0;
+}
+
+plume_status plume_plot_curves(const char *png_path, const char *title, const plume_curve *curves,
+                               const char *const *labels, int ncurves, plume_err *err)
+{
+    if (!png_path || !*png_path)
+        return plume_err_set(err, PLUME_EINVAL, "plot: empty output path");
+    if (strlen(png_path) >= PLOT_PATH_MAX - 8)
+        return plume_err_set(err, PLUME_EINVAL, "plot '%s': path too long", png_path);
+    if (!curves || ncurves < 1)
+        return plume_err_set(err, PLUME_EINVAL, "plot '%s': no curves to draw", png_path);
+    for (int c = 0; c < ncurves; c++)
+        if (curves[c].n < 1 || !curves[c].strain || !curves[c].stress || !curves[c].wbar)
+            return plume_err_set(err, PLUME_EINVAL,
+                                 "plot '%s': curve %d has no points or no strain/stress/wbar", png_path,
+                                 c + 1);
+
+    /* SVG beside the PNG: extension of the last path component replaced, or appended. */
+    char svg_path[PLOT_PATH_MAX];
+    snprintf(svg_path, sizeof svg_path, "%s", png_path);
+    char *slash = strrchr(svg_path, '/');
+    char *base = slash ? slash + 1 : svg_path;
+    char *dot = strrchr(base, '.');
+    if (dot && dot != base)
+        *dot = '\0';
+    strcat(svg_path, ".svg");
+    if (strcmp(svg_path, png_path) == 0)
+        return plume_err_set(err, PLUME_EINVAL, "plot '%s': the PNG path must not end in .svg",
+                             png_path);
+
+    scratch s;
+    const char *tmpdir = getenv("TMPDIR");
+    if (!tmpdir || !*tmpdir || strlen(tmpdir) > PLOT_PATH_MAX - 64)
+        tmpdir = "/tmp";
+    snprintf(s.dir, sizeof s.dir, "%s/plume-plot-XXXXXX", tmpdir);
+    if (!mkdtemp(s.dir))
+        return plume_err_set(err, PLUME_EIO, "plot: cannot create a temporary directory in %s: %s",
+                             tmpdir, strerror(errno));
+    snprintf(s.data, sizeof s.data, "%s/curves.dat", s.dir);
+    snprintf(s.script, sizeof s.script, "%s/plot.gp", s.dir);
+    snprintf(s.png, sizeof s.png, "%s/out.png", s.dir);
+    snprintf(s.svg, sizeof s.svg, "%s/out.svg", s.dir);
+    snprintf(s.log, sizeof s.log, "%s/gnuplot.log", s.dir);
+
+    plume_status st = PLUME_OK;
+    if (write_data(s.data, curves, ncurves) != 0 || write_script(&s, title, labels, ncurves) != 0) {
+        st = plume_err_set(err, PLUME_EIO, "plot: cannot write gnuplot input in %s: %s", s.dir,
+                           strerror(errno));
+        goto cleanup;
+    }
+    st = run_gnuplot(&s, err);
+    if (st != PLUME_OK)
+        goto cleanup;
+    if (!non_empty(s.png) || !non_empty(s.svg)) {
+        char tail[400];
+        log_tail(s.log, tail, sizeof tail);
+        st = plume_err_set(err, PLUME_EDEP, "plot '%s': gnuplot produced no image%s%s", png_path,
+                           tail[0] ? ": " : "", tail);
+        goto cleanup;
+    }
+    st = install_file(s.png, png_path, err);
+    if (st == PLUME_OK)
+        st = install_file(s.svg, svg_path, err);
+
+cleanup:
+    for (int i = 0; i < 5; i++)
+        unlink(scratch_file(&s, i));
+    rmdir(s.dir);
+    return st;
+}

@@ -1,0 +1,503 @@
+/* Tests of the `ipopt` backend on small problems with closed-form solutions, built from terms
+ * defined here (springs, anchors, constant forces) and the edge-length constraint. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "edge_length.h"
+#include "harness.h"
+#include "problem.h"
+#include "solver.h"
+
+/* ---- test terms (any dim, exact gradient and Hessian) ---- */
+
+/* Springs over edges: 1/2 k_e (|x_i - x_j| - L_e)^2; L_e = 0 is the quadratic 1/2 k |x_i - x_j|^2. */
+typedef struct {
+    plume_index n;
+    plume_index *edges;
+    double *k, *L;
+} spring_ctx;
+
+static void spring_destroy(void *ctx)
+{
+    spring_ctx *c = ctx;
+    if (!c)
+        return;
+    free(c->edges);
+    free(c->k);
+    free(c->L);
+    free(c);
+}
+
+static plume_status spring_eval(void *ctx, int dim, const double *x, double *energy, double *grad,
+                                double *hblocks, int project)
+{
+    const spring_ctx *c = ctx;
+    int kd = 2 * dim;
+    for (plume_index e = 0; e < c->n; e++) {
+        plume_index i = c->edges[2 * e], j = c->edges[2 * e + 1];
+        double d[3] = {0, 0, 0}, l2 = 0.0;
+        for (int a = 0; a < dim; a++) {
+            d[a] = x[dim * i + a] - x[dim * j + a];
+            l2 += d[a] * d[a];
+        }
+        double l = sqrt(l2), k = c->k[e], L = c->L[e];
+        if (L > 0.0 && !(l > 0.0))
+            return PLUME_EINVAL; /* direction undefined: the solver cuts the step back */
+        double r = L > 0.0 ? L / l : 0.0;
+        if (energy)
+            *energy += 0.5 * k * (l - L) * (l - L);
+        if (grad)
+            for (int a = 0; a < dim; a++) {
+                grad[dim * i + a] += k * (1.0 - r) * d[a];
+                grad[dim * j + a] -= k * (1.0 - r) * d[a];
+            }
+        if (hblocks) {
+            /* B = k [(1 - r) (I - n n^T) + n n^T]: eigenvalues k along n, k (1 - r) across, so the
+             * PSD projection clamps 1 - r at 0. The stencil block is [B -B; -B B]. */
+            double cperp = 1.0 - r;
+            if (project && cperp < 0.0)
+                cperp = 0.0;
+            double *h = hblocks + (size_t)e * kd * kd;
+            for (int a = 0; a < dim; a++)
+                for (int b = 0; b < dim; b++) {
+                    double nn = l2 > 0.0 ? d[a] * d[b] / l2 : 0.0;
+                    double B = k * (cperp * ((a == b) - nn) + nn);
+                    h[a * kd + b] = h[(dim + a) * kd + dim + b] = B;
+                    h[a * kd + dim + b] = h[(dim + a) * kd + b] = -B;
+                }
+        }
+    }
+    return PLUME_OK;
+}
+
+/* Springs over `n` edges with stiffness k[] and rest lengths L[] (copied). */
+static plume_status spring_term(const plume_index *edges, plume_index n, const double *k, const double *L,
+                                plume_term *t)
+{
+    spring_ctx *c = calloc(1, sizeof *c);
+    if (!c)
+        return PLUME_ENOMEM;
+    c->n = n;
+    c->edges = malloc((size_t)(2 * n) * sizeof *c->edges);
+    c->k = malloc((size_t)n * sizeof *c->k);
+    c->L = malloc((size_t)n * sizeof *c->L);
+    if (!c->edges || !c->k || !c->L) {
+        spring_destroy(c);
+        return PLUME_ENOMEM;
+    }
+    memcpy(c->edges, edges, (size_t)(2 * n) * sizeof *edges);
+    memcpy(c->k, k, (size_t)n * sizeof *k);
+    memcpy(c->L, L, (size_t)n * sizeof *L);
+    memset(t, 0, sizeof *t);
+    t->name = "test springs";
+    t->arity = 2;
+    t->nstencil = n;
+    t->stencil = c->edges;
+    t->eval = spring_eval;
+    t->destroy = spring_destroy;
+    t->ctx = c;
+    return PLUME_OK;
+}
+
+/* Per-vertex potential 1/2 k |x_v - a_v|^2 - f_v . x_v (anchor to a target and a constant force). */
+typedef struct {
+    plume_index n;
+    plume_index *verts;
+    double k;
+    double *a, *f; /* [n*3] */
+} anchor_ctx;
+
+static void anchor_destroy(void *ctx)
+{
+    anchor_ctx *c = ctx;
+    if (!c)
+        return;
+    free(c->verts);
+    free(c->a);
+    free(c->f);
+    free(c);
+}
+
+static plume_status anchor_eval(void *ctx, int dim, const double *x, double *energy, double *grad,
+                                double *hblocks, int project)
+{
+    (void)project; /* the Hessian k I is PSD already */
+    const anchor_ctx *c = ctx;
+    for (plume_index s = 0; s < c->n; s++) {
+        const double *xv = x + dim * c->verts[s], *a = c->a + 3 * s, *f = c->f + 3 * s;
+        for (int q = 0; q < dim; q++) {
+            if (energy)
+                *energy += 0.5 * c->k * (xv[q] - a[q]) * (xv[q] - a[q]) - f[q] * xv[q];
+            if (grad)
+                grad[dim * c->verts[s] + q] += c->k * (xv[q] - a[q]) - f[q];
+        }
+        if (hblocks)
+            for (int q = 0; q < dim * dim; q++)
+                hblocks[(size_t)s * dim * dim + q] = q % (dim + 1) == 0 ? c->k : 0.0;
+    }
+    return PLUME_OK;
+}
+
+/* Anchors on `n` vertices, targets a[n*3] and forces f[n*3] (3 slots per vertex; NULL = zeros). */
+static plume_status anchor_term(const plume_index *verts, plume_index n, double k, const double *a,
+                                const double *f, plume_term *t)
+{
+    anchor_ctx *c = calloc(1, sizeof *c);
+    if (!c)
+        return PLUME_ENOMEM;
+    c->n = n;
+    c->k = k;
+    c->verts = malloc((size_t)n * sizeof *c->verts);
+    c->a = calloc((size_t)(3 * n), sizeof *c->a);
+    c->f = calloc((size_t)(3 * n), sizeof *c->f);
+    if (!c->verts || !c->a || !c->f) {
+        anchor_destroy(c);
+        return PLUME_ENOMEM;
+    }
+    memcpy(c->verts, verts, (size_t)n * sizeof *verts);
+    if (a)
+        memcpy(c->a, a, (size_t)(3 * n) * sizeof *a);
+    if (f)
+        memcpy(c->f, f, (size_t)(3 * n) * sizeof *f);
+    memset(t, 0, sizeof *t);
+    t->name = "test anchors";
+    t->arity = 1;
+    t->nstencil = n;
+    t->stencil = c->verts;
+    t->eval = anchor_eval;
+    t->destroy = anchor_destroy;
+    t->ctx = c;
+    return PLUME_OK;
+}
+
+static void opts(plume_solver_opts *o)
+{
+    plume_solver_opts_default(o);
+}
+
+/* A finalised problem needs no error message here: a failure is a test failure. */
+static int finalize(plume_problem *p)
+{
+    plume_err err;
+    plume_status st = plume_problem_finalize(p, &err);
+    CHECK(st == PLUME_OK);
+    if (st != PLUME_OK)
+        fprintf(stderr, "    finalize: %s\n", err.msg);
+    return st == PLUME_OK;
+}
+
+/* ---- (1) unconstrained quadratic with prescribed dofs ---- */
+
+/* Zero-length springs k_e in series 0-1-2-3-4 (2D); vertices 0 and 4 clamped, vertex 2's y
+ * prescribed. In a series chain the force is uniform: x_{i+1} - x_i = D / (k_i sum_j 1/k_j). */
+void test_ipopt_quadratic_fixed(void)
+{
+    const plume_index edges[] = {0, 1, 1, 2, 2, 3, 3, 4};
+    const double k[] = {1.0, 2.0, 4.0, 0.5}, L[] = {0, 0, 0, 0};
+    const double x0[2] = {0.0, 0.0}, x4[2] = {3.0, 1.0}, y2 = -2.0;
+    plume_problem *p = NULL;
+    plume_term t;
+    plume_ipopt *s = NULL;
+    CHECK(plume_problem_create(5, 2, 3.0, &p) == PLUME_OK);
+    if (!p)
+        return;
+    CHECK(spring_term(edges, 4, k, L, &t) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+    double *x = plume_problem_x(p);
+    x[0] = x0[0], x[1] = x0[1], x[8] = x4[0], x[9] = x4[1], x[5] = y2;
+    const plume_index fixed[] = {0, 1, 8, 9, 5};
+    for (int i = 0; i < 5; i++)
+        CHECK(plume_problem_fix_dof(p, fixed[i]) == PLUME_OK);
+    if (!finalize(p))
+        goto done;
+    CHECK(plume_problem_nfree(p) == 5 && plume_problem_ncons(p) == 0);
+
+    /* exact: x along the whole chain; y on 0-1-2 and on 2-3-4 separately */
+    double ex[5], ey[5];
+    double cx = 1.0 / k[0] + 1.0 / k[1] + 1.0 / k[2] + 1.0 / k[3];
+    ex[0] = x0[0];
+    for (int i = 0; i < 4; i++)
+        ex[i + 1] = ex[i] + (x4[0] - x0[0]) / (k[i] * cx);
+    double ca = 1.0 / k[0] + 1.0 / k[1], cb = 1.0 / k[2] + 1.0 / k[3];
+    ey[0] = x0[1];
+    ey[1] = ey[0] + (y2 - x0[1]) / (k[0] * ca);
+    ey[2] = y2;
+    ey[3] = y2 + (x4[1] - y2) / (k[2] * cb);
+    ey[4] = x4[1];
+
+    plume_solver_opts o;
+    opts(&o);
+    CHECK(plume_ipopt_create(p, &o, &s) == PLUME_OK);
+    if (!s)
+        goto done;
+    double u[5] = {0.3, -1.0, 7.0, 2.0, 0.0}; /* free dofs: x1 y1 x2 x3 y3 */
+    plume_solve_report rep;
+    CHECK(plume_ipopt_solve(s, u, NULL, &rep) == PLUME_OK); /* m = 0: lambda may be NULL */
+    CHECK(rep.reason == PLUME_REASON_CONVERGED && rep.converged);
+    CHECK_REL(u[0], ex[1], 1e-10, 1.0);
+    CHECK_REL(u[1], ey[1], 1e-10, 1.0);
+    CHECK_REL(u[2], ex[2], 1e-10, 1.0);
+    CHECK_REL(u[3], ex[3], 1e-10, 1.0);
+    CHECK_REL(u[4], ey[3], 1e-10, 1.0);
+    /* the problem's x holds the result, prescribed values untouched */
+    CHECK(x[2] == u[0] && x[7] == u[4] && x[5] == y2 && x[8] == x4[0]);
+    CHECK(rep.kkt_residual <= o.tol_kkt && rep.max_violation == 0.0);
+done:
+    plume_ipopt_destroy(&s);
+    CHECK(s == NULL);
+    plume_problem_destroy(&p);
+}
+
+/* ---- (2) projection onto a circle ---- */
+
+/* Vertex 0 clamped at the origin, vertex 1 pulled by 1/2 k |x - a|^2 and held at distance R:
+ * x = R a / |a|; stationarity k (x - a) + 2 lambda x = 0 gives lambda = k (|a| / R - 1) / 2. */
+void test_ipopt_circle_projection(void)
+{
+    const double R = 2.0, kk = 3.0, a[3] = {3.0, 4.0, 0.0};
+    const double X[4] = {0.0, 0.0, R, 0.0};
+    const plume_index edge[2] = {0, 1}, v1 = 1;
+    plume_problem *p = NULL;
+    plume_ipopt *s = NULL;
+    plume_term t;
+    plume_constraint c;
+    CHECK(plume_problem_create(2, 2, R, &p) == PLUME_OK);
+    if (!p)
+        return;
+    CHECK(anchor_term(&v1, 1, kk, a, NULL, &t) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+    CHECK(plume_edge_length_create(edge, 1, X, 2, &c, NULL) == PLUME_OK);
+    CHECK(plume_problem_add_constraint(p, &c) == PLUME_OK);
+    CHECK(plume_problem_fix_dof(p, 0) == PLUME_OK && plume_problem_fix_dof(p, 1) == PLUME_OK);
+    if (!finalize(p))
+        goto done;
+    CHECK(plume_problem_nfree(p) == 2 && plume_problem_ncons(p) == 1);
+    plume_solver_opts o;
+    opts(&o);
+    CHECK(plume_ipopt_create(p, &o, &s) == PLUME_OK);
+    if (!s)
+        goto done;
+    double na = hypot(a[0], a[1]), lam_exact = kk * (na / R - 1.0) / 2.0;
+    /* from a point off the circle, then from the solution itself (warm restart) */
+    double u[2] = {0.5, -1.0}, lam = 0.0;
+    plume_solve_report rep;
+    for (int round = 0; round < 2; round++) {
+        CHECK(plume_ipopt_solve(s, u, &lam, &rep) == PLUME_OK);
+        CHECK(rep.reason == PLUME_REASON_CONVERGED && rep.converged);
+        CHECK_REL(u[0], R * a[0] / na, 1e-10, 1.0);
+        CHECK_REL(u[1], R * a[1] / na, 1e-10, 1.0);
+        CHECK_REL(lam, lam_exact, 1e-9, 1.0);
+        CHECK(rep.max_violation < 1e-10);
+        CHECK(rep.kkt_residual <= o.tol_kkt);
+        double e = 0.5 * kk * (R - na) * (R - na);
+        CHECK_REL(rep.energy, e, 1e-10, 1.0);
+    }
+    CHECK(rep.iterations <= 2); /* restarted at the solution: nothing left to do */
+done:
+    plume_ipopt_destroy(&s);
+    plume_problem_destroy(&p);
+}
+
+/* ---- (3) inextensible chain pulled at its end ---- */
+
+/* N links of length h from a clamped vertex 0, force F on the last vertex, and springs (i, i+2)
+ * of rest length 2h resisting folding. The minimum is the straight chain along F (springs at rest,
+ * energy -|F| N h), every link in tension |F|: with g = |x_i - x_{i+1}|^2 - h^2 the end vertex
+ * gives -F + 2 lambda h t = 0, so lambda = |F| / (2 h) on every link.
+ * The force then turns in steps (quasi-static sequence, each solve from the previous one). */
+enum { CHAIN_N = 8 };
+
+static plume_problem *chain_problem(double h, double ks, anchor_ctx **force)
+{
+    plume_problem *p = NULL;
+    plume_index nv = CHAIN_N + 1;
+    plume_index links[2 * CHAIN_N], skips[2 * (CHAIN_N - 1)];
+    double X[2 * (CHAIN_N + 1)], kv[CHAIN_N], Lv[CHAIN_N];
+    for (plume_index i = 0; i < nv; i++) {
+        X[2 * i] = h * (double)i;
+        X[2 * i + 1] = 0.0;
+    }
+    for (int i = 0; i < CHAIN_N; i++) {
+        links[2 * i] = i;
+        links[2 * i + 1] = i + 1;
+    }
+    for (int i = 0; i < CHAIN_N - 1; i++) {
+        skips[2 * i] = i;
+        skips[2 * i + 1] = i + 2;
+        kv[i] = ks;
+        Lv[i] = 2.0 * h;
+    }
+    plume_term t;
+    plume_constraint c;
+    const plume_index last = CHAIN_N;
+    if (plume_problem_create(nv, 2, h * CHAIN_N, &p) != PLUME_OK)
+        return NULL;
+    int ok = spring_term(skips, CHAIN_N - 1, kv, Lv, &t) == PLUME_OK && plume_problem_add_term(p, &t) == PLUME_OK;
+    ok = ok && anchor_term(&last, 1, 0.0, NULL, NULL, &t) == PLUME_OK;
+    *force = ok ? t.ctx : NULL; /* owned by the problem, stays valid: the test turns the force */
+    ok = ok && plume_problem_add_term(p, &t) == PLUME_OK;
+    ok = ok && plume_edge_length_create(links, CHAIN_N, X, nv, &c, NULL) == PLUME_OK &&
+         plume_problem_add_constraint(p, &c) == PLUME_OK;
+    ok = ok && plume_problem_fix_dof(p, 0) == PLUME_OK && plume_problem_fix_dof(p, 1) == PLUME_OK;
+    memcpy(plume_problem_x(p), X, sizeof X);
+    if (!ok || plume_problem_finalize(p, NULL) != PLUME_OK)
+        plume_problem_destroy(&p);
+    return p;
+}
+
+void test_ipopt_chain(void)
+{
+    const double h = 0.01, Fmag = 2.0, ks = 50.0; /* centimetre links: SI scales, not O(1) */
+    plume_solver_opts o;
+    opts(&o);
+    anchor_ctx *force = NULL;
+    plume_problem *p = chain_problem(h, ks, &force);
+    plume_ipopt *s = NULL;
+    CHECK(p != NULL);
+    if (!p)
+        return;
+    CHECK(plume_ipopt_create(p, &o, &s) == PLUME_OK);
+    if (!s)
+        goto done;
+    double u[2 * CHAIN_N], lam[CHAIN_N];
+    memset(lam, 0, sizeof lam);
+    plume_problem_gather(p, u); /* straight along x */
+    for (int step = 0; step <= 4; step++) {
+        double th = 0.3 + 0.5 * (double)step; /* the force turns by 0.5 rad per step */
+        double tx = cos(th), ty = sin(th);
+        force->f[0] = Fmag * tx;
+        force->f[1] = Fmag * ty;
+        plume_solve_report rep;
+        CHECK(plume_ipopt_solve(s, u, lam, &rep) == PLUME_OK);
+        CHECK(rep.reason == PLUME_REASON_CONVERGED);
+        double err = 0.0, lerr = 0.0;
+        for (int i = 1; i <= CHAIN_N; i++) {
+            err = fmax(err, fabs(u[2 * (i - 1)] - i * h * tx) + fabs(u[2 * (i - 1) + 1] - i * h * ty));
+            lerr = fmax(lerr, fabs(lam[i - 1] - Fmag / (2.0 * h)));
+        }
+        CHECK(err <= 1e-10 * h);
+        CHECK(lerr <= 1e-8 * Fmag / (2.0 * h));
+        CHECK(rep.max_violation <= o.tol_violation);
+        CHECK(rep.kkt_residual <= o.tol_kkt);
+        CHECK_REL(rep.energy, -Fmag * CHAIN_N * h, 1e-10, 1e-12);
+    }
+done:
+    plume_ipopt_destroy(&s);
+    plume_problem_destroy(&p);
+}
+
+/* ---- (4) infeasible ---- */
+
+/* A - C - B with rest lengths 1/2 each, A and B clamped 2 apart: C cannot reach both. */
+void test_ipopt_infeasible(void)
+{
+    const double X[6] = {0.0, 0.0, 0.5, 0.0, 1.0, 0.0};
+    const plume_index edges[4] = {0, 1, 1, 2}, vc = 1;
+    const double a[3] = {1.0, 0.3, 0.0};
+    plume_problem *p = NULL;
+    plume_ipopt *s = NULL;
+    plume_term t;
+    plume_constraint c;
+    CHECK(plume_problem_create(3, 2, 1.0, &p) == PLUME_OK);
+    if (!p)
+        return;
+    CHECK(anchor_term(&vc, 1, 1.0, a, NULL, &t) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+    CHECK(plume_edge_length_create(edges, 2, X, 3, &c, NULL) == PLUME_OK);
+    CHECK(plume_problem_add_constraint(p, &c) == PLUME_OK);
+    double *x = plume_problem_x(p);
+    x[4] = 2.0; /* B at (2, 0) */
+    for (plume_index d = 0; d < 6; d++)
+        if (d != 2 && d != 3)
+            CHECK(plume_problem_fix_dof(p, d) == PLUME_OK);
+    if (!finalize(p))
+        goto done;
+    plume_solver_opts o;
+    opts(&o);
+    CHECK(plume_ipopt_create(p, &o, &s) == PLUME_OK);
+    if (!s)
+        goto done;
+    double u[2] = {1.0, 0.2}, lam[2] = {0.0, 0.0};
+    plume_solve_report rep;
+    plume_status st = plume_ipopt_solve(s, u, lam, &rep);
+    CHECK(st == PLUME_OK);
+    CHECK(rep.reason != PLUME_REASON_CONVERGED && !rep.converged);
+    CHECK(rep.max_violation > o.tol_violation);
+    if (rep.reason != PLUME_REASON_INFEASIBLE)
+        fprintf(stderr, "    note: infeasible problem reported as '%s'\n", plume_reason_name(rep.reason));
+done:
+    plume_ipopt_destroy(&s);
+    plume_problem_destroy(&p);
+}
+
+/* ---- (5) report fields, iteration cap, bad input ---- */
+
+void test_ipopt_report(void)
+{
+    const double X[4] = {0.0, 0.0, 1.0, 0.0};
+    const plume_index edge[2] = {0, 1}, v1 = 1;
+    const double a[3] = {-1.0, 3.0, 0.0};
+    plume_problem *p = NULL;
+    plume_ipopt *s = NULL;
+    plume_term t;
+    plume_constraint c;
+    plume_solve_report rep;
+    plume_solver_opts o;
+    opts(&o);
+
+    /* argument checks before anything exists */
+    CHECK(plume_ipopt_create(NULL, &o, &s) == PLUME_EINVAL && s == NULL);
+    CHECK(plume_ipopt_create(NULL, &o, NULL) == PLUME_EINVAL);
+    CHECK(plume_ipopt_solve(NULL, NULL, NULL, &rep) == PLUME_EINVAL);
+    plume_ipopt_destroy(NULL);
+    plume_ipopt_destroy(&s);
+
+    CHECK(plume_problem_create(2, 2, 1.0, &p) == PLUME_OK);
+    if (!p)
+        return;
+    CHECK(anchor_term(&v1, 1, 1.0, a, NULL, &t) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+    CHECK(plume_edge_length_create(edge, 1, X, 2, &c, NULL) == PLUME_OK);
+    CHECK(plume_problem_add_constraint(p, &c) == PLUME_OK);
+    CHECK(plume_problem_fix_dof(p, 0) == PLUME_OK && plume_problem_fix_dof(p, 1) == PLUME_OK);
+    CHECK(plume_ipopt_create(p, &o, &s) == PLUME_EINVAL && s == NULL); /* not finalised */
+    if (!finalize(p))
+        goto done;
+    plume_solver_opts bad = o;
+    bad.tol_kkt = 0.0;
+    CHECK(plume_ipopt_create(p, &bad, &s) == PLUME_EINVAL && s == NULL);
+
+    CHECK(plume_ipopt_create(p, &o, &s) == PLUME_OK);
+    if (!s)
+        goto done;
+    double u[2] = {1.0, 0.0}, lam = 0.0;
+    CHECK(plume_ipopt_solve(s, u, NULL, &rep) == PLUME_EINVAL); /* m = 1 needs lambda */
+    CHECK(plume_ipopt_solve(s, u, &lam, &rep) == PLUME_OK);
+    CHECK(rep.reason == PLUME_REASON_CONVERGED && rep.converged == 1);
+    CHECK(rep.iterations > 0 && rep.iterations <= o.max_iter);
+    CHECK(rep.seconds >= 0.0 && rep.seconds < 60.0);
+    CHECK(rep.kkt_residual >= 0.0 && rep.kkt_residual <= o.tol_kkt);
+    CHECK(rep.max_violation >= 0.0 && rep.max_violation <= o.tol_violation);
+    double na = hypot(a[0], a[1]);
+    CHECK_REL(rep.energy, 0.5 * (na - 1.0) * (na - 1.0), 1e-10, 1.0);
+    /* the report agrees with plume's own measures at the returned point */
+    double kkt, viol, f;
+    CHECK(plume_problem_kkt_residual(p, u, &lam, &kkt) == PLUME_OK && kkt == rep.kkt_residual);
+    CHECK(plume_problem_constraints(p, u, NULL, &viol) == PLUME_OK && viol == rep.max_violation);
+    CHECK(plume_problem_objective(p, u, &f, NULL) == PLUME_OK && f == rep.energy);
+    plume_ipopt_destroy(&s);
+
+    /* one iteration from far away is not enough: ITERATION_CAP, never a silent success */
+    o.max_iter = 1;
+    CHECK(plume_ipopt_create(p, &o, &s) == PLUME_OK);
+    if (!s)
+        goto done;
+    u[0] = 0.8, u[1] = -0.6, lam = 0.0;
+    CHECK(plume_ipopt_solve(s, u, &lam, &rep) == PLUME_OK);
+    CHECK(rep.reason == PLUME_REASON_ITERATION_CAP && !rep.converged);
+    CHECK(rep.iterations == 1);
+done:
+    plume_ipopt_destroy(&s);
+    plume_problem_destroy(&p);
+}
