@@ -9,7 +9,7 @@ DEPS_PKGS := ipopt nlopt hdf5 gsl jansson
 
 PKG_CFLAGS := $(shell pkg-config --cflags $(DEPS_PKGS) 2>/dev/null)
 PKG_LIBS := $(shell pkg-config --libs $(DEPS_PKGS) 2>/dev/null)
-CPPFLAGS += -I/usr/include/suitesparse $(PKG_CFLAGS)
+CPPFLAGS += -Ilib -I/usr/include/suitesparse $(PKG_CFLAGS)
 CFLAGS += -std=c11 -Wall -Wextra -Wpedantic -fPIC $(OPT) -D_POSIX_C_SOURCE=200809L
 CXXFLAGS += -std=c++17 -Wall -Wextra -fPIC $(OPT) -DCGAL_DISABLE_GMP=0
 LDLIBS += -lcholmod -lsuitesparseconfig $(PKG_LIBS) -lgmp -lmpfr -lstdc++ -lm

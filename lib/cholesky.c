@@ -37,6 +37,12 @@ plume_status plume_chol_create(plume_index n, const plume_index *colptr, const p
     c->cm.print = 0;
     c->cm.error_handler = NULL;
     c->cm.quick_return_if_not_posdef = 1;
+    /* 2D meshes: nested dissection (METIS) gives ~40% fewer flops than AMD here; analysing with
+     * both and keeping the better one costs once per pattern */
+    c->cm.nmethods = 2;
+    c->cm.method[0].ordering = CHOLMOD_AMD;
+    c->cm.method[1].ordering = CHOLMOD_METIS;
+    c->cm.postorder = 1;
     c->n = n;
     c->ldl = ldl;
     if (ldl) {

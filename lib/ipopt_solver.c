@@ -20,7 +20,8 @@
  * for an SI problem whose forces may be 1e-6 N or 1e6 N.
  * ref is measured at the start; when the forces at the solution are much smaller, Ipopt may stop
  * early in plume's terms: the solve is then resumed (warm, multipliers kept) with the scale of
- * the current point and a tighter tol, at most PASSES times within the max_iter budget. */
+ * the current point (and from the second resumption on a tighter tol), at most PASSES runs in
+ * all, within the max_iter budget. */
 #include "solver.h"
 
 #include <IpStdCInterface.h>
@@ -498,7 +499,9 @@ plume_status plume_ipopt_solve(plume_ipopt *s, double *u, double *lambda, plume_
             break;
         }
         rep->reason = PLUME_REASON_NUMERICAL;
-        tol *= TOL_TIGHTEN;
+        /* the first resumption corrects the scale; if that was not enough, ask for more */
+        if (pass > 0)
+            tol *= TOL_TIGHTEN;
     }
     memcpy(u, s->x, (size_t)s->n * sizeof *u);
     if (s->m > 0)

@@ -1,0 +1,257 @@
+/* Macroscale traction: off-axis moduli, constraint accuracy, newton vs ipopt, locking, errors. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "../lib/plume.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* Runs a traction test on the aligned/unaligned patch; returns status, fills res. */
+static plume_status run_traction(double angle, double edge, plume_patch_kind kind, const plume_vane *vane,
+                                 plume_solver_kind solver, double strain_max, int steps,
+                                 plume_traction_result *res, plume_mesh **mesh_out, plume_err *err)
+{
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_index *barbs = NULL, nb = 0;
+    plume_status st = plume_patch_mesh(1.0, 1.3, angle, edge, kind, 2, &mesh, err);
+    if (st == PLUME_OK)
+        st = plume_problem_create(mesh->nv, 2, 1.3, &p);
+    if (st == PLUME_OK)
+        st = plume_vane_add(p, mesh, vane, &barbs, &nb, err);
+    if (st == PLUME_OK) {
+        plume_traction_opts o;
+        plume_traction_opts_default(&o);
+        o.lx = 1.0, o.ly = 1.3, o.h = vane->h;
+        o.strain_max = strain_max;
+        o.steps = steps;
+        o.solver = solver;
+        o.progress = 0;
+        o.solver_opts.max_iter = 400;
+        st = plume_traction_run(mesh, p, barbs, nb, &o, res, err);
+    }
+    free(barbs);
+    plume_problem_destroy(&p);
+    if (mesh_out)
+        *mesh_out = mesh;
+    else
+        plume_mesh_destroy(&mesh);
+    return st;
+}
+
+/* A homogeneous orthotropic sheet in uniform uniaxial stress: grips constrain only y (one x
+ * pinned), so the stress state is exactly uniaxial and the apparent modulus must follow
+ * 1/E(t) = cos^4 t/E_xx + (1/G_xy - 2 nu_xy/E_xx) sin^2 t cos^2 t + sin^4 t/E_yy,
+ * t the angle between the barbs and the pulling axis. */
+void test_traction_off_axis_modulus(void)
+{
+    const double Exx = 10.0, Eyy = 1.0, G = 0.7, nu = 0.25, h = 0.01, eps = 1e-7;
+    const double angles[] = {0, 20, 45, 60, 90, 135};
+    for (size_t a = 0; a < sizeof angles / sizeof angles[0]; a++) {
+        plume_err err = {{0}};
+        plume_mesh *mesh = NULL;
+        plume_problem *p = NULL;
+        CHECK(plume_patch_mesh(1.0, 1.3, angles[a], 0.2, PLUME_PATCH_UNALIGNED, 2, &mesh, &err) == PLUME_OK);
+        if (!mesh)
+            return;
+        plume_membrane_material mat = {Exx, Eyy, nu, G, h, 0.0};
+        plume_term term;
+        CHECK(plume_problem_create(mesh->nv, 2, 1.3, &p) == PLUME_OK);
+        CHECK(plume_membrane_term_create(mesh, 2, &mat, 1, &term, &err) == PLUME_OK);
+        CHECK(plume_problem_add_term(p, &term) == PLUME_OK);
+        double *x = plume_problem_x(p);
+        plume_index pinned = -1;
+        for (plume_index v = 0; v < mesh->nv; v++) {
+            x[2 * v] = mesh->X[2 * v];
+            x[2 * v + 1] = mesh->X[2 * v + 1];
+            if (mesh->X[2 * v + 1] == 0.0) {
+                plume_problem_fix_dof(p, 2 * v + 1);
+                if (pinned < 0)
+                    plume_problem_fix_dof(p, 2 * v), pinned = v;
+            } else if (mesh->X[2 * v + 1] == 1.3) {
+                plume_problem_fix_dof(p, 2 * v + 1);
+                x[2 * v + 1] = 1.3 * (1.0 + eps);
+            }
+        }
+        CHECK(plume_problem_finalize(p, &err) == PLUME_OK);
+        plume_solver_opts so;
+        plume_solver_opts_default(&so);
+        plume_solver *s = NULL;
+        CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &so, &s) == PLUME_OK);
+        double *u = malloc((size_t)plume_problem_nfree(p) * sizeof *u);
+        double *force = malloc((size_t)(2 * mesh->nv) * sizeof *force);
+        plume_problem_gather(p, u);
+        plume_solve_report rep;
+        CHECK(plume_solver_solve(s, u, NULL, &rep) == PLUME_OK);
+        CHECK(rep.converged);
+        CHECK(plume_problem_forces(p, NULL, force) == PLUME_OK);
+        double F = 0.0;
+        for (plume_index v = 0; v < mesh->nv; v++)
+            if (mesh->X[2 * v + 1] == 1.3)
+                F += force[2 * v + 1];
+        double t = angles[a] * M_PI / 180.0, c = cos(t), sn = sin(t);
+        double invE = pow(c, 4) / Exx + (1.0 / G - 2.0 * nu / Exx) * sn * sn * c * c + pow(sn, 4) / Eyy;
+        CHECK_REL(F / (1.0 * h * eps), 1.0 / invE, 1e-5, 0.0);
+        free(u);
+        free(force);
+        plume_solver_destroy(&s);
+        plume_problem_destroy(&p);
+        plume_mesh_destroy(&mesh);
+    }
+}
+
+/* After every converged step the barb edges keep their rest length to 1e-8 relative (checked on
+ * the final geometry edge by edge), and newton and ipopt agree on the stress to 1e-6. */
+void test_traction_constraint_and_solvers_agree(void)
+{
+    plume_vane vane;
+    plume_vane_default(&vane); /* E_xx/E_yy = 1e4, G = 1: the paper's Table 4 vane */
+    plume_traction_result rn, ri;
+    plume_mesh *mesh = NULL;
+    plume_err err = {{0}};
+    CHECK(run_traction(45.0, 0.08, PLUME_PATCH_ALIGNED, &vane, PLUME_SOLVER_NEWTON, 0.05, 5, &rn, &mesh, &err) == PLUME_OK);
+    CHECK(run_traction(45.0, 0.08, PLUME_PATCH_ALIGNED, &vane, PLUME_SOLVER_IPOPT, 0.05, 5, &ri, NULL, &err) == PLUME_OK);
+    CHECK(rn.converged && ri.converged);
+    CHECK(rn.max_violation <= 1e-8);
+    CHECK(ri.max_violation <= 1e-8);
+    CHECK(rn.curve.n == 6 && ri.curve.n == 6);
+    for (plume_index k = 1; k < rn.curve.n && k < ri.curve.n; k++) {
+        CHECK_REL(ri.curve.stress[k], rn.curve.stress[k], 1e-6, 0.0);
+        CHECK_REL(ri.curve.wbar[k], rn.curve.wbar[k], 1e-6, 0.0);
+    }
+    CHECK(rn.curve.stress[5] > rn.curve.stress[1]); /* loaded, not a trivial zero curve */
+    CHECK(rn.initial_slope > 0.0);
+    plume_traction_result_free(&rn);
+    plume_traction_result_free(&ri);
+    plume_mesh_destroy(&mesh);
+}
+
+/* Edge by edge on the final state of a constrained run. */
+void test_traction_barb_lengths(void)
+{
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_index *barbs = NULL, nb = 0;
+    plume_err err = {{0}};
+    plume_vane vane;
+    plume_vane_default(&vane);
+    CHECK(plume_patch_mesh(1.0, 1.3, 60.0, 0.1, PLUME_PATCH_ALIGNED, 2, &mesh, &err) == PLUME_OK);
+    CHECK(plume_problem_create(mesh->nv, 2, 1.3, &p) == PLUME_OK);
+    CHECK(plume_vane_add(p, mesh, &vane, &barbs, &nb, &err) == PLUME_OK);
+    CHECK(nb > mesh->nt / 3); /* every triangle between two barb lines has a barb edge */
+    plume_traction_opts o;
+    plume_traction_opts_default(&o);
+    o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.steps = 4, o.strain_max = 0.08, o.progress = 0;
+    plume_traction_result r;
+    CHECK(plume_traction_run(mesh, p, barbs, nb, &o, &r, &err) == PLUME_OK);
+    CHECK(r.converged);
+    const double *x = plume_problem_x(p);
+    double worst = 0.0;
+    for (plume_index e = 0; e < nb; e++) {
+        plume_index i = barbs[2 * e], j = barbs[2 * e + 1];
+        double L = hypot(mesh->X[2 * i] - mesh->X[2 * j], mesh->X[2 * i + 1] - mesh->X[2 * j + 1]);
+        double l = hypot(x[2 * i] - x[2 * j], x[2 * i + 1] - x[2 * j + 1]);
+        worst = fmax(worst, fabs(l - L) / L);
+    }
+    CHECK(worst <= 1e-8);
+    /* and the sample did deform: the barbs rotated, the width shrank */
+    CHECK(r.curve.wbar[r.curve.n - 1] < -1e-3);
+    plume_traction_result_free(&r);
+    free(barbs);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&mesh);
+}
+
+/* Supplementary Figure 2 as an assertion: without the constraint at E_xx/E_yy = 1e4, aligned
+ * meshes converge in stress under refinement while an unaligned mesh of similar size locks. */
+void test_traction_locking(void)
+{
+    plume_vane vane;
+    plume_vane_default(&vane);
+    vane.constraint = 0;
+    const double edges[] = {0.1, 0.05, 0.025};
+    double aligned[3] = {0}, unaligned = 0.0;
+    plume_index n_unaligned = 0, n_aligned_fine = 0;
+    plume_err err = {{0}};
+    for (int k = 0; k < 3; k++) {
+        plume_traction_result r;
+        plume_mesh *mesh = NULL;
+        CHECK(run_traction(45.0, edges[k], PLUME_PATCH_ALIGNED, &vane, PLUME_SOLVER_NEWTON, 0.01, 2, &r, &mesh, &err) == PLUME_OK);
+        CHECK(r.converged);
+        aligned[k] = r.curve.stress[r.curve.n - 1];
+        if (k == 2)
+            n_aligned_fine = mesh->nt;
+        plume_traction_result_free(&r);
+        plume_mesh_destroy(&mesh);
+    }
+    plume_traction_result r;
+    plume_mesh *mesh = NULL;
+    CHECK(run_traction(45.0, 0.035, PLUME_PATCH_UNALIGNED, &vane, PLUME_SOLVER_NEWTON, 0.01, 2, &r, &mesh, &err) == PLUME_OK);
+    CHECK(r.converged);
+    unaligned = r.curve.stress[r.curve.n - 1];
+    n_unaligned = mesh->nt;
+    plume_traction_result_free(&r);
+    plume_mesh_destroy(&mesh);
+    double d01 = fabs(aligned[1] - aligned[0]), d12 = fabs(aligned[2] - aligned[1]);
+    fprintf(stderr, "    aligned stress %.6g %.6g %.6g (differences %.3g, %.3g); unaligned (%ld el vs %ld) %.6g\n",
+            aligned[0], aligned[1], aligned[2], d01, d12, (long)n_unaligned, (long)n_aligned_fine, unaligned);
+    CHECK(d12 < 0.5 * d01);                             /* converging under refinement */
+    CHECK(d12 < 0.15 * fabs(aligned[2]));               /* and already close */
+    CHECK(n_unaligned >= n_aligned_fine);               /* at least as many elements ... */
+    CHECK(fabs(unaligned - aligned[2]) > 2.0 * fabs(aligned[2])); /* ... and still far off (locked) */
+}
+
+/* Longitudinal barbs with the constraint run from grip to grip: refused before any solve. */
+void test_traction_spanning_barbs(void)
+{
+    plume_vane vane;
+    plume_vane_default(&vane);
+    plume_traction_result r;
+    plume_err err = {{0}};
+    CHECK(run_traction(0.0, 0.2, PLUME_PATCH_ALIGNED, &vane, PLUME_SOLVER_NEWTON, 0.05, 2, &r, NULL, &err) ==
+          PLUME_EINFEASIBLE);
+    CHECK(strstr(err.msg, "span both grips") != NULL);
+    /* a shallow angle whose barbs still reach the top grip: tan(10 deg) * 1.3 < 1 */
+    CHECK(run_traction(10.0, 0.2, PLUME_PATCH_ALIGNED, &vane, PLUME_SOLVER_NEWTON, 0.05, 2, &r, NULL, &err) ==
+          PLUME_EINFEASIBLE);
+    /* the transverse sample is fine */
+    CHECK(run_traction(90.0, 0.2, PLUME_PATCH_ALIGNED, &vane, PLUME_SOLVER_NEWTON, 0.05, 2, &r, NULL, &err) == PLUME_OK);
+    CHECK(r.converged);
+    /* transverse pull across barbs of an orthotropic vane with nu = 0 behaves like E_yy at small strain */
+    CHECK_REL(r.initial_slope, vane.moduli.E_yy, 1e-3, 0.0);
+    plume_traction_result_free(&r);
+}
+
+/* Bad inputs through the library: each a clear error naming what is wrong. */
+void test_traction_bad_inputs(void)
+{
+    plume_err err = {{0}};
+    plume_mesh *mesh = NULL;
+    CHECK(plume_patch_mesh(0.0, 1.3, 45, 0.1, PLUME_PATCH_ALIGNED, 2, &mesh, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "lx") != NULL);
+    CHECK(plume_patch_mesh(1.0, 1.3, 200, 0.1, PLUME_PATCH_ALIGNED, 2, &mesh, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "angle") != NULL);
+    CHECK(plume_patch_mesh(1.0, 1.3, NAN, 0.1, PLUME_PATCH_ALIGNED, 2, &mesh, &err) == PLUME_EINVAL);
+    CHECK(plume_patch_mesh(1.0, 1.3, 45, 2.0, PLUME_PATCH_ALIGNED, 2, &mesh, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "edge") != NULL);
+    CHECK(mesh == NULL);
+    plume_vane v;
+    plume_vane_default(&v);
+    v.moduli.E_yy = -1.0;
+    CHECK(plume_vane_check(&v, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "E_yy") != NULL);
+    plume_vane_default(&v);
+    v.moduli.G_xy = NAN;
+    CHECK(plume_vane_check(&v, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "G_xy") != NULL);
+    plume_vane_default(&v);
+    v.h = 0.0;
+    CHECK(plume_vane_check(&v, &err) == PLUME_EINVAL);
+    plume_ortho m;
+    CHECK(plume_moduli_read("/nonexistent/moduli.h5", &m, &err) != PLUME_OK);
+    CHECK(strstr(err.msg, "/nonexistent/moduli.h5") != NULL);
+}
