@@ -23,8 +23,10 @@
  * degenerate up to rounding (collinear points computed in floating point): Dm^-1 would be noise. */
 #define MEMBRANE_DEGENERATE_REL (64.0 * DBL_EPSILON)
 
+/* A material as the element uses it. C is orthotropic in the barb frame, so of the plane-stress
+ * tensor only C11, C12 = C21, C22 and C33 are non-zero (DESIGN.md, membrane energy). */
 typedef struct {
-    double C[9];  /* plane-stress stiffness, Voigt (E11, E22, 2E12) */
+    double C11, C12, C22, C33;
     double kappa; /* compression coefficient (Pa) */
 } mem_mat;
 
@@ -101,106 +103,102 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
+static void mem_mat_set(const plume_membrane_material *mat, mem_mat *m)
+{
+    double C[9];
+    plume_membrane_stiffness(mat, C);
+    m->C11 = C[0];
+    m->C12 = C[1];
+    m->C22 = C[4];
+    m->C33 = C[8];
+    m->kappa = mat->kappa;
+}
+
 /* Density per unit volume psi(G) (without h) for the columns g[0], g[1] of G (3-vectors, z = 0 in
  * planar mode). P (if non-NULL): dpsi/dg_c. HG (if non-NULL): Hessian, (2 dim)^2 row-major, the
- * entry G[i][c] having index c*dim + i. g is read only; it is not const-qualified because C11 does
- * not convert double (*)[3] to const double (*)[3] implicitly. */
-static inline double density_G(const mem_mat *m, int dim, double g[2][3], double P[2][3],
-                        double *HG)
+ * entry G[i][c] having index c*dim + i.
+ *
+ * With e = (E11, E22, 2E12) and s = C e, a unit change of G[i][c] changes e by
+ * v_(0,i) = (g0_i, 0, g1_i), v_(1,i) = (0, g1_i, g0_i), so the Hessian blocks (dim x dim) are
+ *   H00 = C11 g0 g0^T + C33 g1 g1^T + s0 I,  H11 = C22 g1 g1^T + C33 g0 g0^T + s1 I,
+ *   H01 = C12 g0 g1^T + C33 g1 g0^T + s2 I   (v_a . C v_b plus the geometric term S : e_a^T e_b,
+ *   S = [[s0, s2], [s2, s1]] the second Piola-Kirchhoff stress in the barb frame).
+ * For J = |n|, n = g0 x g1, n^ = n/J: dJ/dg0 = g1 x n^, dJ/dg1 = n^ x g0 and
+ *   d2J = (dn_a . dn_b - dJ_a dJ_b) / J + n^ . (e_i x e_j) [mixed columns only], with
+ *   dn_(0,i) . dn_(0,j) = d_ij |g1|^2 - g1_i g1_j,  dn_(1,i) . dn_(1,j) = d_ij |g0|^2 - g0_i g0_j,
+ *   dn_(0,i) . dn_(1,j) = g0_i g1_j - d_ij g0.g1.
+ * g is read only; it is not const-qualified because C11 does not convert double (*)[3] to
+ * const double (*)[3] implicitly. */
+static inline double density_G(const mem_mat *m, const int dim, double g[2][3], double P[2][3],
+                               double *HG)
 {
-    const double *C = m->C;
-    double c11 = dot3(g[0], g[0]), c22 = dot3(g[1], g[1]), c12 = dot3(g[0], g[1]);
-    double e[3] = {0.5 * (c11 - 1.0), 0.5 * (c22 - 1.0), c12};
-    double s[3] = {C[0] * e[0] + C[1] * e[1] + C[2] * e[2], C[3] * e[0] + C[4] * e[1] + C[5] * e[2],
-                   C[6] * e[0] + C[7] * e[1] + C[8] * e[2]};
-    double psi = 0.5 * (e[0] * s[0] + e[1] * s[1] + e[2] * s[2]);
+    const double *g0 = g[0], *g1 = g[1];
+    const double c11 = dot3(g0, g0), c22 = dot3(g1, g1), c12 = dot3(g0, g1);
+    const double e0 = 0.5 * (c11 - 1.0), e1 = 0.5 * (c22 - 1.0), e2 = c12;
+    const double s0 = m->C11 * e0 + m->C12 * e1, s1 = m->C12 * e0 + m->C22 * e1, s2 = m->C33 * e2;
+    double psi = 0.5 * (e0 * s0 + e1 * s1 + e2 * s2);
 
     /* compression term, supplementary eq. 6: psi_c = kappa/12 ((1-J)/6)^3 for J < 1 */
-    double n[3], nh[3] = {0.0, 0.0, 0.0};
-    cross3(g[0], g[1], n);
-    double J = sqrt(dot3(n, n));
-    int comp = m->kappa > 0.0 && J < 1.0;
+    double n[3], nh[3] = {0.0, 0.0, 0.0}, dJ0[3] = {0.0, 0.0, 0.0}, dJ1[3] = {0.0, 0.0, 0.0};
+    cross3(g0, g1, n);
+    const double J = sqrt(dot3(n, n));
+    const int comp = m->kappa > 0.0 && J < 1.0;
     double dpc = 0.0, ddpc = 0.0;
     if (comp) {
-        double t = (1.0 - J) / 6.0;
+        const double t = (1.0 - J) / 6.0;
         psi += m->kappa / 12.0 * t * t * t;
-        dpc = -m->kappa * t * t / 24.0; /* d psi_c / dJ */
-        ddpc = m->kappa * t / 72.0;     /* d2 psi_c / dJ2 */
-        if (J > 0.0)
+        dpc = -m->kappa * t * t * (1.0 / 24.0); /* d psi_c / dJ */
+        ddpc = m->kappa * t * (1.0 / 72.0);     /* d2 psi_c / dJ2 */
+        if (J > 0.0) {
+            const double iJ = 1.0 / J;
             for (int k = 0; k < 3; k++)
-                nh[k] = n[k] / J;
+                nh[k] = n[k] * iJ;
+            cross3(g1, nh, dJ0);
+            cross3(nh, g0, dJ1);
+        }
     }
 
     if (P) {
-        /* dpsi/dG = G S, S = [[s0, s2], [s2, s1]] */
+        /* dpsi/dG = G S, S = [[s0, s2], [s2, s1]], plus psi_c' dJ/dG */
         for (int k = 0; k < 3; k++) {
-            P[0][k] = s[0] * g[0][k] + s[2] * g[1][k];
-            P[1][k] = s[2] * g[0][k] + s[1] * g[1][k];
-        }
-        if (comp && J > 0.0) {
-            /* dJ/dg1 = g2 x n^, dJ/dg2 = n^ x g1 */
-            double a[3], b[3];
-            cross3(g[1], nh, a);
-            cross3(nh, g[0], b);
-            for (int k = 0; k < 3; k++) {
-                P[0][k] += dpc * a[k];
-                P[1][k] += dpc * b[k];
-            }
+            P[0][k] = s0 * g0[k] + s2 * g1[k] + dpc * dJ0[k];
+            P[1][k] = s2 * g0[k] + s1 * g1[k] + dpc * dJ1[k];
         }
     }
 
     if (HG) {
         const int k = 2 * dim;
-        const double S[2][2] = {{s[0], s[2]}, {s[2], s[1]}};
-        double v[6][3], Cv[6][3], dn[6][3], dJ[6];
-        for (int c = 0; c < 2; c++) {
-            for (int i = 0; i < dim; i++) {
-                int a = c * dim + i;
-                /* Voigt vector of sym(G^T e_a): dE for a unit change of G[i][c] */
-                if (c == 0) {
-                    v[a][0] = g[0][i];
-                    v[a][1] = 0.0;
-                    v[a][2] = g[1][i];
-                } else {
-                    v[a][0] = 0.0;
-                    v[a][1] = g[1][i];
-                    v[a][2] = g[0][i];
-                }
-                for (int r = 0; r < 3; r++)
-                    Cv[a][r] = C[3 * r] * v[a][0] + C[3 * r + 1] * v[a][1] + C[3 * r + 2] * v[a][2];
-                if (comp) {
-                    double ei[3] = {0.0, 0.0, 0.0};
-                    ei[i] = 1.0;
-                    if (c == 0)
-                        cross3(ei, g[1], dn[a]);
-                    else
-                        cross3(g[0], ei, dn[a]);
-                    dJ[a] = dot3(nh, dn[a]);
-                }
+        /* the compression Hessian ddpc dJ dJ^T + dpc d2J regrouped:
+         * (ddpc - dpc/J) dJ_a dJ_b + (dpc/J) dn_a . dn_b + dpc n^ . (e_i x e_j) */
+        double aJ = 0.0, aN = 0.0, aE = 0.0;
+        if (comp) {
+            if (J >= MEMBRANE_J_TINY) {
+                aN = dpc / J;
+                aJ = ddpc - aN;
+                aE = dpc;
+            } else {
+                aJ = ddpc; /* collapsed: the d2J part is dropped */
             }
         }
-        for (int a = 0; a < k; a++) {
-            int ca = a / dim, ia = a % dim;
-            for (int b = a; b < k; b++) {
-                int cb = b / dim, ib = b % dim;
-                double h = dot3(v[a], Cv[b]);
-                if (ia == ib)
-                    h += S[ca][cb];
+        for (int i = 0; i < dim; i++) {
+            for (int j = 0; j < dim; j++) {
+                const double dij = i == j ? 1.0 : 0.0;
+                double h00 = m->C11 * g0[i] * g0[j] + m->C33 * g1[i] * g1[j] + s0 * dij;
+                double h11 = m->C22 * g1[i] * g1[j] + m->C33 * g0[i] * g0[j] + s1 * dij;
+                double h01 = m->C12 * g0[i] * g1[j] + m->C33 * g1[i] * g0[j] + s2 * dij;
                 if (comp) {
-                    h += ddpc * dJ[a] * dJ[b];
-                    if (J >= MEMBRANE_J_TINY) {
-                        double d2J = (dot3(dn[a], dn[b]) - dJ[a] * dJ[b]) / J;
-                        /* n^ . (dg1_a x dg2_b + dg1_b x dg2_a): only mixed columns, i != j */
-                        if (ca != cb && ia != ib) {
-                            int i0 = ca == 0 ? ia : ib, i1 = ca == 0 ? ib : ia; /* column 0, 1 */
-                            int l = 3 - i0 - i1; /* e_i0 x e_i1 = +-e_l */
-                            double sign = (i1 == (i0 + 1) % 3) ? 1.0 : -1.0;
-                            d2J += sign * nh[l];
-                        }
-                        h += dpc * d2J;
+                    h00 += aJ * dJ0[i] * dJ0[j] + aN * (dij * c22 - g1[i] * g1[j]);
+                    h11 += aJ * dJ1[i] * dJ1[j] + aN * (dij * c11 - g0[i] * g0[j]);
+                    h01 += aJ * dJ0[i] * dJ1[j] + aN * (g0[i] * g1[j] - dij * c12);
+                    if (i != j) { /* n^ . (e_i x e_j) = +-n^_l, l the third axis */
+                        const int l = 3 - i - j;
+                        h01 += aE * (j == (i + 1) % 3 ? nh[l] : -nh[l]);
                     }
                 }
-                HG[a * k + b] = HG[b * k + a] = h;
+                HG[i * k + j] = h00;
+                HG[(dim + i) * k + dim + j] = h11;
+                HG[i * k + dim + j] = h01;
+                HG[(dim + j) * k + i] = h01;
             }
         }
     }
@@ -213,8 +211,7 @@ double plume_membrane_density(const plume_membrane_material *mat, int dim, const
     if (!mat || !F || !d || (dim != 2 && dim != 3))
         return NAN;
     mem_mat m;
-    plume_membrane_stiffness(mat, m.C);
-    m.kappa = mat->kappa;
+    mem_mat_set(mat, &m);
     double len = hypot(d[0], d[1]);
     double R[2][2] = {{d[0] / len, -d[1] / len}, {d[1] / len, d[0] / len}};
     double g[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
@@ -230,23 +227,20 @@ static inline double eval_loop(const mem_ctx *ctx, const int dim, const double *
                                double *hblocks, int project)
 {
     const int k = 2 * dim, kk = 3 * dim;
-    double HG[36], T[6 * 9];
+    double HG[36];
     double E = 0.0;
     for (plume_index t = 0; t < ctx->nt; t++) {
         const mem_tri *tr = &ctx->tri[t];
         const plume_index *vid = ctx->stencil + 3 * t;
         const double *B = tr->B;
+        /* G[:,c] = sum_v W[v][c] x_v */
         const double W[3][2] = {{-(B[0] + B[2]), -(B[1] + B[3])}, {B[0], B[1]}, {B[2], B[3]}};
-        double e1[3] = {0.0, 0.0, 0.0}, e2[3] = {0.0, 0.0, 0.0};
         const double *x0 = x + dim * vid[0], *x1 = x + dim * vid[1], *x2 = x + dim * vid[2];
+        double g[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
         for (int i = 0; i < dim; i++) {
-            e1[i] = x1[i] - x0[i];
-            e2[i] = x2[i] - x0[i];
-        }
-        double g[2][3];
-        for (int i = 0; i < 3; i++) {
-            g[0][i] = e1[i] * B[0] + e2[i] * B[2];
-            g[1][i] = e1[i] * B[1] + e2[i] * B[3];
+            const double a = x1[i] - x0[i], b = x2[i] - x0[i];
+            g[0][i] = a * B[0] + b * B[2];
+            g[1][i] = a * B[1] + b * B[3];
         }
         double P[2][3];
         double psi =
@@ -262,25 +256,25 @@ static inline double eval_loop(const mem_ctx *ctx, const int dim, const double *
         if (hblocks) {
             if (project)
                 plume_dense_project_psd(k, HG);
-            /* T[(c,i), (w,j)] = Ah sum_d HG[(c,i), (d,j)] W[w][d] */
-            for (int a = 0; a < k; a++) {
-                const double *row = HG + a * k;
-                for (int w = 0; w < 3; w++)
-                    for (int j = 0; j < dim; j++)
-                        T[a * kk + w * dim + j] =
-                            tr->Ah * (W[w][0] * row[j] + W[w][1] * row[dim + j]);
-            }
-            /* H[(v,i), (w,j)] = sum_c W[v][c] T[(c,i), (w,j)]: upper triangle, mirrored so that
-             * the block is exactly symmetric */
+            /* vertex block (v, w) = Ah sum_{c,d} W[v][c] W[w][d] HG_cd, HG_cd the dim x dim
+             * block of columns (c, d); computed for v <= w and mirrored, so exactly symmetric */
             double *H = hblocks + (size_t)t * kk * kk;
-            for (int v = 0; v < 3; v++)
-                for (int i = 0; i < dim; i++) {
-                    const int row = v * dim + i;
-                    const double *t0 = T + i * kk, *t1 = T + (dim + i) * kk;
-                    for (int col = row; col < kk; col++)
-                        H[row * kk + col] = H[col * kk + row] =
-                            W[v][0] * t0[col] + W[v][1] * t1[col];
+            for (int v = 0; v < 3; v++) {
+                for (int w = v; w < 3; w++) {
+                    const double a00 = tr->Ah * W[v][0] * W[w][0];
+                    const double a11 = tr->Ah * W[v][1] * W[w][1];
+                    const double a01 = tr->Ah * W[v][0] * W[w][1];
+                    const double a10 = tr->Ah * W[v][1] * W[w][0];
+                    for (int i = 0; i < dim; i++) {
+                        for (int j = 0; j < dim; j++) {
+                            double h = a00 * HG[i * k + j] + a11 * HG[(dim + i) * k + dim + j] +
+                                       a01 * HG[i * k + dim + j] + a10 * HG[(dim + i) * k + j];
+                            H[(v * dim + i) * kk + w * dim + j] = h;
+                            H[(w * dim + j) * kk + v * dim + i] = h;
+                        }
+                    }
                 }
+            }
         }
     }
     return E;
@@ -346,10 +340,8 @@ plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
         st = plume_err_set(err, PLUME_ENOMEM, "membrane: out of memory");
         goto cleanup;
     }
-    for (int i = 0; i < nmat; i++) {
-        plume_membrane_stiffness(&mats[i], ctx->mat[i].C);
-        ctx->mat[i].kappa = mats[i].kappa;
-    }
+    for (int i = 0; i < nmat; i++)
+        mem_mat_set(&mats[i], &ctx->mat[i]);
 
     for (plume_index t = 0; t < nt; t++) {
         const plume_index *v = mesh->tri + 3 * t;

@@ -4,6 +4,13 @@
 #include <string.h>
 #include <time.h>
 
+static double wall(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 #include "harness.h"
 
 int plume_test_failures;
@@ -31,10 +38,10 @@ int main(int argc, char **argv)
         if (filter && !strstr(all_tests[i].name, filter))
             continue;
         plume_test_failures = 0;
-        clock_t t0 = clock();
+        double t0 = wall();
         fprintf(stderr, "[ RUN  ] %s\n", all_tests[i].name);
         all_tests[i].fn();
-        double s = (double)(clock() - t0) / CLOCKS_PER_SEC;
+        double s = wall() - t0;
         if (plume_test_failures == 0) {
             passed++;
             fprintf(stderr, "[  OK  ] %s (%.2f s)\n", all_tests[i].name, s);

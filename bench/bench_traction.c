@@ -1,0 +1,119 @@
+/* make bench — tilted 45 deg traction to 5% strain at about 1e3, 1e4 and 4e4 elements: time,
+ * Newton iterations and peak memory of `newton` against `ipopt`, side by side with their ratio,
+ * and the time of one Newton iteration against one CHOLMOD factorisation of the same matrix.
+ * Each run happens in a child process so that its peak resident memory is its own. */
+#define _DEFAULT_SOURCE
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "../lib/plume.h"
+
+typedef struct {
+    int ok, converged, iterations, factorizations;
+    long elements;
+    double seconds, factor_seconds, stress, violation;
+    long maxrss_kb;
+} run_result;
+
+static run_result run_child(double edge, plume_solver_kind solver, int steps)
+{
+    run_result r;
+    memset(&r, 0, sizeof r);
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_index *barbs = NULL, nb = 0;
+    plume_vane vane;
+    plume_vane_default(&vane);
+    plume_err err = {{0}};
+    if (plume_patch_mesh(1.0, 1.3, 45.0, edge, PLUME_PATCH_ALIGNED, 2, &mesh, &err) != PLUME_OK ||
+        plume_problem_create(mesh->nv, 2, 1.3, &p) != PLUME_OK ||
+        plume_vane_add(p, mesh, &vane, &barbs, &nb, &err) != PLUME_OK) {
+        fprintf(stderr, "bench: %s\n", err.msg);
+        return r;
+    }
+    plume_traction_opts o;
+    plume_traction_opts_default(&o);
+    o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.strain_max = 0.05, o.steps = steps, o.solver = solver, o.progress = 0;
+    plume_traction_result res;
+    if (plume_traction_run(mesh, p, barbs, nb, &o, &res, &err) == PLUME_OK) {
+        r.ok = 1;
+        r.converged = res.converged;
+        r.iterations = res.newton_iterations;
+        r.factorizations = res.factorizations;
+        r.seconds = res.seconds;
+        r.factor_seconds = res.factor_seconds;
+        r.stress = res.curve.stress[res.curve.n - 1];
+        r.violation = res.max_violation;
+        plume_traction_result_free(&res);
+    } else {
+        fprintf(stderr, "bench: %s\n", err.msg);
+    }
+    r.elements = (long)mesh->nt;
+    free(barbs);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&mesh);
+    return r;
+}
+
+static run_result run_forked(double edge, plume_solver_kind solver, int steps)
+{
+    run_result r;
+    memset(&r, 0, sizeof r);
+    int fd[2];
+    if (pipe(fd) != 0)
+        return r;
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+        close(fd[0]);
+        run_result c = run_child(edge, solver, steps);
+        ssize_t w = write(fd[1], &c, sizeof c);
+        _exit(w == (ssize_t)sizeof c ? 0 : 1);
+    }
+    close(fd[1]);
+    ssize_t got = read(fd[0], &r, sizeof r);
+    close(fd[0]);
+    int status;
+    struct rusage ru;
+    wait4(pid, &status, 0, &ru);
+    if (got != (ssize_t)sizeof r)
+        memset(&r, 0, sizeof r);
+    r.maxrss_kb = ru.ru_maxrss;
+    return r;
+}
+
+int main(int argc, char **argv)
+{
+    /* edge lengths giving about 1e3, 1e4 and 4e4 triangles on the 1 x 1.3 sample */
+    double edges[] = {0.055, 0.0173, 0.0087};
+    int nsizes = 3, steps = 5;
+    if (argc > 1 && strcmp(argv[1], "--quick") == 0)
+        nsizes = 1;
+    printf("plume bench: tilted 45 deg traction, E_xx/E_yy = 1e4, constraint on, aligned mesh, %d steps to 5%% strain\n", steps);
+    printf("%9s | %27s | %27s | %21s | %8s\n", "", "time to 5% strain (s)", "Newton iterations", "peak memory (MiB)", "");
+    printf("%9s | %8s %8s %9s | %8s %8s %9s | %6s %6s %7s | %8s\n", "elements", "newton", "ipopt", "ipopt/nt",
+           "newton", "ipopt", "ipopt/nt", "newton", "ipopt", "ip/nt", "dstress");
+    run_result rn[3], ri[3];
+    for (int k = 0; k < nsizes; k++) {
+        rn[k] = run_forked(edges[k], PLUME_SOLVER_NEWTON, steps);
+        ri[k] = run_forked(edges[k], PLUME_SOLVER_IPOPT, steps);
+        printf("%9ld | %8.3f %8.3f %9.2f | %8d %8d %9.2f | %6.1f %6.1f %7.2f | %8.1e%s\n", rn[k].elements,
+               rn[k].seconds, ri[k].seconds, ri[k].seconds / rn[k].seconds, rn[k].iterations, ri[k].iterations,
+               (double)ri[k].iterations / rn[k].iterations, rn[k].maxrss_kb / 1024.0, ri[k].maxrss_kb / 1024.0,
+               (double)ri[k].maxrss_kb / rn[k].maxrss_kb, fabs(ri[k].stress - rn[k].stress) / fabs(rn[k].stress),
+               rn[k].converged && ri[k].converged ? "" : "  (NOT CONVERGED)");
+    }
+    printf("\nOne Newton iteration (assembly + KKT factorisation + solve + line search) against one CHOLMOD\n"
+           "numeric factorisation of the same KKT matrix (symbolic analysis done once, not counted):\n");
+    printf("%9s | %12s %14s %7s | %s\n", "elements", "iteration ms", "factorisation ms", "ratio", "max violation");
+    for (int k = 0; k < nsizes; k++) {
+        double it = 1e3 * rn[k].seconds / rn[k].iterations, fa = 1e3 * rn[k].factor_seconds / rn[k].factorizations;
+        printf("%9ld | %12.2f %14.2f %7.2f | %.1e\n", rn[k].elements, it, fa, it / fa, rn[k].violation);
+    }
+    return 0;
+}
