@@ -294,7 +294,15 @@ int main(int argc, char **argv)
             goto done;
         }
     }
-    if (o.json) {
+    if (!o.json) {
+        plume_index last = res.curve.n - 1;
+        printf("%s %g deg, %s, %s mesh (%ld elements), constraint %s: stress at %g%% strain %.6g Pa, "
+               "wbar %.4g, initial slope %.6g Pa, %d iterations, %.2f s, %s\n",
+               o.scenario, angle, o.solver, o.mesh, (long)mesh->nt, o.constraint ? "on" : "off",
+               100.0 * res.curve.strain[last], res.curve.stress[last], res.curve.wbar[last], res.initial_slope,
+               res.newton_iterations, res.seconds,
+               res.converged ? "converged" : plume_reason_name(res.failed_reason));
+    } else {
         plume_index last = res.curve.n - 1;
         json_t *j = json_object();
         json_object_set_new(j, "scenario", json_string(o.scenario));

@@ -9,11 +9,10 @@ mkdir -p out
 h5=out/traction.h5
 rm -f "$h5"
 run() { echo "+ apps/traction $*" >&2; ./apps/traction "$@"; }
-summary() { python3 -c 'import json,sys; d=json.load(sys.stdin); print("   %-10s %-9s constraint=%-5s elements=%-6d stress(5%%)=%.6g Pa  wbar=%.4g  iterations=%d  %.2f s  %s" % (d["solver"], d["mesh"], d["constraint"], d["elements"], d["stress_at_max_strain"], d["wbar_at_max_strain"], d["newton_iterations"], d["seconds"], "converged" if d["converged"] else "NOT converged: " + d["stop_reason"]))'; }
 echo "plume demo: tilted 45 deg traction, Table 4 parameters"
-run --scenario tilted --edge 0.02 --steps 10 --solver newton -o "$h5" --plot out/tilted_newton.png --json | summary
-run --scenario tilted --edge 0.02 --steps 10 --solver ipopt --json --quiet | summary
-run --scenario tilted --edge 0.02 --steps 10 --constraint off --json --quiet | summary
+run --scenario tilted --edge 0.02 --steps 10 --solver newton -o "$h5" --plot out/tilted_newton.png
+run --scenario tilted --edge 0.02 --steps 10 --solver ipopt --quiet
+run --scenario tilted --edge 0.02 --steps 10 --constraint off --quiet
 echo "plume demo: transverse sample T01 of supplementary Table 1 (same vane moduli)"
-run --sample T01 --edge 0.0005 --steps 10 -o "$h5" --plot out/transverse_T01.png --json --quiet | summary
+run --sample T01 --edge 0.0005 --steps 10 -o "$h5" --plot out/transverse_T01.png --quiet
 echo "plume demo: outputs in out/: $(ls out | tr '\n' ' ')"

@@ -2,8 +2,7 @@
 # Installs the distribution packages plume builds and runs with, when any is missing (Debian/Ubuntu).
 set -euo pipefail
 pkgs=(build-essential pkg-config libsuitesparse-dev coinor-libipopt-dev libnlopt-dev libhdf5-dev
-      libgsl-dev libcgal-dev libgmp-dev libmpfr-dev libjansson-dev libopenblas0-pthread gnuplot-nox
-      python3)
+      libgsl-dev libcgal-dev libgmp-dev libmpfr-dev libjansson-dev libopenblas0-pthread gnuplot-nox)
 missing=()
 for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
