@@ -258,8 +258,8 @@ int main(int argc, char **argv)
         goto done;
     }
     st = plume_traction_run(mesh, p, barbs, nbarbs, &to, &res, &err);
-    if (st != PLUME_OK) {
-        fprintf(stderr, "traction: %s\n", err.msg[0] ? err.msg : plume_strerror(st));
+    if (st != PLUME_OK) { /* the library's message already names the module */
+        fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
         goto done;
     }
     int usable = res.converged || to.solver == PLUME_SOLVER_LINEARIZED;
