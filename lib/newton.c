@@ -392,7 +392,9 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
             rep->reason = PLUME_REASON_SINGLE_STEP;
             break;
         }
-        if (alpha * step_max <= s->o.tol_step * L && viol <= s->o.tol_violation) {
+        /* the full Newton direction (not the damped step: a line search that shrank alpha to
+         * nothing has not converged) is negligible and the constraints hold */
+        if (step_max <= s->o.tol_step * L && viol <= s->o.tol_violation) {
             it++;
             rep->reason = PLUME_REASON_CONVERGED;
             break;
