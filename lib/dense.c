@@ -46,18 +46,16 @@ void plume_dense_sym_eig(int n, double *A, double *evals, double *evecs)
                 else
                     t = (theta >= 0.0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
                 double c = 1.0 / sqrt(t * t + 1.0), s = t * c;
-                /* A <- P^T A P with P the rotation in the (p, q) plane; V <- V P */
+                /* A <- P^T A P with P the rotation in the (p, q) plane, rows and columns p, q
+                 * updated together to keep A exactly symmetric; V <- V P */
                 for (int k = 0; k < n; k++) {
+                    if (k == p || k == q)
+                        continue;
                     double akp = A[k * n + p], akq = A[k * n + q];
-                    A[k * n + p] = c * akp - s * akq;
-                    A[k * n + q] = s * akp + c * akq;
+                    A[k * n + p] = A[p * n + k] = c * akp - s * akq;
+                    A[k * n + q] = A[q * n + k] = s * akp + c * akq;
                 }
-                for (int k = 0; k < n; k++) {
-                    double apk = A[p * n + k], aqk = A[q * n + k];
-                    A[p * n + k] = c * apk - s * aqk;
-                    A[q * n + k] = s * apk + c * aqk;
-                }
-                /* the closed forms are more accurate than the rotated entries */
+                /* the 2x2 pivot block in closed form (exact zero off the diagonal) */
                 A[p * n + p] = app - t * apq;
                 A[q * n + q] = aqq + t * apq;
                 A[p * n + q] = A[q * n + p] = 0.0;

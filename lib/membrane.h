@@ -31,8 +31,8 @@ void plume_membrane_stiffness(const plume_membrane_material *mat, double C[9]);
 double plume_membrane_density(const plume_membrane_material *mat, int dim, const double *F,
                               const double d[2]);
 
-/* Creates a term over every triangle of `mesh` whose material id is in [0, nmat): triangle t uses
- * mats[mesh->material[t]] and mesh->barb_dir[t]. Reference geometry is precomputed (copied), so the
+/* Creates a term over every triangle of `mesh`: triangle t uses mats[mesh->material[t]] (ids
+ * must be in [0, nmat), else PLUME_EINVAL) and mesh->barb_dir[t]. Reference geometry is precomputed (copied), so the
  * mesh may be freed afterwards. The term's stencils are the triangles (arity 3). */
 plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
                                         const plume_membrane_material *mats, int nmat,
