@@ -3,9 +3,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include <cholmod.h>
+#include "progress.h"
 
 struct plume_chol {
     cholmod_common cm;
@@ -16,13 +16,6 @@ struct plume_chol {
     int ldl, analyses, factorizations;
     double factor_seconds;
 };
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 plume_status plume_chol_create(plume_index n, const plume_index *colptr, const plume_index *rowind,
                                int ldl, plume_chol **out, plume_err *err)
@@ -90,12 +83,12 @@ void plume_chol_destroy(plume_chol **pc)
 
 plume_status plume_chol_factor(plume_chol *c, const double *values, double shift)
 {
-    double t0 = now_seconds();
+    double t0 = plume_wall_seconds();
     memcpy(c->A->x, values, (size_t)((SuiteSparse_long *)c->A->p)[c->n] * sizeof(double));
     double beta[2] = {shift, 0.0};
     int ok = cholmod_l_factorize_p(c->A, beta, NULL, 0, c->L, &c->cm);
     c->factorizations++;
-    c->factor_seconds += now_seconds() - t0;
+    c->factor_seconds += plume_wall_seconds() - t0;
     if (!ok || c->cm.status == CHOLMOD_OUT_OF_MEMORY)
         return c->cm.status == CHOLMOD_OUT_OF_MEMORY ? PLUME_ENOMEM : PLUME_EDEP;
     if (c->cm.status == CHOLMOD_NOT_POSDEF || c->L->minor < (size_t)c->n)

@@ -29,7 +29,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
+#include "progress.h"
 
 enum {
     PASSES = 3 /* Ipopt runs per solve: the first plus at most two rescaled resumptions */
@@ -314,13 +314,6 @@ cleanup:
 
 /* ---- solve ---- */
 
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 static int all_finite(const double *v, plume_index n)
 {
     for (plume_index i = 0; i < n; i++)
@@ -452,7 +445,7 @@ plume_status plume_ipopt_solve(plume_ipopt *s, double *u, double *lambda, plume_
 {
     if (!s || !u || !rep || (s->m > 0 && !lambda))
         return PLUME_EINVAL;
-    double t0 = now_seconds();
+    double t0 = plume_wall_seconds();
     plume_status st = PLUME_OK;
     memset(rep, 0, sizeof *rep);
     rep->reason = PLUME_REASON_NUMERICAL;
@@ -537,6 +530,6 @@ cleanup:
     /* Ipopt's C interface does not expose its factorisation count (at least one per iteration,
      * more with inertia correction): 0 means "not counted", not "none" */
     rep->factorizations = 0;
-    rep->seconds = now_seconds() - t0;
+    rep->seconds = plume_wall_seconds() - t0;
     return st;
 }

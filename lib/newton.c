@@ -13,9 +13,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "cholesky.h"
+#include "progress.h"
 
 struct plume_newton {
     plume_problem *p;
@@ -29,13 +29,6 @@ struct plume_newton {
     double *hval, *kval, *jval, *grad, *g, *gt, *rhs, *sol, *ut, *jtl;
     plume_chol *chol;
 };
-
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 void plume_newton_destroy(plume_newton **ps)
 {
@@ -285,7 +278,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
 {
     if (!s || !u || (s->m && !lambda) || !rep)
         return PLUME_EINVAL;
-    double t0 = now_seconds();
+    double t0 = plume_wall_seconds();
     memset(rep, 0, sizeof *rep);
     int f0;
     plume_chol_stats(s->chol, NULL, &f0, NULL);
@@ -409,7 +402,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     rep->energy = f;
     rep->kkt_residual = kkt_residual(s, lambda);
     rep->max_violation = viol;
-    rep->seconds = now_seconds() - t0;
+    rep->seconds = plume_wall_seconds() - t0;
     return PLUME_OK;
 }
 
