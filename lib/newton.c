@@ -113,6 +113,11 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     if (!p || !o || !out)
         return plume_err_set(err, PLUME_EINVAL, "newton: invalid arguments");
     *out = NULL;
+    if (o->max_iter < 0 || !(o->tol_kkt > 0.0) || !(o->tol_violation > 0.0) || !(o->tol_step >= 0.0) ||
+        !(o->max_step > 0.0) || !isfinite(o->tol_kkt + o->tol_violation + o->tol_step + o->max_step))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "newton: options need max_iter >= 0, tol_kkt > 0, tol_violation > 0, tol_step >= 0, "
+                             "max_step > 0, all finite");
     plume_status st = PLUME_OK;
     plume_newton *s = calloc(1, sizeof *s);
     if (!s)
@@ -221,22 +226,26 @@ static double kkt_residual(plume_newton *s, const double *lambda)
     return ref > 0.0 ? rm / ref : 0.0;
 }
 
-/* Assembles and factorises the Newton/KKT matrix at u with multipliers lambda; raises the
- * regularisation dw until the factorisation succeeds. */
-static plume_status factorize(plume_newton *s, const double *u, const double *lambda, double *dc_out)
+/* Assembles and factorises the Newton/KKT matrix at u with multipliers lambda, with at least
+ * dw_min added to the Hessian's diagonal; raises the regularisation until the factorisation
+ * succeeds. *hmax_out receives the largest Hessian diagonal (the scale of any regularisation). */
+static plume_status factorize(plume_newton *s, const double *u, const double *lambda, double dw_min,
+                              double *dc_out, double *hmax_out)
 {
     plume_status st;
-    if (s->m == 0 && s->o.exact_hessian_first) {
+    *dc_out = 0.0;
+    if (s->m == 0 && s->o.exact_hessian_first && dw_min == 0.0) {
         /* Projection per element slows Newton down to a crawl where elements are indefinite but
          * the assembled Hessian is not (stiff fibres in compression): use the exact Hessian
          * whenever CHOLMOD accepts it as positive definite, the projected one otherwise. */
         if ((st = plume_problem_hessian(s->p, u, 1.0, NULL, 0, s->hval)) != PLUME_OK)
             return st;
         st = plume_chol_factor(s->chol, s->hval, 0.0);
-        if (st != PLUME_ESINGULAR) {
-            *dc_out = 0.0;
+        *hmax_out = 1.0;
+        for (plume_index c = 0; c < s->n; c++)
+            *hmax_out = c ? fmax(*hmax_out, fabs(s->hval[s->hp.colptr[c + 1] - 1])) : fabs(s->hval[0]);
+        if (st != PLUME_ESINGULAR)
             return st;
-        }
     }
     st = plume_problem_hessian(s->p, u, 1.0, s->m ? lambda : NULL, 1, s->hval);
     if (st != PLUME_OK)
@@ -246,12 +255,13 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
         hmax = fmax(hmax, fabs(s->hval[s->hp.colptr[c + 1] - 1]));
     if (!(hmax > 0.0) || !isfinite(hmax))
         hmax = 1.0;
+    *hmax_out = hmax;
     double jmax = 0.0;
     for (plume_index k = 0; k < s->jnnz; k++)
         jmax = fmax(jmax, fabs(s->jval[k]));
     double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
     *dc_out = dc;
-    double dw = s->m ? 1e-12 * hmax : 0.0;
+    double dw = fmax(dw_min, s->m ? 1e-12 * hmax : 0.0);
     for (int attempt = 0; attempt < 12; attempt++) {
         if (s->m > 0) {
             memcpy(s->kval, s->hval, (size_t)s->hp.nnz * sizeof *s->kval);
@@ -272,6 +282,34 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
         dw = dw > 0.0 ? dw * 100.0 : 1e-10 * hmax;
     }
     return PLUME_ESINGULAR;
+}
+
+/* Newton/SQP direction: factorise and solve; a direction longer than the body itself means the
+ * Hessian is (nearly) singular on the constraints' null space (e.g. a straight chain with zero
+ * multipliers has no sideways stiffness), so the regularisation is raised, Levenberg–Marquardt
+ * style, until the step is of a sensible size. Returns PLUME_ESINGULAR when nothing works. */
+static plume_status direction(plume_newton *s, const double *u, const double *lambda, double *step_max)
+{
+    plume_index n = s->n, m = s->m;
+    double L = plume_problem_length_scale(s->p), dw = 0.0, dc, hmax;
+    plume_status st = PLUME_OK;
+    for (int attempt = 0; attempt < 8; attempt++) {
+        if ((st = factorize(s, u, lambda, dw, &dc, &hmax)) != PLUME_OK)
+            return st;
+        for (plume_index i = 0; i < n; i++)
+            s->rhs[i] = -s->grad[i];
+        for (plume_index r = 0; r < m; r++)
+            s->rhs[n + r] = -s->g[r] - dc * lambda[r];
+        if ((st = plume_chol_solve(s->chol, s->rhs, s->sol)) != PLUME_OK && st != PLUME_ESINGULAR)
+            return st;
+        *step_max = 0.0;
+        for (plume_index i = 0; i < n; i++)
+            *step_max = fmax(*step_max, fabs(s->sol[i]));
+        if (st == PLUME_OK && *step_max <= s->o.max_step * L)
+            return PLUME_OK;
+        dw = dw > 0.0 ? dw * 100.0 : 1e-8 * hmax;
+    }
+    return st == PLUME_OK ? PLUME_OK : PLUME_ESINGULAR; /* a long step is still a step */
 }
 
 plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plume_solve_report *rep)
@@ -305,40 +343,32 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
         }
         if (it >= max_iter)
             break;
-        double dc;
-        st = factorize(s, u, lambda, &dc);
+        double step_max;
+        st = direction(s, u, lambda, &step_max);
         if (st == PLUME_ESINGULAR) {
             rep->reason = PLUME_REASON_NUMERICAL;
             break;
         }
         if (st != PLUME_OK)
             return st;
-        for (plume_index i = 0; i < n; i++)
-            s->rhs[i] = -s->grad[i];
-        for (plume_index r = 0; r < m; r++)
-            s->rhs[n + r] = -s->g[r] - dc * lambda[r];
-        if ((st = plume_chol_solve(s->chol, s->rhs, s->sol)) != PLUME_OK) {
-            if (st != PLUME_ESINGULAR)
-                return st;
-            rep->reason = PLUME_REASON_NUMERICAL;
-            break;
-        }
         const double *du = s->sol, *lnew = s->sol + n;
-        double step_max = 0.0, dirderiv = 0.0, lmax = 0.0;
-        for (plume_index i = 0; i < n; i++) {
-            step_max = fmax(step_max, fabs(du[i]));
+        double dirderiv = 0.0, lmax = 0.0;
+        for (plume_index i = 0; i < n; i++)
             dirderiv += s->grad[i] * du[i];
-        }
         for (plume_index r = 0; r < m; r++)
             lmax = fmax(lmax, fabs(lnew[r]));
         mu = fmax(mu, 1.5 * lmax);
         dirderiv -= mu * g1;
         double phi0 = f + mu * g1, alpha = 1.0, phi, ft;
         int accepted = 0;
-        if (s->single_step) {
+        int negligible = step_max <= s->o.tol_step * L;
+        if (s->single_step || negligible) {
+            /* one linearised step, or a step at round-off level: no line search to do, and the
+             * multipliers are taken whole (they may still have far to go) */
             for (plume_index i = 0; i < n; i++)
                 u[i] += du[i];
-            memcpy(lambda, lnew, (size_t)m * sizeof *lambda);
+            if (m > 0)
+                memcpy(lambda, lnew, (size_t)m * sizeof *lambda);
             accepted = 1;
         } else {
             for (int ls = 0; ls < 60 && !accepted; ls++, alpha *= 0.5) {
@@ -375,8 +405,11 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                 break;
             }
             memcpy(u, s->ut, (size_t)n * sizeof *u);
-            for (plume_index r = 0; r < m; r++)
-                lambda[r] += alpha * (lnew[r] - lambda[r]);
+            /* the QP multipliers are taken whole even after a damped step: they are the current
+             * least-squares estimate, and damping them too would freeze them whenever the line
+             * search has to cut the primal step to nothing (redundant constraints) */
+            if (m > 0)
+                memcpy(lambda, lnew, (size_t)m * sizeof *lambda);
         }
         if ((st = evaluate(s, u, &f, &g1, &viol)) != PLUME_OK)
             return st;
@@ -386,8 +419,9 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
             break;
         }
         /* the full Newton direction (not the damped step: a line search that shrank alpha to
-         * nothing has not converged) is negligible and the constraints hold */
-        if (step_max <= s->o.tol_step * L && viol <= s->o.tol_violation) {
+         * nothing has not converged) is negligible, the constraints hold and the multipliers
+         * are not far off (the KKT test itself may be out of reach of round-off) */
+        if (negligible && viol <= s->o.tol_violation && kkt_residual(s, lambda) <= sqrt(s->o.tol_kkt)) {
             it++;
             rep->reason = PLUME_REASON_CONVERGED;
             break;

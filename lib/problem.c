@@ -37,6 +37,7 @@ struct plume_problem {
     double *gradfull;                  /* [ndof] workspace */
     double *jtwork;                    /* [ndof] workspace for J^T lambda */
     double force_scale;                /* max |grad f| over all dofs at the last gradient */
+    double force_floor;                /* forces below this are round-off (set by finalize) */
     double *scale;                     /* [ncons] */
 };
 
@@ -227,10 +228,60 @@ static int stencil_ok(const plume_problem *p, const plume_index *st, plume_index
     return 1;
 }
 
+/* Frees what finalize builds, so that a finalize that failed half-way can be called again. */
+static void release_structure(plume_problem *p)
+{
+    free(p->free_of_dof);
+    free(p->dof_of_free);
+    free(p->colptr);
+    free(p->rowind);
+    free(p->jrow);
+    free(p->jcol);
+    free(p->scale);
+    p->free_of_dof = p->dof_of_free = p->colptr = p->rowind = p->jrow = p->jcol = NULL;
+    p->scale = NULL;
+    for (int i = 0; i < p->nterms; i++) {
+        free(p->terms[i].hmap);
+        free(p->terms[i].blocks);
+        p->terms[i].hmap = NULL;
+        p->terms[i].blocks = NULL;
+    }
+    for (int i = 0; i < p->ncsets; i++) {
+        cons_slot *c = p->cons + i;
+        free(c->row);
+        free(c->hmap);
+        free(c->jmap);
+        free(c->g);
+        free(c->jac);
+        free(c->lam);
+        free(c->blocks);
+        c->row = c->hmap = c->jmap = NULL;
+        c->g = c->jac = c->lam = c->blocks = NULL;
+    }
+}
+
+/* Largest diagonal entry of the Hessian at the current x: a stiffness scale. */
+static plume_status stiffness_scale(plume_problem *p, double *scale)
+{
+    double *values = malloc((size_t)(p->nnz + 1) * sizeof *values);
+    if (!values)
+        return PLUME_ENOMEM;
+    p->finalized = 1; /* plume_problem_hessian requires it */
+    plume_status st = plume_problem_hessian(p, NULL, 1.0, NULL, 0, values);
+    p->finalized = 0;
+    double s = 0.0;
+    for (plume_index c = 0; c < p->nfree && st == PLUME_OK; c++)
+        s = fmax(s, fabs(values[p->colptr[c + 1] - 1]));
+    free(values);
+    *scale = isfinite(s) ? s : 0.0;
+    return st;
+}
+
 plume_status plume_problem_finalize(plume_problem *p, plume_err *err)
 {
     if (!p || p->finalized)
         return PLUME_EINVAL;
+    release_structure(p);
     plume_status st = PLUME_OK;
     pair *pairs = NULL;
     int d = p->dim;
@@ -378,6 +429,14 @@ plume_status plume_problem_finalize(plume_problem *p, plume_err *err)
             if (c->row[i] >= 0)
                 p->scale[c->row[i]] = c->c.scale[i] > 0 ? c->c.scale[i] : 1.0;
     }
+    /* round-off gradients of a stress-free state are ~1e-16 k L; measuring residuals against at
+     * least 1e-6 k L makes the relative KKT test an absolute one of ~1e-15 k L there */
+    double k;
+    if ((st = stiffness_scale(p, &k)) != PLUME_OK) {
+        plume_err_set(err, st, "problem: a term failed to evaluate at the initial state");
+        goto cleanup;
+    }
+    p->force_floor = 1e-6 * k * p->length_scale;
     p->finalized = 1;
 cleanup:
     free(pairs);
@@ -390,7 +449,7 @@ plume_index plume_problem_nfree(const plume_problem *p) { return p->nfree; }
 plume_index plume_problem_ncons(const plume_problem *p) { return p->ncons; }
 double plume_problem_length_scale(const plume_problem *p) { return p->length_scale; }
 int plume_problem_is_fixed(const plume_problem *p, plume_index dof) { return p->fixed[dof]; }
-double plume_problem_force_scale(const plume_problem *p) { return p->force_scale; }
+double plume_problem_force_scale(const plume_problem *p) { return fmax(p->force_scale, p->force_floor); }
 double *plume_problem_x(plume_problem *p) { return p->x; }
 
 void plume_problem_gather(const plume_problem *p, double *u)
@@ -603,7 +662,7 @@ plume_status plume_problem_kkt_residual(plume_problem *p, const double *u, const
     } else {
         rmax = gmax;
     }
-    double ref = fmax(p->force_scale, fmax(gmax, jmax));
+    double ref = fmax(plume_problem_force_scale(p), fmax(gmax, jmax));
     *rel_residual = ref > 0.0 ? rmax / ref : 0.0;
     if (!isfinite(gmax) || !isfinite(rmax))
         *rel_residual = NAN;

@@ -77,7 +77,9 @@ plume_status plume_problem_jacobian(plume_problem *p, const double *u, double *v
 plume_status plume_problem_forces(plume_problem *p, const double *lambda, double *force);
 
 /* max |grad f| over every dof, prescribed ones included (where it is the support reaction), at
- * the last evaluation of a gradient: the force scale that residuals are measured against. */
+ * the last evaluation of a gradient — but at least the round-off floor 1e-6 * length_scale *
+ * (largest Hessian diagonal at the state finalize saw): the force scale that residuals are
+ * measured against, so that a body at rest is not judged by its round-off gradients. */
 double plume_problem_force_scale(const plume_problem *p);
 
 /* Relative stationarity of the Lagrangian f + lambda.g at u, on the free dofs:

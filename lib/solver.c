@@ -47,6 +47,7 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->tol_kkt = 1e-9;
     o->tol_violation = 1e-10;
     o->tol_step = 1e-13;
+    o->max_step = 100.0;
     o->verbose = 0;
     o->exact_hessian_first = 1;
 }

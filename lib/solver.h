@@ -47,6 +47,8 @@ typedef struct {
     double tol_violation;  /* max relative constraint violation; default 1e-10 */
     double tol_step;       /* also converged when max|du| <= tol_step * length_scale and the
                               violation is met; default 1e-13 */
+    double max_step;       /* newton: a direction longer than max_step * length_scale is taken
+                              as a sign of a singular Hessian and regularised; default 100 */
     int verbose;           /* print one line per iteration on stderr */
     int exact_hessian_first; /* newton without constraints: factorise the exact Hessian first and
                                 fall back to the PSD-projected one if it is not positive definite;
