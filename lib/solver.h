@@ -41,6 +41,12 @@ typedef struct {
     double seconds;       /* wall time of the solve */
 } plume_solve_report;
 
+/* How the native solver factorises a constrained Newton step. */
+typedef enum {
+    PLUME_KKT_LDL = 0,      /* quasi-definite KKT matrix, CHOLMOD simplicial LDL^T */
+    PLUME_KKT_ELIMINATE = 1 /* multipliers eliminated: SPD H + J^T J / dc, CHOLMOD supernodal LL^T */
+} plume_kkt_mode;
+
 typedef struct {
     int max_iter;          /* default 100 */
     double tol_kkt;        /* relative KKT residual (see plume_problem_kkt_residual); default 1e-9 */
@@ -49,6 +55,8 @@ typedef struct {
                               violation is met; default 1e-13 */
     double max_step;       /* newton: a direction longer than max_step * length_scale is taken
                               as a sign of a singular Hessian and regularised; default 100 */
+    plume_kkt_mode kkt;    /* newton with constraints; default PLUME_KKT_ELIMINATE (same iterates,
+                              2.2x faster factorisations at 4e4 elements than LDL^T) */
     int verbose;           /* print one line per iteration on stderr */
     int exact_hessian_first; /* newton without constraints: factorise the exact Hessian first and
                                 fall back to the PSD-projected one if it is not positive definite;
