@@ -326,67 +326,55 @@ static double kkt_residual(plume_newton *s, const double *lambda)
 static plume_status factorize(plume_newton *s, const double *u, const double *lambda, double dw_min,
                               double *dc_out, double *hmax_out)
 {
-    plume_status st;
-    *dc_out = 0.0;
-    if (s->m == 0 && s->o.exact_hessian_first && dw_min == 0.0) {
-        /* Projection per element slows Newton down to a crawl where elements are indefinite but
-         * the assembled Hessian is not (stiff fibres in compression): use the exact Hessian
-         * whenever CHOLMOD accepts it as positive definite, the projected one otherwise. */
-        if ((st = plume_problem_hessian(s->p, u, 1.0, NULL, 0, s->hval)) != PLUME_OK)
+    plume_status st = PLUME_ESINGULAR;
+    /* Projection per element slows Newton down to a crawl where elements are indefinite but the
+     * assembled matrix is not (stiff fibres in compression): try the exact Hessian first and keep
+     * it whenever CHOLMOD accepts the SPD system built from it (with constraints eliminated, that
+     * is H positive definite on the constraints' tangent space — the second-order condition),
+     * otherwise the projected one. The LDL^T mode cannot tell inertia, so it always projects. */
+    int exact_first = s->o.exact_hessian_first && dw_min == 0.0 && (s->m == 0 || s->eliminate);
+    for (int project = !exact_first; project <= 1; project++) {
+        if ((st = plume_problem_hessian(s->p, u, 1.0, s->m ? lambda : NULL, project, s->hval)) != PLUME_OK)
             return st;
-        st = plume_chol_factor(s->chol, s->hval, 0.0);
-        *hmax_out = 1.0;
+        double hmax = 0.0;
         for (plume_index c = 0; c < s->n; c++)
-            *hmax_out = c ? fmax(*hmax_out, fabs(s->hval[s->hp.colptr[c + 1] - 1])) : fabs(s->hval[0]);
-        if (st != PLUME_ESINGULAR)
-            return st;
-    }
-    st = plume_problem_hessian(s->p, u, 1.0, s->m ? lambda : NULL, 1, s->hval);
-    if (st != PLUME_OK)
-        return st;
-    double hmax = 0.0;
-    for (plume_index c = 0; c < s->n; c++)
-        hmax = fmax(hmax, fabs(s->hval[s->hp.colptr[c + 1] - 1]));
-    if (!(hmax > 0.0) || !isfinite(hmax))
-        hmax = 1.0;
-    *hmax_out = hmax;
-    double jmax = 0.0;
-    for (plume_index k = 0; k < s->jnnz; k++)
-        jmax = fmax(jmax, fabs(s->jval[k]));
-    double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
-    *dc_out = dc;
-    double dw = fmax(dw_min, s->m ? 1e-12 * hmax : 0.0);
-    s->dc = dc;
-    for (int attempt = 0; attempt < 12; attempt++) {
-        if (s->eliminate) {
-            /* K = H + dw I + sum_r J_r^T J_r / dc on the Hessian's own pattern */
-            for (plume_index k = 0; k < s->npairs; k++) {
-                double v = s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
-                s->hval[s->pair_pos[k]] += v;
-            }
-            st = plume_chol_factor(s->chol, s->hval, dw);
-            if (st != PLUME_OK) /* undo, so that a retry with more dw starts from H again */
+            hmax = fmax(hmax, fabs(s->hval[s->hp.colptr[c + 1] - 1]));
+        if (!(hmax > 0.0) || !isfinite(hmax))
+            hmax = 1.0;
+        *hmax_out = hmax;
+        double jmax = 0.0;
+        for (plume_index k = 0; k < s->jnnz; k++)
+            jmax = fmax(jmax, fabs(s->jval[k]));
+        double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
+        *dc_out = s->dc = dc;
+        double dw = fmax(dw_min, s->m && !s->eliminate ? 1e-12 * hmax : 0.0);
+        for (int attempt = 0; attempt < (project ? 12 : 1); attempt++) {
+            if (s->eliminate) {
+                /* K = H + dw I + sum_r J_r^T J_r / dc on the Hessian's own pattern */
                 for (plume_index k = 0; k < s->npairs; k++)
-                    s->hval[s->pair_pos[k]] -= s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
-        } else if (s->m > 0) {
-            memcpy(s->kval, s->hval, (size_t)s->hp.nnz * sizeof *s->kval);
-            for (plume_index c = 0; c < s->n; c++)
-                s->kval[s->diagpos[c]] += dw;
-            for (plume_index k = 0; k < s->jnnz; k++)
-                s->kval[s->jpos[k]] = s->jval[k];
-            for (plume_index r = 0; r < s->m; r++)
-                s->kval[s->diagpos[s->n + r]] = -dc;
-            st = plume_chol_factor(s->chol, s->kval, 0.0);
-        } else {
-            st = plume_chol_factor(s->chol, s->hval, dw);
+                    s->hval[s->pair_pos[k]] += s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
+                st = plume_chol_factor(s->chol, s->hval, dw);
+                if (st != PLUME_OK) /* undo, so that a retry with more dw starts from H again */
+                    for (plume_index k = 0; k < s->npairs; k++)
+                        s->hval[s->pair_pos[k]] -= s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
+            } else if (s->m > 0) {
+                memcpy(s->kval, s->hval, (size_t)s->hp.nnz * sizeof *s->kval);
+                for (plume_index c = 0; c < s->n; c++)
+                    s->kval[s->diagpos[c]] += dw;
+                for (plume_index k = 0; k < s->jnnz; k++)
+                    s->kval[s->jpos[k]] = s->jval[k];
+                for (plume_index r = 0; r < s->m; r++)
+                    s->kval[s->diagpos[s->n + r]] = -dc;
+                st = plume_chol_factor(s->chol, s->kval, 0.0);
+            } else {
+                st = plume_chol_factor(s->chol, s->hval, dw);
+            }
+            if (st != PLUME_ESINGULAR)
+                return st;
+            dw = dw > 0.0 ? dw * 100.0 : 1e-10 * hmax;
         }
-        if (st == PLUME_OK)
-            return PLUME_OK;
-        if (st != PLUME_ESINGULAR)
-            return st;
-        dw = dw > 0.0 ? dw * 100.0 : 1e-10 * hmax;
     }
-    return PLUME_ESINGULAR;
+    return st;
 }
 
 /* Solves the regularised KKT system [H J^T; J -dc I] [x; l] = [r1; r2] with the last
