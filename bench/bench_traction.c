@@ -108,8 +108,9 @@ int main(int argc, char **argv)
                (double)ri[k].maxrss_kb / rn[k].maxrss_kb, fabs(ri[k].stress - rn[k].stress) / fabs(rn[k].stress),
                rn[k].converged && ri[k].converged ? "" : "  (NOT CONVERGED)");
     }
-    printf("\nOne Newton iteration (assembly + KKT factorisation + solve + line search) against one CHOLMOD\n"
-           "numeric factorisation of the same KKT matrix (symbolic analysis done once, not counted):\n");
+    printf("\nOne Newton iteration (assembly + factorisation + solve + line search) against one CHOLMOD\n"
+           "numeric factorisation of the same matrix (the SPD matrix H + J^T J / dc of the eliminated\n"
+           "KKT system; symbolic analysis done once per run, not counted):\n");
     printf("%9s | %12s %14s %7s | %s\n", "elements", "iteration ms", "factorisation ms", "ratio", "max violation");
     for (int k = 0; k < nsizes; k++) {
         double it = 1e3 * rn[k].seconds / rn[k].iterations, fa = 1e3 * rn[k].factor_seconds / rn[k].factorizations;
