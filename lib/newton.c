@@ -402,10 +402,11 @@ static plume_status kkt_solve(plume_newton *s, const double *r, double *out)
     return PLUME_OK;
 }
 
-/* Newton/SQP direction: factorise and solve; a direction longer than the body itself means the
- * Hessian is (nearly) singular on the constraints' null space (e.g. a straight chain with zero
- * multipliers has no sideways stiffness), so the regularisation is raised, Levenberg–Marquardt
- * style, until the step is of a sensible size. Returns PLUME_ESINGULAR when nothing works. */
+/* Newton/SQP direction: factorise and solve. A direction longer than max_step times the body
+ * means the Hessian is (nearly) singular on the constraints' null space (e.g. a straight chain
+ * with zero multipliers has no sideways stiffness), so the regularisation is raised,
+ * Levenberg–Marquardt style, until the step is of a sensible size (after 8 tries the last step is
+ * returned as it is: the line search judges it). PLUME_ESINGULAR when no factorisation worked. */
 static plume_status direction(plume_newton *s, const double *u, const double *lambda, double *step_max)
 {
     plume_index n = s->n, m = s->m;
