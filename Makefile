@@ -50,7 +50,7 @@ apps/%: apps/%.c $(BUILD)/libplume.a $(HEADERS)
 $(BUILD)/run_tests: $(TEST_OBJ) $(BUILD)/libplume.a
 	$(CC) $(CFLAGS) $(TEST_OBJ) -o $@ $(BUILD)/libplume.a $(LDFLAGS) $(LDLIBS)
 
-$(BUILD)/tests/run_tests.o: tests/test_list.h
+$(TEST_OBJ): $(wildcard tests/*.h)
 
 # The README's test command. TESTS=substring runs a subset.
 test: deps

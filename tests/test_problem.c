@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "harness.h"
+#include "test_rng.h"
 #include "../lib/dense.h"
 #include "../lib/edge_length.h"
 #include "../lib/membrane.h"
@@ -17,23 +18,7 @@
 
 /* ---- helpers ---------------------------------------------------------------------------- */
 
-typedef struct {
-    uint64_t s;
-} rng64;
-
-/* xorshift64*: deterministic, seeded per test */
-static double urand(rng64 *r)
-{
-    r->s ^= r->s >> 12;
-    r->s ^= r->s << 25;
-    r->s ^= r->s >> 27;
-    return (double)((r->s * 2685821657736338717ULL) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static double urange(rng64 *r, double a, double b)
-{
-    return a + (b - a) * urand(r);
-}
+/* rng64, urand, urange: tests/test_rng.h */
 
 static double max_abs(const double *a, plume_index n)
 {
