@@ -57,20 +57,25 @@ test: deps
 	@$(MAKE) --no-print-directory all $(BUILD)/run_tests
 	cd tests && ../$(BUILD)/run_tests $(TESTS)
 
+# the app tests run the regular apps/ binaries, so they are built too
 asan: deps
+	@$(MAKE) --no-print-directory all
 	@$(MAKE) --no-print-directory BUILD=build-asan OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer" \
 	    LDFLAGS="-fsanitize=address,undefined" build-asan/run_tests
 	cd tests && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ../build-asan/run_tests $(TESTS)
 
-bench: deps all
-	@$(MAKE) --no-print-directory $(BUILD)/bench_traction
+# deps first, then a sub-make: pkg-config flags are read when make starts, so they must be read
+# again once missing packages are installed
+bench: deps
+	@$(MAKE) --no-print-directory all $(BUILD)/bench_traction
 	./$(BUILD)/bench_traction
 
 $(BUILD)/bench_traction: bench/bench_traction.c $(BUILD)/libplume.a
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(BUILD)/libplume.a $(LDFLAGS) $(LDLIBS)
 
 # The README's main command: the tilted traction test on the shipped parameters, both solvers.
-demo: deps all
+demo: deps
+	@$(MAKE) --no-print-directory all
 	bash scripts/demo.sh
 
 install: all
