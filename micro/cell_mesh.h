@@ -1,0 +1,44 @@
+/* plume: periodic cells of a layout, meshed so that every strip boundary is a mesh edge. */
+#ifndef PLUME_CELL_MESH_H
+#define PLUME_CELL_MESH_H
+
+#include "../lib/mesh.h"
+#include "layout.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A periodic cell in the barb frame: the rectangle [0, a] x [0, b] with lattice vectors (a, 0)
+ * and (0, b), b = d_B. Vertices on opposite sides come in matching pairs (same y on x = 0 and
+ * x = a, same x on y = 0 and y = b). Every vertex has a master: itself, or the vertex it is a
+ * periodic image of; shift = X_v - X_master(v) is a lattice vector. */
+typedef struct {
+    plume_mesh *mesh;      /* owned; triangles carry material ids and barb_dir = (1, 0) */
+    double a, b;           /* cell size */
+    plume_index *master;   /* [nv] owned */
+    double *shift;         /* [2*nv] owned */
+    plume_index nmasters;  /* distinct masters */
+} plume_cell;
+
+/* Meshes the periodic cell of a layout (constrained Delaunay through lib/cdt.h, no Steiner
+ * points on the cell boundary so the periodic pairs match). For strips the cell length a along
+ * the barbs is the barb width times 4 (fields are constant along the barbs, any a works); for
+ * barbules it is barbule_spacing. Element edges are about e_rel * w_B. Errors (PLUME_EINVAL with a
+ * message): invalid layout, strips narrower than one element is fine but a strip that the mesh
+ * cannot resolve (w_B or the gap below 1e-12 d_B), a barbule strip that does not fit in its cell
+ * ("cell too small for its layout": barbule extent along the barbs >= barbule_spacing). */
+plume_status plume_cell_mesh(const plume_layout *l, plume_cell **out, plume_err *err);
+void plume_cell_destroy(plume_cell **c);
+
+/* Meshes a rectangular traction specimen [0, lx] x [0, ly] of the layout with barbs at angle_deg
+ * from the y axis (as in macro/patch_mesh.h: d = (sin a, cos a)); strip boundaries are mesh
+ * edges, the mesh is refined to edges <= e_rel * w_B; barbule layouts leave the empty space out.
+ * Triangles get material ids and barb_dir = d; topology is built. */
+plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, double angle_deg,
+                                 plume_mesh **out, plume_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,58 @@
+/* plume: microstructure layouts of a vane — barbs as strips of stiff barb material, held by a soft
+ * barbule material (the paper's microscale model) or by explicit barbule strips with empty space
+ * between them (the microstructure resolved one level further). */
+#ifndef PLUME_LAYOUT_H
+#define PLUME_LAYOUT_H
+
+#include "../lib/membrane.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    PLUME_LAYOUT_STRIPS = 0,  /* barb strips of width w_B every d_B in a soft barbule matrix */
+    PLUME_LAYOUT_BARBULES = 1 /* barb strips joined by explicit barbule strips; empty between */
+} plume_layout_kind;
+
+/* Material ids used by every micro mesh. */
+enum { PLUME_MAT_BARB = 0, PLUME_MAT_BARBULE = 1 };
+
+/* A layout, in the barb frame: x along the barbs, y across. All lengths in m, moduli in Pa. */
+typedef struct {
+    plume_layout_kind kind;
+    double phi;            /* barb surface fraction w_B / d_B, in (0, 1) */
+    double d_B;            /* barb spacing (period across the barbs) */
+    double E_b, nu_b;      /* barb material */
+    double ratio;          /* E_B / E_b: barbule material modulus over barb modulus, > 0 */
+    double nu_B;           /* barbule material Poisson ratio */
+    double h;              /* thickness */
+    double kappa;          /* compression-term coefficient of both materials (Pa), >= 0 */
+    /* PLUME_LAYOUT_BARBULES only: */
+    double barbule_width;    /* width of a barbule strip */
+    double barbule_spacing;  /* distance between consecutive barbules along a barb (the period
+                                along x) */
+    double barbule_angle;    /* angle between barbules and barbs, degrees, in (0, 180) */
+    /* meshing: */
+    double e_rel;          /* target element edge over the barb width, e-bar = e / w_B, > 0 */
+} plume_layout;
+
+/* Defaults: strips, phi = 0.16 (supplementary Figure 10), d_B = 1e-3, E_b = 2.5e9, nu_b = 0.3,
+ * ratio = 1e-6, nu_B = 0.3, h = 1e-4, kappa = 0, barbules 0.2 d_B wide every 0.5 d_B at 60 deg,
+ * e_rel = 1. */
+void plume_layout_default(plume_layout *l);
+
+/* w_B = phi d_B. */
+double plume_layout_barb_width(const plume_layout *l);
+
+/* Validates every field (PLUME_EINVAL naming the field: "phi must be in (0, 1) (got 1.2)",
+ * "ratio must be > 0", strips narrower than an element are allowed only when e_rel <= 1 ...). */
+plume_status plume_layout_check(const plume_layout *l, plume_err *err);
+
+/* The two membrane materials: mats[PLUME_MAT_BARB], mats[PLUME_MAT_BARBULE] (isotropic). */
+void plume_layout_materials(const plume_layout *l, plume_membrane_material mats[2]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
