@@ -10,6 +10,7 @@
 #include <jansson.h>
 
 #include "../lib/plume.h"
+#include "cli.h"
 
 static const char usage[] =
     "usage: traction [options]\n"
@@ -44,32 +45,17 @@ typedef struct {
 
 static int fail(const char *fmt, const char *a, const char *b)
 {
-    fprintf(stderr, "traction: ");
-    fprintf(stderr, fmt, a, b);
-    fprintf(stderr, "\n");
-    return 2;
+    return cli_fail("traction", fmt, a, b);
 }
 
 static int parse_double(const char *flag, const char *s, double *out)
 {
-    char *end;
-    errno = 0;
-    double v = s ? strtod(s, &end) : 0.0;
-    if (!s || end == s || *end || errno || !isfinite(v))
-        return fail("%s expects a finite number (got '%s')", flag, s ? s : "");
-    *out = v;
-    return 0;
+    return cli_double("traction", flag, s, out);
 }
 
 static int parse_int(const char *flag, const char *s, int *out)
 {
-    char *end;
-    errno = 0;
-    long v = s ? strtol(s, &end, 10) : 0;
-    if (!s || end == s || *end || errno || v < 1 || v > 1000000)
-        return fail("%s expects a positive integer (got '%s')", flag, s ? s : "");
-    *out = (int)v;
-    return 0;
+    return cli_int("traction", flag, s, out);
 }
 
 static int parse_args(int argc, char **argv, options *o)

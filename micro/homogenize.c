@@ -1,0 +1,340 @@
+#include "homogenize.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../lib/membrane.h"
+#include "../lib/progress.h"
+#include "periodic.h"
+
+void plume_homog_opts_default(plume_homog_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->probe_strain = 1e-4;
+    o->strain_max = 0.05;
+    o->steps = 10;
+    plume_solver_opts_default(&o->solver_opts);
+}
+
+void plume_homog_result_free(plume_homog_result *r)
+{
+    if (!r)
+        return;
+    plume_curve_free(&r->uniaxial_x);
+    plume_curve_free(&r->uniaxial_y);
+    plume_curve_free(&r->shear);
+}
+
+/* A periodic cell problem: the membrane over the cell wrapped periodically, non-master vertices
+ * and one anchor vertex fixed, a native solver, and the state of the last solve. */
+typedef struct {
+    const plume_cell *cell;
+    plume_problem *p;
+    plume_solver *s;
+    plume_periodic *per;
+    double *u, *grad;
+    double Fprev[4];
+    double h;
+    int iterations;
+} cell_solver;
+
+static void cell_solver_free(cell_solver *c)
+{
+    plume_solver_destroy(&c->s);
+    plume_problem_destroy(&c->p);
+    free(c->u);
+    free(c->grad);
+}
+
+static plume_status cell_solver_init(cell_solver *c, const plume_cell *cell, const plume_membrane_material *mats,
+                                     int nmat, const plume_solver_opts *so, plume_err *err)
+{
+    memset(c, 0, sizeof *c);
+    c->cell = cell;
+    c->h = mats[0].h;
+    c->Fprev[0] = c->Fprev[3] = 1.0;
+    const plume_mesh *m = cell->mesh;
+    plume_term membrane, wrapped;
+    plume_status st = plume_membrane_term_create(m, 2, mats, nmat, &membrane, err);
+    if (st != PLUME_OK)
+        return st;
+    if ((st = plume_periodic_term_create(cell, &membrane, &c->per, &wrapped, err)) != PLUME_OK)
+        return st;
+    if ((st = plume_problem_create(m->nv, 2, fmax(cell->a, cell->b), &c->p)) != PLUME_OK) {
+        wrapped.destroy(wrapped.ctx);
+        return st;
+    }
+    if ((st = plume_problem_add_term(c->p, &wrapped)) != PLUME_OK)
+        return st;
+    /* the anchor: the master at the origin if there is one (so that Fbar X = 0 there) */
+    plume_index anchor = cell->master[0];
+    for (plume_index v = 0; v < m->nv; v++)
+        if (cell->master[v] == v && m->X[2 * v] == 0.0 && m->X[2 * v + 1] == 0.0)
+            anchor = v;
+    double *x = plume_problem_x(c->p);
+    for (plume_index v = 0; v < m->nv; v++) {
+        x[2 * v] = m->X[2 * v];
+        x[2 * v + 1] = m->X[2 * v + 1];
+        if (cell->master[v] != v || v == anchor) {
+            plume_problem_fix_dof(c->p, 2 * v);
+            plume_problem_fix_dof(c->p, 2 * v + 1);
+        }
+    }
+    if ((st = plume_problem_finalize(c->p, err)) != PLUME_OK)
+        return st;
+    if ((st = plume_solver_create(PLUME_SOLVER_NEWTON, c->p, so, &c->s)) != PLUME_OK)
+        return plume_err_set(err, st, "homogenize: cannot create the cell solver (%s)", plume_strerror(st));
+    plume_index n = plume_problem_nfree(c->p);
+    c->u = malloc((size_t)n * sizeof *c->u);
+    c->grad = malloc((size_t)n * sizeof *c->grad);
+    if (!c->u || !c->grad)
+        return PLUME_ENOMEM;
+    return PLUME_OK;
+}
+
+/* Solves the cell at macroscopic gradient F (predictor: the previous fluctuation on the new
+ * affine map) and returns the average first Piola stress over the thickness (Pa). */
+static plume_status cell_solve(cell_solver *c, const double F[4], double P[4], const char *what, plume_err *err)
+{
+    const plume_mesh *m = c->cell->mesh;
+    double *x = plume_problem_x(c->p);
+    const double *G = c->Fprev;
+    for (plume_index v = 0; v < m->nv; v++) {
+        if (c->cell->master[v] != v)
+            continue;
+        const double *X = m->X + 2 * v;
+        double wx = x[2 * v] - (G[0] * X[0] + G[1] * X[1]), wy = x[2 * v + 1] - (G[2] * X[0] + G[3] * X[1]);
+        x[2 * v] = F[0] * X[0] + F[1] * X[1] + wx;
+        x[2 * v + 1] = F[2] * X[0] + F[3] * X[1] + wy;
+    }
+    memcpy(c->Fprev, F, sizeof c->Fprev);
+    plume_periodic_set_macro(c->per, F);
+    plume_problem_gather(c->p, c->u);
+    plume_solve_report rep;
+    plume_status st = plume_solver_solve(c->s, c->u, NULL, &rep);
+    if (st != PLUME_OK)
+        return plume_err_set(err, st, "homogenize: %s: solver error (%s)", what, plume_strerror(st));
+    c->iterations += rep.iterations;
+    if (!rep.converged)
+        return plume_err_set(err, PLUME_EINFEASIBLE, "homogenize: %s: the cell did not converge (%s after %d iterations)",
+                             what, plume_reason_name(rep.reason), rep.iterations);
+    double f;
+    if ((st = plume_problem_objective(c->p, c->u, &f, c->grad)) != PLUME_OK)
+        return st;
+    plume_periodic_average_stress(c->per, P);
+    for (int k = 0; k < 4; k++)
+        P[k] /= c->h;
+    return PLUME_OK;
+}
+
+/* Column k of C from central differences of the stress at Fbar = I +- eps E_k
+ * (E_xx, E_yy, and the symmetric shear with 2 E12 = eps). */
+static plume_status tensor(cell_solver *c, double eps, double C[9], plume_err *err)
+{
+    static const char *names[3] = {"probe xx", "probe yy", "probe xy"};
+    for (int k = 0; k < 3; k++) {
+        double Pp[4], Pm[4];
+        for (int sgn = 0; sgn < 2; sgn++) {
+            double e = sgn ? -eps : eps;
+            double F[4] = {1.0, 0.0, 0.0, 1.0};
+            if (k == 0)
+                F[0] += e;
+            else if (k == 1)
+                F[3] += e;
+            else
+                F[1] = F[2] = 0.5 * e;
+            plume_status st = cell_solve(c, F, sgn ? Pm : Pp, names[k], err);
+            if (st != PLUME_OK)
+                return st;
+        }
+        C[0 * 3 + k] = (Pp[0] - Pm[0]) / (2.0 * eps);
+        C[1 * 3 + k] = (Pp[3] - Pm[3]) / (2.0 * eps);
+        C[2 * 3 + k] = 0.5 * (Pp[1] + Pp[2] - Pm[1] - Pm[2]) / (2.0 * eps);
+    }
+    /* symmetrise: the tensor of a hyperelastic cell is symmetric; the differences are not exactly */
+    for (int i = 0; i < 3; i++)
+        for (int j = i + 1; j < 3; j++)
+            C[3 * i + j] = C[3 * j + i] = 0.5 * (C[3 * i + j] + C[3 * j + i]);
+    return PLUME_OK;
+}
+
+plume_status plume_ortho_from_tensor(const double C[9], plume_ortho *m)
+{
+    double det = C[0] * (C[4] * C[8] - C[5] * C[7]) - C[1] * (C[3] * C[8] - C[5] * C[6]) +
+                 C[2] * (C[3] * C[7] - C[4] * C[6]);
+    if (!(fabs(det) > 0.0) || !isfinite(det))
+        return PLUME_ESINGULAR;
+    double S11 = (C[4] * C[8] - C[5] * C[7]) / det, S22 = (C[0] * C[8] - C[2] * C[6]) / det;
+    double S33 = (C[0] * C[4] - C[1] * C[3]) / det, S12 = -(C[1] * C[8] - C[2] * C[7]) / det;
+    m->E_xx = 1.0 / S11;
+    m->E_yy = 1.0 / S22;
+    m->G_xy = 1.0 / S33;
+    m->nu_xy = -S12 / S11;
+    return (m->E_xx > 0 && m->E_yy > 0 && m->G_xy > 0) ? PLUME_OK : PLUME_ESINGULAR;
+}
+
+static plume_status check_opts(const plume_homog_opts *o, plume_err *err)
+{
+    if (!(o->probe_strain > 0.0 && o->probe_strain < 0.1))
+        return plume_err_set(err, PLUME_EINVAL, "homogenize: probe strain must be in (0, 0.1) (got %g)", o->probe_strain);
+    if (!(o->strain_max >= 0.0 && o->strain_max < 1.0))
+        return plume_err_set(err, PLUME_EINVAL, "homogenize: strain-max must be in [0, 1) (got %g)", o->strain_max);
+    if (o->strain_max > 0.0 && o->steps < 1)
+        return plume_err_set(err, PLUME_EINVAL, "homogenize: steps must be >= 1 (got %d)", o->steps);
+    return PLUME_OK;
+}
+
+plume_status plume_cell_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
+                               const plume_homog_opts *o, double C[9], int *iterations, plume_err *err)
+{
+    if (!cell || !mats || nmat < 1 || !o || !C)
+        return plume_err_set(err, PLUME_EINVAL, "homogenize: invalid arguments");
+    plume_status st = check_opts(o, err);
+    if (st != PLUME_OK)
+        return st;
+    cell_solver c;
+    if ((st = cell_solver_init(&c, cell, mats, nmat, &o->solver_opts, err)) == PLUME_OK)
+        st = tensor(&c, o->probe_strain, C, err);
+    if (iterations)
+        *iterations = c.iterations;
+    cell_solver_free(&c);
+    return st;
+}
+
+static plume_status alloc_curve(plume_curve *cv, int n)
+{
+    cv->n = n;
+    cv->strain = calloc((size_t)n, sizeof(double));
+    cv->stress = calloc((size_t)n, sizeof(double));
+    cv->wbar = calloc((size_t)n, sizeof(double));
+    cv->iterations = calloc((size_t)n, sizeof(double));
+    cv->seconds = calloc((size_t)n, sizeof(double));
+    return cv->strain && cv->stress && cv->wbar && cv->iterations && cv->seconds ? PLUME_OK : PLUME_ENOMEM;
+}
+
+/* Uniaxial stress along axis `a` (0: x, 1: y): F_aa = 1 + eps driven, F_bb found by the secant
+ * method so that the lateral stress vanishes, off-diagonal terms zero. */
+static plume_status uniaxial_curve(cell_solver *c, int a, double nu_guess, const plume_homog_opts *o,
+                                   plume_curve *cv, plume_err *err)
+{
+    plume_status st = alloc_curve(cv, o->steps + 1);
+    if (st != PLUME_OK)
+        return st;
+    int ia = a ? 3 : 0, ib = a ? 0 : 3;
+    double lateral = 0.0, rate = -nu_guess; /* lateral strain and its slope against eps */
+    char what[64];
+    for (int k = 1; k <= o->steps; k++) {
+        double eps = o->strain_max * k / o->steps, t0 = plume_wall_seconds();
+        int it0 = c->iterations;
+        double F[4] = {1.0, 0.0, 0.0, 1.0}, P[4];
+        F[ia] = 1.0 + eps;
+        double l0 = lateral + rate * (o->strain_max / o->steps), l1 = l0 + 1e-3 * o->strain_max / o->steps;
+        double r0, r1 = 0.0;
+        snprintf(what, sizeof what, "uniaxial %c at strain %g", a ? 'y' : 'x', eps);
+        F[ib] = 1.0 + l0;
+        if ((st = cell_solve(c, F, P, what, err)) != PLUME_OK)
+            return st;
+        r0 = P[ib];
+        double drive = fabs(P[ia]);
+        for (int s = 0; s < 20 && fabs(r0) > 1e-10 * drive; s++) {
+            F[ib] = 1.0 + l1;
+            if ((st = cell_solve(c, F, P, what, err)) != PLUME_OK)
+                return st;
+            r1 = P[ib];
+            if (fabs(r1) <= 1e-10 * drive || r1 == r0) {
+                l0 = l1;
+                r0 = r1;
+                break;
+            }
+            double l2 = l1 - r1 * (l1 - l0) / (r1 - r0);
+            l0 = l1, r0 = r1, l1 = l2;
+        }
+        if (!(fabs(r0) <= 1e-8 * drive))
+            return plume_err_set(err, PLUME_EINFEASIBLE, "homogenize: %s: lateral stress did not vanish (%g of %g)",
+                                 what, r0, drive);
+        if (F[ib] != 1.0 + l0) { /* the state of the last solve must be the accepted one */
+            F[ib] = 1.0 + l0;
+            if ((st = cell_solve(c, F, P, what, err)) != PLUME_OK)
+                return st;
+        }
+        rate = (l0 - lateral) / (o->strain_max / o->steps);
+        lateral = l0;
+        cv->strain[k] = eps;
+        cv->stress[k] = P[ia];
+        cv->wbar[k] = lateral;
+        cv->iterations[k] = c->iterations - it0;
+        cv->seconds[k] = plume_wall_seconds() - t0;
+    }
+    return PLUME_OK;
+}
+
+static plume_status shear_curve(cell_solver *c, const plume_homog_opts *o, plume_curve *cv, plume_err *err)
+{
+    plume_status st = alloc_curve(cv, o->steps + 1);
+    if (st != PLUME_OK)
+        return st;
+    char what[64];
+    for (int k = 1; k <= o->steps; k++) {
+        double g = o->strain_max * k / o->steps, t0 = plume_wall_seconds(), P[4];
+        int it0 = c->iterations;
+        double F[4] = {1.0, g, 0.0, 1.0};
+        snprintf(what, sizeof what, "simple shear at gamma %g", g);
+        if ((st = cell_solve(c, F, P, what, err)) != PLUME_OK)
+            return st;
+        cv->strain[k] = g;
+        cv->stress[k] = P[1];
+        cv->iterations[k] = c->iterations - it0;
+        cv->seconds[k] = plume_wall_seconds() - t0;
+    }
+    return PLUME_OK;
+}
+
+plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, plume_homog_result *r,
+                              plume_err *err)
+{
+    if (!l || !o || !r)
+        return plume_err_set(err, PLUME_EINVAL, "homogenize: invalid arguments");
+    memset(r, 0, sizeof *r);
+    double t0 = plume_wall_seconds();
+    plume_status st = plume_layout_check(l, err);
+    if (st != PLUME_OK || (st = check_opts(o, err)) != PLUME_OK)
+        return st;
+    plume_cell *cell = NULL;
+    if ((st = plume_cell_mesh(l, &cell, err)) != PLUME_OK)
+        return st;
+    r->elements = cell->mesh->nt;
+    r->vertices = cell->mesh->nv;
+    plume_membrane_material mats[2];
+    plume_layout_materials(l, mats);
+    cell_solver c;
+    if ((st = cell_solver_init(&c, cell, mats, 2, &o->solver_opts, err)) != PLUME_OK)
+        goto done;
+    if ((st = tensor(&c, o->probe_strain, r->C, err)) != PLUME_OK)
+        goto done;
+    if (plume_ortho_from_tensor(r->C, &r->moduli) != PLUME_OK) {
+        st = plume_err_set(err, PLUME_ESINGULAR, "homogenize: the effective tensor is not positive definite");
+        goto done;
+    }
+    r->coupling = fmax(fabs(r->C[2]), fabs(r->C[5])) / sqrt(r->C[0] * r->C[4]);
+    if (o->strain_max > 0.0) {
+        /* back to the rest state between load cases */
+        double I[4] = {1, 0, 0, 1}, P[4];
+        if ((st = uniaxial_curve(&c, 0, r->moduli.nu_xy, o, &r->uniaxial_x, err)) != PLUME_OK ||
+            (st = cell_solve(&c, I, P, "unloading", err)) != PLUME_OK ||
+            (st = uniaxial_curve(&c, 1, r->moduli.nu_xy * r->moduli.E_yy / r->moduli.E_xx, o, &r->uniaxial_y, err)) !=
+                PLUME_OK ||
+            (st = cell_solve(&c, I, P, "unloading", err)) != PLUME_OK ||
+            (st = shear_curve(&c, o, &r->shear, err)) != PLUME_OK)
+            goto done;
+    }
+done:
+    r->newton_iterations = c.iterations;
+    cell_solver_free(&c);
+    plume_cell_destroy(&cell);
+    r->seconds = plume_wall_seconds() - t0;
+    if (st != PLUME_OK)
+        plume_homog_result_free(r);
+    return st;
+}

@@ -1,0 +1,56 @@
+/* plume: numerical homogenisation of a periodic microstructure cell into macroscale orthotropic
+ * moduli, and the cell's nonlinear response curves at finite strain. */
+#ifndef PLUME_HOMOGENIZE_H
+#define PLUME_HOMOGENIZE_H
+
+#include "../lib/curves.h"
+#include "../lib/solver.h"
+#include "cell_mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct {
+    double probe_strain;   /* strain of the +-probe solves giving the small-strain tensor; 1e-4 */
+    double strain_max;     /* final strain of the cell curves; default 0.05 (0: no curves) */
+    int steps;             /* points of each cell curve; default 10 */
+    plume_solver_opts solver_opts;
+} plume_homog_opts;
+
+void plume_homog_opts_default(plume_homog_opts *o);
+
+typedef struct {
+    plume_ortho moduli;    /* effective 3D moduli (Pa) in the barb frame (x along the barbs) */
+    double C[9];           /* effective plane-stress tensor (Pa), Voigt (E11, E22, 2 E12), row-major */
+    double coupling;       /* max(|C13|, |C23|) / sqrt(C11 C22): 0 for an orthotropic cell */
+    /* cell response curves (nominal = first Piola stress over the thickness, Pa):
+     * uniaxial_x: stress along the barbs at free lateral contraction, wbar = lateral strain;
+     * uniaxial_y: the same across the barbs; shear: simple shear gamma, stress P_xy, wbar = 0. */
+    plume_curve uniaxial_x, uniaxial_y, shear;
+    plume_index elements, vertices;
+    int newton_iterations; /* every solve */
+    double seconds;
+} plume_homog_result;
+
+void plume_homog_result_free(plume_homog_result *r);
+
+/* Meshes the layout's periodic cell and homogenises it. Errors: invalid layout or options
+ * (PLUME_EINVAL with the field named), a cell solve that does not converge (PLUME_EINFEASIBLE
+ * with the load case and the solver's reason). */
+plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, plume_homog_result *r,
+                              plume_err *err);
+
+/* The effective plane-stress tensor of any periodic cell with the given materials (mesh material
+ * ids index mats) and thickness h: central differences of the average stress at +-probe_strain. */
+plume_status plume_cell_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
+                               const plume_homog_opts *o, double C[9], int *iterations, plume_err *err);
+
+/* Orthotropic moduli from a plane-stress tensor via its compliance: E_xx = 1/S11, E_yy = 1/S22,
+ * G_xy = 1/S33, nu_xy = -S12/S11 (the shear coupling terms, if any, are ignored). */
+plume_status plume_ortho_from_tensor(const double C[9], plume_ortho *m);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

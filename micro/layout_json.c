@@ -1,0 +1,84 @@
+#include "layout_json.h"
+
+#include <jansson.h>
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+typedef struct {
+    const char *key;
+    size_t offset;
+} number_key;
+
+static const number_key number_keys[] = {
+    {"phi", offsetof(plume_layout, phi)},
+    {"d_B", offsetof(plume_layout, d_B)},
+    {"E_b", offsetof(plume_layout, E_b)},
+    {"nu_b", offsetof(plume_layout, nu_b)},
+    {"ratio", offsetof(plume_layout, ratio)},
+    {"nu_B", offsetof(plume_layout, nu_B)},
+    {"thickness", offsetof(plume_layout, h)},
+    {"kappa", offsetof(plume_layout, kappa)},
+    {"e_rel", offsetof(plume_layout, e_rel)},
+    {"barbule_width", offsetof(plume_layout, barbule_width)},
+    {"barbule_spacing", offsetof(plume_layout, barbule_spacing)},
+    {"barbule_angle", offsetof(plume_layout, barbule_angle)},
+};
+
+plume_status plume_layout_load_json(const char *path, plume_layout *l, plume_err *err)
+{
+    if (!path || !l)
+        return plume_err_set(err, PLUME_EINVAL, "layout file: invalid arguments");
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return plume_err_set(err, PLUME_EIO, "%s: cannot open: %s", path, strerror(errno));
+    json_error_t je;
+    json_t *doc = json_loadf(f, JSON_REJECT_DUPLICATES, &je);
+    fclose(f);
+    if (!doc)
+        return plume_err_set(err, PLUME_EFORMAT, "%s:%d:%d: %s", path, je.line, je.column, je.text);
+    plume_status st = PLUME_OK;
+    double w_B = -1.0;
+    if (!json_is_object(doc)) {
+        st = plume_err_set(err, PLUME_EFORMAT, "%s: expected a JSON object of layout keys", path);
+        goto done;
+    }
+    const char *key;
+    json_t *v;
+    json_object_foreach(doc, key, v) {
+        if (strcmp(key, "layout") == 0) {
+            const char *s = json_is_string(v) ? json_string_value(v) : "";
+            if (strcmp(s, "strips") == 0)
+                l->kind = PLUME_LAYOUT_STRIPS;
+            else if (strcmp(s, "barbules") == 0)
+                l->kind = PLUME_LAYOUT_BARBULES;
+            else {
+                st = plume_err_set(err, PLUME_EFORMAT, "%s: key \"layout\" must be \"strips\" or \"barbules\"", path);
+                goto done;
+            }
+            continue;
+        }
+        if (!json_is_number(v)) {
+            st = plume_err_set(err, PLUME_EFORMAT, "%s: key \"%s\" must be a number", path, key);
+            goto done;
+        }
+        if (strcmp(key, "w_B") == 0) {
+            w_B = json_number_value(v);
+            continue;
+        }
+        size_t k = 0, n = sizeof number_keys / sizeof number_keys[0];
+        while (k < n && strcmp(key, number_keys[k].key) != 0)
+            k++;
+        if (k == n) {
+            st = plume_err_set(err, PLUME_EFORMAT, "%s: unknown key \"%s\"", path, key);
+            goto done;
+        }
+        *(double *)((char *)l + number_keys[k].offset) = json_number_value(v);
+    }
+    if (w_B >= 0.0)
+        l->d_B = l->phi > 0.0 ? w_B / l->phi : -1.0;
+done:
+    json_decref(doc);
+    return st;
+}
