@@ -12,7 +12,6 @@ extern "C" {
 #endif
 
 typedef struct {
-    double probe_strain;   /* strain of the +-probe solves giving the small-strain tensor; 1e-4 */
     double strain_max;     /* final strain of the cell curves; default 0.05 (0: no curves) */
     int steps;             /* points of each cell curve; default 10 */
     plume_solver_opts solver_opts;
@@ -35,16 +34,12 @@ typedef struct {
 
 void plume_homog_result_free(plume_homog_result *r);
 
-/* Meshes the layout's periodic cell and homogenises it. Errors: invalid layout or options
+/* Meshes the layout's periodic cell and homogenises it: the small-strain tensor from the exact
+ * linearised cell problem (micro/cell_linear.h), the curves from the nonlinear membrane. Errors: invalid layout or options
  * (PLUME_EINVAL with the field named), a cell solve that does not converge (PLUME_EINFEASIBLE
  * with the load case and the solver's reason). */
 plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, plume_homog_result *r,
                               plume_err *err);
-
-/* The effective plane-stress tensor of any periodic cell with the given materials (mesh material
- * ids index mats) and thickness h: central differences of the average stress at +-probe_strain. */
-plume_status plume_cell_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
-                               const plume_homog_opts *o, double C[9], int *iterations, plume_err *err);
 
 /* Orthotropic moduli from a plane-stress tensor via its compliance: E_xx = 1/S11, E_yy = 1/S22,
  * G_xy = 1/S33, nu_xy = -S12/S11 (the shear coupling terms, if any, are ignored). */

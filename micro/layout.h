@@ -38,8 +38,8 @@ typedef struct {
 } plume_layout;
 
 /* Defaults: strips, phi = 0.16 (supplementary Figure 10), d_B = 1e-3, E_b = 2.5e9, nu_b = 0.3,
- * ratio = 1e-6, nu_B = 0.3, h = 1e-4, kappa = 0, barbules 0.2 d_B wide every 0.5 d_B at 60 deg,
- * e_rel = 1. */
+ * ratio = 1e-6, nu_B = 0.3, h = 1e-4, kappa = 0, barbules 0.2 d_B wide every d_B at 60 deg (they
+ * span < 0.82 d_B along the barbs for any phi, so they fit the cell), e_rel = 1. */
 void plume_layout_default(plume_layout *l);
 
 /* w_B = phi d_B. */

@@ -1,0 +1,247 @@
+#include "cell_linear.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../lib/problem.h"
+#include "../lib/solver.h"
+#include "periodic.h"
+
+/* The linearised membrane over the cell: unknowns are displacements w (as "positions"); the
+ * imposed macroscopic strain `ebar` (Voigt) is a parameter. Per triangle: gradients of the shape
+ * functions, area times thickness, and the stiffness rotated to the cell frame. */
+typedef struct {
+    plume_index nt;
+    plume_index *tri;   /* [3 nt] */
+    double *dN;         /* [6 nt] shape-function gradients (dN0x, dN0y, dN1x, ...) */
+    double *Ah;         /* [nt] area * thickness */
+    double *C;          /* [9 nt] stiffness in the cell frame (Voigt, engineering shear) */
+    double ebar[3];
+} lin_ctx;
+
+static void lin_destroy(void *ctx)
+{
+    lin_ctx *c = ctx;
+    if (!c)
+        return;
+    free(c->tri);
+    free(c->dN);
+    free(c->Ah);
+    free(c->C);
+    free(c);
+}
+
+/* strain (Voigt) of the triangle: ebar + sym grad w */
+static void tri_strain(const lin_ctx *c, plume_index t, const double *w, double e[3])
+{
+    const double *g = c->dN + 6 * t;
+    e[0] = c->ebar[0], e[1] = c->ebar[1], e[2] = c->ebar[2];
+    for (int k = 0; k < 3; k++) {
+        const double *wk = w + 2 * c->tri[3 * t + k];
+        e[0] += wk[0] * g[2 * k];
+        e[1] += wk[1] * g[2 * k + 1];
+        e[2] += wk[0] * g[2 * k + 1] + wk[1] * g[2 * k];
+    }
+}
+
+static plume_status lin_eval(void *ctx, int dim, const double *w, double *energy, double *grad, double *hblocks,
+                             int project)
+{
+    (void)project; /* the energy is convex: blocks are PSD as they are */
+    const lin_ctx *c = ctx;
+    if (dim != 2)
+        return PLUME_EINVAL;
+    for (plume_index t = 0; t < c->nt; t++) {
+        const double *g = c->dN + 6 * t, *C = c->C + 9 * t;
+        double e[3], s[3];
+        tri_strain(c, t, w, e);
+        for (int i = 0; i < 3; i++)
+            s[i] = C[3 * i] * e[0] + C[3 * i + 1] * e[1] + C[3 * i + 2] * e[2];
+        if (energy)
+            *energy += 0.5 * c->Ah[t] * (s[0] * e[0] + s[1] * e[1] + s[2] * e[2]);
+        /* B maps the 6 dofs to the Voigt strain: column (k, x) = (gx, 0, gy), (k, y) = (0, gy, gx) */
+        double B[3][6];
+        for (int k = 0; k < 3; k++) {
+            double gx = g[2 * k], gy = g[2 * k + 1];
+            B[0][2 * k] = gx, B[1][2 * k] = 0.0, B[2][2 * k] = gy;
+            B[0][2 * k + 1] = 0.0, B[1][2 * k + 1] = gy, B[2][2 * k + 1] = gx;
+        }
+        if (grad)
+            for (int a = 0; a < 6; a++)
+                grad[2 * c->tri[3 * t + a / 2] + a % 2] += c->Ah[t] * (B[0][a] * s[0] + B[1][a] * s[1] + B[2][a] * s[2]);
+        if (hblocks) {
+            double *H = hblocks + 36 * t;
+            for (int a = 0; a < 6; a++) {
+                double CB[3];
+                for (int i = 0; i < 3; i++)
+                    CB[i] = C[3 * i] * B[0][a] + C[3 * i + 1] * B[1][a] + C[3 * i + 2] * B[2][a];
+                for (int b = 0; b < 6; b++)
+                    H[6 * b + a] = c->Ah[t] * (B[0][b] * CB[0] + B[1][b] * CB[1] + B[2][b] * CB[2]);
+            }
+        }
+    }
+    return PLUME_OK;
+}
+
+/* C in the cell frame: T^T C_barb T, T the Voigt strain rotation from the cell frame to the barb
+ * frame with the barb direction d = (c, s). */
+static void rotate_stiffness(const double Cb[9], const double d[2], double C[9])
+{
+    double c = d[0], s = d[1];
+    double T[9] = {c * c, s * s, c * s, s * s, c * c, -c * s, -2 * c * s, 2 * c * s, c * c - s * s};
+    double CT[9];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            CT[3 * i + j] = Cb[3 * i] * T[j] + Cb[3 * i + 1] * T[3 + j] + Cb[3 * i + 2] * T[6 + j];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            C[3 * i + j] = T[i] * CT[j] + T[3 + i] * CT[3 + j] + T[6 + i] * CT[6 + j];
+}
+
+static plume_status lin_create(const plume_mesh *m, const plume_membrane_material *mats, int nmat, plume_term *out,
+                               lin_ctx **handle, plume_err *err)
+{
+    lin_ctx *c = calloc(1, sizeof *c);
+    if (!c)
+        return PLUME_ENOMEM;
+    c->nt = m->nt;
+    c->tri = malloc((size_t)(3 * m->nt + 1) * sizeof *c->tri);
+    c->dN = malloc((size_t)(6 * m->nt + 1) * sizeof *c->dN);
+    c->Ah = malloc((size_t)(m->nt + 1) * sizeof *c->Ah);
+    c->C = malloc((size_t)(9 * m->nt + 1) * sizeof *c->C);
+    if (!c->tri || !c->dN || !c->Ah || !c->C) {
+        lin_destroy(c);
+        return PLUME_ENOMEM;
+    }
+    memcpy(c->tri, m->tri, (size_t)(3 * m->nt) * sizeof *c->tri);
+    for (plume_index t = 0; t < m->nt; t++) {
+        int id = m->material[t];
+        if (id < 0 || id >= nmat) {
+            lin_destroy(c);
+            return plume_err_set(err, PLUME_EINVAL, "cell: triangle %ld has material %d outside [0, %d)", (long)t, id, nmat);
+        }
+        const double *X0 = m->X + 2 * m->tri[3 * t], *X1 = m->X + 2 * m->tri[3 * t + 1], *X2 = m->X + 2 * m->tri[3 * t + 2];
+        double a = X1[0] - X0[0], b = X2[0] - X0[0], cc = X1[1] - X0[1], dd = X2[1] - X0[1];
+        double det = a * dd - b * cc;
+        if (!(det > 0.0)) {
+            lin_destroy(c);
+            return plume_err_set(err, PLUME_EINVAL, "cell: triangle %ld is degenerate or clockwise", (long)t);
+        }
+        /* Dm^-1 = [dd -b; -cc a] / det; grad N1 = row 0, grad N2 = row 1, grad N0 = -(sum) */
+        double g1[2] = {dd / det, -b / det}, g2[2] = {-cc / det, a / det};
+        double *g = c->dN + 6 * t;
+        g[0] = -(g1[0] + g2[0]), g[1] = -(g1[1] + g2[1]);
+        g[2] = g1[0], g[3] = g1[1], g[4] = g2[0], g[5] = g2[1];
+        c->Ah[t] = 0.5 * det * mats[id].h;
+        double Cb[9], d[2] = {m->barb_dir[2 * t], m->barb_dir[2 * t + 1]}, n = hypot(d[0], d[1]);
+        plume_membrane_stiffness(&mats[id], Cb);
+        d[0] /= n, d[1] /= n;
+        rotate_stiffness(Cb, d, c->C + 9 * t);
+    }
+    memset(out, 0, sizeof *out);
+    out->name = "linear membrane";
+    out->arity = 3;
+    out->nstencil = m->nt;
+    out->stencil = c->tri;
+    out->eval = lin_eval;
+    out->destroy = lin_destroy;
+    out->ctx = c;
+    *handle = c;
+    return PLUME_OK;
+}
+
+plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
+                                      double C[9], int *iterations, plume_err *err)
+{
+    if (!cell || !mats || nmat < 1 || !C)
+        return plume_err_set(err, PLUME_EINVAL, "cell tensor: invalid arguments");
+    for (int k = 0; k < nmat; k++) {
+        plume_status st = plume_membrane_material_check(&mats[k], err);
+        if (st != PLUME_OK)
+            return st;
+    }
+    const plume_mesh *m = cell->mesh;
+    plume_problem *p = NULL;
+    plume_solver *s = NULL;
+    plume_periodic *per = NULL;
+    lin_ctx *lc = NULL;
+    double *u = NULL;
+    plume_term lin, wrapped;
+    plume_status st = lin_create(m, mats, nmat, &lin, &lc, err);
+    if (st != PLUME_OK)
+        return st;
+    if ((st = plume_periodic_term_create(cell, &lin, &per, &wrapped, err)) != PLUME_OK)
+        return st;
+    const double zero[4] = {0, 0, 0, 0};
+    plume_periodic_set_macro(per, zero); /* w_v = w_master(v): the fluctuation is periodic */
+    if ((st = plume_problem_create(m->nv, 2, fmax(cell->a, cell->b), &p)) != PLUME_OK) {
+        wrapped.destroy(wrapped.ctx);
+        return st;
+    }
+    if ((st = plume_problem_add_term(p, &wrapped)) != PLUME_OK)
+        goto done;
+    plume_index anchor = cell->master[0]; /* rigid translation */
+    for (plume_index v = 0; v < m->nv; v++)
+        if (cell->master[v] != v || v == anchor) {
+            plume_problem_fix_dof(p, 2 * v);
+            plume_problem_fix_dof(p, 2 * v + 1);
+        }
+    if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
+        goto done;
+    plume_solver_opts so;
+    plume_solver_opts_default(&so);
+    if ((st = plume_solver_create(PLUME_SOLVER_LINEARIZED, p, &so, &s)) != PLUME_OK)
+        goto done;
+    u = calloc((size_t)plume_problem_nfree(p), sizeof *u);
+    if (!u) {
+        st = PLUME_ENOMEM;
+        goto done;
+    }
+    double area = 0.0;
+    for (plume_index t = 0; t < m->nt; t++)
+        area += lc->Ah[t] / mats[m->material[t]].h;
+    if (iterations)
+        *iterations = 0;
+    double *w = plume_problem_x(p);
+    for (int k = 0; k < 3; k++) {
+        /* unit macroscopic strain k (engineering shear for k = 2), from w = 0: the energy is
+         * quadratic, so the single Newton step is the exact minimiser */
+        memset(lc->ebar, 0, sizeof lc->ebar);
+        lc->ebar[k] = 1.0;
+        memset(w, 0, (size_t)(2 * m->nv) * sizeof *w);
+        memset(u, 0, (size_t)plume_problem_nfree(p) * sizeof *u);
+        plume_solve_report rep;
+        if ((st = plume_solver_solve(s, u, NULL, &rep)) != PLUME_OK)
+            goto done;
+        if (rep.reason != PLUME_REASON_SINGLE_STEP) {
+            st = plume_err_set(err, PLUME_ESINGULAR, "cell tensor: the linear cell problem could not be solved (%s)",
+                               plume_reason_name(rep.reason));
+            goto done;
+        }
+        if (iterations)
+            *iterations += rep.iterations;
+        /* the wrapper's vertex positions are the periodic fluctuation at every vertex */
+        for (plume_index v = 0; v < m->nv; v++)
+            w[2 * v] = w[2 * cell->master[v]], w[2 * v + 1] = w[2 * cell->master[v] + 1];
+        double avg[3] = {0, 0, 0};
+        for (plume_index t = 0; t < m->nt; t++) {
+            double e[3];
+            tri_strain(lc, t, w, e);
+            const double *Ct = lc->C + 9 * t;
+            double a = lc->Ah[t] / mats[m->material[t]].h;
+            for (int i = 0; i < 3; i++)
+                avg[i] += a * (Ct[3 * i] * e[0] + Ct[3 * i + 1] * e[1] + Ct[3 * i + 2] * e[2]);
+        }
+        for (int i = 0; i < 3; i++)
+            C[3 * i + k] = avg[i] / area;
+    }
+    for (int i = 0; i < 3; i++) /* symmetric up to round-off; make it exactly so */
+        for (int j = i + 1; j < 3; j++)
+            C[3 * i + j] = C[3 * j + i] = 0.5 * (C[3 * i + j] + C[3 * j + i]);
+done:
+    free(u);
+    plume_solver_destroy(&s);
+    plume_problem_destroy(&p);
+    return st;
+}

@@ -1,0 +1,100 @@
+/* plume: microstructure layouts — defaults, validation and the two isotropic materials. */
+#include "layout.h"
+
+#include <math.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+void plume_layout_default(plume_layout *l)
+{
+    l->kind = PLUME_LAYOUT_STRIPS;
+    l->phi = 0.16; /* supplementary Figure 10 */
+    l->d_B = 1e-3;
+    l->E_b = 2.5e9;
+    l->nu_b = 0.3;
+    l->ratio = 1e-6;
+    l->nu_B = 0.3;
+    l->h = 1e-4;
+    l->kappa = 0.0;
+    /* At 60 deg a barbule 0.2 d_B wide spans (1 - phi) d_B cot 60 + 0.2 d_B / sin 60 < 0.82 d_B along
+     * the barbs whatever phi is, so a spacing of one d_B always fits (layout.h). */
+    l->barbule_width = 0.2 * l->d_B;
+    l->barbule_spacing = 1.0 * l->d_B;
+    l->barbule_angle = 60.0;
+    l->e_rel = 1.0;
+}
+
+double plume_layout_barb_width(const plume_layout *l)
+{
+    return l->phi * l->d_B;
+}
+
+plume_status plume_layout_check(const plume_layout *l, plume_err *err)
+{
+    if (!l)
+        return plume_err_set(err, PLUME_EINVAL, "layout is NULL");
+    if (l->kind != PLUME_LAYOUT_STRIPS && l->kind != PLUME_LAYOUT_BARBULES)
+        return plume_err_set(err, PLUME_EINVAL, "kind must be PLUME_LAYOUT_STRIPS or PLUME_LAYOUT_BARBULES (got %d)",
+                             (int)l->kind);
+    /* !(x > lo && x < hi) also rejects NaN */
+    if (!(l->phi > 0.0 && l->phi < 1.0))
+        return plume_err_set(err, PLUME_EINVAL, "phi must be in (0, 1) (got %g)", l->phi);
+    if (!(l->d_B > 0.0) || !isfinite(l->d_B))
+        return plume_err_set(err, PLUME_EINVAL, "d_B must be finite and > 0 (got %g m)", l->d_B);
+    if (!(l->E_b > 0.0) || !isfinite(l->E_b))
+        return plume_err_set(err, PLUME_EINVAL, "E_b must be finite and > 0 (got %g Pa)", l->E_b);
+    if (!(l->nu_b > -1.0 && l->nu_b < 0.5))
+        return plume_err_set(err, PLUME_EINVAL, "nu_b must be in (-1, 0.5) (got %g)", l->nu_b);
+    if (!(l->ratio > 0.0) || !isfinite(l->ratio) || !isfinite(l->ratio * l->E_b) || !(l->ratio * l->E_b > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "ratio must be finite and > 0, with ratio * E_b finite and > 0 "
+                             "(got ratio %g, E_b %g Pa)", l->ratio, l->E_b);
+    if (!(l->nu_B > -1.0 && l->nu_B < 0.5))
+        return plume_err_set(err, PLUME_EINVAL, "nu_B must be in (-1, 0.5) (got %g)", l->nu_B);
+    if (!(l->h > 0.0) || !isfinite(l->h))
+        return plume_err_set(err, PLUME_EINVAL, "h must be finite and > 0 (got %g m)", l->h);
+    if (!(l->kappa >= 0.0) || !isfinite(l->kappa))
+        return plume_err_set(err, PLUME_EINVAL, "kappa must be finite and >= 0 (got %g Pa)", l->kappa);
+    double w = plume_layout_barb_width(l);
+    if (!(l->e_rel > 0.0) || !isfinite(l->e_rel))
+        return plume_err_set(err, PLUME_EINVAL, "e_rel must be finite and > 0 (got %g)", l->e_rel);
+    if (!(l->e_rel * w <= l->d_B))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "e_rel = %g gives elements of %g m, larger than the cell d_B = %g m "
+                             "(e_rel must be <= 1/phi = %g)",
+                             l->e_rel, l->e_rel * w, l->d_B, 1.0 / l->phi);
+    if (l->kind == PLUME_LAYOUT_STRIPS)
+        return PLUME_OK; /* the barbule fields are not used */
+    if (!(l->barbule_width > 0.0) || !isfinite(l->barbule_width))
+        return plume_err_set(err, PLUME_EINVAL, "barbule_width must be finite and > 0 (got %g m)",
+                             l->barbule_width);
+    if (!(l->barbule_spacing > l->barbule_width) || !isfinite(l->barbule_spacing))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "barbule_spacing must be finite and > barbule_width = %g m (got %g m)",
+                             l->barbule_width, l->barbule_spacing);
+    if (!(l->barbule_angle > 0.0 && l->barbule_angle < 180.0))
+        return plume_err_set(err, PLUME_EINVAL, "barbule_angle must be in (0, 180) degrees (got %g)",
+                             l->barbule_angle);
+    double th = l->barbule_angle * M_PI / 180.0, gap = l->d_B - w;
+    double extent = gap * fabs(cos(th) / sin(th)) + l->barbule_width / sin(th);
+    if (!(extent < l->barbule_spacing))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "cell too small for its layout: a barbule %g m wide at %g deg across the %g m gap "
+                             "spans %g m along the barbs, not less than barbule_spacing = %g m",
+                             l->barbule_width, l->barbule_angle, gap, extent, l->barbule_spacing);
+    return PLUME_OK;
+}
+
+void plume_layout_materials(const plume_layout *l, plume_membrane_material mats[2])
+{
+    double E[2] = {l->E_b, l->ratio * l->E_b}, nu[2] = {l->nu_b, l->nu_B};
+    for (int k = 0; k < 2; k++) { /* isotropic: E_xx = E_yy, G = E / (2 (1 + nu)) (DESIGN.md) */
+        mats[k].E_xx = E[k];
+        mats[k].E_yy = E[k];
+        mats[k].nu_xy = nu[k];
+        mats[k].G_xy = E[k] / (2.0 * (1.0 + nu[k]));
+        mats[k].h = l->h;
+        mats[k].kappa = l->kappa;
+    }
+}

@@ -1,0 +1,208 @@
+/* Periodic cells: the periodic wrapper's derivatives, the average stress, and the laminate's
+ * exact effective tensor. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "test_rng.h"
+#include "../lib/plume.h"
+#include "../micro/homogenize.h"
+#include "../micro/layout.h"
+#include "../micro/periodic.h"
+
+/* Exact plane-stress tensor of a laminate of isotropic layers normal to y (fields are constant
+ * in each layer): with t = {xx} continuous strain, n = {yy, xy} continuous stress, and each layer's
+ * C split as [A B; B^T D], D_eff = <D^-1>^-1, C_nt = D_eff <D^-1 B^T>,
+ * C_tt = <A - B D^-1 B^T> + <B D^-1> D_eff <D^-1 B^T>. */
+static void laminate_exact(const double *E, const double *nu, const double *frac, int nl, double C[9])
+{
+    double Dinv_avg[4] = {0}, DinvBt_avg[2] = {0}, schur_avg = 0.0;
+    for (int i = 0; i < nl; i++) {
+        double c = E[i] / (1.0 - nu[i] * nu[i]), G = E[i] / (2.0 * (1.0 + nu[i]));
+        double A = c, B[2] = {c * nu[i], 0.0}, D[4] = {c, 0.0, 0.0, G};
+        double det = D[0] * D[3] - D[1] * D[2];
+        double Di[4] = {D[3] / det, -D[1] / det, -D[2] / det, D[0] / det};
+        double DiBt[2] = {Di[0] * B[0] + Di[1] * B[1], Di[2] * B[0] + Di[3] * B[1]};
+        for (int k = 0; k < 4; k++)
+            Dinv_avg[k] += frac[i] * Di[k];
+        DinvBt_avg[0] += frac[i] * DiBt[0];
+        DinvBt_avg[1] += frac[i] * DiBt[1];
+        schur_avg += frac[i] * (A - (B[0] * DiBt[0] + B[1] * DiBt[1]));
+    }
+    double det = Dinv_avg[0] * Dinv_avg[3] - Dinv_avg[1] * Dinv_avg[2];
+    double De[4] = {Dinv_avg[3] / det, -Dinv_avg[1] / det, -Dinv_avg[2] / det, Dinv_avg[0] / det};
+    double Cnt[2] = {De[0] * DinvBt_avg[0] + De[1] * DinvBt_avg[1], De[2] * DinvBt_avg[0] + De[3] * DinvBt_avg[1]};
+    double Ctt = schur_avg + DinvBt_avg[0] * Cnt[0] + DinvBt_avg[1] * Cnt[1];
+    double out[9] = {Ctt, Cnt[0], Cnt[1], Cnt[0], De[0], De[1], Cnt[1], De[2], De[3]};
+    memcpy(C, out, sizeof out);
+}
+
+/* The small-strain tensor of the laminate layout matches the exact answer to 1e-6 relative, for
+ * several fractions, contrasts and Poisson ratios (the paper's contrast 1e-6 included). */
+void test_homogenize_laminate_exact(void)
+{
+    const double phis[] = {0.16, 0.5, 0.8}, ratios[] = {1e-6, 1e-2, 0.3}, nub[] = {0.3, 0.0, 0.45},
+                 nuB[] = {0.3, 0.4, 0.1};
+    for (int k = 0; k < 3; k++) {
+        plume_layout l;
+        plume_layout_default(&l);
+        l.phi = phis[k];
+        l.ratio = ratios[k];
+        l.nu_b = nub[k];
+        l.nu_B = nuB[k];
+        l.e_rel = 0.7;
+        plume_homog_opts o;
+        plume_homog_opts_default(&o);
+        o.strain_max = 0.0; /* tensor only */
+        plume_homog_result r;
+        plume_err err = {{0}};
+        plume_status st = plume_homogenize(&l, &o, &r, &err);
+        CHECK(st == PLUME_OK);
+        if (st != PLUME_OK) {
+            fprintf(stderr, "    %s\n", err.msg);
+            continue;
+        }
+        double E[2] = {l.E_b, l.ratio * l.E_b}, nu[2] = {l.nu_b, l.nu_B}, frac[2] = {l.phi, 1.0 - l.phi}, C[9];
+        laminate_exact(E, nu, frac, 2, C);
+        double scale = sqrt(C[0] * C[4]);
+        for (int i = 0; i < 9; i++) {
+            /* relative per entry, with an absolute floor for entries that vanish */
+            double floor = (i == 2 || i == 5 || i == 6 || i == 7) ? 1e-3 * scale : 0.0; /* abs 1e-9 */
+            CHECK_REL(r.C[i], C[i], 1e-6, floor);
+        }
+        plume_ortho m;
+        CHECK(plume_ortho_from_tensor(C, &m) == PLUME_OK);
+        CHECK_REL(r.moduli.E_xx, m.E_xx, 1e-6, 0.0);
+        CHECK_REL(r.moduli.E_yy, m.E_yy, 1e-6, 0.0);
+        CHECK_REL(r.moduli.G_xy, m.G_xy, 1e-6, 0.0);
+        CHECK_REL(r.moduli.nu_xy, m.nu_xy, 1e-6, 1e-12);
+        CHECK(r.coupling < 1e-9);
+        plume_homog_result_free(&r);
+    }
+}
+
+/* The finite-strain cell curves start with the slopes of the small-strain tensor: the periodic
+ * wrapper, the average stress and the lateral-stress iteration agree with the linear problem. */
+void test_homogenize_curves_match_tensor(void)
+{
+    const double ratios[] = {1e-3, 1e-6};
+    for (int k = 0; k < 2; k++) {
+        plume_layout l;
+        plume_layout_default(&l);
+        l.ratio = ratios[k];
+        plume_homog_opts o;
+        plume_homog_opts_default(&o);
+        o.strain_max = 0.002;
+        o.steps = 2;
+        plume_homog_result r;
+        plume_err err = {{0}};
+        plume_status st = plume_homogenize(&l, &o, &r, &err);
+        CHECK(st == PLUME_OK);
+        if (st != PLUME_OK) {
+            fprintf(stderr, "    %s\n", err.msg);
+            continue;
+        }
+        CHECK(r.uniaxial_x.n == 3 && r.uniaxial_y.n == 3 && r.shear.n == 3);
+        double e = r.uniaxial_x.strain[1];
+        CHECK_REL(r.uniaxial_x.stress[1] / e, r.moduli.E_xx, 5e-3, 0.0);
+        CHECK_REL(r.uniaxial_y.stress[1] / e, r.moduli.E_yy, 5e-3, 0.0);
+        CHECK_REL(r.shear.stress[1] / e, r.moduli.G_xy, 5e-3, 0.0);
+        /* lateral strain of the uniaxial test along the barbs: -nu_xy eps */
+        CHECK_REL(r.uniaxial_x.wbar[1], -r.moduli.nu_xy * e, 1e-2, 1e-9);
+        CHECK(r.uniaxial_x.stress[2] > r.uniaxial_x.stress[1]);
+        plume_homog_result_free(&r);
+    }
+}
+
+/* The periodic wrapper is an energy term: its gradient and Hessian (on the masters) against
+ * central differences, and the average stress against the derivative in Fbar at fixed masters. */
+void test_homogenize_periodic_fd(void)
+{
+    plume_layout l;
+    plume_layout_default(&l);
+    l.ratio = 0.1;
+    l.e_rel = 1.5;
+    plume_err err = {{0}};
+    plume_cell *cell = NULL;
+    CHECK(plume_cell_mesh(&l, &cell, &err) == PLUME_OK);
+    if (!cell)
+        return;
+    plume_membrane_material mats[2];
+    plume_layout_materials(&l, mats);
+    mats[0].kappa = mats[1].kappa = 1e6;
+    plume_term mem, t;
+    plume_periodic *per = NULL;
+    CHECK(plume_membrane_term_create(cell->mesh, 2, mats, 2, &mem, &err) == PLUME_OK);
+    CHECK(plume_periodic_term_create(cell, &mem, &per, &t, &err) == PLUME_OK);
+    const double F[4] = {1.03, 0.02, -0.01, 0.97};
+    plume_periodic_set_macro(per, F);
+    plume_index nv = cell->mesh->nv, k = t.arity * 2;
+    rng64 rng = {0x5EEDCE11ULL};
+    double *x = malloc((size_t)(2 * nv) * sizeof *x), *g = calloc((size_t)(2 * nv), sizeof *g);
+    double *gp = calloc((size_t)(2 * nv), sizeof *gp), *gm = calloc((size_t)(2 * nv), sizeof *gm);
+    double *H = malloc((size_t)(t.nstencil * k * k) * sizeof *H);
+    for (plume_index v = 0; v < nv; v++) {
+        x[2 * v] = F[0] * cell->mesh->X[2 * v] + F[1] * cell->mesh->X[2 * v + 1] + 1e-3 * l.d_B * urange(&rng, -1, 1);
+        x[2 * v + 1] = F[2] * cell->mesh->X[2 * v] + F[3] * cell->mesh->X[2 * v + 1] + 1e-3 * l.d_B * urange(&rng, -1, 1);
+    }
+    double f = 0.0;
+    CHECK(t.eval(t.ctx, 2, x, &f, g, H, 0) == PLUME_OK);
+    double P[4];
+    plume_periodic_average_stress(per, P);
+    /* gradient: every master coordinate */
+    double worst_g = 0.0, gscale = 0.0, hstep = 1e-7 * l.d_B;
+    for (plume_index i = 0; i < 2 * nv; i++)
+        gscale = fmax(gscale, fabs(g[i]));
+    for (plume_index v = 0; v < nv; v++) {
+        if (cell->master[v] != v)
+            continue;
+        for (int a = 0; a < 2; a++) {
+            double fp = 0.0, fm = 0.0, x0 = x[2 * v + a];
+            x[2 * v + a] = x0 + hstep;
+            t.eval(t.ctx, 2, x, &fp, NULL, NULL, 0);
+            x[2 * v + a] = x0 - hstep;
+            t.eval(t.ctx, 2, x, &fm, NULL, NULL, 0);
+            x[2 * v + a] = x0;
+            worst_g = fmax(worst_g, fabs((fp - fm) / (2 * hstep) - g[2 * v + a]));
+        }
+    }
+    CHECK(worst_g <= 1e-6 * gscale);
+    /* Hessian: the sum of the blocks applied to a random direction against gradient differences */
+    double *dir = calloc((size_t)(2 * nv), sizeof *dir), *Hd = calloc((size_t)(2 * nv), sizeof *Hd);
+    for (plume_index v = 0; v < nv; v++)
+        if (cell->master[v] == v)
+            dir[2 * v] = urange(&rng, -1, 1), dir[2 * v + 1] = urange(&rng, -1, 1);
+    for (plume_index s = 0; s < t.nstencil; s++)
+        for (int a = 0; a < k; a++)
+            for (int b = 0; b < k; b++)
+                Hd[2 * t.stencil[s * 3 + a / 2] + a % 2] += H[(s * k + a) * k + b] * dir[2 * t.stencil[s * 3 + b / 2] + b % 2];
+    for (plume_index i = 0; i < 2 * nv; i++)
+        gp[i] = x[i] + hstep * dir[i], gm[i] = x[i] - hstep * dir[i];
+    double *g1 = calloc((size_t)(2 * nv), sizeof *g1), *g2 = calloc((size_t)(2 * nv), sizeof *g2);
+    double e1 = 0, e2 = 0;
+    t.eval(t.ctx, 2, gp, &e1, g1, NULL, 0);
+    t.eval(t.ctx, 2, gm, &e2, g2, NULL, 0);
+    double worst_h = 0.0, hscale = 0.0;
+    for (plume_index i = 0; i < 2 * nv; i++) {
+        worst_h = fmax(worst_h, fabs((g1[i] - g2[i]) / (2 * hstep) - Hd[i]));
+        hscale = fmax(hscale, fabs(Hd[i]));
+    }
+    CHECK(worst_h <= 1e-5 * hscale);
+    /* average stress: (1/A) dW/dFbar at fixed masters */
+    double Fd[4], area = cell->a * cell->b, eps = 1e-7;
+    for (int c = 0; c < 4; c++) {
+        double fp = 0.0, fm = 0.0;
+        memcpy(Fd, F, sizeof Fd);
+        Fd[c] += eps;
+        plume_periodic_set_macro(per, Fd);
+        t.eval(t.ctx, 2, x, &fp, NULL, NULL, 0);
+        Fd[c] -= 2 * eps;
+        plume_periodic_set_macro(per, Fd);
+        t.eval(t.ctx, 2, x, &fm, NULL, NULL, 0);
+        CHECK_REL(P[c], (fp - fm) / (2 * eps) / area, 1e-6, 1e-6 * fabs(P[0]));
+    }
+    t.destroy(t.ctx);
+    free(x), free(g), free(gp), free(gm), free(H), free(dir), free(Hd), free(g1), free(g2);
+    plume_cell_destroy(&cell);
+}
