@@ -82,8 +82,8 @@ static int write_data(const char *path, const plume_curve *curves, int ncurves)
     return (fclose(f) != 0 || bad) ? -1 : 0;
 }
 
-static void write_body(FILE *f, const scratch *s, const char *title, const char *const *labels,
-                       int ncurves)
+static void write_body(FILE *f, const scratch *s, const char *title, const plume_plot_axes *ax,
+                       const char *const *labels, int ncurves)
 {
     fputs("set multiplot layout 1,2", f);
     if (title && *title) {
@@ -91,8 +91,8 @@ static void write_body(FILE *f, const scratch *s, const char *title, const char 
         put_quoted(f, title);
     }
     fputs("\nset grid\nset key top left box opaque\nset xlabel 'nominal strain (%)'\n", f);
-    static const char *const ylabel[2] = {"nominal stress (Pa)",
-                                          "w-bar (average relative width change)"};
+    const char *const ylabel[2] = {ax && ax->stress_label ? ax->stress_label : "nominal stress (Pa)",
+                                   ax && ax->wbar_label ? ax->wbar_label : "w-bar (average relative width change)"};
     for (int panel = 0; panel < 2; panel++) {
         fputs("set ylabel ", f);
         put_quoted(f, ylabel[panel]);
@@ -117,7 +117,8 @@ static void write_body(FILE *f, const scratch *s, const char *title, const char 
     fputs("unset multiplot\nunset output\n", f);
 }
 
-static int write_script(const scratch *s, const char *title, const char *const *labels, int ncurves)
+static int write_script(const scratch *s, const char *title, const plume_plot_axes *ax, const char *const *labels,
+                        int ncurves)
 {
     FILE *f = fopen(s->script, "w");
     if (!f)
@@ -131,11 +132,11 @@ static int write_script(const scratch *s, const char *title, const char *const *
           f);
     put_quoted(f, s->png);
     fputc('\n', f);
-    write_body(f, s, title, labels, ncurves);
+    write_body(f, s, title, ax, labels, ncurves);
     fputs("set terminal svg size 1200,500 noenhanced\nset output ", f);
     put_quoted(f, s->svg);
     fputc('\n', f);
-    write_body(f, s, title, labels, ncurves);
+    write_body(f, s, title, ax, labels, ncurves);
     int bad = ferror(f);
     return (fclose(f) != 0 || bad) ? -1 : 0;
 }
@@ -255,6 +256,13 @@ static int non_empty(const char *path)
 plume_status plume_plot_curves(const char *png_path, const char *title, const plume_curve *curves,
                                const char *const *labels, int ncurves, plume_err *err)
 {
+    return plume_plot_curves_axes(png_path, title, NULL, curves, labels, ncurves, err);
+}
+
+plume_status plume_plot_curves_axes(const char *png_path, const char *title, const plume_plot_axes *axes,
+                                    const plume_curve *curves, const char *const *labels, int ncurves,
+                                    plume_err *err)
+{
     if (!png_path || !*png_path)
         return plume_err_set(err, PLUME_EINVAL, "plot: empty output path");
     if (strlen(png_path) >= PLOT_PATH_MAX - 8)
@@ -295,7 +303,7 @@ plume_status plume_plot_curves(const char *png_path, const char *title, const pl
     snprintf(s.log, sizeof s.log, "%s/gnuplot.log", s.dir);
 
     plume_status st = PLUME_OK;
-    if (write_data(s.data, curves, ncurves) != 0 || write_script(&s, title, labels, ncurves) != 0) {
+    if (write_data(s.data, curves, ncurves) != 0 || write_script(&s, title, axes, labels, ncurves) != 0) {
         st = plume_err_set(err, PLUME_EIO, "plot: cannot write gnuplot input in %s: %s", s.dir,
                            strerror(errno));
         goto cleanup;

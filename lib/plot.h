@@ -15,6 +15,17 @@ extern "C" {
 plume_status plume_plot_curves(const char *png_path, const char *title, const plume_curve *curves,
                                const char *const *labels, int ncurves, plume_err *err);
 
+/* Axis labels replacing the defaults (NULL fields keep them). */
+typedef struct {
+    const char *stress_label; /* left panel, default "nominal stress (Pa)" */
+    const char *wbar_label;   /* right panel, default "w-bar (average relative width change)" */
+} plume_plot_axes;
+
+/* plume_plot_curves with other axis labels (axes may be NULL). */
+plume_status plume_plot_curves_axes(const char *png_path, const char *title, const plume_plot_axes *axes,
+                                    const plume_curve *curves, const char *const *labels, int ncurves,
+                                    plume_err *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -131,7 +131,8 @@ static plume_status strips_geometry(double a, double w, double b, double e, geom
                  : j < ny1 ? w * (double)j / (double)ny1
                            : w + (b - w) * (double)(j - ny1) / (double)ny2;
         int boundary_row = j == 0 || j == ny1 || j == ny1 + ny2;
-        long n = row_positions(a, nx, !boundary_row && j % 2 == 1, NULL, 0, xs);
+        long band_row = j <= ny1 ? j : j - ny1; /* shifted rows alternate from each band's base */
+        long n = row_positions(a, nx, !boundary_row && band_row % 2 == 1, NULL, 0, xs);
         if (push_row(g, xs, n, y, j == ny1) < 0) {
             st = PLUME_ENOMEM;
             break;

@@ -272,6 +272,11 @@ static const char *stop_text(nlopt_result r)
     }
 }
 
+static const char *alg_name(nlopt_algorithm a)
+{
+    return a == NLOPT_LN_BOBYQA ? "LN_BOBYQA" : "LN_NELDERMEAD";
+}
+
 static double now_seconds(void)
 {
     struct timespec ts;
@@ -286,7 +291,7 @@ static nlopt_result run_nlopt(nlopt_algorithm alg, fit_data *d, const double *lb
                               const double *step, const double *xtol, int max_eval, double *x,
                               int *created)
 {
-    double fmin = HUGE_VAL;
+    double fbest = HUGE_VAL;
     nlopt_opt opt = nlopt_create(alg, d->n);
     *created = opt != NULL;
     if (!opt)
@@ -304,7 +309,7 @@ static nlopt_result run_nlopt(nlopt_algorithm alg, fit_data *d, const double *lb
         r = nlopt_set_maxeval(opt, max_eval);
     if (r > 0) {
         d->opt = opt;
-        r = nlopt_optimize(opt, x, &fmin);
+        r = nlopt_optimize(opt, x, &fbest);
         d->opt = NULL;
     }
     nlopt_destroy(opt);
@@ -472,15 +477,14 @@ plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const plume_curv
         goto cleanup;
     }
     if (r == NLOPT_OUT_OF_MEMORY) {
-        s = plume_err_set(err, PLUME_ENOMEM, "fit: NLopt (%s) ran out of memory",
-                          nlopt_algorithm_name(alg));
+        s = plume_err_set(err, PLUME_ENOMEM, "fit: NLopt (%s) ran out of memory", alg_name(alg));
         goto cleanup;
     }
     /* roundoff-limited still carries a useful best point (NLopt's documentation); other
      * failures before any evaluation are NLopt's */
     if (r < 0 && r != NLOPT_ROUNDOFF_LIMITED && d.evaluations == 0) {
-        s = plume_err_set(err, PLUME_EDEP, "fit: NLopt %s failed to start: %s",
-                          nlopt_algorithm_name(alg), stop_text(r));
+        s = plume_err_set(err, PLUME_EDEP, "fit: NLopt %s failed to start: %s", alg_name(alg),
+                          stop_text(r));
         goto cleanup;
     }
     if (d.feasible == 0) {
