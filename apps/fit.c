@@ -1,0 +1,213 @@
+/* apps/fit — macroscale moduli fitted to traction curves (microscale ones from apps/traction
+ * --model micro, or measured ones as text files) with NLopt: the paper's protocol. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <jansson.h>
+
+#include "../lib/plume.h"
+#include "../macro/traction_model.h"
+#include "../micro/fit.h"
+#include "cli.h"
+
+#define APP "fit"
+#define MAX_TARGETS 16
+
+static const char usage[] =
+    "usage: fit --target CURVE --angle DEG [--target CURVE --angle DEG ...] [options]\n"
+    "Fits the macroscale vane's moduli to traction curves (NLopt BOBYQA, log-space).\n"
+    "  --target FILE.h5:SCALE/SCENARIO   a curve written by apps/traction (e.g. out.h5:micro/tilted)\n"
+    "  --target FILE.txt                 a measured curve: two columns, strain and stress (Pa)\n"
+    "  --angle DEG          barb angle of the last --target (default 45)\n"
+    "  --lx M --ly M --thickness M   sample of the targets (default 1, 1.3, 1)\n"
+    "  --Exx --Eyy --Gxy PA, --nu V  start values (and the fixed ones; default 1e4, 1, 1, 0)\n"
+    "  --free LIST          moduli to fit, comma-separated from Exx,Eyy,nu,Gxy (default Eyy,Gxy)\n"
+    "  --constraint on|off  barbs inextensible in the model (default on)\n"
+    "  --edge M --steps N   model mesh and steps (default min(lx, ly)/20 as apps/traction, 5)\n"
+    "  --max-eval N         (default 300)\n"
+    "  -o FILE.h5           write /moduli (fitted) and /curves/fit/<i>/... model curves\n"
+    "  --plot FILE.png      targets and fitted model curves\n"
+    "  --json               print the fitted moduli, residual, evaluations, seconds\n"
+    "  --help\n";
+
+int main(int argc, char **argv)
+{
+    const char *targets[MAX_TARGETS];
+    double angles[MAX_TARGETS];
+    int nt = 0, json = 0, constraint = 1, steps = 5, max_eval = 300;
+    double lx = 1.0, ly = 1.3, h = 1.0, edge = -1.0, angle = 45.0;
+    plume_ortho start = {1e4, 1.0, 0.0, 1.0};
+    const char *out = NULL, *plot = NULL, *free_list = "Eyy,Gxy";
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int r = 0;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            fputs(usage, stdout);
+            return 0;
+        }
+        if (strcmp(a, "--json") == 0) {
+            json = 1;
+            continue;
+        }
+        if (!v)
+            return cli_fail(APP, "%s needs a value (see --help)", a);
+        i++;
+        if (strcmp(a, "--target") == 0) {
+            if (nt == MAX_TARGETS)
+                return cli_fail(APP, "at most %d targets", MAX_TARGETS);
+            targets[nt] = v;
+            angles[nt++] = angle;
+        } else if (strcmp(a, "--angle") == 0) {
+            r = cli_double(APP, a, v, &angle);
+            if (!r && nt > 0)
+                angles[nt - 1] = angle;
+        } else if (strcmp(a, "--lx") == 0) r = cli_double(APP, a, v, &lx);
+        else if (strcmp(a, "--ly") == 0) r = cli_double(APP, a, v, &ly);
+        else if (strcmp(a, "--thickness") == 0) r = cli_double(APP, a, v, &h);
+        else if (strcmp(a, "--Exx") == 0) r = cli_double(APP, a, v, &start.E_xx);
+        else if (strcmp(a, "--Eyy") == 0) r = cli_double(APP, a, v, &start.E_yy);
+        else if (strcmp(a, "--Gxy") == 0) r = cli_double(APP, a, v, &start.G_xy);
+        else if (strcmp(a, "--nu") == 0) r = cli_double(APP, a, v, &start.nu_xy);
+        else if (strcmp(a, "--edge") == 0) r = cli_double(APP, a, v, &edge);
+        else if (strcmp(a, "--steps") == 0) r = cli_int(APP, a, v, &steps);
+        else if (strcmp(a, "--max-eval") == 0) r = cli_int(APP, a, v, &max_eval);
+        else if (strcmp(a, "--free") == 0) free_list = v;
+        else if (strcmp(a, "--constraint") == 0) {
+            if (strcmp(v, "on") && strcmp(v, "off"))
+                return cli_fail(APP, "--constraint expects on|off (got '%s')", v);
+            constraint = strcmp(v, "on") == 0;
+        } else if (strcmp(a, "-o") == 0) out = v;
+        else if (strcmp(a, "--plot") == 0) plot = v;
+        else
+            return cli_fail(APP, "unknown option '%s' (see --help)", a);
+        if (r)
+            return r;
+    }
+    if (nt == 0)
+        return cli_fail(APP, "no --target given (see --help)");
+    if (!(lx > 0 && ly > 0 && h > 0))
+        return cli_fail(APP, "--lx, --ly and --thickness must be > 0 (got %g, %g, %g)", lx, ly, h);
+    plume_fit_opts fo;
+    plume_fit_opts_default(&fo);
+    fo.max_eval = max_eval;
+    fo.free_mask = 0;
+    char list[128];
+    snprintf(list, sizeof list, "%s", free_list);
+    for (char *tok = strtok(list, ","); tok; tok = strtok(NULL, ",")) {
+        if (strcmp(tok, "Exx") == 0) fo.free_mask |= PLUME_FIT_EXX;
+        else if (strcmp(tok, "Eyy") == 0) fo.free_mask |= PLUME_FIT_EYY;
+        else if (strcmp(tok, "nu") == 0) fo.free_mask |= PLUME_FIT_NU;
+        else if (strcmp(tok, "Gxy") == 0) fo.free_mask |= PLUME_FIT_GXY;
+        else
+            return cli_fail(APP, "--free: unknown modulus '%s' (Exx, Eyy, nu, Gxy)", tok);
+    }
+    if (!fo.free_mask)
+        return cli_fail(APP, "--free names no modulus");
+
+    plume_err err = {{0}};
+    plume_curve curves[MAX_TARGETS];
+    memset(curves, 0, sizeof curves);
+    int rc = 0;
+    double strain_max = 0.0;
+    for (int k = 0; k < nt && rc == 0; k++) {
+        const char *colon = strrchr(targets[k], ':');
+        plume_status st;
+        if (colon && colon != targets[k]) { /* FILE.h5:SCALE/SCENARIO */
+            char path[1024], group[256];
+            snprintf(path, sizeof path, "%.*s", (int)(colon - targets[k]), targets[k]);
+            snprintf(group, sizeof group, "%s", colon + 1);
+            char *slash = strchr(group, '/');
+            if (!slash) {
+                rc = cli_fail(APP, "--target %s: expected FILE.h5:SCALE/SCENARIO", targets[k]);
+                break;
+            }
+            *slash = '\0';
+            st = plume_curve_read(path, group, slash + 1, &curves[k], &err);
+        } else {
+            st = plume_curve_read_text(targets[k], &curves[k], &err);
+        }
+        if (st != PLUME_OK)
+            rc = cli_fail(APP, "%s", err.msg);
+        else if (!(angles[k] >= 0.0 && angles[k] <= 180.0))
+            rc = cli_fail(APP, "--angle must be in [0, 180] (got %g)", angles[k]);
+        else
+            strain_max = curves[k].n ? fmax(strain_max, curves[k].strain[curves[k].n - 1]) : strain_max;
+    }
+    plume_macro_model mm = {lx, ly, h, edge > 0 ? edge : fmin(lx, ly) / 20.0, PLUME_PATCH_ALIGNED, constraint, 0.0,
+                            strain_max, steps, nt, angles, PLUME_SOLVER_NEWTON};
+    plume_ortho fit;
+    plume_fit_report rep;
+    if (rc == 0 && plume_fit_moduli(plume_macro_model_curve, &mm, curves, nt, &start, &fo, &fit, &rep, &err) != PLUME_OK) {
+        fprintf(stderr, "%s: %s\n", APP, err.msg);
+        rc = 1;
+    }
+    plume_curve model[MAX_TARGETS];
+    memset(model, 0, sizeof model);
+    for (int k = 0; k < nt && rc == 0; k++)
+        if (plume_macro_model_curve(&mm, &fit, k, &model[k], &err) != PLUME_OK) {
+            fprintf(stderr, "%s: %s\n", APP, err.msg);
+            rc = 1;
+        }
+    if (rc == 0 && out) {
+        char prov[256];
+        snprintf(prov, sizeof prov, "plume fit: %d curve(s), %d evaluations, RMS relative misfit %.3g, %s", nt,
+                 rep.evaluations, rep.residual, rep.stop);
+        if (plume_moduli_write(out, &fit, prov, &err) != PLUME_OK) {
+            fprintf(stderr, "%s: %s\n", APP, err.msg);
+            rc = 1;
+        }
+        for (int k = 0; k < nt && rc == 0; k++) {
+            char name[32];
+            snprintf(name, sizeof name, "curve%d", k);
+            plume_param params[] = {{"angle_deg", angles[k]}, {"residual", rep.residual}};
+            plume_sparam sp[] = {{"target", targets[k]}};
+            if (plume_curve_write(out, "fit", name, &model[k], params, 2, sp, 1, &err) != PLUME_OK) {
+                fprintf(stderr, "%s: %s\n", APP, err.msg);
+                rc = 1;
+            }
+        }
+    }
+    if (rc == 0 && plot) {
+        plume_curve all[2 * MAX_TARGETS];
+        char names[2 * MAX_TARGETS][64];
+        const char *labels[2 * MAX_TARGETS];
+        for (int k = 0; k < nt; k++) {
+            all[2 * k] = curves[k], all[2 * k + 1] = model[k];
+            snprintf(names[2 * k], 64, "target %d (%g deg)", k + 1, angles[k]);
+            snprintf(names[2 * k + 1], 64, "fitted macro %d", k + 1);
+            labels[2 * k] = names[2 * k], labels[2 * k + 1] = names[2 * k + 1];
+        }
+        if (plume_plot_curves(plot, "moduli fitted to traction curves", all, labels, 2 * nt, &err) != PLUME_OK) {
+            fprintf(stderr, "%s: %s\n", APP, err.msg);
+            rc = 1;
+        }
+    }
+    if (rc == 0) {
+        if (json) {
+            json_t *j = json_object();
+            json_object_set_new(j, "E_xx", json_real(fit.E_xx));
+            json_object_set_new(j, "E_yy", json_real(fit.E_yy));
+            json_object_set_new(j, "nu_xy", json_real(fit.nu_xy));
+            json_object_set_new(j, "G_xy", json_real(fit.G_xy));
+            json_object_set_new(j, "residual", json_real(rep.residual));
+            json_object_set_new(j, "evaluations", json_integer(rep.evaluations));
+            json_object_set_new(j, "stop", json_string(rep.stop));
+            json_object_set_new(j, "seconds", json_real(rep.seconds));
+            char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
+            if (txt)
+                puts(txt);
+            free(txt);
+            json_decref(j);
+        } else {
+            printf("fitted to %d curve(s): E_xx %.6g Pa, E_yy %.6g Pa, nu_xy %.4g, G_xy %.6g Pa; RMS relative misfit "
+                   "%.3g after %d evaluations (%s, %.2f s)\n",
+                   nt, fit.E_xx, fit.E_yy, fit.nu_xy, fit.G_xy, rep.residual, rep.evaluations, rep.stop, rep.seconds);
+        }
+    }
+    for (int k = 0; k < nt; k++) {
+        plume_curve_free(&curves[k]);
+        plume_curve_free(&model[k]);
+    }
+    return rc;
+}
