@@ -1,5 +1,6 @@
-/* apps/traction — the macroscale traction test of a feather-vane sample: stress–strain and
- * deflection curves, solved to convergence, stored in HDF5 and drawn as a chart. */
+/* apps/traction — the traction test of a feather-vane sample at the macroscale (orthotropic
+ * membrane, barb constraint), at the microscale (resolved barbs and barbules) or both:
+ * stress–strain and deflection curves, solved to convergence, stored in HDF5, drawn as a chart. */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -10,11 +11,16 @@
 #include <jansson.h>
 
 #include "../lib/plume.h"
+#include "../micro/homogenize.h"
+#include "../micro/layout.h"
+#include "../micro/layout_json.h"
+#include "../micro/micro_model.h"
 #include "cli.h"
 
 static const char usage[] =
     "usage: traction [options]\n"
-    "Quasi-static traction test of a vane sample (macroscale orthotropic membrane).\n"
+    "Quasi-static traction test of a vane sample, macroscale and/or microscale.\n"
+    "  --model M           macro (orthotropic membrane, default) | micro (resolved layout) | both\n"
     "  --scenario S        longitudinal (barbs along the pull, 0 deg) | transverse (90) | tilted (45); default tilted\n"
     "  --angle DEG         barb angle from the pulling axis in [0, 180]; overrides the scenario's\n"
     "  --lx M --ly M --thickness M   sample width, length, thickness (default 1, 1.3, 1: Table 4 of the supplement)\n"
@@ -30,7 +36,13 @@ static const char usage[] =
     "  --steps N           quasi-static steps (default 10)\n"
     "  --solver S          newton | ipopt | linearized (default newton)\n"
     "  --max-iter N        solver iteration cap per step (default 100)\n"
-    "  -o FILE.h5          write /curves/macro/<scenario>/{strain,stress,wbar,iterations,seconds}\n"
+    "Microscale layout (--model micro|both; see apps/homogenize --help):\n"
+    "  --layout-config FILE.json, --layout strips|barbules, --phi V, --ratio R, --Eb PA,\n"
+    "  --nu-barb V, --nu-barbule V, --dB-rel V (barb spacing over ly, default 0.086), --e-rel V\n"
+    "  (element edge over barb width, default 2.9); the layout thickness is --thickness.\n"
+    "  With --model both the macro model uses --moduli FILE.h5 if given, else the layout's moduli\n"
+    "  homogenised on the spot.\n"
+    "  -o FILE.h5          write /curves/<macro|micro>/<scenario>/{strain,stress,wbar,iterations,seconds}\n"
     "  --plot FILE.png     chart (an SVG is written beside it)\n"
     "  --json              print a summary object on stdout\n"
     "  --quiet / --verbose no progress line / solver iterations on stderr\n"
@@ -38,6 +50,9 @@ static const char usage[] =
 
 typedef struct {
     const char *scenario, *sample, *samples_file, *moduli_file, *out, *plot, *mesh, *solver;
+    const char *model, *layout_file, *layout_kind;
+    double phi, ratio, Eb, nu_barb, nu_barbule, dB_rel, e_rel;
+    int phi_set, ratio_set, Eb_set, nu_barb_set, nu_barbule_set, dB_rel_set, e_rel_set;
     double angle, lx, ly, h, Exx, Eyy, Gxy, nu, kappa, edge, strain_max;
     int angle_set, lx_set, ly_set, h_set, constraint, steps, max_iter, json, quiet, verbose;
     int Exx_set, Eyy_set, Gxy_set, nu_set;
@@ -62,6 +77,8 @@ static int parse_args(int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
     o->scenario = "tilted";
+    o->model = "macro";
+    o->dB_rel = 0.086, o->e_rel = 2.9;
     o->mesh = "aligned";
     o->solver = "newton";
     o->lx = 1.0, o->ly = 1.3, o->h = 1.0;
@@ -92,6 +109,16 @@ static int parse_args(int argc, char **argv, options *o)
         DBL("--strain-max", strain_max);
         else if (strcmp(a, "--steps") == 0) r = parse_int(a, v, &o->steps);
         else if (strcmp(a, "--max-iter") == 0) r = parse_int(a, v, &o->max_iter);
+        DBLSET("--phi", phi);
+        DBLSET("--ratio", ratio);
+        DBLSET("--Eb", Eb);
+        DBLSET("--nu-barb", nu_barb);
+        DBLSET("--nu-barbule", nu_barbule);
+        DBLSET("--dB-rel", dB_rel);
+        DBLSET("--e-rel", e_rel);
+        else if (strcmp(a, "--model") == 0) o->model = v;
+        else if (strcmp(a, "--layout-config") == 0) o->layout_file = v;
+        else if (strcmp(a, "--layout") == 0) o->layout_kind = v;
         else if (strcmp(a, "--scenario") == 0) o->scenario = v;
         else if (strcmp(a, "--sample") == 0) o->sample = v;
         else if (strcmp(a, "--samples") == 0) o->samples_file = v;
@@ -144,6 +171,131 @@ static void default_samples_path(const char *argv0, char *buf, size_t n)
     snprintf(buf, n, "data/samples.json");
 }
 
+/* One model's run: its curve and figures. */
+typedef struct {
+    const char *scale; /* "macro" | "micro" */
+    int wanted;
+    plume_traction_result res;
+    plume_index elements, vertices, barb_edges;
+} model_run;
+
+/* The macroscale vane on an aligned or unaligned patch mesh. Returns an exit code. */
+static int run_macro(const options *o, const plume_vane *vane, plume_patch_kind kind, double angle, double edge,
+                     const plume_traction_opts *to, model_run *run)
+{
+    plume_err err = {{0}};
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_index *barbs = NULL, nbarbs = 0;
+    plume_status st;
+    int rc = 1;
+    if ((st = plume_patch_mesh(o->lx, o->ly, angle, edge, kind, 2, &mesh, &err)) != PLUME_OK) {
+        fprintf(stderr, "traction: mesh: %s\n", err.msg);
+        goto done;
+    }
+    if ((st = plume_problem_create(mesh->nv, 2, fmax(o->lx, o->ly), &p)) != PLUME_OK ||
+        (st = plume_vane_add(p, mesh, vane, &barbs, &nbarbs, &err)) != PLUME_OK) {
+        fprintf(stderr, "traction: %s\n", err.msg[0] ? err.msg : plume_strerror(st));
+        goto done;
+    }
+    run->elements = mesh->nt, run->vertices = mesh->nv, run->barb_edges = nbarbs;
+    if ((st = plume_traction_run(mesh, p, barbs, nbarbs, to, &run->res, &err)) != PLUME_OK) {
+        /* the library's message already names the module */
+        fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
+        goto done;
+    }
+    rc = 0;
+done:
+    free(barbs);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&mesh);
+    return rc;
+}
+
+/* The microscale specimen: the layout resolved on the sample. Returns an exit code. */
+static int run_micro(const options *o, const plume_layout *layout, double angle, const plume_traction_opts *to,
+                     model_run *run)
+{
+    plume_err err = {{0}};
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_status st;
+    int rc = 1;
+    if ((st = plume_micro_specimen(layout, o->lx, o->ly, angle, &mesh, &p, &err)) != PLUME_OK) {
+        fprintf(stderr, "traction: micro specimen: %s\n", err.msg[0] ? err.msg : plume_strerror(st));
+        goto done;
+    }
+    run->elements = mesh->nt, run->vertices = mesh->nv;
+    if ((st = plume_traction_run(mesh, p, NULL, 0, to, &run->res, &err)) != PLUME_OK) {
+        fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
+        goto done;
+    }
+    rc = 0;
+done:
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&mesh);
+    return rc;
+}
+
+/* Micro (reference) against macro at the micro curve's strains: the largest stress difference
+ * over the curve and the differences at the last point, relative to the micro values. */
+static void compare_curves(const plume_curve *micro, const plume_curve *macro, double *dmax, double *dend, double *dwend)
+{
+    double smax = 0.0;
+    plume_index n = micro->n < macro->n ? micro->n : macro->n;
+    for (plume_index k = 0; k < n; k++)
+        smax = fmax(smax, fabs(micro->stress[k]));
+    *dmax = 0.0;
+    for (plume_index k = 0; k < n; k++)
+        *dmax = fmax(*dmax, fabs(macro->stress[k] - micro->stress[k]) / (smax > 0 ? smax : 1.0));
+    plume_index e = n - 1;
+    *dend = fabs(macro->stress[e] - micro->stress[e]) / fmax(fabs(micro->stress[e]), 1e-300);
+    *dwend = fabs(macro->wbar[e] - micro->wbar[e]) / fmax(fabs(micro->wbar[e]), 1e-300);
+}
+
+static json_t *run_json(const model_run *r, const options *o, double angle)
+{
+    plume_index last = r->res.curve.n - 1;
+    int usable = r->res.converged || strcmp(o->solver, "linearized") == 0;
+    json_t *j = json_object();
+    json_object_set_new(j, "model", json_string(r->scale));
+    json_object_set_new(j, "scenario", json_string(o->scenario));
+    json_object_set_new(j, "angle_deg", json_real(angle));
+    json_object_set_new(j, "solver", json_string(o->solver));
+    json_object_set_new(j, "mesh", json_string(strcmp(r->scale, "macro") == 0 ? o->mesh : "specimen"));
+    json_object_set_new(j, "constraint", json_boolean(strcmp(r->scale, "macro") == 0 && o->constraint));
+    json_object_set_new(j, "initial_slope", json_real(r->res.initial_slope));
+    json_object_set_new(j, "strain_at_end", json_real(r->res.curve.strain[last]));
+    json_object_set_new(j, "stress_at_max_strain", usable ? json_real(r->res.curve.stress[last]) : json_null());
+    json_object_set_new(j, "wbar_at_max_strain", usable ? json_real(r->res.curve.wbar[last]) : json_null());
+    json_object_set_new(j, "elements", json_integer(r->elements));
+    json_object_set_new(j, "vertices", json_integer(r->vertices));
+    json_object_set_new(j, "barb_edges", json_integer(r->barb_edges));
+    json_object_set_new(j, "steps", json_integer(o->steps));
+    json_object_set_new(j, "newton_iterations", json_integer(r->res.newton_iterations));
+    json_object_set_new(j, "max_constraint_violation", json_real(r->res.max_violation));
+    json_object_set_new(j, "converged", json_boolean(r->res.converged));
+    json_object_set_new(j, "stop_reason",
+                        json_string(r->res.converged ? "converged" : plume_reason_name(r->res.failed_reason)));
+    json_object_set_new(j, "failed_step", json_integer(r->res.failed_step));
+    json_object_set_new(j, "factorizations", json_integer(r->res.factorizations));
+    json_object_set_new(j, "factor_seconds", json_real(r->res.factor_seconds));
+    json_object_set_new(j, "seconds", json_real(r->res.seconds));
+    return j;
+}
+
+static void print_summary(const model_run *r, const options *o, double angle)
+{
+    plume_index last = r->res.curve.n - 1;
+    printf("%s %s %g deg, %s, %s (%ld elements)%s: stress at %g%% strain %.6g Pa, wbar %.4g, initial slope %.6g Pa, "
+           "%d iterations, %.2f s, %s\n",
+           r->scale, o->scenario, angle, o->solver, strcmp(r->scale, "macro") == 0 ? o->mesh : "specimen",
+           (long)r->elements,
+           strcmp(r->scale, "macro") == 0 ? (o->constraint ? ", constraint on" : ", constraint off") : "",
+           100.0 * r->res.curve.strain[last], r->res.curve.stress[last], r->res.curve.wbar[last], r->res.initial_slope,
+           r->res.newton_iterations, r->res.seconds, r->res.converged ? "converged" : plume_reason_name(r->res.failed_reason));
+}
+
 int main(int argc, char **argv)
 {
     options o;
@@ -189,24 +341,72 @@ int main(int argc, char **argv)
         return fprintf(stderr, "traction: --lx, --ly and --thickness must be > 0 (got %g, %g, %g m): a zero-area or zero-thickness sample cannot be tested\n",
                        o.lx, o.ly, o.h), 2;
 
+    int want_macro = strcmp(o.model, "macro") == 0 || strcmp(o.model, "both") == 0;
+    int want_micro = strcmp(o.model, "micro") == 0 || strcmp(o.model, "both") == 0;
+    if (!want_macro && !want_micro)
+        return fail("--model expects macro|micro|both (got '%s')%s", o.model, "");
+
+    /* the microscale layout: defaults, then the file, then the flags; sized on the sample */
+    plume_layout layout;
+    plume_layout_default(&layout);
+    if (o.layout_file && (st = plume_layout_load_json(o.layout_file, &layout, &err)) != PLUME_OK)
+        return fail("%s%s", err.msg, "");
+    if (o.layout_kind) {
+        if (strcmp(o.layout_kind, "strips") == 0)
+            layout.kind = PLUME_LAYOUT_STRIPS;
+        else if (strcmp(o.layout_kind, "barbules") == 0)
+            layout.kind = PLUME_LAYOUT_BARBULES;
+        else
+            return fail("--layout expects strips|barbules (got '%s')%s", o.layout_kind, "");
+    }
+    if (o.phi_set) layout.phi = o.phi;
+    if (o.ratio_set) layout.ratio = o.ratio;
+    if (o.Eb_set) layout.E_b = o.Eb;
+    if (o.nu_barb_set) layout.nu_b = o.nu_barb;
+    if (o.nu_barbule_set) layout.nu_B = o.nu_barbule;
+    if (o.e_rel_set || !o.layout_file) layout.e_rel = o.e_rel;
+    if (o.dB_rel_set || !o.layout_file) {
+        double scale = o.dB_rel * o.ly / layout.d_B; /* keep barbule geometry proportional */
+        layout.d_B *= scale;
+        layout.barbule_width *= scale;
+        layout.barbule_spacing *= scale;
+    }
+    layout.h = o.h;
+    layout.kappa = o.kappa;
+    if (want_micro && (st = plume_layout_check(&layout, &err)) != PLUME_OK)
+        return fail("layout: %s%s", err.msg, "");
+
     plume_vane vane;
     plume_vane_default(&vane);
     vane.moduli.E_xx = o.Exx, vane.moduli.E_yy = o.Eyy, vane.moduli.G_xy = o.Gxy, vane.moduli.nu_xy = o.nu;
+    const char *moduli_source = "flags";
     if (o.moduli_file) {
         if ((st = plume_moduli_read(o.moduli_file, &vane.moduli, &err)) != PLUME_OK)
             return fail("%s%s", err.msg, "");
-        /* explicit flags override the file */
-        if (o.Exx_set) vane.moduli.E_xx = o.Exx;
-        if (o.Eyy_set) vane.moduli.E_yy = o.Eyy;
-        if (o.Gxy_set) vane.moduli.G_xy = o.Gxy;
-        if (o.nu_set) vane.moduli.nu_xy = o.nu;
+        moduli_source = o.moduli_file;
+    } else if (want_macro && want_micro) {
+        /* the macro model of the same microstructure: homogenise the layout's cell */
+        plume_homog_opts ho;
+        plume_homog_opts_default(&ho);
+        ho.strain_max = 0.0;
+        plume_homog_result hr;
+        if ((st = plume_homogenize(&layout, &ho, &hr, &err)) != PLUME_OK)
+            return fprintf(stderr, "traction: %s\n", err.msg), 1;
+        vane.moduli = hr.moduli;
+        plume_homog_result_free(&hr);
+        moduli_source = "homogenised";
     }
+    /* explicit flags override the file */
+    if (o.Exx_set) vane.moduli.E_xx = o.Exx;
+    if (o.Eyy_set) vane.moduli.E_yy = o.Eyy;
+    if (o.Gxy_set) vane.moduli.G_xy = o.Gxy;
+    if (o.nu_set) vane.moduli.nu_xy = o.nu;
     vane.h = o.h;
     vane.kappa = o.kappa;
     vane.constraint = o.constraint;
     if (!(o.kappa >= 0))
         return fprintf(stderr, "traction: --kappa must be >= 0 (got %g)\n", o.kappa), 2;
-    if ((st = plume_vane_check(&vane, &err)) != PLUME_OK)
+    if (want_macro && (st = plume_vane_check(&vane, &err)) != PLUME_OK)
         return fail("moduli: %s%s", err.msg, "");
 
     plume_patch_kind kind;
@@ -228,90 +428,105 @@ int main(int argc, char **argv)
     to.solver_opts.verbose = o.verbose;
     to.progress = o.quiet ? 0 : 1;
 
-    plume_mesh *mesh = NULL;
-    plume_problem *p = NULL;
-    plume_index *barbs = NULL, nbarbs = 0;
-    plume_traction_result res;
-    memset(&res, 0, sizeof res);
-    rc = 1;
-    if ((st = plume_patch_mesh(o.lx, o.ly, angle, edge, kind, 2, &mesh, &err)) != PLUME_OK) {
-        fprintf(stderr, "traction: mesh: %s\n", err.msg);
+    /* run the requested models: index 0 macro, 1 micro */
+    model_run runs[2];
+    memset(runs, 0, sizeof runs);
+    runs[0].scale = "macro";
+    runs[1].scale = "micro";
+    rc = 0;
+    for (int k = 0; k < 2 && rc == 0; k++) {
+        if (!(k == 0 ? want_macro : want_micro))
+            continue;
+        runs[k].wanted = 1;
+        rc = k == 0 ? run_macro(&o, &vane, kind, angle, edge, &to, &runs[0]) : run_micro(&o, &layout, angle, &to, &runs[1]);
+    }
+    if (rc)
+        goto done;
+    int usable = 1;
+    for (int k = 0; k < 2; k++)
+        if (runs[k].wanted && !runs[k].res.converged) {
+            int lin = to.solver == PLUME_SOLVER_LINEARIZED;
+            fprintf(stderr, "traction: %s model %s at step %d of %d (%s)%s\n", runs[k].scale,
+                    lin ? "single linearised steps, not converged" : "did not converge", runs[k].res.failed_step,
+                    to.steps, plume_reason_name(runs[k].res.failed_reason), lin ? "" : "; no output written");
+            usable &= lin;
+        }
+    if (!usable) {
+        rc = 3;
         goto done;
     }
-    if ((st = plume_problem_create(mesh->nv, 2, fmax(o.lx, o.ly), &p)) != PLUME_OK ||
-        (st = plume_vane_add(p, mesh, &vane, &barbs, &nbarbs, &err)) != PLUME_OK) {
-        fprintf(stderr, "traction: %s\n", err.msg[0] ? err.msg : plume_strerror(st));
-        goto done;
-    }
-    st = plume_traction_run(mesh, p, barbs, nbarbs, &to, &res, &err);
-    if (st != PLUME_OK) { /* the library's message already names the module */
-        fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
-        goto done;
-    }
-    int usable = res.converged || to.solver == PLUME_SOLVER_LINEARIZED;
-    if (!res.converged)
-        fprintf(stderr, "traction: %s at step %d of %d (%s)%s\n",
-                to.solver == PLUME_SOLVER_LINEARIZED ? "single linearised steps, not converged" : "did not converge",
-                res.failed_step, to.steps, plume_reason_name(res.failed_reason),
-                usable ? "" : "; no output written");
-    if (usable && o.out) {
-        plume_param params[] = {
-            {"lx", o.lx}, {"ly", o.ly}, {"thickness", o.h}, {"angle_deg", angle},
-            {"E_xx", vane.moduli.E_xx}, {"E_yy", vane.moduli.E_yy}, {"nu_xy", vane.moduli.nu_xy},
-            {"G_xy", vane.moduli.G_xy}, {"kappa", o.kappa}, {"edge", edge}, {"strain_max", o.strain_max},
-            {"steps", o.steps}, {"elements", (double)mesh->nt}, {"vertices", (double)mesh->nv},
-            {"constraint", o.constraint}, {"initial_slope", res.initial_slope},
-            {"converged", res.converged}, {"max_constraint_violation", res.max_violation}};
-        plume_sparam sparams[] = {{"solver", o.solver}, {"mesh", o.mesh}, {"scenario", o.scenario},
-                                  {"sample", o.sample ? o.sample : ""}};
-        if ((st = plume_curve_write(o.out, "macro", o.scenario, &res.curve, params,
-                                    (int)(sizeof params / sizeof params[0]), sparams, 4, &err)) != PLUME_OK) {
-            fprintf(stderr, "traction: %s\n", err.msg);
-            goto done;
+    if (o.out) {
+        for (int k = 0; k < 2; k++) {
+            if (!runs[k].wanted)
+                continue;
+            plume_param params[] = {
+                {"lx", o.lx}, {"ly", o.ly}, {"thickness", o.h}, {"angle_deg", angle},
+                {"E_xx", vane.moduli.E_xx}, {"E_yy", vane.moduli.E_yy}, {"nu_xy", vane.moduli.nu_xy},
+                {"G_xy", vane.moduli.G_xy}, {"kappa", o.kappa}, {"edge", k == 0 ? edge : layout.e_rel * plume_layout_barb_width(&layout)},
+                {"strain_max", o.strain_max}, {"steps", o.steps}, {"elements", (double)runs[k].elements},
+                {"vertices", (double)runs[k].vertices}, {"constraint", k == 0 ? o.constraint : 0},
+                {"initial_slope", runs[k].res.initial_slope}, {"converged", runs[k].res.converged},
+                {"max_constraint_violation", runs[k].res.max_violation}, {"phi", layout.phi},
+                {"ratio", layout.ratio}, {"E_b", layout.E_b}, {"d_B", layout.d_B}, {"e_rel", layout.e_rel}};
+            int np = k == 0 ? 18 : (int)(sizeof params / sizeof params[0]);
+            plume_sparam sparams[] = {{"solver", o.solver}, {"mesh", k == 0 ? o.mesh : "specimen"},
+                                      {"scenario", o.scenario}, {"sample", o.sample ? o.sample : ""},
+                                      {"moduli", moduli_source}};
+            if ((st = plume_curve_write(o.out, runs[k].scale, o.scenario, &runs[k].res.curve, params, np, sparams, 5,
+                                        &err)) != PLUME_OK) {
+                fprintf(stderr, "traction: %s\n", err.msg);
+                rc = 1;
+                goto done;
+            }
         }
     }
-    if (usable && o.plot) {
+    if (o.plot) {
         char title[256];
-        snprintf(title, sizeof title, "%s traction, barbs at %g deg, %s mesh, constraint %s, %s",
-                 o.scenario, angle, o.mesh, o.constraint ? "on" : "off", o.solver);
-        const char *label = o.solver;
-        if ((st = plume_plot_curves(o.plot, title, &res.curve, &label, 1, &err)) != PLUME_OK) {
+        snprintf(title, sizeof title, "%s traction, barbs at %g deg, %s", o.scenario, angle, o.model);
+        plume_curve curves[2];
+        const char *labels[2];
+        int nc = 0;
+        for (int k = 0; k < 2; k++)
+            if (runs[k].wanted) {
+                curves[nc] = runs[k].res.curve;
+                labels[nc++] = k == 0 ? (o.constraint ? "macro (barbs inextensible)" : "macro (penalty)") : "micro (resolved barbs)";
+            }
+        if ((st = plume_plot_curves(o.plot, title, curves, labels, nc, &err)) != PLUME_OK) {
             fprintf(stderr, "traction: %s\n", err.msg);
+            rc = 1;
             goto done;
         }
     }
-    if (!o.json) {
-        plume_index last = res.curve.n - 1;
-        printf("%s %g deg, %s, %s mesh (%ld elements), constraint %s: stress at %g%% strain %.6g Pa, "
-               "wbar %.4g, initial slope %.6g Pa, %d iterations, %.2f s, %s\n",
-               o.scenario, angle, o.solver, o.mesh, (long)mesh->nt, o.constraint ? "on" : "off",
-               100.0 * res.curve.strain[last], res.curve.stress[last], res.curve.wbar[last], res.initial_slope,
-               res.newton_iterations, res.seconds,
-               res.converged ? "converged" : plume_reason_name(res.failed_reason));
-    } else {
-        plume_index last = res.curve.n - 1;
-        json_t *j = json_object();
-        json_object_set_new(j, "scenario", json_string(o.scenario));
-        json_object_set_new(j, "angle_deg", json_real(angle));
-        json_object_set_new(j, "solver", json_string(o.solver));
-        json_object_set_new(j, "mesh", json_string(o.mesh));
-        json_object_set_new(j, "constraint", json_boolean(o.constraint));
-        json_object_set_new(j, "initial_slope", json_real(res.initial_slope));
-        json_object_set_new(j, "strain_at_end", json_real(res.curve.strain[last]));
-        json_object_set_new(j, "stress_at_max_strain", res.converged || usable ? json_real(res.curve.stress[last]) : json_null());
-        json_object_set_new(j, "wbar_at_max_strain", res.converged || usable ? json_real(res.curve.wbar[last]) : json_null());
-        json_object_set_new(j, "elements", json_integer(mesh->nt));
-        json_object_set_new(j, "vertices", json_integer(mesh->nv));
-        json_object_set_new(j, "barb_edges", json_integer(nbarbs));
-        json_object_set_new(j, "steps", json_integer(o.steps));
-        json_object_set_new(j, "newton_iterations", json_integer(res.newton_iterations));
-        json_object_set_new(j, "max_constraint_violation", json_real(res.max_violation));
-        json_object_set_new(j, "converged", json_boolean(res.converged));
-        json_object_set_new(j, "stop_reason", json_string(res.converged ? "converged" : plume_reason_name(res.failed_reason)));
-        json_object_set_new(j, "failed_step", json_integer(res.failed_step));
-        json_object_set_new(j, "factorizations", json_integer(res.factorizations));
-        json_object_set_new(j, "factor_seconds", json_real(res.factor_seconds));
-        json_object_set_new(j, "seconds", json_real(res.seconds));
+    double diff_max = 0.0, diff_end = 0.0, dw_end = 0.0;
+    int both = runs[0].wanted && runs[1].wanted;
+    if (both)
+        compare_curves(&runs[1].res.curve, &runs[0].res.curve, &diff_max, &diff_end, &dw_end);
+    if (o.json) {
+        json_t *j;
+        if (!both) {
+            j = run_json(&runs[runs[0].wanted ? 0 : 1], &o, angle);
+        } else {
+            j = json_object();
+            json_object_set_new(j, "scenario", json_string(o.scenario));
+            json_object_set_new(j, "angle_deg", json_real(angle));
+            json_object_set_new(j, "model", json_string("both"));
+            json_object_set_new(j, "macro", run_json(&runs[0], &o, angle));
+            json_object_set_new(j, "micro", run_json(&runs[1], &o, angle));
+            json_t *m = json_object();
+            json_object_set_new(m, "E_xx", json_real(vane.moduli.E_xx));
+            json_object_set_new(m, "E_yy", json_real(vane.moduli.E_yy));
+            json_object_set_new(m, "nu_xy", json_real(vane.moduli.nu_xy));
+            json_object_set_new(m, "G_xy", json_real(vane.moduli.G_xy));
+            json_object_set_new(m, "source", json_string(moduli_source));
+            json_object_set_new(j, "moduli", m);
+            json_t *d = json_object();
+            json_object_set_new(d, "stress_max_relative", json_real(diff_max));
+            json_object_set_new(d, "stress_at_max_strain_relative", json_real(diff_end));
+            json_object_set_new(d, "wbar_at_max_strain_relative", json_real(dw_end));
+            json_object_set_new(j, "relative_difference", d);
+            json_object_set_new(j, "converged", json_boolean(runs[0].res.converged && runs[1].res.converged));
+            json_object_set_new(j, "seconds", json_real(runs[0].res.seconds + runs[1].res.seconds));
+        }
         if (o.out)
             json_object_set_new(j, "output", json_string(o.out));
         char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
@@ -319,12 +534,16 @@ int main(int argc, char **argv)
             puts(txt);
         free(txt);
         json_decref(j);
+    } else {
+        for (int k = 0; k < 2; k++)
+            if (runs[k].wanted)
+                print_summary(&runs[k], &o, angle);
+        if (both)
+            printf("micro vs macro: max stress difference %.3g of the micro stress range, %.3g at %g%% strain; "
+                   "w-bar %.3g\n", diff_max, diff_end, 100.0 * o.strain_max, dw_end);
     }
-    rc = usable ? 0 : 3;
 done:
-    plume_traction_result_free(&res);
-    free(barbs);
-    plume_problem_destroy(&p);
-    plume_mesh_destroy(&mesh);
+    for (int k = 0; k < 2; k++)
+        plume_traction_result_free(&runs[k].res);
     return rc;
 }
