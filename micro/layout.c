@@ -64,8 +64,21 @@ plume_status plume_layout_check(const plume_layout *l, plume_err *err)
                              "e_rel = %g gives elements of %g m, larger than the cell d_B = %g m "
                              "(e_rel must be <= 1/phi = %g)",
                              l->e_rel, l->e_rel * w, l->d_B, 1.0 / l->phi);
+    /* Elements may be longer than a strip is wide (the paper's e-bar = 2.9: the strip is still
+     * resolved by its constrained boundaries, as thin elements), but a strip narrower than a
+     * quarter of an element is a sliver the mesh cannot follow: refused. */
+    if (l->e_rel > PLUME_LAYOUT_MAX_E_REL)
+        return plume_err_set(err, PLUME_EINVAL,
+                             "strips narrower than an element: the barb strip (%g m) is less than a quarter of the "
+                             "element edge e_rel * w_B = %g m (e_rel = %g must be <= %g)",
+                             w, l->e_rel * w, l->e_rel, PLUME_LAYOUT_MAX_E_REL);
     if (l->kind == PLUME_LAYOUT_STRIPS)
         return PLUME_OK; /* the barbule fields are not used */
+    if (l->barbule_width * PLUME_LAYOUT_MAX_E_REL < l->e_rel * w)
+        return plume_err_set(err, PLUME_EINVAL,
+                             "strips narrower than an element: barbule_width = %g m is less than a quarter of the "
+                             "element edge %g m (lower e_rel)",
+                             l->barbule_width, l->e_rel * w);
     if (!(l->barbule_width > 0.0) || !isfinite(l->barbule_width))
         return plume_err_set(err, PLUME_EINVAL, "barbule_width must be finite and > 0 (got %g m)",
                              l->barbule_width);

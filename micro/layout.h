@@ -15,6 +15,10 @@ typedef enum {
     PLUME_LAYOUT_BARBULES = 1 /* barb strips joined by explicit barbule strips; empty between */
 } plume_layout_kind;
 
+/* Largest element edge over strip width (e-bar): a strip narrower than a quarter of an element
+ * is refused ("strips narrower than an element"). */
+#define PLUME_LAYOUT_MAX_E_REL 4.0
+
 /* Material ids used by every micro mesh. */
 enum { PLUME_MAT_BARB = 0, PLUME_MAT_BARBULE = 1 };
 
@@ -34,7 +38,8 @@ typedef struct {
                                 along x) */
     double barbule_angle;    /* angle between barbules and barbs, degrees, in (0, 180) */
     /* meshing: */
-    double e_rel;          /* target element edge over the barb width, e-bar = e / w_B, > 0 */
+    double e_rel;          /* target element edge over the barb width, e-bar = e / w_B, in
+                              (0, PLUME_LAYOUT_MAX_E_REL] and e_rel * w_B <= d_B */
 } plume_layout;
 
 /* Defaults: strips, phi = 0.16 (supplementary Figure 10), d_B = 1e-3, E_b = 2.5e9, nu_b = 0.3,
@@ -45,8 +50,9 @@ void plume_layout_default(plume_layout *l);
 /* w_B = phi d_B. */
 double plume_layout_barb_width(const plume_layout *l);
 
-/* Validates every field (PLUME_EINVAL naming the field: "phi must be in (0, 1) (got 1.2)",
- * "ratio must be > 0", strips narrower than an element are allowed only when e_rel <= 1 ...). */
+/* Validates every field (PLUME_EINVAL naming the field and its value: "phi must be in (0, 1)
+ * (got 1.2)", "ratio must be > 0", "strips narrower than an element ...", "cell too small for its
+ * layout ..."). */
 plume_status plume_layout_check(const plume_layout *l, plume_err *err);
 
 /* The two membrane materials: mats[PLUME_MAT_BARB], mats[PLUME_MAT_BARBULE] (isotropic). */

@@ -1,18 +1,32 @@
 #!/usr/bin/env bash
-# The main job on shipped data: the tilted traction test of the paper's macroscale vane
-# (supplementary Table 4: l_x = 1, l_y/l_x = 1.3, E_xx/E_yy = 1e4, G_xy = E_yy) with the native
-# solver and with Ipopt, the penalty alternative (no constraint) on the same aligned mesh, and a transverse
-# sample of Table 1 (data/samples.json). Results land in out/: one HDF5 file, PNG+SVG charts.
+# The main job on shipped data, the whole chain of the paper at both scales:
+#  1. homogenise the microstructure of supplementary Figure 10 (data/layout_fig10.json: barbs
+#     phi = 0.16 in a barbule matrix 1e6 times softer) into macroscale moduli;
+#  2. the tilted and transverse traction tests at both scales: the resolved microstructure
+#     (d_B = 0.086 l_y) against the macro model with the homogenised moduli;
+#  3. fit the macro moduli (E_yy, G_xy, barbs inextensible) to the micro curves with NLopt;
+#  4. the macroscale vane of supplementary Table 4 (E_xx/E_yy = 1e4) with the native solver and
+#     with Ipopt, the penalty alternative, and sample T01 of Table 1.
+# Everything lands in out/: one HDF5 file (out/plume.h5) and PNG+SVG charts.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mkdir -p out
-h5=out/traction.h5
+h5=out/plume.h5
 rm -f "$h5"
-run() { echo "+ apps/traction $*" >&2; ./apps/traction "$@"; }
-echo "plume demo: tilted 45 deg traction, Table 4 parameters"
-run --scenario tilted --edge 0.02 --steps 10 --solver newton -o "$h5" --plot out/tilted_newton.png
-run --scenario tilted --edge 0.02 --steps 10 --solver ipopt --quiet
-run --scenario tilted --edge 0.02 --steps 10 --constraint off --quiet
-echo "plume demo: transverse sample T01 of supplementary Table 1 (same vane moduli)"
-run --sample T01 --edge 0.0005 --steps 10 -o "$h5" --plot out/transverse_T01.png --quiet
+run() { echo "+ $*" >&2; "$@"; }
+echo "== 1. homogenisation of the Figure 10 microstructure"
+run ./apps/homogenize --config data/layout_fig10.json -o "$h5" --plot out/cell.png
+echo "== 2. traction at both scales (micro: resolved barbs; macro: homogenised moduli, barbs inextensible)"
+for scenario in tilted transverse; do
+    run ./apps/traction --model both --scenario "$scenario" --layout-config data/layout_fig10.json --dB-rel 0.086 \
+        --moduli "$h5" --steps 10 -o "$h5" --plot "out/both_$scenario.png" --quiet
+done
+echo "== 3. macro moduli fitted to the micro curves (the paper's protocol, micro model as intermediary)"
+run ./apps/fit --target "$h5:micro/tilted" --angle 45 --target "$h5:micro/transverse" --angle 90 \
+    --Exx 4e8 --Eyy 3e3 --Gxy 1e3 --plot out/fit.png
+echo "== 4. the Table 4 macroscale vane: newton against ipopt, the penalty model, a Table 1 sample"
+run ./apps/traction --scenario tilted --edge 0.02 --steps 10 --solver newton -o out/table4.h5 --plot out/tilted_newton.png --quiet
+run ./apps/traction --scenario tilted --edge 0.02 --steps 10 --solver ipopt --quiet
+run ./apps/traction --scenario tilted --edge 0.02 --steps 10 --constraint off --quiet
+run ./apps/traction --sample T01 --edge 0.0005 --steps 10 -o out/table4.h5 --plot out/transverse_T01.png --quiet
 echo "plume demo: outputs in out/: $(ls out | tr '\n' ' ')"

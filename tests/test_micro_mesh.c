@@ -72,8 +72,9 @@ void test_micro_mesh_layout_defaults(void)
     CHECK(l.phi == 0.16 && l.d_B == 1e-3 && l.e_rel == 1.0);
     CHECK(plume_layout_check(&l, &err) == PLUME_OK);
     CHECK_REL(plume_layout_barb_width(&l), 0.16e-3, 1e-15, 1e-300);
-    l.kind = PLUME_LAYOUT_BARBULES; /* the default barbules fit their cell, for any phi */
-    for (double phi = 0.01; phi < 1.0; phi += 0.07) {
+    l.kind = PLUME_LAYOUT_BARBULES; /* the default barbules fit their cell, for any phi up to 0.8
+                                       (beyond, e = w_B is more than 4 barbule widths) */
+    for (double phi = 0.01; phi < 0.8; phi += 0.07) {
         l.phi = phi;
         CHECK(plume_layout_check(&l, &err) == PLUME_OK);
     }
@@ -559,5 +560,25 @@ void test_micro_mesh_specimen_bad_inputs(void)
     l.kind = PLUME_LAYOUT_BARBULES;
     l.barbule_width = 1e-7, l.barbule_spacing = 2e-7; /* millions of barbules, each resolved */
     CHECK(plume_specimen_mesh(&l, 1, 1.3, 45, &m, &err) == PLUME_EINVAL && m == NULL &&
-          strstr(err.msg, "barbule_spacing"));
+          (strstr(err.msg, "barbule_spacing") || strstr(err.msg, "narrower than an element")));
+}
+
+/* The issue's bad inputs, each a clear error naming what is wrong. */
+void test_micro_mesh_issue_bad_inputs(void)
+{
+    plume_layout l;
+    plume_err err = {""};
+    plume_layout_default(&l);
+    l.phi = 1.0;
+    CHECK(plume_layout_check(&l, &err) == PLUME_EINVAL && strstr(err.msg, "phi"));
+    plume_layout_default(&l);
+    l.ratio = -1.0;
+    CHECK(plume_layout_check(&l, &err) == PLUME_EINVAL && strstr(err.msg, "ratio"));
+    plume_layout_default(&l);
+    l.e_rel = 4.5; /* barbs narrower than a quarter of an element */
+    CHECK(plume_layout_check(&l, &err) == PLUME_EINVAL && strstr(err.msg, "narrower than an element"));
+    plume_layout_default(&l);
+    l.kind = PLUME_LAYOUT_BARBULES;
+    l.barbule_spacing = 0.3e-3; /* the default barbule needs more room along the barbs */
+    CHECK(plume_layout_check(&l, &err) == PLUME_EINVAL && strstr(err.msg, "cell too small"));
 }
