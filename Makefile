@@ -67,10 +67,11 @@ asan: deps
 # deps first, then a sub-make: pkg-config flags are read when make starts, so they must be read
 # again once missing packages are installed
 bench: deps
-	@$(MAKE) --no-print-directory all $(BUILD)/bench_traction
+	@$(MAKE) --no-print-directory all $(BUILD)/bench_traction $(BUILD)/bench_micro
 	./$(BUILD)/bench_traction
+	./$(BUILD)/bench_micro
 
-$(BUILD)/bench_traction: bench/bench_traction.c $(BUILD)/libplume.a
+$(BUILD)/bench_%: bench/bench_%.c $(BUILD)/libplume.a
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(BUILD)/libplume.a $(LDFLAGS) $(LDLIBS)
 
 # The README's main command: the tilted traction test on the shipped parameters, both solvers.
