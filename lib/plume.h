@@ -18,7 +18,17 @@
 #include "sample.h"
 #include "plot.h"
 #include "progress.h"
+#include "pslg.h"
 #include "../macro/patch_mesh.h"
 #include "../macro/vane.h"
+#include "../macro/traction_model.h"
+#include "../micro/layout.h"
+#include "../micro/layout_json.h"
+#include "../micro/cell_mesh.h"
+#include "../micro/periodic.h"
+#include "../micro/cell_linear.h"
+#include "../micro/homogenize.h"
+#include "../micro/micro_model.h"
+#include "../micro/fit.h"
 
 #endif

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "../lib/cdt.h"
+#include "../lib/pslg.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -23,50 +24,10 @@ plume_status plume_patch_kind_parse(const char *s, plume_patch_kind *out)
 
 void plume_patch_barb_direction(double angle_deg, double d[2])
 {
-    double a = angle_deg * M_PI / 180.0;
-    d[0] = sin(a);
-    d[1] = cos(a);
-    /* exact axes for the scenarios that use them */
-    if (angle_deg == 0.0 || angle_deg == 180.0)
-        d[0] = 0.0, d[1] = angle_deg == 0.0 ? 1.0 : -1.0;
-    if (angle_deg == 90.0)
-        d[0] = 1.0, d[1] = 0.0;
+    plume_barb_direction(angle_deg, d);
 }
 
-/* growable point and segment lists */
-typedef struct {
-    double *p;
-    plume_index n, cap;
-    plume_index *s;
-    plume_index ns, scap;
-} geometry;
-
-static int push_point(geometry *g, double x, double y)
-{
-    if (g->n == g->cap) {
-        plume_index cap = g->cap ? 2 * g->cap : 256;
-        double *p = realloc(g->p, (size_t)(2 * cap) * sizeof *p);
-        if (!p)
-            return -1;
-        g->p = p, g->cap = cap;
-    }
-    g->p[2 * g->n] = x, g->p[2 * g->n + 1] = y;
-    return (int)(g->n++ >= 0);
-}
-
-static int push_segment(geometry *g, plume_index a, plume_index b)
-{
-    if (g->ns == g->scap) {
-        plume_index cap = g->scap ? 2 * g->scap : 256;
-        plume_index *s = realloc(g->s, (size_t)(2 * cap) * sizeof *s);
-        if (!s)
-            return -1;
-        g->s = s, g->scap = cap;
-    }
-    g->s[2 * g->ns] = a, g->s[2 * g->ns + 1] = b;
-    g->ns++;
-    return 0;
-}
+typedef plume_pslg geometry; /* lib/pslg.h */
 
 /* Boundary points are tracked per side by their parameter so that corners and barb ends are
  * shared exactly: side 0 bottom (t = x), 1 right (t = y), 2 top (t = x), 3 left (t = y). */
@@ -103,7 +64,7 @@ static plume_index boundary_point(geometry *g, sides *sd, double lx, double ly, 
     for (plume_index i = 0; i < g->n; i++) /* boundary points are few: O(sqrt N) per query */
         if (g->p[2 * i] == x && g->p[2 * i + 1] == y)
             return i;
-    if (push_point(g, x, y) < 0)
+    if (plume_pslg_point(g, x, y) < 0)
         return -1;
     plume_index id = g->n - 1;
     int on[4] = {y == 0.0, x == lx, y == ly, x == 0.0};
@@ -164,13 +125,13 @@ static plume_status aligned_geometry(double lx, double ly, double angle_deg, dou
             if (k == 0 || k == pieces || on_side) {
                 id = boundary_point(g, sd, lx, ly, x, y, tol);
             } else {
-                if (push_point(g, x, y) < 0)
+                if (plume_pslg_point(g, x, y) < 0)
                     return PLUME_ENOMEM;
                 id = g->n - 1;
             }
             if (id < 0)
                 return PLUME_ENOMEM;
-            if (prev >= 0 && push_segment(g, prev, id) < 0)
+            if (prev >= 0 && plume_pslg_segment(g, prev, id) < 0)
                 return PLUME_ENOMEM;
             prev = id;
         }
@@ -196,7 +157,7 @@ static plume_status fill_sides(double lx, double ly, double edge, geometry *g, s
                 double t = ta + (tb - ta) * (double)j / (double)pieces;
                 double x = s == 0 ? t : s == 1 ? lx : s == 2 ? t : 0.0;
                 double y = s == 0 ? 0.0 : s == 1 ? t : s == 2 ? ly : t;
-                if (push_point(g, x, y) < 0)
+                if (plume_pslg_point(g, x, y) < 0)
                     return PLUME_ENOMEM;
             }
         }

@@ -10,6 +10,7 @@
  * own periodic image. Barbules: a = barbule_spacing; the barb strip [0, a] x [0, w_B] is meshed
  * fully and the gap only inside the barbule parallelogram, centred in x (so it crosses neither
  * x = 0 nor x = a), whose outline is constrained; remove_exterior drops the empty space. */
+#include "../lib/pslg.h"
 #include "cell_mesh.h"
 
 #include <math.h>
@@ -29,40 +30,7 @@
 /* ceil(x - slack): a ratio that is an integer up to round-off does not get one more piece */
 #define PIECES(x) ((long)ceil((x) - 1e-9))
 
-/* growable point and segment lists (the same small helper as macro/patch_mesh.c) */
-typedef struct {
-    double *p;
-    plume_index n, cap;
-    plume_index *s;
-    plume_index ns, scap;
-} geometry;
-
-static plume_index push_point(geometry *g, double x, double y)
-{
-    if (g->n == g->cap) {
-        plume_index cap = g->cap ? 2 * g->cap : 256;
-        double *p = realloc(g->p, (size_t)(2 * cap) * sizeof *p);
-        if (!p)
-            return -1;
-        g->p = p, g->cap = cap;
-    }
-    g->p[2 * g->n] = x, g->p[2 * g->n + 1] = y;
-    return g->n++;
-}
-
-static int push_segment(geometry *g, plume_index a, plume_index b)
-{
-    if (g->ns == g->scap) {
-        plume_index cap = g->scap ? 2 * g->scap : 256;
-        plume_index *s = realloc(g->s, (size_t)(2 * cap) * sizeof *s);
-        if (!s)
-            return -1;
-        g->s = s, g->scap = cap;
-    }
-    g->s[2 * g->ns] = a, g->s[2 * g->ns + 1] = b;
-    g->ns++;
-    return 0;
-}
+typedef plume_pslg geometry; /* lib/pslg.h */
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -100,9 +68,9 @@ static plume_index push_row(geometry *g, const double *xs, long n, double y, int
 {
     plume_index first = g->n;
     for (long i = 0; i < n; i++) {
-        if (push_point(g, xs[i], y) < 0)
+        if (plume_pslg_point(g, xs[i], y) < 0)
             return -1;
-        if (constrain && i > 0 && push_segment(g, first + i - 1, first + i) < 0)
+        if (constrain && i > 0 && plume_pslg_segment(g, first + i - 1, first + i) < 0)
             return -1;
     }
     return first;
@@ -203,7 +171,7 @@ static plume_status barbules_geometry(const plume_layout *l, double a, double w,
         }
     }
     for (long j = 0; j < ny1; j++)
-        if (push_segment(g, col0[j], col0[j + 1]) < 0 || push_segment(g, cola[j], cola[j + 1]) < 0) {
+        if (plume_pslg_segment(g, col0[j], col0[j + 1]) < 0 || plume_pslg_segment(g, cola[j], cola[j + 1]) < 0) {
             st = PLUME_ENOMEM;
             goto cleanup;
         }
@@ -221,7 +189,7 @@ static plume_status barbules_geometry(const plume_layout *l, double a, double w,
         left[r] = first, right[r] = first + nw;
     }
     for (long r = 0; r < ns; r++)
-        if (push_segment(g, left[r], left[r + 1]) < 0 || push_segment(g, right[r], right[r + 1]) < 0) {
+        if (plume_pslg_segment(g, left[r], left[r + 1]) < 0 || plume_pslg_segment(g, right[r], right[r + 1]) < 0) {
             st = PLUME_ENOMEM;
             goto cleanup;
         }

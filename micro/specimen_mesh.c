@@ -18,6 +18,7 @@
  *
  * Strip boundaries clipped to less than e/1000 (a line grazing a corner) are not constrained; the
  * triangles there still get their material from the centroid. */
+#include "../lib/pslg.h"
 #include "cell_mesh.h"
 
 #include <math.h>
@@ -35,40 +36,7 @@
 /* Clipped lines shorter than this fraction of e are not constrained. */
 #define MIN_LINE_REL 1e-3
 
-/* growable point and segment lists (the same small helper as macro/patch_mesh.c) */
-typedef struct {
-    double *p;
-    plume_index n, cap;
-    plume_index *s;
-    plume_index ns, scap;
-} geometry;
-
-static plume_index push_point(geometry *g, double x, double y)
-{
-    if (g->n == g->cap) {
-        plume_index cap = g->cap ? 2 * g->cap : 256;
-        double *p = realloc(g->p, (size_t)(2 * cap) * sizeof *p);
-        if (!p)
-            return -1;
-        g->p = p, g->cap = cap;
-    }
-    g->p[2 * g->n] = x, g->p[2 * g->n + 1] = y;
-    return g->n++;
-}
-
-static int push_segment(geometry *g, plume_index a, plume_index b)
-{
-    if (g->ns == g->scap) {
-        plume_index cap = g->scap ? 2 * g->scap : 256;
-        plume_index *s = realloc(g->s, (size_t)(2 * cap) * sizeof *s);
-        if (!s)
-            return -1;
-        g->s = s, g->scap = cap;
-    }
-    g->s[2 * g->ns] = a, g->s[2 * g->ns + 1] = b;
-    g->ns++;
-    return 0;
-}
+typedef plume_pslg geometry; /* lib/pslg.h */
 
 /* A point of a line or a side, by its parameter along it. */
 typedef struct {
@@ -142,7 +110,7 @@ static plume_index add_point(builder *B, double x, double y)
             if (fabs(B->side[s].v[k].t - t) <= B->tol)
                 return B->side[s].v[k].id;
     }
-    plume_index id = push_point(&B->g, x, y);
+    plume_index id = plume_pslg_point(&B->g, x, y);
     if (id < 0)
         return -1;
     for (int s = 0; s < 4; s++)
@@ -194,12 +162,12 @@ static plume_status emit_line(builder *B, line *L)
             long pieces = (long)ceil((t - tprev) / B->e - 1e-9);
             for (long j = 1; j < pieces; j++) {
                 double tj = tprev + (t - tprev) * (double)j / (double)pieces;
-                plume_index mid = push_point(&B->g, L->o[0] + tj * L->u[0], L->o[1] + tj * L->u[1]);
-                if (mid < 0 || push_segment(&B->g, prev, mid) < 0)
+                plume_index mid = plume_pslg_point(&B->g, L->o[0] + tj * L->u[0], L->o[1] + tj * L->u[1]);
+                if (mid < 0 || plume_pslg_segment(&B->g, prev, mid) < 0)
                     return PLUME_ENOMEM;
                 prev = mid;
             }
-            if (push_segment(&B->g, prev, id) < 0)
+            if (plume_pslg_segment(&B->g, prev, id) < 0)
                 return PLUME_ENOMEM;
         }
         prev = id, tprev = t;
@@ -225,7 +193,7 @@ static plume_status fill_sides(builder *B)
                 double t = ta + (tb - ta) * (double)j / (double)pieces;
                 double x = s == 0 ? t : s == 1 ? B->lx : s == 2 ? t : 0.0;
                 double y = s == 0 ? 0.0 : s == 1 ? t : s == 2 ? B->ly : t;
-                if (push_point(&B->g, x, y) < 0)
+                if (plume_pslg_point(&B->g, x, y) < 0)
                     return PLUME_ENOMEM;
             }
         }
@@ -262,15 +230,6 @@ static int material_at(const pattern *P, double x, double y)
     return pmod(s - (P->s0 + yg * P->cot), P->sp) < P->L ? PLUME_MAT_BARBULE : -1;
 }
 
-static void barb_direction(double angle_deg, double d[2])
-{
-    double a = angle_deg * M_PI / 180.0;
-    d[0] = sin(a), d[1] = cos(a);
-    if (angle_deg == 0.0 || angle_deg == 180.0) /* exact axes, as macro/patch_mesh.c */
-        d[0] = 0.0, d[1] = angle_deg == 0.0 ? 1.0 : -1.0;
-    if (angle_deg == 90.0)
-        d[0] = 1.0, d[1] = 0.0;
-}
 
 static plume_index find(plume_index *parent, plume_index i)
 {
@@ -391,7 +350,7 @@ plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, do
 
     pattern P;
     memset(&P, 0, sizeof P);
-    barb_direction(angle_deg, P.d);
+    plume_barb_direction(angle_deg, P.d);
     P.q[0] = -P.d[1], P.q[1] = P.d[0];
     P.w = w, P.dB = l->d_B, P.gap = l->d_B - w;
     double mid[2] = {0.5 * lx, 0.5 * ly};
