@@ -4,38 +4,19 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <jansson.h>
 
+#include "app_runner.h"
 #include "harness.h"
 #include "../lib/curves.h"
 
 static char scratch[64];
 
-/* Runs `../apps/traction ARGS`, captures stdout/stderr into files; returns the exit code. */
 static int run_app(const char *args, char *out, size_t nout, char *errtxt, size_t nerr)
 {
-    char cmd[2048];
-    snprintf(cmd, sizeof cmd, "../apps/traction %s >%s/out.txt 2>%s/err.txt", args, scratch, scratch);
-    int rc = system(cmd);
-    char path[128];
-    FILE *f;
-    out[0] = errtxt[0] = 0;
-    snprintf(path, sizeof path, "%s/out.txt", scratch);
-    if ((f = fopen(path, "r"))) {
-        size_t n = fread(out, 1, nout - 1, f);
-        out[n] = 0;
-        fclose(f);
-    }
-    snprintf(path, sizeof path, "%s/err.txt", scratch);
-    if ((f = fopen(path, "r"))) {
-        size_t n = fread(errtxt, 1, nerr - 1, f);
-        errtxt[n] = 0;
-        fclose(f);
-    }
-    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    return app_run(scratch, "traction", args, out, nout, errtxt, nerr);
 }
 
 static void expect_error(const char *args, const char *needle)

@@ -1,0 +1,82 @@
+/* apps/homogenize and apps/fit as a user runs them. */
+#define _DEFAULT_SOURCE
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <jansson.h>
+
+#include "app_runner.h"
+#include "harness.h"
+#include "../lib/curves.h"
+
+void test_app_homogenize_and_fit(void)
+{
+    char scratch[64] = "/tmp/plume-hom-XXXXXX", args[1024], path[256], out[16384], err[8192];
+    if (!mkdtemp(scratch)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(path, sizeof path, "%s/m.h5", scratch);
+    snprintf(args, sizeof args, "--phi 0.16 --ratio 1e-6 --Eb 2.5e9 --nu-barb 0.3 --nu-barbule 0.3 --thickness 1e-4 "
+                                "--steps 2 --strain-max 0.01 -o %s --json", path);
+    CHECK(app_run(scratch, "homogenize", args, out, sizeof out, err, sizeof err) == 0);
+    json_error_t je;
+    json_t *j = json_loads(out, 0, &je);
+    CHECK(j != NULL);
+    if (j) {
+        const char *keys[] = {"E_xx", "E_yy", "nu_xy", "G_xy", "seconds"};
+        for (int k = 0; k < 5; k++)
+            CHECK(json_is_number(json_object_get(j, keys[k])));
+        json_decref(j);
+    }
+    plume_ortho m;
+    plume_err e;
+    CHECK(plume_moduli_read(path, &m, &e) == PLUME_OK);
+    CHECK(m.E_xx > 1e5 * m.E_yy); /* barbs ~1e5 times stiffer than the vane across them */
+    plume_curve c;
+    CHECK(plume_curve_read(path, "cell", "shear", &c, &e) == PLUME_OK);
+    plume_curve_free(&c);
+    /* the moduli file drives a macro traction run */
+    snprintf(args, sizeof args, "--moduli %s --steps 2 --quiet --json", path);
+    CHECK(app_run(scratch, "traction", args, out, sizeof out, err, sizeof err) == 0);
+    /* a curve file as a fit target */
+    snprintf(args, sizeof args, "--moduli %s --steps 3 --quiet -o %s", path, path);
+    CHECK(app_run(scratch, "traction", args, out, sizeof out, err, sizeof err) == 0);
+    snprintf(args, sizeof args, "--target %s:macro/tilted --angle 45 --Exx %g --Eyy %g --Gxy %g --steps 3 --json", path,
+             m.E_xx, 2.0 * m.E_yy, 0.5 * m.G_xy);
+    CHECK(app_run(scratch, "fit", args, out, sizeof out, err, sizeof err) == 0);
+    j = json_loads(out, 0, &je);
+    CHECK(j != NULL);
+    if (j) {
+        CHECK_REL(json_real_value(json_object_get(j, "G_xy")), m.G_xy, 1e-3, 0.0);
+        json_decref(j);
+    } else {
+        fprintf(stderr, "    fit output: %s\n    stderr: %s\n", out, err);
+    }
+    /* bad inputs */
+    const char *bad[][2] = {{"--phi 0", "phi"}, {"--phi 1", "phi"}, {"--ratio -2", "ratio"},
+                            {"--e-rel 6", "narrower than an element"},
+                            {"--layout barbules --barbule-spacing 1e-4", "barbule"},
+                            {"--config /nonexistent.json", "/nonexistent.json"}, {"--phi x", "--phi"}};
+    for (int k = 0; k < 7; k++) {
+        CHECK(app_run(scratch, "homogenize", bad[k][0], out, sizeof out, err, sizeof err) != 0);
+        if (!strstr(err, bad[k][1])) {
+            plume_test_failures++;
+            fprintf(stderr, "    homogenize %s: expected '%s' in: %s\n", bad[k][0], bad[k][1], err);
+        }
+    }
+    snprintf(path, sizeof path, "%s/bad.json", scratch);
+    FILE *f = fopen(path, "w");
+    fputs("{\n  \"phi\": 0.2,\n  \"ratoi\": 1e-6\n}\n", f);
+    fclose(f);
+    snprintf(args, sizeof args, "--config %s", path);
+    CHECK(app_run(scratch, "homogenize", args, out, sizeof out, err, sizeof err) == 2);
+    CHECK(strstr(err, "unknown key \"ratoi\"") != NULL);
+    CHECK(app_run(scratch, "fit", "--target /nonexistent.txt", out, sizeof out, err, sizeof err) != 0);
+    CHECK(strstr(err, "/nonexistent.txt") != NULL);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
+    CHECK(system(cmd) == 0);
+}
