@@ -1,0 +1,53 @@
+/* plume: the feather mesher of supplementary §6 — a rachis strip walked at the target edge length
+ * with linearly interpolated width, and from each rachis vertex a barb curve interpolated from the
+ * closest input barb curves of that side only, walked to the outline; points and barb edges
+ * triangulated by constrained Delaunay (lib/cdt.h). */
+#ifndef PLUME_FEATHER_MESH_H
+#define PLUME_FEATHER_MESH_H
+
+#include "../lib/mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A polyline in the 2D reference (material) plane. */
+typedef struct {
+    plume_index n;
+    const double *p; /* [2 n], owned by the caller */
+} plume_polyline;
+
+/* Mesher input; every array is owned by the caller. All in metres. */
+typedef struct {
+    plume_polyline outline;     /* closed outline of the whole feather (last point != first) */
+    plume_polyline rachis;      /* rachis centre line from base to tip (extrapolated linearly to
+                                   the outline if it stops short) */
+    double rachis_width_base, rachis_width_tip;
+    int nbarbs_left, nbarbs_right;
+    const plume_polyline *barbs_left, *barbs_right; /* barb curves on each side, from the rachis
+                                                       outward (extrapolated to the outline) */
+    double edge;                /* target edge length e */
+} plume_feather_input;
+
+/* Material ids of the output. */
+enum { PLUME_FEATHER_VANE = 0, PLUME_FEATHER_RACHIS = 1 };
+
+/* Meshes the feather. Output: a mesh with X (2D reference), x = X (z = 0 in shell mode), material
+ * per triangle (vane or rachis), barb_dir per vane triangle (local barb direction; for the rachis
+ * the rachis tangent), topology built; *barb_edges receives the 2*nbarb vertex ids of the barb
+ * edges (malloc'ed). Errors (PLUME_EINVAL, message naming the curve and point): an outline or
+ * curve with fewer than 2 points or non-finite coordinates, a self-intersecting outline or barb
+ * curve, a rachis or barb curve whose start lies outside the outline, a side with no barb curve,
+ * edge <= 0 or too small for the outline (more than 5e6 triangles). */
+plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_mesh **out, plume_index **barb_edges,
+                                plume_index *nbarb, plume_err *err);
+
+/* Reads the boundary of a triangle mesh in OBJ (v x y [z] / f i j k; only x and y are used) as a
+ * closed outline (the single boundary loop, counter-clockwise); *points malloc'ed [2 n].
+ * Errors name the file and line. */
+plume_status plume_obj_outline(const char *path, double **points, plume_index *n, plume_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
