@@ -1,0 +1,81 @@
+/* plume: implicit Euler as a constrained minimisation (DESIGN.md "Dynamics", supplementary §3):
+ *   x_{n+1} = argmin 1/(2 dt^2) (x - x~)^T M (x - x~) + W(x) - f_ext^T x  s.t. g(x) = 0,
+ *   x~ = x_n + dt v_n, v_{n+1} = (x_{n+1} - x_n) / dt, M lumped,
+ * with gravity, handles that move prescribed vertices along keyframed paths, and a step that
+ * does not converge halved and retried (supplementary §7.2.3). */
+#ifndef PLUME_DYNAMICS_H
+#define PLUME_DYNAMICS_H
+
+#include "mesh.h"
+#include "problem.h"
+#include "solver.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A handle: vertices whose positions follow X + offset(t) (offset piecewise linear between
+ * keyframes, constant after the last). Arrays owned by the caller; copied at creation. */
+typedef struct {
+    plume_index nvertices;
+    const plume_index *vertices;
+    int nkeys;
+    const double *times;    /* [nkeys], increasing, seconds */
+    const double *offsets;  /* [3 nkeys] translation of the handle at each key (m) */
+} plume_handle;
+
+typedef struct {
+    double dt;               /* time step (s) */
+    double gravity[3];       /* m/s^2, e.g. (0, 0, -9.81) */
+    int max_halvings;        /* a failed step is halved at most this often; default 6 */
+    plume_solver_kind solver;
+    plume_solver_opts solver_opts;
+} plume_dynamics_opts;
+
+void plume_dynamics_opts_default(plume_dynamics_opts *o);
+
+typedef struct plume_dynamics plume_dynamics;
+
+/* Takes a shell-mode problem over mesh->nv vertices holding the elastic terms and constraints
+ * (not finalised), adds the inertia and gravity terms with the lumped masses of the per-triangle
+ * surface densities (kg/m^2, indexed by material id), fixes the handles' vertices, finalises it
+ * and creates the solver. The problem stays owned by the caller and must outlive the stepper.
+ * Initial state: x = the problem's x (set it first, typically the rest shape), v = 0, t = 0. */
+plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, const double *density, int ndensity,
+                                   const plume_handle *handles, int nhandles, const plume_dynamics_opts *o,
+                                   plume_dynamics **out, plume_err *err);
+void plume_dynamics_destroy(plume_dynamics **d);
+
+/* What happened in one call of plume_dynamics_advance. */
+typedef struct {
+    int substeps;          /* implicit Euler steps taken (1 when nothing was halved) */
+    int halvings;          /* times a step was halved */
+    int iterations;        /* solver iterations over all substeps */
+    double max_violation;  /* max relative constraint violation over the substeps */
+    int converged;         /* every substep converged */
+    plume_reason reason;   /* why the first attempt that failed stopped (CONVERGED if none failed) */
+    double seconds;
+} plume_step_report;
+
+/* Advances the state by dt (opts.dt when dt <= 0): one implicit Euler step, halved recursively
+ * on non-convergence up to max_halvings. Not converging at the smallest step is reported (state
+ * left at the last converged substep), not an error. */
+plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep);
+
+/* State access: time, positions (3 nv), velocities (3 nv) and the constraint multipliers of
+ * the last step (*m of them); set restores a saved state (restart: with the multipliers too, the
+ * continued run repeats the uninterrupted one exactly). lambda may be NULL (zero). */
+double plume_dynamics_time(const plume_dynamics *d);
+const double *plume_dynamics_positions(const plume_dynamics *d);
+const double *plume_dynamics_velocities(const plume_dynamics *d);
+const double *plume_dynamics_multipliers(const plume_dynamics *d, plume_index *m);
+plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double *x, const double *v,
+                                      const double *lambda);
+
+/* Lumped vertex masses (nv), for tests and energy checks. */
+const double *plume_dynamics_masses(const plume_dynamics *d);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
