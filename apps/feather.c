@@ -1,0 +1,450 @@
+/* apps/feather — a dynamic shell scene (a full feather, or any triangle mesh) stepped by implicit
+ * Euler as a constrained minimisation: VTK frames for ParaView, an HDF5 frames file that a later
+ * run can restart from, PNG renders of chosen frames, a progress line and a JSON summary. */
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <jansson.h>
+
+#include "../lib/dynamics.h"
+#include "../lib/frames.h"
+#include "../lib/plume.h"
+#include "../lib/render.h"
+#include "../lib/vtk.h"
+#include "../macro/scene.h"
+#include "cli.h"
+
+#define APP "feather"
+
+static const char usage[] =
+    "usage: feather SCENE.json [options]\n"
+    "Steps a shell scene (mesh, materials, handles, gravity: the format is in macro/scene.h) by implicit Euler,\n"
+    "each step a constrained minimisation solved to convergence (halved when it fails).\n"
+    "  -o DIR              output directory (default out/<scene name>, or the restart file's directory):\n"
+    "                      DIR/frame_00000.vtk ... (ParaView series), DIR/frames.h5, DIR/frame_XXXXX.png\n"
+    "  --frames N          compute N output frames (N x output_every steps), instead of the scene's duration\n"
+    "  --duration T        simulate until time T (s), instead of the scene's duration\n"
+    "  --restart FILE.h5   continue from the last frame of a frames file (time, x, v, multipliers) and append\n"
+    "                      to DIR/frames.h5 (FILE.h5 is copied there first if it is another file)\n"
+    "  --solver S          newton | ipopt | linearized (overrides the scene's \"solver\")\n"
+    "  --json              print a summary object on stdout\n"
+    "  --quiet / --verbose no progress line / solver iterations on stderr\n"
+    "  --help\n"
+    "Exit status: 0 done, 2 bad input, 3 a step did not converge at the smallest step (frames so far kept),\n"
+    "1 other errors.\n";
+
+/* "feather: <message>" on stderr; returns 1, the exit code of errors other than bad input. */
+static int run_fail(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "%s: ", APP);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    return 1;
+}
+
+typedef struct {
+    const char *scene, *outdir, *restart, *solver;
+    int frames, json, quiet, verbose;
+    double duration;
+} options;
+
+static int parse_args(int argc, char **argv, options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->duration = -1.0;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int r = 0;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            fputs(usage, stdout);
+            exit(0);
+        }
+        if (strcmp(a, "--json") == 0) {
+            o->json = 1;
+            continue;
+        }
+        if (strcmp(a, "--quiet") == 0) {
+            o->quiet = 1;
+            continue;
+        }
+        if (strcmp(a, "--verbose") == 0) {
+            o->verbose = 1;
+            continue;
+        }
+        if (a[0] != '-') {
+            if (o->scene)
+                return cli_fail(APP, "one scene file only (got '%s' and '%s')", o->scene, a);
+            o->scene = a;
+            continue;
+        }
+        if (strcmp(a, "-o") && strcmp(a, "--frames") && strcmp(a, "--duration") && strcmp(a, "--restart") &&
+            strcmp(a, "--solver"))
+            return cli_fail(APP, "unknown option '%s' (see --help)", a);
+        if (!v)
+            return cli_fail(APP, "%s needs a value (see --help)", a);
+        i++;
+        if (strcmp(a, "-o") == 0)
+            o->outdir = v;
+        else if (strcmp(a, "--frames") == 0)
+            r = cli_int(APP, a, v, &o->frames);
+        else if (strcmp(a, "--duration") == 0) {
+            r = cli_double(APP, a, v, &o->duration);
+            if (!r && !(o->duration > 0.0))
+                r = cli_fail(APP, "--duration must be > 0 (got %g)", o->duration);
+        } else if (strcmp(a, "--restart") == 0)
+            o->restart = v;
+        else
+            o->solver = v;
+        if (r)
+            return r;
+    }
+    if (!o->scene)
+        return cli_fail(APP, "no scene file given (usage: feather SCENE.json [options]; see --help)");
+    if (o->frames > 0 && o->duration > 0.0)
+        return cli_fail(APP, "--frames and --duration are exclusive");
+    return 0;
+}
+
+/* mkdir -p */
+static int make_dirs(const char *path)
+{
+    char buf[4096];
+    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf)
+        return errno = ENAMETOOLONG, -1;
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+            return -1;
+        *p = '/';
+    }
+    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        return -1;
+    struct stat st;
+    if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode))
+        return errno = ENOTDIR, -1;
+    return 0;
+}
+
+/* Removes DIR/frame_<digits>.{vtk,png} left by an earlier run, so a ParaView series or a folder of
+ * pictures never mixes two runs. Only names this app writes are touched. */
+static void remove_stale_frames(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        const char *n = e->d_name;
+        if (strncmp(n, "frame_", 6) != 0)
+            continue;
+        const char *p = n + 6;
+        size_t digits = strspn(p, "0123456789");
+        if (digits < 5 || (strcmp(p + digits, ".vtk") != 0 && strcmp(p + digits, ".png") != 0))
+            continue;
+        char path[4096 + 300];
+        snprintf(path, sizeof path, "%s/%s", dir, n);
+        unlink(path);
+    }
+    closedir(d);
+}
+
+/* Copies src to dst through "<dst>.tmp.<pid>" and a rename. */
+static int copy_file(const char *src, const char *dst)
+{
+    char tmp[4300];
+    if (snprintf(tmp, sizeof tmp, "%s.tmp.%ld", dst, (long)getpid()) >= (int)sizeof tmp)
+        return errno = ENAMETOOLONG, -1;
+    FILE *in = fopen(src, "rb"), *out = in ? fopen(tmp, "wb") : NULL;
+    int ok = in && out;
+    char buf[65536];
+    size_t n;
+    while (ok && (n = fread(buf, 1, sizeof buf, in)) > 0)
+        ok = fwrite(buf, 1, n, out) == n;
+    ok = ok && !ferror(in);
+    if (in)
+        fclose(in);
+    if (out && fclose(out) != 0)
+        ok = 0;
+    if (ok && rename(tmp, dst) != 0)
+        ok = 0;
+    if (!ok && out)
+        unlink(tmp);
+    return ok ? 0 : -1;
+}
+
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+/* The scene's name without directory and .json, for the default output directory and titles. */
+static void scene_stem(const char *path, char *out, size_t n)
+{
+    const char *b = strrchr(path, '/');
+    b = b ? b + 1 : path;
+    snprintf(out, n, "%s", b);
+    size_t len = strlen(out);
+    if (len > 5 && strcmp(out + len - 5, ".json") == 0)
+        out[len - 5] = '\0';
+}
+
+typedef struct {
+    const plume_scene *scene;
+    const char *outdir, *frames_path, *stem;
+} output_ctx;
+
+static int wants_render(const plume_scene *s, long k)
+{
+    for (int i = 0; i < s->nrender; i++)
+        if (s->render[i] == k)
+            return 1;
+    return 0;
+}
+
+/* Writes frame k of the current state: VTK, HDF5 frame, PNG when requested. Exit code. */
+static int write_frame(const output_ctx *oc, const plume_dynamics *d, long k, long step, int append)
+{
+    plume_err err = {{0}};
+    char path[4400];
+    const plume_mesh *m = oc->scene->mesh;
+    const double *x = plume_dynamics_positions(d);
+    double t = plume_dynamics_time(d);
+    snprintf(path, sizeof path, "%s/frame_%05ld.vtk", oc->outdir, k);
+    if (plume_vtk_write(path, m, x, t, &err) != PLUME_OK)
+        return run_fail("%s", err.msg);
+    if (append) {
+        plume_index ncons;
+        const double *lambda = plume_dynamics_multipliers(d, &ncons);
+        if (plume_frames_append(oc->frames_path, m->nv, ncons, t, step, x, plume_dynamics_velocities(d), lambda,
+                                &err) != PLUME_OK)
+            return run_fail("%s", err.msg);
+    }
+    if (wants_render(oc->scene, k)) {
+        plume_render_opts ro;
+        plume_render_opts_default(&ro);
+        ro.rot_x = oc->scene->camera[0];
+        ro.rot_z = oc->scene->camera[1];
+        char title[512];
+        snprintf(title, sizeof title, "%s   t = %.4f s   frame %ld", oc->stem, t, k);
+        ro.title = title;
+        snprintf(path, sizeof path, "%s/frame_%05ld.png", oc->outdir, k);
+        if (plume_render_png(path, m, x, &ro, &err) != PLUME_OK)
+            return run_fail("%s", err.msg);
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    options o;
+    int rc = parse_args(argc, argv, &o);
+    if (rc)
+        return rc;
+    double t_start = plume_wall_seconds();
+    plume_err err = {{0}};
+    plume_status st;
+    plume_scene *scene = NULL;
+    plume_problem *p = NULL;
+    plume_dynamics *d = NULL;
+    plume_frame last = {0};
+    if ((st = plume_scene_load(o.scene, &scene, &err)) != PLUME_OK)
+        return cli_fail(APP, "%s", err.msg);
+    if (o.solver && plume_solver_kind_parse(o.solver, &scene->solver) != PLUME_OK) {
+        plume_scene_destroy(&scene);
+        return cli_fail(APP, "--solver expects newton|ipopt|linearized (got '%s')", o.solver);
+    }
+
+    char stem[256], outdir[4096], frames_path[4200];
+    scene_stem(o.scene, stem, sizeof stem);
+    if (o.outdir)
+        snprintf(outdir, sizeof outdir, "%s", o.outdir);
+    else if (o.restart && strrchr(o.restart, '/'))
+        snprintf(outdir, sizeof outdir, "%.*s", (int)(strrchr(o.restart, '/') - o.restart), o.restart);
+    else if (o.restart)
+        snprintf(outdir, sizeof outdir, ".");
+    else
+        snprintf(outdir, sizeof outdir, "out/%s", stem);
+    if (!outdir[0])
+        snprintf(outdir, sizeof outdir, "/");
+    snprintf(frames_path, sizeof frames_path, "%s/frames.h5", outdir);
+    output_ctx oc = {scene, outdir, frames_path, stem};
+
+    scene->verbose = o.verbose;
+    if ((st = plume_scene_dynamics(scene, &p, &d, &err)) != PLUME_OK) {
+        rc = st == PLUME_EINVAL || st == PLUME_EFORMAT ? cli_fail(APP, "%s: %s", o.scene, err.msg)
+                                                       : run_fail("%s", err.msg);
+        goto done;
+    }
+    const plume_mesh *mesh = scene->mesh;
+    plume_index ncons;
+    plume_dynamics_multipliers(d, &ncons);
+    if (make_dirs(outdir) != 0) {
+        rc = run_fail("cannot create the output directory '%s': %s", outdir, strerror(errno));
+        goto done;
+    }
+
+    long step = 0, next_frame = 0;
+    double dt = scene->dt;
+    if (o.restart) {
+        plume_frames_info info;
+        if (plume_frames_info_read(o.restart, &info, &err) != PLUME_OK ||
+            plume_frames_read(o.restart, -1, &last, &err) != PLUME_OK) {
+            rc = cli_fail(APP, "--restart: %s", err.msg);
+            goto done;
+        }
+        if (info.nv != mesh->nv || info.ncons != ncons) {
+            rc = cli_fail(APP, "--restart: '%s' holds frames of %ld vertices and %ld constraints, but the scene '%s' "
+                               "has %ld and %ld (another scene or mesh?)",
+                          o.restart, (long)info.nv, (long)info.ncons, o.scene, (long)mesh->nv, (long)ncons);
+            goto done;
+        }
+        if (fabs(info.dt - dt) > 1e-12 * dt)
+            fprintf(stderr, "%s: warning: '%s' was written with dt = %g s, the scene now has %g s\n", APP, o.restart,
+                    info.dt, dt);
+        if ((st = plume_dynamics_set_state(d, last.t, last.x, last.v, last.lambda)) != PLUME_OK) {
+            rc = cli_fail(APP, "--restart: the last frame of '%s' holds non-finite values", o.restart);
+            goto done;
+        }
+        if (!same_file(o.restart, frames_path) && copy_file(o.restart, frames_path) != 0) {
+            rc = run_fail("cannot copy '%s' to '%s': %s", o.restart, frames_path, strerror(errno));
+            goto done;
+        }
+        step = last.step;
+        next_frame = last.index + 1;
+    } else {
+        remove_stale_frames(outdir);
+        if (plume_frames_create(frames_path, mesh->nv, ncons, dt, o.scene, &err) != PLUME_OK) {
+            rc = run_fail("%s", err.msg);
+            goto done;
+        }
+        if ((rc = write_frame(&oc, d, 0, 0, 1)) != 0)
+            goto done;
+        next_frame = 1;
+    }
+
+    /* how many steps: N frames, or up to an end time counted in whole steps from t = 0 */
+    long nsteps;
+    if (o.frames > 0)
+        nsteps = (long)o.frames * scene->output_every;
+    else {
+        double end = o.duration > 0.0 ? o.duration : scene->duration;
+        nsteps = (long)floor(end / dt + 0.5) - step;
+        if (nsteps < 0)
+            nsteps = 0;
+    }
+
+    plume_progress prog;
+    plume_progress_start(&prog, APP, (int)(nsteps < 2000000000L ? nsteps : 2000000000L), 0);
+    if (o.quiet)
+        prog.enabled = 0;
+    long halvings = 0, iterations = 0, frames = o.restart ? 0 : 1, done_steps = 0;
+    double max_violation = 0.0, loop_start = plume_wall_seconds(), solve_seconds = 0.0;
+    int converged = 1, failed = 0;
+    plume_reason failed_reason = PLUME_REASON_CONVERGED;
+    for (long i = 1; i <= nsteps; i++) {
+        plume_step_report rep;
+        double t0 = plume_dynamics_time(d);
+        if ((st = plume_dynamics_advance(d, 0.0, &rep)) != PLUME_OK) {
+            rc = run_fail("step %ld: %s", step + 1, plume_strerror(st));
+            goto done;
+        }
+        halvings += rep.halvings;
+        iterations += rep.iterations;
+        solve_seconds += rep.seconds;
+        max_violation = fmax(max_violation, rep.max_violation);
+        double t1 = plume_dynamics_time(d);
+        int advanced = fabs(t1 - (t0 + dt)) <= 1e-9 * fmax(dt, fabs(t1));
+        if (!rep.converged) {
+            converged = 0;
+            /* linearized takes one unconverged step by design: only a step that did not advance fails */
+            if (scene->solver != PLUME_SOLVER_LINEARIZED || !advanced) {
+                failed = 1;
+                failed_reason = rep.reason;
+                plume_progress_finish(&prog);
+                fprintf(stderr,
+                        "%s: step %ld (t = %.6g s) did not converge even at dt / 2^%d (%s, after %d halvings); "
+                        "stopping with %ld frame%s kept in %s (the last at step %ld)\n",
+                        APP, step + 1, t0, scene->max_halvings, plume_reason_name(rep.reason), rep.halvings,
+                        next_frame, next_frame == 1 ? "" : "s", frames_path,
+                        step - step % scene->output_every);
+                break;
+            }
+        }
+        step++;
+        done_steps++;
+        if (step % scene->output_every == 0) {
+            if ((rc = write_frame(&oc, d, next_frame, step, 1)) != 0)
+                goto done;
+            next_frame++;
+            frames++;
+        }
+        char info[128];
+        snprintf(info, sizeof info, "t %.4f s, frame %ld, %d it%s", t1, next_frame - 1, rep.iterations,
+                 rep.halvings ? ", halved" : "");
+        plume_progress_update(&prog, (int)i, info);
+    }
+    if (!failed)
+        plume_progress_finish(&prog);
+    double loop_seconds = plume_wall_seconds() - loop_start;
+    long new_frames = frames - (o.restart ? 0 : 1);
+    double total = plume_wall_seconds() - t_start;
+    if (o.json) {
+        json_t *j = json_object();
+        json_object_set_new(j, "frames", json_integer(frames));
+        json_object_set_new(j, "steps", json_integer(done_steps));
+        json_object_set_new(j, "steps_halved", json_integer(halvings));
+        json_object_set_new(j, "newton_iterations", json_integer(iterations));
+        json_object_set_new(j, "max_constraint_violation", json_real(max_violation));
+        json_object_set_new(j, "converged", json_boolean(converged));
+        json_object_set_new(j, "stop_reason", json_string(failed ? plume_reason_name(failed_reason)
+                                                                 : converged ? "converged" : "single_step"));
+        json_object_set_new(j, "seconds", json_real(total));
+        json_object_set_new(j, "solve_seconds", json_real(solve_seconds));
+        json_object_set_new(j, "seconds_per_frame", new_frames > 0 ? json_real(loop_seconds / (double)new_frames)
+                                                                   : json_null());
+        json_object_set_new(j, "elements", json_integer(mesh->nt));
+        json_object_set_new(j, "vertices", json_integer(mesh->nv));
+        json_object_set_new(j, "constraints", json_integer(ncons));
+        json_object_set_new(j, "time", json_real(plume_dynamics_time(d)));
+        json_object_set_new(j, "step", json_integer(step));
+        json_object_set_new(j, "last_frame", json_integer(next_frame - 1));
+        json_object_set_new(j, "dt", json_real(dt));
+        json_object_set_new(j, "solver", json_string(plume_solver_kind_name(scene->solver)));
+        json_object_set_new(j, "output_dir", json_string(outdir));
+        json_object_set_new(j, "frames_file", json_string(frames_path));
+        if (o.restart)
+            json_object_set_new(j, "restarted_from", json_string(o.restart));
+        char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
+        if (txt)
+            puts(txt);
+        free(txt);
+        json_decref(j);
+    } else {
+        printf("%s: %ld steps to t = %.6g s, %ld frames (last %ld) in %s; %ld elements, %ld constraints; %ld "
+               "iterations, %ld halvings, max violation %.2g; %.2f s (%.3g s per frame)%s\n",
+               stem, done_steps, plume_dynamics_time(d), frames, next_frame - 1, outdir, (long)mesh->nt, (long)ncons,
+               iterations, halvings, max_violation, total, new_frames > 0 ? loop_seconds / (double)new_frames : 0.0,
+               failed ? ", stopped: a step did not converge" : !converged ? ", single linearised steps, not converged" : "");
+    }
+    rc = failed ? 3 : 0;
+done:
+    plume_frame_free(&last);
+    plume_dynamics_destroy(&d);
+    plume_problem_destroy(&p);
+    plume_scene_destroy(&scene);
+    return rc;
+}

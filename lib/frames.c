@@ -1,0 +1,479 @@
+/* plume: frames of a dynamic run in HDF5, appended one group at a time (see frames.h for the
+ * layout and for why appends do not go through a temporary file).
+ *
+ * As in lib/curves.c, every public function silences HDF5's automatic error printing for its own
+ * duration and reports failures as a status and a message naming the file and the object. */
+#include "frames.h"
+
+#include <hdf5.h>
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+typedef struct {
+    H5E_auto2_t func;
+    void *data;
+} h5_quiet;
+
+static void quiet_begin(h5_quiet *q)
+{
+    q->func = NULL;
+    q->data = NULL;
+    H5Eget_auto2(H5E_DEFAULT, &q->func, &q->data);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+}
+
+static void quiet_end(const h5_quiet *q)
+{
+    H5Eset_auto2(H5E_DEFAULT, q->func, q->data);
+}
+
+typedef struct {
+    char text[160];
+} h5_detail;
+
+static herr_t detail_cb(unsigned n, const H5E_error2_t *e, void *data)
+{
+    h5_detail *d = data;
+    if (n == 0 && e && e->desc)
+        snprintf(d->text, sizeof d->text, "%s", e->desc);
+    return 0;
+}
+
+/* The innermost message on HDF5's error stack, for EIO messages. */
+static const char *h5_cause(h5_detail *d)
+{
+    d->text[0] = '\0';
+    H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, detail_cb, d);
+    if (!d->text[0])
+        snprintf(d->text, sizeof d->text, "unknown HDF5 error");
+    return d->text;
+}
+
+static int is_hdf5(const char *path)
+{
+#if H5_VERSION_GE(1, 12, 0)
+    return H5Fis_accessible(path, H5P_DEFAULT) > 0;
+#else
+    return H5Fis_hdf5(path) > 0;
+#endif
+}
+
+static int write_attr(hid_t obj, const char *name, hid_t file_type, hid_t mem_type, const void *v)
+{
+    int ok = 0;
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = sp < 0 ? H5I_INVALID_HID : H5Acreate2(obj, name, file_type, sp, H5P_DEFAULT, H5P_DEFAULT);
+    if (a >= 0 && H5Awrite(a, mem_type, v) >= 0)
+        ok = 1;
+    if (a >= 0)
+        H5Aclose(a);
+    if (sp >= 0)
+        H5Sclose(sp);
+    return ok ? 0 : -1;
+}
+
+static int write_attr_long(hid_t obj, const char *name, long v)
+{
+    return write_attr(obj, name, H5T_STD_I64LE, H5T_NATIVE_LONG, &v);
+}
+
+static int write_attr_double(hid_t obj, const char *name, double v)
+{
+    return write_attr(obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &v);
+}
+
+/* A variable-length UTF-8 string, as lib/curves.c writes them (h5py reads it as str). */
+static int write_attr_string(hid_t obj, const char *name, const char *v)
+{
+    int ok = 0;
+    hid_t t = H5Tcopy(H5T_C_S1);
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = H5I_INVALID_HID;
+    if (t >= 0 && sp >= 0 && H5Tset_size(t, H5T_VARIABLE) >= 0 && H5Tset_cset(t, H5T_CSET_UTF8) >= 0)
+        a = H5Acreate2(obj, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
+    if (a >= 0 && H5Awrite(a, t, &v) >= 0)
+        ok = 1;
+    if (a >= 0)
+        H5Aclose(a);
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (t >= 0)
+        H5Tclose(t);
+    return ok ? 0 : -1;
+}
+
+/* Reads a scalar numeric attribute converted to mem_type; -1 when missing or not scalar. */
+static int read_attr(hid_t obj, const char *name, hid_t mem_type, void *v)
+{
+    if (H5Aexists(obj, name) <= 0)
+        return -1;
+    int ok = 0;
+    hid_t a = H5Aopen(obj, name, H5P_DEFAULT);
+    hid_t sp = a < 0 ? H5I_INVALID_HID : H5Aget_space(a);
+    if (sp >= 0 && H5Sget_simple_extent_npoints(sp) == 1 && H5Aread(a, mem_type, v) >= 0)
+        ok = 1;
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (a >= 0)
+        H5Aclose(a);
+    return ok ? 0 : -1;
+}
+
+/* Reads a string attribute (variable or fixed length) into buf; -1 when missing. */
+static int read_attr_string(hid_t obj, const char *name, char *buf, size_t n)
+{
+    buf[0] = '\0';
+    if (H5Aexists(obj, name) <= 0)
+        return -1;
+    int ok = 0;
+    hid_t a = H5Aopen(obj, name, H5P_DEFAULT);
+    hid_t ft = a < 0 ? H5I_INVALID_HID : H5Aget_type(a);
+    if (ft >= 0 && H5Tget_class(ft) == H5T_STRING) {
+        if (H5Tis_variable_str(ft) > 0) {
+            char *s = NULL; /* read in the file's own string type: no ASCII/UTF-8 conversion */
+            if (H5Aread(a, ft, &s) >= 0 && s) {
+                snprintf(buf, n, "%s", s);
+                H5free_memory(s);
+                ok = 1;
+            }
+        } else {
+            size_t len = H5Tget_size(ft);
+            char *s = calloc(len + 1, 1);
+            if (s && H5Aread(a, ft, s) >= 0) {
+                snprintf(buf, n, "%s", s);
+                ok = 1;
+            }
+            free(s);
+        }
+    }
+    if (ft >= 0)
+        H5Tclose(ft);
+    if (a >= 0)
+        H5Aclose(a);
+    return ok ? 0 : -1;
+}
+
+static int write_dataset(hid_t g, const char *name, const double *v, plume_index n)
+{
+    int ok = 0;
+    hsize_t dims[1] = {(hsize_t)n};
+    hid_t sp = H5Screate_simple(1, dims, NULL);
+    hid_t ds = sp < 0 ? H5I_INVALID_HID
+                      : H5Dcreate2(g, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (ds >= 0 && (n == 0 || H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0))
+        ok = 1;
+    if (ds >= 0)
+        H5Dclose(ds);
+    if (sp >= 0)
+        H5Sclose(sp);
+    return ok ? 0 : -1;
+}
+
+/* Reads a 1D double dataset of exactly n values into v: 0, -1 missing/unreadable, -2 wrong size. */
+static int read_dataset(hid_t g, const char *name, double *v, plume_index n)
+{
+    if (H5Lexists(g, name, H5P_DEFAULT) <= 0)
+        return -1;
+    int rc = -1;
+    hid_t ds = H5Dopen2(g, name, H5P_DEFAULT);
+    hid_t sp = ds < 0 ? H5I_INVALID_HID : H5Dget_space(ds);
+    if (sp >= 0) {
+        hssize_t np = H5Sget_simple_extent_npoints(sp);
+        if (np != (hssize_t)n || H5Sget_simple_extent_ndims(sp) > 1)
+            rc = -2;
+        else if (n == 0 || H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0)
+            rc = 0;
+    }
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (ds >= 0)
+        H5Dclose(ds);
+    return rc;
+}
+
+/* fsync of a closed file, so the frame is on disk before the call returns. */
+static int sync_file(const char *path)
+{
+    int fd = open(path, O_RDONLY);
+    if (fd < 0)
+        return -1;
+    int rc = fsync(fd);
+    close(fd);
+    return rc;
+}
+
+/* Opens `path` (which must be an existing HDF5 file with a /frames group); *fid and *g open. */
+static plume_status open_frames(const char *path, unsigned mode, hid_t *fid, hid_t *g, plume_err *err)
+{
+    struct stat st;
+    h5_detail d;
+    *fid = *g = H5I_INVALID_HID;
+    if (!path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "frames file: empty path");
+    if (stat(path, &st) != 0)
+        return plume_err_set(err, PLUME_EIO, "frames file '%s': cannot open: %s", path, strerror(errno));
+    if (!S_ISREG(st.st_mode))
+        return plume_err_set(err, PLUME_EIO, "frames file '%s': not a regular file", path);
+    if (!is_hdf5(path))
+        return plume_err_set(err, PLUME_EFORMAT, "frames file '%s': is not an HDF5 file", path);
+    *fid = H5Fopen(path, mode, H5P_DEFAULT);
+    if (*fid < 0)
+        return plume_err_set(err, PLUME_EIO, "frames file '%s': cannot open%s (HDF5: %s)", path,
+                             mode == H5F_ACC_RDWR ? " for writing" : "", h5_cause(&d));
+    if (H5Lexists(*fid, "/frames", H5P_DEFAULT) <= 0 || (*g = H5Gopen2(*fid, "/frames", H5P_DEFAULT)) < 0)
+        return plume_err_set(err, PLUME_EFORMAT, "frames file '%s': has no /frames group (not a plume frames file)",
+                             path);
+    return PLUME_OK;
+}
+
+static plume_status read_info(const char *path, hid_t g, plume_frames_info *info, plume_err *err)
+{
+    long count = -1, nv = -1, ncons = -1;
+    double dt = NAN;
+    memset(info, 0, sizeof *info);
+    if (read_attr(g, "count", H5T_NATIVE_LONG, &count) < 0 || read_attr(g, "nv", H5T_NATIVE_LONG, &nv) < 0 ||
+        read_attr(g, "ncons", H5T_NATIVE_LONG, &ncons) < 0 || read_attr(g, "dt", H5T_NATIVE_DOUBLE, &dt) < 0)
+        return plume_err_set(err, PLUME_EFORMAT,
+                             "frames file '%s': /frames lacks one of the attributes count, nv, ncons, dt", path);
+    if (count < 0 || nv < 1 || ncons < 0)
+        return plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames has count %ld, nv %ld, ncons %ld", path,
+                             count, nv, ncons);
+    info->count = count;
+    info->nv = nv;
+    info->ncons = ncons;
+    info->dt = dt;
+    read_attr_string(g, "scene", info->scene, sizeof info->scene);
+    return PLUME_OK;
+}
+
+plume_status plume_frames_create(const char *path, plume_index nv, plume_index ncons, double dt, const char *scene,
+                                 plume_err *err)
+{
+    if (!path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "frames file: empty path");
+    if (nv < 1 || ncons < 0 || !(dt > 0.0) || !isfinite(dt))
+        return plume_err_set(err, PLUME_EINVAL, "frames file '%s': needs nv >= 1, ncons >= 0, dt > 0 (got %ld, %ld, %g)",
+                             path, (long)nv, (long)ncons, dt);
+    h5_quiet q;
+    quiet_begin(&q);
+    h5_detail d;
+    plume_status s = PLUME_OK;
+    hid_t fid = H5I_INVALID_HID, g = H5I_INVALID_HID;
+    size_t len = strlen(path) + 32;
+    char *tmp = malloc(len);
+    int made = 0;
+    if (!tmp) {
+        s = plume_err_set(err, PLUME_ENOMEM, "frames file '%s': out of memory", path);
+        goto cleanup;
+    }
+    snprintf(tmp, len, "%s.tmp.%ld", path, (long)getpid());
+    /* created by open() first, so a bad directory gets a proper strerror */
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0666);
+    if (fd < 0) {
+        s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot create '%s': %s", path, tmp, strerror(errno));
+        goto cleanup;
+    }
+    close(fd);
+    made = 1;
+    fid = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (fid < 0 || (g = H5Gcreate2(fid, "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 ||
+        write_attr_long(g, "count", 0) < 0 || write_attr_long(g, "nv", (long)nv) < 0 ||
+        write_attr_long(g, "ncons", (long)ncons) < 0 || write_attr_double(g, "dt", dt) < 0 ||
+        write_attr_string(g, "scene", scene ? scene : "") < 0) {
+        s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot write /frames (HDF5: %s)", path, h5_cause(&d));
+        goto cleanup;
+    }
+    H5Gclose(g);
+    g = H5I_INVALID_HID;
+    herr_t closed = H5Fclose(fid);
+    fid = H5I_INVALID_HID;
+    if (closed < 0 || sync_file(tmp) != 0) {
+        s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot close '%s'", path, tmp);
+        goto cleanup;
+    }
+    if (rename(tmp, path) != 0) {
+        s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot rename '%s' over it: %s", path, tmp,
+                          strerror(errno));
+        goto cleanup;
+    }
+    made = 0;
+cleanup:
+    if (g >= 0)
+        H5Gclose(g);
+    if (fid >= 0)
+        H5Fclose(fid);
+    if (made)
+        unlink(tmp);
+    free(tmp);
+    quiet_end(&q);
+    return s;
+}
+
+plume_status plume_frames_append(const char *path, plume_index nv, plume_index ncons, double t, long step,
+                                 const double *x, const double *v, const double *lambda, plume_err *err)
+{
+    if (!x || !v || (ncons > 0 && !lambda) || !isfinite(t))
+        return plume_err_set(err, PLUME_EINVAL, "frames file '%s': append needs x, v, lambda and a finite time",
+                             path ? path : "(null)");
+    h5_quiet q;
+    quiet_begin(&q);
+    h5_detail d;
+    hid_t fid, g, fg = H5I_INVALID_HID;
+    plume_frames_info info;
+    plume_status s = open_frames(path, H5F_ACC_RDWR, &fid, &g, err);
+    if (s == PLUME_OK)
+        s = read_info(path, g, &info, err);
+    if (s != PLUME_OK)
+        goto cleanup;
+    if (info.nv != nv || info.ncons != ncons) {
+        s = plume_err_set(err, PLUME_EFORMAT,
+                          "frames file '%s': holds frames of %ld vertices and %ld constraints, not %ld and %ld "
+                          "(another scene?)",
+                          path, (long)info.nv, (long)info.ncons, (long)nv, (long)ncons);
+        goto cleanup;
+    }
+    char name[32];
+    snprintf(name, sizeof name, "%ld", info.count);
+    /* a group at `count` is the remains of an interrupted append: it was never committed */
+    if (H5Lexists(g, name, H5P_DEFAULT) > 0 && H5Ldelete(g, name, H5P_DEFAULT) < 0) {
+        s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot remove the uncommitted /frames/%s (HDF5: %s)", path,
+                          name, h5_cause(&d));
+        goto cleanup;
+    }
+    if ((fg = H5Gcreate2(g, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 || write_dataset(fg, "x", x, 3 * nv) < 0 ||
+        write_dataset(fg, "v", v, 3 * nv) < 0 || write_dataset(fg, "lambda", lambda, ncons) < 0 ||
+        write_attr_double(fg, "t", t) < 0 || write_attr_long(fg, "step", step) < 0) {
+        s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot write /frames/%s (HDF5: %s)", path, name,
+                          h5_cause(&d));
+        goto cleanup;
+    }
+    H5Gclose(fg);
+    fg = H5I_INVALID_HID;
+    /* the commit mark, last */
+    long count = info.count + 1;
+    hid_t a = H5Aopen(g, "count", H5P_DEFAULT);
+    herr_t w = a < 0 ? -1 : H5Awrite(a, H5T_NATIVE_LONG, &count);
+    if (a >= 0)
+        H5Aclose(a);
+    if (w < 0) {
+        s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot update /frames count (HDF5: %s)", path,
+                          h5_cause(&d));
+        goto cleanup;
+    }
+cleanup:
+    if (fg >= 0)
+        H5Gclose(fg);
+    if (g >= 0)
+        H5Gclose(g);
+    if (fid >= 0) {
+        herr_t closed = H5Fclose(fid);
+        if (s == PLUME_OK && (closed < 0 || sync_file(path) != 0))
+            s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot close after writing a frame", path);
+    }
+    quiet_end(&q);
+    return s;
+}
+
+plume_status plume_frames_info_read(const char *path, plume_frames_info *info, plume_err *err)
+{
+    if (!info)
+        return plume_err_set(err, PLUME_EINVAL, "frames file: no info struct");
+    h5_quiet q;
+    quiet_begin(&q);
+    hid_t fid, g;
+    plume_status s = open_frames(path, H5F_ACC_RDONLY, &fid, &g, err);
+    if (s == PLUME_OK)
+        s = read_info(path, g, info, err);
+    if (g >= 0)
+        H5Gclose(g);
+    if (fid >= 0)
+        H5Fclose(fid);
+    quiet_end(&q);
+    return s;
+}
+
+void plume_frame_free(plume_frame *f)
+{
+    if (!f)
+        return;
+    free(f->x);
+    free(f->v);
+    free(f->lambda);
+    f->x = f->v = f->lambda = NULL;
+}
+
+plume_status plume_frames_read(const char *path, long k, plume_frame *f, plume_err *err)
+{
+    if (!f)
+        return plume_err_set(err, PLUME_EINVAL, "frames file: no frame struct");
+    memset(f, 0, sizeof *f);
+    h5_quiet q;
+    quiet_begin(&q);
+    hid_t fid, g, fg = H5I_INVALID_HID;
+    plume_frames_info info;
+    plume_status s = open_frames(path, H5F_ACC_RDONLY, &fid, &g, err);
+    if (s == PLUME_OK)
+        s = read_info(path, g, &info, err);
+    if (s != PLUME_OK)
+        goto cleanup;
+    if (info.count == 0) {
+        s = plume_err_set(err, PLUME_EINVAL, "frames file '%s': holds no frame", path);
+        goto cleanup;
+    }
+    if (k < 0)
+        k = info.count - 1;
+    if (k >= info.count) {
+        s = plume_err_set(err, PLUME_EINVAL, "frames file '%s': has no frame %ld (it holds %ld)", path, k, info.count);
+        goto cleanup;
+    }
+    char name[32];
+    snprintf(name, sizeof name, "%ld", k);
+    if (H5Lexists(g, name, H5P_DEFAULT) <= 0 || (fg = H5Gopen2(g, name, H5P_DEFAULT)) < 0) {
+        s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s is missing", path, name);
+        goto cleanup;
+    }
+    f->index = k;
+    f->nv = info.nv;
+    f->ncons = info.ncons;
+    f->x = malloc((size_t)(3 * info.nv) * sizeof *f->x);
+    f->v = malloc((size_t)(3 * info.nv) * sizeof *f->v);
+    f->lambda = info.ncons > 0 ? malloc((size_t)info.ncons * sizeof *f->lambda) : NULL;
+    if (!f->x || !f->v || (info.ncons > 0 && !f->lambda)) {
+        s = plume_err_set(err, PLUME_ENOMEM, "frames file '%s': out of memory", path);
+        goto cleanup;
+    }
+    const char *names[3] = {"x", "v", "lambda"};
+    double *dst[3] = {f->x, f->v, f->lambda};
+    plume_index sizes[3] = {3 * info.nv, 3 * info.nv, info.ncons};
+    for (int i = 0; i < 3; i++) {
+        int rc = read_dataset(fg, names[i], dst[i], sizes[i]);
+        if (rc < 0) {
+            s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s/%s is %s (expected %ld values)", path,
+                              name, names[i], rc == -2 ? "of the wrong size" : "missing or unreadable",
+                              (long)sizes[i]);
+            goto cleanup;
+        }
+    }
+    if (read_attr(fg, "t", H5T_NATIVE_DOUBLE, &f->t) < 0 || read_attr(fg, "step", H5T_NATIVE_LONG, &f->step) < 0) {
+        s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s lacks its t or step attribute", path, name);
+        goto cleanup;
+    }
+cleanup:
+    if (s != PLUME_OK)
+        plume_frame_free(f);
+    if (fg >= 0)
+        H5Gclose(fg);
+    if (g >= 0)
+        H5Gclose(g);
+    if (fid >= 0)
+        H5Fclose(fid);
+    quiet_end(&q);
+    return s;
+}

@@ -1,0 +1,1851 @@
+/* plume: the feather mesher of supplementary §6 (contract in macro/feather_mesh.h).
+ *
+ * Steps and the decisions behind them:
+ * 1. Curves. The rachis and every barb curve are interpolated through their points with GSL Steffen
+ *    splines (x(u), y(u), u the chord length; linear for two points). Steffen splines are monotone
+ *    between data points, so they do not overshoot and cannot loop where the validated polyline
+ *    does not. The rachis is extended linearly (end tangents) to the outline at both ends, or
+ *    clipped at its first exit; its width is linear in arc length between the first and last input
+ *    points and constant beyond them.
+ * 2. Rachis strip. Stations every ~e (L/N, N = round(L/e)); a vertex on either side at half the
+ *    width along the normal. Each side is kept from the middle station outward while its vertices
+ *    stay GAP_POINT e inside the outline, then closed by following the side offset curve to the
+ *    outline. Side edges are constrained: the strip is a region of its own.
+ * 3. Barbs. An input barb is stored as the angle of its tangent relative to the rachis tangent at
+ *    its root, as a function of the arc length from the root (constant past its end: the linear
+ *    extension). The barb from a station blends the two input barbs of the same side whose roots
+ *    bracket the station (weights linear in the station's arc length; the nearest one alone
+ *    outside the bracket) and turns with the local rachis tangent, so barbs follow a curved rachis
+ *    and two barbs of the same shape never cross. Angle blending keeps the generated curve
+ *    unit-speed, so walking it in steps of e is walking its arc length. It is integrated with
+ *    SUBSTEPS midpoint steps per e; a vertex every e, constrained edges between them; the last
+ *    vertex is where the curve leaves the outline (snapped to an outline vertex closer than
+ *    SNAP_OUTLINE e). A point closer than GAP_POINT e to the outline is dropped (the barb goes on
+ *    to the outline); a point closer than GAP_POINT e to another vertex or GAP_SEGMENT e to another
+ *    constrained edge, or a step that would cross a constrained edge, cuts the barb there: barbs
+ *    never cross, and converging barbs end on their neighbour instead of making slivers. Sides are
+ *    walked base to tip, rachis-rooted barbs first, so a later barb yields to an earlier one.
+ * 4. Fill barbs. Where the outline leaves the rachis more steeply than the barbs (the base of a
+ *    vane), no rachis-rooted barb reaches: the barb family is continued from stations beyond the
+ *    strip ends (and from side stations dropped near the outline); those barbs enter through the
+ *    outline and are walked the same way. The whole vane is then covered by barb lines about
+ *    e sin(angle) apart.
+ * 5. Triangulation. Outline vertices are all kept (the area is exact); barb ends and side ends split
+ *    outline edges; points are added so that no outline gap exceeds e. Constrained Delaunay
+ *    (lib/cdt.h) with remove_exterior and *no refinement*: CGAL's mesher always applies its shape
+ *    bound (>= 20.7 deg), which would split the 1-3 mm rachis strip (stations e = 5 mm apart) and
+ *    the skewed barb lattice (barbs at 20-30 deg to the rachis) into many small, unaligned
+ *    triangles. The vertex layout above already bounds the edge length (points every e along
+ *    barbs, barbs ~e sin(angle) apart), and every triangle between two barbs has a barb edge.
+ * 6. Output. A triangle is rachis when its centroid lies within half the local width of the centre
+ *    line; its barb direction is then the rachis tangent. A vane triangle takes the direction of
+ *    its barb edge(s), else the inverse-distance-weighted direction of the nearby barb edges of its
+ *    side. */
+#include "feather_mesh.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_spline.h>
+
+#include "../lib/cdt.h"
+#include "../lib/pslg.h"
+
+#define FM_PI 3.14159265358979323846
+
+/* Tolerances, as fractions of the target edge e (the header has no options struct; these are the
+ * knobs to expose if callers need them). */
+#define GAP_POINT 0.3      /* a barb point nearer the outline or another vertex is dropped */
+#define GAP_SEGMENT 0.2    /* ... nearer another constrained edge (and a new edge nearer a vertex) */
+#define SNAP_OUTLINE 0.1   /* a barb end this close to an outline vertex ends on the vertex */
+#define SNAP_SIDE 1e-3     /* a rachis side end this close to an outline vertex ends on it */
+#define SUBSTEPS 16        /* integration steps per e along barbs and strip sides */
+#define LAST_ARC 1.6       /* longest arc (in e) one barb edge may bridge */
+#define SAMPLES 8          /* curve samples per e (at least 16 per curve) */
+#define MAX_TRIANGLES 5e6  /* refuse edges that would give more (estimate area / (0.43 e^2)) */
+#define IDW_RADIUS 1.5     /* radius (in e) of the barb edges averaged for a triangle without one */
+#define PROJECT_COARSE 512 /* coarse samples of the centre line scanned by a projection */
+#define FILL_CLEAR 0.7     /* a fill barb starts where it is this far from every vertex and barb */
+#define FILL_LEVELS 3      /* fill barbs from half, quarter and eighth stations */
+
+/* ------------------------------------------------------------------ small geometry */
+
+/* |(x, y)|: coordinates are lengths in metres, far from overflow, and hypot() is several times slower */
+static double norm2(double x, double y)
+{
+    return sqrt(x * x + y * y);
+}
+
+static double orient(const double *a, const double *b, const double *c)
+{
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+static int in_box(const double *a, const double *b, const double *c)
+{
+    return c[0] >= fmin(a[0], b[0]) && c[0] <= fmax(a[0], b[0]) && c[1] >= fmin(a[1], b[1]) &&
+           c[1] <= fmax(a[1], b[1]);
+}
+
+/* closed segments ab and cd share a point (validation) */
+static int segs_touch(const double *a, const double *b, const double *c, const double *d)
+{
+    double d1 = orient(c, d, a), d2 = orient(c, d, b), d3 = orient(a, b, c), d4 = orient(a, b, d);
+    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+        return 1;
+    return (d1 == 0 && in_box(c, d, a)) || (d2 == 0 && in_box(c, d, b)) || (d3 == 0 && in_box(a, b, c)) ||
+           (d4 == 0 && in_box(a, b, d));
+}
+
+/* Parametric intersection of p0p1 with q0q1 (closed): 1 and t (along p), u (along q), else 0.
+ * Collinear overlaps count, at the first overlapping point of p. */
+static int seg_intersect(const double *p0, const double *p1, const double *q0, const double *q1, double *t,
+                         double *u)
+{
+    double rx = p1[0] - p0[0], ry = p1[1] - p0[1], sx = q1[0] - q0[0], sy = q1[1] - q0[1];
+    double wx = q0[0] - p0[0], wy = q0[1] - p0[1];
+    double den = rx * sy - ry * sx;
+    double rn = norm2(rx, ry), sn = norm2(sx, sy);
+    if (rn == 0 || sn == 0)
+        return 0;
+    if (fabs(den) <= 1e-13 * rn * sn) {
+        if (fabs(wx * ry - wy * rx) > 1e-13 * rn * (rn + norm2(wx, wy)))
+            return 0;
+        double rr = rn * rn;
+        double t0 = (wx * rx + wy * ry) / rr, t1 = ((q1[0] - p0[0]) * rx + (q1[1] - p0[1]) * ry) / rr;
+        double lo = fmin(t0, t1), hi = fmax(t0, t1);
+        if (hi < 0 || lo > 1)
+            return 0;
+        *t = fmax(lo, 0.0);
+        double px = p0[0] + *t * rx - q0[0], py = p0[1] + *t * ry - q0[1];
+        *u = fmin(1.0, fmax(0.0, (px * sx + py * sy) / (sn * sn)));
+        return 1;
+    }
+    double tt = (wx * sy - wy * sx) / den, uu = (wx * ry - wy * rx) / den;
+    if (tt < 0 || tt > 1 || uu < 0 || uu > 1)
+        return 0;
+    *t = tt, *u = uu;
+    return 1;
+}
+
+/* distance from p to segment ab; *tp receives the foot parameter */
+static double seg_dist(const double *p, const double *a, const double *b, double *tp)
+{
+    double dx = b[0] - a[0], dy = b[1] - a[1], l2 = dx * dx + dy * dy;
+    double t = l2 > 0 ? ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2 : 0;
+    t = fmin(1.0, fmax(0.0, t));
+    if (tp)
+        *tp = t;
+    return norm2(p[0] - a[0] - t * dx, p[1] - a[1] - t * dy);
+}
+
+/* distance between segments ab and cd (0 when they touch) */
+static double segseg_dist(const double *a, const double *b, const double *c, const double *d)
+{
+    double t, u;
+    if (seg_intersect(a, b, c, d, &t, &u))
+        return 0;
+    return fmin(fmin(seg_dist(a, c, d, NULL), seg_dist(b, c, d, NULL)),
+                fmin(seg_dist(c, a, b, NULL), seg_dist(d, a, b, NULL)));
+}
+
+static int point_in_polygon(const double *poly, plume_index n, const double *p)
+{
+    int in = 0;
+    for (plume_index i = 0, j = n - 1; i < n; j = i++) {
+        const double *a = poly + 2 * i, *b = poly + 2 * j;
+        if ((a[1] > p[1]) != (b[1] > p[1]) && p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0])
+            in = !in;
+    }
+    return in;
+}
+
+static double polygon_area(const double *p, plume_index n)
+{
+    double s = 0;
+    for (plume_index i = 0, j = n - 1; i < n; j = i++)
+        s += p[2 * j] * p[2 * i + 1] - p[2 * i] * p[2 * j + 1];
+    return 0.5 * s;
+}
+
+/* ------------------------------------------------------------------ validation */
+
+typedef struct {
+    double xmin, xmax;
+    plume_index i;
+} sweep_item;
+
+static int cmp_sweep(const void *a, const void *b)
+{
+    double x = ((const sweep_item *)a)->xmin, y = ((const sweep_item *)b)->xmin;
+    return (x > y) - (x < y);
+}
+
+/* Points, finiteness, coincident neighbours and self-intersection (sweep over x) of one curve. */
+static plume_status check_curve(const char *name, const plume_polyline *c, int closed, plume_index min_points,
+                                plume_err *err)
+{
+    if (c->n < min_points || !c->p)
+        return plume_err_set(err, PLUME_EINVAL, "%s: %ld point(s): at least %ld are needed", name, (long)c->n,
+                             (long)min_points);
+    const double *p = c->p;
+    plume_index n = c->n;
+    for (plume_index i = 0; i < n; i++)
+        if (!isfinite(p[2 * i]) || !isfinite(p[2 * i + 1]))
+            return plume_err_set(err, PLUME_EINVAL, "%s: point %ld (%g, %g) is not finite", name, (long)i,
+                                 p[2 * i], p[2 * i + 1]);
+    plume_index ns = closed ? n : n - 1;
+    double lo[2] = {p[0], p[1]}, hi[2] = {p[0], p[1]};
+    for (plume_index i = 0; i < n; i++)
+        for (int k = 0; k < 2; k++)
+            lo[k] = fmin(lo[k], p[2 * i + k]), hi[k] = fmax(hi[k], p[2 * i + k]);
+    double tiny = 1e-12 * norm2(hi[0] - lo[0], hi[1] - lo[1]); /* keeps spline parameters increasing */
+    for (plume_index i = 0; i < ns; i++) {
+        plume_index j = (i + 1) % n;
+        if (!(norm2(p[2 * j] - p[2 * i], p[2 * j + 1] - p[2 * i + 1]) > tiny))
+            return plume_err_set(err, PLUME_EINVAL, "%s: points %ld and %ld coincide at (%g, %g)", name, (long)i,
+                                 (long)j, p[2 * i], p[2 * i + 1]);
+    }
+    /* adjacent segments only meet at their shared point unless the curve turns back on itself */
+    for (plume_index i = closed ? 0 : 1; i < (closed ? n : n - 1); i++) {
+        const double *a = p + 2 * ((i + n - 1) % n), *b = p + 2 * i, *d = p + 2 * ((i + 1) % n);
+        if (orient(a, b, d) == 0 && (a[0] - b[0]) * (d[0] - b[0]) + (a[1] - b[1]) * (d[1] - b[1]) > 0)
+            return plume_err_set(err, PLUME_EINVAL, "%s: self-intersecting: the curve turns back on itself at point %ld",
+                                 name, (long)i);
+    }
+    sweep_item *it = malloc((size_t)ns * sizeof *it);
+    if (!it)
+        return PLUME_ENOMEM;
+    for (plume_index i = 0; i < ns; i++) {
+        const double *a = p + 2 * i, *b = p + 2 * ((i + 1) % n);
+        it[i].xmin = fmin(a[0], b[0]), it[i].xmax = fmax(a[0], b[0]), it[i].i = i;
+    }
+    qsort(it, (size_t)ns, sizeof *it, cmp_sweep);
+    plume_status st = PLUME_OK;
+    for (plume_index k = 0; k < ns && st == PLUME_OK; k++)
+        for (plume_index l = k + 1; l < ns && it[l].xmin <= it[k].xmax; l++) {
+            plume_index i = it[k].i, j = it[l].i;
+            plume_index lo = i < j ? i : j, hi = i < j ? j : i;
+            if (hi - lo == 1 || (closed && lo == 0 && hi == n - 1))
+                continue; /* neighbours: handled above */
+            const double *a = p + 2 * i, *b = p + 2 * ((i + 1) % n), *cc = p + 2 * j, *d = p + 2 * ((j + 1) % n);
+            if (segs_touch(a, b, cc, d)) {
+                st = plume_err_set(err, PLUME_EINVAL,
+                                   "%s: self-intersecting: segment %ld (points %ld-%ld) meets segment %ld (points "
+                                   "%ld-%ld)",
+                                   name, (long)lo, (long)lo, (long)((lo + 1) % n), (long)hi, (long)hi,
+                                   (long)((hi + 1) % n));
+                break;
+            }
+        }
+    free(it);
+    return st;
+}
+
+/* ------------------------------------------------------------------ uniform grid */
+
+typedef struct {
+    double x0, y0, h;
+    long nx, ny;
+    plume_index *head; /* [nx ny] first node, -1 */
+    plume_index *next, *item;
+    plume_index n, cap;
+} grid;
+
+static int grid_init(grid *g, double x0, double y0, double x1, double y1, double h)
+{
+    memset(g, 0, sizeof *g);
+    g->x0 = x0, g->y0 = y0, g->h = h;
+    g->nx = (long)ceil((x1 - x0) / h) + 1;
+    g->ny = (long)ceil((y1 - y0) / h) + 1;
+    g->head = malloc((size_t)(g->nx * g->ny) * sizeof *g->head);
+    if (!g->head)
+        return -1;
+    for (long k = 0; k < g->nx * g->ny; k++)
+        g->head[k] = -1;
+    return 0;
+}
+
+static void grid_free(grid *g)
+{
+    free(g->head);
+    free(g->next);
+    free(g->item);
+    memset(g, 0, sizeof *g);
+}
+
+static void grid_range(const grid *g, double xa, double ya, double xb, double yb, long r[4])
+{
+    double lo[2] = {fmin(xa, xb), fmin(ya, yb)}, hi[2] = {fmax(xa, xb), fmax(ya, yb)};
+    long i0 = (long)floor((lo[0] - g->x0) / g->h), i1 = (long)floor((hi[0] - g->x0) / g->h);
+    long j0 = (long)floor((lo[1] - g->y0) / g->h), j1 = (long)floor((hi[1] - g->y0) / g->h);
+    r[0] = i0 < 0 ? 0 : i0 >= g->nx ? g->nx - 1 : i0;
+    r[1] = i1 < 0 ? 0 : i1 >= g->nx ? g->nx - 1 : i1;
+    r[2] = j0 < 0 ? 0 : j0 >= g->ny ? g->ny - 1 : j0;
+    r[3] = j1 < 0 ? 0 : j1 >= g->ny ? g->ny - 1 : j1;
+}
+
+static int grid_add(grid *g, plume_index item, double xa, double ya, double xb, double yb)
+{
+    long r[4];
+    grid_range(g, xa, ya, xb, yb, r);
+    for (long j = r[2]; j <= r[3]; j++)
+        for (long i = r[0]; i <= r[1]; i++) {
+            if (g->n == g->cap) {
+                plume_index cap = g->cap ? 2 * g->cap : 1024;
+                plume_index *nx = realloc(g->next, (size_t)cap * sizeof *nx);
+                if (!nx)
+                    return -1;
+                g->next = nx;
+                plume_index *it = realloc(g->item, (size_t)cap * sizeof *it);
+                if (!it)
+                    return -1;
+                g->item = it, g->cap = cap;
+            }
+            long c = j * g->nx + i;
+            g->item[g->n] = item;
+            g->next[g->n] = g->head[c];
+            g->head[c] = g->n++;
+        }
+    return 0;
+}
+
+/* ------------------------------------------------------------------ sampled curves */
+
+/* Samples of a curve: positions, arc length s, tangent angle a (unwrapped). */
+typedef struct {
+    double *x, *y, *s, *a;
+    plume_index n, cap;
+} curve;
+
+static void curve_free(curve *c)
+{
+    free(c->x), free(c->y), free(c->s), free(c->a);
+    memset(c, 0, sizeof *c);
+}
+
+static int curve_push(curve *c, double x, double y)
+{
+    if (c->n == c->cap) {
+        plume_index cap = c->cap ? 2 * c->cap : 64;
+        double *v[4] = {c->x, c->y, c->s, c->a};
+        for (int k = 0; k < 4; k++) {
+            double *r = realloc(v[k], (size_t)cap * sizeof *r);
+            if (!r)
+                return -1;
+            v[k] = r;
+            if (k == 0)
+                c->x = r;
+            else if (k == 1)
+                c->y = r;
+            else if (k == 2)
+                c->s = r;
+            else
+                c->a = r;
+        }
+        c->cap = cap;
+    }
+    c->x[c->n] = x, c->y[c->n] = y;
+    c->n++;
+    return 0;
+}
+
+/* Arc length from the first sample and tangent angles by central differences, unwrapped. */
+static void curve_finish(curve *c)
+{
+    c->s[0] = 0;
+    for (plume_index i = 1; i < c->n; i++)
+        c->s[i] = c->s[i - 1] + norm2(c->x[i] - c->x[i - 1], c->y[i] - c->y[i - 1]);
+    for (plume_index i = 0; i < c->n; i++) {
+        plume_index i0 = i > 0 ? i - 1 : 0, i1 = i + 1 < c->n ? i + 1 : c->n - 1;
+        double a = atan2(c->y[i1] - c->y[i0], c->x[i1] - c->x[i0]);
+        if (i > 0) {
+            while (a - c->a[i - 1] > FM_PI)
+                a -= 2 * FM_PI;
+            while (a - c->a[i - 1] < -FM_PI)
+                a += 2 * FM_PI;
+        }
+        c->a[i] = a;
+    }
+}
+
+/* Samples the spline through a validated polyline (no coincident neighbours) about every h.
+ * The chord-length parameter is strictly increasing, and evaluation stays inside its range: GSL's
+ * default error handler would abort otherwise, and changing it is process-wide state. */
+static plume_status sample_spline(const plume_polyline *pl, double h, curve *out)
+{
+    plume_index n = pl->n;
+    const double *p = pl->p;
+    plume_status st = PLUME_OK;
+    double *u = malloc((size_t)n * sizeof *u), *xs = malloc((size_t)n * sizeof *xs),
+           *ys = malloc((size_t)n * sizeof *ys);
+    gsl_spline *sx = NULL, *sy = NULL;
+    gsl_interp_accel *acc = NULL;
+    if (!u || !xs || !ys) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    u[0] = 0;
+    for (plume_index i = 0; i < n; i++) {
+        xs[i] = p[2 * i], ys[i] = p[2 * i + 1];
+        if (i > 0)
+            u[i] = u[i - 1] + norm2(xs[i] - xs[i - 1], ys[i] - ys[i - 1]);
+    }
+    const gsl_interp_type *type = n >= 3 ? gsl_interp_steffen : gsl_interp_linear;
+    sx = gsl_spline_alloc(type, (size_t)n);
+    sy = gsl_spline_alloc(type, (size_t)n);
+    acc = gsl_interp_accel_alloc();
+    if (!sx || !sy || !acc) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    gsl_spline_init(sx, u, xs, (size_t)n);
+    gsl_spline_init(sy, u, ys, (size_t)n);
+    if (!(h > 0) || u[n - 1] / h < 16)
+        h = u[n - 1] / 16;
+    for (plume_index i = 0; i + 1 < n; i++) {
+        long m = (long)ceil((u[i + 1] - u[i]) / h);
+        if (m < 2)
+            m = 2;
+        for (long j = 0; j < m; j++) {
+            double uu = u[i] + (u[i + 1] - u[i]) * (double)j / (double)m;
+            if (j == 0) {
+                if (curve_push(out, xs[i], ys[i]) < 0) {
+                    st = PLUME_ENOMEM;
+                    goto cleanup;
+                }
+                continue;
+            }
+            if (curve_push(out, gsl_spline_eval(sx, uu, acc), gsl_spline_eval(sy, uu, acc)) < 0) {
+                st = PLUME_ENOMEM;
+                goto cleanup;
+            }
+        }
+    }
+    if (curve_push(out, xs[n - 1], ys[n - 1]) < 0)
+        st = PLUME_ENOMEM;
+cleanup:
+    gsl_spline_free(sx);
+    gsl_spline_free(sy);
+    gsl_interp_accel_free(acc);
+    free(u), free(xs), free(ys);
+    return st;
+}
+
+/* ------------------------------------------------------------------ mesher state */
+
+enum { SEG_OUTLINE, SEG_SIDE, SEG_BARB };
+
+typedef struct {
+    double a[2], b[2];
+    plume_index v0, v1; /* vertex ids (constrained segments), -1 otherwise */
+    int kind, side;     /* side +1 left, -1 right */
+    plume_index tag;    /* outline: edge index; barb: barb number; side: 0 left, 1 right */
+    double t0, t1;      /* outline: parameter range of the piece on its edge */
+} fseg;
+
+/* An input barb as relative angle theta(tau), tau the arc length from its root. */
+typedef struct {
+    double s_root;
+    double *tau, *theta;
+    plume_index n;
+} shape;
+
+typedef struct {
+    plume_index edge; /* outline edge (from vertex edge to edge+1) */
+    double t;
+    plume_index id;
+} anchor;
+
+typedef struct {
+    const plume_feather_input *in;
+    plume_err *err;
+    double e;
+    /* outline, counter-clockwise */
+    double *o;
+    plume_index no;
+    double bb[4], diag; /* bounding box (x0, y0, x1, y1) and its diagonal */
+    /* output vertices and constrained segments (ids in g.p order) */
+    plume_pslg g;
+    unsigned char *outline_used; /* [no] outline vertex already ends a barb or side */
+    /* geometric segments */
+    fseg *s;
+    plume_index ns, scap;
+    unsigned *stamp;
+    unsigned qid;
+    grid pg, sg;
+    anchor *anc;
+    plume_index nanc, anccap;
+    /* centre line: samples with s = 0 at the base exit, L at the tip exit, margins beyond */
+    curve c;
+    double L, s_in0, s_in1;
+    /* input barb shapes per side (0 left, 1 right), sorted by root station */
+    shape *sh[2];
+    int nsh[2];
+    double max_barb_len;
+    /* barb constrained segments: pslg segment indices */
+    plume_index *barb_seg;
+    plume_index nbarb_seg, barb_cap;
+} fm;
+
+static int fm_add_seg(fm *f, const double *a, const double *b, plume_index v0, plume_index v1, int kind, int side,
+                      plume_index tag, double t0, double t1)
+{
+    if (f->ns == f->scap) {
+        plume_index cap = f->scap ? 2 * f->scap : 1024;
+        fseg *s = realloc(f->s, (size_t)cap * sizeof *s);
+        if (!s)
+            return -1;
+        f->s = s;
+        unsigned *stp = realloc(f->stamp, (size_t)cap * sizeof *stp);
+        if (!stp)
+            return -1;
+        f->stamp = stp, f->scap = cap;
+    }
+    fseg *s = f->s + f->ns;
+    s->a[0] = a[0], s->a[1] = a[1], s->b[0] = b[0], s->b[1] = b[1];
+    s->v0 = v0, s->v1 = v1, s->kind = kind, s->side = side, s->tag = tag, s->t0 = t0, s->t1 = t1;
+    f->stamp[f->ns] = 0;
+    if (grid_add(&f->sg, f->ns, a[0], a[1], b[0], b[1]) < 0)
+        return -1;
+    f->ns++;
+    return 0;
+}
+
+/* New output vertex, registered in the point grid; its id or -1 (no memory). */
+static plume_index fm_add_vertex(fm *f, const double *p)
+{
+    plume_index id = plume_pslg_point(&f->g, p[0], p[1]);
+    if (id < 0 || grid_add(&f->pg, id, p[0], p[1], p[0], p[1]) < 0)
+        return -1;
+    return id;
+}
+
+/* A constrained edge between vertices (side or barb). */
+static int fm_add_constraint(fm *f, plume_index v0, plume_index v1, int kind, int side, plume_index tag)
+{
+    if (plume_pslg_segment(&f->g, v0, v1) < 0)
+        return -1;
+    if (kind == SEG_BARB) {
+        if (f->nbarb_seg == f->barb_cap) {
+            plume_index cap = f->barb_cap ? 2 * f->barb_cap : 256;
+            plume_index *b = realloc(f->barb_seg, (size_t)cap * sizeof *b);
+            if (!b)
+                return -1;
+            f->barb_seg = b, f->barb_cap = cap;
+        }
+        f->barb_seg[f->nbarb_seg++] = f->g.ns - 1;
+    }
+    return fm_add_seg(f, f->g.p + 2 * v0, f->g.p + 2 * v1, v0, v1, kind, side, tag, 0, 0);
+}
+
+/* A vertex on outline edge `edge` at parameter t (snapped to an edge end closer than `snap`). */
+static plume_index fm_outline_vertex(fm *f, plume_index edge, double t, double snap)
+{
+    plume_index j = (edge + 1) % f->no;
+    const double *a = f->o + 2 * edge, *b = f->o + 2 * j;
+    double len = norm2(b[0] - a[0], b[1] - a[1]);
+    if (t * len < snap || (1 - t) * len < snap) {
+        plume_index v = t * len < snap ? edge : j;
+        if (!f->outline_used[v] && grid_add(&f->pg, v, f->o[2 * v], f->o[2 * v + 1], f->o[2 * v], f->o[2 * v + 1]) < 0)
+            return -1;
+        f->outline_used[v] = 1;
+        return v;
+    }
+    double p[2] = {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])};
+    plume_index id = fm_add_vertex(f, p);
+    if (id < 0)
+        return -1;
+    if (f->nanc == f->anccap) {
+        plume_index cap = f->anccap ? 2 * f->anccap : 256;
+        anchor *an = realloc(f->anc, (size_t)cap * sizeof *an);
+        if (!an)
+            return -1;
+        f->anc = an, f->anccap = cap;
+    }
+    f->anc[f->nanc].edge = edge, f->anc[f->nanc].t = t, f->anc[f->nanc].id = id;
+    f->nanc++;
+    return id;
+}
+
+/* The outline vertex a snapped end would use, or -1 (not snapped). */
+static plume_index fm_snap_target(const fm *f, plume_index edge, double t, double snap)
+{
+    plume_index j = (edge + 1) % f->no;
+    const double *a = f->o + 2 * edge, *b = f->o + 2 * j;
+    double len = norm2(b[0] - a[0], b[1] - a[1]);
+    if (t * len < snap)
+        return edge;
+    if ((1 - t) * len < snap)
+        return j;
+    return -1;
+}
+
+#define FOR_CELLS(gr, xa, ya, xb, yb, node)                                                                         \
+    long r_[4];                                                                                                    \
+    grid_range(gr, xa, ya, xb, yb, r_);                                                                             \
+    for (long j_ = r_[2]; j_ <= r_[3]; j_++)                                                                        \
+        for (long i_ = r_[0]; i_ <= r_[1]; i_++)                                                                    \
+            for (plume_index node = (gr)->head[j_ * (gr)->nx + i_]; node >= 0; node = (gr)->next[node])
+
+/* Earliest crossing of p->q with the outline: 1 and t along pq, the edge and its parameter. */
+static int fm_outline_cross(const fm *f, const double *p, const double *q, double *t, plume_index *edge, double *u)
+{
+    int found = 0;
+    double best = INFINITY;
+    FOR_CELLS(&f->sg, p[0], p[1], q[0], q[1], nd)
+    {
+        const fseg *s = f->s + f->sg.item[nd];
+        if (s->kind != SEG_OUTLINE)
+            continue;
+        double tt, uu;
+        if (seg_intersect(p, q, s->a, s->b, &tt, &uu) && tt < best) {
+            best = tt, found = 1;
+            *t = tt, *edge = s->tag, *u = s->t0 + uu * (s->t1 - s->t0);
+        }
+    }
+    return found;
+}
+
+/* Any segment of one of the kinds (bit mask) within r of p, ignoring those incident to vertex `skip`. */
+static int fm_near_segment(const fm *f, const double *p, double r, unsigned kinds, plume_index skip)
+{
+    FOR_CELLS(&f->sg, p[0] - r, p[1] - r, p[0] + r, p[1] + r, nd)
+    {
+        const fseg *s = f->s + f->sg.item[nd];
+        if (!(kinds & (1u << s->kind)) || (skip >= 0 && (s->v0 == skip || s->v1 == skip)))
+            continue;
+        if (seg_dist(p, s->a, s->b, NULL) < r)
+            return 1;
+    }
+    return 0;
+}
+
+/* Any constrained (side, barb) segment crossing or within r of ab, ignoring those incident to `skip`. */
+static int fm_blocked(const fm *f, const double *a, const double *b, double r, plume_index skip)
+{
+    FOR_CELLS(&f->sg, fmin(a[0], b[0]) - r, fmin(a[1], b[1]) - r, fmax(a[0], b[0]) + r, fmax(a[1], b[1]) + r, nd)
+    {
+        const fseg *s = f->s + f->sg.item[nd];
+        if ((s->kind != SEG_SIDE && s->kind != SEG_BARB) || (skip >= 0 && (s->v0 == skip || s->v1 == skip)))
+            continue;
+        if (segseg_dist(a, b, s->a, s->b) <= r)
+            return 1;
+    }
+    return 0;
+}
+
+/* Any vertex within r of segment ab (a point when a == b), ignoring `skip`. */
+static int fm_near_vertex(const fm *f, const double *a, const double *b, double r, plume_index skip)
+{
+    FOR_CELLS(&f->pg, fmin(a[0], b[0]) - r, fmin(a[1], b[1]) - r, fmax(a[0], b[0]) + r, fmax(a[1], b[1]) + r, nd)
+    {
+        plume_index v = f->pg.item[nd];
+        if (v == skip)
+            continue;
+        if (seg_dist(f->g.p + 2 * v, a, b, NULL) < r)
+            return 1;
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------ centre line */
+
+static double fm_width(const fm *f, double s)
+{
+    const plume_feather_input *in = f->in;
+    if (s <= f->s_in0 || f->s_in1 <= f->s_in0)
+        return in->rachis_width_base;
+    if (s >= f->s_in1)
+        return in->rachis_width_tip;
+    return in->rachis_width_base +
+           (in->rachis_width_tip - in->rachis_width_base) * (s - f->s_in0) / (f->s_in1 - f->s_in0);
+}
+
+/* Centre point and tangent angle at arc length s; linear beyond the samples. */
+static void fm_centre(const fm *f, double s, double p[2], double *ang)
+{
+    const curve *c = &f->c;
+    plume_index n = c->n;
+    if (s <= c->s[0] || s >= c->s[n - 1]) {
+        plume_index i = s <= c->s[0] ? 0 : n - 1;
+        double a = c->a[i], d = s - c->s[i];
+        p[0] = c->x[i] + d * cos(a), p[1] = c->y[i] + d * sin(a);
+        *ang = a;
+        return;
+    }
+    plume_index lo = 0, hi = n - 1;
+    while (hi - lo > 1) {
+        plume_index mid = (lo + hi) / 2;
+        if (c->s[mid] <= s)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    double ds = c->s[hi] - c->s[lo], w = ds > 0 ? (s - c->s[lo]) / ds : 0;
+    p[0] = c->x[lo] + w * (c->x[hi] - c->x[lo]);
+    p[1] = c->y[lo] + w * (c->y[hi] - c->y[lo]);
+    *ang = c->a[lo] + w * (c->a[hi] - c->a[lo]);
+}
+
+/* Point of side sigma (+1 left, -1 right) at half the width from the centre line. */
+static void fm_offset(const fm *f, double s, int sigma, double p[2])
+{
+    double a;
+    fm_centre(f, s, p, &a);
+    double h = 0.5 * sigma * fm_width(f, s);
+    p[0] -= h * sin(a), p[1] += h * cos(a);
+}
+
+/* Arc length s of the nearest centre-line point and the signed distance (> 0 on the left). The
+ * centre line is smooth and long: the nearest of ~PROJECT_COARSE evenly strided samples locates
+ * the foot to within a stride, then the segments two strides around it are searched exactly. */
+static void fm_project(const fm *f, const double *p, double *s_out, double *d_out)
+{
+    const curve *c = &f->c;
+    plume_index stride = c->n / PROJECT_COARSE + 1, best_i = 0;
+    double best = INFINITY;
+    for (plume_index i = 0; i < c->n; i += stride) {
+        double dx = p[0] - c->x[i], dy = p[1] - c->y[i], d = dx * dx + dy * dy;
+        if (d < best)
+            best = d, best_i = i;
+    }
+    plume_index i0 = best_i > 2 * stride ? best_i - 2 * stride : 0;
+    plume_index i1 = best_i + 2 * stride < c->n - 1 ? best_i + 2 * stride : c->n - 1;
+    best = INFINITY;
+    for (plume_index i = i0; i < i1; i++) {
+        double a[2] = {c->x[i], c->y[i]}, b[2] = {c->x[i + 1], c->y[i + 1]}, t;
+        double d = seg_dist(p, a, b, &t);
+        if (d < best) {
+            best = d;
+            *s_out = c->s[i] + t * (c->s[i + 1] - c->s[i]);
+            double dx = b[0] - a[0], dy = b[1] - a[1];
+            *d_out = (dx * (p[1] - a[1]) - dy * (p[0] - a[0])) / norm2(dx, dy);
+        }
+    }
+}
+
+/* Nearest exit of the ray p + t d (t > 0) through the outline; the hit point, or 0 if none. */
+static int fm_ray_hit(const fm *f, const double *p, double ang, double hit[2])
+{
+    double D = 4 * f->diag + 1;
+    double q[2] = {p[0] + D * cos(ang), p[1] + D * sin(ang)};
+    double best = INFINITY;
+    for (plume_index i = 0; i < f->no; i++) {
+        double t, u;
+        const double *a = f->o + 2 * i, *b = f->o + 2 * ((i + 1) % f->no);
+        if (seg_intersect(p, q, a, b, &t, &u) && t * D > 1e-12 * f->diag && t < best)
+            best = t;
+    }
+    if (!(best < INFINITY))
+        return 0;
+    hit[0] = p[0] + best * (q[0] - p[0]), hit[1] = p[1] + best * (q[1] - p[1]);
+    return 1;
+}
+
+/* Appends the straight run from `from` toward `to` (exclusive of from, inclusive of to) every h. */
+static int push_line(curve *c, const double *from, const double *to, double h)
+{
+    double len = norm2(to[0] - from[0], to[1] - from[1]);
+    long m = (long)ceil(len / h);
+    if (m < 1)
+        m = 1;
+    for (long j = 1; j <= m; j++) {
+        double w = (double)j / (double)m;
+        if (curve_push(c, from[0] + w * (to[0] - from[0]), from[1] + w * (to[1] - from[1])) < 0)
+            return -1;
+    }
+    return 0;
+}
+
+/* Rachis centre line from the input: spline, clipped at its first exit or extended linearly to the
+ * outline at the tip, extended backward to the outline at the base, plus straight margins. */
+static plume_status fm_build_centre(fm *f)
+{
+    const plume_polyline *r = &f->in->rachis;
+    double h = f->e / SAMPLES;
+    curve raw = {0}, c = {0};
+    plume_status st = PLUME_OK;
+    if ((st = sample_spline(r, h, &raw)) != PLUME_OK)
+        goto cleanup;
+    /* forward: first exit */
+    plume_index nkeep = raw.n;
+    double exitp[2] = {0, 0};
+    int clipped = 0;
+    for (plume_index i = 0; i + 1 < raw.n && !clipped; i++) {
+        double p[2] = {raw.x[i], raw.y[i]}, q[2] = {raw.x[i + 1], raw.y[i + 1]}, t, u;
+        plume_index edge;
+        if (fm_outline_cross(f, p, q, &t, &edge, &u)) {
+            exitp[0] = p[0] + t * (q[0] - p[0]), exitp[1] = p[1] + t * (q[1] - p[1]);
+            nkeep = i + 1;
+            clipped = 1;
+        }
+    }
+    double start_ang = atan2(raw.y[0] - raw.y[1], raw.x[0] - raw.x[1]);
+    double base[2], p0[2] = {raw.x[0], raw.y[0]};
+    if (!fm_ray_hit(f, p0, start_ang, base)) {
+        st = plume_err_set(f->err, PLUME_EINVAL, "rachis: its backward extension from point 0 never meets the outline");
+        goto cleanup;
+    }
+    double margin = fmax(f->in->rachis_width_base, f->in->rachis_width_tip) + 2 * f->e;
+    double pre[2] = {base[0] + margin * cos(start_ang), base[1] + margin * sin(start_ang)};
+    if (curve_push(&c, pre[0], pre[1]) < 0 || push_line(&c, pre, base, h) < 0 || push_line(&c, base, p0, h) < 0) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    plume_index i_in0 = c.n - 1;
+    for (plume_index i = 1; i < nkeep; i++)
+        if (curve_push(&c, raw.x[i], raw.y[i]) < 0) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+    plume_index i_in1 = c.n - 1;
+    double tip[2];
+    if (clipped) {
+        double last[2] = {c.x[c.n - 1], c.y[c.n - 1]};
+        if (norm2(exitp[0] - last[0], exitp[1] - last[1]) > 1e-12 * f->diag && curve_push(&c, exitp[0], exitp[1]) < 0) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+        tip[0] = c.x[c.n - 1], tip[1] = c.y[c.n - 1];
+        i_in1 = c.n - 1;
+    } else {
+        double end_ang = atan2(raw.y[raw.n - 1] - raw.y[raw.n - 2], raw.x[raw.n - 1] - raw.x[raw.n - 2]);
+        double pe[2] = {raw.x[raw.n - 1], raw.y[raw.n - 1]};
+        if (!fm_ray_hit(f, pe, end_ang, tip)) {
+            st = plume_err_set(f->err, PLUME_EINVAL, "rachis: its extension from its last point never meets the outline");
+            goto cleanup;
+        }
+        if (push_line(&c, pe, tip, h) < 0) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+    }
+    plume_index i_tip = c.n - 1;
+    double ta = atan2(c.y[c.n - 1] - c.y[c.n - 2], c.x[c.n - 1] - c.x[c.n - 2]);
+    double post[2] = {tip[0] + margin * cos(ta), tip[1] + margin * sin(ta)};
+    if (push_line(&c, tip, post, h) < 0) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    curve_finish(&c);
+    /* s = 0 at the base exit */
+    plume_index i_base = 0;
+    for (plume_index i = 0; i < c.n; i++)
+        if (c.x[i] == base[0] && c.y[i] == base[1]) {
+            i_base = i;
+            break;
+        }
+    double s0 = c.s[i_base];
+    for (plume_index i = 0; i < c.n; i++)
+        c.s[i] -= s0;
+    f->L = c.s[i_tip];
+    f->s_in0 = c.s[i_in0];
+    f->s_in1 = c.s[i_in1];
+    f->c = c;
+    c = (curve){0};
+    if (!(f->L > 0))
+        st = plume_err_set(f->err, PLUME_EINVAL, "rachis: the centre line has no length inside the outline");
+cleanup:
+    curve_free(&raw);
+    curve_free(&c);
+    return st;
+}
+
+/* ------------------------------------------------------------------ barb shapes */
+
+static double shape_theta(const shape *sh, double tau)
+{
+    if (tau <= 0)
+        return sh->theta[0];
+    if (tau >= sh->tau[sh->n - 1])
+        return sh->theta[sh->n - 1];
+    plume_index lo = 0, hi = sh->n - 1;
+    while (hi - lo > 1) {
+        plume_index mid = (lo + hi) / 2;
+        if (sh->tau[mid] <= tau)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    double d = sh->tau[hi] - sh->tau[lo], w = d > 0 ? (tau - sh->tau[lo]) / d : 0;
+    return sh->theta[lo] + w * (sh->theta[hi] - sh->theta[lo]);
+}
+
+static int cmp_shape(const void *a, const void *b)
+{
+    double x = ((const shape *)a)->s_root, y = ((const shape *)b)->s_root;
+    return (x > y) - (x < y);
+}
+
+static plume_status fm_build_shapes(fm *f)
+{
+    const plume_feather_input *in = f->in;
+    for (int side = 0; side < 2; side++) {
+        int nb = side == 0 ? in->nbarbs_left : in->nbarbs_right;
+        const plume_polyline *bs = side == 0 ? in->barbs_left : in->barbs_right;
+        f->sh[side] = calloc((size_t)nb, sizeof(shape));
+        if (!f->sh[side])
+            return PLUME_ENOMEM;
+        f->nsh[side] = nb;
+        for (int k = 0; k < nb; k++) {
+            curve c = {0};
+            plume_status st = sample_spline(bs + k, f->e / SAMPLES, &c);
+            if (st != PLUME_OK) {
+                curve_free(&c);
+                return st;
+            }
+            curve_finish(&c);
+            shape *sh = f->sh[side] + k;
+            double p0[2] = {c.x[0], c.y[0]}, d, cp[2], phi;
+            fm_project(f, p0, &sh->s_root, &d);
+            fm_centre(f, sh->s_root, cp, &phi);
+            double th0 = remainder(c.a[0] - phi, 2 * FM_PI);
+            double shift = th0 - (c.a[0] - phi);
+            int sigma = side == 0 ? 1 : -1;
+            if (!(sigma * sin(th0) > 1e-3)) {
+                curve_free(&c);
+                return plume_err_set(f->err, PLUME_EINVAL,
+                                     "barbs_%s[%d]: it starts toward the %s of the rachis (%.1f degrees from the rachis "
+                                     "tangent): a %s barb must point to the %s",
+                                     side == 0 ? "left" : "right", k, sin(th0) > 0 ? "left" : "right",
+                                     th0 * 180 / FM_PI, side == 0 ? "left" : "right", side == 0 ? "left" : "right");
+            }
+            sh->n = c.n;
+            sh->tau = c.s, c.s = NULL;
+            sh->theta = c.a, c.a = NULL;
+            for (plume_index i = 0; i < sh->n; i++)
+                sh->theta[i] += shift - phi; /* relative to the rachis tangent at the root */
+            f->max_barb_len = fmax(f->max_barb_len, sh->tau[sh->n - 1]);
+            curve_free(&c);
+        }
+        qsort(f->sh[side], (size_t)nb, sizeof(shape), cmp_shape);
+    }
+    return PLUME_OK;
+}
+
+/* The blend of a station: shapes j and j+1 with weight w on j+1. */
+typedef struct {
+    const shape *a, *b;
+    double w, phi;
+} blend;
+
+static void fm_blend(const fm *f, int side, double s, blend *bl)
+{
+    const shape *sh = f->sh[side];
+    int n = f->nsh[side], j = 0;
+    while (j + 1 < n && sh[j + 1].s_root <= s)
+        j++;
+    bl->a = sh + j;
+    if (s <= sh[0].s_root || j + 1 >= n) {
+        bl->b = bl->a, bl->w = 0;
+    } else {
+        bl->b = sh + j + 1;
+        double den = bl->b->s_root - bl->a->s_root;
+        bl->w = den > 1e-12 * f->e ? (s - bl->a->s_root) / den : 0.5;
+    }
+    double p[2];
+    fm_centre(f, s, p, &bl->phi);
+}
+
+static double blend_angle(const blend *bl, double tau)
+{
+    return bl->phi + (1 - bl->w) * shape_theta(bl->a, tau) + bl->w * shape_theta(bl->b, tau);
+}
+
+/* ------------------------------------------------------------------ barb walk */
+
+/* Walks the barb of a station from `root` (a vertex id, or -1 when the start is not a vertex),
+ * adding vertices and constrained barb edges until the outline or a collision. */
+static plume_status fm_walk(fm *f, int side, const double *start, plume_index root, int root_on_outline, int fill,
+                            const blend *bl, plume_index tag)
+{
+    const double e = f->e, h = e / SUBSTEPS;
+    const int sigma = side == 0 ? 1 : -1;
+    double p[2] = {start[0], start[1]};
+    int inside = root >= 0 || point_in_polygon(f->o, f->no, p);
+    plume_index last = root;
+    double lastp[2] = {p[0], p[1]};
+    long since = 0; /* sub-steps since the last vertex (or the entry) */
+    double tau_max = f->max_barb_len + 3 * f->diag + 2 * e;
+    int jumped = 0;
+    for (double tau = 0; tau < tau_max; tau += h) {
+        double a = blend_angle(bl, tau + 0.5 * h);
+        double q[2] = {p[0] + h * cos(a), p[1] + h * sin(a)};
+        double t, u;
+        plume_index edge;
+        if (!inside) {
+            if (tau > f->max_barb_len && !jumped) {
+                /* past every input barb's end the curve is straight: jump to where it enters */
+                double hit[2];
+                jumped = 1;
+                if (!fm_ray_hit(f, p, a, hit))
+                    return PLUME_OK;
+                double dist = norm2(hit[0] - p[0], hit[1] - p[1]);
+                if (dist > 2 * h) {
+                    double jmp = dist - h;
+                    p[0] += jmp * cos(a), p[1] += jmp * sin(a);
+                    tau += jmp;
+                    q[0] = p[0] + h * cos(a), q[1] = p[1] + h * sin(a);
+                }
+            }
+            if (fm_outline_cross(f, p, q, &t, &edge, &u)) {
+                inside = 1;
+                double x[2] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])}, s, d;
+                fm_project(f, x, &s, &d);
+                plume_index snap = fm_snap_target(f, edge, u, SNAP_OUTLINE * e);
+                const double *xp = snap >= 0 ? f->o + 2 * snap : x;
+                last = -1;
+                if (sigma * d >= 0.5 * fm_width(f, s) && !(snap >= 0 && f->outline_used[snap]) &&
+                    !fm_near_vertex(f, xp, xp, GAP_POINT * e, -1) &&
+                    !fm_near_segment(f, xp, GAP_SEGMENT * e, 1u << SEG_SIDE | 1u << SEG_BARB, -1)) {
+                    if ((last = fm_outline_vertex(f, edge, u, SNAP_OUTLINE * e)) < 0)
+                        return PLUME_ENOMEM;
+                    lastp[0] = f->g.p[2 * last], lastp[1] = f->g.p[2 * last + 1];
+                } else if (sigma * d < 0.5 * fm_width(f, s)) {
+                    return PLUME_OK; /* entering through the strip end or the other side */
+                }
+                since = 0;
+            }
+            p[0] = q[0], p[1] = q[1];
+            continue;
+        }
+        if (tau == 0 && root >= 0 && root_on_outline) {
+            /* from a strip end on the outline: go on only if the barb heads into the feather */
+            if (!point_in_polygon(f->o, f->no, q))
+                return PLUME_OK;
+        } else if (fm_outline_cross(f, p, q, &t, &edge, &u)) {
+            /* the barb leaves the feather: its last edge ends on the outline */
+            if (last < 0 || ((double)since + t) * h > LAST_ARC * e)
+                return PLUME_OK;
+            double x[2] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])};
+            plume_index snap = fm_snap_target(f, edge, u, SNAP_OUTLINE * e);
+            const double *xp = snap >= 0 ? f->o + 2 * snap : x;
+            if (norm2(xp[0] - lastp[0], xp[1] - lastp[1]) < GAP_POINT * e ||
+                (snap >= 0 && f->outline_used[snap]) || fm_near_vertex(f, xp, xp, GAP_POINT * e, last) ||
+                fm_near_vertex(f, lastp, xp, GAP_SEGMENT * e, last) || fm_blocked(f, lastp, xp, 0, last))
+                return PLUME_OK;
+            plume_index id = fm_outline_vertex(f, edge, u, SNAP_OUTLINE * e);
+            if (id < 0 || fm_add_constraint(f, last, id, SEG_BARB, sigma, tag) < 0)
+                return PLUME_ENOMEM;
+            return PLUME_OK;
+        }
+        if (fm_blocked(f, p, q, 0, last) && !(fill && tau == 0))
+            return PLUME_OK; /* it would cross another barb or the strip: cut (a fill barb starts on a side) */
+        p[0] = q[0], p[1] = q[1];
+        since++;
+        if (fill && last < 0) {
+            /* a fill barb starts where the gap between its neighbours opens to 2 FILL_CLEAR e */
+            if (!fm_near_segment(f, p, GAP_POINT * e, 1u << SEG_OUTLINE, -1) &&
+                !fm_near_vertex(f, p, p, FILL_CLEAR * e, -1) &&
+                !fm_near_segment(f, p, FILL_CLEAR * e, 1u << SEG_SIDE | 1u << SEG_BARB, -1)) {
+                if ((last = fm_add_vertex(f, p)) < 0)
+                    return PLUME_ENOMEM;
+                lastp[0] = p[0], lastp[1] = p[1];
+                since = 0;
+            }
+            continue;
+        }
+        if (since < SUBSTEPS)
+            continue;
+        if (fm_near_segment(f, p, GAP_POINT * e, 1u << SEG_OUTLINE, -1)) {
+            if ((double)since * h > LAST_ARC * e)
+                return PLUME_OK; /* grazing the outline: end here */
+            continue;            /* dropped: go on to the outline */
+        }
+        if ((double)since * h > LAST_ARC * e && last >= 0)
+            return PLUME_OK;
+        if (fm_near_vertex(f, p, p, GAP_POINT * e, last) ||
+            fm_near_segment(f, p, GAP_SEGMENT * e, 1u << SEG_SIDE | 1u << SEG_BARB, last))
+            return PLUME_OK; /* converging on another barb: cut */
+        if (last >= 0 && (fm_near_vertex(f, lastp, p, GAP_SEGMENT * e, last) || fm_blocked(f, lastp, p, 0, last)))
+            return PLUME_OK;
+        plume_index id = fm_add_vertex(f, p);
+        if (id < 0 || (last >= 0 && fm_add_constraint(f, last, id, SEG_BARB, sigma, tag) < 0))
+            return PLUME_ENOMEM;
+        last = id;
+        lastp[0] = p[0], lastp[1] = p[1];
+        since = 0;
+    }
+    return PLUME_OK;
+}
+
+/* ------------------------------------------------------------------ rachis strip */
+
+/* Follows the side offset curve from station s toward ds sign until the outline: the end vertex. */
+static plume_status fm_side_end(fm *f, int sigma, double s, double dir, plume_index from, plume_index *end)
+{
+    double h = f->e / SUBSTEPS, p[2], q[2];
+    fm_offset(f, s, sigma, p);
+    double smax = f->L + f->diag + f->e, smin = -f->diag - f->e;
+    for (double ss = s; ss <= smax && ss >= smin; ss += dir * h) {
+        fm_offset(f, ss + dir * h, sigma, q);
+        double t, u;
+        plume_index edge;
+        if (fm_outline_cross(f, p, q, &t, &edge, &u)) {
+            const double *fp = f->g.p + 2 * from;
+            double x[2] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])};
+            double tt, uu;
+            plume_index e2;
+            double xin[2] = {fp[0] + (1 - 1e-9) * (x[0] - fp[0]), fp[1] + (1 - 1e-9) * (x[1] - fp[1])};
+            if (fm_outline_cross(f, fp, xin, &tt, &e2, &uu))
+                return plume_err_set(f->err, PLUME_EINVAL,
+                                     "rachis: the %s side of the strip cannot be closed on the outline near (%g, %g): "
+                                     "edge = %g m is too coarse for the outline there",
+                                     sigma > 0 ? "left" : "right", x[0], x[1], f->e);
+            plume_index id = fm_outline_vertex(f, edge, u, SNAP_SIDE * f->e);
+            if (id < 0)
+                return PLUME_ENOMEM;
+            *end = id;
+            return PLUME_OK;
+        }
+        p[0] = q[0], p[1] = q[1];
+    }
+    return plume_err_set(f->err, PLUME_EINVAL, "rachis: the %s side of the strip never meets the outline",
+                         sigma > 0 ? "left" : "right");
+}
+
+/* ------------------------------------------------------------------ driver */
+
+static int cmp_anchor(const void *a, const void *b)
+{
+    const anchor *x = a, *y = b;
+    if (x->edge != y->edge)
+        return x->edge < y->edge ? -1 : 1;
+    return (x->t > y->t) - (x->t < y->t);
+}
+
+typedef struct {
+    plume_index a, b; /* a < b */
+    int sign;         /* +1 when the barb runs a -> b */
+} edge_key;
+
+static int cmp_edge_key(const void *p, const void *q)
+{
+    const edge_key *x = p, *y = q;
+    if (x->a != y->a)
+        return x->a < y->a ? -1 : 1;
+    return (x->b > y->b) - (x->b < y->b);
+}
+
+static plume_status fm_validate(const plume_feather_input *in, int dim, plume_err *err)
+{
+    plume_status st;
+    if (dim != 2 && dim != 3)
+        return plume_err_set(err, PLUME_EINVAL, "dim = %d must be 2 or 3", dim);
+    if (!(in->edge > 0) || !isfinite(in->edge))
+        return plume_err_set(err, PLUME_EINVAL, "edge = %g m must be finite and > 0", in->edge);
+    if ((st = check_curve("outline", &in->outline, 1, 3, err)) != PLUME_OK)
+        return st;
+    double area = fabs(polygon_area(in->outline.p, in->outline.n));
+    if (!(area > 0))
+        return plume_err_set(err, PLUME_EINVAL, "outline: zero area");
+    if (area / (0.43 * in->edge * in->edge) > MAX_TRIANGLES)
+        return plume_err_set(err, PLUME_EINVAL,
+                             "edge = %g m would give about %.3g triangles on the outline's %g m^2 (limit %.0g)",
+                             in->edge, area / (0.43 * in->edge * in->edge), area, MAX_TRIANGLES);
+    if ((st = check_curve("rachis", &in->rachis, 0, 2, err)) != PLUME_OK)
+        return st;
+    if (!point_in_polygon(in->outline.p, in->outline.n, in->rachis.p))
+        return plume_err_set(err, PLUME_EINVAL, "rachis: point 0 (%g, %g), its start, lies outside the outline",
+                             in->rachis.p[0], in->rachis.p[1]);
+    double wb = in->rachis_width_base, wt = in->rachis_width_tip;
+    if (!(wb > 0) || !isfinite(wb) || !(wt > 0) || !isfinite(wt))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "rachis widths (base %g m, tip %g m) must be finite and > 0", wb, wt);
+    for (int side = 0; side < 2; side++) {
+        int nb = side == 0 ? in->nbarbs_left : in->nbarbs_right;
+        const plume_polyline *bs = side == 0 ? in->barbs_left : in->barbs_right;
+        const char *nm = side == 0 ? "left" : "right";
+        if (nb < 1 || !bs)
+            return plume_err_set(err, PLUME_EINVAL,
+                                 "barbs_%s: no barb curve on the %s side of the rachis (each side needs at least one)",
+                                 nm, nm);
+        for (int k = 0; k < nb; k++) {
+            char name[64];
+            snprintf(name, sizeof name, "barbs_%s[%d]", nm, k);
+            if ((st = check_curve(name, bs + k, 0, 2, err)) != PLUME_OK)
+                return st;
+            if (!point_in_polygon(in->outline.p, in->outline.n, bs[k].p))
+                return plume_err_set(err, PLUME_EINVAL, "%s: point 0 (%g, %g), its start, lies outside the outline",
+                                     name, bs[k].p[0], bs[k].p[1]);
+        }
+    }
+    return PLUME_OK;
+}
+
+plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_mesh **out, plume_index **barb_edges,
+                                plume_index *nbarb, plume_err *err)
+{
+    if (!in || !out || !barb_edges || !nbarb)
+        return plume_err_set(err, PLUME_EINVAL, "feather mesh: NULL argument");
+    *out = NULL, *barb_edges = NULL, *nbarb = 0;
+    plume_status st = fm_validate(in, dim, err);
+    if (st != PLUME_OK)
+        return st;
+
+    fm f;
+    memset(&f, 0, sizeof f);
+    f.in = in, f.err = err, f.e = in->edge;
+    plume_cdt_output cdt = {0};
+    plume_mesh *m = NULL;
+    plume_index *side_ids[2] = {NULL, NULL};
+    edge_key *keys = NULL;
+    plume_index *be = NULL;
+    const double e = f.e;
+
+    /* outline, counter-clockwise; its vertices are output vertices 0..no-1 */
+    f.no = in->outline.n;
+    f.o = malloc((size_t)(2 * f.no) * sizeof *f.o);
+    f.outline_used = calloc((size_t)f.no, 1);
+    if (!f.o || !f.outline_used) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    int reversed = polygon_area(in->outline.p, f.no) < 0;
+    for (plume_index i = 0; i < f.no; i++) {
+        plume_index j = reversed ? f.no - 1 - i : i;
+        f.o[2 * i] = in->outline.p[2 * j], f.o[2 * i + 1] = in->outline.p[2 * j + 1];
+    }
+    f.bb[0] = f.bb[2] = f.o[0], f.bb[1] = f.bb[3] = f.o[1];
+    for (plume_index i = 0; i < f.no; i++) {
+        f.bb[0] = fmin(f.bb[0], f.o[2 * i]), f.bb[2] = fmax(f.bb[2], f.o[2 * i]);
+        f.bb[1] = fmin(f.bb[1], f.o[2 * i + 1]), f.bb[3] = fmax(f.bb[3], f.o[2 * i + 1]);
+    }
+    f.diag = norm2(f.bb[2] - f.bb[0], f.bb[3] - f.bb[1]);
+    for (plume_index i = 0; i < f.no; i++)
+        if (plume_pslg_point(&f.g, f.o[2 * i], f.o[2 * i + 1]) < 0) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+    {
+        double margin = fmax(in->rachis_width_base, in->rachis_width_tip) + 4 * e;
+        double cell = e, w = f.bb[2] - f.bb[0] + 2 * margin, hgt = f.bb[3] - f.bb[1] + 2 * margin;
+        if (w * hgt / (cell * cell) > 4e6)
+            cell = sqrt(w * hgt / 4e6);
+        if (grid_init(&f.pg, f.bb[0] - margin, f.bb[1] - margin, f.bb[2] + margin, f.bb[3] + margin, cell) < 0 ||
+            grid_init(&f.sg, f.bb[0] - margin, f.bb[1] - margin, f.bb[2] + margin, f.bb[3] + margin, cell) < 0) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+        /* outline edges in pieces no longer than a cell, so the grid stays local */
+        for (plume_index i = 0; i < f.no; i++) {
+            const double *a = f.o + 2 * i, *b = f.o + 2 * ((i + 1) % f.no);
+            long pieces = (long)ceil(norm2(b[0] - a[0], b[1] - a[1]) / cell);
+            if (pieces < 1)
+                pieces = 1;
+            for (long k = 0; k < pieces; k++) {
+                double t0 = (double)k / (double)pieces, t1 = (double)(k + 1) / (double)pieces;
+                double pa[2] = {a[0] + t0 * (b[0] - a[0]), a[1] + t0 * (b[1] - a[1])};
+                double pb[2] = {k + 1 == pieces ? b[0] : a[0] + t1 * (b[0] - a[0]),
+                                k + 1 == pieces ? b[1] : a[1] + t1 * (b[1] - a[1])};
+                if (k == 0)
+                    pa[0] = a[0], pa[1] = a[1];
+                if (fm_add_seg(&f, pa, pb, -1, -1, SEG_OUTLINE, 0, i, t0, t1) < 0) {
+                    st = PLUME_ENOMEM;
+                    goto cleanup;
+                }
+            }
+        }
+    }
+    if ((st = fm_build_centre(&f)) != PLUME_OK || (st = fm_build_shapes(&f)) != PLUME_OK)
+        goto cleanup;
+
+    /* rachis strip: stations, side runs from the middle outward, ends closed on the outline */
+    long N = lround(f.L / e);
+    if (N < 1)
+        N = 1;
+    double ds = f.L / (double)N;
+    long run[2][2]; /* [side][first, last] station */
+    {
+        long kmid = -1;
+        for (long d = 0; d <= N && kmid < 0; d++)
+            for (int sg = -1; sg <= 1 && kmid < 0; sg += 2) {
+                long k = N / 2 + sg * d;
+                if (k < 0 || k > N)
+                    continue;
+                int ok = 1;
+                for (int sigma = -1; sigma <= 1; sigma += 2) {
+                    double p[2];
+                    fm_offset(&f, (double)k * ds, sigma, p);
+                    ok = ok && point_in_polygon(f.o, f.no, p) &&
+                         !fm_near_segment(&f, p, GAP_POINT * e, 1u << SEG_OUTLINE, -1);
+                }
+                if (ok)
+                    kmid = k;
+            }
+        if (kmid < 0) {
+            st = plume_err_set(err, PLUME_EINVAL,
+                               "rachis: no station where the strip (width %g to %g m) fits %g m inside the outline; "
+                               "edge = %g m is too coarse or the rachis runs along the outline",
+                               in->rachis_width_base, in->rachis_width_tip, GAP_POINT * e, e);
+            goto cleanup;
+        }
+        for (int side = 0; side < 2; side++) {
+            int sigma = side == 0 ? 1 : -1;
+            for (int dir = -1; dir <= 1; dir += 2) {
+                long k = kmid;
+                double p[2], q[2];
+                fm_offset(&f, (double)k * ds, sigma, p);
+                while (k + dir >= 0 && k + dir <= N) {
+                    double t, u;
+                    plume_index edge;
+                    fm_offset(&f, (double)(k + dir) * ds, sigma, q);
+                    if (fm_outline_cross(&f, p, q, &t, &edge, &u) ||
+                        fm_near_segment(&f, q, GAP_POINT * e, 1u << SEG_OUTLINE, -1))
+                        break;
+                    k += dir;
+                    p[0] = q[0], p[1] = q[1];
+                }
+                run[side][dir < 0 ? 0 : 1] = k;
+            }
+        }
+        for (int side = 0; side < 2; side++) {
+            int sigma = side == 0 ? 1 : -1;
+            long a = run[side][0], b = run[side][1];
+            side_ids[side] = malloc((size_t)(b - a + 3) * sizeof(plume_index));
+            if (!side_ids[side]) {
+                st = PLUME_ENOMEM;
+                goto cleanup;
+            }
+            for (long k = a; k <= b; k++) {
+                double p[2];
+                fm_offset(&f, (double)k * ds, sigma, p);
+                if ((side_ids[side][k - a + 1] = fm_add_vertex(&f, p)) < 0) {
+                    st = PLUME_ENOMEM;
+                    goto cleanup;
+                }
+            }
+        }
+        for (int side = 0; side < 2; side++) {
+            int sigma = side == 0 ? 1 : -1;
+            long a = run[side][0], b = run[side][1];
+            plume_index *ids = side_ids[side];
+            if ((st = fm_side_end(&f, sigma, (double)a * ds, -1, ids[1], &ids[0])) != PLUME_OK ||
+                (st = fm_side_end(&f, sigma, (double)b * ds, 1, ids[b - a + 1], &ids[b - a + 2])) != PLUME_OK)
+                goto cleanup;
+            for (long k = 0; k < b - a + 2; k++)
+                if (fm_add_constraint(&f, ids[k], ids[k + 1], SEG_SIDE, sigma, side) < 0) {
+                    st = PLUME_ENOMEM;
+                    goto cleanup;
+                }
+        }
+    }
+
+    /* barbs: rachis-rooted first (base to tip), then the family continued past the strip ends */
+    {
+        long kv = (long)ceil((f.diag + f.max_barb_len) / ds) + 1;
+        plume_index tag = 0;
+        for (int side = 0; side < 2; side++) {
+            int sigma = side == 0 ? 1 : -1;
+            long a = run[side][0], b = run[side][1];
+            for (int pass = 0; pass < 4; pass++) {
+                if (pass == 1) { /* from the strip ends on the outline */
+                    plume_index ends[2] = {side_ids[side][0], side_ids[side][b - a + 2]};
+                    for (int k = 0; k < 2; k++) {
+                        blend bl;
+                        double s, d, p[2] = {f.g.p[2 * ends[k]], f.g.p[2 * ends[k] + 1]};
+                        fm_project(&f, p, &s, &d);
+                        fm_blend(&f, side, s, &bl);
+                        if ((st = fm_walk(&f, side, p, ends[k], 1, 0, &bl, tag++)) != PLUME_OK)
+                            goto cleanup;
+                    }
+                    continue;
+                }
+                long k0 = pass == 0 ? a : pass == 2 ? a - 1 : b + 1;
+                long k1 = pass == 0 ? b : pass == 2 ? -kv : N + kv;
+                long step = pass == 2 ? -1 : 1;
+                for (long k = k0; step > 0 ? k <= k1 : k >= k1; k += step) {
+                    blend bl;
+                    double s = (double)k * ds, p[2];
+                    fm_blend(&f, side, s, &bl);
+                    fm_offset(&f, s, sigma, p);
+                    plume_index root = pass == 0 ? side_ids[side][k - a + 1] : -1;
+                    if ((st = fm_walk(&f, side, p, root, 0, 0, &bl, tag++)) != PLUME_OK)
+                        goto cleanup;
+                }
+            }
+        }
+    }
+
+    /* fill barbs from fractional stations where neighbouring barbs diverge (none on most feathers) */
+    for (int level = 1; level <= FILL_LEVELS; level++) {
+        plume_index before = f.g.n, tag = -level;
+        long parts = 1L << level;
+        for (int side = 0; side < 2; side++) {
+            int sigma = side == 0 ? 1 : -1;
+            for (long k = run[side][0]; k < run[side][1]; k++)
+                for (long j = 1; j < parts; j += 2) {
+                    blend bl;
+                    double s = ((double)k + (double)j / (double)parts) * ds, p[2];
+                    fm_blend(&f, side, s, &bl);
+                    fm_offset(&f, s, sigma, p);
+                    if ((st = fm_walk(&f, side, p, -1, 0, 1, &bl, tag)) != PLUME_OK)
+                        goto cleanup;
+                }
+        }
+        if (f.g.n == before)
+            break;
+    }
+
+    /* outline: its vertices, the anchors on its edges, and points so that no gap exceeds e */
+    qsort(f.anc, (size_t)f.nanc, sizeof *f.anc, cmp_anchor);
+    {
+        plume_index first = -1, prev = -1, ka = 0;
+        for (plume_index i = 0; i < f.no; i++) {
+            const double *a = f.o + 2 * i, *b = f.o + 2 * ((i + 1) % f.no);
+            double tprev = 0;
+            plume_index vprev = i;
+            if (first < 0)
+                first = i;
+            if (prev >= 0 && plume_pslg_segment(&f.g, prev, i) < 0) {
+                st = PLUME_ENOMEM;
+                goto cleanup;
+            }
+            prev = i;
+            for (;;) {
+                int has = ka < f.nanc && f.anc[ka].edge == i;
+                double tnext = has ? f.anc[ka].t : 1.0;
+                plume_index vnext = has ? f.anc[ka].id : (i + 1) % f.no;
+                const double *pp = f.g.p + 2 * vprev, *pn = f.g.p + 2 * vnext;
+                long pieces = (long)ceil(norm2(pn[0] - pp[0], pn[1] - pp[1]) / e - 1e-9);
+                for (long j = 1; j < pieces; j++) {
+                    double t = tprev + (tnext - tprev) * (double)j / (double)pieces;
+                    plume_index id = plume_pslg_point(&f.g, a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]));
+                    if (id < 0 || plume_pslg_segment(&f.g, prev, id) < 0) {
+                        st = PLUME_ENOMEM;
+                        goto cleanup;
+                    }
+                    prev = id;
+                }
+                if (!has)
+                    break;
+                if (plume_pslg_segment(&f.g, prev, vnext) < 0) {
+                    st = PLUME_ENOMEM;
+                    goto cleanup;
+                }
+                prev = vnext, vprev = vnext, tprev = tnext;
+                ka++;
+            }
+        }
+        if (plume_pslg_segment(&f.g, prev, first) < 0) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+    }
+
+    plume_cdt_input ci = {0};
+    ci.npoints = f.g.n, ci.points = f.g.p, ci.nsegments = f.g.ns, ci.segments = f.g.s;
+    ci.remove_exterior = 1, ci.max_edge = 0;
+    if ((st = plume_cdt_triangulate(&ci, &cdt, err)) != PLUME_OK)
+        goto cleanup;
+    if ((st = plume_mesh_create(cdt.npoints, cdt.ntriangles, dim, &m)) != PLUME_OK)
+        goto cleanup;
+    memcpy(m->X, cdt.points, (size_t)(2 * cdt.npoints) * sizeof *m->X);
+    memcpy(m->tri, cdt.triangles, (size_t)(3 * cdt.ntriangles) * sizeof *m->tri);
+    plume_mesh_reset_current(m);
+    if ((st = plume_mesh_build_topology(m, err)) != PLUME_OK)
+        goto cleanup;
+
+    /* barb edges: directed keys for the triangle lookup, and those present as mesh edges */
+    keys = malloc((size_t)(f.nbarb_seg + 1) * sizeof *keys);
+    be = malloc((size_t)(2 * f.nbarb_seg + 1) * sizeof *be);
+    if (!keys || !be) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    plume_index nbe = 0;
+    for (plume_index k = 0; k < f.nbarb_seg; k++) {
+        plume_index i = f.g.s[2 * f.barb_seg[k]], j = f.g.s[2 * f.barb_seg[k] + 1];
+        keys[k].a = i < j ? i : j, keys[k].b = i < j ? j : i, keys[k].sign = i < j ? 1 : -1;
+        plume_index pair[2] = {keys[k].a, keys[k].b};
+        plume_index lo = 0, hi = m->ne - 1, found = 0;
+        while (lo <= hi && !found) { /* m->edges is sorted (lib/mesh.c sorts its half-edges) */
+            plume_index mid = (lo + hi) / 2, *ed = m->edges + 2 * mid;
+            if (ed[0] == pair[0] && ed[1] == pair[1])
+                found = 1;
+            else if (ed[0] < pair[0] || (ed[0] == pair[0] && ed[1] < pair[1]))
+                lo = mid + 1;
+            else
+                hi = mid - 1;
+        }
+        if (found)
+            be[2 * nbe] = i, be[2 * nbe + 1] = j, nbe++;
+    }
+    qsort(keys, (size_t)f.nbarb_seg, sizeof *keys, cmp_edge_key);
+
+    for (plume_index t = 0; t < m->nt; t++) {
+        const plume_index *v = m->tri + 3 * t;
+        double c[2] = {0, 0};
+        for (int k = 0; k < 3; k++)
+            c[0] += m->X[2 * v[k]] / 3, c[1] += m->X[2 * v[k] + 1] / 3;
+        double s, d, cp[2], phi;
+        fm_project(&f, c, &s, &d);
+        fm_centre(&f, s, cp, &phi);
+        double *bd = m->barb_dir + 2 * t;
+        if (fabs(d) <= 0.5 * fm_width(&f, s)) {
+            m->material[t] = PLUME_FEATHER_RACHIS;
+            bd[0] = cos(phi), bd[1] = sin(phi);
+            continue;
+        }
+        m->material[t] = PLUME_FEATHER_VANE;
+        double sum[2] = {0, 0};
+        for (int k = 0; k < 3; k++) {
+            plume_index i = v[k], j = v[(k + 1) % 3];
+            edge_key q = {i < j ? i : j, i < j ? j : i, 0};
+            const edge_key *hit = bsearch(&q, keys, (size_t)f.nbarb_seg, sizeof *keys, cmp_edge_key);
+            if (!hit)
+                continue;
+            plume_index from = hit->sign > 0 ? hit->a : hit->b, to = hit->sign > 0 ? hit->b : hit->a;
+            double dx = m->X[2 * to] - m->X[2 * from], dy = m->X[2 * to + 1] - m->X[2 * from + 1], l = norm2(dx, dy);
+            sum[0] += dx / l, sum[1] += dy / l;
+        }
+        if (sum[0] == 0 && sum[1] == 0) {
+            /* no barb edge: inverse-distance average of the barb edges of this side nearby */
+            int sigma = d > 0 ? 1 : -1;
+            for (double r = IDW_RADIUS * e; sum[0] == 0 && sum[1] == 0 && r < 8 * f.diag; r *= 2) {
+                f.qid++;
+                FOR_CELLS(&f.sg, c[0] - r, c[1] - r, c[0] + r, c[1] + r, nd)
+                {
+                    plume_index k = f.sg.item[nd];
+                    const fseg *sg = f.s + k;
+                    if (sg->kind != SEG_BARB || sg->side != sigma || f.stamp[k] == f.qid)
+                        continue;
+                    f.stamp[k] = f.qid;
+                    double dist = seg_dist(c, sg->a, sg->b, NULL);
+                    if (dist > r)
+                        continue;
+                    double dx = sg->b[0] - sg->a[0], dy = sg->b[1] - sg->a[1], l = norm2(dx, dy);
+                    double w = 1.0 / (dist * dist + 0.01 * e * e);
+                    sum[0] += w * dx / l, sum[1] += w * dy / l;
+                }
+            }
+            if (sum[0] == 0 && sum[1] == 0) { /* no barb edge on this side at all: the blended shape */
+                blend bl;
+                fm_blend(&f, sigma > 0 ? 0 : 1, s, &bl);
+                double a = blend_angle(&bl, fabs(d));
+                sum[0] = cos(a), sum[1] = sin(a);
+            }
+        }
+        double l = norm2(sum[0], sum[1]);
+        bd[0] = sum[0] / l, bd[1] = sum[1] / l;
+    }
+
+    *out = m, m = NULL;
+    *barb_edges = be, be = NULL;
+    *nbarb = nbe;
+cleanup:
+    plume_mesh_destroy(&m);
+    plume_cdt_output_free(&cdt);
+    free(keys);
+    free(be);
+    free(side_ids[0]), free(side_ids[1]);
+    for (int side = 0; side < 2; side++) {
+        for (int k = 0; k < f.nsh[side] && f.sh[side]; k++)
+            free(f.sh[side][k].tau), free(f.sh[side][k].theta);
+        free(f.sh[side]);
+    }
+    curve_free(&f.c);
+    grid_free(&f.pg);
+    grid_free(&f.sg);
+    plume_pslg_free(&f.g);
+    free(f.o);
+    free(f.outline_used);
+    free(f.s);
+    free(f.stamp);
+    free(f.anc);
+    free(f.barb_seg);
+    return st;
+}
+
+/* ------------------------------------------------------------------ OBJ outline */
+
+typedef struct {
+    plume_index a, b; /* a < b */
+    plume_index face;
+} obj_edge;
+
+static int cmp_obj_edge(const void *p, const void *q)
+{
+    const obj_edge *x = p, *y = q;
+    if (x->a != y->a)
+        return x->a < y->a ? -1 : 1;
+    if (x->b != y->b)
+        return x->b < y->b ? -1 : 1;
+    return (x->face > y->face) - (x->face < y->face);
+}
+
+typedef struct {
+    double *v;        /* [2 nv] */
+    long *vline;      /* [nv] line of each vertex */
+    plume_index nv, vcap;
+    plume_index *fv;  /* face vertex indices (0-based), concatenated */
+    plume_index nfv, fvcap;
+    plume_index *fstart; /* [nf + 1] */
+    long *fline;      /* [nf] */
+    plume_index nf, fcap;
+} obj_data;
+
+static void obj_free(obj_data *o)
+{
+    free(o->v), free(o->vline), free(o->fv), free(o->fstart), free(o->fline);
+    memset(o, 0, sizeof *o);
+}
+
+static int grow(void **p, plume_index *cap, plume_index need, size_t size)
+{
+    if (need <= *cap)
+        return 0;
+    plume_index c = *cap ? *cap : 64;
+    while (c < need)
+        c *= 2;
+    void *r = realloc(*p, (size_t)c * size);
+    if (!r)
+        return -1;
+    *p = r, *cap = c;
+    return 0;
+}
+
+static plume_status obj_parse(const char *path, FILE *fp, obj_data *o, plume_err *err)
+{
+    char *line = NULL;
+    size_t lcap = 0;
+    long ln = 0;
+    plume_status st = PLUME_OK;
+    plume_index vcap2 = 0, fcap2 = 0;
+    while (getline(&line, &lcap, fp) >= 0) {
+        ln++;
+        char *s = line;
+        while (*s == ' ' || *s == '\t')
+            s++;
+        if (s[0] == 'v' && (s[1] == ' ' || s[1] == '\t')) {
+            char *end;
+            double x = strtod(s + 1, &end);
+            char *e2;
+            double y = end != s + 1 ? strtod(end, &e2) : 0;
+            if (end == s + 1 || e2 == end || !isfinite(x) || !isfinite(y)) {
+                st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: bad 'v' line: expected 'v x y [z]' with finite numbers",
+                                   path, ln);
+                goto done;
+            }
+            if (grow((void **)&o->v, &o->vcap, 2 * (o->nv + 1), sizeof *o->v) < 0 ||
+                grow((void **)&o->vline, &vcap2, o->nv + 1, sizeof *o->vline) < 0) {
+                st = PLUME_ENOMEM;
+                goto done;
+            }
+            o->v[2 * o->nv] = x, o->v[2 * o->nv + 1] = y, o->vline[o->nv] = ln;
+            o->nv++;
+        } else if (s[0] == 'f' && (s[1] == ' ' || s[1] == '\t')) {
+            char *p = s + 1;
+            plume_index count = 0;
+            for (;;) {
+                while (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n')
+                    p++;
+                if (!*p || *p == '#')
+                    break;
+                char *end;
+                errno = 0;
+                long idx = strtol(p, &end, 10);
+                if (end == p || errno || idx == 0 || (*end && *end != '/' && *end != ' ' && *end != '\t' &&
+                                                      *end != '\r' && *end != '\n')) {
+                    st = plume_err_set(err, PLUME_EFORMAT,
+                                       "%s:%ld: bad 'f' line: expected 'f i j k' with non-zero vertex indices", path,
+                                       ln);
+                    goto done;
+                }
+                while (*end && *end != ' ' && *end != '\t' && *end != '\r' && *end != '\n')
+                    end++; /* skip /vt/vn */
+                plume_index vi = idx > 0 ? idx - 1 : o->nv + idx; /* negative: relative to the end */
+                if (vi < 0) {
+                    st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: face index %ld out of range (%ld vertices so far)",
+                                       path, ln, idx, (long)o->nv);
+                    goto done;
+                }
+                if (grow((void **)&o->fv, &o->fvcap, o->nfv + 1, sizeof *o->fv) < 0) {
+                    st = PLUME_ENOMEM;
+                    goto done;
+                }
+                o->fv[o->nfv++] = vi;
+                count++;
+                p = end;
+            }
+            if (count < 3) {
+                st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: bad 'f' line: a face needs at least 3 vertices (got %ld)",
+                                   path, ln, (long)count);
+                goto done;
+            }
+            if (grow((void **)&o->fstart, &o->fcap, o->nf + 2, sizeof *o->fstart) < 0 ||
+                grow((void **)&o->fline, &fcap2, o->nf + 1, sizeof *o->fline) < 0) {
+                st = PLUME_ENOMEM;
+                goto done;
+            }
+            o->fstart[o->nf] = o->nfv - count;
+            o->fstart[o->nf + 1] = o->nfv;
+            o->fline[o->nf] = ln;
+            o->nf++;
+        }
+        /* everything else (comments, vt, vn, g, o, s, usemtl, mtllib) is irrelevant to the outline */
+    }
+    if (ferror(fp))
+        st = plume_err_set(err, PLUME_EIO, "%s: read error", path);
+done:
+    free(line);
+    return st;
+}
+
+plume_status plume_obj_outline(const char *path, double **points, plume_index *n, plume_err *err)
+{
+    if (!path || !points || !n)
+        return plume_err_set(err, PLUME_EINVAL, "obj outline: NULL argument");
+    *points = NULL, *n = 0;
+    FILE *fp = fopen(path, "r");
+    if (!fp)
+        return plume_err_set(err, PLUME_EIO, "%s: cannot open: %s", path, strerror(errno));
+    obj_data o;
+    memset(&o, 0, sizeof o);
+    obj_edge *ed = NULL;
+    plume_index *nb = NULL, *deg = NULL, *loop = NULL;
+    unsigned char *seen = NULL;
+    plume_status st = obj_parse(path, fp, &o, err);
+    fclose(fp);
+    if (st != PLUME_OK)
+        goto cleanup;
+    if (o.nf == 0) {
+        st = plume_err_set(err, PLUME_EFORMAT, "%s: no face", path);
+        goto cleanup;
+    }
+    ed = malloc((size_t)o.nfv * sizeof *ed);
+    if (!ed) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    plume_index ne = 0;
+    for (plume_index f = 0; f < o.nf; f++) {
+        plume_index a0 = o.fstart[f], a1 = o.fstart[f + 1];
+        for (plume_index k = a0; k < a1; k++) {
+            plume_index i = o.fv[k], j = o.fv[k + 1 < a1 ? k + 1 : a0];
+            if (i >= o.nv || j >= o.nv) {
+                st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: face index %ld out of range [1, %ld]", path,
+                                   o.fline[f], (long)(i >= o.nv ? i : j) + 1, (long)o.nv);
+                goto cleanup;
+            }
+            if (i == j) {
+                st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: face repeats vertex %ld", path, o.fline[f],
+                                   (long)i + 1);
+                goto cleanup;
+            }
+            ed[ne].a = i < j ? i : j, ed[ne].b = i < j ? j : i, ed[ne].face = f;
+            ne++;
+        }
+    }
+    qsort(ed, (size_t)ne, sizeof *ed, cmp_obj_edge);
+    /* boundary edges: used by exactly one face; more than two faces is non-manifold */
+    nb = malloc((size_t)(2 * o.nv) * sizeof *nb);
+    deg = calloc((size_t)o.nv, sizeof *deg);
+    if (!nb || !deg) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    for (plume_index v = 0; v < 2 * o.nv; v++)
+        nb[v] = -1;
+    plume_index nbe = 0;
+    for (plume_index k = 0; k < ne;) {
+        plume_index r = k + 1;
+        while (r < ne && ed[r].a == ed[k].a && ed[r].b == ed[k].b)
+            r++;
+        if (r - k > 2) {
+            st = plume_err_set(err, PLUME_EFORMAT,
+                               "%s:%ld: edge (%ld, %ld) is used by %ld faces: the mesh is non-manifold", path,
+                               o.fline[ed[k + 2].face], (long)ed[k].a + 1, (long)ed[k].b + 1, (long)(r - k));
+            goto cleanup;
+        }
+        if (r - k == 1) {
+            plume_index ends[2] = {ed[k].a, ed[k].b};
+            for (int s = 0; s < 2; s++) {
+                plume_index v = ends[s], w = ends[1 - s];
+                if (deg[v] >= 2) {
+                    st = plume_err_set(err, PLUME_EFORMAT,
+                                       "%s:%ld: vertex %ld is on more than two boundary edges: the mesh is "
+                                       "non-manifold there",
+                                       path, o.vline[v], (long)v + 1);
+                    goto cleanup;
+                }
+                nb[2 * v + deg[v]++] = w;
+            }
+            nbe++;
+        }
+        k = r;
+    }
+    if (nbe == 0) {
+        st = plume_err_set(err, PLUME_EFORMAT, "%s: no boundary edge: the faces form a closed surface", path);
+        goto cleanup;
+    }
+    seen = calloc((size_t)o.nv, 1);
+    loop = malloc((size_t)(nbe + 1) * sizeof *loop);
+    if (!seen || !loop) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    plume_index nl = 0, start = -1;
+    for (plume_index v = 0; v < o.nv && start < 0; v++)
+        if (deg[v] > 0)
+            start = v;
+    for (plume_index prev = -1, v = start;;) {
+        if (deg[v] != 2) {
+            st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: vertex %ld ends a boundary chain: the mesh is non-manifold",
+                               path, o.vline[v], (long)v + 1);
+            goto cleanup;
+        }
+        seen[v] = 1;
+        loop[nl++] = v;
+        plume_index next = nb[2 * v] != prev ? nb[2 * v] : nb[2 * v + 1];
+        if (nb[2 * v] == nb[2 * v + 1])
+            next = nb[2 * v];
+        prev = v, v = next;
+        if (v == start || nl > nbe)
+            break;
+    }
+    if (nl != nbe) {
+        plume_index other = -1, loops = 1;
+        for (plume_index v = 0; v < o.nv; v++)
+            if (deg[v] > 0 && !seen[v]) {
+                if (other < 0)
+                    other = v;
+                /* count the remaining loops */
+                plume_index prev = -1, w = v;
+                do {
+                    seen[w] = 1;
+                    plume_index next = nb[2 * w] != prev ? nb[2 * w] : nb[2 * w + 1];
+                    prev = w, w = next;
+                } while (w >= 0 && w != v && !seen[w]);
+                loops++;
+            }
+        st = plume_err_set(err, PLUME_EFORMAT,
+                           "%s:%ld: vertex %ld starts boundary loop 2 of %ld: the outline must be a single loop "
+                           "(a hole or a separate piece)",
+                           path, other >= 0 ? o.vline[other] : 0L, (long)other + 1, (long)loops);
+        goto cleanup;
+    }
+    double *pts = malloc((size_t)(2 * nl) * sizeof *pts);
+    if (!pts) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    for (plume_index k = 0; k < nl; k++)
+        pts[2 * k] = o.v[2 * loop[k]], pts[2 * k + 1] = o.v[2 * loop[k] + 1];
+    if (polygon_area(pts, nl) < 0)
+        for (plume_index k = 0; k < nl / 2; k++)
+            for (int c = 0; c < 2; c++) {
+                double tmp = pts[2 * k + c];
+                pts[2 * k + c] = pts[2 * (nl - 1 - k) + c];
+                pts[2 * (nl - 1 - k) + c] = tmp;
+            }
+    *points = pts, *n = nl;
+cleanup:
+    obj_free(&o);
+    free(ed), free(nb), free(deg), free(loop), free(seen);
+    return st;
+}

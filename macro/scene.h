@@ -1,0 +1,93 @@
+/* plume: a dynamic shell scene from JSON — mesh (an OBJ triangle mesh or the feather mesher),
+ * per-material membrane, bending, density and barb constraint, keyframed handles, gravity and
+ * time stepping — validated as a whole, then built into a problem and an implicit Euler stepper
+ * (lib/dynamics.h). The format:
+ *
+ *   {
+ *     "mesh": {"obj": "strip.obj", "materials_by_group": {"rachis": 1}, "barb_direction": [1, 0]}
+ *           | {"feather": "feather_shape.json", "outline": "outline.obj", "edge": 5e-3},
+ *     "materials": [ {"membrane": {"E_xx", "E_yy", "nu_xy", "G_xy", "thickness", "kappa"}
+ *                                | {"E", "nu", "thickness", "kappa"},
+ *                     "bending": {"D_long", "D_trans"} | {"D"} | "from_membrane",
+ *                     "density": kg/m^2, "constraint": true|false}, ... ],
+ *     "handles": [ {"near": [x, y], "radius": r} | {"vertices": [ids]} | {"box": [x0, y0, x1, y1]},
+ *                  with "keyframes": [[t, dx, dy, dz], ...] ],
+ *     "gravity": [gx, gy, gz], "dt": s, "duration": s, "solver": "newton"|"ipopt"|"linearized",
+ *     "max_halvings": n, "max_iter": n, "output_every": n, "render": [frames],
+ *     "camera": {"rot_x": deg, "rot_z": deg}
+ *   }
+ * Required: mesh, materials (every material id the mesh uses), dt, duration; everything else has
+ * a default (no handles, gravity (0, 0, -9.81), newton, 6 halvings, 100 iterations, every step an
+ * output frame, no render, camera 60/30). Membrane: "nu"/"nu_xy" default 0, "kappa" default 0;
+ * isotropic {"E", "nu"} means E_xx = E_yy = E, G_xy = E / (2 (1 + nu)). "bending" defaults to
+ * "from_membrane": D_long = E_xx t^3 / (12 (1 - nu_xy nu_yx)), D_trans alike with E_yy. Barb
+ * edges of a material with "constraint": true are made inextensible: for an OBJ mesh the edges
+ * parallel (|sin| <= 1e-6) to the barb direction of an adjacent triangle of that material, for the
+ * feather the mesher's barb edges next to such a triangle. Handle selectors work on the reference
+ * positions X: "near" without "radius" takes the nearest vertex; "vertices" are 0-based indices in
+ * the OBJ's vertex list (or the mesher's ids); keyframe offsets are translations of X (z from 0),
+ * piecewise linear in time, constant after the last key; a vertex may belong to one handle only.
+ * An OBJ face's group is its last "g" (or "o") name; groups absent from "materials_by_group" get
+ * material 0. Relative file names are relative to the scene file's directory; a "note" key is
+ * allowed in any object; any other unknown key is an error. */
+#ifndef PLUME_SCENE_H
+#define PLUME_SCENE_H
+
+#include "../lib/dynamics.h"
+#include "../lib/membrane.h"
+#include "../lib/mesh.h"
+#include "../lib/problem.h"
+#include "bending.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One material of a scene. */
+typedef struct {
+    plume_membrane_material membrane; /* moduli in the barb frame, thickness, kappa */
+    plume_bending_material bending;   /* N m */
+    double density;                   /* surface mass density, kg/m^2 */
+    int constraint;                   /* 1: the barb edges of this material's triangles are inextensible */
+} plume_scene_material;
+
+/* A loaded, validated scene. Everything is owned by the scene (plume_scene_destroy). The caller
+ * may change the run settings (dt, solver, ...) before plume_scene_dynamics. */
+typedef struct {
+    char *path;                   /* the scene file as given */
+    plume_mesh *mesh;             /* shell mode (dim 3), topology built, x = (X, 0) */
+    int nmat;
+    plume_scene_material *mats;   /* [nmat], indexed by material id */
+    int nhandles;
+    plume_handle *handles;        /* [nhandles]; their arrays are owned by the scene */
+    plume_index nbarb;
+    plume_index *barb_edges;      /* [2 nbarb] constrained (inextensible) edges */
+    double gravity[3];            /* m/s^2; default (0, 0, -9.81) */
+    double dt, duration;          /* s */
+    plume_solver_kind solver;     /* default newton */
+    int max_halvings;             /* default 6 */
+    int max_iter;                 /* solver iterations per step; default 100 */
+    int verbose;                  /* solver iterations on stderr; default 0 (not read from the file) */
+    int output_every;             /* steps per output frame; default 1 */
+    int nrender;
+    long *render;                 /* [nrender] frame indices to render as PNG */
+    double camera[2];             /* rot_x, rot_z (degrees); default 60, 30 */
+    double length;                /* diagonal of the reference bounding box (m) */
+} plume_scene;
+
+/* Reads, validates and meshes the scene in `path`. Errors (PLUME_EIO unreadable file,
+ * PLUME_EFORMAT malformed JSON or a wrong type, PLUME_EINVAL a bad value) name the file, the line
+ * and the key ("scene.json:12: materials[0].density must be finite and > 0 (got -1)"). */
+plume_status plume_scene_load(const char *path, plume_scene **out, plume_err *err);
+void plume_scene_destroy(plume_scene **s);
+
+/* Builds the problem (membrane and bending terms per material, edge-length constraints on the
+ * barb edges) with x at the rest state, and the implicit Euler stepper with the scene's
+ * densities, handles, gravity, dt, solver, max_halvings and max_iter. *p and *d belong to the
+ * caller (destroy d first); the scene must outlive them. */
+plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **p, plume_dynamics **d, plume_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,378 @@
+/* Scenes (macro/scene.h) and apps/feather as a user runs them: parse errors with file, line and
+ * key; the shipped scenes; a short run of the strip example with its outputs; restart "as if
+ * never stopped"; a step that cannot converge. */
+#define _DEFAULT_SOURCE
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <jansson.h>
+
+#include "app_runner.h"
+#include "harness.h"
+#include "../lib/frames.h"
+#include "../macro/scene.h"
+
+/* A valid scene on the strip example; line numbers matter to the error tests below. */
+static const char base_scene[] =
+    "{\n"                                                                          /* 1 */
+    "  \"mesh\": {\"obj\": \"@OBJ@\", \"materials_by_group\": {\"strip\": 0}},\n"  /* 2 */
+    "  \"materials\": [\n"                                                         /* 3 */
+    "    {\"membrane\": {\"E\": 1e7, \"nu\": 0.3, \"thickness\": 1e-3},\n"          /* 4 */
+    "     \"bending\": \"from_membrane\", \"density\": 0.1, \"constraint\": true}\n" /* 5 */
+    "  ],\n"                                                                       /* 6 */
+    "  \"handles\": [{\"box\": [0, 0, 0.005, 0.02], \"keyframes\": [[0, 0, 0, 0]]}],\n" /* 7 */
+    "  \"dt\": 0.01,\n"                                                            /* 8 */
+    "  \"duration\": 0.1,\n"                                                       /* 9 */
+    "  \"solver\": \"newton\"\n"                                                   /* 10 */
+    "}\n";
+
+/* src with the first `from` replaced by `to` (malloc'ed). */
+static char *replace(const char *src, const char *from, const char *to)
+{
+    const char *p = strstr(src, from);
+    size_t n = strlen(src) + strlen(to) + 1;
+    char *out = malloc(n);
+    if (!p) {
+        snprintf(out, n, "%s", src);
+        return out;
+    }
+    snprintf(out, n, "%.*s%s%s", (int)(p - src), src, to, p + strlen(from));
+    return out;
+}
+
+static void write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    CHECK(f != NULL);
+    if (f) {
+        fputs(text, f);
+        fclose(f);
+    }
+}
+
+static char *strip_scene_text(void)
+{
+    char obj[PATH_MAX];
+    if (!realpath("../data/shell/strip.obj", obj))
+        snprintf(obj, sizeof obj, "../data/shell/strip.obj");
+    return replace(base_scene, "@OBJ@", obj);
+}
+
+static void rm_rf(const char *dir)
+{
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    CHECK(system(cmd) == 0);
+}
+
+static int exists_nonempty(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && st.st_size > 0;
+}
+
+void test_feather_app_scene_errors(void)
+{
+    char dir[64] = "/tmp/plume-scene-XXXXXX", path[128];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(path, sizeof path, "%s/scene.json", dir);
+    char *good = strip_scene_text();
+    plume_err err = {{0}};
+    plume_scene *s = NULL;
+    write_text(path, good);
+    CHECK(plume_scene_load(path, &s, &err) == PLUME_OK);
+    if (s) {
+        CHECK(s->mesh->nv == 125 && s->mesh->nt == 192 && s->nmat == 1 && s->nhandles == 1);
+        CHECK(s->handles[0].nvertices == 10); /* two columns of five: a clamp, not a hinge */
+        CHECK(s->nbarb == 24 * 5);            /* the edges along x of the five rows */
+        CHECK_REL(s->mats[0].bending.D_long, 1e7 * 1e-9 / (12.0 * (1.0 - 0.09)), 1e-12, 0.0);
+        CHECK(s->dt == 0.01 && s->solver == PLUME_SOLVER_NEWTON && s->output_every == 1);
+    }
+    plume_scene_destroy(&s);
+    CHECK(s == NULL);
+    /* each bad input: the text replaced, then what the message must say */
+    const char *cases[][3] = {
+        {"  \"dt\": 0.01,\n", "  \"dt\": 0.01\n", "scene.json:9:"},
+        {"\"newton\"", "\"cg\"", "scene.json:10: solver must be \"newton\", \"ipopt\" or \"linearized\" (got \"cg\")"},
+        {"\"density\": 0.1", "\"density\": -0.1", "scene.json:5: materials[0].density must be > 0 (got -0.1)"},
+        {"\"box\": [0, 0, 0.005, 0.02]", "\"near\": [5, 5], \"radius\": 0.001", "scene.json:7: handles[0].near with radius 0.001 selects no vertex"},
+        {"[[0, 0, 0, 0]]", "[[0.5, 0, 0, 0], [0.2, 0, 0, 0]]", "scene.json:7: handles[0].keyframes[1] time 0.2 is not after"},
+        {"{\"strip\": 0}", "{\"strip\": 1}", "scene.json:2: mesh.materials_by_group material id without a material"},
+        {"\"E\": 1e7", "\"E\": -1e7", "scene.json:4: materials[0].membrane.E must be > 0"},
+        {"\"dt\": 0.01", "\"dt\": 0", "scene.json:8: dt must be > 0 (got 0)"},
+        {"\"duration\"", "\"duraton\"", "scene.json:9: duraton is an unknown key"},
+        {"\"strip\": 0", "\"strp\": 0", "scene.json:2: mesh.materials_by_group.strp names a group"},
+        {"\"thickness\": 1e-3", "\"thickness\": 1e-3, \"kappa\": -1", "scene.json:4: materials[0].membrane.kappa must be >= 0"},
+        {"\"constraint\": true", "\"constraint\": 1", "materials[0].constraint must be true or false"},
+        {"\"bending\": \"from_membrane\"", "\"bending\": {\"D_long\": 1e-4, \"D_trans\": -1}", "materials[0].bending.D_trans must be >= 0"},
+        {"\"handles\": [{\"box\": [0, 0, 0.005, 0.02], \"keyframes\": [[0, 0, 0, 0]]}]",
+         "\"handles\": [{\"box\": [0, 0, 0.005, 0.02], \"keyframes\": [[0, 0, 0, 0]]}, {\"vertices\": [0], \"keyframes\": [[0, 0, 0, 0]]}]",
+         "handles[1] shares vertex 0 with handles[0]"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        char *text = replace(good, cases[k][0], cases[k][1]);
+        CHECK(strcmp(text, good) != 0);
+        write_text(path, text);
+        free(text);
+        CHECK(plume_scene_load(path, &s, &err) != PLUME_OK && s == NULL);
+        if (!strstr(err.msg, cases[k][2]) || !strstr(err.msg, dir)) {
+            plume_test_failures++;
+            fprintf(stderr, "    case %zu: expected '%s' in: %s\n", k, cases[k][2], err.msg);
+        }
+    }
+    /* a missing mesh file is named */
+    char *text = replace(good, "\"obj\": \"/", "\"obj\": \"/nonexistent/");
+    write_text(path, text);
+    free(text);
+    CHECK(plume_scene_load(path, &s, &err) == PLUME_EIO && strstr(err.msg, "/nonexistent/"));
+    CHECK(plume_scene_load("/nonexistent/scene.json", &s, &err) == PLUME_EIO && strstr(err.msg, "/nonexistent/scene.json"));
+
+    /* feather meshes: the shape file's errors name it; the rachis needs its material */
+    char outline[PATH_MAX], shape[128], scene_text[PATH_MAX + 1024];
+    if (!realpath("../data/feather/outline.obj", outline))
+        snprintf(outline, sizeof outline, "../data/feather/outline.obj");
+    snprintf(shape, sizeof shape, "%s/shape.json", dir);
+    write_text(shape, "{\"rachis\": {\"points\": [[0, 0], [0, 0.2]], \"width_base\": 0.003, \"width_tip\": 0.001},\n"
+                      " \"barbs_right\": [[[0, 0.05], [0.01, 0.06]]]}\n");
+    static const char mat[] = "{\"membrane\": {\"E\": 1e6, \"nu\": 0, \"thickness\": 1e-4}, \"density\": 0.026}";
+    snprintf(scene_text, sizeof scene_text,
+             "{\"mesh\": {\"feather\": \"shape.json\", \"outline\": \"%s\", \"edge\": 0.005},\n"
+             " \"materials\": [%s, %s], \"dt\": 0.01, \"duration\": 0.1}\n", outline, mat, mat);
+    write_text(path, scene_text);
+    CHECK(plume_scene_load(path, &s, &err) == PLUME_EFORMAT && strstr(err.msg, "shape.json: barbs_left must be"));
+    write_text(shape, "{\"rachis\": {\"points\": [[0, 0], [0, 0.2]], \"width_base\": 0.003, \"width_tip\": -1},\n"
+                      " \"barbs_right\": [[[0, 0.05], [0.01, 0.06]]]}\n");
+    CHECK(plume_scene_load(path, &s, &err) == PLUME_EINVAL && strstr(err.msg, "shape.json:1: rachis.width_tip must be > 0"));
+    write_text(shape, "{\"rachis\": [[0, 0]\n");
+    CHECK(plume_scene_load(path, &s, &err) == PLUME_EFORMAT && strstr(err.msg, "shape.json:2:"));
+    snprintf(scene_text, sizeof scene_text,
+             "{\"mesh\": {\"feather\": \"../data/feather/feather_shape.json\", \"edge\": 0.005},\n"
+             " \"materials\": [%s], \"dt\": 0.01, \"duration\": 0.1}\n", mat);
+    char cwd_shape[PATH_MAX];
+    char *scene_rel = replace(scene_text, "../data/feather/feather_shape.json",
+                              realpath("../data/feather/feather_shape.json", cwd_shape) ? cwd_shape : "x");
+    write_text(path, scene_rel);
+    free(scene_rel);
+    CHECK(plume_scene_load(path, &s, &err) == PLUME_EINVAL && strstr(err.msg, "1 (rachis)") && strstr(err.msg, "materials"));
+    if (s)
+        plume_scene_destroy(&s);
+
+    /* through the app: exit 2 and the same message */
+    char args[512], out[8192], errs[8192];
+    text = replace(good, "\"newton\"", "\"cg\"");
+    write_text(path, text);
+    free(text);
+    snprintf(args, sizeof args, "%s -o %s/out", path, dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 2);
+    CHECK(strstr(errs, "scene.json:10: solver") != NULL);
+    write_text(path, good);
+    const char *bad[][2] = {{"", "no scene file"}, {"@ --frames 0", "--frames"}, {"@ --solver cg", "--solver"},
+                            {"@ --bogus", "unknown option '--bogus'"}, {"/nonexistent.json", "/nonexistent.json"},
+                            {"@ --frames 2 --duration 1", "exclusive"}, {"@ --restart /nonexistent.h5", "/nonexistent.h5"}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        char *a = replace(bad[k][0], "@", path);
+        snprintf(args, sizeof args, "%s -o %s/out --quiet", a, dir);
+        free(a);
+        CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 2);
+        if (!strstr(errs, bad[k][1])) {
+            plume_test_failures++;
+            fprintf(stderr, "    feather %s: expected '%s' in: %s\n", args, bad[k][1], errs);
+        }
+    }
+    CHECK(app_run(dir, "feather", "--help", out, sizeof out, errs, sizeof errs) == 0 && strstr(out, "--restart"));
+    free(good);
+    rm_rf(dir);
+}
+
+/* The shipped scenes load and mean what their names say (meshing only, no time step). */
+void test_feather_app_shipped_scenes(void)
+{
+    const char *files[] = {"../data/feather/scene_anisotropic.json", "../data/feather/scene_isotropic.json",
+                           "../data/feather/scene_no_constraint.json", "../data/shell/strip_scene.json"};
+    for (int k = 0; k < 4; k++) {
+        plume_scene *s = NULL;
+        plume_err err = {{0}};
+        CHECK(plume_scene_load(files[k], &s, &err) == PLUME_OK);
+        if (!s) {
+            fprintf(stderr, "    %s: %s\n", files[k], err.msg);
+            continue;
+        }
+        CHECK(s->mesh->dim == 3 && s->mesh->nt > 100 && s->nhandles >= 1);
+        CHECK((s->nbarb > 0) == (k == 0 || k == 3)); /* constrained: anisotropic and strip */
+        if (k < 3) {
+            CHECK(s->nmat == 2 && s->dt == 0.011 && s->nhandles == 2);
+            CHECK(s->mats[1].membrane.E_xx == 1e9 && s->mats[1].membrane.h == 3e-3 && s->mats[1].density == 0.54);
+            CHECK(s->mats[0].density == 2.6e-2 && s->mats[0].membrane.kappa == 5.04e7);
+            int rachis = 0;
+            for (plume_index t = 0; t < s->mesh->nt; t++)
+                rachis += s->mesh->material[t] == 1;
+            CHECK(rachis > 0 && rachis < s->mesh->nt);
+        }
+        if (k == 0)
+            CHECK(s->mats[0].bending.D_long == 2.5e-4 && s->mats[0].bending.D_trans == 1e-7);
+        if (k == 1)
+            CHECK(s->mats[0].bending.D_long == 7.9e-4 && s->mats[0].bending.D_trans == 2.5e-8 &&
+                  s->mats[0].membrane.E_xx == s->mats[0].membrane.E_yy);
+        plume_scene_destroy(&s);
+    }
+}
+
+/* The strip example for a few frames: exit 0, the JSON summary, the outputs on disk. */
+void test_feather_app_strip_run(void)
+{
+    char dir[64] = "/tmp/plume-feather-XXXXXX", args[512], out[16384], errs[8192], path[256];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(args, sizeof args, "../data/shell/strip_scene.json -o %s/run --frames 3 --json --quiet", dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
+    json_error_t je;
+    json_t *j = json_loads(out, 0, &je);
+    CHECK(j != NULL);
+    if (!j)
+        fprintf(stderr, "    stdout: %s\n    stderr: %s\n", out, errs);
+    if (j) {
+        const char *keys[] = {"frames", "steps", "steps_halved", "newton_iterations", "max_constraint_violation",
+                              "converged", "seconds", "elements", "vertices"};
+        for (int k = 0; k < 9; k++)
+            CHECK(json_object_get(j, keys[k]) != NULL);
+        CHECK(json_integer_value(json_object_get(j, "frames")) == 4); /* frame 0 and three more */
+        CHECK(json_integer_value(json_object_get(j, "steps")) == 6);  /* output_every 2 */
+        CHECK(json_integer_value(json_object_get(j, "elements")) == 192);
+        CHECK(json_integer_value(json_object_get(j, "vertices")) == 125);
+        CHECK(json_is_true(json_object_get(j, "converged")));
+        CHECK(json_integer_value(json_object_get(j, "constraints")) > 0);
+        CHECK(json_real_value(json_object_get(j, "max_constraint_violation")) <= 1e-8);
+        CHECK_REL(json_real_value(json_object_get(j, "time")), 0.06, 1e-12, 0.0);
+        json_decref(j);
+    }
+    for (int k = 0; k <= 3; k++) {
+        snprintf(path, sizeof path, "%s/run/frame_%05d.vtk", dir, k);
+        CHECK(exists_nonempty(path));
+    }
+    snprintf(path, sizeof path, "%s/run/frame_00004.vtk", dir);
+    CHECK(!exists_nonempty(path));
+    snprintf(path, sizeof path, "%s/run/frame_00000.png", dir); /* "render": [0, ...] */
+    CHECK(exists_nonempty(path));
+    snprintf(path, sizeof path, "%s/run/frames.h5", dir);
+    plume_frames_info info;
+    plume_err err = {{0}};
+    CHECK(plume_frames_info_read(path, &info, &err) == PLUME_OK && info.count == 4 && info.nv == 125);
+    plume_frame f;
+    CHECK(plume_frames_read(path, -1, &f, &err) == PLUME_OK && f.step == 6);
+    if (f.x) {
+        double zmin = 0.0;
+        for (plume_index v = 0; v < f.nv; v++)
+            zmin = fmin(zmin, f.x[3 * v + 2]);
+        CHECK(zmin < -1e-4 && zmin > -0.05); /* the strip sags under gravity */
+    }
+    plume_frame_free(&f);
+    rm_rf(dir);
+}
+
+/* Writes the strip scene with output_every 1 (and `extra` replacements) into dir/name. */
+static void write_strip_variant(const char *dir, const char *name, const char *from, const char *to)
+{
+    char path[256];
+    char *text = strip_scene_text();
+    if (from) {
+        char *t2 = replace(text, from, to);
+        free(text);
+        text = t2;
+    }
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    write_text(path, text);
+    free(text);
+}
+
+/* 6 steps in one run against 3 steps and a restart for 3 more: the same final state. */
+void test_feather_app_restart(void)
+{
+    char dir[64] = "/tmp/plume-restart-XXXXXX", args[768], out[16384], errs[8192], pa[256], pb[256], pc[256];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    /* a handle that moves, so the restart must also get the time right */
+    write_strip_variant(dir, "s.json", "[[0, 0, 0, 0]]", "[[0, 0, 0, 0], [0.1, 0, 0, 0.01]]");
+    snprintf(args, sizeof args, "%s/s.json -o %s/a --frames 6 --quiet", dir, dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
+    snprintf(args, sizeof args, "%s/s.json -o %s/b --frames 3 --quiet", dir, dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
+    snprintf(pb, sizeof pb, "%s/b/frames.h5", dir);
+    snprintf(args, sizeof args, "%s/s.json --restart %s --frames 3 --quiet --json", dir, pb); /* in place */
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
+    json_error_t je;
+    json_t *j = json_loads(out, 0, &je);
+    CHECK(j && json_integer_value(json_object_get(j, "step")) == 6 && json_integer_value(json_object_get(j, "frames")) == 3);
+    json_decref(j);
+    snprintf(pa, sizeof pa, "%s/a/frames.h5", dir);
+    plume_frame fa, fb;
+    plume_err err = {{0}};
+    CHECK(plume_frames_read(pa, -1, &fa, &err) == PLUME_OK);
+    CHECK(plume_frames_read(pb, -1, &fb, &err) == PLUME_OK);
+    if (fa.x && fb.x) {
+        CHECK(fa.index == 6 && fb.index == 6 && fa.step == 6 && fb.step == 6 && fa.t == fb.t);
+        double dx = 0.0, dv = 0.0, span = 0.0;
+        for (plume_index i = 0; i < 3 * fa.nv; i++) {
+            dx = fmax(dx, fabs(fa.x[i] - fb.x[i]));
+            dv = fmax(dv, fabs(fa.v[i] - fb.v[i]));
+            span = fmax(span, fabs(fa.x[i]));
+        }
+        CHECK(dx <= 1e-10);
+        CHECK(dv <= 1e-8);
+        CHECK(span > 0.05);
+    }
+    plume_frame_free(&fa);
+    plume_frame_free(&fb);
+    snprintf(pc, sizeof pc, "%s/b/frame_00006.vtk", dir);
+    CHECK(exists_nonempty(pc));
+    /* restarting into another directory copies the frames file there first */
+    snprintf(args, sizeof args, "%s/s.json --restart %s -o %s/c --frames 1 --quiet", dir, pa, dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
+    plume_frames_info info;
+    snprintf(pc, sizeof pc, "%s/c/frames.h5", dir);
+    CHECK(plume_frames_info_read(pc, &info, &err) == PLUME_OK && info.count == 8);
+    CHECK(plume_frames_info_read(pa, &info, &err) == PLUME_OK && info.count == 7);
+    /* a frames file of another scene is refused */
+    write_strip_variant(dir, "free.json", "\"constraint\": true", "\"constraint\": false");
+    snprintf(args, sizeof args, "%s/free.json --restart %s -o %s/d --frames 1 --quiet", dir, pa, dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 2);
+    CHECK(strstr(errs, "another scene") != NULL);
+    rm_rf(dir);
+}
+
+/* A step that cannot converge even halved: exit 3, the reason on stderr, frames so far kept. */
+void test_feather_app_nonconvergence(void)
+{
+    char dir[64] = "/tmp/plume-noconv-XXXXXX", args[512], out[16384], errs[8192], path[256];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    write_strip_variant(dir, "s.json", "\"solver\": \"newton\"", "\"solver\": \"newton\", \"max_iter\": 1, \"max_halvings\": 1");
+    snprintf(args, sizeof args, "%s/s.json -o %s/run --frames 4 --quiet --json", dir, dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 3);
+    CHECK(strstr(errs, "did not converge") && strstr(errs, "iteration cap"));
+    json_error_t je;
+    json_t *j = json_loads(out, 0, &je);
+    CHECK(j && json_is_false(json_object_get(j, "converged")) && json_integer_value(json_object_get(j, "steps")) == 0);
+    CHECK(j && json_integer_value(json_object_get(j, "steps_halved")) == 1);
+    json_decref(j);
+    snprintf(path, sizeof path, "%s/run/frame_00000.vtk", dir);
+    CHECK(exists_nonempty(path));
+    snprintf(path, sizeof path, "%s/run/frames.h5", dir);
+    plume_frames_info info;
+    plume_err err = {{0}};
+    CHECK(plume_frames_info_read(path, &info, &err) == PLUME_OK && info.count == 1);
+    rm_rf(dir);
+}

@@ -1,0 +1,253 @@
+/* Output of dynamic runs: the HDF5 frames file (round trip, append, interrupted appends, errors),
+ * legacy VTK frames and PNG renders. */
+#define _DEFAULT_SOURCE
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <hdf5.h>
+
+#include "harness.h"
+#include "test_rng.h"
+#include "../lib/frames.h"
+#include "../lib/mesh.h"
+#include "../lib/render.h"
+#include "../lib/vtk.h"
+#include "../macro/patch_mesh.h"
+
+static int scratch_dir(char *dir)
+{
+    strcpy(dir, "/tmp/plume-frames-XXXXXX");
+    return mkdtemp(dir) != NULL;
+}
+
+static void remove_dir(const char *dir)
+{
+    char cmd[256];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    CHECK(system(cmd) == 0);
+}
+
+static int same(const double *a, const double *b, plume_index n)
+{
+    return n == 0 || memcmp(a, b, (size_t)n * sizeof *a) == 0;
+}
+
+/* Three frames written and read back bit for bit; the last frame and frame 1 by index. */
+void test_frames_roundtrip(void)
+{
+    char dir[64], path[128];
+    if (!scratch_dir(dir)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(path, sizeof path, "%s/frames.h5", dir);
+    const plume_index nv = 7, nc = 4;
+    double x[3][21], v[3][21], l[3][4];
+    rng64 rng = {12345};
+    for (int k = 0; k < 3; k++) {
+        for (int i = 0; i < 21; i++)
+            x[k][i] = urand(&rng) - 0.5, v[k][i] = 1e3 * (urand(&rng) - 0.5);
+        for (int i = 0; i < 4; i++)
+            l[k][i] = urand(&rng) * 1e-7;
+    }
+    plume_err err = {{0}};
+    CHECK(plume_frames_create(path, nv, nc, 0.011, "data/feather/scene.json", &err) == PLUME_OK);
+    plume_frames_info info;
+    CHECK(plume_frames_info_read(path, &info, &err) == PLUME_OK && info.count == 0);
+    plume_frame f;
+    CHECK(plume_frames_read(path, -1, &f, &err) == PLUME_EINVAL); /* no frame yet */
+    for (int k = 0; k < 3; k++)
+        CHECK(plume_frames_append(path, nv, nc, 0.011 * 3 * k, 3L * k, x[k], v[k], l[k], &err) == PLUME_OK);
+    CHECK(plume_frames_info_read(path, &info, &err) == PLUME_OK);
+    CHECK(info.count == 3 && info.nv == nv && info.ncons == nc && info.dt == 0.011);
+    CHECK(strcmp(info.scene, "data/feather/scene.json") == 0);
+    CHECK(plume_frames_read(path, -1, &f, &err) == PLUME_OK);
+    CHECK(f.index == 2 && f.step == 6 && f.t == 0.011 * 6 && f.nv == nv && f.ncons == nc);
+    CHECK(f.x && same(f.x, x[2], 21) && same(f.v, v[2], 21) && same(f.lambda, l[2], 4));
+    plume_frame_free(&f);
+    CHECK(plume_frames_read(path, 1, &f, &err) == PLUME_OK);
+    CHECK(f.index == 1 && f.step == 3 && f.t == 0.011 * 3);
+    CHECK(f.x && same(f.x, x[1], 21) && same(f.v, v[1], 21) && same(f.lambda, l[1], 4));
+    plume_frame_free(&f);
+    CHECK(f.x == NULL);
+    /* errors */
+    CHECK(plume_frames_read(path, 3, &f, &err) == PLUME_EINVAL && strstr(err.msg, "no frame 3"));
+    CHECK(plume_frames_append(path, nv + 1, nc, 1.0, 9, x[0], v[0], l[0], &err) == PLUME_EFORMAT);
+    CHECK(strstr(err.msg, "7 vertices") != NULL);
+    CHECK(plume_frames_read("/nonexistent/f.h5", 0, &f, &err) == PLUME_EIO && strstr(err.msg, "/nonexistent/f.h5"));
+    CHECK(plume_frames_create(path, 0, 0, 0.01, NULL, &err) == PLUME_EINVAL);
+    CHECK(plume_frames_create(path, 3, 0, 0.0, NULL, &err) == PLUME_EINVAL);
+    char bad[128];
+    snprintf(bad, sizeof bad, "%s/text.h5", dir);
+    FILE *t = fopen(bad, "w");
+    fputs("not hdf5\n", t);
+    fclose(t);
+    CHECK(plume_frames_info_read(bad, &info, &err) == PLUME_EFORMAT && strstr(err.msg, "not an HDF5 file"));
+    CHECK(plume_frames_create("/nonexistent/dir/f.h5", 3, 0, 0.01, NULL, &err) == PLUME_EIO);
+    CHECK(strstr(err.msg, "/nonexistent/dir/f.h5") != NULL);
+    /* no constraints: lambda may be NULL */
+    snprintf(bad, sizeof bad, "%s/free.h5", dir);
+    CHECK(plume_frames_create(bad, nv, 0, 0.5, "", &err) == PLUME_OK);
+    CHECK(plume_frames_append(bad, nv, 0, 0.5, 1, x[0], v[0], NULL, &err) == PLUME_OK);
+    CHECK(plume_frames_read(bad, 0, &f, &err) == PLUME_OK && f.lambda == NULL && same(f.x, x[0], 21));
+    plume_frame_free(&f);
+    remove_dir(dir);
+}
+
+/* An append interrupted after creating its group but before the commit mark: readers ignore the
+ * group, and the next append replaces it. Creating over an existing file starts afresh. */
+void test_frames_interrupted_append(void)
+{
+    char dir[64], path[128];
+    if (!scratch_dir(dir)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(path, sizeof path, "%s/frames.h5", dir);
+    double x[6] = {1, 2, 3, 4, 5, 6}, v[6] = {0}, l[1] = {0.25};
+    plume_err err = {{0}};
+    CHECK(plume_frames_create(path, 2, 1, 0.1, "s.json", &err) == PLUME_OK);
+    CHECK(plume_frames_append(path, 2, 1, 0.0, 0, x, v, l, &err) == PLUME_OK);
+    /* the crash: /frames/1 half written, count still 1 */
+    hid_t fid = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    CHECK(fid >= 0);
+    hid_t g = H5Gcreate2(fid, "/frames/1", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    CHECK(g >= 0);
+    H5Gclose(g);
+    H5Fclose(fid);
+    plume_frame f;
+    CHECK(plume_frames_read(path, -1, &f, &err) == PLUME_OK && f.index == 0 && same(f.x, x, 6));
+    plume_frame_free(&f);
+    CHECK(plume_frames_read(path, 1, &f, &err) == PLUME_EINVAL);
+    x[0] = -1.0;
+    CHECK(plume_frames_append(path, 2, 1, 0.1, 1, x, v, l, &err) == PLUME_OK);
+    CHECK(plume_frames_read(path, -1, &f, &err) == PLUME_OK && f.index == 1 && f.step == 1 && f.x[0] == -1.0);
+    plume_frame_free(&f);
+    plume_frames_info info;
+    CHECK(plume_frames_create(path, 3, 0, 0.2, "t.json", &err) == PLUME_OK);
+    CHECK(plume_frames_info_read(path, &info, &err) == PLUME_OK && info.count == 0 && info.nv == 3);
+    CHECK(strcmp(info.scene, "t.json") == 0);
+    remove_dir(dir);
+}
+
+/* Counts of a VTK file: POINTS nv, CELLS nt 4nt, CELL_TYPES, CELL_DATA, POINT_DATA; the
+ * displacement of a displaced vertex. */
+void test_frames_vtk_counts(void)
+{
+    char dir[64], path[128];
+    if (!scratch_dir(dir)) {
+        CHECK(0);
+        return;
+    }
+    plume_mesh *m = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_patch_mesh(1.0, 1.3, 45.0, 0.25, PLUME_PATCH_ALIGNED, 3, &m, &err) == PLUME_OK);
+    if (!m) {
+        remove_dir(dir);
+        return;
+    }
+    m->material[0] = 1;
+    double *x = malloc((size_t)(3 * m->nv) * sizeof *x);
+    memcpy(x, m->x, (size_t)(3 * m->nv) * sizeof *x);
+    x[3 * 2 + 2] = 0.5;
+    snprintf(path, sizeof path, "%s/frame_00000.vtk", dir);
+    CHECK(plume_vtk_write(path, m, x, 0.25, &err) == PLUME_OK);
+    FILE *f = fopen(path, "r");
+    CHECK(f != NULL);
+    char line[512];
+    long points = -1, cells = -1, size = -1, types = -1, cdata = -1, pdata = -1, ones = 0, lines_after_points = 0;
+    int in_points = 0, in_mat = 0, saw_time = 0;
+    double disp_z = 0.0;
+    long pd_line = -1;
+    while (f && fgets(line, sizeof line, f)) {
+        if (sscanf(line, "POINTS %ld", &points) == 1) {
+            in_points = 1;
+            continue;
+        }
+        if (sscanf(line, "CELLS %ld %ld", &cells, &size) == 2) {
+            in_points = 0;
+            continue;
+        }
+        if (in_points)
+            lines_after_points++;
+        sscanf(line, "CELL_TYPES %ld", &types);
+        sscanf(line, "CELL_DATA %ld", &cdata);
+        if (sscanf(line, "POINT_DATA %ld", &pdata) == 1)
+            pd_line = 0;
+        if (strncmp(line, "TIME 1 1 double", 15) == 0)
+            saw_time = 1;
+        if (strncmp(line, "LOOKUP_TABLE", 12) == 0) {
+            in_mat = 1;
+            continue;
+        }
+        if (in_mat && strncmp(line, "VECTORS", 7) == 0)
+            in_mat = 0;
+        if (in_mat && strcmp(line, "1\n") == 0)
+            ones++;
+        if (pd_line >= 0 && strncmp(line, "VECTORS displacement", 20) != 0 && strncmp(line, "POINT_DATA", 10) != 0) {
+            double a, b, c;
+            if (pd_line == 2 && sscanf(line, "%lf %lf %lf", &a, &b, &c) == 3)
+                disp_z = c;
+            pd_line++;
+        }
+    }
+    if (f)
+        fclose(f);
+    CHECK(points == m->nv && lines_after_points == m->nv);
+    CHECK(cells == m->nt && size == 4 * m->nt && types == m->nt && cdata == m->nt && pdata == m->nv);
+    CHECK(ones == 1);  /* one triangle of material 1 */
+    CHECK(saw_time);
+    CHECK(disp_z == 0.5);
+    /* errors name the file */
+    CHECK(plume_vtk_write("/nonexistent/dir/f.vtk", m, x, 0.0, &err) == PLUME_EIO);
+    CHECK(strstr(err.msg, "/nonexistent/dir/f.vtk") != NULL);
+    CHECK(plume_vtk_write(path, NULL, x, 0.0, &err) == PLUME_EINVAL);
+    free(x);
+    plume_mesh_destroy(&m);
+    remove_dir(dir);
+}
+
+/* A render is a non-empty PNG; bad views and unwritable places are refused with a message. */
+void test_frames_render_png(void)
+{
+    char dir[64], path[128];
+    if (!scratch_dir(dir)) {
+        CHECK(0);
+        return;
+    }
+    plume_mesh *m = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_patch_mesh(1.0, 1.0, 0.0, 0.25, PLUME_PATCH_ALIGNED, 3, &m, &err) == PLUME_OK);
+    if (!m) {
+        remove_dir(dir);
+        return;
+    }
+    for (plume_index v = 0; v < m->nv; v++) /* a bump, so the shading varies */
+        m->x[3 * v + 2] = 0.2 * sin(3.0 * m->X[2 * v]) * m->X[2 * v + 1];
+    for (plume_index t = 0; t < m->nt; t += 2)
+        m->material[t] = 1;
+    snprintf(path, sizeof path, "%s/mesh.png", dir);
+    plume_render_opts o;
+    plume_render_opts_default(&o);
+    o.title = "a 'quoted' title";
+    CHECK(plume_render_png(path, m, NULL, &o, &err) == PLUME_OK);
+    if (err.msg[0])
+        fprintf(stderr, "    render: %s\n", err.msg);
+    FILE *f = fopen(path, "rb");
+    unsigned char sig[8] = {0};
+    CHECK(f && fread(sig, 1, 8, f) == 8 && memcmp(sig, "\x89PNG\r\n\x1a\n", 8) == 0);
+    if (f)
+        fclose(f);
+    struct stat st;
+    CHECK(stat(path, &st) == 0 && st.st_size > 1000);
+    o.rot_x = 200.0;
+    CHECK(plume_render_png(path, m, NULL, &o, &err) == PLUME_EINVAL && strstr(err.msg, "rot_x"));
+    CHECK(plume_render_png("/nonexistent/dir/m.png", m, NULL, NULL, &err) == PLUME_EIO);
+    CHECK(strstr(err.msg, "/nonexistent/dir/m.png") != NULL);
+    plume_mesh_destroy(&m);
+    remove_dir(dir);
+}
