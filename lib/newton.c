@@ -348,7 +348,11 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
         double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
         *dc_out = s->dc = dc;
         double dw = fmax(dw_min, s->m && !s->eliminate ? 1e-12 * hmax : 0.0);
-        for (int attempt = 0; attempt < (project ? 12 : 1); attempt++) {
+        /* exact Hessian: Ipopt-style inertia correction first — a few growing diagonal shifts
+         * keep the curvature information that projection would discard */
+        if (!project)
+            dw = 0.0;
+        for (int attempt = 0; attempt < (project ? 12 : 1 + s->o.inertia_corrections); attempt++) {
             if (s->eliminate) {
                 /* K = H + dw I + sum_r J_r^T J_r / dc on the Hessian's own pattern */
                 for (plume_index k = 0; k < s->npairs; k++)
@@ -371,7 +375,10 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
             }
             if (st != PLUME_ESINGULAR)
                 return st;
-            dw = dw > 0.0 ? dw * 100.0 : 1e-10 * hmax;
+            if (project)
+                dw = dw > 0.0 ? dw * 100.0 : 1e-10 * hmax;
+            else
+                dw = dw > 0.0 ? dw * 10.0 : 1e-8 * hmax;
         }
     }
     return st;

@@ -49,6 +49,7 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->tol_step = 1e-13;
     o->max_step = 100.0;
     o->kkt = PLUME_KKT_ELIMINATE;
+    o->inertia_corrections = 6;
     o->verbose = 0;
     o->exact_hessian_first = 1;
 }

@@ -55,6 +55,10 @@ typedef struct {
                               violation is met; default 1e-13 */
     double max_step;       /* newton: a direction longer than max_step * length_scale is taken
                               as a sign of a singular Hessian and regularised; default 100 */
+    int inertia_corrections; /* newton, exact-Hessian path: diagonal shifts 1e-8, 1e-7, ... times the
+                              largest diagonal tried before falling back to projection; default 6
+                              (the shipped feather: 3.9 s instead of 7.0 s, 448 instead of 553
+                              iterations) */
     plume_kkt_mode kkt;    /* newton with constraints; default PLUME_KKT_ELIMINATE (same iterates,
                               2.2x faster factorisations at 4e4 elements than LDL^T) */
     int verbose;           /* print one line per iteration on stderr */
