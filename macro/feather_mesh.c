@@ -918,11 +918,15 @@ static plume_status fm_build_shapes(fm *f)
             int sigma = side == 0 ? 1 : -1;
             if (!(sigma * sin(th0) > 1e-3)) {
                 curve_free(&c);
+                const char *nm = side == 0 ? "left" : "right";
                 return plume_err_set(f->err, PLUME_EINVAL,
-                                     "barbs_%s[%d]: it starts toward the %s of the rachis (%.1f degrees from the rachis "
-                                     "tangent): a %s barb must point to the %s",
-                                     side == 0 ? "left" : "right", k, sin(th0) > 0 ? "left" : "right",
-                                     th0 * 180 / FM_PI, side == 0 ? "left" : "right", side == 0 ? "left" : "right");
+                                     "barbs_%s[%d]: it starts %s (%.1f degrees from the rachis tangent): a %s barb "
+                                     "must leave the rachis toward the %s",
+                                     nm, k,
+                                     fabs(sin(th0)) <= 1e-3 ? "along the rachis"
+                                     : sin(th0) > 0         ? "toward the left of the rachis"
+                                                            : "toward the right of the rachis",
+                                     th0 * 180 / FM_PI, nm, nm);
             }
             sh->n = c.n;
             sh->tau = c.s, c.s = NULL;
