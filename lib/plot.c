@@ -6,20 +6,18 @@
  * with posix_spawnp (no shell, so no quoting of paths on a command line) and its exit status and
  * output are checked. */
 #include "plot.h"
+#include "gnuplot.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
-#include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-extern char **environ;
 
 enum { PLOT_PATH_MAX = 4096 };
 
@@ -141,75 +139,9 @@ static int write_script(const scratch *s, const char *title, const plume_plot_ax
     return (fclose(f) != 0 || bad) ? -1 : 0;
 }
 
-/* The last non-empty line of gnuplot's output (its error), for the message. */
-static void log_tail(const char *path, char *out, size_t len)
-{
-    out[0] = '\0';
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return;
-    char line[512];
-    while (fgets(line, sizeof line, f)) {
-        size_t n = strlen(line);
-        while (n > 0 && (line[n - 1] == '\n' || line[n - 1] == '\r' || line[n - 1] == ' '))
-            line[--n] = '\0';
-        if (n > 0)
-            snprintf(out, len, "%s", line);
-    }
-    fclose(f);
-}
-
 static plume_status run_gnuplot(const scratch *s, plume_err *err)
 {
-    posix_spawn_file_actions_t fa;
-    if (posix_spawn_file_actions_init(&fa) != 0)
-        return plume_err_set(err, PLUME_ENOMEM, "plot: cannot prepare to run gnuplot");
-    plume_status st = PLUME_OK;
-    if (posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0) != 0 ||
-        posix_spawn_file_actions_addopen(&fa, 1, s->log, O_WRONLY | O_CREAT | O_TRUNC, 0600) != 0 ||
-        posix_spawn_file_actions_adddup2(&fa, 1, 2) != 0) {
-        st = plume_err_set(err, PLUME_ENOMEM, "plot: cannot prepare to run gnuplot");
-        goto cleanup;
-    }
-    char arg0[] = "gnuplot";
-    char *argv[3] = {arg0, (char *)s->script, NULL};
-    pid_t pid;
-    int rc = posix_spawnp(&pid, "gnuplot", &fa, NULL, argv, environ);
-    if (rc == ENOENT) {
-        st = plume_err_set(err, PLUME_EDEP, "gnuplot not found (install gnuplot-nox)");
-        goto cleanup;
-    }
-    if (rc != 0) {
-        st = plume_err_set(err, PLUME_EDEP, "cannot run gnuplot: %s", strerror(rc));
-        goto cleanup;
-    }
-    int status;
-    pid_t w;
-    do
-        w = waitpid(pid, &status, 0);
-    while (w < 0 && errno == EINTR);
-    if (w < 0) {
-        st = plume_err_set(err, PLUME_EDEP, "gnuplot: cannot wait for it: %s", strerror(errno));
-        goto cleanup;
-    }
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
-        /* A libc whose posix_spawnp reports exec failure only through the child's status. */
-        st = plume_err_set(err, PLUME_EDEP, "gnuplot not found (install gnuplot-nox)");
-        goto cleanup;
-    }
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        char tail[400];
-        log_tail(s->log, tail, sizeof tail);
-        if (WIFEXITED(status))
-            st = plume_err_set(err, PLUME_EDEP, "gnuplot failed (exit status %d): %s",
-                               WEXITSTATUS(status), tail[0] ? tail : "no message");
-        else
-            st = plume_err_set(err, PLUME_EDEP, "gnuplot killed by signal %d",
-                               WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-    }
-cleanup:
-    posix_spawn_file_actions_destroy(&fa);
-    return st;
+    return plume_gnuplot_run(s->script, s->log, "plot", err);
 }
 
 /* Copies `src` to "<dst>.tmp.<pid>" and renames it over `dst`. */
@@ -313,7 +245,7 @@ plume_status plume_plot_curves_axes(const char *png_path, const char *title, con
         goto cleanup;
     if (!non_empty(s.png) || !non_empty(s.svg)) {
         char tail[400];
-        log_tail(s.log, tail, sizeof tail);
+        plume_gnuplot_log_tail(s.log, tail, sizeof tail);
         st = plume_err_set(err, PLUME_EDEP, "plot '%s': gnuplot produced no image%s%s", png_path,
                            tail[0] ? ": " : "", tail);
         goto cleanup;

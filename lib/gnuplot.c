@@ -1,0 +1,88 @@
+/* plume: running gnuplot on a script, shared by the chart (plot.c) and render (render.c) code:
+ * no shell (posix_spawnp), stdin from /dev/null, stdout and stderr to a log whose last line
+ * becomes the error message. */
+#define _DEFAULT_SOURCE
+#include "gnuplot.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <spawn.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char **environ;
+
+/* The last non-empty line of gnuplot's output (its error), for the message. */
+void plume_gnuplot_log_tail(const char *path, char *out, size_t len)
+{
+    out[0] = '\0';
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return;
+    char line[512];
+    while (fgets(line, sizeof line, f)) {
+        size_t n = strlen(line);
+        while (n > 0 && (line[n - 1] == '\n' || line[n - 1] == '\r' || line[n - 1] == ' '))
+            line[--n] = '\0';
+        if (n > 0)
+            snprintf(out, len, "%s", line);
+    }
+    fclose(f);
+}
+
+plume_status plume_gnuplot_run(const char *script, const char *log, const char *who, plume_err *err)
+{
+    posix_spawn_file_actions_t fa;
+    if (posix_spawn_file_actions_init(&fa) != 0)
+        return plume_err_set(err, PLUME_ENOMEM, "%s: cannot prepare to run gnuplot", who);
+    plume_status st = PLUME_OK;
+    if (posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0) != 0 ||
+        posix_spawn_file_actions_addopen(&fa, 1, log, O_WRONLY | O_CREAT | O_TRUNC, 0600) != 0 ||
+        posix_spawn_file_actions_adddup2(&fa, 1, 2) != 0) {
+        st = plume_err_set(err, PLUME_ENOMEM, "%s: cannot prepare to run gnuplot", who);
+        goto cleanup;
+    }
+    char arg0[] = "gnuplot";
+    char *argv[3] = {arg0, (char *)script, NULL};
+    pid_t pid;
+    int rc = posix_spawnp(&pid, "gnuplot", &fa, NULL, argv, environ);
+    if (rc == ENOENT) {
+        st = plume_err_set(err, PLUME_EDEP, "%s: gnuplot not found (install gnuplot-nox)", who);
+        goto cleanup;
+    }
+    if (rc != 0) {
+        st = plume_err_set(err, PLUME_EDEP, "%s: cannot run gnuplot: %s", who, strerror(rc));
+        goto cleanup;
+    }
+    int status;
+    pid_t w;
+    do
+        w = waitpid(pid, &status, 0);
+    while (w < 0 && errno == EINTR);
+    if (w < 0) {
+        st = plume_err_set(err, PLUME_EDEP, "%s: cannot wait for gnuplot: %s", who, strerror(errno));
+        goto cleanup;
+    }
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+        /* A libc whose posix_spawnp reports exec failure only through the child's status. */
+        st = plume_err_set(err, PLUME_EDEP, "%s: gnuplot not found (install gnuplot-nox)", who);
+        goto cleanup;
+    }
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        char tail[400];
+        plume_gnuplot_log_tail(log, tail, sizeof tail);
+        if (WIFEXITED(status))
+            st = plume_err_set(err, PLUME_EDEP, "%s: gnuplot failed (exit status %d): %s",
+                               who, WEXITSTATUS(status), tail[0] ? tail : "no message");
+        else
+            st = plume_err_set(err, PLUME_EDEP, "%s: gnuplot killed by signal %d", who,
+                               WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    }
+cleanup:
+    posix_spawn_file_actions_destroy(&fa);
+    return st;
+}
+

@@ -1,0 +1,21 @@
+/* plume: running gnuplot on a script (charts and renders). */
+#ifndef PLUME_GNUPLOT_H
+#define PLUME_GNUPLOT_H
+
+#include "status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Runs `gnuplot script`, its output going to `log`. PLUME_EDEP with a message starting with
+ * `who` when gnuplot is missing ("install gnuplot-nox"), fails (its last output line) or dies. */
+plume_status plume_gnuplot_run(const char *script, const char *log, const char *who, plume_err *err);
+
+/* The last non-empty line of a gnuplot log (its error), into out (empty if none). */
+void plume_gnuplot_log_tail(const char *path, char *out, size_t len);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
