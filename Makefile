@@ -22,6 +22,7 @@ APPS := $(patsubst %.c,%,$(APP_SRC))
 TEST_SRC := $(wildcard tests/*.c)
 TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 HEADERS := $(wildcard lib/*.h) $(wildcard micro/*.h) $(wildcard macro/*.h)
+PRIVATE_HEADERS := $(wildcard lib/internal/*.h)
 
 .PHONY: all deps test asan bench demo install clean
 all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)
@@ -29,7 +30,7 @@ all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)
 deps:
 	@bash scripts/install-deps.sh
 
-$(BUILD)/%.o: %.c $(HEADERS)
+$(BUILD)/%.o: %.c $(HEADERS) $(PRIVATE_HEADERS)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 

@@ -9,6 +9,8 @@
 
 #include <hdf5.h>
 
+#include "internal/h5util.h"
+
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -37,48 +39,6 @@ static const double *curve_cfield(const plume_curve *c, int i)
     return *curve_field((plume_curve *)c, i); /* read-only use of the same switch */
 }
 
-/* ---------------------------------------------------------------- HDF5 error handling --- */
-
-typedef struct {
-    H5E_auto2_t func;
-    void *data;
-} h5_quiet;
-
-static void quiet_begin(h5_quiet *q)
-{
-    q->func = NULL;
-    q->data = NULL;
-    H5Eget_auto2(H5E_DEFAULT, &q->func, &q->data);
-    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
-}
-
-static void quiet_end(const h5_quiet *q)
-{
-    H5Eset_auto2(H5E_DEFAULT, q->func, q->data);
-}
-
-typedef struct {
-    char text[160];
-} h5_detail;
-
-static herr_t detail_cb(unsigned n, const H5E_error2_t *e, void *data)
-{
-    h5_detail *d = data;
-    if (n == 0 && e && e->desc)
-        snprintf(d->text, sizeof d->text, "%s", e->desc);
-    return 0;
-}
-
-/* The most specific message on HDF5's current error stack (walked from the innermost call), or
- * "unknown HDF5 error"; used to give EIO messages a cause. */
-static const char *h5_cause(h5_detail *d)
-{
-    d->text[0] = '\0';
-    H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, detail_cb, d);
-    if (!d->text[0])
-        snprintf(d->text, sizeof d->text, "unknown HDF5 error");
-    return d->text;
-}
 
 /* -------------------------------------------------------------------------- helpers --- */
 

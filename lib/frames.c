@@ -7,6 +7,8 @@
 
 #include <hdf5.h>
 
+#include "internal/h5util.h"
+
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -16,45 +18,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-typedef struct {
-    H5E_auto2_t func;
-    void *data;
-} h5_quiet;
-
-static void quiet_begin(h5_quiet *q)
-{
-    q->func = NULL;
-    q->data = NULL;
-    H5Eget_auto2(H5E_DEFAULT, &q->func, &q->data);
-    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
-}
-
-static void quiet_end(const h5_quiet *q)
-{
-    H5Eset_auto2(H5E_DEFAULT, q->func, q->data);
-}
-
-typedef struct {
-    char text[160];
-} h5_detail;
-
-static herr_t detail_cb(unsigned n, const H5E_error2_t *e, void *data)
-{
-    h5_detail *d = data;
-    if (n == 0 && e && e->desc)
-        snprintf(d->text, sizeof d->text, "%s", e->desc);
-    return 0;
-}
-
-/* The innermost message on HDF5's error stack, for EIO messages. */
-static const char *h5_cause(h5_detail *d)
-{
-    d->text[0] = '\0';
-    H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, detail_cb, d);
-    if (!d->text[0])
-        snprintf(d->text, sizeof d->text, "unknown HDF5 error");
-    return d->text;
-}
 
 static int is_hdf5(const char *path)
 {
