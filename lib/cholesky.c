@@ -110,6 +110,13 @@ plume_status plume_chol_solve(plume_chol *c, const double *b, double *x)
     return PLUME_OK;
 }
 
+double plume_chol_rcond(plume_chol *c)
+{
+    if (!c || !c->L || !c->factorizations)
+        return 0.0;
+    return cholmod_l_rcond(c->L, &c->cm);
+}
+
 void plume_chol_stats(const plume_chol *c, int *analyses, int *factorizations, double *factor_seconds)
 {
     if (analyses)

@@ -26,6 +26,10 @@ plume_status plume_chol_factor(plume_chol *c, const double *values, double shift
 /* x = A^-1 b with the last factorisation; no allocation after the first call. */
 plume_status plume_chol_solve(plume_chol *c, const double *b, double *x);
 
+/* Reciprocal condition estimate of the last factorisation, (min diag L / max diag L)^2 for LL^T
+ * (CHOLMOD's cholmod_rcond: cheap, a rough lower-bound-like estimate); 0 when singular. */
+double plume_chol_rcond(plume_chol *c);
+
 /* Counts and time of factorisations since creation (benchmarks and reports). */
 void plume_chol_stats(const plume_chol *c, int *analyses, int *factorizations, double *factor_seconds);
 
