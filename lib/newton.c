@@ -429,9 +429,16 @@ static plume_status direction(plume_newton *s, const double *u, const double *la
         if ((st = kkt_solve(s, s->rhs, s->sol)) != PLUME_OK && st != PLUME_ESINGULAR)
             return st;
         *step_max = 0.0;
-        for (plume_index i = 0; i < n; i++)
+        double slope = 0.0;
+        for (plume_index i = 0; i < n; i++) {
             *step_max = fmax(*step_max, fabs(s->sol[i]));
-        if (st == PLUME_OK && *step_max <= s->o.max_step * L)
+            slope += s->grad[i] * s->sol[i];
+        }
+        /* Without constraints a factorisation CHOLMOD accepted must give a descent direction;
+         * near a bifurcation (a nearly singular exact Hessian) round-off can make it point
+         * uphill: then regularise, which also switches to the projected Hessian. */
+        int uphill = m == 0 && !(slope < 0.0) && *step_max > 0.0;
+        if (st == PLUME_OK && *step_max <= s->o.max_step * L && !uphill)
             return PLUME_OK;
         dw = dw > 0.0 ? dw * 100.0 : 1e-8 * hmax;
     }
@@ -543,6 +550,8 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                 rep->reason = PLUME_REASON_LINE_SEARCH;
                 break;
             }
+            if (s->o.verbose)
+                fprintf(stderr, "           step %.3e  alpha %.3e  slope %.3e\n", step_max, alpha, dirderiv);
             memcpy(u, s->ut, (size_t)n * sizeof *u);
             /* the QP multipliers are taken whole even after a damped step: they are the current
              * least-squares estimate, and damping them too would freeze them whenever the line

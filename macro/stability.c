@@ -5,7 +5,9 @@
 #include <string.h>
 
 #include "../lib/cholesky.h"
+#include "../lib/membrane.h"
 #include "../lib/problem.h"
+#include "../lib/solver.h"
 #include "patch_mesh.h"
 #include "vane.h"
 
@@ -59,5 +61,67 @@ plume_status plume_stability_condition(double ratio, double edge, int constraint
     plume_chol_destroy(&c);
     plume_problem_destroy(&p);
     plume_mesh_destroy(&mesh);
+    return st;
+}
+
+plume_status plume_stability_compression(double kappa, double lambda_end, int steps, double *min_J, double *max_J,
+                                         int *converged, int *iterations, plume_err *err)
+{
+    if (!(kappa >= 0.0) || !(lambda_end > 0.0 && lambda_end < 1.0) || steps < 1 || !min_J || !max_J || !converged ||
+        !iterations)
+        return plume_err_set(err, PLUME_EINVAL, "stability: kappa >= 0, lambda_end in (0, 1), steps >= 1");
+    plume_mesh *m = NULL;
+    plume_problem *p = NULL;
+    plume_solver *s = NULL;
+    double *u = NULL;
+    plume_membrane_material mat = {1.0, 1.0, 0.0, 0.5, 1.0, kappa};
+    plume_term t;
+    plume_status st = plume_patch_mesh(0.05, 1.0, 0.0, 0.05, PLUME_PATCH_ALIGNED, 2, &m, err);
+    if (st == PLUME_OK && (st = plume_problem_create(m->nv, 2, 1.0, &p)) == PLUME_OK &&
+        (st = plume_membrane_term_create(m, 2, &mat, 1, &t, err)) == PLUME_OK)
+        st = plume_problem_add_term(p, &t);
+    double *x = st == PLUME_OK ? plume_problem_x(p) : NULL;
+    for (plume_index i = 0; st == PLUME_OK && i < m->nv; i++) {
+        x[2 * i] = m->X[2 * i];
+        x[2 * i + 1] = m->X[2 * i + 1];
+        if (m->X[2 * i + 1] < 1e-12 || m->X[2 * i + 1] > 1.0 - 1e-12)
+            plume_problem_fix_dof(p, 2 * i), plume_problem_fix_dof(p, 2 * i + 1);
+    }
+    plume_solver_opts o;
+    plume_solver_opts_default(&o);
+    o.max_iter = 300;
+    if (st == PLUME_OK && (st = plume_problem_finalize(p, err)) == PLUME_OK)
+        st = plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s);
+    if (st == PLUME_OK && !(u = malloc((size_t)plume_problem_nfree(p) * sizeof *u)))
+        st = PLUME_ENOMEM;
+    *converged = 1;
+    *iterations = 0;
+    for (int k = 1; k <= steps && st == PLUME_OK; k++) {
+        double lam = 1.0 - (1.0 - lambda_end) * k / steps, prev = 1.0 - (1.0 - lambda_end) * (k - 1) / steps;
+        for (plume_index i = 0; i < m->nv; i++) {
+            x[2 * i + 1] *= lam / prev;
+            if (!plume_problem_is_fixed(p, 2 * i + 1))
+                x[2 * i + 1] += 1e-4 * sin(12.9898 * (double)i);
+        }
+        plume_problem_gather(p, u);
+        plume_solve_report rep;
+        if ((st = plume_solver_solve(s, u, NULL, &rep)) != PLUME_OK)
+            break;
+        *iterations += rep.iterations;
+        *converged &= rep.converged;
+    }
+    if (st == PLUME_OK) {
+        *min_J = INFINITY, *max_J = -INFINITY;
+        for (plume_index e = 0; e < m->nt; e++) {
+            const plume_index *tr = m->tri + 3 * e;
+            const double *a = x + 2 * tr[0], *b = x + 2 * tr[1], *c = x + 2 * tr[2];
+            double J = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) / plume_mesh_ref_area(m, e);
+            *min_J = fmin(*min_J, J), *max_J = fmax(*max_J, J);
+        }
+    }
+    free(u);
+    plume_solver_destroy(&s);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&m);
     return st;
 }
