@@ -30,6 +30,8 @@
 #include "../macro/bending.h"
 #include "../macro/feather_mesh.h"
 #include "../macro/scene.h"
+#include "../macro/study.h"
+#include "../macro/stability.h"
 #include "../micro/layout.h"
 #include "../micro/layout_json.h"
 #include "../micro/cell_mesh.h"

@@ -1,0 +1,101 @@
+#include "study.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../lib/problem.h"
+#include "../lib/traction.h"
+#include "vane.h"
+
+void plume_study_config_default(plume_study_config *c)
+{
+    memset(c, 0, sizeof *c);
+    c->lx = 1.0, c->ly = 1.3, c->h = 1.0;
+    c->angle = 45.0;
+    c->moduli.E_xx = 1e4, c->moduli.E_yy = 1.0, c->moduli.G_xy = 1.0, c->moduli.nu_xy = 0.0;
+    c->kappa = 0.0;
+    c->constraint = 1;
+    c->mesh = PLUME_PATCH_ALIGNED;
+    c->edge = 0.065;
+    c->strain_max = 0.05;
+    c->steps = 2;
+    c->solver = PLUME_SOLVER_NEWTON;
+    c->max_iter = 100;
+}
+
+void plume_study_result_free(plume_study_result *r)
+{
+    if (!r)
+        return;
+    plume_curve_free(&r->curve);
+    memset(r, 0, sizeof *r);
+}
+
+double plume_study_rel_error(double a, double ref)
+{
+    if (!isfinite(a) || !isfinite(ref))
+        return NAN;
+    return ref != 0.0 ? fabs(a - ref) / fabs(ref) : fabs(a - ref);
+}
+
+plume_status plume_study_traction(const plume_study_config *c, plume_study_result *r, plume_err *err)
+{
+    if (!c || !r)
+        return plume_err_set(err, PLUME_EINVAL, "study: invalid arguments");
+    memset(r, 0, sizeof *r);
+    if (!(c->steps >= 1) || !(c->max_iter >= 1) || !(c->strain_max > 0) || !isfinite(c->strain_max))
+        return plume_err_set(err, PLUME_EINVAL, "study: steps and max_iter must be >= 1 and strain_max > 0 "
+                             "(got %d, %d, %g)", c->steps, c->max_iter, c->strain_max);
+    plume_vane vane;
+    plume_vane_default(&vane);
+    vane.moduli = c->moduli;
+    vane.h = c->h;
+    vane.kappa = c->kappa;
+    vane.constraint = c->constraint;
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_index *barbs = NULL, nb = 0;
+    plume_traction_result tr;
+    memset(&tr, 0, sizeof tr);
+    plume_status st = plume_vane_check(&vane, err);
+    if (st == PLUME_OK)
+        st = plume_patch_mesh(c->lx, c->ly, c->angle, c->edge, c->mesh, 2, &mesh, err);
+    if (st == PLUME_OK)
+        st = plume_problem_create(mesh->nv, 2, fmax(c->lx, c->ly), &p);
+    if (st == PLUME_OK)
+        st = plume_vane_add(p, mesh, &vane, &barbs, &nb, err);
+    if (st == PLUME_OK) {
+        plume_traction_opts o;
+        plume_traction_opts_default(&o);
+        o.lx = c->lx, o.ly = c->ly, o.h = c->h;
+        o.strain_max = c->strain_max;
+        o.steps = c->steps;
+        o.solver = c->solver;
+        o.solver_opts.max_iter = c->max_iter;
+        o.progress = 0;
+        st = plume_traction_run(mesh, p, barbs, nb, &o, &tr, err);
+    }
+    if (st == PLUME_OK) {
+        r->curve = tr.curve; /* the arrays move to the result */
+        r->seconds = tr.seconds;
+        r->iterations = tr.newton_iterations;
+        r->converged = tr.converged;
+        r->reason = tr.converged ? PLUME_REASON_CONVERGED : tr.failed_reason;
+        r->elements = (long)mesh->nt;
+        r->vertices = (long)mesh->nv;
+        plume_index n = r->curve.n;
+        if (n > 0) {
+            r->strain = r->curve.strain[n - 1];
+            r->stress = r->curve.stress[n - 1];
+            r->wbar = r->curve.wbar[n - 1];
+        } else {
+            r->strain = r->stress = r->wbar = NAN;
+        }
+        r->complete = n == (plume_index)c->steps + 1 && fabs(r->strain - c->strain_max) <= 1e-9 * c->strain_max;
+    }
+    free(barbs);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&mesh);
+    return st;
+}

@@ -1,0 +1,162 @@
+/* macro/study.h (the runner of apps/study) and apps/study as a user runs it. */
+#define _DEFAULT_SOURCE
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "app_runner.h"
+#include "harness.h"
+#include "../lib/plume.h"
+#include "../macro/study.h"
+
+/* The runner gives what a direct plume_traction_run of the same problem gives. */
+void test_study_runner_matches_direct(void)
+{
+    plume_study_config c;
+    plume_study_config_default(&c);
+    c.edge = 0.1;
+    plume_study_result r;
+    plume_err err = {{0}};
+    CHECK(plume_study_traction(&c, &r, &err) == PLUME_OK);
+    CHECK(r.converged && r.complete && r.reason == PLUME_REASON_CONVERGED);
+    CHECK(r.curve.n == c.steps + 1);
+
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_index *barbs = NULL, nb = 0;
+    plume_vane vane;
+    plume_vane_default(&vane);
+    CHECK(plume_patch_mesh(1.0, 1.3, 45.0, 0.1, PLUME_PATCH_ALIGNED, 2, &mesh, &err) == PLUME_OK);
+    CHECK(plume_problem_create(mesh->nv, 2, 1.3, &p) == PLUME_OK);
+    CHECK(plume_vane_add(p, mesh, &vane, &barbs, &nb, &err) == PLUME_OK);
+    plume_traction_opts o;
+    plume_traction_opts_default(&o);
+    o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.strain_max = 0.05, o.steps = 2, o.progress = 0;
+    plume_traction_result d;
+    CHECK(plume_traction_run(mesh, p, barbs, nb, &o, &d, &err) == PLUME_OK);
+    CHECK(d.converged);
+    CHECK(d.curve.n == r.curve.n);
+    CHECK_REL(r.stress, d.curve.stress[d.curve.n - 1], 1e-12, 0.0);
+    CHECK_REL(r.wbar, d.curve.wbar[d.curve.n - 1], 1e-12, 0.0);
+    CHECK(r.iterations == d.newton_iterations);
+    CHECK(r.elements == (long)mesh->nt && r.vertices == (long)mesh->nv);
+    CHECK(r.stress > 0 && r.seconds > 0);
+    plume_traction_result_free(&d);
+    free(barbs);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&mesh);
+    plume_study_result_free(&r);
+    CHECK(r.curve.n == 0 && r.curve.stress == NULL);
+    plume_study_result_free(NULL);
+}
+
+/* Tilted 45 deg: the vane shears, so the stress rises with G_xy (supplementary Table 2). */
+void test_study_sensitivity_signs(void)
+{
+    plume_study_config c;
+    plume_study_config_default(&c);
+    c.ly = 1.38, c.edge = 0.1;
+    double s[3];
+    const double f[3] = {0.9, 1.0, 1.1};
+    for (int k = 0; k < 3; k++) {
+        plume_study_config d = c;
+        d.moduli.G_xy *= f[k];
+        plume_study_result r;
+        plume_err err = {{0}};
+        CHECK(plume_study_traction(&d, &r, &err) == PLUME_OK);
+        CHECK(r.converged && r.complete);
+        s[k] = r.stress;
+        plume_study_result_free(&r);
+    }
+    CHECK(s[0] < s[1] && s[1] < s[2]);
+    /* about linear in G_xy here: +-10 % gives +-5..10 % */
+    CHECK((s[2] - s[1]) / s[1] > 0.05 && (s[1] - s[0]) / s[1] > 0.05);
+}
+
+void test_study_errors(void)
+{
+    plume_study_config c;
+    plume_study_result r;
+    plume_err err = {{0}};
+    plume_study_config_default(&c);
+    c.steps = 0;
+    CHECK(plume_study_traction(&c, &r, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "steps") != NULL);
+    CHECK(plume_study_traction(NULL, &r, &err) == PLUME_EINVAL);
+    plume_study_config_default(&c);
+    c.moduli.G_xy = -1;
+    CHECK(plume_study_traction(&c, &r, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "G_xy") != NULL);
+    plume_study_config_default(&c);
+    c.edge = 5.0;
+    CHECK(plume_study_traction(&c, &r, &err) == PLUME_EINVAL);
+    /* longitudinal with the constraint: barbs span the grips */
+    plume_study_config_default(&c);
+    c.angle = 0.0, c.edge = 0.1;
+    CHECK(plume_study_traction(&c, &r, &err) == PLUME_EINFEASIBLE);
+    CHECK(r.curve.n == 0 && r.curve.stress == NULL);
+    /* the penalty model runs it */
+    c.constraint = 0;
+    CHECK(plume_study_traction(&c, &r, &err) == PLUME_OK);
+    CHECK(r.converged && r.stress > 0);
+    plume_study_result_free(&r);
+    CHECK(plume_study_rel_error(1.1, 1.0) > 0.0999 && plume_study_rel_error(1.1, 1.0) < 0.1001);
+    CHECK(plume_study_rel_error(0.5, 0.0) == 0.5);
+    CHECK(isnan(plume_study_rel_error(NAN, 1.0)));
+}
+
+static int exists_nonempty(const char *dir, const char *name)
+{
+    char path[1024];
+    struct stat sb;
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return stat(path, &sb) == 0 && sb.st_size > 0;
+}
+
+void test_study_app_quick(void)
+{
+    char scratch[64] = "/tmp/plume-study-XXXXXX", args[512], path[512], err[16384];
+    static char out[1 << 20];
+    if (!mkdtemp(scratch)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(args, sizeof args, "-o %s/q --quick --json", scratch);
+    CHECK(app_run(scratch, "study", args, out, sizeof out, err, sizeof err) == 0);
+    snprintf(path, sizeof path, "%s/q", scratch);
+    CHECK(exists_nonempty(path, "study.h5"));
+    CHECK(exists_nonempty(path, "summary.md"));
+    CHECK(exists_nonempty(path, "cost_error.png"));
+    CHECK(exists_nonempty(path, "cost_error.svg"));
+    CHECK(exists_nonempty(path, "sensitivity_G_xy.png"));
+    CHECK(strstr(out, "\"runs\"") != NULL);
+    char h5[600], md[600];
+    snprintf(h5, sizeof h5, "%s/study.h5", path);
+    plume_curve c;
+    plume_err e = {{0}};
+    CHECK(plume_curve_read(h5, "study", "sensitivity_reference", &c, &e) == PLUME_OK);
+    CHECK(c.n == 6);
+    plume_curve_free(&c);
+    snprintf(md, sizeof md, "%s/summary.md", path);
+    static char text[1 << 16];
+    app_slurp(md, text, sizeof text);
+    const char *heads[] = {"## 1. Cost", "## 2. Solvers", "## 3. Sensitivity", "## 4. Model", "span both grips"};
+    for (int k = 0; k < 5; k++)
+        if (!strstr(text, heads[k])) {
+            plume_test_failures++;
+            fprintf(stderr, "    summary.md lacks '%s'\n", heads[k]);
+        }
+    /* bad flags */
+    CHECK(app_run(scratch, "study", "--bogus", out, sizeof out, err, sizeof err) == 2);
+    CHECK(strstr(err, "--bogus") != NULL);
+    CHECK(app_run(scratch, "study", "--quick", out, sizeof out, err, sizeof err) == 2);
+    CHECK(strstr(err, "-o") != NULL);
+    CHECK(app_run(scratch, "study", "-o", out, sizeof out, err, sizeof err) == 2);
+    CHECK(app_run(scratch, "study", "-o /nonexistent/dir/x --quick", out, sizeof out, err, sizeof err) == 1);
+    CHECK(strstr(err, "/nonexistent/dir/x") != NULL);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
+    CHECK(system(cmd) == 0);
+}
