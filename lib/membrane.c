@@ -29,6 +29,7 @@
 typedef struct {
     double C11, C12, C22, C33;
     double kappa; /* compression coefficient (Pa) */
+    int log_barrier;
 } mem_mat;
 
 typedef struct {
@@ -113,6 +114,7 @@ static void mem_mat_set(const plume_membrane_material *mat, mem_mat *m)
     m->C22 = C[4];
     m->C33 = C[8];
     m->kappa = mat->kappa;
+    m->log_barrier = mat->log_barrier;
 }
 
 /* Density per unit volume psi(G) (without h) for the columns g[0], g[1] of G (3-vectors, z = 0 in
@@ -145,7 +147,20 @@ static inline double density_G(const mem_mat *m, const int dim, double g[2][3], 
     const double J = sqrt(dot3(n, n));
     const int comp = m->kappa > 0.0 && J < 1.0;
     double dpc = 0.0, ddpc = 0.0;
-    if (comp) {
+    if (comp && m->log_barrier) {
+        /* log barrier in place of the cubic term: kappa/12 (J - 1 - ln J), C1 at J = 1 */
+        const double k12 = m->kappa / 12.0;
+        psi += J > 0.0 ? k12 * (J - 1.0 - log(J)) : INFINITY;
+        dpc = J > 0.0 ? k12 * (1.0 - 1.0 / J) : -INFINITY;
+        ddpc = J > 0.0 ? k12 / (J * J) : INFINITY;
+        if (J > 0.0) {
+            const double iJ = 1.0 / J;
+            for (int k = 0; k < 3; k++)
+                nh[k] = n[k] * iJ;
+            cross3(g1, nh, dJ0);
+            cross3(nh, g0, dJ1);
+        }
+    } else if (comp) {
         const double t = (1.0 - J) / 6.0;
         psi += m->kappa / 12.0 * t * t * t;
         dpc = -m->kappa * t * t * (1.0 / 24.0); /* d psi_c / dJ */

@@ -17,6 +17,9 @@ typedef struct {
     double E_xx, E_yy, nu_xy, G_xy;
     double h;
     double kappa;
+    int log_barrier; /* 0: the cubic compression term (default); 1: a log barrier
+                        kappa/12 (J - 1 - ln J) for J < 1 in its place (supplementary §8: it blows
+                        up as J -> 0, and the paper found the solver could not converge with it) */
 } plume_membrane_material;
 
 /* Checks a material: moduli finite and > 0, h > 0, kappa >= 0, and the plane-stress tensor

@@ -64,8 +64,8 @@ plume_status plume_stability_condition(double ratio, double edge, int constraint
     return st;
 }
 
-plume_status plume_stability_compression(double kappa, double lambda_end, int steps, double *min_J, double *max_J,
-                                         int *converged, int *iterations, plume_err *err)
+plume_status plume_stability_compression(double kappa, int log_barrier, double lambda_end, int steps, double *min_J,
+                                         double *max_J, int *converged, int *iterations, plume_err *err)
 {
     if (!(kappa >= 0.0) || !(lambda_end > 0.0 && lambda_end < 1.0) || steps < 1 || !min_J || !max_J || !converged ||
         !iterations)
@@ -74,7 +74,7 @@ plume_status plume_stability_compression(double kappa, double lambda_end, int st
     plume_problem *p = NULL;
     plume_solver *s = NULL;
     double *u = NULL;
-    plume_membrane_material mat = {1.0, 1.0, 0.0, 0.5, 1.0, kappa};
+    plume_membrane_material mat = {1.0, 1.0, 0.0, 0.5, 1.0, kappa, log_barrier};
     plume_term t;
     plume_status st = plume_patch_mesh(0.05, 1.0, 0.0, 0.05, PLUME_PATCH_ALIGNED, 2, &m, err);
     if (st == PLUME_OK && (st = plume_problem_create(m->nv, 2, 1.0, &p)) == PLUME_OK &&

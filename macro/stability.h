@@ -20,13 +20,14 @@ plume_status plume_stability_condition(double ratio, double edge, int constraint
 
 /* A strip one element wide (0.05 x 1 m, E = 1 Pa, nu = 0, planar) clamped at both ends and
  * compressed to a length ratio `lambda_end` in `steps` steps, with compression coefficient kappa
- * (0: plain St Venant–Kirchhoff, whose 1D energy softens below lambda = 1/sqrt 3). A tiny
+ * (0: plain St Venant–Kirchhoff, whose 1D energy softens below lambda = 1/sqrt 3) and the cubic
+ * term, or with log_barrier the log barrier of supplementary §8 in its place. A tiny
  * deterministic imperfection lets the strip leave the unstable uniform state. Returns the
  * smallest and largest element area ratios J at the end, whether every step converged, and the
  * total Newton iterations. Without the term elements collapse and invert (J < 0) so that others
  * can stretch (J > 1); with it they stay open. */
-plume_status plume_stability_compression(double kappa, double lambda_end, int steps, double *min_J, double *max_J,
-                                         int *converged, int *iterations, plume_err *err);
+plume_status plume_stability_compression(double kappa, int log_barrier, double lambda_end, int steps, double *min_J,
+                                         double *max_J, int *converged, int *iterations, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -19,7 +19,7 @@ void plume_vane_default(plume_vane *v)
 
 static plume_membrane_material vane_material(const plume_vane *v)
 {
-    plume_membrane_material mat = {v->moduli.E_xx, v->moduli.E_yy, v->moduli.nu_xy, v->moduli.G_xy, v->h, v->kappa};
+    plume_membrane_material mat = {v->moduli.E_xx, v->moduli.E_yy, v->moduli.nu_xy, v->moduli.G_xy, v->h, v->kappa, 0};
     return mat;
 }
 

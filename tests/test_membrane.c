@@ -57,8 +57,8 @@ static double max_abs(const double *a, long n)
         }                                                                                     \
     } while (0)
 
-static const plume_membrane_material MAT_ANISO = {300.0, 2.0, 0.4, 1.2, 0.02, 0.0};
-static const plume_membrane_material MAT_ISO = {10.0, 10.0, 0.3, 10.0 / 2.6, 0.02, 0.0};
+static const plume_membrane_material MAT_ANISO = {300.0, 2.0, 0.4, 1.2, 0.02, 0.0, 0};
+static const plume_membrane_material MAT_ISO = {10.0, 10.0, 0.3, 10.0 / 2.6, 0.02, 0.0, 0};
 
 /* A small irregular mesh: a quadrilateral with an interior vertex, 4 triangles of different
  * shapes, alternating the two materials. */
@@ -312,7 +312,7 @@ void test_membrane_fd_compression_only(void)
     if (!m)
         return;
     for (int dim = 2; dim <= 3; dim++) {
-        plume_membrane_material mat = {1e-6, 1e-6, 0.0, 1e-6, 0.1, 1e3};
+        plume_membrane_material mat = {1e-6, 1e-6, 0.0, 1e-6, 0.1, 1e3, 0};
         plume_term t;
         for (int k = 0; k < 4; k++)
             m->material[k] = 0;
@@ -573,12 +573,12 @@ void test_membrane_patch(void)
 void test_membrane_analytic(void)
 {
     /* stiffness: nu_xy = 0 is diag(E_xx, E_yy, G_xy); otherwise the orthotropic formula */
-    plume_membrane_material m0 = {500.0, 3.0, 0.0, 1.5, 0.01, 0.0};
+    plume_membrane_material m0 = {500.0, 3.0, 0.0, 1.5, 0.01, 0.0, 0};
     double C[9];
     plume_membrane_stiffness(&m0, C);
     const double Cd[9] = {500.0, 0, 0, 0, 3.0, 0, 0, 0, 1.5};
     CHECK(memcmp(C, Cd, sizeof C) == 0);
-    plume_membrane_material mi = {10.0, 10.0, 0.25, 4.0, 0.01, 0.0};
+    plume_membrane_material mi = {10.0, 10.0, 0.25, 4.0, 0.01, 0.0, 0};
     plume_membrane_stiffness(&mi, C);
     CHECK_REL(C[0], 10.0 / (1 - 0.0625), 1e-15, 0.0);
     CHECK_REL(C[1], 0.25 * 10.0 / (1 - 0.0625), 1e-15, 0.0);

@@ -141,7 +141,7 @@ static int strip_build(strip *st, int dim, double stiff, uint64_t seed, int at_r
         m->barb_dir[2 * t] = cos(a);
         m->barb_dir[2 * t + 1] = sin(a);
     }
-    plume_membrane_material mat = {300.0, 2.0, 0.4, 1.2, 0.02, 5.0};
+    plume_membrane_material mat = {300.0, 2.0, 0.4, 1.2, 0.02, 5.0, 0};
     mat.E_xx *= stiff, mat.E_yy *= stiff, mat.G_xy *= stiff, mat.kappa *= stiff;
 
     /* current positions x = Q (F X) + noise */
