@@ -143,8 +143,7 @@ static void series_sort(series *a)
         }
 }
 
-/* Series as curves: plume_plot shows curve.strain x 100 on the x axis, so x/100 is stored there
- * and the axis reads x. */
+/* Series as curves: x goes in curve.strain, drawn unscaled with its own axis label. */
 static int plot_series(study *s, const char *file, const char *title, const char *y1, const char *y2, series *sr,
                        int ns, FILE *md)
 {
@@ -157,7 +156,7 @@ static int plot_series(study *s, const char *file, const char *title, const char
             continue;
         series_sort(&sr[k]);
         for (int i = 0; i < sr[k].n; i++)
-            xs[nc][i] = sr[k].x[i] / 100.0;
+            xs[nc][i] = sr[k].x[i];
         memset(&cv[nc], 0, sizeof cv[nc]);
         cv[nc].n = sr[k].n;
         cv[nc].strain = xs[nc];
@@ -172,7 +171,7 @@ static int plot_series(study *s, const char *file, const char *title, const char
     }
     char path[1200];
     snprintf(path, sizeof path, "%s/%s", s->dir, file);
-    plume_plot_axes ax = {y1, y2};
+    plume_plot_axes ax = {y1, y2, "log10 wall time (s)", 1.0, 1};
     plume_err err = {{0}};
     if (plume_plot_curves_axes(path, title, &ax, cv, labels, nc, &err) != PLUME_OK) {
         fprintf(stderr, "study: chart %s: %s\n", file, err.msg);
@@ -261,9 +260,8 @@ static void section_cost(study *s, FILE *md)
                     r->st != PLUME_OK ? ": " : "", r->msg, r->res.stress);
         }
     }
-    plot_series(s, "cost_error.png", "Cost against error, tilted 45 deg, 5% strain (x: log10 seconds)",
-                "log10 rel. stress error at 5% (x axis: log10 wall time in s, not strain)",
-                "log10 rel. w-bar error at 5% (x axis: log10 wall time in s, not strain)", sr, nr * 3, md);
+    plot_series(s, "cost_error.png", "Cost against error, tilted 45 deg traction, 5% strain",
+                "log10 relative stress error at 5% strain", "log10 relative w-bar error at 5% strain", sr, nr * 3, md);
 }
 
 /* ---- 2. solvers ---- */

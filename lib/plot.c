@@ -59,7 +59,7 @@ static void put_value(FILE *f, double v)
         fputs("NaN", f); /* gnuplot skips undefined points */
 }
 
-static int write_data(const char *path, const plume_curve *curves, int ncurves)
+static int write_data(const char *path, const plume_curve *curves, int ncurves, double x_scale)
 {
     FILE *f = fopen(path, "w");
     if (!f)
@@ -67,7 +67,7 @@ static int write_data(const char *path, const plume_curve *curves, int ncurves)
     for (int c = 0; c < ncurves; c++) {
         fprintf(f, "# curve %d: strain (%%) stress (Pa) wbar\n", c + 1);
         for (plume_index i = 0; i < curves[c].n; i++) {
-            put_value(f, 100.0 * curves[c].strain[i]);
+            put_value(f, x_scale * curves[c].strain[i]);
             fputc(' ', f);
             put_value(f, curves[c].stress[i]);
             fputc(' ', f);
@@ -88,7 +88,11 @@ static void write_body(FILE *f, const scratch *s, const char *title, const plume
         fputs(" title ", f);
         put_quoted(f, title);
     }
-    fputs("\nset grid\nset key top left box opaque\nset xlabel 'nominal strain (%)'\n", f);
+    fputs(ax && ax->small_key ? "\nset grid\nset key top left box opaque font ',8' spacing 0.8\nset xlabel "
+                                : "\nset grid\nset key top left box opaque\nset xlabel ",
+          f);
+    put_quoted(f, ax && ax->x_label ? ax->x_label : "nominal strain (%)");
+    fputc('\n', f);
     const char *const ylabel[2] = {ax && ax->stress_label ? ax->stress_label : "nominal stress (Pa)",
                                    ax && ax->wbar_label ? ax->wbar_label : "w-bar (average relative width change)"};
     for (int panel = 0; panel < 2; panel++) {
@@ -235,7 +239,7 @@ plume_status plume_plot_curves_axes(const char *png_path, const char *title, con
     snprintf(s.log, sizeof s.log, "%s/gnuplot.log", s.dir);
 
     plume_status st = PLUME_OK;
-    if (write_data(s.data, curves, ncurves) != 0 || write_script(&s, title, axes, labels, ncurves) != 0) {
+    if (write_data(s.data, curves, ncurves, axes && axes->x_scale > 0.0 ? axes->x_scale : 100.0) != 0 || write_script(&s, title, axes, labels, ncurves) != 0) {
         st = plume_err_set(err, PLUME_EIO, "plot: cannot write gnuplot input in %s: %s", s.dir,
                            strerror(errno));
         goto cleanup;

@@ -19,6 +19,9 @@ plume_status plume_plot_curves(const char *png_path, const char *title, const pl
 typedef struct {
     const char *stress_label; /* left panel, default "nominal stress (Pa)" */
     const char *wbar_label;   /* right panel, default "w-bar (average relative width change)" */
+    const char *x_label;      /* both panels, default "nominal strain (%)" */
+    double x_scale;           /* x drawn = x_scale * curve.strain; 0 selects 100 (percent) */
+    int small_key;            /* 1: a smaller legend font, for charts with many series */
 } plume_plot_axes;
 
 /* plume_plot_curves with other axis labels (axes may be NULL). */
