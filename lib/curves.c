@@ -117,40 +117,7 @@ static plume_status open_for_read(const char *path, const char *what, hid_t *fid
     return PLUME_OK;
 }
 
-static int write_attr_double(hid_t obj, const char *name, double v)
-{
-    int ok = 0;
-    hid_t sp = H5Screate(H5S_SCALAR);
-    hid_t a = sp < 0 ? H5I_INVALID_HID
-                     : H5Acreate2(obj, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT);
-    if (a >= 0 && H5Awrite(a, H5T_NATIVE_DOUBLE, &v) >= 0)
-        ok = 1;
-    if (a >= 0)
-        H5Aclose(a);
-    if (sp >= 0)
-        H5Sclose(sp);
-    return ok ? 0 : -1;
-}
 
-/* Variable-length UTF-8 strings: read back as str by h5py and h5dump alike. */
-static int write_attr_string(hid_t obj, const char *name, const char *v)
-{
-    int ok = 0;
-    hid_t t = H5Tcopy(H5T_C_S1);
-    hid_t sp = H5Screate(H5S_SCALAR);
-    hid_t a = H5I_INVALID_HID;
-    if (t >= 0 && sp >= 0 && H5Tset_size(t, H5T_VARIABLE) >= 0 && H5Tset_cset(t, H5T_CSET_UTF8) >= 0)
-        a = H5Acreate2(obj, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
-    if (a >= 0 && H5Awrite(a, t, &v) >= 0)
-        ok = 1;
-    if (a >= 0)
-        H5Aclose(a);
-    if (sp >= 0)
-        H5Sclose(sp);
-    if (t >= 0)
-        H5Tclose(t);
-    return ok ? 0 : -1;
-}
 
 static int write_dataset(hid_t g, const char *name, const double *v, plume_index n)
 {
@@ -359,14 +326,14 @@ static plume_status fill_curve(hid_t fid, const char *path, const void *vctx, pl
         }
     }
     for (int i = 0; i < c->nparams; i++) {
-        if (write_attr_double(g, c->params[i].name, c->params[i].value) < 0) {
+        if (h5_write_attr_double(g, c->params[i].name, c->params[i].value) < 0) {
             s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot write attribute %s of %s (HDF5: %s)",
                               path, c->params[i].name, gpath, h5_cause(&d));
             goto cleanup;
         }
     }
     for (int i = 0; i < c->nsparams; i++) {
-        if (write_attr_string(g, c->sparams[i].name, c->sparams[i].value) < 0) {
+        if (h5_write_attr_string(g, c->sparams[i].name, c->sparams[i].value) < 0) {
             s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot write attribute %s of %s (HDF5: %s)",
                               path, c->sparams[i].name, gpath, h5_cause(&d));
             goto cleanup;
@@ -589,13 +556,13 @@ static plume_status fill_moduli(hid_t fid, const char *path, const void *vctx, p
     }
     plume_ortho m = *c->m;
     for (int i = 0; i < 4; i++) {
-        if (write_attr_double(g, moduli_names[i], *moduli_field(&m, i)) < 0) {
+        if (h5_write_attr_double(g, moduli_names[i], *moduli_field(&m, i)) < 0) {
             s = plume_err_set(err, PLUME_EIO, "moduli file '%s': cannot write attribute %s (HDF5: %s)",
                               path, moduli_names[i], h5_cause(&d));
             goto cleanup;
         }
     }
-    if (write_attr_string(g, "provenance", c->provenance) < 0) {
+    if (h5_write_attr_string(g, "provenance", c->provenance) < 0) {
         s = plume_err_set(err, PLUME_EIO, "moduli file '%s': cannot write attribute provenance (HDF5: %s)",
                           path, h5_cause(&d));
         goto cleanup;

@@ -28,49 +28,13 @@ static int is_hdf5(const char *path)
 #endif
 }
 
-static int write_attr(hid_t obj, const char *name, hid_t file_type, hid_t mem_type, const void *v)
-{
-    int ok = 0;
-    hid_t sp = H5Screate(H5S_SCALAR);
-    hid_t a = sp < 0 ? H5I_INVALID_HID : H5Acreate2(obj, name, file_type, sp, H5P_DEFAULT, H5P_DEFAULT);
-    if (a >= 0 && H5Awrite(a, mem_type, v) >= 0)
-        ok = 1;
-    if (a >= 0)
-        H5Aclose(a);
-    if (sp >= 0)
-        H5Sclose(sp);
-    return ok ? 0 : -1;
-}
 
 static int write_attr_long(hid_t obj, const char *name, long v)
 {
-    return write_attr(obj, name, H5T_STD_I64LE, H5T_NATIVE_LONG, &v);
+    return h5_write_attr(obj, name, H5T_STD_I64LE, H5T_NATIVE_LONG, &v);
 }
 
-static int write_attr_double(hid_t obj, const char *name, double v)
-{
-    return write_attr(obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &v);
-}
 
-/* A variable-length UTF-8 string, as lib/curves.c writes them (h5py reads it as str). */
-static int write_attr_string(hid_t obj, const char *name, const char *v)
-{
-    int ok = 0;
-    hid_t t = H5Tcopy(H5T_C_S1);
-    hid_t sp = H5Screate(H5S_SCALAR);
-    hid_t a = H5I_INVALID_HID;
-    if (t >= 0 && sp >= 0 && H5Tset_size(t, H5T_VARIABLE) >= 0 && H5Tset_cset(t, H5T_CSET_UTF8) >= 0)
-        a = H5Acreate2(obj, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
-    if (a >= 0 && H5Awrite(a, t, &v) >= 0)
-        ok = 1;
-    if (a >= 0)
-        H5Aclose(a);
-    if (sp >= 0)
-        H5Sclose(sp);
-    if (t >= 0)
-        H5Tclose(t);
-    return ok ? 0 : -1;
-}
 
 /* Reads a scalar numeric attribute converted to mem_type; -1 when missing or not scalar. */
 static int read_attr(hid_t obj, const char *name, hid_t mem_type, void *v)
@@ -248,8 +212,8 @@ plume_status plume_frames_create(const char *path, plume_index nv, plume_index n
     fid = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     if (fid < 0 || (g = H5Gcreate2(fid, "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 ||
         write_attr_long(g, "count", 0) < 0 || write_attr_long(g, "nv", (long)nv) < 0 ||
-        write_attr_long(g, "ncons", (long)ncons) < 0 || write_attr_double(g, "dt", dt) < 0 ||
-        write_attr_string(g, "scene", scene ? scene : "") < 0) {
+        write_attr_long(g, "ncons", (long)ncons) < 0 || h5_write_attr_double(g, "dt", dt) < 0 ||
+        h5_write_attr_string(g, "scene", scene ? scene : "") < 0) {
         s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot write /frames (HDF5: %s)", path, h5_cause(&d));
         goto cleanup;
     }
@@ -312,7 +276,7 @@ plume_status plume_frames_append(const char *path, plume_index nv, plume_index n
     }
     if ((fg = H5Gcreate2(g, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 || write_dataset(fg, "x", x, 3 * nv) < 0 ||
         write_dataset(fg, "v", v, 3 * nv) < 0 || write_dataset(fg, "lambda", lambda, ncons) < 0 ||
-        write_attr_double(fg, "t", t) < 0 || write_attr_long(fg, "step", step) < 0) {
+        h5_write_attr_double(fg, "t", t) < 0 || write_attr_long(fg, "step", step) < 0) {
         s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot write /frames/%s (HDF5: %s)", path, name,
                           h5_cause(&d));
         goto cleanup;

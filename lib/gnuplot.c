@@ -86,3 +86,33 @@ cleanup:
     return st;
 }
 
+
+plume_status plume_gnuplot_install(const char *src, const char *dst, const char *who, plume_err *err)
+{
+    plume_status st = PLUME_OK;
+    char tmp[4096 + 32];
+    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", dst, (long)getpid());
+    FILE *in = fopen(src, "rb");
+    if (!in)
+        return plume_err_set(err, PLUME_EDEP, "%s '%s': gnuplot wrote no output", who, dst);
+    FILE *out = fopen(tmp, "wb");
+    if (!out) {
+        st = plume_err_set(err, PLUME_EIO, "%s '%s': cannot create '%s': %s", who, dst, tmp, strerror(errno));
+        fclose(in);
+        return st;
+    }
+    char buf[65536];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, in)) > 0)
+        if (fwrite(buf, 1, n, out) != n)
+            break;
+    int bad = ferror(in) || ferror(out);
+    fclose(in);
+    if (fclose(out) != 0 || bad)
+        st = plume_err_set(err, PLUME_EIO, "%s '%s': cannot write '%s': %s", who, dst, tmp, strerror(errno));
+    else if (rename(tmp, dst) != 0)
+        st = plume_err_set(err, PLUME_EIO, "%s '%s': cannot rename '%s' over it: %s", who, dst, tmp, strerror(errno));
+    if (st != PLUME_OK)
+        unlink(tmp);
+    return st;
+}

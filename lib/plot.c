@@ -148,39 +148,9 @@ static plume_status run_gnuplot(const scratch *s, plume_err *err)
     return plume_gnuplot_run(s->script, s->log, "plot", err);
 }
 
-/* Copies `src` to "<dst>.tmp.<pid>" and renames it over `dst`. */
 static plume_status install_file(const char *src, const char *dst, plume_err *err)
 {
-    plume_status st = PLUME_OK;
-    char tmp[PLOT_PATH_MAX + 32];
-    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", dst, (long)getpid());
-    FILE *in = fopen(src, "rb");
-    FILE *out = NULL;
-    if (!in)
-        return plume_err_set(err, PLUME_EDEP, "plot '%s': gnuplot wrote no output", dst);
-    out = fopen(tmp, "wb");
-    if (!out) {
-        st = plume_err_set(err, PLUME_EIO, "plot '%s': cannot create '%s': %s", dst, tmp,
-                           strerror(errno));
-        fclose(in);
-        return st;
-    }
-    char buf[65536];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, in)) > 0)
-        if (fwrite(buf, 1, n, out) != n)
-            break;
-    int bad = ferror(in) || ferror(out);
-    fclose(in);
-    if (fclose(out) != 0 || bad)
-        st = plume_err_set(err, PLUME_EIO, "plot '%s': cannot write '%s': %s", dst, tmp,
-                           strerror(errno));
-    else if (rename(tmp, dst) != 0)
-        st = plume_err_set(err, PLUME_EIO, "plot '%s': cannot rename '%s' over it: %s", dst, tmp,
-                           strerror(errno));
-    if (st != PLUME_OK)
-        unlink(tmp);
-    return st;
+    return plume_gnuplot_install(src, dst, "plot", err);
 }
 
 static int non_empty(const char *path)

@@ -183,35 +183,9 @@ static plume_status run_gnuplot(const scratch *s, plume_err *err)
     return plume_gnuplot_run(s->script, s->log, "render", err);
 }
 
-/* Copies src to "<dst>.tmp.<pid>" and renames it over dst. */
 static plume_status install_file(const char *src, const char *dst, plume_err *err)
 {
-    plume_status st = PLUME_OK;
-    char tmp[RENDER_PATH_MAX + 32];
-    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", dst, (long)getpid());
-    FILE *in = fopen(src, "rb");
-    if (!in)
-        return plume_err_set(err, PLUME_EDEP, "render '%s': gnuplot wrote no picture", dst);
-    FILE *out = fopen(tmp, "wb");
-    if (!out) {
-        st = plume_err_set(err, PLUME_EIO, "render '%s': cannot create '%s': %s", dst, tmp, strerror(errno));
-        fclose(in);
-        return st;
-    }
-    char buf[65536];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, in)) > 0)
-        if (fwrite(buf, 1, n, out) != n)
-            break;
-    int bad = ferror(in) || ferror(out);
-    fclose(in);
-    if (fclose(out) != 0 || bad)
-        st = plume_err_set(err, PLUME_EIO, "render '%s': cannot write '%s': %s", dst, tmp, strerror(errno));
-    else if (rename(tmp, dst) != 0)
-        st = plume_err_set(err, PLUME_EIO, "render '%s': cannot rename '%s' over it: %s", dst, tmp, strerror(errno));
-    if (st != PLUME_OK)
-        unlink(tmp);
-    return st;
+    return plume_gnuplot_install(src, dst, "render", err);
 }
 
 plume_status plume_render_png(const char *png_path, const plume_mesh *m, const double *x,

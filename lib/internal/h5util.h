@@ -48,4 +48,44 @@ static inline const char *h5_cause(h5_detail *d)
     return d->text;
 }
 
+/* Scalar attribute of file_type written from mem_type; 0, or -1 on failure. */
+static inline int h5_write_attr(hid_t obj, const char *name, hid_t file_type, hid_t mem_type, const void *v)
+{
+    int ok = 0;
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = sp < 0 ? H5I_INVALID_HID : H5Acreate2(obj, name, file_type, sp, H5P_DEFAULT, H5P_DEFAULT);
+    if (a >= 0 && H5Awrite(a, mem_type, v) >= 0)
+        ok = 1;
+    if (a >= 0)
+        H5Aclose(a);
+    if (sp >= 0)
+        H5Sclose(sp);
+    return ok ? 0 : -1;
+}
+
+static inline int h5_write_attr_double(hid_t obj, const char *name, double v)
+{
+    return h5_write_attr(obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &v);
+}
+
+/* Variable-length UTF-8 strings: read back as str by h5py and h5dump alike. */
+static inline int h5_write_attr_string(hid_t obj, const char *name, const char *v)
+{
+    int ok = 0;
+    hid_t t = H5Tcopy(H5T_C_S1);
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = H5I_INVALID_HID;
+    if (t >= 0 && sp >= 0 && H5Tset_size(t, H5T_VARIABLE) >= 0 && H5Tset_cset(t, H5T_CSET_UTF8) >= 0)
+        a = H5Acreate2(obj, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
+    if (a >= 0 && H5Awrite(a, t, &v) >= 0)
+        ok = 1;
+    if (a >= 0)
+        H5Aclose(a);
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (t >= 0)
+        H5Tclose(t);
+    return ok ? 0 : -1;
+}
+
 #endif
