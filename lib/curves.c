@@ -64,14 +64,6 @@ static int bad_names(const char *path, const char *scale, const char *scenario, 
     return 0;
 }
 
-static int is_hdf5(const char *path)
-{
-#if H5_VERSION_GE(1, 12, 0)
-    return H5Fis_accessible(path, H5P_DEFAULT) > 0;
-#else
-    return H5Fis_hdf5(path) > 0;
-#endif
-}
 
 /* 1 if every prefix of the absolute `objpath` exists as a link in `fid`, 0 if one is missing,
  * -1 on error. Checking prefixes one by one keeps H5Lexists well defined on every HDF5 version. */
@@ -106,7 +98,7 @@ static plume_status open_for_read(const char *path, const char *what, hid_t *fid
         return plume_err_set(err, PLUME_EIO, "%s '%s': cannot open: %s", what, path, strerror(errno));
     if (!S_ISREG(st.st_mode))
         return plume_err_set(err, PLUME_EIO, "%s '%s': not a regular file", what, path);
-    if (!is_hdf5(path))
+    if (!h5_is_hdf5(path))
         return plume_err_set(err, PLUME_EFORMAT, "%s '%s': is not an HDF5 file", what, path);
     *fid = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (*fid < 0) {
@@ -119,22 +111,6 @@ static plume_status open_for_read(const char *path, const char *what, hid_t *fid
 
 
 
-static int write_dataset(hid_t g, const char *name, const double *v, plume_index n)
-{
-    int ok = 0;
-    hsize_t dims[1] = {(hsize_t)n};
-    hid_t sp = H5Screate_simple(1, dims, NULL);
-    hid_t ds = sp < 0 ? H5I_INVALID_HID
-                      : H5Dcreate2(g, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT,
-                                   H5P_DEFAULT);
-    if (ds >= 0 && (n == 0 || H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0))
-        ok = 1;
-    if (ds >= 0)
-        H5Dclose(ds);
-    if (sp >= 0)
-        H5Sclose(sp);
-    return ok ? 0 : -1;
-}
 
 /* Copies the bytes of `src` into a new file `dst` (created with src's permission bits). */
 static plume_status copy_file(const char *src, const char *dst, mode_t mode, const char *what,
@@ -210,7 +186,7 @@ static plume_status atomic_write(const char *path, const char *what, fill_fn fil
         s = plume_err_set(err, PLUME_EIO, "%s '%s': exists and is not a regular file", what, path);
         goto cleanup;
     }
-    if (exists && !is_hdf5(path)) {
+    if (exists && !h5_is_hdf5(path)) {
         s = plume_err_set(err, PLUME_EFORMAT, "%s '%s': is not an HDF5 file (refusing to overwrite it)",
                           what, path);
         goto cleanup;
@@ -319,7 +295,7 @@ static plume_status fill_curve(hid_t fid, const char *path, const void *vctx, pl
         goto cleanup;
     }
     for (int i = 0; i < 5; i++) {
-        if (write_dataset(g, curve_fields[i], curve_cfield(c->curve, i), c->curve->n) < 0) {
+        if (h5_write_dataset(g, curve_fields[i], curve_cfield(c->curve, i), c->curve->n) < 0) {
             s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot write dataset %s/%s (HDF5: %s)",
                               path, gpath, curve_fields[i], h5_cause(&d));
             goto cleanup;

@@ -19,14 +19,6 @@
 #include <unistd.h>
 
 
-static int is_hdf5(const char *path)
-{
-#if H5_VERSION_GE(1, 12, 0)
-    return H5Fis_accessible(path, H5P_DEFAULT) > 0;
-#else
-    return H5Fis_hdf5(path) > 0;
-#endif
-}
 
 
 static int write_attr_long(hid_t obj, const char *name, long v)
@@ -87,21 +79,6 @@ static int read_attr_string(hid_t obj, const char *name, char *buf, size_t n)
     return ok ? 0 : -1;
 }
 
-static int write_dataset(hid_t g, const char *name, const double *v, plume_index n)
-{
-    int ok = 0;
-    hsize_t dims[1] = {(hsize_t)n};
-    hid_t sp = H5Screate_simple(1, dims, NULL);
-    hid_t ds = sp < 0 ? H5I_INVALID_HID
-                      : H5Dcreate2(g, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (ds >= 0 && (n == 0 || H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0))
-        ok = 1;
-    if (ds >= 0)
-        H5Dclose(ds);
-    if (sp >= 0)
-        H5Sclose(sp);
-    return ok ? 0 : -1;
-}
 
 /* Reads a 1D double dataset of exactly n values into v: 0, -1 missing/unreadable, -2 wrong size. */
 static int read_dataset(hid_t g, const char *name, double *v, plume_index n)
@@ -148,7 +125,7 @@ static plume_status open_frames(const char *path, unsigned mode, hid_t *fid, hid
         return plume_err_set(err, PLUME_EIO, "frames file '%s': cannot open: %s", path, strerror(errno));
     if (!S_ISREG(st.st_mode))
         return plume_err_set(err, PLUME_EIO, "frames file '%s': not a regular file", path);
-    if (!is_hdf5(path))
+    if (!h5_is_hdf5(path))
         return plume_err_set(err, PLUME_EFORMAT, "frames file '%s': is not an HDF5 file", path);
     *fid = H5Fopen(path, mode, H5P_DEFAULT);
     if (*fid < 0)
@@ -274,8 +251,8 @@ plume_status plume_frames_append(const char *path, plume_index nv, plume_index n
                           name, h5_cause(&d));
         goto cleanup;
     }
-    if ((fg = H5Gcreate2(g, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 || write_dataset(fg, "x", x, 3 * nv) < 0 ||
-        write_dataset(fg, "v", v, 3 * nv) < 0 || write_dataset(fg, "lambda", lambda, ncons) < 0 ||
+    if ((fg = H5Gcreate2(g, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 || h5_write_dataset(fg, "x", x, 3 * nv) < 0 ||
+        h5_write_dataset(fg, "v", v, 3 * nv) < 0 || h5_write_dataset(fg, "lambda", lambda, ncons) < 0 ||
         h5_write_attr_double(fg, "t", t) < 0 || write_attr_long(fg, "step", step) < 0) {
         s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot write /frames/%s (HDF5: %s)", path, name,
                           h5_cause(&d));

@@ -107,23 +107,33 @@ void plume_problem_destroy(plume_problem **pp)
     *pp = NULL;
 }
 
+/* The problem owns what it is given, also when it refuses it: free the context and return st. */
+static plume_status refuse(void (*destroy)(void *), void *ctx, plume_status st)
+{
+    if (destroy)
+        destroy(ctx);
+    return st;
+}
+
+/* Grows an array of `count` slots of `size` bytes by one zeroed slot; NULL when memory runs out. */
+static void *grow_slots(void *slots, int count, size_t size)
+{
+    char *g = realloc(slots, (size_t)(count + 1) * size);
+    if (g)
+        memset(g + (size_t)count * size, 0, size);
+    return g;
+}
+
 plume_status plume_problem_add_term(plume_problem *p, const plume_term *t)
 {
     if (!p || !t)
         return PLUME_EINVAL;
-    if (p->finalized || !t->eval || t->arity <= 0 || t->nstencil < 0 || (t->nstencil && !t->stencil)) {
-        if (t->destroy)
-            t->destroy(t->ctx);
-        return PLUME_EINVAL;
-    }
-    term_slot *ts = realloc(p->terms, (size_t)(p->nterms + 1) * sizeof *ts);
-    if (!ts) {
-        if (t->destroy)
-            t->destroy(t->ctx);
-        return PLUME_ENOMEM;
-    }
+    if (p->finalized || !t->eval || t->arity <= 0 || t->nstencil < 0 || (t->nstencil && !t->stencil))
+        return refuse(t->destroy, t->ctx, PLUME_EINVAL);
+    term_slot *ts = grow_slots(p->terms, p->nterms, sizeof *ts);
+    if (!ts)
+        return refuse(t->destroy, t->ctx, PLUME_ENOMEM);
     p->terms = ts;
-    memset(ts + p->nterms, 0, sizeof *ts);
     ts[p->nterms++].t = *t;
     return PLUME_OK;
 }
@@ -132,19 +142,12 @@ plume_status plume_problem_add_constraint(plume_problem *p, const plume_constrai
 {
     if (!p || !c)
         return PLUME_EINVAL;
-    if (p->finalized || !c->eval || !c->hess || c->arity <= 0 || c->m < 0 || (c->m && (!c->stencil || !c->scale))) {
-        if (c->destroy)
-            c->destroy(c->ctx);
-        return PLUME_EINVAL;
-    }
-    cons_slot *cs = realloc(p->cons, (size_t)(p->ncsets + 1) * sizeof *cs);
-    if (!cs) {
-        if (c->destroy)
-            c->destroy(c->ctx);
-        return PLUME_ENOMEM;
-    }
+    if (p->finalized || !c->eval || !c->hess || c->arity <= 0 || c->m < 0 || (c->m && (!c->stencil || !c->scale)))
+        return refuse(c->destroy, c->ctx, PLUME_EINVAL);
+    cons_slot *cs = grow_slots(p->cons, p->ncsets, sizeof *cs);
+    if (!cs)
+        return refuse(c->destroy, c->ctx, PLUME_ENOMEM);
     p->cons = cs;
-    memset(cs + p->ncsets, 0, sizeof *cs);
     cs[p->ncsets++].c = *c;
     return PLUME_OK;
 }

@@ -7,6 +7,8 @@
 #include <hdf5.h>
 #include <stdio.h>
 
+#include "../status.h"
+
 typedef struct {
     H5E_auto2_t func;
     void *data;
@@ -85,6 +87,31 @@ static inline int h5_write_attr_string(hid_t obj, const char *name, const char *
         H5Sclose(sp);
     if (t >= 0)
         H5Tclose(t);
+    return ok ? 0 : -1;
+}
+
+static inline int h5_is_hdf5(const char *path)
+{
+#if H5_VERSION_GE(1, 12, 0)
+    return H5Fis_accessible(path, H5P_DEFAULT) > 0;
+#else
+    return H5Fis_hdf5(path) > 0;
+#endif
+}
+
+static inline int h5_write_dataset(hid_t g, const char *name, const double *v, plume_index n)
+{
+    int ok = 0;
+    hsize_t dims[1] = {(hsize_t)n};
+    hid_t sp = H5Screate_simple(1, dims, NULL);
+    hid_t ds = sp < 0 ? H5I_INVALID_HID
+                      : H5Dcreate2(g, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (ds >= 0 && (n == 0 || H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0))
+        ok = 1;
+    if (ds >= 0)
+        H5Dclose(ds);
+    if (sp >= 0)
+        H5Sclose(sp);
     return ok ? 0 : -1;
 }
 
