@@ -7,6 +7,7 @@
 #include "harness.h"
 #include "../lib/plume.h"
 #include "../lib/dynamics.h"
+#include "../lib/load.h"
 
 /* Free fall: with only inertia and gravity, implicit Euler gives v_n = n dt g and
  * z_n = dt^2 g n (n + 1) / 2 exactly. */
@@ -178,4 +179,104 @@ void test_dynamics_restart(void)
     free(x), free(v), free(l);
     hanging_free(&a);
     hanging_free(&b);
+}
+
+/* Finite differences of an assembled problem at u: gradient against energy, Hessian (upper CSC,
+ * symmetric) applied to a direction against gradient differences. Returns the relative errors. */
+static void problem_fd(plume_problem *p, const double *u, double *gerr, double *herr)
+{
+    plume_index n = plume_problem_nfree(p);
+    plume_sparsity sp = plume_problem_hessian_pattern(p);
+    double *g = malloc((size_t)n * sizeof *g), *g1 = malloc((size_t)n * sizeof *g1), *g2 = malloc((size_t)n * sizeof *g2);
+    double *up = malloc((size_t)n * sizeof *up), *dir = malloc((size_t)n * sizeof *dir), *Hd = calloc((size_t)n, sizeof *Hd);
+    double *H = malloc((size_t)sp.nnz * sizeof *H), f, fp, fm, h = 1e-7;
+    plume_problem_objective(p, u, &f, g);
+    plume_problem_hessian(p, u, 1.0, NULL, 0, H);
+    double gs = 0.0, ge = 0.0;
+    for (plume_index i = 0; i < n; i += (n > 40 ? n / 40 : 1)) {
+        memcpy(up, u, (size_t)n * sizeof *up);
+        up[i] = u[i] + h;
+        plume_problem_objective(p, up, &fp, NULL);
+        up[i] = u[i] - h;
+        plume_problem_objective(p, up, &fm, NULL);
+        ge = fmax(ge, fabs((fp - fm) / (2 * h) - g[i]));
+        gs = fmax(gs, fabs(g[i]));
+    }
+    for (plume_index i = 0; i < n; i++)
+        dir[i] = sin(1.7 * (double)i + 0.3);
+    for (plume_index c = 0; c < n; c++)
+        for (plume_index k = sp.colptr[c]; k < sp.colptr[c + 1]; k++) {
+            plume_index r = sp.rowind[k];
+            Hd[r] += H[k] * dir[c];
+            if (r != c)
+                Hd[c] += H[k] * dir[r];
+        }
+    for (plume_index i = 0; i < n; i++)
+        up[i] = u[i] + h * dir[i];
+    plume_problem_objective(p, up, &fp, g1);
+    for (plume_index i = 0; i < n; i++)
+        up[i] = u[i] - h * dir[i];
+    plume_problem_objective(p, up, &fm, g2);
+    double he = 0.0, hs = 0.0;
+    for (plume_index i = 0; i < n; i++) {
+        he = fmax(he, fabs((g1[i] - g2[i]) / (2 * h) - Hd[i]));
+        hs = fmax(hs, fabs(Hd[i]));
+    }
+    *gerr = ge / gs;
+    *herr = he / hs;
+    free(g), free(g1), free(g2), free(up), free(dir), free(Hd), free(H);
+}
+
+/* The inertia-and-gravity term (with the membrane and bending-free sheet around it) and the
+ * dead-load term: derivatives of the assembled problem against central differences. */
+void test_dynamics_terms_fd(void)
+{
+    hanging h;
+    CHECK(hanging_build(&h, 100, 0.01));
+    if (!h.d) {
+        hanging_free(&h);
+        return;
+    }
+    plume_step_report rep;
+    CHECK(plume_dynamics_advance(h.d, 0.0, &rep) == PLUME_OK); /* x~ and dt set, a deformed state */
+    plume_index n = plume_problem_nfree(h.p);
+    double *u = malloc((size_t)n * sizeof *u), ge, he;
+    plume_problem_gather(h.p, u);
+    for (plume_index i = 0; i < n; i++)
+        u[i] += 1e-3 * cos(0.9 * (double)i);
+    problem_fd(h.p, u, &ge, &he);
+    fprintf(stderr, "    inertia + gravity + membrane: gradient %.2e, Hessian %.2e\n", ge, he);
+    CHECK(ge < 1e-6 && he < 1e-5);
+    free(u);
+    hanging_free(&h);
+
+    /* dead loads on a membrane patch */
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_patch_mesh(1.0, 1.0, 30.0, 0.25, PLUME_PATCH_ALIGNED, 3, &mesh, &err) == PLUME_OK);
+    plume_membrane_material mat = {5.0, 2.0, 0.1, 1.0, 0.1, 10.0, 0};
+    plume_term mem, load;
+    const plume_index v[2] = {1, 2};
+    const double f[6] = {0.3, -0.2, 0.5, -0.1, 0.4, 0.2};
+    CHECK(plume_problem_create(mesh->nv, 3, 1.0, &p) == PLUME_OK);
+    CHECK(plume_membrane_term_create(mesh, 3, &mat, 1, &mem, &err) == PLUME_OK && plume_problem_add_term(p, &mem) == PLUME_OK);
+    CHECK(plume_load_term_create(v, 2, 3, f, &load, &err) == PLUME_OK && plume_problem_add_term(p, &load) == PLUME_OK);
+    memcpy(plume_problem_x(p), mesh->x, (size_t)(3 * mesh->nv) * sizeof(double));
+    for (int a = 0; a < 3; a++)
+        plume_problem_fix_dof(p, a);
+    CHECK(plume_problem_finalize(p, &err) == PLUME_OK);
+    n = plume_problem_nfree(p);
+    u = malloc((size_t)n * sizeof *u);
+    plume_problem_gather(p, u);
+    for (plume_index i = 0; i < n; i++)
+        u[i] += 0.05 * sin(1.3 * (double)i);
+    problem_fd(p, u, &ge, &he);
+    fprintf(stderr, "    load + membrane: gradient %.2e, Hessian %.2e\n", ge, he);
+    CHECK(ge < 1e-6 && he < 1e-5);
+    const double bad[3] = {NAN, 0, 0};
+    CHECK(plume_load_term_create(v, 1, 3, bad, &load, &err) == PLUME_EINVAL && strstr(err.msg, "not finite"));
+    free(u);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&mesh);
 }
