@@ -22,7 +22,7 @@ APPS := $(patsubst %.c,%,$(APP_SRC))
 TEST_SRC := $(wildcard tests/*.c)
 TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 HEADERS := $(wildcard lib/*.h) $(wildcard micro/*.h) $(wildcard macro/*.h)
-PRIVATE_HEADERS := $(wildcard lib/internal/*.h)
+PRIVATE_HEADERS := $(wildcard lib/internal/*.h) $(wildcard macro/internal/*.h)
 
 .PHONY: all deps test asan bench demo install clean
 all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)
