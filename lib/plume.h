@@ -28,6 +28,7 @@
 #include "../macro/vane.h"
 #include "../macro/traction_model.h"
 #include "../macro/bending.h"
+#include "../macro/shape_bending.h"
 #include "../macro/feather_mesh.h"
 #include "../macro/scene.h"
 #include "../macro/study.h"

@@ -18,7 +18,7 @@
 
 /* The vane of supplementary Table 3 (a): EI_perp (bending the barbs) and the transverse modulus,
  * N m. Their ratio, 2500, is the anisotropy every cylinder test runs at. */
-static const plume_bending_material MAT_VANE = {2.5e-4, 1e-7};
+static const plume_bending_material MAT_VANE = {2.5e-4, 1e-7, 0.0, 0.0};
 
 /* ---- meshes ------------------------------------------------------------------------------ */
 
@@ -167,7 +167,7 @@ void test_bending_cylinder_barbs_30(void)
  * the axes along its three edge families. */
 void test_bending_cylinder_isotropic(void)
 {
-    const plume_bending_material iso = {3.0, 3.0};
+    const plume_bending_material iso = {3.0, 3.0, 0.0, 0.0};
     char what[64];
     for (int a = 0; a < 180; a += 15) {
         snprintf(what, sizeof what, "isotropic, equilateral, curvature at %d", a);
@@ -218,7 +218,7 @@ static void fold_hinge(double *x, double alpha, double beta)
  * D_e = D_long cos^2 phi + D_trans sin^2 phi, phi between the edge normal and the barbs */
 void test_bending_single_hinge(void)
 {
-    const plume_bending_material mat = {5.0, 0.2};
+    const plume_bending_material mat = {5.0, 0.2, 0.0, 0.0};
     const double A = 0.5 * 0.8 + 0.5 * 0.7, l2 = 1.0;
     for (int order = 0; order < 2; order++) {
         for (int ib = 0; ib < 5; ib++) {
@@ -269,7 +269,7 @@ void test_bending_sign_convention(void)
     CHECK(m != NULL);
     if (!m)
         return;
-    const plume_bending_material iso = {1.0, 1.0};
+    const plume_bending_material iso = {1.0, 1.0, 0.0, 0.0};
     double *rest = malloc(sizeof(double) * 3 * (size_t)m->nv);
     double *flip = malloc(sizeof(double) * 3 * (size_t)m->nv);
     CHECK(rest && flip);
@@ -370,7 +370,7 @@ done:
 void test_bending_fd_random(void)
 {
     rng64 r = {0x5eed1234abcdULL};
-    const plume_bending_material mats[2] = {{2.0, 0.3}, {0.5, 1.5}};
+    const plume_bending_material mats[2] = {{2.0, 0.3, 0.0, 0.0}, {0.5, 1.5, 0.0, 0.0}};
     for (int trial = 0; trial < 6; trial++) {
         plume_mesh *m = grid_mesh(3, 0.4, trial % 2 ? GRID_EQUI : GRID_RIGHT, 20.0 * trial, 35.0 * trial);
         CHECK(m != NULL);
@@ -407,7 +407,7 @@ void test_bending_fd_random(void)
 void test_bending_fd_angles(void)
 {
     rng64 r = {0xfeedULL};
-    const plume_bending_material mat = {1.7, 0.4};
+    const plume_bending_material mat = {1.7, 0.4, 0.0, 0.0};
     const double cases[][2] = {{0.9, 0.0}, {-0.9, 0.0}, {2.6, 0.0},  {-2.6, 0.0},
                                {1e-4, 0.0}, {-1e-4, 0.0}, {0.3, -1.1}, {-1e-4, 0.8}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
@@ -456,7 +456,7 @@ static double min_eig12(const double *B)
 void test_bending_projection(void)
 {
     rng64 r = {0xabcdef01ULL};
-    const plume_bending_material mat = {2.0, 0.5};
+    const plume_bending_material mat = {2.0, 0.5, 0.0, 0.0};
     plume_mesh *m = grid_mesh(4, 0.3, GRID_RIGHT, 10.0, 70.0);
     CHECK(m != NULL);
     if (!m)
@@ -513,7 +513,7 @@ void test_bending_projection(void)
 void test_bending_rigid_invariance(void)
 {
     rng64 r = {0x77ULL};
-    const plume_bending_material mat = {1.2, 0.1};
+    const plume_bending_material mat = {1.2, 0.1, 0.0, 0.0};
     plume_mesh *m = grid_mesh(3, 0.5, GRID_EQUI, 15.0, 15.0);
     CHECK(m != NULL);
     if (!m)
@@ -599,7 +599,7 @@ void test_bending_rigid_invariance(void)
  * not (2 pi)^2 */
 void test_bending_angle_wrap(void)
 {
-    const plume_bending_material mat = {1.0, 1.0};
+    const plume_bending_material mat = {1.0, 1.0, 0.0, 0.0};
     plume_mesh *m = hinge_mesh(0.0, 0);
     CHECK(m != NULL);
     if (!m)
@@ -624,7 +624,7 @@ void test_bending_angle_wrap(void)
  * finite energy and exerts no force (zero block), and nothing is NaN. */
 void test_bending_collapsed(void)
 {
-    const plume_bending_material mat = {1.0, 1.0};
+    const plume_bending_material mat = {1.0, 1.0, 0.0, 0.0};
     plume_mesh *m = hinge_mesh(0.0, 0);
     CHECK(m != NULL);
     if (!m)
@@ -656,7 +656,7 @@ void test_bending_collapsed(void)
 
 void test_bending_term_interface(void)
 {
-    const plume_bending_material mat = {1.0, 0.25};
+    const plume_bending_material mat = {1.0, 0.25, 0.0, 0.0};
     plume_mesh *m = grid_mesh(3, 0.5, GRID_RIGHT, 0.0, 0.0);
     CHECK(m != NULL);
     if (!m)
@@ -745,7 +745,7 @@ static int create_fails(const plume_mesh *m, const plume_bending_material *mats,
 
 void test_bending_bad_inputs(void)
 {
-    plume_bending_material mats[2] = {{1.0, 0.5}, {2.0, 0.1}};
+    plume_bending_material mats[2] = {{1.0, 0.5, 0.0, 0.0}, {2.0, 0.1, 0.0, 0.0}};
     plume_mesh *m = grid_mesh(2, 0.5, GRID_RIGHT, 0.0, 0.0);
     CHECK(m != NULL);
     if (!m)

@@ -57,7 +57,7 @@ static double strip_deflection(double edge, double alpha, plume_index *nel)
         return NAN;
     *nel = mesh->nt;
     plume_membrane_material mat = {1e8, 1e8, 0.3, 1e8 / 2.6, 1e-3, 0.0, 0};
-    plume_bending_material bm = {D, D};
+    plume_bending_material bm = {D, D, 0.0, 0.0};
     plume_term mem, bend, load;
     plume_index *tip = malloc((size_t)mesh->nv * sizeof *tip), ntip = 0;
     for (plume_index v = 0; v < mesh->nv; v++)

@@ -1,0 +1,42 @@
+/* plume: mesh-independent anisotropic bending of a shell (DESIGN.md "Bending"; "Bending is a
+ * property of the surface, not of the mesh's edges"): a per-triangle second fundamental form
+ * fitted exactly to every quadratic height field on any triangulation (the 6-vertex
+ * shape-operator stencil, macro/shape_bending.c), and the orthotropic plate energy of its
+ * change from the rest shape in each triangle's barb frame:
+ *     A/2 (D_long k11^2 + D_trans k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2).
+ * A flat patch bent into a cylinder of curvature k at angle phi to the barbs stores, per unit
+ * area, 1/2 k^2 (D_long c^4 + D_trans s^4 + (2 D_coupling + 4 D_twist) c^2 s^2), c = cos phi,
+ * s = sin phi, whatever the mesh (up to O(h^2), measured in tests/test_shape_bending.c). */
+#ifndef PLUME_SHAPE_BENDING_H
+#define PLUME_SHAPE_BENDING_H
+
+#include "../lib/mesh.h"
+#include "../lib/term.h"
+#include "bending.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A term with one stencil per triangle of a shell-mode mesh (dim 3, topology built): arity 6,
+ * (x0, x1, x2, p1, p2, p3) with (x0, x1, x2) = mesh->tri[t] and p_k the vertex across the edge
+ * opposite x_{k-1} in the neighbouring triangle, or, on a boundary edge, the vertex of the 2-ring
+ * (3-ring if need be) that keeps the quadratic fit best conditioned. Material mats[material[t]]
+ * (all four fields, D_twist == 0 derived as documented in bending.h), barb direction
+ * barb_dir[t] (normalised here). Rest shape mesh->X (flat) unless rest_x (3*nv, may be NULL)
+ * gives a curved one. Exact gradient and Hessian; with project != 0 the Hessian blocks are the
+ * Gauss-Newton part only (PSD by construction, no eigen-decomposition). eval fails with
+ * PLUME_EINVAL when a current triangle has collapsed (its normal is undefined); the energy and
+ * gradient are then not accumulated in full. Errors at create (PLUME_EINVAL, message): dim != 3,
+ * topology not built, a negative/NaN/infinite stiffness or D_coupling^2 > D_long D_trans (naming
+ * the material and field), material or vertex id out of range, a barb direction that cannot be
+ * normalised, a degenerate reference triangle, a triangle with no well-conditioned stencil (a
+ * mesh with too few vertices, e.g. one or two triangles), a rest_x that is not finite or
+ * collapses a triangle. */
+plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
+                                             const double *rest_x, plume_term *out, plume_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
