@@ -56,18 +56,22 @@ static double snap(double v, double lo, double hi, double tol)
     return v;
 }
 
-/* Returns the id of the boundary point at (x, y), creating it if new. */
+/* Returns the id of the boundary point at (x, y) (snapped to the sides within tol), creating it
+ * if new. Only boundary points are searched: O(sqrt N) per query. */
 static plume_index boundary_point(geometry *g, sides *sd, double lx, double ly, double x, double y, double tol)
 {
     x = snap(x, 0.0, lx, tol);
     y = snap(y, 0.0, ly, tol);
-    for (plume_index i = 0; i < g->n; i++) /* boundary points are few: O(sqrt N) per query */
-        if (g->p[2 * i] == x && g->p[2 * i + 1] == y)
-            return i;
+    int on[4] = {y == 0.0, x == lx, y == ly, x == 0.0};
+    for (int s = 0; s < 4; s++)
+        for (plume_index k = 0; on[s] && k < sd->n[s]; k++) {
+            plume_index i = sd->v[s][k].id;
+            if (g->p[2 * i] == x && g->p[2 * i + 1] == y)
+                return i;
+        }
     if (plume_pslg_point(g, x, y) < 0)
         return -1;
     plume_index id = g->n - 1;
-    int on[4] = {y == 0.0, x == lx, y == ly, x == 0.0};
     for (int s = 0; s < 4; s++)
         if (on[s]) {
             sd->v[s][sd->n[s]].t = (s % 2 == 0) ? x : y;
@@ -76,6 +80,25 @@ static plume_index boundary_point(geometry *g, sides *sd, double lx, double ly, 
     return id;
 }
 
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Aligned meshes (DESIGN.md, "Meshes that respect the fibres"). The barb lines are the chords
+ * {p : nrm.p = c} of the rectangle; one passes through every corner, because the exact solution
+ * of an inextensible-fibre sheet concentrates stress on the fibres through the corners (Pipkin),
+ * and the others are spaced uniformly (<= edge sqrt(3)/2 apart) between consecutive corner lines.
+ * Every point of the geometry lies on a barb line: the boundary points are exactly the
+ * line/side intersections and the corners, the interior points sit on each line every `edge`,
+ * shifted by edge/2 from one line to the next (a triangular lattice in the barb frame). Since
+ * every chord is a chain of constrained segments, no triangle of the constrained Delaunay
+ * triangulation can reach across a line, so its three vertices lie on two consecutive lines (or
+ * on a line and an extreme corner): two of them are consecutive points of one line and the edge
+ * joining them is a barb segment. Every triangle therefore owns a constrained barb edge. The
+ * price: boundary points are spaced spacing / |sin| of the angle between barbs and side, so
+ * barbs at a shallow angle to a side give elongated triangles along it. */
 static plume_status aligned_geometry(double lx, double ly, double angle_deg, double edge, geometry *g,
                                      sides *sd)
 {
@@ -84,62 +107,70 @@ static plume_status aligned_geometry(double lx, double ly, double angle_deg, dou
     double nrm[2] = {d[1], -d[0]}; /* barb lines are {p : nrm.p = c} */
     double tol = 1e-9 * fmax(lx, ly);
     double corners[4][2] = {{0, 0}, {lx, 0}, {lx, ly}, {0, ly}};
-    double cmin = INFINITY, cmax = -INFINITY;
-    for (int k = 0; k < 4; k++) {
-        double c = nrm[0] * corners[k][0] + nrm[1] * corners[k][1];
-        cmin = fmin(cmin, c), cmax = fmax(cmax, c);
-    }
-    double spacing = edge * sqrt(3.0) / 2.0;
-    long nlines = (long)ceil((cmax - cmin) / spacing - 1e-9);
-    if (nlines < 1)
-        nlines = 1;
-    spacing = (cmax - cmin) / (double)nlines;
-    for (long L = 0; L <= nlines; L++) {
-        double c = cmin + spacing * (double)L;
-        /* clip the line p = c nrm + t d to the rectangle */
-        double p0[2] = {c * nrm[0], c * nrm[1]};
-        double tlo = -INFINITY, thi = INFINITY;
-        for (int axis = 0; axis < 2; axis++) {
-            double hi = axis ? ly : lx;
-            if (fabs(d[axis]) < 1e-15) {
-                if (p0[axis] < -tol || p0[axis] > hi + tol)
-                    tlo = INFINITY;
-                continue;
-            }
-            double t1 = (0.0 - p0[axis]) / d[axis], t2 = (hi - p0[axis]) / d[axis];
-            tlo = fmax(tlo, fmin(t1, t2));
-            thi = fmin(thi, fmax(t1, t2));
+    double cc[4];
+    for (int k = 0; k < 4; k++)
+        cc[k] = nrm[0] * corners[k][0] + nrm[1] * corners[k][1];
+    qsort(cc, 4, sizeof cc[0], cmp_double);
+    int nc = 1; /* distinct corner lines (two corners share a line when barbs are along a side) */
+    for (int k = 1; k < 4; k++)
+        if (cc[k] - cc[nc - 1] > tol)
+            cc[nc++] = cc[k];
+    double target = edge * sqrt(3.0) / 2.0;
+    long line = 0;
+    for (int ci = 0; ci < nc; ci++) {
+        long between = 1;
+        if (ci + 1 < nc) {
+            between = (long)ceil((cc[ci + 1] - cc[ci]) / target - 1e-9);
+            if (between < 1)
+                between = 1;
         }
-        double len = thi - tlo;
-        if (!(len > 0.3 * edge))
-            continue; /* a line that only grazes a corner */
-        long pieces = lround(len / edge);
-        if (pieces < 1)
-            pieces = 1;
-        plume_index prev = -1;
-        for (long k = 0; k <= pieces; k++) {
-            double t = tlo + len * (double)k / (double)pieces;
-            double x = p0[0] + t * d[0], y = p0[1] + t * d[1];
-            plume_index id;
-            int on_side = fabs(x) <= tol || fabs(x - lx) <= tol || fabs(y) <= tol || fabs(y - ly) <= tol;
-            if (k == 0 || k == pieces || on_side) {
-                id = boundary_point(g, sd, lx, ly, x, y, tol);
-            } else {
-                if (plume_pslg_point(g, x, y) < 0)
+        for (long j = 0; j < between; j++, line++) {
+            double c = ci + 1 < nc ? cc[ci] + (cc[ci + 1] - cc[ci]) * (double)j / (double)between : cc[ci];
+            /* clip the line p = c nrm + t d to the rectangle */
+            double p0[2] = {c * nrm[0], c * nrm[1]};
+            double tlo = -INFINITY, thi = INFINITY;
+            for (int axis = 0; axis < 2; axis++) {
+                double hi = axis ? ly : lx;
+                if (fabs(d[axis]) < 1e-15) {
+                    if (p0[axis] < -tol || p0[axis] > hi + tol)
+                        tlo = INFINITY;
+                    continue;
+                }
+                double t1 = (0.0 - p0[axis]) / d[axis], t2 = (hi - p0[axis]) / d[axis];
+                tlo = fmax(tlo, fmin(t1, t2));
+                thi = fmin(thi, fmax(t1, t2));
+            }
+            if (!(thi - tlo > tol))
+                continue; /* an extreme corner: a point, added with the corners */
+            /* lattice points t = shift + k edge strictly inside, none closer than `gap` to an end */
+            double shift = (line % 2) ? 0.5 * edge : 0.0, gap = 0.45 * edge;
+            double kfirst = ceil((tlo + gap - shift) / edge), klast = floor((thi - gap - shift) / edge);
+            plume_index prev = -1;
+            for (double k = kfirst - 1.0; k <= klast + 1.0; k += 1.0) {
+                double t = k < kfirst ? tlo : k > klast ? thi : shift + k * edge;
+                double x = p0[0] + t * d[0], y = p0[1] + t * d[1];
+                int on_side = fabs(x) <= tol || fabs(x - lx) <= tol || fabs(y) <= tol || fabs(y - ly) <= tol;
+                plume_index id;
+                if (k < kfirst || k > klast || on_side) {
+                    id = boundary_point(g, sd, lx, ly, x, y, tol);
+                } else {
+                    id = plume_pslg_point(g, x, y) < 0 ? -1 : g->n - 1;
+                }
+                if (id < 0)
                     return PLUME_ENOMEM;
-                id = g->n - 1;
+                if (prev >= 0 && plume_pslg_segment(g, prev, id) < 0)
+                    return PLUME_ENOMEM;
+                prev = id;
             }
-            if (id < 0)
-                return PLUME_ENOMEM;
-            if (prev >= 0 && plume_pslg_segment(g, prev, id) < 0)
-                return PLUME_ENOMEM;
-            prev = id;
         }
     }
+    for (int k = 0; k < 4; k++)
+        if (boundary_point(g, sd, lx, ly, corners[k][0], corners[k][1], tol) < 0)
+            return PLUME_ENOMEM;
     return PLUME_OK;
 }
 
-/* corners, then points along each side so that no boundary gap exceeds `edge` */
+/* Unaligned meshes: corners, then points along each side so that no boundary gap exceeds `edge`. */
 static plume_status fill_sides(double lx, double ly, double edge, geometry *g, sides *sd)
 {
     double tol = 1e-9 * fmax(lx, ly);
@@ -193,9 +224,9 @@ plume_status plume_patch_mesh(double lx, double ly, double angle_deg, double edg
             st = PLUME_ENOMEM;
             goto cleanup;
         }
-    if (kind == PLUME_PATCH_ALIGNED && (st = aligned_geometry(lx, ly, angle_deg, edge, &g, &sd)) != PLUME_OK)
-        goto cleanup;
-    if ((st = fill_sides(lx, ly, edge, &g, &sd)) != PLUME_OK)
+    st = kind == PLUME_PATCH_ALIGNED ? aligned_geometry(lx, ly, angle_deg, edge, &g, &sd)
+                                     : fill_sides(lx, ly, edge, &g, &sd);
+    if (st != PLUME_OK)
         goto cleanup;
     plume_cdt_input in = {0};
     in.npoints = g.n;

@@ -9,7 +9,11 @@ extern "C" {
 #endif
 
 typedef enum {
-    PLUME_PATCH_ALIGNED = 0,  /* vertices on barb lines every `edge`, barb segments kept as edges */
+    PLUME_PATCH_ALIGNED = 0,  /* corner-exact: a barb line through every corner of the sample, the
+                                 others uniformly between (<= edge sqrt(3)/2 apart), vertices on them
+                                 every ~`edge` (and boundary points only where they meet the sides),
+                                 barb segments kept as edges: every triangle owns a barb edge
+                                 (check with plume_vane_barb_coverage, macro/vane.h) */
     PLUME_PATCH_UNALIGNED = 1 /* quality Delaunay mesh (CGAL refinement) that ignores the barbs */
 } plume_patch_kind;
 

@@ -60,6 +60,71 @@ plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_
     return PLUME_OK;
 }
 
+static int cmp_pair(const void *p, const void *q)
+{
+    const plume_index *a = p, *b = q;
+    if (a[0] != b[0])
+        return (a[0] > b[0]) - (a[0] < b[0]);
+    return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+plume_status plume_vane_barb_coverage(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
+                                      int material, plume_index *covered, plume_index *total,
+                                      plume_index **uncovered)
+{
+    if (uncovered)
+        *uncovered = NULL;
+    if (!m || !covered || !total || nbarb < 0 || (nbarb > 0 && !barb_edges) || (m->ne > 0 && !m->edges))
+        return PLUME_EINVAL;
+    *covered = *total = 0;
+    if (m->nt > 0 && !m->edge_tri)
+        return PLUME_EINVAL; /* topology not built */
+    plume_status st = PLUME_OK;
+    plume_index *keys = malloc((size_t)(2 * nbarb + 2) * sizeof *keys);
+    unsigned char *own = calloc((size_t)m->nt + 1, 1);
+    if (!keys || !own) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    for (plume_index e = 0; e < nbarb; e++) {
+        plume_index a = barb_edges[2 * e], b = barb_edges[2 * e + 1];
+        if (a < 0 || b < 0 || a >= m->nv || b >= m->nv) {
+            st = PLUME_EINVAL;
+            goto cleanup;
+        }
+        keys[2 * e] = a < b ? a : b;
+        keys[2 * e + 1] = a < b ? b : a;
+    }
+    qsort(keys, (size_t)nbarb, 2 * sizeof *keys, cmp_pair);
+    for (plume_index i = 0; i < m->ne; i++) {
+        plume_index key[2] = {m->edges[2 * i], m->edges[2 * i + 1]}; /* i < j by construction */
+        if (nbarb > 0 && bsearch(key, keys, (size_t)nbarb, 2 * sizeof *keys, cmp_pair))
+            for (int s = 0; s < 2; s++)
+                if (m->edge_tri[2 * i + s] >= 0)
+                    own[m->edge_tri[2 * i + s]] = 1;
+    }
+    plume_index n = 0, c = 0;
+    for (plume_index t = 0; t < m->nt; t++)
+        if (material < 0 || m->material[t] == material)
+            n++, c += own[t];
+    if (uncovered && c < n) {
+        if (!(*uncovered = malloc((size_t)(n - c) * sizeof **uncovered))) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+        plume_index k = 0;
+        for (plume_index t = 0; t < m->nt; t++)
+            if ((material < 0 || m->material[t] == material) && !own[t])
+                (*uncovered)[k++] = t;
+    }
+    *covered = c;
+    *total = n;
+cleanup:
+    free(keys);
+    free(own);
+    return st;
+}
+
 plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, const plume_vane *v,
                             plume_index **barb_edges, plume_index *nbarb, plume_err *err)
 {

@@ -31,6 +31,18 @@ plume_status plume_vane_check(const plume_vane *v, plume_err *err);
 plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_index **edges,
                                    plume_index *n);
 
+/* Barb coverage (DESIGN.md, "Meshes that respect the fibres"): counts the triangles of `m`
+ * (topology built) whose material is `material` (or every triangle when material < 0) in *total,
+ * and among them those owning at least one of the nbarb edges `barb_edges` (2*nbarb vertex ids,
+ * either order; pairs that are not mesh edges are ignored) in *covered. With the constraint on,
+ * a covered triangle has an inextensible barb (its constant strain has no barb stretch), an
+ * uncovered one does not. If `uncovered` is non-NULL it receives a malloc'ed list of the
+ * uncovered triangle ids (*total - *covered of them; NULL when none).
+ * Errors: PLUME_EINVAL (NULL mesh or outputs, no topology, vertex id out of range), PLUME_ENOMEM. */
+plume_status plume_vane_barb_coverage(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
+                                      int material, plume_index *covered, plume_index *total,
+                                      plume_index **uncovered);
+
 /* Adds the vane membrane (every triangle, material 0) and, when v->constraint is set, the
  * inextensibility constraint of the barb edges to `p` (created over mesh->nv vertices).
  * If barb_edges/nbarb are non-NULL they receive the constrained edges (malloc'ed; NULL/0 when
