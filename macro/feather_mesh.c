@@ -1,4 +1,7 @@
 /* plume: the feather mesher of supplementary §6 (contract in macro/feather_mesh.h).
+ * Helpers live beside it: small 2D geometry (macro/internal/feather_geom.h), input validation
+ * (feather_check.c), the spatial grid (bins.c), sampled curves and splines (sampled_curve.c); the
+ * OBJ outline reader is obj_outline.c.
  *
  * Steps and the decisions behind them:
  * 1. Curves. The rachis and every barb curve are interpolated through their points with GSL natural
@@ -51,18 +54,16 @@
  *    of the barb edges of its side within IDW_RADIUS e. */
 #include "feather_mesh.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_spline.h>
-
 #include "../lib/cdt.h"
 #include "../lib/pslg.h"
-
-#define FM_PI 3.14159265358979323846
+#include "internal/bins.h"
+#include "internal/feather_geom.h"
+#include "internal/sampled_curve.h"
 
 /* Tolerances, as fractions of the target edge e (the header has no options struct; these are the
  * knobs to expose if callers need them). */
@@ -78,371 +79,6 @@
 #define PROJECT_COARSE 512 /* coarse samples of the centre line scanned by a projection */
 #define FILL_CLEAR 0.7     /* a fill barb starts where it is this far from every vertex and barb */
 #define FILL_LEVELS 3      /* fill barbs from half, quarter and eighth stations */
-
-/* ------------------------------------------------------------------ small geometry */
-
-/* |(x, y)|: coordinates are lengths in metres, far from overflow, and hypot() is several times slower */
-static double norm2(double x, double y)
-{
-    return sqrt(x * x + y * y);
-}
-
-static double orient(const double *a, const double *b, const double *c)
-{
-    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-}
-
-static int in_box(const double *a, const double *b, const double *c)
-{
-    return c[0] >= fmin(a[0], b[0]) && c[0] <= fmax(a[0], b[0]) && c[1] >= fmin(a[1], b[1]) &&
-           c[1] <= fmax(a[1], b[1]);
-}
-
-/* closed segments ab and cd share a point (validation) */
-static int segs_touch(const double *a, const double *b, const double *c, const double *d)
-{
-    double d1 = orient(c, d, a), d2 = orient(c, d, b), d3 = orient(a, b, c), d4 = orient(a, b, d);
-    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
-        return 1;
-    return (d1 == 0 && in_box(c, d, a)) || (d2 == 0 && in_box(c, d, b)) || (d3 == 0 && in_box(a, b, c)) ||
-           (d4 == 0 && in_box(a, b, d));
-}
-
-/* Parametric intersection of p0p1 with q0q1 (closed): 1 and t (along p), u (along q), else 0.
- * Collinear overlaps count, at the first overlapping point of p. */
-static int seg_intersect(const double *p0, const double *p1, const double *q0, const double *q1, double *t,
-                         double *u)
-{
-    double rx = p1[0] - p0[0], ry = p1[1] - p0[1], sx = q1[0] - q0[0], sy = q1[1] - q0[1];
-    double wx = q0[0] - p0[0], wy = q0[1] - p0[1];
-    double den = rx * sy - ry * sx;
-    double rn = norm2(rx, ry), sn = norm2(sx, sy);
-    if (rn == 0 || sn == 0)
-        return 0;
-    if (fabs(den) <= 1e-13 * rn * sn) {
-        if (fabs(wx * ry - wy * rx) > 1e-13 * rn * (rn + norm2(wx, wy)))
-            return 0;
-        double rr = rn * rn;
-        double t0 = (wx * rx + wy * ry) / rr, t1 = ((q1[0] - p0[0]) * rx + (q1[1] - p0[1]) * ry) / rr;
-        double lo = fmin(t0, t1), hi = fmax(t0, t1);
-        if (hi < 0 || lo > 1)
-            return 0;
-        *t = fmax(lo, 0.0);
-        double px = p0[0] + *t * rx - q0[0], py = p0[1] + *t * ry - q0[1];
-        *u = fmin(1.0, fmax(0.0, (px * sx + py * sy) / (sn * sn)));
-        return 1;
-    }
-    double tt = (wx * sy - wy * sx) / den, uu = (wx * ry - wy * rx) / den;
-    if (tt < 0 || tt > 1 || uu < 0 || uu > 1)
-        return 0;
-    *t = tt, *u = uu;
-    return 1;
-}
-
-/* distance from p to segment ab; *tp receives the foot parameter */
-static double seg_dist(const double *p, const double *a, const double *b, double *tp)
-{
-    double dx = b[0] - a[0], dy = b[1] - a[1], l2 = dx * dx + dy * dy;
-    double t = l2 > 0 ? ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2 : 0;
-    t = fmin(1.0, fmax(0.0, t));
-    if (tp)
-        *tp = t;
-    return norm2(p[0] - a[0] - t * dx, p[1] - a[1] - t * dy);
-}
-
-/* distance between segments ab and cd (0 when they touch) */
-static double segseg_dist(const double *a, const double *b, const double *c, const double *d)
-{
-    double t, u;
-    if (seg_intersect(a, b, c, d, &t, &u))
-        return 0;
-    return fmin(fmin(seg_dist(a, c, d, NULL), seg_dist(b, c, d, NULL)),
-                fmin(seg_dist(c, a, b, NULL), seg_dist(d, a, b, NULL)));
-}
-
-static int point_in_polygon(const double *poly, plume_index n, const double *p)
-{
-    int in = 0;
-    for (plume_index i = 0, j = n - 1; i < n; j = i++) {
-        const double *a = poly + 2 * i, *b = poly + 2 * j;
-        if ((a[1] > p[1]) != (b[1] > p[1]) && p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0])
-            in = !in;
-    }
-    return in;
-}
-
-static double polygon_area(const double *p, plume_index n)
-{
-    double s = 0;
-    for (plume_index i = 0, j = n - 1; i < n; j = i++)
-        s += p[2 * j] * p[2 * i + 1] - p[2 * i] * p[2 * j + 1];
-    return 0.5 * s;
-}
-
-/* ------------------------------------------------------------------ validation */
-
-typedef struct {
-    double xmin, xmax;
-    plume_index i;
-} sweep_item;
-
-static int cmp_sweep(const void *a, const void *b)
-{
-    double x = ((const sweep_item *)a)->xmin, y = ((const sweep_item *)b)->xmin;
-    return (x > y) - (x < y);
-}
-
-/* Points, finiteness, coincident neighbours and self-intersection (sweep over x) of one curve. */
-static plume_status check_curve(const char *name, const plume_polyline *c, int closed, plume_index min_points,
-                                plume_err *err)
-{
-    if (c->n < min_points || !c->p)
-        return plume_err_set(err, PLUME_EINVAL, "%s: %ld point(s): at least %ld are needed", name, (long)c->n,
-                             (long)min_points);
-    const double *p = c->p;
-    plume_index n = c->n;
-    for (plume_index i = 0; i < n; i++)
-        if (!isfinite(p[2 * i]) || !isfinite(p[2 * i + 1]))
-            return plume_err_set(err, PLUME_EINVAL, "%s: point %ld (%g, %g) is not finite", name, (long)i,
-                                 p[2 * i], p[2 * i + 1]);
-    plume_index ns = closed ? n : n - 1;
-    double lo[2] = {p[0], p[1]}, hi[2] = {p[0], p[1]};
-    for (plume_index i = 0; i < n; i++)
-        for (int k = 0; k < 2; k++)
-            lo[k] = fmin(lo[k], p[2 * i + k]), hi[k] = fmax(hi[k], p[2 * i + k]);
-    double tiny = 1e-12 * norm2(hi[0] - lo[0], hi[1] - lo[1]); /* keeps spline parameters increasing */
-    for (plume_index i = 0; i < ns; i++) {
-        plume_index j = (i + 1) % n;
-        if (!(norm2(p[2 * j] - p[2 * i], p[2 * j + 1] - p[2 * i + 1]) > tiny))
-            return plume_err_set(err, PLUME_EINVAL, "%s: points %ld and %ld coincide at (%g, %g)", name, (long)i,
-                                 (long)j, p[2 * i], p[2 * i + 1]);
-    }
-    /* adjacent segments only meet at their shared point unless the curve turns back on itself */
-    for (plume_index i = closed ? 0 : 1; i < (closed ? n : n - 1); i++) {
-        const double *a = p + 2 * ((i + n - 1) % n), *b = p + 2 * i, *d = p + 2 * ((i + 1) % n);
-        if (orient(a, b, d) == 0 && (a[0] - b[0]) * (d[0] - b[0]) + (a[1] - b[1]) * (d[1] - b[1]) > 0)
-            return plume_err_set(err, PLUME_EINVAL,
-                                 "%s: self-intersecting: the curve turns back on itself at point %ld", name, (long)i);
-    }
-    sweep_item *it = malloc((size_t)ns * sizeof *it);
-    if (!it)
-        return PLUME_ENOMEM;
-    for (plume_index i = 0; i < ns; i++) {
-        const double *a = p + 2 * i, *b = p + 2 * ((i + 1) % n);
-        it[i].xmin = fmin(a[0], b[0]), it[i].xmax = fmax(a[0], b[0]), it[i].i = i;
-    }
-    qsort(it, (size_t)ns, sizeof *it, cmp_sweep);
-    plume_status st = PLUME_OK;
-    for (plume_index k = 0; k < ns && st == PLUME_OK; k++)
-        for (plume_index l = k + 1; l < ns && it[l].xmin <= it[k].xmax; l++) {
-            plume_index i = it[k].i, j = it[l].i;
-            plume_index lo = i < j ? i : j, hi = i < j ? j : i;
-            if (hi - lo == 1 || (closed && lo == 0 && hi == n - 1))
-                continue; /* neighbours: handled above */
-            const double *a = p + 2 * i, *b = p + 2 * ((i + 1) % n), *cc = p + 2 * j, *d = p + 2 * ((j + 1) % n);
-            if (segs_touch(a, b, cc, d)) {
-                st = plume_err_set(err, PLUME_EINVAL,
-                                   "%s: self-intersecting: segment %ld (points %ld-%ld) meets segment %ld (points "
-                                   "%ld-%ld)",
-                                   name, (long)lo, (long)lo, (long)((lo + 1) % n), (long)hi, (long)hi,
-                                   (long)((hi + 1) % n));
-                break;
-            }
-        }
-    free(it);
-    return st;
-}
-
-/* ------------------------------------------------------------------ uniform grid */
-
-typedef struct {
-    double x0, y0, h;
-    long nx, ny;
-    plume_index *head; /* [nx ny] first node, -1 */
-    plume_index *next, *item;
-    plume_index n, cap;
-} grid;
-
-static int grid_init(grid *g, double x0, double y0, double x1, double y1, double h)
-{
-    memset(g, 0, sizeof *g);
-    g->x0 = x0, g->y0 = y0, g->h = h;
-    g->nx = (long)ceil((x1 - x0) / h) + 1;
-    g->ny = (long)ceil((y1 - y0) / h) + 1;
-    g->head = malloc((size_t)(g->nx * g->ny) * sizeof *g->head);
-    if (!g->head)
-        return -1;
-    for (long k = 0; k < g->nx * g->ny; k++)
-        g->head[k] = -1;
-    return 0;
-}
-
-static void grid_free(grid *g)
-{
-    free(g->head);
-    free(g->next);
-    free(g->item);
-    memset(g, 0, sizeof *g);
-}
-
-static void grid_range(const grid *g, double xa, double ya, double xb, double yb, long r[4])
-{
-    double lo[2] = {fmin(xa, xb), fmin(ya, yb)}, hi[2] = {fmax(xa, xb), fmax(ya, yb)};
-    long i0 = (long)floor((lo[0] - g->x0) / g->h), i1 = (long)floor((hi[0] - g->x0) / g->h);
-    long j0 = (long)floor((lo[1] - g->y0) / g->h), j1 = (long)floor((hi[1] - g->y0) / g->h);
-    r[0] = i0 < 0 ? 0 : i0 >= g->nx ? g->nx - 1 : i0;
-    r[1] = i1 < 0 ? 0 : i1 >= g->nx ? g->nx - 1 : i1;
-    r[2] = j0 < 0 ? 0 : j0 >= g->ny ? g->ny - 1 : j0;
-    r[3] = j1 < 0 ? 0 : j1 >= g->ny ? g->ny - 1 : j1;
-}
-
-static int grid_add(grid *g, plume_index item, double xa, double ya, double xb, double yb)
-{
-    long r[4];
-    grid_range(g, xa, ya, xb, yb, r);
-    for (long j = r[2]; j <= r[3]; j++)
-        for (long i = r[0]; i <= r[1]; i++) {
-            if (g->n == g->cap) {
-                plume_index cap = g->cap ? 2 * g->cap : 1024;
-                plume_index *nx = realloc(g->next, (size_t)cap * sizeof *nx);
-                if (!nx)
-                    return -1;
-                g->next = nx;
-                plume_index *it = realloc(g->item, (size_t)cap * sizeof *it);
-                if (!it)
-                    return -1;
-                g->item = it, g->cap = cap;
-            }
-            long c = j * g->nx + i;
-            g->item[g->n] = item;
-            g->next[g->n] = g->head[c];
-            g->head[c] = g->n++;
-        }
-    return 0;
-}
-
-/* ------------------------------------------------------------------ sampled curves */
-
-/* Samples of a curve: positions, arc length s, tangent angle a (unwrapped). */
-typedef struct {
-    double *x, *y, *s, *a;
-    plume_index n, cap;
-} curve;
-
-static void curve_free(curve *c)
-{
-    free(c->x), free(c->y), free(c->s), free(c->a);
-    memset(c, 0, sizeof *c);
-}
-
-static int curve_push(curve *c, double x, double y)
-{
-    if (c->n == c->cap) {
-        plume_index cap = c->cap ? 2 * c->cap : 64;
-        double *v[4] = {c->x, c->y, c->s, c->a};
-        for (int k = 0; k < 4; k++) {
-            double *r = realloc(v[k], (size_t)cap * sizeof *r);
-            if (!r)
-                return -1;
-            v[k] = r;
-            if (k == 0)
-                c->x = r;
-            else if (k == 1)
-                c->y = r;
-            else if (k == 2)
-                c->s = r;
-            else
-                c->a = r;
-        }
-        c->cap = cap;
-    }
-    c->x[c->n] = x, c->y[c->n] = y;
-    c->n++;
-    return 0;
-}
-
-/* Arc length from the first sample and tangent angles by central differences, unwrapped. */
-static void curve_finish(curve *c)
-{
-    c->s[0] = 0;
-    for (plume_index i = 1; i < c->n; i++)
-        c->s[i] = c->s[i - 1] + norm2(c->x[i] - c->x[i - 1], c->y[i] - c->y[i - 1]);
-    for (plume_index i = 0; i < c->n; i++) {
-        plume_index i0 = i > 0 ? i - 1 : 0, i1 = i + 1 < c->n ? i + 1 : c->n - 1;
-        double a = atan2(c->y[i1] - c->y[i0], c->x[i1] - c->x[i0]);
-        if (i > 0) {
-            while (a - c->a[i - 1] > FM_PI)
-                a -= 2 * FM_PI;
-            while (a - c->a[i - 1] < -FM_PI)
-                a += 2 * FM_PI;
-        }
-        c->a[i] = a;
-    }
-}
-
-/* Samples the natural cubic spline through a validated polyline (no coincident neighbours) about
- * every h (at least 16 samples, every input point among them).
- * The chord-length parameter is strictly increasing, and evaluation stays inside its range: GSL's
- * default error handler would abort otherwise, and changing it is process-wide state. */
-static plume_status sample_spline(const plume_polyline *pl, double h, curve *out)
-{
-    plume_index n = pl->n;
-    const double *p = pl->p;
-    plume_status st = PLUME_OK;
-    double *u = malloc((size_t)n * sizeof *u), *xs = malloc((size_t)n * sizeof *xs),
-           *ys = malloc((size_t)n * sizeof *ys);
-    gsl_spline *sx = NULL, *sy = NULL;
-    gsl_interp_accel *acc = NULL;
-    if (!u || !xs || !ys) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
-    u[0] = 0;
-    for (plume_index i = 0; i < n; i++) {
-        xs[i] = p[2 * i], ys[i] = p[2 * i + 1];
-        if (i > 0)
-            u[i] = u[i - 1] + norm2(xs[i] - xs[i - 1], ys[i] - ys[i - 1]);
-    }
-    const gsl_interp_type *type = n >= 3 ? gsl_interp_cspline : gsl_interp_linear;
-    sx = gsl_spline_alloc(type, (size_t)n);
-    sy = gsl_spline_alloc(type, (size_t)n);
-    acc = gsl_interp_accel_alloc();
-    if (!sx || !sy || !acc) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
-    gsl_spline_init(sx, u, xs, (size_t)n);
-    gsl_spline_init(sy, u, ys, (size_t)n);
-    if (!(h > 0) || u[n - 1] / h < 16)
-        h = u[n - 1] / 16;
-    for (plume_index i = 0; i + 1 < n; i++) {
-        long m = (long)ceil((u[i + 1] - u[i]) / h);
-        if (m < 2)
-            m = 2;
-        for (long j = 0; j < m; j++) {
-            double uu = u[i] + (u[i + 1] - u[i]) * (double)j / (double)m;
-            if (j == 0) {
-                if (curve_push(out, xs[i], ys[i]) < 0) {
-                    st = PLUME_ENOMEM;
-                    goto cleanup;
-                }
-                continue;
-            }
-            if (curve_push(out, gsl_spline_eval(sx, uu, acc), gsl_spline_eval(sy, uu, acc)) < 0) {
-                st = PLUME_ENOMEM;
-                goto cleanup;
-            }
-        }
-    }
-    if (curve_push(out, xs[n - 1], ys[n - 1]) < 0)
-        st = PLUME_ENOMEM;
-cleanup:
-    gsl_spline_free(sx);
-    gsl_spline_free(sy);
-    gsl_interp_accel_free(acc);
-    free(u), free(xs), free(ys);
-    return st;
-}
 
 /* ------------------------------------------------------------------ mesher state */
 
@@ -485,11 +121,11 @@ typedef struct {
     plume_index ns, scap;
     unsigned *stamp;
     unsigned qid;
-    grid pg, sg;
+    plume_bins pg, sg;
     anchor *anc;
     plume_index nanc, anccap;
     /* centre line: samples with s = 0 at the base exit, L at the tip exit, margins beyond */
-    curve c;
+    plume_sampled_curve c;
     double L, s_in0, s_in1;
     /* input barb shapes per side (0 left, 1 right), sorted by root station */
     shape *sh[2];
@@ -518,7 +154,7 @@ static int fm_add_seg(fm *f, const double *a, const double *b, plume_index v0, p
     s->a[0] = a[0], s->a[1] = a[1], s->b[0] = b[0], s->b[1] = b[1];
     s->v0 = v0, s->v1 = v1, s->kind = kind, s->side = side, s->tag = tag, s->t0 = t0, s->t1 = t1;
     f->stamp[f->ns] = 0;
-    if (grid_add(&f->sg, f->ns, a[0], a[1], b[0], b[1]) < 0)
+    if (plume_bins_add(&f->sg, f->ns, a[0], a[1], b[0], b[1]) < 0)
         return -1;
     f->ns++;
     return 0;
@@ -528,7 +164,7 @@ static int fm_add_seg(fm *f, const double *a, const double *b, plume_index v0, p
 static plume_index fm_add_vertex(fm *f, const double *p)
 {
     plume_index id = plume_pslg_point(&f->g, p[0], p[1]);
-    if (id < 0 || grid_add(&f->pg, id, p[0], p[1], p[0], p[1]) < 0)
+    if (id < 0 || plume_bins_add(&f->pg, id, p[0], p[1], p[0], p[1]) < 0)
         return -1;
     return id;
 }
@@ -559,7 +195,8 @@ static plume_index fm_outline_vertex(fm *f, plume_index edge, double t, double s
     double len = norm2(b[0] - a[0], b[1] - a[1]);
     if (t * len < snap || (1 - t) * len < snap) {
         plume_index v = t * len < snap ? edge : j;
-        if (!f->outline_used[v] && grid_add(&f->pg, v, f->o[2 * v], f->o[2 * v + 1], f->o[2 * v], f->o[2 * v + 1]) < 0)
+        if (!f->outline_used[v] &&
+            plume_bins_add(&f->pg, v, f->o[2 * v], f->o[2 * v + 1], f->o[2 * v], f->o[2 * v + 1]) < 0)
             return -1;
         f->outline_used[v] = 1;
         return v;
@@ -595,7 +232,7 @@ static plume_index fm_snap_target(const fm *f, plume_index edge, double t, doubl
 
 #define FOR_CELLS(gr, xa, ya, xb, yb, node)                                                                         \
     long r_[4];                                                                                                    \
-    grid_range(gr, xa, ya, xb, yb, r_);                                                                             \
+    plume_bins_range(gr, xa, ya, xb, yb, r_);                                                                      \
     for (long j_ = r_[2]; j_ <= r_[3]; j_++)                                                                        \
         for (long i_ = r_[0]; i_ <= r_[1]; i_++)                                                                    \
             for (plume_index node = (gr)->head[j_ * (gr)->nx + i_]; node >= 0; node = (gr)->next[node])
@@ -677,7 +314,7 @@ static double fm_width(const fm *f, double s)
 /* Centre point and tangent angle at arc length s; linear beyond the samples. */
 static void fm_centre(const fm *f, double s, double p[2], double *ang)
 {
-    const curve *c = &f->c;
+    const plume_sampled_curve *c = &f->c;
     plume_index n = c->n;
     if (s <= c->s[0] || s >= c->s[n - 1]) {
         plume_index i = s <= c->s[0] ? 0 : n - 1;
@@ -714,7 +351,7 @@ static void fm_offset(const fm *f, double s, int sigma, double p[2])
  * the foot to within a stride, then the segments two strides around it are searched exactly. */
 static void fm_project(const fm *f, const double *p, double *s_out, double *d_out)
 {
-    const curve *c = &f->c;
+    const plume_sampled_curve *c = &f->c;
     plume_index stride = c->n / PROJECT_COARSE + 1, best_i = 0;
     double best = INFINITY;
     for (plume_index i = 0; i < c->n; i += stride) {
@@ -756,7 +393,7 @@ static int fm_ray_hit(const fm *f, const double *p, double ang, double hit[2])
 }
 
 /* Appends the straight run from `from` toward `to` (exclusive of from, inclusive of to) every h. */
-static int push_line(curve *c, const double *from, const double *to, double h)
+static int push_line(plume_sampled_curve *c, const double *from, const double *to, double h)
 {
     double len = norm2(to[0] - from[0], to[1] - from[1]);
     long m = (long)ceil(len / h);
@@ -764,7 +401,7 @@ static int push_line(curve *c, const double *from, const double *to, double h)
         m = 1;
     for (long j = 1; j <= m; j++) {
         double w = (double)j / (double)m;
-        if (curve_push(c, from[0] + w * (to[0] - from[0]), from[1] + w * (to[1] - from[1])) < 0)
+        if (plume_sampled_curve_push(c, from[0] + w * (to[0] - from[0]), from[1] + w * (to[1] - from[1])) < 0)
             return -1;
     }
     return 0;
@@ -776,9 +413,9 @@ static plume_status fm_build_centre(fm *f)
 {
     const plume_polyline *r = &f->in->rachis;
     double h = f->e / SAMPLES;
-    curve raw = {0}, c = {0};
+    plume_sampled_curve raw = {0}, c = {0};
     plume_status st = PLUME_OK;
-    if ((st = sample_spline(r, h, &raw)) != PLUME_OK)
+    if ((st = plume_sample_spline(r, h, &raw)) != PLUME_OK)
         goto cleanup;
     /* forward: first exit */
     plume_index nkeep = raw.n;
@@ -801,13 +438,14 @@ static plume_status fm_build_centre(fm *f)
     }
     double margin = fmax(f->in->rachis_width_base, f->in->rachis_width_tip) + 2 * f->e;
     double pre[2] = {base[0] + margin * cos(start_ang), base[1] + margin * sin(start_ang)};
-    if (curve_push(&c, pre[0], pre[1]) < 0 || push_line(&c, pre, base, h) < 0 || push_line(&c, base, p0, h) < 0) {
+    if (plume_sampled_curve_push(&c, pre[0], pre[1]) < 0 || push_line(&c, pre, base, h) < 0 ||
+        push_line(&c, base, p0, h) < 0) {
         st = PLUME_ENOMEM;
         goto cleanup;
     }
     plume_index i_in0 = c.n - 1;
     for (plume_index i = 1; i < nkeep; i++)
-        if (curve_push(&c, raw.x[i], raw.y[i]) < 0) {
+        if (plume_sampled_curve_push(&c, raw.x[i], raw.y[i]) < 0) {
             st = PLUME_ENOMEM;
             goto cleanup;
         }
@@ -815,7 +453,8 @@ static plume_status fm_build_centre(fm *f)
     double tip[2];
     if (clipped) {
         double last[2] = {c.x[c.n - 1], c.y[c.n - 1]};
-        if (norm2(exitp[0] - last[0], exitp[1] - last[1]) > 1e-12 * f->diag && curve_push(&c, exitp[0], exitp[1]) < 0) {
+        if (norm2(exitp[0] - last[0], exitp[1] - last[1]) > 1e-12 * f->diag &&
+            plume_sampled_curve_push(&c, exitp[0], exitp[1]) < 0) {
             st = PLUME_ENOMEM;
             goto cleanup;
         }
@@ -841,7 +480,7 @@ static plume_status fm_build_centre(fm *f)
         st = PLUME_ENOMEM;
         goto cleanup;
     }
-    curve_finish(&c);
+    plume_sampled_curve_finish(&c);
     /* s = 0 at the base exit */
     plume_index i_base = 0;
     for (plume_index i = 0; i < c.n; i++)
@@ -856,12 +495,12 @@ static plume_status fm_build_centre(fm *f)
     f->s_in0 = c.s[i_in0];
     f->s_in1 = c.s[i_in1];
     f->c = c;
-    c = (curve){0};
+    c = (plume_sampled_curve){0};
     if (!(f->L > 0))
         st = plume_err_set(f->err, PLUME_EINVAL, "rachis: the centre line has no length inside the outline");
 cleanup:
-    curve_free(&raw);
-    curve_free(&c);
+    plume_sampled_curve_free(&raw);
+    plume_sampled_curve_free(&c);
     return st;
 }
 
@@ -902,13 +541,13 @@ static plume_status fm_build_shapes(fm *f)
             return PLUME_ENOMEM;
         f->nsh[side] = nb;
         for (int k = 0; k < nb; k++) {
-            curve c = {0};
-            plume_status st = sample_spline(bs + k, f->e / SAMPLES, &c);
+            plume_sampled_curve c = {0};
+            plume_status st = plume_sample_spline(bs + k, f->e / SAMPLES, &c);
             if (st != PLUME_OK) {
-                curve_free(&c);
+                plume_sampled_curve_free(&c);
                 return st;
             }
-            curve_finish(&c);
+            plume_sampled_curve_finish(&c);
             shape *sh = f->sh[side] + k;
             double p0[2] = {c.x[0], c.y[0]}, d, cp[2], phi;
             fm_project(f, p0, &sh->s_root, &d);
@@ -917,7 +556,7 @@ static plume_status fm_build_shapes(fm *f)
             double shift = th0 - (c.a[0] - phi);
             int sigma = side == 0 ? 1 : -1;
             if (!(sigma * sin(th0) > 1e-3)) {
-                curve_free(&c);
+                plume_sampled_curve_free(&c);
                 const char *nm = side == 0 ? "left" : "right";
                 return plume_err_set(f->err, PLUME_EINVAL,
                                      "barbs_%s[%d]: it starts %s (%.1f degrees from the rachis tangent): a %s barb "
@@ -934,7 +573,7 @@ static plume_status fm_build_shapes(fm *f)
             for (plume_index i = 0; i < sh->n; i++)
                 sh->theta[i] += shift - phi; /* relative to the rachis tangent at the root */
             f->max_barb_len = fmax(f->max_barb_len, sh->tau[sh->n - 1]);
-            curve_free(&c);
+            plume_sampled_curve_free(&c);
         }
         qsort(f->sh[side], (size_t)nb, sizeof(shape), cmp_shape);
     }
@@ -1152,7 +791,7 @@ static plume_status fm_validate(const plume_feather_input *in, int dim, plume_er
         return plume_err_set(err, PLUME_EINVAL, "dim = %d must be 2 or 3", dim);
     if (!(in->edge > 0) || !isfinite(in->edge))
         return plume_err_set(err, PLUME_EINVAL, "edge = %g m must be finite and > 0", in->edge);
-    if ((st = check_curve("outline", &in->outline, 1, 3, err)) != PLUME_OK)
+    if ((st = plume_feather_check_curve("outline", &in->outline, 1, 3, err)) != PLUME_OK)
         return st;
     double area = fabs(polygon_area(in->outline.p, in->outline.n));
     if (!(area > 0))
@@ -1161,7 +800,7 @@ static plume_status fm_validate(const plume_feather_input *in, int dim, plume_er
         return plume_err_set(err, PLUME_EINVAL,
                              "edge = %g m would give about %.3g triangles on the outline's %g m^2 (limit %.0g)",
                              in->edge, area / (0.43 * in->edge * in->edge), area, MAX_TRIANGLES);
-    if ((st = check_curve("rachis", &in->rachis, 0, 2, err)) != PLUME_OK)
+    if ((st = plume_feather_check_curve("rachis", &in->rachis, 0, 2, err)) != PLUME_OK)
         return st;
     if (!point_in_polygon(in->outline.p, in->outline.n, in->rachis.p))
         return plume_err_set(err, PLUME_EINVAL, "rachis: point 0 (%g, %g), its start, lies outside the outline",
@@ -1181,7 +820,7 @@ static plume_status fm_validate(const plume_feather_input *in, int dim, plume_er
         for (int k = 0; k < nb; k++) {
             char name[64];
             snprintf(name, sizeof name, "barbs_%s[%d]", nm, k);
-            if ((st = check_curve(name, bs + k, 0, 2, err)) != PLUME_OK)
+            if ((st = plume_feather_check_curve(name, bs + k, 0, 2, err)) != PLUME_OK)
                 return st;
             if (!point_in_polygon(in->outline.p, in->outline.n, bs[k].p))
                 return plume_err_set(err, PLUME_EINVAL, "%s: point 0 (%g, %g), its start, lies outside the outline",
@@ -1240,8 +879,8 @@ plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_me
         double cell = e, w = f.bb[2] - f.bb[0] + 2 * margin, hgt = f.bb[3] - f.bb[1] + 2 * margin;
         if (w * hgt / (cell * cell) > 4e6)
             cell = sqrt(w * hgt / 4e6);
-        if (grid_init(&f.pg, f.bb[0] - margin, f.bb[1] - margin, f.bb[2] + margin, f.bb[3] + margin, cell) < 0 ||
-            grid_init(&f.sg, f.bb[0] - margin, f.bb[1] - margin, f.bb[2] + margin, f.bb[3] + margin, cell) < 0) {
+        if (plume_bins_init(&f.pg, f.bb[0] - margin, f.bb[1] - margin, f.bb[2] + margin, f.bb[3] + margin, cell) < 0 ||
+            plume_bins_init(&f.sg, f.bb[0] - margin, f.bb[1] - margin, f.bb[2] + margin, f.bb[3] + margin, cell) < 0) {
             st = PLUME_ENOMEM;
             goto cleanup;
         }
@@ -1562,9 +1201,9 @@ cleanup:
             free(f.sh[side][k].tau), free(f.sh[side][k].theta);
         free(f.sh[side]);
     }
-    curve_free(&f.c);
-    grid_free(&f.pg);
-    grid_free(&f.sg);
+    plume_sampled_curve_free(&f.c);
+    plume_bins_free(&f.pg);
+    plume_bins_free(&f.sg);
     plume_pslg_free(&f.g);
     free(f.o);
     free(f.outline_used);
@@ -1572,295 +1211,5 @@ cleanup:
     free(f.stamp);
     free(f.anc);
     free(f.barb_seg);
-    return st;
-}
-
-/* ------------------------------------------------------------------ OBJ outline */
-
-typedef struct {
-    plume_index a, b; /* a < b */
-    plume_index face;
-} obj_edge;
-
-static int cmp_obj_edge(const void *p, const void *q)
-{
-    const obj_edge *x = p, *y = q;
-    if (x->a != y->a)
-        return x->a < y->a ? -1 : 1;
-    if (x->b != y->b)
-        return x->b < y->b ? -1 : 1;
-    return (x->face > y->face) - (x->face < y->face);
-}
-
-typedef struct {
-    double *v;        /* [2 nv] */
-    long *vline;      /* [nv] line of each vertex */
-    plume_index nv, vcap;
-    plume_index *fv;  /* face vertex indices (0-based), concatenated */
-    plume_index nfv, fvcap;
-    plume_index *fstart; /* [nf + 1] */
-    long *fline;      /* [nf] */
-    plume_index nf, fcap;
-} obj_data;
-
-static void obj_free(obj_data *o)
-{
-    free(o->v), free(o->vline), free(o->fv), free(o->fstart), free(o->fline);
-    memset(o, 0, sizeof *o);
-}
-
-static int grow(void **p, plume_index *cap, plume_index need, size_t size)
-{
-    if (need <= *cap)
-        return 0;
-    plume_index c = *cap ? *cap : 64;
-    while (c < need)
-        c *= 2;
-    void *r = realloc(*p, (size_t)c * size);
-    if (!r)
-        return -1;
-    *p = r, *cap = c;
-    return 0;
-}
-
-static plume_status obj_parse(const char *path, FILE *fp, obj_data *o, plume_err *err)
-{
-    char *line = NULL;
-    size_t lcap = 0;
-    long ln = 0;
-    plume_status st = PLUME_OK;
-    plume_index vcap2 = 0, fcap2 = 0;
-    while (getline(&line, &lcap, fp) >= 0) {
-        ln++;
-        char *s = line;
-        while (*s == ' ' || *s == '\t')
-            s++;
-        if (s[0] == 'v' && (s[1] == ' ' || s[1] == '\t')) {
-            char *end;
-            double x = strtod(s + 1, &end);
-            char *e2;
-            double y = end != s + 1 ? strtod(end, &e2) : 0;
-            if (end == s + 1 || e2 == end || !isfinite(x) || !isfinite(y)) {
-                st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: bad 'v' line: expected 'v x y [z]' with finite numbers",
-                                   path, ln);
-                goto done;
-            }
-            if (grow((void **)&o->v, &o->vcap, 2 * (o->nv + 1), sizeof *o->v) < 0 ||
-                grow((void **)&o->vline, &vcap2, o->nv + 1, sizeof *o->vline) < 0) {
-                st = PLUME_ENOMEM;
-                goto done;
-            }
-            o->v[2 * o->nv] = x, o->v[2 * o->nv + 1] = y, o->vline[o->nv] = ln;
-            o->nv++;
-        } else if (s[0] == 'f' && (s[1] == ' ' || s[1] == '\t')) {
-            char *p = s + 1;
-            plume_index count = 0;
-            for (;;) {
-                while (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n')
-                    p++;
-                if (!*p || *p == '#')
-                    break;
-                char *end;
-                errno = 0;
-                long idx = strtol(p, &end, 10);
-                if (end == p || errno || idx == 0 || (*end && *end != '/' && *end != ' ' && *end != '\t' &&
-                                                      *end != '\r' && *end != '\n')) {
-                    st = plume_err_set(err, PLUME_EFORMAT,
-                                       "%s:%ld: bad 'f' line: expected 'f i j k' with non-zero vertex indices", path,
-                                       ln);
-                    goto done;
-                }
-                while (*end && *end != ' ' && *end != '\t' && *end != '\r' && *end != '\n')
-                    end++; /* skip /vt/vn */
-                plume_index vi = idx > 0 ? idx - 1 : o->nv + idx; /* negative: relative to the end */
-                if (vi < 0) {
-                    st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: face index %ld out of range (%ld vertices so far)",
-                                       path, ln, idx, (long)o->nv);
-                    goto done;
-                }
-                if (grow((void **)&o->fv, &o->fvcap, o->nfv + 1, sizeof *o->fv) < 0) {
-                    st = PLUME_ENOMEM;
-                    goto done;
-                }
-                o->fv[o->nfv++] = vi;
-                count++;
-                p = end;
-            }
-            if (count < 3) {
-                st = plume_err_set(err, PLUME_EFORMAT,
-                                   "%s:%ld: bad 'f' line: a face needs at least 3 vertices (got %ld)", path, ln,
-                                   (long)count);
-                goto done;
-            }
-            if (grow((void **)&o->fstart, &o->fcap, o->nf + 2, sizeof *o->fstart) < 0 ||
-                grow((void **)&o->fline, &fcap2, o->nf + 1, sizeof *o->fline) < 0) {
-                st = PLUME_ENOMEM;
-                goto done;
-            }
-            o->fstart[o->nf] = o->nfv - count;
-            o->fstart[o->nf + 1] = o->nfv;
-            o->fline[o->nf] = ln;
-            o->nf++;
-        }
-        /* everything else (comments, vt, vn, g, o, s, usemtl, mtllib) is irrelevant to the outline */
-    }
-    if (ferror(fp))
-        st = plume_err_set(err, PLUME_EIO, "%s: read error", path);
-done:
-    free(line);
-    return st;
-}
-
-plume_status plume_obj_outline(const char *path, double **points, plume_index *n, plume_err *err)
-{
-    if (!path || !points || !n)
-        return plume_err_set(err, PLUME_EINVAL, "obj outline: NULL argument");
-    *points = NULL, *n = 0;
-    FILE *fp = fopen(path, "r");
-    if (!fp)
-        return plume_err_set(err, PLUME_EIO, "%s: cannot open: %s", path, strerror(errno));
-    obj_data o;
-    memset(&o, 0, sizeof o);
-    obj_edge *ed = NULL;
-    plume_index *nb = NULL, *deg = NULL, *loop = NULL;
-    unsigned char *seen = NULL;
-    plume_status st = obj_parse(path, fp, &o, err);
-    fclose(fp);
-    if (st != PLUME_OK)
-        goto cleanup;
-    if (o.nf == 0) {
-        st = plume_err_set(err, PLUME_EFORMAT, "%s: no face", path);
-        goto cleanup;
-    }
-    ed = malloc((size_t)o.nfv * sizeof *ed);
-    if (!ed) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
-    plume_index ne = 0;
-    for (plume_index f = 0; f < o.nf; f++) {
-        plume_index a0 = o.fstart[f], a1 = o.fstart[f + 1];
-        for (plume_index k = a0; k < a1; k++) {
-            plume_index i = o.fv[k], j = o.fv[k + 1 < a1 ? k + 1 : a0];
-            if (i >= o.nv || j >= o.nv) {
-                st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: face index %ld out of range [1, %ld]", path,
-                                   o.fline[f], (long)(i >= o.nv ? i : j) + 1, (long)o.nv);
-                goto cleanup;
-            }
-            if (i == j) {
-                st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: face repeats vertex %ld", path, o.fline[f],
-                                   (long)i + 1);
-                goto cleanup;
-            }
-            ed[ne].a = i < j ? i : j, ed[ne].b = i < j ? j : i, ed[ne].face = f;
-            ne++;
-        }
-    }
-    qsort(ed, (size_t)ne, sizeof *ed, cmp_obj_edge);
-    /* boundary edges: used by exactly one face; more than two faces is non-manifold */
-    nb = malloc((size_t)(2 * o.nv) * sizeof *nb);
-    deg = calloc((size_t)o.nv, sizeof *deg);
-    if (!nb || !deg) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
-    for (plume_index v = 0; v < 2 * o.nv; v++)
-        nb[v] = -1;
-    plume_index nbe = 0;
-    for (plume_index k = 0; k < ne;) {
-        plume_index r = k + 1;
-        while (r < ne && ed[r].a == ed[k].a && ed[r].b == ed[k].b)
-            r++;
-        if (r - k > 2) {
-            st = plume_err_set(err, PLUME_EFORMAT,
-                               "%s:%ld: edge (%ld, %ld) is used by %ld faces: the mesh is non-manifold", path,
-                               o.fline[ed[k + 2].face], (long)ed[k].a + 1, (long)ed[k].b + 1, (long)(r - k));
-            goto cleanup;
-        }
-        if (r - k == 1) {
-            plume_index ends[2] = {ed[k].a, ed[k].b};
-            for (int s = 0; s < 2; s++) {
-                plume_index v = ends[s], w = ends[1 - s];
-                if (deg[v] >= 2) {
-                    st = plume_err_set(err, PLUME_EFORMAT,
-                                       "%s:%ld: vertex %ld is on more than two boundary edges: the mesh is "
-                                       "non-manifold there",
-                                       path, o.vline[v], (long)v + 1);
-                    goto cleanup;
-                }
-                nb[2 * v + deg[v]++] = w;
-            }
-            nbe++;
-        }
-        k = r;
-    }
-    if (nbe == 0) {
-        st = plume_err_set(err, PLUME_EFORMAT, "%s: no boundary edge: the faces form a closed surface", path);
-        goto cleanup;
-    }
-    seen = calloc((size_t)o.nv, 1);
-    loop = malloc((size_t)(nbe + 1) * sizeof *loop);
-    if (!seen || !loop) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
-    plume_index nl = 0, start = -1;
-    for (plume_index v = 0; v < o.nv && start < 0; v++)
-        if (deg[v] > 0)
-            start = v;
-    for (plume_index prev = -1, v = start;;) {
-        if (deg[v] != 2) {
-            st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: vertex %ld ends a boundary chain: the mesh is non-manifold",
-                               path, o.vline[v], (long)v + 1);
-            goto cleanup;
-        }
-        seen[v] = 1;
-        loop[nl++] = v;
-        plume_index next = nb[2 * v] != prev ? nb[2 * v] : nb[2 * v + 1];
-        if (nb[2 * v] == nb[2 * v + 1])
-            next = nb[2 * v];
-        prev = v, v = next;
-        if (v == start || nl > nbe)
-            break;
-    }
-    if (nl != nbe) {
-        plume_index other = -1, loops = 1;
-        for (plume_index v = 0; v < o.nv; v++)
-            if (deg[v] > 0 && !seen[v]) {
-                if (other < 0)
-                    other = v;
-                /* count the remaining loops */
-                plume_index prev = -1, w = v;
-                do {
-                    seen[w] = 1;
-                    plume_index next = nb[2 * w] != prev ? nb[2 * w] : nb[2 * w + 1];
-                    prev = w, w = next;
-                } while (w >= 0 && w != v && !seen[w]);
-                loops++;
-            }
-        st = plume_err_set(err, PLUME_EFORMAT,
-                           "%s:%ld: vertex %ld starts boundary loop 2 of %ld: the outline must be a single loop "
-                           "(a hole or a separate piece)",
-                           path, other >= 0 ? o.vline[other] : 0L, (long)other + 1, (long)loops);
-        goto cleanup;
-    }
-    double *pts = malloc((size_t)(2 * nl) * sizeof *pts);
-    if (!pts) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
-    for (plume_index k = 0; k < nl; k++)
-        pts[2 * k] = o.v[2 * loop[k]], pts[2 * k + 1] = o.v[2 * loop[k] + 1];
-    if (polygon_area(pts, nl) < 0)
-        for (plume_index k = 0; k < nl / 2; k++)
-            for (int c = 0; c < 2; c++) {
-                double tmp = pts[2 * k + c];
-                pts[2 * k + c] = pts[2 * (nl - 1 - k) + c];
-                pts[2 * (nl - 1 - k) + c] = tmp;
-            }
-    *points = pts, *n = nl;
-cleanup:
-    obj_free(&o);
-    free(ed), free(nb), free(deg), free(loop), free(seen);
     return st;
 }

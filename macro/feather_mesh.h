@@ -6,6 +6,7 @@
 #define PLUME_FEATHER_MESH_H
 
 #include "../lib/mesh.h"
+#include "obj_outline.h" /* plume_obj_outline, the usual source of the outline */
 
 #ifdef __cplusplus
 extern "C" {
@@ -41,11 +42,6 @@ enum { PLUME_FEATHER_VANE = 0, PLUME_FEATHER_RACHIS = 1 };
  * edge <= 0 or too small for the outline (more than 5e6 triangles). */
 plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_mesh **out, plume_index **barb_edges,
                                 plume_index *nbarb, plume_err *err);
-
-/* Reads the boundary of a triangle mesh in OBJ (v x y [z] / f i j k; only x and y are used) as a
- * closed outline (the single boundary loop, counter-clockwise); *points malloc'ed [2 n].
- * Errors name the file and line. */
-plume_status plume_obj_outline(const char *path, double **points, plume_index *n, plume_err *err);
 
 #ifdef __cplusplus
 }
