@@ -61,6 +61,7 @@
 
 #include "../lib/cdt.h"
 #include "../lib/pslg.h"
+#include "vane.h"
 #include "internal/bins.h"
 #include "internal/feather_geom.h"
 #include "internal/sampled_curve.h"
@@ -833,6 +834,13 @@ static plume_status fm_validate(const plume_feather_input *in, int dim, plume_er
 plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_mesh **out, plume_index **barb_edges,
                                 plume_index *nbarb, plume_err *err)
 {
+    return plume_feather_mesh_with_stats(in, dim, out, barb_edges, nbarb, NULL, err);
+}
+
+plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int dim, plume_mesh **out,
+                                           plume_index **barb_edges, plume_index *nbarb, plume_feather_stats *stats,
+                                           plume_err *err)
+{
     if (!in || !out || !barb_edges || !nbarb)
         return plume_err_set(err, PLUME_EINVAL, "feather mesh: NULL argument");
     *out = NULL, *barb_edges = NULL, *nbarb = 0;
@@ -1187,6 +1195,13 @@ plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_me
         bd[0] = sum[0] / l, bd[1] = sum[1] / l;
     }
 
+    if (stats) {
+        memset(stats, 0, sizeof *stats);
+        if ((st = plume_vane_barb_coverage(m, be, nbe, PLUME_FEATHER_VANE, &stats->vane_covered,
+                                           &stats->vane_triangles, NULL)) != PLUME_OK)
+            goto cleanup;
+        stats->rachis_triangles = m->nt - stats->vane_triangles;
+    }
     *out = m, m = NULL;
     *barb_edges = be, be = NULL;
     *nbarb = nbe;

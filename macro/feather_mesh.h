@@ -43,6 +43,19 @@ enum { PLUME_FEATHER_VANE = 0, PLUME_FEATHER_RACHIS = 1 };
 plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_mesh **out, plume_index **barb_edges,
                                 plume_index *nbarb, plume_err *err);
 
+/* Barb coverage of a feather mesh (DESIGN.md, "Meshes that respect the fibres"). */
+typedef struct {
+    plume_index vane_triangles;   /* triangles of material PLUME_FEATHER_VANE */
+    plume_index vane_covered;     /* of them, those owning one of the returned barb edges (so
+                                     inextensible under the constraint) */
+    plume_index rachis_triangles; /* triangles of material PLUME_FEATHER_RACHIS */
+} plume_feather_stats;
+
+/* plume_feather_mesh, and *stats (if non-NULL) filled as above; same outputs and errors. */
+plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int dim, plume_mesh **out,
+                                           plume_index **barb_edges, plume_index *nbarb, plume_feather_stats *stats,
+                                           plume_err *err);
+
 #ifdef __cplusplus
 }
 #endif
