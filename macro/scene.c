@@ -25,16 +25,30 @@ void plume_scene_destroy(plume_scene **ps)
     free(s->handles);
     free(s->barb_edges);
     free(s->render);
+    free(s->clamped);
+    free(s->force);
+    for (int k = 0; k < s->nmoments; k++) {
+        free(s->moments[k].end);
+        free(s->moments[k].row);
+    }
+    free(s->moments);
+    for (int k = 0; k < s->nprobes; k++) {
+        free(s->probes[k].name);
+        free(s->probes[k].vertices);
+        free(s->probes[k].source);
+    }
+    free(s->probes);
     free(s);
     *ps = NULL;
 }
 /* One material entry. */
-static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const char *where, plume_scene_material *out)
+static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const char *where, int need_density,
+                                   plume_scene_material *out)
 {
     static const char *const keys[] = {"membrane", "bending", "density", "constraint", NULL};
     static const char *const ortho[] = {"E_xx", "E_yy", "nu_xy", "G_xy", "thickness", "kappa", NULL};
     static const char *const iso[] = {"E", "nu", "thickness", "kappa", NULL};
-    static const char *const bend2[] = {"D_long", "D_trans", NULL};
+    static const char *const bend2[] = {"D_long", "D_trans", "D_twist", "D_coupling", NULL};
     static const char *const bend1[] = {"D", NULL};
     char kp[PLUME_JSON_KEY_MAX];
     plume_status st;
@@ -86,6 +100,8 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
         double den = 12.0 * (1.0 - mm->nu_xy * nu_yx);
         out->bending.D_long = mm->E_xx * h3 / den;
         out->bending.D_trans = mm->E_yy * h3 / den;
+        out->bending.D_coupling = mm->nu_xy * out->bending.D_trans; /* D_12 = nu_xy D_22 */
+        out->bending.D_twist = mm->G_xy * h3 / 12.0;                /* D_66 = G t^3 / 12 */
     } else if (json_is_object(jb) && json_object_get(jb, "D")) {
         double D = 0.0;
         if ((st = plume_json_check_keys(c, jb, kp, bend1)) != PLUME_OK || (st = plume_json_positive(c, jb, kp, "D", 1, 1, &D, NULL)))
@@ -94,12 +110,14 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
     } else if (json_is_object(jb)) {
         if ((st = plume_json_check_keys(c, jb, kp, bend2)) != PLUME_OK ||
             (st = plume_json_positive(c, jb, kp, "D_long", 1, 1, &out->bending.D_long, NULL)) ||
-            (st = plume_json_positive(c, jb, kp, "D_trans", 1, 1, &out->bending.D_trans, NULL)))
+            (st = plume_json_positive(c, jb, kp, "D_trans", 1, 1, &out->bending.D_trans, NULL)) ||
+            (st = plume_json_positive(c, jb, kp, "D_twist", 0, 1, &out->bending.D_twist, NULL)) ||
+            (st = plume_json_positive(c, jb, kp, "D_coupling", 0, 1, &out->bending.D_coupling, NULL)))
             return st;
     } else {
         return plume_json_bad(c, PLUME_EFORMAT, kp, "must be {\"D_long\", \"D_trans\"}, {\"D\"} or \"from_membrane\"");
     }
-    if ((st = plume_json_positive(c, jm, where, "density", 1, 0, &out->density, NULL)) != PLUME_OK)
+    if ((st = plume_json_positive(c, jm, where, "density", need_density, 0, &out->density, NULL)) != PLUME_OK)
         return st;
     json_t *jc = json_object_get(jm, "constraint");
     plume_json_subkey(kp, where, "constraint");
@@ -120,70 +138,12 @@ static plume_status parse_handle(const plume_json_ctx *c, json_t *jh, const char
         return plume_json_bad(c, PLUME_EFORMAT, where, "must be an object with a selector (near/radius, vertices or box) and keyframes");
     if ((st = plume_json_check_keys(c, jh, where, keys)) != PLUME_OK)
         return st;
-    const plume_mesh *m = s->mesh;
-    json_t *jn = json_object_get(jh, "near"), *jv = json_object_get(jh, "vertices"), *jb = json_object_get(jh, "box");
-    if ((jn != NULL) + (jv != NULL) + (jb != NULL) != 1)
-        return plume_json_bad(c, PLUME_EFORMAT, where, "needs exactly one selector: \"near\" (with \"radius\"), \"vertices\" or \"box\"");
-    plume_index *ids = malloc((size_t)(m->nv + 1) * sizeof *ids), n = 0;
+    plume_index *ids = malloc((size_t)(s->mesh->nv + 1) * sizeof *ids), n = 0;
     if (!ids)
         return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
     h->vertices = ids;
-    double tol = 1e-12 * s->length;
-    if (jn) {
-        double p[2], r = -1.0;
-        int have_r = 0;
-        plume_json_subkey(kp, where, "near");
-        if ((st = plume_json_vector(c, jn, kp, 2, p)) != PLUME_OK ||
-            (st = plume_json_positive(c, jh, where, "radius", 0, 1, &r, &have_r)) != PLUME_OK)
-            return st;
-        plume_index best = 0;
-        double dbest = INFINITY;
-        for (plume_index v = 0; v < m->nv; v++) {
-            double dist = hypot(m->X[2 * v] - p[0], m->X[2 * v + 1] - p[1]);
-            if (dist < dbest)
-                dbest = dist, best = v;
-            if (have_r && dist <= r + tol)
-                ids[n++] = v;
-        }
-        if (!have_r) /* no radius: the nearest vertex */
-            ids[n++] = best;
-        if (n == 0)
-            return plume_json_bad(c, PLUME_EINVAL, kp,
-                       "with radius %g selects no vertex (the nearest one, %ld, is %g m away)", r, (long)best, dbest);
-    } else if (jb) {
-        double b[4];
-        plume_json_subkey(kp, where, "box");
-        if ((st = plume_json_vector(c, jb, kp, 4, b)) != PLUME_OK)
-            return st;
-        if (!(b[2] >= b[0] && b[3] >= b[1]))
-            return plume_json_bad(c, PLUME_EINVAL, kp, "must be [x_min, y_min, x_max, y_max] with min <= max");
-        for (plume_index v = 0; v < m->nv; v++) {
-            double x = m->X[2 * v], y = m->X[2 * v + 1];
-            if (x >= b[0] - tol && x <= b[2] + tol && y >= b[1] - tol && y <= b[3] + tol)
-                ids[n++] = v;
-        }
-        if (n == 0)
-            return plume_json_bad(c, PLUME_EINVAL, kp, "selects no vertex");
-    } else {
-        plume_json_subkey(kp, where, "vertices");
-        if (!json_is_array(jv) || json_array_size(jv) < 1)
-            return plume_json_bad(c, PLUME_EFORMAT, kp, "must be a non-empty array of vertex ids");
-        plume_index limit = map ? nobj : m->nv;
-        for (size_t i = 0; i < json_array_size(jv); i++) {
-            json_t *e = json_array_get(jv, i);
-            double d = json_is_number(e) ? json_number_value(e) : -1.0;
-            if (!json_is_number(e) || d != floor(d) || d < 0 || d >= (double)limit)
-                return plume_json_bad(c, PLUME_EINVAL, kp, "entry %zu must be a vertex id in [0, %ld)", i, (long)limit);
-            plume_index id = map ? map[(plume_index)d] : (plume_index)d;
-            if (id < 0)
-                return plume_json_bad(c, PLUME_EINVAL, kp, "entry %zu: OBJ vertex %ld belongs to no face", i, (long)d);
-            int dup = 0;
-            for (plume_index k = 0; k < n && !dup; k++)
-                dup = ids[k] == id;
-            if (!dup)
-                ids[n++] = id;
-        }
-    }
+    if ((st = plume_scene_select(c, jh, where, s, map, nobj, ids, &n)) != PLUME_OK)
+        return st;
     h->nvertices = n;
     /* keyframes [[t, dx, dy, dz], ...], times increasing */
     plume_json_subkey(kp, where, "keyframes");
@@ -211,10 +171,12 @@ static plume_status parse_handle(const plume_json_ctx *c, json_t *jh, const char
     }
     return PLUME_OK;
 }
-static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s)
+
+static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s, const plume_scene_load_opts *o)
 {
     static const char *const keys[] = {"mesh", "materials", "handles", "gravity", "dt", "duration", "solver",
-                                       "max_halvings", "max_iter", "output_every", "render", "camera", NULL};
+                                       "max_halvings", "max_iter", "output_every", "render", "camera", "solve",
+                                       "steps", "clamps", "loads", "probes", "bending_model", NULL};
     plume_status st;
     plume_index *map = NULL, nobj = 0;
     if (!json_is_object(doc))
@@ -234,8 +196,26 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s)
     json_t *v;
     if ((v = json_object_get(doc, "gravity")) && (st = plume_json_vector(c, v, "gravity", 3, s->gravity)) != PLUME_OK)
         return st;
-    if ((st = plume_json_positive(c, doc, "", "dt", 1, 0, &s->dt, NULL)) != PLUME_OK ||
-        (st = plume_json_positive(c, doc, "", "duration", 1, 0, &s->duration, NULL)) != PLUME_OK)
+    if ((v = json_object_get(doc, "solve"))) {
+        const char *sv = json_is_string(v) ? json_string_value(v) : "";
+        if (strcmp(sv, "static") != 0 && strcmp(sv, "dynamic") != 0)
+            return plume_json_bad(c, PLUME_EINVAL, "solve", "must be \"static\" or \"dynamic\"");
+        s->is_static = sv[0] == 's';
+    }
+    if ((v = json_object_get(doc, "bending_model"))) {
+        const char *bv = json_is_string(v) ? json_string_value(v) : "";
+        if (strcmp(bv, "hinge") != 0 && strcmp(bv, "shape_operator") != 0)
+            return plume_json_bad(c, PLUME_EINVAL, "bending_model", "must be \"shape_operator\" or \"hinge\"");
+        s->hinge_bending = bv[0] == 'h';
+    }
+    s->steps = 10;
+    long steps = s->steps;
+    if ((st = plume_json_int(c, doc, "", "steps", 1, 1000000, &steps)) != PLUME_OK)
+        return st;
+    s->steps = (int)steps;
+    /* a static scene has no clock: dt and duration are optional (and unused) there */
+    if ((st = plume_json_positive(c, doc, "", "dt", !s->is_static, 0, &s->dt, NULL)) != PLUME_OK ||
+        (st = plume_json_positive(c, doc, "", "duration", !s->is_static, 0, &s->duration, NULL)) != PLUME_OK)
         return st;
     if ((v = json_object_get(doc, "solver"))) {
         if (!json_is_string(v) || plume_solver_kind_parse(json_string_value(v), &s->solver) != PLUME_OK)
@@ -298,19 +278,31 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s)
     for (int k = 0; k < s->nmat; k++) {
         char kp[PLUME_JSON_KEY_MAX];
         plume_json_subindex(kp, "materials", (size_t)k);
-        if ((st = parse_material(c, json_array_get(jm, (size_t)k), kp, s->mats + k)) != PLUME_OK)
+        if ((st = parse_material(c, json_array_get(jm, (size_t)k), kp, !s->is_static, s->mats + k)) != PLUME_OK)
             return st;
     }
 
     /* mesh */
     json_t *mesh = json_object_get(doc, "mesh");
     if (!json_is_object(mesh))
-        return plume_json_bad(c, PLUME_EFORMAT, "mesh", mesh ? "must be an object {\"obj\": ...} or {\"feather\": ...}"
-                                                  : "is missing ({\"obj\": \"file.obj\"} or {\"feather\": \"shape.json\", ...})");
-    int feather = json_object_get(mesh, "feather") != NULL;
-    if (!feather && !json_object_get(mesh, "obj"))
-        return plume_json_bad(c, PLUME_EFORMAT, "mesh", "needs \"obj\" (a triangle mesh) or \"feather\" (a feather shape file)");
-    st = feather ? plume_scene_mesh_from_feather(c, mesh, s) : plume_scene_mesh_from_obj(c, mesh, s, &map, &nobj);
+        return plume_json_bad(c, PLUME_EFORMAT, "mesh",
+                              mesh ? "must be an object {\"obj\": ...}, {\"feather\": ...} or {\"rectangle\": ...}"
+                                   : "is missing ({\"obj\": \"file.obj\"}, {\"feather\": \"shape.json\", ...} or "
+                                     "{\"rectangle\": [lx, ly], ...})");
+    int feather = json_object_get(mesh, "feather") != NULL, rectangle = json_object_get(mesh, "rectangle") != NULL;
+    if (feather + rectangle + (json_object_get(mesh, "obj") != NULL) != 1)
+        return plume_json_bad(c, PLUME_EFORMAT, "mesh", "needs one of \"obj\" (a triangle mesh), \"feather\" (a feather "
+                                                        "shape file) or \"rectangle\" ([lx, ly])");
+    if (o && (o->edge > 0.0 || o->pattern) && !feather && !rectangle)
+        return plume_json_bad(c, PLUME_EINVAL, "mesh", "is an OBJ file: its edge and pattern cannot be overridden");
+    if (o && o->pattern && !rectangle)
+        return plume_json_bad(c, PLUME_EINVAL, "mesh", "is not a rectangle: only a rectangle has a pattern to override");
+    if (feather)
+        st = plume_scene_mesh_from_feather(c, mesh, s, o);
+    else if (rectangle)
+        st = plume_scene_mesh_from_rectangle(c, mesh, s, o);
+    else
+        st = plume_scene_mesh_from_obj(c, mesh, s, &map, &nobj);
     if (st != PLUME_OK)
         goto done;
     const plume_mesh *m = s->mesh;
@@ -372,6 +364,8 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s)
         if (st != PLUME_OK)
             goto done;
     }
+    if ((st = plume_scene_parse_static(c, doc, s, map, nobj)) != PLUME_OK)
+        goto done;
     st = plume_scene_constrained_edges(s, c->err);
 done:
     free(map);
@@ -379,6 +373,12 @@ done:
 }
 
 plume_status plume_scene_load(const char *path, plume_scene **out, plume_err *err)
+{
+    return plume_scene_load_with(path, NULL, out, err);
+}
+
+plume_status plume_scene_load_with(const char *path, const plume_scene_load_opts *o, plume_scene **out,
+                                   plume_err *err)
 {
     if (!path || !*path || !out)
         return plume_err_set(err, PLUME_EINVAL, "scene: no file given");
@@ -404,7 +404,7 @@ plume_status plume_scene_load(const char *path, plume_scene **out, plume_err *er
     st = PLUME_ENOMEM;
     if (s && (s->path = malloc(strlen(path) + 1)) != NULL) {
         memcpy(s->path, path, strlen(path) + 1);
-        st = parse_scene(&c, doc, s);
+        st = parse_scene(&c, doc, s, o);
     } else {
         plume_err_set(err, st, "%s: out of memory", path);
     }

@@ -8,7 +8,7 @@
  *           | {"feather": "feather_shape.json", "outline": "outline.obj", "edge": 5e-3},
  *     "materials": [ {"membrane": {"E_xx", "E_yy", "nu_xy", "G_xy", "thickness", "kappa"}
  *                                | {"E", "nu", "thickness", "kappa"},
- *                     "bending": {"D_long", "D_trans"} | {"D"} | "from_membrane",
+ *                     "bending": {"D_long", "D_trans", "D_twist", "D_coupling"} | {"D"} | "from_membrane",
  *                     "density": kg/m^2, "constraint": true|false}, ... ],
  *     "handles": [ {"near": [x, y], "radius": r} | {"vertices": [ids]} | {"box": [x0, y0, x1, y1]},
  *                  with "keyframes": [[t, dx, dy, dz], ...] ],
@@ -20,7 +20,10 @@
  * a default (no handles, gravity (0, 0, -9.81), newton, 6 halvings, 100 iterations, every step an
  * output frame, no render, camera 60/30). Membrane: "nu"/"nu_xy" default 0, "kappa" default 0;
  * isotropic {"E", "nu"} means E_xx = E_yy = E, G_xy = E / (2 (1 + nu)). "bending" defaults to
- * "from_membrane": D_long = E_xx t^3 / (12 (1 - nu_xy nu_yx)), D_trans alike with E_yy. Barb
+ * "from_membrane": D_long = E_xx t^3 / (12 (1 - nu_xy nu_yx)), D_trans alike with E_yy, D_coupling =
+ * nu_xy D_trans, D_twist = G_xy t^3 / 12 (orthotropic plate formulas); explicit D_twist defaults to
+ * Huber's (sqrt(D_long D_trans) - D_coupling) / 2 (macro/bending.h). "bending_model" (top level):
+ * "shape_operator" (default, macro/shape_bending.h) or "hinge" (macro/bending.h, for comparison). Barb
  * edges of a material with "constraint": true are made inextensible: for an OBJ mesh the edges
  * parallel (|sin| <= 1e-6) to the barb direction of an adjacent triangle of that material, for the
  * feather the mesher's barb edges next to such a triangle. Handle selectors work on the reference
@@ -29,7 +32,33 @@
  * piecewise linear in time, constant after the last key; a vertex may belong to one handle only.
  * An OBJ face's group is its last "g" (or "o") name; groups absent from "materials_by_group" get
  * material 0. Relative file names are relative to the scene file's directory; a "note" key is
- * allowed in any object; any other unknown key is an error. */
+ * allowed in any object; any other unknown key is an error.
+ *
+ * A third mesh source makes benchmark strips: {"rectangle": [lx, ly], "edge": e, "pattern":
+ * "grid" | "delaunay" | "aligned", "barb_direction": [dx, dy]} (grid: right triangles, one
+ * diagonal direction; delaunay: a CGAL quality mesh that ignores the barbs; aligned: the barb-
+ * aligned patch mesher), all over [0, lx] x [0, ly].
+ *
+ * Static scenes ("solve": "static"; dt and duration are then not used, "steps" load steps,
+ * default 10) reach equilibrium under loads stepped from 0 to their full value:
+ *     "clamps": [ {selector} ]  the selected vertices are fixed and, through their second row
+ *                               (the vertices sharing an edge with them), so is the slope: the
+ *                               second row keeps its rest height z (rotations held);
+ *     "loads": [ {selector, "force": [fx, fy, fz]}       a total force (N) shared equally by
+ *                                                        the selected vertices;
+ *                {selector, "line_load": [qx, qy, qz]}   N/m on the boundary edges whose ends
+ *                                                        are both selected (each end of an
+ *                                                        edge of length l gets q l / 2);
+ *                {selector, "moment": [mx, my, mz]} ]    a follower moment (N m) about that
+ *                                                        axis on the selected end through its
+ *                                                        second row (lib/moment.h);
+ *     "probes": [ {"name": "tip", selector, "reference": [ux, uy, uz], "source": "..."} ]
+ *                  the mean displacement of the selected vertices, reported per step and
+ *                  compared to the reference (optional) at the full load.
+ * Handles in a static scene are prescribed displacements: their last keyframe's offset times
+ * the load factor. A selector is "near" (+ "radius"), "vertices" or "box", as for handles. A
+ * static scene needs a clamp or a handle (else rigid motions are free), and "density" is
+ * optional in its materials. */
 #ifndef PLUME_SCENE_H
 #define PLUME_SCENE_H
 
@@ -37,6 +66,7 @@
 #include "../lib/membrane.h"
 #include "../lib/mesh.h"
 #include "../lib/problem.h"
+#include "../lib/statics.h"
 #include "bending.h"
 
 #ifdef __cplusplus
@@ -50,6 +80,23 @@ typedef struct {
     double density;                   /* surface mass density, kg/m^2 */
     int constraint;                   /* 1: the barb edges of this material's triangles are inextensible */
 } plume_scene_material;
+
+/* A follower end moment of a static scene (lib/moment.h). */
+typedef struct {
+    plume_index nend, nrow;
+    plume_index *end, *row;       /* the selected end and its second row */
+    double axis[3], moment;       /* unit axis, N m */
+} plume_scene_moment;
+
+/* A named point of interest: the mean displacement of its vertices. */
+typedef struct {
+    char *name;
+    plume_index n;
+    plume_index *vertices;
+    int has_reference;
+    double reference[3];          /* expected displacement at the full load (m) */
+    char *source;                 /* where the reference comes from, or NULL */
+} plume_scene_probe;
 
 /* A loaded, validated scene. Everything is owned by the scene (plume_scene_destroy). The caller
  * may change the run settings (dt, solver, ...) before plume_scene_dynamics. */
@@ -73,12 +120,33 @@ typedef struct {
     long *render;                 /* [nrender] frame indices to render as PNG */
     double camera[2];             /* rot_x, rot_z (degrees); default 60, 30 */
     double length;                /* diagonal of the reference bounding box (m) */
+    int hinge_bending;            /* "bending_model": "hinge"; default "shape_operator" */
+    /* static scenes */
+    int is_static;                /* "solve": "static" */
+    int steps;                    /* load steps; default 10 */
+    unsigned char *clamped;       /* [nv] or NULL: bit 0 position fixed, bit 1 rest height z fixed */
+    double *force;                /* [3 nv] or NULL: nominal point and line loads (N) */
+    int nmoments;
+    plume_scene_moment *moments;  /* [nmoments] */
+    int nprobes;
+    plume_scene_probe *probes;    /* [nprobes] */
 } plume_scene;
 
 /* Reads, validates and meshes the scene in `path`. Errors (PLUME_EIO unreadable file,
  * PLUME_EFORMAT malformed JSON or a wrong type, PLUME_EINVAL a bad value) name the file, the line
  * and the key ("scene.json:12: materials[0].density must be finite and > 0 (got -1)"). */
 plume_status plume_scene_load(const char *path, plume_scene **out, plume_err *err);
+
+/* What a caller may change in a scene before it is meshed (convergence studies). */
+typedef struct {
+    double edge;          /* > 0: replaces mesh.edge (feather and rectangle meshes) */
+    const char *pattern;  /* non-NULL: replaces a rectangle's "pattern" */
+} plume_scene_load_opts;
+
+/* plume_scene_load with overrides (o may be NULL); an override that does not apply to the
+ * scene's mesh (an edge for an OBJ) is an error naming the key. */
+plume_status plume_scene_load_with(const char *path, const plume_scene_load_opts *o, plume_scene **out,
+                                   plume_err *err);
 void plume_scene_destroy(plume_scene **s);
 
 /* Builds the problem (membrane and bending terms per material, edge-length constraints on the
@@ -86,6 +154,15 @@ void plume_scene_destroy(plume_scene **s);
  * densities, handles, gravity, dt, solver, max_halvings and max_iter. *p and *d belong to the
  * caller (destroy d first); the scene must outlive them. */
 plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **p, plume_dynamics **d, plume_err *err);
+
+/* Builds the problem of a static scene (membrane, bending, constraints, the nominal loads and
+ * moments; clamps and handles fixed) and its load-stepping driver (lib/statics.h) with the
+ * scene's steps, solver and max_iter. *p and *st belong to the caller (destroy st first); the
+ * scene must outlive them. Errors: the scene is not static (PLUME_EINVAL). */
+plume_status plume_scene_statics(const plume_scene *s, plume_problem **p, plume_statics **st, plume_err *err);
+
+/* Mean displacement (3) of probe k at positions x (3 nv). */
+void plume_scene_probe_displacement(const plume_scene *s, int k, const double *x, double u[3]);
 
 #ifdef __cplusplus
 }

@@ -1,11 +1,60 @@
-/* plume: the problem and stepper of a loaded scene (scene.h). */
+/* plume: the problem of a loaded scene (scene.h), and its implicit Euler stepper (dynamic
+ * scenes) or its load-stepping driver (static scenes). */
 #include "scene.h"
 
 #include <stdlib.h>
 #include <string.h>
 
 #include "../lib/edge_length.h"
+#include "../lib/load.h"
 #include "../lib/membrane.h"
+#include "../lib/moment.h"
+#include "shape_bending.h"
+
+/* A problem over the scene's mesh with its elastic terms (membrane and bending per material)
+ * and its barb constraints, x at the rest state; not finalised. */
+static plume_status elastic_problem(const plume_scene *s, plume_problem **out, plume_err *err)
+{
+    const plume_mesh *m = s->mesh;
+    plume_problem *p = NULL;
+    plume_membrane_material *mm = malloc((size_t)s->nmat * sizeof *mm);
+    plume_bending_material *bm = malloc((size_t)s->nmat * sizeof *bm);
+    plume_status st = PLUME_ENOMEM;
+    if (!mm || !bm || (st = plume_problem_create(m->nv, 3, s->length, &p)) != PLUME_OK) {
+        plume_err_set(err, st, "scene: out of memory");
+        goto done;
+    }
+    int bending = 0;
+    for (int k = 0; k < s->nmat; k++) {
+        mm[k] = s->mats[k].membrane;
+        bm[k] = s->mats[k].bending;
+        bending |= bm[k].D_long > 0.0 || bm[k].D_trans > 0.0;
+    }
+    plume_term term;
+    if ((st = plume_membrane_term_create(m, 3, mm, s->nmat, &term, err)) != PLUME_OK ||
+        (st = plume_problem_add_term(p, &term)) != PLUME_OK)
+        goto done;
+    if (bending) {
+        st = s->hinge_bending ? plume_bending_term_create(m, bm, s->nmat, NULL, &term, err)
+                              : plume_shape_bending_term_create(m, bm, s->nmat, NULL, &term, err);
+        if (st != PLUME_OK || (st = plume_problem_add_term(p, &term)) != PLUME_OK)
+            goto done;
+    }
+    if (s->nbarb > 0) {
+        plume_constraint con;
+        if ((st = plume_edge_length_create(s->barb_edges, s->nbarb, m->X, m->nv, &con, err)) != PLUME_OK ||
+            (st = plume_problem_add_constraint(p, &con)) != PLUME_OK)
+            goto done;
+    }
+    memcpy(plume_problem_x(p), m->x, (size_t)(3 * m->nv) * sizeof(double));
+done:
+    free(mm);
+    free(bm);
+    if (st != PLUME_OK)
+        plume_problem_destroy(&p);
+    *out = p;
+    return st;
+}
 
 plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **pp, plume_dynamics **pd, plume_err *err)
 {
@@ -13,37 +62,19 @@ plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **pp, plum
         return plume_err_set(err, PLUME_EINVAL, "scene: invalid arguments");
     *pp = NULL;
     *pd = NULL;
-    const plume_mesh *m = s->mesh;
+    if (s->is_static)
+        return plume_err_set(err, PLUME_EINVAL, "%s: a static scene (\"solve\": \"static\") has no dynamics", s->path);
     plume_problem *p = NULL;
-    plume_membrane_material *mm = malloc((size_t)s->nmat * sizeof *mm);
-    plume_bending_material *bm = malloc((size_t)s->nmat * sizeof *bm);
     double *rho = malloc((size_t)s->nmat * sizeof *rho);
     plume_status st = PLUME_ENOMEM;
-    if (!mm || !bm || !rho || (st = plume_problem_create(m->nv, 3, s->length, &p)) != PLUME_OK) {
+    if (!rho) {
         plume_err_set(err, st, "scene: out of memory");
         goto fail;
     }
-    int bending = 0;
-    for (int k = 0; k < s->nmat; k++) {
-        mm[k] = s->mats[k].membrane;
-        bm[k] = s->mats[k].bending;
+    for (int k = 0; k < s->nmat; k++)
         rho[k] = s->mats[k].density;
-        bending |= bm[k].D_long > 0.0 || bm[k].D_trans > 0.0;
-    }
-    plume_term term;
-    if ((st = plume_membrane_term_create(m, 3, mm, s->nmat, &term, err)) != PLUME_OK ||
-        (st = plume_problem_add_term(p, &term)) != PLUME_OK)
+    if ((st = elastic_problem(s, &p, err)) != PLUME_OK)
         goto fail;
-    if (bending && ((st = plume_bending_term_create(m, bm, s->nmat, NULL, &term, err)) != PLUME_OK ||
-                    (st = plume_problem_add_term(p, &term)) != PLUME_OK))
-        goto fail;
-    if (s->nbarb > 0) {
-        plume_constraint con;
-        if ((st = plume_edge_length_create(s->barb_edges, s->nbarb, m->X, m->nv, &con, err)) != PLUME_OK ||
-            (st = plume_problem_add_constraint(p, &con)) != PLUME_OK)
-            goto fail;
-    }
-    memcpy(plume_problem_x(p), m->x, (size_t)(3 * m->nv) * sizeof(double));
     plume_dynamics_opts o;
     plume_dynamics_opts_default(&o);
     o.dt = s->dt;
@@ -52,17 +83,140 @@ plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **pp, plum
     o.solver = s->solver;
     o.solver_opts.max_iter = s->max_iter;
     o.solver_opts.verbose = s->verbose;
-    if ((st = plume_dynamics_create(m, p, rho, s->nmat, s->handles, s->nhandles, &o, pd, err)) != PLUME_OK)
+    if ((st = plume_dynamics_create(s->mesh, p, rho, s->nmat, s->handles, s->nhandles, &o, pd, err)) != PLUME_OK)
         goto fail;
     *pp = p;
-    free(mm);
-    free(bm);
     free(rho);
     return PLUME_OK;
 fail:
     plume_problem_destroy(&p);
-    free(mm);
-    free(bm);
     free(rho);
+    return st;
+}
+
+/* What the load scaler of a static scene needs: the load terms (their ctx live in the problem)
+ * and the handles, whose prescribed positions are X + factor * (last keyframe offset). */
+typedef struct {
+    const plume_scene *s;
+    plume_problem *p;
+    int has_force;
+    plume_term force;
+    int nmoments;
+    plume_term *moments;
+} static_loads;
+
+static void static_loads_free(void *user)
+{
+    static_loads *l = user;
+    if (l)
+        free(l->moments);
+    free(l);
+}
+
+static void static_loads_scale(void *user, double factor)
+{
+    static_loads *l = user;
+    if (l->has_force)
+        plume_load_scale(&l->force, factor);
+    for (int k = 0; k < l->nmoments; k++)
+        plume_moment_scale(l->moments + k, factor);
+    double *x = plume_problem_x(l->p);
+    const plume_mesh *m = l->s->mesh;
+    for (int h = 0; h < l->s->nhandles; h++) {
+        const plume_handle *hd = l->s->handles + h;
+        const double *off = hd->offsets + 3 * (hd->nkeys - 1);
+        for (plume_index i = 0; i < hd->nvertices; i++) {
+            plume_index v = hd->vertices[i];
+            x[3 * v] = m->X[2 * v] + factor * off[0];
+            x[3 * v + 1] = m->X[2 * v + 1] + factor * off[1];
+            x[3 * v + 2] = factor * off[2];
+        }
+    }
+}
+
+plume_status plume_scene_statics(const plume_scene *s, plume_problem **pp, plume_statics **pst, plume_err *err)
+{
+    if (!s || !s->mesh || !pp || !pst)
+        return plume_err_set(err, PLUME_EINVAL, "scene: invalid arguments");
+    *pp = NULL;
+    *pst = NULL;
+    if (!s->is_static)
+        return plume_err_set(err, PLUME_EINVAL, "%s: not a static scene (add \"solve\": \"static\")", s->path);
+    const plume_mesh *m = s->mesh;
+    plume_problem *p = NULL;
+    plume_index *ids = malloc((size_t)(m->nv + 1) * sizeof *ids), nf = 0;
+    double *f = malloc((size_t)(3 * m->nv + 1) * sizeof *f), *X3 = malloc((size_t)(3 * m->nv + 1) * sizeof *X3);
+    static_loads *l = calloc(1, sizeof *l);
+    plume_status st = PLUME_ENOMEM;
+    if (!ids || !f || !X3 || !l || !(l->moments = calloc((size_t)s->nmoments + 1, sizeof *l->moments))) {
+        plume_err_set(err, st, "scene: out of memory");
+        goto fail;
+    }
+    if ((st = elastic_problem(s, &p, err)) != PLUME_OK)
+        goto fail;
+    l->s = s;
+    l->p = p;
+    for (plume_index v = 0; v < m->nv; v++) {
+        const double *fv = s->force + 3 * v;
+        if (fv[0] != 0.0 || fv[1] != 0.0 || fv[2] != 0.0) {
+            memcpy(f + 3 * nf, fv, 3 * sizeof *f);
+            ids[nf++] = v;
+        }
+    }
+    if (nf > 0) {
+        plume_term t;
+        if ((st = plume_load_term_create(ids, nf, 3, f, &t, err)) != PLUME_OK ||
+            (st = plume_problem_add_term(p, &t)) != PLUME_OK)
+            goto fail;
+        l->force = t; /* a copy: its ctx is the problem's, which scales it */
+        l->has_force = 1;
+    }
+    for (plume_index v = 0; v < m->nv; v++)
+        X3[3 * v] = m->X[2 * v], X3[3 * v + 1] = m->X[2 * v + 1], X3[3 * v + 2] = 0.0;
+    for (int k = 0; k < s->nmoments; k++) {
+        const plume_scene_moment *mo = s->moments + k;
+        plume_term t;
+        if ((st = plume_moment_term_create(mo->end, mo->nend, mo->row, mo->nrow, mo->axis, mo->moment, X3, &t, err)) !=
+                PLUME_OK ||
+            (st = plume_problem_add_term(p, &t)) != PLUME_OK)
+            goto fail;
+        l->moments[l->nmoments++] = t;
+    }
+    /* clamps: positions of the clamped vertices, rest height of their second row */
+    for (plume_index v = 0; v < m->nv; v++) {
+        if (s->clamped[v] & 1)
+            for (int a = 0; a < 3; a++)
+                plume_problem_fix_dof(p, 3 * v + a);
+        else if (s->clamped[v] & 2)
+            plume_problem_fix_dof(p, 3 * v + 2);
+    }
+    for (int h = 0; h < s->nhandles; h++)
+        for (plume_index i = 0; i < s->handles[h].nvertices; i++)
+            for (int a = 0; a < 3; a++)
+                plume_problem_fix_dof(p, 3 * s->handles[h].vertices[i] + a);
+    static_loads_scale(l, 0.0);
+    if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
+        goto fail;
+    plume_statics_opts o;
+    plume_statics_opts_default(&o);
+    o.steps = s->steps;
+    o.solver = s->solver;
+    o.solver_opts.max_iter = s->max_iter;
+    o.solver_opts.verbose = s->verbose;
+    st = plume_statics_create(p, &o, static_loads_scale, l, static_loads_free, pst, err);
+    l = NULL; /* the driver owns it now, or has freed it */
+    if (st != PLUME_OK)
+        goto fail;
+    *pp = p;
+    free(ids);
+    free(f);
+    free(X3);
+    return PLUME_OK;
+fail:
+    static_loads_free(l);
+    plume_problem_destroy(&p);
+    free(ids);
+    free(f);
+    free(X3);
     return st;
 }

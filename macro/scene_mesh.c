@@ -9,6 +9,8 @@
 
 #include "../lib/internal/obj_read.h"
 #include "feather_mesh.h"
+#include "grid_mesh.h"
+#include "patch_mesh.h"
 
 /* Mesh from an OBJ: x, y reference coordinates, material by group, constant barb direction.
  * *vertex_map gets, for every OBJ vertex (0-based), its mesh id or -1 if no face uses it. */
@@ -153,7 +155,8 @@ static plume_status get_curves(const plume_json_ctx *c, json_t *doc, const char 
  * flat form "rachis": [[x, y], ...] with "rachis_width_base"/"rachis_width_tip" is read too) and
  * the outline. The scene's "outline" and "edge" override the shape file's. Other keys of the shape
  * file (description, units, comments) are its author's business and are not checked. */
-plume_status plume_scene_mesh_from_feather(const plume_json_ctx *c, json_t *m, plume_scene *s)
+plume_status plume_scene_mesh_from_feather(const plume_json_ctx *c, json_t *m, plume_scene *s,
+                                           const plume_scene_load_opts *o)
 {
     static const char *const keys[] = {"feather", "outline", "edge", NULL};
     plume_status st = plume_json_check_keys(c, m, "mesh", keys);
@@ -168,6 +171,8 @@ plume_status plume_scene_mesh_from_feather(const plume_json_ctx *c, json_t *m, p
     int have_edge = 0;
     if ((st = plume_json_positive(c, m, "mesh", "edge", 0, 0, &edge, &have_edge)) != PLUME_OK)
         return st;
+    if (o && o->edge > 0.0)
+        edge = o->edge, have_edge = 1;
     char shape_path[4096], outline_path[4096];
     plume_json_resolve(c, json_string_value(jf), shape_path, sizeof shape_path);
 
@@ -380,5 +385,60 @@ plume_status plume_scene_constrained_edges(plume_scene *s, plume_err *err)
     free(s->barb_edges);
     s->barb_edges = out;
     s->nbarb = n;
+    return PLUME_OK;
+}
+
+/* Mesh of a rectangle ("mesh": {"rectangle": [lx, ly], "edge", "pattern", "barb_direction"});
+ * o (may be NULL) overrides the edge and the pattern. */
+plume_status plume_scene_mesh_from_rectangle(const plume_json_ctx *c, json_t *m, plume_scene *s,
+                                             const plume_scene_load_opts *o)
+{
+    static const char *const keys[] = {"rectangle", "edge", "pattern", "barb_direction", NULL};
+    plume_status st = plume_json_check_keys(c, m, "mesh", keys);
+    if (st != PLUME_OK)
+        return st;
+    double size[2], edge = 0.0, d[2] = {1.0, 0.0};
+    if ((st = plume_json_vector(c, json_object_get(m, "rectangle"), "mesh.rectangle", 2, size)) != PLUME_OK)
+        return st;
+    if (!(size[0] > 0.0 && size[1] > 0.0))
+        return plume_json_bad(c, PLUME_EINVAL, "mesh.rectangle", "must be [lx, ly] with lx, ly > 0 (got [%g, %g])", size[0],
+                              size[1]);
+    if ((st = plume_json_positive(c, m, "mesh", "edge", 1, 0, &edge, NULL)) != PLUME_OK)
+        return st;
+    if (o && o->edge > 0.0)
+        edge = o->edge;
+    json_t *jd = json_object_get(m, "barb_direction");
+    if (jd) {
+        if ((st = plume_json_vector(c, jd, "mesh.barb_direction", 2, d)) != PLUME_OK)
+            return st;
+        double len = hypot(d[0], d[1]);
+        if (!(len > 0.0))
+            return plume_json_bad(c, PLUME_EINVAL, "mesh.barb_direction", "must be a non-zero vector");
+        d[0] /= len, d[1] /= len;
+    }
+    json_t *jp = json_object_get(m, "pattern");
+    if (jp && !json_is_string(jp))
+        return plume_json_bad(c, PLUME_EFORMAT, "mesh.pattern", "must be \"grid\", \"delaunay\" or \"aligned\"");
+    const char *pattern = o && o->pattern ? o->pattern : jp ? json_string_value(jp) : "grid";
+    plume_err e2 = {{0}};
+    if (strcmp(pattern, "grid") == 0) {
+        long nx = lround(size[0] / edge), ny = lround(size[1] / edge);
+        st = plume_grid_mesh(size[0], size[1], nx < 1 ? 1 : nx, ny < 1 ? 1 : ny, d, 3, &s->mesh, &e2);
+    } else if (strcmp(pattern, "delaunay") == 0 || strcmp(pattern, "aligned") == 0) {
+        /* the patch mesher measures the barb angle from y toward +x, in [0, 180] */
+        double angle = atan2(d[0], d[1]) * 180.0 / 3.14159265358979323846;
+        if (angle < 0.0)
+            angle += 180.0;
+        st = plume_patch_mesh(size[0], size[1], angle, edge,
+                              pattern[0] == 'd' ? PLUME_PATCH_UNALIGNED : PLUME_PATCH_ALIGNED, 3, &s->mesh, &e2);
+        if (st == PLUME_OK && pattern[0] == 'd') /* the mesher's barb field; the scene's direction rules */
+            for (plume_index t = 0; t < s->mesh->nt; t++)
+                s->mesh->barb_dir[2 * t] = d[0], s->mesh->barb_dir[2 * t + 1] = d[1];
+    } else {
+        return plume_json_bad(c, PLUME_EINVAL, "mesh.pattern", "must be \"grid\", \"delaunay\" or \"aligned\" (got \"%s\")",
+                              pattern);
+    }
+    if (st != PLUME_OK)
+        return plume_json_bad(c, st, "mesh", "could not be meshed: %s", e2.msg);
     return PLUME_OK;
 }

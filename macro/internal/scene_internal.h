@@ -13,11 +13,29 @@ plume_status plume_scene_mesh_from_obj(const plume_json_ctx *c, json_t *m, plume
                                        plume_index *nobj);
 
 /* Mesh from the feather mesher ("mesh": {"feather", "outline", "edge"}); s->barb_edges gets the
- * mesher's barb edges (filtered by plume_scene_constrained_edges). */
-plume_status plume_scene_mesh_from_feather(const plume_json_ctx *c, json_t *m, plume_scene *s);
+ * mesher's barb edges (filtered by plume_scene_constrained_edges); o (may be NULL)
+ * overrides the edge. */
+plume_status plume_scene_mesh_from_feather(const plume_json_ctx *c, json_t *m, plume_scene *s,
+                                           const plume_scene_load_opts *o);
 
 /* s->barb_edges <- the constrained barb edges: edges along the barb direction of an adjacent
  * triangle whose material is constrained (for the feather, among the mesher's barb edges). */
 plume_status plume_scene_constrained_edges(plume_scene *s, plume_err *err);
+
+/* Mesh of a rectangle ("mesh": {"rectangle": [lx, ly], "edge", "pattern", "barb_direction"});
+ * o (may be NULL) overrides the edge and the pattern. */
+plume_status plume_scene_mesh_from_rectangle(const plume_json_ctx *c, json_t *m, plume_scene *s,
+                                             const plume_scene_load_opts *o);
+
+/* The vertices (mesh ids) that the selector of `obj` ("near" + "radius", "vertices" or "box",
+ * on the reference positions) picks: ids[0..*count) (ids has room for nv); map/nobj translate
+ * OBJ vertex numbers (NULL: mesh ids). Selecting nothing is an error naming the key. */
+plume_status plume_scene_select(const plume_json_ctx *c, json_t *obj, const char *where, const plume_scene *s,
+                                const plume_index *map, plume_index nobj, plume_index *ids, plume_index *count);
+
+/* The static part of a scene (clamps, loads, moments) and its probes, after the mesh and the
+ * handles; keys of a static scene in a dynamic one are refused. */
+plume_status plume_scene_parse_static(const plume_json_ctx *c, json_t *doc, plume_scene *s, const plume_index *map,
+                                      plume_index nobj);
 
 #endif

@@ -1,0 +1,266 @@
+/* apps/shell — a static shell scene (macro/scene.h, "solve": "static"): clamps, point and line
+ * loads and end moments stepped from zero to their full value, each load step a constrained
+ * minimisation solved to convergence (increments cut when one fails). Prints a line per load step,
+ * the probes' displacements against their references, and a JSON summary; writes the equilibrium
+ * of each step as VTK for ParaView. The shell benchmarks of data/benchmarks/ run with it. */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <jansson.h>
+
+#include "../lib/plume.h"
+#include "../lib/statics.h"
+#include "../lib/vtk.h"
+#include "../macro/scene.h"
+#include "cli.h"
+
+#define APP "shell"
+
+static const char usage[] =
+    "usage: shell SCENE.json [options]\n"
+    "Brings a static shell scene (\"solve\": \"static\"; clamps, loads, moments, probes: the format is in\n"
+    "macro/scene.h) to equilibrium under load stepping, and reports its probes against their references.\n"
+    "  --edge E            mesh edge length (m), replacing the scene's mesh.edge (rectangle and feather meshes)\n"
+    "  --pattern P         grid | delaunay | aligned: replaces a rectangle mesh's pattern\n"
+    "  --steps N           load steps (overrides the scene's \"steps\")\n"
+    "  --solver S          newton | ipopt (overrides the scene's \"solver\")\n"
+    "  --bending B         shape_operator | hinge (overrides the scene's \"bending_model\")\n"
+    "  -o DIR              write DIR/step_NNNN.vtk, the equilibrium of each load step (ParaView series)\n"
+    "  --json              print a summary object on stdout\n"
+    "  --quiet / --verbose no per-step lines / solver iterations on stderr\n"
+    "  --help\n"
+    "Exit status: 0 done, 2 bad input, 3 a load step did not converge at the smallest increment, 1 other errors.\n";
+
+typedef struct {
+    const char *scene, *outdir, *solver, *pattern, *bending;
+    int steps, json, quiet, verbose;
+    double edge;
+} options;
+
+static int parse_args(int argc, char **argv, options *o)
+{
+    memset(o, 0, sizeof *o);
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int r = 0;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            fputs(usage, stdout);
+            exit(0);
+        }
+        if (strcmp(a, "--json") == 0 || strcmp(a, "--quiet") == 0 || strcmp(a, "--verbose") == 0) {
+            *(a[2] == 'j' ? &o->json : a[2] == 'q' ? &o->quiet : &o->verbose) = 1;
+            continue;
+        }
+        if (a[0] != '-') {
+            if (o->scene)
+                return cli_fail(APP, "one scene file only (got '%s' and '%s')", o->scene, a);
+            o->scene = a;
+            continue;
+        }
+        if (strcmp(a, "-o") && strcmp(a, "--edge") && strcmp(a, "--pattern") && strcmp(a, "--steps") &&
+            strcmp(a, "--solver") && strcmp(a, "--bending"))
+            return cli_fail(APP, "unknown option '%s' (see --help)", a);
+        if (!v)
+            return cli_fail(APP, "%s needs a value (see --help)", a);
+        i++;
+        if (strcmp(a, "-o") == 0) {
+            o->outdir = v;
+        } else if (strcmp(a, "--edge") == 0) {
+            r = cli_double(APP, a, v, &o->edge);
+            if (!r && !(o->edge > 0.0))
+                r = cli_fail(APP, "--edge must be > 0 (got %g)", o->edge);
+        } else if (strcmp(a, "--pattern") == 0) {
+            if (strcmp(v, "grid") && strcmp(v, "delaunay") && strcmp(v, "aligned"))
+                r = cli_fail(APP, "--pattern must be grid, delaunay or aligned (got '%s')", v);
+            o->pattern = v;
+        } else if (strcmp(a, "--steps") == 0) {
+            r = cli_int(APP, a, v, &o->steps);
+        } else if (strcmp(a, "--bending") == 0) {
+            if (strcmp(v, "shape_operator") && strcmp(v, "hinge"))
+                r = cli_fail(APP, "--bending must be shape_operator or hinge (got '%s')", v);
+            o->bending = v;
+        } else {
+            o->solver = v;
+        }
+        if (r)
+            return r;
+    }
+    if (!o->scene)
+        return cli_fail(APP, "no scene file given (usage: shell SCENE.json [options]; see --help)");
+    return 0;
+}
+
+/* relative error of a probe against its reference: |u - ref| / |ref| (|u| when ref = 0) */
+static double probe_error(const double u[3], const double ref[3])
+{
+    double d = 0.0, r = 0.0;
+    for (int a = 0; a < 3; a++)
+        d += (u[a] - ref[a]) * (u[a] - ref[a]), r += ref[a] * ref[a];
+    return r > 0.0 ? sqrt(d / r) : sqrt(d);
+}
+
+int main(int argc, char **argv)
+{
+    options o;
+    int rc = parse_args(argc, argv, &o);
+    if (rc)
+        return rc;
+    plume_err err = {{0}};
+    plume_scene *scene = NULL;
+    plume_problem *p = NULL;
+    plume_statics *st = NULL;
+    json_t *jsteps = json_array();
+    plume_scene_load_opts lo = {o.edge, o.pattern};
+    plume_status s = plume_scene_load_with(o.scene, &lo, &scene, &err);
+    if (s != PLUME_OK) {
+        rc = cli_fail(APP, "%s", err.msg);
+        goto done;
+    }
+    if (!scene->is_static) {
+        rc = cli_fail(APP, "%s is a dynamic scene: run it with apps/feather (or add \"solve\": \"static\")", o.scene);
+        goto done;
+    }
+    if (o.solver && plume_solver_kind_parse(o.solver, &scene->solver) != PLUME_OK) {
+        rc = cli_fail(APP, "--solver must be newton or ipopt (got '%s')", o.solver);
+        goto done;
+    }
+    if (scene->solver == PLUME_SOLVER_LINEARIZED) {
+        rc = cli_fail(APP, "the linearized solver takes one step and cannot reach an equilibrium: use newton or ipopt");
+        goto done;
+    }
+    if (o.steps > 0)
+        scene->steps = o.steps;
+    if (o.bending)
+        scene->hinge_bending = o.bending[0] == 'h';
+    scene->verbose = o.verbose;
+    if (o.outdir && mkdir(o.outdir, 0777) != 0 && errno != EEXIST) {
+        rc = cli_fail(APP, "-o %s: cannot create the directory: %s", o.outdir, strerror(errno));
+        goto done;
+    }
+    if ((s = plume_scene_statics(scene, &p, &st, &err)) != PLUME_OK) {
+        fprintf(stderr, "%s: %s\n", APP, err.msg);
+        rc = s == PLUME_EINVAL ? 2 : 1;
+        goto done;
+    }
+    const plume_mesh *m = scene->mesh;
+    int converged = 1, iterations = 0, cuts = 0, factorizations = 0;
+    double seconds = 0.0, max_violation = 0.0;
+    plume_reason reason = PLUME_REASON_CONVERGED;
+    if (!o.quiet)
+        fprintf(stderr, "%s: %s, %ld elements, %ld vertices, %d load steps, %s bending\n", APP, o.scene, (long)m->nt,
+                (long)m->nv, scene->steps, scene->hinge_bending ? "hinge" : "shape-operator");
+    for (int k = 0; k < scene->steps; k++) {
+        plume_load_step_report r;
+        if ((s = plume_statics_step(st, &r)) != PLUME_OK) {
+            rc = cli_fail(APP, "load step %d: %s", k + 1, plume_strerror(s));
+            goto done;
+        }
+        iterations += r.iterations;
+        cuts += r.cuts;
+        factorizations += r.factorizations;
+        seconds += r.seconds;
+        max_violation = fmax(max_violation, r.max_violation);
+        const double *x = plume_problem_x(p);
+        json_t *js = json_object();
+        json_object_set_new(js, "step", json_integer(r.step));
+        json_object_set_new(js, "factor", json_real(r.factor));
+        json_object_set_new(js, "iterations", json_integer(r.iterations));
+        json_object_set_new(js, "cuts", json_integer(r.cuts));
+        json_object_set_new(js, "converged", json_boolean(r.converged));
+        json_t *jp = json_object();
+        for (int q = 0; q < scene->nprobes; q++) {
+            double u[3];
+            plume_scene_probe_displacement(scene, q, x, u);
+            json_object_set_new(jp, scene->probes[q].name, json_pack("[f, f, f]", u[0], u[1], u[2]));
+        }
+        json_object_set_new(js, "probes", jp);
+        json_array_append_new(jsteps, js);
+        if (!o.quiet) {
+            fprintf(stderr, "  step %3d  factor %.4f  iterations %3d  cuts %d  %s", r.step, r.factor, r.iterations,
+                    r.cuts, r.converged ? "converged" : plume_reason_name(r.reason));
+            for (int q = 0; q < scene->nprobes; q++) {
+                double u[3];
+                plume_scene_probe_displacement(scene, q, x, u);
+                fprintf(stderr, "  %s (%.5g, %.5g, %.5g)", scene->probes[q].name, u[0], u[1], u[2]);
+            }
+            fputc('\n', stderr);
+        }
+        if (o.outdir) {
+            char path[4096];
+            snprintf(path, sizeof path, "%s/step_%04d.vtk", o.outdir, r.step);
+            if ((s = plume_vtk_write(path, m, x, r.factor, &err)) != PLUME_OK) {
+                rc = cli_fail(APP, "%s", err.msg);
+                rc = 1;
+                goto done;
+            }
+        }
+        if (!r.converged) {
+            converged = 0;
+            reason = r.reason;
+            break;
+        }
+    }
+    const double *x = plume_problem_x(p);
+    json_t *jprobes = json_object();
+    for (int q = 0; q < scene->nprobes; q++) {
+        const plume_scene_probe *pr = scene->probes + q;
+        double u[3];
+        plume_scene_probe_displacement(scene, q, x, u);
+        json_t *j = json_object();
+        json_object_set_new(j, "displacement", json_pack("[f, f, f]", u[0], u[1], u[2]));
+        if (pr->has_reference) {
+            double e = probe_error(u, pr->reference);
+            json_object_set_new(j, "reference", json_pack("[f, f, f]", pr->reference[0], pr->reference[1],
+                                                          pr->reference[2]));
+            json_object_set_new(j, "relative_error", json_real(e));
+            if (pr->source)
+                json_object_set_new(j, "source", json_string(pr->source));
+            if (!o.quiet)
+                fprintf(stderr, "%s: %s displacement (%.6g, %.6g, %.6g), reference (%.6g, %.6g, %.6g): error %.3g %%\n",
+                        APP, pr->name, u[0], u[1], u[2], pr->reference[0], pr->reference[1], pr->reference[2], 100.0 * e);
+        }
+        json_object_set_new(jprobes, pr->name, j);
+    }
+    if (o.json) {
+        json_t *j = json_object();
+        json_object_set_new(j, "scene", json_string(o.scene));
+        json_object_set_new(j, "elements", json_integer(m->nt));
+        json_object_set_new(j, "vertices", json_integer(m->nv));
+        json_object_set_new(j, "constraints", json_integer(plume_problem_ncons(p)));
+        json_object_set_new(j, "bending_model", json_string(scene->hinge_bending ? "hinge" : "shape_operator"));
+        json_object_set_new(j, "solver", json_string(plume_solver_kind_name(scene->solver)));
+        json_object_set_new(j, "load_steps", json_integer(scene->steps));
+        json_object_set_new(j, "load_factor", json_real(plume_statics_factor(st)));
+        json_object_set_new(j, "converged", json_boolean(converged));
+        json_object_set_new(j, "stop_reason", json_string(plume_reason_name(reason)));
+        json_object_set_new(j, "newton_iterations", json_integer(iterations));
+        json_object_set_new(j, "increment_cuts", json_integer(cuts));
+        json_object_set_new(j, "factorizations", json_integer(factorizations));
+        json_object_set_new(j, "max_constraint_violation", json_real(max_violation));
+        json_object_set_new(j, "solve_seconds", json_real(seconds));
+        json_object_set_new(j, "probes", jprobes);
+        json_object_set_new(j, "steps", jsteps);
+        jprobes = jsteps = NULL;
+        char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
+        if (text)
+            puts(text);
+        free(text);
+        json_decref(j);
+    }
+    json_decref(jprobes);
+    if (!converged) {
+        fprintf(stderr, "%s: load step did not converge at the smallest increment (%s); load factor reached %.6g\n", APP,
+                plume_reason_name(reason), plume_statics_factor(st));
+        rc = 3;
+    }
+done:
+    json_decref(jsteps);
+    plume_statics_destroy(&st);
+    plume_problem_destroy(&p);
+    plume_scene_destroy(&scene);
+    return rc;
+}

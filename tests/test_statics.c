@@ -1,0 +1,378 @@
+/* Tests of load-driven shell scenes: the end-moment term (finite differences, turns counted past
+ * pi), load stepping with increment cuts, static scene errors naming their key, the shell app,
+ * and the three shell benchmarks of data/benchmarks/ under refinement. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "app_runner.h"
+#include "harness.h"
+#include "../lib/dense.h"
+#include "../lib/load.h"
+#include "../lib/moment.h"
+#include "../lib/plume.h"
+#include "../lib/statics.h"
+#include "../macro/grid_mesh.h"
+#include "../macro/scene.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* energy, gradient and dense Hessian of a one-stencil term at x (3 nv) */
+static double term_eval(plume_term *t, const double *x, plume_index nv, double *grad, double *H)
+{
+    double e = 0.0;
+    memset(grad, 0, (size_t)(3 * nv) * sizeof *grad);
+    t->eval(t->ctx, 3, x, &e, grad, H, 0);
+    return e;
+}
+
+void test_statics_moment_fd(void)
+{
+    plume_mesh *m = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_grid_mesh(3.0, 1.0, 3, 1, NULL, 3, &m, &err) == PLUME_OK);
+    if (!m)
+        return;
+    /* end: x = 3 (vertices 3, 7); row: x = 2 (2, 6) */
+    const plume_index end[2] = {3, 7}, row[2] = {2, 6};
+    const double axis[3] = {0.0, -2.0, 0.0};
+    double *X3 = calloc((size_t)(3 * m->nv), sizeof *X3), *x = calloc((size_t)(3 * m->nv), sizeof *x);
+    for (plume_index v = 0; v < m->nv; v++)
+        X3[3 * v] = m->X[2 * v], X3[3 * v + 1] = m->X[2 * v + 1];
+    plume_term t;
+    CHECK(plume_moment_term_create(end, 2, row, 2, axis, 5.0, X3, &t, &err) == PLUME_OK);
+    unsigned seed = 7;
+    for (plume_index k = 0; k < 3 * m->nv; k++) {
+        seed = seed * 1103515245u + 12345u;
+        x[k] = X3[k] + 0.3 * ((double)(seed >> 8) / 16777216.0 - 0.5);
+    }
+    const int n = 4 * 3;
+    double *g = malloc((size_t)(3 * m->nv) * sizeof *g), *gp = malloc((size_t)(3 * m->nv) * sizeof *gp),
+           *gm = malloc((size_t)(3 * m->nv) * sizeof *gm), H[144], Hd[144];
+    term_eval(&t, x, m->nv, g, H);
+    double gmax = 0.0, herr = 0.0, gerr = 0.0, hmax = 0.0;
+    for (int i = 0; i < n; i++) {
+        plume_index dof = 3 * t.stencil[i / 3] + i % 3;
+        const double h = 1e-6, x0 = x[dof];
+        x[dof] = x0 + h;
+        double ep = term_eval(&t, x, m->nv, gp, Hd);
+        x[dof] = x0 - h;
+        double em = term_eval(&t, x, m->nv, gm, Hd);
+        x[dof] = x0;
+        gerr = fmax(gerr, fabs((ep - em) / (2 * h) - g[dof]));
+        gmax = fmax(gmax, fabs(g[dof]));
+        for (int j = 0; j < n; j++) {
+            plume_index dj = 3 * t.stencil[j / 3] + j % 3;
+            herr = fmax(herr, fabs((gp[dj] - gm[dj]) / (2 * h) - H[j * n + i]));
+            hmax = fmax(hmax, fabs(H[j * n + i]));
+        }
+    }
+    fprintf(stderr, "    moment FD: gradient %.2e of %.2e, Hessian %.2e of %.2e\n", gerr, gmax, herr, hmax);
+    CHECK(gerr <= 1e-7 * gmax);
+    CHECK(herr <= 1e-6 * hmax);
+    /* symmetric Hessian; the projected one PSD */
+    double asym = 0.0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++)
+            asym = fmax(asym, fabs(H[i * n + j] - H[j * n + i]));
+    CHECK(asym <= 1e-12 * hmax);
+    memset(g, 0, (size_t)(3 * m->nv) * sizeof *g);
+    t.eval(t.ctx, 3, x, NULL, g, H, 1);
+    double ev[12], V[144];
+    plume_dense_sym_eig(n, H, ev, V);
+    CHECK(ev[0] >= -1e-12 * hmax);
+    /* turns past pi: rotate the whole strip rigidly about -y (axis through the origin) */
+    double last = 0.0;
+    for (int k = 0; k <= 40; k++) {
+        double a = 2.2 * M_PI * k / 40.0, c = cos(a), s = sin(a);
+        for (plume_index v = 0; v < m->nv; v++) /* rotation about -y: x -> (x cos, y, x sin) */
+            x[3 * v] = X3[3 * v] * c, x[3 * v + 1] = X3[3 * v + 1], x[3 * v + 2] = X3[3 * v] * s;
+        double e = term_eval(&t, x, m->nv, g, NULL);
+        last = plume_moment_angle(&t);
+        CHECK_REL(e, -5.0 * a, 1e-12, 1.0);
+    }
+    CHECK_REL(last, 2.2 * M_PI, 1e-12, 1.0);
+    /* bad input names the problem */
+    CHECK(plume_moment_term_create(end, 2, end, 2, axis, 1.0, X3, &t, &err) == PLUME_EINVAL && strstr(err.msg, "second row"));
+    const double zero[3] = {0, 0, 0}, along[3] = {1, 0, 0};
+    CHECK(plume_moment_term_create(end, 2, row, 2, zero, 1.0, X3, &t, &err) == PLUME_EINVAL);
+    CHECK(plume_moment_term_create(end, 2, row, 2, along, 1.0, X3, &t, &err) == PLUME_EINVAL && strstr(err.msg, "lever"));
+    t.destroy(t.ctx);
+    free(g), free(gp), free(gm), free(X3), free(x);
+    plume_mesh_destroy(&m);
+}
+
+/* A cantilever strip (grid, shell) with a dead end load; returns the problem and the load term. */
+static plume_problem *strip_problem(plume_mesh **pm, plume_term *load)
+{
+    plume_err err = {{0}};
+    plume_mesh *m = NULL;
+    plume_problem *p = NULL;
+    if (plume_grid_mesh(10.0, 1.0, 20, 2, NULL, 3, &m, &err) != PLUME_OK)
+        return NULL;
+    plume_membrane_material mat = {1.2e6, 1.2e6, 0.0, 0.6e6, 0.1, 0.0, 0};
+    plume_bending_material bm = {100.0, 100.0, 0.0, 0.0};
+    plume_index tip[3], nt = 0;
+    for (plume_index v = 0; v < m->nv; v++)
+        if (m->X[2 * v] == 10.0)
+            tip[nt++] = v;
+    double f[9] = {0, 0, 4.0 / 3, 0, 0, 4.0 / 3, 0, 0, 4.0 / 3};
+    plume_term mem, bend;
+    if (plume_problem_create(m->nv, 3, 10.0, &p) != PLUME_OK || plume_membrane_term_create(m, 3, &mat, 1, &mem, &err) ||
+        plume_problem_add_term(p, &mem) || plume_bending_term_create(m, &bm, 1, NULL, &bend, &err) ||
+        plume_problem_add_term(p, &bend) || plume_load_term_create(tip, nt, 3, f, load, &err) ||
+        plume_problem_add_term(p, load)) {
+        plume_problem_destroy(&p);
+        plume_mesh_destroy(&m);
+        return NULL;
+    }
+    memcpy(plume_problem_x(p), m->x, (size_t)(3 * m->nv) * sizeof(double));
+    for (plume_index v = 0; v < m->nv; v++)
+        if (m->X[2 * v] <= 0.5 + 1e-12)
+            for (int a = 0; a < 3; a++)
+                plume_problem_fix_dof(p, 3 * v + a);
+    if (plume_problem_finalize(p, &err) != PLUME_OK)
+        plume_problem_destroy(&p);
+    *pm = m;
+    return p;
+}
+
+static void scale_load(void *user, double factor)
+{
+    plume_load_scale(user, factor);
+}
+
+/* the full load in one step fails with a tight iteration cap; cutting the increment recovers it,
+ * and the equilibrium matches the one reached in ten easy steps */
+void test_statics_cuts_recover(void)
+{
+    double tip[2][3];
+    int cuts[2] = {0, 0};
+    for (int run = 0; run < 2; run++) {
+        plume_mesh *m = NULL;
+        plume_term load;
+        plume_problem *p = strip_problem(&m, &load);
+        CHECK(p != NULL);
+        if (!p)
+            return;
+        plume_statics_opts o;
+        plume_statics_opts_default(&o);
+        o.steps = run == 0 ? 1 : 10;
+        o.solver_opts.max_iter = run == 0 ? 6 : 100;
+        plume_statics *s = NULL;
+        plume_err err = {{0}};
+        CHECK(plume_statics_create(p, &o, scale_load, &load, NULL, &s, &err) == PLUME_OK);
+        for (int k = 0; s && k < o.steps; k++) {
+            plume_load_step_report r;
+            CHECK(plume_statics_step(s, &r) == PLUME_OK);
+            CHECK(r.converged);
+            CHECK(r.step == k + 1);
+            CHECK_REL(r.factor, (k + 1.0) / o.steps, 1e-12, 0.0);
+            CHECK(r.substeps >= 1 && (r.cuts == 0) == (r.substeps == 1));
+            cuts[run] += r.cuts;
+            if (run == 0 && k == 0)
+                CHECK(r.reason == PLUME_REASON_ITERATION_CAP);
+        }
+        plume_load_step_report r;
+        CHECK(plume_statics_step(s, &r) == PLUME_OK && !r.converged); /* past the last step: nothing done */
+        CHECK(plume_statics_steps_done(s) == o.steps);
+        const double *x = plume_problem_x(p);
+        tip[run][0] = tip[run][1] = tip[run][2] = 0.0;
+        for (plume_index v = 0; v < m->nv; v++)
+            if (m->X[2 * v] == 10.0)
+                for (int a = 0; a < 3; a++)
+                    tip[run][a] += x[3 * v + a] / 3.0;
+        plume_statics_destroy(&s);
+        plume_problem_destroy(&p);
+        plume_mesh_destroy(&m);
+    }
+    fprintf(stderr, "    one step with 6 iterations: %d cuts; tip z %.8f vs %.8f in ten steps\n", cuts[0], tip[0][2],
+            tip[1][2]);
+    CHECK(cuts[0] >= 1);
+    CHECK(cuts[1] == 0);
+    for (int a = 0; a < 3; a++)
+        CHECK_REL(tip[0][a], tip[1][a], 1e-6, 1.0);
+    /* options refused */
+    plume_statics_opts o;
+    plume_statics_opts_default(&o);
+    o.steps = 0;
+    plume_statics *s = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_statics_create(NULL, &o, scale_load, NULL, NULL, &s, &err) == PLUME_EINVAL);
+}
+
+/* a scene file in a scratch directory; returns its path in `path` */
+static void write_scene(const char *dir, const char *body, char *path, size_t n)
+{
+    snprintf(path, n, "%s/scene.json", dir);
+    FILE *f = fopen(path, "w");
+    if (f) {
+        fputs(body, f);
+        fclose(f);
+    }
+}
+
+static void check_scene_error(const char *dir, const char *tail, const char *want)
+{
+    char body[2048], path[512];
+    snprintf(body, sizeof body,
+             "{\"solve\": \"static\", \"mesh\": {\"rectangle\": [10, 1], \"edge\": 0.5},\n"
+             " \"materials\": [{\"membrane\": {\"E\": 1.2e6, \"thickness\": 0.1}}]%s}\n",
+             tail);
+    write_scene(dir, body, path, sizeof path);
+    plume_scene *s = NULL;
+    plume_err err = {{0}};
+    plume_status st = plume_scene_load(path, &s, &err);
+    CHECK(st != PLUME_OK);
+    CHECK(s == NULL);
+    if (!strstr(err.msg, want)) {
+        plume_test_failures++;
+        fprintf(stderr, "    expected '%s' in: %s\n", want, err.msg);
+    }
+}
+
+void test_statics_scene_errors(void)
+{
+    char dir[] = "/tmp/plume-statics-XXXXXX";
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    /* nothing holds it */
+    check_scene_error(dir, "", "clamps are missing: a static scene needs a clamp or a handle");
+    /* an unknown selection */
+    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"loads\": [{\"box\": [20, 0, 20, 1], \"force\": [0, 0, 1]}]",
+                      "scene.json:2: loads[0].box selects no vertex");
+    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"loads\": [{\"edges\": [1, 2], \"force\": [0, 0, 1]}]",
+                      "loads[0].edges is an unknown key");
+    check_scene_error(dir, ", \"clamps\": [{\"near\": [0, 0], \"radius\": 1e-9, \"box\": [0, 0, 0, 1]}]",
+                      "clamps[0] needs exactly one selector");
+    /* non-finite or malformed forces */
+    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"loads\": [{\"near\": [10, 0], \"force\": [0, \"x\", 1]}]",
+                      "loads[0].force must be an array of 3 finite numbers");
+    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"loads\": [{\"near\": [10, 0], \"force\": [0, 1e999, 1]}]",
+                      "scene.json");
+    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"loads\": [{\"near\": [10, 0], \"force\": [0, 0, 1], "
+                           "\"moment\": [0, 1, 0]}]",
+                      "loads[0] needs exactly one of");
+    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"loads\": [{\"near\": [5, 0.5], \"line_load\": [0, 0, 1]}]",
+                      "loads[0] selects no boundary edge");
+    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"loads\": [{\"box\": [10, 0, 10, 1], \"moment\": [0, 0, 0]}]",
+                      "loads[0].moment must be a non-zero moment vector");
+    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"probes\": [{\"near\": [10, 0]}]",
+                      "probes[0].name is missing");
+    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"steps\": 0", "steps must be an integer");
+    /* a dynamic scene refuses static keys, and a rectangle its bad pattern */
+    char path[512];
+    write_scene(dir,
+                "{\"mesh\": {\"rectangle\": [1, 1], \"edge\": 0.5, \"pattern\": \"hex\"}, \"dt\": 0.01, \"duration\": 0.1,\n"
+                " \"materials\": [{\"membrane\": {\"E\": 1e6, \"thickness\": 0.1}, \"density\": 1}]}\n",
+                path, sizeof path);
+    plume_scene *s = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_scene_load(path, &s, &err) == PLUME_EINVAL && strstr(err.msg, "mesh.pattern must be"));
+    write_scene(dir,
+                "{\"mesh\": {\"rectangle\": [1, 1], \"edge\": 0.5}, \"dt\": 0.01, \"duration\": 0.1,\n"
+                " \"materials\": [{\"membrane\": {\"E\": 1e6, \"thickness\": 0.1}, \"density\": 1}],\n"
+                " \"clamps\": [{\"box\": [0, 0, 0, 1]}]}\n",
+                path, sizeof path);
+    CHECK(plume_scene_load(path, &s, &err) == PLUME_EINVAL && strstr(err.msg, "scene.json:3: clamps belongs to a static scene"));
+    unlink(path);
+    rmdir(dir);
+}
+
+/* One benchmark scene at one mesh: the probe's relative error against its reference. */
+static double benchmark_error(const char *file, double edge, const char *pattern, long *elements)
+{
+    plume_scene_load_opts lo = {edge, pattern};
+    plume_scene *s = NULL;
+    plume_problem *p = NULL;
+    plume_statics *st = NULL;
+    plume_err err = {{0}};
+    double e = NAN;
+    if (plume_scene_load_with(file, &lo, &s, &err) != PLUME_OK || plume_scene_statics(s, &p, &st, &err) != PLUME_OK) {
+        fprintf(stderr, "    %s: %s\n", file, err.msg);
+        goto done;
+    }
+    *elements = (long)s->mesh->nt;
+    for (int k = 0; k < s->steps; k++) {
+        plume_load_step_report r;
+        if (plume_statics_step(st, &r) != PLUME_OK || !r.converged) {
+            fprintf(stderr, "    %s: load step %d did not converge (%s)\n", file, k + 1, plume_reason_name(r.reason));
+            goto done;
+        }
+    }
+    double u[3], d = 0.0, n = 0.0;
+    plume_scene_probe_displacement(s, 0, plume_problem_x(p), u);
+    for (int a = 0; a < 3; a++)
+        d += (u[a] - s->probes[0].reference[a]) * (u[a] - s->probes[0].reference[a]),
+            n += s->probes[0].reference[a] * s->probes[0].reference[a];
+    e = sqrt(d / n);
+done:
+    plume_statics_destroy(&st);
+    plume_problem_destroy(&p);
+    plume_scene_destroy(&s);
+    return e;
+}
+
+/* The shell benchmarks reach their published values under refinement, on grids and on Delaunay
+ * meshes; the error is printed per mesh. */
+void test_statics_benchmarks(void)
+{
+    static const char *const files[] = {"../data/benchmarks/cantilever_shear.json",
+                                        "../data/benchmarks/elastica_end_load.json"};
+    static const char *const patterns[] = {"grid", "delaunay"};
+    const double edges[3] = {0.25, 0.125, 0.0625};
+    for (int f = 0; f < 2; f++)
+        for (int q = 0; q < 2; q++) {
+            double err[3];
+            for (int k = 0; k < 3; k++) {
+                long nel = 0;
+                err[k] = benchmark_error(files[f], edges[k], patterns[q], &nel);
+                fprintf(stderr, "    %-44s %-8s edge %-6g %5ld elements: error %.3f %%\n", files[f] + 19, patterns[q],
+                        edges[k], nel, 100.0 * err[k]);
+                CHECK(isfinite(err[k]));
+            }
+            /* Grids converge monotonically at first order: the clamp (second row held at its rest
+             * height) holds the slope over the first row of elements, which shortens the strip by
+             * about h/2 (3 (h/2) / L = 3.7 % at h = 0.25). On Delaunay meshes the error is about
+             * 1 % at every size and not monotone (issue 8 note). */
+            CHECK(err[2] < 0.02);
+            if (q == 0) {
+                CHECK(err[1] <= 0.55 * err[0] && err[2] <= 0.55 * err[1]);
+                if (f == 0)
+                    CHECK(err[2] < 0.01);
+            }
+        }
+}
+
+/* the app: per-step lines, the probe against its reference, --json, and bad input */
+void test_statics_shell_app(void)
+{
+    char dir[] = "/tmp/plume-shell-XXXXXX", out[65536], err[8192];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    int rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --edge 0.5 --steps 4 --json", out,
+                     sizeof out, err, sizeof err);
+    CHECK(rc == 0);
+    CHECK(strstr(err, "step   4  factor 1.0000") != NULL);
+    CHECK(strstr(err, "tip displacement") != NULL);
+    CHECK(strstr(out, "\"relative_error\"") != NULL);
+    CHECK(strstr(out, "\"converged\": true") != NULL);
+    CHECK(strstr(out, "\"load_steps\": 4") != NULL);
+    rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --pattern hex", out, sizeof out, err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "--pattern must be"));
+    rc = app_run(dir, "shell", "../data/feather/scene_anisotropic.json", out, sizeof out, err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "dynamic scene"));
+    rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --max-iter 3", out, sizeof out, err, sizeof err);
+    CHECK(rc == 2 && strstr(err, "unknown option '--max-iter'"));
+    char cmd[600];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    CHECK(system(cmd) == 0);
+}
