@@ -12,6 +12,23 @@
 #include "grid_mesh.h"
 #include "patch_mesh.h"
 
+/* mesh.barb_direction, normalised; (1, 0) when absent */
+static plume_status barb_direction(const plume_json_ctx *c, json_t *m, double d[2])
+{
+    d[0] = 1.0, d[1] = 0.0;
+    json_t *jd = json_object_get(m, "barb_direction");
+    if (!jd)
+        return PLUME_OK;
+    plume_status st = plume_json_vector(c, jd, "mesh.barb_direction", 2, d);
+    if (st != PLUME_OK)
+        return st;
+    double len = hypot(d[0], d[1]);
+    if (!(len > 0.0))
+        return plume_json_bad(c, PLUME_EINVAL, "mesh.barb_direction", "must be a non-zero vector");
+    d[0] /= len, d[1] /= len;
+    return PLUME_OK;
+}
+
 /* Mesh from an OBJ: x, y reference coordinates, material by group, constant barb direction.
  * *vertex_map gets, for every OBJ vertex (0-based), its mesh id or -1 if no face uses it. */
 plume_status plume_scene_mesh_from_obj(const plume_json_ctx *c, json_t *m, plume_scene *s, plume_index **vertex_map,
@@ -24,16 +41,9 @@ plume_status plume_scene_mesh_from_obj(const plume_json_ctx *c, json_t *m, plume
     json_t *jo = json_object_get(m, "obj");
     if (!json_is_string(jo))
         return plume_json_bad(c, PLUME_EFORMAT, "mesh.obj", "must be a file name");
-    double d[2] = {1.0, 0.0};
-    json_t *jd = json_object_get(m, "barb_direction");
-    if (jd) {
-        if ((st = plume_json_vector(c, jd, "mesh.barb_direction", 2, d)) != PLUME_OK)
-            return st;
-        double len = hypot(d[0], d[1]);
-        if (!(len > 0.0))
-            return plume_json_bad(c, PLUME_EINVAL, "mesh.barb_direction", "must be a non-zero vector");
-        d[0] /= len, d[1] /= len;
-    }
+    double d[2];
+    if ((st = barb_direction(c, m, d)) != PLUME_OK)
+        return st;
     char path[4096];
     plume_json_resolve(c, json_string_value(jo), path, sizeof path);
     plume_obj_data o;
@@ -397,7 +407,7 @@ plume_status plume_scene_mesh_from_rectangle(const plume_json_ctx *c, json_t *m,
     plume_status st = plume_json_check_keys(c, m, "mesh", keys);
     if (st != PLUME_OK)
         return st;
-    double size[2], edge = 0.0, d[2] = {1.0, 0.0};
+    double size[2], edge = 0.0, d[2];
     if ((st = plume_json_vector(c, json_object_get(m, "rectangle"), "mesh.rectangle", 2, size)) != PLUME_OK)
         return st;
     if (!(size[0] > 0.0 && size[1] > 0.0))
@@ -407,15 +417,8 @@ plume_status plume_scene_mesh_from_rectangle(const plume_json_ctx *c, json_t *m,
         return st;
     if (o && o->edge > 0.0)
         edge = o->edge;
-    json_t *jd = json_object_get(m, "barb_direction");
-    if (jd) {
-        if ((st = plume_json_vector(c, jd, "mesh.barb_direction", 2, d)) != PLUME_OK)
-            return st;
-        double len = hypot(d[0], d[1]);
-        if (!(len > 0.0))
-            return plume_json_bad(c, PLUME_EINVAL, "mesh.barb_direction", "must be a non-zero vector");
-        d[0] /= len, d[1] /= len;
-    }
+    if ((st = barb_direction(c, m, d)) != PLUME_OK)
+        return st;
     json_t *jp = json_object_get(m, "pattern");
     if (jp && !json_is_string(jp))
         return plume_json_bad(c, PLUME_EFORMAT, "mesh.pattern", "must be \"grid\", \"delaunay\" or \"aligned\"");
