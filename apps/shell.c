@@ -193,8 +193,8 @@ int main(int argc, char **argv)
             char path[4096];
             snprintf(path, sizeof path, "%s/step_%04d.vtk", o.outdir, r.step);
             if ((s = plume_vtk_write(path, m, x, r.factor, &err)) != PLUME_OK) {
-                rc = cli_fail(APP, "%s", err.msg);
-                rc = 1;
+                fprintf(stderr, "%s: %s\n", APP, err.msg);
+                rc = 1; /* an output failure, not bad input */
                 goto done;
             }
         }
