@@ -8,6 +8,7 @@
  * block into in-plane 4x4 and normal 2x2 parts first), and mapped to the three vertices with
  * G[:,c] = sum_v W[v][c] x_v. Nothing is allocated after create. */
 #include "membrane.h"
+#include "internal/vec3.h"
 
 #include "dense.h"
 
@@ -91,18 +92,6 @@ void plume_membrane_stiffness(const plume_membrane_material *m, double C[9])
     C[6] = 0.0;
     C[7] = 0.0;
     C[8] = m->G_xy;
-}
-
-static void cross3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
 static void mem_mat_set(const plume_membrane_material *mat, mem_mat *m)

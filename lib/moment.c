@@ -8,6 +8,7 @@
  * end, -I / nrow on the row, so the energy -M phi has gradient -M (dphi/dt) c_i and Hessian
  * blocks -M c_i c_j (d2 phi / dt2). The term is one stencil over all its vertices. */
 #include "moment.h"
+#include "internal/vec3.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -31,13 +32,6 @@ static void moment_destroy(void *ctx)
     if (c)
         free(c->v);
     free(c);
-}
-
-static void cross(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
 /* t = mean(end) - mean(row) at positions x (3 per vertex, indexed by vertex id) */
@@ -75,7 +69,7 @@ static plume_status moment_eval(void *ctx, int dim, const double *x, double *ene
     if (energy)
         *energy -= c->M * phi;
     double g[3]; /* d phi / d t */
-    cross(c->axis, s, g);
+    cross3(c->axis, s, g);
     for (int a = 0; a < 3; a++)
         g[a] /= s2;
     const double we = 1.0 / (double)c->nend, wr = -1.0 / (double)(c->n - c->nend);
@@ -92,7 +86,7 @@ static plume_status moment_eval(void *ctx, int dim, const double *x, double *ene
         double ls = sqrt(s2), e1[3], e2[3], T[3][3];
         for (int a = 0; a < 3; a++)
             e1[a] = s[a] / ls;
-        cross(c->axis, e1, e2);
+        cross3(c->axis, e1, e2);
         for (int a = 0; a < 3; a++)
             for (int b = 0; b < 3; b++) {
                 if (!project) {
@@ -155,7 +149,7 @@ plume_status plume_moment_term_create(const plume_index *end, plume_index nend, 
     }
     for (int a = 0; a < 3; a++)
         c->e0[a] /= l;
-    cross(c->axis, c->e0, c->f0);
+    cross3(c->axis, c->e0, c->f0);
     c->M = c->M0 = moment;
     memset(out, 0, sizeof *out);
     out->name = "moment";

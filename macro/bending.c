@@ -79,6 +79,7 @@
  *
  * Nothing is allocated after create. */
 #include "bending.h"
+#include "../lib/internal/vec3.h"
 
 #include "../lib/dense.h"
 
@@ -112,18 +113,6 @@ typedef struct {
     plume_index *stencil; /* [4*nh] (x0, x1, x2, x3) as described above */
     bend_hinge *hinge;    /* [nh] */
 } bend_ctx;
-
-static void cross3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 /* Wraps an angle difference into (-pi, pi]: theta jumps by 2 pi through a full fold (atan2's
  * branch cut), the energy does not. */

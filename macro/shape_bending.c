@@ -111,6 +111,7 @@
  *
  * Nothing is allocated after create. */
 #include "shape_bending.h"
+#include "../lib/internal/vec3.h"
 
 #include <float.h>
 #include <math.h>
@@ -145,18 +146,6 @@ typedef struct {
     plume_index *stencil; /* [6*nt] (x0, x1, x2, p1, p2, p3) */
     shape_tri *tri;       /* [nt] */
 } shape_ctx;
-
-static void cross3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[1] * b[2] - a[2] * b[1];
-    c[1] = a[2] * b[0] - a[0] * b[2];
-    c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double dot3(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 /* [v]x, the cross-product matrix: [v]x w = v x w */
 static void skew(const double v[3], double S[3][3])
