@@ -158,6 +158,63 @@ static void predict(const plume_mesh *m, plume_problem *p, const grips *g, doubl
         }
 }
 
+/* The y-reaction on the moving grip as the virtual work of the generalised forces `force` over
+ * the field w = Y/ly on the y-dofs (1 on the top grip, 0 on the bottom one): the grip's reaction
+ * plus sum_free w r, r the residual of equilibrium, so the two agree at equilibrium. Why the
+ * probe uses it: at 1e-6 strain the forces are so small that the round-off of the stiff barbs'
+ * membrane stress (E_xx times a barb strain at round-off, ~1e-16 |x| / edge, that the multipliers
+ * of the final iterate do not match) is a visible part of them. The grip's sum takes that noise
+ * whole from the elements along the grip; here each element's contribution is weighted by the
+ * change of w across it, ~edge/ly. Measured on the tilted vane (E_xx/E_yy = 1e4, edge 0.01, 3e4
+ * triangles), five converged solves of the same probe (newton, ipopt, three tolerances): the
+ * slope spreads over 1e-5 Pa by the grip's sum, over 3e-8 Pa by this one. */
+static double reaction_virtual_work(const plume_mesh *m, const grips *g, const double *force, int dim, double ly)
+{
+    double F = 0.0;
+    for (plume_index v = 0; v < m->nv; v++) {
+        double w = g->top_flag[v] ? 1.0 : g->bottom_flag[v] ? 0.0 : m->X[2 * v + 1] / ly;
+        F += w * force[dim * v + 1];
+    }
+    return F;
+}
+
+/* The probe's relative KKT tolerance (plume_traction_opts.probe_tol_kkt). */
+static double probe_tolerance(const plume_traction_opts *o)
+{
+    if (o->probe_tol_kkt > 0.0)
+        return o->probe_tol_kkt;
+    return o->solver_opts.tol_kkt * fmin(1.0, o->probe_strain * o->steps / o->strain_max);
+}
+
+/* The probe solved with the relative KKT tolerance tol, tighter than the steps', on a solver of
+ * its own (a solver's tolerances are fixed at creation), destroyed before the steps' solver is
+ * created. Why: with the steps' tolerance a newton probe stops early. Its KKT residual is measured
+ * against the force scale of the stiff barbs (~1e-6 E_xx h L), whose round-off floor (~1e-10 of
+ * it) the probe reaches while its displacement is still ~1e-4 off at 3e4 triangles (newton
+ * converges linearly there, by ~1/50 per iteration). Below the floor the solve ends on the step
+ * test (tol_step) instead, i.e. at round-off. */
+static plume_status solve_probe_tight(const plume_mesh *mesh, plume_problem *p, const grips *g,
+                                      const plume_traction_opts *o, double tol, const double *xrest, double delta,
+                                      double *u, double *lambda, plume_solve_report *rep, int *factorizations,
+                                      double *factor_seconds, plume_err *err)
+{
+    plume_solver_opts so = o->solver_opts;
+    so.tol_kkt = tol;
+    plume_solver *s = NULL;
+    plume_status st = plume_solver_create(o->solver, p, &so, &s);
+    if (st != PLUME_OK)
+        return plume_err_set(err, st, "traction: could not create the probe's %s solver (%s)",
+                             plume_solver_kind_name(o->solver), plume_strerror(st));
+    predict(mesh, p, g, o->ly, delta, xrest, 0.0, xrest, 0.0);
+    plume_problem_gather(p, u);
+    st = plume_solver_solve(s, u, lambda, rep);
+    plume_solver_stats(s, NULL, factorizations, factor_seconds);
+    plume_solver_destroy(&s);
+    if (st != PLUME_OK)
+        return plume_err_set(err, st, "traction: step 0 (probe): solver error (%s)", plume_strerror(st));
+    return PLUME_OK;
+}
+
 plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const plume_index *rigid_edges,
                                 plume_index nrigid, const plume_traction_opts *o,
                                 plume_traction_result *res, plume_err *err)
@@ -172,6 +229,9 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     if (!(o->strain_max > 0) || !isfinite(o->strain_max) || o->steps < 1 || !(o->probe_strain > 0))
         return plume_err_set(err, PLUME_EINVAL, "traction: strain-max must be > 0 and steps >= 1 (got %g, %d)",
                              o->strain_max, o->steps);
+    if (!(o->probe_tol_kkt >= 0) || !isfinite(o->probe_tol_kkt))
+        return plume_err_set(err, PLUME_EINVAL, "traction: probe_tol_kkt must be finite and >= 0 (got %g)",
+                             o->probe_tol_kkt);
     if (plume_problem_nvert(p) != mesh->nv)
         return plume_err_set(err, PLUME_EINVAL, "traction: problem and mesh sizes differ");
     plume_status st;
@@ -231,11 +291,6 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     }
     if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
         goto cleanup;
-    if ((st = plume_solver_create(o->solver, p, &o->solver_opts, &solver)) != PLUME_OK) {
-        plume_err_set(err, st, "traction: could not create the %s solver (%s)", plume_solver_kind_name(o->solver),
-                      plume_strerror(st));
-        goto cleanup;
-    }
     plume_index n = plume_problem_nfree(p), m = plume_problem_ncons(p);
     size_t np = (size_t)o->steps + 1;
     u = malloc((size_t)(n + 1) * sizeof *u);
@@ -263,17 +318,42 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     if (o->progress == 0)
         prog.enabled = 0;
 
+    int probe_factorizations = 0;
+    double probe_factor_seconds = 0.0, probe_tol = probe_tolerance(o);
+
     /* step 0 is the small-strain probe (initial slope), then the quasi-static steps */
     for (int k = 0; k <= o->steps; k++) {
         int probe = k == 0;
         double strain = probe ? o->probe_strain : o->strain_max * k / o->steps;
         double delta = strain * o->ly;
-        predict(mesh, p, &g, o->ly, delta, xa, da, xb, db);
-        plume_problem_gather(p, u);
-        plume_solve_report rep;
-        if ((st = plume_solver_solve(solver, u, lambda, &rep)) != PLUME_OK) {
-            plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
+        plume_solve_report rep, tight;
+        memset(&tight, 0, sizeof tight);
+        if (probe && probe_tol < o->solver_opts.tol_kkt && o->solver != PLUME_SOLVER_LINEARIZED) {
+            if ((st = solve_probe_tight(mesh, p, &g, o, probe_tol, xa, delta, u, lambda, &tight,
+                                        &probe_factorizations, &probe_factor_seconds, err)) != PLUME_OK)
+                goto cleanup;
+            if (!tight.converged) /* a round-off floor above sqrt(probe_tol): start again below */
+                memset(lambda, 0, (size_t)(m + 1) * sizeof *lambda);
+        }
+        if (!solver && (st = plume_solver_create(o->solver, p, &o->solver_opts, &solver)) != PLUME_OK) {
+            plume_err_set(err, st, "traction: could not create the %s solver (%s)", plume_solver_kind_name(o->solver),
+                          plume_strerror(st));
             goto cleanup;
+        }
+        if (tight.converged) {
+            rep = tight;
+            res->probe_tol_kkt = probe_tol;
+        } else {
+            predict(mesh, p, &g, o->ly, delta, xa, da, xb, db);
+            plume_problem_gather(p, u);
+            if ((st = plume_solver_solve(solver, u, lambda, &rep)) != PLUME_OK) {
+                plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
+                goto cleanup;
+            }
+            rep.iterations += tight.iterations; /* a tight probe that failed counts too */
+            rep.seconds += tight.seconds;
+            if (probe && rep.converged)
+                res->probe_tol_kkt = o->solver_opts.tol_kkt;
         }
         res->newton_iterations += rep.iterations;
         int ok = rep.converged || (o->solver == PLUME_SOLVER_LINEARIZED && rep.reason == PLUME_REASON_SINGLE_STEP);
@@ -288,20 +368,20 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
             res->max_violation = fmax(res->max_violation, rep.max_violation);
         if ((st = plume_problem_forces(p, m ? lambda : NULL, force)) != PLUME_OK)
             goto cleanup;
-        double F = 0.0;
-        for (plume_index t = 0; t < g.ntop; t++)
-            F += force[dim * g.top[t] + 1];
-        double stress = F / (o->lx * o->h);
         double *t = xb;
         xb = xa, db = da;
         xa = t, da = delta;
         memcpy(xa, x, (size_t)(dim * mesh->nv) * sizeof *xa);
         if (probe) { /* the probe's equilibrium is the first state of the history */
-            res->initial_slope = stress / strain;
+            res->initial_slope = reaction_virtual_work(mesh, &g, force, dim, o->ly) / (o->lx * o->h) / strain;
             res->curve.iterations[0] = rep.iterations;
             res->curve.seconds[0] = rep.seconds;
             continue;
         }
+        double F = 0.0;
+        for (plume_index t = 0; t < g.ntop; t++)
+            F += force[dim * g.top[t] + 1];
+        double stress = F / (o->lx * o->h);
         double wbar = (side_integral(mesh, x, dim, g.right, g.nright) - side_integral(mesh, x, dim, g.left, g.nleft)) /
                       (o->lx * o->ly);
         size_t i = (size_t)res->curve.n++;
@@ -316,6 +396,8 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     }
     plume_progress_finish(&prog);
     plume_solver_stats(solver, NULL, &res->factorizations, &res->factor_seconds);
+    res->factorizations += probe_factorizations;
+    res->factor_seconds += probe_factor_seconds;
     st = PLUME_OK;
 cleanup:
     res->seconds = plume_wall_seconds() - t_start;

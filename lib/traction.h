@@ -19,6 +19,16 @@ typedef struct {
     double strain_max;   /* final nominal strain delta/ly; default 0.05 */
     int steps;           /* quasi-static steps; default 10 */
     double probe_strain; /* strain of the extra small-strain solve giving initial_slope; default 1e-6 */
+    double probe_tol_kkt; /* relative KKT tolerance (solver.h) of that probe solve, >= 0. Default 0:
+                             tol_kkt scaled by probe_strain / (strain_max / steps), at most tol_kkt,
+                             so that the probe is solved as accurately, relative to its own (that
+                             much smaller) forces, as the first step: 2e-13 with every default. A
+                             tighter tolerance than tol_kkt runs the probe on a solver of its own
+                             (`linearized` excepted). Measured on the tilted vane, E_xx/E_yy = 1e4:
+                             the slope is then exact to ~1e-8 with newton and ipopt alike, where
+                             newton's was 1.3e-5 off at 3e4 triangles; the probe takes 4-7 newton
+                             iterations instead of 2, and 5 ipopt ones instead of 2 (ipopt's 2 were
+                             already as exact). Set tol_kkt here when the slope is not read. */
     plume_solver_kind solver;
     plume_solver_opts solver_opts;
     int progress;        /* progress line on stderr: 0 off, 1 when stderr is a terminal, 2 always */
@@ -28,7 +38,11 @@ void plume_traction_opts_default(plume_traction_opts *o);
 
 typedef struct {
     plume_curve curve;        /* steps+1 points (fewer if a step failed); arrays owned, see _free */
-    double initial_slope;     /* Pa: nominal stress / strain at probe_strain */
+    double initial_slope;     /* Pa: nominal stress / strain at probe_strain, the reaction taken as
+                                 the virtual work of the forces over the field Y/ly (see traction.c) */
+    double probe_tol_kkt;     /* the relative KKT tolerance the probe met: the probe's own, or the
+                                 steps' tol_kkt when its own was beyond the round-off floor (the probe
+                                 is then solved again with tol_kkt); 0 if the probe failed */
     int converged;            /* every step converged (always 0 for `linearized`) */
     int failed_step;          /* first step that did not converge, or -1 */
     plume_reason failed_reason;

@@ -34,7 +34,8 @@ typedef struct {
     plume_curve curve;       /* the points computed (all steps unless a step failed) */
     double strain, stress, wbar; /* at the last computed point */
     double seconds;          /* wall time of the traction run (mesh and set-up excluded) */
-    int iterations;          /* solver iterations, all steps and the small-strain probe */
+    int iterations;          /* solver iterations, all steps and the small-strain probe (solved
+                                with the steps' tolerance: the study reads no initial slope) */
     int converged;           /* every step converged (never for `linearized`) */
     int complete;            /* the last point is at strain_max (linearized runs count) */
     plume_reason reason;     /* CONVERGED, or why the first failed step stopped */

@@ -34,6 +34,7 @@ void test_study_runner_matches_direct(void)
     plume_traction_opts o;
     plume_traction_opts_default(&o);
     o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.strain_max = 0.05, o.steps = 2, o.progress = 0;
+    o.probe_tol_kkt = o.solver_opts.tol_kkt; /* as the runner: the study reads no initial slope */
     plume_traction_result d;
     CHECK(plume_traction_run(mesh, p, barbs, nb, &o, &d, &err) == PLUME_OK);
     CHECK(d.converged);

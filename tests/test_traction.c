@@ -104,10 +104,72 @@ void test_traction_off_axis_modulus(void)
     }
 }
 
+/* The tilted constrained vane's small-strain probe (strain 1e-6), one load step to 1e-3. */
+static plume_status probe_run(double edge, plume_solver_kind solver, double probe_tol, double tol_step,
+                              plume_traction_result *r, plume_err *err)
+{
+    plume_mesh *m = NULL;
+    plume_problem *p = NULL;
+    plume_index *barbs = NULL, nb = 0;
+    plume_vane vane;
+    plume_vane_default(&vane);
+    plume_status st = plume_patch_mesh(1.0, 1.3, 45.0, edge, PLUME_PATCH_ALIGNED, 2, &m, err);
+    if (st == PLUME_OK)
+        st = plume_problem_create(m->nv, 2, 1.3, &p);
+    if (st == PLUME_OK)
+        st = plume_vane_add(p, m, &vane, &barbs, &nb, err);
+    if (st == PLUME_OK) {
+        plume_traction_opts o;
+        plume_traction_opts_default(&o);
+        o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.steps = 1, o.strain_max = 1e-3, o.progress = 0;
+        o.solver = solver;
+        o.probe_tol_kkt = probe_tol;
+        o.solver_opts.tol_step = tol_step;
+        st = plume_traction_run(m, p, barbs, nb, &o, r, err);
+    }
+    free(barbs);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&m);
+    return st;
+}
+
+/* The probe is solved to round-off (its KKT tolerance scaled by probe strain / first step's
+ * strain, 1e-12 here) and its reaction taken as a virtual work over the sample, so newton and
+ * ipopt give the same initial slope to 1e-7 relative at edge 0.016 (12k triangles). Measured:
+ * 5.2829630 and 5.2829631 Pa, 1.7e-8 apart. Each half alone fails here: newton with the steps'
+ * tolerance is 7.9e-7 off, and by the grip's force sum (before) newton and ipopt were 4.3e-5 and
+ * 1.2e-6 off. A probe tolerance out of reach (1e-30, no step test) falls back on the steps'
+ * tolerance: the run converges and says which tolerance was met. */
+static void probe_checks(void)
+{
+    plume_err err = {{0}};
+    plume_traction_result rn, ri, rf;
+    CHECK(probe_run(0.016, PLUME_SOLVER_NEWTON, 0.0, 1e-13, &rn, &err) == PLUME_OK);
+    CHECK(probe_run(0.016, PLUME_SOLVER_IPOPT, 0.0, 1e-13, &ri, &err) == PLUME_OK);
+    CHECK(rn.converged && ri.converged);
+    CHECK_REL(rn.probe_tol_kkt, 1e-9 * 1e-6 / 1e-3, 1e-12, 0.0);
+    CHECK_REL(ri.probe_tol_kkt, 1e-9 * 1e-6 / 1e-3, 1e-12, 0.0);
+    fprintf(stderr, "    initial slope newton %.9f, ipopt %.9f Pa (relative difference %.2g)\n", rn.initial_slope,
+            ri.initial_slope, fabs(rn.initial_slope / ri.initial_slope - 1.0));
+    CHECK_REL(rn.initial_slope, ri.initial_slope, 1e-7, 0.0);
+    CHECK(rn.initial_slope > 5.2 && rn.initial_slope < 5.4);
+    CHECK(probe_run(0.04, PLUME_SOLVER_NEWTON, -1.0, 1e-13, &rf, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "probe_tol_kkt") != NULL);
+    CHECK(probe_run(0.04, PLUME_SOLVER_NEWTON, NAN, 1e-13, &rf, &err) == PLUME_EINVAL);
+    CHECK(probe_run(0.04, PLUME_SOLVER_NEWTON, 1e-30, 0.0, &rf, &err) == PLUME_OK);
+    CHECK(rf.converged && rf.probe_tol_kkt == 1e-9);
+    CHECK_REL(rf.initial_slope, 5.2931437, 1e-5, 0.0); /* the tight probe's at edge 0.04 */
+    plume_traction_result_free(&rn);
+    plume_traction_result_free(&ri);
+    plume_traction_result_free(&rf);
+}
+
 /* After every converged step the barb edges keep their rest length to 1e-8 relative (checked on
- * the final geometry edge by edge), and newton and ipopt agree on the stress to 1e-6. */
+ * the final geometry edge by edge), and newton and ipopt agree on the stress to 1e-6, and on the
+ * initial slope to 1e-7 (probe_checks). */
 void test_traction_constraint_and_solvers_agree(void)
 {
+    probe_checks();
     plume_vane vane;
     plume_vane_default(&vane); /* E_xx/E_yy = 1e4, G = 1: the paper's Table 4 vane */
     plume_traction_result rn, ri;
