@@ -41,9 +41,13 @@
  *
  * Static scenes ("solve": "static"; dt and duration are then not used, "steps" load steps,
  * default 10) reach equilibrium under loads stepped from 0 to their full value:
- *     "clamps": [ {selector} ]  the selected vertices are fixed and, through their second row
- *                               (the vertices sharing an edge with them), so is the slope: the
- *                               second row keeps its rest height z (rotations held);
+ *     "clamps": [ {selector} ]  the selected vertices are fixed and so is the slope (the rest
+ *                               tangent plane): with the shape-operator bending, a clamp that
+ *                               holds boundary edges holds the slope on the clamp line itself
+ *                               (mirrored stencils, shape_bending.h); with the hinge, or a clamp
+ *                               with no boundary edge, its second row (the vertices sharing an
+ *                               edge with it) keeps its rest height z, which holds the slope half
+ *                               an element further in;
  *     "loads": [ {selector, "force": [fx, fy, fz]}       a total force (N) shared equally by
  *                                                        the selected vertices;
  *                {selector, "line_load": [qx, qy, qz]}   N/m on the boundary edges whose ends
@@ -68,6 +72,11 @@
 #include "../lib/problem.h"
 #include "../lib/statics.h"
 #include "bending.h"
+
+/* plume_scene.clamped bits: a clamped vertex; the second row of a clamp that holds boundary
+ * edges (rest height fixed only with the hinge bending); the second row of a clamp with no
+ * boundary edge (rest height always fixed). */
+enum { PLUME_CLAMP_HELD = 1, PLUME_CLAMP_ROW_EDGE = 2, PLUME_CLAMP_ROW = 4 };
 
 #ifdef __cplusplus
 extern "C" {
@@ -124,7 +133,7 @@ typedef struct {
     /* static scenes */
     int is_static;                /* "solve": "static" */
     int steps;                    /* load steps; default 10 */
-    unsigned char *clamped;       /* [nv] or NULL: bit 0 position fixed, bit 1 rest height z fixed */
+    unsigned char *clamped;       /* [nv] or NULL: PLUME_CLAMP_* bits */
     double *force;                /* [3 nv] or NULL: nominal point and line loads (N) */
     int nmoments;
     plume_scene_moment *moments;  /* [nmoments] */

@@ -35,8 +35,21 @@ static plume_status elastic_problem(const plume_scene *s, plume_problem **out, p
         (st = plume_problem_add_term(p, &term)) != PLUME_OK)
         goto done;
     if (bending) {
-        st = s->hinge_bending ? plume_bending_term_create(m, bm, s->nmat, NULL, &term, err)
-                              : plume_shape_bending_term_create(m, bm, s->nmat, NULL, &term, err);
+        if (s->hinge_bending) {
+            st = plume_bending_term_create(m, bm, s->nmat, NULL, &term, err);
+        } else {
+            /* clamped boundary edges get mirrored stencils (shape_bending.h) */
+            unsigned char *held = s->clamped ? malloc((size_t)m->nv + 1) : NULL;
+            if (s->clamped && !held) {
+                st = plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
+                goto done;
+            }
+            for (plume_index v = 0; held && v < m->nv; v++)
+                held[v] = (s->clamped[v] & PLUME_CLAMP_HELD) != 0;
+            const plume_shape_bending_opts so = {held, 0};
+            st = plume_shape_bending_term_create_opts(m, bm, s->nmat, NULL, &so, &term, err);
+            free(held);
+        }
         if (st != PLUME_OK || (st = plume_problem_add_term(p, &term)) != PLUME_OK)
             goto done;
     }
@@ -182,12 +195,13 @@ plume_status plume_scene_statics(const plume_scene *s, plume_problem **pp, plume
             goto fail;
         l->moments[l->nmoments++] = t;
     }
-    /* clamps: positions of the clamped vertices, rest height of their second row */
+    /* clamps: positions of the clamped vertices; the rest height of their second row where the
+     * bending does not hold the clamp's slope itself (scene.h, "clamps") */
     for (plume_index v = 0; v < m->nv; v++) {
-        if (s->clamped[v] & 1)
+        if (s->clamped[v] & PLUME_CLAMP_HELD)
             for (int a = 0; a < 3; a++)
                 plume_problem_fix_dof(p, 3 * v + a);
-        else if (s->clamped[v] & 2)
+        else if ((s->clamped[v] & PLUME_CLAMP_ROW) || ((s->clamped[v] & PLUME_CLAMP_ROW_EDGE) && s->hinge_bending))
             plume_problem_fix_dof(p, 3 * v + 2);
     }
     for (int h = 0; h < s->nhandles; h++)

@@ -134,9 +134,17 @@ static plume_status parse_clamps(static_parse *p, json_t *jc)
             return plume_json_bad(c, PLUME_EFORMAT, kp, "must be an object with a selector (near/radius, vertices or box)");
         if ((st = plume_json_check_keys(c, e, kp, keys)) != PLUME_OK || (st = select_into(p, e, kp, &n)) != PLUME_OK)
             return st;
+        /* a clamp along the boundary holds rotations by the mirrored stencils of the shape-operator
+         * bending (bit 2: its second row is held only with the hinge); one with no boundary edge
+         * holds them through its second row whatever the bending (bit 4) */
+        int on_edge = 0;
+        for (plume_index e = 0; e < s->mesh->ne && !on_edge; e++)
+            on_edge = s->mesh->edge_tri[2 * e + 1] < 0 && p->sel[s->mesh->edges[2 * e]] &&
+                      p->sel[s->mesh->edges[2 * e + 1]];
         second_row(s->mesh, p->sel, p->row);
+        const unsigned char rowbit = on_edge ? PLUME_CLAMP_ROW_EDGE : PLUME_CLAMP_ROW;
         for (plume_index v = 0; v < s->mesh->nv; v++)
-            s->clamped[v] |= (unsigned char)(p->sel[v] ? 1 : 0) | (unsigned char)(p->row[v] ? 2 : 0);
+            s->clamped[v] |= (unsigned char)(p->sel[v] ? PLUME_CLAMP_HELD : 0) | (unsigned char)(p->row[v] ? rowbit : 0);
     }
     return PLUME_OK;
 }
@@ -296,7 +304,7 @@ plume_status plume_scene_parse_static(const plume_json_ctx *c, json_t *doc, plum
         }
         int held = s->nhandles > 0;
         for (plume_index v = 0; v < m->nv && !held; v++)
-            held = s->clamped[v] & 1;
+            held = s->clamped[v] & PLUME_CLAMP_HELD;
         if (!held) {
             st = plume_json_bad(c, PLUME_EINVAL, "clamps", "%s: a static scene needs a clamp or a handle (nothing holds "
                                                            "it, so rigid motions are free)",

@@ -1,5 +1,5 @@
 /* Mesh-independent anisotropic bending from a per-triangle second fundamental form: the 6-vertex
- * shape-operator stencil (DESIGN.md "Bending is a property of the surface, not of the mesh's
+ * shape-operator fit with slopes shared across edges (DESIGN.md "Bending is a property of the surface, not of the mesh's
  * edges"; issue 8).
  *
  * Why not the hinge. macro/bending.c measures one normal curvature per edge (the dihedral angle)
@@ -28,9 +28,42 @@
  * on ANY triangulation: no edge direction, valence or symmetry of the mesh enters. For a smooth
  * surface the cubic remainder costs O(h) per triangle, and the energy error is O(h) at worst
  * (it cancels to O(h^2) where the stencil is nearly symmetric; measured below).
- * In the barb frame (d, d_perp) the curvatures are linear in c, hence in h:
- *     kappa = (k11, k22, k12) = (d^T II d, d_perp^T II d_perp, d^T II d_perp) = Q c = Q M^-1 h = B h,
- * B a constant 3x3 per triangle.
+ *
+ * Shared edge slopes: the patch test. A fit exact for quadratics in every triangle is not enough
+ * for the equilibria to converge. For the linear plate, a constant curvature is the exact
+ * solution of pure bending, and the discrete equilibrium holds there only if the discrete total
+ * curvature sum_T A_T II_T(w) depends on boundary values alone (a discrete divergence theorem);
+ * otherwise interior vertices feel forces of the order of the boundary moments and the solution
+ * converges to a wrong answer. The own fit alone fails this on irregular meshes: on random
+ * Delaunay meshes the interior forces are 0.64 of the boundary ones, and the elastica converges
+ * to a tip 2.3 % too far whatever the mesh size (regular grids pass by symmetry). Hence II is
+ * written through the divergence theorem on T,
+ *     A II = integral over dT of grad w (x) n_out = sum_e l_e beta_e N_e N_e^T,
+ * exact for the fitted quadratic (the tangential part of grad w integrates to zero along each
+ * edge, and the normal slope is linear along it: the midpoint rule is exact), with beta_e the
+ * slope of the surface across edge e at its midpoint, along the outward normal N_e, above T's
+ * plane. beta_e is then taken as the mean of the two estimates of that slope: T's own fit, and
+ * the neighbour's fit (its quadratic through its own vertices and its three points, in T's frame:
+ * heights above T's plane, so no angle between the planes enters). Both are exact for quadratics,
+ * so II still is; and the two triangles now use the same surface gradient at the edge midpoint,
+ * so the total curvature telescopes to the boundary and the patch test passes to rounding
+ * (tests/test_shape_bending.c, the patch test, on all five families). A boundary edge keeps
+ * T's own slope. The only kernel is the linear functions (beta = 0 on every edge forces the
+ * piecewise linear interpolant to have a continuous gradient). The cost: a triangle's energy
+ * depends on its own points and its neighbours' (typically 12 vertices instead of 6).
+ * In the barb frame (d, d_perp) the curvatures are linear in the slopes, hence in the heights h of
+ * all these points above T's plane:
+ *     kappa = (k11, k22, k12) = (d^T II d, d_perp^T II d_perp, d^T II d_perp) = B h,
+ * B a constant 3 x n per triangle (n the number of points beyond T's vertices).
+ *
+ * Clamped edges. A boundary edge whose vertices a clamp holds has no neighbour, but the surface
+ * must leave it with zero slope. The missing p_k is then the mirror image of T's own vertex x_k
+ * through the plane that holds the edge and the rest normal: g = x_k - 2 m (m . (x_k - x_a)), m the
+ * fixed unit normal of that plane. Every quadratic that meets the clamp with zero slope is even
+ * about the edge, so the fit stays exact for it; g is affine in x_k and x_a, and the chain rule
+ * through it is exact (the points' gradient and block map onto the vertices through
+ * (I - 2 m m^T, 2 m m^T)). The second-row clamp (the row next to the clamp keeps its rest height)
+ * instead bends the strip from half an element in: an error 3 h / (2 L) in a cantilever's tip.
  *
  * Energy. Orthotropic plate (bending.h):
  *     E_T = A/2 (kappa - kappa_rest)^T Dv (kappa - kappa_rest),
@@ -41,8 +74,8 @@
  *     E_T = 1/2 (h - h_rest)^T K (h - h_rest),  K = A B^T Dv B,
  * and create stores only K (PSD when Dv is) and h_rest per triangle.
  *
- * Derivatives (exact, closed form). With f = K (h - h_rest), dE/dx = sum_k f_k grad h_k. In the
- * variables y = (e1, e2, q_k), grad V = (e2 x q, q x e1, N), grad L = (e2 x n, n x e1, 0), so
+ * Derivatives (exact, closed form). With f = K (h - h_rest), dE/dx = sum_k f_k grad h_k (k over
+ * the n points). In the variables y = (e1, e2, q_k), grad V = (e2 x q, q x e1, N), grad L = (e2 x n, n x e1, 0), so
  *     grad h = (grad V - h grad L) / L   (= (e2 x q_perp, q_perp x e1, N) / L, q_perp the part of q in
  *     T's plane); the vertices get (x1, x2, p_k) = (e1, e2, q) parts and x0 minus their sum.
  * Second derivatives: V is trilinear, its Hessian has the off-diagonal blocks
@@ -51,10 +84,11 @@
  *     L_{ab} = A_a^T (I - n n^T) A_b / L + C_ab,  C_{e1 e2} = -[n]x = -C_{e2 e1},  C_aa = 0,
  * and differentiating h = V / L twice and substituting grad V = L grad h + h grad L,
  *     Hess h = (Hess V - grad h grad L^T - grad L grad h^T - h Hess L) / L.
- * Hess L does not depend on k, so the three heights share it. The 18x18 block is
- *     J^T K J + sum_k f_k Hess h_k,  J = [grad h_1; grad h_2; grad h_3] (3 x 18),
- * built in the 15 variables (e1, e2, q_1, q_2, q_3) and mapped to the 6 vertices (x0's rows and
- * columns are minus the sums), upper triangle mirrored so that the block is exactly symmetric.
+ * Hess L does not depend on k, so the heights share it. The block is
+ *     J^T K J + sum_k f_k Hess h_k,  J = [grad h_1; ...; grad h_n],
+ * built in the 3 (n + 2) variables (e1, e2, q_1..q_n), mapped to the n + 3 points (x0's rows and
+ * columns are minus the sums), then to the vertices through the mirror maps, and made exactly
+ * symmetric.
  *
  * PSD treatment. With project != 0 the block is the Gauss-Newton part J^T K J alone: PSD by
  * construction since K is, no eigen-decomposition (an 18x18 Jacobi would cost more than the rest
@@ -136,15 +170,32 @@
 /* Rings searched for replacement stencil vertices, nearest first. */
 #define SHAPE_MAX_RING 3
 
+
+/* A point of a triangle's stencil: a vertex (a slot of the triangle's vertex list) or, on a
+ * clamped edge, the mirror image of one, x_src - 2 m (m . (x_src - x_anchor)). */
 typedef struct {
-    double K[9];  /* A B^T Dv B, symmetric */
-    double h0[3]; /* rest heights */
+    int src;     /* slot of the vertex */
+    int anchor;  /* -1, or the slot of a vertex on the mirror plane */
+    double m[3]; /* unit normal of the mirror plane (anchor >= 0) */
+} shape_point;
+
+/* Per triangle: its vertex slots are ctx->stencil[arity t .. + nslot) (the row is padded with
+ * its first vertex, whose padded blocks stay zero); its points ctx->pts[pt .. + npt), the first
+ * three its own vertices; the energy 1/2 (h - h0)^T K (h - h0) over the heights h of points
+ * 3..npt-1 above the triangle's plane, K (n x n, n = npt - 3) and h0 at ctx->dbl + kh. */
+typedef struct {
+    int nslot, npt;
+    size_t pt, kh;
 } shape_tri;
 
 typedef struct {
     plume_index nt;
-    plume_index *stencil; /* [6*nt] (x0, x1, x2, p1, p2, p3) */
+    int arity, maxpt;
+    plume_index *stencil; /* [arity nt] */
     shape_tri *tri;       /* [nt] */
+    shape_point *pts;
+    double *dbl;
+    double *work; /* eval scratch, sized for maxpt and arity at create */
 } shape_ctx;
 
 /* [v]x, the cross-product matrix: [v]x w = v x w */
@@ -161,159 +212,206 @@ static double det3(double M[3][3])
            M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0]);
 }
 
-/* Geometry of T and its three heights at positions x (3 per vertex) for stencil s. */
-typedef struct {
-    double e1[3], e2[3], N[3], n[3], q[3][3];
-    double L;
-    double h[3];
-    int collapsed;
-} shape_geom;
-
-static void shape_geometry(const double *x, const plume_index *s, shape_geom *G)
+/* Positions of the points of triangle t (3 per point) from positions x (3 per vertex). */
+static void gather_points(const shape_ctx *ctx, plume_index t, const double *x, double *xv)
 {
-    const double *x0 = x + 3 * s[0], *x1 = x + 3 * s[1], *x2 = x + 3 * s[2];
-    for (int i = 0; i < 3; i++) {
-        G->e1[i] = x1[i] - x0[i];
-        G->e2[i] = x2[i] - x0[i];
-    }
-    cross3(G->e1, G->e2, G->N);
-    const double L2 = dot3(G->N, G->N);
-    G->collapsed = !(L2 > SHAPE_COLLAPSED_REL * dot3(G->e1, G->e1) * dot3(G->e2, G->e2)) || !isfinite(L2);
-    G->L = sqrt(L2);
-    for (int i = 0; i < 3; i++)
-        G->n[i] = G->collapsed ? 0.0 : G->N[i] / G->L;
-    for (int k = 0; k < 3; k++) {
-        const double *p = x + 3 * s[3 + k];
+    const shape_tri *T = &ctx->tri[t];
+    const plume_index *s = ctx->stencil + (size_t)ctx->arity * t;
+    const shape_point *P = ctx->pts + T->pt;
+    for (int j = 0; j < T->npt; j++) {
+        const double *p = x + 3 * s[P[j].src];
+        double *o = xv + 3 * j;
+        memcpy(o, p, 3 * sizeof *o);
+        if (P[j].anchor < 0)
+            continue;
+        const double *a = x + 3 * s[P[j].anchor], *m = P[j].m;
+        const double d = m[0] * (p[0] - a[0]) + m[1] * (p[1] - a[1]) + m[2] * (p[2] - a[2]);
         for (int i = 0; i < 3; i++)
-            G->q[k][i] = p[i] - x0[i];
-        G->h[k] = dot3(G->n, G->q[k]);
+            o[i] -= 2.0 * d * m[i];
     }
 }
 
-/* The 18x18 block (row-major) J^T K J + [!gn] sum_k f_k Hess h_k; gy[k][b] is grad h_k's part in
- * y-block b (0: e1, 1: e2, 2: q_k). */
-static void shape_hessian(const shape_geom *G, const double K[9], const double f[3], double gy[3][3][3],
-                          int gauss_newton, double *H)
+/* Geometry of T (its points at xv) and the heights h[j] of points j = 3..npt-1 above its plane
+ * (h[0..2] = 0). Returns 0 if T has collapsed. */
+typedef struct {
+    double e1[3], e2[3], N[3], n[3];
+    double L;
+} shape_geom;
+
+static int shape_geometry(const double *xv, int npt, shape_geom *G, double *h)
 {
-    double Hy[15][15];
-    memset(Hy, 0, sizeof Hy);
-    /* Gauss-Newton part: y-block index of gy[k][b] is b < 2 ? b : 2 + k */
-    for (int k = 0; k < 3; k++)
-        for (int l = 0; l < 3; l++) {
-            const double Kkl = K[3 * k + l];
+    for (int i = 0; i < 3; i++) {
+        G->e1[i] = xv[3 + i] - xv[i];
+        G->e2[i] = xv[6 + i] - xv[i];
+    }
+    cross3(G->e1, G->e2, G->N);
+    const double L2 = dot3(G->N, G->N);
+    if (!(L2 > SHAPE_COLLAPSED_REL * dot3(G->e1, G->e1) * dot3(G->e2, G->e2)) || !isfinite(L2))
+        return 0;
+    G->L = sqrt(L2);
+    for (int i = 0; i < 3; i++)
+        G->n[i] = G->N[i] / G->L;
+    h[0] = h[1] = h[2] = 0.0;
+    for (int j = 3; j < npt; j++) {
+        const double q[3] = {xv[3 * j] - xv[0], xv[3 * j + 1] - xv[1], xv[3 * j + 2] - xv[2]};
+        h[j] = dot3(G->n, q);
+    }
+    return 1;
+}
+
+/* The Hessian in y = (e1, e2, q_3, ..., q_{npt-1}) (y-block of point j >= 1 is j - 1; ny = 3 (npt
+ * - 1)): J^T K J + [!gn] sum_k f_k Hess h_k. gy[3 j + b] (3 doubles each) is grad h_j's part in
+ * y-block b (0: e1, 1: e2, 2: q_j); f[j] = (K dh)_j; K is n x n over j = 3..npt-1. */
+static void shape_hessian_y(const shape_geom *G, const double *xv, int npt, const double *K, const double *f,
+                            const double *h, const double *gy, int gauss_newton, double *Hy, double *kj)
+{
+    const int n = npt - 3, ny = 3 * (npt - 1);
+    memset(Hy, 0, sizeof(double) * (size_t)ny * (size_t)ny);
+    /* Gauss-Newton: for each k, kj = sum_l K_kl grad h_l (over y), then Hy += grad h_k kj^T */
+    for (int k = 0; k < n; k++) {
+        memset(kj, 0, sizeof(double) * (size_t)ny);
+        for (int l = 0; l < n; l++) {
+            const double Kkl = K[k * n + l];
             if (Kkl == 0.0)
                 continue;
-            for (int a = 0; a < 3; a++) {
-                const int A = a < 2 ? a : 2 + k;
-                for (int b = 0; b < 3; b++) {
-                    const int B = b < 2 ? b : 2 + l;
-                    for (int i = 0; i < 3; i++)
-                        for (int j = 0; j < 3; j++)
-                            Hy[3 * A + i][3 * B + j] += Kkl * gy[k][a][i] * gy[l][b][j];
-                }
+            const double *g = gy + 9 * (3 + l);
+            for (int i = 0; i < 3; i++) {
+                kj[i] += Kkl * g[i];
+                kj[3 + i] += Kkl * g[3 + i];
+                kj[3 * (2 + l) + i] += Kkl * g[6 + i];
             }
         }
+        const double *g = gy + 9 * (3 + k);
+        const int rows[3] = {0, 1, 2 + k};
+        for (int b = 0; b < 3; b++)
+            for (int i = 0; i < 3; i++) {
+                const double gi = g[3 * b + i];
+                if (gi == 0.0)
+                    continue;
+                double *row = Hy + (size_t)(3 * rows[b] + i) * ny;
+                for (int c = 0; c < ny; c++)
+                    row[c] += gi * kj[c];
+            }
+    }
     if (!gauss_newton) {
         const double iL = 1.0 / G->L;
         double gL[2][3];
         cross3(G->e2, G->n, gL[0]);
         cross3(G->n, G->e1, gL[1]);
-        /* sum_k (f_k / L) Hess V_k and the grad h grad L^T terms */
         double qs[3] = {0.0, 0.0, 0.0}, S = 0.0;
         double Se1[3][3], Se2[3][3];
         skew(G->e1, Se1);
         skew(G->e2, Se2);
-        for (int k = 0; k < 3; k++) {
+        for (int k = 0; k < n; k++) {
+            const int j = 3 + k, Q = 2 + k;
             const double c = f[k] * iL;
-            S += c * G->h[k];
+            if (c == 0.0)
+                continue;
+            const double q[3] = {xv[3 * j] - xv[0], xv[3 * j + 1] - xv[1], xv[3 * j + 2] - xv[2]};
+            S += c * h[j];
             for (int i = 0; i < 3; i++)
-                qs[i] += c * G->q[k][i];
-            const int Q = 2 + k;
+                qs[i] += c * q[i];
             for (int i = 0; i < 3; i++)
-                for (int j = 0; j < 3; j++) {
-                    Hy[i][3 * Q + j] += c * Se2[i][j];     /* V_{e1 q} = [e2]x */
-                    Hy[3 * Q + j][i] += c * Se2[i][j];
-                    Hy[3 + i][3 * Q + j] -= c * Se1[i][j]; /* V_{e2 q} = -[e1]x */
-                    Hy[3 * Q + j][3 + i] -= c * Se1[i][j];
+                for (int jj = 0; jj < 3; jj++) {
+                    Hy[(size_t)i * ny + 3 * Q + jj] += c * Se2[i][jj]; /* V_{e1 q} = [e2]x */
+                    Hy[(size_t)(3 * Q + jj) * ny + i] += c * Se2[i][jj];
+                    Hy[(size_t)(3 + i) * ny + 3 * Q + jj] -= c * Se1[i][jj]; /* V_{e2 q} = -[e1]x */
+                    Hy[(size_t)(3 * Q + jj) * ny + 3 + i] -= c * Se1[i][jj];
                 }
+            const double *g = gy + 9 * j;
             for (int a = 0; a < 3; a++) {
                 const int A = a < 2 ? a : Q;
                 for (int b = 0; b < 2; b++)
                     for (int i = 0; i < 3; i++)
-                        for (int j = 0; j < 3; j++) {
-                            const double v = c * gy[k][a][i] * gL[b][j];
-                            Hy[3 * A + i][3 * b + j] -= v;
-                            Hy[3 * b + j][3 * A + i] -= v;
+                        for (int jj = 0; jj < 3; jj++) {
+                            const double v = c * g[3 * a + i] * gL[b][jj];
+                            Hy[(size_t)(3 * A + i) * ny + 3 * b + jj] -= v;
+                            Hy[(size_t)(3 * b + jj) * ny + 3 * A + i] -= v;
                         }
             }
         }
         double Sq[3][3];
         skew(qs, Sq);
         for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) {
-                Hy[i][3 + j] -= Sq[i][j]; /* V_{e1 e2} = -[q]x */
-                Hy[3 + j][i] -= Sq[i][j];
+            for (int jj = 0; jj < 3; jj++) {
+                Hy[(size_t)i * ny + 3 + jj] -= Sq[i][jj]; /* V_{e1 e2} = -[q]x */
+                Hy[(size_t)(3 + jj) * ny + i] -= Sq[i][jj];
             }
         /* - S Hess L, S = sum_k f_k h_k / L */
         if (S != 0.0) {
             double A[2][3][3], PA[2][3][3], Sn[3][3];
             for (int i = 0; i < 3; i++)
-                for (int j = 0; j < 3; j++) {
-                    A[0][i][j] = -Se2[i][j];
-                    A[1][i][j] = Se1[i][j];
+                for (int jj = 0; jj < 3; jj++) {
+                    A[0][i][jj] = -Se2[i][jj];
+                    A[1][i][jj] = Se1[i][jj];
                 }
             for (int a = 0; a < 2; a++)
-                for (int j = 0; j < 3; j++) {
-                    const double nA = G->n[0] * A[a][0][j] + G->n[1] * A[a][1][j] + G->n[2] * A[a][2][j];
+                for (int jj = 0; jj < 3; jj++) {
+                    const double nA = G->n[0] * A[a][0][jj] + G->n[1] * A[a][1][jj] + G->n[2] * A[a][2][jj];
                     for (int i = 0; i < 3; i++)
-                        PA[a][i][j] = A[a][i][j] - G->n[i] * nA;
+                        PA[a][i][jj] = A[a][i][jj] - G->n[i] * nA;
                 }
             skew(G->n, Sn);
             for (int a = 0; a < 2; a++)
                 for (int b = 0; b < 2; b++)
                     for (int i = 0; i < 3; i++)
-                        for (int j = 0; j < 3; j++) {
+                        for (int jj = 0; jj < 3; jj++) {
                             /* (A_a^T P A_b)_{ij} = sum_m A_a[m][i] (P A_b)[m][j] (P^2 = P) */
-                            double v = (A[a][0][i] * PA[b][0][j] + A[a][1][i] * PA[b][1][j] +
-                                        A[a][2][i] * PA[b][2][j]) * iL;
+                            double v = (A[a][0][i] * PA[b][0][jj] + A[a][1][i] * PA[b][1][jj] +
+                                        A[a][2][i] * PA[b][2][jj]) * iL;
                             if (a == 0 && b == 1)
-                                v -= Sn[i][j];
+                                v -= Sn[i][jj];
                             else if (a == 1 && b == 0)
-                                v += Sn[i][j];
-                            Hy[3 * a + i][3 * b + j] -= S * v;
+                                v += Sn[i][jj];
+                            Hy[(size_t)(3 * a + i) * ny + 3 * b + jj] -= S * v;
                         }
         }
     }
-    /* exactly symmetric */
-    for (int r = 0; r < 15; r++)
-        for (int c = r + 1; c < 15; c++)
-            Hy[r][c] = Hy[c][r] = 0.5 * (Hy[r][c] + Hy[c][r]);
-    /* vertices (x0, x1, x2, p1, p2, p3): x_u for u >= 1 is y-block u - 1; x0 is minus the sum */
-    /* R[i][c] = -sum_B Hy[3B + i][c]: x0's row i against y column c */
-    double R[3][15];
+    for (int r = 0; r < ny; r++)
+        for (int c = r + 1; c < ny; c++)
+            Hy[(size_t)r * ny + c] = Hy[(size_t)c * ny + r] = 0.5 * (Hy[(size_t)r * ny + c] + Hy[(size_t)c * ny + r]);
+}
+
+/* y -> points: point j >= 1 is y-block j - 1, point 0 is minus their sum. Hv is (3 npt)^2. */
+static void y_to_points(const double *Hy, int npt, double *Hv)
+{
+    const int ny = 3 * (npt - 1), nv = 3 * npt;
+    for (int r = 0; r < ny; r++)
+        for (int c = 0; c < ny; c++)
+            Hv[(size_t)(3 + r) * nv + 3 + c] = Hy[(size_t)r * ny + c];
     for (int i = 0; i < 3; i++)
-        for (int c = 0; c < 15; c++) {
+        for (int c = 0; c < ny; c++) {
             double s = 0.0;
-            for (int B = 0; B < 5; B++)
-                s += Hy[3 * B + i][c];
-            R[i][c] = -s;
-        }
-    for (int r = 0; r < 15; r++)
-        for (int c = 0; c < 15; c++)
-            H[(3 + r) * 18 + 3 + c] = Hy[r][c];
-    for (int i = 0; i < 3; i++)
-        for (int c = 0; c < 15; c++)
-            H[i * 18 + 3 + c] = H[(3 + c) * 18 + i] = R[i][c];
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            double s = 0.0;
-            for (int B = 0; B < 5; B++)
-                s += R[i][3 * B + j];
-            H[i * 18 + j] = -s;
+            for (int B = 0; B < npt - 1; B++)
+                s += Hy[(size_t)(3 * B + i) * ny + c];
+            Hv[(size_t)i * nv + 3 + c] = Hv[(size_t)(3 + c) * nv + i] = -s;
         }
     for (int i = 0; i < 3; i++)
-        for (int j = i + 1; j < 3; j++)
-            H[i * 18 + j] = H[j * 18 + i] = 0.5 * (H[i * 18 + j] + H[j * 18 + i]);
+        for (int jj = 0; jj < 3; jj++) {
+            double s = 0.0;
+            for (int B = 0; B < npt - 1; B++)
+                s += Hv[(size_t)i * nv + 3 + 3 * B + jj];
+            Hv[(size_t)i * nv + jj] = -s;
+        }
+    for (int i = 0; i < 3; i++)
+        for (int jj = i + 1; jj < 3; jj++)
+            Hv[(size_t)i * nv + jj] = Hv[(size_t)jj * nv + i] = 0.5 * (Hv[(size_t)i * nv + jj] + Hv[(size_t)jj * nv + i]);
+}
+
+/* Adds the 3-vector v of point j to the slots it depends on, in out (stride 1 per coordinate,
+ * `step` between coordinates): v to src, or (I - P) v to src and P v to anchor, P = 2 m m^T. */
+static void point_to_slots(const shape_point *p, const double v[3], double *out, size_t step)
+{
+    if (p->anchor < 0) {
+        for (int i = 0; i < 3; i++)
+            out[(size_t)(3 * p->src + i) * step] += v[i];
+        return;
+    }
+    const double d = 2.0 * (v[0] * p->m[0] + v[1] * p->m[1] + v[2] * p->m[2]);
+    for (int i = 0; i < 3; i++) {
+        out[(size_t)(3 * p->src + i) * step] += v[i] - d * p->m[i];
+        out[(size_t)(3 * p->anchor + i) * step] += d * p->m[i];
+    }
 }
 
 static plume_status shape_eval(void *vctx, int dim, const double *x, double *energy, double *grad,
@@ -322,54 +420,90 @@ static plume_status shape_eval(void *vctx, int dim, const double *x, double *ene
     const shape_ctx *ctx = vctx;
     if (!ctx || !x || dim != 3)
         return PLUME_EINVAL;
+    const int mp = ctx->maxpt, ka = 3 * ctx->arity;
+    double *xv = ctx->work, *h = xv + 3 * mp, *f = h + mp, *gy = f + mp, *gv = gy + 9 * mp, *ga = gv + 3 * mp;
+    double *kj = ga + ka, *Hy = kj + 3 * mp, *Hv = Hy + (size_t)9 * mp * mp, *Ht = Hv + (size_t)9 * mp * mp;
     double E = 0.0;
     for (plume_index t = 0; t < ctx->nt; t++) {
-        const plume_index *s = ctx->stencil + 6 * t;
         const shape_tri *T = &ctx->tri[t];
+        const shape_point *P = ctx->pts + T->pt;
+        const int npt = T->npt, n = npt - 3;
+        const double *K = ctx->dbl + T->kh, *h0 = K + (size_t)n * n;
+        gather_points(ctx, t, x, xv);
         shape_geom G;
-        shape_geometry(x, s, &G);
-        if (G.collapsed)
+        if (!shape_geometry(xv, npt, &G, h))
             return PLUME_EINVAL;
-        double dh[3], f[3];
-        for (int k = 0; k < 3; k++)
-            dh[k] = G.h[k] - T->h0[k];
-        for (int k = 0; k < 3; k++)
-            f[k] = T->K[3 * k] * dh[0] + T->K[3 * k + 1] * dh[1] + T->K[3 * k + 2] * dh[2];
-        E += 0.5 * (f[0] * dh[0] + f[1] * dh[1] + f[2] * dh[2]);
+        double e = 0.0;
+        for (int k = 0; k < n; k++) {
+            double s = 0.0;
+            for (int l = 0; l < n; l++)
+                s += K[k * n + l] * (h[3 + l] - h0[l]);
+            f[k] = s;
+            e += s * (h[3 + k] - h0[k]);
+        }
+        E += 0.5 * e;
         if (!grad && !hblocks)
             continue;
-        /* grad h_k in y = (e1, e2, q_k): (grad V - h grad L) / L */
+        /* grad h_j in y = (e1, e2, q_j): (grad V - h grad L) / L */
         const double iL = 1.0 / G.L;
-        double gL[2][3], gy[3][3][3];
+        double gL[2][3];
         cross3(G.e2, G.n, gL[0]);
         cross3(G.n, G.e1, gL[1]);
-        for (int k = 0; k < 3; k++) {
+        for (int j = 3; j < npt; j++) {
+            const double q[3] = {xv[3 * j] - xv[0], xv[3 * j + 1] - xv[1], xv[3 * j + 2] - xv[2]};
             double a[3], b[3];
-            cross3(G.e2, G.q[k], a);
-            cross3(G.q[k], G.e1, b);
+            cross3(G.e2, q, a);
+            cross3(q, G.e1, b);
+            double *g = gy + 9 * j;
             for (int i = 0; i < 3; i++) {
-                gy[k][0][i] = (a[i] - G.h[k] * gL[0][i]) * iL;
-                gy[k][1][i] = (b[i] - G.h[k] * gL[1][i]) * iL;
-                gy[k][2][i] = G.n[i];
+                g[i] = (a[i] - h[j] * gL[0][i]) * iL;
+                g[3 + i] = (b[i] - h[j] * gL[1][i]) * iL;
+                g[6 + i] = G.n[i];
             }
         }
         if (grad) {
-            for (int i = 0; i < 3; i++) {
-                double g1 = 0.0, g2 = 0.0;
-                for (int k = 0; k < 3; k++) {
-                    g1 += f[k] * gy[k][0][i];
-                    g2 += f[k] * gy[k][1][i];
-                    const double gp = f[k] * gy[k][2][i];
-                    grad[3 * s[3 + k] + i] += gp;
-                    grad[3 * s[0] + i] -= gp;
+            memset(gv, 0, sizeof(double) * 3 * (size_t)npt);
+            for (int k = 0; k < n; k++) {
+                const double *g = gy + 9 * (3 + k);
+                for (int i = 0; i < 3; i++) {
+                    gv[3 + i] += f[k] * g[i];
+                    gv[6 + i] += f[k] * g[3 + i];
+                    gv[3 * (3 + k) + i] += f[k] * g[6 + i];
                 }
-                grad[3 * s[1] + i] += g1;
-                grad[3 * s[2] + i] += g2;
-                grad[3 * s[0] + i] -= g1 + g2;
             }
+            for (int j = 1; j < npt; j++)
+                for (int i = 0; i < 3; i++)
+                    gv[i] -= gv[3 * j + i];
+            memset(ga, 0, sizeof(double) * (size_t)ka);
+            for (int j = 0; j < npt; j++)
+                point_to_slots(&P[j], gv + 3 * j, ga, 1);
+            const plume_index *s = ctx->stencil + (size_t)ctx->arity * t;
+            for (int v = 0; v < T->nslot; v++)
+                for (int i = 0; i < 3; i++)
+                    grad[3 * s[v] + i] += ga[3 * v + i];
         }
-        if (hblocks)
-            shape_hessian(&G, T->K, f, gy, project != 0, hblocks + (size_t)t * 324);
+        if (hblocks) {
+            const int nv = 3 * npt;
+            shape_hessian_y(&G, xv, npt, K, f, h, gy, project != 0, Hy, kj);
+            y_to_points(Hy, npt, Hv);
+            /* Ht = Hv T (columns to slots), then the block = T^T Ht (rows to slots) */
+            memset(Ht, 0, sizeof(double) * (size_t)nv * (size_t)ka);
+            for (int r = 0; r < nv; r++)
+                for (int j = 0; j < npt; j++)
+                    point_to_slots(&P[j], Hv + (size_t)r * nv + 3 * j, Ht + (size_t)r * ka, 1);
+            double *Hb = hblocks + (size_t)t * (size_t)ka * (size_t)ka;
+            memset(Hb, 0, sizeof(double) * (size_t)ka * (size_t)ka);
+            for (int c = 0; c < ka; c++)
+                for (int j = 0; j < npt; j++) {
+                    const double v[3] = {Ht[(size_t)(3 * j) * ka + c], Ht[(size_t)(3 * j + 1) * ka + c],
+                                         Ht[(size_t)(3 * j + 2) * ka + c]};
+                    point_to_slots(&P[j], v, Hb + c, (size_t)ka);
+                }
+            for (int r = 0; r < ka; r++)
+                for (int c = r + 1; c < ka; c++)
+                    Hb[(size_t)r * ka + c] = Hb[(size_t)c * ka + r] =
+                        0.5 * (Hb[(size_t)r * ka + c] + Hb[(size_t)c * ka + r]);
+        }
     }
     if (energy)
         *energy += E;
@@ -383,6 +517,9 @@ static void shape_destroy(void *vctx)
         return;
     free(ctx->stencil);
     free(ctx->tri);
+    free(ctx->pts);
+    free(ctx->dbl);
+    free(ctx->work);
     free(ctx);
 }
 
@@ -467,14 +604,25 @@ static int ring_grow(search_ws *W, const plume_mesh *m)
     return 1;
 }
 
+/* Where the stencil's points are in the reference plane: mesh vertices, except the ghost slots
+ * (gp[k] != NULL), which sit at the mirror image of T's own vertex. */
+typedef struct {
+    const double *gp[3];
+} ghost_ref;
+
+static const double *slot_point(const plume_mesh *m, const ghost_ref *gr, const plume_index p[3], int k)
+{
+    return gr && gr->gp[k] ? gr->gp[k] : m->X + 2 * p[k];
+}
+
 /* Score of a stencil: s(M) over the farthest vertex's distance to T's centroid in T's longest
  * edges (>= some positive constant). *quality gets s(M). */
-static double stencil_score(const ref_tri *R, const plume_mesh *m, const plume_index p[3], const double cen[2],
-                            double edge, double *quality)
+static double stencil_score(const ref_tri *R, const plume_mesh *m, const ghost_ref *gr, const plume_index p[3],
+                            const double cen[2], double edge, double *quality)
 {
     double M[3][3], far = 0.0;
     for (int k = 0; k < 3; k++) {
-        const double *P = m->X + 2 * p[k];
+        const double *P = slot_point(m, gr, p, k);
         fit_row(R, P, M[k]);
         far = fmax(far, hypot(P[0] - cen[0], P[1] - cen[1]) / edge);
     }
@@ -483,8 +631,10 @@ static double stencil_score(const ref_tri *R, const plume_mesh *m, const plume_i
 }
 
 /* Chooses p[3] for triangle t (natural opposite vertices in p, -1 where the edge is on the
- * boundary). Returns the chosen stencil's s(M) (0 if none was found), or -1 on allocation failure. */
-static double choose_stencil(const plume_mesh *m, plume_index t, const ref_tri *R, search_ws *W, plume_index p[3])
+ * boundary; ghost slots, gr->gp[k] != NULL, are kept whatever happens). Returns the chosen
+ * stencil's s(M) (0 if none was found), or -1 on allocation failure. */
+static double choose_stencil(const plume_mesh *m, plume_index t, const ref_tri *R, const ghost_ref *gr,
+                             search_ws *W, plume_index p[3])
 {
     const plume_index *tv = m->tri + 3 * t;
     double cen[2] = {0.0, 0.0}, edge = 0.0;
@@ -494,14 +644,17 @@ static double choose_stencil(const plume_mesh *m, plume_index t, const ref_tri *
         cen[1] += A[1] / 3.0;
         edge = fmax(edge, hypot(B[0] - A[0], B[1] - A[1]));
     }
-    int nmiss = 0, miss[3];
-    for (int k = 0; k < 3; k++)
+    int nmiss = 0, miss[3], nfree = 0, freeslot[3];
+    for (int k = 0; k < 3; k++) {
         if (p[k] < 0)
             miss[nmiss++] = k;
+        if (!gr->gp[k])
+            freeslot[nfree++] = k;
+    }
     double q = 0.0;
     if (nmiss == 0) {
-        stencil_score(R, m, p, cen, edge, &q);
-        if (q >= SHAPE_GOOD_STENCIL)
+        stencil_score(R, m, gr, p, cen, edge, &q);
+        if (q >= SHAPE_GOOD_STENCIL || nfree == 0)
             return q;
     }
     const plume_index nat[3] = {p[0], p[1], p[2]};
@@ -519,15 +672,16 @@ static double choose_stencil(const plume_mesh *m, plume_index t, const ref_tri *
         const plume_index *C = W->ring + 3;
         const plume_index nc = W->nring - 3;
         for (int full = 0; full < 2; full++) {
-            /* first only the missing slots (natural vertices kept), then all three anew */
+            /* first only the missing slots (natural and ghost vertices kept), then every
+             * non-ghost slot anew */
             if (full == 0 && nmiss == 0)
                 continue;
             if (full == 1 && bestq >= SHAPE_GOOD_STENCIL)
                 break;
-            const int ns = full ? 3 : nmiss;
+            const int ns = full ? nfree : nmiss;
             int slot[3];
             for (int k = 0; k < ns; k++)
-                slot[k] = full ? k : miss[k];
+                slot[k] = full ? freeslot[k] : miss[k];
             /* combinations i0 < i1 < i2 of candidates for the ns slots */
             plume_index idx[3] = {0, 1, 2};
             if (nc < ns)
@@ -537,14 +691,13 @@ static double choose_stencil(const plume_mesh *m, plume_index t, const ref_tri *
                 int ok = 1;
                 for (int k = 0; k < ns; k++)
                     c[slot[k]] = C[idx[k]];
-                if (!full)
-                    for (int k = 0; k < ns; k++)
-                        for (int j = 0; j < 3; j++)
-                            if (j != slot[k] && c[j] == c[slot[k]])
-                                ok = 0;
+                for (int k = 0; k < ns; k++)
+                    for (int j = 0; j < 3; j++)
+                        if (j != slot[k] && !gr->gp[j] && c[j] == c[slot[k]])
+                            ok = 0;
                 if (ok) {
                     double qq;
-                    const double sc = stencil_score(R, m, c, cen, edge, &qq);
+                    const double sc = stencil_score(R, m, gr, c, cen, edge, &qq);
                     if (qq >= SHAPE_MIN_STENCIL && sc > best) {
                         best = sc;
                         bestq = qq;
@@ -566,7 +719,7 @@ static double choose_stencil(const plume_mesh *m, plume_index t, const ref_tri *
             break;
     }
     if (bp[0] < 0)
-        return 0.0;
+        return nmiss == 0 ? q : 0.0;
     memcpy(p, bp, sizeof bp);
     return bestq;
 }
@@ -589,13 +742,261 @@ static int inv3(double M[3][3], double I[3][3])
     return 1;
 }
 
+
+/* One triangle's own fit (first pass of create): its reference data, its three fitted points
+ * (vertex v, or the mirror of v through the plane with normal m that holds anchor vertex a),
+ * their reference positions P, the inverse of M, and its neighbours across its edges. */
+typedef struct {
+    ref_tri R;
+    plume_index v[3], a[3]; /* a[k] = -1: p_k is vertex v[k] */
+    double m[3][3], P[3][2];
+    double Mi[3][3];
+    plume_index nb[3]; /* triangle across edge k (x_{k+1}, x_{k+2}), or -1 */
+} own_fit;
+
+/* Builder of one triangle's slots and points (second pass). */
+typedef struct {
+    plume_index *slot; /* global vertex of each slot */
+    int nslot, npt, cap;
+    shape_point *pt;
+    double *coef[3]; /* per edge of T: the coefficient of each point's height in its slope */
+} tri_build;
+
+static int slot_of(tri_build *b, plume_index v)
+{
+    for (int i = 0; i < b->nslot; i++)
+        if (b->slot[i] == v)
+            return i;
+    b->slot[b->nslot] = v;
+    return b->nslot++;
+}
+
+/* Index of the point (vertex v, or its mirror through (anchor, m)); mirrors are never shared. */
+static int point_of(tri_build *b, plume_index v, plume_index anchor, const double m[3])
+{
+    const int s = slot_of(b, v);
+    if (anchor < 0)
+        for (int j = 0; j < b->npt; j++)
+            if (b->pt[j].anchor < 0 && b->pt[j].src == s)
+                return j;
+    shape_point *p = &b->pt[b->npt];
+    p->src = s;
+    p->anchor = anchor < 0 ? -1 : slot_of(b, anchor);
+    if (anchor >= 0)
+        memcpy(p->m, m, sizeof p->m);
+    for (int k = 0; k < 3; k++)
+        b->coef[k][b->npt] = 0.0;
+    return b->npt++;
+}
+
+/* d(lambda_i lambda_j)/dN at reference point X of triangle R: the derivatives of the three fit
+ * quadratics q_j = lambda_{j+1} lambda_{j+2} along N, and of the three barycentrics (a). */
+static void fit_slopes(const ref_tri *R, const double X[2], const double N[2], double d[3], double a[3])
+{
+    double l[3], gn[3];
+    barycentric(R, X, l);
+    for (int i = 0; i < 3; i++)
+        gn[i] = a[i] = R->g[i][0] * N[0] + R->g[i][1] * N[1];
+    for (int j = 0; j < 3; j++) {
+        const int p = (j + 1) % 3, q = (j + 2) % 3;
+        d[j] = gn[p] * l[q] + gn[q] * l[p];
+    }
+}
+
+/* First pass for triangle t: own stencil (natural, ghost or from the ring), its fit. */
+static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const double *rest_x,
+                                const unsigned char *clamped, search_ws *W, own_fit *F, plume_err *err)
+{
+    const plume_index *tv = mesh->tri + 3 * t;
+    ref_tri *R = &F->R;
+    const double *X0 = mesh->X + 2 * tv[0], *X1 = mesh->X + 2 * tv[1], *X2 = mesh->X + 2 * tv[2];
+    const double ax = X1[0] - X0[0], ay = X1[1] - X0[1], bx = X2[0] - X0[0], by = X2[1] - X0[1];
+    R->X0[0] = X0[0];
+    R->X0[1] = X0[1];
+    R->det = ax * by - ay * bx;
+    const double scl = ax * ax + ay * ay + bx * bx + by * by + (bx - ax) * (bx - ax) + (by - ay) * (by - ay);
+    if (!isfinite(R->det) || !(fabs(R->det) > SHAPE_DEGENERATE_REL * scl))
+        return plume_err_set(err, PLUME_EINVAL, "shape bending: triangle %ld: degenerate reference triangle (area %g)",
+                             (long)t, 0.5 * R->det);
+    /* lambda_1 = cross(X - X0, b) / det, lambda_2 = cross(a, X - X0) / det */
+    R->g[1][0] = by / R->det;
+    R->g[1][1] = -bx / R->det;
+    R->g[2][0] = -ay / R->det;
+    R->g[2][1] = ax / R->det;
+    R->g[0][0] = -R->g[1][0] - R->g[2][0];
+    R->g[0][1] = -R->g[1][1] - R->g[2][1];
+
+    /* natural stencil: p_k across the edge (tv[k+1], tv[k+2]) */
+    plume_index p[3];
+    for (int k = 0; k < 3; k++) {
+        const plume_index a = tv[(k + 1) % 3], b = tv[(k + 2) % 3];
+        p[k] = F->nb[k] = -1;
+        for (plume_index s = W->vstart[a]; s < W->vstart[a + 1]; s++) {
+            const plume_index u = W->vtri[s];
+            if (u == t)
+                continue;
+            const plume_index *uv = mesh->tri + 3 * u;
+            int hasb = 0;
+            for (int j = 0; j < 3; j++)
+                hasb |= uv[j] == b;
+            if (!hasb)
+                continue;
+            for (int j = 0; j < 3; j++)
+                if (uv[j] != a && uv[j] != b) {
+                    p[k] = uv[j];
+                    F->nb[k] = u;
+                }
+        }
+    }
+    /* clamped boundary edges: the missing p_k is the mirror image of T's own vertex x_k */
+    ghost_ref gr = {{NULL, NULL, NULL}};
+    for (int k = 0; k < 3; k++) {
+        const plume_index a = tv[(k + 1) % 3], b = tv[(k + 2) % 3];
+        F->a[k] = -1;
+        if (!clamped || p[k] >= 0 || !clamped[a] || !clamped[b])
+            continue;
+        const double *Xa = mesh->X + 2 * a, *Xb = mesh->X + 2 * b, *Xc = mesh->X + 2 * tv[k];
+        const double ex = Xb[0] - Xa[0], ey = Xb[1] - Xa[1], el = hypot(ex, ey);
+        const double nx = -ey / el, ny = ex / el;
+        const double d = nx * (Xc[0] - Xa[0]) + ny * (Xc[1] - Xa[1]);
+        F->P[k][0] = Xc[0] - 2.0 * d * nx;
+        F->P[k][1] = Xc[1] - 2.0 * d * ny;
+        gr.gp[k] = F->P[k];
+        p[k] = tv[k];
+        F->a[k] = a;
+        double *m = F->m[k];
+        if (rest_x) { /* the plane through the edge and the rest triangle's normal */
+            const double *r0 = rest_x + 3 * tv[0], *r1 = rest_x + 3 * tv[1], *r2 = rest_x + 3 * tv[2];
+            const double *ra = rest_x + 3 * a, *rb = rest_x + 3 * b;
+            double u[3], w[3], nr[3], e[3];
+            for (int i = 0; i < 3; i++) {
+                u[i] = r1[i] - r0[i];
+                w[i] = r2[i] - r0[i];
+                e[i] = rb[i] - ra[i];
+            }
+            cross3(u, w, nr);
+            cross3(nr, e, m);
+        } else {
+            m[0] = nx, m[1] = ny, m[2] = 0.0;
+        }
+        const double ml = sqrt(dot3(m, m));
+        if (!(ml > 0.0) || !isfinite(ml))
+            return plume_err_set(err, PLUME_EINVAL,
+                                 "shape bending: triangle %ld: clamped edge (%ld, %ld) has no mirror plane in rest_x",
+                                 (long)t, (long)a, (long)b);
+        for (int i = 0; i < 3; i++)
+            m[i] /= ml;
+    }
+    const double q = choose_stencil(mesh, t, R, &gr, W, p);
+    if (q < 0.0)
+        return plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
+    if (!(q >= SHAPE_MIN_STENCIL))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "shape bending: triangle %ld: no well-conditioned 6-vertex stencil in its %d-ring "
+                             "(the mesh has too few vertices around it for a quadratic fit)",
+                             (long)t, SHAPE_MAX_RING);
+    double M[3][3];
+    for (int k = 0; k < 3; k++) {
+        F->v[k] = p[k];
+        if (F->a[k] < 0) {
+            F->P[k][0] = mesh->X[2 * p[k]];
+            F->P[k][1] = mesh->X[2 * p[k] + 1];
+        }
+        fit_row(R, F->P[k], M[k]);
+    }
+    if (!inv3(M, F->Mi))
+        return plume_err_set(err, PLUME_EINVAL, "shape bending: triangle %ld: singular stencil", (long)t);
+    return PLUME_OK;
+}
+
+/* Second pass for triangle t: the points and, per edge k, the coefficients of the slope
+ * beta_k across it (see top): beta_k = w s_k(own fit) + (1 - w) s_k(neighbour's fit, in T's
+ * frame), w = 1/2 with a neighbour and averaging, 1 otherwise. Returns B (3 x npt, kappa = B h). */
+static void tri_slopes(const plume_mesh *mesh, plume_index t, const own_fit *fits, int average, tri_build *b,
+                       double d_barb[2], double *B)
+{
+    const plume_index *tv = mesh->tri + 3 * t;
+    const own_fit *F = &fits[t];
+    b->nslot = b->npt = 0;
+    for (int k = 0; k < 3; k++)
+        point_of(b, tv[k], -1, NULL);
+    int own[3];
+    for (int k = 0; k < 3; k++)
+        own[k] = point_of(b, F->v[k], F->a[k], F->m[k]);
+    const double A = 0.5 * fabs(F->R.det);
+    double W[3][3]; /* kappa_r = sum_k W[r][k] beta_k */
+    const double dp[2] = {-d_barb[1], d_barb[0]};
+    for (int k = 0; k < 3; k++) {
+        const double *Xa = mesh->X + 2 * tv[(k + 1) % 3], *Xb = mesh->X + 2 * tv[(k + 2) % 3];
+        const double *Xc = mesh->X + 2 * tv[k];
+        const double ex = Xb[0] - Xa[0], ey = Xb[1] - Xa[1], l = hypot(ex, ey);
+        double N[2] = {ey / l, -ex / l};
+        const double mid[2] = {0.5 * (Xa[0] + Xb[0]), 0.5 * (Xa[1] + Xb[1])};
+        if (N[0] * (Xc[0] - mid[0]) + N[1] * (Xc[1] - mid[1]) > 0.0)
+            N[0] = -N[0], N[1] = -N[1]; /* outward */
+        const double nd = N[0] * d_barb[0] + N[1] * d_barb[1], np = N[0] * dp[0] + N[1] * dp[1];
+        W[0][k] = l / A * nd * nd;
+        W[1][k] = l / A * np * np;
+        W[2][k] = l / A * nd * np;
+        const plume_index u = F->nb[k];
+        const double w = average && u >= 0 ? 0.5 : 1.0;
+        /* own fit: s = sum_j d_j c_j, c = Mi h_own */
+        double d[3], a[3];
+        fit_slopes(&F->R, mid, N, d, a);
+        for (int i = 0; i < 3; i++) {
+            double s = 0.0;
+            for (int j = 0; j < 3; j++)
+                s += d[j] * F->Mi[j][i];
+            b->coef[k][own[i]] += w * s;
+        }
+        if (w == 1.0)
+            continue;
+        /* the neighbour's fit in T's frame: q = sum_i z_i lambda_i + sum_j c_j q_j through its
+         * vertices (heights z) and its points (heights h'), c = Mi' (h' - Lam z) */
+        const own_fit *U = &fits[u];
+        const plume_index *uv = mesh->tri + 3 * u;
+        fit_slopes(&U->R, mid, N, d, a);
+        double mtd[3]; /* Mi'^T d */
+        for (int p = 0; p < 3; p++)
+            mtd[p] = d[0] * U->Mi[0][p] + d[1] * U->Mi[1][p] + d[2] * U->Mi[2][p];
+        double cz[3] = {a[0], a[1], a[2]};
+        for (int p = 0; p < 3; p++) {
+            double lam[3];
+            barycentric(&U->R, U->P[p], lam);
+            for (int i = 0; i < 3; i++)
+                cz[i] -= lam[i] * mtd[p];
+            const int j = point_of(b, U->v[p], U->a[p], U->m[p]);
+            b->coef[k][j] += 0.5 * mtd[p];
+        }
+        for (int i = 0; i < 3; i++)
+            b->coef[k][point_of(b, uv[i], -1, NULL)] += 0.5 * cz[i];
+    }
+    for (int r = 0; r < 3; r++)
+        for (int j = 0; j < b->npt; j++)
+            B[r * b->npt + j] = W[r][0] * b->coef[0][j] + W[r][1] * b->coef[1][j] + W[r][2] * b->coef[2][j];
+}
+
 plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
                                              const double *rest_x, plume_term *out, plume_err *err)
 {
+    return plume_shape_bending_term_create_opts(mesh, mats, nmat, rest_x, NULL, out, err);
+}
+
+/* At most this many points per triangle: its 3 vertices, 3 own points, 2 x (3 + 3) of each of
+ * three neighbours (shared ones counted once in practice). */
+#define SHAPE_MAX_POINTS 24
+
+plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const plume_bending_material *mats,
+                                                  int nmat, const double *rest_x, const plume_shape_bending_opts *o,
+                                                  plume_term *out, plume_err *err)
+{
     plume_status st = PLUME_OK;
     shape_ctx *ctx = NULL;
+    own_fit *fits = NULL;
     search_ws W;
     memset(&W, 0, sizeof W);
+    const unsigned char *clamped = o ? o->clamped : NULL;
+    const int average = !(o && o->own_fit_only);
     if (out)
         memset(out, 0, sizeof *out);
     if (!mesh || !mats || !out)
@@ -651,23 +1052,22 @@ plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume
                                      (long)(i / 3), rest_x[i]);
 
     const plume_index nv = mesh->nv, nt = mesh->nt;
+    plume_index bslot[SHAPE_MAX_POINTS];
+    shape_point bpt[SHAPE_MAX_POINTS];
+    double bcoef[3][SHAPE_MAX_POINTS], Bm[3 * SHAPE_MAX_POINTS];
+    tri_build tb = {bslot, 0, 0, SHAPE_MAX_POINTS, bpt, {bcoef[0], bcoef[1], bcoef[2]}};
     ctx = calloc(1, sizeof *ctx);
+    fits = malloc((size_t)(nt + 1) * sizeof *fits);
     W.vstart = calloc((size_t)(nv + 2), sizeof *W.vstart);
     W.vtri = malloc((size_t)(3 * nt + 1) * sizeof *W.vtri);
     W.mark = malloc((size_t)(nv + 1) * sizeof *W.mark);
-    if (!ctx || !W.vstart || !W.vtri || !W.mark) {
+    if (!ctx || !fits || !W.vstart || !W.vtri || !W.mark) {
         st = plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
         goto cleanup;
     }
     for (plume_index v = 0; v < nv; v++)
         W.mark[v] = -1;
     ctx->nt = nt;
-    ctx->stencil = malloc((size_t)(6 * nt + 1) * sizeof *ctx->stencil);
-    ctx->tri = malloc((size_t)(nt + 1) * sizeof *ctx->tri);
-    if (!ctx->stencil || !ctx->tri) {
-        st = plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
-        goto cleanup;
-    }
     /* vertex -> triangles (CSR) */
     for (plume_index t = 0; t < nt; t++)
         for (int k = 0; k < 3; k++)
@@ -677,124 +1077,85 @@ plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume
     for (plume_index t = 0; t < nt; t++)
         for (int k = 0; k < 3; k++)
             W.vtri[W.vstart[mesh->tri[3 * t + k] + 1]++] = t;
+    for (plume_index t = 0; t < nt; t++)
+        if ((st = own_stencil(mesh, t, rest_x, clamped, &W, &fits[t], err)) != PLUME_OK)
+            goto cleanup;
 
+    /* sizes: slots, points and K per triangle */
+    ctx->tri = malloc((size_t)(nt + 1) * sizeof *ctx->tri);
+    if (!ctx->tri) {
+        st = plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
+        goto cleanup;
+    }
+    size_t npts = 0, ndbl = 0;
+    int arity = 1, maxpt = 3;
     for (plume_index t = 0; t < nt; t++) {
-        const plume_index *tv = mesh->tri + 3 * t;
-        const plume_bending_material *mat = &mats[mesh->material[t]];
-        /* reference triangle */
-        ref_tri R;
-        const double *X0 = mesh->X + 2 * tv[0], *X1 = mesh->X + 2 * tv[1], *X2 = mesh->X + 2 * tv[2];
-        const double ax = X1[0] - X0[0], ay = X1[1] - X0[1], bx = X2[0] - X0[0], by = X2[1] - X0[1];
-        R.X0[0] = X0[0];
-        R.X0[1] = X0[1];
-        R.det = ax * by - ay * bx;
-        const double scl = ax * ax + ay * ay + bx * bx + by * by + (bx - ax) * (bx - ax) + (by - ay) * (by - ay);
-        if (!isfinite(R.det) || !(fabs(R.det) > SHAPE_DEGENERATE_REL * scl)) {
-            st = plume_err_set(err, PLUME_EINVAL, "shape bending: triangle %ld: degenerate reference triangle (area %g)",
-                               (long)t, 0.5 * R.det);
-            goto cleanup;
-        }
-        /* lambda_1 = cross(X - X0, b) / det, lambda_2 = cross(a, X - X0) / det */
-        R.g[1][0] = by / R.det;
-        R.g[1][1] = -bx / R.det;
-        R.g[2][0] = -ay / R.det;
-        R.g[2][1] = ax / R.det;
-        R.g[0][0] = -R.g[1][0] - R.g[2][0];
-        R.g[0][1] = -R.g[1][1] - R.g[2][1];
-
-        /* natural stencil: p_k across the edge (tv[k+1], tv[k+2]) */
-        plume_index p[3];
-        for (int k = 0; k < 3; k++) {
-            const plume_index a = tv[(k + 1) % 3], b = tv[(k + 2) % 3];
-            p[k] = -1;
-            for (plume_index s = W.vstart[a]; s < W.vstart[a + 1]; s++) {
-                const plume_index u = W.vtri[s];
-                if (u == t)
-                    continue;
-                const plume_index *uv = mesh->tri + 3 * u;
-                int hasb = 0;
-                for (int j = 0; j < 3; j++)
-                    hasb |= uv[j] == b;
-                if (!hasb)
-                    continue;
-                for (int j = 0; j < 3; j++)
-                    if (uv[j] != a && uv[j] != b)
-                        p[k] = uv[j];
-            }
-        }
-        const double q = choose_stencil(mesh, t, &R, &W, p);
-        if (q < 0.0) {
-            st = plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
-            goto cleanup;
-        }
-        if (!(q >= SHAPE_MIN_STENCIL)) {
-            st = plume_err_set(err, PLUME_EINVAL,
-                               "shape bending: triangle %ld: no well-conditioned 6-vertex stencil in its %d-ring "
-                               "(the mesh has too few vertices around it for a quadratic fit)",
-                               (long)t, SHAPE_MAX_RING);
-            goto cleanup;
-        }
-        plume_index *sv = ctx->stencil + 6 * t;
-        for (int k = 0; k < 3; k++) {
-            sv[k] = tv[k];
-            sv[3 + k] = p[k];
-        }
-        /* M, its inverse, Q (c -> kappa in the barb frame), B = Q M^-1, K = A B^T Dv B */
-        double M[3][3], Mi[3][3], Q[3][3], B[3][3];
-        for (int k = 0; k < 3; k++)
-            fit_row(&R, mesh->X + 2 * p[k], M[k]);
-        if (!inv3(M, Mi)) {
-            st = plume_err_set(err, PLUME_EINVAL, "shape bending: triangle %ld: singular stencil", (long)t);
-            goto cleanup;
-        }
         const double dl = hypot(mesh->barb_dir[2 * t], mesh->barb_dir[2 * t + 1]);
-        const double d[2] = {mesh->barb_dir[2 * t] / dl, mesh->barb_dir[2 * t + 1] / dl};
-        const double dp[2] = {-d[1], d[0]};
-        double gd[3], gp[3];
-        for (int i = 0; i < 3; i++) {
-            gd[i] = R.g[i][0] * d[0] + R.g[i][1] * d[1];
-            gp[i] = R.g[i][0] * dp[0] + R.g[i][1] * dp[1];
-        }
-        for (int j = 0; j < 3; j++) {
-            const int i = (j + 1) % 3, l = (j + 2) % 3;
-            Q[0][j] = 2.0 * gd[i] * gd[l];
-            Q[1][j] = 2.0 * gp[i] * gp[l];
-            Q[2][j] = gd[i] * gp[l] + gd[l] * gp[i];
-        }
-        for (int r = 0; r < 3; r++)
-            for (int c = 0; c < 3; c++)
-                B[r][c] = Q[r][0] * Mi[0][c] + Q[r][1] * Mi[1][c] + Q[r][2] * Mi[2][c];
+        double d[2] = {mesh->barb_dir[2 * t] / dl, mesh->barb_dir[2 * t + 1] / dl};
+        tri_slopes(mesh, t, fits, average, &tb, d, Bm);
+        shape_tri *T = &ctx->tri[t];
+        T->nslot = tb.nslot;
+        T->npt = tb.npt;
+        T->pt = npts;
+        T->kh = ndbl;
+        npts += (size_t)tb.npt;
+        ndbl += (size_t)(tb.npt - 3) * (size_t)(tb.npt - 2);
+        arity = tb.nslot > arity ? tb.nslot : arity;
+        maxpt = tb.npt > maxpt ? tb.npt : maxpt;
+    }
+    ctx->arity = arity;
+    ctx->maxpt = maxpt;
+    const size_t ka = 3 * (size_t)arity, mp = (size_t)maxpt;
+    ctx->stencil = malloc(((size_t)arity * (size_t)nt + 1) * sizeof *ctx->stencil);
+    ctx->pts = malloc((npts + 1) * sizeof *ctx->pts);
+    ctx->dbl = malloc((ndbl + 1) * sizeof *ctx->dbl);
+    ctx->work = malloc((20 * mp + ka + 18 * mp * mp + 3 * mp * ka) * sizeof *ctx->work);
+    if (!ctx->stencil || !ctx->pts || !ctx->dbl || !ctx->work) {
+        st = plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
+        goto cleanup;
+    }
+    for (plume_index t = 0; t < nt; t++) {
+        const plume_bending_material *mat = &mats[mesh->material[t]];
+        const double dl = hypot(mesh->barb_dir[2 * t], mesh->barb_dir[2 * t + 1]);
+        double d[2] = {mesh->barb_dir[2 * t] / dl, mesh->barb_dir[2 * t + 1] / dl};
+        tri_slopes(mesh, t, fits, average, &tb, d, Bm);
+        shape_tri *T = &ctx->tri[t];
+        plume_index *sv = ctx->stencil + (size_t)arity * t;
+        for (int i = 0; i < arity; i++)
+            sv[i] = tb.slot[i < tb.nslot ? i : 0];
+        memcpy(ctx->pts + T->pt, tb.pt, (size_t)tb.npt * sizeof *tb.pt);
+        /* K = A B^T Dv B over points 3.. */
         const double D66 = mat->D_twist > 0.0 ? mat->D_twist
                                               : fmax(0.0, 0.5 * (sqrt(mat->D_long * mat->D_trans) - mat->D_coupling));
         const double Dv[3][3] = {{mat->D_long, mat->D_coupling, 0.0}, {mat->D_coupling, mat->D_trans, 0.0},
                                  {0.0, 0.0, 4.0 * D66}};
-        const double A = 0.5 * fabs(R.det);
-        shape_tri *T = &ctx->tri[t];
-        for (int a = 0; a < 3; a++)
-            for (int b = 0; b < 3; b++) {
+        const double A = 0.5 * fabs(fits[t].R.det);
+        const int np = tb.npt, n = np - 3;
+        double *K = ctx->dbl + T->kh, *h0 = K + (size_t)n * n;
+        for (int a = 0; a < n; a++)
+            for (int b = a; b < n; b++) {
                 double s = 0.0;
                 for (int r = 0; r < 3; r++)
                     for (int c = 0; c < 3; c++)
-                        s += B[r][a] * Dv[r][c] * B[c][b];
-                T->K[3 * a + b] = A * s;
+                        s += Bm[r * np + 3 + a] * Dv[r][c] * Bm[c * np + 3 + b];
+                K[a * n + b] = K[b * n + a] = A * s;
             }
-        for (int a = 0; a < 3; a++)
-            for (int b = a + 1; b < 3; b++)
-                T->K[3 * a + b] = T->K[3 * b + a] = 0.5 * (T->K[3 * a + b] + T->K[3 * b + a]);
-        T->h0[0] = T->h0[1] = T->h0[2] = 0.0;
+        for (int k = 0; k < n; k++)
+            h0[k] = 0.0;
         if (rest_x) {
+            double xv[3 * SHAPE_MAX_POINTS], hr[SHAPE_MAX_POINTS];
             shape_geom G;
-            shape_geometry(rest_x, sv, &G);
-            if (G.collapsed) {
+            gather_points(ctx, t, rest_x, xv);
+            if (!shape_geometry(xv, np, &G, hr)) {
                 st = plume_err_set(err, PLUME_EINVAL, "shape bending: triangle %ld is degenerate in rest_x", (long)t);
                 goto cleanup;
             }
-            memcpy(T->h0, G.h, sizeof T->h0);
+            memcpy(h0, hr + 3, (size_t)n * sizeof *h0);
         }
     }
 
     out->name = "shape bending";
-    out->arity = 6;
+    out->arity = arity;
     out->nstencil = nt;
     out->stencil = ctx->stencil;
     out->eval = shape_eval;
@@ -804,6 +1165,7 @@ plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume
 
 cleanup:
     shape_destroy(ctx);
+    free(fits);
     free(W.vstart);
     free(W.vtri);
     free(W.mark);

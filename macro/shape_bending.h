@@ -36,6 +36,31 @@ extern "C" {
 plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
                                              const double *rest_x, plume_term *out, plume_err *err);
 
+/* Options of plume_shape_bending_term_create_opts (all zero: the default term above).
+ *
+ * clamped (nv flags, may be NULL) marks the vertices a clamp holds. A boundary edge whose two
+ * vertices are both clamped is a clamped edge: the surface leaves it with zero slope, in the
+ * rest tangent plane of the clamp. Its triangle's missing stencil vertex is then the mirror image
+ * of the triangle's own vertex opposite the edge, through the plane that contains the edge and the
+ * rest normal (of rest_x if given, else of the flat mesh->X at z = 0; the clamped vertices must
+ * be held at their rest positions, which the caller does). The fit is exact for every quadratic
+ * surface that meets the clamp with zero slope, so a clamped strip bends from the clamp line
+ * itself, not from its second row (which would shorten it by about half an element).
+ *
+ * own_fit_only != 0 uses each triangle's own 6-point fit alone (the first formulation, arity 6):
+ * exact for quadratics but it fails the patch test on irregular meshes (kept for comparison,
+ * see shape_bending.c). */
+typedef struct {
+    const unsigned char *clamped;
+    int own_fit_only;
+} plume_shape_bending_opts;
+
+/* The term with options (o may be NULL). Errors as above, and PLUME_EINVAL for a clamped edge
+ * with no mirror plane (a collapsed rest_x triangle). */
+plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const plume_bending_material *mats,
+                                                  int nmat, const double *rest_x, const plume_shape_bending_opts *o,
+                                                  plume_term *out, plume_err *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -81,13 +81,14 @@ static void sb_dense_hessian(const plume_term *t, plume_index nv, const double *
     const long n = 3 * (long)nv;
     memset(H, 0, sizeof(double) * (size_t)(n * n));
     for (plume_index s = 0; s < t->nstencil; s++) {
-        const plume_index *v = t->stencil + 6 * s;
-        const double *B = blocks + (size_t)s * 324;
-        for (int a = 0; a < 6; a++)
-            for (int b = 0; b < 6; b++)
+        const int ar = t->arity, ka = 3 * ar;
+        const plume_index *v = t->stencil + (size_t)ar * s;
+        const double *B = blocks + (size_t)s * (size_t)(ka * ka);
+        for (int a = 0; a < ar; a++)
+            for (int b = 0; b < ar; b++)
                 for (int i = 0; i < 3; i++)
                     for (int j = 0; j < 3; j++)
-                        H[(3 * v[a] + i) * n + 3 * v[b] + j] += B[(3 * a + i) * 18 + 3 * b + j];
+                        H[(3 * v[a] + i) * n + 3 * v[b] + j] += B[(3 * a + i) * ka + 3 * b + j];
     }
 }
 
@@ -98,7 +99,7 @@ static void sb_fd_check(const plume_term *t, plume_index nv, double *x, double s
     const long n = 3 * (long)nv;
     double *g = calloc((size_t)n, sizeof *g), *gp = calloc((size_t)n, sizeof *gp);
     double *gm = calloc((size_t)n, sizeof *gm);
-    double *blocks = malloc(sizeof(double) * 324 * (size_t)(t->nstencil + 1));
+    double *blocks = malloc(sizeof(double) * (size_t)(9 * t->arity * t->arity) * (size_t)(t->nstencil + 1));
     double *H = malloc(sizeof(double) * (size_t)(n * n));
     CHECK(g && gp && gm && blocks && H);
     if (!g || !gp || !gm || !blocks || !H)
@@ -176,6 +177,175 @@ void test_shape_bending_fd_random(void)
     }
 }
 
+/* ---- clamped edges (mirror ghosts) ------------------------------------------------------------ */
+
+/* Marks the vertices with u . X within 1e-9 of its minimum (one straight side of the patch);
+ * returns their number. */
+static plume_index sb_clamp_side(const plume_mesh *m, const double u[2], unsigned char *clamped)
+{
+    double lo = INFINITY;
+    for (plume_index v = 0; v < m->nv; v++)
+        lo = fmin(lo, u[0] * m->X[2 * v] + u[1] * m->X[2 * v + 1]);
+    plume_index n = 0;
+    for (plume_index v = 0; v < m->nv; v++) {
+        clamped[v] = u[0] * m->X[2 * v] + u[1] * m->X[2 * v + 1] <= lo + 1e-9;
+        n += clamped[v];
+    }
+    return n;
+}
+
+/* The direction across the patch's first side, per family (BM_RIGHT45 is turned by 45 degrees). */
+static void sb_side_normal(int fam, double u[2])
+{
+    u[0] = fam == BM_RIGHT45 ? sqrt(0.5) : 1.0;
+    u[1] = fam == BM_RIGHT45 ? sqrt(0.5) : 0.0;
+}
+
+/* Exactness with a clamped side: the quadratic surfaces that leave the side with zero slope are
+ * w = a (u . X - c)^2; every triangle, the mirrored ones included, stores A/2 k^T Dv k with
+ * II = 2 a u u^T, on every family. The same clamped term's derivatives by central differences
+ * at large random deformations (clamped vertices moved too: the mirror is a fixed plane, the
+ * chain rule through it is exact), with a flat and a curved rest, one side or the whole boundary
+ * clamped (corner triangles then have two mirrored slots). */
+void test_shape_bending_clamped_edges(void)
+{
+    const plume_bending_material mat = {3.0, 0.7, 0.4, 0.2};
+    const double barb = 27.0 * BM_PI / 180.0, c = cos(barb), s = sin(barb);
+    rng64 r = {0xc1a3bULL};
+    for (int fam = 0; fam < BM_NFAMILY; fam++) {
+        plume_mesh *m = bm_family_mesh(fam, 0.25, 1.0, 0.75, 27.0);
+        CHECK(m != NULL);
+        if (!m)
+            continue;
+        unsigned char *cl = calloc((size_t)m->nv, 1);
+        double *rest = malloc(sizeof(double) * 3 * (size_t)m->nv);
+        CHECK(cl && rest);
+        if (!cl || !rest) {
+            free(cl);
+            free(rest);
+            plume_mesh_destroy(&m);
+            continue;
+        }
+        double u[2];
+        sb_side_normal(fam, u);
+        const plume_index ncl = sb_clamp_side(m, u, cl);
+        CHECK(ncl >= 3);
+        plume_term t;
+        plume_err err;
+        CHECK(plume_shape_bending_term_create_opts(m, &mat, 1, NULL, &(plume_shape_bending_opts){cl, 0}, &t, &err) == PLUME_OK);
+        double lo = INFINITY;
+        for (plume_index v = 0; v < m->nv; v++)
+            lo = fmin(lo, u[0] * m->X[2 * v] + u[1] * m->X[2 * v + 1]);
+        const double eps = 1e-6, a = 0.9;
+        for (plume_index v = 0; v < m->nv; v++) {
+            const double xi = u[0] * m->X[2 * v] + u[1] * m->X[2 * v + 1] - lo;
+            m->x[3 * v + 2] = eps * a * xi * xi;
+        }
+        const double ud = u[0] * c + u[1] * s, up = -u[0] * s + u[1] * c;
+        const double k11 = 2.0 * eps * a * ud * ud, k22 = 2.0 * eps * a * up * up, k12 = 2.0 * eps * a * ud * up;
+        const double dens = 0.5 * (mat.D_long * k11 * k11 + mat.D_trans * k22 * k22 + 2.0 * mat.D_coupling * k11 * k22 +
+                                   4.0 * mat.D_twist * k12 * k12);
+        CHECK_REL(sb_energy(&t, m->x), dens * plume_mesh_total_area(m), 1e-6, 0.0);
+        /* the unclamped term is exact for it too; a surface with slope at the side is not
+         * admissible: the mirrored triangles see a kink there and store more than the plate */
+        for (plume_index v = 0; v < m->nv; v++)
+            m->x[3 * v + 2] = eps * 0.3 * (u[0] * m->X[2 * v] + u[1] * m->X[2 * v + 1] - lo);
+        CHECK(sb_energy(&t, m->x) > 0.0);
+        t.destroy(t.ctx);
+
+        for (int variant = 0; variant < 2; variant++) {
+            if (variant == 1) /* the whole boundary */
+                for (plume_index e = 0; e < m->ne; e++)
+                    if (m->edge_tri[2 * e + 1] < 0)
+                        cl[m->edges[2 * e]] = cl[m->edges[2 * e + 1]] = 1;
+            bm_map_cylinder(m, 20.0 + 35.0 * fam, 0.8, rest);
+            for (plume_index i = 0; i < 3 * m->nv; i++)
+                rest[i] += urange(&r, -0.03, 0.03);
+            for (int curved = 0; curved < 2; curved++) {
+                CHECK(plume_shape_bending_term_create_opts(m, &mat, 1, curved ? rest : NULL, &(plume_shape_bending_opts){cl, 0}, &t, &err) ==
+                      PLUME_OK);
+                bm_map_cylinder(m, urange(&r, 0.0, 180.0), urange(&r, -2.0, 2.0), m->x);
+                for (plume_index i = 0; i < 3 * m->nv; i++)
+                    m->x[i] += urange(&r, -0.08, 0.08);
+                char what[96];
+                snprintf(what, sizeof what, "%s, clamped %s%s", bm_family_name[fam], variant ? "boundary" : "side",
+                         curved ? ", curved rest" : "");
+                sb_fd_check(&t, m->nv, m->x, 1e-6, 2e-7, what);
+                t.destroy(t.ctx);
+            }
+        }
+        free(cl);
+        free(rest);
+        plume_mesh_destroy(&m);
+    }
+}
+
+/* ---- the patch test ------------------------------------------------------------------------------ */
+
+/* A surface of constant curvature (small amplitude: the linear plate) is the exact solution of
+ * pure bending, so the discrete equilibrium must hold at every vertex away from the boundary:
+ * the energy's gradient there is zero. A per-triangle fit exact for quadratics is not enough for
+ * that (the own fit alone leaves forces of the order of the boundary moments inside an irregular
+ * mesh, so its equilibria converge to a wrong, softer answer); the shared edge slopes make the
+ * discrete total curvature a boundary sum and the forces vanish. Both are measured: the default
+ * term must pass on every family, the own fit must fail on the random Delaunay mesh (else this
+ * test could not see the difference). */
+static double sb_patch_residual(int fam, int own_only)
+{
+    const plume_bending_material mat = {2.0, 0.6, 0.3, 0.2};
+    const double h = 0.0625;
+    plume_mesh *m = bm_family_mesh(fam, h, 1.0, 0.75, 33.0);
+    if (!m)
+        return NAN;
+    double res = NAN;
+    const long n = 3 * (long)m->nv;
+    double *g = calloc((size_t)n, sizeof *g);
+    unsigned char *bnd = calloc((size_t)m->nv, 1);
+    plume_term t;
+    const plume_shape_bending_opts o = {NULL, own_only};
+    if (!g || !bnd || plume_shape_bending_term_create_opts(m, &mat, 1, NULL, &o, &t, NULL) != PLUME_OK)
+        goto done;
+    const double eps = 1e-7;
+    for (plume_index v = 0; v < m->nv; v++) {
+        const double X = m->X[2 * v], Y = m->X[2 * v + 1];
+        m->x[3 * v + 2] = eps * 0.5 * (0.8 * X * X - 0.5 * Y * Y + 0.6 * X * Y);
+    }
+    if (t.eval(t.ctx, 3, m->x, NULL, g, NULL, 0) == PLUME_OK) {
+        for (plume_index e = 0; e < m->ne; e++)
+            if (m->edge_tri[2 * e + 1] < 0)
+                bnd[m->edges[2 * e]] = bnd[m->edges[2 * e + 1]] = 1;
+        double gin = 0.0, gall = 0.0;
+        for (plume_index v = 0; v < m->nv; v++) {
+            double dmin = INFINITY;
+            for (plume_index b = 0; b < m->nv; b++)
+                if (bnd[b])
+                    dmin = fmin(dmin, hypot(m->X[2 * v] - m->X[2 * b], m->X[2 * v + 1] - m->X[2 * b + 1]));
+            gall = fmax(gall, fabs(g[3 * v + 2]));
+            if (dmin > 5.0 * h)
+                gin = fmax(gin, fabs(g[3 * v + 2]));
+        }
+        res = gall > 0.0 ? gin / gall : NAN;
+    }
+    t.destroy(t.ctx);
+done:
+    free(g);
+    free(bnd);
+    plume_mesh_destroy(&m);
+    return res;
+}
+
+void test_shape_bending_patch_test(void)
+{
+    for (int fam = 0; fam < BM_NFAMILY; fam++) {
+        const double avg = sb_patch_residual(fam, 0), own = sb_patch_residual(fam, 1);
+        fprintf(stderr, "    %-20s interior force / boundary force: edge-averaged %.1e, own fit %.1e\n",
+                bm_family_name[fam], avg, own);
+        CHECK(avg <= 1e-6);
+        if (fam == BM_DELAUNAY)
+            CHECK(own >= 1e-3);
+    }
+}
+
 /* ---- invariance, projection ---------------------------------------------------------------------- */
 
 void test_shape_bending_rigid_invariance(void)
@@ -195,7 +365,9 @@ void test_shape_bending_rigid_invariance(void)
         goto done;
     bm_map_cylinder(m, 80.0, 0.7, rest);
     CHECK(plume_shape_bending_term_create(m, &mat, 1, rest, &t, NULL) == PLUME_OK);
-    double *H = malloc(sizeof(double) * 324 * (size_t)t.nstencil), *Hy = malloc(sizeof(double) * 324 * (size_t)t.nstencil);
+    const int ka = 3 * t.arity;
+    const size_t kk = (size_t)ka * (size_t)ka;
+    double *H = malloc(sizeof(double) * kk * (size_t)t.nstencil), *Hy = malloc(sizeof(double) * kk * (size_t)t.nstencil);
     CHECK(H && Hy);
     if (H && Hy) {
         bm_map_cylinder(m, 20.0, -1.9, m->x);
@@ -227,17 +399,17 @@ void test_shape_bending_rigid_invariance(void)
         CHECK(gerr <= 1e-10 * gs);
         double herr = 0.0, hs = 0.0;
         for (plume_index st = 0; st < t.nstencil; st++) {
-            const double *h = H + 324 * st, *hy = Hy + 324 * st;
-            hs = fmax(hs, sb_max_abs(h, 324));
-            for (int a = 0; a < 6; a++)
-                for (int b = 0; b < 6; b++)
+            const double *h = H + kk * st, *hy = Hy + kk * st;
+            hs = fmax(hs, sb_max_abs(h, (long)kk));
+            for (int a = 0; a < t.arity; a++)
+                for (int b = 0; b < t.arity; b++)
                     for (int i = 0; i < 3; i++)
                         for (int j = 0; j < 3; j++) {
                             double v = 0.0;
                             for (int p = 0; p < 3; p++)
                                 for (int q = 0; q < 3; q++)
-                                    v += Q[i][p] * h[(3 * a + p) * 18 + 3 * b + q] * Q[j][q];
-                            herr = fmax(herr, fabs(hy[(3 * a + i) * 18 + 3 * b + j] - v));
+                                    v += Q[i][p] * h[(3 * a + p) * ka + 3 * b + q] * Q[j][q];
+                            herr = fmax(herr, fabs(hy[(3 * a + i) * ka + 3 * b + j] - v));
                         }
         }
         CHECK(herr <= 1e-10 * hs);
@@ -266,13 +438,20 @@ done:
     plume_mesh_destroy(&m);
 }
 
-static double sb_min_eig18(const double *B, double *scale)
+static double sb_min_eig(const double *B, int k, double *scale)
 {
-    double A[324], lam[18], V[324];
-    memcpy(A, B, sizeof A);
-    *scale = sb_max_abs(B, 324);
-    plume_dense_sym_eig(18, A, lam, V);
-    return lam[0];
+    double *A = malloc(sizeof(double) * (size_t)(2 * k * k + k)), mn = 0.0;
+    *scale = sb_max_abs(B, (long)k * k);
+    if (!A)
+        return -INFINITY;
+    double *V = A + k * k, *lam = V + k * k;
+    memcpy(A, B, sizeof(double) * (size_t)(k * k));
+    plume_dense_sym_eig(k, A, lam, V);
+    mn = lam[0];
+    for (int i = 1; i < k; i++)
+        mn = fmin(mn, lam[i]);
+    free(A);
+    return mn;
 }
 
 /* project = 1: the Gauss-Newton blocks, PSD and exactly symmetric; the exact blocks are
@@ -287,7 +466,8 @@ void test_shape_bending_projection(void)
         return;
     plume_term t;
     CHECK(plume_shape_bending_term_create(m, &mat, 1, NULL, &t, NULL) == PLUME_OK);
-    const size_t nb = 324 * (size_t)t.nstencil;
+    const int ka = 3 * t.arity;
+    const size_t kk = (size_t)ka * (size_t)ka, nb = kk * (size_t)t.nstencil;
     double *H = malloc(sizeof(double) * nb), *P = malloc(sizeof(double) * nb);
     CHECK(H && P);
     if (H && P) {
@@ -302,19 +482,19 @@ void test_shape_bending_projection(void)
             CHECK(t.eval(t.ctx, 3, m->x, NULL, NULL, H, 0) == PLUME_OK);
             CHECK(t.eval(t.ctx, 3, m->x, NULL, NULL, P, 1) == PLUME_OK);
             for (plume_index s = 0; s < t.nstencil; s++) {
-                const double *h = H + 324 * s, *p = P + 324 * s;
+                const double *h = H + kk * s, *p = P + kk * s;
                 double sh, sp;
-                indefinite += sb_min_eig18(h, &sh) < -1e-9 * sh;
-                CHECK(sb_min_eig18(p, &sp) >= -1e-12 * sp);
-                for (int i = 0; i < 18; i++)
-                    for (int j = 0; j < 18; j++)
-                        CHECK(p[i * 18 + j] == p[j * 18 + i] && h[i * 18 + j] == h[j * 18 + i]);
+                indefinite += sb_min_eig(h, ka, &sh) < -1e-9 * sh;
+                CHECK(sb_min_eig(p, ka, &sp) >= -1e-12 * sp);
+                for (int i = 0; i < ka; i++)
+                    for (int j = 0; j < ka; j++)
+                        CHECK(p[i * ka + j] == p[j * ka + i] && h[i * ka + j] == h[j * ka + i]);
                 /* translations are in the null space of both */
-                for (int i = 0; i < 18; i++)
+                for (int i = 0; i < ka; i++)
                     for (int c = 0; c < 3; c++) {
                         double s6 = 0.0, t6 = 0.0;
-                        for (int v = 0; v < 6; v++)
-                            s6 += p[i * 18 + 3 * v + c], t6 += h[i * 18 + 3 * v + c];
+                        for (int v = 0; v < t.arity; v++)
+                            s6 += p[i * ka + 3 * v + c], t6 += h[i * ka + 3 * v + c];
                         CHECK(fabs(s6) <= 1e-12 * sp && fabs(t6) <= 1e-12 * sh);
                     }
             }
@@ -337,7 +517,9 @@ void test_shape_bending_stencil(void)
         return;
     plume_term t;
     plume_err err;
-    CHECK(plume_shape_bending_term_create(m, &SB_VANE, 1, NULL, &t, &err) == PLUME_OK);
+    /* the own fit alone: six distinct vertices, the natural ones inside */
+    const plume_shape_bending_opts own = {NULL, 1};
+    CHECK(plume_shape_bending_term_create_opts(m, &SB_VANE, 1, NULL, &own, &t, &err) == PLUME_OK);
     CHECK(strcmp(t.name, "shape bending") == 0);
     CHECK(t.arity == 6 && t.nstencil == m->nt);
     for (plume_index q = 0; q < m->nt; q++) {
@@ -361,25 +543,41 @@ void test_shape_bending_stencil(void)
             }
         }
     }
+    t.destroy(t.ctx);
+    /* the default (edge-averaged) term: T's vertices first, its own points and its neighbours'
+     * in the row, no vertex twice (padding repeats the first) */
+    CHECK(plume_shape_bending_term_create(m, &SB_VANE, 1, NULL, &t, &err) == PLUME_OK);
+    CHECK(t.arity > 6 && t.arity <= 24 && t.nstencil == m->nt);
+    for (plume_index q = 0; q < m->nt; q++) {
+        const plume_index *s = t.stencil + (size_t)t.arity * q, *tv = m->tri + 3 * q;
+        CHECK(s[0] == tv[0] && s[1] == tv[1] && s[2] == tv[2]);
+        int distinct = 1;
+        for (int a = 0; a < t.arity; a++)
+            for (int b = a + 1; b < t.arity; b++)
+                if (s[a] == s[b])
+                    distinct = b > a + 0 && s[b] == s[0] ? distinct : 0;
+        CHECK(distinct);
+    }
     /* energy and gradient are added; blocks are overwritten; all optional */
     bm_map_cylinder(m, 30.0, 1.0, m->x);
     const long n = 3 * (long)m->nv;
     double *g = calloc((size_t)n, sizeof *g), *g2 = calloc((size_t)n, sizeof *g2);
-    double *H = malloc(sizeof(double) * 324 * (size_t)t.nstencil);
+    const size_t kk = (size_t)(9 * t.arity * t.arity);
+    double *H = malloc(sizeof(double) * kk * (size_t)t.nstencil);
     CHECK(g && g2 && H);
     if (g && g2 && H) {
         double E = 0.0, E2 = 10.0;
         CHECK(t.eval(t.ctx, 3, m->x, &E, g, NULL, 0) == PLUME_OK);
         for (long i = 0; i < n; i++)
             g2[i] = 1.0;
-        for (size_t i = 0; i < 324 * (size_t)t.nstencil; i++)
+        for (size_t i = 0; i < kk * (size_t)t.nstencil; i++)
             H[i] = NAN;
         CHECK(t.eval(t.ctx, 3, m->x, &E2, g2, H, 0) == PLUME_OK);
         CHECK(E > 0.0);
         CHECK_REL(E2, 10.0 + E, 1e-14, 0.0);
         for (long i = 0; i < n; i++)
             CHECK_REL(g2[i], 1.0 + g[i], 1e-14, 1.0);
-        for (size_t i = 0; i < 324 * (size_t)t.nstencil; i++)
+        for (size_t i = 0; i < kk * (size_t)t.nstencil; i++)
             CHECK(isfinite(H[i]));
         CHECK(t.eval(t.ctx, 3, m->x, NULL, NULL, NULL, 0) == PLUME_OK);
         CHECK(t.eval(t.ctx, 3, m->x, NULL, NULL, H, 1) == PLUME_OK);

@@ -337,16 +337,18 @@ void test_statics_benchmarks(void)
                         edges[k], nel, 100.0 * err[k]);
                 CHECK(isfinite(err[k]));
             }
-            /* Grids converge monotonically at first order: the clamp (second row held at its rest
-             * height) holds the slope over the first row of elements, which shortens the strip by
-             * about h/2 (3 (h/2) / L = 3.7 % at h = 0.25). On Delaunay meshes the error is about
-             * 1 % at every size and not monotone (issue 8 note). */
-            CHECK(err[2] < 0.02);
-            if (q == 0) {
-                CHECK(err[1] <= 0.55 * err[0] && err[2] <= 0.55 * err[1]);
-                if (f == 0)
-                    CHECK(err[2] < 0.01);
-            }
+            /* Within 1 % at every mesh and falling monotonically (issue 8). The clamp holds the
+             * slope on the clamp line itself (mirrored stencils), and the shared edge slopes pass
+             * the patch test, so Delaunay meshes converge too (the own fit alone converged to a
+             * tip 2.3 % too far on them; the second-row clamp shortened the strip by h/2). Grids
+             * converge faster than first order (error ratio 0.28-0.38 per halving). The
+             * cantilever's reference (Sze et al., ABAQUS S4R) is 0.05 % from the exact elastica,
+             * the floor its Delaunay errors approach (0.123, 0.081, 0.067 %). */
+            for (int k = 0; k < 3; k++)
+                CHECK(err[k] < 0.01);
+            CHECK(err[1] < err[0] && err[2] < err[1]);
+            if (q == 0)
+                CHECK(err[1] <= 0.45 * err[0] && err[2] <= 0.45 * err[1]);
         }
 }
 
