@@ -12,11 +12,12 @@
  *    the outline at both ends, or clipped at its first exit; its width is linear in arc length
  *    between its first and last input points and constant beyond them (no extrapolation to a
  *    negative width).
- * 2. Rachis strip. Stations every ~e (L/N, N = round(L/e)), a vertex on either side at half the
- *    width along the normal. Each side is kept from the middle station outward while its vertices
- *    stay GAP_POINT e inside the outline, then closed by following the side's offset curve to the
- *    outline. Side edges are constrained, so the strip is a region of its own and splits the
- *    feather into the two vanes.
+ * 2. Rachis strip. Stations ds = L/N apart (N = round(L/e)) place a vertex on either side at half
+ *    the width along the normal. Each side runs from the middle station outward while its vertices
+ *    stay GAP_POINT e inside the outline, and is then closed by following the side's offset curve
+ *    to the outline. Side edges are constrained, so the strip is a region of its own and splits
+ *    the feather into the two vanes. Each side has its own stations (step 3b), so the two sides'
+ *    vertices need not face each other.
  * 3. Barbs. An input barb is stored as the angle of its tangent relative to the rachis tangent at
  *    its root, as a function of the arc length from the root (constant past its end: the linear
  *    extension). The barb of a station blends the two input barbs of the same side whose roots
@@ -31,6 +32,21 @@
  *    step that would cross a constrained edge, cuts the barb there: barbs never cross, and
  *    converging barbs end on their neighbour instead of making slivers. Each side is walked base to
  *    tip, rachis-rooted barbs first, so later barbs yield to earlier ones.
+ * 3b. Corner-exact stations (DESIGN.md, "Meshes that respect the fibres"; the patch mesher's rule).
+ *    In a strip between two barbs, every boundary vertex that ends no barb adds a triangle and no
+ *    barb edge, so it forces one vane triangle without a barb edge: with stations every ds, 85 of
+ *    the shipped outline's 100 vertices did, and they were all of the 11 % uncovered at 5 mm. So
+ *    each outline vertex gets a barb through it where one can pass: the station whose barb leaves
+ *    (or, past the strip ends, enters) the outline exactly there is found by bisection on where
+ *    the barb meets the outline, followed with the same steps as the walk (fm_trace; the family is
+ *    sampled every ds/2 to bracket it). A corner station may extend the strip run to where the
+ *    side stops being GAP_POINT e inside the outline (fm_run_extent). Corners closer than
+ *    CORNER_GAP ds to a kept station are dropped. Between consecutive kept stations the others are
+ *    spaced evenly: round(gap / ds) of them with the rounding error carried on (so the count stays
+ *    about L / ds), more where their barbs would meet the outline over OUTLINE_GAP e apart, and
+ *    never closer than CORNER_GAP ds. What is left uncovered is where the outline runs along the
+ *    barbs (the base of the feather, where they skim it), wraps round the strip's end, or the tip,
+ *    narrower than a barb spacing; plume_feather_uncovered reports each with its reason.
  * 4. Where no rachis-rooted barb reaches. (a) Where the outline leaves the rachis more steeply than
  *    the barbs (the base of a vane) the family is continued from stations past the strip ends and
  *    from the strip ends themselves: those barbs enter through the outline and are walked the same
@@ -38,16 +54,22 @@
  *    stations start where the gap has opened to 2 FILL_CLEAR e. The vane is covered by barb lines
  *    about e sin(barb angle) apart and no gap wider than ~1.4 e is left between two barbs.
  * 5. Triangulation. All outline vertices are kept (the area is exact); barb and side ends split
- *    outline edges, and points are added so that no outline gap exceeds e. Constrained Delaunay
- *    (lib/cdt.h) with remove_exterior and *no refinement*. CGAL's Delaunay refinement splits every
+ *    outline edges, and points no more than e apart are added in every gap longer than e, or than
+ *    OUTLINE_GAP e between two barb or side ends. (Each such point ends no barb, so forces an
+ *    uncovered triangle: with points in every gap over e there were 27 at 3.5 mm and 54 at 2.5 mm
+ *    on the shipped feather. A gap up to 2 e between barb ends matches barbs up to ~1.4 e apart
+ *    meeting the outline at 45 degrees or more.) Constrained Delaunay (lib/cdt.h) with
+ *    remove_exterior and *no refinement*. CGAL's Delaunay refinement splits every
  *    encroached constrained segment whatever the size and shape criteria: the rachis sides (5 mm
  *    stations, the other side 1-3 mm away) and barb edges at shallow angles get split, and the
  *    Steiner points it adds are on no barb. Measured on the shipped feather at e = 5 mm: max_edge
  *    1.5 e with a negligible shape bound gave 35 % more triangles, with the default 20.7 deg bound
  *    77 % more, most of the new ones without a barb edge. The layout above already bounds the
  *    edges (e along barbs, barbs < ~1.4 e apart) and every triangle between two barbs has a barb
- *    edge; the unaligned rest is the fans at outline points that are not barb ends and at the
- *    start of fill barbs. So *barb_edges are exactly the constrained barb segments, unsplit.
+ *    edge; the unaligned rest is at outline points that are not barb ends, at the strip's ends and
+ *    at the start of fill barbs (step 3b). So *barb_edges are exactly the constrained barb
+ *    segments, unsplit. (Edge flips cannot do better: no triangle owns two barb edges, so a flip
+ *    only moves which of the two triangles lacks one.)
  * 6. Output. A triangle is rachis when its centroid lies within half the local width of the centre
  *    line; its barb direction is then the rachis tangent. A vane triangle takes the direction of
  *    its barb edge(s) (oriented away from the rachis), else the inverse-distance-weighted direction
@@ -80,6 +102,10 @@
 #define PROJECT_COARSE 512 /* coarse samples of the centre line scanned by a projection */
 #define FILL_CLEAR 0.7     /* a fill barb starts where it is this far from every vertex and barb */
 #define FILL_LEVELS 3      /* fill barbs from half, quarter and eighth stations */
+#define CORNER_GAP 0.5     /* a corner station closer than this (in station spacings) to a kept one is dropped */
+#define CORNER_TOL 1e-6    /* a corner barb must meet its outline vertex within this (in e) */
+#define CORNER_BISECT 64   /* bisection steps of a corner station (stops earlier once exact) */
+#define OUTLINE_GAP 2.0    /* an outline gap up to this (in e) between barb ends is left whole */
 
 /* ------------------------------------------------------------------ mesher state */
 
@@ -113,6 +139,7 @@ typedef struct {
     /* outline, counter-clockwise */
     double *o;
     plume_index no;
+    double *ocum, per; /* [no + 1] arc length of the outline at each vertex; its perimeter */
     double bb[4], diag; /* bounding box (x0, y0, x1, y1) and its diagonal */
     /* output vertices and constrained segments (ids in g.p order) */
     plume_pslg g;
@@ -762,6 +789,307 @@ static plume_status fm_side_end(fm *f, int sigma, double s, double dir, plume_in
                          sigma > 0 ? "left" : "right");
 }
 
+/* ------------------------------------------------------------------ corner-exact stations */
+
+/* Where a barb meets the outline, followed without meshing it (no collisions): the same steps as
+ * fm_walk, so a station found here meets the outline at the same point when it is walked. */
+typedef struct {
+    int valid;            /* 0: it enters through the strip end or the other side, or starts
+                             inside the feather off the strip (the walk would be blocked) */
+    int has[2];           /* [0] it enters through the outline (virtual stations), [1] it leaves */
+    double U[2], x[2][2]; /* outline arc-length position and point of each crossing */
+} ftrace;
+
+static double fm_outline_pos(const fm *f, plume_index edge, double u)
+{
+    return f->ocum[edge] + u * (f->ocum[edge + 1] - f->ocum[edge]);
+}
+
+/* x wrapped into [-per/2, per/2]: the signed shortest way along the outline */
+static double fm_wrap(const fm *f, double x)
+{
+    return x - f->per * round(x / f->per);
+}
+
+static void fm_trace(const fm *f, int side, double s, int rooted, ftrace *tr)
+{
+    const double e = f->e, h = e / SUBSTEPS;
+    const int sigma = side == 0 ? 1 : -1;
+    blend bl;
+    double p[2];
+    memset(tr, 0, sizeof *tr);
+    fm_blend(f, side, s, &bl);
+    fm_offset(f, s, sigma, p);
+    int inside = rooted;
+    if (!rooted && point_in_polygon(f->o, f->no, p))
+        return;
+    double tau_max = f->max_barb_len + 3 * f->diag + 2 * e;
+    int jumped = 0;
+    for (double tau = 0; tau < tau_max; tau += h) {
+        double a = blend_angle(&bl, tau + 0.5 * h);
+        double q[2] = {p[0] + h * cos(a), p[1] + h * sin(a)};
+        double t, u;
+        plume_index edge;
+        if (!inside && tau > f->max_barb_len && !jumped) {
+            double hit[2];
+            jumped = 1;
+            if (!fm_ray_hit(f, p, a, hit))
+                return;
+            double dist = norm2(hit[0] - p[0], hit[1] - p[1]);
+            if (dist > 2 * h) {
+                double jmp = dist - h;
+                p[0] += jmp * cos(a), p[1] += jmp * sin(a);
+                tau += jmp;
+                q[0] = p[0] + h * cos(a), q[1] = p[1] + h * sin(a);
+            }
+        }
+        if (fm_outline_cross(f, p, q, &t, &edge, &u)) {
+            double x[2] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])};
+            int k = inside ? 1 : 0;
+            if (!inside) {
+                double ss, d;
+                fm_project(f, x, &ss, &d);
+                if (sigma * d < 0.5 * fm_width(f, ss))
+                    return;
+                inside = 1;
+            }
+            tr->has[k] = 1;
+            tr->U[k] = fm_outline_pos(f, edge, u);
+            tr->x[k][0] = x[0], tr->x[k][1] = x[1];
+            if (k == 1) {
+                tr->valid = 1;
+                return;
+            }
+        }
+        p[0] = q[0], p[1] = q[1];
+    }
+    tr->valid = inside && tr->has[0];
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The station in (lo, hi) whose barb crosses the outline (crossing k of ftrace) at outline vertex
+ * i, by bisection on the crossing's position along the outline; 1 and *s, or 0 (the crossing
+ * jumps past the vertex, or the barb stops meeting the outline in between). */
+static int fm_corner_bisect(const fm *f, int side, int rooted, int k, double lo, double hi, double sgn, plume_index i,
+                            double *s)
+{
+    const double *c = f->o + 2 * i;
+    ftrace tr;
+    double best = INFINITY;
+    for (int it = 0; it < CORNER_BISECT; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (!(mid > lo && mid < hi))
+            break;
+        fm_trace(f, side, mid, rooted, &tr);
+        if (!tr.valid || !tr.has[k])
+            return 0;
+        double dist = norm2(tr.x[k][0] - c[0], tr.x[k][1] - c[1]);
+        if (dist < best)
+            best = dist, *s = mid;
+        if (dist <= 1e-9 * f->e)
+            break;
+        if (sgn * fm_wrap(f, tr.U[k] - f->ocum[i]) < 0)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return best <= CORNER_TOL * f->e;
+}
+
+/* The side point of station s is a possible barb root: inside the outline, GAP_POINT e clear of
+ * it, and reached from the run's end station `from` without crossing it. */
+static int fm_rootable(const fm *f, int sigma, double from, double s)
+{
+    double p[2], q[2], t, u;
+    plume_index edge;
+    fm_offset(f, from, sigma, p);
+    fm_offset(f, s, sigma, q);
+    return point_in_polygon(f->o, f->no, q) && !fm_near_segment(f, q, GAP_POINT * f->e, 1u << SEG_OUTLINE, -1) &&
+           !fm_outline_cross(f, p, q, &t, &edge, &u);
+}
+
+/* How far past the run's end station s (toward dir = -1 or +1, at most one station spacing ds)
+ * the side stays rootable: the run stops at whole stations, a corner station may go further. */
+static double fm_run_extent(const fm *f, int sigma, double s, double ds, int dir)
+{
+    double ok = s, bad = s + dir * ds;
+    if (fm_rootable(f, sigma, s, bad))
+        return bad;
+    for (int it = 0; it < 40; it++) {
+        double mid = 0.5 * (ok + bad);
+        if (fm_rootable(f, sigma, s, mid))
+            ok = mid;
+        else
+            bad = mid;
+    }
+    return ok;
+}
+
+/* Stations of one side, sorted (malloc'ed *out, *n of them; [*r0, *r1] the rooted ones, those of
+ * the strip run [s0, s1], which a corner station may extend to ext[0] <= s0 and ext[1] >= s1, the
+ * extent of the strip's side inside the outline (fm_run_extent)). A station whose barb meets the outline exactly at an outline vertex is a
+ * corner station (DESIGN.md, "Meshes that respect the fibres": a barb line through every corner);
+ * corners closer than CORNER_GAP ds to a kept station are dropped, and the others are spaced evenly
+ * between consecutive kept ones, round(gap / ds) - 1 of them, so that the density stays ~1/ds.
+ * Without corners the stations are k ds, kmin <= k <= kmax, as before. */
+static plume_status fm_stations(fm *f, int side, double ds, long kmin, long kmax, double s0, double s1,
+                                const double ext[2], double **out, long *n, long *r0, long *r1)
+{
+    plume_status st = PLUME_OK;
+    long ns = 2 * (kmax - kmin) + 1 + 2;
+    ftrace *tr = malloc((size_t)ns * sizeof *tr), *ftf = NULL;
+    double *ss = malloc((size_t)ns * sizeof *ss);
+    double *cs = NULL, *fixed = NULL, *sta = NULL;
+    unsigned char *found = calloc((size_t)f->no, 1);
+    long nc = 0, ccap = 64, nf = 0, nsta = 0;
+    cs = malloc((size_t)ccap * sizeof *cs);
+    if (!tr || !ss || !found || !cs) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    const double tol = 1e-9 * ds;
+    /* the crossings of the family sampled every ds/2 and at the ends of the strip's extent */
+    for (long j = 0; j < ns - 2; j++)
+        ss[j] = (double)kmin * ds + 0.5 * (double)j * ds;
+    ss[ns - 2] = ext[0], ss[ns - 1] = ext[1];
+    qsort(ss, (size_t)ns, sizeof *ss, cmp_double);
+    for (long j = 0; j < ns; j++)
+        fm_trace(f, side, ss[j], ss[j] >= ext[0] - tol && ss[j] <= ext[1] + tol, tr + j);
+    for (long j = 0; j + 1 < ns; j++) {
+        double sl = ss[j], sh = ss[j + 1];
+        int rl = sl >= ext[0] - tol && sl <= ext[1] + tol, rh = sh >= ext[0] - tol && sh <= ext[1] + tol;
+        if (!tr[j].valid || !tr[j + 1].valid || rl != rh || !(sh > sl))
+            continue;
+        for (int k = 1; k >= 0; k--) {
+            if (!tr[j].has[k] || !tr[j + 1].has[k])
+                continue;
+            double d = fm_wrap(f, tr[j + 1].U[k] - tr[j].U[k]);
+            if (d == 0 || fabs(d) > 0.25 * f->per)
+                continue;
+            for (plume_index i = 0; i < f->no; i++) {
+                double w = fm_wrap(f, f->ocum[i] - tr[j].U[k]);
+                if (found[i] || !(d > 0 ? w > 0 && w <= d : w < 0 && w >= d))
+                    continue;
+                double s = sl;
+                if (!fm_corner_bisect(f, side, rl, k, sl, sh, d > 0 ? 1 : -1, i, &s))
+                    continue;
+                if (nc == ccap) {
+                    double *c2 = realloc(cs, (size_t)(2 * ccap) * sizeof *cs);
+                    if (!c2) {
+                        st = PLUME_ENOMEM;
+                        goto cleanup;
+                    }
+                    cs = c2, ccap *= 2;
+                }
+                cs[nc++] = s;
+                found[i] = 1;
+            }
+        }
+    }
+    qsort(cs, (size_t)nc, sizeof *cs, cmp_double);
+    /* the strip run's end stations, moved onto the outermost corner of the strip's extent near them */
+    for (long c = 0; c < nc; c++)
+        if (cs[c] >= ext[0] - tol && cs[c] < s0 + CORNER_GAP * ds) {
+            s0 = cs[c];
+            break;
+        }
+    for (long c = nc - 1; c >= 0; c--)
+        if (cs[c] <= ext[1] + tol && cs[c] > s1 - CORNER_GAP * ds) {
+            s1 = cs[c];
+            break;
+        }
+    fixed = malloc((size_t)(nc + 2) * sizeof *fixed);
+    if (!fixed) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    fixed[nf++] = s0;
+    if (s1 > s0)
+        fixed[nf++] = s1;
+    for (long c = 0; c < nc; c++) {
+        int ok = 1;
+        for (long q = 0; q < nf && ok; q++) /* tens of corners: a scan is enough */
+            ok = fabs(cs[c] - fixed[q]) >= CORNER_GAP * ds;
+        if (ok)
+            fixed[nf++] = cs[c];
+    }
+    qsort(fixed, (size_t)nf, sizeof *fixed, cmp_double);
+    if (!(ftf = malloc((size_t)nf * sizeof *ftf))) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    for (long q = 0; q < nf; q++)
+        fm_trace(f, side, fixed[q], fixed[q] >= s0 && fixed[q] <= s1, ftf + q);
+    /* stations: below the first fixed one every ds, between fixed ones evenly, above every ds
+     * (counted in the first pass, stored in the second) */
+    double lo_end = (double)kmin * ds - tol, hi_end = (double)kmax * ds + tol;
+    for (int pass = 0; pass < 2; pass++) {
+        double carry = 0;
+        nsta = 0;
+        for (long j = (long)floor((fixed[0] - lo_end) / ds); j >= 1; j--, nsta++)
+            if (sta)
+                sta[nsta] = fixed[0] - (double)j * ds;
+        for (long q = 0; q < nf; q++) {
+            if (sta)
+                sta[nsta] = fixed[q];
+            nsta++;
+            if (q + 1 < nf) {
+                double gap = fixed[q + 1] - fixed[q];
+                /* the rounding error is carried to the next gap, so the density stays 1/ds */
+                long m = lround(gap / ds + carry);
+                if (m < 1)
+                    m = 1;
+                carry = fmin(0.5, fmax(-0.5, carry + gap / ds - (double)m)); /* kept local */
+                /* more where their barbs would meet the outline more than OUTLINE_GAP e apart,
+                 * but never closer than CORNER_GAP ds */
+                for (int k = 0; k < 2; k++)
+                    if (ftf[q].valid && ftf[q + 1].valid && ftf[q].has[k] && ftf[q + 1].has[k]) {
+                        double arc = fabs(fm_wrap(f, ftf[q + 1].U[k] - ftf[q].U[k]));
+                        long mo = (long)ceil(arc / (OUTLINE_GAP * f->e) - 1e-9);
+                        if (arc < 0.25 * f->per && mo > m)
+                            m = mo;
+                    }
+                long mmax = (long)floor(gap / (CORNER_GAP * ds) + 1e-9);
+                if (m > mmax)
+                    m = mmax;
+                for (long j = 1; j < m; j++, nsta++)
+                    if (sta)
+                        sta[nsta] = fixed[q] + gap * (double)j / (double)m;
+            }
+        }
+        for (long j = 1; fixed[nf - 1] + (double)j * ds <= hi_end; j++, nsta++)
+            if (sta)
+                sta[nsta] = fixed[nf - 1] + (double)j * ds;
+        if (pass == 0 && !(sta = malloc((size_t)nsta * sizeof *sta))) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+    }
+    *r0 = *r1 = -1;
+    for (long q = 0; q < nsta; q++)
+        if (sta[q] >= s0 && sta[q] <= s1) {
+            if (*r0 < 0)
+                *r0 = q;
+            *r1 = q;
+        }
+    *out = sta, sta = NULL;
+    *n = nsta;
+cleanup:
+    free(tr);
+    free(ss);
+    free(ftf);
+    free(cs);
+    free(fixed);
+    free(sta);
+    free(found);
+    return st;
+}
+
 /* ------------------------------------------------------------------ driver */
 
 static int cmp_anchor(const void *a, const void *b)
@@ -854,8 +1182,11 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
     plume_cdt_output cdt = {0};
     plume_mesh *m = NULL;
     plume_index *side_ids[2] = {NULL, NULL};
+    double *sta[2] = {NULL, NULL}; /* stations (arc length along the centre line) of each side */
+    long nsta[2] = {0, 0}, ra[2] = {0, 0}, rb[2] = {0, 0}; /* [ra, rb]: those rooted on the strip */
     edge_key *keys = NULL;
     plume_index *be = NULL;
+    unsigned char *ends = NULL; /* [f.g.n] point ends a barb or side, for the outline's points */
     const double e = f.e;
 
     /* outline, counter-clockwise; its vertices are output vertices 0..no-1 */
@@ -877,6 +1208,16 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
         f.bb[1] = fmin(f.bb[1], f.o[2 * i + 1]), f.bb[3] = fmax(f.bb[3], f.o[2 * i + 1]);
     }
     f.diag = norm2(f.bb[2] - f.bb[0], f.bb[3] - f.bb[1]);
+    if (!(f.ocum = malloc((size_t)(f.no + 1) * sizeof *f.ocum))) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    f.ocum[0] = 0;
+    for (plume_index i = 0; i < f.no; i++) {
+        const double *a = f.o + 2 * i, *b = f.o + 2 * ((i + 1) % f.no);
+        f.ocum[i + 1] = f.ocum[i] + norm2(b[0] - a[0], b[1] - a[1]);
+    }
+    f.per = f.ocum[f.no];
     for (plume_index i = 0; i < f.no; i++)
         if (plume_pslg_point(&f.g, f.o[2 * i], f.o[2 * i + 1]) < 0) {
             st = PLUME_ENOMEM;
@@ -920,7 +1261,8 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
     if (N < 1)
         N = 1;
     double ds = f.L / (double)N;
-    long run[2][2]; /* [side][first, last] station */
+    long run[2][2]; /* [side][first, last] station k (of k ds) */
+    long kv = (long)ceil((f.diag + f.max_barb_len) / ds) + 1; /* virtual stations beyond the strip */
     {
         long kmid = -1;
         for (long d = 0; d <= N && kmid < 0; d++)
@@ -964,9 +1306,18 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
                 run[side][dir < 0 ? 0 : 1] = k;
             }
         }
+        /* the stations of each side, corner-exact; those of the run root barbs on the strip */
         for (int side = 0; side < 2; side++) {
             int sigma = side == 0 ? 1 : -1;
-            long a = run[side][0], b = run[side][1];
+            double s0 = (double)run[side][0] * ds, s1 = (double)run[side][1] * ds;
+            double ext[2] = {fm_run_extent(&f, sigma, s0, ds, -1), fm_run_extent(&f, sigma, s1, ds, 1)};
+            if ((st = fm_stations(&f, side, ds, -kv, N + kv, s0, s1, ext, &sta[side], &nsta[side], &ra[side],
+                                  &rb[side])) != PLUME_OK)
+                goto cleanup;
+        }
+        for (int side = 0; side < 2; side++) {
+            int sigma = side == 0 ? 1 : -1;
+            long a = ra[side], b = rb[side];
             side_ids[side] = malloc((size_t)(b - a + 3) * sizeof(plume_index));
             if (!side_ids[side]) {
                 st = PLUME_ENOMEM;
@@ -974,7 +1325,7 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
             }
             for (long k = a; k <= b; k++) {
                 double p[2];
-                fm_offset(&f, (double)k * ds, sigma, p);
+                fm_offset(&f, sta[side][k], sigma, p);
                 if ((side_ids[side][k - a + 1] = fm_add_vertex(&f, p)) < 0) {
                     st = PLUME_ENOMEM;
                     goto cleanup;
@@ -983,10 +1334,10 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
         }
         for (int side = 0; side < 2; side++) {
             int sigma = side == 0 ? 1 : -1;
-            long a = run[side][0], b = run[side][1];
+            long a = ra[side], b = rb[side];
             plume_index *ids = side_ids[side];
-            if ((st = fm_side_end(&f, sigma, (double)a * ds, -1, ids[1], &ids[0])) != PLUME_OK ||
-                (st = fm_side_end(&f, sigma, (double)b * ds, 1, ids[b - a + 1], &ids[b - a + 2])) != PLUME_OK)
+            if ((st = fm_side_end(&f, sigma, sta[side][a], -1, ids[1], &ids[0])) != PLUME_OK ||
+                (st = fm_side_end(&f, sigma, sta[side][b], 1, ids[b - a + 1], &ids[b - a + 2])) != PLUME_OK)
                 goto cleanup;
             for (long k = 0; k < b - a + 2; k++)
                 if (fm_add_constraint(&f, ids[k], ids[k + 1], SEG_SIDE, sigma, side) < 0) {
@@ -998,11 +1349,10 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
 
     /* barbs: rachis-rooted first (base to tip), then the family continued past the strip ends */
     {
-        long kv = (long)ceil((f.diag + f.max_barb_len) / ds) + 1;
         plume_index tag = 0;
         for (int side = 0; side < 2; side++) {
             int sigma = side == 0 ? 1 : -1;
-            long a = run[side][0], b = run[side][1];
+            long a = ra[side], b = rb[side];
             for (int pass = 0; pass < 4; pass++) {
                 if (pass == 1) { /* from the strip ends on the outline */
                     plume_index ends[2] = {side_ids[side][0], side_ids[side][b - a + 2]};
@@ -1017,11 +1367,11 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
                     continue;
                 }
                 long k0 = pass == 0 ? a : pass == 2 ? a - 1 : b + 1;
-                long k1 = pass == 0 ? b : pass == 2 ? -kv : N + kv;
+                long k1 = pass == 0 ? b : pass == 2 ? 0 : nsta[side] - 1;
                 long step = pass == 2 ? -1 : 1;
                 for (long k = k0; step > 0 ? k <= k1 : k >= k1; k += step) {
                     blend bl;
-                    double s = (double)k * ds, p[2];
+                    double s = sta[side][k], p[2];
                     fm_blend(&f, side, s, &bl);
                     fm_offset(&f, s, sigma, p);
                     plume_index root = pass == 0 ? side_ids[side][k - a + 1] : -1;
@@ -1038,10 +1388,10 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
         long parts = 1L << level;
         for (int side = 0; side < 2; side++) {
             int sigma = side == 0 ? 1 : -1;
-            for (long k = run[side][0]; k < run[side][1]; k++)
+            for (long k = ra[side]; k < rb[side]; k++)
                 for (long j = 1; j < parts; j += 2) {
                     blend bl;
-                    double s = ((double)k + (double)j / (double)parts) * ds, p[2];
+                    double s = sta[side][k] + (sta[side][k + 1] - sta[side][k]) * (double)j / (double)parts, p[2];
                     fm_blend(&f, side, s, &bl);
                     fm_offset(&f, s, sigma, p);
                     if ((st = fm_walk(&f, side, p, -1, 0, 1, &bl, tag)) != PLUME_OK)
@@ -1052,8 +1402,15 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
             break;
     }
 
-    /* outline: its vertices, the anchors on its edges, and points so that no gap exceeds e */
+    /* outline: its vertices, the anchors on its edges, and points so that no gap exceeds e, or
+     * OUTLINE_GAP e between two points that each end a barb or a strip side */
     qsort(f.anc, (size_t)f.nanc, sizeof *f.anc, cmp_anchor);
+    if (!(ends = calloc((size_t)f.g.n + 1, 1))) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    for (plume_index k = 0; k < 2 * f.g.ns; k++) /* only barb and side segments so far */
+        ends[f.g.s[k]] = 1;
     {
         plume_index first = -1, prev = -1, ka = 0;
         for (plume_index i = 0; i < f.no; i++) {
@@ -1072,7 +1429,9 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
                 double tnext = has ? f.anc[ka].t : 1.0;
                 plume_index vnext = has ? f.anc[ka].id : (i + 1) % f.no;
                 const double *pp = f.g.p + 2 * vprev, *pn = f.g.p + 2 * vnext;
-                long pieces = (long)ceil(norm2(pn[0] - pp[0], pn[1] - pp[1]) / e - 1e-9);
+                double gap = norm2(pn[0] - pp[0], pn[1] - pp[1]);
+                double limit = ends[vprev] && ends[vnext] ? OUTLINE_GAP * e : e;
+                long pieces = gap > limit ? (long)ceil(gap / e - 1e-9) : 1;
                 for (long j = 1; j < pieces; j++) {
                     double t = tprev + (tnext - tprev) * (double)j / (double)pieces;
                     plume_index id = plume_pslg_point(&f.g, a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]));
@@ -1196,11 +1555,27 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
     }
 
     if (stats) {
+        plume_index nu = 0;
+        unsigned char *why = NULL;
         memset(stats, 0, sizeof *stats);
         if ((st = plume_vane_barb_coverage(m, be, nbe, PLUME_FEATHER_VANE, &stats->vane_covered,
-                                           &stats->vane_triangles, NULL)) != PLUME_OK)
+                                           &stats->vane_triangles, NULL)) != PLUME_OK ||
+            (st = plume_feather_uncovered(m, be, nbe, NULL, &why, &nu, err)) != PLUME_OK)
             goto cleanup;
+        for (plume_index k = 0; k < nu; k++)
+            stats->uncovered[why[k]]++;
+        free(why);
         stats->rachis_triangles = m->nt - stats->vane_triangles;
+        stats->vane_min_angle = stats->rachis_min_angle = 180;
+        for (plume_index t = 0; t < m->nt; t++) {
+            double *mn = m->material[t] == PLUME_FEATHER_VANE ? &stats->vane_min_angle : &stats->rachis_min_angle;
+            for (int k = 0; k < 3; k++) {
+                const double *a = m->X + 2 * m->tri[3 * t + k], *b = m->X + 2 * m->tri[3 * t + (k + 1) % 3],
+                             *c = m->X + 2 * m->tri[3 * t + (k + 2) % 3];
+                double u[2] = {b[0] - a[0], b[1] - a[1]}, w[2] = {c[0] - a[0], c[1] - a[1]};
+                *mn = fmin(*mn, atan2(fabs(u[0] * w[1] - u[1] * w[0]), u[0] * w[0] + u[1] * w[1]) * 180 / FM_PI);
+            }
+        }
     }
     *out = m, m = NULL;
     *barb_edges = be, be = NULL;
@@ -1210,7 +1585,10 @@ cleanup:
     plume_cdt_output_free(&cdt);
     free(keys);
     free(be);
+    free(ends);
     free(side_ids[0]), free(side_ids[1]);
+    free(sta[0]), free(sta[1]);
+    free(f.ocum);
     for (int side = 0; side < 2; side++) {
         for (int k = 0; k < f.nsh[side] && f.sh[side]; k++)
             free(f.sh[side][k].tau), free(f.sh[side][k].theta);

@@ -1,7 +1,9 @@
 /* plume: the feather mesher of supplementary §6 — a rachis strip walked at the target edge length
  * with linearly interpolated width, and from each rachis vertex a barb curve interpolated from the
  * closest input barb curves of that side only, walked to the outline; points and barb edges
- * triangulated by constrained Delaunay (lib/cdt.h). */
+ * triangulated by constrained Delaunay (lib/cdt.h). The stations are corner-exact: a barb ends on
+ * every outline vertex it can reach, so nearly every vane triangle owns a barb edge, and
+ * plume_feather_uncovered says why each other one does not. */
 #ifndef PLUME_FEATHER_MESH_H
 #define PLUME_FEATHER_MESH_H
 
@@ -43,13 +45,47 @@ enum { PLUME_FEATHER_VANE = 0, PLUME_FEATHER_RACHIS = 1 };
 plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_mesh **out, plume_index **barb_edges,
                                 plume_index *nbarb, plume_err *err);
 
-/* Barb coverage of a feather mesh (DESIGN.md, "Meshes that respect the fibres"). */
+/* Why a vane triangle owns no barb edge: the first of these that applies to one of its vertices.
+ * Each such vertex forces one: in the strip between two barbs, a boundary vertex that ends no barb
+ * or a barb that ends inside adds a triangle and no barb edge (the count behind DESIGN.md, "Meshes
+ * that respect the fibres"). */
+enum {
+    PLUME_FEATHER_UNCOVERED_RACHIS = 0,   /* rachis junction: a vertex of the rachis strip from which no
+                                             barb leaves (the strip's ends, where it meets the outline) */
+    PLUME_FEATHER_UNCOVERED_OUTLINE = 1,  /* a vertex on the outline where no barb ends: the outline runs
+                                             along the barbs there, or wraps around the strip's end, or
+                                             bends twice within one barb spacing */
+    PLUME_FEATHER_UNCOVERED_BARB_END = 2, /* a vertex inside the vane where a barb starts or stops (a fill
+                                             barb where neighbours diverge, a barb cut where it converges
+                                             on another) */
+    PLUME_FEATHER_UNCOVERED_OTHER = 3,    /* none of the above */
+    PLUME_FEATHER_UNCOVERED_REASONS = 4
+};
+
+/* Names of the reasons above ("rachis junction", "outline", "barb end", "other"); NULL out of range. */
+const char *plume_feather_uncovered_name(int reason);
+
+/* Barb coverage and quality of a feather mesh (DESIGN.md, "Meshes that respect the fibres"). */
 typedef struct {
     plume_index vane_triangles;   /* triangles of material PLUME_FEATHER_VANE */
     plume_index vane_covered;     /* of them, those owning one of the returned barb edges (so
                                      inextensible under the constraint) */
     plume_index rachis_triangles; /* triangles of material PLUME_FEATHER_RACHIS */
+    plume_index uncovered[PLUME_FEATHER_UNCOVERED_REASONS]; /* the other vane triangles by reason
+                                     (plume_feather_uncovered); they sum to vane_triangles - vane_covered */
+    double vane_min_angle;        /* smallest angle of a vane triangle, degrees */
+    double rachis_min_angle;      /* smallest angle of a rachis triangle, degrees */
 } plume_feather_stats;
+
+/* The vane triangles of a feather mesh `m` (materials and topology as plume_feather_mesh leaves
+ * them) that own none of the nbarb barb edges (2*nbarb vertex ids), with their reasons: *n of
+ * them, ids in *tri and reasons (PLUME_FEATHER_UNCOVERED_*) in *reason, both malloc'ed (NULL when
+ * none; either output may be NULL if unwanted). Works on the mesh alone: a vertex is on the
+ * outline when it is a boundary vertex, of the strip when a rachis triangle uses it, and ends a
+ * barb when exactly one barb edge uses it. Errors: PLUME_EINVAL (NULL mesh or n, no topology,
+ * vertex id out of range), PLUME_ENOMEM. */
+plume_status plume_feather_uncovered(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
+                                     plume_index **tri, unsigned char **reason, plume_index *n, plume_err *err);
 
 /* plume_feather_mesh, and *stats (if non-NULL) filled as above; same outputs and errors. */
 plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int dim, plume_mesh **out,

@@ -372,8 +372,10 @@ static double aligned_fraction(const feather *f, int synthetic, const plume_mesh
     return (double)aligned / (double)nvane;
 }
 
-/* (2) area and boundary */
-static void check_outline(const feather *f, const plume_mesh *m)
+/* (2) area and boundary: the outline kept exactly; a boundary edge is at most e long, or joins two
+ * vertices that each end a barb or the strip (barb ends up to 2 e apart are left unsplit, since a
+ * point between them would end no barb) and is at most 2 e long */
+static void check_outline(const feather *f, const plume_mesh *m, const plume_index *be, plume_index nb)
 {
     double area = fabs(polygon_area(f->outline, f->no));
     CHECK_REL(plume_mesh_total_area(m), area, 1e-9, 0);
@@ -396,13 +398,26 @@ static void check_outline(const feather *f, const plume_mesh *m)
         missing += !found;
     }
     CHECK(missing == 0);
+    unsigned char *ends = calloc((size_t)m->nv, 1);
+    for (plume_index k = 0; k < 2 * nb; k++)
+        ends[be[k]] = 1;
+    for (plume_index t = 0; t < m->nt; t++)
+        if (m->material[t] == PLUME_FEATHER_RACHIS)
+            for (int k = 0; k < 3; k++)
+                ends[m->tri[3 * t + k]] = 1;
     double longest = 0;
+    plume_index long_bad = 0;
     for (plume_index k = 0; k < m->ne; k++)
         if (m->edge_tri[2 * k + 1] < 0) {
-            const double *a = m->X + 2 * m->edges[2 * k], *b = m->X + 2 * m->edges[2 * k + 1];
-            longest = fmax(longest, hypot(b[0] - a[0], b[1] - a[1]));
+            plume_index i = m->edges[2 * k], j = m->edges[2 * k + 1];
+            const double *a = m->X + 2 * i, *b = m->X + 2 * j;
+            double len = hypot(b[0] - a[0], b[1] - a[1]);
+            longest = fmax(longest, len);
+            long_bad += len > f->in.edge * (1 + 1e-9) && !(ends[i] && ends[j]);
         }
-    CHECK(longest <= f->in.edge * (1 + 1e-9));
+    free(ends);
+    CHECK(longest <= 2 * f->in.edge * (1 + 1e-9));
+    CHECK(long_bad == 0);
     for (plume_index t = 0; t < m->nt; t++)
         CHECK(plume_mesh_ref_area(m, t) > 0);
 }
@@ -595,7 +610,7 @@ static void run_all_checks(const char *label, const feather *f, int synthetic, d
     CHECK(frac >= 0.9);
     if (synthetic)
         CHECK(frac_exact >= 0.9);
-    check_outline(f, m);
+    check_outline(f, m, be, nb);
     double wb, wt;
     check_rachis(f, m, rachis_tol, &wb, &wt);
     double worst_dev, worst_turn, worst_dir;
@@ -955,10 +970,82 @@ static plume_index covered_independently(const plume_mesh *m, const plume_index 
     return n;
 }
 
-/* The mesher reports how many vane triangles own a barb edge; the count matches one done here,
- * and stays above the floor measured on the shipped feather (89.0 % at 5 mm, 93.1 % at 3.5 mm,
- * 95.2 % at 2.5 mm). Every uncovered vane triangle there has a vertex on the outline: fans at
- * outline vertices and added outline points that are not barb ends. */
+/* Per-vertex facts for the reasons, found here independently of the library: on the outline (by
+ * distance to it, not the mesh's boundary flags), used by a rachis triangle, barb edges at it. */
+typedef struct {
+    unsigned char *outline, *strip, *deg;
+} vertex_facts;
+
+static void facts_make(const feather *f, const plume_mesh *m, const plume_index *be, plume_index nb, vertex_facts *vf)
+{
+    double size = sqrt(fabs(polygon_area(f->outline, f->no)));
+    vf->outline = calloc((size_t)m->nv, 1);
+    vf->strip = calloc((size_t)m->nv, 1);
+    vf->deg = calloc((size_t)m->nv, 1);
+    for (plume_index v = 0; v < m->nv; v++)
+        vf->outline[v] = outline_dist(f, m->X + 2 * v) <= 1e-12 * size;
+    for (plume_index t = 0; t < m->nt; t++)
+        if (m->material[t] == PLUME_FEATHER_RACHIS)
+            for (int k = 0; k < 3; k++)
+                vf->strip[m->tri[3 * t + k]] = 1;
+    for (plume_index k = 0; k < 2 * nb; k++)
+        vf->deg[be[k]]++;
+}
+
+static void facts_free(vertex_facts *vf)
+{
+    free(vf->outline), free(vf->strip), free(vf->deg);
+}
+
+/* the reason of an uncovered vane triangle as feather_mesh.h defines it: the first that applies */
+static int expected_reason(const vertex_facts *vf, const plume_mesh *m, plume_index t)
+{
+    int has[3] = {0, 0, 0};
+    for (int k = 0; k < 3; k++) {
+        plume_index v = m->tri[3 * t + k];
+        has[0] |= vf->strip[v] && vf->deg[v] == 0;
+        has[1] |= vf->outline[v] && vf->deg[v] == 0;
+        has[2] |= !vf->outline[v] && !vf->strip[v] && vf->deg[v] == 1;
+    }
+    return has[0] ? PLUME_FEATHER_UNCOVERED_RACHIS
+           : has[1] ? PLUME_FEATHER_UNCOVERED_OUTLINE
+           : has[2] ? PLUME_FEATHER_UNCOVERED_BARB_END
+                    : PLUME_FEATHER_UNCOVERED_OTHER;
+}
+
+/* does triangle t own one of the barb edges? (a scan: few calls) */
+static int owns_barb_edge(const plume_mesh *m, const plume_index *be, plume_index nb, plume_index t)
+{
+    for (int j = 0; j < 3; j++) {
+        plume_index a = m->tri[3 * t + j], b = m->tri[3 * t + (j + 1) % 3];
+        for (plume_index k = 0; k < nb; k++)
+            if ((be[2 * k] == a && be[2 * k + 1] == b) || (be[2 * k] == b && be[2 * k + 1] == a))
+                return 1;
+    }
+    return 0;
+}
+
+static double triangle_min_angle(const plume_mesh *m, plume_index t)
+{
+    double mn = 180;
+    for (int k = 0; k < 3; k++) {
+        const double *a = m->X + 2 * m->tri[3 * t + k], *b = m->X + 2 * m->tri[3 * t + (k + 1) % 3],
+                     *c = m->X + 2 * m->tri[3 * t + (k + 2) % 3];
+        double u[2] = {b[0] - a[0], b[1] - a[1]}, w[2] = {c[0] - a[0], c[1] - a[1]};
+        mn = fmin(mn, line_angle(u, w));
+    }
+    return mn;
+}
+
+/* The mesher reports how many vane triangles own a barb edge and why each other one does not;
+ * the counts match ones done here from the triangles' own edges. Measured on the shipped feather
+ * at 5 / 3.5 / 2.5 mm: with stations every ds, 784 / 1500 / 2879 vane triangles, 89.0 / 93.1 /
+ * 95.2 % owning a barb edge, every other one at an outline point that ends no barb (85 / 103 / 138
+ * such points); with corner-exact stations, 837 / 1417 / 2798 vane triangles, 98.4 / 98.8 / 99.5 %,
+ * the rest at the base and the tip (3 + 10, 2 + 15, 2 + 10 by rachis junction + outline) and two
+ * fill-barb starts at 2.5 mm. Smallest vane angle 0.41 / 0.69 / 0.74 degrees before (a sliver at
+ * the tip, where the vane is narrower than a barb spacing), 0.44 / 0.69 / 0.91 after; triangles
+ * under 10 degrees 29 / 14 / 22 before, 5 / 4 / 4 after. */
 void test_feather_mesh_coverage(void)
 {
     feather f;
@@ -967,7 +1054,8 @@ void test_feather_mesh_coverage(void)
         feather_free(&f);
         return;
     }
-    const double edges[] = {5e-3, 3.5e-3, 2.5e-3}, floors[] = {0.885, 0.925, 0.945};
+    const double edges[] = {5e-3, 3.5e-3, 2.5e-3}, floors[] = {0.98, 0.985, 0.99};
+    const plume_index uniform_vane[] = {784, 1500, 2879}; /* with stations every ds */
     for (int k = 0; k < 3; k++) {
         f.in.edge = edges[k];
         plume_mesh *m = NULL;
@@ -978,13 +1066,121 @@ void test_feather_mesh_coverage(void)
         if (!m)
             continue;
         plume_index cov = covered_independently(m, be, nb, &nvane);
-        fprintf(stderr, "    shipped feather, e = %g m: %ld of %ld vane triangles own a barb edge (%.1f %%), %ld rachis\n",
+        plume_index nu = stats.vane_triangles - stats.vane_covered;
+        fprintf(stderr,
+                "    shipped feather, e = %g m: %ld of %ld vane triangles own a barb edge (%.1f %%), %ld rachis; "
+                "uncovered: %ld rachis junction, %ld outline, %ld barb end, %ld other; smallest angle %.2f deg "
+                "(vane), %.2f deg (rachis)\n",
                 edges[k], (long)stats.vane_covered, (long)stats.vane_triangles,
-                100.0 * (double)stats.vane_covered / (double)stats.vane_triangles, (long)stats.rachis_triangles);
+                100.0 * (double)stats.vane_covered / (double)stats.vane_triangles, (long)stats.rachis_triangles,
+                (long)stats.uncovered[PLUME_FEATHER_UNCOVERED_RACHIS], (long)stats.uncovered[PLUME_FEATHER_UNCOVERED_OUTLINE],
+                (long)stats.uncovered[PLUME_FEATHER_UNCOVERED_BARB_END], (long)stats.uncovered[PLUME_FEATHER_UNCOVERED_OTHER],
+                stats.vane_min_angle, stats.rachis_min_angle);
         CHECK(stats.vane_triangles == nvane);
         CHECK(stats.vane_covered == cov);
         CHECK(stats.rachis_triangles == m->nt - nvane);
         CHECK((double)stats.vane_covered >= floors[k] * (double)stats.vane_triangles);
+        /* about as many elements as the uniform layout */
+        CHECK(fabs((double)(nvane - uniform_vane[k])) <= 0.1 * (double)uniform_vane[k]);
+
+        /* every uncovered vane triangle is listed once with the reason that applies to it */
+        plume_index *tri = NULL, n = -1, counts[PLUME_FEATHER_UNCOVERED_REASONS] = {0};
+        unsigned char *why = NULL;
+        CHECK(plume_feather_uncovered(m, be, nb, &tri, &why, &n, &err) == PLUME_OK);
+        CHECK(n == nu);
+        plume_index sum = 0, wrong = 0;
+        for (int r = 0; r < PLUME_FEATHER_UNCOVERED_REASONS; r++)
+            sum += stats.uncovered[r];
+        CHECK(sum == nu);
+        vertex_facts vf;
+        facts_make(&f, m, be, nb, &vf);
+        unsigned char *seen = calloc((size_t)m->nt, 1);
+        for (plume_index i = 0; i < n && tri && why; i++) {
+            plume_index t = tri[i];
+            CHECK(t >= 0 && t < m->nt && !seen[t]);
+            if (t < 0 || t >= m->nt)
+                continue;
+            seen[t] = 1;
+            CHECK(m->material[t] == PLUME_FEATHER_VANE && !owns_barb_edge(m, be, nb, t));
+            CHECK(why[i] < PLUME_FEATHER_UNCOVERED_REASONS);
+            if (why[i] < PLUME_FEATHER_UNCOVERED_REASONS)
+                counts[why[i]]++;
+            wrong += why[i] != expected_reason(&vf, m, t);
+        }
+        CHECK(wrong == 0);
+        for (int r = 0; r < PLUME_FEATHER_UNCOVERED_REASONS; r++)
+            CHECK(counts[r] == stats.uncovered[r]);
+        /* all are forced by the outline or the strip's ends, but for at most two fill-barb starts */
+        CHECK(stats.uncovered[PLUME_FEATHER_UNCOVERED_OTHER] == 0);
+        CHECK(stats.uncovered[PLUME_FEATHER_UNCOVERED_BARB_END] <= 2);
+
+        /* quality: the reported smallest angles, and few vane triangles under 10 degrees */
+        double vmin = 180, rmin = 180;
+        plume_index thin = 0;
+        for (plume_index t = 0; t < m->nt; t++) {
+            double a = triangle_min_angle(m, t);
+            if (m->material[t] == PLUME_FEATHER_VANE)
+                vmin = fmin(vmin, a), thin += a < 10;
+            else
+                rmin = fmin(rmin, a);
+        }
+        CHECK_REL(stats.vane_min_angle, vmin, 1e-9, 1e-9);
+        CHECK_REL(stats.rachis_min_angle, rmin, 1e-9, 1e-9);
+        CHECK(stats.vane_min_angle >= 0.4); /* the tip sliver, no worse than with stations every ds */
+        CHECK((double)thin <= 0.01 * (double)nvane);
+        fprintf(stderr, "      %ld vane triangles under 10 degrees\n", (long)thin);
+
+        /* the reasons can be told apart: a barb edge dropped from the list in the middle of a barb,
+         * at its root on the strip and at its end on the outline leaves its two triangles uncovered
+         * for the reason of its ends */
+        if (k == 0) {
+            const int want[3] = {PLUME_FEATHER_UNCOVERED_BARB_END, PLUME_FEATHER_UNCOVERED_RACHIS,
+                                 PLUME_FEATHER_UNCOVERED_OUTLINE};
+            for (int c = 0; c < 3; c++) {
+                plume_index pick = -1;
+                for (plume_index q = 0; q < nb && pick < 0; q++) {
+                    plume_index a = be[2 * q], b = be[2 * q + 1];
+                    int mid_a = !vf.outline[a] && !vf.strip[a] && vf.deg[a] == 2;
+                    int mid_b = !vf.outline[b] && !vf.strip[b] && vf.deg[b] == 2;
+                    int ok = c == 0 ? mid_a && mid_b
+                             : c == 1 ? vf.strip[a] && vf.deg[a] == 1 && mid_b
+                                      : mid_a && vf.outline[b] && vf.deg[b] == 1;
+                    /* both triangles beside it covered otherwise, and touching nothing else */
+                    for (plume_index t = 0; t < m->nt && ok; t++) {
+                        const plume_index *v = m->tri + 3 * t;
+                        int has_a = v[0] == a || v[1] == a || v[2] == a, has_b = v[0] == b || v[1] == b || v[2] == b;
+                        if (has_a && has_b)
+                            ok = m->material[t] == PLUME_FEATHER_VANE &&
+                                 expected_reason(&vf, m, t) == PLUME_FEATHER_UNCOVERED_OTHER;
+                    }
+                    if (ok)
+                        pick = q;
+                }
+                CHECK(pick >= 0);
+                if (pick < 0)
+                    continue;
+                plume_index *be2 = malloc((size_t)(2 * nb) * sizeof *be2), n2 = 0, *tri2 = NULL;
+                unsigned char *why2 = NULL;
+                memcpy(be2, be, (size_t)(2 * pick) * sizeof *be2);
+                memcpy(be2 + 2 * pick, be + 2 * (pick + 1), (size_t)(2 * (nb - pick - 1)) * sizeof *be2);
+                CHECK(plume_feather_uncovered(m, be2, nb - 1, &tri2, &why2, &n2, &err) == PLUME_OK);
+                CHECK(n2 == n + 2);
+                plume_index got = 0;
+                for (plume_index i = 0; i < n2 && tri2; i++) {
+                    const plume_index *v = m->tri + 3 * tri2[i];
+                    plume_index a = be[2 * pick], b = be[2 * pick + 1];
+                    if ((v[0] == a || v[1] == a || v[2] == a) && (v[0] == b || v[1] == b || v[2] == b))
+                        got += why2[i] == want[c];
+                }
+                CHECK(got == 2);
+                free(be2), free(tri2), free(why2);
+            }
+        }
+        facts_free(&vf);
+        free(seen);
+        free(tri);
+        free(why);
+
         /* the plain entry point gives the same mesh */
         plume_mesh *m2 = NULL;
         plume_index *be2 = NULL, nb2 = 0;
@@ -996,4 +1192,36 @@ void test_feather_mesh_coverage(void)
         free(be);
     }
     feather_free(&f);
+
+    /* errors: names, NULL arguments, a mesh without topology, a barb vertex out of range */
+    CHECK(strcmp(plume_feather_uncovered_name(PLUME_FEATHER_UNCOVERED_RACHIS), "rachis junction") == 0);
+    CHECK(strcmp(plume_feather_uncovered_name(PLUME_FEATHER_UNCOVERED_OTHER), "other") == 0);
+    CHECK(plume_feather_uncovered_name(-1) == NULL && plume_feather_uncovered_name(PLUME_FEATHER_UNCOVERED_REASONS) == NULL);
+    plume_err err = {""};
+    plume_index n = 7, *tri = NULL;
+    unsigned char *why = NULL;
+    CHECK(plume_feather_uncovered(NULL, NULL, 0, &tri, &why, &n, &err) == PLUME_EINVAL);
+    plume_mesh *m = NULL;
+    CHECK(plume_mesh_create(3, 1, 2, &m) == PLUME_OK);
+    if (m) {
+        const double X[6] = {0, 0, 1, 0, 0, 1};
+        memcpy(m->X, X, sizeof X);
+        m->tri[0] = 0, m->tri[1] = 1, m->tri[2] = 2;
+        m->material[0] = PLUME_FEATHER_VANE;
+        plume_mesh_reset_current(m);
+        CHECK(plume_feather_uncovered(m, NULL, 0, &tri, &why, &n, &err) == PLUME_EINVAL); /* no topology */
+        CHECK(strstr(err.msg, "topology") != NULL);
+        CHECK(plume_mesh_build_topology(m, &err) == PLUME_OK);
+        const plume_index bad[2] = {0, 3};
+        CHECK(plume_feather_uncovered(m, bad, 1, &tri, &why, &n, &err) == PLUME_EINVAL);
+        CHECK(strstr(err.msg, "vertex 3") != NULL);
+        CHECK(plume_feather_uncovered(m, NULL, 0, &tri, &why, &n, &err) == PLUME_OK);
+        /* a lone triangle with no barb edge, all vertices on the boundary: the outline's */
+        CHECK(n == 1 && tri && why && tri[0] == 0 && why[0] == PLUME_FEATHER_UNCOVERED_OUTLINE);
+        free(tri), free(why);
+        const plume_index ok[2] = {0, 1};
+        CHECK(plume_feather_uncovered(m, ok, 1, &tri, &why, &n, &err) == PLUME_OK);
+        CHECK(n == 0 && tri == NULL && why == NULL);
+        plume_mesh_destroy(&m);
+    }
 }
