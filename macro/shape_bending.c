@@ -185,6 +185,7 @@ typedef struct {
  * 3..npt-1 above the triangle's plane, K (n x n, n = npt - 3) and h0 at ctx->dbl + kh. */
 typedef struct {
     int nslot, npt;
+    int plain; /* no mirrored point: point j is slot j */
     size_t pt, kh;
 } shape_tri;
 
@@ -372,20 +373,26 @@ static void shape_hessian_y(const shape_geom *G, const double *xv, int npt, cons
             Hy[(size_t)r * ny + c] = Hy[(size_t)c * ny + r] = 0.5 * (Hy[(size_t)r * ny + c] + Hy[(size_t)c * ny + r]);
 }
 
-/* y -> points: point j >= 1 is y-block j - 1, point 0 is minus their sum. Hv is (3 npt)^2. */
-static void y_to_points(const double *Hy, int npt, double *Hv)
+/* y -> points: point j >= 1 is y-block j - 1, point 0 is minus their sum. Hv is 3 npt x 3 npt
+ * with row stride nv (>= 3 npt). */
+static void y_to_points(const double *Hy, int npt, double *Hv, int nv)
 {
-    const int ny = 3 * (npt - 1), nv = 3 * npt;
+    const int ny = 3 * (npt - 1);
     for (int r = 0; r < ny; r++)
         for (int c = 0; c < ny; c++)
             Hv[(size_t)(3 + r) * nv + 3 + c] = Hy[(size_t)r * ny + c];
-    for (int i = 0; i < 3; i++)
-        for (int c = 0; c < ny; c++) {
-            double s = 0.0;
-            for (int B = 0; B < npt - 1; B++)
-                s += Hy[(size_t)(3 * B + i) * ny + c];
-            Hv[(size_t)i * nv + 3 + c] = Hv[(size_t)(3 + c) * nv + i] = -s;
+    /* row i of point 0: minus the sum of rows i of the other points (rows are contiguous) */
+    for (int i = 0; i < 3; i++) {
+        double *r0 = Hv + (size_t)i * nv + 3;
+        memset(r0, 0, sizeof(double) * (size_t)ny);
+        for (int B = 0; B < npt - 1; B++) {
+            const double *r = Hy + (size_t)(3 * B + i) * ny;
+            for (int c = 0; c < ny; c++)
+                r0[c] -= r[c];
         }
+        for (int c = 0; c < ny; c++)
+            Hv[(size_t)(3 + c) * nv + i] = r0[c];
+    }
     for (int i = 0; i < 3; i++)
         for (int jj = 0; jj < 3; jj++) {
             double s = 0.0;
@@ -484,14 +491,21 @@ static plume_status shape_eval(void *vctx, int dim, const double *x, double *ene
         }
         if (hblocks) {
             const int nv = 3 * npt;
+            double *Hb = hblocks + (size_t)t * (size_t)ka * (size_t)ka;
             shape_hessian_y(&G, xv, npt, K, f, h, gy, project != 0, Hy, kj);
-            y_to_points(Hy, npt, Hv);
+            if (T->plain) { /* point j is slot j: the block is Hv, padded with zeros */
+                y_to_points(Hy, npt, Hb, ka);
+                for (int r = 0; r < ka; r++)
+                    memset(Hb + (size_t)r * ka + (r < nv ? nv : 0), 0,
+                           sizeof(double) * (size_t)(r < nv ? ka - nv : ka));
+                continue;
+            }
+            y_to_points(Hy, npt, Hv, nv);
             /* Ht = Hv T (columns to slots), then the block = T^T Ht (rows to slots) */
             memset(Ht, 0, sizeof(double) * (size_t)nv * (size_t)ka);
             for (int r = 0; r < nv; r++)
                 for (int j = 0; j < npt; j++)
                     point_to_slots(&P[j], Hv + (size_t)r * nv + 3 * j, Ht + (size_t)r * ka, 1);
-            double *Hb = hblocks + (size_t)t * (size_t)ka * (size_t)ka;
             memset(Hb, 0, sizeof(double) * (size_t)ka * (size_t)ka);
             for (int c = 0; c < ka; c++)
                 for (int j = 0; j < npt; j++) {
@@ -1096,6 +1110,9 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
         shape_tri *T = &ctx->tri[t];
         T->nslot = tb.nslot;
         T->npt = tb.npt;
+        T->plain = tb.nslot == tb.npt;
+        for (int j = 0; j < tb.npt; j++)
+            T->plain &= tb.pt[j].anchor < 0 && tb.pt[j].src == j;
         T->pt = npts;
         T->kh = ndbl;
         npts += (size_t)tb.npt;
