@@ -32,7 +32,8 @@
  *    step that would cross a constrained edge, cuts the barb there: barbs never cross, and
  *    converging barbs end on their neighbour instead of making slivers. Each side is walked base to
  *    tip, rachis-rooted barbs first, so later barbs yield to earlier ones.
- * 3b. Corner-exact stations (DESIGN.md, "Meshes that respect the fibres"; the patch mesher's rule).
+ * 3b. Corner-exact stations (input corner_exact; DESIGN.md, "Meshes that respect the fibres"; the
+ *    patch mesher's rule). Without it, the stations are k ds and outline gaps over e get points.
  *    In a strip between two barbs, every boundary vertex that ends no barb adds a triangle and no
  *    barb edge, so it forces one vane triangle without a barb edge: with stations every ds, 85 of
  *    the shipped outline's 100 vertices did, and they were all of the 11 % uncovered at 5 mm. So
@@ -47,6 +48,14 @@
  *    never closer than CORNER_GAP ds. What is left uncovered is where the outline runs along the
  *    barbs (the base of the feather, where they skim it), wraps round the strip's end, or the tip,
  *    narrower than a barb spacing; plume_feather_uncovered reports each with its reason.
+ *    Not the default: the shipped dynamic scene (data/feather/scene_anisotropic.json, 91 steps)
+ *    needs more Newton iterations on these meshes, old / corner-exact at e = 4.6 4.7 4.8 4.9 5.0
+ *    5.1 5.2 5.3 mm: 3358 / >500 s, 3074 / 11666, 1131 / 55251, 1708 / 3915, 1893 / 4016,
+ *    2026 / 2142, 993 / 2646, 1136 / 1579 (the scene without the barb constraint: 246 / 258 at
+ *    5 mm, so it is the constraint layout; the count swings with small mesh changes on either
+ *    layout, e.g. 1398 / 3356 at 5.0 / 5.2 mm with stations jittered by 0.3 ds). Not yet
+ *    explained: neither the denser stations at the tip, nor the barb edges on outline vertices,
+ *    nor barbs held at both ends by the scene's handles account for it.
  * 4. Where no rachis-rooted barb reaches. (a) Where the outline leaves the rachis more steeply than
  *    the barbs (the base of a vane) the family is continued from stations past the strip ends and
  *    from the strip ends themselves: those barbs enter through the outline and are walked the same
@@ -941,6 +950,15 @@ static plume_status fm_stations(fm *f, int side, double ds, long kmin, long kmax
                                 const double ext[2], double **out, long *n, long *r0, long *r1)
 {
     plume_status st = PLUME_OK;
+    if (!f->in->corner_exact) { /* every ds, as before corner-exact stations */
+        long a = lround(s0 / ds), b = lround(s1 / ds);
+        if (!(*out = malloc((size_t)(kmax - kmin + 1) * sizeof **out)))
+            return PLUME_ENOMEM;
+        for (long k = kmin; k <= kmax; k++)
+            (*out)[k - kmin] = (double)k * ds;
+        *n = kmax - kmin + 1, *r0 = a - kmin, *r1 = b - kmin;
+        return PLUME_OK;
+    }
     long ns = 2 * (kmax - kmin) + 1 + 2;
     ftrace *tr = malloc((size_t)ns * sizeof *tr), *ftf = NULL;
     double *ss = malloc((size_t)ns * sizeof *ss);
@@ -1391,7 +1409,10 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
             for (long k = ra[side]; k < rb[side]; k++)
                 for (long j = 1; j < parts; j += 2) {
                     blend bl;
-                    double s = sta[side][k] + (sta[side][k + 1] - sta[side][k]) * (double)j / (double)parts, p[2];
+                    double s = in->corner_exact
+                                   ? sta[side][k] + (sta[side][k + 1] - sta[side][k]) * (double)j / (double)parts
+                                   : ((double)(k - kv) + (double)j / (double)parts) * ds; /* as before */
+                    double p[2];
                     fm_blend(&f, side, s, &bl);
                     fm_offset(&f, s, sigma, p);
                     if ((st = fm_walk(&f, side, p, -1, 0, 1, &bl, tag)) != PLUME_OK)
@@ -1430,7 +1451,7 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
                 plume_index vnext = has ? f.anc[ka].id : (i + 1) % f.no;
                 const double *pp = f.g.p + 2 * vprev, *pn = f.g.p + 2 * vnext;
                 double gap = norm2(pn[0] - pp[0], pn[1] - pp[1]);
-                double limit = ends[vprev] && ends[vnext] ? OUTLINE_GAP * e : e;
+                double limit = in->corner_exact && ends[vprev] && ends[vnext] ? OUTLINE_GAP * e : e;
                 long pieces = gap > limit ? (long)ceil(gap / e - 1e-9) : 1;
                 for (long j = 1; j < pieces; j++) {
                     double t = tprev + (tnext - tprev) * (double)j / (double)pieces;
