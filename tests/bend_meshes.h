@@ -23,11 +23,11 @@
 
 enum { BM_RIGHT = 0, BM_RIGHT45, BM_EQUI_ALONG, BM_EQUI_ACROSS, BM_DELAUNAY, BM_NFAMILY };
 
-static const char *const bm_family_name[BM_NFAMILY] = {"right grid", "right grid 45", "equi rows // axis",
+static const char *const bm_family_name[BM_NFAMILY] __attribute__((unused)) = {"right grid", "right grid 45", "equi rows // axis",
                                                        "equi rows _|_ axis", "random Delaunay"};
 
 /* Finishes a mesh: barbs at barb_deg, material 0, topology, x = X. NULL on failure. */
-static plume_mesh *bm_finish(plume_mesh *m, double barb_deg)
+static inline plume_mesh *bm_finish(plume_mesh *m, double barb_deg)
 {
     for (plume_index t = 0; t < m->nt; t++) {
         m->barb_dir[2 * t] = cos(barb_deg * BM_PI / 180.0);
@@ -46,7 +46,7 @@ static plume_mesh *bm_finish(plume_mesh *m, double barb_deg)
  * triangles row by row, then rotated by rot_deg. equi: odd rows are staggered by half a cell
  * (with the two ends on the sides), which gives near-equilateral triangles; otherwise every row
  * is x_i = i Lx / ncol (squares cut along a diagonal). */
-static plume_mesh *bm_rows_mesh(int ncol, int nrow, double Lx, double Ly, int equi, double rot_deg, double barb_deg)
+static inline plume_mesh *bm_rows_mesh(int ncol, int nrow, double Lx, double Ly, int equi, double rot_deg, double barb_deg)
 {
     const int maxrow = ncol + 2;
     const plume_index nv_max = (plume_index)(nrow + 1) * maxrow;
@@ -106,7 +106,7 @@ done:
 
 /* Delaunay triangulation of the rectangle's boundary points (spacing about h, jittered along the
  * sides) and interior points on a grid of spacing h jittered by +-0.35 h, seeded. */
-static plume_mesh *bm_delaunay_mesh(double h, double Lx, double Ly, unsigned long long seed, double barb_deg)
+static inline plume_mesh *bm_delaunay_mesh(double h, double Lx, double Ly, unsigned long long seed, double barb_deg)
 {
     rng64 r = {seed * 2654435761ULL + 0x9e3779b97f4a7c15ULL};
     const int nx = (int)ceil(Lx / h - 1e-9), ny = (int)ceil(Ly / h - 1e-9);
@@ -146,7 +146,7 @@ static plume_mesh *bm_delaunay_mesh(double h, double Lx, double Ly, unsigned lon
 }
 
 /* A family's mesh of the Lx x Ly patch at spacing about h (h divides Lx, Ly for the grids). */
-static plume_mesh *bm_family_mesh(int family, double h, double Lx, double Ly, double barb_deg)
+static inline plume_mesh *bm_family_mesh(int family, double h, double Lx, double Ly, double barb_deg)
 {
     const int nx = (int)lround(Lx / h), ny = (int)lround(Ly / h);
     const int nrow_e = (int)lround(Ly / (h * sqrt(3.0) / 2.0));
@@ -166,10 +166,26 @@ static plume_mesh *bm_family_mesh(int family, double h, double Lx, double Ly, do
     }
 }
 
+/* A fixed rigid motion for invariance tests: the rotation Q of angle 1.1 about the axis
+ * (1, 2, 2)/3, then the shift (3, -1, 7.5); y = Q x + shift for every vertex of x (3 nv). */
+static inline void bm_rigid_motion(plume_index nv, const double *x, double Q[3][3], double *y)
+{
+    const double ax[3] = {1.0 / 3, 2.0 / 3, 2.0 / 3}, an = 1.1, c = cos(an), s = sin(an);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            Q[i][j] = (i == j ? c : 0.0) + (1.0 - c) * ax[i] * ax[j];
+    Q[0][1] -= s * ax[2], Q[0][2] += s * ax[1], Q[1][0] += s * ax[2];
+    Q[1][2] -= s * ax[0], Q[2][0] -= s * ax[1], Q[2][1] += s * ax[0];
+    const double shift[3] = {3.0, -1.0, 7.5};
+    for (plume_index v = 0; v < nv; v++)
+        for (int i = 0; i < 3; i++)
+            y[3 * v + i] = Q[i][0] * x[3 * v] + Q[i][1] * x[3 * v + 1] + Q[i][2] * x[3 * v + 2] + shift[i];
+}
+
 /* Maps the flat reference onto a cylinder of curvature k whose curvature direction is the
  * material unit vector at curv_deg, isometrically (arc length along the curvature direction
  * kept); the centre of curvature is on +z. */
-static void bm_map_cylinder(const plume_mesh *m, double curv_deg, double k, double *x)
+static inline void bm_map_cylinder(const plume_mesh *m, double curv_deg, double k, double *x)
 {
     const double c[2] = {cos(curv_deg * BM_PI / 180.0), sin(curv_deg * BM_PI / 180.0)};
     const double a[2] = {-c[1], c[0]};
@@ -186,7 +202,7 @@ static void bm_map_cylinder(const plume_mesh *m, double curv_deg, double k, doub
 /* Continuum energy per unit area of a cylinder of curvature k at angle phi_deg between the
  * curvature direction and the barbs: 1/2 k^2 (D_long c^4 + D_trans s^4 + (2 D_12 + 4 D_66) c^2 s^2),
  * D_66 derived by Huber's rule when D_twist == 0 (bending.h). */
-static double bm_continuum_density(const plume_bending_material *mat, double k, double phi_deg)
+static inline double bm_continuum_density(const plume_bending_material *mat, double k, double phi_deg)
 {
     const double c = cos(phi_deg * BM_PI / 180.0), s = sin(phi_deg * BM_PI / 180.0);
     const double D66 = mat->D_twist > 0.0 ? mat->D_twist : 0.5 * (sqrt(mat->D_long * mat->D_trans) - mat->D_coupling);

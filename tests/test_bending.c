@@ -10,6 +10,7 @@
 
 #include "harness.h"
 #include "test_rng.h"
+#include "bend_meshes.h"
 #include "../lib/dense.h"
 #include "../lib/mesh.h"
 #include "../macro/bending.h"
@@ -63,24 +64,6 @@ static plume_mesh *grid_mesh(int n, double h, int kind, double rot_deg, double b
     return m;
 }
 
-/* Maps the flat reference onto a cylinder of curvature k whose curvature direction is the
- * in-plane unit vector at curv_deg (the axis is perpendicular to it), isometrically: arc length
- * along the curvature direction is kept, every vertex lies on the cylinder. The centre of
- * curvature is on the +z side (the side of the triangles' normals). */
-static void map_cylinder(const plume_mesh *m, double curv_deg, double k, double *x)
-{
-    const double c[2] = {cos(curv_deg * PI / 180.0), sin(curv_deg * PI / 180.0)};
-    const double a[2] = {-c[1], c[0]};
-    for (plume_index v = 0; v < m->nv; v++) {
-        const double s = c[0] * m->X[2 * v] + c[1] * m->X[2 * v + 1];
-        const double w = a[0] * m->X[2 * v] + a[1] * m->X[2 * v + 1];
-        const double p = sin(k * s) / k, z = (1.0 - cos(k * s)) / k;
-        x[3 * v] = w * a[0] + p * c[0];
-        x[3 * v + 1] = w * a[1] + p * c[1];
-        x[3 * v + 2] = z;
-    }
-}
-
 static double term_energy(const plume_term *t, const double *x)
 {
     double E = 0.0;
@@ -102,7 +85,7 @@ static double cylinder_error(int n, int kind, double rot_deg, double barb_deg, d
     plume_err err;
     double rel = NAN;
     if (plume_bending_term_create(m, mat, 1, NULL, &t, &err) == PLUME_OK) {
-        map_cylinder(m, curv_deg, k, m->x);
+        bm_map_cylinder(m, curv_deg, k, m->x);
         const double E = term_energy(&t, m->x);
         const double ref = 0.5 * D_expected * k * k * plume_mesh_total_area(m);
         rel = (E - ref) / ref;
@@ -274,7 +257,7 @@ void test_bending_sign_convention(void)
     double *flip = malloc(sizeof(double) * 3 * (size_t)m->nv);
     CHECK(rest && flip);
     if (rest && flip) {
-        map_cylinder(m, 30.0, 2.0, rest);
+        bm_map_cylinder(m, 30.0, 2.0, rest);
         memcpy(flip, rest, sizeof(double) * 3 * (size_t)m->nv);
         for (plume_index v = 0; v < m->nv; v++)
             flip[3 * v + 2] = -flip[3 * v + 2];
@@ -384,7 +367,7 @@ void test_bending_fd_random(void)
             CHECK(rest != NULL);
             if (!rest)
                 break;
-            map_cylinder(m, 10.0 * trial, 1.5, rest);
+            bm_map_cylinder(m, 10.0 * trial, 1.5, rest);
             for (plume_index i = 0; i < 3 * m->nv; i++)
                 rest[i] += urange(&r, -0.05, 0.05);
         }
@@ -392,7 +375,7 @@ void test_bending_fd_random(void)
         plume_err err;
         CHECK(plume_bending_term_create(m, mats, 2, rest, &t, &err) == PLUME_OK);
         /* a random smooth fold plus noise */
-        map_cylinder(m, urange(&r, 0.0, 180.0), urange(&r, -2.5, 2.5), m->x);
+        bm_map_cylinder(m, urange(&r, 0.0, 180.0), urange(&r, -2.5, 2.5), m->x);
         for (plume_index i = 0; i < 3 * m->nv; i++)
             m->x[i] += urange(&r, -0.12, 0.12);
         fd_check(&t, m->nv, m->x, 1e-6, 2e-7, trial < 3 ? "random fold" : "random fold, curved rest");
@@ -473,7 +456,7 @@ void test_bending_projection(void)
         CHECK(memcmp(H, P, sizeof(double) * nb) == 0);
         int indefinite = 0;
         for (int trial = 0; trial < 4; trial++) {
-            map_cylinder(m, urange(&r, 0.0, 180.0), urange(&r, -3.0, 3.0), m->x);
+            bm_map_cylinder(m, urange(&r, 0.0, 180.0), urange(&r, -3.0, 3.0), m->x);
             for (plume_index i = 0; i < 3 * m->nv; i++)
                 m->x[i] += urange(&r, -0.1, 0.1);
             CHECK(t.eval(t.ctx, 3, m->x, NULL, NULL, H, 0) == PLUME_OK);
@@ -524,7 +507,7 @@ void test_bending_rigid_invariance(void)
         plume_mesh_destroy(&m);
         return;
     }
-    map_cylinder(m, 80.0, 0.7, rest);
+    bm_map_cylinder(m, 80.0, 0.7, rest);
     plume_term t;
     CHECK(plume_bending_term_create(m, &mat, 1, rest, &t, NULL) == PLUME_OK);
     const long n = 3 * (long)m->nv;
@@ -533,21 +516,11 @@ void test_bending_rigid_invariance(void)
     double *H = malloc(sizeof(double) * 144 * (size_t)t.nstencil), *Hy = malloc(sizeof(double) * 144 * (size_t)t.nstencil);
     CHECK(y && g && gy && H && Hy);
     if (y && g && gy && H && Hy) {
-        map_cylinder(m, 20.0, -1.9, m->x);
+        bm_map_cylinder(m, 20.0, -1.9, m->x);
         for (long i = 0; i < n; i++)
             m->x[i] += urange(&r, -0.1, 0.1);
-        /* rotation from an axis-angle: axis (1, 2, 2)/3, angle 1.1 */
-        const double ax[3] = {1.0 / 3, 2.0 / 3, 2.0 / 3}, an = 1.1, c = cos(an), s = sin(an);
         double Q[3][3];
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++)
-                Q[i][j] = (i == j ? c : 0.0) + (1.0 - c) * ax[i] * ax[j];
-        Q[0][1] -= s * ax[2], Q[0][2] += s * ax[1], Q[1][0] += s * ax[2];
-        Q[1][2] -= s * ax[0], Q[2][0] -= s * ax[1], Q[2][1] += s * ax[0];
-        const double shift[3] = {3.0, -1.0, 7.5};
-        for (plume_index v = 0; v < m->nv; v++)
-            for (int i = 0; i < 3; i++)
-                y[3 * v + i] = Q[i][0] * m->x[3 * v] + Q[i][1] * m->x[3 * v + 1] + Q[i][2] * m->x[3 * v + 2] + shift[i];
+        bm_rigid_motion(m->nv, m->x, Q, y);
         double E = 0.0, Ey = 0.0;
         CHECK(t.eval(t.ctx, 3, m->x, &E, g, H, 0) == PLUME_OK);
         CHECK(t.eval(t.ctx, 3, y, &Ey, gy, Hy, 0) == PLUME_OK);
@@ -579,6 +552,7 @@ void test_bending_rigid_invariance(void)
         }
         CHECK(herr <= 1e-11 * hs);
         /* a pure translation changes nothing at all in the angles: energy to rounding */
+        const double shift[3] = {3.0, -1.0, 7.5};
         for (long i = 0; i < n; i++)
             y[i] = m->x[i] + shift[i % 3];
         Ey = 0.0;
@@ -674,7 +648,7 @@ void test_bending_term_interface(void)
         CHECK((s[0] == mh[0] && s[1] == mh[1]) || (s[0] == mh[1] && s[1] == mh[0]));
         CHECK(s[2] == mh[2] && s[3] == mh[3]);
     }
-    map_cylinder(m, 45.0, 1.0, m->x);
+    bm_map_cylinder(m, 45.0, 1.0, m->x);
     const long n = 3 * (long)m->nv;
     double *g = calloc((size_t)n, sizeof *g), *g2 = calloc((size_t)n, sizeof *g2);
     double *H = malloc(sizeof(double) * 144 * (size_t)t.nstencil);

@@ -373,17 +373,8 @@ void test_shape_bending_rigid_invariance(void)
         bm_map_cylinder(m, 20.0, -1.9, m->x);
         for (long i = 0; i < n; i++)
             m->x[i] += urange(&r, -0.1, 0.1);
-        const double ax[3] = {1.0 / 3, 2.0 / 3, 2.0 / 3}, an = 1.1, c = cos(an), s = sin(an);
         double Q[3][3];
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++)
-                Q[i][j] = (i == j ? c : 0.0) + (1.0 - c) * ax[i] * ax[j];
-        Q[0][1] -= s * ax[2], Q[0][2] += s * ax[1], Q[1][0] += s * ax[2];
-        Q[1][2] -= s * ax[0], Q[2][0] -= s * ax[1], Q[2][1] += s * ax[0];
-        const double shift[3] = {3.0, -1.0, 7.5};
-        for (plume_index v = 0; v < m->nv; v++)
-            for (int i = 0; i < 3; i++)
-                y[3 * v + i] = Q[i][0] * m->x[3 * v] + Q[i][1] * m->x[3 * v + 1] + Q[i][2] * m->x[3 * v + 2] + shift[i];
+        bm_rigid_motion(m->nv, m->x, Q, y);
         double E = 0.0, Ey = 0.0;
         CHECK(t.eval(t.ctx, 3, m->x, &E, g, H, 0) == PLUME_OK);
         CHECK(t.eval(t.ctx, 3, y, &Ey, gy, Hy, 0) == PLUME_OK);
