@@ -771,7 +771,7 @@ typedef struct {
 /* Builder of one triangle's slots and points (second pass). */
 typedef struct {
     plume_index *slot; /* global vertex of each slot */
-    int nslot, npt, cap;
+    int nslot, npt;
     shape_point *pt;
     double *coef[3]; /* per edge of T: the coefficient of each point's height in its slope */
 } tri_build;
@@ -996,8 +996,8 @@ plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume
     return plume_shape_bending_term_create_opts(mesh, mats, nmat, rest_x, NULL, out, err);
 }
 
-/* At most this many points per triangle: its 3 vertices, 3 own points, 2 x (3 + 3) of each of
- * three neighbours (shared ones counted once in practice). */
+/* Room for the points of a triangle: its 3 vertices and 3 own points, and from each of three
+ * neighbours at most its opposite vertex and its 3 points: 18 (slots never outnumber points). */
 #define SHAPE_MAX_POINTS 24
 
 plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const plume_bending_material *mats,
@@ -1069,7 +1069,7 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
     plume_index bslot[SHAPE_MAX_POINTS];
     shape_point bpt[SHAPE_MAX_POINTS];
     double bcoef[3][SHAPE_MAX_POINTS], Bm[3 * SHAPE_MAX_POINTS];
-    tri_build tb = {bslot, 0, 0, SHAPE_MAX_POINTS, bpt, {bcoef[0], bcoef[1], bcoef[2]}};
+    tri_build tb = {bslot, 0, 0, bpt, {bcoef[0], bcoef[1], bcoef[2]}};
     ctx = calloc(1, sizeof *ctx);
     fits = malloc((size_t)(nt + 1) * sizeof *fits);
     W.vstart = calloc((size_t)(nv + 2), sizeof *W.vstart);
