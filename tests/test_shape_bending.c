@@ -274,6 +274,13 @@ void test_shape_bending_clamped_edges(void)
                 t.destroy(t.ctx);
             }
         }
+        /* a rest shape that gives a clamped edge no mirror plane: an error naming it */
+        if (fam == 0) {
+            memset(rest, 0, sizeof(double) * 3 * (size_t)m->nv);
+            CHECK(plume_shape_bending_term_create_opts(m, &mat, 1, rest, &(plume_shape_bending_opts){cl, 0}, &t,
+                                                       &err) == PLUME_EINVAL);
+            CHECK(strstr(err.msg, "clamped edge") && strstr(err.msg, "mirror plane"));
+        }
         free(cl);
         free(rest);
         plume_mesh_destroy(&m);
