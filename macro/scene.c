@@ -26,6 +26,7 @@ void plume_scene_destroy(plume_scene **ps)
     free(s->barb_edges);
     free(s->render);
     free(s->clamped);
+    free(s->supported);
     free(s->force);
     for (int k = 0; k < s->nmoments; k++) {
         free(s->moments[k].end);
@@ -176,7 +177,7 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s, 
 {
     static const char *const keys[] = {"mesh", "materials", "handles", "gravity", "dt", "duration", "solver",
                                        "max_halvings", "max_iter", "output_every", "render", "camera", "solve",
-                                       "steps", "clamps", "loads", "probes", "bending_model", NULL};
+                                       "steps", "clamps", "supports", "loads", "probes", "bending_model", NULL};
     plume_status st;
     plume_index *map = NULL, nobj = 0;
     if (!json_is_object(doc))

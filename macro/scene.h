@@ -48,6 +48,10 @@
  *                               with no boundary edge, its second row (the vertices sharing an
  *                               edge with it) keeps its rest height z, which holds the slope half
  *                               an element further in;
+ *     "supports": [ {selector, "fix": "y"} ]  the selected vertices keep their rest value of the
+ *                               named coordinates (any of "x", "y", "z", e.g. "xz"): rollers and
+ *                               symmetry planes; a strip held in its plane by "fix": "y" on all
+ *                               its vertices is the planar benchmark the 2D references solve;
  *     "loads": [ {selector, "force": [fx, fy, fz]}       a total force (N) shared equally by
  *                                                        the selected vertices;
  *                {selector, "line_load": [qx, qy, qz]}   N/m on the boundary edges whose ends
@@ -134,6 +138,7 @@ typedef struct {
     int is_static;                /* "solve": "static" */
     int steps;                    /* load steps; default 10 */
     unsigned char *clamped;       /* [nv] or NULL: PLUME_CLAMP_* bits */
+    unsigned char *supported;     /* [nv] or NULL: bit a set = coordinate a held ("supports") */
     double *force;                /* [3 nv] or NULL: nominal point and line loads (N) */
     int nmoments;
     plume_scene_moment *moments;  /* [nmoments] */

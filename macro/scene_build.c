@@ -204,6 +204,10 @@ plume_status plume_scene_statics(const plume_scene *s, plume_problem **pp, plume
         else if ((s->clamped[v] & PLUME_CLAMP_ROW) || ((s->clamped[v] & PLUME_CLAMP_ROW_EDGE) && s->hinge_bending))
             plume_problem_fix_dof(p, 3 * v + 2);
     }
+    for (plume_index v = 0; v < m->nv; v++)
+        for (int a = 0; a < 3; a++)
+            if (s->supported[v] & (1u << a))
+                plume_problem_fix_dof(p, 3 * v + a);
     for (int h = 0; h < s->nhandles; h++)
         for (plume_index i = 0; i < s->handles[h].nvertices; i++)
             for (int a = 0; a < 3; a++)

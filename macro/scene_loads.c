@@ -1,4 +1,4 @@
-/* Vertex selections, and what a static scene adds: clamps, loads, moments and probes
+/* Vertex selections, and what a static scene adds: clamps, supports, loads, moments and probes
  * (macro/scene.h). */
 #include "internal/scene_internal.h"
 
@@ -256,6 +256,47 @@ static plume_status parse_probe(static_parse *p, json_t *e, const char *kp, plum
     return PLUME_OK;
 }
 
+static plume_status parse_supports(static_parse *p, json_t *js)
+{
+    static const char *const keys[] = {"near", "radius", "vertices", "box", "fix", NULL};
+    const plume_json_ctx *c = p->c;
+    if (!json_is_array(js))
+        return plume_json_bad(c, PLUME_EFORMAT, "supports", "must be an array of {selector, \"fix\": \"xyz\"}");
+    for (size_t k = 0; k < json_array_size(js); k++) {
+        char kp[PLUME_JSON_KEY_MAX], kf[PLUME_JSON_KEY_MAX];
+        plume_json_subindex(kp, "supports", k);
+        plume_json_subkey(kf, kp, "fix");
+        json_t *e = json_array_get(js, k), *jf;
+        plume_status st;
+        plume_index n;
+        if (!json_is_object(e))
+            return plume_json_bad(c, PLUME_EFORMAT, kp, "must be an object with a selector and \"fix\"");
+        if ((st = plume_json_check_keys(c, e, kp, keys)) != PLUME_OK)
+            return st;
+        if (!(jf = json_object_get(e, "fix")))
+            return plume_json_bad(c, PLUME_EFORMAT, kp, "needs \"fix\": the coordinates it holds (\"x\", \"y\", \"z\" "
+                                                        "or several, e.g. \"xz\")");
+        const char *f = json_is_string(jf) ? json_string_value(jf) : "";
+        unsigned char bits = 0;
+        for (const char *q = f; *q; q++) {
+            unsigned char b = *q == 'x' ? 1 : *q == 'y' ? 2 : *q == 'z' ? 4 : 0;
+            if (!b || (bits & b)) {
+                bits = 0;
+                break;
+            }
+            bits |= b;
+        }
+        if (!bits)
+            return plume_json_bad(c, PLUME_EINVAL, kf, "must name the held coordinates once each, from x, y and z "
+                                                       "(e.g. \"y\" or \"xz\")");
+        if ((st = select_into(p, e, kp, &n)) != PLUME_OK)
+            return st;
+        for (plume_index q = 0; q < n; q++)
+            p->s->supported[p->ids[q]] |= bits;
+    }
+    return PLUME_OK;
+}
+
 plume_status plume_scene_parse_static(const plume_json_ctx *c, json_t *doc, plume_scene *s, const plume_index *map,
                                       plume_index nobj)
 {
@@ -263,9 +304,10 @@ plume_status plume_scene_parse_static(const plume_json_ctx *c, json_t *doc, plum
     static_parse p = {c, s, map, nobj, NULL, NULL, NULL};
     plume_status st = PLUME_OK;
     json_t *jc = json_object_get(doc, "clamps"), *jl = json_object_get(doc, "loads"), *jp = json_object_get(doc, "probes");
+    json_t *js = json_object_get(doc, "supports");
     if (!s->is_static) {
-        const char *key = jc ? "clamps" : jl ? "loads" : "steps";
-        if (jc || jl || json_object_get(doc, "steps"))
+        const char *key = jc ? "clamps" : js ? "supports" : jl ? "loads" : "steps";
+        if (jc || js || jl || json_object_get(doc, "steps"))
             return plume_json_bad(c, PLUME_EINVAL, key, "belongs to a static scene (add \"solve\": \"static\"; a dynamic "
                                                         "scene moves through its handles and gravity)");
     }
@@ -278,12 +320,15 @@ plume_status plume_scene_parse_static(const plume_json_ctx *c, json_t *doc, plum
     }
     if (s->is_static) {
         s->clamped = calloc((size_t)m->nv + 1, 1);
+        s->supported = calloc((size_t)m->nv + 1, 1);
         s->force = calloc((size_t)(3 * m->nv + 1), sizeof *s->force);
-        if (!s->clamped || !s->force) {
+        if (!s->clamped || !s->supported || !s->force) {
             st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
             goto done;
         }
         if (jc && (st = parse_clamps(&p, jc)) != PLUME_OK)
+            goto done;
+        if (js && (st = parse_supports(&p, js)) != PLUME_OK)
             goto done;
         if (jl) {
             if (!json_is_array(jl)) {
