@@ -351,7 +351,7 @@ int main(int argc, char **argv)
     plume_progress_start(&prog, APP, (int)(nsteps < 2000000000L ? nsteps : 2000000000L), 0);
     if (o.quiet)
         prog.enabled = 0;
-    long halvings = 0, iterations = 0, frames = o.restart ? 0 : 1, done_steps = 0;
+    long halvings = 0, iterations = 0, backtracks = 0, shifts = 0, frames = o.restart ? 0 : 1, done_steps = 0;
     double max_violation = 0.0, loop_start = plume_wall_seconds(), solve_seconds = 0.0;
     int converged = 1, failed = 0;
     plume_reason failed_reason = PLUME_REASON_CONVERGED;
@@ -364,6 +364,8 @@ int main(int argc, char **argv)
         }
         halvings += rep.halvings;
         iterations += rep.iterations;
+        backtracks += rep.backtracks;
+        shifts += rep.shifts;
         solve_seconds += rep.seconds;
         max_violation = fmax(max_violation, rep.max_violation);
         double t1 = plume_dynamics_time(d);
@@ -408,6 +410,8 @@ int main(int argc, char **argv)
         json_object_set_new(j, "steps", json_integer(done_steps));
         json_object_set_new(j, "steps_halved", json_integer(halvings));
         json_object_set_new(j, "newton_iterations", json_integer(iterations));
+        json_object_set_new(j, "line_search_backtracks", json_integer(backtracks));
+        json_object_set_new(j, "inertia_shifts", json_integer(shifts));
         json_object_set_new(j, "max_constraint_violation", json_real(max_violation));
         json_object_set_new(j, "converged", json_boolean(converged));
         json_object_set_new(j, "stop_reason", json_string(failed ? plume_reason_name(failed_reason)
@@ -435,9 +439,10 @@ int main(int argc, char **argv)
         json_decref(j);
     } else {
         printf("%s: %ld steps to t = %.6g s, %ld frames (last %ld) in %s; %ld elements, %ld constraints; %ld "
-               "iterations, %ld halvings, max violation %.2g; %.2f s (%.3g s per frame)%s\n",
+               "iterations (%ld backtracks, %ld inertia shifts), %ld halvings, max violation %.2g; %.2f s (%.3g s per "
+               "frame)%s\n",
                stem, done_steps, plume_dynamics_time(d), frames, next_frame - 1, outdir, (long)mesh->nt, (long)ncons,
-               iterations, halvings, max_violation, total, new_frames > 0 ? loop_seconds / (double)new_frames : 0.0,
+               iterations, backtracks, shifts, halvings, max_violation, total, new_frames > 0 ? loop_seconds / (double)new_frames : 0.0,
                failed ? ", stopped: a step did not converge" : !converged ? ", single linearised steps, not converged" : "");
     }
     rc = failed ? 3 : 0;

@@ -169,6 +169,8 @@ int main(int argc, char **argv)
         json_object_set_new(js, "step", json_integer(r.step));
         json_object_set_new(js, "factor", json_real(r.factor));
         json_object_set_new(js, "iterations", json_integer(r.iterations));
+        json_object_set_new(js, "backtracks", json_integer(r.backtracks));
+        json_object_set_new(js, "inertia_shifts", json_integer(r.shifts));
         json_object_set_new(js, "cuts", json_integer(r.cuts));
         json_object_set_new(js, "converged", json_boolean(r.converged));
         json_t *jp = json_object();
@@ -180,8 +182,9 @@ int main(int argc, char **argv)
         json_object_set_new(js, "probes", jp);
         json_array_append_new(jsteps, js);
         if (!o.quiet) {
-            fprintf(stderr, "  step %3d  factor %.4f  iterations %3d  cuts %d  %s", r.step, r.factor, r.iterations,
-                    r.cuts, r.converged ? "converged" : plume_reason_name(r.reason));
+            fprintf(stderr, "  step %3d  factor %.4f  iterations %3d (backtracks %d, shifts %d)  cuts %d  %s", r.step,
+                    r.factor, r.iterations, r.backtracks, r.shifts, r.cuts,
+                    r.converged ? "converged" : plume_reason_name(r.reason));
             for (int q = 0; q < scene->nprobes; q++) {
                 double u[3];
                 plume_scene_probe_displacement(scene, q, x, u);

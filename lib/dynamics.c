@@ -283,6 +283,8 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
     if (st != PLUME_OK)
         return st;
     rep->iterations += sr.iterations;
+    rep->backtracks += sr.backtracks;
+    rep->shifts += sr.shifts;
     *ok = sr.converged || (d->o.solver == PLUME_SOLVER_LINEARIZED && sr.reason == PLUME_REASON_SINGLE_STEP);
     if (!*ok) {
         if (rep->converged)

@@ -51,6 +51,7 @@ typedef struct {
     int substeps;          /* implicit Euler steps taken (1 when nothing was halved) */
     int halvings;          /* times a step was halved */
     int iterations;        /* solver iterations over all substeps */
+    int backtracks, shifts; /* newton's line-search rejections and inertia shifts (plume_solve_report) */
     double max_violation;  /* max relative constraint violation over the substeps */
     int converged;         /* every substep converged */
     plume_reason reason;   /* why the first attempt that failed stopped (CONVERGED if none failed) */

@@ -36,6 +36,12 @@ struct plume_newton {
     plume_index npairs;      /* eliminate: pairs (ka, kb) of Jacobian entries of one row ... */
     plume_index *pair_a, *pair_b, *pair_pos; /* ... and the Hessian slot of (col ka, col kb) */
     double dc;               /* the KKT regularisation of the last factorisation */
+    double shift, shift_last; /* exact-Hessian shift of the last factorisation; the last nonzero one */
+    int projected;           /* the last factorisation used the projected Hessian */
+    int shifts;              /* factorisations that failed for inertia in this solve */
+    double filt[2 * 64];     /* filter line search: (theta, f) pairs of this solve (a ring) */
+    int nfilt;
+    double theta_max, theta_min;
     double *kwork, *lwork;   /* [n+1], [m+1] eliminate: workspaces */
     double *hval, *kval, *jval, *grad, *g, *gt, *rhs, *sol, *ut, *jtl;
     plume_chol *chol;
@@ -302,6 +308,49 @@ static plume_status merit_at(plume_newton *s, const double *u, double mu, double
     return PLUME_OK;
 }
 
+static double l1norm(const double *v, plume_index n)
+{
+    double a = 0.0;
+    for (plume_index i = 0; i < n; i++)
+        a += fabs(v[i]);
+    return a;
+}
+
+/* Ipopt's filter (Waechter & Biegler 2006, equality constraints): is (theta, f) acceptable to
+ * the filter and below theta_max? */
+static int filter_accepts(const plume_newton *s, double theta, double f)
+{
+    if (!(theta <= s->theta_max) || !isfinite(f))
+        return 0;
+    for (int k = 0; k < s->nfilt && k < 64; k++)
+        if (!(theta < s->filt[2 * k] || f < s->filt[2 * k + 1]))
+            return 0;
+    return 1;
+}
+
+static void filter_add(plume_newton *s, double theta, double f)
+{
+    int k = s->nfilt++ % 64; /* the oldest entry goes first once 64 are kept */
+    s->filt[2 * k] = theta;
+    s->filt[2 * k + 1] = f;
+}
+
+/* Filter acceptance of a trial (theta_t, f_t) from (theta0, f0) with step alpha along a direction
+ * with slope gd = grad f . du. f-type steps (switching condition: the model predicts a decrease
+ * of f that dominates theta0, and theta0 small) need Armijo on f; the others a sufficient
+ * decrease of theta or f against the current point, and enter the filter. */
+static int filter_step_ok(plume_newton *s, double theta0, double f0, double gd, double alpha, double theta_t,
+                          double f_t, int *f_type)
+{
+    const double gamma_theta = 1e-5, gamma_f = 1e-5, eta = 1e-4;
+    *f_type = gd < 0.0 && theta0 <= s->theta_min && alpha * pow(-gd, 2.3) > pow(theta0, 1.1);
+    if (!filter_accepts(s, theta_t, f_t))
+        return 0;
+    if (*f_type)
+        return f_t <= f0 + eta * alpha * gd;
+    return theta_t <= (1.0 - gamma_theta) * theta0 || f_t <= f0 - gamma_f * theta0;
+}
+
 /* relative KKT residual from the current grad, jval and lambda */
 static double kkt_residual(plume_newton *s, const double *lambda)
 {
@@ -318,6 +367,33 @@ static double kkt_residual(plume_newton *s, const double *lambda)
         return NAN;
     double ref = fmax(plume_problem_force_scale(s->p), fmax(gm, jm));
     return ref > 0.0 ? rm / ref : 0.0;
+}
+
+/* Factorises the matrix of s->hval (the Hessian just assembled) with dw on its diagonal and the
+ * constraints' block regularised by dc; s->hval is left as assembled. */
+static plume_status factor_with(plume_newton *s, double dw, double dc)
+{
+    plume_status st;
+    if (s->eliminate) {
+        /* K = H + dw I + sum_r J_r^T J_r / dc on the Hessian's own pattern */
+        for (plume_index k = 0; k < s->npairs; k++)
+            s->hval[s->pair_pos[k]] += s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
+        st = plume_chol_factor(s->chol, s->hval, dw);
+        for (plume_index k = 0; k < s->npairs; k++) /* undo: a retry starts from H again */
+            s->hval[s->pair_pos[k]] -= s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
+    } else if (s->m > 0) {
+        memcpy(s->kval, s->hval, (size_t)s->hp.nnz * sizeof *s->kval);
+        for (plume_index c = 0; c < s->n; c++)
+            s->kval[s->diagpos[c]] += dw;
+        for (plume_index k = 0; k < s->jnnz; k++)
+            s->kval[s->jpos[k]] = s->jval[k];
+        for (plume_index r = 0; r < s->m; r++)
+            s->kval[s->diagpos[s->n + r]] = -dc;
+        st = plume_chol_factor(s->chol, s->kval, 0.0);
+    } else {
+        st = plume_chol_factor(s->chol, s->hval, dw);
+    }
+    return st;
 }
 
 /* Assembles and factorises the Newton/KKT matrix at u with multipliers lambda, with at least
@@ -348,37 +424,47 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
         double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
         *dc_out = s->dc = dc;
         double dw = fmax(dw_min, s->m && !s->eliminate ? 1e-12 * hmax : 0.0);
-        /* exact Hessian: Ipopt-style inertia correction first — a few growing diagonal shifts
-         * keep the curvature information that projection would discard */
-        if (!project)
-            dw = 0.0;
-        for (int attempt = 0; attempt < (project ? 12 : 1 + s->o.inertia_corrections); attempt++) {
-            if (s->eliminate) {
-                /* K = H + dw I + sum_r J_r^T J_r / dc on the Hessian's own pattern */
-                for (plume_index k = 0; k < s->npairs; k++)
-                    s->hval[s->pair_pos[k]] += s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
-                st = plume_chol_factor(s->chol, s->hval, dw);
-                if (st != PLUME_OK) /* undo, so that a retry with more dw starts from H again */
-                    for (plume_index k = 0; k < s->npairs; k++)
-                        s->hval[s->pair_pos[k]] -= s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
-            } else if (s->m > 0) {
-                memcpy(s->kval, s->hval, (size_t)s->hp.nnz * sizeof *s->kval);
-                for (plume_index c = 0; c < s->n; c++)
-                    s->kval[s->diagpos[c]] += dw;
-                for (plume_index k = 0; k < s->jnnz; k++)
-                    s->kval[s->jpos[k]] = s->jval[k];
-                for (plume_index r = 0; r < s->m; r++)
-                    s->kval[s->diagpos[s->n + r]] = -dc;
-                st = plume_chol_factor(s->chol, s->kval, 0.0);
-            } else {
-                st = plume_chol_factor(s->chol, s->hval, dw);
+        /* Exact Hessian: Ipopt's inertia correction. Try no shift; if the matrix is not positive
+         * definite, start from a third of the last shift that worked (or 1e-6 hmax the first
+         * time) and grow it 8x (100x the first time) until it is, up to hmax; then fall back to
+         * the projected Hessian. The shift carried from one iteration to the next damps the
+         * directions along soft (buckling) modes the way a trust region would, so full steps are
+         * taken instead of cut ones. */
+        if (!project) {
+            double sh = 0.0;
+            for (int attempt = 0; attempt < 40; attempt++) {
+                st = factor_with(s, dw + sh, dc);
+                if (st != PLUME_ESINGULAR) {
+                    if (st == PLUME_OK) {
+                        s->shift = sh;
+                        s->projected = 0;
+                        if (sh > 0.0)
+                            s->shift_last = sh;
+                        else
+                            s->shift_last *= 1.0 / 3.0; /* forget it slowly once not needed */
+                    }
+                    return st;
+                }
+                s->shifts++;
+                if (sh == 0.0)
+                    sh = s->shift_last > 1e-12 * hmax ? s->shift_last / 3.0 : 1e-6 * hmax;
+                else
+                    sh *= s->shift_last > 1e-12 * hmax ? 8.0 : 100.0;
+                if (!(sh <= s->o.inertia_max_shift * hmax) || s->o.inertia_corrections == 0)
+                    break;
             }
-            if (st != PLUME_ESINGULAR)
+            continue;
+        }
+        for (int attempt = 0; attempt < 12; attempt++) {
+            st = factor_with(s, dw, dc);
+            if (st != PLUME_ESINGULAR) {
+                if (st == PLUME_OK) {
+                    s->shift = dw;
+                    s->projected = 1;
+                }
                 return st;
-            if (project)
-                dw = dw > 0.0 ? dw * 100.0 : 1e-10 * hmax;
-            else
-                dw = dw > 0.0 ? dw * 10.0 : 1e-8 * hmax;
+            }
+            dw = dw > 0.0 ? dw * 100.0 : 1e-10 * hmax;
         }
     }
     return st;
@@ -460,6 +546,10 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     if (st != PLUME_OK)
         return st;
     rep->reason = PLUME_REASON_ITERATION_CAP;
+    s->nfilt = 0; /* a new filter per solve (Ipopt's theta_max and theta_min) */
+    s->theta_max = 1e4 * fmax(1.0, g1);
+    s->theta_min = 1e-4 * fmax(1.0, g1);
+    s->shifts = 0;
     int max_iter = s->single_step ? 1 : s->o.max_iter;
     int it = 0, stalled = 0;
     double best = INFINITY, f_prev = f;
@@ -517,18 +607,63 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                 memcpy(lambda, lnew, (size_t)m * sizeof *lambda);
             accepted = 1;
         } else {
+            int filter = s->o.line_search == PLUME_LS_FILTER && m > 0;
+            double gd = dirderiv + mu * g1; /* grad f . du */
             for (int ls = 0; ls < 60 && !accepted; ls++, alpha *= 0.5) {
                 for (plume_index i = 0; i < n; i++)
                     s->ut[i] = u[i] + alpha * du[i];
                 if ((st = merit_at(s, s->ut, mu, &phi, &ft)) != PLUME_OK)
                     return st;
+                if (filter) {
+                    /* filter line search; a step below 2^-30 falls back to the merit function,
+                     * in place of Ipopt's restoration phase */
+                    int f_type;
+                    double theta_t = l1norm(s->gt, m);
+                    if (isfinite(phi) && ls < 30 &&
+                        filter_step_ok(s, g1, f, gd, alpha, theta_t, ft, &f_type)) {
+                        if (!f_type)
+                            filter_add(s, (1.0 - 1e-5) * g1, f - 1e-5 * g1);
+                        accepted = 1;
+                        break;
+                    }
+                    if (ls == 0 && isfinite(phi) && theta_t >= g1) {
+                        /* second-order correction at the full step */
+                        for (plume_index i = 0; i < n; i++)
+                            s->rhs[i] = 0.0;
+                        for (plume_index r = 0; r < m; r++)
+                            s->rhs[n + r] = -s->gt[r];
+                        if (kkt_solve(s, s->rhs, s->rhs) == PLUME_OK) {
+                            for (plume_index i = 0; i < n; i++)
+                                s->ut[i] = u[i] + du[i] + s->rhs[i];
+                            if ((st = merit_at(s, s->ut, mu, &phi, &ft)) != PLUME_OK)
+                                return st;
+                            theta_t = l1norm(s->gt, m);
+                            if (isfinite(phi) && filter_step_ok(s, g1, f, gd, 1.0, theta_t, ft, &f_type)) {
+                                if (!f_type)
+                                    filter_add(s, (1.0 - 1e-5) * g1, f - 1e-5 * g1);
+                                accepted = 1;
+                                break;
+                            }
+                        }
+                    }
+                    if (ls < 29) {
+                        rep->backtracks++;
+                        continue;
+                    }
+                    if (ls == 29) { /* fall back: the l1 merit from the full step again */
+                        alpha = 2.0;
+                        rep->merit_fallbacks++;
+                        continue;
+                    }
+                }
                 /* accept on Armijo, or when the change is at round-off level of the merit */
                 if (phi <= phi0 + 1e-4 * alpha * dirderiv ||
                     (isfinite(phi) && fabs(phi - phi0) <= 1e-14 * fabs(phi0) && alpha == 1.0)) {
                     accepted = 1;
                     break;
                 }
-                if (ls == 0 && m > 0) {
+                rep->backtracks++;
+                if (ls == 0 && m > 0 && !filter) {
                     /* second-order correction: re-solve with the constraint values at the trial */
                     for (plume_index i = 0; i < n; i++)
                         s->rhs[i] = 0.0;
@@ -551,7 +686,8 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                 break;
             }
             if (s->o.verbose)
-                fprintf(stderr, "           step %.3e  alpha %.3e  slope %.3e\n", step_max, alpha, dirderiv);
+                fprintf(stderr, "           step %.3e  alpha %.3e  slope %.3e  shift %.1e%s\n", step_max, alpha, dirderiv,
+                        s->shift, s->projected ? " (projected)" : "");
             memcpy(u, s->ut, (size_t)n * sizeof *u);
             /* the QP multipliers are taken whole even after a damped step: they are the current
              * least-squares estimate, and damping them too would freeze them whenever the line
@@ -581,6 +717,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     rep->converged = rep->reason == PLUME_REASON_CONVERGED;
     rep->iterations = it;
     rep->factorizations = f1 - f0;
+    rep->shifts = s->shifts;
     rep->energy = f;
     rep->kkt_residual = kkt_residual(s, lambda);
     rep->max_violation = viol;

@@ -49,7 +49,9 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->tol_step = 1e-13;
     o->max_step = 100.0;
     o->kkt = PLUME_KKT_ELIMINATE;
-    o->inertia_corrections = 6;
+    o->inertia_corrections = 1;
+    o->inertia_max_shift = 1.0;
+    o->line_search = PLUME_LS_FILTER;
     o->verbose = 0;
     o->exact_hessian_first = 1;
 }

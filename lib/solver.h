@@ -39,7 +39,19 @@ typedef struct {
     double kkt_residual;  /* plume_problem_kkt_residual at the returned point */
     double max_violation; /* max relative constraint violation at the returned point */
     double seconds;       /* wall time of the solve */
+    int backtracks;       /* newton: trial steps the line search rejected */
+    int shifts;           /* newton: factorisations rejected for inertia (each followed by a larger
+                             diagonal shift, or by the projected Hessian) */
+    int merit_fallbacks;  /* newton, filter line search: iterations that fell back to the l1 merit
+                             (no step down to 2^-29 was acceptable to the filter) */
 } plume_solve_report;
+
+/* How the native solver globalises a constrained step. */
+typedef enum {
+    PLUME_LS_FILTER = 0, /* Ipopt's filter line search (Waechter & Biegler 2006) with a second-order
+                            correction; default */
+    PLUME_LS_MERIT = 1   /* Armijo on the l1 merit f + mu |g|_1 with a second-order correction */
+} plume_line_search;
 
 /* How the native solver factorises a constrained Newton step. */
 typedef enum {
@@ -55,12 +67,15 @@ typedef struct {
                               violation is met; default 1e-13 */
     double max_step;       /* newton: a direction longer than max_step * length_scale is taken
                               as a sign of a singular Hessian and regularised; default 100 */
-    int inertia_corrections; /* newton, exact-Hessian path: diagonal shifts 1e-8, 1e-7, ... times the
-                              largest diagonal tried before falling back to projection; default 6
-                              (the shipped feather: 3.9 s instead of 7.0 s, 448 instead of 553
-                              iterations) */
+    int inertia_corrections; /* newton, exact-Hessian path: Ipopt's inertia correction (0: off, the
+                              projected Hessian whenever the exact one is not positive definite);
+                              default 1. A shift that made the matrix positive definite is reused,
+                              divided by 3, at the next failure, and grown 8x until it works */
+    double inertia_max_shift; /* the largest shift tried, relative to the largest Hessian diagonal,
+                              before falling back to the projected Hessian; default 1 */
     plume_kkt_mode kkt;    /* newton with constraints; default PLUME_KKT_ELIMINATE (same iterates,
                               2.2x faster factorisations at 4e4 elements than LDL^T) */
+    plume_line_search line_search; /* newton with constraints; default PLUME_LS_FILTER */
     int verbose;           /* print one line per iteration on stderr */
     int exact_hessian_first; /* newton without constraints: factorise the exact Hessian first and
                                 fall back to the PSD-projected one if it is not positive definite;

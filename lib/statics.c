@@ -115,6 +115,8 @@ plume_status plume_statics_step(plume_statics *s, plume_load_step_report *rep)
         plume_status st = plume_solver_solve(s->solver, s->u, s->m > 0 ? s->lambda : NULL, &sr);
         rep->iterations += sr.iterations;
         rep->factorizations += sr.factorizations;
+        rep->backtracks += sr.backtracks;
+        rep->shifts += sr.shifts;
         rep->seconds += sr.seconds;
         if (st != PLUME_OK && st != PLUME_ESINGULAR)
             return st;

@@ -34,6 +34,7 @@ typedef struct {
     int cuts;              /* times an increment was halved */
     int iterations;        /* solver iterations, failed attempts included */
     int factorizations;
+    int backtracks, shifts; /* newton's line-search rejections and inertia shifts (plume_solve_report) */
     double max_violation;  /* over the converged sub-steps */
     int converged;         /* the step reached its factor */
     plume_reason reason;   /* why the first failed attempt stopped (CONVERGED when none failed) */
