@@ -1,6 +1,7 @@
 /* make bench — tilted 45 deg traction to 5% strain at about 1e3, 1e4 and 4e4 elements: time,
- * Newton iterations and peak memory of `newton` against `ipopt`, side by side with their ratio,
- * and the time of one Newton iteration against one CHOLMOD factorisation of the same matrix.
+ * Newton iterations, factorisations and peak memory of `newton` against `ipopt` and against the
+ * native solver's previous method (l1-merit line search, a factorisation every iteration), side by
+ * side with their ratios, and the time of one Newton iteration against one CHOLMOD factorisation.
  * Each run happens in a child process so that its peak resident memory is its own. */
 #define _DEFAULT_SOURCE
 #include <math.h>
@@ -14,13 +15,14 @@
 #include "../lib/plume.h"
 
 typedef struct {
-    int ok, converged, iterations, factorizations;
+    int ok, converged, iterations, factorizations, chord_steps;
     long elements;
     double seconds, factor_seconds, stress, violation;
     long maxrss_kb;
 } run_result;
 
-static run_result run_child(double edge, plume_solver_kind solver, int steps)
+/* old: the native solver as it was before the filter line search and the chord steps */
+static run_result run_child(double edge, plume_solver_kind solver, int old, int steps)
 {
     run_result r;
     memset(&r, 0, sizeof r);
@@ -39,11 +41,16 @@ static run_result run_child(double edge, plume_solver_kind solver, int steps)
     plume_traction_opts o;
     plume_traction_opts_default(&o);
     o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.strain_max = 0.05, o.steps = steps, o.solver = solver, o.progress = 0;
+    if (old) {
+        o.solver_opts.line_search = PLUME_LS_MERIT;
+        o.solver_opts.reuse_factorization = 0;
+    }
     plume_traction_result res;
     if (plume_traction_run(mesh, p, barbs, nb, &o, &res, &err) == PLUME_OK) {
         r.ok = 1;
         r.converged = res.converged;
         r.iterations = res.newton_iterations;
+        r.chord_steps = res.chord_steps;
         r.factorizations = res.factorizations;
         r.seconds = res.seconds;
         r.factor_seconds = res.factor_seconds;
@@ -60,7 +67,7 @@ static run_result run_child(double edge, plume_solver_kind solver, int steps)
     return r;
 }
 
-static run_result run_forked(double edge, plume_solver_kind solver, int steps)
+static run_result run_forked(double edge, plume_solver_kind solver, int old, int steps)
 {
     run_result r;
     memset(&r, 0, sizeof r);
@@ -71,7 +78,7 @@ static run_result run_forked(double edge, plume_solver_kind solver, int steps)
     pid_t pid = fork();
     if (pid == 0) {
         close(fd[0]);
-        run_result c = run_child(edge, solver, steps);
+        run_result c = run_child(edge, solver, old, steps);
         ssize_t w = write(fd[1], &c, sizeof c);
         _exit(w == (ssize_t)sizeof c ? 0 : 1);
     }
@@ -95,19 +102,26 @@ int main(int argc, char **argv)
     if (argc > 1 && strcmp(argv[1], "--quick") == 0)
         nsizes = 1;
     printf("plume bench: tilted 45 deg traction, E_xx/E_yy = 1e4, constraint on, aligned mesh, %d steps to 5%% strain\n", steps);
-    printf("%9s | %27s | %27s | %21s | %8s\n", "", "time to 5% strain (s)", "Newton iterations", "peak memory (MiB)", "");
-    printf("%9s | %8s %8s %9s | %8s %8s %9s | %6s %6s %7s | %8s\n", "elements", "newton", "ipopt", "ipopt/nt",
-           "newton", "ipopt", "ipopt/nt", "newton", "ipopt", "ip/nt", "dstress");
-    run_result rn[3], ri[3];
+    printf("%9s | %36s | %26s | %20s | %13s | %8s\n", "", "time to 5% strain (s)", "Newton iterations",
+           "factorisations/step", "peak MiB", "");
+    printf("%9s | %7s %7s %7s %6s %6s | %7s %7s %7s %2s | %6s %6s %6s | %6s %6s | %8s\n", "elements", "newton", "old",
+           "ipopt", "old/nt", "ip/nt", "newton", "chord", "ipopt", "", "newton", "old", "", "newton", "ipopt", "dstress");
+    run_result rn[3], ro[3], ri[3];
     for (int k = 0; k < nsizes; k++) {
-        rn[k] = run_forked(edges[k], PLUME_SOLVER_NEWTON, steps);
-        ri[k] = run_forked(edges[k], PLUME_SOLVER_IPOPT, steps);
-        printf("%9ld | %8.3f %8.3f %9.2f | %8d %8d %9.2f | %6.1f %6.1f %7.2f | %8.1e%s\n", rn[k].elements,
-               rn[k].seconds, ri[k].seconds, ri[k].seconds / rn[k].seconds, rn[k].iterations, ri[k].iterations,
-               (double)ri[k].iterations / rn[k].iterations, rn[k].maxrss_kb / 1024.0, ri[k].maxrss_kb / 1024.0,
-               (double)ri[k].maxrss_kb / rn[k].maxrss_kb, fabs(ri[k].stress - rn[k].stress) / fabs(rn[k].stress),
-               rn[k].converged && ri[k].converged ? "" : "  (NOT CONVERGED)");
+        rn[k] = run_forked(edges[k], PLUME_SOLVER_NEWTON, 0, steps);
+        ro[k] = run_forked(edges[k], PLUME_SOLVER_NEWTON, 1, steps);
+        ri[k] = run_forked(edges[k], PLUME_SOLVER_IPOPT, 0, steps);
+        /* per load step: the quasi-static steps and the small-strain probe, steps + 1 solves */
+        printf("%9ld | %7.3f %7.3f %7.3f %6.2f %6.2f | %7d %7d %7d %2s | %6.2f %6.2f %6s | %6.1f %6.1f | %8.1e%s\n",
+               rn[k].elements, rn[k].seconds, ro[k].seconds, ri[k].seconds, ro[k].seconds / rn[k].seconds,
+               ri[k].seconds / rn[k].seconds, rn[k].iterations, rn[k].chord_steps, ri[k].iterations, "",
+               (double)rn[k].factorizations / (steps + 1), (double)ro[k].factorizations / (steps + 1), "",
+               rn[k].maxrss_kb / 1024.0, ri[k].maxrss_kb / 1024.0,
+               fmax(fabs(ri[k].stress - rn[k].stress), fabs(ro[k].stress - rn[k].stress)) / fabs(rn[k].stress),
+               rn[k].converged && ri[k].converged && ro[k].converged ? "" : "  (NOT CONVERGED)");
     }
+    printf("(factorisations per load step over the %d steps and the small-strain probe; chord: iterations that\n"
+           " reused an earlier factorisation; dstress: largest relative difference of the final stress)\n", steps);
     printf("\nOne Newton iteration (assembly + factorisation + solve + line search) against one CHOLMOD\n"
            "numeric factorisation of the same matrix (the SPD matrix H + J^T J / dc of the eliminated\n"
            "KKT system; symbolic analysis done once per run, not counted):\n");

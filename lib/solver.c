@@ -52,6 +52,8 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->inertia_corrections = 1;
     o->inertia_max_shift = 1.0;
     o->line_search = PLUME_LS_FILTER;
+    o->reuse_factorization = 1;
+    o->reuse_rate = 0.25;
     o->verbose = 0;
     o->exact_hessian_first = 1;
 }

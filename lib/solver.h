@@ -44,6 +44,8 @@ typedef struct {
                              diagonal shift, or by the projected Hessian) */
     int merit_fallbacks;  /* newton, filter line search: iterations that fell back to the l1 merit
                              (no step down to 2^-29 was acceptable to the filter) */
+    int chord_steps;      /* newton: steps taken with an earlier factorisation (no new one) */
+    int chord_rejected;   /* newton: chord steps the line search refused whole (refactorised) */
 } plume_solve_report;
 
 /* How the native solver globalises a constrained step. */
@@ -76,6 +78,10 @@ typedef struct {
     plume_kkt_mode kkt;    /* newton with constraints; default PLUME_KKT_ELIMINATE (same iterates,
                               2.2x faster factorisations at 4e4 elements than LDL^T) */
     plume_line_search line_search; /* newton with constraints; default PLUME_LS_FILTER */
+    int reuse_factorization; /* newton: chord steps with the last factorisation (across solves too)
+                                while each cuts the KKT residual by reuse_rate, taken whole or
+                                refactorised; default 1 */
+    double reuse_rate;     /* default 0.25 */
     int verbose;           /* print one line per iteration on stderr */
     int exact_hessian_first; /* newton without constraints: factorise the exact Hessian first and
                                 fall back to the PSD-projected one if it is not positive definite;

@@ -356,6 +356,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
                 res->probe_tol_kkt = o->solver_opts.tol_kkt;
         }
         res->newton_iterations += rep.iterations;
+        res->chord_steps += rep.chord_steps + (tight.converged ? 0 : tight.chord_steps);
         int ok = rep.converged || (o->solver == PLUME_SOLVER_LINEARIZED && rep.reason == PLUME_REASON_SINGLE_STEP);
         if (!rep.converged && res->converged) {
             res->converged = 0;

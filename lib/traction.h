@@ -47,6 +47,7 @@ typedef struct {
     int failed_step;          /* first step that did not converge, or -1 */
     plume_reason failed_reason;
     int newton_iterations;    /* total over all steps and the probe */
+    int chord_steps;          /* newton: iterations of those that reused an earlier factorisation */
     double max_violation;     /* max relative constraint violation over the converged steps */
     double seconds;           /* wall time of the whole run */
     int factorizations;       /* native solvers: numeric factorisations */
