@@ -279,6 +279,9 @@ static json_t *run_json(const model_run *r, const options *o, double angle)
                         json_string(r->res.converged ? "converged" : plume_reason_name(r->res.failed_reason)));
     json_object_set_new(j, "failed_step", json_integer(r->res.failed_step));
     json_object_set_new(j, "factorizations", json_integer(r->res.factorizations));
+    json_object_set_new(j, "chord_steps", json_integer(r->res.chord_steps));
+    json_object_set_new(j, "step_cuts", json_integer(r->res.cuts));
+    json_object_set_new(j, "substeps", json_integer(r->res.substeps));
     json_object_set_new(j, "factor_seconds", json_real(r->res.factor_seconds));
     json_object_set_new(j, "seconds", json_real(r->res.seconds));
     return j;
@@ -288,12 +291,13 @@ static void print_summary(const model_run *r, const options *o, double angle)
 {
     plume_index last = r->res.curve.n - 1;
     printf("%s %s %g deg, %s, %s (%ld elements)%s: stress at %g%% strain %.6g Pa, wbar %.4g, initial slope %.6g Pa, "
-           "%d iterations, %.2f s, %s\n",
+           "%d iterations (%d factorisations%s), %.2f s, %s\n",
            r->scale, o->scenario, angle, o->solver, strcmp(r->scale, "macro") == 0 ? o->mesh : "specimen",
            (long)r->elements,
            strcmp(r->scale, "macro") == 0 ? (o->constraint ? ", constraint on" : ", constraint off") : "",
            100.0 * r->res.curve.strain[last], r->res.curve.stress[last], r->res.curve.wbar[last], r->res.initial_slope,
-           r->res.newton_iterations, r->res.seconds, r->res.converged ? "converged" : plume_reason_name(r->res.failed_reason));
+           r->res.newton_iterations, r->res.factorizations, r->res.cuts ? ", steps cut" : "", r->res.seconds,
+           r->res.converged ? "converged" : plume_reason_name(r->res.failed_reason));
 }
 
 int main(int argc, char **argv)

@@ -12,6 +12,7 @@ void plume_traction_opts_default(plume_traction_opts *o)
     memset(o, 0, sizeof *o);
     o->strain_max = 0.05;
     o->steps = 10;
+    o->max_cuts = 8;
     o->probe_strain = 1e-6;
     o->solver = PLUME_SOLVER_NEWTON;
     plume_solver_opts_default(&o->solver_opts);
@@ -229,6 +230,8 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     if (!(o->strain_max > 0) || !isfinite(o->strain_max) || o->steps < 1 || !(o->probe_strain > 0))
         return plume_err_set(err, PLUME_EINVAL, "traction: strain-max must be > 0 and steps >= 1 (got %g, %d)",
                              o->strain_max, o->steps);
+    if (o->max_cuts < 0 || o->max_cuts > 30)
+        return plume_err_set(err, PLUME_EINVAL, "traction: max_cuts must be in [0, 30] (got %d)", o->max_cuts);
     if (!(o->probe_tol_kkt >= 0) || !isfinite(o->probe_tol_kkt))
         return plume_err_set(err, PLUME_EINVAL, "traction: probe_tol_kkt must be finite and >= 0 (got %g)",
                              o->probe_tol_kkt);
@@ -237,7 +240,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     plume_status st;
     grips g;
     plume_solver *solver = NULL;
-    double *u = NULL, *lambda = NULL, *force = NULL, *xa = NULL, *xb = NULL;
+    double *u = NULL, *lambda = NULL, *lambda_saved = NULL, *force = NULL, *xa = NULL, *xb = NULL;
     plume_index *parent = NULL;
     double t_start = plume_wall_seconds();
     if ((st = find_grips(mesh, o->lx, o->ly, &g, err)) != PLUME_OK)
@@ -295,6 +298,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     size_t np = (size_t)o->steps + 1;
     u = malloc((size_t)(n + 1) * sizeof *u);
     lambda = calloc((size_t)(m + 1), sizeof *lambda);
+    lambda_saved = calloc((size_t)(m + 1), sizeof *lambda_saved);
     force = malloc((size_t)(dim * mesh->nv) * sizeof *force);
     xa = malloc((size_t)(dim * mesh->nv) * sizeof *xa);
     xb = malloc((size_t)(dim * mesh->nv) * sizeof *xb);
@@ -303,7 +307,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     res->curve.wbar = calloc(np, sizeof(double));
     res->curve.iterations = calloc(np, sizeof(double));
     res->curve.seconds = calloc(np, sizeof(double));
-    if (!u || !lambda || !force || !xa || !xb || !res->curve.strain || !res->curve.stress ||
+    if (!u || !lambda || !lambda_saved || !force || !xa || !xb || !res->curve.strain || !res->curve.stress ||
         !res->curve.wbar || !res->curve.iterations || !res->curve.seconds) {
         st = PLUME_ENOMEM;
         goto cleanup;
@@ -311,6 +315,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     memcpy(xa, x, (size_t)(dim * mesh->nv) * sizeof *xa);
     memcpy(xb, x, (size_t)(dim * mesh->nv) * sizeof *xb);
     double da = 0.0, db = 0.0; /* grip displacements of the states xa, xb */
+    double inc = o->strain_max * o->ly / o->steps; /* the current increment (adaptive stepping) */
     res->curve.n = 1; /* the rest state */
     res->converged = 1;
     plume_progress prog;
@@ -343,7 +348,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         if (tight.converged) {
             rep = tight;
             res->probe_tol_kkt = probe_tol;
-        } else {
+        } else if (probe || o->solver == PLUME_SOLVER_LINEARIZED || o->max_cuts == 0) {
             predict(mesh, p, &g, o->ly, delta, xa, da, xb, db);
             plume_problem_gather(p, u);
             if ((st = plume_solver_solve(solver, u, lambda, &rep)) != PLUME_OK) {
@@ -354,6 +359,58 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
             rep.seconds += tight.seconds;
             if (probe && rep.converged)
                 res->probe_tol_kkt = o->solver_opts.tol_kkt;
+        } else {
+            /* adaptive load stepping: an increment that does not converge is undone (back to the
+             * last equilibrium xa and its multipliers) and halved, up to max_cuts times; after a
+             * success it grows back by doubling, never past the nominal step. Only the nominal
+             * strains enter the curve. */
+            plume_solve_report sub;
+            memset(&rep, 0, sizeof rep);
+            rep.reason = PLUME_REASON_CONVERGED;
+            const double nominal = o->strain_max * o->ly / o->steps, smallest = ldexp(nominal, -o->max_cuts);
+            int failed = 0;
+            while (da < delta * (1.0 - 1e-12)) {
+                double next = fmin(delta, da + inc);
+                if (delta - next < 1e-9 * nominal)
+                    next = delta;
+                memcpy(lambda_saved, lambda, (size_t)(m + 1) * sizeof *lambda);
+                predict(mesh, p, &g, o->ly, next, xa, da, xb, db);
+                plume_problem_gather(p, u);
+                if ((st = plume_solver_solve(solver, u, lambda, &sub)) != PLUME_OK) {
+                    plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
+                    goto cleanup;
+                }
+                rep.iterations += sub.iterations;
+                rep.chord_steps += sub.chord_steps;
+                rep.seconds += sub.seconds;
+                rep.max_violation = fmax(rep.max_violation, sub.max_violation);
+                if (sub.converged) {
+                    double *t = xb;
+                    xb = xa, db = da;
+                    xa = t, da = next;
+                    memcpy(xa, x, (size_t)(dim * mesh->nv) * sizeof *xa);
+                    inc = fmin(nominal, 2.0 * inc);
+                    if (next < delta)
+                        res->substeps++;
+                    continue;
+                }
+                if (!failed)
+                    rep.reason = sub.reason;
+                failed = 1;
+                memcpy(x, xa, (size_t)(dim * mesh->nv) * sizeof *x); /* back to the last equilibrium */
+                memcpy(lambda, lambda_saved, (size_t)(m + 1) * sizeof *lambda);
+                if (inc * 0.5 < smallest * (1.0 - 1e-12)) {
+                    rep.converged = 0;
+                    break;
+                }
+                inc *= 0.5;
+                res->cuts++;
+            }
+            if (da >= delta * (1.0 - 1e-12)) {
+                rep.converged = 1;
+                rep.reason = PLUME_REASON_CONVERGED;
+                memcpy(x, xa, (size_t)(dim * mesh->nv) * sizeof *x);
+            }
         }
         res->newton_iterations += rep.iterations;
         res->chord_steps += rep.chord_steps + (tight.converged ? 0 : tight.chord_steps);
@@ -369,10 +426,12 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
             res->max_violation = fmax(res->max_violation, rep.max_violation);
         if ((st = plume_problem_forces(p, m ? lambda : NULL, force)) != PLUME_OK)
             goto cleanup;
-        double *t = xb;
-        xb = xa, db = da;
-        xa = t, da = delta;
-        memcpy(xa, x, (size_t)(dim * mesh->nv) * sizeof *xa);
+        if (!(da == delta)) { /* the adaptive path has shifted the history already */
+            double *t = xb;
+            xb = xa, db = da;
+            xa = t, da = delta;
+            memcpy(xa, x, (size_t)(dim * mesh->nv) * sizeof *xa);
+        }
         if (probe) { /* the probe's equilibrium is the first state of the history */
             res->initial_slope = reaction_virtual_work(mesh, &g, force, dim, o->ly) / (o->lx * o->h) / strain;
             res->curve.iterations[0] = rep.iterations;
@@ -411,6 +470,7 @@ cleanup:
     free(xa);
     free(xb);
     free(lambda);
+    free(lambda_saved);
     free(force);
     return st;
 }

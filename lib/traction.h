@@ -18,6 +18,9 @@ typedef struct {
     double h;            /* thickness (m), for the nominal stress F / (lx h) */
     double strain_max;   /* final nominal strain delta/ly; default 0.05 */
     int steps;           /* quasi-static steps; default 10 */
+    int max_cuts;        /* adaptive stepping: a step that does not converge is undone and its
+                            increment halved, at most max_cuts times (growing back by doubling
+                            after a success); 0 = fixed steps. Default 8 */
     double probe_strain; /* strain of the extra small-strain solve giving initial_slope; default 1e-6 */
     double probe_tol_kkt; /* relative KKT tolerance (solver.h) of that probe solve, >= 0. Default 0:
                              tol_kkt scaled by probe_strain / (strain_max / steps), at most tol_kkt,
@@ -48,6 +51,9 @@ typedef struct {
     plume_reason failed_reason;
     int newton_iterations;    /* total over all steps and the probe */
     int chord_steps;          /* newton: iterations of those that reused an earlier factorisation */
+    int cuts;                 /* adaptive stepping: increments halved after a failed solve */
+    int substeps;             /* adaptive stepping: intermediate equilibria solved between the nominal
+                                 steps (the curve holds the nominal strains only) */
     double max_violation;     /* max relative constraint violation over the converged steps */
     double seconds;           /* wall time of the whole run */
     int factorizations;       /* native solvers: numeric factorisations */
