@@ -73,3 +73,46 @@ void test_globalisation_traction_methods(void)
     /* and they save factorisations */
     CHECK(def.factorizations < plain.factorizations);
 }
+
+/* Adaptive load stepping: the unaligned penalty model at E_xx/E_yy = 1e4 (tilted 45 deg, edge
+ * 0.1, 10 steps to 5 %) hits the iteration cap at a nominal step with fixed steps; with the
+ * default cutting it converges, and the report counts the cuts and the intermediate equilibria,
+ * while the curve keeps the nominal strains only. */
+void test_globalisation_traction_adaptive(void)
+{
+    for (int adaptive = 0; adaptive < 2; adaptive++) {
+        plume_err err = {{0}};
+        plume_mesh *m = NULL;
+        plume_problem *p = NULL;
+        plume_vane vane;
+        plume_vane_default(&vane);
+        vane.constraint = 0;
+        CHECK(plume_patch_mesh(1.0, 1.3, 45.0, 0.1, PLUME_PATCH_UNALIGNED, 2, &m, &err) == PLUME_OK);
+        if (!m)
+            return;
+        CHECK(plume_problem_create(m->nv, 2, 1.3, &p) == PLUME_OK);
+        CHECK(plume_vane_add(p, m, &vane, NULL, NULL, &err) == PLUME_OK);
+        plume_traction_opts o;
+        plume_traction_opts_default(&o);
+        o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.steps = 10, o.strain_max = 0.05, o.progress = 0;
+        if (!adaptive)
+            o.max_cuts = 0;
+        plume_traction_result r;
+        CHECK(plume_traction_run(m, p, NULL, 0, &o, &r, &err) == PLUME_OK);
+        fprintf(stderr, "    %s: converged %d (failed step %d, %s), cuts %d, substeps %d, %d iterations, %ld points\n",
+                adaptive ? "adaptive" : "fixed steps", r.converged, r.failed_step, plume_reason_name(r.failed_reason),
+                r.cuts, r.substeps, r.newton_iterations, (long)r.curve.n);
+        if (!adaptive) {
+            CHECK(!r.converged && r.failed_step > 0 && r.failed_reason == PLUME_REASON_ITERATION_CAP);
+            CHECK(r.cuts == 0 && r.substeps == 0);
+        } else {
+            CHECK(r.converged && r.cuts >= 1 && r.substeps >= 1);
+            CHECK(r.curve.n == 11);
+            for (long k = 0; k < (long)r.curve.n; k++)
+                CHECK_REL(r.curve.strain[k], 0.005 * (double)k, 1e-12, 1e-15);
+        }
+        plume_traction_result_free(&r);
+        plume_problem_destroy(&p);
+        plume_mesh_destroy(&m);
+    }
+}
