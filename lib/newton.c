@@ -35,7 +35,11 @@ struct plume_newton {
     int eliminate;           /* constraints eliminated into an SPD matrix (supernodal LL^T) */
     plume_index npairs;      /* eliminate: pairs (ka, kb) of Jacobian entries of one row ... */
     plume_index *pair_a, *pair_b, *pair_pos; /* ... and the Hessian slot of (col ka, col kb) */
-    double dc;               /* the KKT regularisation of the last factorisation */
+    double dc;               /* the KKT regularisation of the system solved ... */
+    double dcf;              /* ... and the one factorised (>= dc, kkt_solve_j) */
+    double diag;             /* the diagonal shift of the last factorisation */
+    double *rb, *rr, *rd;    /* [n+m+1] iterative refinement */
+    int refinements;         /* refinement passes in this solve */
     double shift, shift_last; /* exact-Hessian shift of the last factorisation; the last nonzero one */
     int projected;           /* the last factorisation used the projected Hessian */
     int shifts;              /* factorisations that failed for inertia in this solve */
@@ -71,6 +75,9 @@ void plume_newton_destroy(plume_newton **ps)
     free(s->kval);
     free(s->jval);
     free(s->jval_f);
+    free(s->rb);
+    free(s->rr);
+    free(s->rd);
     free(s->u_s);
     free(s->l_s);
     free(s->grad_s);
@@ -242,6 +249,9 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     s->hval = malloc(((size_t)s->hp.nnz + 1) * sizeof *s->hval);
     s->jval = malloc(((size_t)s->jnnz + 1) * sizeof *s->jval);
     s->jval_f = malloc(((size_t)s->jnnz + 1) * sizeof *s->jval_f);
+    s->rb = malloc((nk + 1) * sizeof *s->rb);
+    s->rr = malloc((nk + 1) * sizeof *s->rr);
+    s->rd = malloc((nk + 1) * sizeof *s->rd);
     s->jval_s = malloc(((size_t)s->jnnz + 1) * sizeof *s->jval_s);
     s->u_s = malloc((size_t)(s->n + 1) * sizeof *s->u_s);
     s->grad_s = malloc((size_t)(s->n + 1) * sizeof *s->grad_s);
@@ -258,7 +268,7 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     s->jtl = malloc((n + 1) * sizeof *s->jtl);
     s->diagpos = malloc((nk + 1) * sizeof *s->diagpos);
     if (!s->hval || !s->jval || !s->grad || !s->g || !s->gt || !s->rhs || !s->sol || !s->ut || !s->jtl ||
-        !s->diagpos || !s->jval_f || !s->jval_s || !s->u_s || !s->grad_s || !s->l_s || !s->g_s || !s->u_b ||
+        !s->diagpos || !s->jval_f || !s->rb || !s->rr || !s->rd || !s->jval_s || !s->u_s || !s->grad_s || !s->l_s || !s->g_s || !s->u_b ||
         !s->l_b) {
         st = PLUME_ENOMEM;
         goto fail;
@@ -314,6 +324,10 @@ static plume_status merit_at(plume_newton *s, const double *u, double mu, double
 {
     double f;
     plume_status st = plume_problem_objective(s->p, u, &f, NULL);
+    if (st == PLUME_ESINGULAR) { /* a trial where a term is undefined (a degenerate triangle) */
+        *fval = *phi = INFINITY;
+        return PLUME_OK;
+    }
     if (st != PLUME_OK)
         return st;
     double g1 = 0.0;
@@ -445,6 +459,9 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
             jmax = fmax(jmax, fabs(s->jval[k]));
         double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
         *dc_out = s->dc = dc;
+        s->dcf = s->eliminate && s->o.kkt_refine ? 1e4 * dc : dc;
+        if (s->o.verbose > 1)
+            fprintf(stderr, "DEBUG hmax %.3e jmax %.3e dc %.3e\n", hmax, jmax, dc);
         double dw = fmax(dw_min, s->m && !s->eliminate ? 1e-12 * hmax : 0.0);
         /* Exact Hessian: Ipopt's inertia correction. Try no shift; if the matrix is not positive
          * definite, start from a third of the last shift that worked (or 1e-6 hmax the first
@@ -455,9 +472,10 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
         if (!project) {
             double sh = 0.0;
             for (int attempt = 0; attempt < 40; attempt++) {
-                st = factor_with(s, dw + sh, dc);
+                st = factor_with(s, dw + sh, s->dcf);
                 if (st != PLUME_ESINGULAR) {
                     if (st == PLUME_OK) {
+                        s->diag = dw + sh;
                         s->shift = sh;
                         s->projected = 0;
                         if (sh > 0.0)
@@ -478,9 +496,10 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
             continue;
         }
         for (int attempt = 0; attempt < 12; attempt++) {
-            st = factor_with(s, dw, dc);
+            st = factor_with(s, dw, s->dcf);
             if (st != PLUME_ESINGULAR) {
                 if (st == PLUME_OK) {
+                    s->diag = dw;
                     s->shift = dw;
                     s->projected = 1;
                 }
@@ -492,29 +511,84 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
     return st;
 }
 
-/* Solves the regularised KKT system [H J^T; J -dc I] [x; l] = [r1; r2] with the last
- * factorisation; out holds x (n) then l (m); r and out may alias. With the multipliers
- * eliminated: K x = r1 + J^T r2 / dc, then l = (J x - r2) / dc. */
-static plume_status kkt_solve(plume_newton *s, const double *r, double *out)
+/* One solve of [H + d I, J^T; J, -dcf I] [x; l] = [r1; r2] with the eliminated factorisation
+ * (J values jv): K x = r1 + J^T r2 / dcf, then l = (J x - r2) / dcf. r and out may alias. */
+static plume_status elim_solve(plume_newton *s, const double *jv, const double *r, double *out)
 {
-    if (!s->eliminate)
-        return plume_chol_solve(s->chol, r, out);
     plume_index n = s->n, m = s->m;
-    double dc = s->dc;
+    const double dcf = s->dcf;
     for (plume_index i = 0; i < n; i++)
         s->kwork[i] = r[i];
     for (plume_index k = 0; k < s->jnnz; k++)
-        s->kwork[s->jcol[k]] += s->jval[k] * r[n + s->jrow[k]] / dc;
+        s->kwork[s->jcol[k]] += jv[k] * r[n + s->jrow[k]] / dcf;
     for (plume_index q = 0; q < m; q++) /* r2 is read before out (which may alias r) is written */
         s->lwork[q] = -r[n + q];
     plume_status st = plume_chol_solve(s->chol, s->kwork, out);
     if (st != PLUME_OK)
         return st;
     for (plume_index k = 0; k < s->jnnz; k++)
-        s->lwork[s->jrow[k]] += s->jval[k] * out[s->jcol[k]];
+        s->lwork[s->jrow[k]] += jv[k] * out[s->jcol[k]];
     for (plume_index q = 0; q < m; q++)
-        out[n + q] = s->lwork[q] / dc;
+        out[n + q] = s->lwork[q] / dcf;
     return PLUME_OK;
+}
+
+/* Solves the regularised KKT system [H + d I, J^T; J, -dc I] [x; l] = [r1; r2] (H and d of the
+ * last factorisation, J values jv); out holds x (n) then l (m); r and out may alias.
+ * With the multipliers eliminated, the factorised matrix is H + d I + J^T J / dcf with a dcf
+ * larger than dc (kkt_refine): J^T J / dc is 1e8 times the Hessian's scale, and a Cholesky
+ * factor of that loses 8 digits of the Hessian's own part (the soft, buckling directions of a
+ * feather: Newton then converged linearly), while 1e4 loses 4. Iterative refinement against the
+ * dc system recovers the rest: its error contracts by dcf / (dcf + sigma(J H^-1 J^T)) a pass. */
+static plume_status kkt_solve_j(plume_newton *s, const double *jv, const double *r, double *out)
+{
+    if (!s->eliminate)
+        return plume_chol_solve(s->chol, r, out);
+    plume_index n = s->n, m = s->m, nk = n + m;
+    if (s->dcf == s->dc)
+        return elim_solve(s, jv, r, out);
+    double *b = s->rb, *res = s->rr, *dx = s->rd;
+    memcpy(b, r, (size_t)nk * sizeof *b);
+    plume_status st = elim_solve(s, jv, b, out);
+    double bmax = 0.0;
+    for (plume_index i = 0; i < nk; i++)
+        bmax = fmax(bmax, fabs(b[i]));
+    double last = INFINITY;
+    for (int pass = 0; st == PLUME_OK && pass < 8; pass++) {
+        /* res = b - [H + d I, J^T; J, -dc I] out */
+        for (plume_index i = 0; i < n; i++)
+            res[i] = b[i] - s->diag * out[i];
+        for (plume_index q = 0; q < m; q++)
+            res[n + q] = b[n + q] + s->dc * out[n + q];
+        const plume_index *cp = s->hp.colptr, *ri = s->hp.rowind;
+        for (plume_index c = 0; c < n; c++)
+            for (plume_index k = cp[c]; k < cp[c + 1]; k++) {
+                plume_index rw = ri[k];
+                res[rw] -= s->hval[k] * out[c];
+                if (rw != c)
+                    res[c] -= s->hval[k] * out[rw];
+            }
+        for (plume_index k = 0; k < s->jnnz; k++) {
+            res[s->jcol[k]] -= jv[k] * out[n + s->jrow[k]];
+            res[n + s->jrow[k]] -= jv[k] * out[s->jcol[k]];
+        }
+        double rmax = 0.0;
+        for (plume_index i = 0; i < nk; i++)
+            rmax = fmax(rmax, fabs(res[i]));
+        if (!(rmax > 1e-15 * bmax) || !(rmax < 0.5 * last))
+            break;
+        last = rmax;
+        if ((st = elim_solve(s, jv, res, dx)) == PLUME_OK)
+            for (plume_index i = 0; i < nk; i++)
+                out[i] += dx[i];
+        s->refinements++;
+    }
+    return st;
+}
+
+static plume_status kkt_solve(plume_newton *s, const double *r, double *out)
+{
+    return kkt_solve_j(s, s->jval, r, out);
 }
 
 /* Newton/SQP direction: factorise and solve. A direction longer than max_step times the body
@@ -585,18 +659,14 @@ static int chord_direction(plume_newton *s, const double *lambda, double L, doub
     plume_index n = s->n, m = s->m;
     if (!s->eliminate && m > 0)
         return 1; /* the LDL^T mode keeps J inside its factorisation: no chord steps */
-    for (plume_index i = 0; i < n; i++) /* s->rhs as workspace (the KKT size >= n) */
+    for (plume_index i = 0; i < n; i++)
         s->rhs[i] = -(s->grad[i] + (m ? s->jtl[i] : 0.0));
-    for (plume_index k = 0; k < s->jnnz; k++)
-        s->rhs[s->jcol[k]] -= s->jval_f[k] * s->g[s->jrow[k]] / s->dc;
-    if (plume_chol_solve(s->chol, s->rhs, s->sol) != PLUME_OK)
+    for (plume_index r = 0; r < m; r++)
+        s->rhs[n + r] = -s->g[r];
+    if (kkt_solve_j(s, s->jval_f, s->rhs, s->sol) != PLUME_OK)
         return 1;
     for (plume_index r = 0; r < m; r++)
-        s->lwork[r] = s->g[r];
-    for (plume_index k = 0; k < s->jnnz; k++)
-        s->lwork[s->jrow[k]] += s->jval_f[k] * s->sol[s->jcol[k]];
-    for (plume_index r = 0; r < m; r++)
-        s->sol[n + r] = lambda[r] + s->lwork[r] / s->dc;
+        s->sol[n + r] += lambda[r];
     double slope = 0.0;
     *step_max = 0.0;
     for (plume_index i = 0; i < n; i++) {
@@ -627,8 +697,9 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     s->theta_max = 1e4 * fmax(1.0, g1);
     s->theta_min = 1e-4 * fmax(1.0, g1);
     s->shifts = 0;
+    s->refinements = 0;
     int max_iter = s->single_step ? 1 : s->o.max_iter;
-    int it = 0, stalled = 0;
+    int it = 0, stalled = 0, last_negligible = 0;
     double best = INFINITY, f_prev = f, best_ok = INFINITY;
     if (!s->o.reuse_factorization)
         s->factor_valid = 0;
@@ -638,7 +709,11 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
          * residual (by half) for 4 iterations in a row have hit what the arithmetic can resolve
          * (e.g. a soft phase's stresses under a 1e6 times stiffer one). Converged if that floor is
          * within sqrt(tol_kkt) and the constraints hold; a numerical failure otherwise. */
-        stalled = (it > 0 && fabs(f - f_prev) <= 1e-13 * fabs(f) && !(res < 0.5 * best)) ? stalled + 1 : 0;
+        /* (a negligible last step counts as no change of f: its f may jitter at round-off) */
+        stalled = (it > 0 && (fabs(f - f_prev) <= 1e-13 * fabs(f) || last_negligible) && !(res < 0.5 * best))
+                      ? stalled + 1
+                      : 0;
+        last_negligible = 0;
         best = fmin(best, res);
         f_prev = f;
         /* the best iterate that meets the violation tolerance, for the floor's exit */
@@ -710,6 +785,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
         double phi0 = f + mu * g1, alpha = 1.0, phi, ft;
         int accepted = 0;
         int negligible = step_max <= s->o.tol_step * L;
+        last_negligible = negligible;
         if (s->single_step || negligible) {
             /* one linearised step, or a step at round-off level: no line search to do, and the
              * multipliers are taken whole (they may still have far to go) */
@@ -866,6 +942,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     rep->iterations = it;
     rep->factorizations = f1 - f0;
     rep->shifts = s->shifts;
+    rep->refinements = s->refinements;
     rep->energy = f;
     rep->kkt_residual = kkt_residual(s, lambda);
     rep->max_violation = viol;

@@ -54,6 +54,7 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->line_search = PLUME_LS_FILTER;
     o->reuse_factorization = 1;
     o->reuse_rate = 0.25;
+    o->kkt_refine = 1;
     o->verbose = 0;
     o->exact_hessian_first = 1;
 }

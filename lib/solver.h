@@ -46,6 +46,7 @@ typedef struct {
                              (no step down to 2^-29 was acceptable to the filter) */
     int chord_steps;      /* newton: steps taken with an earlier factorisation (no new one) */
     int chord_rejected;   /* newton: chord steps the line search refused whole (refactorised) */
+    int refinements;      /* newton, kkt_refine: iterative refinement passes over all solves */
 } plume_solve_report;
 
 /* How the native solver globalises a constrained step. */
@@ -82,6 +83,10 @@ typedef struct {
                                 while each cuts the KKT residual by reuse_rate, taken whole or
                                 refactorised; default 1 */
     double reuse_rate;     /* default 0.25 */
+    int kkt_refine;        /* newton, eliminated KKT: factorise with a 1e4 times larger multiplier
+                              regularisation and refine the solution iteratively against the
+                              requested one (a Cholesky factor of H + J^T J / dc, whose constraint
+                              part is 1e8 times the Hessian's, loses 8 digits of H); default 1 */
     int verbose;           /* print one line per iteration on stderr */
     int exact_hessian_first; /* newton without constraints: factorise the exact Hessian first and
                                 fall back to the PSD-projected one if it is not positive definite;

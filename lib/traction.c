@@ -241,6 +241,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     grips g;
     plume_solver *solver = NULL;
     double *u = NULL, *lambda = NULL, *lambda_saved = NULL, *force = NULL, *xa = NULL, *xb = NULL;
+    double *la = NULL, *lb = NULL; /* multipliers of the states xa, xb */
     plume_index *parent = NULL;
     double t_start = plume_wall_seconds();
     if ((st = find_grips(mesh, o->lx, o->ly, &g, err)) != PLUME_OK)
@@ -299,6 +300,8 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     u = malloc((size_t)(n + 1) * sizeof *u);
     lambda = calloc((size_t)(m + 1), sizeof *lambda);
     lambda_saved = calloc((size_t)(m + 1), sizeof *lambda_saved);
+    la = calloc((size_t)(m + 1), sizeof *la);
+    lb = calloc((size_t)(m + 1), sizeof *lb);
     force = malloc((size_t)(dim * mesh->nv) * sizeof *force);
     xa = malloc((size_t)(dim * mesh->nv) * sizeof *xa);
     xb = malloc((size_t)(dim * mesh->nv) * sizeof *xb);
@@ -307,7 +310,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     res->curve.wbar = calloc(np, sizeof(double));
     res->curve.iterations = calloc(np, sizeof(double));
     res->curve.seconds = calloc(np, sizeof(double));
-    if (!u || !lambda || !lambda_saved || !force || !xa || !xb || !res->curve.strain || !res->curve.stress ||
+    if (!u || !lambda || !lambda_saved || !la || !lb || !force || !xa || !xb || !res->curve.strain || !res->curve.stress ||
         !res->curve.wbar || !res->curve.iterations || !res->curve.seconds) {
         st = PLUME_ENOMEM;
         goto cleanup;
@@ -375,6 +378,10 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
                     next = delta;
                 memcpy(lambda_saved, lambda, (size_t)(m + 1) * sizeof *lambda);
                 predict(mesh, p, &g, o->ly, next, xa, da, xb, db);
+                if (da != db) /* the multipliers extrapolated with the positions: the barbs'
+                                 tension grows with the load */
+                    for (plume_index r = 0; r < m; r++)
+                        lambda[r] = la[r] + (next - da) / (da - db) * (la[r] - lb[r]);
                 plume_problem_gather(p, u);
                 if ((st = plume_solver_solve(solver, u, lambda, &sub)) != PLUME_OK) {
                     plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
@@ -389,6 +396,8 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
                     xb = xa, db = da;
                     xa = t, da = next;
                     memcpy(xa, x, (size_t)(dim * mesh->nv) * sizeof *xa);
+                    t = lb, lb = la, la = t;
+                    memcpy(la, lambda, (size_t)m * sizeof *la);
                     inc = fmin(nominal, 2.0 * inc);
                     if (next < delta)
                         res->substeps++;
@@ -431,6 +440,8 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
             xb = xa, db = da;
             xa = t, da = delta;
             memcpy(xa, x, (size_t)(dim * mesh->nv) * sizeof *xa);
+            t = lb, lb = la, la = t;
+            memcpy(la, lambda, (size_t)m * sizeof *la);
         }
         if (probe) { /* the probe's equilibrium is the first state of the history */
             res->initial_slope = reaction_virtual_work(mesh, &g, force, dim, o->ly) / (o->lx * o->h) / strain;
@@ -471,6 +482,8 @@ cleanup:
     free(xb);
     free(lambda);
     free(lambda_saved);
+    free(la);
+    free(lb);
     free(force);
     return st;
 }

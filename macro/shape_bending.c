@@ -439,7 +439,7 @@ static plume_status shape_eval(void *vctx, int dim, const double *x, double *ene
         gather_points(ctx, t, x, xv);
         shape_geom G;
         if (!shape_geometry(xv, npt, &G, h))
-            return PLUME_EINVAL;
+            return PLUME_ESINGULAR; /* a degenerate triangle: no normal, no curvature */
         double e = 0.0;
         for (int k = 0; k < n; k++) {
             double s = 0.0;

@@ -26,7 +26,7 @@ extern "C" {
  * barb_dir[t] (normalised here). Rest shape mesh->X (flat) unless rest_x (3*nv, may be NULL)
  * gives a curved one. Exact gradient and Hessian; with project != 0 the Hessian blocks are the
  * Gauss-Newton part only (PSD by construction, no eigen-decomposition). eval fails with
- * PLUME_EINVAL when a current triangle has collapsed (its normal is undefined); the energy and
+ * PLUME_ESINGULAR when a current triangle has collapsed (its normal is undefined); the energy and
  * gradient are then not accumulated in full. Errors at create (PLUME_EINVAL, message): dim != 3,
  * topology not built, a negative/NaN/infinite stiffness or D_coupling^2 > D_long D_trans (naming
  * the material and field), material or vertex id out of range, a barb direction that cannot be
