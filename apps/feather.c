@@ -283,7 +283,7 @@ int main(int argc, char **argv)
     snprintf(frames_path, sizeof frames_path, "%s/frames.h5", outdir);
     output_ctx oc = {scene, outdir, frames_path, stem};
 
-    scene->verbose = o.verbose ? (getenv("PLUME_DEBUG") ? 2 : 1) : 0;
+    scene->verbose = o.verbose;
     if ((st = plume_scene_dynamics(scene, &p, &d, &err)) != PLUME_OK) {
         rc = st == PLUME_EINVAL || st == PLUME_EFORMAT ? cli_fail(APP, "%s: %s", o.scene, err.msg)
                                                        : run_fail("%s", err.msg);

@@ -460,8 +460,6 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
         double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
         *dc_out = s->dc = dc;
         s->dcf = s->eliminate && s->o.kkt_refine ? 1e4 * dc : dc;
-        if (s->o.verbose > 1)
-            fprintf(stderr, "DEBUG hmax %.3e jmax %.3e dc %.3e\n", hmax, jmax, dc);
         double dw = fmax(dw_min, s->m && !s->eliminate ? 1e-12 * hmax : 0.0);
         /* Exact Hessian: Ipopt's inertia correction. Try no shift; if the matrix is not positive
          * definite, start from a third of the last shift that worked (or 1e-6 hmax the first
