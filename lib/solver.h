@@ -80,8 +80,9 @@ typedef struct {
                               2.2x faster factorisations at 4e4 elements than LDL^T) */
     plume_line_search line_search; /* newton with constraints; default PLUME_LS_FILTER */
     int reuse_factorization; /* newton: chord steps with the last factorisation (across solves too)
-                                while each cuts the KKT residual by reuse_rate, taken whole or
-                                refactorised; default 1 */
+                                while each cuts the KKT residual by reuse_rate, undone and
+                                refactorised when one does not; default 0: measured slower once the
+                                KKT solves were refined (kkt_refine), README "native solver" */
     double reuse_rate;     /* default 0.25 */
     int kkt_refine;        /* newton, eliminated KKT: factorise with a 1e4 times larger multiplier
                               regularisation and refine the solution iteratively against the
