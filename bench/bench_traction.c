@@ -21,7 +21,7 @@ typedef struct {
     long maxrss_kb;
 } run_result;
 
-/* old: the native solver as it was before the filter line search and the chord steps */
+/* old: the native solver as it was before the filter line search and the refined KKT solves */
 static run_result run_child(double edge, plume_solver_kind solver, int old, int steps)
 {
     run_result r;
@@ -41,9 +41,10 @@ static run_result run_child(double edge, plume_solver_kind solver, int old, int 
     plume_traction_opts o;
     plume_traction_opts_default(&o);
     o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.strain_max = 0.05, o.steps = steps, o.solver = solver, o.progress = 0;
-    if (old) {
+    if (old) { /* the native solver of the previous release: l1 merit, unrefined KKT solves */
         o.solver_opts.line_search = PLUME_LS_MERIT;
         o.solver_opts.reuse_factorization = 0;
+        o.solver_opts.kkt_refine = 0;
     }
     plume_traction_result res;
     if (plume_traction_run(mesh, p, barbs, nb, &o, &res, &err) == PLUME_OK) {
