@@ -258,14 +258,16 @@ static void save_iterate(plume_newton *s, int save, double *u, double *lambda, d
     size_t n = (size_t)s->n, m = (size_t)s->m, j = (size_t)s->jnnz;
     if (save) {
         memcpy(s->u_s, u, n * sizeof *u);
-        memcpy(s->l_s, lambda, m * sizeof *lambda);
+        if (m > 0) /* lambda may be NULL without constraints */
+            memcpy(s->l_s, lambda, m * sizeof *lambda);
         memcpy(s->grad_s, s->grad, n * sizeof *u);
         memcpy(s->g_s, s->g, m * sizeof *u);
         memcpy(s->jval_s, s->jval, j * sizeof *u);
         s->saved_f = f, s->saved_g1 = g1, s->saved_viol = viol;
     } else {
         memcpy(u, s->u_s, n * sizeof *u);
-        memcpy(lambda, s->l_s, m * sizeof *lambda);
+        if (m > 0)
+            memcpy(lambda, s->l_s, m * sizeof *lambda);
         memcpy(s->grad, s->grad_s, n * sizeof *u);
         memcpy(s->g, s->g_s, m * sizeof *u);
         memcpy(s->jval, s->jval_s, j * sizeof *u);
@@ -314,7 +316,8 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
         if (viol <= s->o.tol_violation && res < best_ok) {
             best_ok = res;
             memcpy(s->u_b, u, (size_t)n * sizeof *u);
-            memcpy(s->l_b, lambda, (size_t)m * sizeof *lambda);
+            if (m > 0) /* lambda may be NULL without constraints */
+                memcpy(s->l_b, lambda, (size_t)m * sizeof *lambda);
         }
         if (stalled >= 4) {
             int ok = res <= sqrt(s->o.tol_kkt) && viol <= s->o.tol_violation;
@@ -322,7 +325,8 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                 /* the floor wandered off an iterate that was acceptable (its violation at the
                  * tolerance's edge): return that one */
                 memcpy(u, s->u_b, (size_t)n * sizeof *u);
-                memcpy(lambda, s->l_b, (size_t)m * sizeof *lambda);
+                if (m > 0)
+                    memcpy(lambda, s->l_b, (size_t)m * sizeof *lambda);
                 if ((st = evaluate(s, u, &f, &g1, &viol)) != PLUME_OK)
                     return st;
                 ok = 1;
