@@ -541,6 +541,11 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     rep->factorizations = f1 - f0;
     rep->shifts = s->shifts;
     rep->refinements = s->refinements;
+    if (s->o.verbose)
+        fprintf(stderr, "  newton: %s after %d iterations: %d factorisations, %d chord steps, %d refinement passes, "
+                        "%d backtracks, %d inertia shifts\n",
+                plume_reason_name(rep->reason), rep->iterations, rep->factorizations, rep->chord_steps,
+                rep->refinements, rep->backtracks, rep->shifts);
     rep->energy = f;
     rep->kkt_residual = kkt_residual(s, lambda);
     rep->max_violation = viol;
