@@ -234,6 +234,38 @@ static int filter_step_ok(plume_newton *s, double theta0, double f0, double gd, 
     return theta_t <= (1.0 - gamma_theta) * theta0 || f_t <= f0 - gamma_f * theta0;
 }
 
+/* filter_step_ok, and the filter gains the current point's entry when the step is not f-type
+ * (a full step at round-off level, `roundoff`, counts as f-type) */
+static int filter_take(plume_newton *s, double theta0, double f0, double gd, double alpha, double theta_t, double f_t,
+                       int roundoff)
+{
+    int f_type = 1;
+    if (!roundoff && !filter_step_ok(s, theta0, f0, gd, alpha, theta_t, f_t, &f_type))
+        return 0;
+    if (!f_type)
+        filter_add(s, (1.0 - 1e-5) * theta0, f0 - 1e-5 * theta0);
+    return 1;
+}
+
+/* The second-order correction of a rejected full step: u + du + d, d solving the KKT system with
+ * the constraint values at the trial (s->gt); the point goes to s->ut, its merit to *phi and f to
+ * *ft. *ok = 0 when the solve failed (nothing evaluated). */
+static plume_status soc_trial(plume_newton *s, const double *u, const double *du, double mu, double *phi, double *ft,
+                              int *ok)
+{
+    plume_index n = s->n, m = s->m;
+    for (plume_index i = 0; i < n; i++)
+        s->rhs[i] = 0.0;
+    for (plume_index r = 0; r < m; r++)
+        s->rhs[n + r] = -s->gt[r];
+    *ok = nt_kkt_solve(s, s->rhs, s->rhs) == PLUME_OK;
+    if (!*ok)
+        return PLUME_OK;
+    for (plume_index i = 0; i < n; i++)
+        s->ut[i] = u[i] + du[i] + s->rhs[i];
+    return merit_at(s, s->ut, mu, phi, ft);
+}
+
 /* relative KKT residual from the current grad, jval and lambda */
 static double kkt_residual(plume_newton *s, const double *lambda)
 {
@@ -412,39 +444,22 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                 if (filter) {
                     /* filter line search; a step below 2^-30 falls back to the merit function,
                      * in place of Ipopt's restoration phase */
-                    int f_type;
                     double theta_t = l1norm(s->gt, m);
                     /* a full step whose change of f is at round-off level and that does not raise
                      * theta is taken, as with the merit function (the filter cannot see progress
                      * below the arithmetic's resolution) */
                     int roundoff = alpha == 1.0 && isfinite(ft) && fabs(ft - f) <= 1e-14 * fabs(f) && theta_t <= g1;
-                    if (isfinite(phi) && ls < 30 &&
-                        (roundoff || filter_step_ok(s, g1, f, gd, alpha, theta_t, ft, &f_type))) {
-                        if (roundoff)
-                            f_type = 1;
-                        if (!f_type)
-                            filter_add(s, (1.0 - 1e-5) * g1, f - 1e-5 * g1);
+                    if (isfinite(phi) && ls < 30 && filter_take(s, g1, f, gd, alpha, theta_t, ft, roundoff)) {
                         accepted = 1;
                         break;
                     }
-                    if (ls == 0 && isfinite(phi) && theta_t >= g1) {
-                        /* second-order correction at the full step */
-                        for (plume_index i = 0; i < n; i++)
-                            s->rhs[i] = 0.0;
-                        for (plume_index r = 0; r < m; r++)
-                            s->rhs[n + r] = -s->gt[r];
-                        if (nt_kkt_solve(s, s->rhs, s->rhs) == PLUME_OK) {
-                            for (plume_index i = 0; i < n; i++)
-                                s->ut[i] = u[i] + du[i] + s->rhs[i];
-                            if ((st = merit_at(s, s->ut, mu, &phi, &ft)) != PLUME_OK)
-                                return st;
-                            theta_t = l1norm(s->gt, m);
-                            if (isfinite(phi) && filter_step_ok(s, g1, f, gd, 1.0, theta_t, ft, &f_type)) {
-                                if (!f_type)
-                                    filter_add(s, (1.0 - 1e-5) * g1, f - 1e-5 * g1);
-                                accepted = 1;
-                                break;
-                            }
+                    if (ls == 0 && isfinite(phi) && theta_t >= g1) { /* second-order correction */
+                        int ok;
+                        if ((st = soc_trial(s, u, du, mu, &phi, &ft, &ok)) != PLUME_OK)
+                            return st;
+                        if (ok && isfinite(phi) && filter_take(s, g1, f, gd, 1.0, l1norm(s->gt, m), ft, 0)) {
+                            accepted = 1;
+                            break;
                         }
                     }
                     if (ls < 29) {
@@ -464,21 +479,13 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                     break;
                 }
                 rep->backtracks++;
-                if (ls == 0 && m > 0 && !filter) {
-                    /* second-order correction: re-solve with the constraint values at the trial */
-                    for (plume_index i = 0; i < n; i++)
-                        s->rhs[i] = 0.0;
-                    for (plume_index r = 0; r < m; r++)
-                        s->rhs[n + r] = -s->gt[r];
-                    if (nt_kkt_solve(s, s->rhs, s->rhs) == PLUME_OK) {
-                        for (plume_index i = 0; i < n; i++)
-                            s->ut[i] = u[i] + du[i] + s->rhs[i];
-                        if ((st = merit_at(s, s->ut, mu, &phi, &ft)) != PLUME_OK)
-                            return st;
-                        if (phi <= phi0 + 1e-4 * dirderiv) {
-                            accepted = 1;
-                            break;
-                        }
+                if (ls == 0 && m > 0 && !filter) { /* second-order correction */
+                    int ok;
+                    if ((st = soc_trial(s, u, du, mu, &phi, &ft, &ok)) != PLUME_OK)
+                        return st;
+                    if (ok && phi <= phi0 + 1e-4 * dirderiv) {
+                        accepted = 1;
+                        break;
                     }
                 }
             }

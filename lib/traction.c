@@ -216,6 +216,25 @@ static plume_status solve_probe_tight(const plume_mesh *mesh, plume_problem *p, 
     return PLUME_OK;
 }
 
+/* The last two converged states of a run (positions, multipliers, grip displacements), the
+ * predictor's history: a is the latest. */
+typedef struct {
+    double *xa, *xb, *la, *lb;
+    double da, db;
+} history;
+
+/* the converged state (x, lambda) at grip displacement delta becomes the latest */
+static void history_push(history *h, const double *x, const double *lambda, double delta, size_t nx, plume_index m)
+{
+    double *t = h->xb;
+    h->xb = h->xa, h->db = h->da;
+    h->xa = t, h->da = delta;
+    memcpy(h->xa, x, nx * sizeof *x);
+    t = h->lb, h->lb = h->la, h->la = t;
+    if (m > 0)
+        memcpy(h->la, lambda, (size_t)m * sizeof *lambda);
+}
+
 plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const plume_index *rigid_edges,
                                 plume_index nrigid, const plume_traction_opts *o,
                                 plume_traction_result *res, plume_err *err)
@@ -240,8 +259,8 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     plume_status st;
     grips g;
     plume_solver *solver = NULL;
-    double *u = NULL, *lambda = NULL, *lambda_saved = NULL, *force = NULL, *xa = NULL, *xb = NULL;
-    double *la = NULL, *lb = NULL; /* multipliers of the states xa, xb */
+    double *u = NULL, *lambda = NULL, *lambda_saved = NULL, *force = NULL;
+    history h = {NULL, NULL, NULL, NULL, 0.0, 0.0};
     plume_index *parent = NULL;
     double t_start = plume_wall_seconds();
     if ((st = find_grips(mesh, o->lx, o->ly, &g, err)) != PLUME_OK)
@@ -300,24 +319,23 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     u = malloc((size_t)(n + 1) * sizeof *u);
     lambda = calloc((size_t)(m + 1), sizeof *lambda);
     lambda_saved = calloc((size_t)(m + 1), sizeof *lambda_saved);
-    la = calloc((size_t)(m + 1), sizeof *la);
-    lb = calloc((size_t)(m + 1), sizeof *lb);
+    h.la = calloc((size_t)(m + 1), sizeof *h.la);
+    h.lb = calloc((size_t)(m + 1), sizeof *h.lb);
     force = malloc((size_t)(dim * mesh->nv) * sizeof *force);
-    xa = malloc((size_t)(dim * mesh->nv) * sizeof *xa);
-    xb = malloc((size_t)(dim * mesh->nv) * sizeof *xb);
+    h.xa = malloc((size_t)(dim * mesh->nv) * sizeof *h.xa);
+    h.xb = malloc((size_t)(dim * mesh->nv) * sizeof *h.xb);
     res->curve.strain = calloc(np, sizeof(double));
     res->curve.stress = calloc(np, sizeof(double));
     res->curve.wbar = calloc(np, sizeof(double));
     res->curve.iterations = calloc(np, sizeof(double));
     res->curve.seconds = calloc(np, sizeof(double));
-    if (!u || !lambda || !lambda_saved || !la || !lb || !force || !xa || !xb || !res->curve.strain || !res->curve.stress ||
-        !res->curve.wbar || !res->curve.iterations || !res->curve.seconds) {
+    if (!u || !lambda || !lambda_saved || !h.la || !h.lb || !force || !h.xa || !h.xb || !res->curve.strain ||
+        !res->curve.stress || !res->curve.wbar || !res->curve.iterations || !res->curve.seconds) {
         st = PLUME_ENOMEM;
         goto cleanup;
     }
-    memcpy(xa, x, (size_t)(dim * mesh->nv) * sizeof *xa);
-    memcpy(xb, x, (size_t)(dim * mesh->nv) * sizeof *xb);
-    double da = 0.0, db = 0.0; /* grip displacements of the states xa, xb */
+    memcpy(h.xa, x, (size_t)(dim * mesh->nv) * sizeof *h.xa);
+    memcpy(h.xb, x, (size_t)(dim * mesh->nv) * sizeof *h.xb);
     double inc = o->strain_max * o->ly / o->steps; /* the current increment (adaptive stepping) */
     res->curve.n = 1; /* the rest state */
     res->converged = 1;
@@ -337,7 +355,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         plume_solve_report rep, tight;
         memset(&tight, 0, sizeof tight);
         if (probe && probe_tol < o->solver_opts.tol_kkt && o->solver != PLUME_SOLVER_LINEARIZED) {
-            if ((st = solve_probe_tight(mesh, p, &g, o, probe_tol, xa, delta, u, lambda, &tight,
+            if ((st = solve_probe_tight(mesh, p, &g, o, probe_tol, h.xa, delta, u, lambda, &tight,
                                         &probe_factorizations, &probe_factor_seconds, err)) != PLUME_OK)
                 goto cleanup;
             if (!tight.converged) /* a round-off floor above sqrt(probe_tol): start again below */
@@ -352,7 +370,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
             rep = tight;
             res->probe_tol_kkt = probe_tol;
         } else if (probe || o->solver == PLUME_SOLVER_LINEARIZED || o->max_cuts == 0) {
-            predict(mesh, p, &g, o->ly, delta, xa, da, xb, db);
+            predict(mesh, p, &g, o->ly, delta, h.xa, h.da, h.xb, h.db);
             plume_problem_gather(p, u);
             if ((st = plume_solver_solve(solver, u, lambda, &rep)) != PLUME_OK) {
                 plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
@@ -364,7 +382,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
                 res->probe_tol_kkt = o->solver_opts.tol_kkt;
         } else {
             /* adaptive load stepping: an increment that does not converge is undone (back to the
-             * last equilibrium xa and its multipliers) and halved, up to max_cuts times; after a
+             * last equilibrium h.xa and its multipliers) and halved, up to max_cuts times; after a
              * success it grows back by doubling, never past the nominal step. Only the nominal
              * strains enter the curve. */
             plume_solve_report sub;
@@ -372,16 +390,16 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
             rep.reason = PLUME_REASON_CONVERGED;
             const double nominal = o->strain_max * o->ly / o->steps, smallest = ldexp(nominal, -o->max_cuts);
             int failed = 0;
-            while (da < delta * (1.0 - 1e-12)) {
-                double next = fmin(delta, da + inc);
+            while (h.da < delta * (1.0 - 1e-12)) {
+                double next = fmin(delta, h.da + inc);
                 if (delta - next < 1e-9 * nominal)
                     next = delta;
                 memcpy(lambda_saved, lambda, (size_t)(m + 1) * sizeof *lambda);
-                predict(mesh, p, &g, o->ly, next, xa, da, xb, db);
-                if (da != db) /* the multipliers extrapolated with the positions: the barbs'
+                predict(mesh, p, &g, o->ly, next, h.xa, h.da, h.xb, h.db);
+                if (h.da != h.db) /* the multipliers extrapolated with the positions: the barbs'
                                  tension grows with the load */
                     for (plume_index r = 0; r < m; r++)
-                        lambda[r] = la[r] + (next - da) / (da - db) * (la[r] - lb[r]);
+                        lambda[r] = h.la[r] + (next - h.da) / (h.da - h.db) * (h.la[r] - h.lb[r]);
                 plume_problem_gather(p, u);
                 if ((st = plume_solver_solve(solver, u, lambda, &sub)) != PLUME_OK) {
                     plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
@@ -392,12 +410,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
                 rep.seconds += sub.seconds;
                 rep.max_violation = fmax(rep.max_violation, sub.max_violation);
                 if (sub.converged) {
-                    double *t = xb;
-                    xb = xa, db = da;
-                    xa = t, da = next;
-                    memcpy(xa, x, (size_t)(dim * mesh->nv) * sizeof *xa);
-                    t = lb, lb = la, la = t;
-                    memcpy(la, lambda, (size_t)m * sizeof *la);
+                    history_push(&h, x, lambda, next, (size_t)(dim * mesh->nv), m);
                     inc = fmin(nominal, 2.0 * inc);
                     if (next < delta)
                         res->substeps++;
@@ -406,7 +419,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
                 if (!failed)
                     rep.reason = sub.reason;
                 failed = 1;
-                memcpy(x, xa, (size_t)(dim * mesh->nv) * sizeof *x); /* back to the last equilibrium */
+                memcpy(x, h.xa, (size_t)(dim * mesh->nv) * sizeof *x); /* back to the last equilibrium */
                 memcpy(lambda, lambda_saved, (size_t)(m + 1) * sizeof *lambda);
                 if (inc * 0.5 < smallest * (1.0 - 1e-12)) {
                     rep.converged = 0;
@@ -415,10 +428,10 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
                 inc *= 0.5;
                 res->cuts++;
             }
-            if (da >= delta * (1.0 - 1e-12)) {
+            if (h.da >= delta * (1.0 - 1e-12)) {
                 rep.converged = 1;
                 rep.reason = PLUME_REASON_CONVERGED;
-                memcpy(x, xa, (size_t)(dim * mesh->nv) * sizeof *x);
+                memcpy(x, h.xa, (size_t)(dim * mesh->nv) * sizeof *x);
             }
         }
         res->newton_iterations += rep.iterations;
@@ -435,14 +448,8 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
             res->max_violation = fmax(res->max_violation, rep.max_violation);
         if ((st = plume_problem_forces(p, m ? lambda : NULL, force)) != PLUME_OK)
             goto cleanup;
-        if (!(da == delta)) { /* the adaptive path has shifted the history already */
-            double *t = xb;
-            xb = xa, db = da;
-            xa = t, da = delta;
-            memcpy(xa, x, (size_t)(dim * mesh->nv) * sizeof *xa);
-            t = lb, lb = la, la = t;
-            memcpy(la, lambda, (size_t)m * sizeof *la);
-        }
+        if (!(h.da == delta)) /* the adaptive path has pushed it already */
+            history_push(&h, x, lambda, delta, (size_t)(dim * mesh->nv), m);
         if (probe) { /* the probe's equilibrium is the first state of the history */
             res->initial_slope = reaction_virtual_work(mesh, &g, force, dim, o->ly) / (o->lx * o->h) / strain;
             res->curve.iterations[0] = rep.iterations;
@@ -478,12 +485,12 @@ cleanup:
     grips_free(&g);
     free(parent);
     free(u);
-    free(xa);
-    free(xb);
+    free(h.xa);
+    free(h.xb);
     free(lambda);
     free(lambda_saved);
-    free(la);
-    free(lb);
+    free(h.la);
+    free(h.lb);
     free(force);
     return st;
 }
