@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "harness.h"
+#include "term_fd.h"
 #include "test_rng.h"
 #include "bend_meshes.h"
 #include "../lib/dense.h"
@@ -280,75 +281,6 @@ void test_bending_sign_convention(void)
 
 /* ---- derivatives ------------------------------------------------------------------------------ */
 
-static double max_abs(const double *a, long n)
-{
-    double m = 0.0;
-    for (long i = 0; i < n; i++)
-        if (fabs(a[i]) > m)
-            m = fabs(a[i]);
-    return m;
-}
-
-/* Scatters the hinge blocks into a dense Hessian (3 nv square). */
-static void dense_hessian(const plume_term *t, plume_index nv, const double *blocks, double *H)
-{
-    const long n = 3 * (long)nv;
-    memset(H, 0, sizeof(double) * (size_t)(n * n));
-    for (plume_index s = 0; s < t->nstencil; s++) {
-        const plume_index *v = t->stencil + 4 * s;
-        const double *B = blocks + (size_t)s * 144;
-        for (int a = 0; a < 4; a++)
-            for (int b = 0; b < 4; b++)
-                for (int i = 0; i < 3; i++)
-                    for (int j = 0; j < 3; j++)
-                        H[(3 * v[a] + i) * n + 3 * v[b] + j] += B[(3 * a + i) * 12 + 3 * b + j];
-    }
-}
-
-/* Central differences: gradient against energy, Hessian against gradient; errors relative to the
- * largest entry of each. */
-static void fd_check(const plume_term *t, plume_index nv, double *x, double step, double tol, const char *what)
-{
-    const long n = 3 * (long)nv;
-    double *g = calloc((size_t)n, sizeof *g), *gp = calloc((size_t)n, sizeof *gp);
-    double *gm = calloc((size_t)n, sizeof *gm);
-    double *blocks = malloc(sizeof(double) * 144 * (size_t)(t->nstencil + 1));
-    double *H = malloc(sizeof(double) * (size_t)(n * n));
-    CHECK(g && gp && gm && blocks && H);
-    if (!g || !gp || !gm || !blocks || !H)
-        goto done;
-    double E = 0.0;
-    CHECK(t->eval(t->ctx, 3, x, &E, g, blocks, 0) == PLUME_OK);
-    dense_hessian(t, nv, blocks, H);
-    const double gs = max_abs(g, n), hs = max_abs(H, n * n);
-    double gerr = 0.0, herr = 0.0;
-    for (long i = 0; i < n; i++) {
-        const double xi = x[i];
-        double Ep = 0.0, Em = 0.0;
-        memset(gp, 0, sizeof(double) * (size_t)n);
-        memset(gm, 0, sizeof(double) * (size_t)n);
-        x[i] = xi + step;
-        t->eval(t->ctx, 3, x, &Ep, gp, NULL, 0);
-        x[i] = xi - step;
-        t->eval(t->ctx, 3, x, &Em, gm, NULL, 0);
-        x[i] = xi;
-        gerr = fmax(gerr, fabs((Ep - Em) / (2.0 * step) - g[i]));
-        for (long j = 0; j < n; j++)
-            herr = fmax(herr, fabs((gp[j] - gm[j]) / (2.0 * step) - H[j * n + i]));
-    }
-    fprintf(stderr, "    FD %-34s gradient error %.2e of %.2e, Hessian %.2e of %.2e\n", what, gerr, gs, herr, hs);
-    if (!(gerr <= tol * gs) || !(herr <= tol * hs) || !(gs > 0.0) || !(hs > 0.0)) {
-        plume_test_failures++;
-        fprintf(stderr, "    FD failed (%s)\n", what);
-    }
-done:
-    free(g);
-    free(gp);
-    free(gm);
-    free(blocks);
-    free(H);
-}
-
 /* random folds of a 3x3 patch (theta of both signs up to ~2), materials alternating */
 void test_bending_fd_random(void)
 {
@@ -378,7 +310,7 @@ void test_bending_fd_random(void)
         bm_map_cylinder(m, urange(&r, 0.0, 180.0), urange(&r, -2.5, 2.5), m->x);
         for (plume_index i = 0; i < 3 * m->nv; i++)
             m->x[i] += urange(&r, -0.12, 0.12);
-        fd_check(&t, m->nv, m->x, 1e-6, 2e-7, trial < 3 ? "random fold" : "random fold, curved rest");
+        term_fd_check(&t, m->nv, m->x, 1e-6, 2e-7, trial < 3 ? "random fold" : "random fold, curved rest");
         t.destroy(t.ctx);
         free(rest);
         plume_mesh_destroy(&m);
@@ -420,7 +352,7 @@ void test_bending_fd_angles(void)
                                0.1 * (i + 1);
         char what[64];
         snprintf(what, sizeof what, "theta %g, theta0 %g", cases[c][0], cases[c][1]);
-        fd_check(&t, 4, y, fabs(cases[c][0]) < 1e-3 ? 1e-7 : 1e-6, 2e-7, what);
+        term_fd_check(&t, 4, y, fabs(cases[c][0]) < 1e-3 ? 1e-7 : 1e-6, 2e-7, what);
         t.destroy(t.ctx);
         plume_mesh_destroy(&m);
     }
@@ -463,7 +395,7 @@ void test_bending_projection(void)
             CHECK(t.eval(t.ctx, 3, m->x, NULL, NULL, P, 1) == PLUME_OK);
             for (plume_index s = 0; s < t.nstencil; s++) {
                 const double *h = H + 144 * s, *p = P + 144 * s;
-                const double scale = max_abs(h, 144);
+                const double scale = term_max_abs(h, 144);
                 const double lh = min_eig12(h), lp = min_eig12(p);
                 indefinite += lh < -1e-10 * scale;
                 CHECK(lp >= -1e-12 * scale);
@@ -526,7 +458,7 @@ void test_bending_rigid_invariance(void)
         CHECK(t.eval(t.ctx, 3, y, &Ey, gy, Hy, 0) == PLUME_OK);
         CHECK(E > 0.0);
         CHECK_REL(Ey, E, 1e-11, 0.0);
-        const double gs = max_abs(g, n);
+        const double gs = term_max_abs(g, n);
         double gerr = 0.0;
         for (plume_index v = 0; v < m->nv; v++)
             for (int i = 0; i < 3; i++) {
@@ -538,7 +470,7 @@ void test_bending_rigid_invariance(void)
         double herr = 0.0, hs = 0.0;
         for (plume_index st = 0; st < t.nstencil; st++) {
             const double *h = H + 144 * st, *hy = Hy + 144 * st;
-            hs = fmax(hs, max_abs(h, 144));
+            hs = fmax(hs, term_max_abs(h, 144));
             for (int a = 0; a < 4; a++)
                 for (int b = 0; b < 4; b++)
                     for (int i = 0; i < 3; i++)
@@ -589,7 +521,7 @@ void test_bending_angle_wrap(void)
     CHECK_REL(term_energy(&t, x), kappa * 0.01, 1e-9, 0.0);
     double g[12] = {0};
     CHECK(t.eval(t.ctx, 3, x, NULL, g, NULL, 0) == PLUME_OK);
-    CHECK(max_abs(g, 12) > 0.0 && max_abs(g, 12) < 1.0);
+    CHECK(term_max_abs(g, 12) > 0.0 && term_max_abs(g, 12) < 1.0);
     t.destroy(t.ctx);
     plume_mesh_destroy(&m);
 }
@@ -614,14 +546,14 @@ void test_bending_collapsed(void)
         H[i] = 1.0;
     CHECK(t.eval(t.ctx, 3, x, &E, g, H, 1) == PLUME_OK);
     CHECK(isfinite(E));
-    CHECK(max_abs(g, 12) == 0.0);
-    CHECK(max_abs(H, 144) == 0.0);
+    CHECK(term_max_abs(g, 12) == 0.0);
+    CHECK(term_max_abs(H, 144) == 0.0);
     /* the whole edge collapsed to a point */
     memset(x, 0, sizeof x);
     E = 0.0;
     CHECK(t.eval(t.ctx, 3, x, &E, g, H, 0) == PLUME_OK);
     CHECK(isfinite(E));
-    CHECK(max_abs(g, 12) == 0.0);
+    CHECK(term_max_abs(g, 12) == 0.0);
     t.destroy(t.ctx);
     plume_mesh_destroy(&m);
 }

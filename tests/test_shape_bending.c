@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "harness.h"
+#include "term_fd.h"
 #include "test_rng.h"
 #include "bend_meshes.h"
 #include "../lib/dense.h"
@@ -16,15 +17,6 @@
 
 /* The vane of supplementary Table 3 (a), D_long/D_trans = 2500; twist by Huber's rule. */
 static const plume_bending_material SB_VANE = {2.5e-4, 1e-7, 0.0, 0.0};
-
-static double sb_max_abs(const double *a, long n)
-{
-    double m = 0.0;
-    for (long i = 0; i < n; i++)
-        if (fabs(a[i]) > m)
-            m = fabs(a[i]);
-    return m;
-}
 
 static double sb_energy(const plume_term *t, const double *x)
 {
@@ -76,66 +68,6 @@ void test_shape_bending_quadratic_exact(void)
 
 /* ---- derivatives ------------------------------------------------------------------------------- */
 
-static void sb_dense_hessian(const plume_term *t, plume_index nv, const double *blocks, double *H)
-{
-    const long n = 3 * (long)nv;
-    memset(H, 0, sizeof(double) * (size_t)(n * n));
-    for (plume_index s = 0; s < t->nstencil; s++) {
-        const int ar = t->arity, ka = 3 * ar;
-        const plume_index *v = t->stencil + (size_t)ar * s;
-        const double *B = blocks + (size_t)s * (size_t)(ka * ka);
-        for (int a = 0; a < ar; a++)
-            for (int b = 0; b < ar; b++)
-                for (int i = 0; i < 3; i++)
-                    for (int j = 0; j < 3; j++)
-                        H[(3 * v[a] + i) * n + 3 * v[b] + j] += B[(3 * a + i) * ka + 3 * b + j];
-    }
-}
-
-/* Central differences of the whole term: gradient against energy, Hessian against gradient,
- * errors relative to the largest entry. */
-static void sb_fd_check(const plume_term *t, plume_index nv, double *x, double step, double tol, const char *what)
-{
-    const long n = 3 * (long)nv;
-    double *g = calloc((size_t)n, sizeof *g), *gp = calloc((size_t)n, sizeof *gp);
-    double *gm = calloc((size_t)n, sizeof *gm);
-    double *blocks = malloc(sizeof(double) * (size_t)(9 * t->arity * t->arity) * (size_t)(t->nstencil + 1));
-    double *H = malloc(sizeof(double) * (size_t)(n * n));
-    CHECK(g && gp && gm && blocks && H);
-    if (!g || !gp || !gm || !blocks || !H)
-        goto done;
-    double E = 0.0;
-    CHECK(t->eval(t->ctx, 3, x, &E, g, blocks, 0) == PLUME_OK);
-    sb_dense_hessian(t, nv, blocks, H);
-    const double gs = sb_max_abs(g, n), hs = sb_max_abs(H, n * n);
-    double gerr = 0.0, herr = 0.0;
-    for (long i = 0; i < n; i++) {
-        const double xi = x[i];
-        double Ep = 0.0, Em = 0.0;
-        memset(gp, 0, sizeof(double) * (size_t)n);
-        memset(gm, 0, sizeof(double) * (size_t)n);
-        x[i] = xi + step;
-        CHECK(t->eval(t->ctx, 3, x, &Ep, gp, NULL, 0) == PLUME_OK);
-        x[i] = xi - step;
-        CHECK(t->eval(t->ctx, 3, x, &Em, gm, NULL, 0) == PLUME_OK);
-        x[i] = xi;
-        gerr = fmax(gerr, fabs((Ep - Em) / (2.0 * step) - g[i]));
-        for (long j = 0; j < n; j++)
-            herr = fmax(herr, fabs((gp[j] - gm[j]) / (2.0 * step) - H[j * n + i]));
-    }
-    fprintf(stderr, "    FD %-40s gradient error %.2e of %.2e, Hessian %.2e of %.2e\n", what, gerr, gs, herr, hs);
-    if (!(gerr <= tol * gs) || !(herr <= tol * hs) || !(gs > 0.0) || !(hs > 0.0)) {
-        plume_test_failures++;
-        fprintf(stderr, "    FD failed (%s)\n", what);
-    }
-done:
-    free(g);
-    free(gp);
-    free(gm);
-    free(blocks);
-    free(H);
-}
-
 /* Random large deformations (a cylinder of curvature up to 2.5 on a patch of size ~1 plus noise
  * of 10 % of the patch) of small meshes of every family, barbs at several angles, two materials,
  * flat and curved (noisy) rest shapes. */
@@ -170,7 +102,7 @@ void test_shape_bending_fd_random(void)
             m->x[i] += urange(&r, -0.1, 0.1);
         char what[96];
         snprintf(what, sizeof what, "%s, barbs %g%s", bm_family_name[fam], barb, rest ? ", curved rest" : "");
-        sb_fd_check(&t, m->nv, m->x, 1e-6, 2e-7, what);
+        term_fd_check(&t, m->nv, m->x, 1e-6, 2e-7, what);
         t.destroy(t.ctx);
         free(rest);
         plume_mesh_destroy(&m);
@@ -270,7 +202,7 @@ void test_shape_bending_clamped_edges(void)
                 char what[96];
                 snprintf(what, sizeof what, "%s, clamped %s%s", bm_family_name[fam], variant ? "boundary" : "side",
                          curved ? ", curved rest" : "");
-                sb_fd_check(&t, m->nv, m->x, 1e-6, 2e-7, what);
+                term_fd_check(&t, m->nv, m->x, 1e-6, 2e-7, what);
                 t.destroy(t.ctx);
             }
         }
@@ -387,7 +319,7 @@ void test_shape_bending_rigid_invariance(void)
         CHECK(t.eval(t.ctx, 3, y, &Ey, gy, Hy, 0) == PLUME_OK);
         CHECK(E > 0.0);
         CHECK_REL(Ey, E, 1e-11, 0.0);
-        const double gs = sb_max_abs(g, n);
+        const double gs = term_max_abs(g, n);
         double gerr = 0.0;
         for (plume_index v = 0; v < m->nv; v++)
             for (int i = 0; i < 3; i++) {
@@ -398,7 +330,7 @@ void test_shape_bending_rigid_invariance(void)
         double herr = 0.0, hs = 0.0;
         for (plume_index st = 0; st < t.nstencil; st++) {
             const double *h = H + kk * st, *hy = Hy + kk * st;
-            hs = fmax(hs, sb_max_abs(h, (long)kk));
+            hs = fmax(hs, term_max_abs(h, (long)kk));
             for (int a = 0; a < t.arity; a++)
                 for (int b = 0; b < t.arity; b++)
                     for (int i = 0; i < 3; i++)
@@ -422,8 +354,8 @@ void test_shape_bending_rigid_invariance(void)
             for (int i = 0; i < 3; i++)
                 F[i] += gv[i], T[i] += tq[i];
         }
-        CHECK(sb_max_abs(F, 3) <= 1e-11 * gs * (double)m->nv);
-        CHECK(sb_max_abs(T, 3) <= 1e-11 * gs * (double)m->nv);
+        CHECK(term_max_abs(F, 3) <= 1e-11 * gs * (double)m->nv);
+        CHECK(term_max_abs(T, 3) <= 1e-11 * gs * (double)m->nv);
     }
     free(H);
     free(Hy);
@@ -439,7 +371,7 @@ done:
 static double sb_min_eig(const double *B, int k, double *scale)
 {
     double *A = malloc(sizeof(double) * (size_t)(2 * k * k + k)), mn = 0.0;
-    *scale = sb_max_abs(B, (long)k * k);
+    *scale = term_max_abs(B, (long)k * k);
     if (!A)
         return -INFINITY;
     double *V = A + k * k, *lam = V + k * k;
