@@ -117,51 +117,63 @@ static plume_status select_into(static_parse *p, json_t *obj, const char *where,
     return PLUME_OK;
 }
 
-static plume_status parse_clamps(static_parse *p, json_t *jc)
+/* One entry of a list: the object e at key path kp (an object, its keys checked). */
+typedef plume_status (*entry_parser)(static_parse *p, json_t *e, const char *kp);
+
+/* The list `key` of the scene: an array (else `array_msg`) of objects (else `object_msg`) whose
+ * keys are among `keys`, each given to `one` with its key path ("key[k]"). */
+static plume_status parse_list(static_parse *p, json_t *arr, const char *key, const char *array_msg,
+                               const char *object_msg, const char *const *keys, entry_parser one)
 {
-    static const char *const keys[] = {"near", "radius", "vertices", "box", NULL};
     const plume_json_ctx *c = p->c;
-    plume_scene *s = p->s;
-    if (!json_is_array(jc))
-        return plume_json_bad(c, PLUME_EFORMAT, "clamps", "must be an array of vertex selections");
-    for (size_t k = 0; k < json_array_size(jc); k++) {
+    if (!json_is_array(arr))
+        return plume_json_bad(c, PLUME_EFORMAT, key, "%s", array_msg);
+    for (size_t k = 0; k < json_array_size(arr); k++) {
         char kp[PLUME_JSON_KEY_MAX];
-        plume_json_subindex(kp, "clamps", k);
-        json_t *e = json_array_get(jc, k);
+        plume_json_subindex(kp, key, k);
+        json_t *e = json_array_get(arr, k);
         plume_status st;
-        plume_index n;
         if (!json_is_object(e))
-            return plume_json_bad(c, PLUME_EFORMAT, kp, "must be an object with a selector (near/radius, vertices or box)");
-        if ((st = plume_json_check_keys(c, e, kp, keys)) != PLUME_OK || (st = select_into(p, e, kp, &n)) != PLUME_OK)
+            return plume_json_bad(c, PLUME_EFORMAT, kp, "%s", object_msg);
+        if ((st = plume_json_check_keys(c, e, kp, keys)) != PLUME_OK || (st = one(p, e, kp)) != PLUME_OK)
             return st;
-        /* a clamp along the boundary holds rotations by the mirrored stencils of the shape-operator
-         * bending (bit 2: its second row is held only with the hinge); one with no boundary edge
-         * holds them through its second row whatever the bending (bit 4) */
-        int on_edge = 0;
-        for (plume_index e = 0; e < s->mesh->ne && !on_edge; e++)
-            on_edge = s->mesh->edge_tri[2 * e + 1] < 0 && p->sel[s->mesh->edges[2 * e]] &&
-                      p->sel[s->mesh->edges[2 * e + 1]];
-        second_row(s->mesh, p->sel, p->row);
-        const unsigned char rowbit = on_edge ? PLUME_CLAMP_ROW_EDGE : PLUME_CLAMP_ROW;
-        for (plume_index v = 0; v < s->mesh->nv; v++)
-            s->clamped[v] |= (unsigned char)(p->sel[v] ? PLUME_CLAMP_HELD : 0) | (unsigned char)(p->row[v] ? rowbit : 0);
     }
     return PLUME_OK;
 }
 
+static const char *const clamp_keys[] = {"near", "radius", "vertices", "box", NULL};
+
+static plume_status parse_clamp(static_parse *p, json_t *e, const char *kp)
+{
+    plume_scene *s = p->s;
+    plume_status st;
+    plume_index n;
+    if ((st = select_into(p, e, kp, &n)) != PLUME_OK)
+        return st;
+    /* a clamp along the boundary holds rotations by the mirrored stencils of the shape-operator
+     * bending (bit 2: its second row is held only with the hinge); one with no boundary edge holds
+     * them through its second row whatever the bending (bit 4) */
+    int on_edge = 0;
+    for (plume_index ed = 0; ed < s->mesh->ne && !on_edge; ed++)
+        on_edge = s->mesh->edge_tri[2 * ed + 1] < 0 && p->sel[s->mesh->edges[2 * ed]] &&
+                  p->sel[s->mesh->edges[2 * ed + 1]];
+    second_row(s->mesh, p->sel, p->row);
+    const unsigned char rowbit = on_edge ? PLUME_CLAMP_ROW_EDGE : PLUME_CLAMP_ROW;
+    for (plume_index v = 0; v < s->mesh->nv; v++)
+        s->clamped[v] |= (unsigned char)(p->sel[v] ? PLUME_CLAMP_HELD : 0) | (unsigned char)(p->row[v] ? rowbit : 0);
+    return PLUME_OK;
+}
+
+static const char *const load_keys[] = {"near", "radius", "vertices", "box", "force", "line_load", "moment", NULL};
+
 static plume_status parse_load(static_parse *p, json_t *e, const char *kp)
 {
-    static const char *const keys[] = {"near", "radius", "vertices", "box", "force", "line_load", "moment", NULL};
     const plume_json_ctx *c = p->c;
     plume_scene *s = p->s;
     const plume_mesh *m = s->mesh;
     plume_status st;
     plume_index n;
     char kk[PLUME_JSON_KEY_MAX];
-    if (!json_is_object(e))
-        return plume_json_bad(c, PLUME_EFORMAT, kp, "must be an object: a selector and one of force, line_load, moment");
-    if ((st = plume_json_check_keys(c, e, kp, keys)) != PLUME_OK)
-        return st;
     json_t *jf = json_object_get(e, "force"), *jl = json_object_get(e, "line_load"), *jm = json_object_get(e, "moment");
     if ((jf != NULL) + (jl != NULL) + (jm != NULL) != 1)
         return plume_json_bad(c, PLUME_EFORMAT, kp, "needs exactly one of \"force\" [N], \"line_load\" [N/m] or \"moment\" [N m]");
@@ -220,16 +232,13 @@ static plume_status parse_load(static_parse *p, json_t *e, const char *kp)
     return PLUME_OK;
 }
 
+static const char *const probe_keys[] = {"name", "near", "radius", "vertices", "box", "reference", "source", NULL};
+
 static plume_status parse_probe(static_parse *p, json_t *e, const char *kp, plume_scene_probe *pr)
 {
-    static const char *const keys[] = {"name", "near", "radius", "vertices", "box", "reference", "source", NULL};
     const plume_json_ctx *c = p->c;
     plume_status st;
     char kk[PLUME_JSON_KEY_MAX];
-    if (!json_is_object(e))
-        return plume_json_bad(c, PLUME_EFORMAT, kp, "must be an object {\"name\", selector, \"reference\"}");
-    if ((st = plume_json_check_keys(c, e, kp, keys)) != PLUME_OK)
-        return st;
     json_t *jn = json_object_get(e, "name"), *jr = json_object_get(e, "reference"), *js = json_object_get(e, "source");
     plume_json_subkey(kk, kp, "name");
     if (!json_is_string(jn) || !*json_string_value(jn))
@@ -256,45 +265,43 @@ static plume_status parse_probe(static_parse *p, json_t *e, const char *kp, plum
     return PLUME_OK;
 }
 
-static plume_status parse_supports(static_parse *p, json_t *js)
+static const char *const support_keys[] = {"near", "radius", "vertices", "box", "fix", NULL};
+
+static plume_status parse_support(static_parse *p, json_t *e, const char *kp)
 {
-    static const char *const keys[] = {"near", "radius", "vertices", "box", "fix", NULL};
     const plume_json_ctx *c = p->c;
-    if (!json_is_array(js))
-        return plume_json_bad(c, PLUME_EFORMAT, "supports", "must be an array of {selector, \"fix\": \"xyz\"}");
-    for (size_t k = 0; k < json_array_size(js); k++) {
-        char kp[PLUME_JSON_KEY_MAX], kf[PLUME_JSON_KEY_MAX];
-        plume_json_subindex(kp, "supports", k);
-        plume_json_subkey(kf, kp, "fix");
-        json_t *e = json_array_get(js, k), *jf;
-        plume_status st;
-        plume_index n;
-        if (!json_is_object(e))
-            return plume_json_bad(c, PLUME_EFORMAT, kp, "must be an object with a selector and \"fix\"");
-        if ((st = plume_json_check_keys(c, e, kp, keys)) != PLUME_OK)
-            return st;
-        if (!(jf = json_object_get(e, "fix")))
-            return plume_json_bad(c, PLUME_EFORMAT, kp, "needs \"fix\": the coordinates it holds (\"x\", \"y\", \"z\" "
-                                                        "or several, e.g. \"xz\")");
-        const char *f = json_is_string(jf) ? json_string_value(jf) : "";
-        unsigned char bits = 0;
-        for (const char *q = f; *q; q++) {
-            unsigned char b = *q == 'x' ? 1 : *q == 'y' ? 2 : *q == 'z' ? 4 : 0;
-            if (!b || (bits & b)) {
-                bits = 0;
-                break;
-            }
-            bits |= b;
+    char kf[PLUME_JSON_KEY_MAX];
+    plume_json_subkey(kf, kp, "fix");
+    json_t *jf = json_object_get(e, "fix");
+    plume_status st;
+    plume_index n;
+    if (!jf)
+        return plume_json_bad(c, PLUME_EFORMAT, kp, "needs \"fix\": the coordinates it holds (\"x\", \"y\", \"z\" "
+                                                    "or several, e.g. \"xz\")");
+    const char *f = json_is_string(jf) ? json_string_value(jf) : "";
+    unsigned char bits = 0;
+    for (const char *q = f; *q; q++) {
+        unsigned char b = *q == 'x' ? 1 : *q == 'y' ? 2 : *q == 'z' ? 4 : 0;
+        if (!b || (bits & b)) {
+            bits = 0;
+            break;
         }
-        if (!bits)
-            return plume_json_bad(c, PLUME_EINVAL, kf, "must name the held coordinates once each, from x, y and z "
-                                                       "(e.g. \"y\" or \"xz\")");
-        if ((st = select_into(p, e, kp, &n)) != PLUME_OK)
-            return st;
-        for (plume_index q = 0; q < n; q++)
-            p->s->supported[p->ids[q]] |= bits;
+        bits |= b;
     }
+    if (!bits)
+        return plume_json_bad(c, PLUME_EINVAL, kf, "must name the held coordinates once each, from x, y and z "
+                                                   "(e.g. \"y\" or \"xz\")");
+    if ((st = select_into(p, e, kp, &n)) != PLUME_OK)
+        return st;
+    for (plume_index q = 0; q < n; q++)
+        p->s->supported[p->ids[q]] |= bits;
     return PLUME_OK;
+}
+
+/* the next probe of the scene (its array is allocated for the whole list) */
+static plume_status parse_next_probe(static_parse *p, json_t *e, const char *kp)
+{
+    return parse_probe(p, e, kp, p->s->probes + p->s->nprobes++);
 }
 
 plume_status plume_scene_parse_static(const plume_json_ctx *c, json_t *doc, plume_scene *s, const plume_index *map,
@@ -326,26 +333,23 @@ plume_status plume_scene_parse_static(const plume_json_ctx *c, json_t *doc, plum
             st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
             goto done;
         }
-        if (jc && (st = parse_clamps(&p, jc)) != PLUME_OK)
+        if (jc && (st = parse_list(&p, jc, "clamps", "must be an array of vertex selections",
+                                   "must be an object with a selector (near/radius, vertices or box)", clamp_keys,
+                                   parse_clamp)) != PLUME_OK)
             goto done;
-        if (js && (st = parse_supports(&p, js)) != PLUME_OK)
+        if (js && (st = parse_list(&p, js, "supports", "must be an array of {selector, \"fix\": \"xyz\"}",
+                                   "must be an object with a selector and \"fix\"", support_keys, parse_support)) !=
+                      PLUME_OK)
             goto done;
         if (jl) {
-            if (!json_is_array(jl)) {
-                st = plume_json_bad(c, PLUME_EFORMAT, "loads", "must be an array of loads");
-                goto done;
-            }
-            s->moments = calloc(json_array_size(jl) + 1, sizeof *s->moments);
-            if (!s->moments) {
+            if (!(s->moments = calloc(json_array_size(jl) + 1, sizeof *s->moments))) {
                 st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
                 goto done;
             }
-            for (size_t k = 0; k < json_array_size(jl); k++) {
-                char kp[PLUME_JSON_KEY_MAX];
-                plume_json_subindex(kp, "loads", k);
-                if ((st = parse_load(&p, json_array_get(jl, k), kp)) != PLUME_OK)
-                    goto done;
-            }
+            if ((st = parse_list(&p, jl, "loads", "must be an array of loads",
+                                 "must be an object: a selector and one of force, line_load, moment", load_keys,
+                                 parse_load)) != PLUME_OK)
+                goto done;
         }
         int held = s->nhandles > 0;
         for (plume_index v = 0; v < m->nv && !held; v++)
@@ -358,22 +362,14 @@ plume_status plume_scene_parse_static(const plume_json_ctx *c, json_t *doc, plum
         }
     }
     if (jp) {
-        if (!json_is_array(jp)) {
-            st = plume_json_bad(c, PLUME_EFORMAT, "probes", "must be an array of probes");
-            goto done;
-        }
-        s->probes = calloc(json_array_size(jp) + 1, sizeof *s->probes);
-        if (!s->probes) {
+        if (!(s->probes = calloc(json_array_size(jp) + 1, sizeof *s->probes))) {
             st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
             goto done;
         }
-        for (size_t k = 0; k < json_array_size(jp); k++) {
-            char kp[PLUME_JSON_KEY_MAX];
-            plume_json_subindex(kp, "probes", k);
-            s->nprobes++;
-            if ((st = parse_probe(&p, json_array_get(jp, k), kp, s->probes + k)) != PLUME_OK)
-                goto done;
-        }
+        if ((st = parse_list(&p, jp, "probes", "must be an array of probes",
+                             "must be an object {\"name\", selector, \"reference\"}", probe_keys, parse_next_probe)) !=
+            PLUME_OK)
+            goto done;
     }
 done:
     free(p.ids);
