@@ -648,6 +648,24 @@ static double blend_angle(const blend *bl, double tau)
 
 /* ------------------------------------------------------------------ barb walk */
 
+/* Past every input barb's end a barb curve is straight (direction a): jump from p to a sub-step h
+ * before the outline, advancing tau by the jump and q to the next sub-step. 0 when the ray misses
+ * the outline (the barb never enters the vane). */
+static int fm_jump_to_outline(const fm *f, double a, double h, double p[2], double q[2], double *tau)
+{
+    double hit[2];
+    if (!fm_ray_hit(f, p, a, hit))
+        return 0;
+    double dist = norm2(hit[0] - p[0], hit[1] - p[1]);
+    if (dist > 2 * h) {
+        double jmp = dist - h;
+        p[0] += jmp * cos(a), p[1] += jmp * sin(a);
+        *tau += jmp;
+        q[0] = p[0] + h * cos(a), q[1] = p[1] + h * sin(a);
+    }
+    return 1;
+}
+
 /* Walks the barb of a station from `root` (a vertex id, or -1 when the start is not a vertex),
  * adding vertices and constrained barb edges until the outline or a collision. */
 static plume_status fm_walk(fm *f, int side, const double *start, plume_index root, int root_on_outline, int fill,
@@ -669,18 +687,9 @@ static plume_status fm_walk(fm *f, int side, const double *start, plume_index ro
         plume_index edge;
         if (!inside) {
             if (tau > f->max_barb_len && !jumped) {
-                /* past every input barb's end the curve is straight: jump to where it enters */
-                double hit[2];
                 jumped = 1;
-                if (!fm_ray_hit(f, p, a, hit))
+                if (!fm_jump_to_outline(f, a, h, p, q, &tau))
                     return PLUME_OK;
-                double dist = norm2(hit[0] - p[0], hit[1] - p[1]);
-                if (dist > 2 * h) {
-                    double jmp = dist - h;
-                    p[0] += jmp * cos(a), p[1] += jmp * sin(a);
-                    tau += jmp;
-                    q[0] = p[0] + h * cos(a), q[1] = p[1] + h * sin(a);
-                }
             }
             if (fm_outline_cross(f, p, q, &t, &edge, &u)) {
                 inside = 1;
@@ -840,17 +849,9 @@ static void fm_trace(const fm *f, int side, double s, int rooted, ftrace *tr)
         double t, u;
         plume_index edge;
         if (!inside && tau > f->max_barb_len && !jumped) {
-            double hit[2];
             jumped = 1;
-            if (!fm_ray_hit(f, p, a, hit))
+            if (!fm_jump_to_outline(f, a, h, p, q, &tau))
                 return;
-            double dist = norm2(hit[0] - p[0], hit[1] - p[1]);
-            if (dist > 2 * h) {
-                double jmp = dist - h;
-                p[0] += jmp * cos(a), p[1] += jmp * sin(a);
-                tau += jmp;
-                q[0] = p[0] + h * cos(a), q[1] = p[1] + h * sin(a);
-            }
         }
         if (fm_outline_cross(f, p, q, &t, &edge, &u)) {
             double x[2] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])};
