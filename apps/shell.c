@@ -173,25 +173,22 @@ int main(int argc, char **argv)
         json_object_set_new(js, "inertia_shifts", json_integer(r.shifts));
         json_object_set_new(js, "cuts", json_integer(r.cuts));
         json_object_set_new(js, "converged", json_boolean(r.converged));
+        if (!o.quiet)
+            fprintf(stderr, "  step %3d  factor %.4f  iterations %3d (backtracks %d, shifts %d)  cuts %d  %s", r.step,
+                    r.factor, r.iterations, r.backtracks, r.shifts, r.cuts,
+                    r.converged ? "converged" : plume_reason_name(r.reason));
         json_t *jp = json_object();
         for (int q = 0; q < scene->nprobes; q++) {
             double u[3];
             plume_scene_probe_displacement(scene, q, x, u);
             json_object_set_new(jp, scene->probes[q].name, json_pack("[f, f, f]", u[0], u[1], u[2]));
+            if (!o.quiet)
+                fprintf(stderr, "  %s (%.5g, %.5g, %.5g)", scene->probes[q].name, u[0], u[1], u[2]);
         }
+        if (!o.quiet)
+            fputc('\n', stderr);
         json_object_set_new(js, "probes", jp);
         json_array_append_new(jsteps, js);
-        if (!o.quiet) {
-            fprintf(stderr, "  step %3d  factor %.4f  iterations %3d (backtracks %d, shifts %d)  cuts %d  %s", r.step,
-                    r.factor, r.iterations, r.backtracks, r.shifts, r.cuts,
-                    r.converged ? "converged" : plume_reason_name(r.reason));
-            for (int q = 0; q < scene->nprobes; q++) {
-                double u[3];
-                plume_scene_probe_displacement(scene, q, x, u);
-                fprintf(stderr, "  %s (%.5g, %.5g, %.5g)", scene->probes[q].name, u[0], u[1], u[2]);
-            }
-            fputc('\n', stderr);
-        }
         if (o.outdir) {
             char path[4096];
             snprintf(path, sizeof path, "%s/step_%04d.vtk", o.outdir, r.step);
