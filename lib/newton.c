@@ -80,6 +80,12 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
         return plume_err_set(err, PLUME_EINVAL,
                              "newton: options need max_iter >= 0, tol_kkt > 0, tol_violation > 0, tol_step >= 0, "
                              "max_step > 0, all finite");
+    if ((unsigned)o->line_search > PLUME_LS_MERIT || !(o->reuse_rate > 0.0 && o->reuse_rate < 1.0) ||
+        !(o->inertia_max_shift > 0.0) || !isfinite(o->inertia_max_shift))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "newton: options need line_search PLUME_LS_FILTER or PLUME_LS_MERIT, reuse_rate in (0, 1), "
+                             "inertia_max_shift > 0 and finite (got %d, %g, %g)",
+                             (int)o->line_search, o->reuse_rate, o->inertia_max_shift);
     plume_status st = PLUME_OK;
     plume_newton *s = calloc(1, sizeof *s);
     if (!s)

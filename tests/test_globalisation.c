@@ -98,6 +98,11 @@ void test_globalisation_traction_adaptive(void)
         if (!adaptive)
             o.max_cuts = 0;
         plume_traction_result r;
+        if (adaptive) { /* bad input: max_cuts out of [0, 30] names itself */
+            o.max_cuts = 31;
+            CHECK(plume_traction_run(m, p, NULL, 0, &o, &r, &err) == PLUME_EINVAL && strstr(err.msg, "max_cuts"));
+            o.max_cuts = 8;
+        }
         CHECK(plume_traction_run(m, p, NULL, 0, &o, &r, &err) == PLUME_OK);
         fprintf(stderr, "    %s: converged %d (failed step %d, %s), cuts %d, substeps %d, %d iterations, %ld points\n",
                 adaptive ? "adaptive" : "fixed steps", r.converged, r.failed_step, plume_reason_name(r.failed_reason),

@@ -595,8 +595,10 @@ static void case_report(plume_solver_kind kind)
     plume_solver_destroy(&s);
     if (!finalize(p))
         goto done;
-    /* tolerances must be positive, the iteration budget not negative */
-    for (int which = 0; which < 4; which++) {
+    /* tolerances must be positive, the iteration budget not negative; newton's globalisation
+     * options within their ranges (ipopt does not read them) */
+    const int nbad = kind == PLUME_SOLVER_IPOPT ? 4 : 8;
+    for (int which = 0; which < nbad; which++) {
         plume_solver_opts bad = o;
         if (which == 0)
             bad.tol_kkt = 0.0;
@@ -604,8 +606,16 @@ static void case_report(plume_solver_kind kind)
             bad.tol_violation = -1e-10;
         else if (which == 2)
             bad.tol_kkt = NAN;
-        else
+        else if (which == 3)
             bad.max_iter = -1;
+        else if (which == 4)
+            bad.line_search = (plume_line_search)7;
+        else if (which == 5)
+            bad.reuse_rate = 1.0;
+        else if (which == 6)
+            bad.inertia_max_shift = 0.0;
+        else
+            bad.inertia_max_shift = INFINITY;
         plume_status st = plume_solver_create(kind, p, &bad, &s);
         CHECK(st == PLUME_EINVAL && s == NULL);
         if (st != PLUME_EINVAL)
