@@ -12,7 +12,7 @@ PKG_LIBS := $(shell pkg-config --libs $(DEPS_PKGS) 2>/dev/null)
 CPPFLAGS += -Ilib -I/usr/include/suitesparse $(PKG_CFLAGS)
 CFLAGS += -std=c11 -Wall -Wextra -Wpedantic -fPIC $(OPT) -D_POSIX_C_SOURCE=200809L
 CXXFLAGS += -std=c++17 -Wall -Wextra -fPIC $(OPT)
-LDLIBS += -lcholmod -lsuitesparseconfig $(PKG_LIBS) -lgmp -lmpfr -lstdc++ -lm
+LDLIBS += -lcholmod -lsuitesparseconfig $(PKG_LIBS) -lgmp -lmpfr -lgomp -lstdc++ -lm
 
 LIB_C := $(wildcard lib/*.c) $(wildcard micro/*.c) $(wildcard macro/*.c)
 LIB_CXX := $(wildcard lib/*.cpp)

@@ -250,6 +250,7 @@ static int write_frame(const output_ctx *oc, const plume_dynamics *d, long k, lo
 
 int main(int argc, char **argv)
 {
+    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     options o;
     int rc = parse_args(argc, argv, &o);
     if (rc)

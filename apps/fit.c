@@ -33,6 +33,7 @@ static const char usage[] =
 
 int main(int argc, char **argv)
 {
+    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     const char *targets[MAX_TARGETS];
     double angles[MAX_TARGETS];
     int nt = 0, json = 0, constraint = 1, steps = 5, max_eval = 300;

@@ -36,6 +36,7 @@ static const char usage[] =
 
 int main(int argc, char **argv)
 {
+    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     plume_layout l;
     plume_layout_default(&l);
     plume_homog_opts ho;

@@ -105,6 +105,7 @@ static double probe_error(const double u[3], const double ref[3])
 
 int main(int argc, char **argv)
 {
+    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     options o;
     int rc = parse_args(argc, argv, &o);
     if (rc)

@@ -558,6 +558,7 @@ static void section_stability(study *s, FILE *md)
 
 int main(int argc, char **argv)
 {
+    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     study s;
     memset(&s, 0, sizeof s);
     for (int i = 1; i < argc; i++) {

@@ -302,6 +302,7 @@ static void print_summary(const model_run *r, const options *o, double angle)
 
 int main(int argc, char **argv)
 {
+    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     options o;
     int rc = parse_args(argc, argv, &o);
     if (rc)

@@ -43,6 +43,7 @@ static int variant(const char *scene, double edge, const char *solver, char *out
 
 int main(int argc, char **argv)
 {
+    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     const char *scene = argc > 1 ? argv[1] : "data/feather/scene_anisotropic.json";
     const double edges[2] = {5e-3, 3.5e-3};
     const char *solvers[3] = {"newton", "ipopt", "linearized"};

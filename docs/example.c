@@ -7,6 +7,7 @@
 
 int main(void)
 {
+    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     plume_err err = {{0}};
     plume_mesh *mesh = NULL;
     plume_problem *p = NULL;

@@ -11,6 +11,7 @@
 #include "membrane.h"
 #include "edge_length.h"
 #include "cholesky.h"
+#include "openmp_env.h"
 #include "solver.h"
 #include "newton.h"
 #include "traction.h"

@@ -1,0 +1,31 @@
+/* plume: serial OpenMP regions for the Debian CHOLMOD build.
+ *
+ * Why: CHOLMOD 5.12's supernodal factorisation opens OpenMP regions with a compiled-in
+ * num_threads(4) (CHOLMOD_OMP_NUM_THREADS in cholmod_core.h) around loops that clear and scatter
+ * one supernode at a time. OMP_NUM_THREADS cannot lower a num_threads clause. On this project's
+ * 2-core machines those 4-thread teams woke and parked for every supernode: perf showed the main
+ * thread in futex wake/wait and the scheduler for a quarter of the feather's run. Serial regions
+ * (measured with OMP_THREAD_LIMIT=1, the same iterates; README "Threads"):
+ *   feather, 865 elements, 20 frames: 1.68-1.76 -> 1.21-1.29 s of solves;
+ *   tilted traction at 4e4 elements: factorisations 2.16 -> 1.45 s, run 3.50 -> 2.86 s.
+ * BLAS threads (OpenBLAS's own pthreads, which do the supernodes' dense work) are not affected.
+ *
+ * The library never changes a process-wide setting by itself: the apps, tests and benchmarks call
+ * this at start, and so may any program that links libplume. */
+#ifndef PLUME_OPENMP_ENV_H
+#define PLUME_OPENMP_ENV_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Every OpenMP parallel region of the process runs on one thread from now on (OpenMP's
+ * max-active-levels set to 0), unless the environment sets OMP_MAX_ACTIVE_LEVELS or
+ * OMP_THREAD_LIMIT: the user's choice wins (OMP_MAX_ACTIVE_LEVELS=1 keeps CHOLMOD's teams).
+ * Process-wide; call it once at start, from one thread. */
+void plume_openmp_serial(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
