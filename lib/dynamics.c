@@ -218,7 +218,8 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
         for (int k = 0; k < 3; k++)
             in->mass[mesh->tri[3 * t + k]] += m3;
     }
-    plume_term term = {"inertia", 1, nv, in->stencil, inertia_eval, inertia_destroy, in};
+    plume_term term = {.name = "inertia", .arity = 1, .nstencil = nv, .stencil = in->stencil, .eval = inertia_eval,
+                       .destroy = inertia_destroy, .ctx = in};
     d->inertia = in;
     if ((st = plume_problem_add_term(p, &term)) != PLUME_OK) {
         free(d);

@@ -60,6 +60,10 @@ struct plume_ipopt {
     int iter;                       /* last iteration count seen by the intermediate callback */
     double dnorm;                   /* max |du| / length_scale of the last Newton direction */
     plume_status cb_status;         /* first error returned by a plume evaluation in a callback */
+    int limits;                     /* a term limits steps (continuous collision detection) */
+    double *xacc, *dstep;           /* [n] the accepted iterate (where Ipopt last asked for a
+                                       gradient) and a trial's step from it */
+    int have_acc, refused;          /* xacc is set; trial points refused for crossing */
 };
 
 /* ---- Ipopt callbacks: no allocation, plume's evaluations use the problem's workspaces ---- */
@@ -72,20 +76,38 @@ static Bool record(plume_ipopt *s, plume_status st)
     return st == PLUME_OK ? TRUE : FALSE;
 }
 
+/* Continuous collision detection for Ipopt, whose line search cannot be told a largest step: a
+ * trial point that cannot be reached from the accepted iterate without a crossing is refused as
+ * an evaluation error, and Ipopt cuts the step back. Ipopt asks for gradients only at accepted
+ * iterates (and the start), so the last point of cb_grad_f is the iterate a trial comes from. */
 static Bool cb_f(Index n, Number *x, Bool new_x, Number *obj, UserDataPtr ud)
 {
-    (void)n;
     (void)new_x;
     plume_ipopt *s = ud;
+    if (s->limits && s->have_acc) {
+        for (Index i = 0; i < n; i++)
+            s->dstep[i] = x[i] - s->xacc[i];
+        double a = 1.0;
+        plume_status st = plume_problem_max_step(s->p, s->xacc, s->dstep, &a);
+        if (st != PLUME_OK)
+            return record(s, st);
+        if (!(a >= 1.0)) {
+            s->refused++;
+            return FALSE;
+        }
+    }
     return record(s, plume_problem_objective(s->p, x, obj, NULL));
 }
 
 static Bool cb_grad_f(Index n, Number *x, Bool new_x, Number *grad, UserDataPtr ud)
 {
-    (void)n;
     (void)new_x;
     plume_ipopt *s = ud;
     double f;
+    if (s->limits) {
+        memcpy(s->xacc, x, (size_t)n * sizeof *x);
+        s->have_acc = 1;
+    }
     return record(s, plume_problem_objective(s->p, x, &f, grad));
 }
 
@@ -230,6 +252,8 @@ void plume_ipopt_destroy(plume_ipopt **ps)
     free(s->zl);
     free(s->zu);
     free(s->x0);
+    free(s->xacc);
+    free(s->dstep);
     free(s->lam0);
     free(s->grad);
     free(s->jt);
@@ -276,6 +300,9 @@ plume_status plume_ipopt_create(plume_problem *p, const plume_solver_opts *o, pl
     s->zl = calloc(nn, sizeof *s->zl);
     s->zu = calloc(nn, sizeof *s->zu);
     s->x0 = calloc(nn, sizeof *s->x0);
+    s->limits = plume_problem_limits_steps(p);
+    s->xacc = calloc(nn, sizeof *s->xacc);
+    s->dstep = calloc(nn, sizeof *s->dstep);
     s->lam0 = calloc(mm, sizeof *s->lam0);
     s->grad = calloc(nn, sizeof *s->grad);
     s->jt = calloc(nn, sizeof *s->jt);
@@ -285,7 +312,7 @@ plume_status plume_ipopt_create(plume_problem *p, const plume_solver_opts *o, pl
     xl = malloc(nn * sizeof *xl);
     xu = malloc(nn * sizeof *xu);
     gb = calloc(mm, sizeof *gb); /* g_L = g_U = 0 */
-    if (!s->x || !s->lam || !s->zl || !s->zu || !s->x0 || !s->lam0 || !s->grad || !s->jt ||
+    if (!s->x || !s->lam || !s->zl || !s->zu || !s->x0 || !s->xacc || !s->dstep || !s->lam0 || !s->grad || !s->jt ||
         !s->jval || !s->xscale || !s->gscale || !xl || !xu || !gb) {
         st = PLUME_ENOMEM;
         goto cleanup;
@@ -449,6 +476,7 @@ plume_status plume_ipopt_solve(plume_ipopt *s, double *u, double *lambda, plume_
     plume_status st = PLUME_OK;
     memset(rep, 0, sizeof *rep);
     rep->reason = PLUME_REASON_NUMERICAL;
+    s->refused = 0;
     memcpy(s->x, u, (size_t)s->n * sizeof *s->x);
     if (s->m > 0)
         memcpy(s->lam, lambda, (size_t)s->m * sizeof *s->lam);
@@ -467,6 +495,7 @@ plume_status plume_ipopt_solve(plume_ipopt *s, double *u, double *lambda, plume_
         s->iter = 0;
         s->dnorm = INFINITY;
         s->cb_status = PLUME_OK;
+        s->have_acc = 0;
         enum ApplicationReturnStatus r = IpoptSolve(s->ip, s->x, NULL, NULL, s->lam, s->zl, s->zu, s);
         used += s->iter;
         outcome oc = classify(r);
@@ -530,6 +559,7 @@ cleanup:
     /* Ipopt's C interface does not expose its factorisation count (at least one per iteration,
      * more with inertia correction): 0 means "not counted", not "none" */
     rep->factorizations = 0;
+    rep->step_limited = s->refused;
     rep->seconds = plume_wall_seconds() - t0;
     return st;
 }

@@ -93,6 +93,7 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     s->p = p;
     s->o = *o;
     s->single_step = single_step;
+    s->limits = plume_problem_limits_steps(p);
     s->n = plume_problem_nfree(p);
     s->m = plume_problem_ncons(p);
     s->nk = s->n + s->m;
@@ -269,6 +270,18 @@ static plume_status soc_trial(plume_newton *s, const double *u, const double *du
         return PLUME_OK;
     for (plume_index i = 0; i < n; i++)
         s->ut[i] = u[i] + du[i] + s->rhs[i];
+    if (s->limits) { /* the corrected point must be reachable without crossing too */
+        double a;
+        for (plume_index i = 0; i < n; i++)
+            s->rd[i] = s->ut[i] - u[i];
+        plume_status st = plume_problem_max_step(s->p, u, s->rd, &a);
+        if (st != PLUME_OK)
+            return st;
+        if (!(a >= 1.0)) {
+            *ok = 0;
+            return PLUME_OK;
+        }
+    }
     return merit_at(s, s->ut, mu, phi, ft);
 }
 
@@ -389,7 +402,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
         /* no chord steps within 100 tol_kkt of convergence (the last iterations are full Newton
          * steps, so the end game and the round-off floor it may meet are Newton's own), nor in
          * the last 3 iterations of the cap (a tight cap is spent on Newton steps) */
-        int chord = s->o.reuse_factorization && s->factor_valid && !s->single_step &&
+        int chord = s->o.reuse_factorization && s->factor_valid && !s->single_step && !s->limits &&
                     res > 100.0 * s->o.tol_kkt && it + 3 < max_iter;
         if (chord && nt_chord_direction(s, lambda, L, &step_max)) {
             if (s->o.verbose)
@@ -418,7 +431,14 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
             lmax = fmax(lmax, fabs(lnew[r]));
         mu = fmax(mu, 1.5 * lmax);
         dirderiv -= mu * g1;
-        double phi0 = f + mu * g1, alpha = 1.0, phi, ft;
+        /* continuous collision detection: no trial beyond alpha_max, where a pair would cross */
+        double alpha_max = 1.0;
+        if (s->limits) {
+            if ((st = plume_problem_max_step(s->p, u, du, &alpha_max)) != PLUME_OK)
+                return st;
+            rep->step_limited += alpha_max < 1.0;
+        }
+        double phi0 = f + mu * g1, alpha = alpha_max, phi, ft;
         int accepted = 0;
         int negligible = step_max <= s->o.tol_step * L;
         last_negligible = negligible;
@@ -426,7 +446,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
             /* one linearised step, or a step at round-off level: no line search to do, and the
              * multipliers are taken whole (they may still have far to go) */
             for (plume_index i = 0; i < n; i++)
-                u[i] += du[i];
+                u[i] += alpha_max * du[i];
             if (m > 0)
                 memcpy(lambda, lnew, (size_t)m * sizeof *lambda);
             accepted = 1;
@@ -459,7 +479,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                         accepted = 1;
                         break;
                     }
-                    if (ls == 0 && isfinite(phi) && theta_t >= g1) { /* second-order correction */
+                    if (ls == 0 && alpha == 1.0 && isfinite(phi) && theta_t >= g1) { /* second-order correction */
                         int ok;
                         if ((st = soc_trial(s, u, du, mu, &phi, &ft, &ok)) != PLUME_OK)
                             return st;
@@ -473,7 +493,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                         continue;
                     }
                     if (ls == 29) { /* fall back: the l1 merit from the full step again */
-                        alpha = 2.0;
+                        alpha = 2.0 * alpha_max;
                         rep->merit_fallbacks++;
                         continue;
                     }
@@ -485,7 +505,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                     break;
                 }
                 rep->backtracks++;
-                if (ls == 0 && m > 0 && !filter) { /* second-order correction */
+                if (ls == 0 && alpha == 1.0 && m > 0 && !filter) { /* second-order correction */
                     int ok;
                     if ((st = soc_trial(s, u, du, mu, &phi, &ft, &ok)) != PLUME_OK)
                         return st;

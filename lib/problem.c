@@ -36,6 +36,7 @@ struct plume_problem {
     plume_index jnnz, *jrow, *jcol;    /* Jacobian triplets */
     double *gradfull;                  /* [ndof] workspace */
     double *jtwork;                    /* [ndof] workspace for J^T lambda */
+    double *dxfull;                    /* [ndof] workspace for a step on every dof */
     double force_scale;                /* max |grad f| over all dofs at the last gradient */
     double force_floor;                /* forces below this are round-off (set by finalize) */
     double *scale;                     /* [ncons] */
@@ -59,7 +60,8 @@ plume_status plume_problem_create(plume_index nv, int dim, double length_scale, 
     p->fixed = calloc((size_t)p->ndof, 1);
     p->gradfull = calloc((size_t)p->ndof, sizeof *p->gradfull);
     p->jtwork = calloc((size_t)p->ndof, sizeof *p->jtwork);
-    if (!p->x || !p->fixed || !p->gradfull || !p->jtwork) {
+    p->dxfull = calloc((size_t)p->ndof, sizeof *p->dxfull);
+    if (!p->x || !p->fixed || !p->gradfull || !p->jtwork || !p->dxfull) {
         plume_problem_destroy(&p);
         return PLUME_ENOMEM;
     }
@@ -102,6 +104,7 @@ void plume_problem_destroy(plume_problem **pp)
     free(p->jcol);
     free(p->gradfull);
     free(p->jtwork);
+    free(p->dxfull);
     free(p->scale);
     free(p);
     *pp = NULL;
@@ -280,10 +283,10 @@ static plume_status stiffness_scale(plume_problem *p, double *scale)
     return st;
 }
 
-plume_status plume_problem_finalize(plume_problem *p, plume_err *err)
+/* The free-dof map, constraint rows, Hessian pattern, scatter maps and Jacobian triplets from the
+ * current stencils (finalize, and again when stencils change). */
+static plume_status build_structure(plume_problem *p, plume_err *err)
 {
-    if (!p || p->finalized)
-        return PLUME_EINVAL;
     release_structure(p);
     plume_status st = PLUME_OK;
     pair *pairs = NULL;
@@ -432,18 +435,92 @@ plume_status plume_problem_finalize(plume_problem *p, plume_err *err)
             if (c->row[i] >= 0)
                 p->scale[c->row[i]] = c->c.scale[i] > 0 ? c->c.scale[i] : 1.0;
     }
-    /* round-off gradients of a stress-free state are ~1e-16 k L; measuring residuals against at
-     * least 1e-6 k L makes the relative KKT test an absolute one of ~1e-15 k L there */
-    double k;
-    if ((st = stiffness_scale(p, &k)) != PLUME_OK) {
-        plume_err_set(err, st, "problem: a term failed to evaluate at the initial state");
-        goto cleanup;
-    }
-    p->force_floor = 1e-6 * k * p->length_scale;
-    p->finalized = 1;
 cleanup:
     free(pairs);
     return st;
+}
+
+plume_status plume_problem_finalize(plume_problem *p, plume_err *err)
+{
+    if (!p || p->finalized)
+        return PLUME_EINVAL;
+    plume_status st = build_structure(p, err);
+    if (st != PLUME_OK)
+        return st;
+    /* round-off gradients of a stress-free state are ~1e-16 k L; measuring residuals against at
+     * least 1e-6 k L makes the relative KKT test an absolute one of ~1e-15 k L there */
+    double k;
+    if ((st = stiffness_scale(p, &k)) != PLUME_OK)
+        return plume_err_set(err, st, "problem: a term failed to evaluate at the initial state");
+    p->force_floor = 1e-6 * k * p->length_scale;
+    p->finalized = 1;
+    return PLUME_OK;
+}
+
+plume_status plume_problem_update_terms(plume_problem *p, int *pattern_changed, plume_err *err)
+{
+    if (!p || !p->finalized || !pattern_changed)
+        return PLUME_EINVAL;
+    *pattern_changed = 0;
+    for (int t = 0; t < p->nterms; t++) {
+        plume_term *tt = &p->terms[t].t;
+        if (!tt->update)
+            continue;
+        int changed = 0;
+        const plume_index *stencil = tt->stencil;
+        plume_index nstencil = tt->nstencil;
+        plume_status st = tt->update(tt->ctx, p->dim, p->x, &stencil, &nstencil, &changed);
+        if (st != PLUME_OK)
+            return plume_err_set(err, st, "term '%s': update failed (%s)", tt->name, plume_strerror(st));
+        if (nstencil < 0 || (nstencil > 0 && !stencil))
+            return plume_err_set(err, PLUME_EINVAL, "term '%s': update returned no stencils", tt->name);
+        tt->stencil = stencil;
+        tt->nstencil = nstencil;
+        *pattern_changed |= changed != 0;
+    }
+    if (!*pattern_changed)
+        return PLUME_OK;
+    p->finalized = 0;
+    plume_status st = build_structure(p, err);
+    p->finalized = st == PLUME_OK;
+    return st;
+}
+
+int plume_problem_limits_steps(const plume_problem *p)
+{
+    for (int t = 0; p && t < p->nterms; t++)
+        if (p->terms[t].t.max_step)
+            return 1;
+    return 0;
+}
+
+plume_status plume_problem_max_step(plume_problem *p, const double *u, const double *du, double *alpha)
+{
+    if (!p || !p->finalized || !du || !alpha)
+        return PLUME_EINVAL;
+    *alpha = 1.0;
+    plume_problem_scatter(p, u);
+    int any = 0;
+    for (int t = 0; t < p->nterms && !any; t++)
+        any = p->terms[t].t.max_step != NULL;
+    if (!any)
+        return PLUME_OK;
+    memset(p->dxfull, 0, (size_t)p->ndof * sizeof *p->dxfull);
+    for (plume_index i = 0; i < p->nfree; i++)
+        p->dxfull[p->dof_of_free[i]] = du[i];
+    for (int t = 0; t < p->nterms; t++) {
+        plume_term *tt = &p->terms[t].t;
+        if (!tt->max_step)
+            continue;
+        double a = 1.0;
+        plume_status st = tt->max_step(tt->ctx, p->dim, p->x, p->dxfull, &a);
+        if (st != PLUME_OK)
+            return st;
+        if (!(a >= 0.0)) /* NaN: no step is known to be safe */
+            a = 0.0;
+        *alpha = fmin(*alpha, fmin(a, 1.0));
+    }
+    return PLUME_OK;
 }
 
 int plume_problem_dim(const plume_problem *p) { return p->dim; }

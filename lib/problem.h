@@ -82,6 +82,20 @@ plume_status plume_problem_forces(plume_problem *p, const double *lambda, double
  * measured against, so that a body at rest is not judged by its round-off gradients. */
 double plume_problem_force_scale(const plume_problem *p);
 
+/* Terms whose stencils follow the state (plume_term.update, e.g. contact pairs): recomputes them
+ * at the current x and, when any changed, rebuilds the Hessian pattern (*pattern_changed = 1;
+ * solvers created before must then be recreated, their symbolic analysis is stale). The force
+ * floor of finalize is kept. After finalize, never during a solve. */
+plume_status plume_problem_update_terms(plume_problem *p, int *pattern_changed, plume_err *err);
+
+/* 1 when a term limits steps (plume_term.max_step): solvers then ask plume_problem_max_step. */
+int plume_problem_limits_steps(const plume_problem *p);
+
+/* The largest alpha in [0, 1] such that every term stays defined along u + s du, s in [0, alpha]
+ * (u, du on the free dofs; prescribed dofs stay where x holds them). 1 without such terms.
+ * Sets x's free part to u. */
+plume_status plume_problem_max_step(plume_problem *p, const double *u, const double *du, double *alpha);
+
 /* Relative stationarity of the Lagrangian f + lambda.g at u, on the free dofs:
  * ||grad f + J^T lambda||_inf / max(force scale, ||grad f||_inf, ||J^T lambda||_inf), with the
  * force scale above (so a loaded body at equilibrium is measured against its reactions);

@@ -47,6 +47,8 @@ typedef struct {
     int chord_steps;      /* newton: steps taken with an earlier factorisation (no new one) */
     int chord_rejected;   /* newton: chord steps the line search refused whole (refactorised) */
     int refinements;      /* newton, kkt_refine: iterative refinement passes over all solves */
+    int step_limited;     /* iterations whose step a term cut short (plume_term.max_step: continuous
+                             collision detection), newton; ipopt: trial points refused for it */
 } plume_solve_report;
 
 /* How the native solver globalises a constrained step. */

@@ -23,6 +23,17 @@ typedef struct {
                          double *hblocks, int project);
     void (*destroy)(void *ctx);
     void *ctx;
+    /* Optional (NULL for fixed stencils): terms whose stencils follow the state, such as contact
+     * pairs. Recomputes the stencils at positions x (full vector, dim*nv), returns the new array
+     * (owned by ctx, valid until the next update or destroy) and count, and *changed = 1 when the
+     * set differs from the last one (the problem then rebuilds its Hessian pattern). Called by
+     * plume_problem_update_terms, never inside a solve. */
+    plume_status (*update)(void *ctx, int dim, const double *x, const plume_index **stencil, plume_index *nstencil,
+                           int *changed);
+    /* Optional (NULL: any step is allowed): the largest alpha in [0, 1] such that the term stays
+     * defined (and, for contact, nothing crosses) along the whole segment x + s dx, 0 <= s <= alpha
+     * (continuous collision detection). x and dx are full vectors; dx is 0 on prescribed dofs. */
+    plume_status (*max_step)(void *ctx, int dim, const double *x, const double *dx, double *alpha);
 } plume_term;
 
 /* A set of m equality constraints g_c(x) = 0; constraint c couples the `arity` vertices of

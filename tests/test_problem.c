@@ -180,7 +180,8 @@ static int strip_build(strip *st, int dim, double stiff, uint64_t seed, int at_r
             q->a[3 * s + a] = at_rest ? xv : xv + urange(&r, -0.4, 0.4);
             q->f[3 * s + a] = at_rest ? 0.0 : stiff * urange(&r, -1.0, 1.0);
         }
-    plume_term qt = {"quartic points", 1, q->n, q->verts, quartic_eval, quartic_destroy, q};
+    plume_term qt = {.name = "quartic points", .arity = 1, .nstencil = q->n, .stencil = q->verts, .eval = quartic_eval,
+                     .destroy = quartic_destroy, .ctx = q};
     plume_term mt;
     plume_constraint ec;
     if (plume_problem_create(NV, dim, 3.0, &p) != PLUME_OK)
@@ -561,7 +562,8 @@ void test_problem_kkt_residual(void)
         }
         q->n = 2, q->verts[0] = 0, q->verts[1] = 1, q->k = 1e6;
         q->a[0] = X[0], q->a[1] = X[1], q->a[3] = X[2], q->a[4] = X[3];
-        plume_term qt = {"quartic points", 1, q->n, q->verts, quartic_eval, quartic_destroy, q};
+        plume_term qt = {.name = "quartic points", .arity = 1, .nstencil = q->n, .stencil = q->verts, .eval = quartic_eval,
+                     .destroy = quartic_destroy, .ctx = q};
         CHECK(plume_problem_add_term(p, &qt) == PLUME_OK);
         CHECK(plume_edge_length_create(edge, 1, X, 2, &ec, NULL) == PLUME_OK);
         CHECK(plume_problem_add_constraint(p, &ec) == PLUME_OK);
@@ -641,7 +643,8 @@ static void dummy_destroy(void *ctx)
 
 static plume_term dummy_term(dummy_ctx *c, const char *name)
 {
-    plume_term t = {name, 2, 1, c->stencil, dummy_eval, dummy_destroy, c};
+    plume_term t = {.name = name, .arity = 2, .nstencil = 1, .stencil = c->stencil, .eval = dummy_eval,
+                    .destroy = dummy_destroy, .ctx = c};
     return t;
 }
 

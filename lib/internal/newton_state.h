@@ -11,6 +11,7 @@ struct plume_newton {
     plume_problem *p;
     plume_solver_opts o;
     int single_step;
+    int limits;              /* a term limits steps (continuous collision detection) */
     plume_index n, m, nk;  /* free dofs, constraints, KKT size */
     plume_sparsity hp;
     plume_index jnnz;
