@@ -242,7 +242,7 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
     size_t nd = (size_t)(3 * nv);
     d->x = malloc(nd * sizeof *d->x);
     d->v = calloc(nd, sizeof *d->v);
-    d->xsave = malloc(nd * sizeof *d->xsave);
+    d->xsave = malloc(3 * nd * sizeof *d->xsave); /* the saved state, then two workspaces (try_step) */
     d->vsave = malloc(nd * sizeof *d->vsave);
     d->u = malloc((size_t)(d->n + 1) * sizeof *d->u);
     d->lambda = calloc((size_t)(d->m + 1), sizeof *d->lambda);
@@ -259,33 +259,106 @@ fail:
     return st;
 }
 
+/* Terms whose stencils follow the state (contact) at the problem's x: a new pattern needs a new
+ * solver (its symbolic analysis); *changed says whether it happened. */
+static plume_status refresh_stencils(plume_dynamics *d, int *changed)
+{
+    plume_err err;
+    plume_status st = plume_problem_update_terms(d->p, changed, &err);
+    if (st != PLUME_OK || !*changed)
+        return st;
+    plume_solver_destroy(&d->s);
+    return plume_solver_create(d->o.solver, d->p, &d->o.solver_opts, &d->s);
+}
+
+/* Where a step with terms that limit steps (contact with CCD) starts: the handles move first, and
+ * that motion must cross nothing (else the step fails and is halved: *safe = 0); the free dofs
+ * start at the safe fraction of the inertial prediction x_n + dt v_n, whose full value stays the
+ * inertia's target (*limited = 1 when it was cut). x holds x_n on entry, with the handles at
+ * x_n too. */
+static plume_status safe_start(plume_dynamics *d, const double *xh, int *safe, int *limited)
+{
+    plume_index nd = 3 * d->mesh->nv;
+    double *x = plume_problem_x(d->p), *dx = d->xsave + nd; /* workspace past the saved state */
+    double a = 1.0;
+    for (plume_index i = 0; i < nd; i++) /* the handles' move (0 on the free dofs) */
+        dx[i] = plume_problem_is_fixed(d->p, i) ? xh[i] - x[i] : 0.0;
+    plume_status st = plume_problem_max_motion(d->p, dx, &a);
+    if (st != PLUME_OK)
+        return st;
+    *safe = a >= 1.0;
+    if (!*safe)
+        return PLUME_OK;
+    for (plume_index i = 0; i < nd; i++)
+        if (plume_problem_is_fixed(d->p, i))
+            x[i] = xh[i];
+    for (plume_index i = 0; i < nd; i++)
+        dx[i] = plume_problem_is_fixed(d->p, i) ? 0.0 : d->inertia->xt[i] - x[i];
+    if ((st = plume_problem_max_motion(d->p, dx, &a)) != PLUME_OK)
+        return st;
+    for (plume_index i = 0; i < nd; i++)
+        x[i] += a * dx[i];
+    *limited = a < 1.0;
+    return PLUME_OK;
+}
+
 /* One implicit Euler step of size dt from the current state; 1 when it converged. */
 static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *rep, int *ok)
 {
     plume_index nv = d->mesh->nv;
     inertia_ctx *in = d->inertia;
-    double *x = plume_problem_x(d->p);
+    double *x = plume_problem_x(d->p), *xh = d->xsave + 6 * nv; /* workspace: x with the handles moved */
+    int limits = plume_problem_limits_steps(d->p);
     for (plume_index i = 0; i < 3 * nv; i++)
-        in->xt[i] = x[i] = d->x[i] + dt * d->v[i];
+        in->xt[i] = xh[i] = d->x[i] + dt * d->v[i];
     in->inv_dt2 = 1.0 / (dt * dt);
     for (int h = 0; h < d->nhandles; h++) {
         double off[3];
         handle_offset(d->handles + h, d->t + dt, off);
         for (plume_index i = 0; i < d->handles[h].nv; i++) {
             plume_index vtx = d->handles[h].vertices[i];
-            x[3 * vtx] = d->mesh->X[2 * vtx] + off[0];
-            x[3 * vtx + 1] = d->mesh->X[2 * vtx + 1] + off[1];
-            x[3 * vtx + 2] = off[2];
+            xh[3 * vtx] = d->mesh->X[2 * vtx] + off[0];
+            xh[3 * vtx + 1] = d->mesh->X[2 * vtx + 1] + off[1];
+            xh[3 * vtx + 2] = off[2];
         }
     }
+    plume_status st;
+    if (limits) {
+        int safe = 1, limited = 0;
+        memcpy(x, d->x, (size_t)(3 * nv) * sizeof *x);
+        if ((st = safe_start(d, xh, &safe, &limited)) != PLUME_OK)
+            return st;
+        rep->step_limited += limited;
+        if (!safe) {
+            *ok = 0;
+            if (rep->converged)
+                rep->reason = PLUME_REASON_LINE_SEARCH; /* the handles would cross: a smaller step */
+            return PLUME_OK;
+        }
+    } else {
+        memcpy(x, xh, (size_t)(3 * nv) * sizeof *x);
+    }
+    int changed = 0;
+    if ((st = refresh_stencils(d, &changed)) != PLUME_OK)
+        return st;
     plume_problem_gather(d->p, d->u);
     plume_solve_report sr;
-    plume_status st = plume_solver_solve(d->s, d->u, d->lambda, &sr);
+    st = plume_solver_solve(d->s, d->u, d->lambda, &sr);
+    /* a pair that came within reach during the solve is not among the stencils: solve again with
+     * it (at most twice more; the solution then includes every pair it touches) */
+    for (int again = 0; st == PLUME_OK && sr.converged && again < 2; again++) {
+        if ((st = refresh_stencils(d, &changed)) != PLUME_OK || !changed)
+            break;
+        rep->iterations += sr.iterations;
+        plume_problem_gather(d->p, d->u);
+        st = plume_solver_solve(d->s, d->u, d->lambda, &sr);
+    }
     if (st != PLUME_OK)
         return st;
     rep->iterations += sr.iterations;
     rep->backtracks += sr.backtracks;
     rep->shifts += sr.shifts;
+    rep->step_limited += sr.step_limited;
     *ok = sr.converged || (d->o.solver == PLUME_SOLVER_LINEARIZED && sr.reason == PLUME_REASON_SINGLE_STEP);
     if (!*ok) {
         if (rep->converged)

@@ -2,7 +2,11 @@
  *   x_{n+1} = argmin 1/(2 dt^2) (x - x~)^T M (x - x~) + W(x) - f_ext^T x  s.t. g(x) = 0,
  *   x~ = x_n + dt v_n, v_{n+1} = (x_{n+1} - x_n) / dt, M lumped,
  * with gravity, handles that move prescribed vertices along keyframed paths, and a step that
- * does not converge halved and retried (supplementary §7.2.3). */
+ * does not converge halved and retried (supplementary §7.2.3). With terms whose stencils follow
+ * the state (contact), they are updated before each step (a new pattern gets a new solver) and
+ * after it (a pair that came within reach is solved again); with terms that limit steps (the
+ * contact barrier's CCD), a step starts where nothing crosses: a handle motion that would cross is
+ * a failed step (halved), and the free vertices start at the safe part of the prediction. */
 #ifndef PLUME_DYNAMICS_H
 #define PLUME_DYNAMICS_H
 
@@ -52,6 +56,7 @@ typedef struct {
     int halvings;          /* times a step was halved */
     int iterations;        /* solver iterations over all substeps */
     int backtracks, shifts; /* newton's line-search rejections and inertia shifts (plume_solve_report) */
+    int step_limited;      /* solver steps cut short by continuous collision detection (contact) */
     double max_violation;  /* max relative constraint violation over the substeps */
     int converged;         /* every substep converged */
     plume_reason reason;   /* why the first attempt that failed stopped (CONVERGED if none failed) */

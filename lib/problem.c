@@ -494,26 +494,16 @@ int plume_problem_limits_steps(const plume_problem *p)
     return 0;
 }
 
-plume_status plume_problem_max_step(plume_problem *p, const double *u, const double *du, double *alpha)
+/* min over the terms' max_step of the motion dx (full) from the current x */
+static plume_status terms_max_step(plume_problem *p, const double *dx, double *alpha)
 {
-    if (!p || !p->finalized || !du || !alpha)
-        return PLUME_EINVAL;
     *alpha = 1.0;
-    plume_problem_scatter(p, u);
-    int any = 0;
-    for (int t = 0; t < p->nterms && !any; t++)
-        any = p->terms[t].t.max_step != NULL;
-    if (!any)
-        return PLUME_OK;
-    memset(p->dxfull, 0, (size_t)p->ndof * sizeof *p->dxfull);
-    for (plume_index i = 0; i < p->nfree; i++)
-        p->dxfull[p->dof_of_free[i]] = du[i];
     for (int t = 0; t < p->nterms; t++) {
         plume_term *tt = &p->terms[t].t;
         if (!tt->max_step)
             continue;
         double a = 1.0;
-        plume_status st = tt->max_step(tt->ctx, p->dim, p->x, p->dxfull, &a);
+        plume_status st = tt->max_step(tt->ctx, p->dim, p->x, dx, &a);
         if (st != PLUME_OK)
             return st;
         if (!(a >= 0.0)) /* NaN: no step is known to be safe */
@@ -521,6 +511,30 @@ plume_status plume_problem_max_step(plume_problem *p, const double *u, const dou
         *alpha = fmin(*alpha, fmin(a, 1.0));
     }
     return PLUME_OK;
+}
+
+plume_status plume_problem_max_step(plume_problem *p, const double *u, const double *du, double *alpha)
+{
+    if (!p || !p->finalized || !du || !alpha)
+        return PLUME_EINVAL;
+    *alpha = 1.0;
+    plume_problem_scatter(p, u);
+    if (!plume_problem_limits_steps(p))
+        return PLUME_OK;
+    memset(p->dxfull, 0, (size_t)p->ndof * sizeof *p->dxfull);
+    for (plume_index i = 0; i < p->nfree; i++)
+        p->dxfull[p->dof_of_free[i]] = du[i];
+    return terms_max_step(p, p->dxfull, alpha);
+}
+
+plume_status plume_problem_max_motion(plume_problem *p, const double *dx, double *alpha)
+{
+    if (!p || !p->finalized || !dx || !alpha)
+        return PLUME_EINVAL;
+    for (plume_index i = 0; i < p->ndof; i++)
+        if (!isfinite(dx[i]))
+            return PLUME_EINVAL;
+    return terms_max_step(p, dx, alpha);
 }
 
 int plume_problem_dim(const plume_problem *p) { return p->dim; }

@@ -96,6 +96,10 @@ int plume_problem_limits_steps(const plume_problem *p);
  * Sets x's free part to u. */
 plume_status plume_problem_max_step(plume_problem *p, const double *u, const double *du, double *alpha);
 
+/* The same for a motion dx of every dof (3 nv or 2 nv values, prescribed ones included) from
+ * the current x: e.g. the handles' move at the start of a time step. */
+plume_status plume_problem_max_motion(plume_problem *p, const double *dx, double *alpha);
+
 /* Relative stationarity of the Lagrangian f + lambda.g at u, on the free dofs:
  * ||grad f + J^T lambda||_inf / max(force scale, ||grad f||_inf, ||J^T lambda||_inf), with the
  * force scale above (so a loaded body at equilibrium is measured against its reactions);

@@ -1,0 +1,327 @@
+/* The contact term: candidates from the broad phase become arity-4 stencils (point–triangle
+ * first, then edge–edge), evaluated with the pair potentials of contact_narrow.c; the barrier's
+ * steps are limited by Additive CCD over the candidates of the swept boxes. */
+#include "contact.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "contact_broad.h"
+#include "progress.h"
+
+struct plume_contact {
+    plume_contact_term_opts o;
+    plume_index nv, ntri;
+    plume_index *tri;             /* [3 ntri] */
+    double *elen2;                /* [ne] rest squared lengths of the broad phase's edges */
+    plume_contact_broad *broad;
+    plume_index ne;
+    const plume_index *edges;     /* [2 ne], owned by broad */
+    /* the stencils of the last update: npt point–triangle then nee edge–edge, 4 vertices each */
+    plume_index npt, nee, cap;
+    plume_index *stencil;         /* [4 cap] */
+    double *eps;                  /* [cap] edge–edge mollifier thresholds (0 for point–triangle) */
+    plume_contact_pair *vt, *ee;  /* [cap] the candidate pairs behind them, sorted (missed()) */
+    plume_index *scratch;         /* [4 cap] the next update's stencils, compared with the last */
+    double *x1;                   /* [3 nv] the end of a step (max_step) */
+    plume_contact_stats st;
+};
+
+void plume_contact_term_opts_default(plume_contact_term_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    plume_contact_opts_default(&o->pair);
+    o->self_contact = 0;
+    o->margin = 0.0;
+    plume_ccd_opts_default(&o->ccd);
+}
+
+static void contact_destroy(void *ctx)
+{
+    plume_contact *c = ctx;
+    if (!c)
+        return;
+    plume_contact_broad_destroy(&c->broad);
+    free(c->tri);
+    free(c->elen2);
+    free(c->stencil);
+    free(c->eps);
+    free(c->vt);
+    free(c->ee);
+    free(c->scratch);
+    free(c->x1);
+    free(c);
+}
+
+static void gather12(const double *x, const plume_index *v, double out[12])
+{
+    for (int a = 0; a < 4; a++)
+        for (int k = 0; k < 3; k++)
+            out[3 * a + k] = x[3 * v[a] + k];
+}
+
+static plume_status contact_eval(void *ctx, int dim, const double *x, double *energy, double *grad, double *hblocks,
+                                 int project)
+{
+    plume_contact *c = ctx;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    double t0 = plume_wall_seconds();
+    /* with pair.project_psd (the default) contact blocks are always projected to PSD, as in IPC:
+     * the barrier's Hessian is indefinite off the normal direction, and the exact-Hessian-first
+     * path of newton would only meet inertia corrections there; 0 gives the exact blocks unless
+     * the solver asks for projection (finite-difference tests) */
+    plume_contact_opts po = c->o.pair;
+    po.project_psd = po.project_psd || project;
+    plume_index ns = c->npt + c->nee;
+    double E = 0.0;
+    plume_status st = PLUME_OK;
+    for (plume_index s = 0; s < ns && st == PLUME_OK; s++) {
+        const plume_index *v = c->stencil + 4 * s;
+        double xs[12], g[12], e = 0.0;
+        double *H = hblocks ? hblocks + 144 * s : NULL;
+        gather12(x, v, xs);
+        if (s < c->npt)
+            st = plume_contact_pt_energy(&po, xs, &e, grad ? g : NULL, H, NULL);
+        else
+            st = plume_contact_ee_energy(&po, xs, c->eps[s], &e, grad ? g : NULL, H, NULL);
+        if (st != PLUME_OK)
+            break;
+        E += e;
+        if (grad)
+            for (int a = 0; a < 12; a++)
+                grad[3 * v[a / 3] + a % 3] += g[a];
+    }
+    c->st.narrow_seconds += plume_wall_seconds() - t0;
+    if (st != PLUME_OK)
+        return st; /* PLUME_ESINGULAR: a barrier pair at d = 0, an infeasible trial point */
+    if (energy)
+        *energy += E;
+    return PLUME_OK;
+}
+
+/* room for n stencils */
+static plume_status reserve(plume_contact *c, plume_index n)
+{
+    if (n <= c->cap)
+        return PLUME_OK;
+    plume_index cap = n + n / 2 + 16;
+    plume_index *s = realloc(c->stencil, (size_t)(4 * cap) * sizeof *s);
+    if (s)
+        c->stencil = s;
+    plume_index *w = realloc(c->scratch, (size_t)(4 * cap) * sizeof *w);
+    if (w)
+        c->scratch = w;
+    double *e = realloc(c->eps, (size_t)cap * sizeof *e);
+    if (e)
+        c->eps = e;
+    plume_contact_pair *vt = realloc(c->vt, (size_t)cap * sizeof *vt);
+    if (vt)
+        c->vt = vt;
+    plume_contact_pair *ee = realloc(c->ee, (size_t)cap * sizeof *ee);
+    if (ee)
+        c->ee = ee;
+    if (!s || !w || !e || !vt || !ee)
+        return PLUME_ENOMEM;
+    c->cap = cap;
+    return PLUME_OK;
+}
+
+static plume_status contact_update(void *ctx, int dim, const double *x, const plume_index **stencil,
+                                   plume_index *nstencil, int *changed)
+{
+    plume_contact *c = ctx;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    plume_contact_candidates cand;
+    plume_status st = plume_contact_broad_update(c->broad, x, NULL, c->o.pair.dhat + c->o.margin, &cand, NULL);
+    c->st.updates++;
+    if (st != PLUME_OK)
+        return st;
+    c->st.broad_seconds += cand.seconds;
+    plume_index n = cand.nvt + cand.nee;
+    if ((st = reserve(c, n)) != PLUME_OK)
+        return st;
+    plume_index *w = c->scratch;
+    for (plume_index k = 0; k < cand.nvt; k++) {
+        plume_index v = cand.vt[k].a, t = cand.vt[k].b;
+        w[4 * k] = v;
+        w[4 * k + 1] = c->tri[3 * t], w[4 * k + 2] = c->tri[3 * t + 1], w[4 * k + 3] = c->tri[3 * t + 2];
+    }
+    for (plume_index k = 0; k < cand.nee; k++) {
+        plume_index a = cand.ee[k].a, b = cand.ee[k].b, *q = w + 4 * (cand.nvt + k);
+        q[0] = c->edges[2 * a], q[1] = c->edges[2 * a + 1], q[2] = c->edges[2 * b], q[3] = c->edges[2 * b + 1];
+    }
+    *changed = cand.nvt != c->npt || cand.nee != c->nee ||
+               (n > 0 && memcmp(w, c->stencil, (size_t)(4 * n) * sizeof *w) != 0);
+    if (*changed) {
+        c->scratch = c->stencil;
+        c->stencil = w;
+        c->npt = cand.nvt;
+        c->nee = cand.nee;
+        memcpy(c->vt, cand.vt, (size_t)cand.nvt * sizeof *c->vt);
+        memcpy(c->ee, cand.ee, (size_t)cand.nee * sizeof *c->ee);
+        for (plume_index k = 0; k < cand.nvt; k++)
+            c->eps[k] = 0.0;
+        for (plume_index k = 0; k < cand.nee; k++)
+            c->eps[cand.nvt + k] = PLUME_CONTACT_MOLLIFIER_SCALE * c->elen2[cand.ee[k].a] * c->elen2[cand.ee[k].b];
+    }
+    c->st.candidates = n;
+    *stencil = c->stencil;
+    *nstencil = n;
+    return PLUME_OK;
+}
+
+/* Additive CCD over the pairs whose swept boxes meet: the largest fraction of dx that no pair
+ * crosses (ccd.h: each pair keeps at least s of its starting gap) */
+static plume_status contact_max_step(void *ctx, int dim, const double *x, const double *dx, double *alpha)
+{
+    plume_contact *c = ctx;
+    *alpha = 1.0;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    if (c->o.pair.model != PLUME_CONTACT_BARRIER)
+        return PLUME_OK; /* the penalty allows interpenetration: no step limit */
+    for (plume_index i = 0; i < 3 * c->nv; i++)
+        c->x1[i] = x[i] + dx[i];
+    plume_contact_candidates cand;
+    plume_status st = plume_contact_broad_update(c->broad, x, c->x1, 0.0, &cand, NULL);
+    if (st != PLUME_OK)
+        return st;
+    c->st.broad_seconds += cand.seconds;
+    double t0 = plume_wall_seconds(), a = 1.0;
+    for (plume_index k = 0; k < cand.nvt + cand.nee && a > 0.0; k++) {
+        plume_index v[4];
+        if (k < cand.nvt) {
+            plume_index t = cand.vt[k].b;
+            v[0] = cand.vt[k].a, v[1] = c->tri[3 * t], v[2] = c->tri[3 * t + 1], v[3] = c->tri[3 * t + 2];
+        } else {
+            plume_index ea = cand.ee[k - cand.nvt].a, eb = cand.ee[k - cand.nvt].b;
+            v[0] = c->edges[2 * ea], v[1] = c->edges[2 * ea + 1], v[2] = c->edges[2 * eb], v[3] = c->edges[2 * eb + 1];
+        }
+        double x0s[12], x1s[12], toi = 1.0;
+        gather12(x, v, x0s);
+        gather12(c->x1, v, x1s);
+        st = k < cand.nvt ? plume_ccd_point_triangle(x0s, x1s, 1.0, &c->o.ccd, &toi, NULL)
+                          : plume_ccd_edge_edge(x0s, x1s, 1.0, &c->o.ccd, &toi, NULL);
+        if (st == PLUME_EINFEASIBLE) { /* already touching: no step is safe */
+            toi = 0.0;
+            st = PLUME_OK;
+        }
+        if (st != PLUME_OK)
+            break;
+        a = fmin(a, toi);
+    }
+    c->st.ccd_seconds += plume_wall_seconds() - t0;
+    c->st.step_limits += a < 1.0;
+    *alpha = a;
+    return st;
+}
+
+static int pair_cmp(const void *pa, const void *pb)
+{
+    const plume_contact_pair *a = pa, *b = pb;
+    if (a->a != b->a)
+        return a->a < b->a ? -1 : 1;
+    return (a->b > b->b) - (a->b < b->b);
+}
+
+int plume_contact_missed(plume_contact *c, const double *x)
+{
+    plume_contact_candidates cand;
+    if (!c || !x || plume_contact_broad_update(c->broad, x, NULL, c->o.pair.dhat, &cand, NULL) != PLUME_OK)
+        return 1; /* cannot tell: the caller updates and solves again */
+    c->st.broad_seconds += cand.seconds;
+    for (plume_index k = 0; k < cand.nvt + cand.nee; k++) {
+        int is_pt = k < cand.nvt;
+        const plume_contact_pair *q = is_pt ? cand.vt + k : cand.ee + (k - cand.nvt);
+        if (is_pt ? bsearch(q, c->vt, (size_t)c->npt, sizeof *q, pair_cmp)
+                  : bsearch(q, c->ee, (size_t)c->nee, sizeof *q, pair_cmp))
+            continue;
+        plume_index v[4];
+        if (is_pt) {
+            v[0] = q->a, v[1] = c->tri[3 * q->b], v[2] = c->tri[3 * q->b + 1], v[3] = c->tri[3 * q->b + 2];
+        } else {
+            v[0] = c->edges[2 * q->a], v[1] = c->edges[2 * q->a + 1], v[2] = c->edges[2 * q->b],
+            v[3] = c->edges[2 * q->b + 1];
+        }
+        double xs[12], d2 = INFINITY;
+        gather12(x, v, xs);
+        if ((is_pt ? plume_contact_pt_dist2(xs, &d2) : plume_contact_ee_dist2(xs, &d2)) != PLUME_OK ||
+            !(d2 >= c->o.pair.dhat * c->o.pair.dhat))
+            return 1;
+    }
+    return 0;
+}
+
+void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s)
+{
+    if (!s)
+        return;
+    memset(s, 0, sizeof *s);
+    if (c)
+        *s = c->st;
+}
+
+plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const plume_index *tri, const int *body,
+                                       const double *xrest, const plume_contact_term_opts *o, plume_term *out,
+                                       plume_contact **handle, plume_err *err)
+{
+    if (out)
+        memset(out, 0, sizeof *out);
+    if (handle)
+        *handle = NULL;
+    if (!out || !o || !xrest || !tri || nv <= 0 || ntri < 0)
+        return plume_err_set(err, PLUME_EINVAL, "contact: NULL output, options, rest positions or triangles, or no vertex");
+    if (!(o->pair.dhat > 0.0) || !isfinite(o->pair.dhat) || !(o->pair.stiffness > 0.0) ||
+        !isfinite(o->pair.stiffness) || !(o->margin >= 0.0) || !isfinite(o->margin) ||
+        (o->pair.model != PLUME_CONTACT_BARRIER && o->pair.model != PLUME_CONTACT_PENALTY))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "contact: needs dhat > 0, stiffness > 0, margin >= 0 (all finite) and model barrier or "
+                             "penalty (got dhat %g, stiffness %g, margin %g)",
+                             o->pair.dhat, o->pair.stiffness, o->margin);
+    if (!o->self_contact && !body)
+        return plume_err_set(err, PLUME_EINVAL, "contact: without self_contact, body ids are needed");
+    plume_contact *c = calloc(1, sizeof *c);
+    if (!c)
+        return PLUME_ENOMEM;
+    c->o = *o;
+    c->nv = nv;
+    c->ntri = ntri;
+    c->st.min_distance = INFINITY;
+    plume_contact_broad_opts bo;
+    plume_contact_broad_opts_default(&bo);
+    bo.self_contact = o->self_contact;
+    plume_status st = plume_contact_broad_create(nv, ntri, tri, body, &bo, &c->broad, err);
+    if (st != PLUME_OK)
+        goto fail;
+    plume_contact_broad_edges(c->broad, &c->ne, &c->edges);
+    c->tri = malloc((size_t)(3 * ntri + 1) * sizeof *c->tri);
+    c->elen2 = malloc((size_t)(c->ne + 1) * sizeof *c->elen2);
+    c->x1 = malloc((size_t)(3 * nv) * sizeof *c->x1);
+    if (!c->tri || !c->elen2 || !c->x1 || reserve(c, 64) != PLUME_OK) {
+        st = plume_err_set(err, PLUME_ENOMEM, "contact: out of memory");
+        goto fail;
+    }
+    memcpy(c->tri, tri, (size_t)(3 * ntri) * sizeof *tri);
+    for (plume_index e = 0; e < c->ne; e++) {
+        const double *a = xrest + 3 * c->edges[2 * e], *b = xrest + 3 * c->edges[2 * e + 1];
+        c->elen2[e] = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+    }
+    out->name = "contact";
+    out->arity = 4;
+    out->nstencil = 0;
+    out->stencil = c->stencil;
+    out->eval = contact_eval;
+    out->destroy = contact_destroy;
+    out->ctx = c;
+    out->update = contact_update;
+    out->max_step = o->pair.model == PLUME_CONTACT_BARRIER ? contact_max_step : NULL;
+    if (handle)
+        *handle = c;
+    return PLUME_OK;
+fail:
+    contact_destroy(c);
+    return st;
+}
