@@ -60,7 +60,7 @@ void plume_contact_broad_opts_default(plume_contact_broad_opts *o);
 typedef struct plume_contact_broad plume_contact_broad;
 
 /* Candidates found by one update. The arrays belong to the handle and stay valid until the next
- * update or destroy. */
+ * update or destroy (an empty list may be NULL). */
 typedef struct {
     plume_index nvt;
     const plume_contact_pair *vt; /* [nvt] (vertex, triangle), sorted */

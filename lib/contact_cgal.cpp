@@ -2,12 +2,14 @@
  * box_intersection_d and exact triangle-triangle tests; the only contact file that sees CGAL.
  *
  * Boxes: CGAL's box_intersection_d runs directly on the caller's plume_box arrays through a box
- * traits class, so nothing is copied or allocated here apart from the output list. Ids matter to
- * CGAL: it breaks ties between equal lo coordinates by id and skips pairs of boxes with equal ids
- * (that is how a self intersection avoids (i, i)), so the two sets of a bipartite call get disjoint
- * ids (a: 0..na-1, b: na..na+nb-1) and a self call gives a box and its copy the same id. CGAL's
- * random pivot choice uses a generator local to each call with a fixed seed (segment_tree.h), and
- * the output is sorted anyway, so results are deterministic and no state is shared between calls.
+ * traits class; the pair searches allocate nothing but the caller's lists and workspace, which
+ * grow only when too small (the audit, once a frame, also keeps a byte per triangle). Ids matter
+ * to CGAL: it breaks ties between equal lo coordinates by id and skips pairs of boxes with equal
+ * ids (that is how a self intersection avoids (i, i)), so the two sets of a bipartite call get
+ * disjoint ids (a: 0..na-1, b: na..na+nb-1) and a self call gives a box and its copy the same id.
+ * CGAL's random pivot choice uses a generator local to each call with a fixed seed
+ * (segment_tree.h), and the output is sorted anyway, so results are deterministic and no state
+ * is shared between calls.
  *
  * Exact tests: Epick (exact predicates, inexact constructions); do_intersect on Triangle_3 and
  * friends only evaluates orientation predicates on the input doubles, so the answer is exact for

@@ -25,6 +25,8 @@ static int pair_cmp(const void *x, const void *y)
 static int has_pair(const plume_contact_pair *p, plume_index n, plume_index a, plume_index b)
 {
     plume_contact_pair key = {a, b};
+    if (n == 0) /* p may be NULL then */
+        return 0;
     return bsearch(&key, p, (size_t)n, sizeof key, pair_cmp) != NULL;
 }
 
@@ -320,6 +322,34 @@ void test_contact_cgal_box_self_pairs_brute(void)
             CHECK(has_pair(out.p, out.n, 0, n - 1));
         free(b);
     }
+    /* thousands of boxes along a thin slab (x nearly constant), so that the segment tree recurses
+     * deeply and the axes are reordered: against brute force too, self and bipartite */
+    plume_index n = 3000;
+    double *b = malloc(6 * (size_t)n * sizeof *b);
+    for (plume_index i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++) {
+            double c = k == 0 ? urange(&r, 0, 0.01) : urand(&r), w = urange(&r, 0, 0.03);
+            b[6 * i + k] = c - w;
+            b[6 * i + 3 + k] = c + w;
+        }
+    CHECK(plume_contact_box_self_pairs(n, b, &out, &err) == PLUME_OK);
+    plume_index expected = 0;
+    for (plume_index i = 0; i < n; i++)
+        for (plume_index j = i + 1; j < n; j++)
+            expected += boxes_meet(b + 6 * i, b + 6 * j);
+    CHECK(out.n == expected && expected > 1000 && strictly_sorted(out.p, out.n));
+    for (plume_index k = 0; k < out.n; k++)
+        CHECK(boxes_meet(b + 6 * out.p[k].a, b + 6 * out.p[k].b));
+    CHECK(plume_contact_box_pairs(n / 2, b, n - n / 2, b + 6 * (n / 2), &out, &err) == PLUME_OK);
+    expected = 0;
+    for (plume_index i = 0; i < n / 2; i++)
+        for (plume_index j = n / 2; j < n; j++)
+            expected += boxes_meet(b + 6 * i, b + 6 * j);
+    CHECK(out.n == expected && strictly_sorted(out.p, out.n));
+    for (plume_index k = 0; k < out.n; k++)
+        CHECK(boxes_meet(b + 6 * out.p[k].a, b + 6 * (n / 2 + out.p[k].b)));
+    free(b);
+
     CHECK(plume_contact_box_self_pairs(0, NULL, &out, &err) == PLUME_OK && out.n == 0);
     double one[6] = {0, 0, 0, 1, 1, 1};
     CHECK(plume_contact_box_self_pairs(1, one, &out, &err) == PLUME_OK && out.n == 0);
