@@ -29,8 +29,8 @@ static double norm3(const double *a)
     return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
 }
 
-/* gap = d - xi written as (d^2 - xi^2) / (d + xi) as in the paper: exact when xi = 0 and free of
- * the cancellation of sqrt(d2) - xi when d2 is known better than d */
+/* gap = d - xi, written as (d^2 - xi^2) / (d + xi) as in the paper (exact for xi = 0); d = xi = 0
+ * is a zero gap */
 static plume_status gap_at(dist2_fn dist2, const double *x0, const double *dx, double t, double xi,
                            double *gap)
 {
@@ -40,9 +40,8 @@ static plume_status gap_at(dist2_fn dist2, const double *x0, const double *dx, d
     plume_status st = dist2(x, &d2);
     if (st)
         return st;
-    *gap = (d2 - xi * xi) / (sqrt(d2) + xi);
-    if (!(sqrt(d2) + xi > 0.0)) /* d = xi = 0 */
-        *gap = 0.0;
+    const double den = sqrt(d2) + xi;
+    *gap = den > 0.0 ? (d2 - xi * xi) / den : 0.0;
     return PLUME_OK;
 }
 

@@ -7,7 +7,12 @@
  *
  * Positions follow x(t) = x0 + t (x1 - x0), t in [0, t_max], with x0, x1 12-vectors in the
  * vertex order of contact_narrow.h: (p, t0, t1, t2) or (ea0, ea1, eb0, eb1). The gap is
- * d(t) - min_distance, d the unsigned pair distance of contact_narrow.h. Nothing allocates. */
+ * d(t) - min_distance, d the unsigned pair distance of contact_narrow.h. Nothing allocates.
+ *
+ * Rounding: the guarantees below hold up to the error of the computed distance, ~1e-16 L for
+ * primitives of size L and at most ~1e-8 L for edges within 1e-8 rad of parallel or triangles
+ * flatter than that (the fallback of PLUME_CONTACT_PARALLEL_SIN2 overestimates by up to L sin).
+ * The (1 - eta) s gap(0) margin absorbs it unless gap(0) is below ~1e-6 L. */
 #ifndef PLUME_CCD_H
 #define PLUME_CCD_H
 
@@ -27,7 +32,7 @@ typedef struct {
 /* What one call did (optional output). */
 typedef struct {
     long iterations;  /* distance evaluations after the start one */
-    int hit;          /* 1: toi < t_max, the gap would fall below s gap(0) within the step */
+    int hit;          /* 1: toi < t_max (the gap may fall below s gap(0) after toi, or capped) */
     int capped;       /* 1: max_iter was reached; toi is the last certified time (safe, early) */
     double gap_start; /* d(0) - xi */
     double gap_toi;   /* d(toi) - xi as evaluated (first step: certified analytically) */

@@ -55,8 +55,8 @@ typedef enum {
 /* IPC's mollifier threshold scale: eps_x = 1e-3 |ea_rest|^2 |eb_rest|^2 (Li et al. 2020). */
 #define PLUME_CONTACT_MOLLIFIER_SCALE 1e-3
 
-/* Closest feature of the triangle (t0, t1, t2) to the point p, x = (p, t0, t1, t2). Voronoi
- * regions of the triangle (exact dot-product tests); a flat triangle (see
+/* Closest feature of the triangle (t0, t1, t2) to the point p, x = (p, t0, t1, t2): the Voronoi
+ * region of p (signs of dot products, no division); a flat triangle (see
  * PLUME_CONTACT_PARALLEL_SIN2) gets the nearest of its three segments. PLUME_EINVAL if x or type
  * is NULL or x is not finite. */
 plume_status plume_contact_pt_classify(const double x[12], plume_contact_pt_type *type);
