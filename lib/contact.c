@@ -12,8 +12,8 @@
 
 struct plume_contact {
     plume_contact_term_opts o;
-    plume_index nv, ntri;
-    plume_index *tri;             /* [3 ntri] */
+    plume_index nv;
+    const plume_index *tri;       /* [3 ntri], owned by broad */
     double *elen2;                /* [ne] rest squared lengths of the broad phase's edges */
     plume_contact_broad *broad;
     plume_index ne;
@@ -22,7 +22,6 @@ struct plume_contact {
     plume_index npt, nee, cap;
     plume_index *stencil;         /* [4 cap] */
     double *eps;                  /* [cap] edge–edge mollifier thresholds (0 for point–triangle) */
-    plume_contact_pair *vt, *ee;  /* [cap] the candidate pairs behind them, sorted (missed()) */
     plume_index *scratch;         /* [4 cap] the next update's stencils, compared with the last */
     double *x1;                   /* [3 nv] the end of a step (max_step) */
     plume_contact_stats st;
@@ -43,15 +42,26 @@ static void contact_destroy(void *ctx)
     if (!c)
         return;
     plume_contact_broad_destroy(&c->broad);
-    free(c->tri);
     free(c->elen2);
     free(c->stencil);
     free(c->eps);
-    free(c->vt);
-    free(c->ee);
     free(c->scratch);
     free(c->x1);
     free(c);
+}
+
+/* the four vertices of candidate k of a broad-phase answer: (v, t0, t1, t2) for the first nvt
+ * (point–triangle), (ea0, ea1, eb0, eb1) after them (edge–edge) */
+static void pair_vertices(const plume_contact *c, const plume_contact_candidates *cand, plume_index k,
+                          plume_index v[4])
+{
+    if (k < cand->nvt) {
+        const plume_index *t = c->tri + 3 * cand->vt[k].b;
+        v[0] = cand->vt[k].a, v[1] = t[0], v[2] = t[1], v[3] = t[2];
+    } else {
+        const plume_index *a = c->edges + 2 * cand->ee[k - cand->nvt].a, *b = c->edges + 2 * cand->ee[k - cand->nvt].b;
+        v[0] = a[0], v[1] = a[1], v[2] = b[0], v[3] = b[1];
+    }
 }
 
 static void gather12(const double *x, const plume_index *v, double out[12])
@@ -116,13 +126,7 @@ static plume_status reserve(plume_contact *c, plume_index n)
     double *e = realloc(c->eps, (size_t)cap * sizeof *e);
     if (e)
         c->eps = e;
-    plume_contact_pair *vt = realloc(c->vt, (size_t)cap * sizeof *vt);
-    if (vt)
-        c->vt = vt;
-    plume_contact_pair *ee = realloc(c->ee, (size_t)cap * sizeof *ee);
-    if (ee)
-        c->ee = ee;
-    if (!s || !w || !e || !vt || !ee)
+    if (!s || !w || !e)
         return PLUME_ENOMEM;
     c->cap = cap;
     return PLUME_OK;
@@ -140,32 +144,35 @@ static plume_status contact_update(void *ctx, int dim, const double *x, const pl
     if (st != PLUME_OK)
         return st;
     c->st.broad_seconds += cand.seconds;
-    plume_index n = cand.nvt + cand.nee;
-    if ((st = reserve(c, n)) != PLUME_OK)
+    if ((st = reserve(c, cand.nvt + cand.nee)) != PLUME_OK)
         return st;
-    plume_index *w = c->scratch;
-    for (plume_index k = 0; k < cand.nvt; k++) {
-        plume_index v = cand.vt[k].a, t = cand.vt[k].b;
-        w[4 * k] = v;
-        w[4 * k + 1] = c->tri[3 * t], w[4 * k + 2] = c->tri[3 * t + 1], w[4 * k + 3] = c->tri[3 * t + 2];
+    /* the boxes' candidates, kept when truly within reach: fewer stencils to evaluate, and a
+     * pattern that changes only when a pair comes within dhat + margin or leaves it */
+    const double reach = c->o.pair.dhat + c->o.margin;
+    plume_index *w = c->scratch, n = 0, npt = 0;
+    for (plume_index k = 0; k < cand.nvt + cand.nee; k++) {
+        double xs[12], d2 = 0.0;
+        pair_vertices(c, &cand, k, w + 4 * n);
+        gather12(x, w + 4 * n, xs);
+        st = k < cand.nvt ? plume_contact_pt_dist2(xs, &d2) : plume_contact_ee_dist2(xs, &d2);
+        if (st != PLUME_OK)
+            return st;
+        if (!(d2 < reach * reach))
+            continue;
+        /* the edge-edge mollifier's threshold from the rest lengths (0: point-triangle); written in
+         * place: when the set is unchanged the values are the same */
+        c->eps[n] = k < cand.nvt ? 0.0
+                                 : PLUME_CONTACT_MOLLIFIER_SCALE * c->elen2[cand.ee[k - cand.nvt].a] *
+                                       c->elen2[cand.ee[k - cand.nvt].b];
+        npt += k < cand.nvt;
+        n++;
     }
-    for (plume_index k = 0; k < cand.nee; k++) {
-        plume_index a = cand.ee[k].a, b = cand.ee[k].b, *q = w + 4 * (cand.nvt + k);
-        q[0] = c->edges[2 * a], q[1] = c->edges[2 * a + 1], q[2] = c->edges[2 * b], q[3] = c->edges[2 * b + 1];
-    }
-    *changed = cand.nvt != c->npt || cand.nee != c->nee ||
-               (n > 0 && memcmp(w, c->stencil, (size_t)(4 * n) * sizeof *w) != 0);
+    *changed = npt != c->npt || n - npt != c->nee || (n > 0 && memcmp(w, c->stencil, (size_t)(4 * n) * sizeof *w) != 0);
     if (*changed) {
         c->scratch = c->stencil;
         c->stencil = w;
-        c->npt = cand.nvt;
-        c->nee = cand.nee;
-        memcpy(c->vt, cand.vt, (size_t)cand.nvt * sizeof *c->vt);
-        memcpy(c->ee, cand.ee, (size_t)cand.nee * sizeof *c->ee);
-        for (plume_index k = 0; k < cand.nvt; k++)
-            c->eps[k] = 0.0;
-        for (plume_index k = 0; k < cand.nee; k++)
-            c->eps[cand.nvt + k] = PLUME_CONTACT_MOLLIFIER_SCALE * c->elen2[cand.ee[k].a] * c->elen2[cand.ee[k].b];
+        c->npt = npt;
+        c->nee = n - npt;
     }
     c->st.candidates = n;
     *stencil = c->stencil;
@@ -193,13 +200,7 @@ static plume_status contact_max_step(void *ctx, int dim, const double *x, const 
     double t0 = plume_wall_seconds(), a = 1.0;
     for (plume_index k = 0; k < cand.nvt + cand.nee && a > 0.0; k++) {
         plume_index v[4];
-        if (k < cand.nvt) {
-            plume_index t = cand.vt[k].b;
-            v[0] = cand.vt[k].a, v[1] = c->tri[3 * t], v[2] = c->tri[3 * t + 1], v[3] = c->tri[3 * t + 2];
-        } else {
-            plume_index ea = cand.ee[k - cand.nvt].a, eb = cand.ee[k - cand.nvt].b;
-            v[0] = c->edges[2 * ea], v[1] = c->edges[2 * ea + 1], v[2] = c->edges[2 * eb], v[3] = c->edges[2 * eb + 1];
-        }
+        pair_vertices(c, &cand, k, v);
         double x0s[12], x1s[12], toi = 1.0;
         gather12(x, v, x0s);
         gather12(c->x1, v, x1s);
@@ -217,42 +218,6 @@ static plume_status contact_max_step(void *ctx, int dim, const double *x, const 
     c->st.step_limits += a < 1.0;
     *alpha = a;
     return st;
-}
-
-static int pair_cmp(const void *pa, const void *pb)
-{
-    const plume_contact_pair *a = pa, *b = pb;
-    if (a->a != b->a)
-        return a->a < b->a ? -1 : 1;
-    return (a->b > b->b) - (a->b < b->b);
-}
-
-int plume_contact_missed(plume_contact *c, const double *x)
-{
-    plume_contact_candidates cand;
-    if (!c || !x || plume_contact_broad_update(c->broad, x, NULL, c->o.pair.dhat, &cand, NULL) != PLUME_OK)
-        return 1; /* cannot tell: the caller updates and solves again */
-    c->st.broad_seconds += cand.seconds;
-    for (plume_index k = 0; k < cand.nvt + cand.nee; k++) {
-        int is_pt = k < cand.nvt;
-        const plume_contact_pair *q = is_pt ? cand.vt + k : cand.ee + (k - cand.nvt);
-        if (is_pt ? bsearch(q, c->vt, (size_t)c->npt, sizeof *q, pair_cmp)
-                  : bsearch(q, c->ee, (size_t)c->nee, sizeof *q, pair_cmp))
-            continue;
-        plume_index v[4];
-        if (is_pt) {
-            v[0] = q->a, v[1] = c->tri[3 * q->b], v[2] = c->tri[3 * q->b + 1], v[3] = c->tri[3 * q->b + 2];
-        } else {
-            v[0] = c->edges[2 * q->a], v[1] = c->edges[2 * q->a + 1], v[2] = c->edges[2 * q->b],
-            v[3] = c->edges[2 * q->b + 1];
-        }
-        double xs[12], d2 = INFINITY;
-        gather12(x, v, xs);
-        if ((is_pt ? plume_contact_pt_dist2(xs, &d2) : plume_contact_ee_dist2(xs, &d2)) != PLUME_OK ||
-            !(d2 >= c->o.pair.dhat * c->o.pair.dhat))
-            return 1;
-    }
-    return 0;
 }
 
 void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s)
@@ -288,8 +253,6 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
         return PLUME_ENOMEM;
     c->o = *o;
     c->nv = nv;
-    c->ntri = ntri;
-    c->st.min_distance = INFINITY;
     plume_contact_broad_opts bo;
     plume_contact_broad_opts_default(&bo);
     bo.self_contact = o->self_contact;
@@ -297,14 +260,13 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
     if (st != PLUME_OK)
         goto fail;
     plume_contact_broad_edges(c->broad, &c->ne, &c->edges);
-    c->tri = malloc((size_t)(3 * ntri + 1) * sizeof *c->tri);
+    plume_contact_broad_triangles(c->broad, NULL, &c->tri);
     c->elen2 = malloc((size_t)(c->ne + 1) * sizeof *c->elen2);
     c->x1 = malloc((size_t)(3 * nv) * sizeof *c->x1);
-    if (!c->tri || !c->elen2 || !c->x1 || reserve(c, 64) != PLUME_OK) {
+    if (!c->elen2 || !c->x1 || reserve(c, 64) != PLUME_OK) {
         st = plume_err_set(err, PLUME_ENOMEM, "contact: out of memory");
         goto fail;
     }
-    memcpy(c->tri, tri, (size_t)(3 * ntri) * sizeof *tri);
     for (plume_index e = 0; e < c->ne; e++) {
         const double *a = xrest + 3 * c->edges[2 * e], *b = xrest + 3 * c->edges[2 * e + 1];
         c->elen2[e] = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);

@@ -21,9 +21,8 @@ typedef struct {
     int self_contact;        /* 1: non-adjacent primitives of one body touch too; 0: only pairs of
                                 different bodies (body ids required). Default 0. */
     double margin;           /* candidates are the pairs within dhat + margin when the stencils are
-                                updated (once per step): pairs that come closer during the step's
-                                solve are found when it is checked (plume_contact_missed);
-                                default 0 = dhat */
+                                updated (before each step, and after it: a step whose solution
+                                brings in new pairs is solved again, lib/dynamics.c); default 0 */
     plume_ccd_opts ccd;      /* the barrier's step limit; defaults of ccd.h */
 } plume_contact_term_opts;
 
@@ -32,10 +31,9 @@ void plume_contact_term_opts_default(plume_contact_term_opts *o);
 /* What the term did (plume_contact_term_stats). */
 typedef struct {
     plume_index candidates; /* stencils of the last update */
-    plume_index active;     /* pairs closer than dhat at the last evaluation */
-    double min_distance;    /* smallest pair distance at the last evaluation (INFINITY: none) */
-    long updates, step_limits;
-    double broad_seconds, narrow_seconds, ccd_seconds;
+    long updates;           /* stencil updates */
+    long step_limits;       /* steps that CCD cut short */
+    double broad_seconds, narrow_seconds, ccd_seconds; /* broad phase, pair energies, CCD */
 } plume_contact_stats;
 
 typedef struct plume_contact plume_contact;
@@ -50,10 +48,6 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
                                        plume_contact **handle, plume_err *err);
 
 void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s);
-
-/* 1 when a pair that is not a stencil of the term is closer than dhat at positions x (3 nv): the
- * solution of a step missed it, update the stencils and solve again. */
-int plume_contact_missed(plume_contact *c, const double *x);
 
 #ifdef __cplusplus
 }

@@ -277,6 +277,14 @@ void plume_contact_broad_edges(const plume_contact_broad *b, plume_index *ne, co
         *edges = b ? b->edges : NULL;
 }
 
+void plume_contact_broad_triangles(const plume_contact_broad *b, plume_index *ntri, const plume_index **tri)
+{
+    if (ntri)
+        *ntri = b ? b->ntri : 0;
+    if (tri)
+        *tri = b ? b->tri : NULL;
+}
+
 void plume_contact_broad_stats(const plume_contact_broad *b, long *updates, double *seconds)
 {
     if (updates)

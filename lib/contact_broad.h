@@ -83,6 +83,10 @@ void plume_contact_broad_destroy(plume_contact_broad **b);
  * owned by the handle. Edge ids of the candidates index this array. */
 void plume_contact_broad_edges(const plume_contact_broad *b, plume_index *ne, const plume_index **edges);
 
+/* The triangles copied at create: *tri is [3 * *ntri], owned by the handle. Triangle ids of the
+ * candidates index this array. */
+void plume_contact_broad_triangles(const plume_contact_broad *b, plume_index *ntri, const plume_index **tri);
+
 /* Candidates for positions x [3*nv] (start of the step) and x1 [3*nv] (end of the step, or NULL for
  * a static query), inflation dhat >= 0. Allocates only when the candidate lists outgrow their
  * capacity. PLUME_EINVAL (message in err) on NULL b/x/out, non-finite coordinates (naming the

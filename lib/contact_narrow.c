@@ -675,6 +675,25 @@ static plume_status compose(const plume_contact_opts *o, double d2, const double
     return PLUME_OK;
 }
 
+/* The pair's squared distance d2 through its classified feature f. *near = 0 when d >= dhat:
+ * then E and the outputs g, H are zeroed and nothing else is computed; otherwise gs (and Hs when
+ * H is wanted) receive the derivatives of d2 when g or H is wanted. */
+static plume_status near_feature(const feature *f, const plume_contact_opts *o, const double *x, double *d2,
+                                 double *gs, double *Hs, double *E, double *g, double *H, int *near)
+{
+    plume_status st = eval_feature(f, x, d2, NULL, NULL);
+    *near = 0;
+    if (st)
+        return st;
+    if (*d2 >= o->dhat * o->dhat) {
+        *E = 0.0;
+        zero_out(g, H);
+        return PLUME_OK;
+    }
+    *near = 1;
+    return (g || H) ? eval_feature(f, x, d2, gs, H ? Hs : NULL) : PLUME_OK;
+}
+
 plume_status plume_contact_pt_energy(const plume_contact_opts *o, const double x[12], double *E,
                                      double *g, double *H, plume_contact_pt_type *type)
 {
@@ -687,14 +706,8 @@ plume_status plume_contact_pt_energy(const plume_contact_opts *o, const double x
     if (type)
         *type = t;
     double d2, gs[12], Hs[144];
-    if ((st = eval_feature(&pt_features[t], x, &d2, NULL, NULL)))
-        return st;
-    if (d2 >= o->dhat * o->dhat) {
-        *E = 0.0;
-        zero_out(g, H);
-        return PLUME_OK;
-    }
-    if ((g || H) && (st = eval_feature(&pt_features[t], x, &d2, gs, H ? Hs : NULL)))
+    int near;
+    if ((st = near_feature(&pt_features[t], o, x, &d2, gs, Hs, E, g, H, &near)) || !near)
         return st;
     st = compose(o, d2, (g || H) ? gs : NULL, H ? Hs : NULL, E, g, H);
     if (st == PLUME_OK && H && o->project_psd)
@@ -714,14 +727,8 @@ plume_status plume_contact_ee_energy(const plume_contact_opts *o, const double x
     if (type)
         *type = t;
     double d2, gs[12], Hs[144];
-    if ((st = eval_feature(&ee_features[t], x, &d2, NULL, NULL)))
-        return st;
-    if (d2 >= o->dhat * o->dhat) {
-        *E = 0.0;
-        zero_out(g, H);
-        return PLUME_OK;
-    }
-    if ((g || H) && (st = eval_feature(&ee_features[t], x, &d2, gs, H ? Hs : NULL)))
+    int near;
+    if ((st = near_feature(&ee_features[t], o, x, &d2, gs, Hs, E, g, H, &near)) || !near)
         return st;
     if (eps_x == 0.0) { /* unmollified */
         st = compose(o, d2, (g || H) ? gs : NULL, H ? Hs : NULL, E, g, H);

@@ -79,6 +79,7 @@ struct plume_dynamics {
     int nhandles;
     double t;
     double *x, *v, *xsave, *vsave, *u, *lambda, *lsave;
+    double *xh, *dx; /* [3 nv] a step's start with the handles moved; a motion checked by CCD */
     plume_index n, m;
 };
 
@@ -97,6 +98,8 @@ void plume_dynamics_destroy(plume_dynamics **pd)
     free(d->x);
     free(d->v);
     free(d->xsave);
+    free(d->xh);
+    free(d->dx);
     free(d->vsave);
     free(d->u);
     free(d->lambda);
@@ -242,12 +245,14 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
     size_t nd = (size_t)(3 * nv);
     d->x = malloc(nd * sizeof *d->x);
     d->v = calloc(nd, sizeof *d->v);
-    d->xsave = malloc(3 * nd * sizeof *d->xsave); /* the saved state, then two workspaces (try_step) */
+    d->xsave = malloc(nd * sizeof *d->xsave);
+    d->xh = malloc(nd * sizeof *d->xh);
+    d->dx = malloc(nd * sizeof *d->dx);
     d->vsave = malloc(nd * sizeof *d->vsave);
     d->u = malloc((size_t)(d->n + 1) * sizeof *d->u);
     d->lambda = calloc((size_t)(d->m + 1), sizeof *d->lambda);
     d->lsave = calloc((size_t)(d->m + 1), sizeof *d->lsave);
-    if (!d->x || !d->v || !d->xsave || !d->vsave || !d->u || !d->lambda || !d->lsave) {
+    if (!d->x || !d->v || !d->xsave || !d->xh || !d->dx || !d->vsave || !d->u || !d->lambda || !d->lsave) {
         st = PLUME_ENOMEM;
         goto fail;
     }
@@ -279,7 +284,7 @@ static plume_status refresh_stencils(plume_dynamics *d, int *changed)
 static plume_status safe_start(plume_dynamics *d, const double *xh, int *safe, int *limited)
 {
     plume_index nd = 3 * d->mesh->nv;
-    double *x = plume_problem_x(d->p), *dx = d->xsave + nd; /* workspace past the saved state */
+    double *x = plume_problem_x(d->p), *dx = d->dx;
     double a = 1.0;
     for (plume_index i = 0; i < nd; i++) /* the handles' move (0 on the free dofs) */
         dx[i] = plume_problem_is_fixed(d->p, i) ? xh[i] - x[i] : 0.0;
@@ -307,7 +312,7 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
 {
     plume_index nv = d->mesh->nv;
     inertia_ctx *in = d->inertia;
-    double *x = plume_problem_x(d->p), *xh = d->xsave + 6 * nv; /* workspace: x with the handles moved */
+    double *x = plume_problem_x(d->p), *xh = d->xh;
     int limits = plume_problem_limits_steps(d->p);
     for (plume_index i = 0; i < 3 * nv; i++)
         in->xt[i] = xh[i] = d->x[i] + dt * d->v[i];
