@@ -231,3 +231,42 @@ void test_contact_drop_penalty_passes_through(void)
             s.intersecting_frames, s.min_gap);
     CHECK(s.converged && s.intersecting_frames == 0 && s.min_gap > 0.0);
 }
+
+/* bad input to the term: each error names what is wrong, and nothing is handed out */
+static int create_fails(const plume_contact_term_opts *o, const int *body, const plume_index *tri, const char *needle)
+{
+    const double x[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const plume_index t[3] = {0, 1, 2};
+    plume_term term;
+    plume_contact *h = (plume_contact *)&term; /* any non-NULL value: create must reset it */
+    plume_err err = {{0}};
+    plume_status st = plume_contact_term_create(3, 1, tri ? tri : t, body, x, o, &term, &h, &err);
+    int ok = st == PLUME_EINVAL && strstr(err.msg, needle) != NULL && h == NULL && term.ctx == NULL;
+    if (!ok)
+        fprintf(stderr, "    expected '%s', got %d: %s\n", needle, (int)st, err.msg);
+    return ok;
+}
+
+void test_contact_term_bad_inputs(void)
+{
+    const int body[3] = {0, 0, 0};
+    plume_contact_term_opts o;
+    plume_contact_term_opts_default(&o);
+    o.pair.dhat = 0.0;
+    CHECK(create_fails(&o, body, NULL, "dhat > 0"));
+    plume_contact_term_opts_default(&o);
+    o.pair.stiffness = NAN;
+    CHECK(create_fails(&o, body, NULL, "stiffness"));
+    plume_contact_term_opts_default(&o);
+    o.margin = -1.0;
+    CHECK(create_fails(&o, body, NULL, "margin"));
+    plume_contact_term_opts_default(&o);
+    o.pair.model = (plume_contact_model)7;
+    CHECK(create_fails(&o, body, NULL, "model barrier or penalty"));
+    plume_contact_term_opts_default(&o);
+    CHECK(create_fails(&o, NULL, NULL, "body ids"));
+    const plume_index out_of_range[3] = {0, 1, 5};
+    CHECK(create_fails(&o, body, out_of_range, "triangle 0: vertex id 5 out of range"));
+    plume_term term;
+    CHECK(plume_contact_term_create(3, 1, NULL, body, NULL, &o, &term, NULL, NULL) == PLUME_EINVAL);
+}

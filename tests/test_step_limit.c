@@ -122,6 +122,11 @@ void test_step_limit_wall(void)
     double u[2] = {0.3, 0.5}, du[2] = {0.0, -1.0}, a = -1.0;
     CHECK(plume_problem_max_step(p, u, du, &a) == PLUME_OK && fabs(a - 0.4) < 1e-15);
     CHECK(plume_problem_max_step(p, u, NULL, &a) == PLUME_EINVAL);
+    /* a whole-vector motion from the current x (the handles' move at a step's start) */
+    const double dx[2] = {0.0, -1.0}, bad[2] = {0.0, NAN};
+    CHECK(plume_problem_max_motion(p, dx, &a) == PLUME_OK && fabs(a - 0.4) < 1e-15);
+    CHECK(plume_problem_max_motion(p, bad, &a) == PLUME_EINVAL);
+    CHECK(plume_problem_max_motion(p, NULL, &a) == PLUME_EINVAL);
     plume_problem_destroy(&p);
 }
 
