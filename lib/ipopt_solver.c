@@ -468,6 +468,11 @@ static outcome classify(enum ApplicationReturnStatus r)
     return o;
 }
 
+void plume_ipopt_set_tol_kkt(plume_ipopt *s, double tol_kkt)
+{
+    s->o.tol_kkt = tol_kkt; /* Ipopt's own tol and scaling are set from it at every solve */
+}
+
 plume_status plume_ipopt_solve(plume_ipopt *s, double *u, double *lambda, plume_solve_report *rep)
 {
     if (!s || !u || !rep || (s->m > 0 && !lambda))

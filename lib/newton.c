@@ -586,6 +586,11 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     return PLUME_OK;
 }
 
+void plume_newton_set_tol_kkt(plume_newton *s, double tol_kkt)
+{
+    s->o.tol_kkt = tol_kkt;
+}
+
 void plume_newton_stats(const plume_newton *s, int *analyses, int *factorizations, double *factor_seconds)
 {
     plume_chol_stats(s ? s->chol : NULL, analyses, factorizations, factor_seconds);

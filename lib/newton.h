@@ -17,6 +17,7 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
                                  plume_newton **out, plume_err *err);
 void plume_newton_destroy(plume_newton **s);
 plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plume_solve_report *rep);
+void plume_newton_set_tol_kkt(plume_newton *s, double tol_kkt);
 void plume_newton_stats(const plume_newton *s, int *analyses, int *factorizations, double *factor_seconds);
 
 #ifdef __cplusplus

@@ -1,5 +1,6 @@
 #include "solver.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -95,6 +96,17 @@ plume_status plume_solver_solve(plume_solver *s, double *u, double *lambda, plum
     if (!s)
         return PLUME_EINVAL;
     return s->ipopt ? plume_ipopt_solve(s->ipopt, u, lambda, rep) : plume_newton_solve(s->newton, u, lambda, rep);
+}
+
+plume_status plume_solver_set_tol_kkt(plume_solver *s, double tol_kkt)
+{
+    if (!s || !(tol_kkt > 0.0) || !isfinite(tol_kkt))
+        return PLUME_EINVAL;
+    if (s->ipopt)
+        plume_ipopt_set_tol_kkt(s->ipopt, tol_kkt);
+    else
+        plume_newton_set_tol_kkt(s->newton, tol_kkt);
+    return PLUME_OK;
 }
 
 void plume_solver_stats(const plume_solver *s, int *analyses, int *factorizations, double *factor_seconds)

@@ -111,6 +111,11 @@ void plume_solver_destroy(plume_solver **s);
  * status only for errors (bad input, memory, dependency); convergence is in rep->reason. */
 plume_status plume_solver_solve(plume_solver *s, double *u, double *lambda, plume_solve_report *rep);
 
+/* Changes the relative KKT tolerance of the next solves (tol_kkt > 0 and finite, else
+ * PLUME_EINVAL): one solver, one symbolic analysis, for solves that need different accuracies
+ * (traction's small-strain probe). */
+plume_status plume_solver_set_tol_kkt(plume_solver *s, double tol_kkt);
+
 /* Time spent and count of numeric factorisations / symbolic analyses so far (benchmarks). */
 void plume_solver_stats(const plume_solver *s, int *analyses, int *factorizations,
                         double *factor_seconds);
@@ -120,6 +125,7 @@ typedef struct plume_ipopt plume_ipopt;
 plume_status plume_ipopt_create(plume_problem *p, const plume_solver_opts *o, plume_ipopt **out);
 void plume_ipopt_destroy(plume_ipopt **s);
 plume_status plume_ipopt_solve(plume_ipopt *s, double *u, double *lambda, plume_solve_report *rep);
+void plume_ipopt_set_tol_kkt(plume_ipopt *s, double tol_kkt);
 
 #ifdef __cplusplus
 }

@@ -187,30 +187,23 @@ static double probe_tolerance(const plume_traction_opts *o)
     return o->solver_opts.tol_kkt * fmin(1.0, o->probe_strain * o->steps / o->strain_max);
 }
 
-/* The probe solved with the relative KKT tolerance tol, tighter than the steps', on a solver of
- * its own (a solver's tolerances are fixed at creation), destroyed before the steps' solver is
- * created. Why: with the steps' tolerance a newton probe stops early. Its KKT residual is measured
- * against the force scale of the stiff barbs (~1e-6 E_xx h L), whose round-off floor (~1e-10 of
- * it) the probe reaches while its displacement is still ~1e-4 off at 3e4 triangles (newton
- * converges linearly there, by ~1/50 per iteration). Below the floor the solve ends on the step
- * test (tol_step) instead, i.e. at round-off. */
+/* The probe solved with the relative KKT tolerance tol, tighter than the steps' (the solver's
+ * own tolerance is restored after it). Why: with the steps' tolerance a newton probe stops early.
+ * Its KKT residual is measured against the force scale of the stiff barbs (~1e-6 E_xx h L), whose
+ * round-off floor (~1e-10 of it) the probe reaches while its displacement is still ~1e-4 off at
+ * 3e4 triangles (newton converges linearly there, by ~1/50 per iteration). Below the floor the
+ * solve ends on the step test (tol_step) instead, i.e. at round-off. */
 static plume_status solve_probe_tight(const plume_mesh *mesh, plume_problem *p, const grips *g,
-                                      const plume_traction_opts *o, double tol, const double *xrest, double delta,
-                                      double *u, double *lambda, plume_solve_report *rep, int *factorizations,
-                                      double *factor_seconds, plume_err *err)
+                                      const plume_traction_opts *o, plume_solver *s, double tol, const double *xrest,
+                                      double delta, double *u, double *lambda, plume_solve_report *rep,
+                                      plume_err *err)
 {
-    plume_solver_opts so = o->solver_opts;
-    so.tol_kkt = tol;
-    plume_solver *s = NULL;
-    plume_status st = plume_solver_create(o->solver, p, &so, &s);
-    if (st != PLUME_OK)
-        return plume_err_set(err, st, "traction: could not create the probe's %s solver (%s)",
-                             plume_solver_kind_name(o->solver), plume_strerror(st));
     predict(mesh, p, g, o->ly, delta, xrest, 0.0, xrest, 0.0);
     plume_problem_gather(p, u);
-    st = plume_solver_solve(s, u, lambda, rep);
-    plume_solver_stats(s, NULL, factorizations, factor_seconds);
-    plume_solver_destroy(&s);
+    plume_status st = plume_solver_set_tol_kkt(s, tol);
+    if (st == PLUME_OK)
+        st = plume_solver_solve(s, u, lambda, rep);
+    plume_solver_set_tol_kkt(s, o->solver_opts.tol_kkt);
     if (st != PLUME_OK)
         return plume_err_set(err, st, "traction: step 0 (probe): solver error (%s)", plume_strerror(st));
     return PLUME_OK;
@@ -344,8 +337,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     if (o->progress == 0)
         prog.enabled = 0;
 
-    int probe_factorizations = 0;
-    double probe_factor_seconds = 0.0, probe_tol = probe_tolerance(o);
+    double probe_tol = probe_tolerance(o);
 
     /* step 0 is the small-strain probe (initial slope), then the quasi-static steps */
     for (int k = 0; k <= o->steps; k++) {
@@ -354,17 +346,17 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         double delta = strain * o->ly;
         plume_solve_report rep, tight;
         memset(&tight, 0, sizeof tight);
-        if (probe && probe_tol < o->solver_opts.tol_kkt && o->solver != PLUME_SOLVER_LINEARIZED) {
-            if ((st = solve_probe_tight(mesh, p, &g, o, probe_tol, h.xa, delta, u, lambda, &tight,
-                                        &probe_factorizations, &probe_factor_seconds, err)) != PLUME_OK)
-                goto cleanup;
-            if (!tight.converged) /* a round-off floor above sqrt(probe_tol): start again below */
-                memset(lambda, 0, (size_t)(m + 1) * sizeof *lambda);
-        }
         if (!solver && (st = plume_solver_create(o->solver, p, &o->solver_opts, &solver)) != PLUME_OK) {
             plume_err_set(err, st, "traction: could not create the %s solver (%s)", plume_solver_kind_name(o->solver),
                           plume_strerror(st));
             goto cleanup;
+        }
+        if (probe && probe_tol < o->solver_opts.tol_kkt && o->solver != PLUME_SOLVER_LINEARIZED) {
+            if ((st = solve_probe_tight(mesh, p, &g, o, solver, probe_tol, h.xa, delta, u, lambda, &tight, err)) !=
+                PLUME_OK)
+                goto cleanup;
+            if (!tight.converged) /* a round-off floor above sqrt(probe_tol): start again below */
+                memset(lambda, 0, (size_t)(m + 1) * sizeof *lambda);
         }
         if (tight.converged) {
             rep = tight;
@@ -474,8 +466,6 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     }
     plume_progress_finish(&prog);
     plume_solver_stats(solver, NULL, &res->factorizations, &res->factor_seconds);
-    res->factorizations += probe_factorizations;
-    res->factor_seconds += probe_factor_seconds;
     st = PLUME_OK;
 cleanup:
     res->seconds = plume_wall_seconds() - t_start;

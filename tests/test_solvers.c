@@ -440,6 +440,50 @@ void test_solvers_chain(void)
     for_each_solver(case_chain);
 }
 
+/* One solver, two tolerances (plume_solver_set_tol_kkt): from a start a little off equilibrium,
+ * a tolerance of 1 (relative) is met before any iteration, the default one is not; bad tolerances
+ * are refused. */
+static void case_set_tol(plume_solver_kind kind)
+{
+    plume_solver_opts o;
+    opts(&o);
+    anchor_ctx *force = NULL;
+    plume_problem *p = chain_problem(CHAIN_H, CHAIN_KS, &force);
+    plume_solver *s = NULL;
+    if (!p)
+        return;
+    CHECK(plume_solver_create(kind, p, &o, &s) == PLUME_OK);
+    if (!s)
+        goto done;
+    double u[2 * CHAIN_N], lam[CHAIN_N];
+    memset(lam, 0, sizeof lam);
+    plume_problem_gather(p, u);
+    force->f[0] = CHAIN_F, force->f[1] = 0.0;
+    plume_solve_report rep;
+    CHECK(plume_solver_solve(s, u, lam, &rep) == PLUME_OK && rep.converged);
+    force->f[0] = CHAIN_F * cos(1e-3), force->f[1] = CHAIN_F * sin(1e-3); /* turned a little */
+    CHECK(plume_solver_set_tol_kkt(s, 1.0) == PLUME_OK);
+    CHECK(plume_solver_solve(s, u, lam, &rep) == PLUME_OK && rep.converged && rep.iterations == 0);
+    double loose = rep.kkt_residual;
+    CHECK(plume_solver_set_tol_kkt(s, o.tol_kkt) == PLUME_OK);
+    CHECK(plume_solver_solve(s, u, lam, &rep) == PLUME_OK && rep.converged && rep.iterations > 0);
+    fprintf(stderr, "    %s: kkt %.2e after 0 iterations at tolerance 1, %.2e after %d at %.0e\n",
+            plume_solver_kind_name(kind), loose, rep.kkt_residual, rep.iterations, o.tol_kkt);
+    CHECK(loose > o.tol_kkt && rep.kkt_residual <= o.tol_kkt);
+    CHECK(plume_solver_set_tol_kkt(s, 0.0) == PLUME_EINVAL);
+    CHECK(plume_solver_set_tol_kkt(s, NAN) == PLUME_EINVAL);
+    CHECK(plume_solver_set_tol_kkt(s, INFINITY) == PLUME_EINVAL);
+    CHECK(plume_solver_set_tol_kkt(NULL, 1e-9) == PLUME_EINVAL);
+done:
+    plume_solver_destroy(&s);
+    plume_problem_destroy(&p);
+}
+
+void test_solvers_set_tol_kkt(void)
+{
+    for_each_solver(case_set_tol);
+}
+
 /* ---- (4) infeasible ---- */
 
 /* A - C - B with rest lengths 1/2 each, A and B clamped 2 apart: C cannot reach both. Neither
