@@ -94,6 +94,7 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     s->o = *o;
     s->single_step = single_step;
     s->limits = plume_problem_limits_steps(p);
+    s->refine_rtol = 1e-15;
     s->n = plume_problem_nfree(p);
     s->m = plume_problem_ncons(p);
     s->nk = s->n + s->m;
@@ -397,6 +398,10 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
         }
         if (it >= max_iter)
             break;
+        /* inexact Newton (Eisenstat & Walker's forcing term): the refined KKT solve needs a
+         * linear residual of eta ||rhs|| with eta = min(1e-2, res), loose while the residual is
+         * large, tight (down to round-off) near convergence, where it keeps the quadratic rate */
+        s->refine_rtol = fmax(1e-15, fmin(1e-2, res));
         double step_max;
     retry:;
         /* no chord steps within 100 tol_kkt of convergence (the last iterations are full Newton

@@ -278,9 +278,16 @@ static plume_status kkt_solve_j(plume_newton *s, const double *jv, const double 
     double *b = s->rb, *res = s->rr, *dx = s->rd;
     memcpy(b, r, (size_t)nk * sizeof *b);
     plume_status st = elim_solve(s, jv, b, out);
-    double bmax = 0.0;
-    for (plume_index i = 0; i < nk; i++)
-        bmax = fmax(bmax, fabs(b[i]));
+    /* the force rows and the constraint rows are judged against their own right-hand sides (a
+     * small violation g asks for a small residual in its rows), each at least to round-off of the
+     * whole */
+    double bf = 0.0, bc = 0.0;
+    for (plume_index i = 0; i < n; i++)
+        bf = fmax(bf, fabs(b[i]));
+    for (plume_index q = 0; q < m; q++)
+        bc = fmax(bc, fabs(b[n + q]));
+    const double floor = 1e-15 * fmax(bf, bc);
+    const double tol_f = fmax(s->refine_rtol * bf, floor), tol_c = fmax(s->refine_rtol * bc, floor);
     double last = INFINITY;
     for (int pass = 0; st == PLUME_OK && pass < 8; pass++) {
         /* res = b - [H + d I, J^T; J, -dc I] out */
@@ -300,10 +307,13 @@ static plume_status kkt_solve_j(plume_newton *s, const double *jv, const double 
             res[s->jcol[k]] -= jv[k] * out[n + s->jrow[k]];
             res[n + s->jrow[k]] -= jv[k] * out[s->jcol[k]];
         }
-        double rmax = 0.0;
-        for (plume_index i = 0; i < nk; i++)
-            rmax = fmax(rmax, fabs(res[i]));
-        if (!(rmax > 1e-15 * bmax) || !(rmax < 0.5 * last))
+        double rf = 0.0, rc = 0.0;
+        for (plume_index i = 0; i < n; i++)
+            rf = fmax(rf, fabs(res[i]));
+        for (plume_index q = 0; q < m; q++)
+            rc = fmax(rc, fabs(res[n + q]));
+        double rmax = fmax(rf, rc);
+        if ((!(rf > tol_f) && !(rc > tol_c)) || !(rmax < 0.5 * last))
             break;
         last = rmax;
         if ((st = elim_solve(s, jv, res, dx)) == PLUME_OK)

@@ -89,7 +89,8 @@ typedef struct {
     int kkt_refine;        /* newton, eliminated KKT: factorise with a 1e4 times larger multiplier
                               regularisation and refine the solution iteratively against the
                               requested one (a Cholesky factor of H + J^T J / dc, whose constraint
-                              part is 1e8 times the Hessian's, loses 8 digits of H); default 1 */
+                              part is 1e8 times the Hessian's, loses 8 digits of H), to a relative
+                              residual of min(1e-2, KKT residual) (inexact Newton); default 1 */
     int verbose;           /* print one line per iteration on stderr */
     int exact_hessian_first; /* newton without constraints: factorise the exact Hessian first and
                                 fall back to the PSD-projected one if it is not positive definite;

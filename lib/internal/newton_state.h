@@ -25,6 +25,8 @@ struct plume_newton {
     double diag;             /* the diagonal shift of the last factorisation */
     double *rb, *rr, *rd;    /* [n+m+1] iterative refinement */
     int refinements;         /* refinement passes in this solve */
+    double refine_rtol;      /* refinement stops below this residual, relative to the right-hand
+                                side: the forcing term of the current iteration */
     double shift, shift_last; /* exact-Hessian shift of the last factorisation; the last nonzero one */
     int projected;           /* the last factorisation used the projected Hessian */
     int shifts;              /* factorisations that failed for inertia in this solve */
