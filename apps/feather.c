@@ -191,6 +191,58 @@ static int same_file(const char *a, const char *b)
     return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
+/* Measures of a contact scene that do not trust the model, after every step: triangle pairs that
+ * intersect (CGAL's exact predicates, no common vertex) and the smallest distance between
+ * non-adjacent primitives of the bodies in contact (up to 10 dhat), with the steps CCD cut short. */
+typedef struct {
+    plume_contact_broad *broad; /* for the distances (the scene's bodies and self setting) */
+    plume_contact_pairs pairs;  /* the audit's list, reused */
+    long steps_intersecting, step_limited;
+    plume_index max_intersecting;
+    double min_distance, cap, seconds;
+} contact_monitor;
+
+static int contact_monitor_start(contact_monitor *cm, const plume_scene *s, plume_err *err)
+{
+    memset(cm, 0, sizeof *cm);
+    const plume_mesh *m = s->mesh;
+    int *body = malloc((size_t)(m->nv + 1) * sizeof *body);
+    if (!body || plume_scene_bodies(s, body) < 0) {
+        free(body);
+        plume_err_set(err, PLUME_ENOMEM, "out of memory");
+        return 0;
+    }
+    plume_contact_broad_opts bo;
+    plume_contact_broad_opts_default(&bo);
+    bo.self_contact = s->contact.self_contact;
+    plume_status st = plume_contact_broad_create(m->nv, m->nt, m->tri, body, &bo, &cm->broad, err);
+    free(body);
+    cm->cap = 10.0 * s->contact.pair.dhat;
+    cm->min_distance = cm->cap;
+    return st == PLUME_OK;
+}
+
+static int contact_monitor_step(contact_monitor *cm, const plume_mesh *m, const double *x, plume_err *err)
+{
+    double t0 = plume_wall_seconds(), dmin;
+    plume_contact_audit a;
+    if (plume_contact_count_intersections(m->nv, x, m->nt, m->tri, &cm->pairs, &a, err) != PLUME_OK ||
+        plume_contact_min_distance(cm->broad, x, cm->cap, &dmin, err) != PLUME_OK)
+        return 0;
+    cm->steps_intersecting += a.intersecting > 0;
+    if (a.intersecting > cm->max_intersecting)
+        cm->max_intersecting = a.intersecting;
+    cm->min_distance = fmin(cm->min_distance, dmin);
+    cm->seconds += plume_wall_seconds() - t0;
+    return 1;
+}
+
+static void contact_monitor_end(contact_monitor *cm)
+{
+    plume_contact_broad_destroy(&cm->broad);
+    plume_contact_pairs_free(&cm->pairs);
+}
+
 /* The scene's name without directory and .json, for the default output directory and titles. */
 static void scene_stem(const char *path, char *out, size_t n)
 {
@@ -261,6 +313,8 @@ int main(int argc, char **argv)
     plume_scene *scene = NULL;
     plume_problem *p = NULL;
     plume_dynamics *d = NULL;
+    contact_monitor cm; /* contact scenes only; freed at done: */
+    memset(&cm, 0, sizeof cm);
     plume_frame last = {0};
     if ((st = plume_scene_load(o.scene, &scene, &err)) != PLUME_OK)
         return cli_fail(APP, "%s", err.msg);
@@ -356,6 +410,10 @@ int main(int argc, char **argv)
     double max_violation = 0.0, loop_start = plume_wall_seconds(), solve_seconds = 0.0;
     int converged = 1, failed = 0;
     plume_reason failed_reason = PLUME_REASON_CONVERGED;
+    if (scene->has_contact && !contact_monitor_start(&cm, scene, &err)) {
+        rc = run_fail("contact measures: %s", err.msg);
+        goto done;
+    }
     for (long i = 1; i <= nsteps; i++) {
         plume_step_report rep;
         double t0 = plume_dynamics_time(d);
@@ -367,7 +425,12 @@ int main(int argc, char **argv)
         iterations += rep.iterations;
         backtracks += rep.backtracks;
         shifts += rep.shifts;
+        cm.step_limited += rep.step_limited;
         solve_seconds += rep.seconds;
+        if (scene->has_contact && !contact_monitor_step(&cm, mesh, plume_dynamics_positions(d), &err)) {
+            rc = run_fail("contact measures: %s", err.msg);
+            goto done;
+        }
         max_violation = fmax(max_violation, rep.max_violation);
         double t1 = plume_dynamics_time(d);
         int advanced = fabs(t1 - (t0 + dt)) <= 1e-9 * fmax(dt, fabs(t1));
@@ -433,6 +496,19 @@ int main(int argc, char **argv)
         json_object_set_new(j, "frames_file", json_string(frames_path));
         if (o.restart)
             json_object_set_new(j, "restarted_from", json_string(o.restart));
+        if (scene->has_contact) {
+            json_t *jc = json_object();
+            json_object_set_new(jc, "model", json_string(scene->contact.pair.model == PLUME_CONTACT_BARRIER ? "barrier"
+                                                                                                      : "penalty"));
+            json_object_set_new(jc, "dhat", json_real(scene->contact.pair.dhat));
+            json_object_set_new(jc, "steps_intersecting", json_integer(cm.steps_intersecting));
+            json_object_set_new(jc, "max_intersecting_pairs", json_integer(cm.max_intersecting));
+            json_object_set_new(jc, "min_distance", json_real(cm.min_distance));
+            json_object_set_new(jc, "min_distance_cap", json_real(cm.cap));
+            json_object_set_new(jc, "step_limited", json_integer(cm.step_limited));
+            json_object_set_new(jc, "measure_seconds", json_real(cm.seconds));
+            json_object_set_new(j, "contact", jc);
+        }
         char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
         if (txt)
             puts(txt);
@@ -445,9 +521,16 @@ int main(int argc, char **argv)
                stem, done_steps, plume_dynamics_time(d), frames, next_frame - 1, outdir, (long)mesh->nt, (long)ncons,
                iterations, backtracks, shifts, halvings, max_violation, total, new_frames > 0 ? loop_seconds / (double)new_frames : 0.0,
                failed ? ", stopped: a step did not converge" : !converged ? ", single linearised steps, not converged" : "");
+        if (scene->has_contact)
+            printf("%s: contact (%s, dhat %g m): intersecting triangle pairs in %ld of %ld steps (at most %ld), "
+                   "smallest distance %.3g m%s, %ld steps cut short by CCD\n",
+                   stem, scene->contact.pair.model == PLUME_CONTACT_BARRIER ? "barrier" : "penalty",
+                   scene->contact.pair.dhat, cm.steps_intersecting, done_steps, (long)cm.max_intersecting,
+                   cm.min_distance, cm.min_distance >= cm.cap ? " (or more)" : "", cm.step_limited);
     }
     rc = failed ? 3 : 0;
 done:
+    contact_monitor_end(&cm);
     plume_frame_free(&last);
     plume_dynamics_destroy(&d);
     plume_problem_destroy(&p);

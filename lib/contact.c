@@ -52,16 +52,22 @@ static void contact_destroy(void *ctx)
 
 /* the four vertices of candidate k of a broad-phase answer: (v, t0, t1, t2) for the first nvt
  * (point–triangle), (ea0, ea1, eb0, eb1) after them (edge–edge) */
+static void candidate_vertices(const plume_index *tri, const plume_index *edges, const plume_contact_candidates *cand,
+                               plume_index k, plume_index v[4])
+{
+    if (k < cand->nvt) {
+        const plume_index *t = tri + 3 * cand->vt[k].b;
+        v[0] = cand->vt[k].a, v[1] = t[0], v[2] = t[1], v[3] = t[2];
+    } else {
+        const plume_index *a = edges + 2 * cand->ee[k - cand->nvt].a, *b = edges + 2 * cand->ee[k - cand->nvt].b;
+        v[0] = a[0], v[1] = a[1], v[2] = b[0], v[3] = b[1];
+    }
+}
+
 static void pair_vertices(const plume_contact *c, const plume_contact_candidates *cand, plume_index k,
                           plume_index v[4])
 {
-    if (k < cand->nvt) {
-        const plume_index *t = c->tri + 3 * cand->vt[k].b;
-        v[0] = cand->vt[k].a, v[1] = t[0], v[2] = t[1], v[3] = t[2];
-    } else {
-        const plume_index *a = c->edges + 2 * cand->ee[k - cand->nvt].a, *b = c->edges + 2 * cand->ee[k - cand->nvt].b;
-        v[0] = a[0], v[1] = a[1], v[2] = b[0], v[3] = b[1];
-    }
+    candidate_vertices(c->tri, c->edges, cand, k, v);
 }
 
 static void gather12(const double *x, const plume_index *v, double out[12])
@@ -218,6 +224,34 @@ static plume_status contact_max_step(void *ctx, int dim, const double *x, const 
     c->st.step_limits += a < 1.0;
     *alpha = a;
     return st;
+}
+
+plume_status plume_contact_min_distance(plume_contact_broad *b, const double *x, double cap, double *dmin,
+                                        plume_err *err)
+{
+    if (!b || !x || !dmin || !(cap > 0.0) || !isfinite(cap))
+        return plume_err_set(err, PLUME_EINVAL, "contact: min distance needs a broad phase, positions and a cap > 0");
+    *dmin = cap;
+    plume_contact_candidates cand;
+    plume_status st = plume_contact_broad_update(b, x, NULL, cap, &cand, err);
+    if (st != PLUME_OK)
+        return st;
+    plume_index ne, ntri;
+    const plume_index *edges, *tri;
+    plume_contact_broad_edges(b, &ne, &edges);
+    plume_contact_broad_triangles(b, &ntri, &tri);
+    double d2min = cap * cap;
+    for (plume_index k = 0; k < cand.nvt + cand.nee; k++) {
+        plume_index v[4];
+        double xs[12], d2;
+        candidate_vertices(tri, edges, &cand, k, v);
+        gather12(x, v, xs);
+        if ((st = k < cand.nvt ? plume_contact_pt_dist2(xs, &d2) : plume_contact_ee_dist2(xs, &d2)) != PLUME_OK)
+            return plume_err_set(err, st, "contact: a candidate pair's distance failed (%s)", plume_strerror(st));
+        d2min = fmin(d2min, d2);
+    }
+    *dmin = sqrt(d2min);
+    return PLUME_OK;
 }
 
 void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s)

@@ -9,6 +9,7 @@
 #define PLUME_CONTACT_H
 
 #include "ccd.h"
+#include "contact_broad.h"
 #include "contact_narrow.h"
 #include "term.h"
 
@@ -48,6 +49,12 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
                                        plume_contact **handle, plume_err *err);
 
 void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s);
+
+/* A measure that does not trust the model: the smallest distance between non-adjacent primitives
+ * (point–triangle and edge–edge pairs of the broad phase b, lib/contact_broad.h) at positions x,
+ * or cap when no pair is closer than cap. */
+plume_status plume_contact_min_distance(plume_contact_broad *b, const double *x, double cap, double *dmin,
+                                        plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -177,7 +177,8 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s, 
 {
     static const char *const keys[] = {"mesh", "materials", "handles", "gravity", "dt", "duration", "solver",
                                        "max_halvings", "max_iter", "output_every", "render", "camera", "solve",
-                                       "steps", "clamps", "supports", "loads", "probes", "bending_model", NULL};
+                                       "steps", "clamps", "supports", "loads", "probes", "bending_model", "contact",
+                                       NULL};
     plume_status st;
     plume_index *map = NULL, nobj = 0;
     if (!json_is_object(doc))
@@ -209,6 +210,8 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s, 
             return plume_json_bad(c, PLUME_EINVAL, "bending_model", "must be \"shape_operator\" or \"hinge\"");
         s->hinge_bending = bv[0] == 'h';
     }
+    if ((v = json_object_get(doc, "contact")) && (st = plume_scene_parse_contact(c, v, s)) != PLUME_OK)
+        return st;
     s->steps = 10;
     long steps = s->steps;
     if ((st = plume_json_int(c, doc, "", "steps", 1, 1000000, &steps)) != PLUME_OK)

@@ -39,6 +39,13 @@
  * diagonal direction; delaunay: a CGAL quality mesh that ignores the barbs; aligned: the barb-
  * aligned patch mesher), all over [0, lx] x [0, ly].
  *
+ * Contact between the scene's shells (dynamic scenes; lib/contact.h): "contact": {"model":
+ * "barrier" | "penalty", "dhat": m, "stiffness": kappa or the penalty's (required), "self": false,
+ * "margin": m}. The bodies are the connected components of the mesh (an OBJ with several pieces);
+ * "self": true makes non-adjacent parts of one body touch too. Defaults: barrier, dhat 1e-3 (the
+ * paper's repulsion thickness, Table 3 (b)), self false, margin 0. "friction" is refused: lagged
+ * friction is not built yet.
+ *
  * Static scenes ("solve": "static"; dt and duration are then not used, "steps" load steps,
  * default 10) reach equilibrium under loads stepped from 0 to their full value:
  *     "clamps": [ {selector} ]  the selected vertices are fixed and so is the slope (the rest
@@ -70,6 +77,7 @@
 #ifndef PLUME_SCENE_H
 #define PLUME_SCENE_H
 
+#include "../lib/contact.h"
 #include "../lib/dynamics.h"
 #include "../lib/membrane.h"
 #include "../lib/mesh.h"
@@ -134,6 +142,8 @@ typedef struct {
     double camera[2];             /* rot_x, rot_z (degrees); default 60, 30 */
     double length;                /* diagonal of the reference bounding box (m) */
     int hinge_bending;            /* "bending_model": "hinge"; default "shape_operator" */
+    int has_contact;              /* a "contact" block */
+    plume_contact_term_opts contact; /* its settings */
     /* static scenes */
     int is_static;                /* "solve": "static" */
     int steps;                    /* load steps; default 10 */
@@ -174,6 +184,10 @@ plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **p, plume
  * scene's steps, solver and max_iter. *p and *st belong to the caller (destroy st first); the
  * scene must outlive them. Errors: the scene is not static (PLUME_EINVAL). */
 plume_status plume_scene_statics(const plume_scene *s, plume_problem **p, plume_statics **st, plume_err *err);
+
+/* The body of each vertex (body [nv], caller-allocated): the connected components of the scene's
+ * mesh, numbered from 0 in vertex order; returns their count. */
+int plume_scene_bodies(const plume_scene *s, int *body);
 
 /* Mean displacement (3) of probe k at positions x (3 nv). */
 void plume_scene_probe_displacement(const plume_scene *s, int k, const double *x, double u[3]);

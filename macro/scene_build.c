@@ -69,6 +69,23 @@ done:
     return st;
 }
 
+/* the contact term between the mesh's bodies (its connected components) */
+static plume_status add_contact(const plume_scene *s, plume_problem *p, plume_err *err)
+{
+    const plume_mesh *m = s->mesh;
+    int *body = malloc((size_t)(m->nv + 1) * sizeof *body);
+    if (!body || plume_scene_bodies(s, body) < 0) {
+        free(body);
+        return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
+    }
+    plume_term t;
+    plume_status st = plume_contact_term_create(m->nv, m->nt, m->tri, body, m->x, &s->contact, &t, NULL, err);
+    free(body);
+    if (st == PLUME_OK)
+        st = plume_problem_add_term(p, &t);
+    return st;
+}
+
 plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **pp, plume_dynamics **pd, plume_err *err)
 {
     if (!s || !s->mesh || !pp || !pd)
@@ -86,7 +103,7 @@ plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **pp, plum
     }
     for (int k = 0; k < s->nmat; k++)
         rho[k] = s->mats[k].density;
-    if ((st = elastic_problem(s, &p, err)) != PLUME_OK)
+    if ((st = elastic_problem(s, &p, err)) != PLUME_OK || (s->has_contact && (st = add_contact(s, p, err)) != PLUME_OK))
         goto fail;
     plume_dynamics_opts o;
     plume_dynamics_opts_default(&o);

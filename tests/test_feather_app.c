@@ -117,6 +117,36 @@ void test_feather_app_scene_errors(void)
          "\"handles\": [{\"box\": [0, 0, 0.005, 0.02], \"keyframes\": [[0, 0, 0, 0]]}, {\"vertices\": [0], \"keyframes\": [[0, 0, 0, 0]]}]",
          "handles[1] shares vertex 0 with handles[0]"},
     };
+    /* the contact block: each key checked and named (line 9 is "duration") */
+    const char *contact_cases[][3] = {
+        {"\"model\": \"barrier\"", "\"model\": \"springs\"", "scene.json:9: contact.model must be \"barrier\" or \"penalty\""},
+        {"\"dhat\": 1e-3", "\"dhat\": -1e-3", "scene.json:9: contact.dhat must be > 0"},
+        {", \"stiffness\": 1", "", "contact.stiffness is missing"},
+        {"\"stiffness\": 1", "\"stiffness\": 0", "scene.json:9: contact.stiffness must be > 0"},
+        {"\"stiffness\": 1", "\"stiffness\": 1, \"self\": 1", "scene.json:9: contact.self must be true or false"},
+        {"\"stiffness\": 1", "\"stiffness\": 1, \"margin\": -1", "scene.json:9: contact.margin must be >= 0"},
+        {"\"stiffness\": 1", "\"stiffness\": 1, \"friction\": 0.3", "scene.json:9: contact.friction is not supported yet"},
+        {"\"stiffness\": 1", "\"stiffness\": 1, \"kappa\": 2", "scene.json:9: contact.kappa is an unknown key"},
+        {"\"duration\": 0.1", "\"duration\": 0.1, \"solve\": \"static\"", "contact is for dynamic scenes only"},
+    };
+    char *with_contact = replace(good, "  \"duration\": 0.1,\n",
+                                 "  \"duration\": 0.1, \"contact\": {\"model\": \"barrier\", \"dhat\": 1e-3, \"stiffness\": 1},\n");
+    write_text(path, with_contact);
+    CHECK(plume_scene_load(path, &s, &err) == PLUME_OK && s && s->has_contact && s->contact.pair.dhat == 1e-3 &&
+          s->contact.pair.model == PLUME_CONTACT_BARRIER && !s->contact.self_contact);
+    plume_scene_destroy(&s);
+    for (size_t k = 0; k < sizeof contact_cases / sizeof contact_cases[0]; k++) {
+        char *text = replace(with_contact, contact_cases[k][0], contact_cases[k][1]);
+        CHECK(strcmp(text, with_contact) != 0);
+        write_text(path, text);
+        free(text);
+        CHECK(plume_scene_load(path, &s, &err) != PLUME_OK && s == NULL);
+        if (!strstr(err.msg, contact_cases[k][2])) {
+            plume_test_failures++;
+            fprintf(stderr, "    contact case %zu: expected '%s' in: %s\n", k, contact_cases[k][2], err.msg);
+        }
+    }
+    free(with_contact);
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         char *text = replace(good, cases[k][0], cases[k][1]);
         CHECK(strcmp(text, good) != 0);
@@ -223,6 +253,78 @@ void test_feather_app_shipped_scenes(void)
                   s->mats[0].membrane.E_xx == s->mats[0].membrane.E_yy);
         plume_scene_destroy(&s);
     }
+}
+
+/* The contact example (data/shell/strip_on_plate.json): a strip lowered onto a plate. With the
+ * barrier no step has an intersecting triangle pair and the strip ends within dhat of the plate;
+ * the paper's penalty (stiffness 1e11 J/m^2, Table 3 (b)) runs the same scene and, this slow,
+ * holds the strip at its repulsion thickness (the fast fall that it lets through is in
+ * tests/test_contact.c). */
+void test_feather_app_contact_scene(void)
+{
+    char dir[64] = "/tmp/plume-contact-XXXXXX", args[512], out[8192], err[4096];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    plume_scene *s = NULL;
+    plume_err e = {{0}};
+    CHECK(plume_scene_load("../data/shell/strip_on_plate.json", &s, &e) == PLUME_OK && s && s->has_contact);
+    if (s) {
+        int *body = malloc((size_t)s->mesh->nv * sizeof *body);
+        CHECK(plume_scene_bodies(s, body) == 2); /* the strip and the plate */
+        CHECK(body[0] == 0 && body[s->mesh->nv - 1] == 1);
+        free(body);
+    }
+    plume_scene_destroy(&s);
+    double dmin[2] = {-1.0, -1.0};
+    long inter[2] = {-1, -1};
+    for (int model = 0; model < 2; model++) {
+        const char *scene = "../data/shell/strip_on_plate.json";
+        char variant[128];
+        if (model) { /* the same scene with the paper's penalty */
+            char src[PATH_MAX];
+            CHECK(realpath(scene, src) != NULL);
+            FILE *f = fopen(src, "r");
+            static char text[8192];
+            size_t n = f ? fread(text, 1, sizeof text - 1, f) : 0;
+            text[n] = 0;
+            if (f)
+                fclose(f);
+            char obj[PATH_MAX];
+            CHECK(realpath("../data/shell/strip_on_plate.obj", obj) != NULL);
+            char *a = replace(text, "\"model\": \"barrier\", \"dhat\": 1e-3, \"stiffness\": 1.0",
+                              "\"model\": \"penalty\", \"dhat\": 1e-3, \"stiffness\": 1e11");
+            char *b = replace(a, "\"strip_on_plate.obj\"", "\"@\"");
+            char *c = replace(b, "@", obj);
+            snprintf(variant, sizeof variant, "%s/penalty.json", dir);
+            write_text(variant, c);
+            free(a), free(b), free(c);
+            scene = variant;
+        }
+        snprintf(args, sizeof args, "%s -o %s/%d --json --quiet", scene, dir, model);
+        int rc = app_run(dir, "feather", args, out, sizeof out, err, sizeof err);
+        CHECK(rc == 0);
+        const char *jc = strstr(out, "\"contact\"");
+        CHECK(jc != NULL);
+        if (rc != 0 || !jc) {
+            fprintf(stderr, "    %s\n", err);
+            continue;
+        }
+        const char *p = strstr(jc, "\"steps_intersecting\":"), *q = strstr(jc, "\"min_distance\":");
+        CHECK(p && q);
+        if (p && q) {
+            inter[model] = strtol(p + strlen("\"steps_intersecting\":"), NULL, 10);
+            dmin[model] = strtod(q + strlen("\"min_distance\":"), NULL);
+        }
+        CHECK(strstr(out, "\"converged\": true") != NULL);
+    }
+    fprintf(stderr, "    barrier: intersecting in %ld steps, smallest distance %.3g m; penalty (1e11): %ld, %.3g m\n",
+            inter[0], dmin[0], inter[1], dmin[1]);
+    CHECK(inter[0] == 0 && dmin[0] > 0.0 && dmin[0] < 1e-3); /* in contact, never through */
+    /* the stiff penalty holds the strip at its repulsion thickness, here without passing through */
+    CHECK(inter[1] == 0 && dmin[1] > 0.9e-3 && dmin[1] <= 1e-3 + 1e-12);
+    rm_rf(dir);
 }
 
 /* The strip example for a few frames: exit 0, the JSON summary, the outputs on disk. */

@@ -38,4 +38,8 @@ plume_status plume_scene_select(const plume_json_ctx *c, json_t *obj, const char
 plume_status plume_scene_parse_static(const plume_json_ctx *c, json_t *doc, plume_scene *s, const plume_index *map,
                                       plume_index nobj);
 
+/* The "contact" block of a dynamic scene into s->contact (s->has_contact = 1); errors name the
+ * key. */
+plume_status plume_scene_parse_contact(const plume_json_ctx *c, json_t *v, plume_scene *s);
+
 #endif
