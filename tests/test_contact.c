@@ -12,50 +12,62 @@
 #include "../lib/contact_broad.h"
 #include "../lib/dynamics.h"
 
-/* Two bodies in one mesh: a fixed ground square (material 0) at z = 0 and a plate (material 1)
- * of side `side` centred above it at height z0. */
+/* Bodies in one mesh: a fixed ground square 1 m x 1 m (body 0, material 0) at z = 0, then n
+ * square plates (bodies 1..n, material 1) of the given sides, element edges and heights, centred
+ * above it. */
 typedef struct {
     plume_mesh *mesh;
     int *body;
     plume_index nground;
 } two_bodies;
 
-static int two_bodies_build(two_bodies *b, double side, double z0, double edge)
+static int bodies_build(two_bodies *b, int n, const double *side, const double *z, const double *edge)
 {
     memset(b, 0, sizeof *b);
-    plume_mesh *g = NULL, *q = NULL;
+    plume_mesh *part[4] = {NULL, NULL, NULL, NULL};
     plume_err err = {{0}};
-    if (plume_patch_mesh(1.0, 1.0, 0.0, 0.25, PLUME_PATCH_UNALIGNED, 3, &g, &err) != PLUME_OK ||
-        plume_patch_mesh(side, side, 0.0, edge, PLUME_PATCH_UNALIGNED, 3, &q, &err) != PLUME_OK ||
-        plume_mesh_create(g->nv + q->nv, g->nt + q->nt, 3, &b->mesh) != PLUME_OK) {
-        plume_mesh_destroy(&g);
-        plume_mesh_destroy(&q);
-        return 0;
+    plume_index nv = 0, nt = 0;
+    int ok = n >= 1 && n <= 3;
+    for (int k = 0; ok && k <= n; k++) {
+        double sk = k ? side[k - 1] : 1.0, ek = k ? edge[k - 1] : 0.25;
+        ok = plume_patch_mesh(sk, sk, 0.0, ek, PLUME_PATCH_UNALIGNED, 3, &part[k], &err) == PLUME_OK;
+        if (ok)
+            nv += part[k]->nv, nt += part[k]->nt;
     }
+    if (ok)
+        ok = plume_mesh_create(nv, nt, 3, &b->mesh) == PLUME_OK;
     plume_mesh *m = b->mesh;
-    b->nground = g->nv;
-    b->body = malloc((size_t)m->nv * sizeof *b->body);
-    for (plume_index v = 0; v < m->nv; v++) {
-        int in_g = v < g->nv;
-        plume_index w = in_g ? v : v - g->nv;
-        const plume_mesh *s = in_g ? g : q;
-        double shift = in_g ? 0.0 : 0.5 - 0.5 * side;
-        m->X[2 * v] = s->X[2 * w] + shift;
-        m->X[2 * v + 1] = s->X[2 * w + 1] + shift;
-        m->x[3 * v] = m->X[2 * v], m->x[3 * v + 1] = m->X[2 * v + 1], m->x[3 * v + 2] = in_g ? 0.0 : z0;
-        b->body[v] = !in_g;
+    if (ok) {
+        b->nground = part[0]->nv;
+        b->body = malloc((size_t)nv * sizeof *b->body);
+        plume_index v0 = 0, t0 = 0;
+        for (int k = 0; k <= n; k++) {
+            const plume_mesh *q = part[k];
+            double shift = k ? 0.5 - 0.5 * side[k - 1] : 0.0, zk = k ? z[k - 1] : 0.0;
+            for (plume_index w = 0; w < q->nv; w++) {
+                plume_index v = v0 + w;
+                m->X[2 * v] = q->X[2 * w] + shift;
+                m->X[2 * v + 1] = q->X[2 * w + 1] + shift;
+                m->x[3 * v] = m->X[2 * v], m->x[3 * v + 1] = m->X[2 * v + 1], m->x[3 * v + 2] = zk;
+                b->body[v] = k;
+            }
+            for (plume_index u = 0; u < q->nt; u++) {
+                for (int c = 0; c < 3; c++)
+                    m->tri[3 * (t0 + u) + c] = q->tri[3 * u + c] + v0;
+                m->material[t0 + u] = k > 0;
+            }
+            v0 += q->nv, t0 += q->nt;
+        }
     }
-    for (plume_index t = 0; t < m->nt; t++) {
-        int in_g = t < g->nt;
-        plume_index u = in_g ? t : t - g->nt, off = in_g ? 0 : g->nv;
-        const plume_mesh *s = in_g ? g : q;
-        for (int k = 0; k < 3; k++)
-            m->tri[3 * t + k] = s->tri[3 * u + k] + off;
-        m->material[t] = !in_g;
-    }
-    plume_mesh_destroy(&g);
-    plume_mesh_destroy(&q);
-    return 1;
+    for (int k = 0; k < 4; k++)
+        plume_mesh_destroy(&part[k]);
+    return ok;
+}
+
+/* the ground and one plate of side `side` at height z0 */
+static int two_bodies_build(two_bodies *b, double side, double z0, double edge)
+{
+    return bodies_build(b, 1, &side, &z0, &edge);
 }
 
 static void two_bodies_free(two_bodies *b)
@@ -112,19 +124,21 @@ typedef struct {
     int frames_checked, intersecting_frames;
     plume_index max_intersecting;
     double min_gap;       /* smallest plate height over the ground seen (m) */
-    double final_height;  /* mean plate height at the end */
+    double final_height;  /* mean height of the last plate at the end */
+    double min_distance;  /* smallest distance between non-adjacent primitives of different bodies */
     int converged;
     long step_limited;
 } drop_result;
 
-/* A 0.5 m plate (membrane only) released at z0 with downward speed v0 over the fixed ground */
-static void drop(plume_contact_model model, double stiffness, double dhat, double z0, double v0, int frames, double dt,
-                 drop_result *r)
+/* n plates (membrane only; sides, heights and edges as bodies_build) released over the fixed
+ * ground, the last one with downward speed v0, the others at rest */
+static void drop_plates(plume_contact_model model, double stiffness, double dhat, int n, const double *side,
+                        const double *z, const double *edge, double v0, int frames, double dt, drop_result *r)
 {
     memset(r, 0, sizeof *r);
-    r->min_gap = INFINITY;
+    r->min_gap = r->min_distance = INFINITY;
     two_bodies b;
-    CHECK(two_bodies_build(&b, 0.5, z0, 0.125));
+    CHECK(bodies_build(&b, n, side, z, edge));
     if (!b.mesh)
         return;
     plume_mesh *m = b.mesh;
@@ -162,10 +176,15 @@ static void drop(plume_contact_model model, double stiffness, double dhat, doubl
     }
     double *v = calloc((size_t)(3 * m->nv), sizeof *v);
     for (plume_index i = b.nground; i < m->nv; i++)
-        v[3 * i + 2] = -v0;
+        v[3 * i + 2] = b.body[i] == n ? -v0 : 0.0;
     CHECK(plume_dynamics_set_state(d, 0.0, m->x, v, NULL) == PLUME_OK);
     free(v);
     plume_contact_pairs pairs = {0, 0, NULL};
+    plume_contact_broad *measure = NULL;
+    plume_contact_broad_opts bo;
+    plume_contact_broad_opts_default(&bo);
+    bo.self_contact = 0;
+    CHECK(plume_contact_broad_create(m->nv, m->nt, m->tri, b.body, &bo, &measure, &err) == PLUME_OK);
     r->converged = 1;
     for (int f = 0; f < frames; f++) {
         plume_step_report rep;
@@ -184,19 +203,32 @@ static void drop(plume_contact_model model, double stiffness, double dhat, doubl
         r->intersecting_frames += audit.intersecting > 0;
         if (audit.intersecting > r->max_intersecting)
             r->max_intersecting = audit.intersecting;
-        double zmean = 0.0;
+        double zmean = 0.0, dmin = INFINITY;
+        plume_index nlast = 0;
         for (plume_index i = b.nground; i < m->nv; i++) {
             r->min_gap = fmin(r->min_gap, x[3 * i + 2]);
-            zmean += x[3 * i + 2];
+            if (b.body[i] == n)
+                zmean += x[3 * i + 2], nlast++;
         }
-        r->final_height = zmean / (double)(m->nv - b.nground);
+        r->final_height = zmean / (double)nlast;
+        CHECK(plume_contact_min_distance(measure, x, 10.0 * dhat, &dmin, &err) == PLUME_OK);
+        r->min_distance = fmin(r->min_distance, dmin);
     }
+    plume_contact_broad_destroy(&measure);
     plume_contact_pairs_free(&pairs);
 done:
     free(ground);
     plume_dynamics_destroy(&d);
     plume_problem_destroy(&p);
     two_bodies_free(&b);
+}
+
+/* A 0.5 m plate released at z0 with downward speed v0 over the fixed ground */
+static void drop(plume_contact_model model, double stiffness, double dhat, double z0, double v0, int frames, double dt,
+                 drop_result *r)
+{
+    const double side = 0.5, edge = 0.125;
+    drop_plates(model, stiffness, dhat, 1, &side, &z0, &edge, v0, frames, dt, r);
 }
 
 void test_contact_drop_barrier_never_intersects(void)
@@ -269,4 +301,22 @@ void test_contact_term_bad_inputs(void)
     CHECK(create_fails(&o, body, out_of_range, "triangle 0: vertex id 5 out of range"));
     plume_term term;
     CHECK(plume_contact_term_create(3, 1, NULL, body, NULL, &o, &term, NULL, NULL) == PLUME_EINVAL);
+}
+
+/* Two plates dropped onto each other: a 0.5 m plate released 2 mm over the ground, a 0.3 m one
+ * 2 cm over it, falling at 2 m/s. Never an intersecting pair between any two of the three bodies,
+ * and at the end the top plate rests on the lower one (within a few dhat of the ground). */
+void test_contact_two_plates(void)
+{
+    const double side[2] = {0.5, 0.3}, z[2] = {0.002, 0.022}, edge[2] = {0.125, 0.1};
+    drop_result r;
+    drop_plates(PLUME_CONTACT_BARRIER, 1e3, 1e-3, 2, side, z, edge, 2.0, 40, 2.8e-3, &r);
+    fprintf(stderr, "    two plates: %d frames, intersecting in %d, smallest distance %.3g m, lowest vertex %.3g m, "
+                    "top plate's final mean height %.3g m, %ld limited steps\n",
+            r.frames_checked, r.intersecting_frames, r.min_distance, r.min_gap, r.final_height, r.step_limited);
+    CHECK(r.converged && r.frames_checked == 40);
+    CHECK(r.intersecting_frames == 0);
+    CHECK(r.min_distance > 0.0 && r.min_distance < 1e-3); /* they touched (within dhat), never crossed */
+    CHECK(r.min_gap > 0.0);
+    CHECK(r.final_height > 0.0 && r.final_height < 3e-3); /* on the lower plate, which is on the ground */
 }
