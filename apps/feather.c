@@ -498,8 +498,7 @@ int main(int argc, char **argv)
             json_object_set_new(j, "restarted_from", json_string(o.restart));
         if (scene->has_contact) {
             json_t *jc = json_object();
-            json_object_set_new(jc, "model", json_string(scene->contact.pair.model == PLUME_CONTACT_BARRIER ? "barrier"
-                                                                                                      : "penalty"));
+            json_object_set_new(jc, "model", json_string(plume_contact_model_name(scene->contact.pair.model)));
             json_object_set_new(jc, "dhat", json_real(scene->contact.pair.dhat));
             json_object_set_new(jc, "steps_intersecting", json_integer(cm.steps_intersecting));
             json_object_set_new(jc, "max_intersecting_pairs", json_integer(cm.max_intersecting));
@@ -524,7 +523,7 @@ int main(int argc, char **argv)
         if (scene->has_contact)
             printf("%s: contact (%s, dhat %g m): intersecting triangle pairs in %ld of %ld steps (at most %ld), "
                    "smallest distance %.3g m%s, %ld steps cut short by CCD\n",
-                   stem, scene->contact.pair.model == PLUME_CONTACT_BARRIER ? "barrier" : "penalty",
+                   stem, plume_contact_model_name(scene->contact.pair.model),
                    scene->contact.pair.dhat, cm.steps_intersecting, done_steps, (long)cm.max_intersecting,
                    cm.min_distance, cm.min_distance >= cm.cap ? " (or more)" : "", cm.step_limited);
     }

@@ -36,6 +36,11 @@ void plume_contact_term_opts_default(plume_contact_term_opts *o)
     plume_ccd_opts_default(&o->ccd);
 }
 
+const char *plume_contact_model_name(plume_contact_model m)
+{
+    return m == PLUME_CONTACT_BARRIER ? "barrier" : m == PLUME_CONTACT_PENALTY ? "penalty" : "unknown";
+}
+
 static void contact_destroy(void *ctx)
 {
     plume_contact *c = ctx;

@@ -29,6 +29,9 @@ typedef struct {
 
 void plume_contact_term_opts_default(plume_contact_term_opts *o);
 
+/* "barrier" or "penalty" (a static string; "unknown" for anything else). */
+const char *plume_contact_model_name(plume_contact_model m);
+
 /* What the term did (plume_contact_term_stats). */
 typedef struct {
     plume_index candidates; /* stencils of the last update */

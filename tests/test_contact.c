@@ -301,6 +301,9 @@ void test_contact_term_bad_inputs(void)
     CHECK(create_fails(&o, body, out_of_range, "triangle 0: vertex id 5 out of range"));
     plume_term term;
     CHECK(plume_contact_term_create(3, 1, NULL, body, NULL, &o, &term, NULL, NULL) == PLUME_EINVAL);
+    CHECK(strcmp(plume_contact_model_name(PLUME_CONTACT_BARRIER), "barrier") == 0 &&
+          strcmp(plume_contact_model_name(PLUME_CONTACT_PENALTY), "penalty") == 0 &&
+          strcmp(plume_contact_model_name((plume_contact_model)7), "unknown") == 0);
 }
 
 /* Two plates dropped onto each other: a 0.5 m plate released 2 mm over the ground, a 0.3 m one
