@@ -168,12 +168,10 @@ typedef struct {
     plume_index r, c;
 } pair;
 
-static int pair_cmp(const void *a, const void *b)
+static int index_cmp(const void *a, const void *b)
 {
-    const pair *x = a, *y = b;
-    if (x->c != y->c)
-        return x->c < y->c ? -1 : 1;
-    return x->r < y->r ? -1 : (x->r > y->r);
+    plume_index x = *(const plume_index *)a, y = *(const plume_index *)b;
+    return x < y ? -1 : (x > y);
 }
 
 static plume_index find_entry(const plume_problem *p, plume_index r, plume_index c)
@@ -368,24 +366,41 @@ static plume_status build_structure(plume_problem *p, plume_err *err)
             n += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, pairs + n);
     for (plume_index i = 0; i < p->nfree; i++, n++)
         pairs[n].r = pairs[n].c = i;
-    qsort(pairs, (size_t)n, sizeof *pairs, pair_cmp);
-    plume_index u = 0;
-    for (plume_index i = 0; i < n; i++)
-        if (u == 0 || pairs[i].r != pairs[u - 1].r || pairs[i].c != pairs[u - 1].c)
-            pairs[u++] = pairs[i];
-    p->nnz = u;
-    p->colptr = calloc((size_t)p->nfree + 1, sizeof *p->colptr);
-    p->rowind = malloc((size_t)u * sizeof *p->rowind);
+    /* column-major order by a counting sort on the column, then each (short) column sorted by row
+     * and deduplicated: a global qsort of every pair was 14 % of a contact scene's run, which
+     * rebuilds this pattern whenever the contact pairs change */
+    p->colptr = calloc((size_t)p->nfree + 2, sizeof *p->colptr);
+    p->rowind = malloc((size_t)(n + 1) * sizeof *p->rowind);
     if (!p->colptr || !p->rowind) {
         st = PLUME_ENOMEM;
         goto cleanup;
     }
-    for (plume_index i = 0; i < u; i++) {
-        p->rowind[i] = pairs[i].r;
-        p->colptr[pairs[i].c + 1]++;
-    }
+    for (plume_index i = 0; i < n; i++)
+        p->colptr[pairs[i].c + 2]++;
     for (plume_index c = 0; c < p->nfree; c++)
-        p->colptr[c + 1] += p->colptr[c];
+        p->colptr[c + 2] += p->colptr[c + 1];
+    for (plume_index i = 0; i < n; i++) /* colptr[c + 1] is the fill position of column c */
+        p->rowind[p->colptr[pairs[i].c + 1]++] = pairs[i].r;
+    plume_index u = 0;
+    for (plume_index c = 0; c < p->nfree; c++) {
+        plume_index lo = p->colptr[c], hi = p->colptr[c + 1], start = u;
+        if (hi - lo > 64) {
+            qsort(p->rowind + lo, (size_t)(hi - lo), sizeof *p->rowind, index_cmp);
+        } else {
+            for (plume_index i = lo + 1; i < hi; i++) { /* insertion sort */
+                plume_index r = p->rowind[i], k = i;
+                for (; k > lo && p->rowind[k - 1] > r; k--)
+                    p->rowind[k] = p->rowind[k - 1];
+                p->rowind[k] = r;
+            }
+        }
+        for (plume_index i = lo; i < hi; i++)
+            if (u == start || p->rowind[i] != p->rowind[u - 1])
+                p->rowind[u++] = p->rowind[i];
+        p->colptr[c] = start; /* columns before c are final; c's start was read above */
+    }
+    p->colptr[p->nfree] = u;
+    p->nnz = u;
 
     for (int t = 0; t < p->nterms; t++) {
         term_slot *ts = p->terms + t;
