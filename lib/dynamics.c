@@ -1,4 +1,5 @@
 #include "dynamics.h"
+#include "rigid_motion.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -66,7 +67,9 @@ typedef struct {
     plume_index nv;
     plume_index *vertices;
     int nkeys;
-    double *times, *offsets;
+    double *times, *offsets, *rotations; /* rotations NULL: translation only */
+    double pivot[3];
+    double *y0;                          /* [3 nv] the vertices' positions at creation */
 } handle_copy;
 
 struct plume_dynamics {
@@ -93,6 +96,8 @@ void plume_dynamics_destroy(plume_dynamics **pd)
         free(d->handles[h].vertices);
         free(d->handles[h].times);
         free(d->handles[h].offsets);
+        free(d->handles[h].rotations);
+        free(d->handles[h].y0);
     }
     free(d->handles);
     free(d->x);
@@ -108,27 +113,15 @@ void plume_dynamics_destroy(plume_dynamics **pd)
     *pd = NULL;
 }
 
-/* offset of handle h at time t: piecewise linear in the keys, constant outside */
-static void handle_offset(const handle_copy *h, double t, double off[3])
+/* where handle h puts its vertex i at time t (rigid_motion.h) */
+static void handle_position(const handle_copy *h, plume_index i, double t, double out[3])
 {
-    int k = 0;
-    if (t <= h->times[0]) {
-        memcpy(off, h->offsets, 3 * sizeof *off);
-        return;
-    }
-    while (k + 1 < h->nkeys && h->times[k + 1] < t)
-        k++;
-    if (k + 1 >= h->nkeys) {
-        memcpy(off, h->offsets + 3 * (h->nkeys - 1), 3 * sizeof *off);
-        return;
-    }
-    double s = (t - h->times[k]) / (h->times[k + 1] - h->times[k]);
-    for (int a = 0; a < 3; a++)
-        off[a] = (1.0 - s) * h->offsets[3 * k + a] + s * h->offsets[3 * (k + 1) + a];
+    const plume_rigid_motion m = {h->nkeys, h->times, h->offsets, h->rotations, h->pivot};
+    plume_rigid_motion_apply(&m, t, h->y0 + 3 * i, out);
 }
 
-static plume_status copy_handles(plume_dynamics *d, const plume_mesh *mesh, const plume_handle *hs, int nh,
-                                 plume_err *err)
+static plume_status copy_handles(plume_dynamics *d, const plume_mesh *mesh, const double *x0, const plume_handle *hs,
+                                 int nh, plume_err *err)
 {
     d->handles = calloc((size_t)(nh + 1), sizeof *d->handles);
     if (!d->handles)
@@ -143,23 +136,33 @@ static plume_status copy_handles(plume_dynamics *d, const plume_mesh *mesh, cons
                 return plume_err_set(err, PLUME_EINVAL, "handle %d: keyframe times must be finite and increasing (key %d)",
                                      h, k);
             for (int a = 0; a < 3; a++)
-                if (!isfinite(in->offsets[3 * k + a]))
-                    return plume_err_set(err, PLUME_EINVAL, "handle %d: keyframe %d has a non-finite offset", h, k);
+                if (!isfinite(in->offsets[3 * k + a]) || (in->rotations && !isfinite(in->rotations[3 * k + a])))
+                    return plume_err_set(err, PLUME_EINVAL, "handle %d: keyframe %d has a non-finite offset or rotation",
+                                         h, k);
         }
+        for (int a = 0; a < 3; a++)
+            if (!isfinite(in->pivot[a]))
+                return plume_err_set(err, PLUME_EINVAL, "handle %d: the pivot must be finite", h);
         handle_copy *c = d->handles + h;
         c->nv = in->nvertices;
         c->nkeys = in->nkeys;
         c->vertices = malloc((size_t)in->nvertices * sizeof *c->vertices);
         c->times = malloc((size_t)in->nkeys * sizeof *c->times);
         c->offsets = malloc((size_t)(3 * in->nkeys) * sizeof *c->offsets);
-        if (!c->vertices || !c->times || !c->offsets)
+        c->rotations = in->rotations ? malloc((size_t)(3 * in->nkeys) * sizeof *c->rotations) : NULL;
+        c->y0 = malloc((size_t)(3 * in->nvertices) * sizeof *c->y0);
+        if (!c->vertices || !c->times || !c->offsets || !c->y0 || (in->rotations && !c->rotations))
             return PLUME_ENOMEM;
         for (plume_index i = 0; i < in->nvertices; i++) {
             if (in->vertices[i] < 0 || in->vertices[i] >= mesh->nv)
                 return plume_err_set(err, PLUME_EINVAL, "handle %d: vertex %ld out of range [0, %ld)", h,
                                      (long)in->vertices[i], (long)mesh->nv);
             c->vertices[i] = in->vertices[i];
+            memcpy(c->y0 + 3 * i, x0 + 3 * in->vertices[i], 3 * sizeof *x0);
         }
+        if (in->rotations)
+            memcpy(c->rotations, in->rotations, (size_t)(3 * in->nkeys) * sizeof *c->rotations);
+        memcpy(c->pivot, in->pivot, sizeof c->pivot);
         memcpy(c->times, in->times, (size_t)in->nkeys * sizeof *c->times);
         memcpy(c->offsets, in->offsets, (size_t)(3 * in->nkeys) * sizeof *c->offsets);
     }
@@ -228,7 +231,7 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
         free(d);
         return st;
     }
-    if ((st = copy_handles(d, mesh, handles, nhandles, err)) != PLUME_OK)
+    if ((st = copy_handles(d, mesh, plume_problem_x(p), handles, nhandles, err)) != PLUME_OK)
         goto fail;
     for (int h = 0; h < nhandles; h++)
         for (plume_index i = 0; i < d->handles[h].nv; i++)
@@ -286,9 +289,22 @@ static plume_status safe_start(plume_dynamics *d, const double *xh, int *safe, i
     plume_index nd = 3 * d->mesh->nv;
     double *x = plume_problem_x(d->p), *dx = d->dx;
     double a = 1.0;
+    /* everything at once first: attached shells move with their handles (a flapping wing), and
+     * checking the handles alone against shells standing still would refuse such steps */
+    for (plume_index i = 0; i < nd; i++)
+        dx[i] = xh[i] - x[i];
+    plume_status st = plume_problem_max_motion(d->p, dx, &a);
+    if (st != PLUME_OK)
+        return st;
+    if (a >= 1.0) {
+        memcpy(x, xh, (size_t)nd * sizeof *x);
+        *safe = 1;
+        return PLUME_OK;
+    }
     for (plume_index i = 0; i < nd; i++) /* the handles' move (0 on the free dofs) */
         dx[i] = plume_problem_is_fixed(d->p, i) ? xh[i] - x[i] : 0.0;
-    plume_status st = plume_problem_max_motion(d->p, dx, &a);
+    a = 1.0;
+    st = plume_problem_max_motion(d->p, dx, &a);
     if (st != PLUME_OK)
         return st;
     *safe = a >= 1.0;
@@ -317,16 +333,9 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
     for (plume_index i = 0; i < 3 * nv; i++)
         in->xt[i] = xh[i] = d->x[i] + dt * d->v[i];
     in->inv_dt2 = 1.0 / (dt * dt);
-    for (int h = 0; h < d->nhandles; h++) {
-        double off[3];
-        handle_offset(d->handles + h, d->t + dt, off);
-        for (plume_index i = 0; i < d->handles[h].nv; i++) {
-            plume_index vtx = d->handles[h].vertices[i];
-            xh[3 * vtx] = d->mesh->X[2 * vtx] + off[0];
-            xh[3 * vtx + 1] = d->mesh->X[2 * vtx + 1] + off[1];
-            xh[3 * vtx + 2] = off[2];
-        }
-    }
+    for (int h = 0; h < d->nhandles; h++)
+        for (plume_index i = 0; i < d->handles[h].nv; i++)
+            handle_position(d->handles + h, i, d->t + dt, xh + 3 * d->handles[h].vertices[i]);
     plume_status st;
     if (limits) {
         int safe = 1, limited = 0;

@@ -18,14 +18,18 @@
 extern "C" {
 #endif
 
-/* A handle: vertices whose positions follow X + offset(t) (offset piecewise linear between
- * keyframes, constant after the last). Arrays owned by the caller; copied at creation. */
+/* A handle: vertices that follow a keyframed rigid motion (lib/rigid_motion.h) of their positions
+ * y at the stepper's creation: pivot + offset(t) + R(t) (y - pivot), offset piecewise linear and R
+ * slerped between keyframes, both constant after the last. Without rotations a handle translates:
+ * y + offset(t). Arrays owned by the caller; copied at creation. */
 typedef struct {
     plume_index nvertices;
     const plume_index *vertices;
     int nkeys;
-    const double *times;    /* [nkeys], increasing, seconds */
-    const double *offsets;  /* [3 nkeys] translation of the handle at each key (m) */
+    const double *times;     /* [nkeys], increasing, seconds */
+    const double *offsets;   /* [3 nkeys] translation of the handle at each key (m) */
+    const double *rotations; /* [3 nkeys] rotation vectors (axis times angle, radians) or NULL */
+    double pivot[3];         /* the rotations' centre at the creation positions (m) */
 } plume_handle;
 
 typedef struct {

@@ -113,6 +113,12 @@ plume_status plume_json_bad(const plume_json_ctx *c, plume_status st, const char
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
+    char full[PLUME_JSON_KEY_MAX];
+    if (c->prefix && *c->prefix) {
+        if (snprintf(full, sizeof full, "%s%s%s", c->prefix, key[0] == '[' || !*key ? "" : ".", key) >= (int)sizeof full)
+            full[sizeof full - 1] = '\0';
+        key = full;
+    }
     int line = locate(c->text, key);
     if (line > 0)
         return plume_err_set(c->err, st, "%s:%d: %s %s", c->file, line, key, msg);

@@ -93,6 +93,11 @@ static int half_edge_cmp(const void *pa, const void *pb)
 
 plume_status plume_mesh_build_topology(plume_mesh *m, plume_err *err)
 {
+    return plume_mesh_build_topology_rigid(m, m ? m->nt : 0, err);
+}
+
+plume_status plume_mesh_build_topology_rigid(plume_mesh *m, plume_index first_rigid, plume_err *err)
+{
     plume_status st = PLUME_OK;
     half_edge *he = NULL;
     for (plume_index t = 0; t < m->nt; t++) {
@@ -103,7 +108,7 @@ plume_status plume_mesh_build_topology(plume_mesh *m, plume_err *err)
                                      (long)t, (long)v[k], (long)m->nv);
         if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2])
             return plume_err_set(err, PLUME_EINVAL, "triangle %ld: repeated vertex", (long)t);
-        double a = plume_mesh_ref_area(m, t);
+        double a = t < first_rigid ? plume_mesh_ref_area(m, t) : 1.0;
         if (!(a > 0.0))
             return plume_err_set(err, PLUME_EINVAL,
                                  "triangle %ld: reference area %g is not positive (clockwise or degenerate)",

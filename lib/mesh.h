@@ -41,6 +41,11 @@ void plume_mesh_reset_current(plume_mesh *m);
  * boundary flags. Fails with PLUME_EINVAL (message in err) on a bad or non-manifold mesh. */
 plume_status plume_mesh_build_topology(plume_mesh *m, plume_err *err);
 
+/* The same for a mesh whose triangles from first_rigid on belong to rigid (kinematic) bodies: a
+ * closed 3D surface has no flat reference, so their reference areas are not checked (they carry
+ * no elastic energy; only their indices and manifoldness are). */
+plume_status plume_mesh_build_topology_rigid(plume_mesh *m, plume_index first_rigid, plume_err *err);
+
 /* Signed reference area of triangle t. */
 double plume_mesh_ref_area(const plume_mesh *m, plume_index t);
 

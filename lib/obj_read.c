@@ -10,6 +10,7 @@
 void plume_obj_free(plume_obj_data *o)
 {
     free(o->v);
+    free(o->z);
     free(o->f);
     free(o->group);
     for (int g = 0; g < o->ngroups; g++)
@@ -60,7 +61,11 @@ plume_status plume_obj_read(const char *path, plume_obj_data *o, plume_err *err)
         if (p[0] == 'v' && (p[1] == ' ' || p[1] == '\t')) {
             char *end;
             double x = strtod(p + 2, &end), y = strtod(end, &end);
-            if (end == p + 2 || !isfinite(x) || !isfinite(y)) {
+            char *zend;
+            double z = strtod(end, &zend); /* optional: 0 when absent */
+            if (zend == end)
+                z = 0.0;
+            if (end == p + 2 || !isfinite(x) || !isfinite(y) || !isfinite(z)) {
                 st = plume_err_set(err, PLUME_EFORMAT, "%s:%d: a vertex needs finite x and y", path, line);
                 goto done;
             }
@@ -70,9 +75,14 @@ plume_status plume_obj_read(const char *path, plume_obj_data *o, plume_err *err)
                 if (!nv)
                     goto nomem;
                 o->v = nv;
+                double *nz = realloc(o->z, (size_t)o->vcap * sizeof *nz);
+                if (!nz)
+                    goto nomem;
+                o->z = nz;
             }
             o->v[2 * o->nv] = x;
             o->v[2 * o->nv + 1] = y;
+            o->z[o->nv] = z;
             o->nv++;
         } else if (p[0] == 'f' && (p[1] == ' ' || p[1] == '\t')) {
             plume_index ids[64];
@@ -86,7 +96,7 @@ plume_status plume_obj_read(const char *path, plume_obj_data *o, plume_err *err)
                 char *end;
                 long id = strtol(q, &end, 10);
                 if (end == q || n == 64) {
-                    st = plume_err_set(err, PLUME_EFORMAT, "%s:%d: plume_json_bad face (vertex numbers expected, at most 64)",
+                    st = plume_err_set(err, PLUME_EFORMAT, "%s:%d: bad face (vertex numbers expected, at most 64)",
                                        path, line);
                     goto done;
                 }

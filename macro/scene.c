@@ -16,11 +16,16 @@ void plume_scene_destroy(plume_scene **ps)
     plume_scene *s = *ps;
     free(s->path);
     plume_mesh_destroy(&s->mesh);
+    plume_mesh_destroy(&s->elastic);
+    for (int k = 0; k < s->nobjects; k++)
+        free(s->objects[k].name);
+    free(s->objects);
     free(s->mats);
     for (int h = 0; h < s->nhandles; h++) {
         free((void *)s->handles[h].vertices);
         free((void *)s->handles[h].times);
         free((void *)s->handles[h].offsets);
+        free((void *)s->handles[h].rotations);
     }
     free(s->handles);
     free(s->barb_edges);
@@ -129,8 +134,8 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
 }
 
 /* One handle: its selector and keyframes. map/nobj translate OBJ vertex numbers (NULL: mesh ids). */
-static plume_status parse_handle(const plume_json_ctx *c, json_t *jh, const char *where, const plume_scene *s,
-                                 const plume_index *map, plume_index nobj, plume_handle *h)
+plume_status plume_scene_parse_handle(const plume_json_ctx *c, json_t *jh, const char *where, const plume_scene *s,
+                                      const plume_index *map, plume_index nobj, plume_handle *h)
 {
     static const char *const keys[] = {"near", "radius", "vertices", "box", "keyframes", NULL};
     char kp[PLUME_JSON_KEY_MAX];
@@ -178,7 +183,7 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s, 
     static const char *const keys[] = {"mesh", "materials", "handles", "gravity", "dt", "duration", "solver",
                                        "max_halvings", "max_iter", "output_every", "render", "camera", "solve",
                                        "steps", "clamps", "supports", "loads", "probes", "bending_model", "contact",
-                                       NULL};
+                                       "objects", NULL};
     plume_status st;
     plume_index *map = NULL, nobj = 0;
     if (!json_is_object(doc))
@@ -286,6 +291,21 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s, 
             return st;
     }
 
+    /* objects: many bodies, each meshed, placed and held on its own */
+    json_t *objects = json_object_get(doc, "objects");
+    if (objects) {
+        if (json_object_get(doc, "mesh"))
+            return plume_json_bad(c, PLUME_EFORMAT, "mesh", "cannot be given with \"objects\" (each object has its own)");
+        if (json_object_get(doc, "handles"))
+            return plume_json_bad(c, PLUME_EFORMAT, "handles", "cannot be given with \"objects\" (each object has its own "
+                                                               "\"handles\" and \"attach\")");
+        if (s->is_static)
+            return plume_json_bad(c, PLUME_EINVAL, "objects", "are for dynamic scenes (\"solve\": \"static\" takes a \"mesh\")");
+        if ((st = plume_scene_parse_objects(c, objects, s, o)) != PLUME_OK)
+            return st;
+        return plume_scene_parse_static(c, doc, s, NULL, 0);
+    }
+
     /* mesh */
     json_t *mesh = json_object_get(doc, "mesh");
     if (!json_is_object(mesh))
@@ -341,7 +361,7 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s, 
             char kp[PLUME_JSON_KEY_MAX];
             plume_json_subindex(kp, "handles", k);
             s->nhandles++;
-            if ((st = parse_handle(c, json_array_get(jh, k), kp, s, map, nobj, s->handles + k)) != PLUME_OK)
+            if ((st = plume_scene_parse_handle(c, json_array_get(jh, k), kp, s, map, nobj, s->handles + k)) != PLUME_OK)
                 goto done;
         }
         /* a vertex in two handles would follow two paths */

@@ -119,11 +119,25 @@ typedef struct {
     char *source;                 /* where the reference comes from, or NULL */
 } plume_scene_probe;
 
+/* One entry of a scene's "objects": its vertices and triangles in the scene's mesh. */
+typedef struct {
+    char *name;
+    int kinematic;                /* 1: a rigid body moved by keyframes (no elastic energy) */
+    plume_index v0, nv;           /* its vertices are v0 .. v0 + nv - 1 */
+    plume_index t0, nt;           /* its triangles are t0 .. t0 + nt - 1 */
+} plume_scene_object;
+
 /* A loaded, validated scene. Everything is owned by the scene (plume_scene_destroy). The caller
  * may change the run settings (dt, solver, ...) before plume_scene_dynamics. */
 typedef struct {
     char *path;                   /* the scene file as given */
-    plume_mesh *mesh;             /* shell mode (dim 3), topology built, x = (X, 0) */
+    plume_mesh *mesh;             /* shell mode (dim 3), topology built, x = (X, 0), or for objects
+                                     their placed positions */
+    plume_mesh *elastic;          /* NULL, or (objects with kinematic bodies) the elastic part: all
+                                     vertices, the triangles before the kinematic ones; the elastic
+                                     terms are built on it */
+    int nobjects;
+    plume_scene_object *objects;  /* [nobjects], NULL for a "mesh" scene */
     int nmat;
     plume_scene_material *mats;   /* [nmat], indexed by material id */
     int nhandles;
@@ -178,6 +192,11 @@ void plume_scene_destroy(plume_scene **s);
  * densities, handles, gravity, dt, solver, max_halvings and max_iter. *p and *d belong to the
  * caller (destroy d first); the scene must outlive them. */
 plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **p, plume_dynamics **d, plume_err *err);
+
+/* The same, and *contact (may be NULL; NULL without a "contact" block) the contact term's handle
+ * for plume_contact_term_stats, valid as long as *p. */
+plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_problem **p, plume_dynamics **d,
+                                          plume_contact **contact, plume_err *err);
 
 /* Builds the problem of a static scene (membrane, bending, constraints, the nominal loads and
  * moments; clamps and handles fixed) and its load-stepping driver (lib/statics.h) with the

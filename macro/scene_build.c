@@ -15,7 +15,7 @@
  * and its barb constraints, x at the rest state; not finalised. */
 static plume_status elastic_problem(const plume_scene *s, plume_problem **out, plume_err *err)
 {
-    const plume_mesh *m = s->mesh;
+    const plume_mesh *m = s->elastic ? s->elastic : s->mesh; /* kinematic bodies have no elastic energy */
     plume_problem *p = NULL;
     plume_membrane_material *mm = malloc((size_t)s->nmat * sizeof *mm);
     plume_bending_material *bm = malloc((size_t)s->nmat * sizeof *bm);
@@ -59,7 +59,7 @@ static plume_status elastic_problem(const plume_scene *s, plume_problem **out, p
             (st = plume_problem_add_constraint(p, &con)) != PLUME_OK)
             goto done;
     }
-    memcpy(plume_problem_x(p), m->x, (size_t)(3 * m->nv) * sizeof(double));
+    memcpy(plume_problem_x(p), s->mesh->x, (size_t)(3 * m->nv) * sizeof(double));
 done:
     free(mm);
     free(bm);
@@ -69,8 +69,9 @@ done:
     return st;
 }
 
-/* the contact term between the mesh's bodies (its connected components) */
-static plume_status add_contact(const plume_scene *s, plume_problem *p, plume_err *err)
+/* the contact term between the mesh's bodies (its connected components); *handle (may be NULL)
+ * serves plume_contact_term_stats */
+static plume_status add_contact(const plume_scene *s, plume_problem *p, plume_contact **handle, plume_err *err)
 {
     const plume_mesh *m = s->mesh;
     int *body = malloc((size_t)(m->nv + 1) * sizeof *body);
@@ -79,7 +80,7 @@ static plume_status add_contact(const plume_scene *s, plume_problem *p, plume_er
         return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
     }
     plume_term t;
-    plume_status st = plume_contact_term_create(m->nv, m->nt, m->tri, body, m->x, &s->contact, &t, NULL, err);
+    plume_status st = plume_contact_term_create(m->nv, m->nt, m->tri, body, m->x, &s->contact, &t, handle, err);
     free(body);
     if (st == PLUME_OK)
         st = plume_problem_add_term(p, &t);
@@ -88,6 +89,14 @@ static plume_status add_contact(const plume_scene *s, plume_problem *p, plume_er
 
 plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **pp, plume_dynamics **pd, plume_err *err)
 {
+    return plume_scene_dynamics_contact(s, pp, pd, NULL, err);
+}
+
+plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_problem **pp, plume_dynamics **pd,
+                                          plume_contact **contact, plume_err *err)
+{
+    if (contact)
+        *contact = NULL;
     if (!s || !s->mesh || !pp || !pd)
         return plume_err_set(err, PLUME_EINVAL, "scene: invalid arguments");
     *pp = NULL;
@@ -103,7 +112,7 @@ plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **pp, plum
     }
     for (int k = 0; k < s->nmat; k++)
         rho[k] = s->mats[k].density;
-    if ((st = elastic_problem(s, &p, err)) != PLUME_OK || (s->has_contact && (st = add_contact(s, p, err)) != PLUME_OK))
+    if ((st = elastic_problem(s, &p, err)) != PLUME_OK || (s->has_contact && (st = add_contact(s, p, contact, err)) != PLUME_OK))
         goto fail;
     plume_dynamics_opts o;
     plume_dynamics_opts_default(&o);

@@ -189,6 +189,7 @@ plume_status plume_scene_mesh_from_feather(const plume_json_ctx *c, json_t *m, p
     /* the shape file is parsed with its own context so that its errors name it */
     plume_json_ctx sc = *c;
     sc.file = shape_path;
+    sc.prefix = NULL; /* the shape file's keys are its own */
     plume_err e1 = {{0}};
     sc.text = plume_read_text(shape_path, &e1, "feather shape", &st);
     if (!sc.text)

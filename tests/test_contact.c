@@ -163,7 +163,7 @@ static void drop_plates(plume_contact_model model, double stiffness, double dhat
     for (plume_index v = 0; v < b.nground; v++)
         ground[v] = v;
     const double times[1] = {0.0}, offsets[3] = {0.0, 0.0, 0.0};
-    plume_handle hd = {b.nground, ground, 1, times, offsets};
+    plume_handle hd = {.nvertices = b.nground, .vertices = ground, .nkeys = 1, .times = times, .offsets = offsets};
     plume_dynamics_opts dop;
     plume_dynamics_opts_default(&dop);
     dop.dt = dt;

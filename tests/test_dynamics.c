@@ -80,7 +80,7 @@ static int hanging_build(hanging *h, int max_iter, double dt)
         if (fabs(h->mesh->X[2 * v + 1] - 0.13) < 1e-12)
             h->top[h->ntop++] = v;
     const double times[2] = {0.0, 0.1}, offsets[6] = {0, 0, 0, 0.02, 0, 0.01};
-    plume_handle handle = {h->ntop, h->top, 2, times, offsets};
+    plume_handle handle = {.nvertices = h->ntop, .vertices = h->top, .nkeys = 2, .times = times, .offsets = offsets};
     plume_dynamics_opts o;
     plume_dynamics_opts_default(&o);
     o.dt = dt;

@@ -21,6 +21,8 @@ typedef struct {
     char *text;        /* its contents */
     char dir[4096];    /* directory for relative paths ("" = current) */
     plume_err *err;
+    const char *prefix; /* NULL, or a key path every key is under ("objects[2]": an object's mesh,
+                           parsed by the functions that parse the top-level "mesh") */
 } plume_json_ctx;
 
 /* "<file>:<line>: <key> <message>", status st. */

@@ -8,6 +8,7 @@
 
 typedef struct {
     double *v;             /* [2 nv] x, y */
+    double *z;             /* [nv] z (0 when the line has none): kinematic bodies are 3D */
     plume_index nv, vcap;
     plume_index *f;        /* [3 nf] 0-based */
     int *group;            /* [nf] group id, -1 none */

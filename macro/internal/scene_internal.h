@@ -33,6 +33,16 @@ plume_status plume_scene_mesh_from_rectangle(const plume_json_ctx *c, json_t *m,
 plume_status plume_scene_select(const plume_json_ctx *c, json_t *obj, const char *where, const plume_scene *s,
                                 const plume_index *map, plume_index nobj, plume_index *ids, plume_index *count);
 
+/* One handle {selector, "keyframes": [[t, dx, dy, dz], ...]} into *h (its arrays malloc'ed even on
+ * failure: the caller frees them); map/nobj as for plume_scene_select. */
+plume_status plume_scene_parse_handle(const plume_json_ctx *c, json_t *jh, const char *where, const plume_scene *s,
+                                      const plume_index *map, plume_index nobj, plume_handle *h);
+
+/* A scene's "objects" list (instead of "mesh" and "handles"): builds s->mesh, s->elastic,
+ * s->objects, s->handles (objects' handles, attachments and kinematic bodies), s->barb_edges and
+ * s->length; o (may be NULL) overrides the feathers' edge. Errors name the key. */
+plume_status plume_scene_parse_objects(const plume_json_ctx *c, json_t *v, plume_scene *s, const plume_scene_load_opts *o);
+
 /* The static part of a scene (clamps, loads, moments) and its probes, after the mesh and the
  * handles; keys of a static scene in a dynamic one are refused. */
 plume_status plume_scene_parse_static(const plume_json_ctx *c, json_t *doc, plume_scene *s, const plume_index *map,

@@ -1,0 +1,558 @@
+/* A scene's "objects" (macro/scene.h): elastic shells (feathers, OBJ sheets, rectangles) placed
+ * rigidly (scale, rotations, translation) with their own handles and attachments to kinematic
+ * bodies, and kinematic bodies (3D OBJ surfaces following keyframed rigid motions), merged into one
+ * mesh: the elastic objects' vertices and triangles first, in the list's order, then the kinematic
+ * ones'. The elastic terms see only the elastic triangles (plume_scene.elastic); contact, inertia
+ * and output see them all. */
+#include "internal/scene_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../lib/internal/obj_read.h"
+#include "../lib/rigid_motion.h"
+
+static const double deg = 3.14159265358979323846 / 180.0;
+
+/* y -> t + R(q) (scale y) */
+typedef struct {
+    double scale, q[4], t[3];
+} placement;
+
+static void place_point(const placement *pl, const double y[3], double out[3])
+{
+    double s[3] = {pl->scale * y[0], pl->scale * y[1], pl->scale * y[2]};
+    plume_quat_rotate(pl->q, s, out);
+    for (int a = 0; a < 3; a++)
+        out[a] += pl->t[a];
+}
+
+/* [ax, ay, az, degrees] -> rotation vector (radians); a zero axis only with a zero angle */
+static plume_status rotation_vector(const plume_json_ctx *c, const char *kp, const double r[4], double out[3])
+{
+    double n = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    if (r[3] != 0.0 && !(n > 0.0))
+        return plume_json_bad(c, PLUME_EINVAL, kp, "rotates %g degrees about a zero axis", r[3]);
+    for (int a = 0; a < 3; a++)
+        out[a] = n > 0.0 ? r[a] / n * r[3] * deg : 0.0;
+    return PLUME_OK;
+}
+
+/* "place": {"translate": [x, y, z], "rotate": [[ax, ay, az, degrees], ...], "scale": s} */
+static plume_status parse_place(const plume_json_ctx *c, json_t *obj, const char *where, placement *pl)
+{
+    static const char *const keys[] = {"translate", "rotate", "scale", NULL};
+    char kp[PLUME_JSON_KEY_MAX], kr[PLUME_JSON_KEY_MAX];
+    plume_status st;
+    pl->scale = 1.0;
+    pl->q[0] = 1.0, pl->q[1] = pl->q[2] = pl->q[3] = 0.0;
+    pl->t[0] = pl->t[1] = pl->t[2] = 0.0;
+    json_t *jp = json_object_get(obj, "place");
+    if (!jp)
+        return PLUME_OK;
+    plume_json_subkey(kp, where, "place");
+    if (!json_is_object(jp))
+        return plume_json_bad(c, PLUME_EFORMAT, kp, "must be an object {\"translate\": [x, y, z], \"rotate\": "
+                                                    "[[ax, ay, az, degrees], ...], \"scale\": s}");
+    if ((st = plume_json_check_keys(c, jp, kp, keys)) != PLUME_OK ||
+        (st = plume_json_positive(c, jp, kp, "scale", 0, 0, &pl->scale, NULL)) != PLUME_OK)
+        return st;
+    json_t *v;
+    plume_json_subkey(kr, kp, "translate");
+    if ((v = json_object_get(jp, "translate")) && (st = plume_json_vector(c, v, kr, 3, pl->t)) != PLUME_OK)
+        return st;
+    plume_json_subkey(kr, kp, "rotate");
+    if ((v = json_object_get(jp, "rotate"))) {
+        if (!json_is_array(v))
+            return plume_json_bad(c, PLUME_EFORMAT, kr, "must be an array of rotations [ax, ay, az, degrees], applied in order");
+        for (size_t i = 0; i < json_array_size(v); i++) {
+            char ki[PLUME_JSON_KEY_MAX];
+            double r[4], rv[3], qi[4];
+            plume_json_subindex(ki, kr, i);
+            if ((st = plume_json_vector(c, json_array_get(v, i), ki, 4, r)) != PLUME_OK ||
+                (st = rotation_vector(c, ki, r, rv)) != PLUME_OK)
+                return st;
+            plume_quat_from_rotvec(rv, qi);
+            plume_quat_mul(qi, pl->q, pl->q); /* later rotations act after earlier ones */
+        }
+    }
+    return PLUME_OK;
+}
+
+/* A kinematic body: its placed vertices, triangles and motion. */
+typedef struct {
+    const char *name; /* borrowed from the JSON */
+    double *y;        /* [3 nv] */
+    plume_index *tri; /* [3 nt] */
+    plume_index nv, nt;
+    int nkeys;
+    double *times, *offsets, *rotations; /* [nkeys], [3 nkeys], [3 nkeys] */
+    double pivot[3];
+} kinematic_body;
+
+static void kinematic_free(kinematic_body *b)
+{
+    free(b->y);
+    free(b->tri);
+    free(b->times);
+    free(b->offsets);
+    free(b->rotations);
+}
+
+/* "kinematic": {"obj": file, "pivot": [x, y, z], "keyframes": [[t, dx, dy, dz(, ax, ay, az, deg)], ...]};
+ * the pivot is in the scene's frame (after "place"), the keys' rotations turn about it. */
+static plume_status parse_kinematic(const plume_json_ctx *c, json_t *jo, const char *where, kinematic_body *b)
+{
+    static const char *const keys[] = {"obj", "pivot", "keyframes", NULL};
+    char kp[PLUME_JSON_KEY_MAX], kk[PLUME_JSON_KEY_MAX];
+    plume_status st;
+    placement pl;
+    if ((st = parse_place(c, jo, where, &pl)) != PLUME_OK)
+        return st;
+    json_t *jk = json_object_get(jo, "kinematic");
+    plume_json_subkey(kp, where, "kinematic");
+    if (!json_is_object(jk))
+        return plume_json_bad(c, PLUME_EFORMAT, kp, "must be an object {\"obj\": file, \"pivot\": [x, y, z], \"keyframes\": "
+                                                    "[[t, dx, dy, dz, ax, ay, az, degrees], ...]}");
+    if ((st = plume_json_check_keys(c, jk, kp, keys)) != PLUME_OK)
+        return st;
+    json_t *v = json_object_get(jk, "pivot");
+    plume_json_subkey(kk, kp, "pivot");
+    if (v && (st = plume_json_vector(c, v, kk, 3, b->pivot)) != PLUME_OK)
+        return st;
+    /* keyframes */
+    plume_json_subkey(kk, kp, "keyframes");
+    v = json_object_get(jk, "keyframes");
+    if (!json_is_array(v) || json_array_size(v) < 1)
+        return plume_json_bad(c, PLUME_EFORMAT, kk, "must be a non-empty array of [t, dx, dy, dz] or [t, dx, dy, dz, ax, ay, "
+                                                    "az, degrees]");
+    size_t nk = json_array_size(v);
+    b->times = malloc(nk * sizeof *b->times);
+    b->offsets = malloc(3 * nk * sizeof *b->offsets);
+    b->rotations = malloc(3 * nk * sizeof *b->rotations);
+    if (!b->times || !b->offsets || !b->rotations)
+        return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+    b->nkeys = (int)nk;
+    for (size_t k = 0; k < nk; k++) {
+        char ki[PLUME_JSON_KEY_MAX];
+        double row[8] = {0};
+        json_t *e = json_array_get(v, k);
+        plume_json_subindex(ki, kk, k);
+        int n = json_is_array(e) && json_array_size(e) == 8 ? 8 : 4;
+        if ((st = plume_json_vector(c, e, ki, n, row)) != PLUME_OK ||
+            (st = rotation_vector(c, ki, row + 4, b->rotations + 3 * k)) != PLUME_OK)
+            return st;
+        if (k > 0 && !(row[0] > b->times[k - 1]))
+            return plume_json_bad(c, PLUME_EINVAL, ki, "time %g is not after the previous keyframe's %g (times must increase)",
+                                  row[0], b->times[k - 1]);
+        b->times[k] = row[0];
+        memcpy(b->offsets + 3 * k, row + 1, 3 * sizeof *row);
+    }
+    /* the surface: every vertex a face uses, placed */
+    v = json_object_get(jk, "obj");
+    plume_json_subkey(kk, kp, "obj");
+    if (!json_is_string(v))
+        return plume_json_bad(c, PLUME_EFORMAT, kk, "must be a file name (an OBJ triangle surface)");
+    char path[4096];
+    plume_json_resolve(c, json_string_value(v), path, sizeof path);
+    plume_obj_data o;
+    plume_err e2 = {{0}};
+    if ((st = plume_obj_read(path, &o, &e2)) != PLUME_OK)
+        return plume_json_bad(c, st, kk, "(%s)", e2.msg);
+    plume_index *map = malloc((size_t)(o.nv + 1) * sizeof *map);
+    b->tri = malloc((size_t)(3 * o.nf + 1) * sizeof *b->tri);
+    b->y = malloc((size_t)(3 * o.nv + 1) * sizeof *b->y);
+    if (!map || !b->tri || !b->y) {
+        st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+        goto done;
+    }
+    if (o.nf < 1) {
+        st = plume_json_bad(c, PLUME_EINVAL, kk, "(%s) has no faces", path);
+        goto done;
+    }
+    for (plume_index i = 0; i < o.nv; i++)
+        map[i] = -1;
+    for (plume_index k = 0; k < 3 * o.nf; k++)
+        map[o.f[k]] = 0;
+    for (plume_index i = 0; i < o.nv; i++)
+        if (map[i] == 0) {
+            double y[3] = {o.v[2 * i], o.v[2 * i + 1], o.z[i]};
+            map[i] = b->nv;
+            place_point(&pl, y, b->y + 3 * b->nv++);
+        }
+    for (plume_index k = 0; k < 3 * o.nf; k++)
+        b->tri[k] = map[o.f[k]];
+    b->nt = o.nf;
+done:
+    free(map);
+    plume_obj_free(&o);
+    return st;
+}
+
+/* The merged mesh under construction. */
+typedef struct {
+    double *X, *x, *bd;
+    plume_index *tri, *barb;
+    int *mat;
+    plume_index nv, nt, nbarb;
+} merged;
+
+static int grow(void **p, size_t n, size_t size)
+{
+    void *q = realloc(*p, (n + 1) * size);
+    if (!q)
+        return 0;
+    *p = q;
+    return 1;
+}
+
+static plume_status add_handle(const plume_json_ctx *c, plume_scene *s, plume_handle **h)
+{
+    if (!grow((void **)&s->handles, (size_t)s->nhandles + 1, sizeof *s->handles))
+        return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+    *h = s->handles + s->nhandles++;
+    memset(*h, 0, sizeof **h);
+    return PLUME_OK;
+}
+
+/* A handle that moves like kinematic body b (its own copies of the keyframes). */
+static plume_status follow(const plume_json_ctx *c, const kinematic_body *b, plume_index *ids, plume_index n, plume_handle *h)
+{
+    double *t = malloc((size_t)b->nkeys * sizeof *t), *off = malloc((size_t)(3 * b->nkeys) * sizeof *off),
+           *rot = malloc((size_t)(3 * b->nkeys) * sizeof *rot);
+    h->vertices = ids, h->nvertices = n;
+    h->times = t, h->offsets = off, h->rotations = rot;
+    if (!t || !off || !rot)
+        return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+    h->nkeys = b->nkeys;
+    memcpy(t, b->times, (size_t)b->nkeys * sizeof *t);
+    memcpy(off, b->offsets, (size_t)(3 * b->nkeys) * sizeof *off);
+    memcpy(rot, b->rotations, (size_t)(3 * b->nkeys) * sizeof *rot);
+    memcpy(h->pivot, b->pivot, sizeof h->pivot);
+    return PLUME_OK;
+}
+
+/* An elastic object: its mesh (parsed like the top-level "mesh", errors under its key), placement,
+ * handles and attachments, appended to mg; its vertices become v0 = mg->nv on. */
+static plume_status parse_elastic(const plume_json_ctx *c, json_t *jo, const char *where, plume_scene *s,
+                                  const plume_scene_load_opts *o, const kinematic_body *kin, int nkin, merged *mg)
+{
+    plume_json_ctx cc = *c;
+    cc.prefix = where;
+    plume_scene sub;
+    memset(&sub, 0, sizeof sub);
+    sub.path = s->path;
+    sub.nmat = s->nmat;
+    sub.mats = s->mats;
+    plume_index *map = NULL, nobj = 0, *owner = NULL;
+    placement pl;
+    plume_status st;
+    int h0 = s->nhandles;
+    if ((st = parse_place(c, jo, where, &pl)) != PLUME_OK)
+        return st;
+    json_t *jm = json_object_get(jo, "mesh");
+    if (!json_is_object(jm))
+        return plume_json_bad(&cc, PLUME_EFORMAT, "mesh", "must be an object {\"feather\": ...}, {\"obj\": ...} or "
+                                                          "{\"rectangle\": ...}");
+    int feather = json_object_get(jm, "feather") != NULL, rectangle = json_object_get(jm, "rectangle") != NULL;
+    if (feather + rectangle + (json_object_get(jm, "obj") != NULL) != 1)
+        return plume_json_bad(&cc, PLUME_EFORMAT, "mesh", "needs one of \"obj\", \"feather\" or \"rectangle\"");
+    if (feather)
+        st = plume_scene_mesh_from_feather(&cc, jm, &sub, o);
+    else if (rectangle)
+        st = plume_scene_mesh_from_rectangle(&cc, jm, &sub, o && o->edge > 0.0 ? o : NULL);
+    else
+        st = plume_scene_mesh_from_obj(&cc, jm, &sub, &map, &nobj);
+    if (st != PLUME_OK)
+        goto done;
+    const plume_mesh *m = sub.mesh;
+    for (plume_index t = 0; t < m->nt; t++)
+        if (m->material[t] < 0 || m->material[t] >= s->nmat) {
+            st = plume_json_bad(&cc, PLUME_EINVAL, "mesh", "uses material %d (triangle %ld), but materials has %d entr%s",
+                                m->material[t], (long)t, s->nmat, s->nmat == 1 ? "y" : "ies");
+            goto done;
+        }
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (plume_index i = 0; i < m->nv; i++)
+        for (int a = 0; a < 2; a++)
+            lo[a] = fmin(lo[a], m->X[2 * i + a]), hi[a] = fmax(hi[a], m->X[2 * i + a]);
+    sub.length = hypot(hi[0] - lo[0], hi[1] - lo[1]);
+    if ((st = plume_scene_constrained_edges(&sub, c->err)) != PLUME_OK)
+        goto done;
+    /* handles and the attachment select in the object's own reference (before "place") */
+    plume_index v0 = mg->nv;
+    json_t *jh = json_object_get(jo, "handles");
+    if (jh && !json_is_array(jh)) {
+        st = plume_json_bad(&cc, PLUME_EFORMAT, "handles", "must be an array of handles");
+        goto done;
+    }
+    for (size_t k = 0; jh && k < json_array_size(jh); k++) {
+        char kp[PLUME_JSON_KEY_MAX];
+        plume_handle *h;
+        plume_json_subindex(kp, "handles", k);
+        if ((st = add_handle(c, s, &h)) != PLUME_OK ||
+            (st = plume_scene_parse_handle(&cc, json_array_get(jh, k), kp, &sub, map, nobj, h)) != PLUME_OK)
+            goto done;
+    }
+    json_t *ja = json_object_get(jo, "attach");
+    if (ja) {
+        static const char *const keys[] = {"to", "near", "radius", "vertices", "box", NULL};
+        if (!json_is_object(ja)) {
+            st = plume_json_bad(&cc, PLUME_EFORMAT, "attach", "must be an object {\"to\": kinematic object, selector}");
+            goto done;
+        }
+        if ((st = plume_json_check_keys(&cc, ja, "attach", keys)) != PLUME_OK)
+            goto done;
+        json_t *jt = json_object_get(ja, "to");
+        const char *to = json_is_string(jt) ? json_string_value(jt) : NULL;
+        int b = 0;
+        while (to && b < nkin && strcmp(kin[b].name, to) != 0)
+            b++;
+        if (!to || b == nkin) {
+            st = plume_json_bad(&cc, PLUME_EINVAL, "attach.to", "must name a kinematic object (got %s%s%s)", to ? "\"" : "",
+                                to ? to : "no name", to ? "\"" : "");
+            goto done;
+        }
+        plume_index *ids = malloc((size_t)(m->nv + 1) * sizeof *ids), n = 0;
+        plume_handle *h;
+        if ((st = add_handle(c, s, &h)) != PLUME_OK) {
+            free(ids);
+            goto done;
+        }
+        h->vertices = ids;
+        if (!ids) {
+            st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+            goto done;
+        }
+        if ((st = plume_scene_select(&cc, ja, "attach", &sub, map, nobj, ids, &n)) != PLUME_OK ||
+            (st = follow(c, kin + b, ids, n, h)) != PLUME_OK)
+            goto done;
+    }
+    /* a vertex in two of the object's handles would follow two paths */
+    owner = malloc((size_t)(m->nv + 1) * sizeof *owner);
+    if (!owner) {
+        st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+        goto done;
+    }
+    for (plume_index i = 0; i < m->nv; i++)
+        owner[i] = -1;
+    for (int h = h0; h < s->nhandles; h++) {
+        plume_index *ids = (plume_index *)s->handles[h].vertices;
+        for (plume_index i = 0; i < s->handles[h].nvertices; i++) {
+            if (owner[ids[i]] >= 0 && owner[ids[i]] != h) {
+                st = plume_json_bad(&cc, PLUME_EINVAL, ja && h == s->nhandles - 1 ? "attach" : "handles",
+                                    "shares vertex %ld with another handle of the object: a vertex can follow one handle only",
+                                    (long)ids[i]);
+                goto done;
+            }
+            owner[ids[i]] = h;
+        }
+        for (plume_index i = 0; i < s->handles[h].nvertices; i++)
+            ids[i] += v0;
+    }
+    /* append, placed */
+    if (!grow((void **)&mg->X, (size_t)(2 * (mg->nv + m->nv)), sizeof *mg->X) ||
+        !grow((void **)&mg->x, (size_t)(3 * (mg->nv + m->nv)), sizeof *mg->x) ||
+        !grow((void **)&mg->tri, (size_t)(3 * (mg->nt + m->nt)), sizeof *mg->tri) ||
+        !grow((void **)&mg->bd, (size_t)(2 * (mg->nt + m->nt)), sizeof *mg->bd) ||
+        !grow((void **)&mg->mat, (size_t)(mg->nt + m->nt), sizeof *mg->mat) ||
+        !grow((void **)&mg->barb, (size_t)(2 * (mg->nbarb + sub.nbarb)), sizeof *mg->barb)) {
+        st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+        goto done;
+    }
+    for (plume_index i = 0; i < m->nv; i++) {
+        double y[3] = {m->X[2 * i], m->X[2 * i + 1], 0.0};
+        mg->X[2 * (v0 + i)] = pl.scale * y[0];
+        mg->X[2 * (v0 + i) + 1] = pl.scale * y[1];
+        place_point(&pl, y, mg->x + 3 * (v0 + i));
+    }
+    for (plume_index t = 0; t < m->nt; t++) {
+        for (int k = 0; k < 3; k++)
+            mg->tri[3 * (mg->nt + t) + k] = m->tri[3 * t + k] + v0;
+        mg->bd[2 * (mg->nt + t)] = m->barb_dir[2 * t];
+        mg->bd[2 * (mg->nt + t) + 1] = m->barb_dir[2 * t + 1];
+        mg->mat[mg->nt + t] = m->material[t];
+    }
+    for (plume_index k = 0; k < 2 * sub.nbarb; k++)
+        mg->barb[2 * mg->nbarb + k] = sub.barb_edges[k] + v0;
+    mg->nv += m->nv, mg->nt += m->nt, mg->nbarb += sub.nbarb;
+done:
+    free(owner);
+    free(map);
+    plume_mesh_destroy(&sub.mesh);
+    free(sub.barb_edges);
+    return st;
+}
+
+static plume_status copy_mesh_part(const merged *mg, plume_index nt, plume_mesh **out, plume_err *err)
+{
+    plume_status st = plume_mesh_create(mg->nv, nt, 3, out);
+    if (st != PLUME_OK)
+        return plume_err_set(err, st, "scene: out of memory");
+    plume_mesh *m = *out;
+    memcpy(m->X, mg->X, (size_t)(2 * mg->nv) * sizeof *m->X);
+    memcpy(m->x, mg->x, (size_t)(3 * mg->nv) * sizeof *m->x);
+    memcpy(m->tri, mg->tri, (size_t)(3 * nt) * sizeof *m->tri);
+    memcpy(m->barb_dir, mg->bd, (size_t)(2 * nt) * sizeof *m->barb_dir);
+    memcpy(m->material, mg->mat, (size_t)nt * sizeof *m->material);
+    return PLUME_OK;
+}
+
+plume_status plume_scene_parse_objects(const plume_json_ctx *c, json_t *v, plume_scene *s, const plume_scene_load_opts *o)
+{
+    static const char *const keys[] = {"name", "mesh", "kinematic", "place", "handles", "attach", NULL};
+    if (!json_is_array(v) || json_array_size(v) < 1)
+        return plume_json_bad(c, PLUME_EFORMAT, "objects", "must be a non-empty array of objects ({\"name\", \"mesh\", "
+                                                           "\"place\", ...} or {\"name\", \"kinematic\", ...})");
+    size_t n = json_array_size(v);
+    kinematic_body *kin = calloc(n, sizeof *kin);
+    merged mg;
+    memset(&mg, 0, sizeof mg);
+    s->objects = calloc(n, sizeof *s->objects);
+    plume_status st = PLUME_OK;
+    int nkin = 0;
+    if (!kin || !s->objects) {
+        st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+        goto done;
+    }
+    /* names and kinds first: attachments refer to kinematic bodies by name */
+    for (size_t k = 0; k < n; k++) {
+        char kp[PLUME_JSON_KEY_MAX], kn[PLUME_JSON_KEY_MAX];
+        json_t *jo = json_array_get(v, k);
+        plume_json_subindex(kp, "objects", k);
+        if (!json_is_object(jo)) {
+            st = plume_json_bad(c, PLUME_EFORMAT, kp, "must be an object");
+            goto done;
+        }
+        if ((st = plume_json_check_keys(c, jo, kp, keys)) != PLUME_OK)
+            goto done;
+        json_t *jn = json_object_get(jo, "name");
+        plume_json_subkey(kn, kp, "name");
+        if (!json_is_string(jn) || !*json_string_value(jn)) {
+            st = plume_json_bad(c, PLUME_EFORMAT, kn, jn ? "must be a non-empty string" : "is missing (every object has a name)");
+            goto done;
+        }
+        for (size_t j = 0; j < k; j++)
+            if (strcmp(json_string_value(json_object_get(json_array_get(v, j), "name")), json_string_value(jn)) == 0) {
+                st = plume_json_bad(c, PLUME_EINVAL, kn, "\"%s\" is also the name of objects[%zu]", json_string_value(jn), j);
+                goto done;
+            }
+        int is_kin = json_object_get(jo, "kinematic") != NULL;
+        if (is_kin == (json_object_get(jo, "mesh") != NULL)) {
+            st = plume_json_bad(c, PLUME_EFORMAT, kp, "needs exactly one of \"mesh\" (an elastic shell) and \"kinematic\" "
+                                                      "(a rigid body moved by keyframes)");
+            goto done;
+        }
+        if (is_kin && (json_object_get(jo, "handles") || json_object_get(jo, "attach"))) {
+            st = plume_json_bad(c, PLUME_EINVAL, kp, "is kinematic: its keyframes move all of it (no handles or attach)");
+            goto done;
+        }
+        if (is_kin) {
+            kin[nkin].name = json_string_value(jn);
+            if ((st = parse_kinematic(c, jo, kp, kin + nkin++)) != PLUME_OK)
+                goto done;
+        }
+    }
+    /* the elastic objects, in order, then the kinematic ones */
+    for (size_t k = 0; k < n; k++) {
+        json_t *jo = json_array_get(v, k);
+        if (json_object_get(jo, "kinematic"))
+            continue;
+        char kp[PLUME_JSON_KEY_MAX];
+        plume_json_subindex(kp, "objects", k);
+        plume_scene_object *ob = s->objects + s->nobjects;
+        ob->v0 = mg.nv, ob->t0 = mg.nt;
+        if (!(ob->name = strdup(json_string_value(json_object_get(jo, "name"))))) {
+            st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+            goto done;
+        }
+        s->nobjects++;
+        if ((st = parse_elastic(c, jo, kp, s, o, kin, nkin, &mg)) != PLUME_OK)
+            goto done;
+        ob->nv = mg.nv - ob->v0, ob->nt = mg.nt - ob->t0;
+    }
+    plume_index nt_elastic = mg.nt;
+    if (nt_elastic == 0) {
+        st = plume_json_bad(c, PLUME_EINVAL, "objects", "has no elastic object (one with a \"mesh\"): nothing to simulate");
+        goto done;
+    }
+    for (int b = 0; b < nkin; b++) {
+        kinematic_body *kb = kin + b;
+        plume_scene_object *ob = s->objects + s->nobjects;
+        ob->v0 = mg.nv, ob->t0 = mg.nt, ob->nv = kb->nv, ob->nt = kb->nt, ob->kinematic = 1;
+        if (!(ob->name = strdup(kb->name)) ||
+            !grow((void **)&mg.X, (size_t)(2 * (mg.nv + kb->nv)), sizeof *mg.X) ||
+            !grow((void **)&mg.x, (size_t)(3 * (mg.nv + kb->nv)), sizeof *mg.x) ||
+            !grow((void **)&mg.tri, (size_t)(3 * (mg.nt + kb->nt)), sizeof *mg.tri) ||
+            !grow((void **)&mg.bd, (size_t)(2 * (mg.nt + kb->nt)), sizeof *mg.bd) ||
+            !grow((void **)&mg.mat, (size_t)(mg.nt + kb->nt), sizeof *mg.mat)) {
+            free(ob->name);
+            ob->name = NULL;
+            st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+            goto done;
+        }
+        s->nobjects++;
+        plume_index *ids = malloc((size_t)kb->nv * sizeof *ids);
+        plume_handle *h;
+        if ((st = add_handle(c, s, &h)) != PLUME_OK) {
+            free(ids);
+            goto done;
+        }
+        h->vertices = ids;
+        if (!ids) {
+            st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+            goto done;
+        }
+        for (plume_index i = 0; i < kb->nv; i++) {
+            ids[i] = mg.nv + i;
+            /* no flat reference: X is the projection, used by nothing elastic */
+            mg.X[2 * (mg.nv + i)] = kb->y[3 * i], mg.X[2 * (mg.nv + i) + 1] = kb->y[3 * i + 1];
+            memcpy(mg.x + 3 * (mg.nv + i), kb->y + 3 * i, 3 * sizeof *mg.x);
+        }
+        if ((st = follow(c, kb, ids, kb->nv, h)) != PLUME_OK)
+            goto done;
+        for (plume_index t = 0; t < kb->nt; t++) {
+            for (int a = 0; a < 3; a++)
+                mg.tri[3 * (mg.nt + t) + a] = kb->tri[3 * t + a] + mg.nv;
+            mg.bd[2 * (mg.nt + t)] = 1.0, mg.bd[2 * (mg.nt + t) + 1] = 0.0;
+            mg.mat[mg.nt + t] = 0; /* a density for the (fixed) vertices' lumped mass; no energy */
+        }
+        mg.nv += kb->nv, mg.nt += kb->nt;
+    }
+    /* the merged mesh, and its elastic part for the elastic terms */
+    plume_err e2 = {{0}};
+    if ((st = copy_mesh_part(&mg, mg.nt, &s->mesh, c->err)) != PLUME_OK)
+        goto done;
+    if ((st = plume_mesh_build_topology_rigid(s->mesh, nt_elastic, &e2)) != PLUME_OK) {
+        st = plume_json_bad(c, st, "objects", "do not make a valid mesh: %s", e2.msg);
+        goto done;
+    }
+    if (nkin > 0) {
+        if ((st = copy_mesh_part(&mg, nt_elastic, &s->elastic, c->err)) != PLUME_OK)
+            goto done;
+        if ((st = plume_mesh_build_topology(s->elastic, &e2)) != PLUME_OK) {
+            st = plume_json_bad(c, st, "objects", "do not make a valid mesh: %s", e2.msg);
+            goto done;
+        }
+    }
+    s->barb_edges = mg.barb, s->nbarb = mg.nbarb;
+    mg.barb = NULL;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (plume_index i = 0; i < mg.nv; i++)
+        for (int a = 0; a < 3; a++)
+            lo[a] = fmin(lo[a], mg.x[3 * i + a]), hi[a] = fmax(hi[a], mg.x[3 * i + a]);
+    s->length = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+done:
+    for (int b = 0; kin && b < nkin; b++)
+        kinematic_free(kin + b);
+    free(kin);
+    free(mg.X);
+    free(mg.x);
+    free(mg.bd);
+    free(mg.tri);
+    free(mg.barb);
+    free(mg.mat);
+    return st;
+}
