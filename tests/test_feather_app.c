@@ -327,6 +327,69 @@ void test_feather_app_contact_scene(void)
     rm_rf(dir);
 }
 
+/* The shipped wing (data/bird/wing.json) as a user runs it, for its first two frames (10 steps):
+ * exit 0, every feather and the bone in the outputs (VTK, HDF5 frames, the rendered frame 0), no
+ * intersecting triangle pair, the bone turned by its keyframes. */
+void test_feather_app_wing(void)
+{
+    char dir[64] = "/tmp/plume-wing-XXXXXX", args[512], out[16384], errs[8192], path[256];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    plume_scene *s = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_scene_load("../data/bird/wing.json", &s, &err) == PLUME_OK);
+    if (!s) {
+        fprintf(stderr, "    %s\n", err.msg);
+        rm_rf(dir);
+        return;
+    }
+    int nfeathers = 0;
+    for (int k = 0; k < s->nobjects; k++)
+        nfeathers += !s->objects[k].kinematic;
+    CHECK(nfeathers >= 12 && s->nobjects == nfeathers + 1 && s->objects[s->nobjects - 1].kinematic);
+    CHECK(s->has_contact && s->contact.pair.model == PLUME_CONTACT_BARRIER && s->contact.pair.dhat == 1e-3 &&
+          s->contact.self_contact && s->dt == 0.0028); /* Table 3 (b) */
+    int *body = malloc((size_t)s->mesh->nv * sizeof *body);
+    CHECK(body && plume_scene_bodies(s, body) == nfeathers + 1);
+    free(body);
+    snprintf(args, sizeof args, "../data/bird/wing.json -o %s/run --frames 2 --json --quiet", dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
+    json_error_t je;
+    json_t *j = json_loads(out, 0, &je);
+    CHECK(j != NULL);
+    if (!j)
+        fprintf(stderr, "    stdout: %s\n    stderr: %s\n", out, errs);
+    if (j) {
+        json_t *c = json_object_get(j, "contact");
+        CHECK(json_is_true(json_object_get(j, "converged")) && json_integer_value(json_object_get(j, "steps")) == 10);
+        CHECK(json_integer_value(json_object_get(j, "vertices")) == s->mesh->nv);
+        CHECK(c && json_integer_value(json_object_get(c, "steps_intersecting")) == 0);
+        CHECK(c && json_real_value(json_object_get(c, "min_distance")) > 0.0);
+        json_decref(j);
+    }
+    for (int k = 0; k <= 2; k++) {
+        snprintf(path, sizeof path, "%s/run/frame_%05d.vtk", dir, k);
+        CHECK(exists_nonempty(path));
+    }
+    snprintf(path, sizeof path, "%s/run/frame_00000.png", dir);
+    CHECK(exists_nonempty(path));
+    snprintf(path, sizeof path, "%s/run/frames.h5", dir);
+    plume_frame f;
+    CHECK(plume_frames_read(path, -1, &f, &err) == PLUME_OK && f.step == 10 && f.nv == s->mesh->nv);
+    if (f.x) { /* the bone's far end went down as the flap began: R_y(angle) about the shoulder */
+        const plume_scene_object *bone = s->objects + s->nobjects - 1;
+        double dz = 0.0;
+        for (plume_index v = bone->v0; v < bone->v0 + bone->nv; v++)
+            dz = fmin(dz, f.x[3 * v + 2] - s->mesh->x[3 * v + 2]);
+        CHECK(dz < -1e-3);
+    }
+    plume_frame_free(&f);
+    plume_scene_destroy(&s);
+    rm_rf(dir);
+}
+
 /* The strip example for a few frames: exit 0, the JSON summary, the outputs on disk. */
 void test_feather_app_strip_run(void)
 {
