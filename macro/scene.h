@@ -46,6 +46,18 @@
  * paper's repulsion thickness, Table 3 (b)), self false, margin 0. "friction" is refused: lagged
  * friction is not built yet.
  *
+ * Many bodies (dynamic scenes): "objects": [...] instead of "mesh" and "handles". Each object has
+ * a unique "name" and either
+ *   "mesh": {as the top-level mesh}, "place": {"scale": s, "rotate": [[ax, ay, az, degrees], ...]
+ *   (applied in order), "translate": [x, y, z]}, "handles": [as above], "attach": {"to": the name
+ *   of a kinematic object, selector}   an elastic shell; selectors pick in its own reference,
+ *                                      before "place"; attached vertices move with that body;
+ *   "kinematic": {"obj": a 3D OBJ surface, "pivot": [x, y, z], "keyframes": [[t, dx, dy, dz(, ax,
+ *   ay, az, degrees)], ...]}, "place"  a rigid body: translation piecewise linear, rotation about
+ *                                      the pivot (after "place") slerped between keys.
+ * The mesh holds the elastic objects in order, then the kinematic ones (plume_scene.objects);
+ * kinematic triangles take material 0's density (their vertices are held) and no elastic energy.
+ *
  * Static scenes ("solve": "static"; dt and duration are then not used, "steps" load steps,
  * default 10) reach equilibrium under loads stepped from 0 to their full value:
  *     "clamps": [ {selector} ]  the selected vertices are fixed and so is the slope (the rest
