@@ -24,6 +24,13 @@ struct plume_contact {
     double *eps;                  /* [cap] edge–edge mollifier thresholds (0 for point–triangle) */
     plume_index *scratch;         /* [4 cap] the next update's stencils, compared with the last */
     double *x1;                   /* [3 nv] the end of a step (max_step) */
+    /* self contact: pairs of one body already within reach at rest (a fine mesh next to a coarse
+     * dhat) would be pushed apart from the first step; they get their own activation distance, half
+     * their rest distance (sorted for bsearch) */
+    plume_index nexcl;
+    plume_index *excl;            /* [5 nexcl]: kind (0 point-triangle, 1 edge-edge), 4 vertices */
+    double *excl_dhat;            /* [nexcl] */
+    double *pdhat;                /* [cap] the activation distance of each stencil */
     plume_contact_stats st;
 };
 
@@ -52,7 +59,30 @@ static void contact_destroy(void *ctx)
     free(c->eps);
     free(c->scratch);
     free(c->x1);
+    free(c->excl);
+    free(c->excl_dhat);
+    free(c->pdhat);
     free(c);
+}
+
+static int key_cmp(const void *a, const void *b)
+{
+    const plume_index *x = a, *y = b;
+    for (int k = 0; k < 5; k++)
+        if (x[k] != y[k])
+            return x[k] < y[k] ? -1 : 1;
+    return 0;
+}
+
+/* the activation distance of a pair (kind, vertices): dhat, or the reduced one of a pair within
+ * reach at rest */
+static double pair_dhat(const plume_contact *c, int kind, const plume_index v[4])
+{
+    if (c->nexcl == 0)
+        return c->o.pair.dhat;
+    plume_index key[5] = {kind, v[0], v[1], v[2], v[3]};
+    const plume_index *f = bsearch(key, c->excl, (size_t)c->nexcl, 5 * sizeof *key, key_cmp);
+    return f ? c->excl_dhat[(f - c->excl) / 5] : c->o.pair.dhat;
 }
 
 /* the four vertices of candidate k of a broad-phase answer: (v, t0, t1, t2) for the first nvt
@@ -103,6 +133,7 @@ static plume_status contact_eval(void *ctx, int dim, const double *x, double *en
         double xs[12], g[12], e = 0.0;
         double *H = hblocks ? hblocks + 144 * s : NULL;
         gather12(x, v, xs);
+        po.dhat = c->pdhat[s];
         if (s < c->npt)
             st = plume_contact_pt_energy(&po, xs, &e, grad ? g : NULL, H, NULL);
         else
@@ -137,7 +168,10 @@ static plume_status reserve(plume_contact *c, plume_index n)
     double *e = realloc(c->eps, (size_t)cap * sizeof *e);
     if (e)
         c->eps = e;
-    if (!s || !w || !e)
+    double *dh = realloc(c->pdhat, (size_t)cap * sizeof *dh);
+    if (dh)
+        c->pdhat = dh;
+    if (!s || !w || !e || !dh)
         return PLUME_ENOMEM;
     c->cap = cap;
     return PLUME_OK;
@@ -159,17 +193,20 @@ static plume_status contact_update(void *ctx, int dim, const double *x, const pl
         return st;
     /* the boxes' candidates, kept when truly within reach: fewer stencils to evaluate, and a
      * pattern that changes only when a pair comes within dhat + margin or leaves it */
-    const double reach = c->o.pair.dhat + c->o.margin;
     plume_index *w = c->scratch, n = 0, npt = 0;
     for (plume_index k = 0; k < cand.nvt + cand.nee; k++) {
         double xs[12], d2 = 0.0;
         pair_vertices(c, &cand, k, w + 4 * n);
+        double dh = pair_dhat(c, k >= cand.nvt, w + 4 * n), r = dh + c->o.margin;
+        if (!(dh > 0.0)) /* touching at rest: no barrier can act; CCD alone keeps it */
+            continue;
         gather12(x, w + 4 * n, xs);
         st = k < cand.nvt ? plume_contact_pt_dist2(xs, &d2) : plume_contact_ee_dist2(xs, &d2);
         if (st != PLUME_OK)
             return st;
-        if (!(d2 < reach * reach))
+        if (!(d2 < r * r))
             continue;
+        c->pdhat[n] = dh;
         /* the edge-edge mollifier's threshold from the rest lengths (0: point-triangle); written in
          * place: when the set is unchanged the values are the same */
         c->eps[n] = k < cand.nvt ? 0.0
@@ -268,6 +305,61 @@ void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s)
         *s = c->st;
 }
 
+/* The pairs of one body within dhat + margin of each other at rest (self contact only) get the
+ * activation distance half their rest distance: nothing pushes at rest, and a pair that closes
+ * in is still repelled (and CCD still stops it crossing). */
+static plume_status reduce_rest_pairs(plume_contact *c, const int *body, const double *xrest, plume_err *err)
+{
+    const double reach = c->o.pair.dhat + c->o.margin;
+    plume_contact_candidates cand;
+    plume_status st = plume_contact_broad_update(c->broad, xrest, NULL, reach, &cand, err);
+    if (st != PLUME_OK)
+        return st;
+    plume_index n = cand.nvt + cand.nee;
+    c->excl = malloc((size_t)(5 * n + 5) * sizeof *c->excl);
+    double *d = malloc((size_t)(n + 1) * sizeof *d);
+    c->excl_dhat = malloc((size_t)(n + 1) * sizeof *c->excl_dhat);
+    if (!c->excl || !d || !c->excl_dhat) {
+        free(d);
+        return plume_err_set(err, PLUME_ENOMEM, "contact: out of memory");
+    }
+    for (plume_index k = 0; k < n; k++) {
+        plume_index *key = c->excl + 5 * c->nexcl;
+        double xs[12], d2 = 0.0;
+        pair_vertices(c, &cand, k, key + 1);
+        if (body && (body[key[1]] != body[key[2]] || body[key[1]] != body[key[3]] || body[key[1]] != body[key[4]]))
+            continue;
+        gather12(xrest, key + 1, xs);
+        if ((st = k < cand.nvt ? plume_contact_pt_dist2(xs, &d2) : plume_contact_ee_dist2(xs, &d2)) != PLUME_OK) {
+            free(d);
+            return plume_err_set(err, st, "contact: a rest pair's distance failed (%s)", plume_strerror(st));
+        }
+        if (!(d2 < reach * reach))
+            continue;
+        key[0] = k >= cand.nvt;
+        d[c->nexcl++] = 0.5 * sqrt(d2);
+    }
+    /* sort the keys, and their distances with them */
+    plume_index *order = malloc((size_t)(6 * c->nexcl + 6) * sizeof *order);
+    if (!order) {
+        free(d);
+        return plume_err_set(err, PLUME_ENOMEM, "contact: out of memory");
+    }
+    for (plume_index k = 0; k < c->nexcl; k++) {
+        memcpy(order + 6 * k, c->excl + 5 * k, 5 * sizeof *order);
+        order[6 * k + 5] = k;
+    }
+    qsort(order, (size_t)c->nexcl, 6 * sizeof *order, key_cmp);
+    for (plume_index k = 0; k < c->nexcl; k++) {
+        memcpy(c->excl + 5 * k, order + 6 * k, 5 * sizeof *order);
+        c->excl_dhat[k] = d[order[6 * k + 5]];
+    }
+    free(order);
+    free(d);
+    c->st.excluded = c->nexcl;
+    return PLUME_OK;
+}
+
 plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const plume_index *tri, const int *body,
                                        const double *xrest, const plume_contact_term_opts *o, plume_term *out,
                                        plume_contact **handle, plume_err *err)
@@ -310,6 +402,8 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
         const double *a = xrest + 3 * c->edges[2 * e], *b = xrest + 3 * c->edges[2 * e + 1];
         c->elen2[e] = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
     }
+    if (o->self_contact && (st = reduce_rest_pairs(c, body, xrest, err)) != PLUME_OK)
+        goto fail;
     out->name = "contact";
     out->arity = 4;
     out->nstencil = 0;

@@ -19,8 +19,9 @@ extern "C" {
 
 typedef struct {
     plume_contact_opts pair; /* model, dhat, stiffness (kappa or the penalty's), PSD projection */
-    int self_contact;        /* 1: non-adjacent primitives of one body touch too; 0: only pairs of
-                                different bodies (body ids required). Default 0. */
+    int self_contact;        /* 1: non-adjacent primitives of one body touch too (pairs already
+                                within dhat + margin at rest with dhat = half their rest distance);
+                                0: only pairs of different bodies (body ids required). Default 0. */
     double margin;           /* candidates are the pairs within dhat + margin when the stencils are
                                 updated (before each step, and after it: a step whose solution
                                 brings in new pairs is solved again, lib/dynamics.c); default 0 */
@@ -37,6 +38,9 @@ typedef struct {
     plume_index candidates; /* stencils of the last update */
     long updates;           /* stencil updates */
     long step_limits;       /* steps that CCD cut short */
+    plume_index excluded;   /* self contact: pairs of one body within dhat + margin at rest; they
+                               would be pushed apart from the first step, so their barrier acts
+                               only within half their rest distance (CCD still applies) */
     double broad_seconds, narrow_seconds, ccd_seconds; /* broad phase, pair energies, CCD */
 } plume_contact_stats;
 
