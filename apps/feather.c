@@ -198,8 +198,8 @@ typedef struct {
     plume_contact_broad *broad; /* for the distances (the scene's bodies and self setting) */
     plume_contact_pairs pairs;  /* the audit's list, reused */
     long steps_intersecting, step_limited;
-    plume_index max_intersecting;
-    double min_distance, cap, seconds;
+    plume_index max_intersecting, last_intersecting; /* over the run; after the last step */
+    double min_distance, last_distance, cap, seconds;
 } contact_monitor;
 
 static int contact_monitor_start(contact_monitor *cm, const plume_scene *s, plume_err *err)
@@ -230,6 +230,8 @@ static int contact_monitor_step(contact_monitor *cm, const plume_mesh *m, const 
         plume_contact_min_distance(cm->broad, x, cm->cap, &dmin, err) != PLUME_OK)
         return 0;
     cm->steps_intersecting += a.intersecting > 0;
+    cm->last_intersecting = a.intersecting;
+    cm->last_distance = dmin;
     if (a.intersecting > cm->max_intersecting)
         cm->max_intersecting = a.intersecting;
     cm->min_distance = fmin(cm->min_distance, dmin);
@@ -267,8 +269,17 @@ static int wants_render(const plume_scene *s, long k)
     return 0;
 }
 
+/* No step yet: zeros, and the contact measures -1 without contact (the distance at its cap). */
+static void frame_measures_reset(plume_frame_measures *fm, const plume_scene *s)
+{
+    memset(fm, 0, sizeof *fm);
+    fm->contact_pairs = fm->intersecting_pairs = s->has_contact ? 0.0 : -1.0;
+    fm->min_distance = s->has_contact ? 10.0 * s->contact.pair.dhat : -1.0;
+}
+
 /* Writes frame k of the current state: VTK, HDF5 frame, PNG when requested. Exit code. */
-static int write_frame(const output_ctx *oc, const plume_dynamics *d, long k, long step, int append)
+static int write_frame(const output_ctx *oc, const plume_dynamics *d, long k, long step, int append,
+                       const plume_frame_measures *fm)
 {
     plume_err err = {{0}};
     char path[4400];
@@ -281,8 +292,8 @@ static int write_frame(const output_ctx *oc, const plume_dynamics *d, long k, lo
     if (append) {
         plume_index ncons;
         const double *lambda = plume_dynamics_multipliers(d, &ncons);
-        if (plume_frames_append(oc->frames_path, m->nv, ncons, t, step, x, plume_dynamics_velocities(d), lambda,
-                                &err) != PLUME_OK)
+        if (plume_frames_append_measured(oc->frames_path, m->nv, ncons, t, step, x, plume_dynamics_velocities(d), lambda,
+                                         fm, &err) != PLUME_OK)
             return run_fail("%s", err.msg);
     }
     if (wants_render(oc->scene, k)) {
@@ -313,11 +324,14 @@ int main(int argc, char **argv)
     plume_scene *scene = NULL;
     plume_problem *p = NULL;
     plume_dynamics *d = NULL;
+    plume_contact *contact = NULL; /* the contact term's handle (its stats), owned by the problem */
+    plume_frame_measures fm;       /* the steps since the last frame (frames.h5) */
     contact_monitor cm; /* contact scenes only; freed at done: */
     memset(&cm, 0, sizeof cm);
     plume_frame last = {0};
     if ((st = plume_scene_load(o.scene, &scene, &err)) != PLUME_OK)
         return cli_fail(APP, "%s", err.msg);
+    frame_measures_reset(&fm, scene);
     if (o.solver && plume_solver_kind_parse(o.solver, &scene->solver) != PLUME_OK) {
         plume_scene_destroy(&scene);
         return cli_fail(APP, "--solver expects newton|ipopt|linearized (got '%s')", o.solver);
@@ -339,7 +353,7 @@ int main(int argc, char **argv)
     output_ctx oc = {scene, outdir, frames_path, stem};
 
     scene->verbose = o.verbose;
-    if ((st = plume_scene_dynamics(scene, &p, &d, &err)) != PLUME_OK) {
+    if ((st = plume_scene_dynamics_contact(scene, &p, &d, &contact, &err)) != PLUME_OK) {
         rc = st == PLUME_EINVAL || st == PLUME_EFORMAT ? cli_fail(APP, "%s: %s", o.scene, err.msg)
                                                        : run_fail("%s", err.msg);
         goto done;
@@ -386,7 +400,7 @@ int main(int argc, char **argv)
             rc = run_fail("%s", err.msg);
             goto done;
         }
-        if ((rc = write_frame(&oc, d, 0, 0, 1)) != 0)
+        if ((rc = write_frame(&oc, d, 0, 0, 1, &fm)) != 0)
             goto done;
         next_frame = 1;
     }
@@ -431,6 +445,16 @@ int main(int argc, char **argv)
             rc = run_fail("contact measures: %s", err.msg);
             goto done;
         }
+        fm.newton_iterations += rep.iterations;
+        fm.steps_halved += rep.halvings;
+        fm.seconds += rep.seconds;
+        if (scene->has_contact) {
+            plume_contact_stats cs;
+            plume_contact_term_stats(contact, &cs);
+            fm.contact_pairs = fmax(fm.contact_pairs, (double)cs.candidates);
+            fm.min_distance = fmin(fm.min_distance, cm.last_distance);
+            fm.intersecting_pairs = fmax(fm.intersecting_pairs, (double)cm.last_intersecting);
+        }
         max_violation = fmax(max_violation, rep.max_violation);
         double t1 = plume_dynamics_time(d);
         int advanced = fabs(t1 - (t0 + dt)) <= 1e-9 * fmax(dt, fabs(t1));
@@ -453,8 +477,9 @@ int main(int argc, char **argv)
         step++;
         done_steps++;
         if (step % scene->output_every == 0) {
-            if ((rc = write_frame(&oc, d, next_frame, step, 1)) != 0)
+            if ((rc = write_frame(&oc, d, next_frame, step, 1, &fm)) != 0)
                 goto done;
+            frame_measures_reset(&fm, scene);
             next_frame++;
             frames++;
         }

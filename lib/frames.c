@@ -220,8 +220,29 @@ cleanup:
     return s;
 }
 
+/* the measures' attribute names, in the struct's order */
+static const char *const measure_names[] = {"newton_iterations", "steps_halved", "seconds", "contact_pairs",
+                                            "min_distance", "intersecting_pairs"};
+#define NMEASURES (sizeof measure_names / sizeof *measure_names)
+
+static int write_measures(hid_t fg, const plume_frame_measures *m)
+{
+    const double *v = &m->newton_iterations;
+    for (size_t k = 0; k < NMEASURES; k++)
+        if (h5_write_attr_double(fg, measure_names[k], v[k]) < 0)
+            return -1;
+    return 0;
+}
+
 plume_status plume_frames_append(const char *path, plume_index nv, plume_index ncons, double t, long step,
                                  const double *x, const double *v, const double *lambda, plume_err *err)
+{
+    return plume_frames_append_measured(path, nv, ncons, t, step, x, v, lambda, NULL, err);
+}
+
+plume_status plume_frames_append_measured(const char *path, plume_index nv, plume_index ncons, double t, long step,
+                                          const double *x, const double *v, const double *lambda,
+                                          const plume_frame_measures *m, plume_err *err)
 {
     if (!x || !v || (ncons > 0 && !lambda) || !isfinite(t))
         return plume_err_set(err, PLUME_EINVAL, "frames file '%s': append needs x, v, lambda and a finite time",
@@ -253,7 +274,8 @@ plume_status plume_frames_append(const char *path, plume_index nv, plume_index n
     }
     if ((fg = H5Gcreate2(g, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 || h5_write_dataset(fg, "x", x, 3 * nv) < 0 ||
         h5_write_dataset(fg, "v", v, 3 * nv) < 0 || h5_write_dataset(fg, "lambda", lambda, ncons) < 0 ||
-        h5_write_attr_double(fg, "t", t) < 0 || write_attr_long(fg, "step", step) < 0) {
+        h5_write_attr_double(fg, "t", t) < 0 || write_attr_long(fg, "step", step) < 0 ||
+        (m && write_measures(fg, m) < 0)) {
         s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot write /frames/%s (HDF5: %s)", path, name,
                           h5_cause(&d));
         goto cleanup;
@@ -372,6 +394,50 @@ plume_status plume_frames_read(const char *path, long k, plume_frame *f, plume_e
 cleanup:
     if (s != PLUME_OK)
         plume_frame_free(f);
+    if (fg >= 0)
+        H5Gclose(fg);
+    if (g >= 0)
+        H5Gclose(g);
+    if (fid >= 0)
+        H5Fclose(fid);
+    quiet_end(&q);
+    return s;
+}
+
+plume_status plume_frames_read_measures(const char *path, long k, plume_frame_measures *m, plume_err *err)
+{
+    if (!m)
+        return plume_err_set(err, PLUME_EINVAL, "frames file: no measures struct");
+    memset(m, 0, sizeof *m);
+    h5_quiet q;
+    quiet_begin(&q);
+    hid_t fid, g, fg = H5I_INVALID_HID;
+    plume_frames_info info;
+    plume_status s = open_frames(path, H5F_ACC_RDONLY, &fid, &g, err);
+    if (s == PLUME_OK)
+        s = read_info(path, g, &info, err);
+    if (s != PLUME_OK)
+        goto cleanup;
+    if (k < 0)
+        k = info.count - 1;
+    if (k < 0 || k >= info.count) {
+        s = plume_err_set(err, PLUME_EINVAL, "frames file '%s': has no frame %ld (it holds %ld)", path, k, info.count);
+        goto cleanup;
+    }
+    char name[32];
+    snprintf(name, sizeof name, "%ld", k);
+    if (H5Lexists(g, name, H5P_DEFAULT) <= 0 || (fg = H5Gopen2(g, name, H5P_DEFAULT)) < 0) {
+        s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s is missing", path, name);
+        goto cleanup;
+    }
+    double *v = &m->newton_iterations;
+    for (size_t i = 0; i < NMEASURES; i++)
+        if (read_attr(fg, measure_names[i], H5T_NATIVE_DOUBLE, v + i) < 0) {
+            s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s has no %s attribute (no measures)", path,
+                              name, measure_names[i]);
+            goto cleanup;
+        }
+cleanup:
     if (fg >= 0)
         H5Gclose(fg);
     if (g >= 0)

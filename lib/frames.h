@@ -3,7 +3,10 @@
  *   /frames                 attributes count (frames committed), nv, ncons, dt, scene (string)
  *   /frames/<k>/x, v        [3 nv] positions and velocities (m, m/s), vertex-major
  *   /frames/<k>/lambda      [ncons] constraint multipliers of the step that produced the frame
- *   /frames/<k>             attributes t (s) and step
+ *   /frames/<k>             attributes t (s) and step, and the run's measures of the steps since
+ *                           the previous frame (plume_frame_measures: iterations, halvings,
+ *                           seconds, contact pairs, smallest distance, intersecting pairs), each a
+ *                           double attribute named after its field
  * k = 0, 1, ... in decimal.
  *
  * Why not the temporary-file-and-rename protocol of lib/curves.c: it copies the whole file for
@@ -53,6 +56,25 @@ plume_status plume_frames_create(const char *path, plume_index nv, plume_index n
  * nv/ncons differ from the ones the caller gives (PLUME_EFORMAT), a write failure (PLUME_EIO). */
 plume_status plume_frames_append(const char *path, plume_index nv, plume_index ncons, double t, long step,
                                  const double *x, const double *v, const double *lambda, plume_err *err);
+
+/* What the steps since the previous frame did (apps/feather). Contact fields are -1 without
+ * contact. */
+typedef struct {
+    double newton_iterations; /* solver iterations */
+    double steps_halved;      /* halvings */
+    double seconds;           /* wall time of the steps */
+    double contact_pairs;     /* most contact stencils of an update (pairs within reach) */
+    double min_distance;      /* smallest distance between non-adjacent primitives (m, capped) */
+    double intersecting_pairs;/* most intersecting triangle pairs after a step (exact audit) */
+} plume_frame_measures;
+
+/* plume_frames_append, with the measures (may be NULL) as attributes of the frame's group. */
+plume_status plume_frames_append_measured(const char *path, plume_index nv, plume_index ncons, double t, long step,
+                                          const double *x, const double *v, const double *lambda,
+                                          const plume_frame_measures *m, plume_err *err);
+
+/* The measures of frame k (k < 0: the last); PLUME_EFORMAT when the frame has none. */
+plume_status plume_frames_read_measures(const char *path, long k, plume_frame_measures *m, plume_err *err);
 
 /* Reads the /frames attributes. */
 plume_status plume_frames_info_read(const char *path, plume_frames_info *info, plume_err *err);

@@ -386,6 +386,14 @@ void test_feather_app_wing(void)
         CHECK(dz < -1e-3);
     }
     plume_frame_free(&f);
+    /* every frame carries the measures of its steps */
+    plume_frame_measures fm0, fm;
+    CHECK(plume_frames_read_measures(path, 0, &fm0, &err) == PLUME_OK && fm0.newton_iterations == 0.0);
+    CHECK(plume_frames_read_measures(path, -1, &fm, &err) == PLUME_OK);
+    CHECK(fm.newton_iterations >= 5 && fm.steps_halved >= 0 && fm.seconds > 0.0);
+    CHECK(fm.intersecting_pairs == 0.0 && fm.min_distance > 0.0 && fm.min_distance <= 1e-2 && fm.contact_pairs >= 0.0);
+    fprintf(stderr, "    last frame: %g iterations, %g halvings, %g contact pairs, smallest distance %.3g m\n",
+            fm.newton_iterations, fm.steps_halved, fm.contact_pairs, fm.min_distance);
     plume_scene_destroy(&s);
     rm_rf(dir);
 }

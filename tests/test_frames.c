@@ -95,6 +95,14 @@ void test_frames_roundtrip(void)
     CHECK(plume_frames_append(bad, nv, 0, 0.5, 1, x[0], v[0], NULL, &err) == PLUME_OK);
     CHECK(plume_frames_read(bad, 0, &f, &err) == PLUME_OK && f.lambda == NULL && same(f.x, x[0], 21));
     plume_frame_free(&f);
+    /* measures: written as attributes of the frame, read back exactly; a frame without them says so */
+    plume_frame_measures m = {7, 1, 0.25, 42, 3.5e-4, 0}, r;
+    CHECK(plume_frames_read_measures(bad, 0, &r, &err) == PLUME_EFORMAT && strstr(err.msg, "no measures"));
+    CHECK(plume_frames_append_measured(bad, nv, 0, 1.0, 2, x[1], v[1], NULL, &m, &err) == PLUME_OK);
+    CHECK(plume_frames_read_measures(bad, -1, &r, &err) == PLUME_OK && memcmp(&r, &m, sizeof m) == 0);
+    CHECK(plume_frames_read(bad, 1, &f, &err) == PLUME_OK && f.step == 2 && same(f.x, x[1], 21));
+    plume_frame_free(&f);
+    CHECK(plume_frames_read_measures(bad, 5, &r, &err) == PLUME_EINVAL);
     remove_dir(dir);
 }
 
