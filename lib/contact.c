@@ -296,6 +296,21 @@ plume_status plume_contact_min_distance(plume_contact_broad *b, const double *x,
     return PLUME_OK;
 }
 
+void plume_contact_term_pairs(const plume_contact *c, plume_index *npt, plume_index *nee, const plume_index **stencil,
+                              const double **dhat, plume_contact_opts *opts)
+{
+    if (npt)
+        *npt = c ? c->npt : 0;
+    if (nee)
+        *nee = c ? c->nee : 0;
+    if (stencil)
+        *stencil = c ? c->stencil : NULL;
+    if (dhat)
+        *dhat = c ? c->pdhat : NULL;
+    if (opts && c)
+        *opts = c->o.pair;
+}
+
 void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s)
 {
     if (!s)

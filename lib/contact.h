@@ -57,6 +57,13 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
 
 void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s);
 
+/* The pairs of the term's last update (lagged friction reads them): *npt point–triangle then *nee
+ * edge–edge stencils of 4 vertices in *stencil, their activation distances in *dhat (dhat, or the
+ * reduced one of a self pair within reach at rest), and the pair options in *opts. Valid until the
+ * next update; any output may be NULL. */
+void plume_contact_term_pairs(const plume_contact *c, plume_index *npt, plume_index *nee, const plume_index **stencil,
+                              const double **dhat, plume_contact_opts *opts);
+
 /* A measure that does not trust the model: the smallest distance between non-adjacent primitives
  * (point–triangle and edge–edge pairs of the broad phase b, lib/contact_broad.h) at positions x,
  * or cap when no pair is closer than cap. */

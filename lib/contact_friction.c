@@ -353,6 +353,9 @@ struct plume_friction {
      * them); next: those of the last set_pairs, copied into cur by the next update */
     pair_set cur, next;
     int pending;
+    const plume_contact *contact;  /* lag from it (plume_friction_follow_contact), or NULL */
+    plume_friction_pair *lagged;   /* [nlagged_cap] workspace of friction_lag */
+    plume_index nlagged_cap;
 };
 
 void plume_friction_opts_default(plume_friction_opts *o)
@@ -409,6 +412,7 @@ static void friction_destroy(void *ctx)
         return;
     set_free(&f->cur);
     set_free(&f->next);
+    free(f->lagged);
     free(f);
 }
 
@@ -529,6 +533,51 @@ plume_status plume_friction_set_pairs(plume_friction *f, plume_index npairs, con
     return PLUME_OK;
 }
 
+/* plume_term.lag: the contact's pairs at the step's start x, with their normal forces there */
+static plume_status friction_lag(void *ctx, int dim, const double *x)
+{
+    plume_friction *f = ctx;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    if (!f->contact)
+        return PLUME_OK;
+    plume_index npt = 0, nee = 0;
+    const plume_index *st = NULL;
+    const double *dhat = NULL;
+    plume_contact_opts po;
+    plume_contact_term_pairs(f->contact, &npt, &nee, &st, &dhat, &po);
+    plume_index n = npt + nee, k = 0;
+    if (n > f->nlagged_cap) {
+        plume_friction_pair *q = realloc(f->lagged, (size_t)(n + n / 2 + 16) * sizeof *q);
+        if (!q)
+            return PLUME_ENOMEM;
+        f->lagged = q;
+        f->nlagged_cap = n + n / 2 + 16;
+    }
+    for (plume_index s = 0; s < n; s++) {
+        double xs[12], lambda = 0.0;
+        plume_friction_pair *pr = f->lagged + k;
+        memcpy(pr->v, st + 4 * s, sizeof pr->v);
+        pr->is_edge_edge = s >= npt;
+        gather12(x, pr->v, xs);
+        po.dhat = dhat[s];
+        plume_status e = plume_friction_pair_normal_force(&po, pr->is_edge_edge, xs, &lambda);
+        if (e != PLUME_OK || !(lambda > 0.0))
+            continue; /* out of reach now, or touching (d = 0 under the penalty): no force to lag */
+        pr->lambda = lambda;
+        k++;
+    }
+    return plume_friction_set_pairs(f, k, f->lagged, x, NULL);
+}
+
+plume_status plume_friction_follow_contact(plume_friction *f, const plume_contact *c)
+{
+    if (!f || !c)
+        return PLUME_EINVAL;
+    f->contact = c;
+    return PLUME_OK;
+}
+
 plume_status plume_friction_term_create(plume_index nv, const plume_friction_opts *o, plume_term *out,
                                         plume_friction **handle, plume_err *err)
 {
@@ -561,6 +610,7 @@ plume_status plume_friction_term_create(plume_index nv, const plume_friction_opt
     out->ctx = f;
     out->update = friction_update;
     out->max_step = NULL;
+    out->lag = friction_lag;
     if (handle)
         *handle = f;
     return PLUME_OK;

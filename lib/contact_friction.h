@@ -12,6 +12,7 @@
 #ifndef PLUME_CONTACT_FRICTION_H
 #define PLUME_CONTACT_FRICTION_H
 
+#include "contact.h"
 #include "contact_narrow.h"
 #include "status.h"
 #include "term.h"
@@ -121,6 +122,12 @@ plume_status plume_friction_term_create(plume_index nv, const plume_friction_opt
  * non-finite lagged positions. */
 plume_status plume_friction_set_pairs(plume_friction *f, plume_index npairs, const plume_friction_pair *pairs,
                                       const double *x_lag, plume_err *err);
+
+/* Makes the term lag itself from contact term c (lib/contact.h) at the start of every time step
+ * (plume_term.lag, called by the stepper): the contact's pairs within reach there, each with its
+ * normal force (plume_friction_pair_normal_force, pairs with lambda 0 dropped), become the pairs.
+ * c must outlive the term (both belong to one problem). */
+plume_status plume_friction_follow_contact(plume_friction *f, const plume_contact *c);
 
 /* eps_u = eps_v dt of the term (m). */
 double plume_friction_eps_u(const plume_friction *f);

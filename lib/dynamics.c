@@ -330,13 +330,15 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
     inertia_ctx *in = d->inertia;
     double *x = plume_problem_x(d->p), *xh = d->xh;
     int limits = plume_problem_limits_steps(d->p);
+    plume_status st = plume_problem_lag_terms(d->p, d->x); /* friction lags at x_n */
+    if (st != PLUME_OK)
+        return st;
     for (plume_index i = 0; i < 3 * nv; i++)
         in->xt[i] = xh[i] = d->x[i] + dt * d->v[i];
     in->inv_dt2 = 1.0 / (dt * dt);
     for (int h = 0; h < d->nhandles; h++)
         for (plume_index i = 0; i < d->handles[h].nv; i++)
             handle_position(d->handles + h, i, d->t + dt, xh + 3 * d->handles[h].vertices[i]);
-    plume_status st;
     if (limits) {
         int safe = 1, limited = 0;
         memcpy(x, d->x, (size_t)(3 * nv) * sizeof *x);

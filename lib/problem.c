@@ -472,6 +472,19 @@ plume_status plume_problem_finalize(plume_problem *p, plume_err *err)
     return PLUME_OK;
 }
 
+plume_status plume_problem_lag_terms(plume_problem *p, const double *x)
+{
+    if (!p || !x)
+        return PLUME_EINVAL;
+    for (int t = 0; t < p->nterms; t++) {
+        plume_term *tt = &p->terms[t].t;
+        plume_status st = tt->lag ? tt->lag(tt->ctx, p->dim, x) : PLUME_OK;
+        if (st != PLUME_OK)
+            return st;
+    }
+    return PLUME_OK;
+}
+
 plume_status plume_problem_update_terms(plume_problem *p, int *pattern_changed, plume_err *err)
 {
     if (!p || !p->finalized || !pattern_changed)

@@ -88,6 +88,9 @@ double plume_problem_force_scale(const plume_problem *p);
  * floor of finalize is kept. After finalize, never during a solve. */
 plume_status plume_problem_update_terms(plume_problem *p, int *pattern_changed, plume_err *err);
 
+/* Calls every term's lag (plume_term.lag) with x (full vector): the start of a time step. */
+plume_status plume_problem_lag_terms(plume_problem *p, const double *x);
+
 /* 1 when a term limits steps (plume_term.max_step): solvers then ask plume_problem_max_step. */
 int plume_problem_limits_steps(const plume_problem *p);
 

@@ -34,6 +34,10 @@ typedef struct {
      * defined (and, for contact, nothing crosses) along the whole segment x + s dx, 0 <= s <= alpha
      * (continuous collision detection). x and dx are full vectors; dx is 0 on prescribed dofs. */
     plume_status (*max_step)(void *ctx, int dim, const double *x, const double *dx, double *alpha);
+    /* Optional (NULL: nothing to lag): terms that keep what they had at the start of a time step
+     * (lagged friction: normal forces, tangent frames, the start positions). Called with the
+     * step's start x (full vector) by plume_problem_lag_terms, before the step's stencil update. */
+    plume_status (*lag)(void *ctx, int dim, const double *x);
 } plume_term;
 
 /* A set of m equality constraints g_c(x) = 0; constraint c couples the `arity` vertices of

@@ -43,8 +43,9 @@
  * "barrier" | "penalty", "dhat": m, "stiffness": kappa or the penalty's (required), "self": false,
  * "margin": m}. The bodies are the connected components of the mesh (an OBJ with several pieces);
  * "self": true makes non-adjacent parts of one body touch too. Defaults: barrier, dhat 1e-3 (the
- * paper's repulsion thickness, Table 3 (b)), self false, margin 0. "friction" is refused: lagged
- * friction is not built yet.
+ * paper's repulsion thickness, Table 3 (b)), self false, margin 0. "friction": mu adds lagged
+ * Coulomb friction (lib/contact_friction.h; default 0: none) with "eps_v" the speed below which a
+ * pair sticks (m/s, default 1e-3).
  *
  * Many bodies (dynamic scenes): "objects": [...] instead of "mesh" and "handles". Each object has
  * a unique "name" and either
@@ -170,6 +171,8 @@ typedef struct {
     int hinge_bending;            /* "bending_model": "hinge"; default "shape_operator" */
     int has_contact;              /* a "contact" block */
     plume_contact_term_opts contact; /* its settings */
+    double friction_mu;           /* lagged Coulomb friction between touching shells; 0: none */
+    double friction_eps_v;        /* its sticking speed threshold (m/s); default 1e-3 */
     /* static scenes */
     int is_static;                /* "solve": "static" */
     int steps;                    /* load steps; default 10 */

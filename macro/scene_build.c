@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../lib/contact_friction.h"
 #include "../lib/edge_length.h"
 #include "../lib/load.h"
 #include "../lib/membrane.h"
@@ -80,11 +81,26 @@ static plume_status add_contact(const plume_scene *s, plume_problem *p, plume_co
         return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
     }
     plume_term t;
-    plume_status st = plume_contact_term_create(m->nv, m->nt, m->tri, body, m->x, &s->contact, &t, handle, err);
+    plume_contact *c = NULL;
+    plume_status st = plume_contact_term_create(m->nv, m->nt, m->tri, body, m->x, &s->contact, &t, &c, err);
     free(body);
     if (st == PLUME_OK)
         st = plume_problem_add_term(p, &t);
-    return st;
+    if (handle)
+        *handle = st == PLUME_OK ? c : NULL;
+    if (st != PLUME_OK || !(s->friction_mu > 0.0))
+        return st;
+    /* friction lags from the contact term's pairs at the start of every step */
+    plume_friction_opts fo;
+    plume_friction_opts_default(&fo);
+    fo.mu = s->friction_mu;
+    fo.eps_v = s->friction_eps_v;
+    fo.dt = s->dt;
+    plume_friction *f = NULL;
+    if ((st = plume_friction_term_create(m->nv, &fo, &t, &f, err)) != PLUME_OK)
+        return st;
+    plume_friction_follow_contact(f, c);
+    return plume_problem_add_term(p, &t);
 }
 
 plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **pp, plume_dynamics **pd, plume_err *err)

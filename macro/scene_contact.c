@@ -6,7 +6,7 @@
 
 plume_status plume_scene_parse_contact(const plume_json_ctx *c, json_t *v, plume_scene *s)
 {
-    static const char *const keys[] = {"model", "dhat", "stiffness", "self", "margin", "friction", NULL};
+    static const char *const keys[] = {"model", "dhat", "stiffness", "self", "margin", "friction", "eps_v", NULL};
     if (!json_is_object(v))
         return plume_json_bad(c, PLUME_EFORMAT, "contact",
                               "must be an object {\"model\": \"barrier\"|\"penalty\", \"dhat\": m, \"stiffness\": ...}");
@@ -33,8 +33,11 @@ plume_status plume_scene_parse_contact(const plume_json_ctx *c, json_t *v, plume
     if (self && !json_is_boolean(self))
         return plume_json_bad(c, PLUME_EFORMAT, "contact.self", "must be true or false");
     o->self_contact = self && json_is_true(self);
-    if (json_object_get(v, "friction"))
-        return plume_json_bad(c, PLUME_EINVAL, "contact.friction", "is not supported yet (lagged friction is not built)");
+    s->friction_mu = 0.0;
+    s->friction_eps_v = 1e-3;
+    if ((st = plume_json_positive(c, v, "contact", "friction", 0, 1, &s->friction_mu, NULL)) != PLUME_OK ||
+        (st = plume_json_positive(c, v, "contact", "eps_v", 0, 0, &s->friction_eps_v, NULL)) != PLUME_OK)
+        return st;
     s->has_contact = 1;
     return PLUME_OK;
 }

@@ -125,7 +125,8 @@ void test_feather_app_scene_errors(void)
         {"\"stiffness\": 1", "\"stiffness\": 0", "scene.json:9: contact.stiffness must be > 0"},
         {"\"stiffness\": 1", "\"stiffness\": 1, \"self\": 1", "scene.json:9: contact.self must be true or false"},
         {"\"stiffness\": 1", "\"stiffness\": 1, \"margin\": -1", "scene.json:9: contact.margin must be >= 0"},
-        {"\"stiffness\": 1", "\"stiffness\": 1, \"friction\": 0.3", "scene.json:9: contact.friction is not supported yet"},
+        {"\"stiffness\": 1", "\"stiffness\": 1, \"friction\": -0.3", "scene.json:9: contact.friction must be >= 0"},
+        {"\"stiffness\": 1", "\"stiffness\": 1, \"eps_v\": 0", "scene.json:9: contact.eps_v must be > 0"},
         {"\"stiffness\": 1", "\"stiffness\": 1, \"kappa\": 2", "scene.json:9: contact.kappa is an unknown key"},
         {"\"duration\": 0.1", "\"duration\": 0.1, \"solve\": \"static\"", "contact is for dynamic scenes only"},
     };
