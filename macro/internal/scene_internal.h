@@ -33,6 +33,13 @@ plume_status plume_scene_mesh_from_rectangle(const plume_json_ctx *c, json_t *m,
 plume_status plume_scene_select(const plume_json_ctx *c, json_t *obj, const char *where, const plume_scene *s,
                                 const plume_index *map, plume_index nobj, plume_index *ids, plume_index *count);
 
+/* The run settings (scene_settings.c), the materials (scene_materials.c) and the handles of a
+ * "mesh" scene (scene_handles.c; map/nobj as for plume_scene_select); errors name the key. */
+plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, plume_scene *s);
+plume_status plume_scene_parse_materials(const plume_json_ctx *c, json_t *doc, plume_scene *s);
+plume_status plume_scene_parse_handles(const plume_json_ctx *c, json_t *doc, plume_scene *s, const plume_index *map,
+                                       plume_index nobj);
+
 /* One handle {selector, "keyframes": [[t, dx, dy, dz], ...]} into *h (its arrays malloc'ed even on
  * failure: the caller frees them); map/nobj as for plume_scene_select. */
 plume_status plume_scene_parse_handle(const plume_json_ctx *c, json_t *jh, const char *where, const plume_scene *s,

@@ -1,0 +1,97 @@
+/* The run settings of a scene (macro/scene.h): gravity, static or dynamic, bending model, the
+ * contact block, steps, dt and duration, solver, halvings, iterations, output, render, camera. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal/scene_internal.h"
+
+plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    s->gravity[0] = s->gravity[1] = 0.0;
+    s->gravity[2] = -9.81;
+    s->solver = PLUME_SOLVER_NEWTON;
+    s->max_halvings = 6;
+    s->max_iter = 100;
+    s->output_every = 1;
+    s->camera[0] = 60.0;
+    s->camera[1] = 30.0;
+    json_t *v;
+    if ((v = json_object_get(doc, "gravity")) && (st = plume_json_vector(c, v, "gravity", 3, s->gravity)) != PLUME_OK)
+        return st;
+    if ((v = json_object_get(doc, "solve"))) {
+        const char *sv = json_is_string(v) ? json_string_value(v) : "";
+        if (strcmp(sv, "static") != 0 && strcmp(sv, "dynamic") != 0)
+            return plume_json_bad(c, PLUME_EINVAL, "solve", "must be \"static\" or \"dynamic\"");
+        s->is_static = sv[0] == 's';
+    }
+    if ((v = json_object_get(doc, "bending_model"))) {
+        const char *bv = json_is_string(v) ? json_string_value(v) : "";
+        if (strcmp(bv, "hinge") != 0 && strcmp(bv, "shape_operator") != 0)
+            return plume_json_bad(c, PLUME_EINVAL, "bending_model", "must be \"shape_operator\" or \"hinge\"");
+        s->hinge_bending = bv[0] == 'h';
+    }
+    if ((v = json_object_get(doc, "contact")) && (st = plume_scene_parse_contact(c, v, s)) != PLUME_OK)
+        return st;
+    s->steps = 10;
+    long steps = s->steps;
+    if ((st = plume_json_int(c, doc, "", "steps", 1, 1000000, &steps)) != PLUME_OK)
+        return st;
+    s->steps = (int)steps;
+    /* a static scene has no clock: dt and duration are optional (and unused) there */
+    if ((st = plume_json_positive(c, doc, "", "dt", !s->is_static, 0, &s->dt, NULL)) != PLUME_OK ||
+        (st = plume_json_positive(c, doc, "", "duration", !s->is_static, 0, &s->duration, NULL)) != PLUME_OK)
+        return st;
+    if ((v = json_object_get(doc, "solver"))) {
+        if (!json_is_string(v) || plume_solver_kind_parse(json_string_value(v), &s->solver) != PLUME_OK)
+            return plume_json_bad(c, PLUME_EINVAL, "solver", "must be \"newton\", \"ipopt\" or \"linearized\" (got %s%s%s)",
+                       json_is_string(v) ? "\"" : "", json_is_string(v) ? json_string_value(v) : "a non-string",
+                       json_is_string(v) ? "\"" : "");
+    }
+    long lv = s->max_halvings;
+    if ((st = plume_json_int(c, doc, "", "max_halvings", 0, 30, &lv)) != PLUME_OK)
+        return st;
+    s->max_halvings = (int)lv;
+    lv = s->max_iter;
+    if ((st = plume_json_int(c, doc, "", "max_iter", 1, 100000, &lv)) != PLUME_OK)
+        return st;
+    s->max_iter = (int)lv;
+    lv = s->output_every;
+    if ((st = plume_json_int(c, doc, "", "output_every", 1, 1000000, &lv)) != PLUME_OK)
+        return st;
+    s->output_every = (int)lv;
+    if ((v = json_object_get(doc, "render"))) {
+        if (!json_is_array(v))
+            return plume_json_bad(c, PLUME_EFORMAT, "render", "must be an array of frame indices");
+        s->render = malloc((json_array_size(v) + 1) * sizeof *s->render);
+        if (!s->render)
+            return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+        for (size_t i = 0; i < json_array_size(v); i++) {
+            json_t *e = json_array_get(v, i);
+            double d = json_is_number(e) ? json_number_value(e) : -1.0;
+            if (!json_is_number(e) || d != floor(d) || d < 0 || d > 1e9) {
+                char kp[PLUME_JSON_KEY_MAX];
+                plume_json_subindex(kp, "render", i);
+                return plume_json_bad(c, PLUME_EINVAL, kp, "must be a frame index (an integer >= 0)");
+            }
+            s->render[s->nrender++] = (long)d;
+        }
+    }
+    if ((v = json_object_get(doc, "camera"))) {
+        static const char *const ck[] = {"rot_x", "rot_z", NULL};
+        if (!json_is_object(v))
+            return plume_json_bad(c, PLUME_EFORMAT, "camera", "must be an object {\"rot_x\": deg, \"rot_z\": deg}");
+        if ((st = plume_json_check_keys(c, v, "camera", ck)) != PLUME_OK ||
+            (st = plume_json_number(c, v, "camera", "rot_x", 0, &s->camera[0], NULL)) != PLUME_OK ||
+            (st = plume_json_number(c, v, "camera", "rot_z", 0, &s->camera[1], NULL)) != PLUME_OK)
+            return st;
+        if (!(s->camera[0] >= 0.0 && s->camera[0] <= 180.0))
+            return plume_json_bad(c, PLUME_EINVAL, "camera.rot_x", "must be in [0, 180] degrees (got %g)", s->camera[0]);
+        if (!(s->camera[1] >= 0.0 && s->camera[1] <= 360.0))
+            return plume_json_bad(c, PLUME_EINVAL, "camera.rot_z", "must be in [0, 360] degrees (got %g)", s->camera[1]);
+    }
+
+    return PLUME_OK;
+}
