@@ -199,6 +199,7 @@ typedef struct {
     plume_contact_pairs pairs;  /* the audit's list, reused */
     long steps_intersecting, step_limited;
     plume_index max_intersecting, last_intersecting; /* over the run; after the last step */
+    plume_index max_pairs;                           /* most contact stencils of an update */
     double min_distance, last_distance, cap, seconds;
 } contact_monitor;
 
@@ -452,6 +453,8 @@ int main(int argc, char **argv)
             plume_contact_stats cs;
             plume_contact_term_stats(contact, &cs);
             fm.contact_pairs = fmax(fm.contact_pairs, (double)cs.candidates);
+            if (cs.candidates > cm.max_pairs)
+                cm.max_pairs = cs.candidates;
             fm.min_distance = fmin(fm.min_distance, cm.last_distance);
             fm.intersecting_pairs = fmax(fm.intersecting_pairs, (double)cm.last_intersecting);
         }
@@ -530,6 +533,7 @@ int main(int argc, char **argv)
             json_object_set_new(jc, "min_distance", json_real(cm.min_distance));
             json_object_set_new(jc, "min_distance_cap", json_real(cm.cap));
             json_object_set_new(jc, "step_limited", json_integer(cm.step_limited));
+            json_object_set_new(jc, "max_contact_pairs", json_integer(cm.max_pairs));
             json_object_set_new(jc, "measure_seconds", json_real(cm.seconds));
             json_object_set_new(j, "contact", jc);
         }
