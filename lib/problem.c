@@ -33,6 +33,9 @@ struct plume_problem {
     cons_slot *cons;
     int ncsets;
     plume_index *colptr, *rowind, nnz; /* Hessian upper triangle, CSC */
+    plume_index *scol, *srow;          /* the part of it from fixed stencils (terms without update,
+                                          constraints, the diagonal): built once, merged with the
+                                          changing terms' pairs at every rebuild */
     plume_index jnnz, *jrow, *jcol;    /* Jacobian triplets */
     double *gradfull;                  /* [ndof] workspace */
     double *jtwork;                    /* [ndof] workspace for J^T lambda */
@@ -74,6 +77,8 @@ void plume_problem_destroy(plume_problem **pp)
     if (!pp || !*pp)
         return;
     plume_problem *p = *pp;
+    free(p->scol);
+    free(p->srow);
     for (int i = 0; i < p->nterms; i++) {
         if (p->terms[i].t.destroy)
             p->terms[i].t.destroy(p->terms[i].t.ctx);
@@ -283,11 +288,91 @@ static plume_status stiffness_scale(plume_problem *p, double *scale)
 
 /* The free-dof map, constraint rows, Hessian pattern, scatter maps and Jacobian triplets from the
  * current stencils (finalize, and again when stencils change). */
+/* The upper-triangle free pairs of the terms whose stencils change (changing = 1), or of everything
+ * else: the fixed terms, the constraints and the diagonal (changing = 0). *out is malloc'ed. */
+static plume_status collect_pairs(const plume_problem *p, int changing, pair **out, plume_index *n)
+{
+    plume_index np = changing ? 0 : p->nfree;
+    for (int t = 0; t < p->nterms; t++)
+        if ((p->terms[t].t.update != NULL) == changing)
+            for (plume_index s = 0; s < p->terms[t].t.nstencil; s++)
+                np += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity, NULL);
+    for (int s = 0; !changing && s < p->ncsets; s++)
+        for (plume_index i = 0; i < p->cons[s].c.m; i++)
+            np += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, NULL);
+    pair *pairs = malloc((size_t)(np + 1) * sizeof *pairs);
+    if (!pairs)
+        return PLUME_ENOMEM;
+    plume_index k = 0;
+    for (int t = 0; t < p->nterms; t++)
+        if ((p->terms[t].t.update != NULL) == changing)
+            for (plume_index s = 0; s < p->terms[t].t.nstencil; s++)
+                k += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity, pairs + k);
+    for (int s = 0; !changing && s < p->ncsets; s++)
+        for (plume_index i = 0; i < p->cons[s].c.m; i++)
+            k += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, pairs + k);
+    for (plume_index i = 0; !changing && i < p->nfree; i++, k++) /* the diagonal: regularisation, KKT */
+        pairs[k].r = pairs[k].c = i;
+    *out = pairs;
+    *n = k;
+    return PLUME_OK;
+}
+
+/* n pairs as a CSC pattern over nfree columns, rows sorted and without repeats: a counting sort on
+ * the column, then each column deduplicated (a mark per row) and sorted (a global qsort of every
+ * pair was 14 % of a contact scene's run, which rebuilds the pattern whenever pairs change). */
+static plume_status pairs_to_csc(plume_index nfree, const pair *pairs, plume_index n, plume_index **colptr,
+                                 plume_index **rowind)
+{
+    plume_index *cp = calloc((size_t)nfree + 2, sizeof *cp), *ri = malloc((size_t)(n + 1) * sizeof *ri);
+    plume_index *mark = malloc((size_t)(nfree + 1) * sizeof *mark);
+    if (!cp || !ri || !mark) {
+        free(cp);
+        free(ri);
+        free(mark);
+        return PLUME_ENOMEM;
+    }
+    for (plume_index i = 0; i < n; i++)
+        cp[pairs[i].c + 2]++;
+    for (plume_index c = 0; c < nfree; c++)
+        cp[c + 2] += cp[c + 1];
+    for (plume_index i = 0; i < n; i++) /* cp[c + 1] is the fill position of column c */
+        ri[cp[pairs[i].c + 1]++] = pairs[i].r;
+    for (plume_index r = 0; r < nfree; r++)
+        mark[r] = -1;
+    plume_index u = 0;
+    for (plume_index c = 0; c < nfree; c++) {
+        plume_index lo = cp[c], hi = cp[c + 1], start = u;
+        for (plume_index i = lo; i < hi; i++) /* u <= i: compaction never overtakes the reading */
+            if (mark[ri[i]] != c) {
+                mark[ri[i]] = c;
+                ri[u++] = ri[i];
+            }
+        if (u - start > 32) {
+            qsort(ri + start, (size_t)(u - start), sizeof *ri, index_cmp);
+        } else {
+            for (plume_index i = start + 1; i < u; i++) { /* insertion sort */
+                plume_index r = ri[i], k = i;
+                for (; k > start && ri[k - 1] > r; k--)
+                    ri[k] = ri[k - 1];
+                ri[k] = r;
+            }
+        }
+        cp[c] = start; /* columns before c are final; c's bounds were read above */
+    }
+    cp[nfree] = u;
+    free(mark);
+    *colptr = cp;
+    *rowind = ri;
+    return PLUME_OK;
+}
+
 static plume_status build_structure(plume_problem *p, plume_err *err)
 {
     release_structure(p);
     plume_status st = PLUME_OK;
     pair *pairs = NULL;
+    plume_index npairs = 0, *dcol = NULL, *drow = NULL;
     int d = p->dim;
     p->free_of_dof = malloc((size_t)p->ndof * sizeof *p->free_of_dof);
     if (!p->free_of_dof)
@@ -337,67 +422,42 @@ static plume_status build_structure(plume_problem *p, plume_err *err)
         goto cleanup;
     }
 
-    /* Hessian pattern from every term and constraint stencil */
-    plume_index npairs = 0;
+    /* Hessian pattern: the fixed stencils' part once, then the changing terms' pairs merged in */
     for (int t = 0; t < p->nterms; t++) {
         term_slot *ts = p->terms + t;
         if (!stencil_ok(p, ts->t.stencil, ts->t.nstencil * ts->t.arity)) {
             st = plume_err_set(err, PLUME_EINVAL, "term '%s': vertex id out of range", ts->t.name);
             goto cleanup;
         }
-        for (plume_index s = 0; s < ts->t.nstencil; s++)
-            npairs += stencil_pairs(p, ts->t.stencil + s * ts->t.arity, ts->t.arity, NULL);
     }
-    for (int s = 0; s < p->ncsets; s++)
-        for (plume_index i = 0; i < p->cons[s].c.m; i++)
-            npairs += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, NULL);
-    npairs += p->nfree; /* the diagonal is always present (regularisation, KKT) */
-    pairs = malloc((size_t)npairs * sizeof *pairs);
-    if (!pairs) {
-        st = PLUME_ENOMEM;
+    if (!p->scol) {
+        if ((st = collect_pairs(p, 0, &pairs, &npairs)) != PLUME_OK ||
+            (st = pairs_to_csc(p->nfree, pairs, npairs, &p->scol, &p->srow)) != PLUME_OK)
+            goto cleanup;
+        free(pairs);
+        pairs = NULL;
+    }
+    if ((st = collect_pairs(p, 1, &pairs, &npairs)) != PLUME_OK ||
+        (st = pairs_to_csc(p->nfree, pairs, npairs, &dcol, &drow)) != PLUME_OK)
         goto cleanup;
-    }
-    plume_index n = 0;
-    for (int t = 0; t < p->nterms; t++)
-        for (plume_index s = 0; s < p->terms[t].t.nstencil; s++)
-            n += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity, pairs + n);
-    for (int s = 0; s < p->ncsets; s++)
-        for (plume_index i = 0; i < p->cons[s].c.m; i++)
-            n += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, pairs + n);
-    for (plume_index i = 0; i < p->nfree; i++, n++)
-        pairs[n].r = pairs[n].c = i;
-    /* column-major order by a counting sort on the column, then each (short) column sorted by row
-     * and deduplicated: a global qsort of every pair was 14 % of a contact scene's run, which
-     * rebuilds this pattern whenever the contact pairs change */
-    p->colptr = calloc((size_t)p->nfree + 2, sizeof *p->colptr);
-    p->rowind = malloc((size_t)(n + 1) * sizeof *p->rowind);
+    p->colptr = malloc((size_t)(p->nfree + 1) * sizeof *p->colptr);
+    p->rowind = malloc((size_t)(p->scol[p->nfree] + dcol[p->nfree] + 1) * sizeof *p->rowind);
     if (!p->colptr || !p->rowind) {
         st = PLUME_ENOMEM;
         goto cleanup;
     }
-    for (plume_index i = 0; i < n; i++)
-        p->colptr[pairs[i].c + 2]++;
-    for (plume_index c = 0; c < p->nfree; c++)
-        p->colptr[c + 2] += p->colptr[c + 1];
-    for (plume_index i = 0; i < n; i++) /* colptr[c + 1] is the fill position of column c */
-        p->rowind[p->colptr[pairs[i].c + 1]++] = pairs[i].r;
     plume_index u = 0;
-    for (plume_index c = 0; c < p->nfree; c++) {
-        plume_index lo = p->colptr[c], hi = p->colptr[c + 1], start = u;
-        if (hi - lo > 64) {
-            qsort(p->rowind + lo, (size_t)(hi - lo), sizeof *p->rowind, index_cmp);
-        } else {
-            for (plume_index i = lo + 1; i < hi; i++) { /* insertion sort */
-                plume_index r = p->rowind[i], k = i;
-                for (; k > lo && p->rowind[k - 1] > r; k--)
-                    p->rowind[k] = p->rowind[k - 1];
-                p->rowind[k] = r;
-            }
+    for (plume_index c = 0; c < p->nfree; c++) { /* two sorted lists, merged without repeats */
+        plume_index i = p->scol[c], ie = p->scol[c + 1], j = dcol[c], je = dcol[c + 1];
+        p->colptr[c] = u;
+        while (i < ie || j < je) {
+            plume_index r = j >= je || (i < ie && p->srow[i] <= drow[j]) ? p->srow[i] : drow[j];
+            p->rowind[u++] = r;
+            while (i < ie && p->srow[i] == r)
+                i++;
+            while (j < je && drow[j] == r)
+                j++;
         }
-        for (plume_index i = lo; i < hi; i++)
-            if (u == start || p->rowind[i] != p->rowind[u - 1])
-                p->rowind[u++] = p->rowind[i];
-        p->colptr[c] = start; /* columns before c are final; c's start was read above */
     }
     p->colptr[p->nfree] = u;
     p->nnz = u;
@@ -452,6 +512,8 @@ static plume_status build_structure(plume_problem *p, plume_err *err)
     }
 cleanup:
     free(pairs);
+    free(dcol);
+    free(drow);
     return st;
 }
 
