@@ -4,8 +4,8 @@
 The bone is a kinematic box along +x (the span) from the shoulder at the origin; it flaps about the
 body's fore-aft axis (y) through the shoulder. Each feather is the shipped synthetic feather
 (data/feather), its base attached to the bone, pointing backwards (-y) and fanned out towards the
-tip; consecutive feathers overlap by about half their width and lie 2 mm above each other (twice
-the repulsion thickness), so that gravity and the flapping press them together. Contact
+tip; consecutive feathers overlap by about half their width and lie 1.5 mm above each other (1.5
+times the repulsion thickness), so that gravity and the flapping press them together. Contact
 parameters, time step: supplementary Table 3 (b). Run: python3 data/bird/make_wing.py
 """
 import json
@@ -14,7 +14,7 @@ import os
 HERE = os.path.dirname(os.path.abspath(__file__))
 N = 12              # feathers
 SPACING = 0.026     # m between feather bases along the bone
-RISE = 0.002        # m between consecutive feathers' planes
+RISE = 0.0015      # m between consecutive feathers' planes (1.5 dhat)
 FAN = 4.0           # degrees more outwards per feather
 BONE = (0.0, 0.34, -0.006, 0.006, -0.010, -0.003)  # x0, x1, y0, y1, z0, z1
 AMPLITUDE = 20.0    # degrees, up and down
