@@ -13,6 +13,7 @@
 #include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -220,16 +221,19 @@ cleanup:
     return s;
 }
 
-/* the measures' attribute names, in the struct's order */
+/* the measures' attribute names and their fields */
 static const char *const measure_names[] = {"newton_iterations", "steps_halved", "seconds", "contact_pairs",
                                             "min_distance", "intersecting_pairs"};
+static const size_t measure_offsets[] = {
+    offsetof(plume_frame_measures, newton_iterations), offsetof(plume_frame_measures, steps_halved),
+    offsetof(plume_frame_measures, seconds),           offsetof(plume_frame_measures, contact_pairs),
+    offsetof(plume_frame_measures, min_distance),      offsetof(plume_frame_measures, intersecting_pairs)};
 #define NMEASURES (sizeof measure_names / sizeof *measure_names)
 
 static int write_measures(hid_t fg, const plume_frame_measures *m)
 {
-    const double *v = &m->newton_iterations;
     for (size_t k = 0; k < NMEASURES; k++)
-        if (h5_write_attr_double(fg, measure_names[k], v[k]) < 0)
+        if (h5_write_attr_double(fg, measure_names[k], *(const double *)((const char *)m + measure_offsets[k])) < 0)
             return -1;
     return 0;
 }
@@ -430,9 +434,8 @@ plume_status plume_frames_read_measures(const char *path, long k, plume_frame_me
         s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s is missing", path, name);
         goto cleanup;
     }
-    double *v = &m->newton_iterations;
     for (size_t i = 0; i < NMEASURES; i++)
-        if (read_attr(fg, measure_names[i], H5T_NATIVE_DOUBLE, v + i) < 0) {
+        if (read_attr(fg, measure_names[i], H5T_NATIVE_DOUBLE, (char *)m + measure_offsets[i]) < 0) {
             s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s has no %s attribute (no measures)", path,
                               name, measure_names[i]);
             goto cleanup;
