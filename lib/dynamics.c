@@ -279,11 +279,12 @@ static plume_status refresh_stencils(plume_dynamics *d, int *changed)
     return plume_solver_create(d->o.solver, d->p, &d->o.solver_opts, &d->s);
 }
 
-/* Where a step with terms that limit steps (contact with CCD) starts: the handles move first, and
- * that motion must cross nothing (else the step fails and is halved: *safe = 0); the free dofs
- * start at the safe fraction of the inertial prediction x_n + dt v_n, whose full value stays the
- * inertia's target (*limited = 1 when it was cut). x holds x_n on entry, with the handles at
- * x_n too. */
+/* Where a step with terms that limit steps (contact with CCD) starts: at the handles' targets and
+ * the inertial prediction x_n + dt v_n together when that motion crosses nothing; otherwise the
+ * handles move first, and that motion must cross nothing (else the step fails and is halved:
+ * *safe = 0), then the free dofs start at the safe fraction of the prediction, whose full value
+ * stays the inertia's target (*limited = 1 when it was cut). x holds x_n on entry, with the
+ * handles at x_n too. */
 static plume_status safe_start(plume_dynamics *d, const double *xh, int *safe, int *limited)
 {
     plume_index nd = 3 * d->mesh->nv;
