@@ -339,6 +339,30 @@ void plume_frame_free(plume_frame *f)
     f->x = f->v = f->lambda = NULL;
 }
 
+/* Opens committed frame k (k < 0: the last) of `path` read-only: *fid, *g (/frames), *fg (/frames/k)
+ * and *info; on failure the ones opened are set and the caller closes them. */
+static plume_status open_frame(const char *path, long *k, hid_t *fid, hid_t *g, hid_t *fg, plume_frames_info *info,
+                               plume_err *err)
+{
+    *fg = H5I_INVALID_HID;
+    plume_status s = open_frames(path, H5F_ACC_RDONLY, fid, g, err);
+    if (s == PLUME_OK)
+        s = read_info(path, *g, info, err);
+    if (s != PLUME_OK)
+        return s;
+    if (info->count == 0)
+        return plume_err_set(err, PLUME_EINVAL, "frames file '%s': holds no frame", path);
+    if (*k < 0)
+        *k = info->count - 1;
+    if (*k >= info->count)
+        return plume_err_set(err, PLUME_EINVAL, "frames file '%s': has no frame %ld (it holds %ld)", path, *k, info->count);
+    char name[32];
+    snprintf(name, sizeof name, "%ld", *k);
+    if (H5Lexists(*g, name, H5P_DEFAULT) <= 0 || (*fg = H5Gopen2(*g, name, H5P_DEFAULT)) < 0)
+        return plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s is missing", path, name);
+    return PLUME_OK;
+}
+
 plume_status plume_frames_read(const char *path, long k, plume_frame *f, plume_err *err)
 {
     if (!f)
@@ -346,29 +370,13 @@ plume_status plume_frames_read(const char *path, long k, plume_frame *f, plume_e
     memset(f, 0, sizeof *f);
     h5_quiet q;
     quiet_begin(&q);
-    hid_t fid, g, fg = H5I_INVALID_HID;
+    hid_t fid, g, fg;
     plume_frames_info info;
-    plume_status s = open_frames(path, H5F_ACC_RDONLY, &fid, &g, err);
-    if (s == PLUME_OK)
-        s = read_info(path, g, &info, err);
+    char name[32];
+    plume_status s = open_frame(path, &k, &fid, &g, &fg, &info, err);
     if (s != PLUME_OK)
         goto cleanup;
-    if (info.count == 0) {
-        s = plume_err_set(err, PLUME_EINVAL, "frames file '%s': holds no frame", path);
-        goto cleanup;
-    }
-    if (k < 0)
-        k = info.count - 1;
-    if (k >= info.count) {
-        s = plume_err_set(err, PLUME_EINVAL, "frames file '%s': has no frame %ld (it holds %ld)", path, k, info.count);
-        goto cleanup;
-    }
-    char name[32];
     snprintf(name, sizeof name, "%ld", k);
-    if (H5Lexists(g, name, H5P_DEFAULT) <= 0 || (fg = H5Gopen2(g, name, H5P_DEFAULT)) < 0) {
-        s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s is missing", path, name);
-        goto cleanup;
-    }
     f->index = k;
     f->nv = info.nv;
     f->ncons = info.ncons;
@@ -415,25 +423,13 @@ plume_status plume_frames_read_measures(const char *path, long k, plume_frame_me
     memset(m, 0, sizeof *m);
     h5_quiet q;
     quiet_begin(&q);
-    hid_t fid, g, fg = H5I_INVALID_HID;
+    hid_t fid, g, fg;
     plume_frames_info info;
-    plume_status s = open_frames(path, H5F_ACC_RDONLY, &fid, &g, err);
-    if (s == PLUME_OK)
-        s = read_info(path, g, &info, err);
+    char name[32];
+    plume_status s = open_frame(path, &k, &fid, &g, &fg, &info, err);
     if (s != PLUME_OK)
         goto cleanup;
-    if (k < 0)
-        k = info.count - 1;
-    if (k < 0 || k >= info.count) {
-        s = plume_err_set(err, PLUME_EINVAL, "frames file '%s': has no frame %ld (it holds %ld)", path, k, info.count);
-        goto cleanup;
-    }
-    char name[32];
     snprintf(name, sizeof name, "%ld", k);
-    if (H5Lexists(g, name, H5P_DEFAULT) <= 0 || (fg = H5Gopen2(g, name, H5P_DEFAULT)) < 0) {
-        s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s is missing", path, name);
-        goto cleanup;
-    }
     for (size_t i = 0; i < NMEASURES; i++)
         if (read_attr(fg, measure_names[i], H5T_NATIVE_DOUBLE, (char *)m + measure_offsets[i]) < 0) {
             s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s has no %s attribute (no measures)", path,
