@@ -208,12 +208,19 @@ static int grow(void **p, size_t n, size_t size)
     return 1;
 }
 
-static plume_status add_handle(const plume_json_ctx *c, plume_scene *s, plume_handle **h)
+/* A new handle of the scene (freed with it), with room for nids vertex ids in *ids when nids > 0. */
+static plume_status add_handle(const plume_json_ctx *c, plume_scene *s, plume_index nids, plume_handle **h,
+                               plume_index **ids)
 {
     if (!grow((void **)&s->handles, (size_t)s->nhandles + 1, sizeof *s->handles))
         return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
     *h = s->handles + s->nhandles++;
     memset(*h, 0, sizeof **h);
+    if (nids > 0) {
+        (*h)->vertices = *ids = malloc((size_t)nids * sizeof **ids);
+        if (!*ids)
+            return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+    }
     return PLUME_OK;
 }
 
@@ -292,7 +299,7 @@ static plume_status parse_elastic(const plume_json_ctx *c, json_t *jo, const cha
         char kp[PLUME_JSON_KEY_MAX];
         plume_handle *h;
         plume_json_subindex(kp, "handles", k);
-        if ((st = add_handle(c, s, &h)) != PLUME_OK ||
+        if ((st = add_handle(c, s, 0, &h, NULL)) != PLUME_OK ||
             (st = plume_scene_parse_handle(&cc, json_array_get(jh, k), kp, &sub, map, nobj, h)) != PLUME_OK)
             goto done;
     }
@@ -315,18 +322,10 @@ static plume_status parse_elastic(const plume_json_ctx *c, json_t *jo, const cha
                                 to ? to : "no name", to ? "\"" : "");
             goto done;
         }
-        plume_index *ids = malloc((size_t)(m->nv + 1) * sizeof *ids), n = 0;
+        plume_index *ids = NULL, n = 0;
         plume_handle *h;
-        if ((st = add_handle(c, s, &h)) != PLUME_OK) {
-            free(ids);
-            goto done;
-        }
-        h->vertices = ids;
-        if (!ids) {
-            st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
-            goto done;
-        }
-        if ((st = plume_scene_select(&cc, ja, "attach", &sub, map, nobj, ids, &n)) != PLUME_OK ||
+        if ((st = add_handle(c, s, m->nv + 1, &h, &ids)) != PLUME_OK ||
+            (st = plume_scene_select(&cc, ja, "attach", &sub, map, nobj, ids, &n)) != PLUME_OK ||
             (st = follow(c, kin + b, ids, n, h)) != PLUME_OK)
             goto done;
     }
@@ -494,17 +493,10 @@ plume_status plume_scene_parse_objects(const plume_json_ctx *c, json_t *v, plume
             goto done;
         }
         s->nobjects++;
-        plume_index *ids = malloc((size_t)kb->nv * sizeof *ids);
+        plume_index *ids = NULL;
         plume_handle *h;
-        if ((st = add_handle(c, s, &h)) != PLUME_OK) {
-            free(ids);
+        if ((st = add_handle(c, s, kb->nv, &h, &ids)) != PLUME_OK)
             goto done;
-        }
-        h->vertices = ids;
-        if (!ids) {
-            st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
-            goto done;
-        }
         for (plume_index i = 0; i < kb->nv; i++) {
             ids[i] = mg.nv + i;
             /* no flat reference: X is the projection, used by nothing elastic */
