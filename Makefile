@@ -24,17 +24,22 @@ TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 HEADERS := $(wildcard lib/*.h) $(wildcard micro/*.h) $(wildcard macro/*.h)
 PRIVATE_HEADERS := $(wildcard lib/internal/*.h) $(wildcard macro/internal/*.h)
 
-.PHONY: all deps test asan bench demo install clean
+.PHONY: all deps deps-check test asan bench demo install clean
 all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)
 
 deps:
 	@bash scripts/install-deps.sh
 
-$(BUILD)/%.o: %.c $(HEADERS) $(PRIVATE_HEADERS)
+# before any compilation: one clear line naming the missing packages (and how to install them)
+# instead of the first compiler error
+deps-check:
+	@bash scripts/install-deps.sh --check
+
+$(BUILD)/%.o: %.c $(HEADERS) $(PRIVATE_HEADERS) | deps-check
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
-$(BUILD)/%.o: %.cpp $(HEADERS) $(PRIVATE_HEADERS)
+$(BUILD)/%.o: %.cpp $(HEADERS) $(PRIVATE_HEADERS) | deps-check
 	@mkdir -p $(dir $@)
 	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c $< -o $@
 

@@ -1,6 +1,13 @@
 #!/usr/bin/env bash
 # Installs the distribution packages plume builds and runs with, when any is missing (Debian/Ubuntu).
+# --check: install nothing; when any is missing, say which in one line, how to install them, and
+# fail (what plain `make` runs first, so that a fresh machine does not stop at a missing header).
 set -euo pipefail
+check=0
+[ "${1:-}" = "--check" ] && check=1
+if [ $check -eq 1 ] && ! command -v dpkg-query >/dev/null 2>&1; then
+    exit 0 # not a Debian system: the compiler names what is missing
+fi
 pkgs=(build-essential pkg-config libsuitesparse-dev coinor-libipopt-dev libnlopt-dev libhdf5-dev
       libgsl-dev libcgal-dev libgmp-dev libmpfr-dev libjansson-dev libopenblas0-pthread gnuplot-nox)
 missing=()
@@ -8,6 +15,10 @@ for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 [ ${#missing[@]} -eq 0 ] && exit 0
+if [ $check -eq 1 ]; then
+    echo "plume: missing packages: ${missing[*]}; install them with 'make deps' (sudo apt-get install ${missing[*]}), then run make again" >&2
+    exit 1
+fi
 echo "plume: installing missing packages: ${missing[*]}" >&2
 SUDO=""
 [ "$(id -u)" -ne 0 ] && SUDO="sudo"
