@@ -6,6 +6,13 @@ CXX ?= c++
 OPT ?= -O2 -g
 BUILD ?= build
 DEPS_PKGS := ipopt nlopt hdf5 gsl jansson
+# the version (lib/version.h says the same; a test checks they agree): the shared library is
+# libplume.so.MAJOR.MINOR with the soname libplume.so.MAJOR
+VERSION_MAJOR := 0
+VERSION_MINOR := 2
+VERSION_PATCH := 0
+SONAME := libplume.so.$(VERSION_MAJOR)
+SOFILE := libplume.so.$(VERSION_MAJOR).$(VERSION_MINOR)
 
 PKG_CFLAGS := $(shell pkg-config --cflags $(DEPS_PKGS) 2>/dev/null)
 PKG_LIBS := $(shell pkg-config --libs $(DEPS_PKGS) 2>/dev/null)
@@ -24,7 +31,7 @@ TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 HEADERS := $(wildcard lib/*.h) $(wildcard micro/*.h) $(wildcard macro/*.h)
 PRIVATE_HEADERS := $(wildcard lib/internal/*.h) $(wildcard macro/internal/*.h)
 
-.PHONY: all deps deps-check test asan bench demo install clean
+.PHONY: all deps deps-check test asan bench demo install uninstall clean
 all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)
 
 deps:
@@ -47,8 +54,11 @@ $(BUILD)/libplume.a: $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
-$(BUILD)/libplume.so: $(LIB_OBJ)
-	$(CXX) -shared -o $@ $^ $(LDFLAGS) $(LDLIBS)
+$(BUILD)/$(SOFILE): $(LIB_OBJ)
+	$(CXX) -shared -Wl,-soname,$(SONAME) -o $@ $^ $(LDFLAGS) $(LDLIBS)
+
+$(BUILD)/libplume.so: $(BUILD)/$(SOFILE)
+	ln -sf $(SOFILE) $@
 
 apps/%: apps/%.c $(BUILD)/libplume.a $(HEADERS)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(BUILD)/libplume.a $(LDFLAGS) $(LDLIBS)
@@ -93,13 +103,27 @@ demo: deps
 	@$(MAKE) --no-print-directory all
 	$(OMP_ENV) bash scripts/demo.sh
 
+# headers under include/plume/ as in the tree (lib/, macro/, micro/), with the umbrella plume.h at
+# its root; pkg-config's Cflags point there, so other C code writes #include <plume.h>
 install: all
 	install -d $(DESTDIR)$(PREFIX)/lib $(DESTDIR)$(PREFIX)/include/plume $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin
-	install -m 644 $(BUILD)/libplume.a $(BUILD)/libplume.so $(DESTDIR)$(PREFIX)/lib/
+	install -m 644 $(BUILD)/libplume.a $(BUILD)/$(SOFILE) $(DESTDIR)$(PREFIX)/lib/
+	ln -sf $(SOFILE) $(DESTDIR)$(PREFIX)/lib/$(SONAME)
+	ln -sf $(SOFILE) $(DESTDIR)$(PREFIX)/lib/libplume.so
 	for h in $(HEADERS); do install -d $(DESTDIR)$(PREFIX)/include/plume/$$(dirname $$h); \
 	    install -m 644 $$h $(DESTDIR)$(PREFIX)/include/plume/$$h; done
+	printf '/* plume: the umbrella header (the library is lib/plume.h) */\n#include "lib/plume.h"\n' \
+	    > $(DESTDIR)$(PREFIX)/include/plume/plume.h
 	install -m 755 $(APPS) $(DESTDIR)$(PREFIX)/bin/
-	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBS@|$(LDLIBS)|' plume.pc.in > $(DESTDIR)$(PREFIX)/lib/pkgconfig/plume.pc
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBS@|$(LDLIBS)|' -e 's|@VERSION@|$(VERSION_MAJOR).$(VERSION_MINOR).$(VERSION_PATCH)|' \
+	    plume.pc.in > $(DESTDIR)$(PREFIX)/lib/pkgconfig/plume.pc
+
+# everything install put there, and nothing else
+uninstall:
+	rm -f $(DESTDIR)$(PREFIX)/lib/libplume.a $(DESTDIR)$(PREFIX)/lib/$(SOFILE) $(DESTDIR)$(PREFIX)/lib/$(SONAME) \
+	    $(DESTDIR)$(PREFIX)/lib/libplume.so $(DESTDIR)$(PREFIX)/lib/pkgconfig/plume.pc
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/bin/,$(notdir $(APPS)))
+	rm -rf $(DESTDIR)$(PREFIX)/include/plume
 
 clean:
 	rm -rf build build-asan $(APPS)

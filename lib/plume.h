@@ -4,6 +4,7 @@
 #define PLUME_H
 
 #include "status.h"
+#include "version.h"
 #include "mesh.h"
 #include "cdt.h"
 #include "term.h"

@@ -1,0 +1,21 @@
+/* plume: the library's version, at compile time (the macros) and at run time (the library a
+ * program actually loaded). */
+#ifndef PLUME_VERSION_H
+#define PLUME_VERSION_H
+
+#define PLUME_VERSION_MAJOR 0
+#define PLUME_VERSION_MINOR 2
+#define PLUME_VERSION_PATCH 0
+#define PLUME_VERSION_STRING "0.2.0"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* "MAJOR.MINOR.PATCH" of the library linked in (static string). */
+const char *plume_version(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
