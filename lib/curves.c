@@ -22,6 +22,7 @@
 
 /* Names of the five datasets of a curve group, in plume_curve field order. */
 static const char *const curve_fields[5] = {"strain", "stress", "wbar", "iterations", "seconds"};
+static const char *const curve_units[5] = {"1", "Pa", "1", "1", "s"}; /* the datasets' "units" */
 
 static double **curve_field(plume_curve *c, int i)
 {
@@ -295,7 +296,7 @@ static plume_status fill_curve(hid_t fid, const char *path, const void *vctx, pl
         goto cleanup;
     }
     for (int i = 0; i < 5; i++) {
-        if (h5_write_dataset(g, curve_fields[i], curve_cfield(c->curve, i), c->curve->n) < 0) {
+        if (h5_write_dataset(g, curve_fields[i], curve_cfield(c->curve, i), c->curve->n, curve_units[i]) < 0) {
             s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot write dataset %s/%s (HDF5: %s)",
                               path, gpath, curve_fields[i], h5_cause(&d));
             goto cleanup;
@@ -538,8 +539,10 @@ static plume_status fill_moduli(hid_t fid, const char *path, const void *vctx, p
             goto cleanup;
         }
     }
-    if (h5_write_attr_string(g, "provenance", c->provenance) < 0) {
-        s = plume_err_set(err, PLUME_EIO, "moduli file '%s': cannot write attribute provenance (HDF5: %s)",
+    /* attributes carry no attributes: the moduli's units in one string beside them */
+    if (h5_write_attr_string(g, "units", "E_xx, E_yy, G_xy: Pa; nu_xy: 1") < 0 ||
+        h5_write_attr_string(g, "provenance", c->provenance) < 0) {
+        s = plume_err_set(err, PLUME_EIO, "moduli file '%s': cannot write attribute units or provenance (HDF5: %s)",
                           path, h5_cause(&d));
         goto cleanup;
     }

@@ -276,8 +276,8 @@ plume_status plume_frames_append_measured(const char *path, plume_index nv, plum
                           name, h5_cause(&d));
         goto cleanup;
     }
-    if ((fg = H5Gcreate2(g, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 || h5_write_dataset(fg, "x", x, 3 * nv) < 0 ||
-        h5_write_dataset(fg, "v", v, 3 * nv) < 0 || h5_write_dataset(fg, "lambda", lambda, ncons) < 0 ||
+    if ((fg = H5Gcreate2(g, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 || h5_write_dataset(fg, "x", x, 3 * nv, "m") < 0 ||
+        h5_write_dataset(fg, "v", v, 3 * nv, "m/s") < 0 || h5_write_dataset(fg, "lambda", lambda, ncons, "N/m") < 0 ||
         h5_write_attr_double(fg, "t", t) < 0 || write_attr_long(fg, "step", step) < 0 ||
         (m && write_measures(fg, m) < 0)) {
         s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot write /frames/%s (HDF5: %s)", path, name,

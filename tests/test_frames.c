@@ -11,6 +11,7 @@
 #include <hdf5.h>
 
 #include "harness.h"
+#include "h5_units.h"
 #include "test_rng.h"
 #include "../lib/frames.h"
 #include "../lib/mesh.h"
@@ -103,6 +104,11 @@ void test_frames_roundtrip(void)
     CHECK(plume_frames_read(bad, 1, &f, &err) == PLUME_OK && f.step == 2 && same(f.x, x[1], 21));
     plume_frame_free(&f);
     CHECK(plume_frames_read_measures(bad, 5, &r, &err) == PLUME_EINVAL);
+    /* self-describing: every dataset says its units */
+    char units[32] = "";
+    CHECK(h5_units(path, "/frames/2/x", units, sizeof units) == 0 && strcmp(units, "m") == 0);
+    CHECK(h5_units(path, "/frames/2/v", units, sizeof units) == 0 && strcmp(units, "m/s") == 0);
+    CHECK(h5_units(path, "/frames/2/lambda", units, sizeof units) == 0 && strcmp(units, "N/m") == 0);
     remove_dir(dir);
 }
 

@@ -13,6 +13,7 @@
 #include <hdf5.h>
 
 #include "harness.h"
+#include "h5_units.h"
 #include "../lib/curves.h"
 #include "../lib/plot.h"
 #include "../lib/progress.h"
@@ -213,6 +214,10 @@ void test_io_curve_roundtrip(void)
     plume_err err = {""};
     CHECK(plume_curve_write(path, "macro", "tilted", &c, p, 3, sp, 2, &err) == PLUME_OK);
     CHECK(tmp_count(&t, ".tmp.") == 0);
+    char units[32] = "";
+    CHECK(h5_units(path, "/curves/macro/tilted/stress", units, sizeof units) == 0 && strcmp(units, "Pa") == 0);
+    CHECK(h5_units(path, "/curves/macro/tilted/strain", units, sizeof units) == 0 && strcmp(units, "1") == 0);
+    CHECK(h5_units(path, "/curves/macro/tilted/seconds", units, sizeof units) == 0 && strcmp(units, "s") == 0);
 
     plume_curve r;
     CHECK(plume_curve_read(path, "macro", "tilted", &r, &err) == PLUME_OK);
@@ -283,6 +288,8 @@ void test_io_moduli_roundtrip(void)
     plume_ortho m = {2.5e9, 1.0 / 3.0 * 1e5, 0.3, 1.7e5}, r = {0, 0, 0, 0};
     plume_err err = {""};
     CHECK(plume_moduli_write(path, &m, "rve homogenisation, 64x64 cell", &err) == PLUME_OK);
+    char munits[64] = "";
+    CHECK(h5_units(path, "/moduli", munits, sizeof munits) == 0 && strstr(munits, "E_xx, E_yy, G_xy: Pa") != NULL);
     CHECK(plume_moduli_read(path, &r, &err) == PLUME_OK);
     CHECK(r.E_xx == m.E_xx && r.E_yy == m.E_yy && r.nu_xy == m.nu_xy && r.G_xy == m.G_xy);
     CHECK(h5_attr_string_is(path, "/moduli", "provenance", "rve homogenisation, 64x64 cell"));

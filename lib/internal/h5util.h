@@ -99,14 +99,17 @@ static inline int h5_is_hdf5(const char *path)
 #endif
 }
 
-static inline int h5_write_dataset(hid_t g, const char *name, const double *v, plume_index n)
+/* A 1D dataset of n doubles; units (may be NULL) becomes its "units" string attribute ("1": a
+ * pure number). 0, or -1 on failure. */
+static inline int h5_write_dataset(hid_t g, const char *name, const double *v, plume_index n, const char *units)
 {
     int ok = 0;
     hsize_t dims[1] = {(hsize_t)n};
     hid_t sp = H5Screate_simple(1, dims, NULL);
     hid_t ds = sp < 0 ? H5I_INVALID_HID
                       : H5Dcreate2(g, name, H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-    if (ds >= 0 && (n == 0 || H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0))
+    if (ds >= 0 && (n == 0 || H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0) &&
+        (!units || h5_write_attr_string(ds, "units", units) >= 0))
         ok = 1;
     if (ds >= 0)
         H5Dclose(ds);
