@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "contact_broad.h"
+#include "internal/vec3.h"
 #include "progress.h"
 
 struct plume_contact {
@@ -103,13 +104,6 @@ static void pair_vertices(const plume_contact *c, const plume_contact_candidates
                           plume_index v[4])
 {
     candidate_vertices(c->tri, c->edges, cand, k, v);
-}
-
-static void gather12(const double *x, const plume_index *v, double out[12])
-{
-    for (int a = 0; a < 4; a++)
-        for (int k = 0; k < 3; k++)
-            out[3 * a + k] = x[3 * v[a] + k];
 }
 
 static plume_status contact_eval(void *ctx, int dim, const double *x, double *energy, double *grad, double *hblocks,

@@ -8,11 +8,6 @@
 
 #include "internal/vec3.h"
 
-static void sub3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[0] - b[0], c[1] = a[1] - b[1], c[2] = a[2] - b[2];
-}
-
 static int finite_n(const double *x, int n)
 {
     for (int i = 0; i < n; i++)
@@ -414,13 +409,6 @@ static void friction_destroy(void *ctx)
     set_free(&f->next);
     free(f->lagged);
     free(f);
-}
-
-static void gather12(const double *x, const plume_index *v, double out[12])
-{
-    for (int a = 0; a < 4; a++)
-        for (int k = 0; k < 3; k++)
-            out[3 * a + k] = x[3 * v[a] + k];
 }
 
 static plume_status friction_eval(void *ctx, int dim, const double *x, double *energy, double *grad, double *hblocks,

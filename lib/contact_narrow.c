@@ -12,13 +12,6 @@
 
 /* ---- small 3-vector / 3x3 helpers (row-major 3x3) ---------------------------------------- */
 
-static inline void sub3(const double a[3], const double b[3], double c[3])
-{
-    c[0] = a[0] - b[0];
-    c[1] = a[1] - b[1];
-    c[2] = a[2] - b[2];
-}
-
 /* M = [a]x, the matrix of b -> a x b */
 static void skew3(const double a[3], double M[9])
 {
