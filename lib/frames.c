@@ -339,10 +339,21 @@ void plume_frame_free(plume_frame *f)
     f->x = f->v = f->lambda = NULL;
 }
 
-/* Opens committed frame k (k < 0: the last) of `path` read-only: *fid, *g (/frames), *fg (/frames/k)
- * and *info; on failure the ones opened are set and the caller closes them. */
+static void close_frame(hid_t fid, hid_t g, hid_t fg)
+{
+    if (fg >= 0)
+        H5Gclose(fg);
+    if (g >= 0)
+        H5Gclose(g);
+    if (fid >= 0)
+        H5Fclose(fid);
+}
+
+/* Opens committed frame k (k < 0: the last) of `path` read-only: *fid, *g (/frames), *fg (/frames/k),
+ * *info and the group's name; on failure the ones opened are set and the caller closes them
+ * (close_frame). */
 static plume_status open_frame(const char *path, long *k, hid_t *fid, hid_t *g, hid_t *fg, plume_frames_info *info,
-                               plume_err *err)
+                               char name[32], plume_err *err)
 {
     *fg = H5I_INVALID_HID;
     plume_status s = open_frames(path, H5F_ACC_RDONLY, fid, g, err);
@@ -356,8 +367,7 @@ static plume_status open_frame(const char *path, long *k, hid_t *fid, hid_t *g, 
         *k = info->count - 1;
     if (*k >= info->count)
         return plume_err_set(err, PLUME_EINVAL, "frames file '%s': has no frame %ld (it holds %ld)", path, *k, info->count);
-    char name[32];
-    snprintf(name, sizeof name, "%ld", *k);
+    snprintf(name, 32, "%ld", *k);
     if (H5Lexists(*g, name, H5P_DEFAULT) <= 0 || (*fg = H5Gopen2(*g, name, H5P_DEFAULT)) < 0)
         return plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s is missing", path, name);
     return PLUME_OK;
@@ -373,10 +383,9 @@ plume_status plume_frames_read(const char *path, long k, plume_frame *f, plume_e
     hid_t fid, g, fg;
     plume_frames_info info;
     char name[32];
-    plume_status s = open_frame(path, &k, &fid, &g, &fg, &info, err);
+    plume_status s = open_frame(path, &k, &fid, &g, &fg, &info, name, err);
     if (s != PLUME_OK)
         goto cleanup;
-    snprintf(name, sizeof name, "%ld", k);
     f->index = k;
     f->nv = info.nv;
     f->ncons = info.ncons;
@@ -406,12 +415,7 @@ plume_status plume_frames_read(const char *path, long k, plume_frame *f, plume_e
 cleanup:
     if (s != PLUME_OK)
         plume_frame_free(f);
-    if (fg >= 0)
-        H5Gclose(fg);
-    if (g >= 0)
-        H5Gclose(g);
-    if (fid >= 0)
-        H5Fclose(fid);
+    close_frame(fid, g, fg);
     quiet_end(&q);
     return s;
 }
@@ -426,10 +430,9 @@ plume_status plume_frames_read_measures(const char *path, long k, plume_frame_me
     hid_t fid, g, fg;
     plume_frames_info info;
     char name[32];
-    plume_status s = open_frame(path, &k, &fid, &g, &fg, &info, err);
+    plume_status s = open_frame(path, &k, &fid, &g, &fg, &info, name, err);
     if (s != PLUME_OK)
         goto cleanup;
-    snprintf(name, sizeof name, "%ld", k);
     for (size_t i = 0; i < NMEASURES; i++)
         if (read_attr(fg, measure_names[i], H5T_NATIVE_DOUBLE, (char *)m + measure_offsets[i]) < 0) {
             s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s has no %s attribute (no measures)", path,
@@ -437,12 +440,7 @@ plume_status plume_frames_read_measures(const char *path, long k, plume_frame_me
             goto cleanup;
         }
 cleanup:
-    if (fg >= 0)
-        H5Gclose(fg);
-    if (g >= 0)
-        H5Gclose(g);
-    if (fid >= 0)
-        H5Fclose(fid);
+    close_frame(fid, g, fg);
     quiet_end(&q);
     return s;
 }
