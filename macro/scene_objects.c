@@ -269,7 +269,7 @@ static plume_status parse_elastic(const plume_json_ctx *c, json_t *jo, const cha
     if (feather)
         st = plume_scene_mesh_from_feather(&cc, jm, &sub, o);
     else if (rectangle)
-        st = plume_scene_mesh_from_rectangle(&cc, jm, &sub, o && o->edge > 0.0 ? o : NULL);
+        st = plume_scene_mesh_from_rectangle(&cc, jm, &sub, o);
     else
         st = plume_scene_mesh_from_obj(&cc, jm, &sub, &map, &nobj);
     if (st != PLUME_OK)

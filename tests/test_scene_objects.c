@@ -23,6 +23,13 @@ static void write_file(const char *path, const char *text)
     }
 }
 
+static int remove_dir(const char *dir)
+{
+    char cmd[160];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    return system(cmd);
+}
+
 /* materials of a light isotropic sheet (0) and a stiff one (1, the feather's rachis id) */
 static const char materials[] =
     "\"materials\": ["
@@ -119,9 +126,7 @@ void test_scene_objects_kinematic(void)
     plume_dynamics_destroy(&d);
     plume_problem_destroy(&p);
     plume_scene_destroy(&s);
-    char cmd[160];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    CHECK(system(cmd) == 0);
+    CHECK(remove_dir(dir) == 0);
 }
 
 /* a variant of the kinematic scene must fail with a message containing `want` */
@@ -174,9 +179,7 @@ void test_scene_objects_errors(void)
                  "objects[0] is kinematic");
     expect_error(dir, "\"kinematic\": {\"obj\"", "\"mesh\": {}, \"kinematic\": {\"obj\"", "objects[0] needs exactly one of");
     expect_error(dir, "\"place\": {\"rotate\"", "\"place\": {\"spin\": 1, \"rotate\"", "objects[1].place.spin is an unknown key");
-    char cmd[160];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    CHECK(system(cmd) == 0);
+    CHECK(remove_dir(dir) == 0);
 }
 
 /* Two coarse feathers crossing at right angles, 5 mm apart; the upper one's root is pushed 3 cm
@@ -285,9 +288,7 @@ void test_scene_objects_feathers_pushed(void)
     CHECK(b.intersecting_steps == 0 && b.dmin > 0.0);
     CHECK(b.dmin < 1e-3); /* the vanes did touch: the barrier was active */
     CHECK(q.steps > 0); /* the penalty's measures are reported above, whatever they are */
-    char cmd[160];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    CHECK(system(cmd) == 0);
+    CHECK(remove_dir(dir) == 0);
 }
 
 /* A stiff 10 cm plate resting on a fixed kinematic ground under gravity tilted by theta (the same
@@ -361,9 +362,7 @@ void test_scene_objects_friction_slope(void)
     CHECK(slope_run(dir, 0.3, mu, 40, &v, &a));
     fprintf(stderr, "    slope tan 0.3, mu 0.5: velocity after 0.2 s %.3g m/s (sticks; eps_v 1e-3)\n", v);
     CHECK(fabs(v) < 1e-3);
-    char cmd[160];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    CHECK(system(cmd) == 0);
+    CHECK(remove_dir(dir) == 0);
 }
 
 /* OBJ shells as objects: two placed copies of the shipped strip, the second turned upright and
@@ -415,7 +414,5 @@ void test_scene_objects_obj_shells(void)
     plume_dynamics_destroy(&d);
     plume_problem_destroy(&p);
     plume_scene_destroy(&s);
-    char cmd[160];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    CHECK(system(cmd) == 0);
+    CHECK(remove_dir(dir) == 0);
 }
