@@ -5,7 +5,7 @@ CC ?= cc
 CXX ?= c++
 OPT ?= -O2 -g
 BUILD ?= build
-DEPS_PKGS := ipopt nlopt hdf5 gsl jansson
+DEPS_PKGS := ipopt nlopt hdf5 gsl jansson zlib
 # the version (lib/version.h says the same; a test checks they agree): the shared library is
 # libplume.so.MAJOR.MINOR with the soname libplume.so.MAJOR
 VERSION_MAJOR := 0
@@ -21,14 +21,14 @@ CFLAGS += -std=c11 -Wall -Wextra -Wpedantic -fPIC $(OPT) -D_POSIX_C_SOURCE=20080
 CXXFLAGS += -std=c++17 -Wall -Wextra -fPIC $(OPT)
 LDLIBS += -lcholmod -lsuitesparseconfig $(PKG_LIBS) -lgmp -lmpfr -lgomp -lstdc++ -lm
 
-LIB_C := $(wildcard lib/*.c) $(wildcard micro/*.c) $(wildcard macro/*.c)
+LIB_C := $(wildcard lib/*.c) $(wildcard lib/io/*.c) $(wildcard micro/*.c) $(wildcard macro/*.c)
 LIB_CXX := $(wildcard lib/*.cpp)
 LIB_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(LIB_C)) $(patsubst %.cpp,$(BUILD)/%.o,$(LIB_CXX))
 APP_SRC := $(wildcard apps/*.c)
 APPS := $(patsubst %.c,%,$(APP_SRC))
 TEST_SRC := $(wildcard tests/*.c)
 TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
-HEADERS := $(wildcard lib/*.h) $(wildcard micro/*.h) $(wildcard macro/*.h)
+HEADERS := $(wildcard lib/*.h) $(wildcard lib/io/*.h) $(wildcard micro/*.h) $(wildcard macro/*.h)
 PRIVATE_HEADERS := $(wildcard lib/internal/*.h) $(wildcard macro/internal/*.h)
 
 .PHONY: all deps deps-check test asan bench demo install uninstall clean

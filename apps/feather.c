@@ -18,7 +18,6 @@
 #include "../lib/frames.h"
 #include "../lib/plume.h"
 #include "../lib/render.h"
-#include "../lib/vtk.h"
 #include "../macro/scene.h"
 #include "cli.h"
 
@@ -29,7 +28,9 @@ static const char usage[] =
     "Steps a shell scene (mesh, materials, handles, gravity: the format is in macro/scene.h) by implicit Euler,\n"
     "each step a constrained minimisation solved to convergence (halved when it fails).\n"
     "  -o DIR              output directory (default out/<scene name>, or the restart file's directory):\n"
-    "                      DIR/frame_00000.vtk ... (ParaView series), DIR/frames.h5, DIR/frame_XXXXX.png\n"
+    "                      DIR/frames.pvd with DIR/frame_00000.vtu ... (ParaView series: strain, stress, energy\n"
+    "                      densities, J, curvature; DIR/frame_barbs_*.vtu the barb edges' strain), DIR/frames.h5,\n"
+    "                      DIR/frame_XXXXX.png\n"
     "  --frames N          compute N output frames (N x output_every steps), instead of the scene's duration\n"
     "  --duration T        simulate until time T (s), instead of the scene's duration\n"
     "  --restart FILE.h5   continue from the last frame of a frames file (time, x, v, multipliers) and append\n"
@@ -138,8 +139,9 @@ static int make_dirs(const char *path)
     return 0;
 }
 
-/* Removes DIR/frame_<digits>.{vtk,png} left by an earlier run, so a ParaView series or a folder of
- * pictures never mixes two runs. Only names this app writes are touched. */
+/* Removes DIR/frame_<digits>.{vtu,vtk,png} and DIR/frame_barbs_<digits>.vtu left by an earlier
+ * run, so a ParaView series or a folder of pictures never mixes two runs. Only names this app
+ * writes (or wrote before .vtu) are touched. */
 static void remove_stale_frames(const char *dir)
 {
     DIR *d = opendir(dir);
@@ -151,8 +153,11 @@ static void remove_stale_frames(const char *dir)
         if (strncmp(n, "frame_", 6) != 0)
             continue;
         const char *p = n + 6;
+        if (strncmp(p, "barbs_", 6) == 0)
+            p += 6;
         size_t digits = strspn(p, "0123456789");
-        if (digits < 5 || (strcmp(p + digits, ".vtk") != 0 && strcmp(p + digits, ".png") != 0))
+        const char *ext = p + digits;
+        if (digits < 5 || (strcmp(ext, ".vtk") != 0 && strcmp(ext, ".vtu") != 0 && strcmp(ext, ".png") != 0))
             continue;
         char path[4096 + 300];
         snprintf(path, sizeof path, "%s/%s", dir, n);
@@ -260,6 +265,7 @@ static void scene_stem(const char *path, char *out, size_t n)
 typedef struct {
     const plume_scene *scene;
     const char *outdir, *frames_path, *stem;
+    plume_fields *fields; /* the ParaView series */
 } output_ctx;
 
 static int wants_render(const plume_scene *s, long k)
@@ -278,7 +284,7 @@ static void frame_measures_reset(plume_frame_measures *fm, const plume_scene *s)
     fm->min_distance = s->has_contact ? 10.0 * s->contact.pair.dhat : -1.0;
 }
 
-/* Writes frame k of the current state: VTK, HDF5 frame, PNG when requested. Exit code. */
+/* Writes frame k of the current state: VTU in the series, HDF5 frame, PNG when requested. Exit code. */
 static int write_frame(const output_ctx *oc, const plume_dynamics *d, long k, long step, int append,
                        const plume_frame_measures *fm)
 {
@@ -287,8 +293,7 @@ static int write_frame(const output_ctx *oc, const plume_dynamics *d, long k, lo
     const plume_mesh *m = oc->scene->mesh;
     const double *x = plume_dynamics_positions(d);
     double t = plume_dynamics_time(d);
-    snprintf(path, sizeof path, "%s/frame_%05ld.vtk", oc->outdir, k);
-    if (plume_vtk_write(path, m, x, t, &err) != PLUME_OK)
+    if (plume_fields_series_frame(oc->fields, k, t, x, &err) != PLUME_OK)
         return run_fail("%s", err.msg);
     if (append) {
         plume_index ncons;
@@ -351,7 +356,7 @@ int main(int argc, char **argv)
     if (!outdir[0])
         snprintf(outdir, sizeof outdir, "/");
     snprintf(frames_path, sizeof frames_path, "%s/frames.h5", outdir);
-    output_ctx oc = {scene, outdir, frames_path, stem};
+    output_ctx oc = {scene, outdir, frames_path, stem, NULL};
 
     scene->verbose = o.verbose;
     if ((st = plume_scene_dynamics_contact(scene, &p, &d, &contact, &err)) != PLUME_OK) {
@@ -364,6 +369,10 @@ int main(int argc, char **argv)
     plume_dynamics_multipliers(d, &ncons);
     if (make_dirs(outdir) != 0) {
         rc = run_fail("cannot create the output directory '%s': %s", outdir, strerror(errno));
+        goto done;
+    }
+    if ((st = plume_scene_fields(scene, &oc.fields, &err)) != PLUME_OK) {
+        rc = run_fail("%s", err.msg);
         goto done;
     }
 
@@ -395,8 +404,16 @@ int main(int argc, char **argv)
         }
         step = last.step;
         next_frame = last.index + 1;
+        if (plume_fields_series_start(oc.fields, outdir, "frames.pvd", "frame", last.t, &err) != PLUME_OK) {
+            rc = run_fail("%s", err.msg);
+            goto done;
+        }
     } else {
         remove_stale_frames(outdir);
+        if (plume_fields_series_start(oc.fields, outdir, "frames.pvd", "frame", -1.0, &err) != PLUME_OK) {
+            rc = run_fail("%s", err.msg);
+            goto done;
+        }
         if (plume_frames_create(frames_path, mesh->nv, ncons, dt, o.scene, &err) != PLUME_OK) {
             rc = run_fail("%s", err.msg);
             goto done;
@@ -558,6 +575,7 @@ int main(int argc, char **argv)
     }
     rc = failed ? 3 : 0;
 done:
+    plume_fields_destroy(&oc.fields);
     contact_monitor_end(&cm);
     plume_frame_free(&last);
     plume_dynamics_destroy(&d);

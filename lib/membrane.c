@@ -226,6 +226,38 @@ double plume_membrane_density(const plume_membrane_material *mat, int dim, const
     return mat->h * density_G(&m, dim, g, NULL, NULL);
 }
 
+plume_status plume_membrane_strain_stress(const plume_membrane_material *mat, int dim, const double *F,
+                                          const double d[2], double E[3], double S[3], double *J)
+{
+    if (!mat || !F || !d || !E || !S || !J || (dim != 2 && dim != 3) || !(hypot(d[0], d[1]) > 0.0))
+        return PLUME_EINVAL;
+    mem_mat m;
+    mem_mat_set(mat, &m);
+    double len = hypot(d[0], d[1]);
+    double R[2][2] = {{d[0] / len, -d[1] / len}, {d[1] / len, d[0] / len}};
+    double g[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}, P[2][3], n[3];
+    for (int i = 0; i < dim; i++)
+        for (int c = 0; c < 2; c++)
+            g[c][i] = F[2 * i] * R[0][c] + F[2 * i + 1] * R[1][c];
+    const double c11 = dot3(g[0], g[0]), c22 = dot3(g[1], g[1]), c12 = dot3(g[0], g[1]);
+    E[0] = 0.5 * (c11 - 1.0), E[1] = 0.5 * (c22 - 1.0), E[2] = 0.5 * c12;
+    cross3(g[0], g[1], n);
+    *J = sqrt(dot3(n, n));
+    density_G(&m, dim, g, P, NULL);
+    /* P[c] = sum_e S_ce g_e, so (P g^T) = S C with C the Gram matrix of g: S = (P g^T) C^-1 */
+    const double det = c11 * c22 - c12 * c12;
+    if (!(det > 0.0)) {
+        S[0] = S[1] = S[2] = NAN;
+        return PLUME_OK;
+    }
+    const double M00 = dot3(P[0], g[0]), M01 = dot3(P[0], g[1]), M10 = dot3(P[1], g[0]), M11 = dot3(P[1], g[1]);
+    const double i00 = c22 / det, i01 = -c12 / det, i11 = c11 / det;
+    S[0] = M00 * i00 + M01 * i01;
+    S[1] = M10 * i01 + M11 * i11;
+    S[2] = 0.5 * ((M00 * i01 + M01 * i11) + (M10 * i00 + M11 * i01));
+    return PLUME_OK;
+}
+
 /* Projects the shell-mode (dim 3) Hessian HG (6x6, layout of density_G) to PSD in half the
  * work. psi depends on G only through G^T G, so in the orthonormal frame (t1, t2, n^) of the
  * deformed triangle (t1 along g0, n^ the unit normal) HG splits into a 4x4 in-plane block (the
@@ -372,6 +404,26 @@ static plume_status membrane_eval(void *vctx, int dim, const double *x, double *
     return PLUME_OK;
 }
 
+static plume_status membrane_energies(void *vctx, int dim, const double *x, double *e)
+{
+    const mem_ctx *ctx = vctx;
+    if (!ctx || !x || !e || dim != ctx->dim)
+        return PLUME_EINVAL;
+    for (plume_index t = 0; t < ctx->nt; t++) {
+        const mem_tri *tr = &ctx->tri[t];
+        const plume_index *vid = ctx->stencil + 3 * t;
+        const double *B = tr->B, *x0 = x + dim * vid[0], *x1 = x + dim * vid[1], *x2 = x + dim * vid[2];
+        double g[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+        for (int i = 0; i < dim; i++) {
+            const double a = x1[i] - x0[i], b = x2[i] - x0[i];
+            g[0][i] = a * B[0] + b * B[2];
+            g[1][i] = a * B[1] + b * B[3];
+        }
+        e[t] = tr->Ah * density_G(&ctx->mat[tr->mat], dim, g, NULL, NULL);
+    }
+    return PLUME_OK;
+}
+
 static void membrane_destroy(void *vctx)
 {
     mem_ctx *ctx = vctx;
@@ -479,6 +531,7 @@ plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
     out->nstencil = nt;
     out->stencil = ctx->stencil;
     out->eval = membrane_eval;
+    out->energies = membrane_energies;
     out->destroy = membrane_destroy;
     out->ctx = ctx;
     return PLUME_OK;

@@ -34,6 +34,14 @@ void plume_membrane_stiffness(const plume_membrane_material *mat, double C[9]);
 double plume_membrane_density(const plume_membrane_material *mat, int dim, const double *F,
                               const double d[2]);
 
+/* The Green strain E (dimensionless) and the second Piola–Kirchhoff stress S (Pa) of a uniform
+ * deformation gradient F (dim x 2, row-major) in the barb frame of direction d, as tensor
+ * components (bb, tt, bt), and the area ratio J. S = dW/dE per unit volume, the compression term
+ * included: plume_membrane_density changes by h S:dE. PLUME_EINVAL for bad arguments; S is NaN
+ * for a collapsed triangle (J = 0). */
+plume_status plume_membrane_strain_stress(const plume_membrane_material *mat, int dim, const double *F,
+                                          const double d[2], double E[3], double S[3], double *J);
+
 /* Creates a term over every triangle of `mesh`: triangle t uses mats[mesh->material[t]] (ids
  * must be in [0, nmat), else PLUME_EINVAL) and mesh->barb_dir[t]. Reference geometry is precomputed (copied), so the
  * mesh may be freed afterwards. The term's stencils are the triangles (arity 3). */

@@ -38,6 +38,10 @@ typedef struct {
      * (lagged friction: normal forces, tangent frames, the start positions). Called with the
      * step's start x (full vector) by plume_problem_lag_terms, before the step's stencil update. */
     plume_status (*lag)(void *ctx, int dim, const double *x);
+    /* Optional (NULL: not offered): the energy of each stencil at x (full vector), written to
+     * e[0 .. nstencil-1]; their sum is the energy eval adds. Output fields use it (energy
+     * densities per triangle, macro/frame_fields.h). */
+    plume_status (*energies)(void *ctx, int dim, const double *x, double *e);
 } plume_term;
 
 /* A set of m equality constraints g_c(x) = 0; constraint c couples the `arity` vertices of

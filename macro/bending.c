@@ -337,6 +337,21 @@ static plume_status bending_eval(void *vctx, int dim, const double *x, double *e
     return PLUME_OK;
 }
 
+static plume_status bending_energies(void *vctx, int dim, const double *x, double *e)
+{
+    const bend_ctx *ctx = vctx;
+    if (!ctx || !x || !e || dim != 3)
+        return PLUME_EINVAL;
+    for (plume_index h = 0; h < ctx->nh; h++) {
+        const plume_index *v = ctx->stencil + 4 * h;
+        hinge_geom G;
+        hinge_geometry(x + 3 * v[0], x + 3 * v[1], x + 3 * v[2], x + 3 * v[3], &G);
+        const double delta = wrap_angle(G.theta - ctx->hinge[h].theta0);
+        e[h] = ctx->hinge[h].kappa * delta * delta;
+    }
+    return PLUME_OK;
+}
+
 static void bending_destroy(void *vctx)
 {
     bend_ctx *ctx = vctx;
@@ -539,6 +554,7 @@ plume_status plume_bending_term_create(const plume_mesh *mesh, const plume_bendi
     out->nstencil = nh;
     out->stencil = ctx->stencil;
     out->eval = bending_eval;
+    out->energies = bending_energies;
     out->destroy = bending_destroy;
     out->ctx = ctx;
     ctx = NULL;

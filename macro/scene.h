@@ -97,6 +97,7 @@
 #include "../lib/problem.h"
 #include "../lib/statics.h"
 #include "bending.h"
+#include "fields.h"
 
 /* plume_scene.clamped bits: a clamped vertex; the second row of a clamp that holds boundary
  * edges (rest height fixed only with the hinge bending); the second row of a clamp with no
@@ -217,6 +218,10 @@ plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_problem **
  * moments; clamps and handles fixed) and its load-stepping driver (lib/statics.h) with the
  * scene's steps, solver and max_iter. *p and *st belong to the caller (destroy st first); the
  * scene must outlive them. Errors: the scene is not static (PLUME_EINVAL). */
+/* The output fields of the scene's states (fields.h): its membrane materials, its bending term
+ * and its barb edges, over the whole mesh (kinematic triangles get NaN). */
+plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_err *err);
+
 plume_status plume_scene_statics(const plume_scene *s, plume_problem **p, plume_statics **st, plume_err *err);
 
 /* The body of each vertex (body [nv], caller-allocated): the connected components of the scene's

@@ -12,6 +12,54 @@
 #include "../lib/moment.h"
 #include "shape_bending.h"
 
+/* The scene's bending term over mesh m (materials bm): hinges, or the shape operator with mirrored
+ * stencils at clamped boundary edges (shape_bending.h). */
+static plume_status bending_term(const plume_scene *s, const plume_mesh *m, const plume_bending_material *bm,
+                                 plume_term *term, plume_err *err)
+{
+    if (s->hinge_bending)
+        return plume_bending_term_create(m, bm, s->nmat, NULL, term, err);
+    unsigned char *held = s->clamped ? malloc((size_t)m->nv + 1) : NULL;
+    if (s->clamped && !held)
+        return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
+    for (plume_index v = 0; held && v < m->nv; v++)
+        held[v] = (s->clamped[v] & PLUME_CLAMP_HELD) != 0;
+    const plume_shape_bending_opts so = {held, 0};
+    plume_status st = plume_shape_bending_term_create_opts(m, bm, s->nmat, NULL, &so, term, err);
+    free(held);
+    return st;
+}
+
+plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_err *err)
+{
+    if (!s || !out)
+        return plume_err_set(err, PLUME_EINVAL, "scene: invalid arguments");
+    *out = NULL;
+    const plume_mesh *m = s->elastic ? s->elastic : s->mesh;
+    plume_membrane_material *mm = malloc((size_t)s->nmat * sizeof *mm);
+    plume_bending_material *bm = malloc((size_t)s->nmat * sizeof *bm);
+    plume_status st = PLUME_OK;
+    plume_term term = {0};
+    int bending = 0;
+    if (!mm || !bm) {
+        st = plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
+        goto done;
+    }
+    for (int k = 0; k < s->nmat; k++) {
+        mm[k] = s->mats[k].membrane;
+        bm[k] = s->mats[k].bending;
+        bending |= bm[k].D_long > 0.0 || bm[k].D_trans > 0.0;
+    }
+    if (bending && (st = bending_term(s, m, bm, &term, err)) != PLUME_OK)
+        goto done;
+    /* the whole mesh is drawn (kinematic bodies too, with NaN fields); the elastic triangles come first */
+    st = plume_fields_create(s->mesh, 3, m->nt, mm, s->nmat, bending ? &term : NULL, s->barb_edges, s->nbarb, out, err);
+done:
+    free(mm);
+    free(bm);
+    return st;
+}
+
 /* A problem over the scene's mesh with its elastic terms (membrane and bending per material)
  * and its barb constraints, x at the rest state; not finalised. */
 static plume_status elastic_problem(const plume_scene *s, plume_problem **out, plume_err *err)
@@ -35,25 +83,9 @@ static plume_status elastic_problem(const plume_scene *s, plume_problem **out, p
     if ((st = plume_membrane_term_create(m, 3, mm, s->nmat, &term, err)) != PLUME_OK ||
         (st = plume_problem_add_term(p, &term)) != PLUME_OK)
         goto done;
-    if (bending) {
-        if (s->hinge_bending) {
-            st = plume_bending_term_create(m, bm, s->nmat, NULL, &term, err);
-        } else {
-            /* clamped boundary edges get mirrored stencils (shape_bending.h) */
-            unsigned char *held = s->clamped ? malloc((size_t)m->nv + 1) : NULL;
-            if (s->clamped && !held) {
-                st = plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
-                goto done;
-            }
-            for (plume_index v = 0; held && v < m->nv; v++)
-                held[v] = (s->clamped[v] & PLUME_CLAMP_HELD) != 0;
-            const plume_shape_bending_opts so = {held, 0};
-            st = plume_shape_bending_term_create_opts(m, bm, s->nmat, NULL, &so, &term, err);
-            free(held);
-        }
-        if (st != PLUME_OK || (st = plume_problem_add_term(p, &term)) != PLUME_OK)
-            goto done;
-    }
+    if (bending && ((st = bending_term(s, m, bm, &term, err)) != PLUME_OK ||
+                    (st = plume_problem_add_term(p, &term)) != PLUME_OK))
+        goto done;
     if (s->nbarb > 0) {
         plume_constraint con;
         if ((st = plume_edge_length_create(s->barb_edges, s->nbarb, m->X, m->nv, &con, err)) != PLUME_OK ||

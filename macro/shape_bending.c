@@ -421,6 +421,29 @@ static void point_to_slots(const shape_point *p, const double v[3], double *out,
     }
 }
 
+/* Triangle t's energy 1/2 (h - h0)^T K (h - h0) into *e, with its points xv, their heights h and
+ * the forces f = K (h - h0) (the gradient's factors); 0 for a degenerate triangle. */
+static int tri_energy(const shape_ctx *ctx, plume_index t, const double *x, double *xv, double *h, double *f,
+                      shape_geom *G, double *e)
+{
+    const shape_tri *T = &ctx->tri[t];
+    const int npt = T->npt, n = npt - 3;
+    const double *K = ctx->dbl + T->kh, *h0 = K + (size_t)n * n;
+    gather_points(ctx, t, x, xv);
+    if (!shape_geometry(xv, npt, G, h))
+        return 0;
+    double s2 = 0.0;
+    for (int k = 0; k < n; k++) {
+        double s = 0.0;
+        for (int l = 0; l < n; l++)
+            s += K[k * n + l] * (h[3 + l] - h0[l]);
+        f[k] = s;
+        s2 += s * (h[3 + k] - h0[k]);
+    }
+    *e = 0.5 * s2;
+    return 1;
+}
+
 static plume_status shape_eval(void *vctx, int dim, const double *x, double *energy, double *grad,
                                double *hblocks, int project)
 {
@@ -435,20 +458,12 @@ static plume_status shape_eval(void *vctx, int dim, const double *x, double *ene
         const shape_tri *T = &ctx->tri[t];
         const shape_point *P = ctx->pts + T->pt;
         const int npt = T->npt, n = npt - 3;
-        const double *K = ctx->dbl + T->kh, *h0 = K + (size_t)n * n;
-        gather_points(ctx, t, x, xv);
+        const double *K = ctx->dbl + T->kh;
         shape_geom G;
-        if (!shape_geometry(xv, npt, &G, h))
+        double e;
+        if (!tri_energy(ctx, t, x, xv, h, f, &G, &e))
             return PLUME_ESINGULAR; /* a degenerate triangle: no normal, no curvature */
-        double e = 0.0;
-        for (int k = 0; k < n; k++) {
-            double s = 0.0;
-            for (int l = 0; l < n; l++)
-                s += K[k * n + l] * (h[3 + l] - h0[l]);
-            f[k] = s;
-            e += s * (h[3 + k] - h0[k]);
-        }
-        E += 0.5 * e;
+        E += e;
         if (!grad && !hblocks)
             continue;
         /* grad h_j in y = (e1, e2, q_j): (grad V - h grad L) / L */
@@ -521,6 +536,21 @@ static plume_status shape_eval(void *vctx, int dim, const double *x, double *ene
     }
     if (energy)
         *energy += E;
+    return PLUME_OK;
+}
+
+static plume_status shape_energies(void *vctx, int dim, const double *x, double *e)
+{
+    const shape_ctx *ctx = vctx;
+    if (!ctx || !x || !e || dim != 3)
+        return PLUME_EINVAL;
+    const int mp = ctx->maxpt;
+    double *xv = ctx->work, *h = xv + 3 * mp, *f = h + mp;
+    for (plume_index t = 0; t < ctx->nt; t++) {
+        shape_geom G;
+        if (!tri_energy(ctx, t, x, xv, h, f, &G, &e[t]))
+            return PLUME_ESINGULAR;
+    }
     return PLUME_OK;
 }
 
@@ -1176,6 +1206,7 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
     out->nstencil = nt;
     out->stencil = ctx->stencil;
     out->eval = shape_eval;
+    out->energies = shape_energies;
     out->destroy = shape_destroy;
     out->ctx = ctx;
     ctx = NULL;

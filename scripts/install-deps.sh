@@ -9,7 +9,7 @@ if [ $check -eq 1 ] && ! command -v dpkg-query >/dev/null 2>&1; then
     exit 0 # not a Debian system: the compiler names what is missing
 fi
 pkgs=(build-essential pkg-config libsuitesparse-dev coinor-libipopt-dev libnlopt-dev libhdf5-dev
-      libgsl-dev libcgal-dev libgmp-dev libmpfr-dev libjansson-dev libopenblas0-pthread gnuplot-nox)
+      libgsl-dev libcgal-dev libgmp-dev libmpfr-dev libjansson-dev zlib1g-dev libopenblas0-pthread gnuplot-nox)
 missing=()
 for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -15,6 +15,7 @@
 #include "app_runner.h"
 #include "harness.h"
 #include "../lib/frames.h"
+#include "../lib/io/vtu.h"
 #include "../macro/scene.h"
 
 /* A valid scene on the strip example; line numbers matter to the error tests below. */
@@ -74,6 +75,55 @@ static int exists_nonempty(const char *path)
 {
     struct stat st;
     return stat(path, &st) == 0 && st.st_size > 0;
+}
+
+/* The ParaView series in dir against its frames.h5: one triangle part per frame (and a barb part
+ * when the scene has constraints) at the frames' times; the last frame's points are the stored
+ * positions bit for bit, with every field of a cell present and J finite on the elastic part. */
+static void check_series(const char *dir, int nframes, int barbs)
+{
+    char pvd[300], h5[300], vtu[600];
+    snprintf(pvd, sizeof pvd, "%s/frames.pvd", dir);
+    snprintf(h5, sizeof h5, "%s/frames.h5", dir);
+    plume_pvd_entries e;
+    plume_err err = {{0}};
+    CHECK(plume_pvd_read(pvd, &e, &err) == PLUME_OK);
+    int tri = 0, lines = 0, times_ok = 1;
+    const char *last = NULL;
+    for (int i = 0; i < e.n; i++) {
+        if (e.parts[i] == 1) {
+            lines++;
+            continue;
+        }
+        plume_frame f;
+        times_ok &= plume_frames_read(h5, tri, &f, &err) == PLUME_OK && f.t == e.times[i];
+        plume_frame_free(&f);
+        tri++;
+        last = e.files[i];
+    }
+    CHECK(tri == nframes && lines == (barbs ? nframes : 0) && times_ok);
+    if (!last) {
+        plume_pvd_entries_free(&e);
+        return;
+    }
+    snprintf(vtu, sizeof vtu, "%s/%s", dir, last);
+    plume_vtu_data d;
+    plume_frame f;
+    CHECK(plume_vtu_read(vtu, &d, &err) == PLUME_OK && plume_frames_read(h5, -1, &f, &err) == PLUME_OK);
+    if (d.points && f.x) {
+        CHECK(d.npoints == f.nv && memcmp(d.points, f.x, (size_t)(3 * f.nv) * sizeof *f.x) == 0);
+        CHECK(d.has_time && d.time == f.t);
+        const char *names[] = {"material", "barb_direction", "green_strain_barb", "stress_barb",
+                               "membrane_energy_density", "bending_energy_density", "J", "mean_curvature"};
+        for (int k = 0; k < 8; k++)
+            CHECK(plume_vtu_find(&d, 0, names[k]) != NULL);
+        const plume_vtu_array *J = plume_vtu_find(&d, 0, "J");
+        CHECK(J && J->ntuples == d.ncells && isfinite(J->values[0]) && J->values[0] > 0.0);
+        CHECK(plume_vtu_find(&d, 1, "displacement") != NULL);
+    }
+    plume_frame_free(&f);
+    plume_vtu_data_free(&d);
+    plume_pvd_entries_free(&e);
 }
 
 void test_feather_app_scene_errors(void)
@@ -371,10 +421,8 @@ void test_feather_app_wing(void)
         CHECK(c && json_real_value(json_object_get(c, "min_distance")) > 0.0);
         json_decref(j);
     }
-    for (int k = 0; k <= 2; k++) {
-        snprintf(path, sizeof path, "%s/run/frame_%05d.vtk", dir, k);
-        CHECK(exists_nonempty(path));
-    }
+    snprintf(path, sizeof path, "%s/run", dir);
+    check_series(path, 3, 1);
     snprintf(path, sizeof path, "%s/run/frame_00000.png", dir);
     CHECK(exists_nonempty(path));
     snprintf(path, sizeof path, "%s/run/frames.h5", dir);
@@ -444,11 +492,13 @@ void test_feather_app_strip_run(void)
         json_decref(j);
     }
     for (int k = 0; k <= 3; k++) {
-        snprintf(path, sizeof path, "%s/run/frame_%05d.vtk", dir, k);
+        snprintf(path, sizeof path, "%s/run/frame_%05d.vtu", dir, k);
         CHECK(exists_nonempty(path));
     }
-    snprintf(path, sizeof path, "%s/run/frame_00004.vtk", dir);
+    snprintf(path, sizeof path, "%s/run/frame_00004.vtu", dir);
     CHECK(!exists_nonempty(path));
+    snprintf(path, sizeof path, "%s/run", dir);
+    check_series(path, 4, 1);
     snprintf(path, sizeof path, "%s/run/frame_00000.png", dir); /* "render": [0, ...] */
     CHECK(exists_nonempty(path));
     snprintf(path, sizeof path, "%s/run/frames.h5", dir);
@@ -522,8 +572,10 @@ void test_feather_app_restart(void)
     }
     plume_frame_free(&fa);
     plume_frame_free(&fb);
-    snprintf(pc, sizeof pc, "%s/b/frame_00006.vtk", dir);
+    snprintf(pc, sizeof pc, "%s/b/frame_00006.vtu", dir);
     CHECK(exists_nonempty(pc));
+    snprintf(pc, sizeof pc, "%s/b", dir);
+    check_series(pc, 7, 1); /* the restart kept frames 0-3 in the collection and added 4-6 */
     /* restarting into another directory copies the frames file there first */
     snprintf(args, sizeof args, "%s/s.json --restart %s -o %s/c --frames 1 --quiet", dir, pa, dir);
     CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
@@ -556,11 +608,13 @@ void test_feather_app_nonconvergence(void)
     CHECK(j && json_is_false(json_object_get(j, "converged")) && json_integer_value(json_object_get(j, "steps")) == 0);
     CHECK(j && json_integer_value(json_object_get(j, "steps_halved")) == 1);
     json_decref(j);
-    snprintf(path, sizeof path, "%s/run/frame_00000.vtk", dir);
+    snprintf(path, sizeof path, "%s/run/frame_00000.vtu", dir);
     CHECK(exists_nonempty(path));
     snprintf(path, sizeof path, "%s/run/frames.h5", dir);
     plume_frames_info info;
     plume_err err = {{0}};
     CHECK(plume_frames_info_read(path, &info, &err) == PLUME_OK && info.count == 1);
+    snprintf(path, sizeof path, "%s/run", dir);
+    check_series(path, 1, 1); /* what was written before the failure is a valid series */
     rm_rf(dir);
 }

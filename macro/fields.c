@@ -1,0 +1,375 @@
+/* plume: per-triangle and per-barb-edge output fields, and their ParaView series. */
+#include "fields.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../lib/io/vtu.h"
+
+struct plume_fields {
+    const plume_mesh *mesh;
+    int dim;
+    plume_index nt_el, nbarb;
+    plume_membrane_material *mats;
+    int nmat;
+    plume_term bending;      /* .eval == NULL: none */
+    plume_index *barb;       /* [2 nbarb] */
+    double *barb_len;        /* [nbarb] rest lengths */
+    double *dminv;           /* [4 nt_el] inverse of the reference edge matrix [X1 - X0, X2 - X0] */
+    double *area0;           /* [nt_el] reference areas */
+    double *x_rest;          /* [dim nv] for the displacement */
+    double *e, *bend_stencil; /* [7 nt] the per-triangle outputs below; [bending nstencil] */
+    double *strain, *stress, *psi_m, *psi_b, *J, *H, *bstrain;
+    double *points, *disp, *mat_id, *dir3; /* [3 nv], [3 nv], [nt], [3 nt] for writing */
+    /* the series */
+    plume_pvd *pvd;
+    char *dir, *stem;
+};
+
+void plume_fields_destroy(plume_fields **pf)
+{
+    if (!pf || !*pf)
+        return;
+    plume_fields *f = *pf;
+    if (f->bending.destroy)
+        f->bending.destroy(f->bending.ctx);
+    free(f->mats);
+    free(f->barb);
+    free(f->barb_len);
+    free(f->dminv);
+    free(f->area0);
+    free(f->x_rest);
+    free(f->e);
+    free(f->bend_stencil);
+    free(f->points);
+    free(f->disp);
+    free(f->mat_id);
+    free(f->dir3);
+    plume_pvd_destroy(&f->pvd);
+    free(f->dir);
+    free(f->stem);
+    free(f);
+    *pf = NULL;
+}
+
+plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt_elastic,
+                                 const plume_membrane_material *mats, int nmat, plume_term *bending,
+                                 const plume_index *barb_edges, plume_index nbarb, plume_fields **out,
+                                 plume_err *err)
+{
+    plume_term owned = {0};
+    if (bending) { /* taken whatever happens */
+        owned = *bending;
+        memset(bending, 0, sizeof *bending);
+    }
+    plume_status st = PLUME_OK;
+    plume_fields *f = NULL;
+    if (out)
+        *out = NULL;
+    if (!out || !mesh || !mats || nmat < 1 || (dim != 2 && dim != 3) || nt_elastic < 0 || nt_elastic > mesh->nt ||
+        nbarb < 0 || (nbarb > 0 && !barb_edges)) {
+        st = plume_err_set(err, PLUME_EINVAL, "fields: invalid arguments (mesh, dim 2 or 3, materials, elastic "
+                                              "triangles in [0, nt], barb edges)");
+        goto fail;
+    }
+    if (mesh->nt > 0 && !mesh->edge_tri) {
+        st = plume_err_set(err, PLUME_EINVAL, "fields: the mesh's topology is not built");
+        goto fail;
+    }
+    if (owned.eval && !owned.energies) {
+        st = plume_err_set(err, PLUME_EINVAL, "fields: the bending term '%s' cannot give its energies",
+                           owned.name ? owned.name : "?");
+        goto fail;
+    }
+    if (owned.eval && owned.nstencil != nt_elastic && owned.nstencil != mesh->nh) {
+        st = plume_err_set(err, PLUME_EINVAL,
+                           "fields: the bending term has %ld stencils, neither the %ld triangles nor the %ld hinges",
+                           (long)owned.nstencil, (long)nt_elastic, (long)mesh->nh);
+        goto fail;
+    }
+    for (plume_index t = 0; t < nt_elastic; t++)
+        if (mesh->material[t] < 0 || mesh->material[t] >= nmat) {
+            st = plume_err_set(err, PLUME_EINVAL, "fields: triangle %ld has material %d, outside [0, %d)", (long)t,
+                               mesh->material[t], nmat);
+            goto fail;
+        }
+    for (plume_index k = 0; k < 2 * nbarb; k++)
+        if (barb_edges[k] < 0 || barb_edges[k] >= mesh->nv) {
+            st = plume_err_set(err, PLUME_EINVAL, "fields: barb edge %ld names vertex %ld of %ld", (long)(k / 2),
+                               (long)barb_edges[k], (long)mesh->nv);
+            goto fail;
+        }
+    f = calloc(1, sizeof *f);
+    if (!f) {
+        st = PLUME_ENOMEM;
+        goto fail;
+    }
+    f->mesh = mesh, f->dim = dim, f->nt_el = nt_elastic, f->nbarb = nbarb, f->nmat = nmat;
+    f->bending = owned;
+    memset(&owned, 0, sizeof owned);
+    plume_index nt = mesh->nt, nv = mesh->nv;
+    f->mats = malloc((size_t)nmat * sizeof *f->mats);
+    f->barb = malloc((size_t)(2 * nbarb + 1) * sizeof *f->barb);
+    f->barb_len = malloc((size_t)(nbarb + 1) * sizeof *f->barb_len);
+    f->dminv = malloc((size_t)(4 * nt_elastic + 1) * sizeof *f->dminv);
+    f->area0 = malloc((size_t)(nt_elastic + 1) * sizeof *f->area0);
+    f->x_rest = malloc((size_t)(dim * nv + 1) * sizeof *f->x_rest);
+    f->e = malloc((size_t)(10 * nt + nbarb + 1) * sizeof *f->e);
+    f->bend_stencil = malloc((size_t)(f->bending.nstencil + 1) * sizeof *f->bend_stencil);
+    f->points = malloc((size_t)(3 * nv + 1) * sizeof *f->points);
+    f->disp = malloc((size_t)(3 * nv + 1) * sizeof *f->disp);
+    f->mat_id = malloc((size_t)(nt + 1) * sizeof *f->mat_id);
+    f->dir3 = malloc((size_t)(3 * nt + 1) * sizeof *f->dir3);
+    if (!f->mats || !f->barb || !f->barb_len || !f->dminv || !f->area0 || !f->x_rest || !f->e || !f->bend_stencil ||
+        !f->points || !f->disp || !f->mat_id || !f->dir3) {
+        st = PLUME_ENOMEM;
+        goto fail;
+    }
+    f->strain = f->e, f->stress = f->e + 3 * nt, f->psi_m = f->e + 6 * nt, f->psi_b = f->e + 7 * nt;
+    f->J = f->e + 8 * nt, f->H = f->e + 9 * nt, f->bstrain = f->e + 10 * nt;
+    memcpy(f->mats, mats, (size_t)nmat * sizeof *mats);
+    if (nbarb > 0)
+        memcpy(f->barb, barb_edges, (size_t)(2 * nbarb) * sizeof *barb_edges);
+    for (plume_index b = 0; b < nbarb; b++) {
+        plume_index a = barb_edges[2 * b], c = barb_edges[2 * b + 1];
+        f->barb_len[b] = hypot(mesh->X[2 * c] - mesh->X[2 * a], mesh->X[2 * c + 1] - mesh->X[2 * a + 1]);
+        if (!(f->barb_len[b] > 0.0)) {
+            st = plume_err_set(err, PLUME_EINVAL, "fields: barb edge %ld has zero rest length", (long)b);
+            goto fail;
+        }
+    }
+    for (plume_index t = 0; t < nt_elastic; t++) {
+        const plume_index *v = mesh->tri + 3 * t;
+        double a = mesh->X[2 * v[1]] - mesh->X[2 * v[0]], c = mesh->X[2 * v[2]] - mesh->X[2 * v[0]];
+        double b = mesh->X[2 * v[1] + 1] - mesh->X[2 * v[0] + 1], d = mesh->X[2 * v[2] + 1] - mesh->X[2 * v[0] + 1];
+        double det = a * d - b * c; /* [[a, c], [b, d]]: columns X1 - X0, X2 - X0 */
+        if (!(det != 0.0)) {
+            st = plume_err_set(err, PLUME_EINVAL, "fields: triangle %ld has zero reference area", (long)t);
+            goto fail;
+        }
+        f->dminv[4 * t] = d / det, f->dminv[4 * t + 1] = -c / det;
+        f->dminv[4 * t + 2] = -b / det, f->dminv[4 * t + 3] = a / det;
+        f->area0[t] = 0.5 * fabs(det);
+    }
+    for (plume_index v = 0; v < nv; v++)
+        for (int i = 0; i < dim; i++)
+            f->x_rest[dim * v + i] = mesh->dim == dim && mesh->x ? mesh->x[dim * v + i] : i < 2 ? mesh->X[2 * v + i] : 0.0;
+    for (plume_index t = 0; t < nt; t++) {
+        f->mat_id[t] = mesh->material[t];
+        f->dir3[3 * t] = mesh->barb_dir[2 * t], f->dir3[3 * t + 1] = mesh->barb_dir[2 * t + 1], f->dir3[3 * t + 2] = 0.0;
+    }
+    *out = f;
+    return PLUME_OK;
+fail:
+    if (owned.destroy)
+        owned.destroy(owned.ctx);
+    plume_fields_destroy(&f);
+    if (st == PLUME_ENOMEM)
+        plume_err_set(err, st, "fields: out of memory");
+    return st;
+}
+
+static void sub3(const double *a, const double *b, double *o)
+{
+    o[0] = a[0] - b[0], o[1] = a[1] - b[1], o[2] = a[2] - b[2];
+}
+
+static void cross(const double *a, const double *b, double *o)
+{
+    o[0] = a[1] * b[2] - a[2] * b[1], o[1] = a[2] * b[0] - a[0] * b[2], o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double dot(const double *a, const double *b)
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* the unnormalised normal of triangle t (CCW order) at positions x (3 nv) */
+static void tri_normal(const plume_mesh *m, plume_index t, const double *x, double *n)
+{
+    const plume_index *v = m->tri + 3 * t;
+    double a[3], b[3];
+    sub3(x + 3 * v[1], x + 3 * v[0], a);
+    sub3(x + 3 * v[2], x + 3 * v[0], b);
+    cross(a, b, n);
+}
+
+/* sum over the interior edges of each elastic triangle of theta |e| / 4, over its deformed area */
+static void mean_curvature(plume_fields *f, const double *x)
+{
+    const plume_mesh *m = f->mesh;
+    for (plume_index t = 0; t < f->nt_el; t++)
+        f->H[t] = 0.0;
+    if (f->dim != 3)
+        return;
+    for (plume_index e = 0; e < m->ne; e++) {
+        plume_index t0 = m->edge_tri[2 * e], t1 = m->edge_tri[2 * e + 1];
+        if (t1 < 0 || t0 >= f->nt_el || t1 >= f->nt_el)
+            continue;
+        plume_index a = m->edges[2 * e], b = m->edges[2 * e + 1];
+        /* the edge's direction as triangle t0 runs it (counter-clockwise) */
+        const plume_index *v = m->tri + 3 * t0;
+        int forward = (v[0] == a && v[1] == b) || (v[1] == a && v[2] == b) || (v[2] == a && v[0] == b);
+        double n0[3], n1[3], ed[3], c[3];
+        tri_normal(m, t0, x, n0);
+        tri_normal(m, t1, x, n1);
+        sub3(x + 3 * b, x + 3 * a, ed);
+        double len = sqrt(dot(ed, ed)), l0 = sqrt(dot(n0, n0)), l1 = sqrt(dot(n1, n1));
+        if (!(len > 0.0) || !(l0 > 0.0) || !(l1 > 0.0))
+            continue;
+        cross(n0, n1, c);
+        /* positive where the surface bends away from its normals (a cylinder or sphere with
+         * outward normals: +1/(2R) or +1/R) */
+        double theta = atan2((forward ? 1.0 : -1.0) * dot(c, ed) / len, dot(n0, n1));
+        double share = 0.25 * theta * len;
+        f->H[t0] += share / (0.5 * l0);
+        f->H[t1] += share / (0.5 * l1);
+    }
+}
+
+plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_values *out, plume_err *err)
+{
+    if (!f || !x || !out)
+        return plume_err_set(err, PLUME_EINVAL, "fields: invalid arguments");
+    const plume_mesh *m = f->mesh;
+    const int dim = f->dim;
+    plume_index nt = m->nt;
+    for (plume_index k = 0; k < 10 * nt; k++)
+        f->e[k] = NAN;
+    for (plume_index t = 0; t < f->nt_el; t++) {
+        const plume_index *v = m->tri + 3 * t;
+        const double *Di = f->dminv + 4 * t;
+        double F[6];
+        for (int i = 0; i < dim; i++) {
+            double p = x[dim * v[1] + i] - x[dim * v[0] + i], q = x[dim * v[2] + i] - x[dim * v[0] + i];
+            F[2 * i] = p * Di[0] + q * Di[2];
+            F[2 * i + 1] = p * Di[1] + q * Di[3];
+        }
+        const plume_membrane_material *mat = &f->mats[m->material[t]];
+        const double *d = m->barb_dir + 2 * t;
+        plume_status st = plume_membrane_strain_stress(mat, dim, F, d, f->strain + 3 * t, f->stress + 3 * t, &f->J[t]);
+        if (st != PLUME_OK)
+            return plume_err_set(err, st, "fields: triangle %ld: bad barb direction or material", (long)t);
+        f->psi_m[t] = plume_membrane_density(mat, dim, F, d);
+        f->psi_b[t] = 0.0;
+    }
+    if (f->bending.eval) {
+        plume_status st = f->bending.energies(f->bending.ctx, dim, x, f->bend_stencil);
+        if (st != PLUME_OK)
+            return plume_err_set(err, st, "fields: the bending energies are undefined here (%s)", plume_strerror(st));
+        if (f->bending.nstencil == f->nt_el) {
+            for (plume_index t = 0; t < f->nt_el; t++)
+                f->psi_b[t] = f->bend_stencil[t] / f->area0[t];
+        } else { /* hinges: the k-th interior edge, half its energy to each side */
+            plume_index h = 0;
+            for (plume_index e = 0; e < m->ne; e++) {
+                plume_index t0 = m->edge_tri[2 * e], t1 = m->edge_tri[2 * e + 1];
+                if (t1 < 0)
+                    continue;
+                double half = 0.5 * f->bend_stencil[h++];
+                if (t0 < f->nt_el)
+                    f->psi_b[t0] += half / f->area0[t0];
+                if (t1 < f->nt_el)
+                    f->psi_b[t1] += half / f->area0[t1];
+            }
+        }
+    }
+    mean_curvature(f, x);
+    for (plume_index b = 0; b < f->nbarb; b++) {
+        const double *xa = x + dim * f->barb[2 * b], *xb = x + dim * f->barb[2 * b + 1];
+        double s = 0.0;
+        for (int i = 0; i < dim; i++)
+            s += (xb[i] - xa[i]) * (xb[i] - xa[i]);
+        f->bstrain[b] = sqrt(s) / f->barb_len[b] - 1.0;
+    }
+    out->nt = nt, out->nbarb = f->nbarb;
+    out->green_strain = f->strain, out->stress = f->stress, out->membrane_energy = f->psi_m;
+    out->bending_energy = f->psi_b, out->J = f->J, out->mean_curvature = f->H, out->barb_strain = f->bstrain;
+    return PLUME_OK;
+}
+
+plume_status plume_fields_series_start(plume_fields *f, const char *dir, const char *pvd_name, const char *stem,
+                                       double resume_until, plume_err *err)
+{
+    if (!f || !dir || !*dir || !stem || !*stem || strchr(stem, '/') || !pvd_name || !*pvd_name)
+        return plume_err_set(err, PLUME_EINVAL, "fields: a directory, a collection name and a stem without '/' are needed");
+    plume_pvd_destroy(&f->pvd);
+    free(f->dir);
+    free(f->stem);
+    f->dir = strdup(dir), f->stem = strdup(stem);
+    size_t len = strlen(dir) + strlen(pvd_name) + 8;
+    char *path = malloc(len);
+    if (!f->dir || !f->stem || !path) {
+        free(path);
+        return plume_err_set(err, PLUME_ENOMEM, "fields: out of memory");
+    }
+    snprintf(path, len, "%s/%s", dir, pvd_name);
+    plume_status st = plume_pvd_create(path, &f->pvd, err);
+    if (st == PLUME_OK && resume_until >= 0.0) {
+        plume_pvd_entries old;
+        plume_err e2 = {{0}};
+        if (plume_pvd_read(path, &old, &e2) == PLUME_OK) { /* no collection yet: nothing to keep */
+            for (int i = 0; i < old.n && st == PLUME_OK; i++)
+                if (old.times[i] <= resume_until * (1.0 + 1e-12) + 1e-300)
+                    st = plume_pvd_add(f->pvd, old.times[i], old.parts[i], old.files[i], err);
+            plume_pvd_entries_free(&old);
+        }
+    }
+    free(path);
+    return st;
+}
+
+plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err)
+{
+    if (!f || !x || index < 0 || !isfinite(t))
+        return plume_err_set(err, PLUME_EINVAL, "fields: invalid frame arguments");
+    if (!f->pvd)
+        return plume_err_set(err, PLUME_EINVAL, "fields: no series started (plume_fields_series_start)");
+    plume_field_values fv;
+    plume_status st = plume_fields_compute(f, x, &fv, err);
+    if (st != PLUME_OK)
+        return st;
+    const plume_mesh *m = f->mesh;
+    const int dim = f->dim;
+    for (plume_index v = 0; v < m->nv; v++)
+        for (int i = 0; i < 3; i++) {
+            f->points[3 * v + i] = i < dim ? x[dim * v + i] : 0.0;
+            f->disp[3 * v + i] = i < dim ? x[dim * v + i] - f->x_rest[dim * v + i] : 0.0;
+        }
+    const plume_vtu_field pf[] = {{"displacement", 3, 0, f->disp}};
+    const plume_vtu_field cf[] = {{"material", 1, 1, f->mat_id},
+                                  {"barb_direction", 3, 0, f->dir3},
+                                  {"green_strain_barb", 3, 0, fv.green_strain},
+                                  {"stress_barb", 3, 0, fv.stress},
+                                  {"membrane_energy_density", 1, 0, fv.membrane_energy},
+                                  {"bending_energy_density", 1, 0, fv.bending_energy},
+                                  {"J", 1, 0, fv.J},
+                                  {"mean_curvature", 1, 0, fv.mean_curvature}};
+    plume_vtu_grid g = {m->nv, f->points, PLUME_VTU_TRIANGLE, m->nt, m->tri, 1, 8, pf, cf, t};
+    size_t len = strlen(f->dir) + strlen(f->stem) + 64;
+    char *path = malloc(len), *name = malloc(len);
+    if (!path || !name) {
+        free(path);
+        free(name);
+        return plume_err_set(err, PLUME_ENOMEM, "fields: out of memory");
+    }
+    snprintf(name, len, "%s_%05ld.vtu", f->stem, index);
+    snprintf(path, len, "%s/%s", f->dir, name);
+    st = plume_vtu_write(path, &g, err);
+    if (st == PLUME_OK)
+        st = plume_pvd_add(f->pvd, t, 0, name, err);
+    if (st == PLUME_OK && f->nbarb > 0) {
+        const plume_vtu_field bf[] = {{"barb_strain", 1, 0, fv.barb_strain}};
+        plume_vtu_grid gb = {m->nv, f->points, PLUME_VTU_LINE, f->nbarb, f->barb, 1, 1, pf, bf, t};
+        snprintf(name, len, "%s_barbs_%05ld.vtu", f->stem, index);
+        snprintf(path, len, "%s/%s", f->dir, name);
+        st = plume_vtu_write(path, &gb, err);
+        if (st == PLUME_OK)
+            st = plume_pvd_add(f->pvd, t, 1, name, err);
+    }
+    free(path);
+    free(name);
+    return st;
+}
