@@ -117,28 +117,6 @@ static int parse_args(int argc, char **argv, options *o)
     return 0;
 }
 
-/* mkdir -p */
-static int make_dirs(const char *path)
-{
-    char buf[4096];
-    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf)
-        return errno = ENAMETOOLONG, -1;
-    for (char *p = buf + 1; *p; p++) {
-        if (*p != '/')
-            continue;
-        *p = '\0';
-        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-            return -1;
-        *p = '/';
-    }
-    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-        return -1;
-    struct stat st;
-    if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode))
-        return errno = ENOTDIR, -1;
-    return 0;
-}
-
 /* Removes DIR/frame_<digits>.{vtu,vtk,png} and DIR/frame_barbs_<digits>.vtu left by an earlier
  * run, so a ParaView series or a folder of pictures never mixes two runs. Only names this app
  * writes (or wrote before .vtu) are touched. */
@@ -367,7 +345,7 @@ int main(int argc, char **argv)
     const plume_mesh *mesh = scene->mesh;
     plume_index ncons;
     plume_dynamics_multipliers(d, &ncons);
-    if (make_dirs(outdir) != 0) {
+    if (cli_make_dirs(outdir) != 0) {
         rc = run_fail("cannot create the output directory '%s': %s", outdir, strerror(errno));
         goto done;
     }

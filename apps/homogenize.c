@@ -29,10 +29,48 @@ static const char usage[] =
     "  --strain-max E --steps N   cell response curves (default 0.05, 10; 0 for none)\n"
     "  -o FILE.h5           write /moduli and /curves/cell/{uniaxial_x,uniaxial_y,shear}\n"
     "  --plot FILE.png      chart of the cell curves (SVG beside it)\n"
+    "  --vtk DIR            the deformed cell at every step of each curve as ParaView series:\n"
+    "                       DIR/{uniaxial_x,uniaxial_y,shear}/steps.pvd (the strain as the time) with\n"
+    "                       step_NNNNN.vtu (strain, stress, energy density, J per triangle)\n"
     "  --json               print E_xx, E_yy, nu_xy, G_xy (Pa), seconds and more on stdout\n"
     "  --help\n";
 
 #define APP "homogenize"
+
+/* --vtk: one series per load case, started at its rest state */
+typedef struct {
+    const char *dir;
+    plume_membrane_material mats[2];
+    plume_fields *series[3];
+} vtk_out;
+
+static plume_status vtk_state(void *user, int load_case, int step, double strain, const plume_cell *cell,
+                              const double *x)
+{
+    static const char *names[3] = {"uniaxial_x", "uniaxial_y", "shear"};
+    vtk_out *v = user;
+    plume_err err = {{0}};
+    plume_status st = PLUME_OK;
+    if (load_case < 0 || load_case > 2)
+        return PLUME_EINVAL;
+    if (!v->series[load_case]) {
+        char dir[4200];
+        snprintf(dir, sizeof dir, "%s/%s", v->dir, names[load_case]);
+        if (cli_make_dirs(dir) != 0) {
+            fprintf(stderr, "%s: --vtk: cannot create the directory '%s': %s\n", APP, dir, strerror(errno));
+            return PLUME_EIO;
+        }
+        if ((st = plume_fields_create(cell->mesh, 2, cell->mesh->nt, v->mats, 2, NULL, NULL, 0, &v->series[load_case],
+                                      &err)) != PLUME_OK ||
+            (st = plume_fields_series_start(v->series[load_case], dir, "steps.pvd", "step", -1.0, &err)) != PLUME_OK) {
+            fprintf(stderr, "%s: --vtk: %s\n", APP, err.msg);
+            return st;
+        }
+    }
+    if ((st = plume_fields_series_frame(v->series[load_case], step, strain, x, &err)) != PLUME_OK)
+        fprintf(stderr, "%s: --vtk: %s\n", APP, err.msg);
+    return st;
+}
 
 int main(int argc, char **argv)
 {
@@ -42,6 +80,7 @@ int main(int argc, char **argv)
     plume_homog_opts ho;
     plume_homog_opts_default(&ho);
     const char *out = NULL, *plot = NULL;
+    vtk_out vtk = {NULL, {{0}}, {NULL, NULL, NULL}};
     int json = 0;
     double wB = -1.0;
     plume_err err = {{0}};
@@ -86,6 +125,7 @@ int main(int argc, char **argv)
         else if (strcmp(a, "--steps") == 0) r = cli_int(APP, a, v, &ho.steps);
         else if (strcmp(a, "-o") == 0) out = v;
         else if (strcmp(a, "--plot") == 0) plot = v;
+        else if (strcmp(a, "--vtk") == 0) vtk.dir = v;
         else
             return cli_fail(APP, "unknown option '%s' (see --help)", a);
         if (r)
@@ -98,8 +138,18 @@ int main(int argc, char **argv)
     }
     if (plume_layout_check(&l, &err) != PLUME_OK)
         return cli_fail(APP, "%s", err.msg);
+    if (vtk.dir) {
+        if (!(ho.strain_max > 0.0))
+            return cli_fail(APP, "--vtk writes the cell curves' states: it needs --strain-max > 0");
+        plume_layout_materials(&l, vtk.mats);
+        ho.on_state = vtk_state;
+        ho.on_state_user = &vtk;
+    }
     plume_homog_result r;
-    if (plume_homogenize(&l, &ho, &r, &err) != PLUME_OK)
+    plume_status hs = plume_homogenize(&l, &ho, &r, &err);
+    for (int k = 0; k < 3; k++)
+        plume_fields_destroy(&vtk.series[k]);
+    if (hs != PLUME_OK)
         return fprintf(stderr, "%s: %s\n", APP, err.msg), 1;
     int rc = 0;
     const char *kind = l.kind == PLUME_LAYOUT_STRIPS ? "strips" : "barbules";

@@ -44,12 +44,15 @@ static const char usage[] =
     "  homogenised on the spot.\n"
     "  -o FILE.h5          write /curves/<macro|micro>/<scenario>/{strain,stress,wbar,iterations,seconds}\n"
     "  --plot FILE.png     chart (an SVG is written beside it)\n"
+    "  --vtk DIR           the deformed sample of every step as a ParaView series: DIR/<macro|micro>/steps.pvd\n"
+    "                      (the nominal strain as its time) with step_NNNNN.vtu (strain, stress, energy density,\n"
+    "                      J per triangle; step_barbs_NNNNN.vtu the constrained barb edges' strain)\n"
     "  --json              print a summary object on stdout\n"
     "  --quiet / --verbose no progress line / solver iterations on stderr\n"
     "  --help\n";
 
 typedef struct {
-    const char *scenario, *sample, *samples_file, *moduli_file, *out, *plot, *mesh, *solver;
+    const char *scenario, *sample, *samples_file, *moduli_file, *out, *plot, *mesh, *solver, *vtk;
     const char *model, *layout_file, *layout_kind;
     double phi, ratio, Eb, nu_barb, nu_barbule, dB_rel, e_rel;
     int phi_set, ratio_set, Eb_set, nu_barb_set, nu_barbule_set, dB_rel_set, e_rel_set;
@@ -127,6 +130,7 @@ static int parse_args(int argc, char **argv, options *o)
         else if (strcmp(a, "--solver") == 0) o->solver = v;
         else if (strcmp(a, "-o") == 0) o->out = v;
         else if (strcmp(a, "--plot") == 0) o->plot = v;
+        else if (strcmp(a, "--vtk") == 0) o->vtk = v;
         else if (strcmp(a, "--constraint") == 0) {
             if (v && strcmp(v, "on") == 0)
                 o->constraint = 1;
@@ -179,6 +183,39 @@ typedef struct {
     plume_index elements, vertices, barb_edges;
 } model_run;
 
+/* --vtk: each state of the curve as a frame of the series */
+static plume_status vtk_step(void *user, int step, double strain, const double *x)
+{
+    plume_err err = {{0}};
+    plume_status st = plume_fields_series_frame(user, step, strain, x, &err);
+    if (st != PLUME_OK)
+        fprintf(stderr, "traction: --vtk: %s\n", err.msg);
+    return st;
+}
+
+/* --vtk: the series of one model in DIR/<scale>/ (materials mats, constrained barbs), and the
+ * traction options that write it. Returns an exit code. */
+static int vtk_start(const options *o, const char *scale, const plume_mesh *mesh, const plume_membrane_material *mats,
+                     int nmat, const plume_index *barbs, plume_index nbarbs, plume_traction_opts *to,
+                     plume_fields **f)
+{
+    char dir[4200];
+    plume_err err = {{0}};
+    snprintf(dir, sizeof dir, "%s/%s", o->vtk, scale);
+    if (cli_make_dirs(dir) != 0) {
+        fprintf(stderr, "traction: --vtk: cannot create the directory '%s': %s\n", dir, strerror(errno));
+        return 1;
+    }
+    if (plume_fields_create(mesh, 2, mesh->nt, mats, nmat, NULL, barbs, nbarbs, f, &err) != PLUME_OK ||
+        plume_fields_series_start(*f, dir, "steps.pvd", "step", -1.0, &err) != PLUME_OK) {
+        fprintf(stderr, "traction: --vtk: %s\n", err.msg);
+        return 1;
+    }
+    to->on_step = vtk_step;
+    to->on_step_user = *f;
+    return 0;
+}
+
 /* The macroscale vane on an aligned or unaligned patch mesh. Returns an exit code. */
 static int run_macro(const options *o, const plume_vane *vane, plume_patch_kind kind, double angle, double edge,
                      const plume_traction_opts *to, model_run *run)
@@ -187,6 +224,7 @@ static int run_macro(const options *o, const plume_vane *vane, plume_patch_kind 
     plume_mesh *mesh = NULL;
     plume_problem *p = NULL;
     plume_index *barbs = NULL, nbarbs = 0;
+    plume_fields *fields = NULL;
     plume_status st;
     int rc = 1;
     if ((st = plume_patch_mesh(o->lx, o->ly, angle, edge, kind, 2, &mesh, &err)) != PLUME_OK) {
@@ -199,13 +237,18 @@ static int run_macro(const options *o, const plume_vane *vane, plume_patch_kind 
         goto done;
     }
     run->elements = mesh->nt, run->vertices = mesh->nv, run->barb_edges = nbarbs;
-    if ((st = plume_traction_run(mesh, p, barbs, nbarbs, to, &run->res, &err)) != PLUME_OK) {
+    plume_traction_opts tv = *to;
+    plume_membrane_material mat = plume_vane_material(vane);
+    if (o->vtk && vtk_start(o, "macro", mesh, &mat, 1, barbs, nbarbs, &tv, &fields) != 0)
+        goto done;
+    if ((st = plume_traction_run(mesh, p, barbs, nbarbs, &tv, &run->res, &err)) != PLUME_OK) {
         /* the library's message already names the module */
         fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
         goto done;
     }
     rc = 0;
 done:
+    plume_fields_destroy(&fields);
     free(barbs);
     plume_problem_destroy(&p);
     plume_mesh_destroy(&mesh);
@@ -219,6 +262,7 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
     plume_err err = {{0}};
     plume_mesh *mesh = NULL;
     plume_problem *p = NULL;
+    plume_fields *fields = NULL;
     plume_status st;
     int rc = 1;
     if ((st = plume_micro_specimen(layout, o->lx, o->ly, angle, &mesh, &p, &err)) != PLUME_OK) {
@@ -226,12 +270,18 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
         goto done;
     }
     run->elements = mesh->nt, run->vertices = mesh->nv;
-    if ((st = plume_traction_run(mesh, p, NULL, 0, to, &run->res, &err)) != PLUME_OK) {
+    plume_traction_opts tv = *to;
+    plume_membrane_material mats[2];
+    plume_layout_materials(layout, mats);
+    if (o->vtk && vtk_start(o, "micro", mesh, mats, 2, NULL, 0, &tv, &fields) != 0)
+        goto done;
+    if ((st = plume_traction_run(mesh, p, NULL, 0, &tv, &run->res, &err)) != PLUME_OK) {
         fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
         goto done;
     }
     rc = 0;
 done:
+    plume_fields_destroy(&fields);
     plume_problem_destroy(&p);
     plume_mesh_destroy(&mesh);
     return rc;

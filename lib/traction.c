@@ -338,6 +338,10 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         prog.enabled = 0;
 
     double probe_tol = probe_tolerance(o);
+    if (o->on_step && (st = o->on_step(o->on_step_user, 0, 0.0, x)) != PLUME_OK) {
+        plume_err_set(err, st, "traction: writing the rest state failed (%s)", plume_strerror(st));
+        goto cleanup;
+    }
 
     /* step 0 is the small-strain probe (initial slope), then the quasi-static steps */
     for (int k = 0; k <= o->steps; k++) {
@@ -460,6 +464,10 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         res->curve.wbar[i] = wbar;
         res->curve.iterations[i] = rep.iterations;
         res->curve.seconds[i] = rep.seconds;
+        if (o->on_step && (st = o->on_step(o->on_step_user, k, strain, x)) != PLUME_OK) {
+            plume_err_set(err, st, "traction: writing step %d failed (%s)", k, plume_strerror(st));
+            goto cleanup;
+        }
         char info[128];
         snprintf(info, sizeof info, "strain %.4f  stress %.4g Pa  %d it", strain, stress, rep.iterations);
         plume_progress_update(&prog, k, info);

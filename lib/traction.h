@@ -35,6 +35,11 @@ typedef struct {
     plume_solver_kind solver;
     plume_solver_opts solver_opts;
     int progress;        /* progress line on stderr: 0 off, 1 when stderr is a terminal, 2 always */
+    /* Optional (NULL: none): called with each state of the curve, the rest state as step 0 and
+     * then every nominal step that converged (strain, positions x: dim * nv); a status other than
+     * PLUME_OK stops the run with that status (output written by it, e.g. --vtk). */
+    plume_status (*on_step)(void *user, int step, double strain, const double *x);
+    void *on_step_user;
 } plume_traction_opts;
 
 void plume_traction_opts_default(plume_traction_opts *o);

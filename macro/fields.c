@@ -74,8 +74,8 @@ plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt
                                               "triangles in [0, nt], barb edges)");
         goto fail;
     }
-    if (mesh->nt > 0 && !mesh->edge_tri) {
-        st = plume_err_set(err, PLUME_EINVAL, "fields: the mesh's topology is not built");
+    if (dim == 3 && mesh->nt > 0 && !mesh->edge_tri) { /* curvature and hinges need the edges */
+        st = plume_err_set(err, PLUME_EINVAL, "fields: the shell mesh's topology is not built");
         goto fail;
     }
     if (owned.eval && !owned.energies) {

@@ -33,8 +33,8 @@ typedef struct {
 
 typedef struct plume_fields plume_fields;
 
-/* What the fields need, copied or taken: the mesh (borrowed, must outlive the object: topology
- * built), dim of the positions given later (2: planar, 3: shell), the first nt_elastic triangles
+/* What the fields need, copied or taken: the mesh (borrowed, must outlive the object; topology
+ * built in shell mode), dim of the positions given later (2: planar, 3: shell), the first nt_elastic triangles
  * with materials mats[mesh->material[t]], an optional bending term whose ownership passes to the
  * object (its `energies` gives the bending energy; NULL: none; its stencils are the triangles,
  * or the mesh's hinges for the hinge model), and the constrained barb edges (copied, may be

@@ -17,7 +17,7 @@ void plume_vane_default(plume_vane *v)
     v->align_tol = 1e-6;
 }
 
-static plume_membrane_material vane_material(const plume_vane *v)
+plume_membrane_material plume_vane_material(const plume_vane *v)
 {
     plume_membrane_material mat = {v->moduli.E_xx, v->moduli.E_yy, v->moduli.nu_xy, v->moduli.G_xy, v->h, v->kappa, 0};
     return mat;
@@ -25,7 +25,7 @@ static plume_membrane_material vane_material(const plume_vane *v)
 
 plume_status plume_vane_check(const plume_vane *v, plume_err *err)
 {
-    plume_membrane_material mat = vane_material(v);
+    plume_membrane_material mat = plume_vane_material(v);
     return plume_membrane_material_check(&mat, err);
 }
 
@@ -135,7 +135,7 @@ plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, const plume_v
     plume_status st = plume_vane_check(v, err);
     if (st != PLUME_OK)
         return st;
-    plume_membrane_material mat = vane_material(v);
+    plume_membrane_material mat = plume_vane_material(v);
     plume_term term;
     if ((st = plume_membrane_term_create(m, plume_problem_dim(p), &mat, 1, &term, err)) != PLUME_OK)
         return st;

@@ -23,6 +23,9 @@ typedef struct {
 
 void plume_vane_default(plume_vane *v);
 
+/* The vane's membrane material (its moduli, thickness and kappa). */
+plume_membrane_material plume_vane_material(const plume_vane *v);
+
 /* Validates the moduli and thickness (message names the parameter: "E_yy must be finite and > 0"). */
 plume_status plume_vane_check(const plume_vane *v, plume_err *err);
 

@@ -167,6 +167,34 @@ static plume_status alloc_curve(plume_curve *cv, int n)
 
 /* Uniaxial stress along axis `a` (0: x, 1: y): F_aa = 1 + eps driven, F_bb found by the secant
  * method so that the lateral stress vanishes, off-diagonal terms zero. */
+/* o->on_state with the cell's current state: masters from the last solve, periodic images
+ * x_master + Fbar (X_v - X_master) (the problem holds them at rest). */
+static plume_status report_state(cell_solver *c, const plume_homog_opts *o, int load_case, int step, double strain,
+                                 plume_err *err)
+{
+    if (!o->on_state)
+        return PLUME_OK;
+    const plume_cell *cell = c->cell;
+    const plume_mesh *m = cell->mesh;
+    const double *x = plume_problem_x(c->p), *F = c->Fprev;
+    double *xs = malloc((size_t)(2 * m->nv + 1) * sizeof *xs);
+    if (!xs)
+        return plume_err_set(err, PLUME_ENOMEM, "homogenize: out of memory");
+    for (plume_index v = 0; v < m->nv; v++) {
+        const double *xm = x + 2 * cell->master[v], *sh = cell->shift + 2 * v;
+        if (step == 0) /* the rest state */
+            xs[2 * v] = m->X[2 * v], xs[2 * v + 1] = m->X[2 * v + 1];
+        else
+            xs[2 * v] = xm[0] + F[0] * sh[0] + F[1] * sh[1], xs[2 * v + 1] = xm[1] + F[2] * sh[0] + F[3] * sh[1];
+    }
+    plume_status st = o->on_state(o->on_state_user, load_case, step, strain, cell, xs);
+    free(xs);
+    if (st != PLUME_OK)
+        return plume_err_set(err, st, "homogenize: writing load case %d, step %d failed (%s)", load_case, step,
+                             plume_strerror(st));
+    return PLUME_OK;
+}
+
 static plume_status uniaxial_curve(cell_solver *c, int a, double nu_guess, const plume_homog_opts *o,
                                    plume_curve *cv, plume_err *err)
 {
@@ -176,6 +204,8 @@ static plume_status uniaxial_curve(cell_solver *c, int a, double nu_guess, const
     int ia = a ? 3 : 0, ib = a ? 0 : 3;
     double lateral = 0.0, rate = -nu_guess; /* lateral strain and its slope against eps */
     char what[64];
+    if ((st = report_state(c, o, a, 0, 0.0, err)) != PLUME_OK)
+        return st;
     for (int k = 1; k <= o->steps; k++) {
         double eps = o->strain_max * k / o->steps, t0 = plume_wall_seconds();
         int it0 = c->iterations;
@@ -218,6 +248,8 @@ static plume_status uniaxial_curve(cell_solver *c, int a, double nu_guess, const
         cv->wbar[k] = lateral;
         cv->iterations[k] = c->iterations - it0;
         cv->seconds[k] = plume_wall_seconds() - t0;
+        if ((st = report_state(c, o, a, k, eps, err)) != PLUME_OK)
+            return st;
     }
     return PLUME_OK;
 }
@@ -228,6 +260,8 @@ static plume_status shear_curve(cell_solver *c, const plume_homog_opts *o, plume
     if (st != PLUME_OK)
         return st;
     char what[64];
+    if ((st = report_state(c, o, 2, 0, 0.0, err)) != PLUME_OK)
+        return st;
     for (int k = 1; k <= o->steps; k++) {
         double g = o->strain_max * k / o->steps, t0 = plume_wall_seconds(), P[4];
         int it0 = c->iterations;
@@ -239,6 +273,8 @@ static plume_status shear_curve(cell_solver *c, const plume_homog_opts *o, plume
         cv->stress[k] = P[1];
         cv->iterations[k] = c->iterations - it0;
         cv->seconds[k] = plume_wall_seconds() - t0;
+        if ((st = report_state(c, o, 2, k, g, err)) != PLUME_OK)
+            return st;
     }
     return PLUME_OK;
 }

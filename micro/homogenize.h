@@ -15,6 +15,14 @@ typedef struct {
     double strain_max;     /* final strain of the cell curves; default 0.05 (0: no curves) */
     int steps;             /* points of each cell curve; default 10 */
     plume_solver_opts solver_opts;
+    /* Optional (NULL: none): called with each state of the cell curves, the rest state as step 0
+     * and then every accepted step: load case (0 uniaxial x, 1 uniaxial y, 2 simple shear), its
+     * strain, the cell (its mesh: materials and barb directions) and the positions of all its
+     * vertices (2 nv; periodic images placed by the macroscopic gradient). A status other than
+     * PLUME_OK stops the homogenisation with that status (apps/homogenize --vtk). */
+    plume_status (*on_state)(void *user, int load_case, int step, double strain, const plume_cell *cell,
+                             const double *x);
+    void *on_state_user;
 } plume_homog_opts;
 
 void plume_homog_opts_default(plume_homog_opts *o);

@@ -1,5 +1,6 @@
 /* apps/homogenize and apps/fit as a user runs them. */
 #define _DEFAULT_SOURCE
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,7 @@
 #include "app_runner.h"
 #include "harness.h"
 #include "../lib/curves.h"
+#include "../lib/io/vtu.h"
 
 void test_app_homogenize_and_fit(void)
 {
@@ -79,4 +81,63 @@ void test_app_homogenize_and_fit(void)
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
     CHECK(system(cmd) == 0);
+}
+
+/* --vtk: one series per load case from the rest state; the deformed cell is a periodic tile of
+ * the macroscopic gradient, so its area (the area-weighted mean of J) is det F exactly: 1 under
+ * simple shear at every step. A load case at rest has J = 1 and zero strain. */
+void test_app_homogenize_vtk(void)
+{
+    char scratch[64] = "/tmp/plume-hvtk-XXXXXX", args[512], out[8192], err[8192], path[512];
+    if (!mkdtemp(scratch)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(args, sizeof args, "--steps 2 --vtk %s/v", scratch);
+    CHECK(app_run(scratch, "homogenize", args, out, sizeof out, err, sizeof err) == 0);
+    const char *cases[3] = {"uniaxial_x", "uniaxial_y", "shear"};
+    for (int c = 0; c < 3; c++) {
+        plume_pvd_entries e;
+        plume_err pe = {{0}};
+        snprintf(path, sizeof path, "%s/v/%s/steps.pvd", scratch, cases[c]);
+        CHECK(plume_pvd_read(path, &e, &pe) == PLUME_OK && e.n == 3);
+        for (int i = 0; i < e.n; i++) {
+            plume_vtu_data d;
+            snprintf(path, sizeof path, "%s/v/%s/%s", scratch, cases[c], e.files[i]);
+            CHECK(plume_vtu_read(path, &d, &pe) == PLUME_OK);
+            const plume_vtu_array *J = plume_vtu_find(&d, 0, "J"), *E = plume_vtu_find(&d, 0, "green_strain_barb");
+            if (!J || !E || !d.points) {
+                CHECK(0);
+                plume_vtu_data_free(&d);
+                continue;
+            }
+            /* reference areas from the rest frame's points: frame 0 is the rest state */
+            double area = 0.0, jarea = 0.0, emax = 0.0;
+            plume_vtu_data rest;
+            snprintf(path, sizeof path, "%s/v/%s/%s", scratch, cases[c], e.files[0]);
+            CHECK(plume_vtu_read(path, &rest, &pe) == PLUME_OK);
+            for (plume_index t = 0; rest.points && t < d.ncells; t++) {
+                const plume_index *v = d.connectivity + 3 * t;
+                const double *a = rest.points + 3 * v[0], *b = rest.points + 3 * v[1], *q = rest.points + 3 * v[2];
+                double A = 0.5 * fabs((b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]));
+                area += A, jarea += J->values[t] * A;
+                emax = fmax(emax, fabs(E->values[3 * t]) + fabs(E->values[3 * t + 1]) + fabs(E->values[3 * t + 2]));
+            }
+            plume_vtu_data_free(&rest);
+            if (i == 0)
+                CHECK(fabs(jarea / area - 1.0) < 1e-14 && emax < 1e-14);
+            else if (c == 2)
+                CHECK(fabs(jarea / area - 1.0) < 1e-12 && emax > 1e-3);
+            else
+                CHECK(jarea / area > 1.0 + 0.01 * i); /* stretched by 2.5 % a step, contracting less */
+            if (c == 2 && i == 2)
+                fprintf(stderr, "    simple shear 0.05: cell area ratio - 1 = %.2g\n", jarea / area - 1.0);
+            plume_vtu_data_free(&d);
+        }
+        plume_pvd_entries_free(&e);
+    }
+    CHECK(app_run(scratch, "homogenize", "--strain-max 0 --vtk x", out, sizeof out, err, sizeof err) == 2);
+    CHECK(strstr(err, "--vtk") != NULL);
+    snprintf(path, sizeof path, "rm -rf '%s'", scratch);
+    CHECK(system(path) == 0);
 }

@@ -1,6 +1,7 @@
 /* apps/traction as a user runs it: bad inputs give a clear message and a non-zero exit without
  * leaving an output file; a good run writes HDF5 and a JSON summary with the documented keys. */
 #define _DEFAULT_SOURCE
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +12,7 @@
 #include "app_runner.h"
 #include "harness.h"
 #include "../lib/curves.h"
+#include "../lib/io/vtu.h"
 
 static char scratch[64];
 
@@ -149,4 +151,71 @@ void test_app_traction_both_models(void)
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
     CHECK(system(cmd) == 0);
+}
+
+/* --vtk: both models' deformed samples as ParaView series at the nominal strains; the macro
+ * barbs keep their length (constraint) and so does the barb-direction Green strain of every
+ * triangle of the aligned mesh, while the sample stretches to ly (1 + strain). */
+void test_app_traction_vtk(void)
+{
+    char args[1024], path[512], out[16384], err[8192];
+    strcpy(scratch, "/tmp/plume-tvtk-XXXXXX");
+    if (!mkdtemp(scratch)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(args, sizeof args, "--model both --dB-rel 0.17 --steps 2 --vtk %s/v --quiet", scratch);
+    CHECK(run_app(args, out, sizeof out, err, sizeof err) == 0);
+    const char *scales[2] = {"macro", "micro"};
+    for (int s = 0; s < 2; s++) {
+        plume_pvd_entries e;
+        plume_err pe = {{0}};
+        snprintf(path, sizeof path, "%s/v/%s/steps.pvd", scratch, scales[s]);
+        CHECK(plume_pvd_read(path, &e, &pe) == PLUME_OK);
+        int tri = 0, barbs = 0;
+        const char *last = NULL, *last_barbs = NULL;
+        for (int i = 0; i < e.n; i++) {
+            if (e.parts[i] == 1) {
+                barbs++, last_barbs = e.files[i];
+                continue;
+            }
+            CHECK(fabs(e.times[i] - 0.025 * tri) < 1e-15);
+            tri++, last = e.files[i];
+        }
+        CHECK(tri == 3 && barbs == (s == 0 ? 3 : 0));
+        plume_vtu_data d;
+        snprintf(path, sizeof path, "%s/v/%s/%s", scratch, scales[s], last ? last : "none");
+        CHECK(plume_vtu_read(path, &d, &pe) == PLUME_OK);
+        if (d.points) {
+            double ymax = -1.0;
+            for (plume_index v = 0; v < d.npoints; v++)
+                ymax = fmax(ymax, d.points[3 * v + 1]);
+            CHECK(fabs(ymax - 1.3 * 1.05) < 1e-12);
+            const plume_vtu_array *E = plume_vtu_find(&d, 0, "green_strain_barb"), *m = plume_vtu_find(&d, 0, "material");
+            CHECK(E && m);
+            double ebb = 0.0, ett = 0.0, mmax = 0.0;
+            for (plume_index c = 0; E && m && c < d.ncells; c++)
+                ebb = fmax(ebb, fabs(E->values[3 * c])), ett = fmax(ett, E->values[3 * c + 1]), mmax = fmax(mmax, m->values[c]);
+            if (s == 0)
+                CHECK(ebb < 1e-8 && ett > 1e-3); /* inextensible barbs, stretched matrix */
+            else
+                CHECK(mmax == 1.0); /* barbs and barbules */
+            fprintf(stderr, "    %s: largest barb-direction strain %.2g, transverse %.3g\n", scales[s], ebb, ett);
+        }
+        plume_vtu_data_free(&d);
+        if (last_barbs) {
+            snprintf(path, sizeof path, "%s/v/%s/%s", scratch, scales[s], last_barbs);
+            CHECK(plume_vtu_read(path, &d, &pe) == PLUME_OK);
+            const plume_vtu_array *b = plume_vtu_find(&d, 0, "barb_strain");
+            double bmax = 0.0;
+            for (plume_index c = 0; b && c < b->ntuples; c++)
+                bmax = fmax(bmax, fabs(b->values[c]));
+            CHECK(b && b->ntuples > 10 && bmax < 1e-8);
+            plume_vtu_data_free(&d);
+        }
+        plume_pvd_entries_free(&e);
+    }
+    expect_error("--steps 1 --vtk /dev/null/x --quiet", "--vtk: cannot create the directory '/dev/null/x/macro'");
+    snprintf(path, sizeof path, "rm -rf '%s'", scratch);
+    CHECK(system(path) == 0);
 }
