@@ -41,6 +41,7 @@
 #include "../macro/feather_mesh.h"
 #include "../macro/scene.h"
 #include "../macro/fields.h"
+#include "../macro/flat.h"
 #include "../macro/study.h"
 #include "../macro/stability.h"
 #include "../micro/layout.h"

@@ -26,6 +26,43 @@ static const number_key number_keys[] = {
     {"barbule_angle", offsetof(plume_layout, barbule_angle)},
 };
 
+/* applies the keys of the JSON object doc to l; where names the source in messages */
+static plume_status apply_object(json_t *doc, const char *where, plume_layout *l, plume_err *err)
+{
+    double w_B = -1.0;
+    if (!json_is_object(doc))
+        return plume_err_set(err, PLUME_EFORMAT, "%s: expected a JSON object of layout keys", where);
+    const char *key;
+    json_t *v;
+    json_object_foreach(doc, key, v) {
+        if (strcmp(key, "layout") == 0) {
+            const char *s = json_is_string(v) ? json_string_value(v) : "";
+            if (strcmp(s, "strips") == 0)
+                l->kind = PLUME_LAYOUT_STRIPS;
+            else if (strcmp(s, "barbules") == 0)
+                l->kind = PLUME_LAYOUT_BARBULES;
+            else
+                return plume_err_set(err, PLUME_EFORMAT, "%s: key \"layout\" must be \"strips\" or \"barbules\"", where);
+            continue;
+        }
+        if (!json_is_number(v))
+            return plume_err_set(err, PLUME_EFORMAT, "%s: key \"%s\" must be a number", where, key);
+        if (strcmp(key, "w_B") == 0) {
+            w_B = json_number_value(v);
+            continue;
+        }
+        size_t k = 0, n = sizeof number_keys / sizeof number_keys[0];
+        while (k < n && strcmp(key, number_keys[k].key) != 0)
+            k++;
+        if (k == n)
+            return plume_err_set(err, PLUME_EFORMAT, "%s: unknown key \"%s\"", where, key);
+        *(double *)((char *)l + number_keys[k].offset) = json_number_value(v);
+    }
+    if (w_B >= 0.0)
+        l->d_B = l->phi > 0.0 ? w_B / l->phi : -1.0;
+    return PLUME_OK;
+}
+
 plume_status plume_layout_load_json(const char *path, plume_layout *l, plume_err *err)
 {
     if (!path || !l)
@@ -38,47 +75,22 @@ plume_status plume_layout_load_json(const char *path, plume_layout *l, plume_err
     fclose(f);
     if (!doc)
         return plume_err_set(err, PLUME_EFORMAT, "%s:%d:%d: %s", path, je.line, je.column, je.text);
-    plume_status st = PLUME_OK;
-    double w_B = -1.0;
-    if (!json_is_object(doc)) {
-        st = plume_err_set(err, PLUME_EFORMAT, "%s: expected a JSON object of layout keys", path);
-        goto done;
-    }
-    const char *key;
-    json_t *v;
-    json_object_foreach(doc, key, v) {
-        if (strcmp(key, "layout") == 0) {
-            const char *s = json_is_string(v) ? json_string_value(v) : "";
-            if (strcmp(s, "strips") == 0)
-                l->kind = PLUME_LAYOUT_STRIPS;
-            else if (strcmp(s, "barbules") == 0)
-                l->kind = PLUME_LAYOUT_BARBULES;
-            else {
-                st = plume_err_set(err, PLUME_EFORMAT, "%s: key \"layout\" must be \"strips\" or \"barbules\"", path);
-                goto done;
-            }
-            continue;
-        }
-        if (!json_is_number(v)) {
-            st = plume_err_set(err, PLUME_EFORMAT, "%s: key \"%s\" must be a number", path, key);
-            goto done;
-        }
-        if (strcmp(key, "w_B") == 0) {
-            w_B = json_number_value(v);
-            continue;
-        }
-        size_t k = 0, n = sizeof number_keys / sizeof number_keys[0];
-        while (k < n && strcmp(key, number_keys[k].key) != 0)
-            k++;
-        if (k == n) {
-            st = plume_err_set(err, PLUME_EFORMAT, "%s: unknown key \"%s\"", path, key);
-            goto done;
-        }
-        *(double *)((char *)l + number_keys[k].offset) = json_number_value(v);
-    }
-    if (w_B >= 0.0)
-        l->d_B = l->phi > 0.0 ? w_B / l->phi : -1.0;
-done:
+    plume_status st = apply_object(doc, path, l, err);
+    json_decref(doc);
+    return st;
+}
+
+plume_status plume_layout_apply_json(const char *text, const char *where, plume_layout *l, plume_err *err)
+{
+    if (!text || !l)
+        return plume_err_set(err, PLUME_EINVAL, "layout: invalid arguments");
+    if (!where)
+        where = "layout";
+    json_error_t je;
+    json_t *doc = json_loads(text, JSON_REJECT_DUPLICATES, &je);
+    if (!doc)
+        return plume_err_set(err, PLUME_EFORMAT, "%s:%d:%d: %s", where, je.line, je.column, je.text);
+    plume_status st = apply_object(doc, where, l, err);
     json_decref(doc);
     return st;
 }

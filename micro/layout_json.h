@@ -1,4 +1,4 @@
-/* plume: a microstructure layout from a JSON file (jansson). */
+/* plume: a microstructure layout from a JSON file or text (jansson). */
 #ifndef PLUME_LAYOUT_JSON_H
 #define PLUME_LAYOUT_JSON_H
 
@@ -16,6 +16,10 @@ extern "C" {
  * malformed JSON (PLUME_EFORMAT), an unknown key or a non-numeric value (PLUME_EFORMAT), an
  * unreadable file (PLUME_EIO). Values are not range-checked here: call plume_layout_check. */
 plume_status plume_layout_load_json(const char *path, plume_layout *l, plume_err *err);
+
+/* The same keys from a JSON text (a binding's request); `where` names it in messages
+ * ("request.layout"). */
+plume_status plume_layout_apply_json(const char *text, const char *where, plume_layout *l, plume_err *err);
 
 #ifdef __cplusplus
 }

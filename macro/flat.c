@@ -1,0 +1,663 @@
+/* plume: the flat interface for bindings — JSON requests and results over the library's jobs,
+ * and a scene handle with plain arrays (flat.h). */
+#include "flat.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <jansson.h>
+
+#include "../lib/dynamics.h"
+#include "../lib/openmp_env.h"
+#include "../lib/traction.h"
+#include "../micro/fit.h"
+#include "../micro/homogenize.h"
+#include "../micro/layout_json.h"
+#include "../micro/micro_model.h"
+#include "fields.h"
+#include "patch_mesh.h"
+#include "scene.h"
+#include "traction_model.h"
+#include "vane.h"
+
+/* ------------------------------------------------------------------------------------------ */
+/* requests */
+
+static plume_status finish(plume_status st, const plume_err *err, char *msg, long nmsg)
+{
+    if (msg && nmsg > 0) {
+        if (st == PLUME_OK)
+            msg[0] = '\0';
+        else
+            snprintf(msg, (size_t)nmsg, "%s", err->msg[0] ? err->msg : plume_strerror(st));
+    }
+    return st;
+}
+
+/* the request text as an object; every key of it must be in `allowed` (NULL-terminated) */
+static plume_status parse_request(const char *text, const char *what, const char *const *allowed, json_t **out,
+                                  plume_err *err)
+{
+    *out = NULL;
+    json_error_t je;
+    json_t *doc = json_loads(text && *text ? text : "{}", JSON_REJECT_DUPLICATES, &je);
+    if (!doc)
+        return plume_err_set(err, PLUME_EFORMAT, "%s request:%d:%d: %s", what, je.line, je.column, je.text);
+    if (!json_is_object(doc)) {
+        json_decref(doc);
+        return plume_err_set(err, PLUME_EFORMAT, "%s request: expected a JSON object", what);
+    }
+    const char *key;
+    json_t *v;
+    json_object_foreach(doc, key, v) {
+        int known = 0;
+        for (int k = 0; allowed[k] && !known; k++)
+            known = strcmp(key, allowed[k]) == 0;
+        if (!known) {
+            plume_err_set(err, PLUME_EINVAL, "%s request: unknown key \"%s\"", what, key);
+            json_decref(doc);
+            return PLUME_EINVAL;
+        }
+    }
+    *out = doc;
+    return PLUME_OK;
+}
+
+/* obj[key] as a number into *out when present (kept otherwise) */
+static plume_status get_number(json_t *obj, const char *what, const char *key, double *out, plume_err *err)
+{
+    json_t *v = json_object_get(obj, key);
+    if (!v)
+        return PLUME_OK;
+    if (!json_is_number(v))
+        return plume_err_set(err, PLUME_EINVAL, "%s request: \"%s\" must be a number", what, key);
+    *out = json_number_value(v);
+    if (!isfinite(*out))
+        return plume_err_set(err, PLUME_EINVAL, "%s request: \"%s\" must be finite", what, key);
+    return PLUME_OK;
+}
+
+static plume_status get_int(json_t *obj, const char *what, const char *key, int *out, plume_err *err)
+{
+    json_t *v = json_object_get(obj, key);
+    if (!v)
+        return PLUME_OK;
+    if (!json_is_integer(v) || json_integer_value(v) < -1000000000 || json_integer_value(v) > 1000000000)
+        return plume_err_set(err, PLUME_EINVAL, "%s request: \"%s\" must be an integer", what, key);
+    *out = (int)json_integer_value(v);
+    return PLUME_OK;
+}
+
+static plume_status get_bool(json_t *obj, const char *what, const char *key, int *out, plume_err *err)
+{
+    json_t *v = json_object_get(obj, key);
+    if (!v)
+        return PLUME_OK;
+    if (!json_is_boolean(v))
+        return plume_err_set(err, PLUME_EINVAL, "%s request: \"%s\" must be true or false", what, key);
+    *out = json_is_true(v);
+    return PLUME_OK;
+}
+
+static plume_status get_string(json_t *obj, const char *what, const char *key, const char **out, plume_err *err)
+{
+    json_t *v = json_object_get(obj, key);
+    if (!v)
+        return PLUME_OK;
+    if (!json_is_string(v))
+        return plume_err_set(err, PLUME_EINVAL, "%s request: \"%s\" must be a string", what, key);
+    *out = json_string_value(v);
+    return PLUME_OK;
+}
+
+/* request.layout (an object of layout-file keys) applied to l */
+static plume_status get_layout(json_t *obj, const char *what, plume_layout *l, plume_err *err)
+{
+    json_t *v = json_object_get(obj, "layout");
+    if (!v)
+        return PLUME_OK;
+    char where[64];
+    snprintf(where, sizeof where, "%s request.layout", what);
+    char *text = json_dumps(v, JSON_REAL_PRECISION(17));
+    if (!text)
+        return plume_err_set(err, PLUME_ENOMEM, "%s: out of memory", where);
+    plume_status st = plume_layout_apply_json(text, where, l, err);
+    free(text);
+    return st;
+}
+
+/* {"E_xx", "E_yy", "nu_xy", "G_xy"} at obj[key] into m (absent moduli kept) */
+static plume_status get_moduli(json_t *obj, const char *what, const char *key, plume_ortho *m, plume_err *err)
+{
+    json_t *v = json_object_get(obj, key);
+    if (!v)
+        return PLUME_OK;
+    char where[64];
+    snprintf(where, sizeof where, "%s request.%s", what, key);
+    if (!json_is_object(v))
+        return plume_err_set(err, PLUME_EINVAL, "%s: expected an object of E_xx, E_yy, nu_xy, G_xy", where);
+    const char *k;
+    json_t *x;
+    json_object_foreach(v, k, x) {
+        double *dst = strcmp(k, "E_xx") == 0 ? &m->E_xx : strcmp(k, "E_yy") == 0 ? &m->E_yy
+                    : strcmp(k, "nu_xy") == 0 ? &m->nu_xy : strcmp(k, "G_xy") == 0 ? &m->G_xy : NULL;
+        if (!dst)
+            return plume_err_set(err, PLUME_EINVAL, "%s: unknown key \"%s\"", where, k);
+        if (!json_is_number(x) || !isfinite(json_number_value(x)))
+            return plume_err_set(err, PLUME_EINVAL, "%s: \"%s\" must be a finite number", where, k);
+        *dst = json_number_value(x);
+    }
+    return PLUME_OK;
+}
+
+static json_t *array_of(const double *v, plume_index n)
+{
+    json_t *a = json_array();
+    for (plume_index i = 0; a && i < n; i++)
+        json_array_append_new(a, json_real(v[i]));
+    return a;
+}
+
+static json_t *curve_json(const plume_curve *c)
+{
+    return json_pack("{s:o, s:o, s:o, s:o}", "strain", array_of(c->strain, c->n), "stress", array_of(c->stress, c->n),
+                     "wbar", array_of(c->wbar, c->n), "iterations", array_of(c->iterations, c->n));
+}
+
+/* the result object as text into *result (the object is released) */
+static plume_status emit(json_t *obj, char **result, plume_err *err)
+{
+    *result = obj ? json_dumps(obj, JSON_REAL_PRECISION(17) | JSON_COMPACT) : NULL;
+    json_decref(obj);
+    return *result ? PLUME_OK : plume_err_set(err, PLUME_ENOMEM, "out of memory");
+}
+
+void plume_flat_free(char *text)
+{
+    free(text);
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* jobs */
+
+plume_status plume_flat_homogenize(const char *request, char **result, char *msg, long nmsg)
+{
+    plume_err err = {{0}};
+    if (!result)
+        return finish(plume_err_set(&err, PLUME_EINVAL, "homogenize: no result pointer"), &err, msg, nmsg);
+    *result = NULL;
+    static const char *const keys[] = {"layout", "strain_max", "steps", NULL};
+    json_t *req;
+    plume_status st = parse_request(request, "homogenize", keys, &req, &err);
+    if (st != PLUME_OK)
+        return finish(st, &err, msg, nmsg);
+    plume_layout l;
+    plume_layout_default(&l);
+    plume_homog_opts ho;
+    plume_homog_opts_default(&ho);
+    plume_homog_result r;
+    memset(&r, 0, sizeof r);
+    if ((st = get_layout(req, "homogenize", &l, &err)) != PLUME_OK ||
+        (st = get_number(req, "homogenize", "strain_max", &ho.strain_max, &err)) != PLUME_OK ||
+        (st = get_int(req, "homogenize", "steps", &ho.steps, &err)) != PLUME_OK ||
+        (st = plume_layout_check(&l, &err)) != PLUME_OK || (st = plume_homogenize(&l, &ho, &r, &err)) != PLUME_OK)
+        goto done;
+    json_t *C = json_array();
+    for (int k = 0; k < 9; k++)
+        json_array_append_new(C, json_real(r.C[k]));
+    json_t *o = json_pack("{s:f, s:f, s:f, s:f, s:o, s:f, s:I, s:I, s:i, s:f}", "E_xx", r.moduli.E_xx, "E_yy",
+                          r.moduli.E_yy, "nu_xy", r.moduli.nu_xy, "G_xy", r.moduli.G_xy, "C", C, "shear_coupling",
+                          r.coupling, "elements", (json_int_t)r.elements, "vertices", (json_int_t)r.vertices,
+                          "newton_iterations", r.newton_iterations, "seconds", r.seconds);
+    if (o && ho.strain_max > 0.0)
+        json_object_set_new(o, "curves", json_pack("{s:o, s:o, s:o}", "uniaxial_x", curve_json(&r.uniaxial_x),
+                                                   "uniaxial_y", curve_json(&r.uniaxial_y), "shear",
+                                                   curve_json(&r.shear)));
+    st = emit(o, result, &err);
+done:
+    plume_homog_result_free(&r);
+    json_decref(req);
+    return finish(st, &err, msg, nmsg);
+}
+
+/* the macro traction keys shared by traction and fit */
+typedef struct {
+    double lx, ly, h, kappa, edge, strain_max;
+    int constraint, steps;
+    plume_patch_kind mesh;
+    plume_solver_kind solver;
+} traction_setup;
+
+static plume_status get_traction_setup(json_t *req, const char *what, traction_setup *t, plume_err *err)
+{
+    t->lx = 1.0, t->ly = 1.3, t->h = 1.0, t->kappa = 0.0, t->edge = -1.0, t->strain_max = 0.05;
+    t->constraint = 1, t->steps = 10, t->mesh = PLUME_PATCH_ALIGNED, t->solver = PLUME_SOLVER_NEWTON;
+    const char *mesh = NULL, *solver = NULL;
+    plume_status st;
+    if ((st = get_number(req, what, "lx", &t->lx, err)) != PLUME_OK ||
+        (st = get_number(req, what, "ly", &t->ly, err)) != PLUME_OK ||
+        (st = get_number(req, what, "thickness", &t->h, err)) != PLUME_OK ||
+        (st = get_number(req, what, "kappa", &t->kappa, err)) != PLUME_OK ||
+        (st = get_number(req, what, "edge", &t->edge, err)) != PLUME_OK ||
+        (st = get_number(req, what, "strain_max", &t->strain_max, err)) != PLUME_OK ||
+        (st = get_bool(req, what, "constraint", &t->constraint, err)) != PLUME_OK ||
+        (st = get_int(req, what, "steps", &t->steps, err)) != PLUME_OK ||
+        (st = get_string(req, what, "mesh", &mesh, err)) != PLUME_OK ||
+        (st = get_string(req, what, "solver", &solver, err)) != PLUME_OK)
+        return st;
+    if (!(t->lx > 0.0) || !(t->ly > 0.0) || !(t->h > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "%s request: lx, ly and thickness must be > 0 (got %g, %g, %g)", what,
+                             t->lx, t->ly, t->h);
+    if (t->edge < 0.0)
+        t->edge = fmin(t->lx, t->ly) / 20.0;
+    if (!(t->edge > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "%s request: \"edge\" must be > 0 (got %g)", what, t->edge);
+    if (mesh && plume_patch_kind_parse(mesh, &t->mesh) != PLUME_OK)
+        return plume_err_set(err, PLUME_EINVAL, "%s request: \"mesh\" must be \"aligned\" or \"unaligned\" (got \"%s\")",
+                             what, mesh);
+    if (solver && plume_solver_kind_parse(solver, &t->solver) != PLUME_OK)
+        return plume_err_set(err, PLUME_EINVAL,
+                             "%s request: \"solver\" must be \"newton\", \"ipopt\" or \"linearized\" (got \"%s\")", what,
+                             solver);
+    return PLUME_OK;
+}
+
+/* traction request.vtk: the steps as a ParaView series in DIR (like apps/traction --vtk) */
+static plume_status vtk_step(void *user, int step, double strain, const double *x)
+{
+    plume_err err = {{0}};
+    return plume_fields_series_frame(user, step, strain, x, &err);
+}
+
+plume_status plume_flat_traction(const char *request, char **result, char *msg, long nmsg)
+{
+    plume_err err = {{0}};
+    if (!result)
+        return finish(plume_err_set(&err, PLUME_EINVAL, "traction: no result pointer"), &err, msg, nmsg);
+    *result = NULL;
+    static const char *const keys[] = {"model", "angle", "lx", "ly", "thickness", "moduli", "kappa", "constraint",
+                                       "mesh", "edge", "strain_max", "steps", "solver", "layout", "vtk", NULL};
+    json_t *req;
+    plume_status st = parse_request(request, "traction", keys, &req, &err);
+    if (st != PLUME_OK)
+        return finish(st, &err, msg, nmsg);
+    traction_setup t;
+    const char *model = "macro", *vtk = NULL;
+    double angle = 45.0;
+    plume_vane vane;
+    plume_vane_default(&vane);
+    vane.moduli.E_xx = 1e4, vane.moduli.E_yy = 1.0, vane.moduli.G_xy = 1.0, vane.moduli.nu_xy = 0.0;
+    plume_layout layout;
+    plume_layout_default(&layout);
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_index *barbs = NULL, nbarbs = 0;
+    plume_fields *fields = NULL;
+    plume_traction_result res;
+    memset(&res, 0, sizeof res);
+    if ((st = get_traction_setup(req, "traction", &t, &err)) != PLUME_OK ||
+        (st = get_string(req, "traction", "model", &model, &err)) != PLUME_OK ||
+        (st = get_string(req, "traction", "vtk", &vtk, &err)) != PLUME_OK ||
+        (st = get_number(req, "traction", "angle", &angle, &err)) != PLUME_OK ||
+        (st = get_moduli(req, "traction", "moduli", &vane.moduli, &err)) != PLUME_OK)
+        goto done;
+    int micro = strcmp(model, "micro") == 0;
+    if (!micro && strcmp(model, "macro") != 0) {
+        st = plume_err_set(&err, PLUME_EINVAL, "traction request: \"model\" must be \"macro\" or \"micro\" (got \"%s\")",
+                           model);
+        goto done;
+    }
+    if (!(angle >= 0.0 && angle <= 180.0)) {
+        st = plume_err_set(&err, PLUME_EINVAL, "traction request: \"angle\" must be in [0, 180] degrees (got %g)", angle);
+        goto done;
+    }
+    plume_membrane_material mats[2];
+    int nmat = 1;
+    if (micro) {
+        /* as apps/traction: barbs 0.086 ly apart, elements 2.9 barb widths, unless the layout says */
+        double scale = 0.086 * t.ly / layout.d_B;
+        layout.d_B *= scale, layout.barbule_width *= scale, layout.barbule_spacing *= scale;
+        layout.e_rel = 2.9;
+        if ((st = get_layout(req, "traction", &layout, &err)) != PLUME_OK)
+            goto done;
+        layout.h = t.h, layout.kappa = t.kappa;
+        if ((st = plume_micro_specimen(&layout, t.lx, t.ly, angle, &mesh, &p, &err)) != PLUME_OK)
+            goto done;
+        plume_layout_materials(&layout, mats);
+        nmat = 2;
+    } else {
+        if (json_object_get(req, "layout")) {
+            st = plume_err_set(&err, PLUME_EINVAL, "traction request: \"layout\" is for the micro model");
+            goto done;
+        }
+        vane.h = t.h, vane.kappa = t.kappa, vane.constraint = t.constraint;
+        if ((st = plume_vane_check(&vane, &err)) != PLUME_OK ||
+            (st = plume_patch_mesh(t.lx, t.ly, angle, t.edge, t.mesh, 2, &mesh, &err)) != PLUME_OK ||
+            (st = plume_problem_create(mesh->nv, 2, fmax(t.lx, t.ly), &p)) != PLUME_OK ||
+            (st = plume_vane_add(p, mesh, &vane, &barbs, &nbarbs, &err)) != PLUME_OK)
+            goto done;
+        mats[0] = plume_vane_material(&vane);
+    }
+    plume_traction_opts to;
+    plume_traction_opts_default(&to);
+    to.lx = t.lx, to.ly = t.ly, to.h = t.h, to.strain_max = t.strain_max, to.steps = t.steps, to.solver = t.solver;
+    to.progress = 0;
+    if (vtk) {
+        char dir[4200];
+        snprintf(dir, sizeof dir, "%s", vtk);
+        if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+            st = plume_err_set(&err, PLUME_EIO, "traction request: \"vtk\": cannot create the directory '%s': %s", vtk,
+                               strerror(errno));
+            goto done;
+        }
+        if ((st = plume_fields_create(mesh, 2, mesh->nt, mats, nmat, NULL, barbs, nbarbs, &fields, &err)) != PLUME_OK ||
+            (st = plume_fields_series_start(fields, dir, "steps.pvd", "step", -1.0, &err)) != PLUME_OK)
+            goto done;
+        to.on_step = vtk_step;
+        to.on_step_user = fields;
+    }
+    if ((st = plume_traction_run(mesh, p, barbs, nbarbs, &to, &res, &err)) != PLUME_OK)
+        goto done;
+    json_t *o = curve_json(&res.curve);
+    json_object_set_new(o, "initial_slope", json_real(res.initial_slope));
+    json_object_set_new(o, "converged", json_boolean(res.converged));
+    json_object_set_new(o, "failed_step", json_integer(res.failed_step));
+    json_object_set_new(o, "stop_reason", json_string(res.converged ? "converged" : plume_reason_name(res.failed_reason)));
+    json_object_set_new(o, "newton_iterations", json_integer(res.newton_iterations));
+    json_object_set_new(o, "max_violation", json_real(res.max_violation));
+    json_object_set_new(o, "seconds", json_real(res.seconds));
+    json_object_set_new(o, "elements", json_integer(mesh->nt));
+    json_object_set_new(o, "vertices", json_integer(mesh->nv));
+    json_object_set_new(o, "angle", json_real(angle));
+    st = emit(o, result, &err);
+done:
+    plume_traction_result_free(&res);
+    plume_fields_destroy(&fields);
+    free(barbs);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&mesh);
+    json_decref(req);
+    return finish(st, &err, msg, nmsg);
+}
+
+#define FLAT_MAX_TARGETS 16
+
+plume_status plume_flat_fit(const char *request, char **result, char *msg, long nmsg)
+{
+    plume_err err = {{0}};
+    if (!result)
+        return finish(plume_err_set(&err, PLUME_EINVAL, "fit: no result pointer"), &err, msg, nmsg);
+    *result = NULL;
+    static const char *const keys[] = {"targets", "start", "free", "max_eval", "xtol_rel", "lx", "ly", "thickness",
+                                       "kappa", "constraint", "mesh", "edge", "steps", "solver", NULL};
+    json_t *req;
+    plume_status st = parse_request(request, "fit", keys, &req, &err);
+    if (st != PLUME_OK)
+        return finish(st, &err, msg, nmsg);
+    plume_curve curves[FLAT_MAX_TARGETS];
+    double angles[FLAT_MAX_TARGETS];
+    memset(curves, 0, sizeof curves);
+    int nt = 0;
+    traction_setup t;
+    plume_fit_opts fo;
+    plume_fit_opts_default(&fo);
+    plume_ortho start = {0.0, 0.0, 0.0, 0.0}, fit;
+    if ((st = get_traction_setup(req, "fit", &t, &err)) != PLUME_OK ||
+        (st = get_int(req, "fit", "max_eval", &fo.max_eval, &err)) != PLUME_OK ||
+        (st = get_number(req, "fit", "xtol_rel", &fo.xtol_rel, &err)) != PLUME_OK)
+        goto done;
+    json_t *js = json_object_get(req, "start");
+    if (!js) {
+        st = plume_err_set(&err, PLUME_EINVAL, "fit request: \"start\" (the starting moduli) is required");
+        goto done;
+    }
+    if ((st = get_moduli(req, "fit", "start", &start, &err)) != PLUME_OK)
+        goto done;
+    if (!(start.E_xx > 0.0 && start.E_yy > 0.0 && start.G_xy > 0.0)) {
+        st = plume_err_set(&err, PLUME_EINVAL, "fit request: \"start\" needs E_xx, E_yy and G_xy > 0");
+        goto done;
+    }
+    json_t *jf = json_object_get(req, "free");
+    if (jf) {
+        fo.free_mask = 0;
+        size_t i;
+        json_t *v;
+        if (!json_is_array(jf)) {
+            st = plume_err_set(&err, PLUME_EINVAL, "fit request: \"free\" must be a list of modulus names");
+            goto done;
+        }
+        json_array_foreach(jf, i, v) {
+            const char *s = json_is_string(v) ? json_string_value(v) : "";
+            unsigned bit = strcmp(s, "E_xx") == 0 ? PLUME_FIT_EXX : strcmp(s, "E_yy") == 0 ? PLUME_FIT_EYY
+                         : strcmp(s, "nu_xy") == 0 ? PLUME_FIT_NU : strcmp(s, "G_xy") == 0 ? PLUME_FIT_GXY : 0;
+            if (!bit) {
+                st = plume_err_set(&err, PLUME_EINVAL, "fit request: \"free\"[%zu] must be E_xx, E_yy, nu_xy or G_xy", i);
+                goto done;
+            }
+            fo.free_mask |= bit;
+        }
+        if (!fo.free_mask) {
+            st = plume_err_set(&err, PLUME_EINVAL, "fit request: \"free\" names no modulus");
+            goto done;
+        }
+    }
+    json_t *jt = json_object_get(req, "targets");
+    if (!json_is_array(jt) || json_array_size(jt) < 1 || json_array_size(jt) > FLAT_MAX_TARGETS) {
+        st = plume_err_set(&err, PLUME_EINVAL, "fit request: \"targets\" must be a list of 1 to %d curves",
+                           FLAT_MAX_TARGETS);
+        goto done;
+    }
+    double strain_max = 0.0;
+    for (size_t i = 0; i < json_array_size(jt); i++) {
+        json_t *c = json_array_get(jt, i), *a = json_object_get(c, "angle"), *se = json_object_get(c, "strain"),
+               *ss = json_object_get(c, "stress");
+        size_t n = json_array_size(se);
+        if (!json_is_object(c) || !json_is_number(a) || !json_is_array(se) || !json_is_array(ss) || n < 2 ||
+            json_array_size(ss) != n) {
+            st = plume_err_set(&err, PLUME_EINVAL,
+                               "fit request: targets[%zu] needs \"angle\" and \"strain\", \"stress\" lists of equal "
+                               "length >= 2",
+                               i);
+            goto done;
+        }
+        angles[nt] = json_number_value(a);
+        if (!(angles[nt] >= 0.0 && angles[nt] <= 180.0)) {
+            st = plume_err_set(&err, PLUME_EINVAL, "fit request: targets[%zu].angle must be in [0, 180] (got %g)", i,
+                               angles[nt]);
+            goto done;
+        }
+        plume_curve *cv = &curves[nt++];
+        cv->n = (plume_index)n;
+        cv->strain = calloc(n, sizeof(double)), cv->stress = calloc(n, sizeof(double));
+        cv->wbar = calloc(n, sizeof(double)), cv->iterations = calloc(n, sizeof(double));
+        cv->seconds = calloc(n, sizeof(double));
+        if (!cv->strain || !cv->stress || !cv->wbar || !cv->iterations || !cv->seconds) {
+            st = plume_err_set(&err, PLUME_ENOMEM, "fit: out of memory");
+            goto done;
+        }
+        for (size_t k = 0; k < n; k++) {
+            json_t *x = json_array_get(se, k), *y = json_array_get(ss, k);
+            if (!json_is_number(x) || !json_is_number(y)) {
+                st = plume_err_set(&err, PLUME_EINVAL, "fit request: targets[%zu] point %zu is not a number", i, k);
+                goto done;
+            }
+            cv->strain[k] = json_number_value(x), cv->stress[k] = json_number_value(y);
+        }
+        strain_max = fmax(strain_max, cv->strain[n - 1]);
+    }
+    plume_macro_model mm = {t.lx, t.ly, t.h, t.edge, t.mesh, t.constraint, t.kappa, strain_max, t.steps, nt, angles,
+                            t.solver};
+    plume_fit_report rep;
+    if ((st = plume_fit_moduli(plume_macro_model_curve, &mm, curves, nt, &start, &fo, &fit, &rep, &err)) != PLUME_OK)
+        goto done;
+    st = emit(json_pack("{s:f, s:f, s:f, s:f, s:f, s:i, s:s, s:f}", "E_xx", fit.E_xx, "E_yy", fit.E_yy, "nu_xy",
+                        fit.nu_xy, "G_xy", fit.G_xy, "residual", rep.residual, "evaluations", rep.evaluations, "stop",
+                        rep.stop, "seconds", rep.seconds),
+              result, &err);
+done:
+    for (int k = 0; k < nt; k++)
+        plume_curve_free(&curves[k]);
+    json_decref(req);
+    return finish(st, &err, msg, nmsg);
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* scenes */
+
+struct plume_flat_scene {
+    plume_scene *scene;
+    plume_problem *p;
+    plume_dynamics *d;
+    plume_contact *contact;
+    plume_fields *fields; /* the ParaView series, once write_vtk is called */
+    char *vtk_dir;
+    long vtk_frames;
+};
+
+plume_status plume_flat_scene_open(const char *path, plume_flat_scene **out, char *msg, long nmsg)
+{
+    plume_err err = {{0}};
+    if (!path || !out)
+        return finish(plume_err_set(&err, PLUME_EINVAL, "scene: invalid arguments"), &err, msg, nmsg);
+    *out = NULL;
+    plume_openmp_serial(); /* as the apps: CHOLMOD's OpenMP loops cost more than they save */
+    plume_flat_scene *s = calloc(1, sizeof *s);
+    if (!s)
+        return finish(plume_err_set(&err, PLUME_ENOMEM, "scene: out of memory"), &err, msg, nmsg);
+    plume_status st = plume_scene_load(path, &s->scene, &err);
+    if (st == PLUME_OK && s->scene->is_static)
+        st = plume_err_set(&err, PLUME_EINVAL, "%s is a static scene (\"solve\": \"static\"): run it with apps/shell",
+                           path);
+    if (st == PLUME_OK)
+        st = plume_scene_dynamics_contact(s->scene, &s->p, &s->d, &s->contact, &err);
+    if (st != PLUME_OK) {
+        plume_flat_scene_close(&s);
+        return finish(st, &err, msg, nmsg);
+    }
+    *out = s;
+    return finish(PLUME_OK, &err, msg, nmsg);
+}
+
+void plume_flat_scene_close(plume_flat_scene **ps)
+{
+    if (!ps || !*ps)
+        return;
+    plume_flat_scene *s = *ps;
+    plume_fields_destroy(&s->fields);
+    free(s->vtk_dir);
+    plume_dynamics_destroy(&s->d);
+    plume_problem_destroy(&s->p);
+    plume_scene_destroy(&s->scene);
+    free(s);
+    *ps = NULL;
+}
+
+plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **report, char *msg, long nmsg)
+{
+    plume_err err = {{0}};
+    if (report)
+        *report = NULL;
+    if (!s || nsteps < 0)
+        return finish(plume_err_set(&err, PLUME_EINVAL, "scene step: invalid arguments (nsteps >= 0)"), &err, msg, nmsg);
+    long halvings = 0, iterations = 0, done = 0;
+    double max_violation = 0.0, seconds = 0.0;
+    int converged = 1;
+    plume_reason reason = PLUME_REASON_CONVERGED;
+    plume_status st = PLUME_OK;
+    for (int i = 0; i < nsteps; i++) {
+        plume_step_report rep;
+        if ((st = plume_dynamics_advance(s->d, 0.0, &rep)) != PLUME_OK) {
+            plume_err_set(&err, st, "scene step %ld: %s", done + 1, plume_strerror(st));
+            return finish(st, &err, msg, nmsg);
+        }
+        halvings += rep.halvings, iterations += rep.iterations, seconds += rep.seconds;
+        max_violation = fmax(max_violation, rep.max_violation);
+        if (!rep.converged && s->scene->solver != PLUME_SOLVER_LINEARIZED) {
+            converged = 0;
+            reason = rep.reason;
+            break;
+        }
+        done++;
+    }
+    if (report)
+        st = emit(json_pack("{s:I, s:f, s:b, s:I, s:I, s:f, s:f, s:s}", "steps", (json_int_t)done, "time",
+                            plume_dynamics_time(s->d), "converged", converged, "halvings", (json_int_t)halvings,
+                            "newton_iterations", (json_int_t)iterations, "max_violation", max_violation, "seconds",
+                            seconds, "stop_reason", plume_reason_name(reason)),
+                  report, &err);
+    return finish(st, &err, msg, nmsg);
+}
+
+long plume_flat_scene_nv(const plume_flat_scene *s)
+{
+    return s ? (long)s->scene->mesh->nv : 0;
+}
+
+long plume_flat_scene_nt(const plume_flat_scene *s)
+{
+    return s ? (long)s->scene->mesh->nt : 0;
+}
+
+double plume_flat_scene_time(const plume_flat_scene *s)
+{
+    return s ? plume_dynamics_time(s->d) : NAN;
+}
+
+void plume_flat_scene_positions(const plume_flat_scene *s, double *out)
+{
+    if (s && out)
+        memcpy(out, plume_dynamics_positions(s->d), (size_t)(3 * s->scene->mesh->nv) * sizeof *out);
+}
+
+void plume_flat_scene_velocities(const plume_flat_scene *s, double *out)
+{
+    if (s && out)
+        memcpy(out, plume_dynamics_velocities(s->d), (size_t)(3 * s->scene->mesh->nv) * sizeof *out);
+}
+
+void plume_flat_scene_reference(const plume_flat_scene *s, double *out)
+{
+    if (s && out)
+        memcpy(out, s->scene->mesh->X, (size_t)(2 * s->scene->mesh->nv) * sizeof *out);
+}
+
+void plume_flat_scene_triangles(const plume_flat_scene *s, long *out)
+{
+    if (!s || !out)
+        return;
+    const plume_mesh *m = s->scene->mesh;
+    for (plume_index k = 0; k < 3 * m->nt; k++)
+        out[k] = (long)m->tri[k];
+}
+
+plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, char *msg, long nmsg)
+{
+    plume_err err = {{0}};
+    if (!s || !dir || !*dir)
+        return finish(plume_err_set(&err, PLUME_EINVAL, "scene write_vtk: invalid arguments"), &err, msg, nmsg);
+    plume_status st = PLUME_OK;
+    if (!s->vtk_dir || strcmp(s->vtk_dir, dir) != 0) { /* a new series */
+        if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+            return finish(plume_err_set(&err, PLUME_EIO, "scene write_vtk: cannot create the directory '%s': %s", dir,
+                                        strerror(errno)),
+                          &err, msg, nmsg);
+        free(s->vtk_dir);
+        s->vtk_dir = strdup(dir);
+        s->vtk_frames = 0;
+        if (!s->vtk_dir)
+            return finish(plume_err_set(&err, PLUME_ENOMEM, "out of memory"), &err, msg, nmsg);
+        if (!s->fields && (st = plume_scene_fields(s->scene, &s->fields, &err)) != PLUME_OK)
+            return finish(st, &err, msg, nmsg);
+        if ((st = plume_fields_series_start(s->fields, dir, "frames.pvd", "frame", -1.0, &err)) != PLUME_OK)
+            return finish(st, &err, msg, nmsg);
+    }
+    st = plume_fields_series_frame(s->fields, s->vtk_frames, plume_dynamics_time(s->d), plume_dynamics_positions(s->d),
+                                   &err);
+    if (st == PLUME_OK)
+        s->vtk_frames++;
+    return finish(st, &err, msg, nmsg);
+}

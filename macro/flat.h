@@ -1,0 +1,80 @@
+/* plume: a flat C interface for bindings (python/plume uses it through ctypes): the main jobs
+ * take a JSON request and give a JSON result, scenes are stepped through an opaque handle with
+ * plain arrays. Only char, int, long, double and pointers cross it, so any FFI can call it without
+ * mirroring plume's structs.
+ *
+ * Every function returns a plume_status (0 = PLUME_OK; plume_strerror names the others) and, on
+ * failure, writes plume's message to msg (size nmsg, always NUL-terminated when nmsg > 0; msg may
+ * be NULL). Results are malloc'ed JSON texts owned by the caller: free them with plume_flat_free.
+ *
+ * Requests (JSON objects; every key optional unless said otherwise; unknown keys are an error
+ * naming the key):
+ *  - homogenize: {"layout": {...keys of a --config layout file: "layout", "phi", "d_B", "w_B",
+ *    "E_b", "nu_b", "ratio", "nu_B", "thickness", "kappa", "e_rel", "barbule_width",
+ *    "barbule_spacing", "barbule_angle"}, "strain_max": 0.05, "steps": 10}
+ *    -> {"E_xx", "E_yy", "nu_xy", "G_xy", "C": [9], "shear_coupling", "elements", "vertices",
+ *        "newton_iterations", "seconds", "curves": {"uniaxial_x"|"uniaxial_y"|"shear":
+ *        {"strain": [], "stress": [], "wbar": []}} (curves only when strain_max > 0)}
+ *  - traction: {"model": "macro"|"micro", "angle": 45 (deg from the pull), "lx": 1, "ly": 1.3,
+ *    "thickness": 1, "moduli": {"E_xx": 1e4, "E_yy": 1, "nu_xy": 0, "G_xy": 1}, "kappa": 0,
+ *    "constraint": true, "mesh": "aligned"|"unaligned", "edge": min(lx, ly) / 20,
+ *    "strain_max": 0.05, "steps": 10, "solver": "newton"|"ipopt"|"linearized",
+ *    "layout": {...} (model micro), "vtk": "DIR" (a ParaView series of the steps)}
+ *    -> {"strain": [], "stress": [], "wbar": [], "iterations": [], "initial_slope",
+ *        "converged", "failed_step", "stop_reason", "newton_iterations", "max_violation",
+ *        "seconds", "elements", "vertices"}
+ *  - fit: {"targets": [{"angle": deg, "strain": [], "stress": []}, ...] (required), "start":
+ *    {"E_xx", "E_yy", "nu_xy", "G_xy"} (required), "free": ["E_yy", "G_xy"], "max_eval": 300,
+ *    "xtol_rel": 1e-6, and the macro traction keys above ("lx", "ly", "thickness", "kappa",
+ *    "constraint", "mesh", "edge", "steps", "solver"; strain_max is each target's largest)}
+ *    -> {"E_xx", "E_yy", "nu_xy", "G_xy", "residual", "evaluations", "stop", "seconds"}
+ */
+#ifndef PLUME_FLAT_H
+#define PLUME_FLAT_H
+
+#include "../lib/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+plume_status plume_flat_homogenize(const char *request, char **result, char *msg, long nmsg);
+plume_status plume_flat_traction(const char *request, char **result, char *msg, long nmsg);
+plume_status plume_flat_fit(const char *request, char **result, char *msg, long nmsg);
+void plume_flat_free(char *text);
+
+/* A dynamic scene (macro/scene.h) being stepped, with its contact and friction if it has them. */
+typedef struct plume_flat_scene plume_flat_scene;
+
+/* Loads and sets up the scene at `path` (errors name the file, line and key). */
+plume_status plume_flat_scene_open(const char *path, plume_flat_scene **out, char *msg, long nmsg);
+void plume_flat_scene_close(plume_flat_scene **s);
+
+/* Advances nsteps time steps of the scene's dt (each halved when it fails, as apps/feather does).
+ * *report (may be NULL) gets {"steps", "time", "converged", "halvings", "newton_iterations",
+ * "max_violation", "seconds", "stop_reason"}. A step that does not converge at the smallest step
+ * is not an error: the state stays at the last converged substep, "converged" is false, and the
+ * status is PLUME_OK. */
+plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **report, char *msg, long nmsg);
+
+/* Sizes and state: vertices, triangles, constrained barb edges; time (s). */
+long plume_flat_scene_nv(const plume_flat_scene *s);
+long plume_flat_scene_nt(const plume_flat_scene *s);
+double plume_flat_scene_time(const plume_flat_scene *s);
+
+/* Copies the positions / velocities (3 nv, vertex-major, m and m/s), the reference positions
+ * (2 nv: the material coordinates X), the triangles (3 nt vertex ids, as longs) into out. */
+void plume_flat_scene_positions(const plume_flat_scene *s, double *out);
+void plume_flat_scene_velocities(const plume_flat_scene *s, double *out);
+void plume_flat_scene_reference(const plume_flat_scene *s, double *out);
+void plume_flat_scene_triangles(const plume_flat_scene *s, long *out);
+
+/* Writes the current state as the next frame of a ParaView series in directory dir (created if
+ * needed): dir/frames.pvd and dir/frame_NNNNN.vtu (macro/fields.h); the first call starts the
+ * series (frame 0), later calls with the same dir append. */
+plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, char *msg, long nmsg);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
