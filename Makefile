@@ -76,7 +76,7 @@ OMP_ENV := OMP_WAIT_POLICY=$${OMP_WAIT_POLICY:-passive}
 
 test: deps
 	@$(MAKE) --no-print-directory all $(BUILD)/run_tests
-	cd tests && $(OMP_ENV) ../$(BUILD)/run_tests $(TESTS)
+	$(OMP_ENV) TESTS="$(TESTS)" bash scripts/run-tests.sh $(BUILD)
 
 # the app tests run the regular apps/ binaries, so they are built too
 asan: deps

@@ -8,8 +8,11 @@ check=0
 if [ $check -eq 1 ] && ! command -v dpkg-query >/dev/null 2>&1; then
     exit 0 # not a Debian system: the compiler names what is missing
 fi
+# what the library and apps build and run with (all that --check, i.e. plain `make`, asks for)
 pkgs=(build-essential pkg-config libsuitesparse-dev coinor-libipopt-dev libnlopt-dev libhdf5-dev
       libgsl-dev libcgal-dev libgmp-dev libmpfr-dev libjansson-dev zlib1g-dev libopenblas0-pthread gnuplot-nox)
+# and the Python package with its tests and example (make test, make demo, make deps)
+[ $check -eq 0 ] && pkgs+=(python3 python3-numpy python3-matplotlib python3-setuptools python3-venv)
 missing=()
 for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# `make test`: the C suite (tests/run_tests), then the Python package's suite (tests/python/run.py,
+# against the library just built). Each prints "N passed, N failed"; the last line here adds them
+# up, and the exit status is non-zero when anything failed. TESTS=substring runs the C tests whose
+# names contain it, and the Python suite only when it contains "python".
+set -uo pipefail
+build=${1:-build}
+filter=${TESTS:-}
+cd "$(dirname "$0")/../tests"
+summary='^[0-9]+ passed, [0-9]+ failed$'
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+
+passed=0 failed=0
+count() { # adds the last summary line of the log; a suite that printed none counts as one failure
+    local line
+    line=$(grep -E "$summary" "$log" | tail -n 1)
+    if [ -z "$line" ]; then
+        echo "run-tests: $1 printed no summary line" >&2
+        failed=$((failed + 1))
+        return
+    fi
+    passed=$((passed + ${line%% passed*}))
+    local f=${line#*, }
+    failed=$((failed + ${f%% failed*}))
+}
+
+"../$build/run_tests" $filter 2>&1 | tee "$log"
+count "the C suite"
+
+if [ -z "$filter" ] || [[ "$filter" == *python* ]]; then
+    # the distribution's interpreter first: that is where python3-numpy is installed
+    py=""
+    for cand in /usr/bin/python3 python3; do
+        if command -v "$cand" >/dev/null 2>&1 && "$cand" -c "import numpy" >/dev/null 2>&1; then
+            py=$cand
+            break
+        fi
+    done
+    if [ -z "$py" ]; then
+        echo "run-tests: no python3 with numpy (make deps installs python3-numpy): the Python suite did not run" >&2
+        failed=$((failed + 1))
+    else
+        lib=$(ls "../$build"/libplume.so.[0-9]*.[0-9]* 2>/dev/null | head -n 1)
+        PLUME_LIBRARY="${lib:-../$build/libplume.so}" PYTHONPATH=../python MPLBACKEND=Agg \
+            "$py" python/run.py 2>&1 | tee "$log"
+        count "the Python suite"
+    fi
+fi
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
