@@ -127,7 +127,7 @@ static plume_status get_layout(json_t *obj, const char *what, plume_layout *l, p
         return plume_err_set(err, PLUME_ENOMEM, "%s: out of memory", where);
     plume_status st = plume_layout_apply_json(text, where, l, err);
     free(text);
-    return st;
+    return st == PLUME_EFORMAT ? PLUME_EINVAL : st; /* a bad key of a request, not a malformed file */
 }
 
 /* {"E_xx", "E_yy", "nu_xy", "G_xy"} at obj[key] into m (absent moduli kept) */
@@ -252,6 +252,9 @@ static plume_status get_traction_setup(json_t *req, const char *what, traction_s
     if (!(t->lx > 0.0) || !(t->ly > 0.0) || !(t->h > 0.0))
         return plume_err_set(err, PLUME_EINVAL, "%s request: lx, ly and thickness must be > 0 (got %g, %g, %g)", what,
                              t->lx, t->ly, t->h);
+    if (!(t->strain_max > 0.0 && t->strain_max < 10.0) || t->steps < 1)
+        return plume_err_set(err, PLUME_EINVAL, "%s request: \"strain_max\" must be in (0, 10) and \"steps\" >= 1 "
+                                                "(got %g, %d)", what, t->strain_max, t->steps);
     if (t->edge < 0.0)
         t->edge = fmin(t->lx, t->ly) / 20.0;
     if (!(t->edge > 0.0))

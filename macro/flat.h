@@ -7,22 +7,26 @@
  * failure, writes plume's message to msg (size nmsg, always NUL-terminated when nmsg > 0; msg may
  * be NULL). Results are malloc'ed JSON texts owned by the caller: free them with plume_flat_free.
  *
- * Requests (JSON objects; every key optional unless said otherwise; unknown keys are an error
- * naming the key):
+ * Requests (JSON objects; every key optional unless said otherwise). A text that is not JSON is
+ * PLUME_EFORMAT; an unknown key or a bad value is PLUME_EINVAL with a message naming the key:
  *  - homogenize: {"layout": {...keys of a --config layout file: "layout", "phi", "d_B", "w_B",
  *    "E_b", "nu_b", "ratio", "nu_B", "thickness", "kappa", "e_rel", "barbule_width",
  *    "barbule_spacing", "barbule_angle"}, "strain_max": 0.05, "steps": 10}
  *    -> {"E_xx", "E_yy", "nu_xy", "G_xy", "C": [9], "shear_coupling", "elements", "vertices",
  *        "newton_iterations", "seconds", "curves": {"uniaxial_x"|"uniaxial_y"|"shear":
- *        {"strain": [], "stress": [], "wbar": []}} (curves only when strain_max > 0)}
+ *        {"strain": [], "stress": [], "wbar": [], "iterations": []}} (curves only when
+ *        strain_max > 0)}
  *  - traction: {"model": "macro"|"micro", "angle": 45 (deg from the pull), "lx": 1, "ly": 1.3,
  *    "thickness": 1, "moduli": {"E_xx": 1e4, "E_yy": 1, "nu_xy": 0, "G_xy": 1}, "kappa": 0,
  *    "constraint": true, "mesh": "aligned"|"unaligned", "edge": min(lx, ly) / 20,
  *    "strain_max": 0.05, "steps": 10, "solver": "newton"|"ipopt"|"linearized",
- *    "layout": {...} (model micro), "vtk": "DIR" (a ParaView series of the steps)}
+ *    "layout": {...} (model micro; as apps/traction, the barbs are 0.086 ly apart and the
+ *    elements 2.9 barb widths unless it says otherwise), "vtk": "DIR" (a ParaView series of the
+ *    steps: DIR/steps.pvd with DIR/step_NNNNN.vtu, and DIR/step_barbs_NNNNN.vtu for the macro
+ *    model's constrained barbs; docs/paraview-output.md)}
  *    -> {"strain": [], "stress": [], "wbar": [], "iterations": [], "initial_slope",
  *        "converged", "failed_step", "stop_reason", "newton_iterations", "max_violation",
- *        "seconds", "elements", "vertices"}
+ *        "seconds", "elements", "vertices", "angle"}
  *  - fit: {"targets": [{"angle": deg, "strain": [], "stress": []}, ...] (required), "start":
  *    {"E_xx", "E_yy", "nu_xy", "G_xy"} (required), "free": ["E_yy", "G_xy"], "max_eval": 300,
  *    "xtol_rel": 1e-6, and the macro traction keys above ("lx", "ly", "thickness", "kappa",
@@ -70,8 +74,9 @@ void plume_flat_scene_reference(const plume_flat_scene *s, double *out);
 void plume_flat_scene_triangles(const plume_flat_scene *s, long *out);
 
 /* Writes the current state as the next frame of a ParaView series in directory dir (created if
- * needed): dir/frames.pvd and dir/frame_NNNNN.vtu (macro/fields.h); the first call starts the
- * series (frame 0), later calls with the same dir append. */
+ * needed): dir/frames.pvd with dir/frame_NNNNN.vtu (and dir/frame_barbs_NNNNN.vtu when the scene
+ * has constrained barbs; macro/fields.h); the first call with a dir starts its series (frame 0),
+ * later calls with the same dir append. */
 plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, char *msg, long nmsg);
 
 #ifdef __cplusplus

@@ -53,7 +53,7 @@ void test_flat_homogenize(void)
     char *out = (char *)1;
     CHECK(plume_flat_homogenize("{\"stepz\": 2}", &out, msg, sizeof msg) == PLUME_EINVAL && out == NULL);
     CHECK(strstr(msg, "unknown key \"stepz\"") != NULL);
-    CHECK(plume_flat_homogenize("{\"layout\": {\"phi\": \"a\"}}", &out, msg, sizeof msg) == PLUME_EFORMAT);
+    CHECK(plume_flat_homogenize("{\"layout\": {\"phi\": \"a\"}}", &out, msg, sizeof msg) == PLUME_EINVAL);
     CHECK(strstr(msg, "request.layout") && strstr(msg, "\"phi\""));
     CHECK(plume_flat_homogenize("{\"steps\": 2.5}", &out, msg, sizeof msg) == PLUME_EINVAL && strstr(msg, "\"steps\""));
     CHECK(plume_flat_homogenize("[1, 2", &out, msg, sizeof msg) == PLUME_EFORMAT && strstr(msg, "request:1:"));
@@ -94,7 +94,8 @@ void test_flat_traction(void)
                             {"{\"layout\": {\"phi\": 0.1}}", "micro model"},
                             {"{\"solver\": \"cg\"}", "\"solver\""},
                             {"{\"constraint\": 1}", "\"constraint\""},
-                            {"{\"lx\": 0}", "lx, ly and thickness"}};
+                            {"{\"lx\": 0}", "lx, ly and thickness"},
+                            {"{\"steps\": 0}", "\"steps\" >= 1"}};
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         char *out = NULL;
         st = plume_flat_traction(bad[k][0], &out, msg, sizeof msg);

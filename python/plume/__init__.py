@@ -1,0 +1,22 @@
+"""plume: bird feathers as anisotropic elastic shells (Python bindings of the plume C library).
+
+    import plume
+    h = plume.homogenize()                      # moduli of the default barb layout (Pa)
+    t = plume.traction(moduli=h, angle=45.0)    # macro traction test of a vane with those moduli
+    f = plume.fit([t], start=h)                 # moduli fitted back to a curve
+    with plume.Scene("scene.json") as s:        # a dynamic scene stepped in time
+        s.step(10)
+
+The shared library libplume.so is found at import (PLUME_LIBRARY, pkg-config, the source tree,
+the dynamic loader: see plume._native); importing raises plume.LibraryNotFoundError (an
+ImportError) when none loads.
+"""
+from ._native import LIBRARY_PATH, LibraryNotFoundError, PlumeError
+from .api import (MODULI, Curve, FitResult, HomogenizeResult, Scene, TractionResult, fit,
+                  homogenize, traction, version)
+
+__version__ = "0.2.0"
+
+__all__ = ["version", "homogenize", "traction", "fit", "Scene", "Curve", "HomogenizeResult",
+           "TractionResult", "FitResult", "PlumeError", "LibraryNotFoundError", "LIBRARY_PATH",
+           "MODULI", "__version__"]

@@ -1,0 +1,491 @@
+"""Tests of the Python package (python/plume) against the built library.
+
+Run them all with tests/python/run.py, e.g. from tests/:
+
+    PLUME_LIBRARY=../build/libplume.so PYTHONPATH=../python /usr/bin/python3 python/run.py
+
+or this file alone with `python3 -m unittest` / `python3 test_plume.py`. Without PYTHONPATH the
+package is taken from the source tree (python/ next to tests/), and without PLUME_LIBRARY the
+library is found as plume does (pkg-config, then build/ of the source tree, then the loader).
+"""
+import functools
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import textwrap
+import unittest
+import xml.etree.ElementTree as ET
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+try:
+    import plume
+except ModuleNotFoundError as e:  # not installed, no PYTHONPATH: the source tree's copy
+    if e.name != "plume":
+        raise
+    sys.path.insert(0, os.path.join(ROOT, "python"))
+    import plume
+
+import numpy as np
+
+from plume import _native
+
+STRIP_SCENE = os.path.join(ROOT, "data", "shell", "strip_scene.json")
+EXAMPLE = os.path.join(ROOT, "docs", "python_example.py")
+PACKAGE_DIR = os.path.dirname(os.path.abspath(plume.__file__))
+
+# the default layout (micro/layout.h): phi = 0.16, E_b = 2.5e9 Pa, nu_b = nu_B = 0.3, ratio 1e-6
+PHI, E_B, NU = 0.16, 2.5e9, 0.3
+# the default macro moduli of a traction request (flat.h)
+MODULI = {"E_xx": 1e4, "E_yy": 1.0, "nu_xy": 0.0, "G_xy": 1.0}
+
+
+def child_env(**extra):
+    """This process's environment with absolute PYTHONPATH / PLUME_LIBRARY (they may be relative
+    to the current directory), for subprocesses run elsewhere."""
+    env = dict(os.environ)
+    paths = [os.path.dirname(PACKAGE_DIR)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p]
+    env["PYTHONPATH"] = os.pathsep.join(os.path.abspath(p) for p in paths)
+    if os.sep in plume.LIBRARY_PATH:
+        env["PLUME_LIBRARY"] = os.path.abspath(plume.LIBRARY_PATH)
+    env.update(extra)
+    return {k: v for k, v in env.items() if v is not None}
+
+
+@functools.lru_cache(maxsize=None)
+def default_cell(steps=4):
+    """homogenize() of the default layout, computed once per steps."""
+    return plume.homogenize(strain_max=0.05, steps=steps)
+
+
+@functools.lru_cache(maxsize=None)
+def macro_run(steps=4):
+    return plume.traction(model="macro", angle=45.0, moduli=MODULI, steps=steps, strain_max=0.04)
+
+
+def rel(a, b):
+    return abs(a - b) / abs(b)
+
+
+class TestLibrary(unittest.TestCase):
+    def test_version(self):
+        self.assertEqual(plume.version(), "0.2.0")
+        self.assertEqual(plume.__version__, plume.version())
+
+    def test_loaded_library_exists(self):
+        self.assertTrue(hasattr(_native.lib, "plume_flat_scene_open"))
+        if os.sep in plume.LIBRARY_PATH:
+            self.assertTrue(os.path.exists(plume.LIBRARY_PATH), plume.LIBRARY_PATH)
+
+    def _import_in(self, pkg_parent, env):
+        """Imports plume from pkg_parent in a fresh interpreter: (returncode, stdout, stderr)."""
+        code = "import plume; print(plume.LIBRARY_PATH)"
+        env = dict(env, PYTHONPATH=pkg_parent)
+        p = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                           timeout=60)
+        return p.returncode, p.stdout.strip(), p.stderr
+
+    def test_bad_plume_library_is_an_import_error_listing_it(self):
+        env = child_env(PLUME_LIBRARY="/nonexistent/libplume.so")
+        rc, out, err = self._import_in(os.path.dirname(PACKAGE_DIR), env)
+        self.assertNotEqual(rc, 0)
+        self.assertIn("LibraryNotFoundError", err)
+        self.assertIn("/nonexistent/libplume.so", err)
+        self.assertIn("PLUME_LIBRARY", err)
+        self.assertIn("make install", err)
+        p = subprocess.run([sys.executable, "-c", "try:\n import plume\nexcept ImportError as e:\n"
+                            " print('ImportError', type(e).__name__)"],
+                           env=dict(env, PYTHONPATH=os.path.dirname(PACKAGE_DIR)),
+                           capture_output=True, text=True, timeout=60)
+        self.assertEqual(p.stdout.strip(), "ImportError LibraryNotFoundError")
+
+    def test_source_tree_then_pkg_config(self):
+        """A copy of the package in <tmp>/python/plume finds <tmp>/build/libplume.so; with a
+        plume.pc whose libdir holds libplume.so.0, pkg-config wins."""
+        with tempfile.TemporaryDirectory() as tmp:
+            shutil.copytree(PACKAGE_DIR, os.path.join(tmp, "python", "plume"),
+                            ignore=shutil.ignore_patterns("__pycache__"))
+            os.makedirs(os.path.join(tmp, "build"))
+            os.makedirs(os.path.join(tmp, "pc"))
+            real = os.path.realpath(plume.LIBRARY_PATH if os.sep in plume.LIBRARY_PATH else
+                                    _native.lib._name)
+            os.symlink(real, os.path.join(tmp, "build", "libplume.so"))
+            # pkg-config looks only in an empty directory: it does not know plume
+            env = child_env(PLUME_LIBRARY=None, PKG_CONFIG_PATH=None,
+                            PKG_CONFIG_LIBDIR=os.path.join(tmp, "pc"))
+            rc, out, err = self._import_in(os.path.join(tmp, "python"), env)
+            self.assertEqual(rc, 0, err)
+            self.assertEqual(out, os.path.join(os.path.realpath(tmp), "build", "libplume.so"))
+            if shutil.which("pkg-config") is None:
+                return  # the pkg-config step cannot be exercised here
+            libdir = os.path.join(tmp, "lib")
+            os.makedirs(libdir)
+            os.symlink(real, os.path.join(libdir, "libplume.so.0"))
+            with open(os.path.join(tmp, "pc", "plume.pc"), "w") as f:
+                f.write(textwrap.dedent("""\
+                    prefix=%s
+                    libdir=${prefix}/lib
+                    Name: plume
+                    Description: test
+                    Version: 0.2.0
+                    Libs: -L${libdir} -lplume
+                    """ % tmp))
+            rc, out, err = self._import_in(os.path.join(tmp, "python"), env)
+            self.assertEqual(rc, 0, err)
+            self.assertEqual(out, os.path.join(tmp, "lib", "libplume.so.0"))
+
+
+class TestHomogenize(unittest.TestCase):
+    def test_default_layout_moduli(self):
+        h = default_cell()
+        # barbs in parallel with a matrix 1e-6 as stiff: E_xx = phi E_b (+ 0.84 * 2500 Pa)
+        self.assertLess(rel(h.E_xx, PHI * E_B), 1e-3)
+        self.assertLess(abs(h.nu_xy - NU), 1e-3)
+        self.assertGreater(h.E_xx, 1e4 * h.E_yy)  # barbs ~1e5 times stiffer than across them
+        self.assertGreater(h.E_yy, 0.0)
+        self.assertGreater(h.G_xy, 0.0)
+        self.assertLess(h.shear_coupling, 1e-9)
+        self.assertGreater(h.elements, 0)
+        self.assertGreater(h.vertices, 0)
+        self.assertGreater(h.newton_iterations, 0)
+        self.assertGreaterEqual(h.seconds, 0.0)
+        self.assertEqual(h.moduli, {"E_xx": h.E_xx, "E_yy": h.E_yy, "nu_xy": h.nu_xy, "G_xy": h.G_xy})
+
+    def test_stiffness_tensor(self):
+        h = default_cell()
+        self.assertIsInstance(h.C, np.ndarray)
+        self.assertEqual(h.C.shape, (3, 3))
+        self.assertTrue(np.allclose(h.C, h.C.T, rtol=1e-6, atol=1e-9 * h.C[0, 0]))
+        # plane stress orthotropy: C_yy = E_yy / (1 - nu_xy nu_yx), C_xy = nu_xy C_yy, C_ss = G_xy
+        nu_yx = h.nu_xy * h.E_yy / h.E_xx
+        self.assertLess(rel(h.C[1, 1], h.E_yy / (1 - h.nu_xy * nu_yx)), 1e-6)
+        self.assertLess(rel(h.C[0, 1], h.nu_xy * h.C[1, 1]), 1e-6)
+        self.assertLess(rel(h.C[2, 2], h.G_xy), 1e-6)
+
+    def test_curves(self):
+        steps = 4
+        h = default_cell(steps)
+        self.assertEqual(set(h.curves), {"uniaxial_x", "uniaxial_y", "shear"})
+        for name, c in h.curves.items():
+            for a in (c.strain, c.stress, c.wbar):
+                self.assertIsInstance(a, np.ndarray)
+                self.assertEqual(a.shape, (steps + 1,), name)
+            self.assertEqual(c.strain[0], 0.0)
+            self.assertEqual(c.stress[0], 0.0)
+            self.assertAlmostEqual(c.strain[-1], 0.05, places=12)
+            self.assertTrue(np.all(np.diff(c.stress) > 0), name)
+        # the secant of the first step is the modulus to O(e): 1.9 % off at e = 0.0125 along x
+        c = h.curves["uniaxial_x"]
+        self.assertLess(rel(c.stress[1] / c.strain[1], h.E_xx), 0.03)
+
+    def test_small_strain_curves_match_moduli(self):
+        """As tests/test_homogenize.c: at strain 1e-3 the secants are the moduli to 5e-3."""
+        h = plume.homogenize(strain_max=0.002, steps=2)
+        e = h.curves["uniaxial_x"].strain[1]
+        self.assertAlmostEqual(e, 0.001, places=15)
+        self.assertLess(rel(h.curves["uniaxial_x"].stress[1] / e, h.E_xx), 5e-3)
+        self.assertLess(rel(h.curves["uniaxial_y"].stress[1] / e, h.E_yy), 5e-3)
+        self.assertLess(rel(h.curves["shear"].stress[1] / e, h.G_xy), 5e-3)
+        # lateral contraction of the pull along the barbs: -nu_xy e
+        self.assertLess(rel(h.curves["uniaxial_x"].wbar[1], -h.nu_xy * e), 1e-2)
+
+    def test_layout_keys_and_no_curves(self):
+        h = plume.homogenize(layout={"phi": 0.5, "E_b": 1e9}, strain_max=0.0)
+        self.assertEqual(h.curves, {})
+        self.assertLess(rel(h.E_xx, 0.5 * 1e9), 1e-3)
+
+
+class TestTraction(unittest.TestCase):
+    def test_macro_curve(self):
+        steps = 4
+        r = macro_run(steps)
+        for a in (r.strain, r.stress, r.wbar, r.iterations):
+            self.assertIsInstance(a, np.ndarray)
+            self.assertEqual(a.shape, (steps + 1,))
+        self.assertEqual(r.iterations.dtype, np.int64)
+        self.assertEqual(r.strain[0], 0.0)
+        self.assertAlmostEqual(r.strain[-1], 0.04, places=12)
+        self.assertGreater(r.stress[1], 0.0)
+        self.assertTrue(np.all(np.diff(r.stress) > 0))
+        self.assertTrue(r.converged)
+        self.assertIs(type(r.converged), bool)
+        self.assertEqual(r.failed_step, -1)
+        self.assertEqual(r.stop_reason, "converged")
+        self.assertGreater(r.initial_slope, 0.0)
+        # the small-strain slope against the first step's secant (mildly nonlinear)
+        self.assertLess(rel(r.stress[1] / r.strain[1], r.initial_slope), 0.1)
+        self.assertLess(r.max_violation, 1e-6)
+        self.assertGreater(r.newton_iterations, 0)
+        self.assertGreater(r.elements, 0)
+        self.assertGreater(r.vertices, 0)
+        self.assertEqual(r.angle, 45.0)
+
+    def test_deterministic(self):
+        a = plume.traction(moduli=MODULI, steps=3, strain_max=0.03, edge=0.1)
+        b = plume.traction(moduli=MODULI, steps=3, strain_max=0.03, edge=0.1)
+        for k in ("strain", "stress", "wbar", "iterations"):
+            self.assertTrue(np.array_equal(getattr(a, k), getattr(b, k)), k)
+        self.assertEqual(a.initial_slope, b.initial_slope)
+
+    def test_moduli_from_homogenize(self):
+        h = default_cell()
+        a = plume.traction(moduli=h, steps=2, edge=0.1)
+        b = plume.traction(moduli=h.moduli, steps=2, edge=0.1)
+        self.assertTrue(a.converged)
+        self.assertTrue(np.array_equal(a.stress, b.stress))
+        # a stiffer vane across the barbs carries more
+        c = plume.traction(moduli=dict(h.moduli, E_yy=2 * h.E_yy, G_xy=2 * h.G_xy), steps=2, edge=0.1)
+        self.assertGreater(c.stress[-1], 1.5 * a.stress[-1])
+
+    def test_micro(self):
+        r = plume.traction(model="micro", angle=45.0, layout={"d_B": 0.17 * 1.3}, steps=3)
+        self.assertTrue(r.converged)
+        self.assertEqual(r.model, "micro")
+        self.assertEqual(r.stress.shape, (4,))
+        self.assertGreater(r.stress[1], 0.0)
+        self.assertTrue(np.all(np.diff(r.stress) > 0))
+        self.assertGreater(r.initial_slope, 0.0)
+
+    def test_vtk_series(self):
+        steps = 2
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "series")
+            r = plume.traction(moduli=MODULI, steps=steps, edge=0.1, vtk=out)
+            self.assertTrue(r.converged)
+            pvd = os.path.join(out, "steps.pvd")
+            self.assertTrue(os.path.isfile(pvd), sorted(os.listdir(out)))
+            sets = ET.parse(pvd).getroot().iter("DataSet")
+            files = [d.get("file") for d in sets if d.get("part", "0") == "0"]
+            self.assertEqual(len(files), steps + 1)  # the rest state and every step
+            for f in files:
+                self.assertGreater(os.path.getsize(os.path.join(out, f)), 0, f)
+
+
+class TestErrors(unittest.TestCase):
+    def assertPlumeError(self, fn, *needles):
+        with self.assertRaises(plume.PlumeError) as cm:
+            fn()
+        e = cm.exception
+        for n in needles:
+            self.assertIn(n, str(e))
+        self.assertIsInstance(e.status, int)
+        self.assertLess(e.status, 0)
+        self.assertIsInstance(e.status_name, str)
+        self.assertTrue(e.status_name)
+        self.assertEqual(e.status_name, _native.strerror(e.status))
+        self.assertEqual(e.message, str(e))
+        return e
+
+    def test_unknown_request_key(self):
+        # the Python API refuses unknown options itself; plume's own check, through the raw call
+        self.assertPlumeError(lambda: _native.call_job("traction", {"bogus_key": 1}), "bogus_key")
+        self.assertPlumeError(lambda: _native.call_job("homogenize", {"stepz": 1}), "stepz")
+
+    def test_unknown_key_in_dicts(self):
+        self.assertPlumeError(lambda: plume.homogenize(layout={"ratoi": 1e-6}), "ratoi")
+        self.assertPlumeError(lambda: plume.traction(moduli={"E_x": 1.0}), "E_x")
+
+    def test_bad_values(self):
+        e = self.assertPlumeError(lambda: plume.traction(mesh="triangular"), "mesh", "triangular")
+        self.assertEqual(e.status_name, "invalid input")
+        self.assertPlumeError(lambda: plume.traction(model="meso"), "model")
+        self.assertPlumeError(lambda: plume.traction(angle=200.0), "angle")
+        self.assertPlumeError(lambda: plume.homogenize(layout={"phi": 1.5}), "phi")
+        self.assertPlumeError(lambda: plume.traction(layout={"phi": 0.2}), "layout")
+        self.assertPlumeError(lambda: plume.fit([(45.0, [0, 0.01], [0, 1.0])], start=MODULI,
+                                                free=("E_zz",)), "free")
+
+    def test_python_side_arguments(self):
+        with self.assertRaises(TypeError):
+            plume.traction(bogus=1)
+        with self.assertRaises(TypeError):
+            plume.traction(steps="3")
+        with self.assertRaises(TypeError):
+            plume.traction(steps=2.5)
+        with self.assertRaises(TypeError):
+            plume.traction(constraint=1)
+        with self.assertRaises(ValueError):
+            plume.traction(strain_max=float("nan"))
+        with self.assertRaises(TypeError):
+            plume.homogenize(layout=[("phi", 0.2)])
+        with self.assertRaises(ValueError):
+            plume.homogenize(strain_max=-0.1)
+        with self.assertRaises(TypeError):
+            plume.traction(moduli=3.0)
+        with self.assertRaises(ValueError):
+            plume.traction(layout={"phi": math.inf}, model="micro")
+        with self.assertRaises(ValueError):
+            plume.fit([], start=MODULI)
+        with self.assertRaises(ValueError):
+            plume.fit([(45.0, [0.0, 0.01], [0.0])], start=MODULI)
+        with self.assertRaises(ValueError):
+            plume.fit([{"angle": 45.0, "strain": [0.0, 0.01]}], start=MODULI)
+        with self.assertRaises(TypeError):
+            plume.fit([42], start=MODULI)
+        with self.assertRaises(TypeError):
+            plume.fit([(45.0, [0, 0.01], [0, 1.0])], start=MODULI, strain_max=0.1)
+        with self.assertRaises(TypeError):
+            plume.Scene(42)
+
+    def test_missing_scene_file(self):
+        path = os.path.join(tempfile.gettempdir(), "plume-no-such-dir", "scene.json")
+        e = self.assertPlumeError(lambda: plume.Scene(path), path)
+        self.assertEqual(e.status_name, _native.strerror(-3))
+
+    def test_bad_scene_key(self):
+        with open(STRIP_SCENE) as f:
+            scene = json.load(f)
+        scene["gravty"] = scene.pop("gravity")
+        with tempfile.TemporaryDirectory() as tmp:
+            shutil.copy(os.path.join(os.path.dirname(STRIP_SCENE), scene["mesh"]["obj"]), tmp)
+            path = os.path.join(tmp, "bad.json")
+            with open(path, "w") as f:
+                json.dump(scene, f, indent=1)
+            self.assertPlumeError(lambda: plume.Scene(path), path, "gravty")
+
+
+class TestScene(unittest.TestCase):
+    def setUp(self):
+        self.assertTrue(os.path.isfile(STRIP_SCENE), STRIP_SCENE)
+        with open(STRIP_SCENE) as f:
+            self.dt = json.load(f)["dt"]
+
+    def test_step_and_state(self):
+        with plume.Scene(STRIP_SCENE) as s:
+            nv, nt = s.nv, s.nt
+            self.assertGreater(nv, 0)
+            self.assertGreater(nt, 0)
+            self.assertEqual(s.time, 0.0)
+            x0 = s.positions
+            self.assertEqual(x0.shape, (nv, 3))
+            self.assertTrue(np.all(x0[:, 2] == 0.0))  # a flat strip at rest
+            report = s.step(2)
+            self.assertIs(report["converged"], True)
+            self.assertEqual(report["steps"], 2)
+            self.assertLess(abs(s.time - 2 * self.dt), 1e-12)
+            self.assertLess(abs(report["time"] - s.time), 1e-12)
+            x = s.positions
+            self.assertEqual(x.shape, (nv, 3))
+            self.assertTrue(np.all(np.isfinite(x)))
+            self.assertLess(x[:, 2].min(), 0.0)  # sagging under gravity
+            v = s.velocities
+            self.assertEqual(v.shape, (nv, 3))
+            self.assertLess(v[:, 2].min(), 0.0)
+            X = s.reference
+            self.assertEqual(X.shape, (nv, 2))
+            # the strip 0.1 m x 0.02 m, and at rest the positions are the reference ones
+            self.assertTrue(np.allclose(X.min(axis=0), [0.0, 0.0]))
+            self.assertTrue(np.allclose(X.max(axis=0), [0.1, 0.02]))
+            self.assertTrue(np.array_equal(x0[:, :2], X))
+            # the clamp holds
+            clamped = (X[:, 0] <= 0.005)
+            self.assertTrue(np.any(clamped))
+            self.assertTrue(np.array_equal(x[clamped], x0[clamped]))
+            t = s.triangles
+            self.assertEqual(t.shape, (nt, 3))
+            self.assertEqual(t.dtype, np.int64)
+            self.assertEqual(t.min(), 0)
+            self.assertEqual(t.max(), nv - 1)
+            # copies, not views of the library's memory
+            x[:] = 0.0
+            self.assertLess(s.positions[:, 2].min(), 0.0)
+        self.assertTrue(s.closed)
+
+    def test_write_vtk(self):
+        with tempfile.TemporaryDirectory() as tmp, plume.Scene(STRIP_SCENE) as s:
+            out = os.path.join(tmp, "frames")
+            s.write_vtk(out)
+            s.step()
+            s.write_vtk(out)
+            pvd = os.path.join(out, "frames.pvd")
+            self.assertTrue(os.path.isfile(pvd), sorted(os.listdir(out)))
+            sets = list(ET.parse(pvd).getroot().iter("DataSet"))
+            frames = [d for d in sets if d.get("part", "0") == "0"]
+            self.assertEqual(len(frames), 2)
+            times = [float(d.get("timestep")) for d in frames]
+            self.assertTrue(np.allclose(times, [0.0, self.dt], rtol=0, atol=1e-12), times)
+            for d in frames:
+                self.assertGreater(os.path.getsize(os.path.join(out, d.get("file"))), 0)
+
+    def test_closed_scene(self):
+        s = plume.Scene(STRIP_SCENE)
+        self.assertFalse(s.closed)
+        s.close()
+        s.close()  # idempotent
+        for use in (lambda: s.step(), lambda: s.time, lambda: s.nv, lambda: s.positions,
+                    lambda: s.velocities, lambda: s.reference, lambda: s.triangles,
+                    lambda: s.write_vtk(tempfile.gettempdir())):
+            with self.assertRaises(ValueError):
+                use()
+        self.assertIn("closed", repr(s))
+
+    def test_garbage_collected(self):
+        for _ in range(3):
+            s = plume.Scene(STRIP_SCENE)
+            s.step()
+            del s  # freed by __del__
+
+    def test_step_arguments(self):
+        with plume.Scene(STRIP_SCENE) as s:
+            with self.assertRaises(ValueError):
+                s.step(-1)
+            with self.assertRaises(TypeError):
+                s.step(1.5)
+            r = s.step(0)
+            self.assertEqual(r["steps"], 0)
+            self.assertEqual(s.time, 0.0)
+
+
+class TestFit(unittest.TestCase):
+    def test_recovers_moduli(self):
+        """E_yy and G_xy fitted back to curves made with known moduli, from 2x off."""
+        opts = dict(edge=0.2, steps=3)
+        targets = [plume.traction(angle=a, moduli=MODULI, strain_max=0.03, **opts) for a in (45.0, 70.0)]
+        start = dict(MODULI, E_yy=2.0 * MODULI["E_yy"], G_xy=0.5 * MODULI["G_xy"])
+        f = plume.fit(targets, start=start, **opts)
+        self.assertLess(rel(f.E_yy, MODULI["E_yy"]), 1e-3)
+        self.assertLess(rel(f.G_xy, MODULI["G_xy"]), 1e-3)
+        self.assertEqual(f.E_xx, MODULI["E_xx"])  # not free
+        self.assertEqual(f.nu_xy, MODULI["nu_xy"])
+        self.assertGreater(f.evaluations, 0)
+        self.assertLess(f.residual, 1e-4)
+        self.assertIsInstance(f.stop, str)
+        self.assertTrue(f.stop)
+        self.assertGreaterEqual(f.seconds, 0.0)
+        # the same targets as tuples and as dicts
+        tuples = [(t.angle, t.strain, t.stress) for t in targets]
+        dicts = [{"angle": t.angle, "strain": list(t.strain), "stress": list(t.stress)} for t in targets]
+        for form in (tuples, dicts):
+            g = plume.fit(form, start=start, **opts)
+            self.assertEqual(g.moduli, f.moduli)
+
+    def test_one_modulus(self):
+        opts = dict(edge=0.2, steps=2)
+        target = plume.traction(angle=60.0, moduli=MODULI, strain_max=0.02, **opts)
+        f = plume.fit([target], start=dict(MODULI, G_xy=3.0), free="G_xy", **opts)
+        self.assertLess(rel(f.G_xy, 1.0), 1e-3)
+        self.assertEqual(f.E_yy, MODULI["E_yy"])
+
+
+class TestExample(unittest.TestCase):
+    def test_python_example(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            png = os.path.join(tmp, "example.png")
+            p = subprocess.run([sys.executable, EXAMPLE, png], cwd=tmp, env=child_env(),
+                               capture_output=True, text=True, timeout=120)
+            self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+            lines = p.stdout.strip().splitlines()
+            self.assertTrue(lines, p.stderr)
+            self.assertEqual(lines[-1], "python example: ok")
+            self.assertTrue(os.path.isfile(png))
+            self.assertGreater(os.path.getsize(png), 1000)
+            with open(png, "rb") as f:
+                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+
+
+if __name__ == "__main__":
+    unittest.main()
