@@ -273,6 +273,26 @@ typedef struct {
     int nsparams;
 } curve_ctx;
 
+/* The unit of a curve parameter the apps write (a pure number, count or flag: "1"). */
+static const char *param_units(const char *name)
+{
+    static const char *const pa[] = {"E_b", "E_xx", "E_yy", "G_xy", "E", "kappa", "initial_slope", NULL};
+    static const char *const m[] = {"d_B", "lx", "ly", "thickness", "h", "edge", NULL};
+    for (int k = 0; pa[k]; k++)
+        if (strcmp(name, pa[k]) == 0)
+            return "Pa";
+    for (int k = 0; m[k]; k++)
+        if (strcmp(name, m[k]) == 0)
+            return "m";
+    if (strcmp(name, "angle_deg") == 0)
+        return "deg";
+    if (strcmp(name, "seconds_total") == 0)
+        return "s";
+    if (strcmp(name, "D") == 0 || strcmp(name, "D_long") == 0)
+        return "N m";
+    return "1";
+}
+
 static plume_status fill_curve(hid_t fid, const char *path, const void *vctx, plume_err *err)
 {
     const curve_ctx *c = vctx;
@@ -306,6 +326,18 @@ static plume_status fill_curve(hid_t fid, const char *path, const void *vctx, pl
         if (h5_write_attr_double(g, c->params[i].name, c->params[i].value) < 0) {
             s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot write attribute %s of %s (HDF5: %s)",
                               path, c->params[i].name, gpath, h5_cause(&d));
+            goto cleanup;
+        }
+    }
+    if (c->nparams > 0) { /* the numeric parameters' units, in one string beside them */
+        char units[2048] = "";
+        size_t len = 0;
+        for (int i = 0; i < c->nparams && len < sizeof units; i++)
+            len += (size_t)snprintf(units + len, sizeof units - len, "%s%s: %s", i ? "; " : "", c->params[i].name,
+                                    param_units(c->params[i].name));
+        if (h5_write_attr_string(g, "units", units) < 0) {
+            s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot write attribute units of %s (HDF5: %s)", path,
+                              gpath, h5_cause(&d));
             goto cleanup;
         }
     }
@@ -345,6 +377,9 @@ plume_status plume_curve_write(const char *path, const char *scale, const char *
         const char *a = i < nparams ? params[i].name : sparams[i - nparams].name;
         if (!a || !*a)
             return plume_err_set(err, PLUME_EINVAL, "curves file '%s': parameter %d has no name", path, i);
+        if (strcmp(a, "units") == 0)
+            return plume_err_set(err, PLUME_EINVAL,
+                                 "curves file '%s': \"units\" is reserved (it lists the parameters' units)", path);
         if (i >= nparams && !sparams[i - nparams].value)
             return plume_err_set(err, PLUME_EINVAL, "curves file '%s': string parameter %s has no value",
                                  path, a);

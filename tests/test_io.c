@@ -218,6 +218,12 @@ void test_io_curve_roundtrip(void)
     CHECK(h5_units(path, "/curves/macro/tilted/stress", units, sizeof units) == 0 && strcmp(units, "Pa") == 0);
     CHECK(h5_units(path, "/curves/macro/tilted/strain", units, sizeof units) == 0 && strcmp(units, "1") == 0);
     CHECK(h5_units(path, "/curves/macro/tilted/seconds", units, sizeof units) == 0 && strcmp(units, "s") == 0);
+    char gunits[256] = ""; /* the group's numeric parameters, each with its unit */
+    CHECK(h5_units(path, "/curves/macro/tilted", gunits, sizeof gunits) == 0 &&
+          strcmp(gunits, "E_xx: Pa; alpha_deg: 1; tiny: 1") == 0);
+    plume_param reserved[1] = {{"units", 1.0}};
+    CHECK(plume_curve_write(path, "macro", "x", &c, reserved, 1, NULL, 0, &err) == PLUME_EINVAL &&
+          strstr(err.msg, "reserved"));
 
     plume_curve r;
     CHECK(plume_curve_read(path, "macro", "tilted", &r, &err) == PLUME_OK);
