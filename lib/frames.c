@@ -244,6 +244,30 @@ plume_status plume_frames_append(const char *path, plume_index nv, plume_index n
     return plume_frames_append_measured(path, nv, ncons, t, step, x, v, lambda, NULL, err);
 }
 
+/* Reserves the disk space a frame needs before HDF5 writes any of it. An HDF5 file whose writes
+ * fail half-way can be left unreadable, and libhdf5 1.10 then crashes at exit closing it (both
+ * measured with a full disk: tests/test_robustness.c). So the file is first extended by the
+ * frame's data plus room for its metadata (posix_fallocate: real blocks, or ENOSPC/EFBIG now);
+ * HDF5 writes into that room and trims the file to its end of allocation when it closes it. */
+static plume_status reserve_room(const char *path, plume_index nv, plume_index ncons, plume_err *err)
+{
+    int fd = open(path, O_WRONLY);
+    if (fd < 0)
+        return plume_err_set(err, PLUME_EIO, "frames file '%s': cannot open for writing: %s", path, strerror(errno));
+    struct stat st;
+    int rc = fstat(fd, &st) != 0 ? errno : 0;
+    off_t need = (off_t)(8 * (6 * (double)nv + (double)ncons)) + 65536;
+    if (rc == 0)
+        rc = posix_fallocate(fd, st.st_size, need);
+    if (rc != 0 && ftruncate(fd, st.st_size) != 0) { /* nothing half-reserved left behind */
+    }
+    close(fd);
+    if (rc != 0)
+        return plume_err_set(err, PLUME_EIO, "frames file '%s': no room for another frame (%ld bytes): %s; the frames "
+                                             "written so far are kept", path, (long)need, strerror(rc));
+    return PLUME_OK;
+}
+
 plume_status plume_frames_append_measured(const char *path, plume_index nv, plume_index ncons, double t, long step,
                                           const double *x, const double *v, const double *lambda,
                                           const plume_frame_measures *m, plume_err *err)
@@ -254,9 +278,11 @@ plume_status plume_frames_append_measured(const char *path, plume_index nv, plum
     h5_quiet q;
     quiet_begin(&q);
     h5_detail d;
-    hid_t fid, g, fg = H5I_INVALID_HID;
+    hid_t fid = H5I_INVALID_HID, g = H5I_INVALID_HID, fg = H5I_INVALID_HID;
     plume_frames_info info;
-    plume_status s = open_frames(path, H5F_ACC_RDWR, &fid, &g, err);
+    plume_status s = reserve_room(path, nv, ncons, err);
+    if (s == PLUME_OK)
+        s = open_frames(path, H5F_ACC_RDWR, &fid, &g, err);
     if (s == PLUME_OK)
         s = read_info(path, g, &info, err);
     if (s != PLUME_OK)

@@ -87,11 +87,43 @@ cleanup:
 }
 
 
+/* Whether gnuplot's output src is whole: gnuplot exits 0 even when its terminal could not write
+ * (a full disk), so a PNG must end with its IEND chunk and an SVG with </svg>. */
+static int output_complete(const char *src, const char *dst)
+{
+    FILE *f = fopen(src, "rb");
+    if (!f)
+        return 0;
+    unsigned char tail[64];
+    size_t n = 0;
+    if (fseek(f, 0, SEEK_END) == 0) {
+        long size = ftell(f);
+        long from = size > (long)sizeof tail ? size - (long)sizeof tail : 0;
+        if (size > 0 && fseek(f, from, SEEK_SET) == 0)
+            n = fread(tail, 1, sizeof tail, f);
+    }
+    fclose(f);
+    size_t len = strlen(dst);
+    if (len > 4 && strcmp(dst + len - 4, ".png") == 0) {
+        static const unsigned char iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xAE, 0x42, 0x60, 0x82};
+        return n >= 12 && memcmp(tail + n - 12, iend, 12) == 0;
+    }
+    if (len > 4 && strcmp(dst + len - 4, ".svg") == 0) {
+        while (n > 0 && (tail[n - 1] == '\n' || tail[n - 1] == ' ' || tail[n - 1] == '\r'))
+            n--;
+        return n >= 6 && memcmp(tail + n - 6, "</svg>", 6) == 0;
+    }
+    return n > 0;
+}
+
 plume_status plume_gnuplot_install(const char *src, const char *dst, const char *who, plume_err *err)
 {
     plume_status st = PLUME_OK;
     char tmp[4096 + 32];
     snprintf(tmp, sizeof tmp, "%s.tmp.%ld", dst, (long)getpid());
+    if (!output_complete(src, dst))
+        return plume_err_set(err, PLUME_EIO, "%s '%s': gnuplot's output is missing or cut short (a full disk?); the "
+                                             "previous file is kept", who, dst);
     FILE *in = fopen(src, "rb");
     if (!in)
         return plume_err_set(err, PLUME_EDEP, "%s '%s': gnuplot wrote no output", who, dst);

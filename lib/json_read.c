@@ -1,5 +1,6 @@
 /* Reading JSON inputs with errors that name the file, line and key (lib/internal/json_read.h). */
 #include "internal/json_read.h"
+#include "internal/input_file.h"
 
 #include <errno.h>
 #include <math.h>
@@ -242,11 +243,9 @@ void plume_json_resolve(const plume_json_ctx *c, const char *name, char *buf, si
 char *plume_read_text(const char *path, plume_err *err, const char *what, plume_status *st)
 {
     *st = PLUME_EIO;
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        plume_err_set(err, PLUME_EIO, "%s '%s': cannot open: %s", what, path, strerror(errno));
+    FILE *f = plume_input_fopen(path, "rb", what, err);
+    if (!f)
         return NULL;
-    }
     size_t cap = 65536, n = 0;
     char *buf = malloc(cap);
     while (buf) {

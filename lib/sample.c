@@ -1,6 +1,7 @@
 /* plume: traction-sample geometries from JSON (jansson). The whole file is validated on every
  * load, not just the requested entry, so a bad row is reported whichever sample is asked for. */
 #include "sample.h"
+#include "internal/input_file.h"
 
 #include <jansson.h>
 
@@ -16,9 +17,9 @@ static plume_status load_doc(const char *path, json_t **root, json_t **samples, 
     *samples = NULL;
     if (!path || !*path)
         return plume_err_set(err, PLUME_EINVAL, "sample file: empty path");
-    FILE *f = fopen(path, "rb");
+    FILE *f = plume_input_fopen(path, "rb", NULL, err);
     if (!f)
-        return plume_err_set(err, PLUME_EIO, "%s: cannot open: %s", path, strerror(errno));
+        return PLUME_EIO;
     json_error_t je;
     json_t *doc = json_loadf(f, JSON_REJECT_DUPLICATES, &je);
     int read_error = ferror(f);

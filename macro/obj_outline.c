@@ -1,5 +1,6 @@
 /* plume: the outline of an OBJ triangle mesh (macro/obj_outline.h). */
 #include "obj_outline.h"
+#include "../lib/internal/input_file.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -147,9 +148,9 @@ plume_status plume_obj_outline(const char *path, double **points, plume_index *n
     if (!path || !points || !n)
         return plume_err_set(err, PLUME_EINVAL, "obj outline: NULL argument");
     *points = NULL, *n = 0;
-    FILE *fp = fopen(path, "r");
+    FILE *fp = plume_input_fopen(path, "r", NULL, err);
     if (!fp)
-        return plume_err_set(err, PLUME_EIO, "%s: cannot open: %s", path, strerror(errno));
+        return PLUME_EIO;
     obj_data o;
     memset(&o, 0, sizeof o);
     obj_edge *ed = NULL;

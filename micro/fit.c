@@ -15,6 +15,7 @@
  * - Stopping: xtol_abs = xtol_rel on every variable (an absolute step in ln E is a relative step
  *   in E; nu_xy is of order one), and max_eval. */
 #include "fit.h"
+#include "../lib/internal/input_file.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -569,11 +570,9 @@ plume_status plume_curve_read_text(const char *path, plume_curve *out, plume_err
     size_t linecap = 0;
     long lineno = 0;
     int seen_content = 0; /* a header may only be the first non-comment line */
-    FILE *f = fopen(path, "r");
-    if (!f) {
-        int e = errno;
-        return plume_err_set(err, PLUME_EIO, "%s: cannot open: %s", path, strerror(e));
-    }
+    FILE *f = plume_input_fopen(path, "r", NULL, err);
+    if (!f)
+        return PLUME_EIO;
     ssize_t len;
     while ((len = getline(&line, &linecap, f)) >= 0) {
         lineno++;

@@ -1,4 +1,5 @@
 #include "layout_json.h"
+#include "../lib/internal/input_file.h"
 
 #include <jansson.h>
 
@@ -67,9 +68,9 @@ plume_status plume_layout_load_json(const char *path, plume_layout *l, plume_err
 {
     if (!path || !l)
         return plume_err_set(err, PLUME_EINVAL, "layout file: invalid arguments");
-    FILE *f = fopen(path, "rb");
+    FILE *f = plume_input_fopen(path, "rb", NULL, err);
     if (!f)
-        return plume_err_set(err, PLUME_EIO, "%s: cannot open: %s", path, strerror(errno));
+        return PLUME_EIO;
     json_error_t je;
     json_t *doc = json_loadf(f, JSON_REJECT_DUPLICATES, &je);
     fclose(f);

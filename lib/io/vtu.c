@@ -1,5 +1,6 @@
 /* plume: VTK XML unstructured grids with zlib-compressed appended data, and .pvd collections. */
 #include "vtu.h"
+#include "../internal/input_file.h"
 
 #include <errno.h>
 #include <math.h>
@@ -479,9 +480,9 @@ plume_status plume_vtu_read(const char *path, plume_vtu_data *out, plume_err *er
     if (!path || !out)
         return plume_err_set(err, PLUME_EINVAL, "vtu: invalid arguments");
     memset(out, 0, sizeof *out);
-    FILE *f = fopen(path, "rb");
+    FILE *f = plume_input_fopen(path, "rb", "vtu", err);
     if (!f)
-        return plume_err_set(err, PLUME_EIO, "vtu '%s': cannot open: %s", path, strerror(errno));
+        return PLUME_EIO;
     unsigned char *buf = NULL;
     size_t len = 0, cap = 0;
     for (;;) {
@@ -733,9 +734,9 @@ plume_status plume_pvd_read(const char *path, plume_pvd_entries *out, plume_err 
     if (!path || !out)
         return plume_err_set(err, PLUME_EINVAL, "pvd: invalid arguments");
     memset(out, 0, sizeof *out);
-    FILE *f = fopen(path, "r");
+    FILE *f = plume_input_fopen(path, "r", "pvd", err);
     if (!f)
-        return plume_err_set(err, PLUME_EIO, "pvd '%s': cannot open: %s", path, strerror(errno));
+        return PLUME_EIO;
     char line[8192];
     int lineno = 0, cap = 0, collection = 0;
     plume_status st = PLUME_OK;
