@@ -1,5 +1,6 @@
 # plume — top-level build. `make` builds libplume.{a,so} and the apps; `make test` runs the suite;
 # `make asan` runs it under AddressSanitizer + UBSan; `make bench`, `make demo`, `make install`.
+SHELL := /bin/bash
 PREFIX ?= /usr/local
 CC ?= cc
 CXX ?= c++
@@ -31,7 +32,7 @@ TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 HEADERS := $(wildcard lib/*.h) $(wildcard lib/io/*.h) $(wildcard micro/*.h) $(wildcard macro/*.h)
 PRIVATE_HEADERS := $(wildcard lib/internal/*.h) $(wildcard macro/internal/*.h)
 
-.PHONY: all deps deps-check test asan bench demo install uninstall clean
+.PHONY: all deps deps-check test asan bench demo install uninstall clean fuzz fuzz-build
 all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)
 
 deps:
@@ -85,6 +86,31 @@ asan: deps
 	    LDFLAGS="-fsanitize=address,undefined" build-asan/run_tests
 	cd tests && $(OMP_ENV) ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ../build-asan/run_tests $(TESTS)
 
+# libFuzzer harnesses (tests/fuzz/README.md): the library built by clang with ASan + UBSan and
+# fuzzer coverage in build-fuzz/, each harness run on a scratch copy of its committed corpus for
+# FUZZ_SECONDS seconds; a crash fails the target and leaves its reproducer in build-fuzz/
+FUZZ_SECONDS ?= 10
+FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+FUZZ_HARNESSES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
+FUZZ_BINS := $(addprefix build-fuzz/fuzz_,$(FUZZ_HARNESSES))
+build-fuzz/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/*.h build-fuzz/libplume.a
+	clang $(CPPFLAGS) -std=c11 -D_POSIX_C_SOURCE=200809L -O1 -g $(FUZZ_SAN) -fsanitize=fuzzer -c $< -o $@.o
+	clang++ $(FUZZ_SAN) -fsanitize=fuzzer $@.o -o $@ build-fuzz/libplume.a $(LDFLAGS) $(LDLIBS)
+fuzz-build: deps
+	@command -v clang >/dev/null || { echo "make fuzz needs clang with libFuzzer: apt-get install clang libclang-rt-14-dev" >&2; exit 1; }
+	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=clang CXX=clang++ OPT="-O1 -g $(FUZZ_SAN) -fsanitize=fuzzer-no-link" \
+	    LDFLAGS="$(FUZZ_SAN)" build-fuzz/libplume.a
+	@$(MAKE) --no-print-directory $(FUZZ_BINS)
+fuzz: fuzz-build
+	@cd tests && for h in $(FUZZ_HARNESSES); do \
+	    rm -rf ../build-fuzz/corpus/$$h && mkdir -p ../build-fuzz/corpus/$$h && \
+	    echo "fuzz_$$h: $(FUZZ_SECONDS) s" && \
+	    PLUME_SRC=.. ../build-fuzz/fuzz_$$h -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=2560 \
+	        -print_final_stats=1 -artifact_prefix=../build-fuzz/crash-$$h- \
+	        ../build-fuzz/corpus/$$h fuzz/corpus/$$h 2>&1 | grep -E "stat::number_of_executed_units|stat::average_exec_per_sec|ERROR|SUMMARY|crash-" ; \
+	    test $${PIPESTATUS[0]} -eq 0 || exit 1; \
+	done; echo "fuzz: every harness ran $(FUZZ_SECONDS) s without a crash"
+
 # deps first, then a sub-make: pkg-config flags are read when make starts, so they must be read
 # again once missing packages are installed
 bench: deps
@@ -126,4 +152,4 @@ uninstall:
 	rm -rf $(DESTDIR)$(PREFIX)/include/plume
 
 clean:
-	rm -rf build build-asan $(APPS)
+	rm -rf build build-asan build-fuzz $(APPS)

@@ -10,6 +10,10 @@
 #include <string.h>
 #include <sys/stat.h>
 
+/* What an app's parse_args returns after printing --help (main then exits 0): a flag parser
+ * never exits by itself, so it can be fuzzed (tests/fuzz/fuzz_cli_*.c). */
+#define CLI_HELP (-1)
+
 /* mkdir -p: 0, or -1 with errno set (ENOTDIR when the path names something else) */
 static inline int cli_make_dirs(const char *path)
 {

@@ -69,7 +69,7 @@ static int parse_args(int argc, char **argv, options *o)
         int r = 0;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             fputs(usage, stdout);
-            exit(0);
+            return CLI_HELP;
         }
         if (strcmp(a, "--json") == 0) {
             o->json = 1;
@@ -301,7 +301,7 @@ int main(int argc, char **argv)
     options o;
     int rc = parse_args(argc, argv, &o);
     if (rc)
-        return rc;
+        return rc == CLI_HELP ? 0 : rc;
     double t_start = plume_wall_seconds();
     plume_err err = {{0}};
     plume_status st;

@@ -50,7 +50,7 @@ static int parse_args(int argc, char **argv, options *o)
         int r = 0;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             fputs(usage, stdout);
-            exit(0);
+            return CLI_HELP;
         }
         if (strcmp(a, "--json") == 0 || strcmp(a, "--quiet") == 0 || strcmp(a, "--verbose") == 0) {
             *(a[2] == 'j' ? &o->json : a[2] == 'q' ? &o->quiet : &o->verbose) = 1;
@@ -110,7 +110,7 @@ int main(int argc, char **argv)
     options o;
     int rc = parse_args(argc, argv, &o);
     if (rc)
-        return rc;
+        return rc == CLI_HELP ? 0 : rc;
     plume_err err = {{0}};
     plume_scene *scene = NULL;
     plume_problem *p = NULL;

@@ -97,7 +97,7 @@ static int parse_args(int argc, char **argv, options *o)
 #define DBLSET(flag, field) else if (strcmp(a, flag) == 0) r = parse_double(flag, v, &o->field), o->field##_set = 1
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             fputs(usage, stdout);
-            exit(0);
+            return CLI_HELP;
         }
         DBLSET("--angle", angle);
         DBLSET("--lx", lx);
@@ -356,7 +356,7 @@ int main(int argc, char **argv)
     options o;
     int rc = parse_args(argc, argv, &o);
     if (rc)
-        return rc;
+        return rc == CLI_HELP ? 0 : rc;
     plume_err err = {{0}};
     plume_status st;
     double angle;

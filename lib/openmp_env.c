@@ -2,7 +2,9 @@
 
 #include <stdlib.h>
 
-#include <omp.h>
+/* the one OpenMP call plume makes, declared as the OpenMP API defines it (libgomp provides it):
+ * GCC's omp.h does not parse under clang, which builds the fuzzing harnesses */
+void omp_set_max_active_levels(int max_levels);
 
 void plume_openmp_serial(void)
 {

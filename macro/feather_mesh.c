@@ -107,6 +107,7 @@
 #define LAST_ARC 1.6       /* longest arc (in e) one barb edge may bridge */
 #define SAMPLES 8          /* curve samples per e (at least 16 per curve) */
 #define MAX_TRIANGLES 5e6  /* refuse edges that would give more (estimate area / (0.43 e^2)) */
+#define MAX_OUTLINE_SPREAD 40 /* bounding-box diagonal over sqrt(area) of an outline (fm_validate) */
 #define IDW_RADIUS 1.5     /* radius (in e) of the barb edges averaged for a triangle without one */
 #define PROJECT_COARSE 512 /* coarse samples of the centre line scanned by a projection */
 #define FILL_CLEAR 0.7     /* a fill barb starts where it is this far from every vertex and barb */
@@ -1148,6 +1149,20 @@ static plume_status fm_validate(const plume_feather_input *in, int dim, plume_er
         return plume_err_set(err, PLUME_EINVAL,
                              "edge = %g m would give about %.3g triangles on the outline's %g m^2 (limit %.0g)",
                              in->edge, area / (0.43 * in->edge * in->edge), area, MAX_TRIANGLES);
+    /* a stray vertex far out (a typo in the OBJ) adds little area but makes every barb walk to the
+     * far end of the bounding box: found by fuzzing, a spike 45 outline-sizes long took minutes.
+     * A compact outline has diagonal / sqrt(area) of 2-6; 40 still admits an aspect ratio near 1000. */
+    double bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
+    for (plume_index i = 0; i < in->outline.n; i++) {
+        bx0 = fmin(bx0, in->outline.p[2 * i]), bx1 = fmax(bx1, in->outline.p[2 * i]);
+        by0 = fmin(by0, in->outline.p[2 * i + 1]), by1 = fmax(by1, in->outline.p[2 * i + 1]);
+    }
+    double diag = hypot(bx1 - bx0, by1 - by0);
+    if (diag > MAX_OUTLINE_SPREAD * sqrt(area))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "outline: its bounding box (diagonal %g m) is %.0f times the square root of its area "
+                             "(%g m^2), more than %d: a vertex far from the others?",
+                             diag, diag / sqrt(area), area, MAX_OUTLINE_SPREAD);
     if ((st = plume_feather_check_curve("rachis", &in->rachis, 0, 2, err)) != PLUME_OK)
         return st;
     if (!point_in_polygon(in->outline.p, in->outline.n, in->rachis.p))

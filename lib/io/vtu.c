@@ -322,10 +322,17 @@ static plume_status read_block(const reader *r, size_t offset, unsigned char **o
     }
     if (3 * w > sub.data_len)
         return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': a compression header at offset %zu is cut short", r->path, offset);
-    size_t nb = (size_t)header_word(&sub, 0), bs = (size_t)header_word(&sub, 1), last = (size_t)header_word(&sub, 2);
-    if (nb > sub.data_len / w || (3 + nb) * w > sub.data_len || (nb > 0 && bs == 0))
+    uint64_t nb64 = header_word(&sub, 0), bs64 = header_word(&sub, 1), last64 = header_word(&sub, 2);
+    /* zlib expands a block at most ~1032 times: sizes beyond that, or past the data, are lies */
+    const uint64_t max_block = (uint64_t)1 << 31;
+    if (nb64 > sub.data_len / w || (3 + nb64) * w > sub.data_len || (nb64 > 0 && bs64 == 0) || bs64 > max_block ||
+        last64 > bs64)
         return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': a bad compression header at offset %zu", r->path, offset);
+    size_t nb = (size_t)nb64, bs = (size_t)bs64, last = (size_t)last64;
     size_t total = nb == 0 ? 0 : (nb - 1) * bs + (last ? last : bs);
+    if (total / 1100 > sub.data_len)
+        return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': the array at offset %zu claims %zu bytes from %zu compressed",
+                             r->path, offset, total, sub.data_len);
     *out = malloc(total + 1);
     if (!*out)
         return PLUME_ENOMEM;

@@ -1,0 +1,106 @@
+/* Every crash, hang or wrong acceptance the fuzzers found (tests/fuzz/), replayed through the
+ * same library calls in the regular suite (no clang needed): tests/fuzz/regressions/<harness>/ holds
+ * the reproducers, each of which must now be refused with a message, quickly. */
+#define _DEFAULT_SOURCE
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "harness.h"
+#include "../lib/io/vtu.h"
+#include "../lib/progress.h"
+#include "../macro/scene.h"
+
+/* copies src to dst */
+static int copy(const char *src, const char *dst)
+{
+    FILE *in = fopen(src, "rb"), *out = in ? fopen(dst, "wb") : NULL;
+    char buf[65536];
+    size_t n;
+    int ok = in && out;
+    while (ok && (n = fread(buf, 1, sizeof buf, in)) > 0)
+        ok = fwrite(buf, 1, n, out) == n;
+    if (in)
+        fclose(in);
+    if (out && fclose(out) != 0)
+        ok = 0;
+    return ok;
+}
+
+/* a feather scene in dir reading dir/outline_in.obj and the shipped shape */
+static plume_status feather_outline(const char *dir, const char *reproducer, plume_err *err)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/outline_in.obj", dir);
+    if (!copy(reproducer, path))
+        return PLUME_EIO;
+    snprintf(path, sizeof path, "%s/shape_in.json", dir);
+    if (!copy("../data/feather/feather_shape.json", path))
+        return PLUME_EIO;
+    snprintf(path, sizeof path, "%s/feather_in.json", dir);
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return PLUME_EIO;
+    fputs("{\"mesh\": {\"feather\": \"shape_in.json\", \"outline\": \"outline_in.obj\", \"edge\": 0.02}, \"materials\": "
+          "[{\"membrane\": {\"E\": 1e6, \"thickness\": 1e-4}, \"density\": 0.03, \"constraint\": true}, {\"membrane\": "
+          "{\"E\": 1e9, \"thickness\": 3e-3}, \"density\": 0.5}], \"dt\": 0.01, \"duration\": 0.1}",
+          f);
+    fclose(f);
+    plume_scene *s = NULL;
+    plume_status st = plume_scene_load(path, &s, err);
+    plume_scene_destroy(&s);
+    return st;
+}
+
+static plume_status vtu(const char *dir, const char *reproducer, plume_err *err)
+{
+    (void)dir;
+    plume_vtu_data d;
+    plume_status st = plume_vtu_read(reproducer, &d, err);
+    if (st == PLUME_OK)
+        plume_vtu_data_free(&d);
+    return st;
+}
+
+void test_fuzz_regressions(void)
+{
+    static const struct {
+        const char *harness;
+        plume_status (*replay)(const char *dir, const char *reproducer, plume_err *err);
+    } kinds[] = {{"feather_outline", feather_outline}, {"vtu", vtu}};
+    char dir[64] = "/tmp/plume-fuzzreg-XXXXXX";
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    int replayed = 0;
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
+        char sub[256];
+        snprintf(sub, sizeof sub, "fuzz/regressions/%s", kinds[k].harness);
+        DIR *d = opendir(sub);
+        CHECK(d != NULL);
+        struct dirent *e;
+        while (d && (e = readdir(d))) {
+            if (e->d_name[0] == '.')
+                continue;
+            char path[600];
+            snprintf(path, sizeof path, "%s/%s", sub, e->d_name);
+            plume_err err = {{0}};
+            double t0 = plume_wall_seconds();
+            plume_status st = kinds[k].replay(dir, path, &err);
+            double dt = plume_wall_seconds() - t0;
+            fprintf(stderr, "    %s/%s: %s in %.3f s: %s\n", kinds[k].harness, e->d_name, plume_strerror(st), dt, err.msg);
+            CHECK(st != PLUME_OK && err.msg[0] != '\0');
+            replayed++;
+        }
+        if (d)
+            closedir(d);
+    }
+    CHECK(replayed >= 2);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    CHECK(system(cmd) == 0);
+}
