@@ -31,80 +31,107 @@ static const char usage[] =
     "  --json               print the fitted moduli, residual, evaluations, seconds\n"
     "  --help\n";
 
-int main(int argc, char **argv)
-{
-    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
+/* the flags */
+typedef struct {
     const char *targets[MAX_TARGETS];
     double angles[MAX_TARGETS];
-    int nt = 0, json = 0, constraint = 1, steps = 5, max_eval = 300;
-    double lx = 1.0, ly = 1.3, h = 1.0, edge = -1.0, angle = 45.0;
-    plume_ortho start = {1e4, 1.0, 0.0, 1.0};
-    const char *out = NULL, *plot = NULL, *free_list = "Eyy,Gxy";
+    int nt, json, constraint, steps, max_eval;
+    double lx, ly, h, edge, angle;
+    plume_ortho start;
+    const char *out, *plot, *free_list;
+    plume_fit_opts fo;
+} options;
+
+/* Parses argv into o (defaults first). 0, CLI_HELP after --help, or the exit code of bad input. */
+static int parse_args(int argc, char **argv, options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->constraint = 1, o->steps = 5, o->max_eval = 300;
+    o->lx = 1.0, o->ly = 1.3, o->h = 1.0, o->edge = -1.0, o->angle = 45.0;
+    o->start = (plume_ortho){1e4, 1.0, 0.0, 1.0};
+    o->free_list = "Eyy,Gxy";
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int r = 0;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             fputs(usage, stdout);
-            return 0;
+            return CLI_HELP;
         }
         if (strcmp(a, "--json") == 0) {
-            json = 1;
+            o->json = 1;
             continue;
         }
         if (!v)
             return cli_fail(APP, "%s needs a value (see --help)", a);
         i++;
         if (strcmp(a, "--target") == 0) {
-            if (nt == MAX_TARGETS)
+            if (o->nt == MAX_TARGETS)
                 return cli_fail(APP, "at most %d targets", MAX_TARGETS);
-            targets[nt] = v;
-            angles[nt++] = angle;
+            o->targets[o->nt] = v;
+            o->angles[o->nt++] = o->angle;
         } else if (strcmp(a, "--angle") == 0) {
-            r = cli_double(APP, a, v, &angle);
-            if (!r && nt > 0)
-                angles[nt - 1] = angle;
-        } else if (strcmp(a, "--lx") == 0) r = cli_double(APP, a, v, &lx);
-        else if (strcmp(a, "--ly") == 0) r = cli_double(APP, a, v, &ly);
-        else if (strcmp(a, "--thickness") == 0) r = cli_double(APP, a, v, &h);
-        else if (strcmp(a, "--Exx") == 0) r = cli_double(APP, a, v, &start.E_xx);
-        else if (strcmp(a, "--Eyy") == 0) r = cli_double(APP, a, v, &start.E_yy);
-        else if (strcmp(a, "--Gxy") == 0) r = cli_double(APP, a, v, &start.G_xy);
-        else if (strcmp(a, "--nu") == 0) r = cli_double(APP, a, v, &start.nu_xy);
-        else if (strcmp(a, "--edge") == 0) r = cli_double(APP, a, v, &edge);
-        else if (strcmp(a, "--steps") == 0) r = cli_int(APP, a, v, &steps);
-        else if (strcmp(a, "--max-eval") == 0) r = cli_int(APP, a, v, &max_eval);
-        else if (strcmp(a, "--free") == 0) free_list = v;
+            r = cli_double(APP, a, v, &o->angle);
+            if (!r && o->nt > 0)
+                o->angles[o->nt - 1] = o->angle;
+        } else if (strcmp(a, "--lx") == 0) r = cli_double(APP, a, v, &o->lx);
+        else if (strcmp(a, "--ly") == 0) r = cli_double(APP, a, v, &o->ly);
+        else if (strcmp(a, "--thickness") == 0) r = cli_double(APP, a, v, &o->h);
+        else if (strcmp(a, "--Exx") == 0) r = cli_double(APP, a, v, &o->start.E_xx);
+        else if (strcmp(a, "--Eyy") == 0) r = cli_double(APP, a, v, &o->start.E_yy);
+        else if (strcmp(a, "--Gxy") == 0) r = cli_double(APP, a, v, &o->start.G_xy);
+        else if (strcmp(a, "--nu") == 0) r = cli_double(APP, a, v, &o->start.nu_xy);
+        else if (strcmp(a, "--edge") == 0) r = cli_double(APP, a, v, &o->edge);
+        else if (strcmp(a, "--steps") == 0) r = cli_int(APP, a, v, &o->steps);
+        else if (strcmp(a, "--max-eval") == 0) r = cli_int(APP, a, v, &o->max_eval);
+        else if (strcmp(a, "--free") == 0) o->free_list = v;
         else if (strcmp(a, "--constraint") == 0) {
             if (strcmp(v, "on") && strcmp(v, "off"))
                 return cli_fail(APP, "--constraint expects on|off (got '%s')", v);
-            constraint = strcmp(v, "on") == 0;
-        } else if (strcmp(a, "-o") == 0) out = v;
-        else if (strcmp(a, "--plot") == 0) plot = v;
+            o->constraint = strcmp(v, "on") == 0;
+        } else if (strcmp(a, "-o") == 0) o->out = v;
+        else if (strcmp(a, "--plot") == 0) o->plot = v;
         else
             return cli_fail(APP, "unknown option '%s' (see --help)", a);
         if (r)
             return r;
     }
-    if (nt == 0)
+    if (o->nt == 0)
         return cli_fail(APP, "no --target given (see --help)");
-    if (!(lx > 0 && ly > 0 && h > 0))
-        return cli_fail(APP, "--lx, --ly and --thickness must be > 0 (got %g, %g, %g)", lx, ly, h);
-    plume_fit_opts fo;
-    plume_fit_opts_default(&fo);
-    fo.max_eval = max_eval;
-    fo.free_mask = 0;
+    if (!(o->lx > 0 && o->ly > 0 && o->h > 0))
+        return cli_fail(APP, "--lx, --ly and --thickness must be > 0 (got %g, %g, %g)", o->lx, o->ly, o->h);
+    plume_fit_opts_default(&o->fo);
+    o->fo.max_eval = o->max_eval;
+    o->fo.free_mask = 0;
     char list[128];
-    snprintf(list, sizeof list, "%s", free_list);
-    for (char *tok = strtok(list, ","); tok; tok = strtok(NULL, ",")) {
-        if (strcmp(tok, "Exx") == 0) fo.free_mask |= PLUME_FIT_EXX;
-        else if (strcmp(tok, "Eyy") == 0) fo.free_mask |= PLUME_FIT_EYY;
-        else if (strcmp(tok, "nu") == 0) fo.free_mask |= PLUME_FIT_NU;
-        else if (strcmp(tok, "Gxy") == 0) fo.free_mask |= PLUME_FIT_GXY;
+    snprintf(list, sizeof list, "%s", o->free_list);
+    char *save = NULL;
+    for (char *tok = strtok_r(list, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        if (strcmp(tok, "Exx") == 0) o->fo.free_mask |= PLUME_FIT_EXX;
+        else if (strcmp(tok, "Eyy") == 0) o->fo.free_mask |= PLUME_FIT_EYY;
+        else if (strcmp(tok, "nu") == 0) o->fo.free_mask |= PLUME_FIT_NU;
+        else if (strcmp(tok, "Gxy") == 0) o->fo.free_mask |= PLUME_FIT_GXY;
         else
             return cli_fail(APP, "--free: unknown modulus '%s' (Exx, Eyy, nu, Gxy)", tok);
     }
-    if (!fo.free_mask)
+    if (!o->fo.free_mask)
         return cli_fail(APP, "--free names no modulus");
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
+    options o;
+    int rc0 = parse_args(argc, argv, &o);
+    if (rc0)
+        return rc0 == CLI_HELP ? 0 : rc0;
+    const char *const *targets = o.targets;
+    double *angles = o.angles;
+    int nt = o.nt, json = o.json, constraint = o.constraint, steps = o.steps;
+    double lx = o.lx, ly = o.ly, h = o.h, edge = o.edge;
+    plume_ortho start = o.start;
+    const char *out = o.out, *plot = o.plot;
+    plume_fit_opts fo = o.fo;
 
     plume_err err = {{0}};
     plume_curve curves[MAX_TARGETS];

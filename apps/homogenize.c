@@ -72,75 +72,100 @@ static plume_status vtk_state(void *user, int load_case, int step, double strain
     return st;
 }
 
-int main(int argc, char **argv)
-{
-    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
+/* the flags: a layout, the curves' options and the outputs */
+typedef struct {
     plume_layout l;
-    plume_layout_default(&l);
     plume_homog_opts ho;
-    plume_homog_opts_default(&ho);
-    const char *out = NULL, *plot = NULL;
-    vtk_out vtk = {NULL, {{0}}, {NULL, NULL, NULL}};
-    int json = 0;
-    double wB = -1.0;
+    const char *out, *plot, *vtk_dir;
+    int json;
+    double wB;
+} options;
+
+/* Parses argv into o (defaults first). 0, CLI_HELP after --help, or the exit code of bad input. */
+static int parse_args(int argc, char **argv, options *o)
+{
+    plume_layout_default(&o->l);
+    plume_homog_opts_default(&o->ho);
+    o->out = o->plot = o->vtk_dir = NULL;
+    o->json = 0;
+    o->wB = -1.0;
     plume_err err = {{0}};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int r = 0;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             fputs(usage, stdout);
-            return 0;
+            return CLI_HELP;
         }
         if (strcmp(a, "--json") == 0) {
-            json = 1;
+            o->json = 1;
             continue;
         }
         if (!v)
             return cli_fail(APP, "%s needs a value (see --help)", a);
         i++;
+        plume_layout *l = &o->l;
         if (strcmp(a, "--config") == 0) {
-            if (plume_layout_load_json(v, &l, &err) != PLUME_OK)
+            if (plume_layout_load_json(v, l, &err) != PLUME_OK)
                 return cli_fail(APP, "%s", err.msg);
         } else if (strcmp(a, "--layout") == 0) {
             if (strcmp(v, "strips") == 0)
-                l.kind = PLUME_LAYOUT_STRIPS;
+                l->kind = PLUME_LAYOUT_STRIPS;
             else if (strcmp(v, "barbules") == 0)
-                l.kind = PLUME_LAYOUT_BARBULES;
+                l->kind = PLUME_LAYOUT_BARBULES;
             else
                 return cli_fail(APP, "--layout expects strips|barbules (got '%s')", v);
-        } else if (strcmp(a, "--phi") == 0) r = cli_double(APP, a, v, &l.phi);
-        else if (strcmp(a, "--dB") == 0) r = cli_double(APP, a, v, &l.d_B);
-        else if (strcmp(a, "--wB") == 0) r = cli_double(APP, a, v, &wB);
-        else if (strcmp(a, "--Eb") == 0) r = cli_double(APP, a, v, &l.E_b);
-        else if (strcmp(a, "--nu-barb") == 0) r = cli_double(APP, a, v, &l.nu_b);
-        else if (strcmp(a, "--ratio") == 0) r = cli_double(APP, a, v, &l.ratio);
-        else if (strcmp(a, "--nu-barbule") == 0) r = cli_double(APP, a, v, &l.nu_B);
-        else if (strcmp(a, "--thickness") == 0) r = cli_double(APP, a, v, &l.h);
-        else if (strcmp(a, "--kappa") == 0) r = cli_double(APP, a, v, &l.kappa);
-        else if (strcmp(a, "--barbule-width") == 0) r = cli_double(APP, a, v, &l.barbule_width);
-        else if (strcmp(a, "--barbule-spacing") == 0) r = cli_double(APP, a, v, &l.barbule_spacing);
-        else if (strcmp(a, "--barbule-angle") == 0) r = cli_double(APP, a, v, &l.barbule_angle);
-        else if (strcmp(a, "--e-rel") == 0) r = cli_double(APP, a, v, &l.e_rel);
-        else if (strcmp(a, "--strain-max") == 0) r = cli_double(APP, a, v, &ho.strain_max);
-        else if (strcmp(a, "--steps") == 0) r = cli_int(APP, a, v, &ho.steps);
-        else if (strcmp(a, "-o") == 0) out = v;
-        else if (strcmp(a, "--plot") == 0) plot = v;
-        else if (strcmp(a, "--vtk") == 0) vtk.dir = v;
+        } else if (strcmp(a, "--phi") == 0) r = cli_double(APP, a, v, &l->phi);
+        else if (strcmp(a, "--dB") == 0) r = cli_double(APP, a, v, &l->d_B);
+        else if (strcmp(a, "--wB") == 0) r = cli_double(APP, a, v, &o->wB);
+        else if (strcmp(a, "--Eb") == 0) r = cli_double(APP, a, v, &l->E_b);
+        else if (strcmp(a, "--nu-barb") == 0) r = cli_double(APP, a, v, &l->nu_b);
+        else if (strcmp(a, "--ratio") == 0) r = cli_double(APP, a, v, &l->ratio);
+        else if (strcmp(a, "--nu-barbule") == 0) r = cli_double(APP, a, v, &l->nu_B);
+        else if (strcmp(a, "--thickness") == 0) r = cli_double(APP, a, v, &l->h);
+        else if (strcmp(a, "--kappa") == 0) r = cli_double(APP, a, v, &l->kappa);
+        else if (strcmp(a, "--barbule-width") == 0) r = cli_double(APP, a, v, &l->barbule_width);
+        else if (strcmp(a, "--barbule-spacing") == 0) r = cli_double(APP, a, v, &l->barbule_spacing);
+        else if (strcmp(a, "--barbule-angle") == 0) r = cli_double(APP, a, v, &l->barbule_angle);
+        else if (strcmp(a, "--e-rel") == 0) r = cli_double(APP, a, v, &l->e_rel);
+        else if (strcmp(a, "--strain-max") == 0) r = cli_double(APP, a, v, &o->ho.strain_max);
+        else if (strcmp(a, "--steps") == 0) r = cli_int(APP, a, v, &o->ho.steps);
+        else if (strcmp(a, "-o") == 0) o->out = v;
+        else if (strcmp(a, "--plot") == 0) o->plot = v;
+        else if (strcmp(a, "--vtk") == 0) o->vtk_dir = v;
         else
             return cli_fail(APP, "unknown option '%s' (see --help)", a);
         if (r)
             return r;
     }
-    if (wB >= 0.0) {
-        if (!(wB > 0.0))
-            return cli_fail(APP, "--wB must be > 0 (got %g)", wB);
-        l.d_B = wB / l.phi;
+    if (o->wB >= 0.0) {
+        if (!(o->wB > 0.0))
+            return cli_fail(APP, "--wB must be > 0 (got %g)", o->wB);
+        o->l.d_B = o->wB / o->l.phi;
     }
-    if (plume_layout_check(&l, &err) != PLUME_OK)
+    if (plume_layout_check(&o->l, &err) != PLUME_OK)
         return cli_fail(APP, "%s", err.msg);
+    if (o->vtk_dir && !(o->ho.strain_max > 0.0))
+        return cli_fail(APP, "--vtk writes the cell curves' states: it needs --strain-max > 0");
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
+    options o;
+    int rc0 = parse_args(argc, argv, &o);
+    if (rc0)
+        return rc0 == CLI_HELP ? 0 : rc0;
+    plume_layout l = o.l;
+    plume_homog_opts ho = o.ho;
+    const char *out = o.out, *plot = o.plot;
+    vtk_out vtk;
+    memset(&vtk, 0, sizeof vtk);
+    vtk.dir = o.vtk_dir;
+    int json = o.json;
+    plume_err err = {{0}};
     if (vtk.dir) {
-        if (!(ho.strain_max > 0.0))
-            return cli_fail(APP, "--vtk writes the cell curves' states: it needs --strain-max > 0");
         plume_layout_materials(&l, vtk.mats);
         ho.on_state = vtk_state;
         ho.on_state_user = &vtk;

@@ -556,33 +556,43 @@ static void section_stability(study *s, FILE *md)
             st ? err.msg : conv ? "converged: every element stays open" : "the solver did not converge (as the paper found)");
 }
 
-int main(int argc, char **argv)
+/* Parses argv into s's flags (dir, quick, json). 0, CLI_HELP after --help, or the exit code of
+ * bad input. */
+static int parse_args(int argc, char **argv, study *s)
 {
-    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
-    study s;
-    memset(&s, 0, sizeof s);
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         if (strcmp(a, "-o") == 0) {
             if (i + 1 >= argc)
                 return cli_fail("study", "-o expects a directory");
-            s.dir = argv[++i];
+            s->dir = argv[++i];
         } else if (strcmp(a, "--quick") == 0) {
-            s.quick = 1;
+            s->quick = 1;
         } else if (strcmp(a, "--json") == 0) {
-            s.json = 1;
+            s->json = 1;
         } else if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             fputs(usage, stdout);
-            return 0;
+            return CLI_HELP;
         } else {
             fputs(usage, stderr);
             return cli_fail("study", "unknown flag '%s'", a);
         }
     }
-    if (!s.dir || !*s.dir) {
+    if (!s->dir || !*s->dir) {
         fputs(usage, stderr);
         return cli_fail("study", "-o DIR is required");
     }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
+    study s;
+    memset(&s, 0, sizeof s);
+    int rc0 = parse_args(argc, argv, &s);
+    if (rc0)
+        return rc0 == CLI_HELP ? 0 : rc0;
     if (mkdir(s.dir, 0777) != 0 && errno != EEXIST)
         return fprintf(stderr, "study: cannot create %s: %s\n", s.dir, strerror(errno)), 1;
     struct stat sb;

@@ -82,6 +82,21 @@ static int read_attr_string(hid_t obj, const char *name, char *buf, size_t n)
 
 
 /* Reads a 1D double dataset of exactly n values into v: 0, -1 missing/unreadable, -2 wrong size. */
+/* the number of values of dataset `name` in g, or -1 when it is missing or unreadable */
+static hssize_t dataset_points(hid_t g, const char *name)
+{
+    if (H5Lexists(g, name, H5P_DEFAULT) <= 0)
+        return -1;
+    hid_t ds = H5Dopen2(g, name, H5P_DEFAULT);
+    hid_t sp = ds < 0 ? H5I_INVALID_HID : H5Dget_space(ds);
+    hssize_t np = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : -1;
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (ds >= 0)
+        H5Dclose(ds);
+    return np;
+}
+
 static int read_dataset(hid_t g, const char *name, double *v, plume_index n)
 {
     if (H5Lexists(g, name, H5P_DEFAULT) <= 0)
@@ -147,9 +162,12 @@ static plume_status read_info(const char *path, hid_t g, plume_frames_info *info
         read_attr(g, "ncons", H5T_NATIVE_LONG, &ncons) < 0 || read_attr(g, "dt", H5T_NATIVE_DOUBLE, &dt) < 0)
         return plume_err_set(err, PLUME_EFORMAT,
                              "frames file '%s': /frames lacks one of the attributes count, nv, ncons, dt", path);
-    if (count < 0 || nv < 1 || ncons < 0)
-        return plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames has count %ld, nv %ld, ncons %ld", path,
-                             count, nv, ncons);
+    /* bounds before anything is sized from them (fuzzing: nv = LONG_MAX overflowed 3 nv) */
+    if (count < 0 || nv < 1 || nv > 100000000L || ncons < 0 || ncons > 1000000000L || !(dt > 0) || !isfinite(dt))
+        return plume_err_set(err, PLUME_EFORMAT,
+                             "frames file '%s': /frames has count %ld, nv %ld, ncons %ld, dt %g (expected count >= 0, "
+                             "1 <= nv <= 1e8, 0 <= ncons <= 1e9, dt > 0)",
+                             path, count, nv, ncons, dt);
     info->count = count;
     info->nv = nv;
     info->ncons = ncons;
@@ -415,18 +433,19 @@ plume_status plume_frames_read(const char *path, long k, plume_frame *f, plume_e
     f->index = k;
     f->nv = info.nv;
     f->ncons = info.ncons;
-    f->x = malloc((size_t)(3 * info.nv) * sizeof *f->x);
-    f->v = malloc((size_t)(3 * info.nv) * sizeof *f->v);
-    f->lambda = info.ncons > 0 ? malloc((size_t)info.ncons * sizeof *f->lambda) : NULL;
-    if (!f->x || !f->v || (info.ncons > 0 && !f->lambda)) {
-        s = plume_err_set(err, PLUME_ENOMEM, "frames file '%s': out of memory", path);
-        goto cleanup;
-    }
     const char *names[3] = {"x", "v", "lambda"};
-    double *dst[3] = {f->x, f->v, f->lambda};
+    double **dst[3] = {&f->x, &f->v, &f->lambda};
     plume_index sizes[3] = {3 * info.nv, 3 * info.nv, info.ncons};
     for (int i = 0; i < 3; i++) {
-        int rc = read_dataset(fg, names[i], dst[i], sizes[i]);
+        /* the dataset's size is checked before its memory is allocated */
+        hssize_t np = dataset_points(fg, names[i]);
+        int rc = np < 0 ? -1 : np != (hssize_t)sizes[i] ? -2 : 0;
+        if (rc == 0 && sizes[i] > 0 && !(*dst[i] = malloc((size_t)sizes[i] * sizeof **dst[i]))) {
+            s = plume_err_set(err, PLUME_ENOMEM, "frames file '%s': out of memory", path);
+            goto cleanup;
+        }
+        if (rc == 0)
+            rc = read_dataset(fg, names[i], *dst[i], sizes[i]);
         if (rc < 0) {
             s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s/%s is %s (expected %ld values)", path,
                               name, names[i], rc == -2 ? "of the wrong size" : "missing or unreadable",

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "harness.h"
+#include "../lib/frames.h"
 #include "../lib/io/vtu.h"
 #include "../lib/progress.h"
 #include "../macro/scene.h"
@@ -65,12 +66,26 @@ static plume_status vtu(const char *dir, const char *reproducer, plume_err *err)
     return st;
 }
 
+/* fuzz_h5 reproducers are kept as the HDF5 files they describe (PLUME_FUZZ_KEEP) */
+static plume_status h5(const char *dir, const char *reproducer, plume_err *err)
+{
+    (void)dir;
+    plume_frames_info info;
+    plume_status st = plume_frames_info_read(reproducer, &info, err);
+    if (st != PLUME_OK)
+        return st;
+    plume_frame f;
+    if ((st = plume_frames_read(reproducer, -1, &f, err)) == PLUME_OK)
+        plume_frame_free(&f);
+    return st;
+}
+
 void test_fuzz_regressions(void)
 {
     static const struct {
         const char *harness;
         plume_status (*replay)(const char *dir, const char *reproducer, plume_err *err);
-    } kinds[] = {{"feather_outline", feather_outline}, {"vtu", vtu}};
+    } kinds[] = {{"feather_outline", feather_outline}, {"vtu", vtu}, {"h5", h5}};
     char dir[64] = "/tmp/plume-fuzzreg-XXXXXX";
     if (!mkdtemp(dir)) {
         CHECK(0);
@@ -99,7 +114,7 @@ void test_fuzz_regressions(void)
         if (d)
             closedir(d);
     }
-    CHECK(replayed >= 2);
+    CHECK(replayed >= 3);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     CHECK(system(cmd) == 0);

@@ -24,7 +24,8 @@ static void fuzz_cleanup(void)
 static const char *fuzz_scratch(void)
 {
     if (!fuzz_dir[0]) {
-        strcpy(fuzz_dir, "/tmp/plume-fuzz-XXXXXX");
+        /* in memory when the machine offers it: every input is written to a file */
+        strcpy(fuzz_dir, access("/dev/shm", W_OK) == 0 ? "/dev/shm/plume-fuzz-XXXXXX" : "/tmp/plume-fuzz-XXXXXX");
         if (!mkdtemp(fuzz_dir))
             abort();
         atexit(fuzz_cleanup);

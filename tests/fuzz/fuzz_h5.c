@@ -172,6 +172,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     char path[128];
     snprintf(path, sizeof path, "%s/in.h5", fuzz_scratch());
     write_file(path, &b);
+    const char *keep = getenv("PLUME_FUZZ_KEEP"); /* the HDF5 file of a reproducer, for the regressions */
+    if (keep) {
+        char cmd[512];
+        snprintf(cmd, sizeof cmd, "cp '%s' '%s'", path, keep);
+        if (system(cmd) != 0)
+            abort();
+    }
     plume_err err = {{0}};
     plume_ortho m;
     if (plume_moduli_read(path, &m, &err) != PLUME_OK && !err.msg[0])
