@@ -245,9 +245,9 @@ void test_fields_uniaxial(void)
         bok &= fabs(fv.barb_strain[b] - s) < 1e-13;
     CHECK(bok);
     /* bad input */
-    CHECK(plume_fields_create(m, 4, m->nt, &mat, 1, NULL, NULL, 0, &f, &err) == PLUME_EINVAL);
-    m->material[3] = 2;
     plume_fields *g = NULL;
+    CHECK(plume_fields_create(m, 4, m->nt, &mat, 1, NULL, NULL, 0, &g, &err) == PLUME_EINVAL && g == NULL);
+    m->material[3] = 2;
     CHECK(plume_fields_create(m, 2, m->nt, &mat, 1, NULL, NULL, 0, &g, &err) == PLUME_EINVAL &&
           strstr(err.msg, "triangle 3"));
     m->material[3] = 0;
