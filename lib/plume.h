@@ -42,6 +42,7 @@
 #include "../macro/scene.h"
 #include "../macro/fields.h"
 #include "../macro/flat.h"
+#include "../macro/sweep.h"
 #include "../macro/study.h"
 #include "../macro/stability.h"
 #include "../micro/layout.h"

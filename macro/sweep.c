@@ -1,0 +1,648 @@
+/* plume: parameter sweeps (macro/sweep.h) — expansion, execution through the flat interface, and
+ * the results file. */
+#include "sweep.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <hdf5.h>
+#include <jansson.h>
+
+#include "../lib/internal/h5util.h"
+#include "../lib/internal/input_file.h"
+#include "../lib/progress.h"
+#include "../lib/sample.h"
+#include "flat.h"
+
+/* one "vary" entry: its key and its values (JSON, owned) */
+typedef struct {
+    char *key;
+    json_t *values; /* array; for "sample": the sample objects {id, lx, ly, thickness, angle} */
+    int sample;
+} axis;
+
+struct plume_sweep {
+    char *path, *text, *job;
+    json_t *base;
+    int naxes, count;
+    axis *axes;
+};
+
+void plume_sweep_destroy(plume_sweep **ps)
+{
+    if (!ps || !*ps)
+        return;
+    plume_sweep *s = *ps;
+    for (int a = 0; a < s->naxes; a++) {
+        free(s->axes[a].key);
+        json_decref(s->axes[a].values);
+    }
+    free(s->axes);
+    json_decref(s->base);
+    free(s->path);
+    free(s->text);
+    free(s->job);
+    free(s);
+    *ps = NULL;
+}
+
+/* the values of a range {"from", "to", "count", "scale"} */
+static json_t *range_values(const char *path, const char *key, json_t *r, plume_err *err)
+{
+    json_t *from = json_object_get(r, "from"), *to = json_object_get(r, "to"), *count = json_object_get(r, "count"),
+           *scale = json_object_get(r, "scale");
+    const char *sc = scale ? json_string_value(scale) : "linear";
+    if (!json_is_number(from) || !json_is_number(to) || !json_is_integer(count) || json_integer_value(count) < 1 ||
+        json_integer_value(count) > 100000 || !sc || (strcmp(sc, "linear") && strcmp(sc, "log")) ||
+        json_object_size(r) != 3u + (scale != NULL)) {
+        plume_err_set(err, PLUME_EINVAL,
+                      "%s: vary.%s: a range is {\"from\": a, \"to\": b, \"count\": n >= 1, \"scale\": \"linear\" | "
+                      "\"log\"}",
+                      path, key);
+        return NULL;
+    }
+    double a = json_number_value(from), b = json_number_value(to);
+    long n = (long)json_integer_value(count);
+    int lg = strcmp(sc, "log") == 0;
+    if (!isfinite(a) || !isfinite(b) || (lg && !(a > 0.0 && b > 0.0))) {
+        plume_err_set(err, PLUME_EINVAL, "%s: vary.%s: the range's ends must be finite (and > 0 on a log scale)", path,
+                      key);
+        return NULL;
+    }
+    json_t *v = json_array();
+    for (long i = 0; i < n; i++) {
+        double t = n == 1 ? 0.0 : (double)i / (double)(n - 1);
+        double x = lg ? a * pow(b / a, t) : a + t * (b - a);
+        if (i == n - 1)
+            x = b; /* the end exactly */
+        json_array_append_new(v, json_real(x));
+    }
+    return v;
+}
+
+/* the samples of "sample": "table1" (all) or a list of ids */
+static json_t *sample_values(const char *path, const char *samples_path, json_t *spec, plume_err *err)
+{
+    json_t *v = json_array();
+    int n = 0;
+    plume_status st = PLUME_OK;
+    if (!samples_path) {
+        plume_err_set(err, PLUME_EINVAL, "%s: vary.sample needs the samples file (data/samples.json)", path);
+        json_decref(v);
+        return NULL;
+    }
+    if (json_is_string(spec) && strcmp(json_string_value(spec), "table1") == 0) {
+        if ((st = plume_sample_count(samples_path, &n, err)) != PLUME_OK) {
+            json_decref(v);
+            return NULL;
+        }
+    } else if (!json_is_array(spec) || json_array_size(spec) == 0) {
+        plume_err_set(err, PLUME_EINVAL, "%s: vary.sample must be \"table1\" or a list of sample ids", path);
+        json_decref(v);
+        return NULL;
+    } else {
+        n = (int)json_array_size(spec);
+    }
+    for (int i = 0; i < n; i++) {
+        plume_sample s;
+        if (json_is_array(spec)) {
+            const char *id = json_string_value(json_array_get(spec, (size_t)i));
+            if (!id) {
+                plume_err_set(err, PLUME_EINVAL, "%s: vary.sample[%d] must be a sample id string", path, i);
+                st = PLUME_EINVAL;
+            } else {
+                st = plume_sample_load(samples_path, id, &s, err);
+            }
+        } else {
+            st = plume_sample_at(samples_path, i, &s, err);
+        }
+        if (st != PLUME_OK) {
+            json_decref(v);
+            return NULL;
+        }
+        double angle = strcmp(s.scenario, "longitudinal") == 0 ? 0.0 : strcmp(s.scenario, "transverse") == 0 ? 90.0 : 45.0;
+        json_array_append_new(v, json_pack("{s:s, s:f, s:f, s:f, s:f}", "id", s.id, "lx", s.lx, "ly", s.ly, "thickness",
+                                           s.h, "angle", angle));
+    }
+    return v;
+}
+
+plume_status plume_sweep_load(const char *path, const char *samples_path, plume_sweep **out, plume_err *err)
+{
+    if (!path || !out)
+        return plume_err_set(err, PLUME_EINVAL, "sweep: invalid arguments");
+    *out = NULL;
+    FILE *f = plume_input_fopen(path, "rb", "sweep file", err);
+    if (!f)
+        return PLUME_EIO;
+    size_t cap = 1 << 16, n = 0;
+    char *text = malloc(cap + 1);
+    size_t got;
+    while (text && (got = fread(text + n, 1, cap - n, f)) > 0) {
+        n += got;
+        if (n == cap) {
+            char *t = realloc(text, 2 * cap + 1);
+            if (!t) {
+                free(text);
+                text = NULL;
+                break;
+            }
+            text = t, cap *= 2;
+        }
+    }
+    fclose(f);
+    if (!text)
+        return plume_err_set(err, PLUME_ENOMEM, "sweep: out of memory");
+    text[n] = '\0';
+    json_error_t je;
+    json_t *doc = json_loads(text, JSON_REJECT_DUPLICATES, &je);
+    plume_sweep *s = calloc(1, sizeof *s);
+    plume_status st = PLUME_OK;
+    if (!s) {
+        free(text);
+        json_decref(doc);
+        return plume_err_set(err, PLUME_ENOMEM, "sweep: out of memory");
+    }
+    s->text = text, s->path = strdup(path);
+    if (!doc) {
+        st = plume_err_set(err, PLUME_EFORMAT, "%s:%d:%d: %s", path, je.line, je.column, je.text);
+        goto fail;
+    }
+    const char *key;
+    json_t *v;
+    json_object_foreach(doc, key, v) {
+        if (strcmp(key, "run") && strcmp(key, "base") && strcmp(key, "vary") && strcmp(key, "note")) {
+            st = plume_err_set(err, PLUME_EINVAL, "%s: unknown key \"%s\" (run, base, vary, note)", path, key);
+            goto fail;
+        }
+    }
+    const char *job = json_string_value(json_object_get(doc, "run"));
+    if (!job || (strcmp(job, "traction") && strcmp(job, "homogenize"))) {
+        st = plume_err_set(err, PLUME_EINVAL, "%s: \"run\" must be \"traction\" or \"homogenize\"", path);
+        goto fail;
+    }
+    s->job = strdup(job);
+    json_t *base = json_object_get(doc, "base");
+    if (base && !json_is_object(base)) {
+        st = plume_err_set(err, PLUME_EINVAL, "%s: \"base\" must be an object (a %s request)", path, job);
+        goto fail;
+    }
+    s->base = base ? json_deep_copy(base) : json_object();
+    json_t *vary = json_object_get(doc, "vary");
+    if (vary && !json_is_object(vary)) {
+        st = plume_err_set(err, PLUME_EINVAL, "%s: \"vary\" must be an object of key: values", path);
+        goto fail;
+    }
+    s->count = 1;
+    s->axes = calloc(json_object_size(vary) + 1, sizeof *s->axes);
+    json_object_foreach(vary, key, v) {
+        axis *a = &s->axes[s->naxes++];
+        a->key = strdup(key);
+        a->sample = strcmp(key, "sample") == 0;
+        if (a->sample)
+            a->values = sample_values(path, samples_path, v, err);
+        else if (json_is_array(v) && json_array_size(v) > 0)
+            a->values = json_deep_copy(v);
+        else if (json_is_object(v))
+            a->values = range_values(path, key, v, err);
+        else
+            plume_err_set(err, PLUME_EINVAL, "%s: vary.%s must be a non-empty list or a range", path, key);
+        if (!a->values) {
+            st = PLUME_EINVAL;
+            goto fail;
+        }
+        size_t m = json_array_size(a->values);
+        if ((double)s->count * (double)m > 1e6) {
+            st = plume_err_set(err, PLUME_EINVAL, "%s: the sweep expands to more than 10^6 runs", path);
+            goto fail;
+        }
+        s->count *= (int)m;
+    }
+    json_decref(doc);
+    /* every run's request must be well formed before anything runs: check run 0's keys */
+    char *req = NULL, *vals = NULL;
+    if ((st = plume_sweep_request(s, 0, &req, &vals, err)) != PLUME_OK) {
+        plume_sweep_destroy(&s);
+        return st;
+    }
+    free(req);
+    free(vals);
+    *out = s;
+    return PLUME_OK;
+fail:
+    json_decref(doc);
+    plume_sweep_destroy(&s);
+    return st;
+}
+
+int plume_sweep_count(const plume_sweep *s)
+{
+    return s ? s->count : 0;
+}
+
+const char *plume_sweep_job(const plume_sweep *s)
+{
+    return s ? s->job : NULL;
+}
+
+/* obj[dotted key] = value, creating the intermediate objects */
+static plume_status set_dotted(json_t *obj, const char *key, json_t *value, const char *path, plume_err *err)
+{
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s", key);
+    char *p = buf, *dot;
+    while ((dot = strchr(p, '.'))) {
+        *dot = '\0';
+        json_t *sub = json_object_get(obj, p);
+        if (!sub) {
+            sub = json_object();
+            json_object_set_new(obj, p, sub);
+        } else if (!json_is_object(sub)) {
+            json_decref(value);
+            return plume_err_set(err, PLUME_EINVAL, "%s: vary.%s: \"%s\" of the base request is not an object", path,
+                                 key, p);
+        }
+        obj = sub;
+        p = dot + 1;
+    }
+    json_object_set_new(obj, p, value);
+    return PLUME_OK;
+}
+
+plume_status plume_sweep_request(const plume_sweep *s, int k, char **request, char **values, plume_err *err)
+{
+    if (!s || k < 0 || k >= s->count || !request || !values)
+        return plume_err_set(err, PLUME_EINVAL, "sweep: run %d is not one of the %d runs", k, s ? s->count : 0);
+    *request = *values = NULL;
+    json_t *req = json_deep_copy(s->base), *vals = json_object();
+    plume_status st = PLUME_OK;
+    int rest = k, *index = malloc(((size_t)s->naxes + 1) * sizeof *index);
+    if (!index) {
+        json_decref(req), json_decref(vals);
+        return plume_err_set(err, PLUME_ENOMEM, "sweep: out of memory");
+    }
+    for (int a = s->naxes - 1; a >= 0; a--) { /* the last axis varies fastest */
+        int m = (int)json_array_size(s->axes[a].values);
+        index[a] = rest % m;
+        rest /= m;
+    }
+    for (int a = 0; a < s->naxes && st == PLUME_OK; a++) { /* values in the file's order */
+        const axis *ax = &s->axes[a];
+        json_t *v = json_array_get(ax->values, (size_t)index[a]);
+        if (ax->sample) {
+            static const char *const keys[] = {"lx", "ly", "thickness", "angle"};
+            for (int q = 0; q < 4 && st == PLUME_OK; q++)
+                st = set_dotted(req, keys[q], json_deep_copy(json_object_get(v, keys[q])), s->path, err);
+            json_object_set(vals, "sample", json_object_get(v, "id"));
+        } else {
+            st = set_dotted(req, ax->key, json_deep_copy(v), s->path, err);
+            json_object_set(vals, ax->key, v);
+        }
+    }
+    free(index);
+    if (st == PLUME_OK) {
+        *request = json_dumps(req, JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_SORT_KEYS);
+        *values = json_dumps(vals, JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_PRESERVE_ORDER);
+        if (!*request || !*values) {
+            free(*request), free(*values);
+            *request = *values = NULL;
+            st = plume_err_set(err, PLUME_ENOMEM, "sweep: out of memory");
+        }
+    }
+    json_decref(req);
+    json_decref(vals);
+    return st;
+}
+
+char *plume_sweep_execute(const plume_sweep *s, int k)
+{
+    plume_err err = {{0}};
+    char *req = NULL, *vals = NULL, *result = NULL, msg[1024] = "";
+    plume_status st = plume_sweep_request(s, k, &req, &vals, &err);
+    double t0 = plume_wall_seconds();
+    if (st != PLUME_OK)
+        snprintf(msg, sizeof msg, "%s", err.msg);
+    else if (strcmp(s->job, "traction") == 0)
+        st = plume_flat_traction(req, &result, msg, sizeof msg);
+    else
+        st = plume_flat_homogenize(req, &result, msg, sizeof msg);
+    double seconds = plume_wall_seconds() - t0;
+    json_t *rec = json_object(), *res = result ? json_loads(result, 0, NULL) : NULL;
+    json_object_set_new(rec, "run", json_integer(k));
+    json_object_set_new(rec, "values", vals ? json_loads(vals, JSON_DECODE_ANY, NULL) : json_object());
+    const char *outcome = "error";
+    if (st == PLUME_OK && res) {
+        json_t *conv = json_object_get(res, "converged"), *why = json_object_get(res, "stop_reason");
+        outcome = !conv || json_is_true(conv) ? "converged" : why ? json_string_value(why) : "not converged";
+    }
+    json_object_set_new(rec, "outcome", json_string(outcome));
+    if (st != PLUME_OK)
+        json_object_set_new(rec, "message", json_string(msg));
+    json_object_set_new(rec, "seconds", json_real(seconds));
+    if (res) {
+        json_object_del(res, "seconds"); /* timings are kept apart, in "seconds" */
+        json_object_set_new(rec, "result", res);
+    }
+    char *text = json_dumps(rec, JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_PRESERVE_ORDER);
+    json_decref(rec);
+    plume_flat_free(result);
+    free(req);
+    free(vals);
+    return text;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* the results file */
+
+static plume_status open_rw(const char *h5path, hid_t *fid, plume_err *err)
+{
+    struct stat st;
+    if (stat(h5path, &st) != 0 || !S_ISREG(st.st_mode) || !h5_is_hdf5(h5path))
+        return plume_err_set(err, PLUME_EIO, "sweep results '%s': not an HDF5 file", h5path);
+    *fid = H5Fopen(h5path, H5F_ACC_RDWR, H5P_DEFAULT);
+    return *fid < 0 ? plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot open for writing", h5path) : PLUME_OK;
+}
+
+/* the string attribute `name` of obj (malloc'ed) or NULL */
+static char *attr_string(hid_t obj, const char *name)
+{
+    if (H5Aexists(obj, name) <= 0)
+        return NULL;
+    hid_t a = H5Aopen(obj, name, H5P_DEFAULT), t = a >= 0 ? H5Aget_type(a) : H5I_INVALID_HID;
+    char *s = NULL, *out = NULL;
+    if (t >= 0 && H5Tis_variable_str(t) > 0 && H5Aread(a, t, &s) >= 0 && s) {
+        out = strdup(s);
+        H5free_memory(s);
+    }
+    if (t >= 0)
+        H5Tclose(t);
+    if (a >= 0)
+        H5Aclose(a);
+    return out;
+}
+
+plume_status plume_sweep_results_open(const char *h5path, const plume_sweep *s, plume_err *err)
+{
+    if (!h5path || !s)
+        return plume_err_set(err, PLUME_EINVAL, "sweep results: invalid arguments");
+    h5_quiet q;
+    quiet_begin(&q);
+    struct stat sb;
+    plume_status st = PLUME_OK;
+    if (stat(h5path, &sb) == 0) { /* resuming: it must be this sweep's file */
+        hid_t fid;
+        if ((st = open_rw(h5path, &fid, err)) == PLUME_OK) {
+            hid_t g = H5Lexists(fid, "/sweep", H5P_DEFAULT) > 0 ? H5Gopen2(fid, "/sweep", H5P_DEFAULT) : -1;
+            char *file = g >= 0 ? attr_string(g, "file") : NULL;
+            if (!file || strcmp(file, s->text) != 0)
+                st = plume_err_set(err, PLUME_EINVAL,
+                                   "sweep results '%s': holds %s (remove it, or name another output file)", h5path,
+                                   file ? "another sweep's runs" : "no /sweep group of plume");
+            free(file);
+            if (g >= 0)
+                H5Gclose(g);
+            H5Fclose(fid);
+        }
+    } else {
+        hid_t fid = H5Fcreate(h5path, H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
+        hid_t g = fid >= 0 ? H5Gcreate2(fid, "/sweep", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
+        hid_t r = g >= 0 ? H5Gcreate2(g, "runs", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
+        long runs = s->count;
+        if (r < 0 || h5_write_attr_string(g, "job", s->job) < 0 || h5_write_attr_string(g, "file", s->text) < 0 ||
+            h5_write_attr(g, "runs", H5T_STD_I64LE, H5T_NATIVE_LONG, &runs) < 0)
+            st = plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot create: %s", h5path, strerror(errno));
+        if (r >= 0)
+            H5Gclose(r);
+        if (g >= 0)
+            H5Gclose(g);
+        if (fid >= 0)
+            H5Fclose(fid);
+    }
+    quiet_end(&q);
+    return st;
+}
+
+plume_status plume_sweep_results_done(const char *h5path, const plume_sweep *s, unsigned char *done, plume_err *err)
+{
+    memset(done, 0, (size_t)s->count);
+    h5_quiet q;
+    quiet_begin(&q);
+    hid_t fid = H5Fopen(h5path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (fid < 0) {
+        quiet_end(&q);
+        return plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot open", h5path);
+    }
+    hid_t g = H5Lexists(fid, "/sweep/runs", H5P_DEFAULT) > 0 ? H5Gopen2(fid, "/sweep/runs", H5P_DEFAULT) : -1;
+    for (int k = 0; g >= 0 && k < s->count; k++) {
+        char name[32];
+        snprintf(name, sizeof name, "%d", k);
+        done[k] = H5Lexists(g, name, H5P_DEFAULT) > 0;
+    }
+    if (g >= 0)
+        H5Gclose(g);
+    H5Fclose(fid);
+    quiet_end(&q);
+    return PLUME_OK;
+}
+
+/* json array `a` of numbers into a malloc'ed vector of *n doubles */
+static double *vector(json_t *a, plume_index *n)
+{
+    *n = (plume_index)json_array_size(a);
+    double *v = malloc(((size_t)*n + 1) * sizeof *v);
+    for (plume_index i = 0; v && i < *n; i++)
+        v[i] = json_number_value(json_array_get(a, (size_t)i));
+    return v;
+}
+
+plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, int k, const char *record,
+                                     plume_err *err)
+{
+    json_t *rec = record ? json_loads(record, 0, NULL) : NULL;
+    if (!s || !rec || k < 0 || k >= s->count) {
+        json_decref(rec);
+        return plume_err_set(err, PLUME_EINVAL, "sweep results: run %d: invalid record", k);
+    }
+    /* room first (a full disk fails here, before HDF5 writes: lib/frames.c) */
+    int fd = open(h5path, O_WRONLY);
+    struct stat sb;
+    int rc = fd < 0 ? errno : fstat(fd, &sb) != 0 ? errno : posix_fallocate(fd, sb.st_size, (off_t)strlen(record) * 3 + 65536);
+    if (fd >= 0) {
+        if (rc != 0 && rc != EBADF)
+            (void)!ftruncate(fd, sb.st_size);
+        close(fd);
+    }
+    if (rc != 0) {
+        json_decref(rec);
+        return plume_err_set(err, PLUME_EIO, "sweep results '%s': no room for run %d: %s", h5path, k, strerror(rc));
+    }
+    h5_quiet q;
+    quiet_begin(&q);
+    hid_t fid;
+    plume_status st = open_rw(h5path, &fid, err);
+    if (st != PLUME_OK) {
+        quiet_end(&q);
+        json_decref(rec);
+        return st;
+    }
+    char name[32], tmp[48];
+    snprintf(name, sizeof name, "%d", k);
+    snprintf(tmp, sizeof tmp, "writing_%d", k);
+    hid_t runs = H5Gopen2(fid, "/sweep/runs", H5P_DEFAULT);
+    if (runs >= 0 && H5Lexists(runs, tmp, H5P_DEFAULT) > 0)
+        H5Ldelete(runs, tmp, H5P_DEFAULT); /* a run interrupted while being written */
+    hid_t g = runs >= 0 ? H5Gcreate2(runs, tmp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
+    json_t *res = json_object_get(rec, "result");
+    int bad = g < 0;
+    static const char *const curves[3] = {"strain", "stress", "wbar"};
+    static const char *const units[3] = {"1", "Pa", "1"};
+    for (int c = 0; c < 3 && !bad; c++) {
+        json_t *a = json_object_get(res, curves[c]);
+        if (!json_is_array(a))
+            continue;
+        plume_index n;
+        double *v = vector(a, &n);
+        bad = !v || h5_write_dataset(g, curves[c], v, n, units[c]) < 0;
+        free(v);
+    }
+    /* the record without the arrays and without the timing: the content a sweep's spread leaves alone */
+    json_t *slim = json_deep_copy(rec);
+    json_object_del(slim, "seconds");
+    json_t *sres = json_object_get(slim, "result");
+    for (int c = 0; c < 3; c++)
+        json_object_del(sres, curves[c]);
+    json_object_del(sres, "iterations");
+    char *slim_text = json_dumps(slim, JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_SORT_KEYS);
+    char *values = json_dumps(json_object_get(rec, "values"), JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_SORT_KEYS);
+    const char *outcome = json_string_value(json_object_get(rec, "outcome"));
+    if (!bad)
+        bad = !slim_text || !values || h5_write_attr_string(g, "record", slim_text) < 0 ||
+              h5_write_attr_string(g, "values", values) < 0 ||
+              h5_write_attr_string(g, "outcome", outcome ? outcome : "error") < 0 ||
+              h5_write_attr_double(g, "seconds", json_number_value(json_object_get(rec, "seconds"))) < 0;
+    if (g >= 0)
+        H5Gclose(g);
+    /* the commit: the complete group takes its run's name */
+    if (!bad && H5Lexists(runs, name, H5P_DEFAULT) > 0)
+        H5Ldelete(runs, name, H5P_DEFAULT);
+    if (!bad && H5Lmove(runs, tmp, runs, name, H5P_DEFAULT, H5P_DEFAULT) < 0)
+        bad = 1;
+    if (runs >= 0)
+        H5Gclose(runs);
+    if (H5Fclose(fid) < 0)
+        bad = 1;
+    quiet_end(&q);
+    free(slim_text);
+    free(values);
+    json_decref(slim);
+    json_decref(rec);
+    return bad ? plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot write run %d", h5path, k) : PLUME_OK;
+}
+
+/* the last value of dataset `name` of group g, or NaN */
+static double last_value(hid_t g, const char *name)
+{
+    double v = NAN;
+    if (H5Lexists(g, name, H5P_DEFAULT) <= 0)
+        return v;
+    hid_t d = H5Dopen2(g, name, H5P_DEFAULT), sp = d >= 0 ? H5Dget_space(d) : -1;
+    hssize_t n = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : 0;
+    if (n > 0 && n < 100000000) {
+        double *all = malloc((size_t)n * sizeof *all);
+        if (all && H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, all) >= 0)
+            v = all[n - 1];
+        free(all);
+    }
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (d >= 0)
+        H5Dclose(d);
+    return v;
+}
+
+plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const char *md_path, char **json,
+                                 plume_err *err)
+{
+    if (json)
+        *json = NULL;
+    h5_quiet q;
+    quiet_begin(&q);
+    hid_t fid = H5Fopen(h5path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (fid < 0) {
+        quiet_end(&q);
+        return plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot open", h5path);
+    }
+    hid_t runs = H5Lexists(fid, "/sweep/runs", H5P_DEFAULT) > 0 ? H5Gopen2(fid, "/sweep/runs", H5P_DEFAULT) : -1;
+    char tmp[4200];
+    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", md_path ? md_path : "", (long)getpid());
+    FILE *md = md_path ? fopen(tmp, "w") : NULL;
+    if (md_path && !md) {
+        if (runs >= 0)
+            H5Gclose(runs);
+        H5Fclose(fid);
+        quiet_end(&q);
+        return plume_err_set(err, PLUME_EIO, "sweep summary '%s': cannot create: %s", md_path, strerror(errno));
+    }
+    json_t *arr = json_array();
+    int recorded = 0, converged = 0;
+    double total = 0.0;
+    if (md)
+        fprintf(md, "# plume sweep: %s, %d runs (%s)\n\n| run | values | outcome | strain | stress (Pa) | seconds |\n"
+                    "|---|---|---|---|---|---|\n",
+                s->job, s->count, s->path);
+    for (int k = 0; runs >= 0 && k < s->count; k++) {
+        char name[32];
+        snprintf(name, sizeof name, "%d", k);
+        if (H5Lexists(runs, name, H5P_DEFAULT) <= 0) {
+            if (md)
+                fprintf(md, "| %d | | not run | | | |\n", k);
+            continue;
+        }
+        hid_t g = H5Gopen2(runs, name, H5P_DEFAULT);
+        char *values = attr_string(g, "values"), *outcome = attr_string(g, "outcome");
+        double seconds = NAN, strain = last_value(g, "strain"), stress = last_value(g, "stress");
+        if (H5Aexists(g, "seconds") > 0) {
+            hid_t a = H5Aopen(g, "seconds", H5P_DEFAULT);
+            H5Aread(a, H5T_NATIVE_DOUBLE, &seconds);
+            H5Aclose(a);
+        }
+        recorded++;
+        converged += outcome && strcmp(outcome, "converged") == 0;
+        total += isfinite(seconds) ? seconds : 0.0;
+        if (md)
+            fprintf(md, "| %d | `%s` | %s | %.6g | %.6g | %.3f |\n", k, values ? values : "", outcome ? outcome : "?",
+                    strain, stress, seconds);
+        json_array_append_new(arr, json_pack("{s:i, s:o, s:s, s:f, s:f, s:f}", "run", k, "values",
+                                             values ? json_loads(values, 0, NULL) : json_object(), "outcome",
+                                             outcome ? outcome : "?", "strain", isfinite(strain) ? strain : 0.0,
+                                             "stress", isfinite(stress) ? stress : 0.0, "seconds",
+                                             isfinite(seconds) ? seconds : 0.0));
+        free(values);
+        free(outcome);
+        H5Gclose(g);
+    }
+    if (runs >= 0)
+        H5Gclose(runs);
+    H5Fclose(fid);
+    quiet_end(&q);
+    plume_status st = PLUME_OK;
+    if (md) {
+        fprintf(md, "\n%d of %d runs recorded, %d converged; %.1f s of runs in all.\n", recorded, s->count, converged,
+                total);
+        int bad = ferror(md);
+        if (fclose(md) != 0 || bad || rename(tmp, md_path) != 0) {
+            unlink(tmp);
+            st = plume_err_set(err, PLUME_EIO, "sweep summary '%s': cannot write", md_path);
+        }
+    }
+    if (json && st == PLUME_OK)
+        *json = json_dumps(arr, JSON_REAL_PRECISION(17) | JSON_INDENT(2));
+    json_decref(arr);
+    return st;
+}

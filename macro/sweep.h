@@ -1,0 +1,68 @@
+/* plume: parameter sweeps — a JSON sweep file expands into independent runs of one job (a
+ * traction test at either scale, or a homogenisation), each run a request of the flat interface
+ * (macro/flat.h); their results are gathered into one HDF5 file that a killed sweep resumes from.
+ * apps/sweep executes the runs serially or spread over MPI ranks.
+ *
+ * The sweep file:
+ *   {"run": "traction" | "homogenize",
+ *    "base": {...a request of that job, macro/flat.h...},
+ *    "vary": {"key": [v1, v2, ...],                                 a list of values
+ *             "key": {"from": a, "to": b, "count": n, "scale": "linear" | "log"},   a range
+ *             "sample": "table1" | ["T01", "L03", ...]}}            supplementary Table 1 samples
+ *                                                                    (lx, ly, thickness, angle)
+ * "key" names a request key; a dotted key sets a nested one ("moduli.E_yy", "layout.phi"). The
+ * runs are the Cartesian product of the "vary" entries in the file's order, the last varying
+ * fastest; run k's request is "base" with run k's values set. Errors name the file and the key. */
+#ifndef PLUME_SWEEP_H
+#define PLUME_SWEEP_H
+
+#include "../lib/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct plume_sweep plume_sweep;
+
+/* Loads and expands a sweep file; samples come from samples_path (data/samples.json) when the
+ * file varies "sample". */
+plume_status plume_sweep_load(const char *path, const char *samples_path, plume_sweep **out, plume_err *err);
+void plume_sweep_destroy(plume_sweep **s);
+
+int plume_sweep_count(const plume_sweep *s);
+const char *plume_sweep_job(const plume_sweep *s); /* "traction" | "homogenize" */
+
+/* Run k's request and its varied values ({"angle": 45, "sample": "T01", ...}) as JSON texts,
+ * malloc'ed (free with free()). */
+plume_status plume_sweep_request(const plume_sweep *s, int k, char **request, char **values, plume_err *err);
+
+/* Executes run k and returns its record as a JSON text (malloc'ed): {"run": k, "values": {...},
+ * "outcome": "converged" | the solver's stop reason | "error", "message": plume's message (errors),
+ * "result": the job's result (macro/flat.h)}. A run that fails is a record, not an error: NULL only
+ * when memory runs out. */
+char *plume_sweep_execute(const plume_sweep *s, int k);
+
+/* The results file: /sweep with attributes "job", "runs" and "file" (the sweep file's text); one
+ * group /sweep/runs/<k> per recorded run with datasets strain, stress, wbar (when the job gives a
+ * curve; units 1, Pa, 1) and string attributes "values", "outcome", "record" (the JSON record
+ * without the curve arrays and without timings, so that the file's content does not depend on
+ * how the runs were spread) and "seconds". Creates the file when it does not exist (refusing one
+ * of another sweep: PLUME_EINVAL). */
+plume_status plume_sweep_results_open(const char *h5path, const plume_sweep *s, plume_err *err);
+
+/* Which runs the file holds (done[k] = 1), e.g. after a sweep was killed: those are not redone. */
+plume_status plume_sweep_results_done(const char *h5path, const plume_sweep *s, unsigned char *done, plume_err *err);
+
+/* Adds run k's record (from plume_sweep_execute) to the file; a run is written whole or not at
+ * all (its group is created last, from a complete temporary name). */
+plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, int k, const char *record, plume_err *err);
+
+/* A markdown table of every recorded run (run, values, outcome, last strain and stress, seconds)
+ * into md_path, and the same as a JSON array into *json (malloc'ed; may be NULL). */
+plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const char *md_path, char **json,
+                                 plume_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
