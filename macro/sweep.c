@@ -605,7 +605,9 @@ plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const
             continue;
         }
         hid_t g = H5Gopen2(runs, name, H5P_DEFAULT);
-        char *values = attr_string(g, "values"), *outcome = attr_string(g, "outcome");
+        char *values = attr_string(g, "values"), *outcome = attr_string(g, "outcome"), *rec = attr_string(g, "record");
+        json_t *rj = rec ? json_loads(rec, 0, NULL) : NULL;
+        const char *message = json_string_value(json_object_get(rj, "message"));
         double seconds = NAN, strain = last_value(g, "strain"), stress = last_value(g, "stress");
         if (H5Aexists(g, "seconds") > 0) {
             hid_t a = H5Aopen(g, "seconds", H5P_DEFAULT);
@@ -616,8 +618,8 @@ plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const
         converged += outcome && strcmp(outcome, "converged") == 0;
         total += isfinite(seconds) ? seconds : 0.0;
         if (md)
-            fprintf(md, "| %d | `%s` | %s | %.6g | %.6g | %.3f |\n", k, values ? values : "", outcome ? outcome : "?",
-                    strain, stress, seconds);
+            fprintf(md, "| %d | `%s` | %s%s%.100s | %.6g | %.6g | %.3f |\n", k, values ? values : "",
+                    outcome ? outcome : "?", message ? ": " : "", message ? message : "", strain, stress, seconds);
         json_array_append_new(arr, json_pack("{s:i, s:o, s:s, s:f, s:f, s:f}", "run", k, "values",
                                              values ? json_loads(values, 0, NULL) : json_object(), "outcome",
                                              outcome ? outcome : "?", "strain", isfinite(strain) ? strain : 0.0,
@@ -625,6 +627,8 @@ plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const
                                              isfinite(seconds) ? seconds : 0.0));
         free(values);
         free(outcome);
+        free(rec);
+        json_decref(rj);
         H5Gclose(g);
     }
     if (runs >= 0)

@@ -3,8 +3,15 @@
 # --check: install nothing; when any is missing, say which in one line, how to install them, and
 # fail (what plain `make` runs first, so that a fresh machine does not stop at a missing header).
 set -euo pipefail
-check=0
-[ "${1:-}" = "--check" ] && check=1
+# --mpi: also OpenMPI, with which apps/sweep is built to spread its runs over ranks (optional)
+check=0 mpi=0
+for a in "$@"; do
+    case "$a" in
+    --check) check=1 ;;
+    --mpi) mpi=1 ;;
+    *) echo "install-deps: unknown option '$a' (--check, --mpi)" >&2; exit 2 ;;
+    esac
+done
 if [ $check -eq 1 ] && ! command -v dpkg-query >/dev/null 2>&1; then
     exit 0 # not a Debian system: the compiler names what is missing
 fi
@@ -13,6 +20,7 @@ pkgs=(build-essential pkg-config libsuitesparse-dev coinor-libipopt-dev libnlopt
       libgsl-dev libcgal-dev libgmp-dev libmpfr-dev libjansson-dev zlib1g-dev libopenblas0-pthread gnuplot-nox)
 # and the Python package with its tests and example (make test, make demo, make deps)
 [ $check -eq 0 ] && pkgs+=(python3 python3-numpy python3-matplotlib python3-setuptools python3-venv)
+[ $mpi -eq 1 ] && pkgs+=(openmpi-bin libopenmpi-dev)
 missing=()
 for p in "${pkgs[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
