@@ -183,8 +183,8 @@ plume_status plume_sweep_load(const char *path, const char *samples_path, plume_
         }
     }
     const char *job = json_string_value(json_object_get(doc, "run"));
-    if (!job || (strcmp(job, "traction") && strcmp(job, "homogenize"))) {
-        st = plume_err_set(err, PLUME_EINVAL, "%s: \"run\" must be \"traction\" or \"homogenize\"", path);
+    if (!job || (strcmp(job, "traction") && strcmp(job, "homogenize") && strcmp(job, "fit"))) {
+        st = plume_err_set(err, PLUME_EINVAL, "%s: \"run\" must be \"traction\", \"homogenize\" or \"fit\"", path);
         goto fail;
     }
     s->job = strdup(job);
@@ -330,6 +330,8 @@ char *plume_sweep_execute(const plume_sweep *s, int k)
         snprintf(msg, sizeof msg, "%s", err.msg);
     else if (strcmp(s->job, "traction") == 0)
         st = plume_flat_traction(req, &result, msg, sizeof msg);
+    else if (strcmp(s->job, "fit") == 0)
+        st = plume_flat_fit(req, &result, msg, sizeof msg);
     else
         st = plume_flat_homogenize(req, &result, msg, sizeof msg);
     double seconds = plume_wall_seconds() - t0;
@@ -617,9 +619,18 @@ plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const
         recorded++;
         converged += outcome && strcmp(outcome, "converged") == 0;
         total += isfinite(seconds) ? seconds : 0.0;
+        /* a fit's outcome is its moduli and misfit */
+        json_t *res = json_object_get(rj, "result");
+        char fitted[256] = "";
+        if (json_object_get(res, "residual"))
+            snprintf(fitted, sizeof fitted, " (E_xx %.6g, E_yy %.6g, nu_xy %.4g, G_xy %.6g Pa; residual %.3g)",
+                     json_number_value(json_object_get(res, "E_xx")), json_number_value(json_object_get(res, "E_yy")),
+                     json_number_value(json_object_get(res, "nu_xy")), json_number_value(json_object_get(res, "G_xy")),
+                     json_number_value(json_object_get(res, "residual")));
         if (md)
-            fprintf(md, "| %d | `%s` | %s%s%.100s | %.6g | %.6g | %.3f |\n", k, values ? values : "",
-                    outcome ? outcome : "?", message ? ": " : "", message ? message : "", strain, stress, seconds);
+            fprintf(md, "| %d | `%s` | %s%s%.100s%s | %.6g | %.6g | %.3f |\n", k, values ? values : "",
+                    outcome ? outcome : "?", message ? ": " : "", message ? message : "", fitted, strain, stress,
+                    seconds);
         json_array_append_new(arr, json_pack("{s:i, s:o, s:s, s:f, s:f, s:f}", "run", k, "values",
                                              values ? json_loads(values, 0, NULL) : json_object(), "outcome",
                                              outcome ? outcome : "?", "strain", isfinite(strain) ? strain : 0.0,

@@ -1,10 +1,11 @@
 /* plume: parameter sweeps — a JSON sweep file expands into independent runs of one job (a
- * traction test at either scale, or a homogenisation), each run a request of the flat interface
- * (macro/flat.h); their results are gathered into one HDF5 file that a killed sweep resumes from.
+ * traction test at either scale, a homogenisation, or a fit, e.g. from several starting points:
+ * "vary": {"start.E_yy": [...]}), each run a request of the flat interface (macro/flat.h); their
+ * results are gathered into one HDF5 file that a killed sweep resumes from.
  * apps/sweep executes the runs serially or spread over MPI ranks.
  *
  * The sweep file:
- *   {"run": "traction" | "homogenize",
+ *   {"run": "traction" | "homogenize" | "fit",
  *    "base": {...a request of that job, macro/flat.h...},
  *    "vary": {"key": [v1, v2, ...],                                 a list of values
  *             "key": {"from": a, "to": b, "count": n, "scale": "linear" | "log"},   a range
@@ -30,7 +31,7 @@ plume_status plume_sweep_load(const char *path, const char *samples_path, plume_
 void plume_sweep_destroy(plume_sweep **s);
 
 int plume_sweep_count(const plume_sweep *s);
-const char *plume_sweep_job(const plume_sweep *s); /* "traction" | "homogenize" */
+const char *plume_sweep_job(const plume_sweep *s); /* "traction" | "homogenize" | "fit" */
 
 /* Run k's request and its varied values ({"angle": 45, "sample": "T01", ...}) as JSON texts,
  * malloc'ed (free with free()). */

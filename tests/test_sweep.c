@@ -15,6 +15,7 @@
 
 #include "app_runner.h"
 #include "harness.h"
+#include "../macro/flat.h"
 #include "../macro/sweep.h"
 
 static void write_file(const char *path, const char *text)
@@ -237,6 +238,53 @@ void test_sweep_app_ranks(void)
     free(c1);
     snprintf(args, sizeof args, "%s/s.json", dir);
     CHECK(app_run(dir, "sweep", args, out, sizeof out, errs, sizeof errs) == 2 && strstr(errs, "-o FILE.h5"));
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    CHECK(system(cmd) == 0);
+}
+
+/* a fit from several starting points is a sweep too: every start reaches the moduli the curves
+ * were made with */
+void test_sweep_fit_starts(void)
+{
+    char dir[64] = "/tmp/plume-sweepfit-XXXXXX", path[256], h5[256];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    /* target curves of E_yy 1.5, G_xy 3 from traction itself */
+    char *t45 = NULL, *t90 = NULL, msg[512];
+    CHECK(plume_flat_traction("{\"steps\": 2, \"edge\": 0.13, \"angle\": 45, \"moduli\": {\"E_yy\": 1.5, \"G_xy\": 3}}", &t45,
+                              msg, sizeof msg) == PLUME_OK);
+    CHECK(plume_flat_traction("{\"steps\": 2, \"edge\": 0.13, \"angle\": 90, \"moduli\": {\"E_yy\": 1.5, \"G_xy\": 3}}", &t90,
+                              msg, sizeof msg) == PLUME_OK);
+    json_t *a = t45 ? json_loads(t45, 0, NULL) : NULL, *b = t90 ? json_loads(t90, 0, NULL) : NULL;
+    json_t *doc = json_pack("{s:s, s:{s:i, s:f, s:{s:f, s:f, s:f, s:f}, s:[{s:f, s:O, s:O}, {s:f, s:O, s:O}]}, "
+                            "s:{s:[f, f, f]}}",
+                            "run", "fit", "base", "steps", 2, "edge", 0.13, "start", "E_xx", 1e4, "E_yy", 1.0, "G_xy", 1.0,
+                            "nu_xy", 0.0, "targets", "angle", 45.0, "strain", json_object_get(a, "strain"), "stress",
+                            json_object_get(a, "stress"), "angle", 90.0, "strain", json_object_get(b, "strain"),
+                            "stress", json_object_get(b, "stress"), "vary", "start.G_xy", 0.3, 3.0, 30.0);
+    snprintf(path, sizeof path, "%s/fit.json", dir);
+    CHECK(doc && json_dump_file(doc, path, JSON_REAL_PRECISION(17)) == 0);
+    plume_sweep *s = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_sweep_load(path, NULL, &s, &err) == PLUME_OK && plume_sweep_count(s) == 3);
+    snprintf(h5, sizeof h5, "%s/fit.h5", dir);
+    CHECK(s && plume_sweep_results_open(h5, s, &err) == PLUME_OK);
+    for (int k = 0; s && k < 3; k++) {
+        char *rec = plume_sweep_execute(s, k);
+        json_t *r = rec ? json_loads(rec, 0, NULL) : NULL, *res = json_object_get(r, "result");
+        CHECK(res && strcmp(json_string_value(json_object_get(r, "outcome")), "converged") == 0);
+        CHECK(res && fabs(json_real_value(json_object_get(res, "E_yy")) / 1.5 - 1) < 1e-3 &&
+              fabs(json_real_value(json_object_get(res, "G_xy")) / 3.0 - 1) < 1e-3);
+        CHECK(rec && plume_sweep_results_add(h5, s, k, rec, &err) == PLUME_OK);
+        json_decref(r);
+        free(rec);
+    }
+    plume_sweep_destroy(&s);
+    json_decref(doc), json_decref(a), json_decref(b);
+    free(t45), free(t90);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     CHECK(system(cmd) == 0);
