@@ -10,6 +10,7 @@
 #include "../macro/traction_model.h"
 #include "../micro/fit.h"
 #include "cli.h"
+#include "schedule.h"
 
 #define APP "fit"
 #define MAX_TARGETS 16
@@ -26,6 +27,9 @@ static const char usage[] =
     "  --constraint on|off  barbs inextensible in the model (default on)\n"
     "  --edge M --steps N   model mesh and steps (default min(lx, ly)/20 as apps/traction, 5)\n"
     "  --max-eval N         (default 300)\n"
+    "  --starts K           K fits from K starting points (the given one, then the free moduli scaled by\n"
+    "                       10^[-1, 1] on a Halton sequence), the best kept; spread over MPI ranks under\n"
+    "                       mpirun (default 1)\n"
     "  -o FILE.h5           write /moduli (fitted) and /curves/fit/<i>/... model curves\n"
     "  --plot FILE.png      targets and fitted model curves\n"
     "  --json               print the fitted moduli, residual, evaluations, seconds\n"
@@ -35,7 +39,7 @@ static const char usage[] =
 typedef struct {
     const char *targets[MAX_TARGETS];
     double angles[MAX_TARGETS];
-    int nt, json, constraint, steps, max_eval;
+    int nt, json, constraint, steps, max_eval, starts;
     double lx, ly, h, edge, angle;
     plume_ortho start;
     const char *out, *plot, *free_list;
@@ -46,7 +50,7 @@ typedef struct {
 static int parse_args(int argc, char **argv, options *o)
 {
     memset(o, 0, sizeof *o);
-    o->constraint = 1, o->steps = 5, o->max_eval = 300;
+    o->constraint = 1, o->steps = 5, o->max_eval = 300, o->starts = 1;
     o->lx = 1.0, o->ly = 1.3, o->h = 1.0, o->edge = -1.0, o->angle = 45.0;
     o->start = (plume_ortho){1e4, 1.0, 0.0, 1.0};
     o->free_list = "Eyy,Gxy";
@@ -83,6 +87,11 @@ static int parse_args(int argc, char **argv, options *o)
         else if (strcmp(a, "--edge") == 0) r = cli_double(APP, a, v, &o->edge);
         else if (strcmp(a, "--steps") == 0) r = cli_int(APP, a, v, &o->steps);
         else if (strcmp(a, "--max-eval") == 0) r = cli_int(APP, a, v, &o->max_eval);
+        else if (strcmp(a, "--starts") == 0) {
+            r = cli_int(APP, a, v, &o->starts);
+            if (!r && (o->starts < 1 || o->starts > 10000))
+                return cli_fail(APP, "--starts must be in [1, 10000] (got %d)", o->starts);
+        }
         else if (strcmp(a, "--free") == 0) o->free_list = v;
         else if (strcmp(a, "--constraint") == 0) {
             if (strcmp(v, "on") && strcmp(v, "off"))
@@ -118,13 +127,110 @@ static int parse_args(int argc, char **argv, options *o)
     return 0;
 }
 
+/* --starts: the K fits, as runs of apps/schedule.h */
+typedef struct {
+    plume_macro_model *mm;
+    const plume_curve *curves;
+    int nt;
+    plume_ortho start;
+    plume_fit_opts fo;
+    /* rank 0: the best fit so far */
+    int best, done;
+    plume_ortho best_fit;
+    plume_fit_report best_rep;
+    double best_residual;
+} starts_ctx;
+
+/* the radical inverse of k in base b: the Halton sequence, in [0, 1) */
+static double halton(int k, int b)
+{
+    double f = 1.0, r = 0.0;
+    for (; k > 0; k /= b) {
+        f /= b;
+        r += f * (k % b);
+    }
+    return r;
+}
+
+/* start k: the given one for k = 0, else each free modulus scaled by 10^u, u in [-1, 1) (nu_xy
+ * shifted by 0.4 u instead) */
+static plume_ortho start_point(const starts_ctx *c, int k)
+{
+    plume_ortho s = c->start;
+    static const int base[4] = {2, 3, 5, 7};
+    double *m[4] = {&s.E_xx, &s.E_yy, &s.nu_xy, &s.G_xy};
+    static const unsigned bit[4] = {PLUME_FIT_EXX, PLUME_FIT_EYY, PLUME_FIT_NU, PLUME_FIT_GXY};
+    for (int j = 0; k > 0 && j < 4; j++) {
+        if (!(c->fo.free_mask & bit[j]))
+            continue;
+        double u = 2.0 * halton(k, base[j]) - 1.0;
+        *m[j] = j == 2 ? fmax(-0.9, fmin(0.9, *m[j] + 0.4 * u)) : *m[j] * pow(10.0, u);
+    }
+    return s;
+}
+
+static char *fit_start(void *vctx, int k)
+{
+    starts_ctx *c = vctx;
+    plume_ortho s = start_point(c, k), fit;
+    plume_fit_report rep;
+    plume_err err = {{0}};
+    json_t *j;
+    if (plume_fit_moduli(plume_macro_model_curve, c->mm, c->curves, c->nt, &s, &c->fo, &fit, &rep, &err) == PLUME_OK)
+        j = json_pack("{s:f, s:f, s:f, s:f, s:f, s:i, s:s, s:f, s:f, s:f}", "E_xx", fit.E_xx, "E_yy", fit.E_yy, "nu_xy",
+                      fit.nu_xy, "G_xy", fit.G_xy, "residual", rep.residual, "evaluations", rep.evaluations, "stop",
+                      rep.stop, "seconds", rep.seconds, "start_E_yy", s.E_yy, "start_G_xy", s.G_xy);
+    else
+        j = json_pack("{s:s}", "error", err.msg);
+    char *text = json_dumps(j, JSON_REAL_PRECISION(17) | JSON_COMPACT);
+    json_decref(j);
+    return text;
+}
+
+static int keep_start(void *vctx, int k, const char *record)
+{
+    starts_ctx *c = vctx;
+    json_t *j = json_loads(record, 0, NULL);
+    c->done++;
+    if (!j)
+        return 1;
+    if (json_object_get(j, "error")) {
+        fprintf(stderr, "%s: start %d: %s\n", APP, k, json_string_value(json_object_get(j, "error")));
+    } else {
+        double r = json_real_value(json_object_get(j, "residual"));
+        fprintf(stderr, "%s: start %d (E_yy %.4g, G_xy %.4g): E_yy %.6g, G_xy %.6g Pa, misfit %.3g\n", APP, k,
+                json_real_value(json_object_get(j, "start_E_yy")), json_real_value(json_object_get(j, "start_G_xy")),
+                json_real_value(json_object_get(j, "E_yy")), json_real_value(json_object_get(j, "G_xy")), r);
+        /* the smallest misfit; ties to the lowest start, so the answer does not depend on the ranks */
+        if (c->best < 0 || r < c->best_residual || (r == c->best_residual && k < c->best)) {
+            c->best = k, c->best_residual = r;
+            c->best_fit = (plume_ortho){json_real_value(json_object_get(j, "E_xx")),
+                                        json_real_value(json_object_get(j, "E_yy")),
+                                        json_real_value(json_object_get(j, "nu_xy")),
+                                        json_real_value(json_object_get(j, "G_xy"))};
+            memset(&c->best_rep, 0, sizeof c->best_rep);
+            c->best_rep.residual = r;
+            c->best_rep.evaluations = (int)json_integer_value(json_object_get(j, "evaluations"));
+            c->best_rep.seconds = json_real_value(json_object_get(j, "seconds"));
+            snprintf(c->best_rep.stop, sizeof c->best_rep.stop, "%s", json_string_value(json_object_get(j, "stop")));
+        }
+    }
+    json_decref(j);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
+    int rank, size;
+    schedule_init(&argc, &argv, &rank, &size);
+    schedule_one_blas_thread();
     options o;
     int rc0 = parse_args(argc, argv, &o);
-    if (rc0)
+    if (rc0) {
+        schedule_finalize();
         return rc0 == CLI_HELP ? 0 : rc0;
+    }
     const char *const *targets = o.targets;
     double *angles = o.angles;
     int nt = o.nt, json = o.json, constraint = o.constraint, steps = o.steps;
@@ -166,7 +272,29 @@ int main(int argc, char **argv)
                             strain_max, steps, nt, angles, PLUME_SOLVER_NEWTON};
     plume_ortho fit;
     plume_fit_report rep;
-    if (rc == 0 && plume_fit_moduli(plume_macro_model_curve, &mm, curves, nt, &start, &fo, &fit, &rep, &err) != PLUME_OK) {
+    rc = schedule_share(rc);
+    if (rc == 0 && (o.starts > 1 || size > 1)) { /* K fits over the ranks, the best kept */
+        starts_ctx c = {&mm, curves, nt, start, fo, -1, 0, {0, 0, 0, 0}, {0}, INFINITY};
+        int *todo = malloc((size_t)o.starts * sizeof *todo);
+        for (int k = 0; k < o.starts; k++)
+            todo[k] = k;
+        rc = schedule_run(rank, size, todo, o.starts, fit_start, keep_start, &c);
+        free(todo);
+        if (rank > 0) { /* workers are done */
+            for (int k = 0; k < nt; k++)
+                plume_curve_free(&curves[k]);
+            schedule_finalize();
+            return 0;
+        }
+        if (c.best < 0) {
+            fprintf(stderr, "%s: none of the %d starts gave a fit\n", APP, o.starts);
+            rc = 1;
+        } else {
+            fit = c.best_fit, rep = c.best_rep;
+            fprintf(stderr, "%s: the best of %d starts is start %d (misfit %.3g)\n", APP, o.starts, c.best, rep.residual);
+        }
+    } else if (rc == 0 &&
+               plume_fit_moduli(plume_macro_model_curve, &mm, curves, nt, &start, &fo, &fit, &rep, &err) != PLUME_OK) {
         fprintf(stderr, "%s: %s\n", APP, err.msg);
         rc = 1;
     }
@@ -237,5 +365,6 @@ int main(int argc, char **argv)
         plume_curve_free(&curves[k]);
         plume_curve_free(&model[k]);
     }
+    schedule_finalize();
     return rc;
 }

@@ -9,18 +9,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#ifdef PLUME_MPI
-#include <mpi.h>
-#endif
-
 #include "../lib/plume.h"
 #include "../macro/sweep.h"
 #include "cli.h"
+#include "schedule.h"
 
 #define APP "sweep"
 
-/* OpenBLAS's thread count, when the BLAS is OpenBLAS (a weak reference: NULL otherwise) */
-extern void openblas_set_num_threads(int n) __attribute__((weak));
 
 static const char usage[] =
     "usage: sweep SWEEP.json -o FILE.h5 [options]\n"
@@ -77,87 +72,43 @@ static int parse_args(int argc, char **argv, options *o)
     return 0;
 }
 
-/* writes run k's record; returns 0, or 1 after saying why */
-static int record(const char *out, const plume_sweep *s, int k, const char *rec, int *written, int total, int quiet)
+/* the schedule's callbacks (apps/schedule.h): a run executes on any rank, rank 0 writes records */
+typedef struct {
+    const plume_sweep *s;
+    const char *out;
+    int written, total, quiet;
+} sweep_ctx;
+
+static char *execute(void *vctx, int k)
 {
+    const sweep_ctx *c = vctx;
+    return plume_sweep_execute(c->s, k);
+}
+
+static int keep(void *vctx, int k, const char *rec)
+{
+    sweep_ctx *c = vctx;
     plume_err err = {{0}};
-    if (!rec || plume_sweep_results_add(out, s, k, rec, &err) != PLUME_OK) {
-        fprintf(stderr, "%s: %s\n", APP, rec ? err.msg : "out of memory");
+    if (plume_sweep_results_add(c->out, c->s, k, rec, &err) != PLUME_OK) {
+        fprintf(stderr, "%s: %s\n", APP, err.msg);
         return 1;
     }
-    (*written)++;
-    if (!quiet)
-        fprintf(stderr, "%s: run %d recorded (%d of %d this session)\n", APP, k, *written, total);
+    c->written++;
+    if (!c->quiet)
+        fprintf(stderr, "%s: run %d recorded (%d of %d this session)\n", APP, k, c->written, c->total);
     return 0;
 }
-
-#ifdef PLUME_MPI
-enum { TAG_WORK = 1, TAG_RECORD = 2 };
-
-/* ranks > 0: run what rank 0 sends until it sends -1; each record goes back to rank 0 */
-static void worker(const plume_sweep *s)
-{
-    for (;;) {
-        int k;
-        MPI_Recv(&k, 1, MPI_INT, 0, TAG_WORK, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        if (k < 0)
-            return;
-        char *rec = plume_sweep_execute(s, k);
-        const char *text = rec ? rec : "";
-        MPI_Send(text, (int)strlen(text) + 1, MPI_CHAR, 0, TAG_RECORD, MPI_COMM_WORLD);
-        free(rec);
-    }
-}
-
-/* receives one record (from any worker) into the file and gives that worker its next run */
-static int receive(const char *out, const plume_sweep *s, const int *todo, int ntodo, int *next, int *outstanding,
-                   int *written, int quiet)
-{
-    MPI_Status stt;
-    MPI_Probe(MPI_ANY_SOURCE, TAG_RECORD, MPI_COMM_WORLD, &stt);
-    int len;
-    MPI_Get_count(&stt, MPI_CHAR, &len);
-    char *text = malloc((size_t)len + 1);
-    MPI_Recv(text, len, MPI_CHAR, stt.MPI_SOURCE, TAG_RECORD, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    text[len] = '\0';
-    int w = stt.MPI_SOURCE, rc = 0;
-    outstanding[w]--;
-    if (*next < ntodo) { /* keep the worker busy: its next run */
-        MPI_Send(&todo[(*next)++], 1, MPI_INT, w, TAG_WORK, MPI_COMM_WORLD);
-        outstanding[w]++;
-    } else if (outstanding[w] == 0) {
-        int stop = -1;
-        MPI_Send(&stop, 1, MPI_INT, w, TAG_WORK, MPI_COMM_WORLD);
-    }
-    /* which run: the record says */
-    const char *p = strstr(text, "\"run\":");
-    int k = p ? atoi(p + 6) : -1;
-    if (k < 0 || record(out, s, k, text, written, ntodo, quiet))
-        rc = 1;
-    free(text);
-    return rc;
-}
-#endif
 
 int main(int argc, char **argv)
 {
     plume_openmp_serial();
-    /* the runs are the parallelism: one BLAS thread per process. Measured on 2 cores, the 24 runs of
-     * data/sweeps/mesh_angles.json took 13.6 s serially with OpenBLAS's 2 threads and 6.2 s with 1 */
-    if (openblas_set_num_threads && !getenv("OPENBLAS_NUM_THREADS"))
-        openblas_set_num_threads(1);
-    int rank = 0, size = 1;
-#ifdef PLUME_MPI
-    MPI_Init(&argc, &argv);
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-    MPI_Comm_size(MPI_COMM_WORLD, &size);
-#endif
+    schedule_one_blas_thread();
+    int rank, size;
+    schedule_init(&argc, &argv, &rank, &size);
     options o;
     int rc = parse_args(argc, argv, &o);
     if (rc) {
-#ifdef PLUME_MPI
-        MPI_Finalize();
-#endif
+        schedule_finalize();
         return rc == CLI_HELP ? 0 : rc;
     }
     plume_sweep *s = NULL;
@@ -192,56 +143,11 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s: %s, %d runs of %s, %d already in %s, %d to run on %d rank%s\n", APP, o.sweep, n,
                     plume_sweep_job(s), n - ntodo, o.out, ntodo, size, size == 1 ? "" : "s");
     }
-#ifdef PLUME_MPI
-    MPI_Bcast(&rc, 1, MPI_INT, 0, MPI_COMM_WORLD); /* a bad input stops every rank */
-#endif
+    rc = schedule_share(rc); /* a bad input stops every rank */
     double t0 = plume_wall_seconds();
-    int written = 0;
-    if (!rc && size == 1) {
-        for (int i = 0; i < ntodo && !rc; i++) {
-            char *rec = plume_sweep_execute(s, todo[i]);
-            rc = record(o.out, s, todo[i], rec, &written, ntodo, o.quiet);
-            free(rec);
-        }
-    }
-#ifdef PLUME_MPI
-    else if (!rc && rank > 0) {
-        worker(s);
-    } else if (!rc) {
-        /* rank 0 schedules and computes too: every worker holds two runs (one running, one queued),
-         * so that it does not wait while rank 0 is busy with a run of its own */
-        int next = 0, *outstanding = calloc((size_t)size, sizeof *outstanding), total = 0;
-        for (int w = 1; w < size; w++) {
-            for (int q = 0; q < 2 && next < ntodo; q++, outstanding[w]++, total++)
-                MPI_Send(&todo[next++], 1, MPI_INT, w, TAG_WORK, MPI_COMM_WORLD);
-            if (!outstanding[w]) {
-                int stop = -1;
-                MPI_Send(&stop, 1, MPI_INT, w, TAG_WORK, MPI_COMM_WORLD);
-            }
-        }
-        for (;;) {
-            int flag = 1, pending = 0;
-            while (flag) {
-                MPI_Iprobe(MPI_ANY_SOURCE, TAG_RECORD, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
-                if (flag)
-                    rc |= receive(o.out, s, todo, ntodo, &next, outstanding, &written, o.quiet);
-            }
-            for (int w = 1; w < size; w++)
-                pending += outstanding[w];
-            if (next < ntodo) {
-                int k = todo[next++];
-                char *rec = plume_sweep_execute(s, k);
-                rc |= record(o.out, s, k, rec, &written, ntodo, o.quiet);
-                free(rec);
-            } else if (pending > 0) {
-                rc |= receive(o.out, s, todo, ntodo, &next, outstanding, &written, o.quiet);
-            } else {
-                break;
-            }
-        }
-        free(outstanding);
-    }
-#endif
+    sweep_ctx ctx = {s, o.out, 0, ntodo, o.quiet};
+    if (!rc)
+        rc = schedule_run(rank, size, todo, ntodo, execute, keep, &ctx);
     if (!rc && rank == 0) {
         char md[4200];
         if (o.summary)
@@ -260,14 +166,12 @@ int main(int argc, char **argv)
             printf("%s\n", json);
         free(json);
         if (!o.quiet)
-            fprintf(stderr, "%s: %d runs in %.2f s on %d rank%s; results %s, summary %s\n", APP, written,
+            fprintf(stderr, "%s: %d runs in %.2f s on %d rank%s; results %s, summary %s\n", APP, ctx.written,
                     plume_wall_seconds() - t0, size, size == 1 ? "" : "s", o.out, md);
     }
     free(done);
     free(todo);
     plume_sweep_destroy(&s);
-#ifdef PLUME_MPI
-    MPI_Finalize();
-#endif
+    schedule_finalize();
     return rc;
 }

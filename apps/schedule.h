@@ -1,0 +1,172 @@
+/* Independent runs spread over MPI ranks as they free up (apps/sweep, apps/fit --starts): every
+ * rank can execute any run; rank 0 hands them out, computes too, and receives every run's record.
+ * A run's cost may vary by 100x, so nothing is split statically: rank 0 keeps each other rank two
+ * runs deep (one running, one queued), so that no rank waits while rank 0 is busy with a run of
+ * its own. Built without PLUME_MPI (no mpicc), the runs execute in order on the one process.
+ * Header-only: each app is a single file. */
+#ifndef PLUME_APPS_SCHEDULE_H
+#define PLUME_APPS_SCHEDULE_H
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef PLUME_MPI
+#include <mpi.h>
+#endif
+
+/* OpenBLAS's thread count, when the BLAS is OpenBLAS (a weak reference: NULL otherwise) */
+extern void openblas_set_num_threads(int n) __attribute__((weak));
+
+/* One BLAS thread per process: the runs are the parallelism, and a run then gives the same bits
+ * on any rank. Measured on 2 cores, the 24 runs of data/sweeps/mesh_angles.json took 13.6 s
+ * serially with OpenBLAS's 2 threads and 6.2 s with 1. OPENBLAS_NUM_THREADS, when set, wins. */
+static inline void schedule_one_blas_thread(void)
+{
+    if (openblas_set_num_threads && !getenv("OPENBLAS_NUM_THREADS"))
+        openblas_set_num_threads(1);
+}
+
+/* executes run k on any rank: its record (malloc'ed text; NULL when memory runs out) */
+typedef char *(*schedule_execute)(void *ctx, int k);
+/* rank 0: keeps run k's record; nonzero on failure (the schedule goes on and reports it) */
+typedef int (*schedule_record)(void *ctx, int k, const char *record);
+
+static inline void schedule_init(int *argc, char ***argv, int *rank, int *size)
+{
+    *rank = 0, *size = 1;
+#ifdef PLUME_MPI
+    MPI_Init(argc, argv);
+    MPI_Comm_rank(MPI_COMM_WORLD, rank);
+    MPI_Comm_size(MPI_COMM_WORLD, size);
+#else
+    (void)argc, (void)argv;
+#endif
+}
+
+static inline void schedule_finalize(void)
+{
+#ifdef PLUME_MPI
+    MPI_Finalize();
+#endif
+}
+
+/* the largest status of every rank (a bad input found on any of them) to all of them */
+static inline int schedule_share(int rc)
+{
+#ifdef PLUME_MPI
+    int all = rc;
+    MPI_Allreduce(&rc, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    rc = all;
+#endif
+    return rc;
+}
+
+#ifdef PLUME_MPI
+enum { SCHEDULE_WORK = 1, SCHEDULE_RECORD = 2 };
+
+/* ranks > 0: run what rank 0 sends until it sends -1; each record goes back as "k\n<record>" */
+static inline void schedule_worker(schedule_execute ex, void *ctx)
+{
+    for (;;) {
+        int k;
+        MPI_Recv(&k, 1, MPI_INT, 0, SCHEDULE_WORK, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        if (k < 0)
+            return;
+        char *rec = ex(ctx, k);
+        size_t len = rec ? strlen(rec) : 0;
+        char *msg = malloc(len + 32);
+        int n = snprintf(msg, 32, "%d\n", k);
+        if (rec)
+            memcpy(msg + n, rec, len + 1);
+        else
+            msg[n] = '\0';
+        MPI_Send(msg, (int)(n + len + 1), MPI_CHAR, 0, SCHEDULE_RECORD, MPI_COMM_WORLD);
+        free(msg);
+        free(rec);
+    }
+}
+
+/* rank 0: one record from any worker; that worker gets its next run (or -1 when it has none left) */
+static inline int schedule_receive(const int *todo, int ntodo, int *next, int *outstanding, schedule_record rec,
+                                   void *ctx)
+{
+    MPI_Status st;
+    MPI_Probe(MPI_ANY_SOURCE, SCHEDULE_RECORD, MPI_COMM_WORLD, &st);
+    int len;
+    MPI_Get_count(&st, MPI_CHAR, &len);
+    char *text = malloc((size_t)len + 1);
+    MPI_Recv(text, len, MPI_CHAR, st.MPI_SOURCE, SCHEDULE_RECORD, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    text[len] = '\0';
+    int w = st.MPI_SOURCE;
+    outstanding[w]--;
+    if (*next < ntodo) {
+        MPI_Send(&todo[(*next)++], 1, MPI_INT, w, SCHEDULE_WORK, MPI_COMM_WORLD);
+        outstanding[w]++;
+    } else if (outstanding[w] == 0) {
+        int stop = -1;
+        MPI_Send(&stop, 1, MPI_INT, w, SCHEDULE_WORK, MPI_COMM_WORLD);
+    }
+    char *body = strchr(text, '\n');
+    int rc = !body || rec(ctx, atoi(text), body + 1);
+    free(text);
+    return rc;
+}
+#endif
+
+/* Executes the runs todo[0..ntodo) on every rank (call it on all of them); rank 0's `rec` gets
+ * every record. Returns nonzero on rank 0 when a record could not be kept or a run gave none. */
+static inline int schedule_run(int rank, int size, const int *todo, int ntodo, schedule_execute ex, schedule_record rec,
+                               void *ctx)
+{
+    int rc = 0;
+    if (size == 1) {
+        for (int i = 0; i < ntodo; i++) {
+            char *r = ex(ctx, todo[i]);
+            rc |= !r || rec(ctx, todo[i], r);
+            free(r);
+        }
+        return rc;
+    }
+#ifdef PLUME_MPI
+    if (rank > 0) {
+        schedule_worker(ex, ctx);
+        return 0;
+    }
+    int next = 0, *outstanding = calloc((size_t)size, sizeof *outstanding);
+    for (int w = 1; w < size; w++) {
+        for (int q = 0; q < 2 && next < ntodo; q++, outstanding[w]++)
+            MPI_Send(&todo[next++], 1, MPI_INT, w, SCHEDULE_WORK, MPI_COMM_WORLD);
+        if (!outstanding[w]) {
+            int stop = -1;
+            MPI_Send(&stop, 1, MPI_INT, w, SCHEDULE_WORK, MPI_COMM_WORLD);
+        }
+    }
+    for (;;) {
+        int flag = 1, pending = 0;
+        while (flag) { /* every record that has arrived, first */
+            MPI_Iprobe(MPI_ANY_SOURCE, SCHEDULE_RECORD, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+            if (flag)
+                rc |= schedule_receive(todo, ntodo, &next, outstanding, rec, ctx);
+        }
+        for (int w = 1; w < size; w++)
+            pending += outstanding[w];
+        if (next < ntodo) {
+            int k = todo[next++];
+            char *r = ex(ctx, k);
+            rc |= !r || rec(ctx, k, r);
+            free(r);
+        } else if (pending > 0) {
+            rc |= schedule_receive(todo, ntodo, &next, outstanding, rec, ctx);
+        } else {
+            break;
+        }
+    }
+    free(outstanding);
+#else
+    (void)rank;
+#endif
+    return rc;
+}
+
+#endif
