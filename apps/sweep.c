@@ -5,9 +5,14 @@
  * mpirun/srun. */
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <jansson.h>
 
 #include "../lib/plume.h"
 #include "../macro/sweep.h"
@@ -79,10 +84,79 @@ typedef struct {
     int written, total, quiet;
 } sweep_ctx;
 
+/* Runs k in a child process, so that a run that crashes (a signal, not an error status) is
+ * recorded with its reason and the sweep goes on: the child writes the record to a pipe. The
+ * environment variable PLUME_SWEEP_CRASH_RUN=k makes run k's child crash (SIGSEGV), to rehearse it. */
 static char *execute(void *vctx, int k)
 {
     const sweep_ctx *c = vctx;
-    return plume_sweep_execute(c->s, k);
+    int fd[2];
+    if (pipe(fd) != 0)
+        return plume_sweep_execute(c->s, k); /* no pipe: in this process */
+    fflush(stdout);
+    fflush(stderr);
+    pid_t pid = fork();
+    if (pid == 0) {
+        close(fd[0]);
+        const char *crash = getenv("PLUME_SWEEP_CRASH_RUN");
+        if (crash && atoi(crash) == k)
+            raise(SIGSEGV);
+        char *rec = plume_sweep_execute(c->s, k);
+        size_t len = rec ? strlen(rec) : 0, off = 0;
+        while (off < len) {
+            ssize_t w = write(fd[1], rec + off, len - off);
+            if (w <= 0)
+                _exit(1);
+            off += (size_t)w;
+        }
+        _exit(rec ? 0 : 1);
+    }
+    close(fd[1]);
+    if (pid < 0) {
+        close(fd[0]);
+        return plume_sweep_execute(c->s, k);
+    }
+    size_t cap = 65536, len = 0;
+    char *buf = malloc(cap + 1);
+    ssize_t r;
+    while (buf && (r = read(fd[0], buf + len, cap - len)) > 0) {
+        len += (size_t)r;
+        if (len == cap) {
+            char *nb = realloc(buf, 2 * cap + 1);
+            if (!nb) {
+                free(buf);
+                buf = NULL;
+                break;
+            }
+            buf = nb, cap *= 2;
+        }
+    }
+    close(fd[0]);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (buf && WIFEXITED(status) && WEXITSTATUS(status) == 0 && len > 0) {
+        buf[len] = '\0';
+        return buf;
+    }
+    free(buf);
+    /* the run's process died: a record that says so */
+    char *req = NULL, *vals = NULL, why[128];
+    plume_err err = {{0}};
+    plume_sweep_request(c->s, k, &req, &vals, &err);
+    if (WIFSIGNALED(status))
+        snprintf(why, sizeof why, "the run's process was killed by signal %d (%s)", WTERMSIG(status),
+                 strsignal(WTERMSIG(status)));
+    else
+        snprintf(why, sizeof why, "the run's process exited with status %d", WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    json_t *rec = json_pack("{s:i, s:o, s:s, s:s, s:f}", "run", k, "values",
+                            vals ? json_loads(vals, 0, NULL) : json_object(), "outcome", "crashed", "message", why,
+                            "seconds", 0.0);
+    char *text = json_dumps(rec, JSON_COMPACT | JSON_REAL_PRECISION(17));
+    json_decref(rec);
+    free(req);
+    free(vals);
+    return text;
 }
 
 static int keep(void *vctx, int k, const char *rec)
