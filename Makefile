@@ -64,11 +64,11 @@ $(BUILD)/libplume.so: $(BUILD)/$(SOFILE)
 apps/%: apps/%.c $(BUILD)/libplume.a $(HEADERS)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(BUILD)/libplume.a $(LDFLAGS) $(LDLIBS)
 
-# the sweep and the fit are built with MPI when OpenMPI's compiler wrapper is there (scripts/install-deps.sh
+# the sweep, the fit and the study are built with MPI when OpenMPI's compiler wrapper is there (scripts/install-deps.sh
 # --mpi installs it), serial otherwise; the library never needs MPI. -lmpi comes first: Ipopt's
 # sequential MUMPS (libdmumps_seq) exports a stub MPI_Init that would otherwise be the one called
 MPICC := $(shell command -v mpicc 2>/dev/null)
-apps/sweep apps/fit: apps/%: apps/%.c apps/schedule.h $(BUILD)/libplume.a $(HEADERS)
+apps/sweep apps/fit apps/study: apps/%: apps/%.c apps/schedule.h $(BUILD)/libplume.a $(HEADERS)
 	$(if $(MPICC),$(MPICC) -DPLUME_MPI,$(CC)) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(if $(MPICC),-lmpi) $(BUILD)/libplume.a \
 	    $(LDFLAGS) $(LDLIBS)
 

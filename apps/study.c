@@ -18,6 +18,7 @@
 #include "../macro/study.h"
 #include "../macro/stability.h"
 #include "cli.h"
+#include "schedule.h"
 
 static const char *const usage =
     "usage: study -o DIR [--quick] [--json]\n"
@@ -36,6 +37,10 @@ typedef struct {
     char msg[768];   /* error message when st != OK */
 } run;
 
+/* The study runs in three passes so that its runs can be spread over MPI ranks (apps/schedule.h):
+ * the sections are walked once to plan the runs (nothing runs, nothing is written), the runs are
+ * executed, serially or over the ranks, and the sections are walked again to report, each do_run
+ * then taking the next executed run in the planned order. */
 typedef struct {
     const char *dir;
     char h5[1024];
@@ -44,6 +49,8 @@ typedef struct {
     int nruns, cap;
     int write_failures;
     double t0;
+    int planning; /* 1: the first walk, which only lists the runs */
+    int next;     /* the report walk: the run do_run takes next */
 } study;
 
 static double now(void)
@@ -75,8 +82,17 @@ static const char *outcome(const run *r)
 }
 
 /* Runs `cfg`, records it, writes its curve. Returns the run's index (the array may move). */
+static int report_run(study *s, int i);
+
 static int do_run(study *s, const plume_study_config *cfg, const char *name, const char *label)
 {
+    if (!s->planning) { /* the report walk: the run executed for this call */
+        if (s->next >= s->nruns || strcmp(s->runs[s->next].name, name) != 0) {
+            fprintf(stderr, "study: the report walk asked for '%s', not the planned run\n", name);
+            exit(1);
+        }
+        return report_run(s, s->next++);
+    }
     if (s->nruns == s->cap) {
         int cap = s->cap ? 2 * s->cap : 64;
         run *r = realloc(s->runs, (size_t)cap * sizeof *r);
@@ -91,10 +107,17 @@ static int do_run(study *s, const plume_study_config *cfg, const char *name, con
     snprintf(r->name, sizeof r->name, "%s", name);
     snprintf(r->label, sizeof r->label, "%s", label);
     r->cfg = *cfg;
+    s->nruns++;
+    return s->nruns - 1;
+}
+
+/* the report walk's side of a run: its log line and its curve in study.h5 */
+static int report_run(study *s, int i)
+{
+    run *r = &s->runs[i];
+    const plume_study_config *cfg = &r->cfg;
+    const char *name = r->name;
     plume_err err = {{0}};
-    r->st = plume_study_traction(cfg, &r->res, &err);
-    if (r->st != PLUME_OK)
-        snprintf(r->msg, sizeof r->msg, "%s", err.msg);
     fprintf(stderr, "study [%6.1f s] %-44s %-10s %8.3f s %4d it  stress %.6g\n", now() - s->t0, name,
             outcome(r), r->res.seconds, r->res.iterations, r->res.stress);
     if (r->st == PLUME_OK && r->res.curve.n > 0) {
@@ -121,8 +144,7 @@ static int do_run(study *s, const plume_study_config *cfg, const char *name, con
             s->write_failures++;
         }
     }
-    s->nruns++;
-    return s->nruns - 1;
+    return i;
 }
 
 /* A chart series built point by point (x, y1, y2). */
@@ -147,6 +169,8 @@ static void series_sort(series *a)
 static int plot_series(study *s, const char *file, const char *title, const char *y1, const char *y2, series *sr,
                        int ns, FILE *md)
 {
+    if (s->planning)
+        return 0;
     plume_curve cv[32];
     const char *labels[32];
     int nc = 0;
@@ -515,6 +539,8 @@ static void section_scenes(study *s, FILE *md)
 /* 5. the stability matrix: each cell measured (or said not to be) */
 static void section_stability(study *s, FILE *md)
 {
+    if (s->planning) /* no traction runs: measured in the report walk */
+        return;
     plume_err err = {{0}};
     fprintf(md, "\n## 5. Stability: where each method fails\n\n"
                 "| cell | measured | outcome |\n|---|---|---|\n");
@@ -556,6 +582,80 @@ static void section_stability(study *s, FILE *md)
             st ? err.msg : conv ? "converged: every element stays open" : "the solver did not converge (as the paper found)");
 }
 
+/* the schedule's callbacks (apps/schedule.h): run k executes on any rank and comes back to rank 0
+ * as JSON (every double with 17 digits: the same bits as a run in place) */
+static json_t *doubles(const double *v, plume_index n)
+{
+    json_t *a = json_array();
+    for (plume_index i = 0; i < n; i++)
+        json_array_append_new(a, json_real(v[i]));
+    return a;
+}
+
+static char *execute(void *vctx, int k)
+{
+    const study *s = vctx;
+    plume_study_result res;
+    plume_err err = {{0}};
+    plume_status st = plume_study_traction(&s->runs[k].cfg, &res, &err);
+    const plume_curve *c = &res.curve;
+    json_t *j = json_pack("{s:i, s:s, s:f, s:f, s:f, s:f, s:i, s:b, s:b, s:i, s:I, s:I}", "status", (int)st, "message",
+                          err.msg, "strain", res.strain, "stress", res.stress, "wbar", res.wbar, "seconds", res.seconds,
+                          "iterations", res.iterations, "converged", res.converged, "complete", res.complete, "reason",
+                          (int)res.reason, "elements", (json_int_t)res.elements, "vertices", (json_int_t)res.vertices);
+    json_object_set_new(j, "c_strain", doubles(c->strain, c->n));
+    json_object_set_new(j, "c_stress", doubles(c->stress, c->n));
+    json_object_set_new(j, "c_wbar", doubles(c->wbar, c->n));
+    json_object_set_new(j, "c_iterations", doubles(c->iterations, c->n));
+    json_object_set_new(j, "c_seconds", doubles(c->seconds, c->n));
+    char *text = json_dumps(j, JSON_COMPACT | JSON_REAL_PRECISION(17));
+    json_decref(j);
+    if (st == PLUME_OK)
+        plume_study_result_free(&res);
+    return text;
+}
+
+/* a JSON number that may be a NaN written as null (json_real refuses NaN: it is dropped) */
+static double number(json_t *o, const char *key)
+{
+    json_t *v = json_object_get(o, key);
+    return json_is_number(v) ? json_number_value(v) : NAN;
+}
+
+static int keep(void *vctx, int k, const char *record)
+{
+    study *s = vctx;
+    run *r = &s->runs[k];
+    json_t *j = json_loads(record, 0, NULL);
+    if (!j)
+        return 1;
+    memset(&r->res, 0, sizeof r->res);
+    r->st = (plume_status)json_integer_value(json_object_get(j, "status"));
+    snprintf(r->msg, sizeof r->msg, "%s", json_string_value(json_object_get(j, "message")));
+    r->res.strain = number(j, "strain"), r->res.stress = number(j, "stress"), r->res.wbar = number(j, "wbar");
+    r->res.seconds = number(j, "seconds");
+    r->res.iterations = (int)json_integer_value(json_object_get(j, "iterations"));
+    r->res.converged = json_is_true(json_object_get(j, "converged"));
+    r->res.complete = json_is_true(json_object_get(j, "complete"));
+    r->res.reason = (plume_reason)json_integer_value(json_object_get(j, "reason"));
+    r->res.elements = (long)json_integer_value(json_object_get(j, "elements"));
+    r->res.vertices = (long)json_integer_value(json_object_get(j, "vertices"));
+    plume_curve *c = &r->res.curve;
+    static const char *const names[5] = {"c_strain", "c_stress", "c_wbar", "c_iterations", "c_seconds"};
+    double **dst[5] = {&c->strain, &c->stress, &c->wbar, &c->iterations, &c->seconds};
+    c->n = (plume_index)json_array_size(json_object_get(j, names[0]));
+    for (int q = 0; q < 5; q++) {
+        json_t *a = json_object_get(j, names[q]);
+        *dst[q] = calloc((size_t)c->n + 1, sizeof(double));
+        for (plume_index i = 0; *dst[q] && i < c->n; i++) {
+            json_t *v = json_array_get(a, (size_t)i);
+            (*dst[q])[i] = json_is_number(v) ? json_number_value(v) : NAN;
+        }
+    }
+    json_decref(j);
+    return 0;
+}
+
 /* Parses argv into s's flags (dir, quick, json). 0, CLI_HELP after --help, or the exit code of
  * bad input. */
 static int parse_args(int argc, char **argv, study *s)
@@ -588,23 +688,65 @@ static int parse_args(int argc, char **argv, study *s)
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
+    int rank, size;
+    schedule_init(&argc, &argv, &rank, &size);
+    schedule_one_blas_thread();
     study s;
     memset(&s, 0, sizeof s);
     int rc0 = parse_args(argc, argv, &s);
-    if (rc0)
+    if (rc0) {
+        schedule_finalize();
         return rc0 == CLI_HELP ? 0 : rc0;
-    if (mkdir(s.dir, 0777) != 0 && errno != EEXIST)
-        return fprintf(stderr, "study: cannot create %s: %s\n", s.dir, strerror(errno)), 1;
-    struct stat sb;
-    if (stat(s.dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
-        return fprintf(stderr, "study: %s is not a directory\n", s.dir), 1;
+    }
+    /* the output directory first (rank 0), so that a bad one stops the study before its runs */
+    int bad_dir = 0;
+    if (rank == 0) {
+        struct stat sb;
+        if (mkdir(s.dir, 0777) != 0 && errno != EEXIST)
+            bad_dir = 1, fprintf(stderr, "study: cannot create %s: %s\n", s.dir, strerror(errno));
+        else if (stat(s.dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
+            bad_dir = 1, fprintf(stderr, "study: %s is not a directory\n", s.dir);
+    }
+    if (schedule_share(bad_dir)) {
+        schedule_finalize();
+        return 1;
+    }
     snprintf(s.h5, sizeof s.h5, "%s/study.h5", s.dir);
+    /* the runs: planned on every rank (the same walk), executed over the ranks */
+    FILE *null = fopen("/dev/null", "w");
+    if (!null) {
+        schedule_finalize();
+        return fprintf(stderr, "study: cannot open /dev/null\n"), 1;
+    }
+    s.planning = 1;
+    section_cost(&s, null);
+    section_solvers(&s, null);
+    section_sensitivity(&s, null);
+    section_scenes(&s, null);
+    section_stability(&s, null);
+    fclose(null);
+    s.planning = 0;
+    int *todo = malloc(((size_t)s.nruns + 1) * sizeof *todo);
+    for (int k = 0; k < s.nruns; k++)
+        todo[k] = k;
+    double t_runs = now();
+    int rc_runs = schedule_run(rank, size, todo, s.nruns, execute, keep, &s);
+    free(todo);
+    if (rank > 0) {
+        schedule_finalize();
+        return 0;
+    }
+    if (rc_runs)
+        fprintf(stderr, "study: a run's result was lost on its way to rank 0\n");
+    fprintf(stderr, "study: %d runs in %.1f s on %d rank%s\n", s.nruns, now() - t_runs, size, size == 1 ? "" : "s");
     char mdpath[1200], mdtmp[1300];
     snprintf(mdpath, sizeof mdpath, "%s/summary.md", s.dir);
     snprintf(mdtmp, sizeof mdtmp, "%s.tmp", mdpath);
     FILE *md = fopen(mdtmp, "w");
-    if (!md)
+    if (!md) {
+        schedule_finalize();
         return fprintf(stderr, "study: cannot write %s: %s\n", mdtmp, strerror(errno)), 1;
+    }
     s.t0 = now();
     fprintf(md, "# plume study (%s)\n\nWritten by `apps/study%s`. Curves of every run: study.h5, "
                 "/curves/study/<section>_<case>, with the run's parameters as attributes (`outcome` says converged "
@@ -623,6 +765,7 @@ int main(int argc, char **argv)
     int bad = ferror(md);
     if (fclose(md) != 0 || bad || rename(mdtmp, mdpath) != 0) {
         fprintf(stderr, "study: cannot write %s\n", mdpath);
+        schedule_finalize();
         return 1;
     }
     if (s.json) {
@@ -661,5 +804,6 @@ int main(int argc, char **argv)
     for (int i = 0; i < s.nruns; i++)
         plume_study_result_free(&s.runs[i].res);
     free(s.runs);
+    schedule_finalize();
     return s.write_failures ? 1 : 0;
 }

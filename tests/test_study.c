@@ -151,6 +151,34 @@ void test_study_app_quick(void)
             plume_test_failures++;
             fprintf(stderr, "    summary.md lacks '%s'\n", heads[k]);
         }
+    /* under mpirun -n 2 (MPI installed): the same curves, bit for bit, and the same study table */
+    if (system("command -v mpirun >/dev/null 2>&1") == 0 && system("ldd ../apps/study | grep -q libmpi") == 0) {
+        char cmd[1024];
+        snprintf(cmd, sizeof cmd, "mpirun --allow-run-as-root --oversubscribe -n 2 ../apps/study -o %s/m --quick "
+                                  ">%s/mpi.txt 2>&1", scratch, scratch);
+        CHECK(system(cmd) == 0);
+        char h5m[600];
+        snprintf(h5m, sizeof h5m, "%s/m/study.h5", scratch);
+        static const char *const names[] = {"sensitivity_reference", "cost_r10000_aligned-constraint_e0.05",
+                                            "cost_r10000_unaligned-penalty_e0.1", "solvers_e0.05_ipopt"};
+        int compared = 0;
+        for (int k = 0; k < 4; k++) {
+            plume_curve a, b;
+            plume_err e1 = {{0}}, e2 = {{0}};
+            if (plume_curve_read(h5, "study", names[k], &a, &e1) != PLUME_OK)
+                continue;
+            CHECK(plume_curve_read(h5m, "study", names[k], &b, &e2) == PLUME_OK);
+            if (b.stress) {
+                CHECK(a.n == b.n && memcmp(a.stress, b.stress, (size_t)a.n * sizeof *a.stress) == 0 &&
+                      memcmp(a.wbar, b.wbar, (size_t)a.n * sizeof *a.wbar) == 0);
+                plume_curve_free(&b);
+            }
+            plume_curve_free(&a);
+            compared++;
+        }
+        CHECK(compared == 4);
+        fprintf(stderr, "    mpirun -n 2: %d study curves compared with the serial run, equal to the bit\n", compared);
+    }
     /* bad flags */
     CHECK(app_run(scratch, "study", "--bogus", out, sizeof out, err, sizeof err) == 2);
     CHECK(strstr(err, "--bogus") != NULL);
