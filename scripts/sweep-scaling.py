@@ -7,7 +7,9 @@ beats it) and the efficiency.
 
     scripts/sweep-scaling.py RESULTS.json [--repeat K] [--ranks 1,2,8,...]
 
---repeat K schedules K copies of the runs (a K times larger sweep with the same cost spread)."""
+--repeat K schedules K copies of the runs (a K times larger sweep with the same cost spread).
+A second column gives the wall time had the runs been handed out longest first (which needs
+their costs in advance): the gap between the two is what the run order costs."""
 import heapq
 import json
 import sys
@@ -33,12 +35,13 @@ def main():
         ranks = [int(r) for r in args[args.index("--ranks") + 1].split(",")]
     costs = [float(r["seconds"]) for r in runs] * repeat
     total, longest = sum(costs), max(costs)
-    print("%d runs, %.2f s in all, the longest %.3f s (%.0fx the shortest)"
-          % (len(costs), total, longest, longest / max(min(costs), 1e-9)))
-    print("%6s %10s %10s %10s" % ("ranks", "wall (s)", "sum/N (s)", "efficiency"))
+    print("%d runs, %.2f s in all, the longest %.3f s (%.0fx the median)"
+          % (len(costs), total, longest, longest / max(sorted(costs)[len(costs) // 2], 1e-3)))
+    print("%6s %10s %14s %10s %10s" % ("ranks", "wall (s)", "longest first", "sum/N (s)", "efficiency"))
+    lpt = sorted(costs, reverse=True)
     for n in ranks:
         w = makespan(costs, n)
-        print("%6d %10.3f %10.3f %9.0f%%" % (n, w, total / n, 100.0 * total / (n * w)))
+        print("%6d %10.3f %14.3f %10.3f %9.0f%%" % (n, w, makespan(lpt, n), total / n, 100.0 * total / (n * w)))
 
 
 main()
