@@ -98,6 +98,8 @@ asan: deps
 # fuzzer coverage in build-fuzz/, each harness run on a scratch copy of its committed corpus for
 # FUZZ_SECONDS seconds; a crash fails the target and leaves its reproducer in build-fuzz/
 FUZZ_SECONDS ?= 10
+# a fixed seed: the same mutations on every CI run (0: libFuzzer picks one)
+FUZZ_SEED ?= 1
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
 FUZZ_HARNESSES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
 FUZZ_BINS := $(addprefix build-fuzz/fuzz_,$(FUZZ_HARNESSES))
@@ -113,7 +115,7 @@ fuzz: fuzz-build
 	@cd tests && for h in $(FUZZ_HARNESSES); do \
 	    rm -rf ../build-fuzz/corpus/$$h && mkdir -p ../build-fuzz/corpus/$$h && \
 	    echo "fuzz_$$h: $(FUZZ_SECONDS) s" && \
-	    PLUME_SRC=.. ../build-fuzz/fuzz_$$h -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=2560 \
+	    PLUME_SRC=.. ../build-fuzz/fuzz_$$h -max_total_time=$(FUZZ_SECONDS) -seed=$(FUZZ_SEED) -timeout=20 -rss_limit_mb=2560 \
 	        -print_final_stats=1 -artifact_prefix=../build-fuzz/crash-$$h- \
 	        ../build-fuzz/corpus/$$h fuzz/corpus/$$h 2>&1 | grep -E "stat::number_of_executed_units|stat::average_exec_per_sec|ERROR|SUMMARY|crash-" ; \
 	    test $${PIPESTATUS[0]} -eq 0 || exit 1; \

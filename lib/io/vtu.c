@@ -434,12 +434,14 @@ static plume_status read_array(const reader *r, const char *tag, const char *end
             return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': Points hold %zu values for %ld points", r->path, cnt,
                                  (long)d->npoints);
         }
+        free(d->points); /* a second Points array replaces the first */
         d->points = v;
         return PLUME_OK;
     }
     if (sec == SEC_CELLS) {
         plume_index *iv = NULL;
         if (strcmp(name, "types") == 0) {
+            free(d->types);
             d->types = malloc(cnt + 1);
             for (size_t k = 0; d->types && k < cnt; k++)
                 d->types[k] = (unsigned char)v[k];
@@ -448,13 +450,14 @@ static plume_status read_array(const reader *r, const char *tag, const char *end
             for (size_t k = 0; iv && k < cnt; k++)
                 iv[k] = (plume_index)v[k];
             if (name[0] == 'c')
-                free(d->connectivity), d->connectivity = iv;
+                free(d->connectivity), d->connectivity = iv, d->nconnectivity = (plume_index)cnt;
             else
                 free(d->offsets), d->offsets = iv;
         }
-        if (strcmp(name, "offsets") == 0 && cnt != (size_t)d->ncells) {
+        if ((strcmp(name, "offsets") == 0 || strcmp(name, "types") == 0) && cnt != (size_t)d->ncells) {
             free(v);
-            return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': %zu offsets for %ld cells", r->path, cnt, (long)d->ncells);
+            return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': %zu %s for %ld cells", r->path, cnt, name,
+                                 (long)d->ncells);
         }
         free(v);
         return PLUME_OK;
@@ -594,6 +597,9 @@ plume_status plume_vtu_read(const char *path, plume_vtu_data *out, plume_err *er
     if (st == PLUME_OK && out->ncells > 0) {
         /* offsets must rise and stay within the connectivity, which must name real points */
         plume_index prev = 0, nconn = out->offsets[out->ncells - 1];
+        if (nconn > out->nconnectivity)
+            st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': the cells end at %ld, past the %ld connectivity entries",
+                               path, (long)nconn, (long)out->nconnectivity);
         for (plume_index c = 0; c < out->ncells && st == PLUME_OK; c++) {
             if (out->offsets[c] < prev)
                 st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': cell offsets decrease at cell %ld", path, (long)c);

@@ -51,7 +51,8 @@ typedef struct {
 typedef struct {
     plume_index npoints, ncells;
     double *points;            /* [3 npoints] */
-    plume_index *connectivity; /* [offsets[ncells - 1]] */
+    plume_index *connectivity; /* [nconnectivity] (the cells use offsets[ncells - 1] of them) */
+    plume_index nconnectivity;
     plume_index *offsets;      /* [ncells] end of each cell in connectivity */
     unsigned char *types;      /* [ncells] VTK cell types */
     int npoint_arrays, ncell_arrays;
