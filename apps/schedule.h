@@ -179,10 +179,12 @@ static inline int schedule_run(int rank, int size, const int *todo, int ntodo, s
             pthread_join(local.thread, NULL);
             rc |= !local.rec || rec(ctx, local.k, local.rec);
             free(local.rec);
-            local.rec = NULL, local.state = 0, progress = 1;
+            local.rec = NULL, progress = 1;
+            __atomic_store_n(&local.state, 0, __ATOMIC_RELEASE);
         }
-        if (local.state == 0 && next < ntodo) { /* rank 0 takes the next run itself */
-            local.k = todo[next++], local.state = 1, progress = 1;
+        if (__atomic_load_n(&local.state, __ATOMIC_ACQUIRE) == 0 && next < ntodo) { /* rank 0 takes the next run itself */
+            local.k = todo[next++], progress = 1;
+            __atomic_store_n(&local.state, 1, __ATOMIC_RELEASE);
             if (pthread_create(&local.thread, NULL, schedule_local_main, &local) != 0) {
                 local.rec = ex(ctx, local.k); /* no thread: in place */
                 local.state = 2;
@@ -193,7 +195,7 @@ static inline int schedule_run(int rank, int size, const int *todo, int ntodo, s
         }
         for (int w = 1; w < size; w++)
             pending += outstanding[w];
-        if (next >= ntodo && local.state == 0 && pending == 0)
+        if (next >= ntodo && __atomic_load_n(&local.state, __ATOMIC_ACQUIRE) == 0 && pending == 0)
             break;
         if (!progress) {
             struct timespec ms = {0, 1000000};

@@ -17,6 +17,7 @@ import plume
 
 png = sys.argv[1] if len(sys.argv) > 1 else "python_example.png"
 print("plume", plume.version(), "from", plume.LIBRARY_PATH)
+plume.openmp_serial()  # plume is this script's main work: serial OpenMP regions (README, "Threads")
 
 # 1. Homogenised moduli of the default layout: barb strips (phi = 0.16 of the surface, E_b = 2.5 GPa)
 #    in a soft barbule matrix (1e-6 of the barb modulus), with nonlinear curves up to 5 % strain.

@@ -12,7 +12,6 @@
 #include <jansson.h>
 
 #include "../lib/dynamics.h"
-#include "../lib/openmp_env.h"
 #include "../lib/traction.h"
 #include "../micro/fit.h"
 #include "../micro/homogenize.h"
@@ -527,7 +526,6 @@ plume_status plume_flat_scene_open(const char *path, plume_flat_scene **out, cha
     if (!path || !out)
         return finish(plume_err_set(&err, PLUME_EINVAL, "scene: invalid arguments"), &err, msg, nmsg);
     *out = NULL;
-    plume_openmp_serial(); /* as the apps: CHOLMOD's OpenMP loops cost more than they save */
     plume_flat_scene *s = calloc(1, sizeof *s);
     if (!s)
         return finish(plume_err_set(&err, PLUME_ENOMEM, "scene: out of memory"), &err, msg, nmsg);

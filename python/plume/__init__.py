@@ -13,10 +13,10 @@ ImportError) when none loads.
 """
 from ._native import LIBRARY_PATH, LibraryNotFoundError, PlumeError
 from .api import (MODULI, Curve, FitResult, HomogenizeResult, Scene, TractionResult, fit,
-                  homogenize, traction, version)
+                  homogenize, openmp_serial, traction, version)
 
 __version__ = "0.2.0"
 
-__all__ = ["version", "homogenize", "traction", "fit", "Scene", "Curve", "HomogenizeResult",
+__all__ = ["version", "openmp_serial", "homogenize", "traction", "fit", "Scene", "Curve", "HomogenizeResult",
            "TractionResult", "FitResult", "PlumeError", "LibraryNotFoundError", "LIBRARY_PATH",
            "MODULI", "__version__"]

@@ -143,6 +143,7 @@ def _declare(name, restype, *argtypes):
 
 
 _declare("plume_strerror", _c_char_p, _c_int)
+_declare("plume_openmp_serial", None)
 _declare("plume_version", _c_char_p)
 for _job in ("homogenize", "traction", "fit"):
     _declare("plume_flat_" + _job, _c_int, _c_char_p, _text_out_t, _msg_t, _c_long)

@@ -18,7 +18,7 @@ import numpy as np
 from . import _native
 from ._native import PlumeError
 
-__all__ = ["version", "homogenize", "traction", "fit", "Scene", "Curve", "HomogenizeResult",
+__all__ = ["version", "openmp_serial", "homogenize", "traction", "fit", "Scene", "Curve", "HomogenizeResult",
            "TractionResult", "FitResult", "PlumeError", "MODULI"]
 
 #: The four orthotropic moduli, in the order plume uses: Pa, Pa, -, Pa.
@@ -28,6 +28,17 @@ MODULI = ("E_xx", "E_yy", "nu_xy", "G_xy")
 def version():
     """The version of the loaded libplume, e.g. "0.2.0"."""
     return _native.version()
+
+
+def openmp_serial():
+    """Makes OpenMP parallel regions serial in this process (plume_openmp_serial, lib/openmp_env.h).
+
+    plume's apps call it first: Debian's CHOLMOD opens 4-thread OpenMP regions per supernode, which
+    on a 2-core machine cost about a quarter of a scene's run in waits (README, "Threads"). It
+    affects every OpenMP library in the process, so plume never calls it by itself: call it when
+    plume is the process's main work. OMP_MAX_ACTIVE_LEVELS or OMP_THREAD_LIMIT in the
+    environment wins."""
+    _native.lib.plume_openmp_serial()
 
 
 # --- results --------------------------------------------------------------------------------------

@@ -76,6 +76,10 @@ class TestLibrary(unittest.TestCase):
         self.assertEqual(plume.version(), "0.2.0")
         self.assertEqual(plume.__version__, plume.version())
 
+    def test_openmp_serial(self):
+        self.assertIsNone(plume.openmp_serial())  # callable, returns nothing, idempotent
+        plume.openmp_serial()
+
     def test_loaded_library_exists(self):
         self.assertTrue(hasattr(_native.lib, "plume_flat_scene_open"))
         if os.sep in plume.LIBRARY_PATH:
