@@ -225,7 +225,14 @@ void test_sweep_app_ranks(void)
                  "mpirun --allow-run-as-root --oversubscribe -n %d ../apps/sweep %s/s.json -o %s/r%d.h5 --quiet "
                  ">%s/mpi.txt 2>&1",
                  np, dir, dir, np, dir);
-        CHECK(system(cmd) == 0);
+        int rc = system(cmd);
+        CHECK(rc == 0);
+        if (rc != 0) { /* what mpirun said */
+            snprintf(path, sizeof path, "%s/mpi.txt", dir);
+            static char said[4096];
+            app_slurp(path, said, sizeof said);
+            fprintf(stderr, "    mpirun -n %d failed: %s\n", np, said);
+        }
         snprintf(path, sizeof path, "%s/r%d.h5", dir, np);
         char *c = content(path, 9);
         CHECK(c && c1 && strcmp(c, c1) == 0);
