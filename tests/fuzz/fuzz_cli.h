@@ -25,4 +25,19 @@ static char **fuzz_argv(const uint8_t *data, size_t size, int *argc, char **copy
     return argv;
 }
 
+/* The whole harness for an app whose parse_args fills an options_type (the app's source included
+ * before this, with its main renamed): one line per app file. */
+#define FUZZ_CLI_HARNESS(options_type, init)                                                       \
+    int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)                                   \
+    {                                                                                               \
+        int argc;                                                                                   \
+        char *copy;                                                                                 \
+        char **argv = fuzz_argv(data, size, &argc, &copy);                                          \
+        options_type o;                                                                             \
+        init;                                                                                       \
+        parse_args(argc, argv, &o);                                                                 \
+        free(copy);                                                                                 \
+        return 0;                                                                                   \
+    }
+
 #endif

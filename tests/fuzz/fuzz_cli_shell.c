@@ -4,13 +4,4 @@
 #include "../../apps/shell.c"
 #undef main
 
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
-{
-    int argc;
-    char *copy;
-    char **argv = fuzz_argv(data, size, &argc, &copy);
-    options o;
-    parse_args(argc, argv, &o);
-    free(copy);
-    return 0;
-}
+FUZZ_CLI_HARNESS(options, (void)0)
