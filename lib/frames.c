@@ -277,8 +277,8 @@ static plume_status reserve_room(const char *path, plume_index nv, plume_index n
     off_t need = (off_t)(8 * (6 * (double)nv + (double)ncons)) + 65536;
     if (rc == 0)
         rc = posix_fallocate(fd, st.st_size, need);
-    if (rc != 0 && ftruncate(fd, st.st_size) != 0) { /* nothing half-reserved left behind */
-    }
+    if (rc != 0) /* nothing half-reserved left behind (a failure here changes nothing to report) */
+        (void)!ftruncate(fd, st.st_size);
     close(fd);
     if (rc != 0)
         return plume_err_set(err, PLUME_EIO, "frames file '%s': no room for another frame (%ld bytes): %s; the frames "
