@@ -430,17 +430,28 @@ plume_status plume_sweep_results_open(const char *h5path, const plume_sweep *s, 
     return st;
 }
 
+/* the results file read-only and its /sweep/runs group (-1 when there is none yet) */
+static plume_status open_runs(const char *h5path, hid_t *fid, hid_t *runs, plume_err *err)
+{
+    *runs = -1;
+    *fid = H5Fopen(h5path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (*fid < 0)
+        return plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot open", h5path);
+    if (H5Lexists(*fid, "/sweep/runs", H5P_DEFAULT) > 0)
+        *runs = H5Gopen2(*fid, "/sweep/runs", H5P_DEFAULT);
+    return PLUME_OK;
+}
+
 plume_status plume_sweep_results_done(const char *h5path, const plume_sweep *s, unsigned char *done, plume_err *err)
 {
     memset(done, 0, (size_t)s->count);
     h5_quiet q;
     quiet_begin(&q);
-    hid_t fid = H5Fopen(h5path, H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (fid < 0) {
+    hid_t fid, g;
+    if (open_runs(h5path, &fid, &g, err) != PLUME_OK) {
         quiet_end(&q);
-        return plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot open", h5path);
+        return PLUME_EIO;
     }
-    hid_t g = H5Lexists(fid, "/sweep/runs", H5P_DEFAULT) > 0 ? H5Gopen2(fid, "/sweep/runs", H5P_DEFAULT) : -1;
     for (int k = 0; g >= 0 && k < s->count; k++) {
         char name[32];
         snprintf(name, sizeof name, "%d", k);
@@ -575,12 +586,11 @@ plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const
         *json = NULL;
     h5_quiet q;
     quiet_begin(&q);
-    hid_t fid = H5Fopen(h5path, H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (fid < 0) {
+    hid_t fid, runs;
+    if (open_runs(h5path, &fid, &runs, err) != PLUME_OK) {
         quiet_end(&q);
-        return plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot open", h5path);
+        return PLUME_EIO;
     }
-    hid_t runs = H5Lexists(fid, "/sweep/runs", H5P_DEFAULT) > 0 ? H5Gopen2(fid, "/sweep/runs", H5P_DEFAULT) : -1;
     char tmp[4200];
     snprintf(tmp, sizeof tmp, "%s.tmp.%ld", md_path ? md_path : "", (long)getpid());
     FILE *md = md_path ? fopen(tmp, "w") : NULL;
