@@ -53,7 +53,7 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->inertia_corrections = 1;
     o->inertia_max_shift = 1.0;
     o->line_search = PLUME_LS_FILTER;
-    o->reuse_factorization = 0;
+    o->reuse_factorization = 1;
     o->reuse_rate = 0.25;
     o->kkt_refine = 1;
     o->verbose = 0;

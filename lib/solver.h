@@ -81,10 +81,12 @@ typedef struct {
     plume_kkt_mode kkt;    /* newton with constraints; default PLUME_KKT_ELIMINATE (same iterates,
                               2.2x faster factorisations at 4e4 elements than LDL^T) */
     plume_line_search line_search; /* newton with constraints; default PLUME_LS_FILTER */
-    int reuse_factorization; /* newton: chord steps with the last factorisation (across solves too)
-                                while each cuts the KKT residual by reuse_rate, undone and
-                                refactorised when one does not; default 0: measured slower once the
-                                KKT solves were refined (kkt_refine), README "native solver" */
+    int reuse_factorization; /* newton: chord steps (the last factorisation of this solve) in
+                                the end game, where the last two Newton steps predict a contraction
+                                below 1e-2 a step; each must cut the KKT residual by reuse_rate
+                                (else it is undone and the iteration refactorises), and they stop
+                                once their rate predicts more than 4 to converge; default 1
+                                (README "Chord steps") */
     double reuse_rate;     /* default 0.25 */
     int kkt_refine;        /* newton, eliminated KKT: factorise with a 1e4 times larger multiplier
                               regularisation and refine the solution iteratively against the

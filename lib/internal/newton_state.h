@@ -33,8 +33,10 @@ struct plume_newton {
     double filt[2 * 64];     /* filter line search: (theta, f) pairs of this solve (a ring) */
     int nfilt;
     double theta_max, theta_min;
-    int factor_valid;        /* the last factorisation may serve a chord step (kept across solves) */
+    int factor_valid;        /* the last factorisation (of this solve) may serve a chord step */
     double *jval_f;          /* [jnnz] the Jacobian that factorisation was built with */
+    double chord_last, chord_prev; /* the last two full Newton steps of this solve (max |du|; 0:
+                                none, or damped): they predict a chord step's contraction */
     double *u_s, *l_s, *grad_s, *g_s, *jval_s; /* the iterate before a chord step ... */
     double *u_b, *l_b;       /* the best iterate within the violation tolerance (round-off floor) */
     double saved_f, saved_g1, saved_viol;        /* ... and its f, |g|_1, violation */
