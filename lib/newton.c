@@ -9,7 +9,7 @@
  * - PLUME_KKT_ELIMINATE (default): the -dc I block is eliminated, leaving the SPD matrix
  *   H + dw I + J^T J / dcf on the Hessian's own pattern (edge constraints couple vertices that
  *   already share a triangle), factorised by CHOLMOD's supernodal LL^T; lam_new is recovered as
- *   lam + (J du + g) / dcf. With kkt_refine, dcf = 1e4 dc and iterative refinement solves the dc
+ *   lam + (J du + g) / dcf. With kkt_refine, dcf = 1e3 dc and iterative refinement solves the dc
  *   system (kkt_solve_j). Same iterates as LDL^T in our tests, 2-3x faster factorisations.
  * - PLUME_KKT_LDL: the quasi-definite matrix itself, whose LDL^T without pivoting exists for any
  *   ordering, by CHOLMOD's simplicial LDL^T.

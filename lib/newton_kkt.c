@@ -9,6 +9,12 @@
 
 #include "internal/newton_state.h"
 
+/* The factorised multiplier regularisation over the solved one (kkt_refine). Measured
+ * (2026-11-26): refinement passes over a tilted traction run at 4e4 elements 49 / 30 / 19 / 16 for
+ * 1e5 / 1e4 / 1e3 / 1e2, with the same iterations; the feather's iterations a step equal at 1e3
+ * and 1e4 (6.2 and 5.5 at its two meshes), more at 1e2 (6.4, 6.1): its soft modes need the digits. */
+#define DCF_OVER_DC 1e3
+
 /* KKT pattern: columns < n are the Hessian's; column n + r holds the free dofs of constraint r
  * (rows sorted) and its diagonal. */
 plume_status nt_build_kkt_pattern(plume_newton *s)
@@ -189,7 +195,7 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
             jmax = fmax(jmax, fabs(s->jval[k]));
         double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
         *dc_out = s->dc = dc;
-        s->dcf = s->eliminate && s->o.kkt_refine ? 1e4 * dc : dc;
+        s->dcf = s->eliminate && s->o.kkt_refine ? DCF_OVER_DC * dc : dc;
         double dw = fmax(dw_min, s->m && !s->eliminate ? 1e-12 * hmax : 0.0);
         /* Exact Hessian: Ipopt's inertia correction. Try no shift; if the matrix is not positive
          * definite, start from a third of the last shift that worked (or 1e-6 hmax the first
@@ -266,7 +272,7 @@ static plume_status elim_solve(plume_newton *s, const double *jv, const double *
  * With the multipliers eliminated, the factorised matrix is H + d I + J^T J / dcf with a dcf
  * larger than dc (kkt_refine): J^T J / dc is 1e8 times the Hessian's scale, and a Cholesky
  * factor of that loses 8 digits of the Hessian's own part (the soft, buckling directions of a
- * feather: Newton then converged linearly), while 1e4 loses 4. Iterative refinement against the
+ * feather: Newton then converged linearly), while 1e3 loses 5. Iterative refinement against the
  * dc system recovers the rest: its error contracts by dcf / (dcf + sigma(J H^-1 J^T)) a pass. */
 static plume_status kkt_solve_j(plume_newton *s, const double *jv, const double *r, double *out)
 {

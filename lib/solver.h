@@ -88,7 +88,7 @@ typedef struct {
                                 once their rate predicts more than 4 to converge; default 1
                                 (README "Chord steps") */
     double reuse_rate;     /* default 0.25 */
-    int kkt_refine;        /* newton, eliminated KKT: factorise with a 1e4 times larger multiplier
+    int kkt_refine;        /* newton, eliminated KKT: factorise with a 1e3 times larger multiplier
                               regularisation and refine the solution iteratively against the
                               requested one (a Cholesky factor of H + J^T J / dc, whose constraint
                               part is 1e8 times the Hessian's, loses 8 digits of H), to a relative
