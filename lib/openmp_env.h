@@ -9,6 +9,10 @@
  *   feather, 865 elements, 20 frames: 1.68-1.76 -> 1.21-1.29 s of solves;
  *   tilted traction at 4e4 elements: factorisations 2.16 -> 1.45 s, run 3.50 -> 2.86 s.
  * BLAS threads (OpenBLAS's own pthreads, which do the supernodes' dense work) are not affected.
+ * Even serial, libgomp builds and frees a team for each region (about 9 % of a traction run at
+ * 4e4 elements, README "Profile"): once this was called, plume's own definition of GOMP_parallel
+ * (lib/openmp_env.c), to which the program's calls bind, runs each region's body directly; before
+ * it, and wherever the user's environment keeps OpenMP's teams, it hands every call to libgomp.
  *
  * The library never changes a process-wide setting by itself: the apps, tests and benchmarks call
  * this at start, and so may any program that links libplume. */

@@ -1,0 +1,53 @@
+/* Tests of lib/openmp_env: after plume_openmp_serial (the runner calls it first) an OpenMP region
+ * runs its body once, as a team of one; where the environment keeps OpenMP's teams the regions are
+ * libgomp's own, with their threads (checked in a child runner, whose environment sets
+ * OMP_MAX_ACTIVE_LEVELS). CHOLMOD's regions are bound to the same definition, so the factorisation
+ * tests cover them too. */
+#define _DEFAULT_SOURCE
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "harness.h"
+
+/* libgomp's entry points, as GCC calls them (GCC's omp.h does not parse under clang) */
+void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigned flags);
+int omp_get_num_threads(void);
+
+typedef struct {
+    int calls, threads;
+} region_seen;
+
+static void body(void *data)
+{
+    region_seen *s = data;
+    __atomic_add_fetch(&s->calls, 1, __ATOMIC_SEQ_CST);
+    __atomic_store_n(&s->threads, omp_get_num_threads(), __ATOMIC_SEQ_CST);
+}
+
+/* Run by the runner itself (serial: one call, a team of one) and by the child below (teams kept:
+ * two calls from a team of two). */
+void test_openmp_env_zchild_regions(void)
+{
+    int teams = getenv("OMP_MAX_ACTIVE_LEVELS") || getenv("OMP_THREAD_LIMIT");
+    region_seen s = {0, 0};
+    GOMP_parallel(body, &s, 2, 0);
+    fprintf(stderr, "    %s: the body ran %d times, omp_get_num_threads() = %d\n",
+            teams ? "teams kept" : "serial", s.calls, s.threads);
+    CHECK(s.calls == (teams ? 2 : 1));
+    CHECK(s.threads == (teams ? 2 : 1));
+}
+
+void test_openmp_env_teams_kept(void)
+{
+    char self[PATH_MAX], cmd[PATH_MAX + 128];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    CHECK(n > 0);
+    if (n <= 0)
+        return;
+    self[n] = 0;
+    snprintf(cmd, sizeof cmd, "OMP_MAX_ACTIVE_LEVELS=2 '%s' test_openmp_env_zchild >/dev/null 2>&1", self);
+    CHECK(system(cmd) == 0);
+}
