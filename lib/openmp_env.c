@@ -38,8 +38,8 @@ static void find_next_gomp_parallel(void)
  * this definition (which the program's and libcholmod's calls bind to, plume being linked before
  * libgomp) runs fn(data) directly: a region of one thread, omp_get_num_threads() = 1 and
  * omp_get_thread_num() = 0 inside, as OpenMP specifies for one. Otherwise it hands the call to
- * the next definition, libgomp's, unchanged. Where plume's copy is not the one bound (a library
- * loaded with RTLD_LOCAL, as Python's ctypes does), libgomp's serial regions run as before. */
+ * the next definition, libgomp's, unchanged. Wherever plume's copy is not the one bound (an
+ * unusual load order), libgomp's serial regions run as before: slower, the same results. */
 void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigned flags)
 {
     if (!serial_regions) {
