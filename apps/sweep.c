@@ -24,8 +24,9 @@
 
 static const char usage[] =
     "usage: sweep SWEEP.json -o FILE.h5 [options]\n"
-    "Runs a parameter sweep (the format is in macro/sweep.h): every run's curve, parameters and outcome go to\n"
-    "FILE.h5 (/sweep/runs/<k>), a summary table to FILE.md. Runs already in FILE.h5 are not redone (resume).\n"
+    "Runs a parameter sweep (the format is in macro/sweep.h): every run's curve (or a scene's per-step measures\n"
+    "and final positions), parameters and outcome go to FILE.h5 (/sweep/runs/<k>), a summary table to FILE.md.\n"
+    "Runs already in FILE.h5 are not redone (resume).\n"
     "Under mpirun -n N (or srun) the runs are spread over the ranks as they free up; rank 0 writes.\n"
     "  -o FILE.h5          results file (required)\n"
     "  --summary FILE.md   summary table (default: FILE.h5 with .md)\n"

@@ -520,7 +520,8 @@ struct plume_flat_scene {
     long vtk_frames;
 };
 
-plume_status plume_flat_scene_open(const char *path, plume_flat_scene **out, char *msg, long nmsg)
+/* opens the scene document `json` standing for `path`, or (json NULL) the file at path */
+static plume_status scene_open(const char *json, const char *path, plume_flat_scene **out, char *msg, long nmsg)
 {
     plume_err err = {{0}};
     if (!path || !out)
@@ -529,7 +530,8 @@ plume_status plume_flat_scene_open(const char *path, plume_flat_scene **out, cha
     plume_flat_scene *s = calloc(1, sizeof *s);
     if (!s)
         return finish(plume_err_set(&err, PLUME_ENOMEM, "scene: out of memory"), &err, msg, nmsg);
-    plume_status st = plume_scene_load(path, &s->scene, &err);
+    plume_status st = json ? plume_scene_load_json(json, path, NULL, &s->scene, &err)
+                           : plume_scene_load(path, &s->scene, &err);
     if (st == PLUME_OK && s->scene->is_static)
         st = plume_err_set(&err, PLUME_EINVAL, "%s is a static scene (\"solve\": \"static\"): run it with apps/shell",
                            path);
@@ -541,6 +543,23 @@ plume_status plume_flat_scene_open(const char *path, plume_flat_scene **out, cha
     }
     *out = s;
     return finish(PLUME_OK, &err, msg, nmsg);
+}
+
+plume_status plume_flat_scene_open(const char *path, plume_flat_scene **out, char *msg, long nmsg)
+{
+    return scene_open(NULL, path, out, msg, nmsg);
+}
+
+plume_status plume_flat_scene_open_json(const char *json, const char *path, plume_flat_scene **out, char *msg,
+                                        long nmsg)
+{
+    if (!json) {
+        plume_err err = {{0}};
+        if (out)
+            *out = NULL;
+        return finish(plume_err_set(&err, PLUME_EINVAL, "scene: no document given"), &err, msg, nmsg);
+    }
+    return scene_open(json, path, out, msg, nmsg);
 }
 
 void plume_flat_scene_close(plume_flat_scene **ps)

@@ -52,6 +52,11 @@ typedef struct plume_flat_scene plume_flat_scene;
 
 /* Loads and sets up the scene at `path` (errors name the file, line and key). */
 plume_status plume_flat_scene_open(const char *path, plume_flat_scene **out, char *msg, long nmsg);
+/* The same from a scene document in memory (JSON text) standing for the file `path`: relative file
+ * names in it resolve against path's directory, errors name path and the key (macro/scene.h,
+ * plume_scene_load_json). */
+plume_status plume_flat_scene_open_json(const char *json, const char *path, plume_flat_scene **out, char *msg,
+                                        long nmsg);
 void plume_flat_scene_close(plume_flat_scene **s);
 
 /* Advances nsteps time steps of the scene's dt (each halved when it fails, as apps/feather does).

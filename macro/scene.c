@@ -139,12 +139,11 @@ plume_status plume_scene_load(const char *path, plume_scene **out, plume_err *er
     return plume_scene_load_with(path, NULL, out, err);
 }
 
-plume_status plume_scene_load_with(const char *path, const plume_scene_load_opts *o, plume_scene **out,
-                                   plume_err *err)
+/* The loading of a scene document in `text` (owned: freed here) that stands for the file `path`;
+ * lines: errors name the line of the bad key in text (the text is the file's). */
+static plume_status load_text(char *text, const char *path, int lines, const plume_scene_load_opts *o,
+                              plume_scene **out, plume_err *err)
 {
-    if (!path || !*path || !out)
-        return plume_err_set(err, PLUME_EINVAL, "scene: no file given");
-    *out = NULL;
     plume_json_ctx c;
     memset(&c, 0, sizeof c);
     c.file = path;
@@ -152,18 +151,17 @@ plume_status plume_scene_load_with(const char *path, const plume_scene_load_opts
     const char *slash = strrchr(path, '/');
     if (slash)
         snprintf(c.dir, sizeof c.dir, "%.*s", (int)(slash == path ? 1 : slash - path), path);
-    plume_status st;
-    c.text = plume_read_text(path, err, "scene", &st);
-    if (!c.text)
-        return st;
     json_error_t je;
-    json_t *doc = json_loads(c.text, JSON_REJECT_DUPLICATES, &je);
+    json_t *doc = json_loads(text, JSON_REJECT_DUPLICATES, &je);
     if (!doc) {
-        free(c.text);
-        return plume_err_set(err, PLUME_EFORMAT, "%s:%d:%d: %s", path, je.line, je.column, je.text);
+        free(text);
+        if (lines)
+            return plume_err_set(err, PLUME_EFORMAT, "%s:%d:%d: %s", path, je.line, je.column, je.text);
+        return plume_err_set(err, PLUME_EFORMAT, "%s (a scene document): %s", path, je.text);
     }
+    c.text = lines ? text : NULL; /* no text: a bad key is named without a line */
     plume_scene *s = calloc(1, sizeof *s);
-    st = PLUME_ENOMEM;
+    plume_status st = PLUME_ENOMEM;
     if (s && (s->path = malloc(strlen(path) + 1)) != NULL) {
         memcpy(s->path, path, strlen(path) + 1);
         st = parse_scene(&c, doc, s, o);
@@ -171,11 +169,38 @@ plume_status plume_scene_load_with(const char *path, const plume_scene_load_opts
         plume_err_set(err, st, "%s: out of memory", path);
     }
     json_decref(doc);
-    free(c.text);
+    free(text);
     if (st != PLUME_OK) {
         plume_scene_destroy(&s);
         return st;
     }
     *out = s;
     return PLUME_OK;
+}
+
+plume_status plume_scene_load_with(const char *path, const plume_scene_load_opts *o, plume_scene **out,
+                                   plume_err *err)
+{
+    if (!path || !*path || !out)
+        return plume_err_set(err, PLUME_EINVAL, "scene: no file given");
+    *out = NULL;
+    plume_status st;
+    char *text = plume_read_text(path, err, "scene", &st);
+    if (!text)
+        return st;
+    return load_text(text, path, 1, o, out, err);
+}
+
+plume_status plume_scene_load_json(const char *json, const char *path, const plume_scene_load_opts *o,
+                                   plume_scene **out, plume_err *err)
+{
+    if (!json || !path || !*path || !out)
+        return plume_err_set(err, PLUME_EINVAL, "scene: no document or no path given");
+    *out = NULL;
+    size_t n = strlen(json);
+    char *text = malloc(n + 1);
+    if (!text)
+        return plume_err_set(err, PLUME_ENOMEM, "%s: out of memory", path);
+    memcpy(text, json, n + 1);
+    return load_text(text, path, 0, o, out, err);
 }

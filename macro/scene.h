@@ -201,6 +201,13 @@ typedef struct {
  * scene's mesh (an edge for an OBJ) is an error naming the key. */
 plume_status plume_scene_load_with(const char *path, const plume_scene_load_opts *o, plume_scene **out,
                                    plume_err *err);
+
+/* plume_scene_load_with on a scene document held in memory (JSON text, e.g. a file's document
+ * with some keys changed: apps/sweep) instead of the file: `path` is the file it stands for, whose
+ * directory relative file names (OBJ meshes, feather shapes) resolve against; errors name `path`
+ * and the key, without a line (the text is not the file). The caller keeps json. */
+plume_status plume_scene_load_json(const char *json, const char *path, const plume_scene_load_opts *o,
+                                   plume_scene **out, plume_err *err);
 void plume_scene_destroy(plume_scene **s);
 
 /* Builds the problem (membrane and bending terms per material, edge-length constraints on the

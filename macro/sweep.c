@@ -19,6 +19,7 @@
 #include "../lib/progress.h"
 #include "../lib/sample.h"
 #include "flat.h"
+#include "internal/sweep_scene.h"
 
 /* one "vary" entry: its key and its values (JSON, owned) */
 typedef struct {
@@ -32,6 +33,8 @@ struct plume_sweep {
     json_t *base;
     int naxes, count;
     axis *axes;
+    int is_scene;
+    plume_sweep_scene scene; /* a scene job's file and document */
 };
 
 void plume_sweep_destroy(plume_sweep **ps)
@@ -44,6 +47,7 @@ void plume_sweep_destroy(plume_sweep **ps)
         json_decref(s->axes[a].values);
     }
     free(s->axes);
+    plume_sweep_scene_free(&s->scene);
     json_decref(s->base);
     free(s->path);
     free(s->text);
@@ -183,17 +187,21 @@ plume_status plume_sweep_load(const char *path, const char *samples_path, plume_
         }
     }
     const char *job = json_string_value(json_object_get(doc, "run"));
-    if (!job || (strcmp(job, "traction") && strcmp(job, "homogenize") && strcmp(job, "fit"))) {
-        st = plume_err_set(err, PLUME_EINVAL, "%s: \"run\" must be \"traction\", \"homogenize\" or \"fit\"", path);
+    if (!job || (strcmp(job, "traction") && strcmp(job, "homogenize") && strcmp(job, "fit") && strcmp(job, "scene"))) {
+        st = plume_err_set(err, PLUME_EINVAL, "%s: \"run\" must be \"traction\", \"homogenize\", \"fit\" or \"scene\"",
+                           path);
         goto fail;
     }
     s->job = strdup(job);
+    s->is_scene = strcmp(job, "scene") == 0;
     json_t *base = json_object_get(doc, "base");
     if (base && !json_is_object(base)) {
         st = plume_err_set(err, PLUME_EINVAL, "%s: \"base\" must be an object (a %s request)", path, job);
         goto fail;
     }
     s->base = base ? json_deep_copy(base) : json_object();
+    if (s->is_scene && (st = plume_sweep_scene_setup(path, s->base, &s->scene, err)) != PLUME_OK)
+        goto fail;
     json_t *vary = json_object_get(doc, "vary");
     if (vary && !json_is_object(vary)) {
         st = plume_err_set(err, PLUME_EINVAL, "%s: \"vary\" must be an object of key: values", path);
@@ -204,7 +212,7 @@ plume_status plume_sweep_load(const char *path, const char *samples_path, plume_
     json_object_foreach(vary, key, v) {
         axis *a = &s->axes[s->naxes++];
         a->key = strdup(key);
-        a->sample = strcmp(key, "sample") == 0;
+        a->sample = strcmp(key, "sample") == 0 && !s->is_scene;
         if (a->sample)
             a->values = sample_values(path, samples_path, v, err);
         else if (json_is_array(v) && json_array_size(v) > 0)
@@ -280,10 +288,11 @@ plume_status plume_sweep_request(const plume_sweep *s, int k, char **request, ch
     if (!s || k < 0 || k >= s->count || !request || !values)
         return plume_err_set(err, PLUME_EINVAL, "sweep: run %d is not one of the %d runs", k, s ? s->count : 0);
     *request = *values = NULL;
-    json_t *req = json_deep_copy(s->base), *vals = json_object();
+    json_t *req = s->is_scene ? plume_sweep_scene_request(&s->scene) : json_deep_copy(s->base), *vals = json_object();
     plume_status st = PLUME_OK;
     int rest = k, *index = malloc(((size_t)s->naxes + 1) * sizeof *index);
-    if (!index) {
+    if (!index || !req || !vals) {
+        free(index);
         json_decref(req), json_decref(vals);
         return plume_err_set(err, PLUME_ENOMEM, "sweep: out of memory");
     }
@@ -301,7 +310,11 @@ plume_status plume_sweep_request(const plume_sweep *s, int k, char **request, ch
                 st = set_dotted(req, keys[q], json_deep_copy(json_object_get(v, keys[q])), s->path, err);
             json_object_set(vals, "sample", json_object_get(v, "id"));
         } else {
-            st = set_dotted(req, ax->key, json_deep_copy(v), s->path, err);
+            if (s->is_scene) /* a key path into the scene's document */
+                st = plume_sweep_scene_set(json_object_get(req, "document"), ax->key, json_deep_copy(v), s->path,
+                                           s->scene.path, err);
+            else
+                st = set_dotted(req, ax->key, json_deep_copy(v), s->path, err);
             json_object_set(vals, ax->key, v);
         }
     }
@@ -332,6 +345,8 @@ char *plume_sweep_execute(const plume_sweep *s, int k)
         st = plume_flat_traction(req, &result, msg, sizeof msg);
     else if (strcmp(s->job, "fit") == 0)
         st = plume_flat_fit(req, &result, msg, sizeof msg);
+    else if (s->is_scene)
+        st = plume_sweep_scene_run(req, &result, msg, sizeof msg);
     else
         st = plume_flat_homogenize(req, &result, msg, sizeof msg);
     double seconds = plume_wall_seconds() - t0;
@@ -402,11 +417,18 @@ plume_status plume_sweep_results_open(const char *h5path, const plume_sweep *s, 
         if ((st = open_rw(h5path, &fid, err)) == PLUME_OK) {
             hid_t g = H5Lexists(fid, "/sweep", H5P_DEFAULT) > 0 ? H5Gopen2(fid, "/sweep", H5P_DEFAULT) : -1;
             char *file = g >= 0 ? attr_string(g, "file") : NULL;
+            char *scene = g >= 0 && s->is_scene ? attr_string(g, "scene") : NULL;
             if (!file || strcmp(file, s->text) != 0)
                 st = plume_err_set(err, PLUME_EINVAL,
                                    "sweep results '%s': holds %s (remove it, or name another output file)", h5path,
                                    file ? "another sweep's runs" : "no /sweep group of plume");
+            else if (s->is_scene && (!scene || strcmp(scene, s->scene.text) != 0)) /* its runs would mix two scenes */
+                st = plume_err_set(err, PLUME_EINVAL,
+                                   "sweep results '%s': the scene file %s changed since its runs were recorded (remove "
+                                   "it, or name another output file)",
+                                   h5path, s->scene.path);
             free(file);
+            free(scene);
             if (g >= 0)
                 H5Gclose(g);
             H5Fclose(fid);
@@ -417,7 +439,8 @@ plume_status plume_sweep_results_open(const char *h5path, const plume_sweep *s, 
         hid_t r = g >= 0 ? H5Gcreate2(g, "runs", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
         long runs = s->count;
         if (r < 0 || h5_write_attr_string(g, "job", s->job) < 0 || h5_write_attr_string(g, "file", s->text) < 0 ||
-            h5_write_attr(g, "runs", H5T_STD_I64LE, H5T_NATIVE_LONG, &runs) < 0)
+            h5_write_attr(g, "runs", H5T_STD_I64LE, H5T_NATIVE_LONG, &runs) < 0 ||
+            (s->is_scene && h5_write_attr_string(g, "scene", s->scene.text) < 0))
             st = plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot create: %s", h5path, strerror(errno));
         if (r >= 0)
             H5Gclose(r);
@@ -524,6 +547,8 @@ plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, i
         bad = !v || h5_write_dataset(g, curves[c], v, n, units[c]) < 0;
         free(v);
     }
+    if (!bad && s->is_scene) /* per-step measures, final positions, the run's numbers with units */
+        bad = plume_sweep_scene_write(g, res) < 0;
     /* the record without the arrays and without the timing: the content a sweep's spread leaves alone */
     json_t *slim = json_deep_copy(rec);
     json_object_del(slim, "seconds");
@@ -531,6 +556,8 @@ plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, i
     for (int c = 0; c < 3; c++)
         json_object_del(sres, curves[c]);
     json_object_del(sres, "iterations");
+    for (int c = 0; s->is_scene && plume_sweep_scene_arrays[c]; c++)
+        json_object_del(sres, plume_sweep_scene_arrays[c]);
     char *slim_text = json_dumps(slim, JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_SORT_KEYS);
     char *values = json_dumps(json_object_get(rec, "values"), JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_SORT_KEYS);
     const char *outcome = json_string_value(json_object_get(rec, "outcome"));
@@ -604,7 +631,11 @@ plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const
     json_t *arr = json_array();
     int recorded = 0, converged = 0;
     double total = 0.0;
-    if (md)
+    if (md && s->is_scene) /* a scene run's columns: its steps, time, displacement, contact distance */
+        fprintf(md, "# plume sweep: %s, %d runs (%s)\n\n| run | values | outcome | %s | seconds |\n"
+                    "|---|---|---|---|---|---|---|---|\n",
+                s->job, s->count, s->path, plume_sweep_scene_summary_header);
+    else if (md)
         fprintf(md, "# plume sweep: %s, %d runs (%s)\n\n| run | values | outcome | strain | stress (Pa) | seconds |\n"
                     "|---|---|---|---|---|---|\n",
                 s->job, s->count, s->path);
@@ -613,7 +644,7 @@ plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const
         snprintf(name, sizeof name, "%d", k);
         if (H5Lexists(runs, name, H5P_DEFAULT) <= 0) {
             if (md)
-                fprintf(md, "| %d | | not run | | | |\n", k);
+                fprintf(md, "| %d | | not run | | | |%s\n", k, s->is_scene ? " | |" : "");
             continue;
         }
         hid_t g = H5Gopen2(runs, name, H5P_DEFAULT);
@@ -637,15 +668,27 @@ plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const
                      json_number_value(json_object_get(res, "E_xx")), json_number_value(json_object_get(res, "E_yy")),
                      json_number_value(json_object_get(res, "nu_xy")), json_number_value(json_object_get(res, "G_xy")),
                      json_number_value(json_object_get(res, "residual")));
-        if (md)
-            fprintf(md, "| %d | `%s` | %s%s%.100s%s | %.6g | %.6g | %.3f |\n", k, values ? values : "",
-                    outcome ? outcome : "?", message ? ": " : "", message ? message : "", fitted, strain, stress,
-                    seconds);
-        json_array_append_new(arr, json_pack("{s:i, s:o, s:s, s:f, s:f, s:f}", "run", k, "values",
-                                             values ? json_loads(values, 0, NULL) : json_object(), "outcome",
-                                             outcome ? outcome : "?", "strain", isfinite(strain) ? strain : 0.0,
-                                             "stress", isfinite(stress) ? stress : 0.0, "seconds",
-                                             isfinite(seconds) ? seconds : 0.0));
+        if (s->is_scene) {
+            json_t *row = json_pack("{s:i, s:o, s:s, s:f}", "run", k, "values",
+                                    values ? json_loads(values, 0, NULL) : json_object(), "outcome",
+                                    outcome ? outcome : "?", "seconds", isfinite(seconds) ? seconds : 0.0);
+            char cells[256];
+            plume_sweep_scene_summary_row(res, cells, sizeof cells, row);
+            if (md)
+                fprintf(md, "| %d | `%s` | %s%s%.100s | %s | %.3f |\n", k, values ? values : "", outcome ? outcome : "?",
+                        message ? ": " : "", message ? message : "", cells, seconds);
+            json_array_append_new(arr, row);
+        } else {
+            if (md)
+                fprintf(md, "| %d | `%s` | %s%s%.100s%s | %.6g | %.6g | %.3f |\n", k, values ? values : "",
+                        outcome ? outcome : "?", message ? ": " : "", message ? message : "", fitted, strain, stress,
+                        seconds);
+            json_array_append_new(arr, json_pack("{s:i, s:o, s:s, s:f, s:f, s:f}", "run", k, "values",
+                                                 values ? json_loads(values, 0, NULL) : json_object(), "outcome",
+                                                 outcome ? outcome : "?", "strain", isfinite(strain) ? strain : 0.0,
+                                                 "stress", isfinite(stress) ? stress : 0.0, "seconds",
+                                                 isfinite(seconds) ? seconds : 0.0));
+        }
         free(values);
         free(outcome);
         free(rec);
