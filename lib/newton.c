@@ -64,6 +64,7 @@ void plume_newton_destroy(plume_newton **ps)
     free(s->u_b);
     free(s->l_b);
     free(s->grad);
+    free(s->grad_t);
     free(s->g);
     free(s->gt);
     free(s->rhs);
@@ -120,6 +121,7 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     s->u_b = malloc((size_t)(s->n + 1) * sizeof *s->u_b);
     s->l_b = malloc((size_t)(s->m + 1) * sizeof *s->l_b);
     s->grad = malloc((n + 1) * sizeof *s->grad);
+    s->grad_t = malloc((n + 1) * sizeof *s->grad_t);
     s->g = malloc((m + 1) * sizeof *s->g);
     s->gt = malloc((m + 1) * sizeof *s->gt);
     s->rhs = malloc((nk + 1) * sizeof *s->rhs);
@@ -127,7 +129,7 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     s->ut = malloc((n + 1) * sizeof *s->ut);
     s->jtl = malloc((n + 1) * sizeof *s->jtl);
     s->diagpos = malloc((nk + 1) * sizeof *s->diagpos);
-    if (!s->hval || !s->jval || !s->grad || !s->g || !s->gt || !s->rhs || !s->sol || !s->ut || !s->jtl ||
+    if (!s->hval || !s->jval || !s->grad || !s->grad_t || !s->g || !s->gt || !s->rhs || !s->sol || !s->ut || !s->jtl ||
         !s->diagpos || !s->jval_f || !s->rb || !s->rr || !s->rd || !s->jval_s || !s->u_s || !s->grad_s || !s->l_s || !s->g_s || !s->u_b ||
         !s->l_b) {
         st = PLUME_ENOMEM;
@@ -162,10 +164,21 @@ fail:
     return st;
 }
 
-/* f, grad, g, |g|_1, max relative violation and the Jacobian at u */
+/* f, grad, g, |g|_1, max relative violation and the Jacobian at u. When u is the line search's
+ * first trial, accepted, its f and gradient were computed with it (merit_at, trial_grad): the
+ * energy is then evaluated once an iteration instead of twice (the problem's current point is
+ * already u, for the constraints). */
 static plume_status evaluate(plume_newton *s, const double *u, double *f, double *g1, double *viol)
 {
-    plume_status st = plume_problem_objective(s->p, u, f, s->grad);
+    plume_status st = PLUME_OK;
+    if (s->trial_grad) {
+        double *t = s->grad;
+        s->grad = s->grad_t, s->grad_t = t;
+        *f = s->trial_f;
+        s->trial_grad = 0;
+    } else {
+        st = plume_problem_objective(s->p, u, f, s->grad);
+    }
     if (st != PLUME_OK)
         return st;
     *g1 = 0.0;
@@ -179,11 +192,17 @@ static plume_status evaluate(plume_newton *s, const double *u, double *f, double
     return plume_problem_jacobian(s->p, NULL, s->jval);
 }
 
-/* merit f + mu |g|_1 at u (no gradient) */
-static plume_status merit_at(plume_newton *s, const double *u, double mu, double *phi, double *fval)
+/* merit f + mu |g|_1 at u; with_grad: the gradient too, into s->grad_t, for evaluate() to take
+ * if this trial is accepted as it is (s->trial_grad) */
+static plume_status merit_at(plume_newton *s, const double *u, double mu, double *phi, double *fval, int with_grad)
 {
     double f;
-    plume_status st = plume_problem_objective(s->p, u, &f, NULL);
+    s->trial_grad = 0;
+    plume_status st = plume_problem_objective(s->p, u, &f, with_grad ? s->grad_t : NULL);
+    if (st == PLUME_OK && with_grad && isfinite(f)) {
+        s->trial_grad = 1;
+        s->trial_f = f;
+    }
     if (st == PLUME_ESINGULAR) { /* a trial where a term is undefined (a degenerate triangle) */
         *fval = *phi = INFINITY;
         return PLUME_OK;
@@ -271,6 +290,7 @@ static plume_status soc_trial(plume_newton *s, const double *u, const double *du
         s->rhs[i] = 0.0;
     for (plume_index r = 0; r < m; r++)
         s->rhs[n + r] = -s->gt[r];
+    s->trial_grad = 0; /* s->ut is about to be another point */
     *ok = nt_kkt_solve(s, s->rhs, s->rhs) == PLUME_OK;
     if (!*ok)
         return PLUME_OK;
@@ -288,7 +308,7 @@ static plume_status soc_trial(plume_newton *s, const double *u, const double *du
             return PLUME_OK;
         }
     }
-    return merit_at(s, s->ut, mu, phi, ft);
+    return merit_at(s, s->ut, mu, phi, ft, 0);
 }
 
 /* relative KKT residual from the current grad, jval and lambda */
@@ -342,6 +362,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     plume_index n = s->n, m = s->m;
     double L = plume_problem_length_scale(s->p);
     double f, g1, viol, mu = 0.0;
+    s->trial_grad = 0; /* a trial left by an earlier solve is not this start */
     plume_status st = evaluate(s, u, &f, &g1, &viol);
     if (st != PLUME_OK)
         return st;
@@ -384,6 +405,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                 memcpy(u, s->u_b, (size_t)n * sizeof *u);
                 if (m > 0)
                     memcpy(lambda, s->l_b, (size_t)m * sizeof *lambda);
+                s->trial_grad = 0;
                 if ((st = evaluate(s, u, &f, &g1, &viol)) != PLUME_OK)
                     return st;
                 ok = 1;
@@ -457,6 +479,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
         int accepted = 0;
         int negligible = step_max <= s->o.tol_step * L;
         last_negligible = negligible;
+        s->trial_grad = 0; /* no trial of this iteration evaluated yet */
         if (s->single_step || negligible) {
             /* one linearised step, or a step at round-off level: no line search to do, and the
              * multipliers are taken whole (they may still have far to go) */
@@ -480,7 +503,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                 }
                 for (plume_index i = 0; i < n; i++)
                     s->ut[i] = u[i] + alpha * du[i];
-                if ((st = merit_at(s, s->ut, mu, &phi, &ft)) != PLUME_OK)
+                if ((st = merit_at(s, s->ut, mu, &phi, &ft, ls == 0)) != PLUME_OK)
                     return st;
                 if (filter) {
                     /* filter line search; a step below 2^-30 falls back to the merit function,

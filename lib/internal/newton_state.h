@@ -42,6 +42,9 @@ struct plume_newton {
     double saved_f, saved_g1, saved_viol;        /* ... and its f, |g|_1, violation */
     double *kwork, *lwork;   /* [n+1], [m+1] eliminate: workspaces */
     double *hval, *kval, *jval, *grad, *g, *gt, *rhs, *sol, *ut, *jtl;
+    double *grad_t;          /* [n+1] the gradient at the line search's first trial s->ut ... */
+    int trial_grad;          /* ... valid (s->ut unchanged since), with its energy trial_f */
+    double trial_f;
     plume_chol *chol;
 };
 
