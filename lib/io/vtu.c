@@ -304,7 +304,7 @@ static plume_status read_block(const reader *r, size_t offset, unsigned char **o
 {
     const size_t w = r->header64 ? 8 : 4;
     *out = NULL;
-    if (offset + w > r->data_len)
+    if (offset > r->data_len || r->data_len - offset < w) /* offset + w could wrap */
         return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': an array's offset %zu lies past the appended data", r->path, offset);
     reader sub = *r;
     sub.data = r->data + offset;
