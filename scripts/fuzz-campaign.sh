@@ -5,10 +5,12 @@
 # and the crash/timeout/leak artifacts it left in build-fuzz/campaign/ (none means none found).
 # RESUME=1 continues a harness stopped by a finding (once it is fixed) from the corpus it had grown;
 # its earlier log and artifacts move to build-fuzz/campaign/<harness>/run-<n>/.
-#   scripts/fuzz-campaign.sh [harness ...]      RUNS=1000000 SECONDS_MAX=3600 JOBS=2 RESUME=0
+# TIMEOUT (seconds, default 20) is wall time: a process paused (SIGSTOP) that long times out, so a
+# machine where others pause it needs more; the slowest input over 10 s is still kept (slow-unit-*).
+#   scripts/fuzz-campaign.sh [harness ...]      RUNS=1000000 SECONDS_MAX=3600 JOBS=2 RESUME=0 TIMEOUT=20
 set -uo pipefail
 cd "$(dirname "$0")/.."
-RUNS=${RUNS:-1000000} SECS=${SECONDS_MAX:-3600} JOBS=${JOBS:-2} RESUME=${RESUME:-0}
+RUNS=${RUNS:-1000000} SECS=${SECONDS_MAX:-3600} JOBS=${JOBS:-2} RESUME=${RESUME:-0} TIMEOUT=${TIMEOUT:-20}
 make -s fuzz-build >/dev/null || exit 1
 out=build-fuzz/campaign
 mkdir -p "$out"
@@ -25,7 +27,7 @@ run_one() {
         rm -rf "$dir"
     fi
     mkdir -p "$dir/corpus"
-    (cd tests && PLUME_SRC=.. "../build-fuzz/fuzz_$h" -runs="$RUNS" -max_total_time="$SECS" -timeout=20 \
+    (cd tests && PLUME_SRC=.. "../build-fuzz/fuzz_$h" -runs="$RUNS" -max_total_time="$SECS" -timeout="$TIMEOUT" \
         -rss_limit_mb=2560 -print_final_stats=1 -artifact_prefix="../$dir/" "../$dir/corpus" "fuzz/corpus/$h" \
         >"../$dir/log.txt" 2>&1)
     local rc=$?
@@ -38,5 +40,5 @@ run_one() {
         "${rate:-?}" "$found" "${arts:-none}"
 }
 export -f run_one
-export RUNS SECS RESUME out
+export RUNS SECS RESUME TIMEOUT out
 printf "%s\n" "${harnesses[@]}" | xargs -P "$JOBS" -I{} bash -c 'run_one {}'
