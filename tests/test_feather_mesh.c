@@ -747,6 +747,19 @@ void test_feather_mesh_bad_inputs(void)
     expect_error(&in, "barbs_left[0]", "outside the outline");
     in = f.in;
 
+    /* a barb point far out (5 for 0.05: fuzzing found a barb whose sampling and walks took minutes),
+     * and a rachis point far out */
+    double far[6] = {0, 0.04, -0.01, 0.045, -5.0, 0.05};
+    bl.p = far, bl.n = 3;
+    in.barbs_left = &bl;
+    expect_error(&in, "barbs_left[0]: point 2 (-5, 0.05)", "outside the outline's bounding box");
+    in = f.in;
+    double r_far[6] = {0.0, 0.01, 0.0, 0.05, 0.0, 9.0};
+    in.rachis.p = r_far, in.rachis.n = 3;
+    expect_error(&in, "rachis: point 2", "outside the outline's bounding box");
+    in = f.in;
+    bl = f.barbs[0][0];
+
     /* a self-intersecting barb curve */
     double zigzag[8] = {0, 0.03, -0.01, 0.04, -0.01, 0.03, 0, 0.04};
     bl.p = zigzag, bl.n = 4;

@@ -31,29 +31,43 @@ static int copy(const char *src, const char *dst)
     return ok;
 }
 
-/* a feather scene in dir reading dir/outline_in.obj and the shipped shape */
-static plume_status feather_outline(const char *dir, const char *reproducer, plume_err *err)
+/* the harnesses' feather scene in dir (tests/fuzz/fuzz_scene_common.h), loaded: its shape file a
+ * copy of shape, its outline a copy of outline */
+static plume_status feather_scene(const char *dir, const char *shape, const char *outline, plume_err *err)
 {
     char path[512];
     snprintf(path, sizeof path, "%s/outline_in.obj", dir);
-    if (!copy(reproducer, path))
+    if (!copy(outline, path))
         return PLUME_EIO;
     snprintf(path, sizeof path, "%s/shape_in.json", dir);
-    if (!copy("../data/feather/feather_shape.json", path))
+    if (!copy(shape, path))
         return PLUME_EIO;
     snprintf(path, sizeof path, "%s/feather_in.json", dir);
     FILE *f = fopen(path, "w");
     if (!f)
         return PLUME_EIO;
-    fputs("{\"mesh\": {\"feather\": \"shape_in.json\", \"outline\": \"outline_in.obj\", \"edge\": 0.02}, \"materials\": "
-          "[{\"membrane\": {\"E\": 1e6, \"thickness\": 1e-4}, \"density\": 0.03, \"constraint\": true}, {\"membrane\": "
-          "{\"E\": 1e9, \"thickness\": 3e-3}, \"density\": 0.5}], \"dt\": 0.01, \"duration\": 0.1}",
+    fputs("{\"bending_model\": \"hinge\", \"mesh\": {\"feather\": \"shape_in.json\", \"outline\": \"outline_in.obj\", "
+          "\"edge\": 0.02}, \"materials\": [{\"membrane\": {\"E\": 1e6, \"thickness\": 1e-4}, \"density\": 0.03, "
+          "\"constraint\": true}, {\"membrane\": {\"E\": 1e9, \"thickness\": 3e-3}, \"density\": 0.5}], \"dt\": 0.01, "
+          "\"duration\": 0.1}",
           f);
     fclose(f);
     plume_scene *s = NULL;
     plume_status st = plume_scene_load(path, &s, err);
     plume_scene_destroy(&s);
     return st;
+}
+
+/* the reproducer as the outline, with the shipped shape */
+static plume_status feather_outline(const char *dir, const char *reproducer, plume_err *err)
+{
+    return feather_scene(dir, "../data/feather/feather_shape.json", reproducer, err);
+}
+
+/* the reproducer as the shape file, with the shipped outline */
+static plume_status feather_shape(const char *dir, const char *reproducer, plume_err *err)
+{
+    return feather_scene(dir, reproducer, "../data/feather/outline.obj", err);
 }
 
 static plume_status vtu(const char *dir, const char *reproducer, plume_err *err)
@@ -85,7 +99,7 @@ void test_fuzz_regressions(void)
     static const struct {
         const char *harness;
         plume_status (*replay)(const char *dir, const char *reproducer, plume_err *err);
-    } kinds[] = {{"feather_outline", feather_outline}, {"vtu", vtu}, {"h5", h5}};
+    } kinds[] = {{"feather_outline", feather_outline}, {"feather_shape", feather_shape}, {"vtu", vtu}, {"h5", h5}};
     char dir[64] = "/tmp/plume-fuzzreg-XXXXXX";
     if (!mkdtemp(dir)) {
         CHECK(0);
@@ -114,7 +128,7 @@ void test_fuzz_regressions(void)
         if (d)
             closedir(d);
     }
-    CHECK(replayed >= 3);
+    CHECK(replayed >= 4);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     CHECK(system(cmd) == 0);

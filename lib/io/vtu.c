@@ -304,7 +304,7 @@ static plume_status read_block(const reader *r, size_t offset, unsigned char **o
 {
     const size_t w = r->header64 ? 8 : 4;
     *out = NULL;
-    if (offset + w > r->data_len)
+    if (offset > r->data_len || r->data_len - offset < w) /* offset + w could wrap */
         return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': an array's offset %zu lies past the appended data", r->path, offset);
     reader sub = *r;
     sub.data = r->data + offset;
@@ -440,6 +440,18 @@ static plume_status read_array(const reader *r, const char *tag, const char *end
     }
     if (sec == SEC_CELLS) {
         plume_index *iv = NULL;
+        if (strcmp(name, "types") == 0 || strcmp(name, "connectivity") == 0 || strcmp(name, "offsets") == 0) {
+            /* these become integers: a value out of range or fractional is refused (a cast of 2.6e10
+             * to a cell type was undefined behaviour: found by fuzzing) */
+            const double max = name[0] == 't' ? 255.0 : 9007199254740992.0; /* a byte; 2^53 */
+            for (size_t k = 0; k < cnt; k++)
+                if (!(v[k] >= 0.0 && v[k] <= max) || v[k] != floor(v[k])) {
+                    const double bad = v[k];
+                    free(v);
+                    return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': %s[%zu] = %g is not an integer in [0, %.0f]",
+                                         r->path, name, k, bad, max);
+                }
+        }
         if (strcmp(name, "types") == 0) {
             free(d->types);
             d->types = malloc(cnt + 1);
