@@ -350,7 +350,7 @@ void test_robustness_kills(void)
                  plume_frames_info_read(h5, &info, &err) == PLUME_OK && info.count == 9;
         }
         if (!ok)
-            fprintf(stderr, "    feather killed: %s (committed %ld): %s\n", h5, committed, err.msg);
+            fprintf(stderr, "    feather killed: %s (committed %ld): %s%s\n", h5, committed, err.msg, errs);
         survived += ok;
     }
     fprintf(stderr, "    kills: %d trials, %d survived (outputs readable, restarts complete)\n", trials, survived);
