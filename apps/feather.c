@@ -189,18 +189,7 @@ typedef struct {
 static int contact_monitor_start(contact_monitor *cm, const plume_scene *s, plume_err *err)
 {
     memset(cm, 0, sizeof *cm);
-    const plume_mesh *m = s->mesh;
-    int *body = malloc((size_t)(m->nv + 1) * sizeof *body);
-    if (!body || plume_scene_bodies(s, body) < 0) {
-        free(body);
-        plume_err_set(err, PLUME_ENOMEM, "out of memory");
-        return 0;
-    }
-    plume_contact_broad_opts bo;
-    plume_contact_broad_opts_default(&bo);
-    bo.self_contact = s->contact.self_contact;
-    plume_status st = plume_contact_broad_create(m->nv, m->nt, m->tri, body, &bo, &cm->broad, err);
-    free(body);
+    plume_status st = plume_scene_contact_broad(s, &cm->broad, err);
     cm->cap = 10.0 * s->contact.pair.dhat;
     cm->min_distance = cm->cap;
     return st == PLUME_OK;

@@ -235,6 +235,11 @@ plume_status plume_scene_statics(const plume_scene *s, plume_problem **p, plume_
  * mesh, numbered from 0 in vertex order; returns their count. */
 int plume_scene_bodies(const plume_scene *s, int *body);
 
+/* A broad phase over the scene's bodies (plume_scene_bodies) with the scene's self-contact
+ * setting, for measuring distances and intersections after each step (apps/feather, sweeps);
+ * the caller destroys *out. */
+plume_status plume_scene_contact_broad(const plume_scene *s, plume_contact_broad **out, plume_err *err);
+
 /* Mean displacement (3) of probe k at positions x (3 nv). */
 void plume_scene_probe_displacement(const plume_scene *s, int k, const double *x, double u[3]);
 

@@ -72,3 +72,19 @@ int plume_scene_bodies(const plume_scene *s, int *body)
     free(parent);
     return n;
 }
+
+plume_status plume_scene_contact_broad(const plume_scene *s, plume_contact_broad **out, plume_err *err)
+{
+    const plume_mesh *m = s->mesh;
+    int *body = malloc((size_t)(m->nv + 1) * sizeof *body);
+    if (!body || plume_scene_bodies(s, body) < 0) {
+        free(body);
+        return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
+    }
+    plume_contact_broad_opts bo;
+    plume_contact_broad_opts_default(&bo);
+    bo.self_contact = s->contact.self_contact;
+    plume_status st = plume_contact_broad_create(m->nv, m->nt, m->tri, body, &bo, out, err);
+    free(body);
+    return st;
+}

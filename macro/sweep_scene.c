@@ -211,19 +211,8 @@ typedef struct {
 
 static plume_status monitor_start(contact_monitor *cm, const plume_scene *s, plume_err *err)
 {
-    const plume_mesh *m = s->mesh;
-    int *body = malloc((size_t)(m->nv + 1) * sizeof *body);
-    if (!body || plume_scene_bodies(s, body) < 0) {
-        free(body);
-        return plume_err_set(err, PLUME_ENOMEM, "scene run: out of memory");
-    }
-    plume_contact_broad_opts bo;
-    plume_contact_broad_opts_default(&bo);
-    bo.self_contact = s->contact.self_contact;
-    plume_status st = plume_contact_broad_create(m->nv, m->nt, m->tri, body, &bo, &cm->broad, err);
-    free(body);
     cm->cap = 10.0 * s->contact.pair.dhat;
-    return st;
+    return plume_scene_contact_broad(s, &cm->broad, err);
 }
 
 static json_t *array_real(const double *v, long n)
