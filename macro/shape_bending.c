@@ -106,7 +106,9 @@
  * products of barycentrics), divided by the distance of the farthest stencil vertex from T's
  * centroid in units of T's longest edge, because the cubic remainder of a smooth surface grows
  * with that distance. A complete natural stencil is kept if s >= SHAPE_GOOD_STENCIL; otherwise (the six
- * points near a common conic) all three vertices are chosen anew from the ring. No stencil with
+ * points near a common conic) all three vertices are chosen anew from the ring. A ring of more
+ * than SHAPE_MAX_CANDIDATES vertices (a fan round one vertex) offers that many, spread round T,
+ * since every triple is tried. No stencil with
  * s >= SHAPE_MIN_STENCIL: PLUME_EINVAL (a mesh of one or two triangles has none).
  *
  * Why this and not midedge normals. The discrete shape operators of Grinspun et al. 2006
@@ -169,6 +171,15 @@
 
 /* Rings searched for replacement stencil vertices, nearest first. */
 #define SHAPE_MAX_RING 3
+
+/* Candidates tried from one ring: at most this many, the nearest to T's centroid in each of
+ * SHAPE_CANDIDATE_SECTORS directions, both measured with T mapped to an equilateral triangle
+ * (ring_candidates). The search tries every triple, so its
+ * cost is the cube of this; without the bound a fan of k triangles round one vertex cost about
+ * k^4 (2.3 s for k = 100). Regular meshes' 2-rings hold fewer, so their stencils are the
+ * unbounded search's. */
+#define SHAPE_MAX_CANDIDATES 32
+#define SHAPE_CANDIDATE_SECTORS 8
 
 
 /* A point of a triangle's stencil: a vertex (a slot of the triangle's vertex list) or, on a
@@ -614,6 +625,9 @@ typedef struct {
     plume_index *ring;          /* candidate vertices */
     plume_index cap, nring;
     plume_index stamp;
+    struct near_cand { double d; plume_index v, at; int rank, sector; } *near; /* [near_cap]: ring_candidates' sort */
+    plume_index near_cap;
+    plume_index cand[SHAPE_MAX_CANDIDATES];
 } search_ws;
 
 static int ring_push(search_ws *W, plume_index v)
@@ -674,6 +688,72 @@ static double stencil_score(const ref_tri *R, const plume_mesh *m, const ghost_r
     return *quality / fmax(far, 1e-300);
 }
 
+static int near_cmp(const void *a, const void *b)
+{
+    const struct near_cand *x = a, *y = b;
+    if (x->rank != y->rank)
+        return x->rank < y->rank ? -1 : 1;
+    if (x->d != y->d)
+        return x->d < y->d ? -1 : 1;
+    return (x->at > y->at) - (x->at < y->at);
+}
+
+static int at_cmp(const void *a, const void *b)
+{
+    const struct near_cand *x = a, *y = b;
+    return (x->at > y->at) - (x->at < y->at);
+}
+
+/* The candidates of the current ring (W->ring without T's three vertices): all of them if they
+ * are at most SHAPE_MAX_CANDIDATES, else that many taken round the compass: the nearest to T's
+ * centroid in each of SHAPE_CANDIDATE_SECTORS angular sectors, then the second nearest in each,
+ * and so on. Angles and distances are those of the plane mapped affinely so that T is
+ * equilateral, since s(M) is affine-invariant: the nearest alone can all lie near one line (a
+ * fan's rim, for a thin triangle), and a quadratic fit needs points spread round T. Returned in ring order (the order the unbounded search tried them in) in *C and
+ * *nc. Returns 0 on allocation failure. */
+static int ring_candidates(search_ws *W, const plume_mesh *m, const ref_tri *R, const plume_index **C,
+                           plume_index *nc)
+{
+    const plume_index n = W->nring - 3;
+    if (n <= SHAPE_MAX_CANDIDATES) {
+        *C = W->ring + 3;
+        *nc = n;
+        return 1;
+    }
+    if (W->near_cap < n) {
+        struct near_cand *q = realloc(W->near, (size_t)n * sizeof *q);
+        if (!q)
+            return 0;
+        W->near = q;
+        W->near_cap = n;
+    }
+    int in_sector[SHAPE_CANDIDATE_SECTORS];
+    for (int k = 0; k < SHAPE_CANDIDATE_SECTORS; k++)
+        in_sector[k] = 0;
+    for (plume_index i = 0; i < n; i++) {
+        const plume_index v = W->ring[3 + i];
+        /* T mapped to an equilateral triangle, its centroid at the origin */
+        double l[3];
+        barycentric(R, m->X + 2 * v, l);
+        const double dx = l[1] - l[2], dy = (2.0 * l[0] - l[1] - l[2]) / 1.7320508075688772;
+        const double turn = atan2(dy, dx) / (2.0 * 3.14159265358979323846) + 0.5; /* [0, 1] */
+        const int sec = (int)(turn * SHAPE_CANDIDATE_SECTORS);
+        W->near[i] = (struct near_cand){hypot(dx, dy), v, i, 0,
+                                        sec < 0 ? 0 : sec >= SHAPE_CANDIDATE_SECTORS ? SHAPE_CANDIDATE_SECTORS - 1 : sec};
+    }
+    /* rank in its sector by distance, then take by rank */
+    qsort(W->near, (size_t)n, sizeof *W->near, near_cmp); /* all ranks 0: by distance */
+    for (plume_index i = 0; i < n; i++)
+        W->near[i].rank = in_sector[W->near[i].sector]++;
+    qsort(W->near, (size_t)n, sizeof *W->near, near_cmp);
+    qsort(W->near, SHAPE_MAX_CANDIDATES, sizeof *W->near, at_cmp);
+    for (plume_index i = 0; i < SHAPE_MAX_CANDIDATES; i++)
+        W->cand[i] = W->near[i].v;
+    *C = W->cand;
+    *nc = SHAPE_MAX_CANDIDATES;
+    return 1;
+}
+
 /* Chooses p[3] for triangle t (natural opposite vertices in p, -1 where the edge is on the
  * boundary; ghost slots, gr->gp[k] != NULL, are kept whatever happens). Returns the chosen
  * stencil's s(M) (0 if none was found), or -1 on allocation failure. */
@@ -712,9 +792,11 @@ static double choose_stencil(const plume_mesh *m, plume_index t, const ref_tri *
     for (int ring = 1; ring <= SHAPE_MAX_RING; ring++) {
         if (!ring_grow(W, m))
             return -1.0;
-        /* candidates: the ring without T's vertices (ring[0..2]) */
-        const plume_index *C = W->ring + 3;
-        const plume_index nc = W->nring - 3;
+        /* candidates: the ring without T's vertices (ring[0..2]), its nearest if many */
+        const plume_index *C;
+        plume_index nc;
+        if (!ring_candidates(W, m, R, &C, &nc))
+            return -1.0;
         for (int full = 0; full < 2; full++) {
             /* first only the missing slots (natural and ghost vertices kept), then every
              * non-ghost slot anew */
@@ -1218,5 +1300,6 @@ cleanup:
     free(W.vtri);
     free(W.mark);
     free(W.ring);
+    free(W.near);
     return st;
 }
