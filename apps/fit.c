@@ -224,7 +224,6 @@ int main(int argc, char **argv)
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     int rank, size;
     schedule_init(&argc, &argv, &rank, &size);
-    schedule_one_blas_thread();
     options o;
     int rc0 = parse_args(argc, argv, &o);
     if (rc0) {

@@ -20,18 +20,6 @@
 #include <time.h>
 #endif
 
-/* OpenBLAS's thread count, when the BLAS is OpenBLAS (a weak reference: NULL otherwise) */
-extern void openblas_set_num_threads(int n) __attribute__((weak));
-
-/* One BLAS thread per process: the runs are the parallelism, and a run then gives the same bits
- * on any rank. Measured on 2 cores, the 24 runs of data/sweeps/mesh_angles.json took 13.6 s
- * serially with OpenBLAS's 2 threads and 6.2 s with 1. OPENBLAS_NUM_THREADS, when set, wins. */
-static inline void schedule_one_blas_thread(void)
-{
-    if (openblas_set_num_threads && !getenv("OPENBLAS_NUM_THREADS"))
-        openblas_set_num_threads(1);
-}
-
 /* executes run k on any rank: its record (malloc'ed text; NULL when memory runs out) */
 typedef char *(*schedule_execute)(void *ctx, int k);
 /* rank 0: keeps run k's record; nonzero on failure (the schedule goes on and reports it) */

@@ -61,6 +61,7 @@ static run_result run_child(double edge, plume_solver_kind solver, native_varian
     }
     if (variant == NATIVE_NO_CHORD)
         o.solver_opts.reuse_factorization = 0;
+    o.solver_opts.verbose = getenv("BENCH_VERBOSE") != NULL; /* --one's iteration log */
     plume_traction_result res;
     double cpu0 = cpu_now();
     plume_status st = plume_traction_run(mesh, p, barbs, nb, &o, &res, &err);
@@ -129,6 +130,24 @@ int main(int argc, char **argv)
     int repeats = 3;
     if (argc > 1 && strcmp(argv[1], "--quick") == 0)
         nsizes = 1, repeats = 1;
+    if (argc > 1 && strcmp(argv[1], "--one") == 0) {
+        /* one run in this process, for perf: --one newton|nochord|old|ipopt EDGE (BENCH_VERBOSE=1: its
+         * iterations on stderr) */
+        const char *v = argc > 2 ? argv[2] : "";
+        const double edge = argc > 3 ? atof(argv[3]) : 0.0;
+        const int known = !strcmp(v, "newton") || !strcmp(v, "nochord") || !strcmp(v, "old") || !strcmp(v, "ipopt");
+        if (!known || !(edge > 0.0)) {
+            fprintf(stderr, "bench_traction: usage: --one newton|nochord|old|ipopt EDGE (e.g. 0.0173), got '%s' '%s'\n",
+                    v, argc > 3 ? argv[3] : "");
+            return 2;
+        }
+        const run_result r = run_child(edge, strcmp(v, "ipopt") ? PLUME_SOLVER_NEWTON : PLUME_SOLVER_IPOPT,
+                                       !strcmp(v, "nochord") ? NATIVE_NO_CHORD : !strcmp(v, "old") ? NATIVE_OLD : NATIVE, steps);
+        printf("%s: %ld elements, %.3f s (cpu %.3f), %d iterations, %d factorisations (%.3f s), %d chord steps, "
+               "stress %.10g%s\n", v, r.elements, r.seconds, r.cpu_seconds, r.iterations, r.factorizations,
+               r.factor_seconds, r.chord_steps, r.stress, r.converged ? "" : " NOT CONVERGED");
+        return r.ok && r.converged ? 0 : 1;
+    }
     printf("plume bench: tilted 45 deg traction, E_xx/E_yy = 1e4, constraint on, aligned mesh, %d steps to 5%% strain\n"
            "(each figure the fastest of %d runs, the variants alternating)\n", steps, repeats);
     printf("%9s | %44s | %13s | %13s | %23s | %13s | %8s\n", "", "time to 5% strain (s)", "ip/nt ratio",

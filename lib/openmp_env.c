@@ -52,8 +52,23 @@ void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigne
     fn(data);
 }
 
+/* OpenBLAS's thread count (pthread and OpenMP builds alike), looked up at run time: the BLAS the
+ * distribution's alternatives chose may be another one, without it. */
+static void one_blas_thread(void)
+{
+    if (getenv("OPENBLAS_NUM_THREADS") || getenv("GOTO_NUM_THREADS") || getenv("OMP_NUM_THREADS"))
+        return;
+    void *sym = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
+    void (*set_threads)(int) = NULL;
+    if (sym)
+        memcpy(&set_threads, &sym, sizeof sym);
+    if (set_threads)
+        set_threads(1);
+}
+
 void plume_openmp_serial(void)
 {
+    one_blas_thread();
     if (getenv("OMP_MAX_ACTIVE_LEVELS") || getenv("OMP_THREAD_LIMIT"))
         return;
     omp_set_max_active_levels(0);

@@ -1,9 +1,11 @@
 /* Tests of lib/openmp_env: after plume_openmp_serial (the runner calls it first) an OpenMP region
- * runs its body once, as a team of one; where the environment keeps OpenMP's teams the regions are
- * libgomp's own, with their threads (checked in a child runner, whose environment sets
- * OMP_MAX_ACTIVE_LEVELS). CHOLMOD's regions are bound to the same definition, so the factorisation
+ * runs its body once, as a team of one, and OpenBLAS runs on one thread; where the environment
+ * keeps OpenMP's teams and sets OpenBLAS's threads the regions are libgomp's own, with their
+ * threads, and OpenBLAS has the threads asked for (checked in a child runner, whose environment
+ * sets OMP_MAX_ACTIVE_LEVELS and OPENBLAS_NUM_THREADS). CHOLMOD's regions are bound to the same definition, so the factorisation
  * tests cover them too. */
-#define _DEFAULT_SOURCE
+#define _GNU_SOURCE /* RTLD_DEFAULT */
+#include <dlfcn.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -42,15 +44,42 @@ void test_openmp_env_zchild_regions(void)
     CHECK(s.threads == expect);
 }
 
+/* OpenBLAS's thread count after plume_openmp_serial: 1, or what the environment asked for (at most
+ * the cores: OpenBLAS caps it). Skipped, saying so, when the BLAS is not OpenBLAS. */
+void test_openmp_env_zchild_blas(void)
+{
+    void *sym = dlsym(RTLD_DEFAULT, "openblas_get_num_threads");
+    int (*get_threads)(void) = NULL;
+    if (sym)
+        memcpy(&get_threads, &sym, sizeof sym);
+    if (!get_threads) {
+        fprintf(stderr, "    the BLAS is not OpenBLAS: its threads are not plume's to set (skipped)\n");
+        return;
+    }
+    const char *env = getenv("OPENBLAS_NUM_THREADS"); /* OpenBLAS's own order of precedence */
+    if (!env)
+        env = getenv("GOTO_NUM_THREADS");
+    if (!env)
+        env = getenv("OMP_NUM_THREADS");
+    const long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    const int asked = env ? atoi(env) : 1;
+    const int expect = asked < cores ? asked : (int)cores;
+    fprintf(stderr, "    threads asked %s: openblas_get_num_threads() = %d (expected %d)\n", env ? env : "unset",
+            get_threads(), expect);
+    CHECK(get_threads() == expect);
+}
+
 void test_openmp_env_teams_kept(void)
 {
-    char self[PATH_MAX], cmd[PATH_MAX + 128];
+    char self[PATH_MAX], cmd[PATH_MAX + 256];
     ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
     CHECK(n > 0);
     if (n <= 0)
         return;
     self[n] = 0;
-    snprintf(cmd, sizeof cmd, "env -u OMP_THREAD_LIMIT OMP_MAX_ACTIVE_LEVELS=2 '%s' test_openmp_env_zchild >/dev/null 2>&1",
+    snprintf(cmd, sizeof cmd,
+             "env -u OMP_THREAD_LIMIT -u OMP_NUM_THREADS -u GOTO_NUM_THREADS OMP_MAX_ACTIVE_LEVELS=2 "
+             "OPENBLAS_NUM_THREADS=2 '%s' test_openmp_env_zchild >/dev/null 2>&1",
              self);
     CHECK(system(cmd) == 0);
 }
