@@ -319,9 +319,9 @@ static double kkt_residual(plume_newton *s, const double *lambda)
         s->jtl[s->jcol[k]] += s->jval[k] * lambda[s->jrow[k]];
     double gm = 0.0, jm = 0.0, rm = 0.0;
     for (plume_index i = 0; i < s->n; i++) {
-        gm = fmax(gm, fabs(s->grad[i]));
-        jm = fmax(jm, fabs(s->jtl[i]));
-        rm = fmax(rm, fabs(s->grad[i] + s->jtl[i]));
+        gm = nt_max_abs(gm, s->grad[i]);
+        jm = nt_max_abs(jm, s->jtl[i]);
+        rm = nt_max_abs(rm, s->grad[i] + s->jtl[i]);
     }
     if (!isfinite(rm) || !isfinite(gm))
         return NAN;
@@ -465,7 +465,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
         for (plume_index i = 0; i < n; i++)
             dirderiv += s->grad[i] * du[i];
         for (plume_index r = 0; r < m; r++)
-            lmax = fmax(lmax, fabs(lnew[r]));
+            lmax = nt_max_abs(lmax, lnew[r]);
         mu = fmax(mu, 1.5 * lmax);
         dirderiv -= mu * g1;
         /* continuous collision detection: no trial beyond alpha_max, where a pair would cross */

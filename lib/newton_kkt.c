@@ -289,9 +289,9 @@ static plume_status kkt_solve_j(plume_newton *s, const double *jv, const double 
      * whole */
     double bf = 0.0, bc = 0.0;
     for (plume_index i = 0; i < n; i++)
-        bf = fmax(bf, fabs(b[i]));
+        bf = nt_max_abs(bf, b[i]);
     for (plume_index q = 0; q < m; q++)
-        bc = fmax(bc, fabs(b[n + q]));
+        bc = nt_max_abs(bc, b[n + q]);
     const double floor = 1e-15 * fmax(bf, bc);
     const double tol_f = fmax(s->refine_rtol * bf, floor), tol_c = fmax(s->refine_rtol * bc, floor);
     double last = INFINITY;
@@ -315,9 +315,9 @@ static plume_status kkt_solve_j(plume_newton *s, const double *jv, const double 
         }
         double rf = 0.0, rc = 0.0;
         for (plume_index i = 0; i < n; i++)
-            rf = fmax(rf, fabs(res[i]));
+            rf = nt_max_abs(rf, res[i]);
         for (plume_index q = 0; q < m; q++)
-            rc = fmax(rc, fabs(res[n + q]));
+            rc = nt_max_abs(rc, res[n + q]);
         double rmax = fmax(rf, rc);
         if ((!(rf > tol_f) && !(rc > tol_c)) || !(rmax < 0.5 * last))
             break;

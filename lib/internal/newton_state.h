@@ -4,8 +4,19 @@
 #ifndef PLUME_INTERNAL_NEWTON_STATE_H
 #define PLUME_INTERNAL_NEWTON_STATE_H
 
+#include <math.h>
+
 #include "../cholesky.h"
 #include "../newton.h"
+
+/* max(m, |v|) for the residual norms' loops: a NaN entry makes it NaN, where fmax would drop it
+ * (and a NaN gradient would look converged); inlined, where fmax is a libm call at -O2 (1.5-2 %
+ * of a traction run at 1e4 elements, perf). */
+static inline double nt_max_abs(double m, double v)
+{
+    const double a = fabs(v);
+    return (a > m || a != a) ? a : m;
+}
 
 struct plume_newton {
     plume_problem *p;
