@@ -147,6 +147,7 @@
  *
  * Nothing is allocated after create. */
 #include "shape_bending.h"
+#include "internal/shape_stencil.h"
 #include "../lib/internal/vec3.h"
 
 #include <float.h>
@@ -161,25 +162,6 @@
 /* A current triangle with |N|^2 <= this * |e1|^2 |e2|^2 (sine of its angle at x0 below 1e-14)
  * has collapsed: its normal is undefined. */
 #define SHAPE_COLLAPSED_REL 1e-28
-
-/* Row-normalised determinant s(M) (see top) above which a complete natural stencil is kept, and
- * below which no stencil is accepted at all. s is affine-invariant (barycentric coordinates
- * are): every regular lattice, right-triangle or equilateral, has s = 0.77 inside; below 1e-3
- * height errors would be amplified a thousandfold. */
-#define SHAPE_GOOD_STENCIL 0.1
-#define SHAPE_MIN_STENCIL 1e-3
-
-/* Rings searched for replacement stencil vertices, nearest first. */
-#define SHAPE_MAX_RING 3
-
-/* Candidates tried from one ring: at most this many, the nearest to T's centroid in each of
- * SHAPE_CANDIDATE_SECTORS directions, both measured with T mapped to an equilateral triangle
- * (ring_candidates). The search tries every triple, so its
- * cost is the cube of this; without the bound a fan of k triangles round one vertex cost about
- * k^4 (2.3 s for k = 100). Regular meshes' 2-rings hold fewer, so their stencils are the
- * unbounded search's. */
-#define SHAPE_MAX_CANDIDATES 32
-#define SHAPE_CANDIDATE_SECTORS 8
 
 
 /* A point of a triangle's stencil: a vertex (a slot of the triangle's vertex list) or, on a
@@ -216,12 +198,6 @@ static void skew(const double v[3], double S[3][3])
     S[0][0] = 0.0, S[0][1] = -v[2], S[0][2] = v[1];
     S[1][0] = v[2], S[1][1] = 0.0, S[1][2] = -v[0];
     S[2][0] = -v[1], S[2][1] = v[0], S[2][2] = 0.0;
-}
-
-static double det3(double M[3][3])
-{
-    return M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) - M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0]) +
-           M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0]);
 }
 
 /* Positions of the points of triangle t (3 per point) from positions x (3 per vertex). */
@@ -583,273 +559,6 @@ static int stiffness_ok(double D)
     return isfinite(D) && D >= 0.0;
 }
 
-/* Reference data of one triangle: barycentric gradients g[3][2] and the map
- * X -> (lambda_0, lambda_1, lambda_2). */
-typedef struct {
-    double X0[2], g[3][2];
-    double det; /* 2 A, signed */
-} ref_tri;
-
-static void barycentric(const ref_tri *R, const double *P, double lam[3])
-{
-    const double dx = P[0] - R->X0[0], dy = P[1] - R->X0[1];
-    lam[1] = R->g[1][0] * dx + R->g[1][1] * dy;
-    lam[2] = R->g[2][0] * dx + R->g[2][1] * dy;
-    lam[0] = 1.0 - lam[1] - lam[2];
-}
-
-/* Row k of M: (q_0, q_1, q_2)(P), q_j = lambda_{j+1} lambda_{j+2} */
-static void fit_row(const ref_tri *R, const double *P, double row[3])
-{
-    double l[3];
-    barycentric(R, P, l);
-    row[0] = l[1] * l[2];
-    row[1] = l[2] * l[0];
-    row[2] = l[0] * l[1];
-}
-
-/* s(M) (see top) */
-static double stencil_quality(double M[3][3])
-{
-    const double r0 = sqrt(M[0][0] * M[0][0] + M[0][1] * M[0][1] + M[0][2] * M[0][2]);
-    const double r1 = sqrt(M[1][0] * M[1][0] + M[1][1] * M[1][1] + M[1][2] * M[1][2]);
-    const double r2 = sqrt(M[2][0] * M[2][0] + M[2][1] * M[2][1] + M[2][2] * M[2][2]);
-    const double den = r0 * r1 * r2;
-    return den > 0.0 && isfinite(den) ? fabs(det3(M)) / den : 0.0;
-}
-
-/* Workspace of the stencil search (allocated once per create). */
-typedef struct {
-    plume_index *vstart, *vtri; /* vertex -> triangles CSR */
-    plume_index *mark;          /* [nv] stamp of the last search that saw the vertex */
-    plume_index *ring;          /* candidate vertices */
-    plume_index cap, nring;
-    plume_index stamp;
-    struct near_cand { double d; plume_index v, at; int rank, sector; } *near; /* [near_cap]: ring_candidates' sort */
-    plume_index near_cap;
-    plume_index cand[SHAPE_MAX_CANDIDATES];
-} search_ws;
-
-static int ring_push(search_ws *W, plume_index v)
-{
-    if (W->mark[v] == W->stamp)
-        return 1;
-    W->mark[v] = W->stamp;
-    if (W->nring == W->cap) {
-        const plume_index cap = 2 * W->cap + 16;
-        plume_index *r = realloc(W->ring, (size_t)cap * sizeof *r);
-        if (!r)
-            return 0;
-        W->ring = r;
-        W->cap = cap;
-    }
-    W->ring[W->nring++] = v;
-    return 1;
-}
-
-/* Grows W->ring (which starts with T's vertices) by one ring: every vertex of a triangle incident
- * to a vertex already in it. Returns 0 on allocation failure. */
-static int ring_grow(search_ws *W, const plume_mesh *m)
-{
-    const plume_index n0 = W->nring;
-    for (plume_index r = 0; r < n0; r++) {
-        const plume_index v = W->ring[r];
-        for (plume_index s = W->vstart[v]; s < W->vstart[v + 1]; s++)
-            for (int k = 0; k < 3; k++)
-                if (!ring_push(W, m->tri[3 * W->vtri[s] + k]))
-                    return 0;
-    }
-    return 1;
-}
-
-/* Where the stencil's points are in the reference plane: mesh vertices, except the ghost slots
- * (gp[k] != NULL), which sit at the mirror image of T's own vertex. */
-typedef struct {
-    const double *gp[3];
-} ghost_ref;
-
-static const double *slot_point(const plume_mesh *m, const ghost_ref *gr, const plume_index p[3], int k)
-{
-    return gr && gr->gp[k] ? gr->gp[k] : m->X + 2 * p[k];
-}
-
-/* Score of a stencil: s(M) over the farthest vertex's distance to T's centroid in T's longest
- * edges (>= some positive constant). *quality gets s(M). */
-static double stencil_score(const ref_tri *R, const plume_mesh *m, const ghost_ref *gr, const plume_index p[3],
-                            const double cen[2], double edge, double *quality)
-{
-    double M[3][3], far = 0.0;
-    for (int k = 0; k < 3; k++) {
-        const double *P = slot_point(m, gr, p, k);
-        fit_row(R, P, M[k]);
-        far = fmax(far, hypot(P[0] - cen[0], P[1] - cen[1]) / edge);
-    }
-    *quality = stencil_quality(M);
-    return *quality / fmax(far, 1e-300);
-}
-
-static int near_cmp(const void *a, const void *b)
-{
-    const struct near_cand *x = a, *y = b;
-    if (x->rank != y->rank)
-        return x->rank < y->rank ? -1 : 1;
-    if (x->d != y->d)
-        return x->d < y->d ? -1 : 1;
-    return (x->at > y->at) - (x->at < y->at);
-}
-
-static int at_cmp(const void *a, const void *b)
-{
-    const struct near_cand *x = a, *y = b;
-    return (x->at > y->at) - (x->at < y->at);
-}
-
-/* The candidates of the current ring (W->ring without T's three vertices): all of them if they
- * are at most SHAPE_MAX_CANDIDATES, else that many taken round the compass: the nearest to T's
- * centroid in each of SHAPE_CANDIDATE_SECTORS angular sectors, then the second nearest in each,
- * and so on. Angles and distances are those of the plane mapped affinely so that T is
- * equilateral, since s(M) is affine-invariant: the nearest alone can all lie near one line (a
- * fan's rim, for a thin triangle), and a quadratic fit needs points spread round T. Returned in ring order (the order the unbounded search tried them in) in *C and
- * *nc. Returns 0 on allocation failure. */
-static int ring_candidates(search_ws *W, const plume_mesh *m, const ref_tri *R, const plume_index **C,
-                           plume_index *nc)
-{
-    const plume_index n = W->nring - 3;
-    if (n <= SHAPE_MAX_CANDIDATES) {
-        *C = W->ring + 3;
-        *nc = n;
-        return 1;
-    }
-    if (W->near_cap < n) {
-        struct near_cand *q = realloc(W->near, (size_t)n * sizeof *q);
-        if (!q)
-            return 0;
-        W->near = q;
-        W->near_cap = n;
-    }
-    int in_sector[SHAPE_CANDIDATE_SECTORS];
-    for (int k = 0; k < SHAPE_CANDIDATE_SECTORS; k++)
-        in_sector[k] = 0;
-    for (plume_index i = 0; i < n; i++) {
-        const plume_index v = W->ring[3 + i];
-        /* T mapped to an equilateral triangle, its centroid at the origin */
-        double l[3];
-        barycentric(R, m->X + 2 * v, l);
-        const double dx = l[1] - l[2], dy = (2.0 * l[0] - l[1] - l[2]) / 1.7320508075688772;
-        const double turn = atan2(dy, dx) / (2.0 * 3.14159265358979323846) + 0.5; /* [0, 1] */
-        const int sec = (int)(turn * SHAPE_CANDIDATE_SECTORS);
-        W->near[i] = (struct near_cand){hypot(dx, dy), v, i, 0,
-                                        sec < 0 ? 0 : sec >= SHAPE_CANDIDATE_SECTORS ? SHAPE_CANDIDATE_SECTORS - 1 : sec};
-    }
-    /* rank in its sector by distance, then take by rank */
-    qsort(W->near, (size_t)n, sizeof *W->near, near_cmp); /* all ranks 0: by distance */
-    for (plume_index i = 0; i < n; i++)
-        W->near[i].rank = in_sector[W->near[i].sector]++;
-    qsort(W->near, (size_t)n, sizeof *W->near, near_cmp);
-    qsort(W->near, SHAPE_MAX_CANDIDATES, sizeof *W->near, at_cmp);
-    for (plume_index i = 0; i < SHAPE_MAX_CANDIDATES; i++)
-        W->cand[i] = W->near[i].v;
-    *C = W->cand;
-    *nc = SHAPE_MAX_CANDIDATES;
-    return 1;
-}
-
-/* Chooses p[3] for triangle t (natural opposite vertices in p, -1 where the edge is on the
- * boundary; ghost slots, gr->gp[k] != NULL, are kept whatever happens). Returns the chosen
- * stencil's s(M) (0 if none was found), or -1 on allocation failure. */
-static double choose_stencil(const plume_mesh *m, plume_index t, const ref_tri *R, const ghost_ref *gr,
-                             search_ws *W, plume_index p[3])
-{
-    const plume_index *tv = m->tri + 3 * t;
-    double cen[2] = {0.0, 0.0}, edge = 0.0;
-    for (int k = 0; k < 3; k++) {
-        const double *A = m->X + 2 * tv[k], *B = m->X + 2 * tv[(k + 1) % 3];
-        cen[0] += A[0] / 3.0;
-        cen[1] += A[1] / 3.0;
-        edge = fmax(edge, hypot(B[0] - A[0], B[1] - A[1]));
-    }
-    int nmiss = 0, miss[3], nfree = 0, freeslot[3];
-    for (int k = 0; k < 3; k++) {
-        if (p[k] < 0)
-            miss[nmiss++] = k;
-        if (!gr->gp[k])
-            freeslot[nfree++] = k;
-    }
-    double q = 0.0;
-    if (nmiss == 0) {
-        stencil_score(R, m, gr, p, cen, edge, &q);
-        if (q >= SHAPE_GOOD_STENCIL || nfree == 0)
-            return q;
-    }
-    const plume_index nat[3] = {p[0], p[1], p[2]};
-    double best = -1.0, bestq = 0.0;
-    plume_index bp[3] = {-1, -1, -1};
-    W->stamp++;
-    W->nring = 0;
-    for (int k = 0; k < 3; k++)
-        if (!ring_push(W, tv[k]))
-            return -1.0;
-    for (int ring = 1; ring <= SHAPE_MAX_RING; ring++) {
-        if (!ring_grow(W, m))
-            return -1.0;
-        /* candidates: the ring without T's vertices (ring[0..2]), its nearest if many */
-        const plume_index *C;
-        plume_index nc;
-        if (!ring_candidates(W, m, R, &C, &nc))
-            return -1.0;
-        for (int full = 0; full < 2; full++) {
-            /* first only the missing slots (natural and ghost vertices kept), then every
-             * non-ghost slot anew */
-            if (full == 0 && nmiss == 0)
-                continue;
-            if (full == 1 && bestq >= SHAPE_GOOD_STENCIL)
-                break;
-            const int ns = full ? nfree : nmiss;
-            int slot[3];
-            for (int k = 0; k < ns; k++)
-                slot[k] = full ? freeslot[k] : miss[k];
-            /* combinations i0 < i1 < i2 of candidates for the ns slots */
-            plume_index idx[3] = {0, 1, 2};
-            if (nc < ns)
-                continue;
-            for (;;) {
-                plume_index c[3] = {nat[0], nat[1], nat[2]};
-                int ok = 1;
-                for (int k = 0; k < ns; k++)
-                    c[slot[k]] = C[idx[k]];
-                for (int k = 0; k < ns; k++)
-                    for (int j = 0; j < 3; j++)
-                        if (j != slot[k] && !gr->gp[j] && c[j] == c[slot[k]])
-                            ok = 0;
-                if (ok) {
-                    double qq;
-                    const double sc = stencil_score(R, m, gr, c, cen, edge, &qq);
-                    if (qq >= SHAPE_MIN_STENCIL && sc > best) {
-                        best = sc;
-                        bestq = qq;
-                        memcpy(bp, c, sizeof bp);
-                    }
-                }
-                /* next combination */
-                int k = ns - 1;
-                while (k >= 0 && idx[k] == nc - ns + k)
-                    k--;
-                if (k < 0)
-                    break;
-                idx[k]++;
-                for (int j = k + 1; j < ns; j++)
-                    idx[j] = idx[j - 1] + 1;
-            }
-        }
-        if (bestq >= SHAPE_GOOD_STENCIL)
-            break;
-    }
-    if (bp[0] < 0)
-        return nmiss == 0 ? q : 0.0;
-    memcpy(p, bp, sizeof bp);
-    return bestq;
-}
-
 /* 3x3 inverse by the adjugate; returns 0 if singular */
 static int inv3(double M[3][3], double I[3][3])
 {
@@ -1013,7 +722,7 @@ static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const dou
         for (int i = 0; i < 3; i++)
             m[i] /= ml;
     }
-    const double q = choose_stencil(mesh, t, R, &gr, W, p);
+    const double q = shape_choose_stencil(mesh, t, R, &gr, W, p);
     if (q < 0.0)
         return plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
     if (!(q >= SHAPE_MIN_STENCIL))
@@ -1177,32 +886,18 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
                                      "shape bending: rest_x[%ld] (vertex %ld) is not finite (%g)", (long)i,
                                      (long)(i / 3), rest_x[i]);
 
-    const plume_index nv = mesh->nv, nt = mesh->nt;
+    const plume_index nt = mesh->nt;
     plume_index bslot[SHAPE_MAX_POINTS];
     shape_point bpt[SHAPE_MAX_POINTS];
     double bcoef[3][SHAPE_MAX_POINTS], Bm[3 * SHAPE_MAX_POINTS];
     tri_build tb = {bslot, 0, 0, bpt, {bcoef[0], bcoef[1], bcoef[2]}};
     ctx = calloc(1, sizeof *ctx);
     fits = malloc((size_t)(nt + 1) * sizeof *fits);
-    W.vstart = calloc((size_t)(nv + 2), sizeof *W.vstart);
-    W.vtri = malloc((size_t)(3 * nt + 1) * sizeof *W.vtri);
-    W.mark = malloc((size_t)(nv + 1) * sizeof *W.mark);
-    if (!ctx || !fits || !W.vstart || !W.vtri || !W.mark) {
+    if (!ctx || !fits || shape_search_init(&W, mesh) != 0) {
         st = plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
         goto cleanup;
     }
-    for (plume_index v = 0; v < nv; v++)
-        W.mark[v] = -1;
     ctx->nt = nt;
-    /* vertex -> triangles (CSR) */
-    for (plume_index t = 0; t < nt; t++)
-        for (int k = 0; k < 3; k++)
-            W.vstart[mesh->tri[3 * t + k] + 2]++;
-    for (plume_index v = 0; v < nv; v++)
-        W.vstart[v + 2] += W.vstart[v + 1];
-    for (plume_index t = 0; t < nt; t++)
-        for (int k = 0; k < 3; k++)
-            W.vtri[W.vstart[mesh->tri[3 * t + k] + 1]++] = t;
     for (plume_index t = 0; t < nt; t++)
         if ((st = own_stencil(mesh, t, rest_x, clamped, &W, &fits[t], err)) != PLUME_OK)
             goto cleanup;
@@ -1296,10 +991,6 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
 cleanup:
     shape_destroy(ctx);
     free(fits);
-    free(W.vstart);
-    free(W.vtri);
-    free(W.mark);
-    free(W.ring);
-    free(W.near);
+    shape_search_free(&W);
     return st;
 }
