@@ -1152,6 +1152,42 @@ static plume_status fm_check_near(const char *name, const plume_polyline *c, con
     return PLUME_OK;
 }
 
+static void fm_grow_box(double b[4], const plume_polyline *pl)
+{
+    for (plume_index i = 0; i < pl->n; i++) {
+        b[0] = fmin(b[0], pl->p[2 * i]), b[2] = fmax(b[2], pl->p[2 * i]);
+        b[1] = fmin(b[1], pl->p[2 * i + 1]), b[3] = fmax(b[3], pl->p[2 * i + 1]);
+    }
+}
+
+/* The converse: an outline vertex far outside the rachis's and barbs' bounding box (a typo, 0.91 for
+ * 0.01) makes a needle the barbs walk along. Found by fuzzing: such a needle, 0.9 m long on a
+ * 0.2 m feather, passed the spread test above (the needle adds little to the bounding box's
+ * diagonal over the square root of the area: 12), and meshing took 25-36 s in the release build
+ * (more than 120 s under the sanitizers) before the CDT refused the crossing barbs it had made.
+ * Outline vertices may lie outside that box by at most its diagonal. */
+static plume_status fm_check_outline_near_skeleton(const plume_feather_input *in, plume_err *err)
+{
+    double b[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+    fm_grow_box(b, &in->rachis);
+    for (int k = 0; k < in->nbarbs_left; k++)
+        fm_grow_box(b, in->barbs_left + k);
+    for (int k = 0; k < in->nbarbs_right; k++)
+        fm_grow_box(b, in->barbs_right + k);
+    const double diag = hypot(b[2] - b[0], b[3] - b[1]);
+    for (plume_index i = 0; i < in->outline.n; i++) {
+        const double x = in->outline.p[2 * i], y = in->outline.p[2 * i + 1];
+        const double dx = fmax(fmax(b[0] - x, x - b[2]), 0.0), dy = fmax(fmax(b[1] - y, y - b[3]), 0.0);
+        const double out = hypot(dx, dy);
+        if (out > diag)
+            return plume_err_set(err, PLUME_EINVAL,
+                                 "outline: point %ld (%g, %g) lies %g m outside the bounding box of the rachis and "
+                                 "barb curves, more than its diagonal (%g m): a typo?",
+                                 (long)i, x, y, out, diag);
+    }
+    return PLUME_OK;
+}
+
 static plume_status fm_validate(const plume_feather_input *in, int dim, plume_err *err)
 {
     plume_status st;
@@ -1212,7 +1248,7 @@ static plume_status fm_validate(const plume_feather_input *in, int dim, plume_er
                                      name, bs[k].p[0], bs[k].p[1]);
         }
     }
-    return PLUME_OK;
+    return fm_check_outline_near_skeleton(in, err);
 }
 
 plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_mesh **out, plume_index **barb_edges,

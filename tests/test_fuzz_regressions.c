@@ -1,6 +1,8 @@
 /* Every crash, hang or wrong acceptance the fuzzers found (tests/fuzz/), replayed through the
  * same library calls in the regular suite (no clang needed): tests/fuzz/regressions/<harness>/ holds
- * the reproducers, each of which must now be refused with a message, quickly. */
+ * the reproducers, each of which must now be refused with a message, quickly. A reproducer that
+ * would also be refused the slow way (a hang that ended in an error) has a sidecar <name>.expect
+ * holding a phrase the message must contain: the check that refuses it at once. */
 #define _DEFAULT_SOURCE
 #include <dirent.h>
 #include <stdio.h>
@@ -113,16 +115,29 @@ void test_fuzz_regressions(void)
         CHECK(d != NULL);
         struct dirent *e;
         while (d && (e = readdir(d))) {
-            if (e->d_name[0] == '.')
+            const size_t len = strlen(e->d_name);
+            if (e->d_name[0] == '.' || (len > 7 && strcmp(e->d_name + len - 7, ".expect") == 0))
                 continue;
-            char path[600];
+            char path[600], expect_path[620], expect[256] = "";
             snprintf(path, sizeof path, "%s/%s", sub, e->d_name);
+            snprintf(expect_path, sizeof expect_path, "%s.expect", path);
+            FILE *xf = fopen(expect_path, "r");
+            if (xf) {
+                if (!fgets(expect, sizeof expect, xf))
+                    expect[0] = '\0';
+                expect[strcspn(expect, "\n")] = '\0';
+                fclose(xf);
+            }
             plume_err err = {{0}};
             double t0 = plume_wall_seconds();
             plume_status st = kinds[k].replay(dir, path, &err);
             double dt = plume_wall_seconds() - t0;
             fprintf(stderr, "    %s/%s: %s in %.3f s: %s\n", kinds[k].harness, e->d_name, plume_strerror(st), dt, err.msg);
             CHECK(st != PLUME_OK && err.msg[0] != '\0');
+            if (expect[0] && !strstr(err.msg, expect)) {
+                fprintf(stderr, "    expected the message to say \"%s\"\n", expect);
+                CHECK(0);
+            }
             replayed++;
         }
         if (d)
