@@ -2,8 +2,8 @@
  * runs its body once, as a team of one, and OpenBLAS runs on one thread; where the environment
  * keeps OpenMP's teams and sets OpenBLAS's threads the regions are libgomp's own, with their
  * threads, and OpenBLAS has the threads asked for (checked in a child runner, whose environment
- * sets OMP_MAX_ACTIVE_LEVELS and OPENBLAS_NUM_THREADS). CHOLMOD's regions are bound to the same definition, so the factorisation
- * tests cover them too. */
+ * sets OMP_MAX_ACTIVE_LEVELS and OPENBLAS_NUM_THREADS). CHOLMOD's regions are bound to the same
+ * definition, so the factorisation tests cover them too. */
 #define _GNU_SOURCE /* RTLD_DEFAULT */
 #include <dlfcn.h>
 #include <limits.h>
