@@ -10,6 +10,7 @@
 #include "../lib/load.h"
 #include "../lib/membrane.h"
 #include "../lib/moment.h"
+#include "internal/scene_internal.h"
 #include "shape_bending.h"
 
 /* The scene's bending term over mesh m (materials bm): hinges, or the shape operator with mirrored
@@ -107,11 +108,9 @@ done:
 static plume_status add_contact(const plume_scene *s, plume_problem *p, plume_contact **handle, plume_err *err)
 {
     const plume_mesh *m = s->mesh;
-    int *body = malloc((size_t)(m->nv + 1) * sizeof *body);
-    if (!body || plume_scene_bodies(s, body) < 0) {
-        free(body);
-        return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
-    }
+    int *body = plume_scene_body_labels(s, err);
+    if (!body)
+        return PLUME_ENOMEM;
     plume_term t;
     plume_contact *c = NULL;
     plume_status st = plume_contact_term_create(m->nv, m->nt, m->tri, body, m->x, &s->contact, &t, &c, err);

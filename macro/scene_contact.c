@@ -73,14 +73,23 @@ int plume_scene_bodies(const plume_scene *s, int *body)
     return n;
 }
 
+int *plume_scene_body_labels(const plume_scene *s, plume_err *err)
+{
+    int *body = malloc((size_t)(s->mesh->nv + 1) * sizeof *body);
+    if (!body || plume_scene_bodies(s, body) < 0) {
+        free(body);
+        plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
+        return NULL;
+    }
+    return body;
+}
+
 plume_status plume_scene_contact_broad(const plume_scene *s, plume_contact_broad **out, plume_err *err)
 {
     const plume_mesh *m = s->mesh;
-    int *body = malloc((size_t)(m->nv + 1) * sizeof *body);
-    if (!body || plume_scene_bodies(s, body) < 0) {
-        free(body);
-        return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
-    }
+    int *body = plume_scene_body_labels(s, err);
+    if (!body)
+        return PLUME_ENOMEM;
     plume_contact_broad_opts bo;
     plume_contact_broad_opts_default(&bo);
     bo.self_contact = s->contact.self_contact;

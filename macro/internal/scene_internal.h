@@ -59,4 +59,8 @@ plume_status plume_scene_parse_static(const plume_json_ctx *c, json_t *doc, plum
  * key. */
 plume_status plume_scene_parse_contact(const plume_json_ctx *c, json_t *v, plume_scene *s);
 
+/* plume_scene_bodies into a new array (nv + 1 ints; the caller frees it), or NULL with the error
+ * set when memory runs out. */
+int *plume_scene_body_labels(const plume_scene *s, plume_err *err);
+
 #endif
