@@ -1133,6 +1133,21 @@ static int cmp_edge_key(const void *p, const void *q)
     return (x->b > y->b) - (x->b < y->b);
 }
 
+/* bounding box b (x0, y0, x1, y1) grown to hold the polyline's points */
+static void fm_grow_box(double b[4], const plume_polyline *pl)
+{
+    for (plume_index i = 0; i < pl->n; i++) {
+        b[0] = fmin(b[0], pl->p[2 * i]), b[2] = fmax(b[2], pl->p[2 * i]);
+        b[1] = fmin(b[1], pl->p[2 * i + 1]), b[3] = fmax(b[3], pl->p[2 * i + 1]);
+    }
+}
+
+/* distance from (x, y) to the box b (x0, y0, x1, y1); 0 inside */
+static double fm_box_distance(const double b[4], double x, double y)
+{
+    return hypot(fmax(fmax(b[0] - x, x - b[2]), 0.0), fmax(fmax(b[1] - y, y - b[3]), 0.0));
+}
+
 /* A rachis or barb point far outside the outline (a typo, 5.01 for 0.01) makes the mesher sample
  * and walk the whole curve at the target edge: found by fuzzing, a barb point 5000 m from a 0.2 m
  * feather took minutes. Points may lie outside the outline's bounding box by at most its diagonal. */
@@ -1140,9 +1155,7 @@ static plume_status fm_check_near(const char *name, const plume_polyline *c, con
                                   plume_err *err)
 {
     for (plume_index i = 0; i < c->n; i++) {
-        const double x = c->p[2 * i], y = c->p[2 * i + 1];
-        const double dx = fmax(fmax(bb[0] - x, x - bb[2]), 0.0), dy = fmax(fmax(bb[1] - y, y - bb[3]), 0.0);
-        const double out = hypot(dx, dy);
+        const double x = c->p[2 * i], y = c->p[2 * i + 1], out = fm_box_distance(bb, x, y);
         if (out > diag)
             return plume_err_set(err, PLUME_EINVAL,
                                  "%s: point %ld (%g, %g) lies %g m outside the outline's bounding box, more than "
@@ -1150,14 +1163,6 @@ static plume_status fm_check_near(const char *name, const plume_polyline *c, con
                                  name, (long)i, x, y, out, diag);
     }
     return PLUME_OK;
-}
-
-static void fm_grow_box(double b[4], const plume_polyline *pl)
-{
-    for (plume_index i = 0; i < pl->n; i++) {
-        b[0] = fmin(b[0], pl->p[2 * i]), b[2] = fmax(b[2], pl->p[2 * i]);
-        b[1] = fmin(b[1], pl->p[2 * i + 1]), b[3] = fmax(b[3], pl->p[2 * i + 1]);
-    }
 }
 
 /* The converse: an outline vertex far outside the rachis's and barbs' bounding box (a typo, 0.91 for
@@ -1176,9 +1181,7 @@ static plume_status fm_check_outline_near_skeleton(const plume_feather_input *in
         fm_grow_box(b, in->barbs_right + k);
     const double diag = hypot(b[2] - b[0], b[3] - b[1]);
     for (plume_index i = 0; i < in->outline.n; i++) {
-        const double x = in->outline.p[2 * i], y = in->outline.p[2 * i + 1];
-        const double dx = fmax(fmax(b[0] - x, x - b[2]), 0.0), dy = fmax(fmax(b[1] - y, y - b[3]), 0.0);
-        const double out = hypot(dx, dy);
+        const double x = in->outline.p[2 * i], y = in->outline.p[2 * i + 1], out = fm_box_distance(b, x, y);
         if (out > diag)
             return plume_err_set(err, PLUME_EINVAL,
                                  "outline: point %ld (%g, %g) lies %g m outside the bounding box of the rachis and "
@@ -1207,18 +1210,14 @@ static plume_status fm_validate(const plume_feather_input *in, int dim, plume_er
     /* a stray vertex far out (a typo in the OBJ) adds little area but makes every barb walk to the
      * far end of the bounding box: found by fuzzing, a spike 45 outline-sizes long took minutes.
      * A compact outline has diagonal / sqrt(area) of 2-6; 40 still admits an aspect ratio near 1000. */
-    double bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
-    for (plume_index i = 0; i < in->outline.n; i++) {
-        bx0 = fmin(bx0, in->outline.p[2 * i]), bx1 = fmax(bx1, in->outline.p[2 * i]);
-        by0 = fmin(by0, in->outline.p[2 * i + 1]), by1 = fmax(by1, in->outline.p[2 * i + 1]);
-    }
-    double diag = hypot(bx1 - bx0, by1 - by0);
+    double bb[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+    fm_grow_box(bb, &in->outline);
+    double diag = hypot(bb[2] - bb[0], bb[3] - bb[1]);
     if (diag > MAX_OUTLINE_SPREAD * sqrt(area))
         return plume_err_set(err, PLUME_EINVAL,
                              "outline: its bounding box (diagonal %g m) is %.0f times the square root of its area "
                              "(%g m^2), more than %d: a vertex far from the others?",
                              diag, diag / sqrt(area), area, MAX_OUTLINE_SPREAD);
-    const double bb[4] = {bx0, by0, bx1, by1};
     if ((st = plume_feather_check_curve("rachis", &in->rachis, 0, 2, err)) != PLUME_OK ||
         (st = fm_check_near("rachis", &in->rachis, bb, diag, err)) != PLUME_OK)
         return st;
