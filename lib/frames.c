@@ -357,27 +357,25 @@ plume_status plume_frames_append_measured(const char *path, plume_index nv, plum
     hid_t fid = H5I_INVALID_HID, g = H5I_INVALID_HID, fg = H5I_INVALID_HID;
     plume_frames_info info;
     plume_status s = reserve_room(path, nv, ncons, err);
-    /* a group at `count` is the remains of an interrupted append, never committed: the file is
-     * rebuilt from its committed frames (rebuild_committed), read-only until then, since HDF5 may
-     * be unable to free that group's space */
-    int uncommitted = 0;
     if (s == PLUME_OK)
-        s = open_frames(path, H5F_ACC_RDONLY, &fid, &g, err);
+        s = open_frames(path, H5F_ACC_RDWR, &fid, &g, err);
     if (s == PLUME_OK)
         s = read_info(path, g, &info, err);
     char name[32];
     snprintf(name, sizeof name, "%ld", s == PLUME_OK ? info.count : 0L);
-    if (s == PLUME_OK)
-        uncommitted = H5Lexists(g, name, H5P_DEFAULT) > 0;
-    if (g >= 0)
+    /* a group at `count` is the remains of an interrupted append, never committed: the file,
+     * closed unchanged, is rebuilt from its committed frames (rebuild_committed), since HDF5 may be
+     * unable to free that group's space */
+    if (s == PLUME_OK && H5Lexists(g, name, H5P_DEFAULT) > 0) {
         H5Gclose(g);
-    if (fid >= 0)
         H5Fclose(fid);
-    g = fid = H5I_INVALID_HID;
-    if (s == PLUME_OK && uncommitted && (s = rebuild_committed(path, &info, err)) == PLUME_OK)
-        s = reserve_room(path, nv, ncons, err);
-    if (s == PLUME_OK)
-        s = open_frames(path, H5F_ACC_RDWR, &fid, &g, err);
+        g = fid = H5I_INVALID_HID;
+        s = rebuild_committed(path, &info, err);
+        if (s == PLUME_OK)
+            s = reserve_room(path, nv, ncons, err);
+        if (s == PLUME_OK)
+            s = open_frames(path, H5F_ACC_RDWR, &fid, &g, err);
+    }
     if (s != PLUME_OK)
         goto cleanup;
     if (info.nv != nv || info.ncons != ncons) {
