@@ -25,7 +25,10 @@ static const char usage[] =
     "  --thickness M        (default 1e-4)\n"
     "  --kappa PA           compression-term coefficient (default 0)\n"
     "  --barbule-width M --barbule-spacing M --barbule-angle DEG   explicit barbules\n"
-    "  --e-rel V            element edge over barb width, e-bar (default 1)\n"
+    "  --order 1|2          element order: 2 quadratic triangles (default), 1 linear (the paper's)\n"
+    "  --e-rel V            element edge over barb width, e-bar (default 0: chosen from the thinnest\n"
+    "                       strip so that the moduli are within 1 %% of the refined limit)\n"
+    "  --no-convergence     skip the convergence estimate (the tensor again on a mesh twice as coarse)\n"
     "  --strain-max E --steps N   cell response curves (default 0.05, 10; 0 for none)\n"
     "  -o FILE.h5           write /moduli and /curves/cell/{uniaxial_x,uniaxial_y,shear}\n"
     "  --plot FILE.png      chart of the cell curves (SVG beside it)\n"
@@ -101,6 +104,10 @@ static int parse_args(int argc, char **argv, options *o)
             o->json = 1;
             continue;
         }
+        if (strcmp(a, "--no-convergence") == 0) {
+            o->ho.convergence = 0;
+            continue;
+        }
         if (!v)
             return cli_fail(APP, "%s needs a value (see --help)", a);
         i++;
@@ -128,6 +135,7 @@ static int parse_args(int argc, char **argv, options *o)
         else if (strcmp(a, "--barbule-spacing") == 0) r = cli_double(APP, a, v, &l->barbule_spacing);
         else if (strcmp(a, "--barbule-angle") == 0) r = cli_double(APP, a, v, &l->barbule_angle);
         else if (strcmp(a, "--e-rel") == 0) r = cli_double(APP, a, v, &l->e_rel);
+        else if (strcmp(a, "--order") == 0) r = cli_int(APP, a, v, &l->order);
         else if (strcmp(a, "--strain-max") == 0) r = cli_double(APP, a, v, &o->ho.strain_max);
         else if (strcmp(a, "--steps") == 0) r = cli_int(APP, a, v, &o->ho.steps);
         else if (strcmp(a, "-o") == 0) o->out = v;
@@ -182,15 +190,26 @@ int main(int argc, char **argv)
         char prov[512];
         snprintf(prov, sizeof prov,
                  "plume homogenize: %s layout, phi %g, d_B %g m, E_b %g Pa, nu_b %g, ratio %g, nu_B %g, "
-                 "thickness %g m, e_rel %g, %ld elements",
-                 kind, l.phi, l.d_B, l.E_b, l.nu_b, l.ratio, l.nu_B, l.h, l.e_rel, (long)r.elements);
+                 "thickness %g m, order %d, element edge %g m, %ld elements",
+                 kind, l.phi, l.d_B, l.E_b, l.nu_b, l.ratio, l.nu_B, l.h, r.order, r.element_edge, (long)r.elements);
         plume_param params[] = {{"phi", l.phi}, {"d_B", l.d_B}, {"E_b", l.E_b}, {"nu_b", l.nu_b},
                                 {"ratio", l.ratio}, {"nu_B", l.nu_B}, {"thickness", l.h},
-                                {"e_rel", l.e_rel}, {"elements", (double)r.elements}};
+                                {"e_rel", r.element_edge / plume_layout_barb_width(&l)}, {"elements", (double)r.elements},
+                                {"order", (double)r.order}, {"refinement_change", r.refinement_change}};
+        plume_param mparams[] = {{"order", (double)r.order},
+                                 {"element_edge", r.element_edge},
+                                 {"elements", (double)r.elements},
+                                 {"refinement_change", r.refinement_change},
+                                 {"refinement_edge", r.refinement_change >= 0.0 ? r.refinement_edge : -1.0},
+                                 {"E_xx_change", r.moduli_change[0]},
+                                 {"E_yy_change", r.moduli_change[1]},
+                                 {"nu_xy_change", r.moduli_change[2]},
+                                 {"G_xy_change", r.moduli_change[3]}};
         plume_sparam sp[] = {{"layout", kind}};
         const char *names[3] = {"uniaxial_x", "uniaxial_y", "shear"};
         const plume_curve *cv[3] = {&r.uniaxial_x, &r.uniaxial_y, &r.shear};
-        if (plume_moduli_write(out, &r.moduli, prov, &err) != PLUME_OK) {
+        if (plume_moduli_write_params(out, &r.moduli, prov, mparams, (int)(sizeof mparams / sizeof mparams[0]), &err) !=
+            PLUME_OK) {
             fprintf(stderr, "%s: %s\n", APP, err.msg);
             rc = 1;
         }
@@ -234,6 +253,17 @@ int main(int argc, char **argv)
         json_object_set_new(j, "C", C);
         json_object_set_new(j, "shear_coupling", json_real(r.coupling));
         json_object_set_new(j, "elements", json_integer(r.elements));
+        json_object_set_new(j, "order", json_integer(r.order));
+        json_object_set_new(j, "element_edge", json_real(r.element_edge));
+        json_object_set_new(j, "refinement_change", json_real(r.refinement_change));
+        if (r.refinement_change >= 0.0) {
+            json_t *mc = json_object();
+            const char *mn[4] = {"E_xx", "E_yy", "nu_xy", "G_xy"};
+            for (int k = 0; k < 4; k++)
+                json_object_set_new(mc, mn[k], json_real(r.moduli_change[k]));
+            json_object_set_new(j, "moduli_change", mc);
+            json_object_set_new(j, "refinement_edge", json_real(r.refinement_edge));
+        }
         json_object_set_new(j, "vertices", json_integer(r.vertices));
         json_object_set_new(j, "newton_iterations", json_integer(r.newton_iterations));
         json_object_set_new(j, "seconds", json_real(r.seconds));
@@ -246,9 +276,14 @@ int main(int argc, char **argv)
         json_decref(j);
     } else {
         printf("%s layout, phi %g, ratio %g: E_xx %.6g Pa, E_yy %.6g Pa, nu_xy %.4g, G_xy %.6g Pa "
-               "(%ld elements, %d iterations, %.2f s)\n",
+               "(%ld %s elements, %d iterations, %.2f s)\n",
                kind, l.phi, l.ratio, r.moduli.E_xx, r.moduli.E_yy, r.moduli.nu_xy, r.moduli.G_xy, (long)r.elements,
-               r.newton_iterations, r.seconds);
+               r.order == 2 ? "quadratic" : "linear", r.newton_iterations, r.seconds);
+        if (r.refinement_change >= 0.0)
+            printf("converged to %.2g %% (the tensor's change from a mesh of %.3g m elements; E_xx %.2g %%, E_yy %.2g %%, "
+                   "nu_xy %.2g %%, G_xy %.2g %%)\n",
+                   100.0 * r.refinement_change, r.refinement_edge, 100.0 * r.moduli_change[0],
+                   100.0 * r.moduli_change[1], 100.0 * r.moduli_change[2], 100.0 * r.moduli_change[3]);
     }
     plume_homog_result_free(&r);
     return rc;

@@ -39,7 +39,10 @@ static const char usage[] =
     "Microscale layout (--model micro|both; see apps/homogenize --help):\n"
     "  --layout-config FILE.json, --layout strips|barbules, --phi V, --ratio R, --Eb PA,\n"
     "  --nu-barb V, --nu-barbule V, --dB-rel V (barb spacing over ly, default 0.086), --e-rel V\n"
-    "  (element edge over barb width, default 2.9); the layout thickness is --thickness.\n"
+    "  (element edge over barb width; default 0: chosen from the thinnest strip so that the curve is\n"
+    "  within 2 %% of its refined limit), --order 1|2 (element order: 2 quadratic triangles, the\n"
+    "  default; 1 linear, the paper's); the layout thickness is --thickness.\n"
+    "  --no-convergence    skip the micro run's convergence estimate (the same test on a mesh twice as coarse)\n"
     "  With --model both the macro model uses --moduli FILE.h5 if given, else the layout's moduli\n"
     "  homogenised on the spot.\n"
     "  -o FILE.h5          write /curves/<macro|micro>/<scenario>/{strain,stress,wbar,iterations,seconds}\n"
@@ -55,7 +58,8 @@ typedef struct {
     const char *scenario, *sample, *samples_file, *moduli_file, *out, *plot, *mesh, *solver, *vtk;
     const char *model, *layout_file, *layout_kind;
     double phi, ratio, Eb, nu_barb, nu_barbule, dB_rel, e_rel;
-    int phi_set, ratio_set, Eb_set, nu_barb_set, nu_barbule_set, dB_rel_set, e_rel_set;
+    int phi_set, ratio_set, Eb_set, nu_barb_set, nu_barbule_set, dB_rel_set, e_rel_set, order, order_set;
+    int no_convergence;
     double angle, lx, ly, h, Exx, Eyy, Gxy, nu, kappa, edge, strain_max;
     int angle_set, lx_set, ly_set, h_set, constraint, steps, max_iter, json, quiet, verbose;
     int Exx_set, Eyy_set, Gxy_set, nu_set;
@@ -81,7 +85,7 @@ static int parse_args(int argc, char **argv, options *o)
     memset(o, 0, sizeof *o);
     o->scenario = "tilted";
     o->model = "macro";
-    o->dB_rel = 0.086, o->e_rel = 2.9;
+    o->dB_rel = 0.086, o->e_rel = 0.0;
     o->mesh = "aligned";
     o->solver = "newton";
     o->lx = 1.0, o->ly = 1.3, o->h = 1.0;
@@ -112,6 +116,7 @@ static int parse_args(int argc, char **argv, options *o)
         DBL("--strain-max", strain_max);
         else if (strcmp(a, "--steps") == 0) r = parse_int(a, v, &o->steps);
         else if (strcmp(a, "--max-iter") == 0) r = parse_int(a, v, &o->max_iter);
+        else if (strcmp(a, "--order") == 0) r = parse_int(a, v, &o->order), o->order_set = 1;
         DBLSET("--phi", phi);
         DBLSET("--ratio", ratio);
         DBLSET("--Eb", Eb);
@@ -143,6 +148,7 @@ static int parse_args(int argc, char **argv, options *o)
             if (strcmp(a, "--json") == 0) o->json = 1;
             else if (strcmp(a, "--quiet") == 0) o->quiet = 1;
             else if (strcmp(a, "--verbose") == 0) o->verbose = 1;
+            else if (strcmp(a, "--no-convergence") == 0) o->no_convergence = 1;
             else return fail("unknown option '%s' (see --help)%s", a, "");
         }
 #undef DBL
@@ -181,6 +187,10 @@ typedef struct {
     int wanted;
     plume_traction_result res;
     plume_index elements, vertices, barb_edges;
+    int order;                    /* micro: element order */
+    double edge;                  /* target element edge (m) */
+    int has_conv;                 /* micro: conv holds the convergence estimate */
+    plume_micro_convergence conv;
 } model_run;
 
 /* --vtk: each state of the curve as a frame of the series */
@@ -269,7 +279,9 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
         fprintf(stderr, "traction: micro specimen: %s\n", err.msg[0] ? err.msg : plume_strerror(st));
         goto done;
     }
-    run->elements = mesh->nt, run->vertices = mesh->nv;
+    run->order = layout->order;
+    run->elements = layout->order == 2 ? mesh->nt / 4 : mesh->nt, run->vertices = mesh->nv;
+    run->edge = plume_layout_element_edge(layout, PLUME_MESH_SPECIMEN);
     plume_traction_opts tv = *to;
     plume_membrane_material mats[2];
     plume_layout_materials(layout, mats);
@@ -278,6 +290,17 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
     if ((st = plume_traction_run(mesh, p, NULL, 0, &tv, &run->res, &err)) != PLUME_OK) {
         fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
         goto done;
+    }
+    if (!o->no_convergence && run->res.converged && to->solver != PLUME_SOLVER_LINEARIZED) {
+        /* how converged the curve is: the same test on a mesh twice as coarse */
+        plume_mesh_destroy(&mesh);
+        plume_problem_destroy(&p);
+        if ((st = plume_micro_traction_convergence(layout, o->lx, o->ly, angle, to, &run->res, &run->conv, &err)) !=
+            PLUME_OK) {
+            fprintf(stderr, "traction: micro convergence estimate: %s\n", err.msg[0] ? err.msg : plume_strerror(st));
+            goto done;
+        }
+        run->has_conv = 1;
     }
     rc = 0;
 done:
@@ -334,6 +357,21 @@ static json_t *run_json(const model_run *r, const options *o, double angle)
     json_object_set_new(j, "substeps", json_integer(r->res.substeps));
     json_object_set_new(j, "factor_seconds", json_real(r->res.factor_seconds));
     json_object_set_new(j, "seconds", json_real(r->res.seconds));
+    if (strcmp(r->scale, "micro") == 0) {
+        json_object_set_new(j, "order", json_integer(r->order));
+        json_object_set_new(j, "element_edge", json_real(r->edge));
+    }
+    if (r->has_conv) {
+        json_t *c = json_object();
+        json_object_set_new(c, "stress_change", json_real(r->conv.stress_change));
+        json_object_set_new(c, "slope_change", json_real(r->conv.slope_change));
+        json_object_set_new(c, "refinement_edge", json_real(r->conv.refinement_edge));
+        json_object_set_new(c, "refinement_elements", json_integer(r->conv.refinement_elements));
+        json_object_set_new(c, "converged", json_boolean(r->conv.converged));
+        json_object_set_new(c, "seconds", json_real(r->conv.seconds));
+        json_object_set_new(j, "refinement", c);
+        json_object_set_new(j, "refinement_change", json_real(r->conv.stress_change));
+    }
     return j;
 }
 
@@ -348,6 +386,14 @@ static void print_summary(const model_run *r, const options *o, double angle)
            100.0 * r->res.curve.strain[last], r->res.curve.stress[last], r->res.curve.wbar[last], r->res.initial_slope,
            r->res.newton_iterations, r->res.factorizations, r->res.cuts ? ", steps cut" : "", r->res.seconds,
            r->res.converged ? "converged" : plume_reason_name(r->res.failed_reason));
+    if (r->has_conv && r->conv.converged)
+        printf("%s curve converged to %.2g %% (its largest stress change from a mesh of %.3g m elements, %ld of them; "
+               "initial slope %.2g %%)\n",
+               r->scale, 100.0 * r->conv.stress_change, r->conv.refinement_edge, (long)r->conv.refinement_elements,
+               100.0 * r->conv.slope_change);
+    else if (r->has_conv)
+        printf("%s curve: no convergence estimate (the run on a mesh of %.3g m elements did not converge)\n", r->scale,
+               r->conv.refinement_edge);
 }
 
 int main(int argc, char **argv)
@@ -420,6 +466,7 @@ int main(int argc, char **argv)
     if (o.nu_barb_set) layout.nu_b = o.nu_barb;
     if (o.nu_barbule_set) layout.nu_B = o.nu_barbule;
     if (o.e_rel_set || !o.layout_file) layout.e_rel = o.e_rel;
+    if (o.order_set) layout.order = o.order;
     if (o.dB_rel_set || !o.layout_file) {
         double scale = o.dB_rel * o.ly / layout.d_B; /* keep barbule geometry proportional */
         layout.d_B *= scale;
@@ -517,12 +564,16 @@ int main(int argc, char **argv)
             plume_param params[] = {
                 {"lx", o.lx}, {"ly", o.ly}, {"thickness", o.h}, {"angle_deg", angle},
                 {"E_xx", vane.moduli.E_xx}, {"E_yy", vane.moduli.E_yy}, {"nu_xy", vane.moduli.nu_xy},
-                {"G_xy", vane.moduli.G_xy}, {"kappa", o.kappa}, {"edge", k == 0 ? edge : layout.e_rel * plume_layout_barb_width(&layout)},
+                {"G_xy", vane.moduli.G_xy}, {"kappa", o.kappa}, {"edge", k == 0 ? edge : runs[k].edge},
                 {"strain_max", o.strain_max}, {"steps", o.steps}, {"elements", (double)runs[k].elements},
                 {"vertices", (double)runs[k].vertices}, {"constraint", k == 0 ? o.constraint : 0},
                 {"initial_slope", runs[k].res.initial_slope}, {"converged", runs[k].res.converged},
                 {"max_constraint_violation", runs[k].res.max_violation}, {"phi", layout.phi},
-                {"ratio", layout.ratio}, {"E_b", layout.E_b}, {"d_B", layout.d_B}, {"e_rel", layout.e_rel}};
+                {"ratio", layout.ratio}, {"E_b", layout.E_b}, {"d_B", layout.d_B},
+                {"e_rel", runs[k].edge / plume_layout_barb_width(&layout)}, {"order", runs[k].order},
+                {"refinement_change", runs[k].has_conv ? runs[k].conv.stress_change : -1.0},
+                {"slope_refinement_change", runs[k].has_conv ? runs[k].conv.slope_change : -1.0},
+                {"refinement_edge", runs[k].has_conv ? runs[k].conv.refinement_edge : -1.0}};
             int np = k == 0 ? 18 : (int)(sizeof params / sizeof params[0]);
             plume_sparam sparams[] = {{"solver", o.solver}, {"mesh", k == 0 ? o.mesh : "specimen"},
                                       {"scenario", o.scenario}, {"sample", o.sample ? o.sample : ""},

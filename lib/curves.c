@@ -546,6 +546,8 @@ static int moduli_invalid(const plume_ortho *m, char *why, size_t len)
 typedef struct {
     const plume_ortho *m;
     const char *provenance;
+    const plume_param *params;
+    int nparams;
 } moduli_ctx;
 
 static plume_status fill_moduli(hid_t fid, const char *path, const void *vctx, plume_err *err)
@@ -581,6 +583,12 @@ static plume_status fill_moduli(hid_t fid, const char *path, const void *vctx, p
                           path, h5_cause(&d));
         goto cleanup;
     }
+    for (int i = 0; i < c->nparams; i++)
+        if (h5_write_attr_double(g, c->params[i].name, c->params[i].value) < 0) {
+            s = plume_err_set(err, PLUME_EIO, "moduli file '%s': cannot write attribute %s (HDF5: %s)", path,
+                              c->params[i].name, h5_cause(&d));
+            goto cleanup;
+        }
 cleanup:
     if (g >= 0)
         H5Gclose(g);
@@ -590,6 +598,12 @@ cleanup:
 plume_status plume_moduli_write(const char *path, const plume_ortho *m, const char *provenance,
                                 plume_err *err)
 {
+    return plume_moduli_write_params(path, m, provenance, NULL, 0, err);
+}
+
+plume_status plume_moduli_write_params(const char *path, const plume_ortho *m, const char *provenance,
+                                       const plume_param *params, int nparams, plume_err *err)
+{
     char why[256];
     if (!path || !*path)
         return plume_err_set(err, PLUME_EINVAL, "moduli file: empty path");
@@ -597,7 +611,15 @@ plume_status plume_moduli_write(const char *path, const plume_ortho *m, const ch
         return plume_err_set(err, PLUME_EINVAL, "moduli file '%s': no moduli given", path);
     if (moduli_invalid(m, why, sizeof why))
         return plume_err_set(err, PLUME_EINVAL, "moduli file '%s': not written: %s", path, why);
-    moduli_ctx ctx = {m, provenance ? provenance : "unspecified"};
+    if (nparams < 0 || (nparams > 0 && !params))
+        return plume_err_set(err, PLUME_EINVAL, "moduli file '%s': invalid extra attributes", path);
+    for (int i = 0; i < nparams; i++)
+        for (int k = 0; k < 4; k++)
+            if (!params[i].name || strcmp(params[i].name, moduli_names[k]) == 0 || strcmp(params[i].name, "units") == 0 ||
+                strcmp(params[i].name, "provenance") == 0)
+                return plume_err_set(err, PLUME_EINVAL, "moduli file '%s': extra attribute %d has a reserved or no name",
+                                     path, i);
+    moduli_ctx ctx = {m, provenance ? provenance : "unspecified", params, nparams};
     h5_quiet q;
     quiet_begin(&q);
     plume_status s = atomic_write(path, "moduli file", fill_moduli, &ctx, err);

@@ -49,6 +49,10 @@ void plume_curve_free(plume_curve *curve);
 /* /moduli with attributes E_xx, E_yy, nu_xy, G_xy and a string attribute "provenance". */
 plume_status plume_moduli_write(const char *path, const plume_ortho *m, const char *provenance,
                                 plume_err *err);
+/* The same with extra numeric attributes of /moduli (how converged the moduli are, the mesh);
+ * their names may not be the moduli's, "units" or "provenance" (PLUME_EINVAL). */
+plume_status plume_moduli_write_params(const char *path, const plume_ortho *m, const char *provenance,
+                                       const plume_param *params, int nparams, plume_err *err);
 /* Reads /moduli; validates that the moduli are finite and positive (nu finite). */
 plume_status plume_moduli_read(const char *path, plume_ortho *m, plume_err *err);
 

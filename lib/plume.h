@@ -6,6 +6,7 @@
 #include "status.h"
 #include "version.h"
 #include "mesh.h"
+#include "mesh_quadratic.h"
 #include "cdt.h"
 #include "term.h"
 #include "problem.h"

@@ -212,6 +212,17 @@ plume_status plume_flat_homogenize(const char *request, char **result, char *msg
                           r.moduli.E_yy, "nu_xy", r.moduli.nu_xy, "G_xy", r.moduli.G_xy, "C", C, "shear_coupling",
                           r.coupling, "elements", (json_int_t)r.elements, "vertices", (json_int_t)r.vertices,
                           "newton_iterations", r.newton_iterations, "seconds", r.seconds);
+    if (o) {
+        json_object_set_new(o, "order", json_integer(r.order));
+        json_object_set_new(o, "element_edge", json_real(r.element_edge));
+        json_object_set_new(o, "refinement_change", json_real(r.refinement_change));
+        if (r.refinement_change >= 0.0) {
+            json_object_set_new(o, "moduli_change",
+                                json_pack("{s:f, s:f, s:f, s:f}", "E_xx", r.moduli_change[0], "E_yy", r.moduli_change[1],
+                                          "nu_xy", r.moduli_change[2], "G_xy", r.moduli_change[3]));
+            json_object_set_new(o, "refinement_edge", json_real(r.refinement_edge));
+        }
+    }
     if (o && ho.strain_max > 0.0)
         json_object_set_new(o, "curves", json_pack("{s:o, s:o, s:o}", "uniaxial_x", curve_json(&r.uniaxial_x),
                                                    "uniaxial_y", curve_json(&r.uniaxial_y), "shear",
@@ -320,10 +331,10 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     plume_membrane_material mats[2];
     int nmat = 1;
     if (micro) {
-        /* as apps/traction: barbs 0.086 ly apart, elements 2.9 barb widths, unless the layout says */
+        /* as apps/traction: barbs 0.086 ly apart, elements chosen from the thinnest strip, unless the
+         * layout says */
         double scale = 0.086 * t.ly / layout.d_B;
         layout.d_B *= scale, layout.barbule_width *= scale, layout.barbule_spacing *= scale;
-        layout.e_rel = 2.9;
         if ((st = get_layout(req, "traction", &layout, &err)) != PLUME_OK)
             goto done;
         layout.h = t.h, layout.kappa = t.kappa;
@@ -364,6 +375,10 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     }
     if ((st = plume_traction_run(mesh, p, barbs, nbarbs, &to, &res, &err)) != PLUME_OK)
         goto done;
+    plume_micro_convergence conv;
+    int has_conv = micro && res.converged && to.solver != PLUME_SOLVER_LINEARIZED;
+    if (has_conv && (st = plume_micro_traction_convergence(&layout, t.lx, t.ly, angle, &to, &res, &conv, &err)) != PLUME_OK)
+        goto done;
     json_t *o = curve_json(&res.curve);
     json_object_set_new(o, "initial_slope", json_real(res.initial_slope));
     json_object_set_new(o, "converged", json_boolean(res.converged));
@@ -372,9 +387,16 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     json_object_set_new(o, "newton_iterations", json_integer(res.newton_iterations));
     json_object_set_new(o, "max_violation", json_real(res.max_violation));
     json_object_set_new(o, "seconds", json_real(res.seconds));
-    json_object_set_new(o, "elements", json_integer(mesh->nt));
+    json_object_set_new(o, "elements", json_integer(micro && layout.order == 2 ? mesh->nt / 4 : mesh->nt));
     json_object_set_new(o, "vertices", json_integer(mesh->nv));
     json_object_set_new(o, "angle", json_real(angle));
+    if (micro) {
+        json_object_set_new(o, "order", json_integer(layout.order));
+        json_object_set_new(o, "element_edge", json_real(plume_layout_element_edge(&layout, PLUME_MESH_SPECIMEN)));
+        json_object_set_new(o, "refinement_change", json_real(has_conv ? conv.stress_change : -1.0));
+        if (has_conv)
+            json_object_set_new(o, "slope_refinement_change", json_real(conv.slope_change));
+    }
     st = emit(o, result, &err);
 done:
     plume_traction_result_free(&res);

@@ -9,13 +9,18 @@
 #include "periodic.h"
 
 /* The linearised membrane over the cell: unknowns are displacements w (as "positions"); the
- * imposed macroscopic strain `ebar` (Voigt) is a parameter. Per triangle: gradients of the shape
- * functions, area times thickness, and the stiffness rotated to the cell frame. */
+ * imposed macroscopic strain `ebar` (Voigt) is a parameter. Linear triangles (3 nodes, one point)
+ * or quadratic ones (6 nodes, the 3-point rule: exact, the integrand B^T C B is quadratic). Per
+ * element and quadrature point: the gradients of the shape functions and the weight times area
+ * times thickness; per element the stiffness rotated to the cell frame. */
+#define LIN_MAX_NODES 6
+#define LIN_MAX_POINTS 3
 typedef struct {
     plume_index nt;
-    plume_index *tri;   /* [3 nt] */
-    double *dN;         /* [6 nt] shape-function gradients (dN0x, dN0y, dN1x, ...) */
-    double *Ah;         /* [nt] area * thickness */
+    int na, nq;         /* nodes per element, quadrature points */
+    plume_index *tri;   /* [na nt] */
+    double *dN;         /* [nt nq na 2] shape-function gradients (dNx, dNy) */
+    double *wA;         /* [nt nq] weight * area * thickness */
     double *C;          /* [9 nt] stiffness in the cell frame (Voigt, engineering shear) */
     double ebar[3];
 } lin_ctx;
@@ -27,18 +32,18 @@ static void lin_destroy(void *ctx)
         return;
     free(c->tri);
     free(c->dN);
-    free(c->Ah);
+    free(c->wA);
     free(c->C);
     free(c);
 }
 
-/* strain (Voigt) of the triangle: ebar + sym grad w */
-static void tri_strain(const lin_ctx *c, plume_index t, const double *w, double e[3])
+/* strain (Voigt) at point q of element t: ebar + sym grad w */
+static void tri_strain(const lin_ctx *c, plume_index t, int q, const double *w, double e[3])
 {
-    const double *g = c->dN + 6 * t;
+    const double *g = c->dN + ((size_t)t * c->nq + q) * 2 * c->na;
     e[0] = c->ebar[0], e[1] = c->ebar[1], e[2] = c->ebar[2];
-    for (int k = 0; k < 3; k++) {
-        const double *wk = w + 2 * c->tri[3 * t + k];
+    for (int k = 0; k < c->na; k++) {
+        const double *wk = w + 2 * c->tri[c->na * t + k];
         e[0] += wk[0] * g[2 * k];
         e[1] += wk[1] * g[2 * k + 1];
         e[2] += wk[0] * g[2 * k + 1] + wk[1] * g[2 * k];
@@ -52,32 +57,38 @@ static plume_status lin_eval(void *ctx, int dim, const double *w, double *energy
     const lin_ctx *c = ctx;
     if (dim != 2)
         return PLUME_EINVAL;
+    const int na = c->na, nd = 2 * na;
     for (plume_index t = 0; t < c->nt; t++) {
-        const double *g = c->dN + 6 * t, *C = c->C + 9 * t;
-        double e[3], s[3];
-        tri_strain(c, t, w, e);
-        for (int i = 0; i < 3; i++)
-            s[i] = C[3 * i] * e[0] + C[3 * i + 1] * e[1] + C[3 * i + 2] * e[2];
-        if (energy)
-            *energy += 0.5 * c->Ah[t] * (s[0] * e[0] + s[1] * e[1] + s[2] * e[2]);
-        /* B maps the 6 dofs to the Voigt strain: column (k, x) = (gx, 0, gy), (k, y) = (0, gy, gx) */
-        double B[3][6];
-        for (int k = 0; k < 3; k++) {
-            double gx = g[2 * k], gy = g[2 * k + 1];
-            B[0][2 * k] = gx, B[1][2 * k] = 0.0, B[2][2 * k] = gy;
-            B[0][2 * k + 1] = 0.0, B[1][2 * k + 1] = gy, B[2][2 * k + 1] = gx;
-        }
-        if (grad)
-            for (int a = 0; a < 6; a++)
-                grad[2 * c->tri[3 * t + a / 2] + a % 2] += c->Ah[t] * (B[0][a] * s[0] + B[1][a] * s[1] + B[2][a] * s[2]);
-        if (hblocks) {
-            double *H = hblocks + 36 * t;
-            for (int a = 0; a < 6; a++) {
-                double CB[3];
-                for (int i = 0; i < 3; i++)
-                    CB[i] = C[3 * i] * B[0][a] + C[3 * i + 1] * B[1][a] + C[3 * i + 2] * B[2][a];
-                for (int b = 0; b < 6; b++)
-                    H[6 * b + a] = c->Ah[t] * (B[0][b] * CB[0] + B[1][b] * CB[1] + B[2][b] * CB[2]);
+        const double *C = c->C + 9 * t;
+        double *H = hblocks ? hblocks + (size_t)t * nd * nd : NULL;
+        if (H)
+            memset(H, 0, sizeof(double) * (size_t)(nd * nd));
+        for (int q = 0; q < c->nq; q++) {
+            const double *g = c->dN + ((size_t)t * c->nq + q) * 2 * na, wA = c->wA[(size_t)t * c->nq + q];
+            double e[3], s[3];
+            tri_strain(c, t, q, w, e);
+            for (int i = 0; i < 3; i++)
+                s[i] = C[3 * i] * e[0] + C[3 * i + 1] * e[1] + C[3 * i + 2] * e[2];
+            if (energy)
+                *energy += 0.5 * wA * (s[0] * e[0] + s[1] * e[1] + s[2] * e[2]);
+            /* B maps the dofs to the Voigt strain: column (k, x) = (gx, 0, gy), (k, y) = (0, gy, gx) */
+            double B[3][2 * LIN_MAX_NODES];
+            for (int k = 0; k < na; k++) {
+                double gx = g[2 * k], gy = g[2 * k + 1];
+                B[0][2 * k] = gx, B[1][2 * k] = 0.0, B[2][2 * k] = gy;
+                B[0][2 * k + 1] = 0.0, B[1][2 * k + 1] = gy, B[2][2 * k + 1] = gx;
+            }
+            if (grad)
+                for (int a = 0; a < nd; a++)
+                    grad[2 * c->tri[na * t + a / 2] + a % 2] += wA * (B[0][a] * s[0] + B[1][a] * s[1] + B[2][a] * s[2]);
+            if (H) {
+                for (int a = 0; a < nd; a++) {
+                    double CB[3];
+                    for (int i = 0; i < 3; i++)
+                        CB[i] = C[3 * i] * B[0][a] + C[3 * i + 1] * B[1][a] + C[3 * i + 2] * B[2][a];
+                    for (int b = 0; b < nd; b++)
+                        H[nd * b + a] += wA * (B[0][b] * CB[0] + B[1][b] * CB[1] + B[2][b] * CB[2]);
+                }
             }
         }
     }
@@ -99,50 +110,79 @@ static void rotate_stiffness(const double Cb[9], const double d[2], double C[9])
             C[3 * i + j] = T[i] * CT[j] + T[3 + i] * CT[3 + j] + T[6 + i] * CT[6 + j];
 }
 
-static plume_status lin_create(const plume_mesh *m, const plume_membrane_material *mats, int nmat, plume_term *out,
-                               lin_ctx **handle, plume_err *err)
+/* Gradients of the shape functions at barycentric point L of a triangle whose linear gradients
+ * are gl[3][2]: linear (na 3) N_i = L_i; quadratic (na 6) corners L_i (2 L_i - 1), then the
+ * midpoints of (0 1), (1 2), (2 0): 4 L_i L_j. */
+static void shape_gradients(int na, const double L[3], const double gl[3][2], double *g)
 {
+    for (int i = 0; i < 3; i++)
+        for (int d = 0; d < 2; d++)
+            g[2 * i + d] = na == 3 ? gl[i][d] : (4.0 * L[i] - 1.0) * gl[i][d];
+    if (na == 3)
+        return;
+    for (int k = 0; k < 3; k++) {
+        int i = k, j = (k + 1) % 3;
+        for (int d = 0; d < 2; d++)
+            g[2 * (3 + k) + d] = 4.0 * (L[i] * gl[j][d] + L[j] * gl[i][d]);
+    }
+}
+
+static plume_status lin_create(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
+                               plume_term *out, lin_ctx **handle, plume_err *err)
+{
+    const plume_mesh *m = cell->mesh;
+    const int quadratic = cell->order == 2;
     lin_ctx *c = calloc(1, sizeof *c);
     if (!c)
         return PLUME_ENOMEM;
-    c->nt = m->nt;
-    c->tri = malloc((size_t)(3 * m->nt + 1) * sizeof *c->tri);
-    c->dN = malloc((size_t)(6 * m->nt + 1) * sizeof *c->dN);
-    c->Ah = malloc((size_t)(m->nt + 1) * sizeof *c->Ah);
-    c->C = malloc((size_t)(9 * m->nt + 1) * sizeof *c->C);
-    if (!c->tri || !c->dN || !c->Ah || !c->C) {
+    c->nt = quadratic ? cell->quad.nt : m->nt;
+    c->na = quadratic ? 6 : 3;
+    c->nq = quadratic ? 3 : 1;
+    const plume_index *elements = quadratic ? cell->quad.tri6 : m->tri;
+    const int *material = quadratic ? cell->quad.material : m->material;
+    const double *barb_dir = quadratic ? cell->quad.barb_dir : m->barb_dir;
+    c->tri = malloc((size_t)(c->na * c->nt + 1) * sizeof *c->tri);
+    c->dN = malloc((size_t)(2 * c->na * c->nq * c->nt + 1) * sizeof *c->dN);
+    c->wA = malloc((size_t)(c->nq * c->nt + 1) * sizeof *c->wA);
+    c->C = malloc((size_t)(9 * c->nt + 1) * sizeof *c->C);
+    if (!c->tri || !c->dN || !c->wA || !c->C) {
         lin_destroy(c);
         return PLUME_ENOMEM;
     }
-    memcpy(c->tri, m->tri, (size_t)(3 * m->nt) * sizeof *c->tri);
-    for (plume_index t = 0; t < m->nt; t++) {
-        int id = m->material[t];
+    memcpy(c->tri, elements, (size_t)(c->na * c->nt) * sizeof *c->tri);
+    /* the 3-point rule at (2/3, 1/6, 1/6) and its permutations (weights 1/3) for quadratic elements */
+    static const double Lq[3][3] = {{2.0 / 3, 1.0 / 6, 1.0 / 6}, {1.0 / 6, 2.0 / 3, 1.0 / 6}, {1.0 / 6, 1.0 / 6, 2.0 / 3}};
+    static const double L1[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    for (plume_index t = 0; t < c->nt; t++) {
+        int id = material[t];
         if (id < 0 || id >= nmat) {
             lin_destroy(c);
             return plume_err_set(err, PLUME_EINVAL, "cell: triangle %ld has material %d outside [0, %d)", (long)t, id, nmat);
         }
-        const double *X0 = m->X + 2 * m->tri[3 * t], *X1 = m->X + 2 * m->tri[3 * t + 1], *X2 = m->X + 2 * m->tri[3 * t + 2];
+        const plume_index *v = elements + (size_t)c->na * t;
+        const double *X0 = m->X + 2 * v[0], *X1 = m->X + 2 * v[1], *X2 = m->X + 2 * v[2];
         double a = X1[0] - X0[0], b = X2[0] - X0[0], cc = X1[1] - X0[1], dd = X2[1] - X0[1];
         double det = a * dd - b * cc;
         if (!(det > 0.0)) {
             lin_destroy(c);
             return plume_err_set(err, PLUME_EINVAL, "cell: triangle %ld is degenerate or clockwise", (long)t);
         }
-        /* Dm^-1 = [dd -b; -cc a] / det; grad N1 = row 0, grad N2 = row 1, grad N0 = -(sum) */
-        double g1[2] = {dd / det, -b / det}, g2[2] = {-cc / det, a / det};
-        double *g = c->dN + 6 * t;
-        g[0] = -(g1[0] + g2[0]), g[1] = -(g1[1] + g2[1]);
-        g[2] = g1[0], g[3] = g1[1], g[4] = g2[0], g[5] = g2[1];
-        c->Ah[t] = 0.5 * det * mats[id].h;
-        double Cb[9], d[2] = {m->barb_dir[2 * t], m->barb_dir[2 * t + 1]}, n = hypot(d[0], d[1]);
+        /* Dm^-1 = [dd -b; -cc a] / det; grad L1 = row 0, grad L2 = row 1, grad L0 = -(sum) */
+        double gl[3][2] = {{-(dd - cc) / det, -(-b + a) / det}, {dd / det, -b / det}, {-cc / det, a / det}};
+        for (int q = 0; q < c->nq; q++) {
+            shape_gradients(c->na, quadratic ? Lq[q] : L1, (const double(*)[2])gl,
+                            c->dN + ((size_t)t * c->nq + q) * 2 * c->na);
+            c->wA[(size_t)t * c->nq + q] = 0.5 * det * mats[id].h / (double)c->nq;
+        }
+        double Cb[9], d[2] = {barb_dir[2 * t], barb_dir[2 * t + 1]}, n = hypot(d[0], d[1]);
         plume_membrane_stiffness(&mats[id], Cb);
         d[0] /= n, d[1] /= n;
         rotate_stiffness(Cb, d, c->C + 9 * t);
     }
     memset(out, 0, sizeof *out);
     out->name = "linear membrane";
-    out->arity = 3;
-    out->nstencil = m->nt;
+    out->arity = c->na;
+    out->nstencil = c->nt;
     out->stencil = c->tri;
     out->eval = lin_eval;
     out->destroy = lin_destroy;
@@ -168,7 +208,7 @@ plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membra
     lin_ctx *lc = NULL;
     double *u = NULL;
     plume_term lin, wrapped;
-    plume_status st = lin_create(m, mats, nmat, &lin, &lc, err);
+    plume_status st = lin_create(cell, mats, nmat, &lin, &lc, err);
     if (st != PLUME_OK)
         return st;
     if ((st = plume_periodic_term_create(cell, &lin, &per, &wrapped, err)) != PLUME_OK)
@@ -198,9 +238,12 @@ plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membra
         st = PLUME_ENOMEM;
         goto done;
     }
+    /* every material has its own thickness: the average is over the area */
+    const int *material = cell->order == 2 ? cell->quad.material : m->material;
     double area = 0.0;
-    for (plume_index t = 0; t < m->nt; t++)
-        area += lc->Ah[t] / mats[m->material[t]].h;
+    for (plume_index t = 0; t < lc->nt; t++)
+        for (int q = 0; q < lc->nq; q++)
+            area += lc->wA[(size_t)t * lc->nq + q] / mats[material[t]].h;
     if (iterations)
         *iterations = 0;
     double *w = plume_problem_x(p);
@@ -225,13 +268,15 @@ plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membra
         for (plume_index v = 0; v < m->nv; v++)
             w[2 * v] = w[2 * cell->master[v]], w[2 * v + 1] = w[2 * cell->master[v] + 1];
         double avg[3] = {0, 0, 0};
-        for (plume_index t = 0; t < m->nt; t++) {
-            double e[3];
-            tri_strain(lc, t, w, e);
+        for (plume_index t = 0; t < lc->nt; t++) {
             const double *Ct = lc->C + 9 * t;
-            double a = lc->Ah[t] / mats[m->material[t]].h;
-            for (int i = 0; i < 3; i++)
-                avg[i] += a * (Ct[3 * i] * e[0] + Ct[3 * i + 1] * e[1] + Ct[3 * i + 2] * e[2]);
+            for (int q = 0; q < lc->nq; q++) {
+                double e[3];
+                tri_strain(lc, t, q, w, e);
+                double a = lc->wA[(size_t)t * lc->nq + q] / mats[material[t]].h;
+                for (int i = 0; i < 3; i++)
+                    avg[i] += a * (Ct[3 * i] * e[0] + Ct[3 * i + 1] * e[1] + Ct[3 * i + 2] * e[2]);
+            }
         }
         for (int i = 0; i < 3; i++)
             C[3 * i + k] = avg[i] / area;

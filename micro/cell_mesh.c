@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "../lib/cdt.h"
+#include "../lib/membrane_p2.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -276,7 +277,7 @@ plume_status plume_cell_mesh(const plume_layout *l, plume_cell **out, plume_err 
     plume_status st = plume_layout_check(l, err);
     if (st != PLUME_OK)
         return st;
-    double w = plume_layout_barb_width(l), b = l->d_B, e = l->e_rel * w;
+    double w = plume_layout_barb_width(l), b = l->d_B, e = plume_layout_element_edge(l, PLUME_MESH_CELL);
     if (!(w >= 1e-12 * b) || !(b - w >= 1e-12 * b))
         return plume_err_set(err, PLUME_EINVAL,
                              "phi = %g: the barb strip (%g m) or the gap (%g m) is below 1e-12 d_B: the mesh "
@@ -332,6 +333,14 @@ plume_status plume_cell_mesh(const plume_layout *l, plume_cell **out, plume_err 
     plume_mesh_reset_current(m);
     if ((st = plume_mesh_build_topology(m, err)) != PLUME_OK)
         goto cleanup;
+    c->order = l->order;
+    if (l->order == 2) {
+        if ((st = plume_mesh_quadratic(m, &c->quad, err)) != PLUME_OK)
+            goto cleanup;
+        plume_mesh_destroy(&c->mesh);
+        m = c->mesh = c->quad.split;
+        c->quad.split = NULL;
+    }
     c->master = malloc((size_t)m->nv * sizeof *c->master);
     c->shift = malloc((size_t)(2 * m->nv) * sizeof *c->shift);
     if (!c->master || !c->shift) {
@@ -357,8 +366,24 @@ void plume_cell_destroy(plume_cell **c)
     if (!c || !*c)
         return;
     plume_mesh_destroy(&(*c)->mesh);
+    plume_quadratic_mesh_free(&(*c)->quad);
     free((*c)->master);
     free((*c)->shift);
     free(*c);
     *c = NULL;
+}
+
+plume_index plume_cell_elements(const plume_cell *c)
+{
+    return c->order == 2 ? c->quad.nt : c->mesh->nt;
+}
+
+plume_status plume_micro_membrane_term(const plume_mesh *mesh, const plume_quadratic_mesh *quad,
+                                       const plume_membrane_material *mats, int nmat, plume_term *out,
+                                       plume_err *err)
+{
+    if (!quad || !quad->tri6)
+        return plume_membrane_term_create(mesh, 2, mats, nmat, out, err);
+    return plume_membrane_p2_term_create(mesh->X, mesh->nv, quad->tri6, quad->nt, quad->material, quad->barb_dir,
+                                         mats, nmat, out, err);
 }

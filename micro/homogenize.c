@@ -1,5 +1,6 @@
 #include "homogenize.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +16,7 @@ void plume_homog_opts_default(plume_homog_opts *o)
     memset(o, 0, sizeof *o);
     o->strain_max = 0.05;
     o->steps = 10;
+    o->convergence = 1;
     plume_solver_opts_default(&o->solver_opts);
 }
 
@@ -58,7 +60,7 @@ static plume_status cell_solver_init(cell_solver *c, const plume_cell *cell, con
     c->Fprev[0] = c->Fprev[3] = 1.0;
     const plume_mesh *m = cell->mesh;
     plume_term membrane, wrapped;
-    plume_status st = plume_membrane_term_create(m, 2, mats, nmat, &membrane, err);
+    plume_status st = plume_micro_membrane_term(m, cell->order == 2 ? &cell->quad : NULL, mats, nmat, &membrane, err);
     if (st != PLUME_OK)
         return st;
     if ((st = plume_periodic_term_create(cell, &membrane, &c->per, &wrapped, err)) != PLUME_OK)
@@ -143,6 +145,38 @@ plume_status plume_ortho_from_tensor(const double C[9], plume_ortho *m)
     m->G_xy = 1.0 / S33;
     m->nu_xy = -S12 / S11;
     return (m->E_xx > 0 && m->E_yy > 0 && m->G_xy > 0) ? PLUME_OK : PLUME_ESINGULAR;
+}
+
+/* The convergence estimate (plume_homog_result): the tensor of the cell meshed at twice the element
+ * edge, or half of it when the layout refuses the coarser mesh. */
+static plume_status refinement_estimate(const plume_layout *l, const plume_membrane_material *mats,
+                                        plume_homog_result *r, plume_err *err)
+{
+    plume_layout lc;
+    plume_layout_refinement(l, PLUME_MESH_CELL, &lc);
+    plume_cell *cell = NULL;
+    double C[9];
+    plume_status st = plume_cell_mesh(&lc, &cell, err);
+    if (st == PLUME_OK)
+        st = plume_cell_linear_tensor(cell, mats, 2, C, NULL, err);
+    plume_cell_destroy(&cell);
+    plume_ortho m;
+    if (st != PLUME_OK || plume_ortho_from_tensor(C, &m) != PLUME_OK) {
+        /* no estimate is not a failure of the homogenisation itself */
+        r->refinement_change = -1.0;
+        return PLUME_OK;
+    }
+    r->refinement_edge = plume_layout_element_edge(&lc, PLUME_MESH_CELL);
+    double change = 0.0;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            change = fmax(change, fabs(r->C[3 * i + j] - C[3 * i + j]) / sqrt(r->C[4 * i] * r->C[4 * j]));
+    r->refinement_change = change;
+    const double a[4] = {r->moduli.E_xx, r->moduli.E_yy, r->moduli.nu_xy, r->moduli.G_xy};
+    const double b[4] = {m.E_xx, m.E_yy, m.nu_xy, m.G_xy};
+    for (int k = 0; k < 4; k++)
+        r->moduli_change[k] = fabs(a[k] - b[k]) / fmax(fabs(a[k]), DBL_MIN);
+    return PLUME_OK;
 }
 
 static plume_status check_opts(const plume_homog_opts *o, plume_err *err)
@@ -292,7 +326,9 @@ plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, 
     plume_cell *cell = NULL;
     if ((st = plume_cell_mesh(l, &cell, err)) != PLUME_OK)
         return st;
-    r->elements = cell->mesh->nt;
+    r->elements = plume_cell_elements(cell);
+    r->order = cell->order;
+    r->element_edge = plume_layout_element_edge(l, PLUME_MESH_CELL);
     r->vertices = cell->mesh->nv;
     plume_membrane_material mats[2];
     plume_layout_materials(l, mats);
@@ -317,6 +353,11 @@ plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, 
         goto done;
     }
     r->coupling = fmax(fabs(r->C[2]), fabs(r->C[5])) / sqrt(r->C[0] * r->C[4]);
+    r->refinement_change = -1.0;
+    for (int k = 0; k < 4; k++)
+        r->moduli_change[k] = -1.0;
+    if (o->convergence && (st = refinement_estimate(l, mats, r, err)) != PLUME_OK)
+        goto done;
     if (o->strain_max > 0.0) {
         /* back to the rest state between load cases */
         double I[4] = {1, 0, 0, 1}, P[4];

@@ -15,6 +15,7 @@ typedef struct {
     double strain_max;     /* final strain of the cell curves; default 0.05 (0: no curves) */
     int steps;             /* points of each cell curve; default 10 */
     plume_solver_opts solver_opts;
+    int convergence;       /* 1 (default): estimate how converged the tensor is (refinement_change); 0: skip */
     /* Optional (NULL: none): called with each state of the cell curves, the rest state as step 0
      * and then every accepted step: load case (0 uniaxial x, 1 uniaxial y, 2 simple shear), its
      * strain, the cell (its mesh: materials and barb directions) and the positions of all its
@@ -35,7 +36,17 @@ typedef struct {
      * uniaxial_x: stress along the barbs at free lateral contraction, wbar = lateral strain;
      * uniaxial_y: the same across the barbs; shear: simple shear gamma, stress P_xy, wbar = 0. */
     plume_curve uniaxial_x, uniaxial_y, shear;
-    plume_index elements, vertices;
+    plume_index elements, vertices; /* elements (quadratic triangles at order 2) and mesh nodes */
+    int order;             /* element order used */
+    double element_edge;   /* target element edge of the cell mesh (m) */
+    /* How converged the moduli are: the same tensor on the cell meshed with elements twice as large
+     * (half as large when the layout allows no coarser mesh), refinement_edge. refinement_change =
+     * max_ij |C_ij - C'_ij| / sqrt(C_ii C_jj) (scale-free: an error in the energy norm), and
+     * moduli_change the relative changes of E_xx, E_yy, nu_xy, G_xy. Under monotone convergence of
+     * order >= 1 the change from the coarser mesh bounds this run's error. -1 when not estimated. */
+    double refinement_change;
+    double moduli_change[4];
+    double refinement_edge;
     int newton_iterations; /* every solve */
     double seconds;
 } plume_homog_result;

@@ -23,12 +23,45 @@ void plume_layout_default(plume_layout *l)
     l->barbule_width = 0.2 * l->d_B;
     l->barbule_spacing = 1.0 * l->d_B;
     l->barbule_angle = 60.0;
-    l->e_rel = 1.0;
+    l->order = 2;
+    l->e_rel = 0.0;
 }
 
 double plume_layout_barb_width(const plume_layout *l)
 {
     return l->phi * l->d_B;
+}
+
+double plume_layout_thinnest(const plume_layout *l)
+{
+    double w = plume_layout_barb_width(l), t = fmin(w, l->d_B - w);
+    return l->kind == PLUME_LAYOUT_BARBULES ? fmin(t, l->barbule_width) : t;
+}
+
+/* The automatic element edge over the thinnest strip, measured (docs/micro-convergence.md): the
+ * largest fraction whose default run is within 1 % (cell) or 2 % (specimen) of its refined limit. */
+#define AUTO_EDGE_CELL_P2 0.5
+#define AUTO_EDGE_CELL_P1 0.0625
+#define AUTO_EDGE_SPECIMEN_P2 1.0
+#define AUTO_EDGE_SPECIMEN_P1 0.25
+
+double plume_layout_element_edge(const plume_layout *l, plume_mesh_use use)
+{
+    if (l->e_rel > 0.0)
+        return l->e_rel * plume_layout_barb_width(l);
+    double f = use == PLUME_MESH_CELL ? (l->order == 1 ? AUTO_EDGE_CELL_P1 : AUTO_EDGE_CELL_P2)
+                                      : (l->order == 1 ? AUTO_EDGE_SPECIMEN_P1 : AUTO_EDGE_SPECIMEN_P2);
+    return f * plume_layout_thinnest(l);
+}
+
+void plume_layout_refinement(const plume_layout *l, plume_mesh_use use, plume_layout *out)
+{
+    double w = plume_layout_barb_width(l), e = plume_layout_element_edge(l, use);
+    *out = *l;
+    out->e_rel = 2.0 * e / w;
+    plume_err ignored;
+    if (plume_layout_check(out, &ignored) != PLUME_OK)
+        out->e_rel = 0.5 * e / w;
 }
 
 plume_status plume_layout_check(const plume_layout *l, plume_err *err)
@@ -57,9 +90,12 @@ plume_status plume_layout_check(const plume_layout *l, plume_err *err)
     if (!(l->kappa >= 0.0) || !isfinite(l->kappa))
         return plume_err_set(err, PLUME_EINVAL, "kappa must be finite and >= 0 (got %g Pa)", l->kappa);
     double w = plume_layout_barb_width(l);
-    if (!(l->e_rel > 0.0) || !isfinite(l->e_rel))
-        return plume_err_set(err, PLUME_EINVAL, "e_rel must be finite and > 0 (got %g)", l->e_rel);
-    if (!(l->e_rel * w <= l->d_B))
+    if (l->order != 1 && l->order != 2)
+        return plume_err_set(err, PLUME_EINVAL, "order must be 1 (linear) or 2 (quadratic triangles) (got %d)",
+                             l->order);
+    if (!(l->e_rel >= 0.0) || !isfinite(l->e_rel))
+        return plume_err_set(err, PLUME_EINVAL, "e_rel must be finite and >= 0, 0 for automatic (got %g)", l->e_rel);
+    if (l->e_rel > 0.0 && !(l->e_rel * w <= l->d_B))
         return plume_err_set(err, PLUME_EINVAL,
                              "e_rel = %g gives elements of %g m, larger than the cell d_B = %g m "
                              "(e_rel must be <= 1/phi = %g)",
@@ -74,7 +110,7 @@ plume_status plume_layout_check(const plume_layout *l, plume_err *err)
                              w, l->e_rel * w, l->e_rel, PLUME_LAYOUT_MAX_E_REL);
     if (l->kind == PLUME_LAYOUT_STRIPS)
         return PLUME_OK; /* the barbule fields are not used */
-    if (l->barbule_width * PLUME_LAYOUT_MAX_E_REL < l->e_rel * w)
+    if (l->e_rel > 0.0 && l->barbule_width * PLUME_LAYOUT_MAX_E_REL < l->e_rel * w)
         return plume_err_set(err, PLUME_EINVAL,
                              "strips narrower than an element: barbule_width = %g m is less than a quarter of the "
                              "element edge %g m (lower e_rel)",

@@ -38,17 +38,35 @@ typedef struct {
                                 along x) */
     double barbule_angle;    /* angle between barbules and barbs, degrees, in (0, 180) */
     /* meshing: */
+    int order;             /* element order: 2 (default) quadratic triangles, which do not lock when
+                              a slender strip bends in-plane; 1 linear triangles (the paper's) */
     double e_rel;          /* target element edge over the barb width, e-bar = e / w_B, in
-                              (0, PLUME_LAYOUT_MAX_E_REL] and e_rel * w_B <= d_B */
+                              (0, PLUME_LAYOUT_MAX_E_REL] and e_rel * w_B <= d_B; 0 (default): chosen
+                              from the thinnest feature (plume_layout_element_edge) */
 } plume_layout;
 
 /* Defaults: strips, phi = 0.16 (supplementary Figure 10), d_B = 1e-3, E_b = 2.5e9, nu_b = 0.3,
  * ratio = 1e-6, nu_B = 0.3, h = 1e-4, kappa = 0, barbules 0.2 d_B wide every d_B at 60 deg (they
- * span < 0.82 d_B along the barbs for any phi, so they fit the cell), e_rel = 1. */
+ * span < 0.82 d_B along the barbs for any phi, so they fit the cell), order 2, e_rel = 0 (automatic). */
 void plume_layout_default(plume_layout *l);
 
 /* w_B = phi d_B. */
 double plume_layout_barb_width(const plume_layout *l);
+
+/* The thinnest strip of the layout (m): the barb strip, the gap between barbs, or a barbule. */
+double plume_layout_thinnest(const plume_layout *l);
+
+/* What a mesh is for: the automatic element edge differs (docs/micro-convergence.md). */
+typedef enum { PLUME_MESH_CELL = 0, PLUME_MESH_SPECIMEN = 1 } plume_mesh_use;
+
+/* The target element edge (m): e_rel * w_B when e_rel > 0, else the automatic choice for this use and
+ * element order, a fraction of the thinnest feature measured to put the default within 1 % (cell) and
+ * 2 % (specimen) of its own refined limit. */
+double plume_layout_element_edge(const plume_layout *l, plume_mesh_use use);
+
+/* The layout meshed for the refinement comparison of `use`: element edge twice this layout's, or half
+ * of it when the layout check refuses twice. */
+void plume_layout_refinement(const plume_layout *l, plume_mesh_use use, plume_layout *out);
 
 /* Validates every field (PLUME_EINVAL naming the field and its value: "phi must be in (0, 1)
  * (got 1.2)", "ratio must be > 0", "strips narrower than an element ...", "cell too small for its

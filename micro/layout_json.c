@@ -52,6 +52,13 @@ static plume_status apply_object(json_t *doc, const char *where, plume_layout *l
             w_B = json_number_value(v);
             continue;
         }
+        if (strcmp(key, "order") == 0) {
+            double o = json_number_value(v);
+            if (o != 1.0 && o != 2.0)
+                return plume_err_set(err, PLUME_EFORMAT, "%s: key \"order\" must be 1 or 2 (got %g)", where, o);
+            l->order = (int)o;
+            continue;
+        }
         size_t k = 0, n = sizeof number_keys / sizeof number_keys[0];
         while (k < n && strcmp(key, number_keys[k].key) != 0)
             k++;

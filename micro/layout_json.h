@@ -10,7 +10,7 @@ extern "C" {
 
 /* Reads keys into *l (which holds the defaults or earlier values; absent keys are kept):
  *   {"layout": "strips" | "barbules", "phi": 0.16, "d_B": 1e-3, "w_B": 1.6e-4, "E_b": 2.5e9,
- *    "nu_b": 0.3, "ratio": 1e-6, "nu_B": 0.3, "thickness": 1e-4, "kappa": 0, "e_rel": 1,
+ *    "nu_b": 0.3, "ratio": 1e-6, "nu_B": 0.3, "thickness": 1e-4, "kappa": 0, "order": 2, "e_rel": 0,
  *    "barbule_width": 1e-4, "barbule_spacing": 8e-4, "barbule_angle": 60}
  * ("w_B" sets d_B = w_B / phi after every other key). Errors name the file and the line for
  * malformed JSON (PLUME_EFORMAT), an unknown key or a non-numeric value (PLUME_EFORMAT), an

@@ -1,8 +1,11 @@
 #include "micro_model.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "../lib/membrane.h"
+#include "../lib/mesh_quadratic.h"
+#include "../lib/progress.h"
 #include "cell_mesh.h"
 
 plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, double angle_deg,
@@ -15,14 +18,73 @@ plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, d
     plume_status st = plume_layout_check(l, err);
     if (st != PLUME_OK || (st = plume_specimen_mesh(l, lx, ly, angle_deg, mesh, err)) != PLUME_OK)
         return st;
+    plume_quadratic_mesh quad = {0};
+    if (l->order == 2) {
+        /* the quadratic triangles' nodes are the split mesh's vertices: grips, reactions and output
+         * see an ordinary mesh */
+        if ((st = plume_mesh_quadratic(*mesh, &quad, err)) != PLUME_OK) {
+            plume_mesh_destroy(mesh);
+            return st;
+        }
+        plume_mesh_destroy(mesh);
+        *mesh = quad.split;
+        quad.split = NULL;
+    }
     plume_membrane_material mats[2];
     plume_layout_materials(l, mats);
     plume_term term;
     if ((st = plume_problem_create((*mesh)->nv, 2, fmax(lx, ly), p)) != PLUME_OK ||
-        (st = plume_membrane_term_create(*mesh, 2, mats, 2, &term, err)) != PLUME_OK ||
+        (st = plume_micro_membrane_term(*mesh, l->order == 2 ? &quad : NULL, mats, 2, &term, err)) != PLUME_OK ||
         (st = plume_problem_add_term(*p, &term)) != PLUME_OK) {
         plume_problem_destroy(p);
         plume_mesh_destroy(mesh);
     }
+    plume_quadratic_mesh_free(&quad);
+    return st;
+}
+
+plume_status plume_micro_traction_convergence(const plume_layout *l, double lx, double ly, double angle_deg,
+                                              const plume_traction_opts *o, const plume_traction_result *run,
+                                              plume_micro_convergence *c, plume_err *err)
+{
+    if (!l || !o || !run || !c)
+        return plume_err_set(err, PLUME_EINVAL, "micro convergence: invalid arguments");
+    memset(c, 0, sizeof *c);
+    c->stress_change = c->slope_change = -1.0;
+    double t0 = plume_wall_seconds();
+    plume_layout lc;
+    plume_layout_refinement(l, PLUME_MESH_SPECIMEN, &lc);
+    c->edge = plume_layout_element_edge(l, PLUME_MESH_SPECIMEN);
+    c->refinement_edge = plume_layout_element_edge(&lc, PLUME_MESH_SPECIMEN);
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_traction_result r;
+    memset(&r, 0, sizeof r);
+    plume_status st = plume_micro_specimen(&lc, lx, ly, angle_deg, &mesh, &p, err);
+    if (st != PLUME_OK)
+        goto done;
+    c->refinement_elements = l->order == 2 ? mesh->nt / 4 : mesh->nt;
+    plume_traction_opts oc = *o;
+    oc.on_step = NULL;
+    oc.on_step_user = NULL;
+    oc.progress = 0;
+    if ((st = plume_traction_run(mesh, p, NULL, 0, &oc, &r, err)) != PLUME_OK)
+        goto done;
+    c->converged = r.converged;
+    if (r.converged) {
+        plume_index n = r.curve.n < run->curve.n ? r.curve.n : run->curve.n;
+        double smax = 0.0, d = 0.0;
+        for (plume_index k = 0; k < n; k++) {
+            smax = fmax(smax, fabs(run->curve.stress[k]));
+            d = fmax(d, fabs(run->curve.stress[k] - r.curve.stress[k]));
+        }
+        c->stress_change = smax > 0.0 ? d / smax : 0.0;
+        c->slope_change = fabs(run->initial_slope - r.initial_slope) / fmax(fabs(run->initial_slope), 1e-300);
+    }
+done:
+    plume_traction_result_free(&r);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&mesh);
+    c->seconds = plume_wall_seconds() - t0;
     return st;
 }

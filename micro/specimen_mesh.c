@@ -335,7 +335,7 @@ plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, do
                              lx, ly);
     if (!(angle_deg >= 0.0 && angle_deg <= 180.0))
         return plume_err_set(err, PLUME_EINVAL, "barb angle must be in [0, 180] degrees (got %g)", angle_deg);
-    double w = plume_layout_barb_width(l), e = l->e_rel * w;
+    double w = plume_layout_barb_width(l), e = plume_layout_element_edge(l, PLUME_MESH_SPECIMEN);
     if (!(w >= 1e-12 * l->d_B) || !(l->d_B - w >= 1e-12 * l->d_B))
         return plume_err_set(err, PLUME_EINVAL,
                              "phi = %g: the barb strip (%g m) or the gap (%g m) is below 1e-12 d_B: the mesh "
@@ -346,7 +346,7 @@ plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, do
         return plume_err_set(err, PLUME_EINVAL,
                              "e_rel = %g gives elements of %g m: a %g x %g m specimen would need ~%.3g triangles "
                              "(more than %g)",
-                             l->e_rel, e, lx, ly, estimate, MAX_TRIANGLES);
+                             e / w, e, lx, ly, estimate, MAX_TRIANGLES);
 
     pattern P;
     memset(&P, 0, sizeof P);

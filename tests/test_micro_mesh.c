@@ -69,7 +69,7 @@ void test_micro_mesh_layout_defaults(void)
     plume_layout_default(&l);
     plume_err err = {""};
     CHECK(l.kind == PLUME_LAYOUT_STRIPS);
-    CHECK(l.phi == 0.16 && l.d_B == 1e-3 && l.e_rel == 1.0);
+    CHECK(l.phi == 0.16 && l.d_B == 1e-3 && l.e_rel == 0.0 && l.order == 2);
     CHECK(plume_layout_check(&l, &err) == PLUME_OK);
     CHECK_REL(plume_layout_barb_width(&l), 0.16e-3, 1e-15, 1e-300);
     l.kind = PLUME_LAYOUT_BARBULES; /* the default barbules fit their cell, for any phi up to 0.8
@@ -127,7 +127,7 @@ void test_micro_mesh_layout_bad_fields(void)
         {&l.nu_b, -1.0, "nu_b"},       {&l.ratio, 0.0, "ratio"},      {&l.ratio, -1e-3, "ratio"},
         {&l.ratio, NAN, "ratio"},      {&l.ratio, 1e300, "ratio"},    {&l.nu_B, 0.5, "nu_B"},
         {&l.nu_B, NAN, "nu_B"},        {&l.h, 0.0, "h must"},         {&l.h, NAN, "h must"},
-        {&l.kappa, -1.0, "kappa"},     {&l.kappa, INFINITY, "kappa"}, {&l.e_rel, 0.0, "e_rel"},
+        {&l.kappa, -1.0, "kappa"},     {&l.kappa, INFINITY, "kappa"}, {&l.e_rel, -1e-9, "e_rel"},
         {&l.e_rel, -1.0, "e_rel"},     {&l.e_rel, NAN, "e_rel"},      {&l.e_rel, 7.0, "e_rel"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
@@ -138,6 +138,11 @@ void test_micro_mesh_layout_bad_fields(void)
     l = l0;
     l.kind = (plume_layout_kind)7;
     expect_bad(&l, "kind");
+    l = l0;
+    l.order = 3;
+    expect_bad(&l, "order");
+    l.order = 0;
+    expect_bad(&l, "order");
     /* barbule fields: ignored for strips, checked for barbules */
     l = l0;
     l.barbule_width = -1, l.barbule_angle = 0;

@@ -62,7 +62,10 @@ class HomogenizeResult:
     shear_coupling: relative coupling between shear and extension (0 for an orthotropic cell);
     elements, vertices: size of the cell mesh; newton_iterations: total over the load cases;
     seconds: wall time; curves: "uniaxial_x", "uniaxial_y", "shear" -> Curve (empty when
-    strain_max was 0); raw: the library's JSON result.
+    strain_max was 0); order: element order (2 quadratic, 1 linear); element_edge: the cell's
+    target element edge (m); refinement_change: how converged the moduli are, the tensor's largest
+    change (relative, energy scale) from the cell meshed with elements twice as large (-1: not
+    estimated); moduli_change: the relative change of each modulus; raw: the library's JSON result.
     """
     E_xx: float
     E_yy: float
@@ -75,6 +78,10 @@ class HomogenizeResult:
     newton_iterations: int
     seconds: float
     curves: Dict[str, Curve]
+    order: int = 2
+    element_edge: float = 0.0
+    refinement_change: float = -1.0
+    moduli_change: Dict[str, float] = field(default_factory=dict)
     raw: dict = field(repr=False, default_factory=dict)
 
     @property
@@ -94,8 +101,10 @@ class TractionResult:
     strain (Pa); converged: every step converged; failed_step: first step that did not, or -1;
     stop_reason: the solver's reason (text); newton_iterations: total; max_violation: largest
     relative violation of the barb constraint; seconds: wall time; elements, vertices: mesh size;
-    model, angle: the request's (angle in degrees between the barbs and the pull); raw: the
-    library's JSON result.
+    model, angle: the request's (angle in degrees between the barbs and the pull); micro model:
+    refinement_change, how converged the curve is (its largest stress change from the specimen
+    meshed with elements twice as large, over the largest stress; -1: not estimated), order and
+    element_edge (m); raw: the library's JSON result.
     """
     model: str
     angle: float
@@ -112,6 +121,9 @@ class TractionResult:
     seconds: float
     elements: int
     vertices: int
+    refinement_change: float = -1.0
+    order: int = 0
+    element_edge: float = 0.0
     raw: dict = field(repr=False, default_factory=dict)
 
 
@@ -279,8 +291,9 @@ def homogenize(layout=None, strain_max=0.05, steps=10):
         layout: dict of layout keys (defaults for those absent): "layout" ("strips" |
             "barbules"), "phi" (barb surface fraction, -), "d_B" (barb spacing, m), "w_B" (barb
             width, m; sets d_B = w_B / phi), "E_b" (barb Young's modulus, Pa), "nu_b", "ratio"
-            (barbule over barb modulus, -), "nu_B", "thickness" (m), "kappa" (Pa), "e_rel"
-            (element edge over barb width, -), "barbule_width" (m), "barbule_spacing" (m),
+            (barbule over barb modulus, -), "nu_B", "thickness" (m), "kappa" (Pa), "order" (1
+            linear or 2 quadratic triangles, the default), "e_rel" (element edge over barb width,
+            -; 0, the default, chooses it from the thinnest strip), "barbule_width" (m), "barbule_spacing" (m),
             "barbule_angle" (deg). None: the default strips layout (phi 0.16, E_b 2.5e9 Pa).
         strain_max: largest strain of the three nonlinear curves (-); 0 gives the moduli only.
         steps: steps of each curve.
@@ -302,7 +315,10 @@ def homogenize(layout=None, strain_max=0.05, steps=10):
         elements=int(_get(r, "elements", "homogenize")),
         vertices=int(_get(r, "vertices", "homogenize")),
         newton_iterations=int(_get(r, "newton_iterations", "homogenize")),
-        seconds=float(_get(r, "seconds", "homogenize")), curves=curves, raw=r)
+        seconds=float(_get(r, "seconds", "homogenize")), curves=curves,
+        order=int(_get(r, "order", "homogenize")), element_edge=float(_get(r, "element_edge", "homogenize")),
+        refinement_change=float(_get(r, "refinement_change", "homogenize")),
+        moduli_change={k: float(v) for k, v in (r.get("moduli_change") or {}).items()}, raw=r)
 
 
 def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **options):
@@ -317,7 +333,7 @@ def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **op
             homogenize / fit result; None: plume's defaults (1e4, 1, 0, 1).
         layout: micro model: a dict of layout keys (see homogenize); those absent keep plume's
             defaults for a sample, as apps/traction: barbs d_B = 0.086 ly apart, elements
-            e_rel = 2.9 barb widths (the cell-scale d_B = 1 mm would be far too fine). The
+            elements chosen from the thinnest strip (the cell-scale d_B = 1 mm would be far too fine). The
             thickness and kappa are the sample's.
         vtk: a directory (created if needed): the deformed sample at the rest state and at
             every converged step as a ParaView series: vtk/steps.pvd, vtk/step_NNNNN.vtu (and,
@@ -352,7 +368,9 @@ def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **op
         max_violation=float(_get(r, "max_violation", "traction")),
         seconds=float(_get(r, "seconds", "traction")),
         elements=int(_get(r, "elements", "traction")),
-        vertices=int(_get(r, "vertices", "traction")), raw=r)
+        vertices=int(_get(r, "vertices", "traction")),
+        refinement_change=float(r.get("refinement_change", -1.0)), order=int(r.get("order", 0)),
+        element_edge=float(r.get("element_edge", 0.0)), raw=r)
 
 
 def fit(targets, start, free=("E_yy", "G_xy"), max_eval=300, xtol_rel=1e-6, **options):
