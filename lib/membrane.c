@@ -3,35 +3,20 @@
  * Everything is written in terms of G = F R = Ds B with B = Dm^-1 R precomputed per triangle:
  * the Green strain in the barb frame is E = (G^T G - I)/2 and J = |g1 x g2| for the columns g1, g2
  * of G (planar mode embeds G in 3D with z = 0, so J = |det F|). The energy density, its gradient
- * dpsi/dG and its Hessian (2 dim x 2 dim) are computed in G in closed form, projected there when
- * asked (G -> x is a linear surjection, so PSD in G gives PSD in x; shell mode splits the 6x6
- * block into in-plane 4x4 and normal 2x2 parts first), and mapped to the three vertices with
+ * dpsi/dG and its Hessian (2 dim x 2 dim) are computed in G in closed form
+ * (lib/internal/membrane_law.h, shared with the quadratic triangle), projected there when asked
+ * (G -> x is a linear surjection, so PSD in G gives PSD in x; shell mode splits the 6x6 block into
+ * in-plane 4x4 and normal 2x2 parts first), and mapped to the three vertices with
  * G[:,c] = sum_v W[v][c] x_v. Nothing is allocated after create. */
 #include "membrane.h"
+#include "internal/membrane_law.h"
 #include "internal/vec3.h"
 
 #include "dense.h"
 
-#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* Below this area ratio the current triangle is collapsed and the second derivative of J, which
- * divides by J, is dropped; the first derivative (a unit normal) stays well defined down to 0. */
-#define MEMBRANE_J_TINY 1e-14
-
-/* A reference triangle whose doubled area is below this fraction of its squared edge lengths is
- * degenerate up to rounding (collinear points computed in floating point): Dm^-1 would be noise. */
-#define MEMBRANE_DEGENERATE_REL (64.0 * DBL_EPSILON)
-
-/* A material as the element uses it. C is orthotropic in the barb frame, so of the plane-stress
- * tensor only C11, C12 = C21, C22 and C33 are non-zero (DESIGN.md, membrane energy). */
-typedef struct {
-    double C11, C12, C22, C33;
-    double kappa; /* compression coefficient (Pa) */
-    int log_barrier;
-} mem_mat;
 
 typedef struct {
     double Ah;   /* reference area times thickness */
@@ -42,9 +27,9 @@ typedef struct {
 typedef struct {
     int dim;
     plume_index nt;
-    plume_index *stencil; /* [3*nt] */
-    mem_tri *tri;         /* [nt] */
-    mem_mat *mat;         /* [nmat] */
+    plume_index *stencil;    /* [3*nt] */
+    mem_tri *tri;            /* [nt] */
+    plume_membrane_law *mat; /* [nmat] */
 } mem_ctx;
 
 /* 1 - nu_xy nu_yx, the plane-stress denominator; > 0 iff C is positive definite (moduli > 0). */
@@ -94,136 +79,20 @@ void plume_membrane_stiffness(const plume_membrane_material *m, double C[9])
     C[8] = m->G_xy;
 }
 
-static void mem_mat_set(const plume_membrane_material *mat, mem_mat *m)
-{
-    double C[9];
-    plume_membrane_stiffness(mat, C);
-    m->C11 = C[0];
-    m->C12 = C[1];
-    m->C22 = C[4];
-    m->C33 = C[8];
-    m->kappa = mat->kappa;
-    m->log_barrier = mat->log_barrier;
-}
-
-/* Density per unit volume psi(G) (without h) for the columns g[0], g[1] of G (3-vectors, z = 0 in
- * planar mode). P (if non-NULL): dpsi/dg_c. HG (if non-NULL): Hessian, (2 dim)^2 row-major, the
- * entry G[i][c] having index c*dim + i.
- *
- * With e = (E11, E22, 2E12) and s = C e, a unit change of G[i][c] changes e by
- * v_(0,i) = (g0_i, 0, g1_i), v_(1,i) = (0, g1_i, g0_i), so the Hessian blocks (dim x dim) are
- *   H00 = C11 g0 g0^T + C33 g1 g1^T + s0 I,  H11 = C22 g1 g1^T + C33 g0 g0^T + s1 I,
- *   H01 = C12 g0 g1^T + C33 g1 g0^T + s2 I   (v_a . C v_b plus the geometric term S : e_a^T e_b,
- *   S = [[s0, s2], [s2, s1]] the second Piola-Kirchhoff stress in the barb frame).
- * For J = |n|, n = g0 x g1, n^ = n/J: dJ/dg0 = g1 x n^, dJ/dg1 = n^ x g0 and
- *   d2J = (dn_a . dn_b - dJ_a dJ_b) / J + n^ . (e_i x e_j) [mixed columns only], with
- *   dn_(0,i) . dn_(0,j) = d_ij |g1|^2 - g1_i g1_j,  dn_(1,i) . dn_(1,j) = d_ij |g0|^2 - g0_i g0_j,
- *   dn_(0,i) . dn_(1,j) = g0_i g1_j - d_ij g0.g1.
- * g is read only; it is not const-qualified because C11 does not convert double (*)[3] to
- * const double (*)[3] implicitly. */
-static inline double density_G(const mem_mat *m, const int dim, double g[2][3], double P[2][3],
-                               double *HG)
-{
-    const double *g0 = g[0], *g1 = g[1];
-    const double c11 = dot3(g0, g0), c22 = dot3(g1, g1), c12 = dot3(g0, g1);
-    const double e0 = 0.5 * (c11 - 1.0), e1 = 0.5 * (c22 - 1.0), e2 = c12;
-    const double s0 = m->C11 * e0 + m->C12 * e1, s1 = m->C12 * e0 + m->C22 * e1, s2 = m->C33 * e2;
-    double psi = 0.5 * (e0 * s0 + e1 * s1 + e2 * s2);
-
-    /* compression term, supplementary eq. 6: psi_c = kappa/12 ((1-J)/6)^3 for J < 1 */
-    double n[3], nh[3] = {0.0, 0.0, 0.0}, dJ0[3] = {0.0, 0.0, 0.0}, dJ1[3] = {0.0, 0.0, 0.0};
-    cross3(g0, g1, n);
-    const double J = sqrt(dot3(n, n));
-    const int comp = m->kappa > 0.0 && J < 1.0;
-    double dpc = 0.0, ddpc = 0.0;
-    if (comp && m->log_barrier) {
-        /* log barrier in place of the cubic term: kappa/12 (J - 1 - ln J), C1 at J = 1 */
-        const double k12 = m->kappa / 12.0;
-        psi += J > 0.0 ? k12 * (J - 1.0 - log(J)) : INFINITY;
-        dpc = J > 0.0 ? k12 * (1.0 - 1.0 / J) : -INFINITY;
-        ddpc = J > 0.0 ? k12 / (J * J) : INFINITY;
-        if (J > 0.0) {
-            const double iJ = 1.0 / J;
-            for (int k = 0; k < 3; k++)
-                nh[k] = n[k] * iJ;
-            cross3(g1, nh, dJ0);
-            cross3(nh, g0, dJ1);
-        }
-    } else if (comp) {
-        const double t = (1.0 - J) / 6.0;
-        psi += m->kappa / 12.0 * t * t * t;
-        dpc = -m->kappa * t * t * (1.0 / 24.0); /* d psi_c / dJ */
-        ddpc = m->kappa * t * (1.0 / 72.0);     /* d2 psi_c / dJ2 */
-        if (J > 0.0) {
-            const double iJ = 1.0 / J;
-            for (int k = 0; k < 3; k++)
-                nh[k] = n[k] * iJ;
-            cross3(g1, nh, dJ0);
-            cross3(nh, g0, dJ1);
-        }
-    }
-
-    if (P) {
-        /* dpsi/dG = G S, S = [[s0, s2], [s2, s1]], plus psi_c' dJ/dG */
-        for (int k = 0; k < 3; k++) {
-            P[0][k] = s0 * g0[k] + s2 * g1[k] + dpc * dJ0[k];
-            P[1][k] = s2 * g0[k] + s1 * g1[k] + dpc * dJ1[k];
-        }
-    }
-
-    if (HG) {
-        const int k = 2 * dim;
-        /* the compression Hessian ddpc dJ dJ^T + dpc d2J regrouped:
-         * (ddpc - dpc/J) dJ_a dJ_b + (dpc/J) dn_a . dn_b + dpc n^ . (e_i x e_j) */
-        double aJ = 0.0, aN = 0.0, aE = 0.0;
-        if (comp) {
-            if (J >= MEMBRANE_J_TINY) {
-                aN = dpc / J;
-                aJ = ddpc - aN;
-                aE = dpc;
-            } else {
-                aJ = ddpc; /* collapsed: the d2J part is dropped */
-            }
-        }
-        for (int i = 0; i < dim; i++) {
-            for (int j = 0; j < dim; j++) {
-                const double dij = i == j ? 1.0 : 0.0;
-                double h00 = m->C11 * g0[i] * g0[j] + m->C33 * g1[i] * g1[j] + s0 * dij;
-                double h11 = m->C22 * g1[i] * g1[j] + m->C33 * g0[i] * g0[j] + s1 * dij;
-                double h01 = m->C12 * g0[i] * g1[j] + m->C33 * g1[i] * g0[j] + s2 * dij;
-                if (comp) {
-                    h00 += aJ * dJ0[i] * dJ0[j] + aN * (dij * c22 - g1[i] * g1[j]);
-                    h11 += aJ * dJ1[i] * dJ1[j] + aN * (dij * c11 - g0[i] * g0[j]);
-                    h01 += aJ * dJ0[i] * dJ1[j] + aN * (g0[i] * g1[j] - dij * c12);
-                    if (i != j) { /* n^ . (e_i x e_j) = +-n^_l, l the third axis */
-                        const int l = 3 - i - j;
-                        h01 += aE * (j == (i + 1) % 3 ? nh[l] : -nh[l]);
-                    }
-                }
-                HG[i * k + j] = h00;
-                HG[(dim + i) * k + dim + j] = h11;
-                HG[i * k + dim + j] = h01;
-                HG[(dim + j) * k + i] = h01;
-            }
-        }
-    }
-    return psi;
-}
-
 double plume_membrane_density(const plume_membrane_material *mat, int dim, const double *F,
                               const double d[2])
 {
     if (!mat || !F || !d || (dim != 2 && dim != 3))
         return NAN;
-    mem_mat m;
-    mem_mat_set(mat, &m);
+    plume_membrane_law m;
+    plume_membrane_law_set(mat, &m);
     double len = hypot(d[0], d[1]);
     double R[2][2] = {{d[0] / len, -d[1] / len}, {d[1] / len, d[0] / len}};
     double g[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
     for (int i = 0; i < dim; i++)
         for (int c = 0; c < 2; c++)
             g[c][i] = F[2 * i] * R[0][c] + F[2 * i + 1] * R[1][c];
-    return mat->h * density_G(&m, dim, g, NULL, NULL);
+    return mat->h * plume_membrane_law_density_G(&m, dim, g, NULL, NULL);
 }
 
 plume_status plume_membrane_strain_stress(const plume_membrane_material *mat, int dim, const double *F,
@@ -231,8 +100,8 @@ plume_status plume_membrane_strain_stress(const plume_membrane_material *mat, in
 {
     if (!mat || !F || !d || !E || !S || !J || (dim != 2 && dim != 3) || !(hypot(d[0], d[1]) > 0.0))
         return PLUME_EINVAL;
-    mem_mat m;
-    mem_mat_set(mat, &m);
+    plume_membrane_law m;
+    plume_membrane_law_set(mat, &m);
     double len = hypot(d[0], d[1]);
     double R[2][2] = {{d[0] / len, -d[1] / len}, {d[1] / len, d[0] / len}};
     double g[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}, P[2][3], n[3];
@@ -243,7 +112,7 @@ plume_status plume_membrane_strain_stress(const plume_membrane_material *mat, in
     E[0] = 0.5 * (c11 - 1.0), E[1] = 0.5 * (c22 - 1.0), E[2] = 0.5 * c12;
     cross3(g[0], g[1], n);
     *J = sqrt(dot3(n, n));
-    density_G(&m, dim, g, P, NULL);
+    plume_membrane_law_density_G(&m, dim, g, P, NULL);
     /* P[c] = sum_e S_ce g_e, so (P g^T) = S C with C the Gram matrix of g: S = (P g^T) C^-1 */
     const double det = c11 * c22 - c12 * c12;
     if (!(det > 0.0)) {
@@ -350,8 +219,8 @@ static MEMBRANE_SPECIALISE double eval_loop(const mem_ctx *ctx, const int dim, c
             g[1][i] = a * B[1] + b * B[3];
         }
         double P[2][3];
-        double psi =
-            density_G(&ctx->mat[tr->mat], dim, g, grad ? P : NULL, hblocks ? HG : NULL);
+        double psi = plume_membrane_law_density_G(&ctx->mat[tr->mat], dim, g, grad ? P : NULL,
+                                                  hblocks ? HG : NULL);
         E += tr->Ah * psi;
         if (grad) {
             for (int v = 0; v < 3; v++) {
@@ -419,7 +288,7 @@ static plume_status membrane_energies(void *vctx, int dim, const double *x, doub
             g[0][i] = a * B[0] + b * B[2];
             g[1][i] = a * B[1] + b * B[3];
         }
-        e[t] = tr->Ah * density_G(&ctx->mat[tr->mat], dim, g, NULL, NULL);
+        e[t] = tr->Ah * plume_membrane_law_density_G(&ctx->mat[tr->mat], dim, g, NULL, NULL);
     }
     return PLUME_OK;
 }
@@ -472,7 +341,7 @@ plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
         goto cleanup;
     }
     for (int i = 0; i < nmat; i++)
-        mem_mat_set(&mats[i], &ctx->mat[i]);
+        plume_membrane_law_set(&mats[i], &ctx->mat[i]);
 
     for (plume_index t = 0; t < nt; t++) {
         const plume_index *v = mesh->tri + 3 * t;

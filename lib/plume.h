@@ -11,6 +11,7 @@
 #include "term.h"
 #include "problem.h"
 #include "membrane.h"
+#include "membrane_p2.h"
 #include "edge_length.h"
 #include "cholesky.h"
 #include "solver.h"
