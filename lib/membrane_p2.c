@@ -51,7 +51,8 @@ typedef struct {
     plume_membrane_law *mat; /* [nmat] */
 } p2_ctx;
 
-/* G at point q of triangle tr; differences from node 0 keep G exact under large translations */
+/* G at point q of triangle tr, from differences to node 0 so that a large common translation
+ * adds no rounding */
 static void p2_G(const p2_tri *tr, int q, const double *x, const plume_index *vid, double g[2][3])
 {
     const double *x0 = x + 2 * vid[0];
