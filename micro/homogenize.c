@@ -171,11 +171,14 @@ static plume_status refinement_estimate(const plume_layout *l, const plume_membr
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
             change = fmax(change, fabs(r->C[3 * i + j] - C[3 * i + j]) / sqrt(r->C[4 * i] * r->C[4 * j]));
-    r->refinement_change = change;
     const double a[4] = {r->moduli.E_xx, r->moduli.E_yy, r->moduli.nu_xy, r->moduli.G_xy};
     const double b[4] = {m.E_xx, m.E_yy, m.nu_xy, m.G_xy};
-    for (int k = 0; k < 4; k++)
+    for (int k = 0; k < 4; k++) {
         r->moduli_change[k] = fabs(a[k] - b[k]) / fmax(fabs(a[k]), DBL_MIN);
+        if (k != 2) /* a small nu_xy's relative change says little: the tensor's measure covers it */
+            change = fmax(change, r->moduli_change[k]);
+    }
+    r->refinement_change = change;
     return PLUME_OK;
 }
 

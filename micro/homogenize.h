@@ -40,10 +40,11 @@ typedef struct {
     int order;             /* element order used */
     double element_edge;   /* target element edge of the cell mesh (m) */
     /* How converged the moduli are: the same tensor on the cell meshed with elements twice as large
-     * (half as large when the layout allows no coarser mesh), refinement_edge. refinement_change =
-     * max_ij |C_ij - C'_ij| / sqrt(C_ii C_jj) (scale-free: an error in the energy norm), and
-     * moduli_change the relative changes of E_xx, E_yy, nu_xy, G_xy. Under monotone convergence of
-     * order >= 1 the change from the coarser mesh bounds this run's error. -1 when not estimated. */
+     * (half as large when the layout allows no coarser mesh), refinement_edge. moduli_change: the
+     * relative changes of E_xx, E_yy, nu_xy, G_xy; refinement_change: the largest of those of E_xx,
+     * E_yy, G_xy and of max_ij |C_ij - C'_ij| / sqrt(C_ii C_jj) (scale-free, so a small nu_xy's
+     * coupling counts at its weight in the energy). Under monotone convergence of order >= 1 the
+     * change from the coarser mesh bounds this run's error. -1 when not estimated. */
     double refinement_change;
     double moduli_change[4];
     double refinement_edge;

@@ -38,20 +38,25 @@ double plume_layout_thinnest(const plume_layout *l)
     return l->kind == PLUME_LAYOUT_BARBULES ? fmin(t, l->barbule_width) : t;
 }
 
-/* The automatic element edge over the thinnest strip, measured (docs/micro-convergence.md): the
- * largest fraction whose default run is within 1 % (cell) or 2 % (specimen) of its refined limit. */
-#define AUTO_EDGE_CELL_P2 0.5
-#define AUTO_EDGE_CELL_P1 0.0625
-#define AUTO_EDGE_SPECIMEN_P2 1.0
-#define AUTO_EDGE_SPECIMEN_P1 0.25
+/* The automatic element edge over the thinnest strip, [use][layout kind][order - 1], measured
+ * (docs/micro-convergence.md): the largest fraction whose default run is within 1 % (cell) or 2 %
+ * (specimen) of its refined limit. Barbules meet the barbs at re-entrant corners, where the strain is
+ * singular and every element order converges at about h^1.1; strips have no such corner inside. A
+ * strips cell needs no refinement at all: its fields are uniform in each strip (the laminate), which
+ * any conforming mesh represents exactly. */
+static const double auto_edge[2][2][2] = {
+    /* cell:     strips {P1, P2},  barbules {P1, P2} */
+    {{1.0, 1.0}, {0.03, 0.125}},
+    /* specimen: strips {P1, P2},  barbules {P1, P2} */
+    {{0.35, 2.0}, {0.25, 1.0}},
+};
 
 double plume_layout_element_edge(const plume_layout *l, plume_mesh_use use)
 {
     if (l->e_rel > 0.0)
         return l->e_rel * plume_layout_barb_width(l);
-    double f = use == PLUME_MESH_CELL ? (l->order == 1 ? AUTO_EDGE_CELL_P1 : AUTO_EDGE_CELL_P2)
-                                      : (l->order == 1 ? AUTO_EDGE_SPECIMEN_P1 : AUTO_EDGE_SPECIMEN_P2);
-    return f * plume_layout_thinnest(l);
+    int u = use == PLUME_MESH_CELL ? 0 : 1, k = l->kind == PLUME_LAYOUT_STRIPS ? 0 : 1, o = l->order == 1 ? 0 : 1;
+    return auto_edge[u][k][o] * plume_layout_thinnest(l);
 }
 
 void plume_layout_refinement(const plume_layout *l, plume_mesh_use use, plume_layout *out)
