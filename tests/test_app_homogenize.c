@@ -6,6 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <hdf5.h>
 #include <jansson.h>
 
 #include "app_runner.h"
@@ -28,10 +29,26 @@ void test_app_homogenize_and_fit(void)
     json_t *j = json_loads(out, 0, &je);
     CHECK(j != NULL);
     if (j) {
-        const char *keys[] = {"E_xx", "E_yy", "nu_xy", "G_xy", "seconds"};
-        for (int k = 0; k < 5; k++)
+        const char *keys[] = {"E_xx", "E_yy", "nu_xy", "G_xy", "seconds", "element_edge", "refinement_edge"};
+        for (int k = 0; k < 7; k++)
             CHECK(json_is_number(json_object_get(j, keys[k])));
+        /* the strips cell is exact at any mesh, and says so */
+        double change = json_number_value(json_object_get(j, "refinement_change"));
+        CHECK(change >= 0.0 && change < 1e-6);
+        CHECK(json_integer_value(json_object_get(j, "order")) == 2);
+        CHECK(json_is_number(json_object_get(json_object_get(j, "moduli_change"), "E_yy")));
         json_decref(j);
+    }
+    /* ... and so does /moduli */
+    hid_t hf = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    double attr = -2.0;
+    CHECK(hf >= 0 && H5Aexists_by_name(hf, "/moduli", "refinement_change", H5P_DEFAULT) > 0);
+    if (hf >= 0) {
+        hid_t a = H5Aopen_by_name(hf, "/moduli", "refinement_change", H5P_DEFAULT, H5P_DEFAULT);
+        CHECK(a >= 0 && H5Aread(a, H5T_NATIVE_DOUBLE, &attr) >= 0 && attr >= 0.0 && attr < 1e-6);
+        if (a >= 0)
+            H5Aclose(a);
+        H5Fclose(hf);
     }
     plume_ortho m;
     plume_err e;

@@ -134,6 +134,12 @@ void test_app_traction_both_models(void)
         CHECK(json_is_object(json_object_get(j, "micro")) && json_is_object(json_object_get(j, "macro")));
         CHECK(strcmp(json_string_value(json_object_get(json_object_get(j, "moduli"), "source")), "homogenised") == 0);
         CHECK(json_is_true(json_object_get(j, "converged")));
+        /* the micro curve says how converged it is: quadratic elements, within 2 % of a mesh twice as coarse */
+        json_t *micro = json_object_get(j, "micro");
+        double change = json_number_value(json_object_get(micro, "refinement_change"));
+        CHECK(json_integer_value(json_object_get(micro, "order")) == 2 && change >= 0.0 && change < 0.02);
+        CHECK(json_is_true(json_object_get(json_object_get(micro, "refinement"), "converged")));
+        CHECK(json_object_get(json_object_get(j, "macro"), "refinement_change") == NULL);
         json_decref(j);
     } else {
         fprintf(stderr, "    output: %s\n    stderr: %s\n", out, err);

@@ -202,6 +202,21 @@ class TestHomogenize(unittest.TestCase):
         self.assertEqual(h.curves, {})
         self.assertLess(rel(h.E_xx, 0.5 * 1e9), 1e-3)
 
+    def test_convergence_estimate(self):
+        # explicit barbules: the corners where they meet the barbs need refinement; the defaults
+        # are converged to about 1 % and say so, linear elements at the same mesh are far off
+        layout = {"layout": "barbules", "phi": 0.3, "ratio": 1.0, "barbule_width": 1e-4,
+                  "barbule_spacing": 8e-4}
+        h = plume.homogenize(layout=layout, strain_max=0.0)
+        self.assertEqual(h.order, 2)
+        self.assertGreater(h.refinement_change, 0.0)
+        self.assertLess(h.refinement_change, 0.012)
+        self.assertEqual(set(h.moduli_change), {"E_xx", "E_yy", "nu_xy", "G_xy"})
+        p1 = plume.homogenize(layout=dict(layout, order=1, e_rel=h.element_edge / 3e-4), strain_max=0.0)
+        self.assertEqual(p1.order, 1)
+        self.assertGreater(p1.E_yy, 1.03 * h.E_yy)
+        self.assertGreater(p1.refinement_change, h.refinement_change)
+
 
 class TestTraction(unittest.TestCase):
     def test_macro_curve(self):
@@ -253,6 +268,9 @@ class TestTraction(unittest.TestCase):
         self.assertGreater(r.stress[1], 0.0)
         self.assertTrue(np.all(np.diff(r.stress) > 0))
         self.assertGreater(r.initial_slope, 0.0)
+        self.assertEqual(r.order, 2)
+        self.assertGreaterEqual(r.refinement_change, 0.0)
+        self.assertLess(r.refinement_change, 0.02)
 
     def test_vtk_series(self):
         steps = 2
