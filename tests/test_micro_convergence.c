@@ -64,7 +64,9 @@ void test_micro_convergence_barbule_cell(void)
             fprintf(stderr, "    order %d, e_rel %-6g %5ld elements: E_yy %.6g G_xy %.6g Pa\n", o + 1, e[k], (long)n, m.E_yy,
                     m.G_xy);
         }
-    /* the reference: order 2 two halvings further, extrapolated with its own observed order */
+    /* the reference: order 2 two halvings further, extrapolated with its own observed order (1.5 here;
+     * the meshes are not nested and the rate wanders: finer runs gave 4.5800 and 4.5769e7 Pa at e_rel
+     * 1/128 and 1/256, 541k elements, against this extrapolation's 4.5817e7, 0.1 % apart) */
     plume_ortho f1, f2;
     plume_index n1, n2;
     CHECK(cell_moduli(&l, 2, e[2] / 2, &f1, &n1) && cell_moduli(&l, 2, e[2] / 4, &f2, &n2));
