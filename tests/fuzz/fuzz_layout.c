@@ -19,7 +19,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         return 0;
     /* mesh the cell when it stays small: the library meshes up to 5e6 triangles (a 9000:1 barbule
      * cell of 1.4e6 took more than the 20 s timeout under the sanitizers: slow, not wrong) */
-    double w = plume_layout_barb_width(&l), e = l.e_rel * w;
+    double w = plume_layout_barb_width(&l), e = plume_layout_element_edge(&l, PLUME_MESH_CELL);
     double a = l.kind == PLUME_LAYOUT_STRIPS ? 4.0 * w : l.barbule_spacing;
     if (e > 0.0 && 2.0 * (a / e + 4.0) * (l.d_B / e + 4.0) <= 2e4) {
         plume_cell *c = NULL;
