@@ -6,6 +6,7 @@
 
 #include "../lib/problem.h"
 #include "../lib/traction.h"
+#include "../micro/micro_model.h"
 #include "vane.h"
 
 void plume_study_config_default(plume_study_config *c)
@@ -22,6 +23,9 @@ void plume_study_config_default(plume_study_config *c)
     c->steps = 2;
     c->solver = PLUME_SOLVER_NEWTON;
     c->max_iter = 100;
+    c->micro = 0;
+    plume_layout_default(&c->layout);
+    c->layout.h = c->h; /* a micro run's thickness is the study's */
 }
 
 void plume_study_result_free(plume_study_result *r)
@@ -39,6 +43,60 @@ double plume_study_rel_error(double a, double ref)
     return ref != 0.0 ? fabs(a - ref) / fabs(ref) : fabs(a - ref);
 }
 
+/* The vane of `c` meshed and set up; *barbs are its barb edges (inextensible with the constraint on). */
+static plume_status build_vane(const plume_study_config *c, plume_mesh **mesh, plume_problem **p, plume_index **barbs,
+                               plume_index *nb, plume_err *err)
+{
+    plume_vane vane;
+    plume_vane_default(&vane);
+    vane.moduli = c->moduli;
+    vane.h = c->h;
+    vane.kappa = c->kappa;
+    vane.constraint = c->constraint;
+    plume_status st = plume_vane_check(&vane, err);
+    if (st == PLUME_OK)
+        st = plume_patch_mesh(c->lx, c->ly, c->angle, c->edge, c->mesh, 2, mesh, err);
+    if (st == PLUME_OK)
+        st = plume_problem_create((*mesh)->nv, 2, fmax(c->lx, c->ly), p);
+    if (st == PLUME_OK)
+        st = plume_vane_add(*p, *mesh, &vane, barbs, nb, err);
+    return st;
+}
+
+/* The micro specimen of `c`: the layout's thickness is the one the nominal stress divides by. */
+static plume_status build_micro(const plume_study_config *c, plume_mesh **mesh, plume_problem **p, plume_err *err)
+{
+    if (!(fabs(c->h - c->layout.h) <= 1e-12 * fabs(c->h)))
+        return plume_err_set(err, PLUME_EINVAL, "study: a micro run's h must equal layout.h (got %g and %g m)", c->h,
+                             c->layout.h);
+    return plume_micro_specimen(&c->layout, c->lx, c->ly, c->angle, mesh, p, err);
+}
+
+/* The study's reading of a traction run: the last point, the outcome, the mesh's size. The curve
+ * moves from tr to r. */
+static void take_result(const plume_study_config *c, const plume_mesh *mesh, plume_traction_result *tr,
+                        plume_study_result *r)
+{
+    r->curve = tr->curve;
+    memset(&tr->curve, 0, sizeof tr->curve);
+    r->seconds = tr->seconds;
+    r->iterations = tr->newton_iterations;
+    r->converged = tr->converged;
+    r->reason = tr->converged ? PLUME_REASON_CONVERGED : tr->failed_reason;
+    /* an order-2 micro mesh is the quadratic triangles split in four (micro_model.h) */
+    r->elements = (long)(c->micro && c->layout.order == 2 ? mesh->nt / 4 : mesh->nt);
+    r->vertices = (long)mesh->nv;
+    plume_index n = r->curve.n;
+    if (n > 0) {
+        r->strain = r->curve.strain[n - 1];
+        r->stress = r->curve.stress[n - 1];
+        r->wbar = r->curve.wbar[n - 1];
+    } else {
+        r->strain = r->stress = r->wbar = NAN;
+    }
+    r->complete = n == (plume_index)c->steps + 1 && fabs(r->strain - c->strain_max) <= 1e-9 * c->strain_max;
+}
+
 plume_status plume_study_traction(const plume_study_config *c, plume_study_result *r, plume_err *err)
 {
     if (!c || !r)
@@ -47,24 +105,12 @@ plume_status plume_study_traction(const plume_study_config *c, plume_study_resul
     if (!(c->steps >= 1) || !(c->max_iter >= 1) || !(c->strain_max > 0) || !isfinite(c->strain_max))
         return plume_err_set(err, PLUME_EINVAL, "study: steps and max_iter must be >= 1 and strain_max > 0 "
                              "(got %d, %d, %g)", c->steps, c->max_iter, c->strain_max);
-    plume_vane vane;
-    plume_vane_default(&vane);
-    vane.moduli = c->moduli;
-    vane.h = c->h;
-    vane.kappa = c->kappa;
-    vane.constraint = c->constraint;
     plume_mesh *mesh = NULL;
     plume_problem *p = NULL;
     plume_index *barbs = NULL, nb = 0;
     plume_traction_result tr;
     memset(&tr, 0, sizeof tr);
-    plume_status st = plume_vane_check(&vane, err);
-    if (st == PLUME_OK)
-        st = plume_patch_mesh(c->lx, c->ly, c->angle, c->edge, c->mesh, 2, &mesh, err);
-    if (st == PLUME_OK)
-        st = plume_problem_create(mesh->nv, 2, fmax(c->lx, c->ly), &p);
-    if (st == PLUME_OK)
-        st = plume_vane_add(p, mesh, &vane, &barbs, &nb, err);
+    plume_status st = c->micro ? build_micro(c, &mesh, &p, err) : build_vane(c, &mesh, &p, &barbs, &nb, err);
     if (st == PLUME_OK) {
         plume_traction_opts o;
         plume_traction_opts_default(&o);
@@ -80,24 +126,8 @@ plume_status plume_study_traction(const plume_study_config *c, plume_study_resul
         o.progress = 0;
         st = plume_traction_run(mesh, p, barbs, nb, &o, &tr, err);
     }
-    if (st == PLUME_OK) {
-        r->curve = tr.curve; /* the arrays move to the result */
-        r->seconds = tr.seconds;
-        r->iterations = tr.newton_iterations;
-        r->converged = tr.converged;
-        r->reason = tr.converged ? PLUME_REASON_CONVERGED : tr.failed_reason;
-        r->elements = (long)mesh->nt;
-        r->vertices = (long)mesh->nv;
-        plume_index n = r->curve.n;
-        if (n > 0) {
-            r->strain = r->curve.strain[n - 1];
-            r->stress = r->curve.stress[n - 1];
-            r->wbar = r->curve.wbar[n - 1];
-        } else {
-            r->strain = r->stress = r->wbar = NAN;
-        }
-        r->complete = n == (plume_index)c->steps + 1 && fabs(r->strain - c->strain_max) <= 1e-9 * c->strain_max;
-    }
+    if (st == PLUME_OK)
+        take_result(c, mesh, &tr, r);
     free(barbs);
     plume_problem_destroy(&p);
     plume_mesh_destroy(&mesh);

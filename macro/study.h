@@ -1,11 +1,12 @@
-/* plume: one measured macroscale traction run for studies of cost, error and sensitivity
- * (apps/study): a configuration in, stress and w-bar at the last load step, wall time,
- * iterations and the convergence outcome out. */
+/* plume: one measured traction run for studies of cost, error and sensitivity (apps/study): the
+ * macroscale vane or the resolved microscale specimen, a configuration in, stress and w-bar at the
+ * last load step, wall time, iterations and the convergence outcome out. */
 #ifndef PLUME_STUDY_H
 #define PLUME_STUDY_H
 
 #include "../lib/curves.h"
 #include "../lib/solver.h"
+#include "../micro/layout.h"
 #include "patch_mesh.h"
 
 #ifdef __cplusplus
@@ -25,6 +26,11 @@ typedef struct {
     int steps;                 /* default 2 */
     plume_solver_kind solver;  /* default newton */
     int max_iter;              /* solver iteration cap per step; default 100 */
+    int micro;                 /* 1: the resolved microscale specimen of `layout` (plume_micro_specimen)
+                                  in place of the vane: lx, ly, angle, strain_max, steps, solver and
+                                  max_iter apply, moduli, kappa, constraint, mesh and edge do not, and h
+                                  must equal layout.h. Default 0: the macroscale vane */
+    plume_layout layout;       /* micro only; default plume_layout_default */
 } plume_study_config;
 
 void plume_study_config_default(plume_study_config *c);
@@ -39,13 +45,14 @@ typedef struct {
     int converged;           /* every step converged (never for `linearized`) */
     int complete;            /* the last point is at strain_max (linearized runs count) */
     plume_reason reason;     /* CONVERGED, or why the first failed step stopped */
-    long elements, vertices;
+    long elements, vertices; /* elements (micro at order 2: quadratic triangles, not the four
+                                triangles each is split into) and mesh vertices (nodes) */
 } plume_study_result;
 
-/* Meshes, builds and runs the traction test of `c`. A step that does not converge is not an
+/* Meshes, builds and runs the traction test of `c` (the vane, or the micro specimen). A step that does not converge is not an
  * error: the result says so (converged 0, reason) and holds the points before it. Errors
- * (invalid input, barbs spanning both grips with the constraint on: PLUME_EINFEASIBLE, a
- * dependency) leave `r` zeroed with a message in err. */
+ * (invalid input or layout, barbs spanning both grips with the constraint on: PLUME_EINFEASIBLE,
+ * a dependency) leave `r` zeroed with a message in err. */
 plume_status plume_study_traction(const plume_study_config *c, plume_study_result *r, plume_err *err);
 
 void plume_study_result_free(plume_study_result *r);
