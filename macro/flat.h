@@ -10,10 +10,12 @@
  * Requests (JSON objects; every key optional unless said otherwise). A text that is not JSON is
  * PLUME_EFORMAT; an unknown key or a bad value is PLUME_EINVAL with a message naming the key:
  *  - homogenize: {"layout": {...keys of a --config layout file: "layout", "phi", "d_B", "w_B",
- *    "E_b", "nu_b", "ratio", "nu_B", "thickness", "kappa", "e_rel", "barbule_width",
+ *    "E_b", "nu_b", "ratio", "nu_B", "thickness", "kappa", "order", "e_rel", "barbule_width",
  *    "barbule_spacing", "barbule_angle"}, "strain_max": 0.05, "steps": 10}
  *    -> {"E_xx", "E_yy", "nu_xy", "G_xy", "C": [9], "shear_coupling", "elements", "vertices",
- *        "newton_iterations", "seconds", "curves": {"uniaxial_x"|"uniaxial_y"|"shear":
+ *        "newton_iterations", "seconds", "order", "element_edge", "refinement_change" (how
+ *        converged: micro/homogenize.h), "moduli_change": {"E_xx", "E_yy", "nu_xy", "G_xy"},
+ *        "refinement_edge", "curves": {"uniaxial_x"|"uniaxial_y"|"shear":
  *        {"strain": [], "stress": [], "wbar": [], "iterations": []}} (curves only when
  *        strain_max > 0)}
  *  - traction: {"model": "macro"|"micro", "angle": 45 (deg from the pull), "lx": 1, "ly": 1.3,
@@ -21,12 +23,14 @@
  *    "constraint": true, "mesh": "aligned"|"unaligned", "edge": min(lx, ly) / 20,
  *    "strain_max": 0.05, "steps": 10, "solver": "newton"|"ipopt"|"linearized",
  *    "layout": {...} (model micro; as apps/traction, the barbs are 0.086 ly apart and the
- *    elements 2.9 barb widths unless it says otherwise), "vtk": "DIR" (a ParaView series of the
+ *    elements quadratic, their edge chosen from the thinnest strip, unless it says otherwise), "vtk": "DIR" (a ParaView series of the
  *    steps: DIR/steps.pvd with DIR/step_NNNNN.vtu, and DIR/step_barbs_NNNNN.vtu for the macro
  *    model's constrained barbs; docs/paraview-output.md)}
  *    -> {"strain": [], "stress": [], "wbar": [], "iterations": [], "initial_slope",
  *        "converged", "failed_step", "stop_reason", "newton_iterations", "max_violation",
- *        "seconds", "elements", "vertices", "angle"}
+ *        "seconds", "elements", "vertices", "angle", and for the micro model "order",
+ *        "element_edge", "refinement_change" and "slope_refinement_change" (micro/micro_model.h;
+ *        -1 when not estimated)}
  *  - fit: {"targets": [{"angle": deg, "strain": [], "stress": []}, ...] (required), "start":
  *    {"E_xx", "E_yy", "nu_xy", "G_xy"} (required), "free": ["E_yy", "G_xy"], "max_eval": 300,
  *    "xtol_rel": 1e-6, and the macro traction keys above ("lx", "ly", "thickness", "kappa",
