@@ -394,8 +394,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
         json_object_set_new(o, "order", json_integer(layout.order));
         json_object_set_new(o, "element_edge", json_real(plume_layout_element_edge(&layout, PLUME_MESH_SPECIMEN)));
         json_object_set_new(o, "refinement_change", json_real(has_conv ? conv.stress_change : -1.0));
-        if (has_conv)
-            json_object_set_new(o, "slope_refinement_change", json_real(conv.slope_change));
+        json_object_set_new(o, "slope_refinement_change", json_real(has_conv ? conv.slope_change : -1.0));
     }
     st = emit(o, result, &err);
 done:
