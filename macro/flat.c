@@ -293,7 +293,8 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
         return finish(plume_err_set(&err, PLUME_EINVAL, "traction: no result pointer"), &err, msg, nmsg);
     *result = NULL;
     static const char *const keys[] = {"model", "angle", "lx", "ly", "thickness", "moduli", "kappa", "constraint",
-                                       "mesh", "edge", "strain_max", "steps", "solver", "layout", "vtk", NULL};
+                                       "mesh", "edge", "strain_max", "steps", "solver", "layout", "vtk",
+                                       "convergence", NULL};
     json_t *req;
     plume_status st = parse_request(request, "traction", keys, &req, &err);
     if (st != PLUME_OK)
@@ -301,6 +302,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     traction_setup t;
     const char *model = "macro", *vtk = NULL;
     double angle = 45.0;
+    int convergence = 1;
     plume_vane vane;
     plume_vane_default(&vane);
     vane.moduli.E_xx = 1e4, vane.moduli.E_yy = 1.0, vane.moduli.G_xy = 1.0, vane.moduli.nu_xy = 0.0;
@@ -315,6 +317,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     if ((st = get_traction_setup(req, "traction", &t, &err)) != PLUME_OK ||
         (st = get_string(req, "traction", "model", &model, &err)) != PLUME_OK ||
         (st = get_string(req, "traction", "vtk", &vtk, &err)) != PLUME_OK ||
+        (st = get_bool(req, "traction", "convergence", &convergence, &err)) != PLUME_OK ||
         (st = get_number(req, "traction", "angle", &angle, &err)) != PLUME_OK ||
         (st = get_moduli(req, "traction", "moduli", &vane.moduli, &err)) != PLUME_OK)
         goto done;
@@ -376,7 +379,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     if ((st = plume_traction_run(mesh, p, barbs, nbarbs, &to, &res, &err)) != PLUME_OK)
         goto done;
     plume_micro_convergence conv;
-    int has_conv = micro && res.converged && to.solver != PLUME_SOLVER_LINEARIZED;
+    int has_conv = micro && convergence && res.converged && to.solver != PLUME_SOLVER_LINEARIZED;
     if (has_conv && (st = plume_micro_traction_convergence(&layout, t.lx, t.ly, angle, &to, &res, &conv, &err)) != PLUME_OK)
         goto done;
     json_t *o = curve_json(&res.curve);

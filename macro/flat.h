@@ -23,7 +23,8 @@
  *    "constraint": true, "mesh": "aligned"|"unaligned", "edge": min(lx, ly) / 20,
  *    "strain_max": 0.05, "steps": 10, "solver": "newton"|"ipopt"|"linearized",
  *    "layout": {...} (model micro; as apps/traction, the barbs are 0.086 ly apart and the
- *    elements quadratic, their edge chosen from the thinnest strip, unless it says otherwise), "vtk": "DIR" (a ParaView series of the
+ *    elements quadratic, their edge chosen from the thinnest strip, unless it says otherwise),
+ *    "convergence": true (model micro: the curve again on a mesh twice as coarse), "vtk": "DIR" (a ParaView series of the
  *    steps: DIR/steps.pvd with DIR/step_NNNNN.vtu, and DIR/step_barbs_NNNNN.vtu for the macro
  *    model's constrained barbs; docs/paraview-output.md)}
  *    -> {"strain": [], "stress": [], "wbar": [], "iterations": [], "initial_slope",

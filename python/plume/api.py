@@ -221,7 +221,7 @@ _MACRO_OPTIONS = {
     "lx": _number, "ly": _number, "thickness": _number, "kappa": _number, "edge": _number,
     "constraint": _boolean, "mesh": _string, "steps": _integer, "solver": _string,
 }
-_TRACTION_OPTIONS = dict(_MACRO_OPTIONS, strain_max=_number)
+_TRACTION_OPTIONS = dict(_MACRO_OPTIONS, strain_max=_number, convergence=_boolean)
 
 
 def _options(job, options, allowed):
@@ -341,7 +341,8 @@ def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **op
         **options: the request keys of flat.h: lx, ly (m; default 1, 1.3), thickness (m; 1),
             kappa (Pa; 0), constraint (bool; True), mesh ("aligned" | "unaligned"), edge (element
             edge, m; min(lx, ly) / 20), strain_max (-; 0.05), steps (10), solver ("newton" |
-            "ipopt" | "linearized").
+            "ipopt" | "linearized"), convergence (micro model: estimate refinement_change by
+            running the test again on a mesh twice as coarse; True).
 
     Returns:
         TractionResult (strain -, stress Pa, wbar -, per step, the rest state first).

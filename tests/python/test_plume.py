@@ -271,6 +271,9 @@ class TestTraction(unittest.TestCase):
         self.assertEqual(r.order, 2)
         self.assertGreaterEqual(r.refinement_change, 0.0)
         self.assertLess(r.refinement_change, 0.02)
+        q = plume.traction(model="micro", angle=45.0, layout={"d_B": 0.17 * 1.3}, steps=3, convergence=False)
+        self.assertEqual(q.refinement_change, -1.0)
+        self.assertTrue(np.array_equal(q.stress, r.stress))
 
     def test_vtk_series(self):
         steps = 2
