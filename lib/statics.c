@@ -15,6 +15,9 @@ struct plume_statics {
     void (*free_user)(void *);
     plume_index n, m;
     double *u, *u_saved, *lambda, *lambda_saved;
+    double *u_prev;  /* the equilibrium before the last one (the secant predictor's), if have_prev */
+    double factor_prev;
+    int have_prev;
     double factor;   /* last equilibrium */
     double inc;      /* current increment (<= 1/steps) */
     int done;        /* nominal steps completed */
@@ -26,7 +29,24 @@ void plume_statics_opts_default(plume_statics_opts *o)
     o->steps = 10;
     o->max_cuts = 10;
     o->solver = PLUME_SOLVER_NEWTON;
+    o->predictor = PLUME_PREDICT_SECANT;
     plume_solver_opts_default(&o->solver_opts);
+}
+
+const char *plume_predictor_name(plume_predictor k)
+{
+    return k == PLUME_PREDICT_NONE ? "none" : k == PLUME_PREDICT_SECANT ? "secant" : "unknown";
+}
+
+plume_status plume_predictor_parse(const char *name, plume_predictor *k)
+{
+    if (name && strcmp(name, "none") == 0)
+        *k = PLUME_PREDICT_NONE;
+    else if (name && strcmp(name, "secant") == 0)
+        *k = PLUME_PREDICT_SECANT;
+    else
+        return PLUME_EINVAL;
+    return PLUME_OK;
 }
 
 void plume_statics_destroy(plume_statics **ps)
@@ -41,6 +61,7 @@ void plume_statics_destroy(plume_statics **ps)
     free(s->u_saved);
     free(s->lambda);
     free(s->lambda_saved);
+    free(s->u_prev);
     free(s);
     *ps = NULL;
 }
@@ -54,6 +75,9 @@ plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o,
     } else if (o->steps < 1 || o->max_cuts < 0 || o->max_cuts > 50) {
         st = plume_err_set(err, PLUME_EINVAL, "statics: steps must be >= 1 and max_cuts in [0, 50] (got %d, %d)",
                            o->steps, o->max_cuts);
+    } else if (o->predictor != PLUME_PREDICT_NONE && o->predictor != PLUME_PREDICT_SECANT) {
+        st = plume_err_set(err, PLUME_EINVAL, "statics: predictor must be PLUME_PREDICT_NONE or PLUME_PREDICT_SECANT "
+                           "(got %d)", (int)o->predictor);
     } else {
         *out = NULL;
         st = PLUME_OK;
@@ -74,9 +98,10 @@ plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o,
     s->inc = 1.0 / (double)o->steps;
     s->u = malloc((size_t)(s->n + 1) * sizeof *s->u);
     s->u_saved = malloc((size_t)(s->n + 1) * sizeof *s->u_saved);
+    s->u_prev = malloc((size_t)(s->n + 1) * sizeof *s->u_prev);
     s->lambda = calloc((size_t)(s->m + 1), sizeof *s->lambda);
     s->lambda_saved = calloc((size_t)(s->m + 1), sizeof *s->lambda_saved);
-    if (!s->u || !s->u_saved || !s->lambda || !s->lambda_saved) {
+    if (!s->u || !s->u_saved || !s->u_prev || !s->lambda || !s->lambda_saved) {
         plume_statics_destroy(&s);
         return plume_err_set(err, PLUME_ENOMEM, "statics: out of memory");
     }
@@ -102,15 +127,25 @@ plume_status plume_statics_step(plume_statics *s, plume_load_step_report *rep)
     const double nominal = 1.0 / (double)s->o.steps, smallest = ldexp(nominal, -s->o.max_cuts);
     const double target = (s->done + 1 == s->o.steps) ? 1.0 : (double)(s->done + 1) * nominal;
     rep->step = s->done + 1;
-    int failed = 0;
+    int failed = 0, from_predictor = 0;
     while (s->factor < target) {
         double next = fmin(target, s->factor + s->inc);
         if (target - next < 1e-12 * nominal) /* no sliver of a step at the end */
             next = target;
-        plume_problem_gather(s->p, s->u);
-        memcpy(s->u_saved, s->u, (size_t)s->n * sizeof *s->u);
-        memcpy(s->lambda_saved, s->lambda, (size_t)s->m * sizeof *s->lambda);
+        if (!from_predictor) { /* a retry from the last equilibrium keeps what was saved */
+            plume_problem_gather(s->p, s->u);
+            memcpy(s->u_saved, s->u, (size_t)s->n * sizeof *s->u);
+            memcpy(s->lambda_saved, s->lambda, (size_t)s->m * sizeof *s->lambda);
+        }
         s->scale(s->user, next);
+        from_predictor = !from_predictor && s->o.predictor == PLUME_PREDICT_SECANT && s->have_prev;
+        if (from_predictor) {
+            double r = (next - s->factor) / (s->factor - s->factor_prev);
+            for (plume_index i = 0; i < s->n; i++)
+                s->u[i] = s->u_saved[i] + r * (s->u_saved[i] - s->u_prev[i]);
+        } else {
+            memcpy(s->u, s->u_saved, (size_t)s->n * sizeof *s->u);
+        }
         plume_solve_report sr;
         plume_status st = plume_solver_solve(s->solver, s->u, s->m > 0 ? s->lambda : NULL, &sr);
         rep->iterations += sr.iterations;
@@ -122,17 +157,25 @@ plume_status plume_statics_step(plume_statics *s, plume_load_step_report *rep)
             return st;
         if (st == PLUME_OK && sr.converged) {
             plume_problem_scatter(s->p, s->u);
+            memcpy(s->u_prev, s->u_saved, (size_t)s->n * sizeof *s->u_prev);
+            s->factor_prev = s->factor;
+            s->have_prev = 1;
             s->factor = next;
             rep->substeps++;
             rep->max_violation = fmax(rep->max_violation, sr.max_violation);
             s->inc = fmin(nominal, 2.0 * s->inc); /* grow back after a cut */
+            from_predictor = 0;
+            continue;
+        }
+        plume_problem_scatter(s->p, s->u_saved); /* back to the last equilibrium */
+        memcpy(s->lambda, s->lambda_saved, (size_t)s->m * sizeof *s->lambda);
+        if (from_predictor) { /* the same increment again, from the last equilibrium */
+            rep->predictor_retries++;
             continue;
         }
         if (!failed)
             rep->reason = st == PLUME_OK ? sr.reason : PLUME_REASON_NUMERICAL;
         failed = 1;
-        plume_problem_scatter(s->p, s->u_saved); /* back to the last equilibrium */
-        memcpy(s->lambda, s->lambda_saved, (size_t)s->m * sizeof *s->lambda);
         if (s->inc * 0.5 < smallest * (1.0 - 1e-12)) {
             s->scale(s->user, s->factor);
             rep->factor = s->factor;

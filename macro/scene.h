@@ -60,7 +60,8 @@
  * kinematic triangles take material 0's density (their vertices are held) and no elastic energy.
  *
  * Static scenes ("solve": "static"; dt and duration are then not used, "steps" load steps,
- * default 10) reach equilibrium under loads stepped from 0 to their full value:
+ * default 10, "predictor": "secant" (default) or "none", where each increment's solve starts:
+ * lib/statics.h) reach equilibrium under loads stepped from 0 to their full value:
  *     "clamps": [ {selector} ]  the selected vertices are fixed and so is the slope (the rest
  *                               tangent plane): with the shape-operator bending, a clamp that
  *                               holds boundary edges holds the slope on the clamp line itself
@@ -82,7 +83,8 @@
  *                                                        second row (lib/moment.h);
  *     "probes": [ {"name": "tip", selector, "reference": [ux, uy, uz], "source": "..."} ]
  *                  the mean displacement of the selected vertices, reported per step and
- *                  compared to the reference (optional) at the full load.
+ *                  compared to the reference (optional; a null component has none) at the full
+ *                  load.
  * Handles in a static scene are prescribed displacements: their last keyframe's offset times
  * the load factor. A selector is "near" (+ "radius"), "vertices" or "box", as for handles. A
  * static scene needs a clamp or a handle (else rigid motions are free), and "density" is
@@ -128,8 +130,8 @@ typedef struct {
     char *name;
     plume_index n;
     plume_index *vertices;
-    int has_reference;
-    double reference[3];          /* expected displacement at the full load (m) */
+    int has_reference;            /* bit a: component a has a reference (0: none) */
+    double reference[3];          /* expected displacement at the full load (m); NaN where none */
     char *source;                 /* where the reference comes from, or NULL */
 } plume_scene_probe;
 
@@ -177,6 +179,7 @@ typedef struct {
     /* static scenes */
     int is_static;                /* "solve": "static" */
     int steps;                    /* load steps; default 10 */
+    plume_predictor predictor;    /* "predictor": "secant" (default) | "none" (lib/statics.h) */
     unsigned char *clamped;       /* [nv] or NULL: PLUME_CLAMP_* bits */
     unsigned char *supported;     /* [nv] or NULL: bit a set = coordinate a held ("supports") */
     double *force;                /* [3 nv] or NULL: nominal point and line loads (N) */

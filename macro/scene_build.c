@@ -291,6 +291,7 @@ plume_status plume_scene_statics(const plume_scene *s, plume_problem **pp, plume
     plume_statics_opts o;
     plume_statics_opts_default(&o);
     o.steps = s->steps;
+    o.predictor = s->predictor;
     o.solver = s->solver;
     o.solver_opts.max_iter = s->max_iter;
     o.solver_opts.verbose = s->verbose;

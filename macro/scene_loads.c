@@ -249,11 +249,24 @@ static plume_status parse_probe(static_parse *p, json_t *e, const char *kp, plum
     plume_index n;
     if ((st = select_into(p, e, kp, &n)) != PLUME_OK)
         return st;
-    if (jr) {
+    if (jr) { /* three numbers, any of them null: a reference for some components only */
         plume_json_subkey(kk, kp, "reference");
-        if ((st = plume_json_vector(c, jr, kk, 3, pr->reference)) != PLUME_OK)
-            return st;
-        pr->has_reference = 1;
+        if (!json_is_array(jr) || json_array_size(jr) != 3)
+            return plume_json_bad(c, PLUME_EFORMAT, kk, "must be an array of 3 numbers (null for a component "
+                                                        "without a reference)");
+        for (int a = 0; a < 3; a++) {
+            json_t *v = json_array_get(jr, (size_t)a);
+            if (json_is_null(v)) {
+                pr->reference[a] = NAN;
+                continue;
+            }
+            if (!json_is_number(v) || !isfinite(json_number_value(v)))
+                return plume_json_bad(c, PLUME_EFORMAT, kk, "must be an array of 3 finite numbers or nulls");
+            pr->reference[a] = json_number_value(v);
+            pr->has_reference |= 1 << a;
+        }
+        if (!pr->has_reference)
+            return plume_json_bad(c, PLUME_EFORMAT, kk, "has no number: give at least one component");
     }
     pr->name = strdup(json_string_value(jn));
     pr->source = js ? strdup(json_string_value(js)) : NULL;
