@@ -190,6 +190,11 @@ plume_status plume_statics_step(plume_statics *s, plume_load_step_report *rep)
     return PLUME_OK;
 }
 
+void plume_statics_stats(const plume_statics *s, int *factorizations, double *factor_seconds)
+{
+    plume_solver_stats(s ? s->solver : NULL, NULL, factorizations, factor_seconds);
+}
+
 double plume_statics_factor(const plume_statics *s)
 {
     return s->factor;

@@ -71,6 +71,8 @@ void plume_statics_destroy(plume_statics **s);
 plume_status plume_statics_step(plume_statics *s, plume_load_step_report *rep);
 
 double plume_statics_factor(const plume_statics *s);   /* last equilibrium's load factor */
+/* The solver's numeric factorisations so far and the seconds spent in them (native solvers). */
+void plume_statics_stats(const plume_statics *s, int *factorizations, double *factor_seconds);
 /* The predictor's name ("none", "secant") and its parse (PLUME_EINVAL for another name). */
 const char *plume_predictor_name(plume_predictor k);
 plume_status plume_predictor_parse(const char *name, plume_predictor *k);
