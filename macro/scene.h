@@ -220,9 +220,17 @@ void plume_scene_destroy(plume_scene **s);
 plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **p, plume_dynamics **d, plume_err *err);
 
 /* The same, and *contact (may be NULL; NULL without a "contact" block) the contact term's handle
- * for plume_contact_term_stats, valid as long as *p. */
+ * for plume_contact_term_stats, valid as long as *p. A contact scene is first checked by
+ * plume_scene_check_start. */
 plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_problem **p, plume_dynamics **d,
                                           plume_contact **contact, plume_err *err);
+
+/* Checks the start of a contact scene (no-op without contact): its bodies at rest, and on the way
+ * to where the handles' keyframes put them at t = 0 (the first step makes that jump; 16 placements
+ * along it, the last at t = 0), must not intersect — barrier contact cannot start from crossed
+ * bodies. PLUME_EINVAL naming the scene, the two bodies (objects' names, else "body N") and the
+ * first crossing pair of triangles. */
+plume_status plume_scene_check_start(const plume_scene *s, plume_err *err);
 
 /* Builds the problem of a static scene (membrane, bending, constraints, the nominal loads and
  * moments; clamps and handles fixed) and its load-stepping driver (lib/statics.h) with the

@@ -150,6 +150,9 @@ plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_problem **
     *pd = NULL;
     if (s->is_static)
         return plume_err_set(err, PLUME_EINVAL, "%s: a static scene (\"solve\": \"static\") has no dynamics", s->path);
+    plume_status cs = plume_scene_check_start(s, err);
+    if (cs != PLUME_OK)
+        return cs;
     plume_problem *p = NULL;
     double *rho = malloc((size_t)s->nmat * sizeof *rho);
     plume_status st = PLUME_ENOMEM;
