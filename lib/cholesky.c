@@ -110,6 +110,11 @@ plume_status plume_chol_create(plume_index n, const plume_index *colptr, const p
     if (ldl) {
         c->cm.supernodal = CHOLMOD_SIMPLICIAL;
         c->cm.final_ll = 0;
+    } else {
+        /* LL^T also when CHOLMOD picks a simplicial factor (small matrices): its simplicial LDL^T
+         * accepts negative pivots, and the callers rely on a failed factorisation to see that a
+         * matrix is not positive definite (the exact Hessian tried first, inertia corrections) */
+        c->cm.final_ll = 1;
     }
     plume_index nnz = colptr[n];
     c->A = cholmod_l_allocate_sparse((size_t)n, (size_t)n, (size_t)nnz, 1, 1, 1, CHOLMOD_REAL, &c->cm);

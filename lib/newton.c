@@ -371,6 +371,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     s->theta_max = 1e4 * fmax(1.0, g1);
     s->theta_min = 1e-4 * fmax(1.0, g1);
     s->shifts = 0;
+    s->partial_factorizations = 0;
     s->refinements = 0;
     int max_iter = s->single_step ? 1 : s->o.max_iter;
     int it = 0, stalled = 0, last_negligible = 0;
@@ -627,12 +628,13 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     rep->iterations = it;
     rep->factorizations = f1 - f0;
     rep->shifts = s->shifts;
+    rep->partial_projections = s->partial_factorizations;
     rep->refinements = s->refinements;
     if (s->o.verbose)
         fprintf(stderr, "  newton: %s after %d iterations: %d factorisations, %d chord steps, %d refinement passes, "
-                        "%d backtracks, %d inertia shifts\n",
+                        "%d backtracks, %d inertia shifts, %d partly projected\n",
                 plume_reason_name(rep->reason), rep->iterations, rep->factorizations, rep->chord_steps,
-                rep->refinements, rep->backtracks, rep->shifts);
+                rep->refinements, rep->backtracks, rep->shifts, rep->partial_projections);
     rep->energy = f;
     rep->kkt_residual = kkt_residual(s, lambda);
     rep->max_violation = viol;

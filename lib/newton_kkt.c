@@ -181,8 +181,22 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
      * is H positive definite on the constraints' tangent space — the second-order condition),
      * otherwise the projected one. The LDL^T mode cannot tell inertia, so it always projects. */
     int exact_first = s->o.exact_hessian_first && dw_min == 0.0 && (s->m == 0 || s->eliminate);
-    for (int project = !exact_first; project <= 1; project++) {
-        if ((st = plume_problem_hessian(s->p, u, 1.0, s->m ? lambda : NULL, project, s->hval)) != PLUME_OK)
+    /* The Hessians tried in turn: exact; then (when some term has a cheap closed-form projection
+     * that keeps its stiffness: Gauss-Newton bending, compressed edges' curvature dropped) those
+     * terms projected and the rest exact, before any shift of the whole matrix: a compressed barb
+     * or a bending element gone indefinite is a local matter, and the global shift that would
+     * cover it damps every soft direction of the feather (measured: 92 iterations and 95 shifts
+     * against 53 and 16 on the feather at 11k elements); last, everything projected. */
+    int partial = exact_first && s->o.partial_projection && plume_problem_has_partial_projection(s->p);
+    int modes[3], nmodes = 0;
+    if (exact_first)
+        modes[nmodes++] = PLUME_HESSIAN_EXACT;
+    if (partial)
+        modes[nmodes++] = PLUME_HESSIAN_PARTIAL;
+    modes[nmodes++] = PLUME_HESSIAN_PROJECTED;
+    for (int k = 0; k < nmodes; k++) {
+        const int mode = modes[k], project = mode == PLUME_HESSIAN_PROJECTED;
+        if ((st = plume_problem_hessian(s->p, u, 1.0, s->m ? lambda : NULL, mode, s->hval)) != PLUME_OK)
             return st;
         double hmax = 0.0;
         for (plume_index c = 0; c < s->n; c++)
@@ -191,27 +205,30 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
             hmax = 1.0;
         *hmax_out = hmax;
         double jmax = 0.0;
-        for (plume_index k = 0; k < s->jnnz; k++)
-            jmax = fmax(jmax, fabs(s->jval[k]));
+        for (plume_index q = 0; q < s->jnnz; q++)
+            jmax = fmax(jmax, fabs(s->jval[q]));
         double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
         *dc_out = s->dc = dc;
         s->dcf = s->eliminate && s->o.kkt_refine ? DCF_OVER_DC * dc : dc;
         double dw = fmax(dw_min, s->m && !s->eliminate ? 1e-12 * hmax : 0.0);
-        /* Exact Hessian: Ipopt's inertia correction. Try no shift; if the matrix is not positive
-         * definite, start from a third of the last shift that worked (or 1e-6 hmax the first
-         * time) and grow it 8x (100x the first time) until it is, up to hmax; then fall back to
-         * the projected Hessian. The shift carried from one iteration to the next damps the
-         * directions along soft (buckling) modes the way a trust region would, so full steps are
-         * taken instead of cut ones. */
+        /* Exact (or partly projected) Hessian: Ipopt's inertia correction. Try no shift; if the
+         * matrix is not positive definite, start from a third of the last shift that worked (or
+         * 1e-6 hmax the first time) and grow it 8x (100x the first time) until it is, up to hmax;
+         * then fall back to the next Hessian. The shift carried from one iteration to the next
+         * damps the directions along soft (buckling) modes the way a trust region would, so full
+         * steps are taken instead of cut ones. With a partly projected Hessian still to try, the
+         * exact one gets no shift. */
         if (!project) {
             double sh = 0.0;
+            const int shifts_allowed = !(mode == PLUME_HESSIAN_EXACT && partial);
             for (int attempt = 0; attempt < 40; attempt++) {
                 st = factor_with(s, dw + sh, s->dcf);
                 if (st != PLUME_ESINGULAR) {
                     if (st == PLUME_OK) {
                         s->diag = dw + sh;
                         s->shift = sh;
-                        s->projected = 0;
+                        s->projected = mode == PLUME_HESSIAN_PARTIAL;
+                        s->partial_factorizations += mode == PLUME_HESSIAN_PARTIAL;
                         if (sh > 0.0)
                             s->shift_last = sh;
                         else
@@ -219,6 +236,8 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
                     }
                     return st;
                 }
+                if (!shifts_allowed)
+                    break;
                 s->shifts++;
                 if (sh == 0.0)
                     sh = s->shift_last > 1e-12 * hmax ? s->shift_last / 3.0 : 1e-6 * hmax;

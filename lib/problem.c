@@ -702,6 +702,19 @@ static void scatter_blocks(double *values, const plume_index *map, const double 
             values[map[i]] += w * blocks[i];
 }
 
+int plume_problem_has_partial_projection(const plume_problem *p)
+{
+    if (!p)
+        return 0;
+    for (int t = 0; t < p->nterms; t++)
+        if (p->terms[t].t.partial_projection)
+            return 1;
+    for (int s = 0; s < p->ncsets; s++)
+        if (p->cons[s].c.partial_projection)
+            return 1;
+    return 0;
+}
+
 plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj_factor,
                                    const double *lambda, int project, double *values)
 {
@@ -712,7 +725,8 @@ plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj
     int d = p->dim;
     for (int t = 0; t < p->nterms; t++) {
         term_slot *ts = p->terms + t;
-        plume_status st = ts->t.eval(ts->t.ctx, d, p->x, NULL, NULL, ts->blocks, project);
+        int pj = project == PLUME_HESSIAN_PARTIAL ? ts->t.partial_projection : project != 0;
+        plume_status st = ts->t.eval(ts->t.ctx, d, p->x, NULL, NULL, ts->blocks, pj);
         if (st != PLUME_OK)
             return st;
         size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
@@ -724,7 +738,8 @@ plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj
         cons_slot *c = p->cons + s;
         for (plume_index i = 0; i < c->c.m; i++)
             c->lam[i] = c->row[i] >= 0 ? lambda[c->row[i]] : 0.0;
-        plume_status st = c->c.hess(c->c.ctx, d, p->x, c->lam, c->blocks, project);
+        int pj = project == PLUME_HESSIAN_PARTIAL ? c->c.partial_projection : project != 0;
+        plume_status st = c->c.hess(c->c.ctx, d, p->x, c->lam, c->blocks, pj);
         if (st != PLUME_OK)
             return st;
         size_t kk = (size_t)(c->c.arity * d) * (size_t)(c->c.arity * d);

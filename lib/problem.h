@@ -57,9 +57,21 @@ plume_status plume_problem_objective(plume_problem *p, const double *u, double *
 /* Sparsity of the Hessian of the Lagrangian on the free dofs (upper triangle, fixed). */
 plume_sparsity plume_problem_hessian_pattern(const plume_problem *p);
 
+/* 1 if some term or constraint set has partial_projection (PLUME_HESSIAN_PARTIAL differs from
+ * EXACT). */
+int plume_problem_has_partial_projection(const plume_problem *p);
+
+/* What plume_problem_hessian assembles. */
+enum {
+    PLUME_HESSIAN_EXACT = 0,     /* every block exact */
+    PLUME_HESSIAN_PROJECTED = 1, /* every element block projected to PSD (constraints included) */
+    PLUME_HESSIAN_PARTIAL = 2    /* projected where the term or constraint set has partial_projection,
+                                    exact elsewhere */
+};
+
 /* values[nnz] <- obj_factor * Hess f(u) + sum_c lambda_c Hess g_c(u) on the fixed pattern;
- * lambda may be NULL (no constraint part). project != 0 projects every element block to PSD
- * (constraint blocks included), giving a PSD matrix for projected Newton. */
+ * lambda may be NULL (no constraint part). project is a PLUME_HESSIAN_* mode (any other non-zero
+ * value: PROJECTED), PROJECTED giving a PSD matrix for projected Newton. */
 plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj_factor,
                                    const double *lambda, int project, double *values);
 

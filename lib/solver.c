@@ -58,6 +58,7 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->kkt_refine = 1;
     o->verbose = 0;
     o->exact_hessian_first = 1;
+    o->partial_projection = 1;
 }
 
 plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p, const plume_solver_opts *o,

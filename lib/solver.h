@@ -42,6 +42,8 @@ typedef struct {
     int backtracks;       /* newton: trial steps the line search rejected */
     int shifts;           /* newton: factorisations rejected for inertia (each followed by a larger
                              diagonal shift, or by the projected Hessian) */
+    int partial_projections; /* newton: factorisations whose Hessian had the terms with a cheap
+                              projection projected (the exact one was not positive definite) */
     int merit_fallbacks;  /* newton, filter line search: iterations that fell back to the l1 merit
                              (no step down to 2^-29 was acceptable to the filter) */
     int chord_steps;      /* newton: steps taken with an earlier factorisation (no new one) */
@@ -94,6 +96,10 @@ typedef struct {
                               part is 1e8 times the Hessian's, loses 8 digits of H), to a relative
                               residual of min(1e-2, KKT residual) (inexact Newton); default 1 */
     int verbose;           /* print one line per iteration on stderr */
+    int partial_projection; /* newton, exact-Hessian path: when the exact Hessian is not positive
+                              definite, project the terms whose projection is a cheap closed form
+                              (plume_term.partial_projection: shape bending, edge-length
+                              constraints) before shifting the whole matrix; default 1 */
     int exact_hessian_first; /* newton without constraints: factorise the exact Hessian first and
                                 fall back to the PSD-projected one if it is not positive definite;
                                 default 1 */

@@ -42,6 +42,13 @@ typedef struct {
      * e[0 .. nstencil-1]; their sum is the energy eval adds. Output fields use it (energy
      * densities per triangle, macro/frame_fields.h). */
     plume_status (*energies)(void *ctx, int dim, const double *x, double *e);
+    /* 1: this term's projected blocks are a cheap closed form that keeps the term's stiffness and
+     * drops only a curvature part (shape-operator bending: the Gauss-Newton block), so the native
+     * Newton projects this term first, before shifting the whole matrix, when its exact Hessian is
+     * not positive definite (PLUME_HESSIAN_PARTIAL). 0 (default): exact until everything is
+     * projected. A stiff membrane in compression must stay exact: projecting it slows Newton to a
+     * crawl. */
+    int partial_projection;
 } plume_term;
 
 /* A set of m equality constraints g_c(x) = 0; constraint c couples the `arity` vertices of
@@ -61,6 +68,7 @@ typedef struct {
                          double *hblocks, int project);
     void (*destroy)(void *ctx);
     void *ctx;
+    int partial_projection; /* as plume_term's (edge lengths: lambda clamped at 0 per edge) */
 } plume_constraint;
 
 #ifdef __cplusplus

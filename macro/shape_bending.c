@@ -984,6 +984,7 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
     out->stencil = ctx->stencil;
     out->eval = shape_eval;
     out->energies = shape_energies;
+    out->partial_projection = 1; /* the Gauss-Newton block: closed form, the stiffness kept */
     out->destroy = shape_destroy;
     out->ctx = ctx;
     ctx = NULL;

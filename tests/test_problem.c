@@ -651,7 +651,7 @@ static plume_term dummy_term(dummy_ctx *c, const char *name)
 static plume_constraint dummy_constraint(dummy_ctx *c, const char *name)
 {
     c->scale[0] = 1.0;
-    plume_constraint k = {name, 2, 1, c->stencil, c->scale, dummy_geval, dummy_hess, dummy_destroy, c};
+    plume_constraint k = {name, 2, 1, c->stencil, c->scale, dummy_geval, dummy_hess, dummy_destroy, c, 0};
     return k;
 }
 

@@ -41,6 +41,7 @@ struct plume_newton {
     double shift, shift_last; /* exact-Hessian shift of the last factorisation; the last nonzero one */
     int projected;           /* the last factorisation used the projected Hessian */
     int shifts;              /* factorisations that failed for inertia in this solve */
+    int partial_factorizations; /* factorisations of the partly projected Hessian in this solve */
     double filt[2 * 64];     /* filter line search: (theta, f) pairs of this solve (a ring) */
     int nfilt;
     double theta_max, theta_min;
