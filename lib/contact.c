@@ -118,7 +118,8 @@ static plume_status contact_eval(void *ctx, int dim, const double *x, double *en
      * path of newton would only meet inertia corrections there; 0 gives the exact blocks unless
      * the solver asks for projection (finite-difference tests) */
     plume_contact_opts po = c->o.pair;
-    po.project_psd = po.project_psd || project;
+    if (project && !po.project_psd) /* exact blocks, but the solver wants PSD ones: the nearest */
+        po.project_psd = PLUME_CONTACT_PROJECT_EIGEN;
     plume_index ns = c->npt + c->nee;
     double E = 0.0;
     plume_status st = PLUME_OK;

@@ -611,12 +611,13 @@ void plume_contact_opts_default(plume_contact_opts *o)
     o->model = PLUME_CONTACT_BARRIER;
     o->dhat = 1e-3;
     o->stiffness = 1.0;
-    o->project_psd = 1;
+    o->project_psd = PLUME_CONTACT_PROJECT_GAUSS_NEWTON;
 }
 
 static int opts_ok(const plume_contact_opts *o)
 {
-    return o && (o->model == PLUME_CONTACT_BARRIER || o->model == PLUME_CONTACT_PENALTY) &&
+    return o && (o->model == PLUME_CONTACT_BARRIER || o->model == PLUME_CONTACT_PENALTY) && o->project_psd >= 0 &&
+           o->project_psd <= PLUME_CONTACT_PROJECT_GAUSS_NEWTON &&
            isfinite(o->dhat) && o->dhat > 0.0 && isfinite(o->stiffness) && o->stiffness >= 0.0;
 }
 
@@ -659,7 +660,11 @@ static plume_status compose(const plume_contact_opts *o, double d2, const double
     if (g)
         for (int i = 0; i < 12; i++)
             g[i] = f1 * gd[i];
-    if (H) {
+    if (H && o->project_psd == PLUME_CONTACT_PROJECT_GAUSS_NEWTON) { /* phi'' grad d grad d^T */
+        for (int i = 0; i < 12; i++)
+            for (int j = 0; j < 12; j++)
+                H[12 * i + j] = f2 * gd[i] * gd[j];
+    } else if (H) {
         const double a = f1 / (2.0 * d), c = f2 - f1 / d;
         for (int i = 0; i < 12; i++)
             for (int j = 0; j < 12; j++)
@@ -703,7 +708,7 @@ plume_status plume_contact_pt_energy(const plume_contact_opts *o, const double x
     if ((st = near_feature(&pt_features[t], o, x, &d2, gs, Hs, E, g, H, &near)) || !near)
         return st;
     st = compose(o, d2, (g || H) ? gs : NULL, H ? Hs : NULL, E, g, H);
-    if (st == PLUME_OK && H && o->project_psd)
+    if (st == PLUME_OK && H && o->project_psd == PLUME_CONTACT_PROJECT_EIGEN)
         plume_dense_project_psd(12, H);
     return st;
 }
@@ -725,6 +730,8 @@ plume_status plume_contact_ee_energy(const plume_contact_opts *o, const double x
         return st;
     if (eps_x == 0.0) { /* unmollified */
         st = compose(o, d2, (g || H) ? gs : NULL, H ? Hs : NULL, E, g, H);
+        if (o->project_psd == PLUME_CONTACT_PROJECT_GAUSS_NEWTON)
+            return st; /* PSD as composed */
         goto project;
     }
     /* E = m Eb: the product rule needs both gradients whenever H is wanted */

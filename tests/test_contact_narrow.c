@@ -979,3 +979,63 @@ void test_contact_narrow_bad_inputs(void)
     double cross[12] = {-1, 0, 0, 1, 0, 0, 0, -1, 0, 0, 1, 0};
     CHECK(plume_contact_ee_energy(&o, cross, 1e-3, &E, NULL, NULL, NULL) == PLUME_ESINGULAR && isinf(E));
 }
+
+/* The Gauss-Newton blocks (the default): phi''(d) grad d grad d^T, PSD and of rank one, the energy
+ * and gradient those of the exact blocks; where the pair's distance is between two points (the
+ * point in a corner region of the triangle) they equal the nearest PSD matrix, since Hess d is then
+ * PSD and orthogonal to grad d. */
+void test_contact_narrow_gauss_newton(void)
+{
+    rng64 rng = {1234};
+    int tested = 0, corners = 0;
+    double worst_neg = 0.0, worst_rank = 0.0, worst_corner = 0.0;
+    for (int it = 0; it < 20000 && tested < 400; it++) {
+        plume_contact_opts o;
+        plume_contact_opts_default(&o);
+        CHECK(o.project_psd == PLUME_CONTACT_PROJECT_GAUSS_NEWTON);
+        o.model = it % 2 ? PLUME_CONTACT_PENALTY : PLUME_CONTACT_BARRIER;
+        o.dhat = 0.3;
+        o.stiffness = 10;
+        double x[12];
+        for (int i = 0; i < 12; i++)
+            x[i] = urange(&rng, -0.5, 0.5);
+        const double d = pair_distance(0, x);
+        if (!(d > 0.01 && d < 0.29))
+            continue;
+        double E0, E2, g0[12], g2[12], H0[144], H2[144], H1[144], E1, g1[12];
+        plume_contact_pt_type type;
+        o.project_psd = 0;
+        CHECK(plume_contact_pt_energy(&o, x, &E0, g0, H0, &type) == PLUME_OK);
+        o.project_psd = PLUME_CONTACT_PROJECT_EIGEN;
+        CHECK(plume_contact_pt_energy(&o, x, &E1, g1, H1, NULL) == PLUME_OK);
+        o.project_psd = PLUME_CONTACT_PROJECT_GAUSS_NEWTON;
+        CHECK(plume_contact_pt_energy(&o, x, &E2, g2, H2, NULL) == PLUME_OK);
+        CHECK(E0 == E2 && memcmp(g0, g2, sizeof g0) == 0);
+        double A[144], lam[12], V[144];
+        memcpy(A, H2, sizeof A);
+        plume_dense_sym_eig(12, A, lam, V);
+        const double big = fmax(fabs(lam[0]), fabs(lam[11]));
+        worst_neg = fmax(worst_neg, -lam[0] / big);
+        worst_rank = fmax(worst_rank, fabs(lam[10]) / big);
+        CHECK(lam[0] >= -1e-12 * big && fabs(lam[10]) <= 1e-12 * big);
+        if (type == PLUME_CONTACT_PT_T0 || type == PLUME_CONTACT_PT_T1 || type == PLUME_CONTACT_PT_T2) {
+            double err = 0.0;
+            for (int i = 0; i < 144; i++)
+                err = fmax(err, fabs(H2[i] - H1[i]));
+            worst_corner = fmax(worst_corner, err / big);
+            CHECK(err <= 1e-10 * big);
+            corners++;
+        }
+        tested++;
+    }
+    fprintf(stderr, "    %d point-triangle blocks (%d at a corner): min eig >= %.2e, second eig <= %.2e, corner blocks "
+                    "against the nearest PSD <= %.2e (relative to max|eig|)\n",
+            tested, corners, -worst_neg, worst_rank, worst_corner);
+    CHECK(tested >= 400 && corners >= 20);
+    /* a projection mode out of range is refused */
+    plume_contact_opts o;
+    plume_contact_opts_default(&o);
+    o.project_psd = 3;
+    double x[12] = {0, 0, 0.1, 0, 0, 0, 1, 0, 0, 0, 1, 0}, E;
+    CHECK(plume_contact_pt_energy(&o, x, &E, NULL, NULL, NULL) == PLUME_EINVAL);
+}
