@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "harness.h"
+#include "micro_specimen.h"
 #include "../lib/plume.h"
 #include "../micro/cell_linear.h"
 #include "../micro/homogenize.h"
@@ -100,33 +101,12 @@ void test_micro_convergence_barbule_cell(void)
     plume_homog_result_free(&hr);
 }
 
-/* the stress at `strain` of a tilted (45 deg) traction specimen 1 x 1.3 m of layout l */
+/* the stress at `strain` of the tilted specimen of layout l at an element order and e_rel */
 static double specimen_stress(const plume_layout *base, int order, double e_rel, double strain, double *seconds)
 {
     plume_layout l = *base;
     l.order = order, l.e_rel = e_rel;
-    plume_mesh *mesh = NULL;
-    plume_problem *p = NULL;
-    plume_err err = {{0}};
-    double s = NAN;
-    if (plume_micro_specimen(&l, 1.0, 1.3, 45.0, &mesh, &p, &err) == PLUME_OK) {
-        plume_traction_opts o;
-        plume_traction_opts_default(&o);
-        o.lx = 1.0, o.ly = 1.3, o.h = l.h, o.strain_max = strain, o.steps = 1, o.progress = 0;
-        o.probe_tol_kkt = o.solver_opts.tol_kkt; /* the slope is not read */
-        plume_traction_result r;
-        if (plume_traction_run(mesh, p, NULL, 0, &o, &r, &err) == PLUME_OK && r.converged)
-            s = r.curve.stress[r.curve.n - 1];
-        else
-            fprintf(stderr, "    micro run failed: %s\n", err.msg);
-        *seconds = r.seconds;
-        plume_traction_result_free(&r);
-    } else {
-        fprintf(stderr, "    %s\n", err.msg);
-    }
-    plume_problem_destroy(&p);
-    plume_mesh_destroy(&mesh);
-    return s;
+    return tilted_specimen_stress(&l, strain, seconds, NULL);
 }
 
 /* Supplementary Figure 10's specimen (strips, contrast 1e-6, d_B = 0.17 l_y): quadratic elements at
@@ -138,7 +118,7 @@ void test_micro_convergence_strip_specimen(void)
     plume_layout_default(&l);
     l.d_B = 0.17 * 1.3, l.h = 1.0;
     const double e[3] = {2.9, 1.45, 0.725};
-    double s[2][3], t;
+    double s[2][3], t = 0.0;
     for (int o = 0; o < 2; o++)
         for (int k = 0; k < 3; k++) {
             s[o][k] = specimen_stress(&l, o + 1, e[k], 0.05, &t);
@@ -160,7 +140,7 @@ void test_micro_convergence_barbule_specimen(void)
     const double scale = 0.086 * 1.3 / l.d_B; /* as apps/traction: d_B = 0.086 l_y, geometry kept */
     l.d_B *= scale, l.barbule_width *= scale, l.barbule_spacing *= scale, l.h = 1.0;
     const double e[3] = {4.0 / 3.0, 2.0 / 3.0, 1.0 / 3.0};
-    double s[3], t;
+    double s[3], t = 0.0;
     for (int k = 0; k < 3; k++) {
         s[k] = specimen_stress(&l, 2, e[k], 0.05, &t);
         fprintf(stderr, "    order 2, e_rel %-6.4g: stress at 5 %% %.8g Pa (%.2f s)\n", e[k], s[k], t);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "harness.h"
+#include "micro_specimen.h"
 #include "../lib/plume.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"
@@ -18,27 +19,7 @@ static double micro_stress(double dB_rel, double e_rel, double strain, plume_ind
     l.d_B = dB_rel * 1.3;
     l.e_rel = e_rel;
     l.h = 1.0;
-    plume_mesh *mesh = NULL;
-    plume_problem *p = NULL;
-    plume_err err = {{0}};
-    double s = NAN;
-    if (plume_micro_specimen(&l, 1.0, 1.3, 45.0, &mesh, &p, &err) == PLUME_OK) {
-        plume_traction_opts o;
-        plume_traction_opts_default(&o);
-        o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.strain_max = strain, o.steps = 1, o.progress = 0;
-        plume_traction_result r;
-        if (plume_traction_run(mesh, p, NULL, 0, &o, &r, &err) == PLUME_OK && r.converged)
-            s = r.curve.stress[r.curve.n - 1];
-        else
-            fprintf(stderr, "    micro run failed: %s\n", err.msg);
-        plume_traction_result_free(&r);
-        *elements = l.order == 2 ? mesh->nt / 4 : mesh->nt; /* quadratic elements are split in four */
-    } else {
-        fprintf(stderr, "    %s\n", err.msg);
-    }
-    plume_problem_destroy(&p);
-    plume_mesh_destroy(&mesh);
-    return s;
+    return tilted_specimen_stress(&l, strain, NULL, elements);
 }
 
 void test_micro_traction_converges_in_element_size(void)
