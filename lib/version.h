@@ -4,9 +4,9 @@
 #define PLUME_VERSION_H
 
 #define PLUME_VERSION_MAJOR 0
-#define PLUME_VERSION_MINOR 2
+#define PLUME_VERSION_MINOR 3
 #define PLUME_VERSION_PATCH 0
-#define PLUME_VERSION_STRING "0.2.0"
+#define PLUME_VERSION_STRING "0.3.0"
 
 #ifdef __cplusplus
 extern "C" {
