@@ -618,3 +618,25 @@ void test_feather_app_nonconvergence(void)
     check_series(path, 1, 1); /* what was written before the failure is a valid series */
     rm_rf(dir);
 }
+
+/* The solver benchmarks' scenes (docs/solver-nonconvexity.md) load: the feather at 1.25 mm (11.4k
+ * elements) and the contact stack, whose start is not crossed. */
+void test_feather_app_benchmark_scenes(void)
+{
+    plume_scene *s = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_scene_load("../data/feather/scene_anisotropic_1.25mm.json", &s, &err) == PLUME_OK);
+    if (s)
+        CHECK(s->mesh->nt > 11000 && s->mesh->nt < 12000 && s->nbarb > 5000);
+    else
+        fprintf(stderr, "    %s\n", err.msg);
+    plume_scene_destroy(&s);
+    CHECK(plume_scene_load("../data/contact/stack.json", &s, &err) == PLUME_OK);
+    if (s) {
+        CHECK(s->nobjects == 7 && s->has_contact && s->mesh->nt > 3800 && s->mesh->nt < 4000);
+        CHECK(plume_scene_check_start(s, &err) == PLUME_OK);
+    } else {
+        fprintf(stderr, "    %s\n", err.msg);
+    }
+    plume_scene_destroy(&s);
+}
