@@ -27,7 +27,7 @@ static const char usage[] =
     "  --barbule-width M --barbule-spacing M --barbule-angle DEG   explicit barbules\n"
     "  --order 1|2          element order: 2 quadratic triangles (default), 1 linear (the paper's)\n"
     "  --e-rel V            element edge over barb width, e-bar (default 0: chosen from the thinnest\n"
-    "                       strip so that the moduli are within 1 %% of the refined limit)\n"
+    "                       strip so that the moduli are within 1 % of the refined limit)\n"
     "  --no-convergence     skip the convergence estimate (the tensor again on a mesh twice as coarse)\n"
     "  --strain-max E --steps N   cell response curves (default 0.05, 10; 0 for none)\n"
     "  -o FILE.h5           write /moduli and /curves/cell/{uniaxial_x,uniaxial_y,shear}\n"

@@ -40,7 +40,7 @@ static const char usage[] =
     "  --layout-config FILE.json, --layout strips|barbules, --phi V, --ratio R, --Eb PA,\n"
     "  --nu-barb V, --nu-barbule V, --dB-rel V (barb spacing over ly, default 0.086), --e-rel V\n"
     "  (element edge over barb width; default 0: chosen from the thinnest strip so that the curve is\n"
-    "  within 2 %% of its refined limit), --order 1|2 (element order: 2 quadratic triangles, the\n"
+    "  within 2 % of its refined limit), --order 1|2 (element order: 2 quadratic triangles, the\n"
     "  default; 1 linear, the paper's); the layout thickness is --thickness.\n"
     "  --no-convergence    skip the micro run's convergence estimate (the same test on a mesh twice as coarse)\n"
     "  With --model both the macro model uses --moduli FILE.h5 if given, else the layout's moduli\n"
