@@ -292,9 +292,11 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
         goto done;
     }
     if (!o->no_convergence && run->res.converged && to->solver != PLUME_SOLVER_LINEARIZED) {
-        /* how converged the curve is: the same test on a mesh twice as coarse */
-        plume_mesh_destroy(&mesh);
+        /* how converged the curve is: the same test on a mesh twice as coarse (this run's mesh,
+         * its problem and the fields that borrow the mesh freed first) */
+        plume_fields_destroy(&fields);
         plume_problem_destroy(&p);
+        plume_mesh_destroy(&mesh);
         if ((st = plume_micro_traction_convergence(layout, o->lx, o->ly, angle, to, &run->res, &run->conv, &err)) !=
             PLUME_OK) {
             fprintf(stderr, "traction: micro convergence estimate: %s\n", err.msg[0] ? err.msg : plume_strerror(st));
