@@ -186,7 +186,7 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
      * terms projected and the rest exact, before any shift of the whole matrix: a compressed barb
      * or a bending element gone indefinite is a local matter, and the global shift that would
      * cover it damps every soft direction of the feather (measured: 92 iterations and 95 shifts
-     * against 53 and 16 on the feather at 11k elements); last, everything projected. */
+     * against 55 and 16 on the feather at 11k elements); last, everything projected. */
     int partial = exact_first && s->o.partial_projection && plume_problem_has_partial_projection(s->p);
     int modes[3], nmodes = 0;
     if (exact_first)
