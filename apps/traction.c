@@ -280,7 +280,7 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
         goto done;
     }
     run->order = layout->order;
-    run->elements = layout->order == 2 ? mesh->nt / 4 : mesh->nt, run->vertices = mesh->nv;
+    run->elements = plume_micro_specimen_elements(layout, mesh), run->vertices = mesh->nv;
     run->edge = plume_layout_element_edge(layout, PLUME_MESH_SPECIMEN);
     plume_traction_opts tv = *to;
     plume_membrane_material mats[2];

@@ -390,7 +390,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     json_object_set_new(o, "newton_iterations", json_integer(res.newton_iterations));
     json_object_set_new(o, "max_violation", json_real(res.max_violation));
     json_object_set_new(o, "seconds", json_real(res.seconds));
-    json_object_set_new(o, "elements", json_integer(micro && layout.order == 2 ? mesh->nt / 4 : mesh->nt));
+    json_object_set_new(o, "elements", json_integer(micro ? plume_micro_specimen_elements(&layout, mesh) : mesh->nt));
     json_object_set_new(o, "vertices", json_integer(mesh->nv));
     json_object_set_new(o, "angle", json_real(angle));
     if (micro) {

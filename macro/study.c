@@ -83,8 +83,7 @@ static void take_result(const plume_study_config *c, const plume_mesh *mesh, plu
     r->iterations = tr->newton_iterations;
     r->converged = tr->converged;
     r->reason = tr->converged ? PLUME_REASON_CONVERGED : tr->failed_reason;
-    /* an order-2 micro mesh is the quadratic triangles split in four (micro_model.h) */
-    r->elements = (long)(c->micro && c->layout.order == 2 ? mesh->nt / 4 : mesh->nt);
+    r->elements = (long)(c->micro ? plume_micro_specimen_elements(&c->layout, mesh) : mesh->nt);
     r->vertices = (long)mesh->nv;
     plume_index n = r->curve.n;
     if (n > 0) {

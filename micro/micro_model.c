@@ -43,6 +43,11 @@ plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, d
     return st;
 }
 
+plume_index plume_micro_specimen_elements(const plume_layout *l, const plume_mesh *mesh)
+{
+    return l->order == 2 ? mesh->nt / 4 : mesh->nt;
+}
+
 plume_status plume_micro_traction_convergence(const plume_layout *l, double lx, double ly, double angle_deg,
                                               const plume_traction_opts *o, const plume_traction_result *run,
                                               plume_micro_convergence *c, plume_err *err)
@@ -63,7 +68,7 @@ plume_status plume_micro_traction_convergence(const plume_layout *l, double lx, 
     plume_status st = plume_micro_specimen(&lc, lx, ly, angle_deg, &mesh, &p, err);
     if (st != PLUME_OK)
         goto done;
-    c->refinement_elements = l->order == 2 ? mesh->nt / 4 : mesh->nt;
+    c->refinement_elements = plume_micro_specimen_elements(l, mesh);
     plume_traction_opts oc = *o;
     oc.on_step = NULL;
     oc.on_step_user = NULL;

@@ -18,6 +18,10 @@ extern "C" {
 plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, double angle_deg,
                                   plume_mesh **mesh, plume_problem **p, plume_err *err);
 
+/* The elements of a specimen mesh made by plume_micro_specimen for layout l: its triangles, or at
+ * order 2 its quadratic triangles (each split in four in the mesh). */
+plume_index plume_micro_specimen_elements(const plume_layout *l, const plume_mesh *mesh);
+
 /* How converged a micro traction run is: the same test on the specimen meshed with elements twice
  * as large (half as large when the layout refuses the coarser mesh). */
 typedef struct {

@@ -34,7 +34,7 @@ static inline double tilted_specimen_stress(const plume_layout *l, double strain
         if (seconds)
             *seconds = r.seconds;
         if (elements)
-            *elements = l->order == 2 ? mesh->nt / 4 : mesh->nt;
+            *elements = plume_micro_specimen_elements(l, mesh);
         plume_traction_result_free(&r);
     } else {
         fprintf(stderr, "    %s\n", err.msg);
