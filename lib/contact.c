@@ -113,10 +113,10 @@ static plume_status contact_eval(void *ctx, int dim, const double *x, double *en
     if (dim != 3)
         return PLUME_EINVAL;
     double t0 = plume_wall_seconds();
-    /* with pair.project_psd (the default) contact blocks are always projected to PSD, as in IPC:
-     * the barrier's Hessian is indefinite off the normal direction, and the exact-Hessian-first
-     * path of newton would only meet inertia corrections there; 0 gives the exact blocks unless
-     * the solver asks for projection (finite-difference tests) */
+    /* with pair.project_psd (the default: Gauss-Newton blocks) contact blocks are always PSD, as
+     * in IPC: the barrier's Hessian is indefinite off the normal direction, and the
+     * exact-Hessian-first path of newton would only meet inertia corrections there; 0 gives the
+     * exact blocks unless the solver asks for projection (finite-difference tests) */
     plume_contact_opts po = c->o.pair;
     if (project && !po.project_psd) /* exact blocks, but the solver wants PSD ones: the nearest */
         po.project_psd = PLUME_CONTACT_PROJECT_EIGEN;

@@ -26,7 +26,7 @@ void test_micro_traction_converges_in_element_size(void)
 {
     const double e[3] = {2.0, 1.0, 0.5};
     double s[3];
-    plume_index n[3];
+    plume_index n[3] = {0, 0, 0};
     for (int k = 0; k < 3; k++)
         s[k] = micro_stress(0.17, e[k], 0.02, &n[k]);
     double d1 = fabs(s[1] - s[0]), d2 = fabs(s[2] - s[1]);
@@ -71,7 +71,7 @@ void test_micro_traction_approaches_homogenised(void)
     const double dB[3] = {0.086, 0.043, 0.0215};
     double diff[3];
     for (int k = 0; k < 3; k++) {
-        plume_index n;
+        plume_index n = 0;
         double s = micro_stress(dB[k], 2.9, 0.02, &n);
         diff[k] = fabs(s - macro) / fabs(macro);
         fprintf(stderr, "    d-bar_B %.4g (%ld elements): micro %.6g vs macro %.6g, relative difference %.3g\n", dB[k],

@@ -76,25 +76,18 @@ static inline double plume_membrane_law_density_G(const plume_membrane_law *m, c
         psi += J > 0.0 ? k12 * (J - 1.0 - log(J)) : INFINITY;
         dpc = J > 0.0 ? k12 * (1.0 - 1.0 / J) : -INFINITY;
         ddpc = J > 0.0 ? k12 / (J * J) : INFINITY;
-        if (J > 0.0) {
-            const double iJ = 1.0 / J;
-            for (int k = 0; k < 3; k++)
-                nh[k] = n[k] * iJ;
-            cross3(g1, nh, dJ0);
-            cross3(nh, g0, dJ1);
-        }
     } else if (comp) {
         const double t = (1.0 - J) / 6.0;
         psi += m->kappa / 12.0 * t * t * t;
         dpc = -m->kappa * t * t * (1.0 / 24.0); /* d psi_c / dJ */
         ddpc = m->kappa * t * (1.0 / 72.0);     /* d2 psi_c / dJ2 */
-        if (J > 0.0) {
-            const double iJ = 1.0 / J;
-            for (int k = 0; k < 3; k++)
-                nh[k] = n[k] * iJ;
-            cross3(g1, nh, dJ0);
-            cross3(nh, g0, dJ1);
-        }
+    }
+    if (comp && J > 0.0) { /* the unit normal and dJ/dg0, dJ/dg1 */
+        const double iJ = 1.0 / J;
+        for (int k = 0; k < 3; k++)
+            nh[k] = n[k] * iJ;
+        cross3(g1, nh, dJ0);
+        cross3(nh, g0, dJ1);
     }
 
     if (P) {
