@@ -78,8 +78,9 @@ void test_app_homogenize_and_fit(void)
     const char *bad[][2] = {{"--phi 0", "phi"}, {"--phi 1", "phi"}, {"--ratio -2", "ratio"},
                             {"--e-rel 6", "narrower than an element"},
                             {"--layout barbules --barbule-spacing 1e-4", "barbule"},
-                            {"--config /nonexistent.json", "/nonexistent.json"}, {"--phi x", "--phi"}};
-    for (int k = 0; k < 7; k++) {
+                            {"--config /nonexistent.json", "/nonexistent.json"}, {"--phi x", "--phi"},
+                            {"--order 3", "order must be 1 (linear) or 2"}, {"--order x", "--order"}};
+    for (int k = 0; k < 9; k++) {
         CHECK(app_run(scratch, "homogenize", bad[k][0], out, sizeof out, err, sizeof err) != 0);
         if (!strstr(err, bad[k][1])) {
             plume_test_failures++;
@@ -93,6 +94,11 @@ void test_app_homogenize_and_fit(void)
     snprintf(args, sizeof args, "--config %s", path);
     CHECK(app_run(scratch, "homogenize", args, out, sizeof out, err, sizeof err) == 2);
     CHECK(strstr(err, "unknown key \"ratoi\"") != NULL);
+    f = fopen(path, "w"); /* the element order is 1 or 2, in a file too */
+    fputs("{\n  \"order\": 1.5\n}\n", f);
+    fclose(f);
+    CHECK(app_run(scratch, "homogenize", args, out, sizeof out, err, sizeof err) == 2);
+    CHECK(strstr(err, "key \"order\" must be 1 or 2 (got 1.5)") != NULL);
     CHECK(app_run(scratch, "fit", "--target /nonexistent.txt", out, sizeof out, err, sizeof err) != 0);
     CHECK(strstr(err, "/nonexistent.txt") != NULL);
     char cmd[128];

@@ -154,6 +154,9 @@ void test_app_traction_both_models(void)
     snprintf(args, sizeof args, "--model micro --phi 1.5 --quiet");
     CHECK(run_app(args, out, sizeof out, err, sizeof err) == 2);
     CHECK(strstr(err, "phi") != NULL);
+    snprintf(args, sizeof args, "--model micro --order 3 --quiet");
+    CHECK(run_app(args, out, sizeof out, err, sizeof err) == 2);
+    CHECK(strstr(err, "order must be 1 (linear) or 2") != NULL);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
     CHECK(system(cmd) == 0);

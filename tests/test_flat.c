@@ -95,7 +95,9 @@ void test_flat_traction(void)
                             {"{\"solver\": \"cg\"}", "\"solver\""},
                             {"{\"constraint\": 1}", "\"constraint\""},
                             {"{\"lx\": 0}", "lx, ly and thickness"},
-                            {"{\"steps\": 0}", "\"steps\" >= 1"}};
+                            {"{\"steps\": 0}", "\"steps\" >= 1"},
+                            {"{\"model\": \"micro\", \"convergence\": 1}", "\"convergence\""},
+                            {"{\"model\": \"micro\", \"layout\": {\"order\": 3}}", "\"order\" must be 1 or 2"}};
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         char *out = NULL;
         st = plume_flat_traction(bad[k][0], &out, msg, sizeof msg);

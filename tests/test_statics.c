@@ -449,6 +449,9 @@ void test_statics_shell_app(void)
     CHECK(strstr(out, "\"load_steps\": 4") != NULL);
     rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --pattern hex", out, sizeof out, err, sizeof err);
     CHECK(rc == 2 && strstr(err, "--pattern must be"));
+    rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --predictor tangent", out, sizeof out, err,
+                 sizeof err);
+    CHECK(rc == 2 && strstr(err, "--predictor must be secant or none"));
     rc = app_run(dir, "shell", "../data/feather/scene_anisotropic.json", out, sizeof out, err, sizeof err);
     CHECK(rc == 2 && strstr(err, "dynamic scene"));
     rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --max-iter 3", out, sizeof out, err, sizeof err);
