@@ -30,6 +30,9 @@ static const char usage[] =
     "  --bending B         shape_operator | hinge (overrides the scene's \"bending_model\")\n"
     "  --predictor P       secant | none: where each load increment's solve starts (overrides the\n"
     "                      scene's \"predictor\"; default secant, lib/statics.h)\n"
+    "  --globalization G   curved_line_search | line_search | trust_region: how the native solver\n"
+    "                      globalises its Newton steps (overrides the scene's \"globalization\";\n"
+    "                      default curved_line_search, lib/solver.h)\n"
     "  -o DIR              write DIR/steps.pvd and DIR/step_NNNNN.vtu, the equilibrium of each load step with\n"
     "                      its strain, stress, energy densities, J and curvature (ParaView series; the\n"
     "                      load factor is the time)\n"
@@ -39,7 +42,7 @@ static const char usage[] =
     "Exit status: 0 done, 2 bad input, 3 a load step did not converge at the smallest increment, 1 other errors.\n";
 
 typedef struct {
-    const char *scene, *outdir, *solver, *pattern, *bending, *predictor;
+    const char *scene, *outdir, *solver, *pattern, *bending, *predictor, *globalization;
     int steps, json, quiet, verbose;
     double edge;
 } options;
@@ -65,7 +68,7 @@ static int parse_args(int argc, char **argv, options *o)
             continue;
         }
         if (strcmp(a, "-o") && strcmp(a, "--edge") && strcmp(a, "--pattern") && strcmp(a, "--steps") &&
-            strcmp(a, "--solver") && strcmp(a, "--bending") && strcmp(a, "--predictor"))
+            strcmp(a, "--solver") && strcmp(a, "--bending") && strcmp(a, "--predictor") && strcmp(a, "--globalization"))
             return cli_fail(APP, "unknown option '%s' (see --help)", a);
         if (!v)
             return cli_fail(APP, "%s needs a value (see --help)", a);
@@ -91,6 +94,11 @@ static int parse_args(int argc, char **argv, options *o)
             if (plume_predictor_parse(v, &k) != PLUME_OK)
                 r = cli_fail(APP, "--predictor must be secant or none (got '%s')", v);
             o->predictor = v;
+        } else if (strcmp(a, "--globalization") == 0) {
+            plume_globalization g;
+            if (plume_globalization_parse(v, &g) != PLUME_OK)
+                r = cli_fail(APP, "--globalization must be curved_line_search, line_search or trust_region (got '%s')", v);
+            o->globalization = v;
         } else {
             o->solver = v;
         }
@@ -150,6 +158,8 @@ int main(int argc, char **argv)
         scene->hinge_bending = o.bending[0] == 'h';
     if (o.predictor)
         plume_predictor_parse(o.predictor, &scene->predictor);
+    if (o.globalization)
+        plume_globalization_parse(o.globalization, &scene->globalization);
     scene->verbose = o.verbose;
     if (o.outdir && mkdir(o.outdir, 0777) != 0 && errno != EEXIST) {
         rc = cli_fail(APP, "-o %s: cannot create the directory: %s", o.outdir, strerror(errno));
@@ -255,6 +265,7 @@ int main(int argc, char **argv)
         json_object_set_new(j, "solver", json_string(plume_solver_kind_name(scene->solver)));
         json_object_set_new(j, "load_steps", json_integer(scene->steps));
         json_object_set_new(j, "predictor", json_string(plume_predictor_name(scene->predictor)));
+        json_object_set_new(j, "globalization", json_string(plume_globalization_name(scene->globalization)));
         json_object_set_new(j, "load_factor", json_real(plume_statics_factor(st)));
         json_object_set_new(j, "converged", json_boolean(converged));
         json_object_set_new(j, "stop_reason", json_string(plume_reason_name(reason)));

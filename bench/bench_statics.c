@@ -1,8 +1,9 @@
-/* make bench (statics part) — the shell benchmarks under load stepping, each increment's solve
- * started from the last equilibrium (the old way) and from the secant predictor (the default), side
- * by side in one run: Newton iterations per load step, factorisations per iteration, the share of
- * the time in CHOLMOD's numeric factorisation (the floor a solver of this kind cannot go under),
- * seconds per step, the probes' error, and the ratios. */
+/* make bench (statics part) — the shell benchmarks under load stepping, side by side in one run:
+ * each increment's solve started from the last equilibrium (the old way) or from the secant
+ * predictor, with the straight line search, the curved one (the default) or the trust region.
+ * Newton iterations per load step, factorisations per iteration, the share of the time in
+ * CHOLMOD's numeric factorisation (the floor a solver of this kind cannot go under), seconds per
+ * step, the probes' error, and the ratios against the old way. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -32,7 +33,7 @@ static double probes_error(const plume_scene *s, const double *x)
     return e;
 }
 
-static run run_scene(const char *file, plume_predictor k)
+static run run_scene(const char *file, plume_predictor k, plume_globalization g)
 {
     run r = {0, 0, 0, 0, 0.0, 0.0, NAN};
     plume_scene *s = NULL;
@@ -44,6 +45,7 @@ static run run_scene(const char *file, plume_predictor k)
         return r;
     }
     s->predictor = k;
+    s->globalization = g;
     double t0 = plume_wall_seconds();
     if (plume_scene_statics(s, &p, &st, &err) != PLUME_OK) {
         printf("%s: %s\n", file, err.msg);
@@ -73,25 +75,38 @@ int main(void)
     static const char *const files[] = {"data/benchmarks/cantilever_shear.json", "data/benchmarks/elastica_end_load.json",
                                         "data/benchmarks/buckled_cantilever.json", "data/benchmarks/rollup.json",
                                         "data/benchmarks/slit_annular_plate.json"};
-    printf("\nplume bench (statics): the shell benchmarks of data/benchmarks/ at their shipped meshes and steps,\n"
-           "each load increment solved from the last equilibrium (none) or from the secant predictor (secant)\n");
-    printf("%-24s %-7s | %6s %7s %7s %8s %8s %9s | %s\n", "scene", "start", "it", "it/step", "fact/it", "factor%",
-           "s/step", "error", "none / secant (iterations, time)");
+    /* the old way, the predictor alone, the default, and the trust region */
+    static const struct {
+        plume_predictor start;
+        plume_globalization g;
+        const char *name;
+    } ways[] = {{PLUME_PREDICT_NONE, PLUME_GLOBAL_LINE_SEARCH, "none, line"},
+                {PLUME_PREDICT_NONE, PLUME_GLOBAL_CURVED_LINE_SEARCH, "none, curved"},
+                {PLUME_PREDICT_SECANT, PLUME_GLOBAL_LINE_SEARCH, "secant, line"},
+                {PLUME_PREDICT_SECANT, PLUME_GLOBAL_CURVED_LINE_SEARCH, "secant, curved"},
+                {PLUME_PREDICT_SECANT, PLUME_GLOBAL_TRUST_REGION, "secant, trust"}};
+    enum { NWAYS = sizeof ways / sizeof ways[0] };
+    printf("\nplume bench (statics): the shell benchmarks of data/benchmarks/ at their shipped meshes and steps.\n"
+           "Each load increment solved from the last equilibrium (none) or the secant predictor (secant), with\n"
+           "the line search along the straight Newton step (line), along the geodesic-acceleration curve\n"
+           "(curved, the default) or the adaptive-regularisation trust region (trust); the ratios are the\n"
+           "first row's iterations and time over each row's\n");
+    printf("%-24s %-15s | %6s %7s %7s %8s %8s %9s | %s\n", "scene", "start, search", "it", "it/step", "fact/it",
+           "factor%", "s/step", "error", "ratios (iterations, time)");
     for (size_t f = 0; f < sizeof files / sizeof files[0]; f++) {
-        run r[2];
-        for (int k = 0; k < 2; k++)
-            r[k] = run_scene(files[f], k == 0 ? PLUME_PREDICT_NONE : PLUME_PREDICT_SECANT);
-        for (int k = 0; k < 2; k++) {
+        run r[NWAYS];
+        for (int k = 0; k < NWAYS; k++)
+            r[k] = run_scene(files[f], ways[k].start, ways[k].g);
+        for (int k = 0; k < NWAYS; k++) {
             const run *q = r + k;
-            printf("%-24s %-7s | %6d %7.1f %7.2f %7.0f%% %8.3f %8.3f%% |", k == 0 ? strrchr(files[f], '/') + 1 : "",
-                   k == 0 ? "none" : "secant", q->iterations, q->steps ? (double)q->iterations / q->steps : NAN,
+            printf("%-24s %-15s | %6d %7.1f %7.2f %7.0f%% %8.3f %8.3f%% |", k == 0 ? strrchr(files[f], '/') + 1 : "",
+                   ways[k].name, q->iterations, q->steps ? (double)q->iterations / q->steps : NAN,
                    q->iterations ? (double)q->factorizations / q->iterations : NAN,
                    q->seconds > 0.0 ? 100.0 * q->factor_seconds / q->seconds : NAN,
                    q->steps ? q->seconds / q->steps : NAN, 100.0 * q->error);
-            if (k == 1)
-                printf(" %.2f, %.2f%s", (double)r[0].iterations / r[1].iterations, r[0].seconds / r[1].seconds,
-                       r[0].ok && r[1].ok ? "" : " (a run did not converge)");
-            printf("\n");
+            if (k > 0)
+                printf(" %.2f, %.2f", (double)r[0].iterations / q->iterations, r[0].seconds / q->seconds);
+            printf("%s\n", q->ok ? "" : " (did not converge)");
         }
     }
     return 0;

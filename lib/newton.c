@@ -15,9 +15,11 @@
  *   ordering, by CHOLMOD's simplicial LDL^T.
  * Either way the symbolic analysis is done once. Globalisation: Ipopt's filter line search
  * (falling back to the l1 merit below a step of 2^-29) or the l1 merit f + mu |g|_1 with Armijo
- * backtracking, each with one second-order correction (against the Maratos effect). Optional
- * chord steps reuse the last factorisation. Without constraints this is Newton with LL^T and the
- * same exact-first rule. */
+ * backtracking, each with one second-order correction (against the Maratos effect). The line
+ * search follows the curve u + alpha du + alpha^2/2 a, a the geodesic acceleration (every step
+ * without constraints; with them, a full step the filter refused), or (trust_region) an adaptive
+ * regularisation replaces it. Optional chord steps reuse the last factorisation. Without
+ * constraints this is Newton with LL^T and the same exact-first rule. */
 #include "newton.h"
 
 #include <math.h>
@@ -71,6 +73,9 @@ void plume_newton_destroy(plume_newton **ps)
     free(s->sol);
     free(s->ut);
     free(s->jtl);
+    free(s->acc);
+    free(s->acc_g);
+    free(s->acc_j);
     free(s);
     *ps = NULL;
 }
@@ -128,8 +133,11 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     s->sol = malloc((nk + 1) * sizeof *s->sol);
     s->ut = malloc((n + 1) * sizeof *s->ut);
     s->jtl = malloc((n + 1) * sizeof *s->jtl);
+    s->acc = malloc((n + 1) * sizeof *s->acc);
+    s->acc_g = malloc((m + 1) * sizeof *s->acc_g);
+    s->acc_j = malloc(((size_t)s->jnnz + 1) * sizeof *s->acc_j);
     s->diagpos = malloc((nk + 1) * sizeof *s->diagpos);
-    if (!s->hval || !s->jval || !s->grad || !s->grad_t || !s->g || !s->gt || !s->rhs || !s->sol || !s->ut || !s->jtl ||
+    if (!s->hval || !s->acc || !s->acc_g || !s->acc_j || !s->jval || !s->grad || !s->grad_t || !s->g || !s->gt || !s->rhs || !s->sol || !s->ut || !s->jtl ||
         !s->diagpos || !s->jval_f || !s->rb || !s->rr || !s->rd || !s->jval_s || !s->u_s || !s->grad_s || !s->l_s || !s->g_s || !s->u_b ||
         !s->l_b) {
         st = PLUME_ENOMEM;
@@ -231,6 +239,33 @@ static double l1norm(const double *v, plume_index n)
     return a;
 }
 
+/* The trust region's quadratic model of the l1 merit along alpha du, its decrease from the
+ * current point: -(alpha grad.du + alpha^2/2 du.H du) + mu (|g|_1 - |g + alpha J du|_1), with H the
+ * Hessian last assembled (s->hval, without any shift) and J the current Jacobian. *rayleigh gets
+ * |du.H du| / |du|^2, the curvature along du (the scale of a first regularisation). */
+static double tr_model_decrease(plume_newton *s, const double *du, double alpha, double mu, double g1,
+                                double *rayleigh)
+{
+    const plume_index n = s->n, m = s->m, *cp = s->hp.colptr, *ri = s->hp.rowind;
+    double gd = 0.0, dhd = 0.0, dd = 0.0;
+    for (plume_index c = 0; c < n; c++) {
+        gd += s->grad[c] * du[c];
+        dd += du[c] * du[c];
+        for (plume_index k = cp[c]; k < cp[c + 1]; k++) /* lower triangle, the diagonal included */
+            dhd += (ri[k] == c ? 1.0 : 2.0) * s->hval[k] * du[ri[k]] * du[c];
+    }
+    *rayleigh = dd > 0.0 ? fabs(dhd) / dd : 0.0;
+    double lin = 0.0;
+    if (m > 0) {
+        double *gl = s->rr; /* the refinement's workspace, free once the direction is solved */
+        memcpy(gl, s->g, (size_t)m * sizeof *s->g);
+        for (plume_index k = 0; k < s->jnnz; k++)
+            gl[s->jrow[k]] += alpha * s->jval[k] * du[s->jcol[k]];
+        lin = mu * (g1 - l1norm(gl, m));
+    }
+    return -(alpha * gd + 0.5 * alpha * alpha * dhd) + lin;
+}
+
 /* Ipopt's filter (Waechter & Biegler 2006, equality constraints): is (theta, f) acceptable to
  * the filter and below theta_max? */
 static int filter_accepts(const plume_newton *s, double theta, double f)
@@ -329,6 +364,120 @@ static double kkt_residual(plume_newton *s, const double *lambda)
     return ref > 0.0 ? rm / ref : 0.0;
 }
 
+/* The largest regularisation the trust region tries, relative to the largest Hessian diagonal,
+ * before it reports that no step decreases the merit */
+#define TR_MAX_SIGMA 1e8
+
+/* One trust-region trial: u + alpha du (alpha below 1 only where continuous collision detection
+ * cuts the step). Taken (*taken = 1: u and lambda move) when the l1 merit falls by at least 1e-4
+ * of what the quadratic model predicts, rho = actual / predicted; the regularisation shrinks 8x
+ * after a step with rho > 0.75 and grows 4x after one with rho < 0.25. Refused (*taken = 0): the
+ * regularisation grows (the first time to the curvature along du, which halves the step along its
+ * softest part) and the caller refactorises. *taken = -1: no regularisation up to TR_MAX_SIGMA
+ * times the Hessian's scale gave a decrease. */
+static plume_status trust_region_step(plume_newton *s, double *u, double *lambda, const double *du,
+                                      const double *lnew, double alpha, double mu, double f, double g1,
+                                      int *taken)
+{
+    const plume_index n = s->n, m = s->m;
+    double hmax = 0.0, phi, ft, rq;
+    for (plume_index c = 0; c < n; c++)
+        hmax = fmax(hmax, fabs(s->hval[s->hp.colptr[c + 1] - 1]));
+    for (plume_index i = 0; i < n; i++)
+        s->ut[i] = u[i] + alpha * du[i];
+    plume_status st = merit_at(s, s->ut, mu, &phi, &ft, 1);
+    if (st != PLUME_OK)
+        return st;
+    const double phi0 = f + mu * g1;
+    const double pred = tr_model_decrease(s, du, alpha, mu, g1, &rq), ared = phi0 - phi;
+    const int roundoff = isfinite(phi) && fabs(phi - phi0) <= 1e-14 * fabs(phi0);
+    const double rho = pred > 0.0 ? ared / pred : (ared > 0.0 ? 1.0 : -1.0);
+    *taken = isfinite(phi) && (rho > 1e-4 || roundoff);
+    if (*taken) {
+        memcpy(u, s->ut, (size_t)n * sizeof *u);
+        if (m > 0)
+            memcpy(lambda, lnew, (size_t)m * sizeof *lambda);
+        if (rho > 0.75 || roundoff)
+            s->tr_sigma = s->tr_sigma > 1e-12 * hmax ? s->tr_sigma / 8.0 : 0.0;
+        else if (rho < 0.25)
+            s->tr_sigma = s->tr_sigma > 0.0 ? 4.0 * s->tr_sigma : fmax(rq, 1e-12 * hmax);
+        return PLUME_OK;
+    }
+    s->trial_grad = 0; /* the trial's gradient is not the next iterate's */
+    s->tr_sigma = s->tr_sigma > 0.0 ? 4.0 * s->tr_sigma : fmax(rq, 1e-12 * hmax);
+    if (!(s->tr_sigma <= TR_MAX_SIGMA * fmax(hmax, 1e-300)))
+        *taken = -1;
+    return PLUME_OK;
+}
+
+/* Geodesic acceleration (Transtrum & Sethna 2012) of the Newton direction du, for a curved line
+ * search u + alpha du + alpha^2 / 2 a. On a shell the straight Newton step from a flat or nearly
+ * flat state is all out of plane, and any transverse move beyond the thickness stretches the
+ * membrane at second order: the line search then crawls along the valley of inextensional
+ * motions about a thickness an iteration. The acceleration is the in-plane motion that keeps the
+ * step in that valley to second order: a solves the same KKT system as du with the right-hand side
+ * -(D^2 grad L [du, du], D^2 g [du, du]), the second directional derivatives of the Lagrangian's
+ * gradient (multipliers lnew) and of the constraints along du, by central differences with
+ * h max|du| = 1e-3 of the body. Into s->acc; nonzero when unusable, or when |a| > ACC_MAX_RATIO |du|
+ * (the path's second-order term then dominates its first: the model behind it is not to be
+ * trusted). */
+#define ACC_MAX_RATIO 1.5
+
+/* grad f + J^T lam at u + h du into out (n), g into gc (m) */
+static plume_status lagrangian_gradient_at(plume_newton *s, const double *u, const double *du, double h,
+                                           const double *lam, double *out, double *gc)
+{
+    double f;
+    for (plume_index i = 0; i < s->n; i++)
+        s->ut[i] = u[i] + h * du[i];
+    plume_status st = plume_problem_objective(s->p, s->ut, &f, out);
+    if (st != PLUME_OK || s->m == 0)
+        return st;
+    if ((st = plume_problem_constraints(s->p, s->ut, gc, NULL)) != PLUME_OK ||
+        (st = plume_problem_jacobian(s->p, s->ut, s->acc_j)) != PLUME_OK)
+        return st;
+    for (plume_index k = 0; k < s->jnnz; k++)
+        out[s->jcol[k]] += s->acc_j[k] * lam[s->jrow[k]];
+    return PLUME_OK;
+}
+
+static int geodesic_acceleration(plume_newton *s, const double *u, const double *du, const double *lnew,
+                                 double step_max, double L)
+{
+    const plume_index n = s->n, m = s->m;
+    if (!(step_max > 0.0))
+        return 1;
+    const double h = fmin(1.0, 1e-3 * L / step_max);
+    double *gp = s->grad_t, *gm = s->acc, *r = s->rhs;
+    s->trial_grad = 0;
+    if (lagrangian_gradient_at(s, u, du, h, lnew, gp, r + n) != PLUME_OK)
+        return 1;
+    for (plume_index i = 0; i < n; i++)
+        r[i] = gp[i] - 2.0 * s->grad[i];
+    for (plume_index q = 0; q < m; q++)
+        r[n + q] -= 2.0 * s->g[q];
+    if (lagrangian_gradient_at(s, u, du, -h, lnew, gm, s->acc_g) != PLUME_OK)
+        return 1;
+    for (plume_index k = 0; k < s->jnnz; k++) /* J(u)^T lnew, twice */
+        r[s->jcol[k]] -= 2.0 * s->jval[k] * lnew[s->jrow[k]];
+    for (plume_index i = 0; i < n; i++)
+        r[i] = -(r[i] + gm[i]) / (h * h);
+    for (plume_index q = 0; q < m; q++)
+        r[n + q] = -(r[n + q] + s->acc_g[q]) / (h * h);
+    if (nt_kkt_solve(s, r, r) != PLUME_OK)
+        return 1;
+    double an = 0.0, vn = 0.0;
+    for (plume_index i = 0; i < n; i++) {
+        s->acc[i] = r[i];
+        if (!isfinite(r[i]))
+            return 1;
+        an += r[i] * r[i], vn += du[i] * du[i];
+    }
+    if (s->o.verbose)
+        fprintf(stderr, "           acceleration |a| / |du| = %.3e\n", sqrt(an / vn));
+    return !(an <= ACC_MAX_RATIO * ACC_MAX_RATIO * vn);
+}
+
 /* save (1) or restore (0) the iterate: u, lambda and what evaluate() computed there */
 static void save_iterate(plume_newton *s, int save, double *u, double *lambda, double f, double g1, double viol)
 {
@@ -374,7 +523,8 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     s->partial_factorizations = 0;
     s->refinements = 0;
     int max_iter = s->single_step ? 1 : s->o.max_iter;
-    int it = 0, stalled = 0, last_negligible = 0;
+    int it = 0, stalled = 0, last_negligible = 0, held = 0;
+    s->tr_sigma = 0.0;
     double best = INFINITY, f_prev = f, best_ok = INFINITY;
     s->factor_valid = 0; /* chord steps use a factorisation of this solve (their prediction does) */
     s->chord_last = s->chord_prev = 0.0;
@@ -385,9 +535,12 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
          * (e.g. a soft phase's stresses under a 1e6 times stiffer one). Converged if that floor is
          * within sqrt(tol_kkt) and the constraints hold; a numerical failure otherwise. */
         /* (a negligible last step counts as no change of f: its f may jitter at round-off) */
-        stalled = (it > 0 && (fabs(f - f_prev) <= 1e-13 * fabs(f) || last_negligible) && !(res < 0.5 * best))
-                      ? stalled + 1
-                      : 0;
+        /* (an iteration whose trust-region step was refused, `held`, has not moved: not a stall) */
+        if (!held)
+            stalled = (it > 0 && (fabs(f - f_prev) <= 1e-13 * fabs(f) || last_negligible) && !(res < 0.5 * best))
+                          ? stalled + 1
+                          : 0;
+        held = 0;
         last_negligible = 0;
         best = fmin(best, res);
         f_prev = f;
@@ -440,7 +593,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
          * (README "Chord steps"): tried whenever a factorisation was valid they mostly failed
          * their rate test early in a load step, where the residual lags the error. */
         double chord_rho = s->chord_prev > 0.0 ? (s->chord_last / s->chord_prev) * (s->chord_last / s->chord_prev) : INFINITY;
-        int chord = s->o.reuse_factorization && s->factor_valid && !s->single_step && !s->limits &&
+        int chord = s->o.reuse_factorization && s->factor_valid && !s->single_step && !s->limits && !s->o.trust_region &&
                     chord_rho <= CHORD_MAX_CONTRACTION && it + 3 < max_iter;
         if (chord && nt_chord_direction(s, lambda, L, &step_max)) {
             if (s->o.verbose)
@@ -489,9 +642,38 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
             if (m > 0)
                 memcpy(lambda, lnew, (size_t)m * sizeof *lambda);
             accepted = 1;
+        } else if (s->o.trust_region) {
+            int taken;
+            if ((st = trust_region_step(s, u, lambda, du, lnew, alpha_max, mu, f, g1, &taken)) != PLUME_OK)
+                return st;
+            if (taken < 0) {
+                rep->reason = PLUME_REASON_LINE_SEARCH;
+                break;
+            }
+            if (!taken) { /* refused: the same iterate, a larger regularisation, a new factorisation */
+                rep->rejected_steps++;
+                held = 1;
+                /* the problem's state back at u (the trial moved it: caches such as contact pairs) */
+                if ((st = evaluate(s, u, &f, &g1, &viol)) != PLUME_OK)
+                    return st;
+                continue;
+            }
+            accepted = 1;
+            if (s->o.verbose)
+                fprintf(stderr, "           step %.3e  alpha %.3e  slope %.3e  sigma %.1e  shift %.1e%s\n", step_max,
+                        alpha, dirderiv, s->tr_sigma, s->shift, s->projected ? " (projected)" : "");
         } else {
             int filter = s->o.line_search == PLUME_LS_FILTER && m > 0;
             double gd = dirderiv + mu * g1; /* grad f . du */
+            int curved = 0; /* the trials follow u + alpha du + alpha^2 / 2 acc */
+            /* Without constraints every line search follows the curve. With them, only a full
+             * step the filter refused is retried along it: measured on the feather at 11.4k
+             * elements, curving every step took 72 iterations against 55 (docs/solver-nonconvexity.md) */
+            const int curve_first = m == 0;
+            if (curve_first && !s->limits && !chord && s->o.curved_search && !geodesic_acceleration(s, u, du, lnew, step_max, L)) {
+                curved = 1;
+                rep->curved_searches++;
+            }
             for (int ls = 0; ls < 60 && !accepted; ls++, alpha *= 0.5) {
                 if (chord && ls > 0) {
                     /* a chord step is taken whole or not at all: refactorise and redo the iteration */
@@ -503,8 +685,8 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                     goto retry;
                 }
                 for (plume_index i = 0; i < n; i++)
-                    s->ut[i] = u[i] + alpha * du[i];
-                if ((st = merit_at(s, s->ut, mu, &phi, &ft, ls == 0)) != PLUME_OK)
+                    s->ut[i] = u[i] + alpha * du[i] + (curved ? 0.5 * alpha * alpha * s->acc[i] : 0.0);
+                if ((st = merit_at(s, s->ut, mu, &phi, &ft, ls == 0 || curved)) != PLUME_OK)
                     return st;
                 if (filter) {
                     /* filter line search; a step below 2^-30 falls back to the merit function,
@@ -518,7 +700,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                         accepted = 1;
                         break;
                     }
-                    if (ls == 0 && alpha == 1.0 && isfinite(phi) && theta_t >= g1) { /* second-order correction */
+                    if (ls == 0 && alpha == 1.0 && !curved && isfinite(phi) && theta_t >= g1) { /* second-order correction */
                         int ok;
                         if ((st = soc_trial(s, u, du, mu, &phi, &ft, &ok)) != PLUME_OK)
                             return st;
@@ -526,6 +708,14 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                             accepted = 1;
                             break;
                         }
+                    }
+                    if (ls == 0 && !curve_first && !curved && !s->limits && !chord && s->o.curved_search &&
+                        !geodesic_acceleration(s, u, du, lnew, step_max, L)) {
+                        rep->backtracks++;
+                        curved = 1;
+                        rep->curved_searches++;
+                        alpha *= 2.0;
+                        continue;
                     }
                     if (ls < 29) {
                         rep->backtracks++;
@@ -544,7 +734,14 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                     break;
                 }
                 rep->backtracks++;
-                if (ls == 0 && alpha == 1.0 && m > 0 && !filter) { /* second-order correction */
+                if (ls == 0 && !curve_first && !curved && !s->limits && !chord && s->o.curved_search &&
+                    !geodesic_acceleration(s, u, du, lnew, step_max, L)) {
+                    curved = 1;
+                    rep->curved_searches++;
+                    alpha *= 2.0;
+                    continue;
+                }
+                if (ls == 0 && alpha == 1.0 && m > 0 && !filter && !curved) { /* second-order correction */
                     int ok;
                     if ((st = soc_trial(s, u, du, mu, &phi, &ft, &ok)) != PLUME_OK)
                         return st;
@@ -632,9 +829,9 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     rep->refinements = s->refinements;
     if (s->o.verbose)
         fprintf(stderr, "  newton: %s after %d iterations: %d factorisations, %d chord steps, %d refinement passes, "
-                        "%d backtracks, %d inertia shifts, %d partly projected\n",
+                        "%d backtracks, %d refused trust-region steps, %d inertia shifts, %d partly projected\n",
                 plume_reason_name(rep->reason), rep->iterations, rep->factorizations, rep->chord_steps,
-                rep->refinements, rep->backtracks, rep->shifts, rep->partial_projections);
+                rep->refinements, rep->backtracks, rep->rejected_steps, rep->shifts, rep->partial_projections);
     rep->energy = f;
     rep->kkt_residual = kkt_residual(s, lambda);
     rep->max_violation = viol;

@@ -146,6 +146,7 @@ done:
 static plume_status factor_with(plume_newton *s, double dw, double dc)
 {
     plume_status st;
+    dw += s->tr_sigma; /* the trust region's regularisation, on top of any inertia shift */
     if (s->eliminate) {
         /* K = H + dw I + sum_r J_r^T J_r / dc on the Hessian's own pattern */
         for (plume_index k = 0; k < s->npairs; k++)
@@ -225,7 +226,7 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
                 st = factor_with(s, dw + sh, s->dcf);
                 if (st != PLUME_ESINGULAR) {
                     if (st == PLUME_OK) {
-                        s->diag = dw + sh;
+                        s->diag = dw + sh + s->tr_sigma;
                         s->shift = sh;
                         s->projected = mode == PLUME_HESSIAN_PARTIAL;
                         s->partial_factorizations += mode == PLUME_HESSIAN_PARTIAL;
@@ -252,7 +253,7 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
             st = factor_with(s, dw, s->dcf);
             if (st != PLUME_ESINGULAR) {
                 if (st == PLUME_OK) {
-                    s->diag = dw;
+                    s->diag = dw + s->tr_sigma;
                     s->shift = dw;
                     s->projected = 1;
                 }

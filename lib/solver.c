@@ -59,6 +59,31 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->verbose = 0;
     o->exact_hessian_first = 1;
     o->partial_projection = 1;
+    o->trust_region = 0;
+    o->curved_search = 1;
+}
+
+static const char *const globalization_names[] = {"curved_line_search", "line_search", "trust_region"};
+
+plume_status plume_globalization_parse(const char *s, plume_globalization *out)
+{
+    for (int k = 0; s && k < 3; k++)
+        if (strcmp(s, globalization_names[k]) == 0) {
+            *out = (plume_globalization)k;
+            return PLUME_OK;
+        }
+    return PLUME_EINVAL;
+}
+
+const char *plume_globalization_name(plume_globalization g)
+{
+    return (unsigned)g < 3 ? globalization_names[g] : "unknown";
+}
+
+void plume_solver_opts_set_globalization(plume_solver_opts *o, plume_globalization g)
+{
+    o->curved_search = g == PLUME_GLOBAL_CURVED_LINE_SEARCH;
+    o->trust_region = g == PLUME_GLOBAL_TRUST_REGION;
 }
 
 plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p, const plume_solver_opts *o,

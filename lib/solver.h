@@ -44,6 +44,9 @@ typedef struct {
                              diagonal shift, or by the projected Hessian) */
     int partial_projections; /* newton: factorisations whose Hessian had the terms with a cheap
                               projection projected (the exact one was not positive definite) */
+    int rejected_steps;   /* newton, trust region: trial steps refused (each followed by a larger
+                             regularisation and a new factorisation) */
+    int curved_searches;  /* newton: line searches along the geodesic-acceleration curve */
     int merit_fallbacks;  /* newton, filter line search: iterations that fell back to the l1 merit
                              (no step down to 2^-29 was acceptable to the filter) */
     int chord_steps;      /* newton: steps taken with an earlier factorisation (no new one) */
@@ -59,6 +62,18 @@ typedef enum {
                             correction; default */
     PLUME_LS_MERIT = 1   /* Armijo on the l1 merit f + mu |g|_1 with a second-order correction */
 } plume_line_search;
+
+/* How the native solver globalises its Newton steps (plume_solver_opts.curved_search and
+ * .trust_region in one name, for scenes and apps). */
+typedef enum {
+    PLUME_GLOBAL_CURVED_LINE_SEARCH = 0, /* line search along the geodesic-acceleration curve; default */
+    PLUME_GLOBAL_LINE_SEARCH = 1,        /* line search along the straight Newton step */
+    PLUME_GLOBAL_TRUST_REGION = 2        /* adaptive-regularisation trust region */
+} plume_globalization;
+
+/* "curved_line_search" | "line_search" | "trust_region"; PLUME_EINVAL otherwise */
+plume_status plume_globalization_parse(const char *s, plume_globalization *out);
+const char *plume_globalization_name(plume_globalization g);
 
 /* How the native solver factorises a constrained Newton step. */
 typedef enum {
@@ -100,12 +115,21 @@ typedef struct {
                               definite, project the terms whose projection is a cheap closed form
                               (plume_term.partial_projection: shape bending, edge-length
                               constraints) before shifting the whole matrix; default 1 */
+    int curved_search;     /* newton without constraints: a full step the line search refuses is
+                              retried along u + alpha du + alpha^2/2 a, a the geodesic acceleration
+                              (lib/newton.c); default 1 */
+    int trust_region;      /* newton: globalise by an adaptive-regularisation trust region (a
+                              shift sigma I added to the factorised matrix, grown when the step's
+                              actual decrease of the l1 merit falls short of the quadratic model's
+                              and shrunk when it matches) instead of the line search; default 0 */
     int exact_hessian_first; /* newton without constraints: factorise the exact Hessian first and
                                 fall back to the PSD-projected one if it is not positive definite;
                                 default 1 */
 } plume_solver_opts;
 
 void plume_solver_opts_default(plume_solver_opts *o);
+/* Sets curved_search and trust_region for g. */
+void plume_solver_opts_set_globalization(plume_solver_opts *o, plume_globalization g);
 
 typedef struct plume_solver plume_solver;
 

@@ -14,11 +14,13 @@
  *                  with "keyframes": [[t, dx, dy, dz], ...] ],
  *     "gravity": [gx, gy, gz], "dt": s, "duration": s, "solver": "newton"|"ipopt"|"linearized",
  *     "max_halvings": n, "max_iter": n, "output_every": n, "render": [frames],
+ *     "globalization": "curved_line_search" | "line_search" | "trust_region",
  *     "camera": {"rot_x": deg, "rot_z": deg}
  *   }
  * Required: mesh, materials (every material id the mesh uses), dt, duration; everything else has
  * a default (no handles, gravity (0, 0, -9.81), newton, 6 halvings, 100 iterations, every step an
- * output frame, no render, camera 60/30). Membrane: "nu"/"nu_xy" default 0, "kappa" default 0;
+ * output frame, no render, camera 60/30, the curved line search: lib/solver.h). Membrane:
+ * "nu"/"nu_xy" default 0, "kappa" default 0;
  * isotropic {"E", "nu"} means E_xx = E_yy = E, G_xy = E / (2 (1 + nu)). "bending" defaults to
  * "from_membrane": D_long = E_xx t^3 / (12 (1 - nu_xy nu_yx)), D_trans alike with E_yy, D_coupling =
  * nu_xy D_trans, D_twist = G_xy t^3 / 12 (orthotropic plate formulas); explicit D_twist defaults to
@@ -180,6 +182,8 @@ typedef struct {
     int is_static;                /* "solve": "static" */
     int steps;                    /* load steps; default 10 */
     plume_predictor predictor;    /* "predictor": "secant" (default) | "none" (lib/statics.h) */
+    plume_globalization globalization; /* "globalization": "curved_line_search" (default) |
+                                     "line_search" | "trust_region" (lib/solver.h) */
     unsigned char *clamped;       /* [nv] or NULL: PLUME_CLAMP_* bits */
     unsigned char *supported;     /* [nv] or NULL: bit a set = coordinate a held ("supports") */
     double *force;                /* [3 nv] or NULL: nominal point and line loads (N) */

@@ -172,6 +172,7 @@ plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_problem **
     o.solver = s->solver;
     o.solver_opts.max_iter = s->max_iter;
     o.solver_opts.verbose = s->verbose;
+    plume_solver_opts_set_globalization(&o.solver_opts, s->globalization);
     if ((st = plume_dynamics_create(s->mesh, p, rho, s->nmat, s->handles, s->nhandles, &o, pd, err)) != PLUME_OK)
         goto fail;
     *pp = p;
@@ -298,6 +299,7 @@ plume_status plume_scene_statics(const plume_scene *s, plume_problem **pp, plume
     o.solver = s->solver;
     o.solver_opts.max_iter = s->max_iter;
     o.solver_opts.verbose = s->verbose;
+    plume_solver_opts_set_globalization(&o.solver_opts, s->globalization);
     st = plume_statics_create(p, &o, static_loads_scale, l, static_loads_free, pst, err);
     l = NULL; /* the driver owns it now, or has freed it */
     if (st != PLUME_OK)

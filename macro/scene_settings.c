@@ -39,6 +39,11 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
     if ((v = json_object_get(doc, "predictor")) &&
         (!json_is_string(v) || plume_predictor_parse(json_string_value(v), &s->predictor) != PLUME_OK))
         return plume_json_bad(c, PLUME_EINVAL, "predictor", "must be \"secant\" or \"none\"");
+    s->globalization = PLUME_GLOBAL_CURVED_LINE_SEARCH;
+    if ((v = json_object_get(doc, "globalization")) &&
+        (!json_is_string(v) || plume_globalization_parse(json_string_value(v), &s->globalization) != PLUME_OK))
+        return plume_json_bad(c, PLUME_EINVAL, "globalization",
+                              "must be \"curved_line_search\", \"line_search\" or \"trust_region\"");
     s->steps = 10;
     long steps = s->steps;
     if ((st = plume_json_int(c, doc, "", "steps", 1, 1000000, &steps)) != PLUME_OK)

@@ -39,6 +39,8 @@ struct plume_newton {
     double refine_rtol;      /* refinement stops below this residual, relative to the right-hand
                                 side: the forcing term of the current iteration */
     double shift, shift_last; /* exact-Hessian shift of the last factorisation; the last nonzero one */
+    double tr_sigma;         /* trust region: the regularisation added to every factorisation of
+                                this solve's iterations (0: none) */
     int projected;           /* the last factorisation used the projected Hessian */
     int shifts;              /* factorisations that failed for inertia in this solve */
     int partial_factorizations; /* factorisations of the partly projected Hessian in this solve */
@@ -54,6 +56,8 @@ struct plume_newton {
     double saved_f, saved_g1, saved_viol;        /* ... and its f, |g|_1, violation */
     double *kwork, *lwork;   /* [n+1], [m+1] eliminate: workspaces */
     double *hval, *kval, *jval, *grad, *g, *gt, *rhs, *sol, *ut, *jtl;
+    double *acc;             /* [n+1] the geodesic acceleration of the curved line search ... */
+    double *acc_g, *acc_j;   /* [m+1], [jnnz+1] ... and its workspaces */
     double *grad_t;          /* [n+1] the gradient at the line search's first trial s->ut ... */
     int trial_grad;          /* ... valid (s->ut unchanged since), with its energy trial_f */
     double trial_f;
