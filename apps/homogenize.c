@@ -1,5 +1,6 @@
 /* apps/homogenize — macroscale orthotropic moduli of a vane microstructure by numerical
  * homogenisation of its periodic cell, and the cell's response curves at finite strain. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,7 +23,9 @@ static const char usage[] =
     "  --Eb PA --nu-barb V  barb material (default 2.5e9, 0.3)\n"
     "  --ratio R            barbule modulus over barb modulus, > 0 (default 1e-6)\n"
     "  --nu-barbule V       barbule material Poisson ratio (default 0.3)\n"
-    "  --thickness M        (default 1e-4)\n"
+    "  --thickness M        reference thickness (default 1e-4): the moduli in Pa are the membrane\n"
+    "                       stiffness (N/m) over it\n"
+    "  --thickness-barb M --thickness-barbule M   each phase's own thickness (default: --thickness)\n"
     "  --kappa PA           compression-term coefficient (default 0)\n"
     "  --barbule-width M --barbule-spacing M --barbule-angle DEG   explicit barbules\n"
     "  --order 1|2          element order: 2 quadratic triangles (default), 1 linear (the paper's)\n"
@@ -130,6 +133,15 @@ static int parse_args(int argc, char **argv, options *o)
         else if (strcmp(a, "--ratio") == 0) r = cli_double(APP, a, v, &l->ratio);
         else if (strcmp(a, "--nu-barbule") == 0) r = cli_double(APP, a, v, &l->nu_B);
         else if (strcmp(a, "--thickness") == 0) r = cli_double(APP, a, v, &l->h);
+        else if (strcmp(a, "--thickness-barb") == 0 || strcmp(a, "--thickness-barbule") == 0) {
+            double t = 0.0;
+            if ((r = cli_double(APP, a, v, &t)) != 0)
+                return r;
+            /* 0 means "the thickness" inside the layout only: given here it is a mistake */
+            if (!(t > 0.0) || !isfinite(t))
+                return cli_fail(APP, "%s must be a finite thickness > 0 (got %g m)", a, t);
+            *(strcmp(a, "--thickness-barb") == 0 ? &l->h_barb : &l->h_barbule) = t;
+        }
         else if (strcmp(a, "--kappa") == 0) r = cli_double(APP, a, v, &l->kappa);
         else if (strcmp(a, "--barbule-width") == 0) r = cli_double(APP, a, v, &l->barbule_width);
         else if (strcmp(a, "--barbule-spacing") == 0) r = cli_double(APP, a, v, &l->barbule_spacing);

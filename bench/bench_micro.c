@@ -106,7 +106,7 @@ static double barbule_cell(int order, double e_rel, double *seconds, long *eleme
     plume_err err = {{0}};
     double C[9], t0 = plume_wall_seconds(), E = NAN;
     plume_ortho m;
-    if (plume_cell_mesh(&l, &c, &err) == PLUME_OK && plume_cell_linear_tensor(c, mats, 2, C, NULL, &err) == PLUME_OK &&
+    if (plume_cell_mesh(&l, &c, &err) == PLUME_OK && plume_cell_linear_tensor(c, mats, 2, l.h, C, NULL, &err) == PLUME_OK &&
         plume_ortho_from_tensor(C, &m) == PLUME_OK)
         E = m.E_yy;
     *seconds = plume_wall_seconds() - t0;
