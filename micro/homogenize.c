@@ -155,10 +155,15 @@ static plume_status refinement_estimate(const plume_layout *l, const plume_membr
     plume_layout lc;
     plume_layout_refinement(l, PLUME_MESH_CELL, &lc);
     plume_cell *cell = NULL;
-    double C[9];
+    double C[9], D[9];
     plume_status st = plume_cell_mesh(&lc, &cell, err);
     if (st == PLUME_OK)
         st = plume_cell_linear_tensor(cell, mats, 2, l->h, C, NULL, err);
+    if (st == PLUME_OK && plume_cell_plate_tensor(cell, mats, 2, D, NULL, err) == PLUME_OK) {
+        r->bending_change = 0.0;
+        for (int k = 0; k < 3; k++)
+            r->bending_change = fmax(r->bending_change, fabs(r->D[4 * k] - D[4 * k]) / r->D[4 * k]);
+    }
     plume_cell_destroy(&cell);
     plume_ortho m;
     if (st != PLUME_OK || plume_ortho_from_tensor(C, &m) != PLUME_OK) {
@@ -356,6 +361,12 @@ plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, 
         goto done;
     }
     r->coupling = fmax(fabs(r->C[2]), fabs(r->C[5])) / sqrt(r->C[0] * r->C[4]);
+    plume_cell_plate_info pinfo;
+    if ((st = plume_cell_plate_tensor(cell, mats, 2, r->D, &pinfo, err)) != PLUME_OK)
+        goto done;
+    plume_plate_moduli_from_tensor(r->D, &r->bending);
+    r->plate_dofs = pinfo.dofs;
+    r->bending_change = -1.0;
     r->refinement_change = -1.0;
     for (int k = 0; k < 4; k++)
         r->moduli_change[k] = -1.0;
