@@ -118,7 +118,7 @@ static double barbule_cell(int order, double e_rel, double *seconds, long *eleme
 /* The explicit-barbule cell (data/layout_barbules.json) under refinement, linear against quadratic
  * elements: E_yy's error against the quadratic result at e-bar 1/128. The corners where barbules
  * meet barbs make every order converge at about h^1, unevenly (the meshes are not nested): on
- * 2026-11-27 P2 gave 4.5993, 4.5879, 4.5800, 4.5769e7 Pa at e-bar 1/32 .. 1/256 (541k elements),
+ * 2026-11-27 P2 gave 1.8445, 1.8399, 1.8368, 1.8355e7 Pa at e-bar 1/32 .. 1/256 (541k elements),
  * so the reference is about 0.07 % above the limit. */
 static void barbule_cell_table(void)
 {

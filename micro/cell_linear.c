@@ -247,6 +247,11 @@ plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membra
     for (plume_index t = 0; t < lc->nt; t++)
         for (int q = 0; q < lc->nq; q++)
             area += lc->wA[(size_t)t * lc->nq + q] / mats[material[t]].h;
+    /* A cell with empty space (explicit barbules) averages over the whole cell, as the periodic
+     * wrapper's average stress does (the vane's stiffness per unit area, not the material's); a
+     * full cell keeps its summed area, which is a b up to round-off. */
+    if (cell->a * cell->b - area > 1e-9 * cell->a * cell->b)
+        area = cell->a * cell->b;
     if (iterations)
         *iterations = 0;
     double *w = plume_problem_x(p);

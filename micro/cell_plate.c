@@ -330,9 +330,9 @@ plume_status plume_cell_plate_tensor(const plume_cell *cell, const plume_membran
         st = plume_err_set(err, st, "plate cell: the plate cell matrix is not positive definite (%s)", plume_strerror(st));
         goto done;
     }
-    double area = 0.0;
-    for (plume_index t = 0; t < p.nt; t++)
-        area += p.area[t];
+    /* the average is over the whole cell, empty space included (explicit barbules): moduli per
+     * unit area of vane */
+    double area = cell->a * cell->b;
     for (int k = 0; k < 3; k++) {
         /* unit macroscopic curvature k: K u = -sum A B^T D kbar, then the average moment */
         memset(rhs, 0, (size_t)p.n * sizeof *rhs);
