@@ -124,9 +124,10 @@ fuzz: fuzz-build
 # deps first, then a sub-make: pkg-config flags are read when make starts, so they must be read
 # again once missing packages are installed
 bench: deps
-	@$(MAKE) --no-print-directory all $(BUILD)/bench_traction $(BUILD)/bench_micro $(BUILD)/bench_feather $(BUILD)/bench_bending $(BUILD)/bench_wing $(BUILD)/bench_statics
+	@$(MAKE) --no-print-directory all $(BUILD)/bench_traction $(BUILD)/bench_micro $(BUILD)/bench_feather $(BUILD)/bench_bending $(BUILD)/bench_wing $(BUILD)/bench_statics $(BUILD)/bench_plate
 	$(OMP_ENV) ./$(BUILD)/bench_traction
 	$(OMP_ENV) ./$(BUILD)/bench_micro
+	$(OMP_ENV) ./$(BUILD)/bench_plate
 	$(OMP_ENV) ./$(BUILD)/bench_feather
 	$(OMP_ENV) ./$(BUILD)/bench_bending
 	$(OMP_ENV) ./$(BUILD)/bench_statics

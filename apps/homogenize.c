@@ -1,5 +1,6 @@
 /* apps/homogenize — macroscale orthotropic moduli of a vane microstructure by numerical
  * homogenisation of its periodic cell, and the cell's response curves at finite strain. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,7 +15,8 @@
 
 static const char usage[] =
     "usage: homogenize [options]\n"
-    "Effective orthotropic moduli (E_xx along the barbs, E_yy, nu_xy, G_xy) of a vane microstructure.\n"
+    "Effective orthotropic moduli (E_xx along the barbs, E_yy, nu_xy, G_xy) of a vane microstructure,\n"
+    "and its bending moduli (D_long along the barbs, D_trans, D_coupling, D_twist, in N m).\n"
     "  --config FILE.json   layout keys (see README); flags given after it override it\n"
     "  --layout strips|barbules   barb strips in a soft barbule matrix (default), or explicit barbules\n"
     "  --phi V              barb surface fraction w_B/d_B in (0, 1) (default 0.16)\n"
@@ -22,7 +24,9 @@ static const char usage[] =
     "  --Eb PA --nu-barb V  barb material (default 2.5e9, 0.3)\n"
     "  --ratio R            barbule modulus over barb modulus, > 0 (default 1e-6)\n"
     "  --nu-barbule V       barbule material Poisson ratio (default 0.3)\n"
-    "  --thickness M        (default 1e-4)\n"
+    "  --thickness M        reference thickness (default 1e-4): the moduli in Pa are the membrane\n"
+    "                       stiffness (N/m) over it\n"
+    "  --thickness-barb M --thickness-barbule M   each phase's own thickness (default: --thickness)\n"
     "  --kappa PA           compression-term coefficient (default 0)\n"
     "  --barbule-width M --barbule-spacing M --barbule-angle DEG   explicit barbules\n"
     "  --order 1|2          element order: 2 quadratic triangles (default), 1 linear (the paper's)\n"
@@ -30,12 +34,14 @@ static const char usage[] =
     "                       strip so that the moduli are within 1 % of the refined limit)\n"
     "  --no-convergence     skip the convergence estimate (the tensor again on a mesh twice as coarse)\n"
     "  --strain-max E --steps N   cell response curves (default 0.05, 10; 0 for none)\n"
-    "  -o FILE.h5           write /moduli and /curves/cell/{uniaxial_x,uniaxial_y,shear}\n"
+    "  -o FILE.h5           write /moduli (with the bending moduli as attributes D_long, D_trans,\n"
+    "                       D_coupling, D_twist, D_16, D_26) and /curves/cell/{uniaxial_x,uniaxial_y,shear}\n"
     "  --plot FILE.png      chart of the cell curves (SVG beside it)\n"
     "  --vtk DIR            the deformed cell at every step of each curve as ParaView series:\n"
     "                       DIR/{uniaxial_x,uniaxial_y,shear}/steps.pvd (the strain as the time) with\n"
     "                       step_NNNNN.vtu (strain, stress, energy density, J per triangle)\n"
-    "  --json               print E_xx, E_yy, nu_xy, G_xy (Pa), seconds and more on stdout\n"
+    "  --json               print E_xx, E_yy, nu_xy, G_xy (Pa), D_long, D_trans, D_coupling, D_twist (N m),\n"
+    "                       seconds and more on stdout\n"
     "  --help\n";
 
 #define APP "homogenize"
@@ -130,6 +136,15 @@ static int parse_args(int argc, char **argv, options *o)
         else if (strcmp(a, "--ratio") == 0) r = cli_double(APP, a, v, &l->ratio);
         else if (strcmp(a, "--nu-barbule") == 0) r = cli_double(APP, a, v, &l->nu_B);
         else if (strcmp(a, "--thickness") == 0) r = cli_double(APP, a, v, &l->h);
+        else if (strcmp(a, "--thickness-barb") == 0 || strcmp(a, "--thickness-barbule") == 0) {
+            double t = 0.0;
+            if ((r = cli_double(APP, a, v, &t)) != 0)
+                return r;
+            /* 0 means "the thickness" inside the layout only: given here it is a mistake */
+            if (!(t > 0.0) || !isfinite(t))
+                return cli_fail(APP, "%s must be a finite thickness > 0 (got %g m)", a, t);
+            *(strcmp(a, "--thickness-barb") == 0 ? &l->h_barb : &l->h_barbule) = t;
+        }
         else if (strcmp(a, "--kappa") == 0) r = cli_double(APP, a, v, &l->kappa);
         else if (strcmp(a, "--barbule-width") == 0) r = cli_double(APP, a, v, &l->barbule_width);
         else if (strcmp(a, "--barbule-spacing") == 0) r = cli_double(APP, a, v, &l->barbule_spacing);
@@ -190,10 +205,13 @@ int main(int argc, char **argv)
         char prov[512];
         snprintf(prov, sizeof prov,
                  "plume homogenize: %s layout, phi %g, d_B %g m, E_b %g Pa, nu_b %g, ratio %g, nu_B %g, "
-                 "thickness %g m, order %d, element edge %g m, %ld elements",
-                 kind, l.phi, l.d_B, l.E_b, l.nu_b, l.ratio, l.nu_B, l.h, r.order, r.element_edge, (long)r.elements);
+                 "thickness %g m (barbs %g m, barbules %g m), order %d, element edge %g m, %ld elements",
+                 kind, l.phi, l.d_B, l.E_b, l.nu_b, l.ratio, l.nu_B, l.h, plume_layout_thickness(&l, PLUME_MAT_BARB),
+                 plume_layout_thickness(&l, PLUME_MAT_BARBULE), r.order, r.element_edge, (long)r.elements);
         plume_param params[] = {{"phi", l.phi}, {"d_B", l.d_B}, {"E_b", l.E_b}, {"nu_b", l.nu_b},
                                 {"ratio", l.ratio}, {"nu_B", l.nu_B}, {"thickness", l.h},
+                                {"thickness_barb", plume_layout_thickness(&l, PLUME_MAT_BARB)},
+                                {"thickness_barbule", plume_layout_thickness(&l, PLUME_MAT_BARBULE)},
                                 {"e_rel", r.element_edge / plume_layout_barb_width(&l)}, {"elements", (double)r.elements},
                                 {"order", (double)r.order}, {"refinement_change", r.refinement_change}};
         plume_param mparams[] = {{"order", (double)r.order},
@@ -204,7 +222,17 @@ int main(int argc, char **argv)
                                  {"E_xx_change", r.moduli_change[0]},
                                  {"E_yy_change", r.moduli_change[1]},
                                  {"nu_xy_change", r.moduli_change[2]},
-                                 {"G_xy_change", r.moduli_change[3]}};
+                                 {"G_xy_change", r.moduli_change[3]},
+                                 {"D_long", r.bending.D_long},
+                                 {"D_trans", r.bending.D_trans},
+                                 {"D_coupling", r.bending.D_coupling},
+                                 {"D_twist", r.bending.D_twist},
+                                 {"D_16", r.bending.D_16},
+                                 {"D_26", r.bending.D_26},
+                                 {"bending_change", r.bending_change},
+                                 {"thickness", l.h},
+                                 {"thickness_barb", plume_layout_thickness(&l, PLUME_MAT_BARB)},
+                                 {"thickness_barbule", plume_layout_thickness(&l, PLUME_MAT_BARBULE)}};
         plume_sparam sp[] = {{"layout", kind}};
         const char *names[3] = {"uniaxial_x", "uniaxial_y", "shear"};
         const plume_curve *cv[3] = {&r.uniaxial_x, &r.uniaxial_y, &r.shear};
@@ -246,6 +274,18 @@ int main(int argc, char **argv)
         json_object_set_new(j, "E_yy", json_real(r.moduli.E_yy));
         json_object_set_new(j, "nu_xy", json_real(r.moduli.nu_xy));
         json_object_set_new(j, "G_xy", json_real(r.moduli.G_xy));
+        json_object_set_new(j, "D_long", json_real(r.bending.D_long));
+        json_object_set_new(j, "D_trans", json_real(r.bending.D_trans));
+        json_object_set_new(j, "D_coupling", json_real(r.bending.D_coupling));
+        json_object_set_new(j, "D_twist", json_real(r.bending.D_twist));
+        json_object_set_new(j, "D_16", json_real(r.bending.D_16));
+        json_object_set_new(j, "D_26", json_real(r.bending.D_26));
+        json_t *D = json_array();
+        for (int k = 0; k < 9; k++)
+            json_array_append_new(D, json_real(r.D[k]));
+        json_object_set_new(j, "D", D);
+        json_object_set_new(j, "bending_change", json_real(r.bending_change));
+        json_object_set_new(j, "plate_dofs", json_integer(r.plate_dofs));
         json_object_set_new(j, "layout", json_string(kind));
         json_t *C = json_array();
         for (int k = 0; k < 9; k++)
@@ -279,6 +319,8 @@ int main(int argc, char **argv)
                "(%ld %s elements, %d iterations, %.2f s)\n",
                kind, l.phi, l.ratio, r.moduli.E_xx, r.moduli.E_yy, r.moduli.nu_xy, r.moduli.G_xy, (long)r.elements,
                r.order == 2 ? "quadratic" : "linear", r.newton_iterations, r.seconds);
+        printf("bending: D_long %.6g N m, D_trans %.6g N m, D_coupling %.4g N m, D_twist %.6g N m\n", r.bending.D_long,
+               r.bending.D_trans, r.bending.D_coupling, r.bending.D_twist);
         if (r.refinement_change >= 0.0)
             printf("converged to %.2g %% (the tensor's change from a mesh of %.3g m elements; E_xx %.2g %%, E_yy %.2g %%, "
                    "nu_xy %.2g %%, G_xy %.2g %%)\n",

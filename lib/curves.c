@@ -277,7 +277,9 @@ typedef struct {
 static const char *param_units(const char *name)
 {
     static const char *const pa[] = {"E_b", "E_xx", "E_yy", "G_xy", "E", "kappa", "initial_slope", NULL};
-    static const char *const m[] = {"d_B", "lx", "ly", "thickness", "h", "edge", NULL};
+    static const char *const m[] = {"d_B", "lx", "ly", "thickness", "h", "edge", "thickness_barb", "thickness_barbule",
+                                    "element_edge", "refinement_edge", NULL};
+    static const char *const nm[] = {"D", "D_long", "D_trans", "D_coupling", "D_twist", "D_16", "D_26", NULL};
     for (int k = 0; pa[k]; k++)
         if (strcmp(name, pa[k]) == 0)
             return "Pa";
@@ -288,8 +290,9 @@ static const char *param_units(const char *name)
         return "deg";
     if (strcmp(name, "seconds_total") == 0)
         return "s";
-    if (strcmp(name, "D") == 0 || strcmp(name, "D_long") == 0)
-        return "N m";
+    for (int k = 0; nm[k]; k++)
+        if (strcmp(name, nm[k]) == 0)
+            return "N m";
     return "1";
 }
 
@@ -576,8 +579,14 @@ static plume_status fill_moduli(hid_t fid, const char *path, const void *vctx, p
             goto cleanup;
         }
     }
-    /* attributes carry no attributes: the moduli's units in one string beside them */
-    if (h5_write_attr_string(g, "units", "E_xx, E_yy, G_xy: Pa; nu_xy: 1") < 0 ||
+    /* attributes carry no attributes: the moduli's units in one string beside them, then those of
+     * the extra attributes (bending moduli in N m, lengths in m, the rest pure numbers) */
+    char units[2048] = "E_xx, E_yy, G_xy: Pa; nu_xy: 1";
+    size_t len = strlen(units);
+    for (int i = 0; i < c->nparams && len < sizeof units; i++)
+        len += (size_t)snprintf(units + len, sizeof units - len, "; %s: %s", c->params[i].name,
+                                param_units(c->params[i].name));
+    if (h5_write_attr_string(g, "units", units) < 0 ||
         h5_write_attr_string(g, "provenance", c->provenance) < 0) {
         s = plume_err_set(err, PLUME_EIO, "moduli file '%s': cannot write attribute units or provenance (HDF5: %s)",
                           path, h5_cause(&d));
@@ -687,6 +696,53 @@ plume_status plume_moduli_read(const char *path, plume_ortho *m, plume_err *err)
     }
     *m = r;
 
+cleanup:
+    if (ty >= 0)
+        H5Tclose(ty);
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (a >= 0)
+        H5Aclose(a);
+    if (g >= 0)
+        H5Gclose(g);
+    if (fid >= 0)
+        H5Fclose(fid);
+    quiet_end(&q);
+    return s;
+}
+
+plume_status plume_moduli_read_param(const char *path, const char *name, double *value, plume_err *err)
+{
+    if (!path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "moduli file: empty path");
+    if (!name || !value)
+        return plume_err_set(err, PLUME_EINVAL, "moduli file '%s': no attribute or output given", path);
+    plume_status s = PLUME_OK;
+    hid_t fid = H5I_INVALID_HID, g = H5I_INVALID_HID, a = H5I_INVALID_HID, sp = H5I_INVALID_HID,
+          ty = H5I_INVALID_HID;
+    h5_detail d;
+    h5_quiet q;
+    quiet_begin(&q);
+    if ((s = open_for_read(path, "moduli file", &fid, err)) != PLUME_OK)
+        goto cleanup;
+    if (H5Lexists(fid, "/moduli", H5P_DEFAULT) <= 0 || (g = H5Gopen2(fid, "/moduli", H5P_DEFAULT)) < 0) {
+        s = plume_err_set(err, PLUME_EFORMAT, "moduli file '%s': no /moduli group", path);
+        goto cleanup;
+    }
+    if (H5Aexists(g, name) <= 0 || (a = H5Aopen(g, name, H5P_DEFAULT)) < 0) {
+        s = plume_err_set(err, PLUME_EFORMAT, "moduli file '%s': /moduli attribute %s missing", path, name);
+        goto cleanup;
+    }
+    sp = H5Aget_space(a);
+    ty = H5Aget_type(a);
+    H5T_class_t cls = ty < 0 ? H5T_NO_CLASS : H5Tget_class(ty);
+    if (sp < 0 || H5Sget_simple_extent_npoints(sp) != 1 || (cls != H5T_FLOAT && cls != H5T_INTEGER)) {
+        s = plume_err_set(err, PLUME_EFORMAT, "moduli file '%s': /moduli attribute %s is not a single number", path, name);
+        goto cleanup;
+    }
+    if (H5Aread(a, H5T_NATIVE_DOUBLE, value) < 0)
+        s = plume_err_set(err, PLUME_EIO, "moduli file '%s': cannot read attribute %s (HDF5: %s)", path, name,
+                          h5_cause(&d));
 cleanup:
     if (ty >= 0)
         H5Tclose(ty);

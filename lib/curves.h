@@ -55,6 +55,10 @@ plume_status plume_moduli_write_params(const char *path, const plume_ortho *m, c
                                        const plume_param *params, int nparams, plume_err *err);
 /* Reads /moduli; validates that the moduli are finite and positive (nu finite). */
 plume_status plume_moduli_read(const char *path, plume_ortho *m, plume_err *err);
+/* Reads one extra numeric attribute of /moduli (e.g. "D_long", written by apps/homogenize) into
+ * *value, unchecked. PLUME_EIO (unreadable file), PLUME_EFORMAT (no /moduli, attribute missing or
+ * not a single number), each message naming the file and the attribute. */
+plume_status plume_moduli_read_param(const char *path, const char *name, double *value, plume_err *err);
 
 #ifdef __cplusplus
 }

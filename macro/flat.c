@@ -213,6 +213,17 @@ plume_status plume_flat_homogenize(const char *request, char **result, char *msg
                           r.coupling, "elements", (json_int_t)r.elements, "vertices", (json_int_t)r.vertices,
                           "newton_iterations", r.newton_iterations, "seconds", r.seconds);
     if (o) {
+        json_t *D = json_array();
+        for (int k = 0; k < 9; k++)
+            json_array_append_new(D, json_real(r.D[k]));
+        json_object_set_new(o, "D", D);
+        json_object_set_new(o, "D_long", json_real(r.bending.D_long));
+        json_object_set_new(o, "D_trans", json_real(r.bending.D_trans));
+        json_object_set_new(o, "D_coupling", json_real(r.bending.D_coupling));
+        json_object_set_new(o, "D_twist", json_real(r.bending.D_twist));
+        json_object_set_new(o, "D_16", json_real(r.bending.D_16));
+        json_object_set_new(o, "D_26", json_real(r.bending.D_26));
+        json_object_set_new(o, "bending_change", json_real(r.bending_change));
         json_object_set_new(o, "order", json_integer(r.order));
         json_object_set_new(o, "element_edge", json_real(r.element_edge));
         json_object_set_new(o, "refinement_change", json_real(r.refinement_change));

@@ -10,9 +10,11 @@
  * Requests (JSON objects; every key optional unless said otherwise). A text that is not JSON is
  * PLUME_EFORMAT; an unknown key or a bad value is PLUME_EINVAL with a message naming the key:
  *  - homogenize: {"layout": {...keys of a --config layout file: "layout", "phi", "d_B", "w_B",
- *    "E_b", "nu_b", "ratio", "nu_B", "thickness", "kappa", "order", "e_rel", "barbule_width",
- *    "barbule_spacing", "barbule_angle"}, "strain_max": 0.05, "steps": 10}
- *    -> {"E_xx", "E_yy", "nu_xy", "G_xy", "C": [9], "shear_coupling", "elements", "vertices",
+ *    "E_b", "nu_b", "ratio", "nu_B", "thickness", "thickness_barb", "thickness_barbule", "kappa",
+ *    "order", "e_rel", "barbule_width", "barbule_spacing", "barbule_angle"}, "strain_max": 0.05,
+ *    "steps": 10}
+ *    -> {"E_xx", "E_yy", "nu_xy", "G_xy", "C": [9], "D_long", "D_trans", "D_coupling", "D_twist",
+ *        "D_16", "D_26" (N m, micro/cell_plate.h), "D": [9], "bending_change", "shear_coupling", "elements", "vertices",
  *        "newton_iterations", "seconds", "order", "element_edge", "refinement_change" (how
  *        converged: micro/homogenize.h), "moduli_change": {"E_xx", "E_yy", "nu_xy", "G_xy"},
  *        "refinement_edge", "curves": {"uniaxial_x"|"uniaxial_y"|"shear":

@@ -8,7 +8,8 @@
  *           | {"feather": "feather_shape.json", "outline": "outline.obj", "edge": 5e-3},
  *     "materials": [ {"membrane": {"E_xx", "E_yy", "nu_xy", "G_xy", "thickness", "kappa"}
  *                                | {"E", "nu", "thickness", "kappa"},
- *                     "bending": {"D_long", "D_trans", "D_twist", "D_coupling"} | {"D"} | "from_membrane",
+ *                     "bending": {"D_long", "D_trans", "D_twist", "D_coupling"} | {"D"} | "from_membrane"
+ *                                | {"from_moduli": "file.h5", "drop_couplings": false},
  *                     "density": kg/m^2, "constraint": true|false}, ... ],
  *     "handles": [ {"near": [x, y], "radius": r} | {"vertices": [ids]} | {"box": [x0, y0, x1, y1]},
  *                  with "keyframes": [[t, dx, dy, dz], ...] ],
@@ -24,7 +25,10 @@
  * isotropic {"E", "nu"} means E_xx = E_yy = E, G_xy = E / (2 (1 + nu)). "bending" defaults to
  * "from_membrane": D_long = E_xx t^3 / (12 (1 - nu_xy nu_yx)), D_trans alike with E_yy, D_coupling =
  * nu_xy D_trans, D_twist = G_xy t^3 / 12 (orthotropic plate formulas); explicit D_twist defaults to
- * Huber's (sqrt(D_long D_trans) - D_coupling) / 2 (macro/bending.h). "bending_model" (top level):
+ * Huber's (sqrt(D_long D_trans) - D_coupling) / 2 (macro/bending.h); "from_moduli" reads the four
+ * from the /moduli attributes of a homogenize -o file (the homogenised microstructure,
+ * docs/bending-homogenisation.md; relative to the scene's directory), refusing bending-twist
+ * couplings D_16, D_26 above 1 % unless "drop_couplings" is true. "bending_model" (top level):
  * "shape_operator" (default, macro/shape_bending.h) or "hinge" (macro/bending.h, for comparison). Barb
  * edges of a material with "constraint": true are made inextensible: for an OBJ mesh the edges
  * parallel (|sin| <= 1e-6) to the barb direction of an adjacent triangle of that material, for the

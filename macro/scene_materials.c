@@ -5,7 +5,54 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../lib/curves.h"
 #include "internal/scene_internal.h"
+
+/* "bending": {"from_moduli": "file.h5", "drop_couplings": false}: the bending moduli apps/homogenize
+ * wrote as attributes of /moduli (micro/cell_plate.h's convention, the same as bending.h's). The
+ * shell has no bending-twist coupling: D_16 and D_26 above 1 % of sqrt(D_ii D_twist) are refused
+ * unless "drop_couplings" is true (a cell with tilted barbules has some). */
+static plume_status bending_from_moduli(const plume_json_ctx *c, json_t *jb, const char *kp, plume_bending_material *b)
+{
+    static const char *const keys[] = {"from_moduli", "drop_couplings", NULL};
+    static const char *const names[6] = {"D_long", "D_trans", "D_coupling", "D_twist", "D_16", "D_26"};
+    char kf[PLUME_JSON_KEY_MAX];
+    plume_json_subkey(kf, kp, "from_moduli");
+    plume_status st = plume_json_check_keys(c, jb, kp, keys);
+    if (st != PLUME_OK)
+        return st;
+    json_t *jf = json_object_get(jb, "from_moduli"), *jd = json_object_get(jb, "drop_couplings");
+    if (!json_is_string(jf))
+        return plume_json_bad(c, PLUME_EFORMAT, kf, "must be the name of an HDF5 file written by homogenize -o");
+    if (jd && !json_is_boolean(jd)) {
+        char kd[PLUME_JSON_KEY_MAX];
+        plume_json_subkey(kd, kp, "drop_couplings");
+        return plume_json_bad(c, PLUME_EFORMAT, kd, "must be true or false");
+    }
+    char path[4096];
+    plume_json_resolve(c, json_string_value(jf), path, sizeof path);
+    double v[6];
+    for (int k = 0; k < 6; k++) {
+        plume_err e2 = {{0}};
+        if ((st = plume_moduli_read_param(path, names[k], &v[k], &e2)) != PLUME_OK)
+            return plume_json_bad(c, st, kf, "(%s): %s (a file of homogenize -o, which writes the bending moduli)",
+                                  json_string_value(jf), e2.msg);
+        if (!isfinite(v[k]) || (k < 4 && k != 2 && !(v[k] > 0.0)))
+            return plume_json_bad(c, PLUME_EINVAL, kf, "(%s): %s must be finite%s (got %g)", json_string_value(jf),
+                                  names[k], k < 4 && k != 2 ? " and > 0" : "", v[k]);
+    }
+    if (!(v[2] * v[2] <= v[0] * v[1]))
+        return plume_json_bad(c, PLUME_EINVAL, kf, "(%s): D_coupling = %g makes the plate indefinite (need "
+                              "D_coupling^2 <= D_long D_trans = %g)", json_string_value(jf), v[2], v[0] * v[1]);
+    double r16 = fabs(v[4]) / sqrt(v[0] * v[3]), r26 = fabs(v[5]) / sqrt(v[1] * v[3]);
+    if (!(jd && json_is_true(jd)) && (r16 > 0.01 || r26 > 0.01))
+        return plume_json_bad(c, PLUME_EINVAL, kf,
+                              "(%s): the cell couples bending and twist (D_16 %g, D_26 %g N m: %.3g and %.3g of "
+                              "sqrt(D_ii D_twist)), which the shell cannot represent; add \"drop_couplings\": true "
+                              "to use it without them", json_string_value(jf), v[4], v[5], r16, r26);
+    b->D_long = v[0], b->D_trans = v[1], b->D_coupling = v[2], b->D_twist = v[3];
+    return PLUME_OK;
+}
 
 /* One material entry. */
 static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const char *where, int need_density,
@@ -68,6 +115,9 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
         out->bending.D_trans = mm->E_yy * h3 / den;
         out->bending.D_coupling = mm->nu_xy * out->bending.D_trans; /* D_12 = nu_xy D_22 */
         out->bending.D_twist = mm->G_xy * h3 / 12.0;                /* D_66 = G t^3 / 12 */
+    } else if (json_is_object(jb) && json_object_get(jb, "from_moduli")) {
+        if ((st = bending_from_moduli(c, jb, kp, &out->bending)) != PLUME_OK)
+            return st;
     } else if (json_is_object(jb) && json_object_get(jb, "D")) {
         double D = 0.0;
         if ((st = plume_json_check_keys(c, jb, kp, bend1)) != PLUME_OK || (st = plume_json_positive(c, jb, kp, "D", 1, 1, &D, NULL)))
@@ -81,7 +131,8 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
             (st = plume_json_positive(c, jb, kp, "D_coupling", 0, 1, &out->bending.D_coupling, NULL)))
             return st;
     } else {
-        return plume_json_bad(c, PLUME_EFORMAT, kp, "must be {\"D_long\", \"D_trans\"}, {\"D\"} or \"from_membrane\"");
+        return plume_json_bad(c, PLUME_EFORMAT, kp, "must be {\"D_long\", \"D_trans\"}, {\"D\"}, {\"from_moduli\": \"file.h5\"} "
+                              "or \"from_membrane\"");
     }
     if ((st = plume_json_positive(c, jm, where, "density", need_density, 0, &out->density, NULL)) != PLUME_OK)
         return st;

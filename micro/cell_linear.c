@@ -95,9 +95,7 @@ static plume_status lin_eval(void *ctx, int dim, const double *w, double *energy
     return PLUME_OK;
 }
 
-/* C in the cell frame: T^T C_barb T, T the Voigt strain rotation from the cell frame to the barb
- * frame with the barb direction d = (c, s). */
-static void rotate_stiffness(const double Cb[9], const double d[2], double C[9])
+void plume_cell_rotate_stiffness(const double Cb[9], const double d[2], double C[9])
 {
     double c = d[0], s = d[1];
     double T[9] = {c * c, s * s, c * s, s * s, c * c, -c * s, -2 * c * s, 2 * c * s, c * c - s * s};
@@ -177,7 +175,7 @@ static plume_status lin_create(const plume_cell *cell, const plume_membrane_mate
         double Cb[9], d[2] = {barb_dir[2 * t], barb_dir[2 * t + 1]}, n = hypot(d[0], d[1]);
         plume_membrane_stiffness(&mats[id], Cb);
         d[0] /= n, d[1] /= n;
-        rotate_stiffness(Cb, d, c->C + 9 * t);
+        plume_cell_rotate_stiffness(Cb, d, c->C + 9 * t);
     }
     memset(out, 0, sizeof *out);
     out->name = "linear membrane";
@@ -192,10 +190,13 @@ static plume_status lin_create(const plume_cell *cell, const plume_membrane_mate
 }
 
 plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
-                                      double C[9], int *iterations, plume_err *err)
+                                      double h_ref, double C[9], int *iterations, plume_err *err)
 {
     if (!cell || !mats || nmat < 1 || !C)
         return plume_err_set(err, PLUME_EINVAL, "cell tensor: invalid arguments");
+    if (!(h_ref > 0.0) || !isfinite(h_ref))
+        return plume_err_set(err, PLUME_EINVAL, "cell tensor: the reference thickness must be finite and > 0 (got %g m)",
+                             h_ref);
     for (int k = 0; k < nmat; k++) {
         plume_status st = plume_membrane_material_check(&mats[k], err);
         if (st != PLUME_OK)
@@ -238,12 +239,19 @@ plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membra
         st = PLUME_ENOMEM;
         goto done;
     }
-    /* every material has its own thickness: the average is over the area */
+    /* every material has its own thickness: the area is geometric, the stiffness A = sum h_i C_i
+     * (wA holds the thickness) is reported over h_ref (with one thickness, the very same numbers as
+     * the area average of C_i e) */
     const int *material = cell->order == 2 ? cell->quad.material : m->material;
     double area = 0.0;
     for (plume_index t = 0; t < lc->nt; t++)
         for (int q = 0; q < lc->nq; q++)
             area += lc->wA[(size_t)t * lc->nq + q] / mats[material[t]].h;
+    /* A cell with empty space (explicit barbules) averages over the whole cell, as the periodic
+     * wrapper's average stress does (the vane's stiffness per unit area, not the material's); a
+     * full cell keeps its summed area, which is a b up to round-off. */
+    if (cell->a * cell->b - area > 1e-9 * cell->a * cell->b)
+        area = cell->a * cell->b;
     if (iterations)
         *iterations = 0;
     double *w = plume_problem_x(p);
@@ -273,7 +281,7 @@ plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membra
             for (int q = 0; q < lc->nq; q++) {
                 double e[3];
                 tri_strain(lc, t, q, w, e);
-                double a = lc->wA[(size_t)t * lc->nq + q] / mats[material[t]].h;
+                double a = lc->wA[(size_t)t * lc->nq + q] / h_ref;
                 for (int i = 0; i < 3; i++)
                     avg[i] += a * (Ct[3 * i] * e[0] + Ct[3 * i + 1] * e[1] + Ct[3 * i + 2] * e[2]);
             }

@@ -52,11 +52,11 @@ static void cell_solver_free(cell_solver *c)
 }
 
 static plume_status cell_solver_init(cell_solver *c, const plume_cell *cell, const plume_membrane_material *mats,
-                                     int nmat, const plume_solver_opts *so, plume_err *err)
+                                     int nmat, double h_ref, const plume_solver_opts *so, plume_err *err)
 {
     memset(c, 0, sizeof *c);
     c->cell = cell;
-    c->h = mats[0].h;
+    c->h = h_ref; /* nominal stresses are the membrane's over the reference thickness */
     c->Fprev[0] = c->Fprev[3] = 1.0;
     const plume_mesh *m = cell->mesh;
     plume_term membrane, wrapped;
@@ -155,10 +155,15 @@ static plume_status refinement_estimate(const plume_layout *l, const plume_membr
     plume_layout lc;
     plume_layout_refinement(l, PLUME_MESH_CELL, &lc);
     plume_cell *cell = NULL;
-    double C[9];
+    double C[9], D[9];
     plume_status st = plume_cell_mesh(&lc, &cell, err);
     if (st == PLUME_OK)
-        st = plume_cell_linear_tensor(cell, mats, 2, C, NULL, err);
+        st = plume_cell_linear_tensor(cell, mats, 2, l->h, C, NULL, err);
+    if (st == PLUME_OK && plume_cell_plate_tensor(cell, mats, 2, D, NULL, err) == PLUME_OK) {
+        r->bending_change = 0.0;
+        for (int k = 0; k < 3; k++)
+            r->bending_change = fmax(r->bending_change, fabs(r->D[4 * k] - D[4 * k]) / r->D[4 * k]);
+    }
     plume_cell_destroy(&cell);
     plume_ortho m;
     if (st != PLUME_OK || plume_ortho_from_tensor(C, &m) != PLUME_OK) {
@@ -344,11 +349,11 @@ plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, 
     double contrast = fmin(l->ratio, 1.0 / l->ratio), step = o->steps > 0 ? o->strain_max / o->steps : 1.0;
     double lateral_tol = fmax(1e-10, 1e-14 / (contrast * fmax(step, 1e-12)));
     so.tol_kkt = fmax(so.tol_kkt, lateral_tol);
-    if ((st = cell_solver_init(&c, cell, mats, 2, &so, err)) != PLUME_OK)
+    if ((st = cell_solver_init(&c, cell, mats, 2, l->h, &so, err)) != PLUME_OK)
         goto done;
     c.lateral_tol = 10.0 * lateral_tol;
     int lin_iterations = 0;
-    if ((st = plume_cell_linear_tensor(cell, mats, 2, r->C, &lin_iterations, err)) != PLUME_OK)
+    if ((st = plume_cell_linear_tensor(cell, mats, 2, l->h, r->C, &lin_iterations, err)) != PLUME_OK)
         goto done;
     c.iterations += lin_iterations;
     if (plume_ortho_from_tensor(r->C, &r->moduli) != PLUME_OK) {
@@ -356,6 +361,12 @@ plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, 
         goto done;
     }
     r->coupling = fmax(fabs(r->C[2]), fabs(r->C[5])) / sqrt(r->C[0] * r->C[4]);
+    plume_cell_plate_info pinfo;
+    if ((st = plume_cell_plate_tensor(cell, mats, 2, r->D, &pinfo, err)) != PLUME_OK)
+        goto done;
+    plume_plate_moduli_from_tensor(r->D, &r->bending);
+    r->plate_dofs = pinfo.dofs;
+    r->bending_change = -1.0;
     r->refinement_change = -1.0;
     for (int k = 0; k < 4; k++)
         r->moduli_change[k] = -1.0;

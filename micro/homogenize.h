@@ -6,6 +6,7 @@
 #include "../lib/curves.h"
 #include "../lib/solver.h"
 #include "cell_mesh.h"
+#include "cell_plate.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -32,6 +33,14 @@ typedef struct {
     plume_ortho moduli;    /* effective 3D moduli (Pa) in the barb frame (x along the barbs) */
     double C[9];           /* effective plane-stress tensor (Pa), Voigt (E11, E22, 2 E12), row-major */
     double coupling;       /* max(|C13|, |C23|) / sqrt(C11 C22): 0 for an orthotropic cell */
+    /* bending, from the periodic plate cell (micro/cell_plate.h): the tensor D (N m, Voigt (k11,
+     * k22, 2 k12), row-major, barb frame) and its moduli in macro/bending.h's convention */
+    double D[9];
+    plume_plate_moduli bending;
+    plume_index plate_dofs; /* unknowns of the plate cell problem */
+    /* How converged the bending moduli are: the largest relative change of D_long, D_trans,
+     * D_twist on the coarser mesh of refinement_change (-1 when not estimated). */
+    double bending_change;
     /* cell response curves (nominal = first Piola stress over the thickness, Pa):
      * uniaxial_x: stress along the barbs at free lateral contraction, wbar = lateral strain;
      * uniaxial_y: the same across the barbs; shear: simple shear gamma, stress P_xy, wbar = 0. */
@@ -55,7 +64,8 @@ typedef struct {
 void plume_homog_result_free(plume_homog_result *r);
 
 /* Meshes the layout's periodic cell and homogenises it: the small-strain tensor from the exact
- * linearised cell problem (micro/cell_linear.h), the curves from the nonlinear membrane. Errors: invalid layout or options
+ * linearised cell problem (micro/cell_linear.h), the bending tensor from the plate cell problem
+ * (micro/cell_plate.h), the curves from the nonlinear membrane. Errors: invalid layout or options
  * (PLUME_EINVAL with the field named), a cell solve that does not converge (PLUME_EINFEASIBLE
  * with the load case and the solver's reason). */
 plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, plume_homog_result *r,

@@ -17,6 +17,8 @@ void plume_layout_default(plume_layout *l)
     l->ratio = 1e-6;
     l->nu_B = 0.3;
     l->h = 1e-4;
+    l->h_barb = 0.0;
+    l->h_barbule = 0.0;
     l->kappa = 0.0;
     /* At 60 deg a barbule 0.2 d_B wide spans (1 - phi) d_B cot 60 + 0.2 d_B / sin 60 < 0.82 d_B along
      * the barbs whatever phi is, so a spacing of one d_B always fits (layout.h). */
@@ -92,6 +94,15 @@ plume_status plume_layout_check(const plume_layout *l, plume_err *err)
         return plume_err_set(err, PLUME_EINVAL, "nu_B must be in (-1, 0.5) (got %g)", l->nu_B);
     if (!(l->h > 0.0) || !isfinite(l->h))
         return plume_err_set(err, PLUME_EINVAL, "h must be finite and > 0 (got %g m)", l->h);
+    /* A barbule phase thicker than the barbs is allowed: real barbules are thinner, but the cell
+     * problems hold for any positive thicknesses on a common mid-surface, and parameter studies
+     * (the soft phase standing for a filled matrix, or swapped contrasts) need no special case. */
+    if (!(l->h_barb >= 0.0) || !isfinite(l->h_barb))
+        return plume_err_set(err, PLUME_EINVAL, "thickness_barb must be finite and > 0, or 0 for the thickness h (got %g m)",
+                             l->h_barb);
+    if (!(l->h_barbule >= 0.0) || !isfinite(l->h_barbule))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "thickness_barbule must be finite and > 0, or 0 for the thickness h (got %g m)", l->h_barbule);
     if (!(l->kappa >= 0.0) || !isfinite(l->kappa))
         return plume_err_set(err, PLUME_EINVAL, "kappa must be finite and >= 0 (got %g Pa)", l->kappa);
     double w = plume_layout_barb_width(l);
@@ -140,6 +151,12 @@ plume_status plume_layout_check(const plume_layout *l, plume_err *err)
     return PLUME_OK;
 }
 
+double plume_layout_thickness(const plume_layout *l, int phase)
+{
+    double t = phase == PLUME_MAT_BARB ? l->h_barb : l->h_barbule;
+    return t > 0.0 ? t : l->h;
+}
+
 void plume_layout_materials(const plume_layout *l, plume_membrane_material mats[2])
 {
     double E[2] = {l->E_b, l->ratio * l->E_b}, nu[2] = {l->nu_b, l->nu_B};
@@ -148,7 +165,7 @@ void plume_layout_materials(const plume_layout *l, plume_membrane_material mats[
         mats[k].E_yy = E[k];
         mats[k].nu_xy = nu[k];
         mats[k].G_xy = E[k] / (2.0 * (1.0 + nu[k]));
-        mats[k].h = l->h;
+        mats[k].h = plume_layout_thickness(l, k);
         mats[k].kappa = l->kappa;
     }
 }

@@ -30,7 +30,11 @@ typedef struct {
     double E_b, nu_b;      /* barb material */
     double ratio;          /* E_B / E_b: barbule material modulus over barb modulus, > 0 */
     double nu_B;           /* barbule material Poisson ratio */
-    double h;              /* thickness */
+    double h;              /* reference thickness: the membrane moduli in Pa are the membrane
+                              stiffness A (N/m) over h (docs/bending-homogenisation.md) */
+    double h_barb;         /* thickness of the barb phase; 0 (default): h */
+    double h_barbule;      /* thickness of the barbule phase (matrix or explicit barbules); 0
+                              (default): h. Either may exceed the other (layout.c says why) */
     double kappa;          /* compression-term coefficient of both materials (Pa), >= 0 */
     /* PLUME_LAYOUT_BARBULES only: */
     double barbule_width;    /* width of a barbule strip */
@@ -46,7 +50,7 @@ typedef struct {
 } plume_layout;
 
 /* Defaults: strips, phi = 0.16 (supplementary Figure 10), d_B = 1e-3, E_b = 2.5e9, nu_b = 0.3,
- * ratio = 1e-6, nu_B = 0.3, h = 1e-4, kappa = 0, barbules 0.2 d_B wide every d_B at 60 deg (they
+ * ratio = 1e-6, nu_B = 0.3, h = 1e-4, h_barb = h_barbule = 0 (both h), kappa = 0, barbules 0.2 d_B wide every d_B at 60 deg (they
  * span < 0.82 d_B along the barbs for any phi, so they fit the cell), order 2, e_rel = 0 (automatic). */
 void plume_layout_default(plume_layout *l);
 
@@ -73,7 +77,12 @@ void plume_layout_refinement(const plume_layout *l, plume_mesh_use use, plume_la
  * layout ..."). */
 plume_status plume_layout_check(const plume_layout *l, plume_err *err);
 
-/* The two membrane materials: mats[PLUME_MAT_BARB], mats[PLUME_MAT_BARBULE] (isotropic). */
+/* The thickness of phase PLUME_MAT_BARB or PLUME_MAT_BARBULE (m): h_barb or h_barbule, or h where
+ * that is 0. */
+double plume_layout_thickness(const plume_layout *l, int phase);
+
+/* The two membrane materials: mats[PLUME_MAT_BARB], mats[PLUME_MAT_BARBULE] (isotropic), each with
+ * its phase's thickness (plume_layout_thickness). */
 void plume_layout_materials(const plume_layout *l, plume_membrane_material mats[2]);
 
 #ifdef __cplusplus

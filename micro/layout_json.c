@@ -4,6 +4,7 @@
 #include <jansson.h>
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -20,6 +21,8 @@ static const number_key number_keys[] = {
     {"ratio", offsetof(plume_layout, ratio)},
     {"nu_B", offsetof(plume_layout, nu_B)},
     {"thickness", offsetof(plume_layout, h)},
+    {"thickness_barb", offsetof(plume_layout, h_barb)},
+    {"thickness_barbule", offsetof(plume_layout, h_barbule)},
     {"kappa", offsetof(plume_layout, kappa)},
     {"e_rel", offsetof(plume_layout, e_rel)},
     {"barbule_width", offsetof(plume_layout, barbule_width)},
@@ -64,7 +67,12 @@ static plume_status apply_object(json_t *doc, const char *where, plume_layout *l
             k++;
         if (k == n)
             return plume_err_set(err, PLUME_EFORMAT, "%s: unknown key \"%s\"", where, key);
-        *(double *)((char *)l + number_keys[k].offset) = json_number_value(v);
+        double x = json_number_value(v);
+        /* 0 means "the thickness h" inside the layout struct only: given here it is a mistake */
+        if (strncmp(key, "thickness_", 10) == 0 && !(x > 0.0 && isfinite(x)))
+            return plume_err_set(err, PLUME_EFORMAT, "%s: key \"%s\" must be a finite thickness > 0 (got %g m)", where,
+                                 key, x);
+        *(double *)((char *)l + number_keys[k].offset) = x;
     }
     if (w_B >= 0.0)
         l->d_B = l->phi > 0.0 ? w_B / l->phi : -1.0;

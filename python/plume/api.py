@@ -65,7 +65,12 @@ class HomogenizeResult:
     strain_max was 0); order: element order (2 quadratic, 1 linear); element_edge: the cell's
     target element edge (m); refinement_change: how converged the moduli are, the tensor's largest
     change (relative, energy scale) from the cell meshed with elements twice as large (-1: not
-    estimated); moduli_change: the relative change of each modulus; raw: the library's JSON result.
+    estimated); moduli_change: the relative change of each modulus; D_long, D_trans, D_coupling,
+    D_twist, D_16, D_26: bending moduli (N m, barb frame; energy density 1/2 (D_long k11^2 + D_trans
+    k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2 + 4 D_16 k11 k12 + 4 D_26 k22 k12), as a scene
+    material's "bending"); D: the 3x3 bending tensor in Voigt notation (k11, k22, 2 k12; N m);
+    bending_change: how converged the bending moduli are (relative, -1: not estimated); raw: the
+    library's JSON result.
     """
     E_xx: float
     E_yy: float
@@ -82,6 +87,14 @@ class HomogenizeResult:
     element_edge: float = 0.0
     refinement_change: float = -1.0
     moduli_change: Dict[str, float] = field(default_factory=dict)
+    D_long: float = 0.0
+    D_trans: float = 0.0
+    D_coupling: float = 0.0
+    D_twist: float = 0.0
+    D_16: float = 0.0
+    D_26: float = 0.0
+    D: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
+    bending_change: float = -1.0
     raw: dict = field(repr=False, default_factory=dict)
 
     @property
@@ -291,7 +304,9 @@ def homogenize(layout=None, strain_max=0.05, steps=10):
         layout: dict of layout keys (defaults for those absent): "layout" ("strips" |
             "barbules"), "phi" (barb surface fraction, -), "d_B" (barb spacing, m), "w_B" (barb
             width, m; sets d_B = w_B / phi), "E_b" (barb Young's modulus, Pa), "nu_b", "ratio"
-            (barbule over barb modulus, -), "nu_B", "thickness" (m), "kappa" (Pa), "order" (1
+            (barbule over barb modulus, -), "nu_B", "thickness" (m, the reference the moduli in
+            Pa are the membrane stiffness over), "thickness_barb", "thickness_barbule" (m, each
+            phase's own; default "thickness"), "kappa" (Pa), "order" (1
             linear or 2 quadratic triangles, the default), "e_rel" (element edge over barb width,
             -; 0, the default, chooses it from the thinnest strip), "barbule_width" (m), "barbule_spacing" (m),
             "barbule_angle" (deg). None: the default strips layout (phi 0.16, E_b 2.5e9 Pa).
@@ -299,7 +314,8 @@ def homogenize(layout=None, strain_max=0.05, steps=10):
         steps: steps of each curve.
 
     Returns:
-        HomogenizeResult (moduli in Pa; curves with steps + 1 points each, the rest state first).
+        HomogenizeResult (moduli in Pa, bending moduli in N m; curves with steps + 1 points each,
+        the rest state first).
     """
     request = {"strain_max": _number("strain_max", strain_max, 0.0),
                "steps": _integer("steps", steps)}
@@ -318,7 +334,10 @@ def homogenize(layout=None, strain_max=0.05, steps=10):
         seconds=float(_get(r, "seconds", "homogenize")), curves=curves,
         order=int(_get(r, "order", "homogenize")), element_edge=float(_get(r, "element_edge", "homogenize")),
         refinement_change=float(_get(r, "refinement_change", "homogenize")),
-        moduli_change={k: float(v) for k, v in (r.get("moduli_change") or {}).items()}, raw=r)
+        moduli_change={k: float(v) for k, v in (r.get("moduli_change") or {}).items()},
+        **{k: float(_get(r, k, "homogenize")) for k in ("D_long", "D_trans", "D_coupling", "D_twist", "D_16", "D_26")},
+        D=_array(_get(r, "D", "homogenize")).reshape(3, 3),
+        bending_change=float(_get(r, "bending_change", "homogenize")), raw=r)
 
 
 def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **options):

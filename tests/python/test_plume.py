@@ -202,6 +202,25 @@ class TestHomogenize(unittest.TestCase):
         self.assertEqual(h.curves, {})
         self.assertLess(rel(h.E_xx, 0.5 * 1e9), 1e-3)
 
+    def test_bending_moduli(self):
+        # the strip laminate: twist and bending along the barbs are area averages of t^3/12 Q
+        # (the barbs dominate), bending across them the harmonic mean (docs/bending-homogenisation.md)
+        t, phi, E, nu = 1e-4, 0.16, 2.5e9, 0.3
+        h = plume.homogenize(layout={"phi": phi, "E_b": E, "thickness": t}, strain_max=0.0)
+        self.assertLess(rel(h.D_twist, phi * E / (2 * (1 + nu)) * t ** 3 / 12), 1e-5)
+        self.assertLess(rel(h.D_long, phi * E * t ** 3 / 12), 1e-3)
+        self.assertLess(rel(h.D_trans, h.E_yy * t ** 3 / 12), 1e-3)  # one thickness: membrane t^2/12
+        self.assertEqual(h.D.shape, (3, 3))
+        self.assertEqual(h.D[0, 0], h.D_long)
+        # thinner barbules: bending across the barbs drops with their thickness cubed
+        h2 = plume.homogenize(layout={"phi": phi, "E_b": E, "thickness": t, "thickness_barbule": t / 2},
+                              strain_max=0.0)
+        self.assertLess(rel(h2.D_trans, h.D_trans / 8), 1e-3)
+        self.assertLess(rel(h2.E_yy, h.E_yy / 2), 1e-3)  # membrane stiffness over the reference t
+        with self.assertRaises(plume.PlumeError) as cm:
+            plume.homogenize(layout={"thickness_barb": 0.0})
+        self.assertIn("thickness_barb", str(cm.exception))
+
     def test_convergence_estimate(self):
         # explicit barbules: the corners where they meet the barbs need refinement; the defaults
         # are converged to about 1 % and say so, linear elements at the same mesh are far off
