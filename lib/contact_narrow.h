@@ -127,7 +127,9 @@ typedef struct {
                          phi' Hess d without the distance's curvature: PSD in closed form, the
                          normal stiffness kept (the same as the nearest PSD matrix for two points,
                          whose Hess d is PSD and orthogonal to grad d). Mollified edge-edge pairs
-                         (near-parallel edges) are projected by eigen-decomposition either way */
+                         (near-parallel edges) are projected by eigen-decomposition either way.
+                         The contact term (contact.h) gives the exact blocks on the solver's
+                         exact-Hessian path and these on its projected ones */
 } plume_contact_opts;
 
 enum { PLUME_CONTACT_PROJECT_EIGEN = 1, PLUME_CONTACT_PROJECT_GAUSS_NEWTON = 2 };
