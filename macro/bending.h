@@ -6,6 +6,7 @@
 #ifndef PLUME_BENDING_H
 #define PLUME_BENDING_H
 
+#include "../lib/export.h"
 #include "../lib/mesh.h"
 #include "../lib/term.h"
 
@@ -40,8 +41,8 @@ typedef struct {
  * angles are taken from mesh->X (flat: 0) unless rest_x (3*nv, may be NULL) gives a curved rest
  * shape. Errors (PLUME_EINVAL, message): dim != 3, negative/NaN stiffness, material id out of
  * range, a degenerate triangle. D_twist and D_coupling are ignored (not validated either). */
-plume_status plume_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
-                                       const double *rest_x, plume_term *out, plume_err *err);
+PLUME_API plume_status plume_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
+                                                 const double *rest_x, plume_term *out, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -3,6 +3,7 @@
 #ifndef PLUME_CELL_LINEAR_H
 #define PLUME_CELL_LINEAR_H
 
+#include "../lib/export.h"
 #include "../lib/membrane.h"
 #include "cell_mesh.h"
 
@@ -17,8 +18,8 @@ extern "C" {
  * sparse Cholesky solve, and the area-averaged stress gives a column of C. A finite-difference
  * probe of the nonlinear cell cannot do this at a barb/barbule contrast of 1e-6: the Green strain
  * of a tiny probe loses to round-off exactly the digits the soft phase needs. */
-plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
-                                      double C[9], int *iterations, plume_err *err);
+PLUME_API plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
+                                                double C[9], int *iterations, plume_err *err);
 
 #ifdef __cplusplus
 }

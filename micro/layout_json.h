@@ -2,6 +2,7 @@
 #ifndef PLUME_LAYOUT_JSON_H
 #define PLUME_LAYOUT_JSON_H
 
+#include "../lib/export.h"
 #include "layout.h"
 
 #ifdef __cplusplus
@@ -15,11 +16,11 @@ extern "C" {
  * ("w_B" sets d_B = w_B / phi after every other key). Errors name the file and the line for
  * malformed JSON (PLUME_EFORMAT), an unknown key or a non-numeric value (PLUME_EFORMAT), an
  * unreadable file (PLUME_EIO). Values are not range-checked here: call plume_layout_check. */
-plume_status plume_layout_load_json(const char *path, plume_layout *l, plume_err *err);
+PLUME_API plume_status plume_layout_load_json(const char *path, plume_layout *l, plume_err *err);
 
 /* The same keys from a JSON text (a binding's request); `where` names it in messages
  * ("request.layout"). */
-plume_status plume_layout_apply_json(const char *text, const char *where, plume_layout *l, plume_err *err);
+PLUME_API plume_status plume_layout_apply_json(const char *text, const char *where, plume_layout *l, plume_err *err);
 
 #ifdef __cplusplus
 }
