@@ -361,8 +361,8 @@ int main(int argc, char **argv)
         if (fabs(info.dt - dt) > 1e-12 * dt)
             fprintf(stderr, "%s: warning: '%s' was written with dt = %g s, the scene now has %g s\n", APP, o.restart,
                     info.dt, dt);
-        if ((st = plume_dynamics_set_state(d, last.t, last.x, last.v, last.lambda)) != PLUME_OK) {
-            rc = cli_fail(APP, "--restart: the last frame of '%s' holds non-finite values", o.restart);
+        if ((st = plume_dynamics_set_state(d, last.t, last.x, last.v, last.lambda, &err)) != PLUME_OK) {
+            rc = cli_fail(APP, "--restart: the last frame of '%s': %s", o.restart, err.msg);
             goto done;
         }
         if (!same_file(o.restart, frames_path) && copy_file(o.restart, frames_path) != 0) {
@@ -416,8 +416,8 @@ int main(int argc, char **argv)
     for (long i = 1; i <= nsteps; i++) {
         plume_step_report rep;
         double t0 = plume_dynamics_time(d);
-        if ((st = plume_dynamics_advance(d, 0.0, &rep)) != PLUME_OK) {
-            rc = run_fail("step %ld: %s", step + 1, plume_strerror(st));
+        if ((st = plume_dynamics_advance(d, 0.0, &rep, &err)) != PLUME_OK) {
+            rc = run_fail("step %ld: %s", step + 1, err.msg);
             goto done;
         }
         halvings += rep.halvings;

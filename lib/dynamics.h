@@ -70,18 +70,20 @@ typedef struct {
 
 /* Advances the state by dt (opts.dt when dt <= 0): one implicit Euler step, halved recursively
  * on non-convergence up to max_halvings. Not converging at the smallest step is reported (state
- * left at the last converged substep), not an error. */
-PLUME_API plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep);
+ * left at the last converged substep), not an error; errors (a solver or contact failure, memory)
+ * carry a message in err (NULL allowed). */
+PLUME_API plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep, plume_err *err);
 
 /* State access: time, positions (3 nv), velocities (3 nv) and the constraint multipliers of
  * the last step (*m of them); set restores a saved state (restart: with the multipliers too, the
- * continued run repeats the uninterrupted one exactly). lambda may be NULL (zero). */
+ * continued run repeats the uninterrupted one exactly). lambda may be NULL (zero). set_state:
+ * PLUME_EINVAL for a non-finite time, position or velocity, named in err (NULL allowed). */
 PLUME_API double plume_dynamics_time(const plume_dynamics *d);
 PLUME_API const double *plume_dynamics_positions(const plume_dynamics *d);
 PLUME_API const double *plume_dynamics_velocities(const plume_dynamics *d);
 PLUME_API const double *plume_dynamics_multipliers(const plume_dynamics *d, plume_index *m);
 PLUME_API plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double *x, const double *v,
-                                                const double *lambda);
+                                                const double *lambda, plume_err *err);
 
 /* Lumped vertex masses (nv), for tests and energy checks. */
 PLUME_API const double *plume_dynamics_masses(const plume_dynamics *d);

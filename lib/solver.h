@@ -111,9 +111,10 @@ PLUME_API void plume_solver_opts_default(plume_solver_opts *o);
 typedef struct plume_solver plume_solver;
 
 /* Creates a solver for a finalised problem (kept by reference, not owned). Symbolic analysis
- * of the sparse systems happens here, once. */
+ * of the sparse systems happens here, once. PLUME_EINVAL for a problem not finalised or options
+ * out of range, with a message naming them in err (NULL allowed). */
 PLUME_API plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p,
-                                           const plume_solver_opts *o, plume_solver **out);
+                                           const plume_solver_opts *o, plume_solver **out, plume_err *err);
 PLUME_API void plume_solver_destroy(plume_solver **s);
 
 /* Solves from u (nfree, in: start, out: result) and lambda (ncons, in: guess, out: multipliers

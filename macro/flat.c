@@ -614,8 +614,9 @@ plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **repor
     plume_status st = PLUME_OK;
     for (int i = 0; i < nsteps; i++) {
         plume_step_report rep;
-        if ((st = plume_dynamics_advance(s->d, 0.0, &rep)) != PLUME_OK) {
-            plume_err_set(&err, st, "scene step %ld: %s", done + 1, plume_strerror(st));
+        plume_err why;
+        if ((st = plume_dynamics_advance(s->d, 0.0, &rep, &why)) != PLUME_OK) {
+            plume_err_set(&err, st, "scene step %ld: %s", done + 1, why.msg);
             return finish(st, &err, msg, nmsg);
         }
         halvings += rep.halvings, iterations += rep.iterations, seconds += rep.seconds;

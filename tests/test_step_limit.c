@@ -96,7 +96,7 @@ void test_step_limit_wall(void)
             plume_solver_opts o;
             plume_solver_opts_default(&o);
             plume_solver *s = NULL;
-            CHECK(plume_solver_create(sk, p, &o, &s) == PLUME_OK);
+            CHECK(plume_solver_create(sk, p, &o, &s, NULL) == PLUME_OK);
             double u[2] = {0.3, 0.5};
             plume_solve_report rep;
             CHECK(plume_solver_solve(s, u, NULL, &rep) == PLUME_OK);
@@ -240,7 +240,7 @@ void test_step_limit_update_pattern(void)
     plume_solver *s = NULL;
     plume_solver_opts o;
     plume_solver_opts_default(&o);
-    CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s) == PLUME_OK);
+    CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s, NULL) == PLUME_OK);
     double u[2];
     plume_problem_gather(p, u);
     plume_solve_report rep;
