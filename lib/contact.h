@@ -1,4 +1,4 @@
-/* plume: contact between shells as one energy term (DESIGN.md "Contact (many feathers)"):
+/* plume: contact between shells as one energy term (docs/design.md "Contact (many feathers)"):
  * point–triangle and edge–edge pairs of a triangle surface closer than dhat, with the barrier
  * kappa b(d) (incremental potential contact) or the paper's penalty stiffness (dhat - d)^2 / 2.
  * The term's stencils follow the state (plume_term.update: candidates from the CGAL broad phase,

@@ -1,4 +1,4 @@
-/* plume: broad phase of shell contact and the exact intersection audit (DESIGN.md "Contact (many
+/* plume: broad phase of shell contact and the exact intersection audit (docs/design.md "Contact (many
  * feathers)"). Axis-aligned boxes are paired by CGAL's box_intersection_d; triangle pairs of the
  * audit are tested with CGAL's exact predicates. CGAL stays in lib/contact_cgal.cpp. */
 #ifndef PLUME_CONTACT_BROAD_H

@@ -1,4 +1,4 @@
-/* plume: narrow-phase mathematics of shell contact (DESIGN.md "Contact (many feathers)"): squared
+/* plume: narrow-phase mathematics of shell contact (docs/design.md "Contact (many feathers)"): squared
  * distances of point–triangle and edge–edge pairs with exact gradients and Hessians, the edge–edge
  * mollifier, and the barrier and penalty pair potentials of incremental-potential contact (Li et
  * al. 2020, "Incremental Potential Contact", ACM TOG 39(4)).
@@ -99,7 +99,7 @@ PLUME_API plume_status plume_contact_ee_mollifier_threshold(const double xrest[1
 PLUME_API plume_status plume_contact_ee_mollifier(const double x[12], double eps_x, double *m, double *g,
                                                   double *H);
 
-/* ---- pair potentials (DESIGN.md "Contact": kept exactly) ---------------------------------- */
+/* ---- pair potentials (docs/design.md "Contact": kept exactly) ---------------------------------- */
 
 /* b(d) = -(d - dhat)^2 ln(d / dhat) for 0 < d < dhat, 0 for d >= dhat, and its first and second
  * derivatives in d (db, d2b may be NULL). C^2 at dhat, +inf as d -> 0+, convex and decreasing
@@ -134,9 +134,7 @@ typedef struct {
 enum { PLUME_CONTACT_PROJECT_EIGEN = 1, PLUME_CONTACT_PROJECT_GAUSS_NEWTON = 2 };
 
 /* Defaults: barrier, dhat = 1e-3 (IPC's 1e-3 of a unit scene: set it from the scene's size),
- * stiffness 1, Gauss-Newton blocks (on the 3.9k-element contact stack of data/contact/ the
- * eigen-decomposition took 54 % of the run; Gauss-Newton blocks took it 2.1x faster, in fewer
- * iterations). */
+ * stiffness 1, Gauss-Newton blocks (why, with measurements: README "Contact", "Pair blocks"). */
 PLUME_API void plume_contact_opts_default(plume_contact_opts *o);
 
 /* Energy E of one point–triangle pair x = (p, t0, t1, t2): stiffness * phi(d) with phi the

@@ -1,4 +1,4 @@
-/* plume: result curves and moduli in HDF5 (layout of DESIGN.md), written atomically. */
+/* plume: result curves and moduli in HDF5 (layout of docs/design.md), written atomically. */
 #ifndef PLUME_CURVES_H
 #define PLUME_CURVES_H
 

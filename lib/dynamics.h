@@ -1,4 +1,4 @@
-/* plume: implicit Euler as a constrained minimisation (DESIGN.md "Dynamics", supplementary §3):
+/* plume: implicit Euler as a constrained minimisation (docs/design.md "Dynamics", supplementary §3):
  *   x_{n+1} = argmin 1/(2 dt^2) (x - x~)^T M (x - x~) + W(x) - f_ext^T x  s.t. g(x) = 0,
  *   x~ = x_n + dt v_n, v_{n+1} = (x_{n+1} - x_n) / dt, M lumped,
  * with gravity, handles that move prescribed vertices along keyframed paths, and a step that

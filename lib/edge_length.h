@@ -1,4 +1,4 @@
-/* plume: edge-length (inextensibility) constraints g = |x_i - x_j|^2 - L_ij^2 = 0 (DESIGN.md). */
+/* plume: edge-length (inextensibility) constraints g = |x_i - x_j|^2 - L_ij^2 = 0 (docs/design.md). */
 #ifndef PLUME_EDGE_LENGTH_H
 #define PLUME_EDGE_LENGTH_H
 

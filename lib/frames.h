@@ -1,4 +1,4 @@
-/* plume: the frames of a dynamic run in HDF5 (DESIGN.md "Data and files"), appended frame by frame
+/* plume: the frames of a dynamic run in HDF5 (docs/design.md "Data and files"), appended frame by frame
  * and readable for a restart:
  *   /frames                 attributes count (frames committed), nv, ncons, dt, scene (string)
  *   /frames/<k>/x, v        [3 nv] positions and velocities (m, m/s), vertex-major

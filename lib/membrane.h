@@ -1,4 +1,4 @@
-/* plume: the membrane element of DESIGN.md — orthotropic St Venant–Kirchhoff in the barb frame
+/* plume: the membrane element of docs/design.md — orthotropic St Venant–Kirchhoff in the barb frame
  * plus the cubic compression term (supplementary eq. 6), planar (dim 2) and shell (dim 3) modes,
  * exact gradient and Hessian. */
 #ifndef PLUME_MEMBRANE_H

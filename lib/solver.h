@@ -81,8 +81,9 @@ typedef struct {
                               divided by 3, at the next failure, and grown 8x until it works */
     double inertia_max_shift; /* the largest shift tried, relative to the largest Hessian diagonal,
                               before falling back to the projected Hessian; default 1 */
-    plume_kkt_mode kkt;    /* newton with constraints; default PLUME_KKT_ELIMINATE (same iterates,
-                              2.2x faster factorisations at 4e4 elements than LDL^T) */
+    plume_kkt_mode kkt;    /* newton with constraints; default PLUME_KKT_ELIMINATE (the same
+                              iterates as LDL^T, faster factorisations: README "How constraints
+                              are solved" and "Measured") */
     plume_line_search line_search; /* newton with constraints; default PLUME_LS_FILTER */
     int reuse_factorization; /* newton: chord steps (the last factorisation of this solve) in
                                 the end game, where the last two Newton steps predict a contraction

@@ -1,4 +1,4 @@
-/* plume: static equilibrium under load stepping (DESIGN.md "Quasi-static"): the load factor goes
+/* plume: static equilibrium under load stepping (docs/design.md "Quasi-static"): the load factor goes
  * from 0 to 1 in `steps` equal increments; at each one  min W(x) - factor f^T x  s.t. g(x) = 0 is
  * solved to convergence, starting from the secant extrapolation through the last two equilibria
  * (or from the last equilibrium). An increment that does not converge is halved (the state

@@ -1,4 +1,4 @@
-/* plume: the quasi-static traction test (DESIGN.md, Scenarios): a rectangle [0,lx] x [0,ly]
+/* plume: the quasi-static traction test (docs/design.md, Scenarios): a rectangle [0,lx] x [0,ly]
  * clamped at y = 0 and at y = ly, the top grip moved by delta along y in steps. Works for any
  * planar or shell problem whose vertices are those of the mesh. */
 #ifndef PLUME_TRACTION_H

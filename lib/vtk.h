@@ -1,4 +1,4 @@
-/* plume: a mesh state as a legacy VTK ASCII unstructured grid (DESIGN.md "Data and files": frames
+/* plume: a mesh state as a legacy VTK ASCII unstructured grid (docs/design.md "Data and files": frames
  * as VTK for ParaView). One file per frame; a numbered series (frame_00000.vtk, frame_00001.vtk,
  * ...) opens in ParaView as one time series. */
 #ifndef PLUME_VTK_H

@@ -1,4 +1,4 @@
-/* plume: discrete anisotropic bending of a shell (DESIGN.md "Bending"): a hinge energy on each
+/* plume: discrete anisotropic bending of a shell (docs/design.md "Bending"): a hinge energy on each
  * interior edge from its dihedral angle, rest angle from the rest shape, scaled with the edge
  * length and the adjacent areas so that bending a flat patch into a cylinder of curvature k
  * stores 1/2 D k^2 per unit area; D depends on the curvature direction relative to the barbs:

@@ -55,7 +55,7 @@ PLUME_API plume_status plume_feather_mesh(const plume_feather_input *in, int dim
 
 /* Why a vane triangle owns no barb edge: the first of these that applies to one of its vertices.
  * Each such vertex forces one: in the strip between two barbs, a boundary vertex that ends no barb
- * or a barb that ends inside adds a triangle and no barb edge (the count behind DESIGN.md, "Meshes
+ * or a barb that ends inside adds a triangle and no barb edge (the count behind docs/design.md, "Meshes
  * that respect the fibres"). */
 enum {
     PLUME_FEATHER_UNCOVERED_RACHIS = 0,   /* rachis junction: a vertex of the rachis strip from which no
@@ -73,7 +73,7 @@ enum {
 /* Names of the reasons above ("rachis junction", "outline", "barb end", "other"); NULL out of range. */
 PLUME_API const char *plume_feather_uncovered_name(int reason);
 
-/* Barb coverage and quality of a feather mesh (DESIGN.md, "Meshes that respect the fibres"). */
+/* Barb coverage and quality of a feather mesh (docs/design.md, "Meshes that respect the fibres"). */
 typedef struct {
     plume_index vane_triangles;   /* triangles of material PLUME_FEATHER_VANE */
     plume_index vane_covered;     /* of them, those owning one of the returned barb edges (so

@@ -1,4 +1,4 @@
-/* plume: mesh-independent anisotropic bending of a shell (DESIGN.md "Bending"; "Bending is a
+/* plume: mesh-independent anisotropic bending of a shell (docs/design.md "Bending"; "Bending is a
  * property of the surface, not of the mesh's edges"): a per-triangle second fundamental form
  * fitted exactly to every quadratic height field on any triangulation (the 6-vertex
  * shape-operator stencil, macro/shape_bending.c), and the orthotropic plate energy of its

@@ -35,7 +35,7 @@ PLUME_API plume_status plume_vane_check(const plume_vane *v, plume_err *err);
 PLUME_API plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_index **edges,
                                              plume_index *n);
 
-/* Barb coverage (DESIGN.md, "Meshes that respect the fibres"): counts the triangles of `m`
+/* Barb coverage (docs/design.md, "Meshes that respect the fibres"): counts the triangles of `m`
  * (topology built) whose material is `material` (or every triangle when material < 0) in *total,
  * and among them those owning at least one of the nbarb edges `barb_edges` (2*nbarb vertex ids,
  * either order; pairs that are not mesh edges are ignored) in *covered. With the constraint on,

@@ -11,7 +11,7 @@
 
 /* One vertex pulled by a spring towards (0, -1), through a wall y = 0 that it sees only through
  * its unsigned distance |y|: barrier kappa b(|y|), b(d) = -(d - dhat)^2 ln(d / dhat) for d < dhat
- * (DESIGN.md "Contact"). From the far side (y < -dhat) the barrier is 0, so a full Newton step to
+ * (docs/design.md "Contact"). From the far side (y < -dhat) the barrier is 0, so a full Newton step to
  * the spring's rest point is a perfectly good minimiser: only the step limit keeps it out. */
 typedef struct {
     plume_index v[1];
