@@ -326,6 +326,8 @@ int main(int argc, char **argv)
     output_ctx oc = {scene, outdir, frames_path, stem, NULL};
 
     scene->verbose = o.verbose;
+    if ((rc = cli_output_dir(APP, "-o", outdir)) != 0)
+        goto done;
     if ((st = plume_scene_dynamics_contact(scene, &p, &d, &contact, &err)) != PLUME_OK) {
         rc = st == PLUME_EINVAL || st == PLUME_EFORMAT ? cli_fail(APP, "%s: %s", o.scene, err.msg)
                                                        : run_fail("%s", err.msg);
@@ -334,10 +336,6 @@ int main(int argc, char **argv)
     const plume_mesh *mesh = scene->mesh;
     plume_index ncons;
     plume_dynamics_multipliers(d, &ncons);
-    if (cli_make_dirs(outdir) != 0) {
-        rc = run_fail("cannot create the output directory '%s': %s", outdir, strerror(errno));
-        goto done;
-    }
     if ((st = plume_scene_fields(scene, &oc.fields, &err)) != PLUME_OK) {
         rc = run_fail("%s", err.msg);
         goto done;

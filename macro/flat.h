@@ -19,7 +19,8 @@
  *        {"strain": [], "stress": [], "wbar": [], "iterations": []}} (curves only when
  *        strain_max > 0)}
  *  - traction: {"model": "macro"|"micro", "angle": 45 (deg from the pull), "lx": 1, "ly": 1.3,
- *    "thickness": 1, "moduli": {"E_xx": 1e4, "E_yy": 1, "nu_xy": 0, "G_xy": 1}, "kappa": 0,
+ *    "thickness": 1, "moduli": {"E_xx": 1e4, "E_yy": 1, "nu_xy": 0, "G_xy": 1} (all four, or
+ *    the key absent for these), "kappa": 0,
  *    "constraint": true, "mesh": "aligned"|"unaligned", "edge": min(lx, ly) / 20,
  *    "strain_max": 0.05, "steps": 10, "solver": "newton"|"ipopt"|"linearized",
  *    "layout": {...} (model micro; as apps/traction, the barbs are 0.086 ly apart and the
