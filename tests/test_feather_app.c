@@ -640,3 +640,49 @@ void test_feather_app_benchmark_scenes(void)
     }
     plume_scene_destroy(&s);
 }
+
+/* --duration T ends at t = T: whole steps of dt, then a shorter one when dt does not divide T, and
+ * the last state is a frame (strip: dt 0.01, a frame every 2 steps; the shipped feather: dt 0.011) */
+void test_feather_app_duration_end_time(void)
+{
+    char dir[64] = "/tmp/plume-feather-XXXXXX", args[512], out[16384], errs[8192], path[256];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    const struct {
+        const char *scene, *duration;
+        double t;
+        long steps, frames;
+    } cases[] = {{"../data/shell/strip_scene.json", "0.035", 0.035, 4, 3},
+                 {"../data/shell/strip_scene.json", "0.04", 0.04, 4, 3},
+                 {"../data/feather/scene_anisotropic.json", "0.05", 0.05, 5, 6}};
+    for (int c = 0; c < 3; c++) {
+        snprintf(args, sizeof args, "%s --duration %s -o %s/%d --json --quiet", cases[c].scene, cases[c].duration, dir, c);
+        CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
+        json_error_t je;
+        json_t *j = json_loads(out, 0, &je);
+        CHECK(j != NULL);
+        if (!j) {
+            fprintf(stderr, "    stdout: %s\n    stderr: %s\n", out, errs);
+            continue;
+        }
+        double t = json_real_value(json_object_get(j, "time"));
+        fprintf(stderr, "    %s --duration %s: t = %.17g after %lld steps, %lld frames\n", cases[c].scene,
+                cases[c].duration, t, (long long)json_integer_value(json_object_get(j, "steps")),
+                (long long)json_integer_value(json_object_get(j, "frames")));
+        CHECK_REL(t, cases[c].t, 1e-12, 0.0);
+        CHECK(json_integer_value(json_object_get(j, "steps")) == cases[c].steps);
+        CHECK(json_integer_value(json_object_get(j, "frames")) == cases[c].frames);
+        json_decref(j);
+        /* the frames file's last frame is the end state */
+        plume_frame f = {0};
+        plume_err err;
+        snprintf(path, sizeof path, "%s/%d/frames.h5", dir, c);
+        CHECK(plume_frames_read(path, -1, &f, &err) == PLUME_OK);
+        CHECK_REL(f.t, cases[c].t, 1e-12, 0.0);
+        CHECK(f.index == cases[c].frames - 1);
+        plume_frame_free(&f);
+    }
+    rm_rf(dir);
+}
