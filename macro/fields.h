@@ -23,11 +23,15 @@ typedef struct {
     const double *membrane_energy;  /* [nt] membrane energy per reference area, J/m^2 */
     const double *bending_energy;   /* [nt] bending energy per reference area, J/m^2 (0 without bending) */
     const double *J;                /* [nt] deformed over reference area */
-    const double *mean_curvature;   /* [nt] 1/m, from the dihedral angles of the triangle's edges
-                                       (sum over its interior edges of theta |e| / 4, over its area;
+    const double *mean_curvature;   /* [nt] 1/m, from the dihedral angles theta of the interior
+                                       edges: theta |e| / 4 to each end vertex, over a third of its
+                                       triangles' area, averaged over the triangle's vertices;
                                        positive where the surface bends away from its normals,
-                                       e.g. +1/(2R) on a cylinder with outward normals; 0 in
-                                       planar mode) */
+                                       e.g. +1/(2R) on a cylinder with outward normals; creases
+                                       (|theta| > pi / 2) left out; 0 in planar mode
+                                       (docs/paraview-output.md) */
+    const double *crease_angle;     /* [nt] rad: the largest |theta| > pi / 2 across the triangle's
+                                       interior edges (it is folded over a neighbour), else 0 */
     const double *barb_strain;      /* [nbarb] |x_a - x_b| / L - 1 of each constrained barb edge:
                                        the inextensibility constraint's violation */
 } plume_field_values;
