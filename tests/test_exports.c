@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "harness.h"
@@ -215,4 +216,62 @@ void test_exports_umbrella(void)
     }
     globfree(&g);
     free(umbrella);
+}
+
+static int sh(const char *fmt, const char *a, const char *b)
+{
+    /* numbered conversions only (%1$s: a, %2$s: b); a leading %1$.0s names a's type for the
+     * formats that use b alone */
+    char f[2560], cmd[4 * PATH_MAX];
+    snprintf(f, sizeof f, "%%1$.0s%s", fmt);
+    snprintf(cmd, sizeof cmd, f, a, b);
+    int rc = system(cmd);
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+/* The library as another C program uses it: `make install` into a fresh prefix, docs/example.c
+ * built with pkg-config against the shared library (it starts without LD_LIBRARY_PATH: plume.pc's
+ * run path) and against the static one (no libplume.so needed at all), both run to convergence;
+ * `make uninstall` leaves the prefix empty. */
+void test_exports_installed_example(void)
+{
+    names dyn = {0};
+    char lib[PATH_MAX];
+    if (!exported(&dyn, lib, sizeof lib)) {
+        fprintf(stderr, "    no libplume.so next to the runner: installed in the regular build (skipped)\n");
+        return;
+    }
+    names_free(&dyn);
+    char build[PATH_MAX], prefix[64] = "/tmp/plume-prefix-XXXXXX";
+    snprintf(build, sizeof build, "%s", lib);
+    *strrchr(build, '/') = 0;
+    if (!mkdtemp(prefix)) {
+        CHECK(0);
+        return;
+    }
+    /* the runner's own build directory: everything is up to date, install only copies */
+    CHECK(sh("make -s -C .. BUILD='%1$s' install PREFIX='%2$s' >'%2$s/make.log' 2>&1", build, prefix) == 0);
+    const char *env = "env -u LD_LIBRARY_PATH PKG_CONFIG_PATH='%2$s/lib/pkgconfig'";
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd,
+             "%s sh -c 'cc -std=c11 ../docs/example.c $(pkg-config --cflags --libs plume) -o %%2$s/shared' "
+             ">>'%%2$s/make.log' 2>&1",
+             env);
+    CHECK(sh(cmd, build, prefix) == 0);
+    snprintf(cmd, sizeof cmd,
+             "%s sh -c 'cc -std=c11 ../docs/example.c $(pkg-config --cflags plume) "
+             "$(pkg-config --variable=static_libs plume) -o %%2$s/static' >>'%%2$s/make.log' 2>&1",
+             env);
+    CHECK(sh(cmd, build, prefix) == 0);
+    /* both run from elsewhere, the loader told nothing; the static one needs no libplume */
+    CHECK(sh("cd / && env -u LD_LIBRARY_PATH '%2$s/shared' 2>&1 | tail -n 1 | grep -q 'converged: 1'", build, prefix) == 0);
+    CHECK(sh("cd / && env -u LD_LIBRARY_PATH '%2$s/static' 2>&1 | tail -n 1 | grep -q 'converged: 1'", build, prefix) == 0);
+    CHECK(sh("readelf -d '%2$s/shared' | grep NEEDED | grep -q libplume.so.0", build, prefix) == 0);
+    CHECK(sh("readelf -d '%2$s/static' | grep NEEDED | grep -q libplume", build, prefix) != 0);
+    CHECK(sh("make -s -C .. BUILD='%1$s' uninstall PREFIX='%2$s' >>'%2$s/make.log' 2>&1", build, prefix) == 0);
+    CHECK(sh("test -z \"$(find '%2$s' \\( -type f -o -type l \\) -not -name shared -not -name static "
+             "-not -name make.log)\"", build, prefix) == 0);
+    if (plume_test_failures)
+        sh("sed 's/^/    /' '%2$s/make.log' | tail -n 20 >&2", build, prefix);
+    sh("rm -rf '%2$s'", build, prefix);
 }
