@@ -75,9 +75,39 @@ static void installed_headers(glob_t *g)
         glob(pattern[i], i ? GLOB_APPEND : 0, NULL, g);
 }
 
+/* Whether a line (comments blanked) is the prototype of a plume_ function without PLUME_API: type
+ * words, then the name, then '(' (typedefs, static inline definitions and macros excepted). A
+ * public function without the macro would silently stay inside the library. */
+static int unmarked_prototype(const char *line, char *name, size_t n)
+{
+    while (*line == ' ')
+        line++;
+    static const char *const skip[] = {"typedef", "static", "#", "return", "PLUME_API", "extern"};
+    for (size_t i = 0; i < sizeof skip / sizeof skip[0]; i++)
+        if (!strncmp(line, skip[i], strlen(skip[i])))
+            return 0;
+    const char *paren = strchr(line, '(');
+    if (!paren)
+        return 0;
+    const char *e = paren;
+    while (e > line && e[-1] == ' ')
+        e--;
+    const char *b = e;
+    while (b > line && ident(b[-1]))
+        b--;
+    if (b == line || e - b < 7 || strncmp(b, "plume_", 6) != 0)
+        return 0;
+    for (const char *p = line; p < b; p++) /* only type words before the name */
+        if (!ident(*p) && *p != ' ' && *p != '*')
+            return 0;
+    snprintf(name, n, "%.*s", (int)(e - b), b);
+    return 1;
+}
+
 /* The functions an installed header declares PLUME_API: the name before the first '(' after the
- * macro, comments blanked first. */
-static void declared_api(names *api)
+ * macro, comments blanked first. Prototypes of plume_ functions without it are counted in
+ * *unmarked, and named. */
+static void declared_api(names *api, int *unmarked)
 {
     glob_t g;
     installed_headers(&g);
@@ -99,6 +129,18 @@ static void declared_api(names *api)
                 if (!*p)
                     break;
             }
+        }
+        for (char *line = s; line && *line;) {
+            char *nl = strchr(line, '\n'), name[128];
+            if (nl)
+                *nl = 0;
+            if (unmarked_prototype(line, name, sizeof name)) {
+                fprintf(stderr, "    %s: %s is declared without PLUME_API\n", g.gl_pathv[h] + 3, name);
+                (*unmarked)++;
+            }
+            if (nl)
+                *nl = '\n';
+            line = nl ? nl + 1 : NULL;
         }
         for (char *p = strstr(s, "PLUME_API"); p; p = strstr(p + 1, "PLUME_API")) {
             if ((p > s && ident(p[-1])) || ident(p[9]))
@@ -154,7 +196,9 @@ void test_exports_only_the_api(void)
 {
     names api = {0}, dyn = {0};
     char lib[PATH_MAX];
-    declared_api(&api);
+    int unmarked = 0;
+    declared_api(&api, &unmarked);
+    CHECK(unmarked == 0);
     if (!exported(&dyn, lib, sizeof lib)) {
         /* the sanitizer build links the runner alone, without a shared library */
         fprintf(stderr, "    no libplume.so next to the runner: the exported set is checked in the regular build "
