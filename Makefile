@@ -18,8 +18,10 @@ SOFILE := libplume.so.$(VERSION_MAJOR).$(VERSION_MINOR)
 PKG_CFLAGS := $(shell pkg-config --cflags $(DEPS_PKGS) 2>/dev/null)
 PKG_LIBS := $(shell pkg-config --libs $(DEPS_PKGS) 2>/dev/null)
 CPPFLAGS += -Ilib -I/usr/include/suitesparse $(PKG_CFLAGS)
-CFLAGS += -std=c11 -Wall -Wextra -Wpedantic -fPIC $(OPT) -D_POSIX_C_SOURCE=200809L
-CXXFLAGS += -std=c++17 -Wall -Wextra -fPIC $(OPT)
+# -fvisibility=hidden: libplume.so exports only what an installed header marks PLUME_API
+# (lib/export.h); the internal functions the apps and tests call come from libplume.a
+CFLAGS += -std=c11 -Wall -Wextra -Wpedantic -fPIC -fvisibility=hidden $(OPT) -D_POSIX_C_SOURCE=200809L
+CXXFLAGS += -std=c++17 -Wall -Wextra -fPIC -fvisibility=hidden -fvisibility-inlines-hidden $(OPT)
 LDLIBS += -lcholmod -lsuitesparseconfig $(PKG_LIBS) -lgmp -lmpfr -lgomp -lstdc++ -lm
 
 LIB_C := $(wildcard lib/*.c) $(wildcard lib/io/*.c) $(wildcard micro/*.c) $(wildcard macro/*.c)
@@ -55,8 +57,8 @@ $(BUILD)/libplume.a: $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
-$(BUILD)/$(SOFILE): $(LIB_OBJ)
-	$(CXX) -shared -Wl,-soname,$(SONAME) -o $@ $^ $(LDFLAGS) $(LDLIBS)
+$(BUILD)/$(SOFILE): $(LIB_OBJ) lib/libplume.map
+	$(CXX) -shared -Wl,-soname,$(SONAME) -Wl,--version-script,lib/libplume.map -o $@ $(LIB_OBJ) $(LDFLAGS) $(LDLIBS)
 
 $(BUILD)/libplume.so: $(BUILD)/$(SOFILE)
 	ln -sf $(SOFILE) $@

@@ -3,12 +3,14 @@
 #define PLUME_APPS_CLI_H
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 /* What an app's parse_args returns after printing --help (main then exits 0): a flag parser
  * never exits by itself, so it can be fuzzed (tests/fuzz/fuzz_cli_*.c). */
@@ -46,6 +48,56 @@ static inline int cli_fail(const char *app, const char *fmt, ...)
     fprintf(stderr, "\n");
     va_end(ap);
     return 2;
+}
+
+/* Whether a new file can be created in the existing directory dir: a probe file made and removed
+ * (access() is not enough: it says yes to root on a read-only file system). 0, or -1 with errno. */
+static inline int cli_dir_writable(const char *dir)
+{
+    char probe[4200];
+    snprintf(probe, sizeof probe, "%s/.plume-probe.%ld", dir, (long)getpid());
+    int fd = open(probe, O_WRONLY | O_CREAT | O_EXCL, 0600);
+    if (fd < 0)
+        return -1;
+    close(fd);
+    unlink(probe);
+    return 0;
+}
+
+/* Outputs are prepared before anything is solved, so that a run never ends by failing to write
+ * its result. The output directory dir of `flag`, created with its parents, and writable: 0, or
+ * the exit code of bad input after a message naming the flag and the path. */
+static inline int cli_output_dir(const char *app, const char *flag, const char *dir)
+{
+    if (cli_make_dirs(dir) != 0)
+        return cli_fail(app, "%s %s: cannot create the directory: %s", flag, dir, strerror(errno));
+    if (cli_dir_writable(dir) != 0)
+        return cli_fail(app, "%s %s: cannot write in the directory: %s", flag, dir, strerror(errno));
+    return 0;
+}
+
+/* The same for the output file `path` of `flag`: its folder created with its parents and
+ * writable (files are written beside their final name, then renamed), path not a directory. */
+static inline int cli_output_file(const char *app, const char *flag, const char *path)
+{
+    char dir[4096];
+    const char *slash = strrchr(path, '/');
+    if (!*path)
+        return cli_fail(app, "%s expects a file name", flag);
+    if (!slash)
+        snprintf(dir, sizeof dir, ".");
+    else if (slash == path)
+        snprintf(dir, sizeof dir, "/");
+    else if (snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path) >= (int)sizeof dir)
+        return cli_fail(app, "%s %s: the path is too long", flag, path);
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+        return cli_fail(app, "%s %s: a directory, not a file", flag, path);
+    if (cli_make_dirs(dir) != 0)
+        return cli_fail(app, "%s %s: cannot create the directory '%s': %s", flag, path, dir, strerror(errno));
+    if (cli_dir_writable(dir) != 0)
+        return cli_fail(app, "%s %s: cannot write in the directory '%s': %s", flag, path, dir, strerror(errno));
+    return 0;
 }
 
 /* A finite number for `flag`, or an error naming it. */

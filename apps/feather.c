@@ -32,7 +32,8 @@ static const char usage[] =
     "                      densities, J, curvature; DIR/frame_barbs_*.vtu the barb edges' strain), DIR/frames.h5,\n"
     "                      DIR/frame_XXXXX.png\n"
     "  --frames N          compute N output frames (N x output_every steps), instead of the scene's duration\n"
-    "  --duration T        simulate until time T (s), instead of the scene's duration\n"
+    "  --duration T        simulate until time T (s), instead of the scene's duration: steps of dt, the last one\n"
+    "                      shortened to end at T when dt does not divide it; the end state is always a frame\n"
     "  --restart FILE.h5   continue from the last frame of a frames file (time, x, v, multipliers) and append\n"
     "                      to DIR/frames.h5 (FILE.h5 is copied there first if it is another file)\n"
     "  --solver S          newton | ipopt | linearized (overrides the scene's \"solver\")\n"
@@ -326,6 +327,8 @@ int main(int argc, char **argv)
     output_ctx oc = {scene, outdir, frames_path, stem, NULL};
 
     scene->verbose = o.verbose;
+    if ((rc = cli_output_dir(APP, "-o", outdir)) != 0)
+        goto done;
     if ((st = plume_scene_dynamics_contact(scene, &p, &d, &contact, &err)) != PLUME_OK) {
         rc = st == PLUME_EINVAL || st == PLUME_EFORMAT ? cli_fail(APP, "%s: %s", o.scene, err.msg)
                                                        : run_fail("%s", err.msg);
@@ -334,10 +337,6 @@ int main(int argc, char **argv)
     const plume_mesh *mesh = scene->mesh;
     plume_index ncons;
     plume_dynamics_multipliers(d, &ncons);
-    if (cli_make_dirs(outdir) != 0) {
-        rc = run_fail("cannot create the output directory '%s': %s", outdir, strerror(errno));
-        goto done;
-    }
     if ((st = plume_scene_fields(scene, &oc.fields, &err)) != PLUME_OK) {
         rc = run_fail("%s", err.msg);
         goto done;
@@ -361,8 +360,8 @@ int main(int argc, char **argv)
         if (fabs(info.dt - dt) > 1e-12 * dt)
             fprintf(stderr, "%s: warning: '%s' was written with dt = %g s, the scene now has %g s\n", APP, o.restart,
                     info.dt, dt);
-        if ((st = plume_dynamics_set_state(d, last.t, last.x, last.v, last.lambda)) != PLUME_OK) {
-            rc = cli_fail(APP, "--restart: the last frame of '%s' holds non-finite values", o.restart);
+        if ((st = plume_dynamics_set_state(d, last.t, last.x, last.v, last.lambda, &err)) != PLUME_OK) {
+            rc = cli_fail(APP, "--restart: the last frame of '%s': %s", o.restart, err.msg);
             goto done;
         }
         if (!same_file(o.restart, frames_path) && copy_file(o.restart, frames_path) != 0) {
@@ -390,15 +389,20 @@ int main(int argc, char **argv)
         next_frame = 1;
     }
 
-    /* how many steps: N frames, or up to an end time counted in whole steps from t = 0 */
+    /* how many steps: N frames, or up to the end time: whole steps of dt, then one shorter step
+     * that lands on the end time when dt does not divide what is left (1e-9 of a step is round-off,
+     * not a step); the run's last state is always a frame */
     long nsteps;
+    double end = -1.0;
+    int last_short = 0;
     if (o.frames > 0)
         nsteps = (long)o.frames * scene->output_every;
     else {
-        double end = o.duration > 0.0 ? o.duration : scene->duration;
-        nsteps = (long)floor(end / dt + 0.5) - step;
-        if (nsteps < 0)
-            nsteps = 0;
+        end = o.duration > 0.0 ? o.duration : scene->duration;
+        double left = (end - plume_dynamics_time(d)) / dt;
+        nsteps = left > 1e-9 ? (long)floor(left + 1e-9) : 0;
+        if (left > 1e-9 && left - (double)nsteps > 1e-9)
+            nsteps++, last_short = 1;
     }
 
     plume_progress prog;
@@ -416,8 +420,9 @@ int main(int argc, char **argv)
     for (long i = 1; i <= nsteps; i++) {
         plume_step_report rep;
         double t0 = plume_dynamics_time(d);
-        if ((st = plume_dynamics_advance(d, 0.0, &rep)) != PLUME_OK) {
-            rc = run_fail("step %ld: %s", step + 1, plume_strerror(st));
+        double h = i == nsteps && last_short ? end - t0 : dt;
+        if ((st = plume_dynamics_advance(d, h, &rep, &err)) != PLUME_OK) {
+            rc = run_fail("step %ld: %s", step + 1, err.msg);
             goto done;
         }
         halvings += rep.halvings;
@@ -444,7 +449,7 @@ int main(int argc, char **argv)
         }
         max_violation = fmax(max_violation, rep.max_violation);
         double t1 = plume_dynamics_time(d);
-        int advanced = fabs(t1 - (t0 + dt)) <= 1e-9 * fmax(dt, fabs(t1));
+        int advanced = fabs(t1 - (t0 + h)) <= 1e-9 * fmax(dt, fabs(t1));
         if (!rep.converged) {
             converged = 0;
             /* linearized takes one unconverged step by design: only a step that did not advance fails */
@@ -463,7 +468,7 @@ int main(int argc, char **argv)
         }
         step++;
         done_steps++;
-        if (step % scene->output_every == 0) {
+        if (step % scene->output_every == 0 || i == nsteps) {
             if ((rc = write_frame(&oc, d, next_frame, step, 1, &fm)) != 0)
                 goto done;
             frame_measures_reset(&fm, scene);

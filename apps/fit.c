@@ -230,6 +230,14 @@ int main(int argc, char **argv)
         schedule_finalize();
         return rc0 == CLI_HELP ? 0 : rc0;
     }
+    /* rank 0 writes; every rank stops on a bad output before the fit */
+    int bad_out = 0;
+    if (rank == 0)
+        bad_out = (o.out && cli_output_file(APP, "-o", o.out)) || (o.plot && cli_output_file(APP, "--plot", o.plot));
+    if (schedule_share(bad_out)) {
+        schedule_finalize();
+        return 2;
+    }
     const char *const *targets = o.targets;
     double *angles = o.angles;
     int nt = o.nt, json = o.json, constraint = o.constraint, steps = o.steps;

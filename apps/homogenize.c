@@ -180,6 +180,10 @@ int main(int argc, char **argv)
     int rc0 = parse_args(argc, argv, &o);
     if (rc0)
         return rc0 == CLI_HELP ? 0 : rc0;
+    if ((o.out && (rc0 = cli_output_file(APP, "-o", o.out))) ||
+        (o.plot && (rc0 = cli_output_file(APP, "--plot", o.plot))) ||
+        (o.vtk_dir && (rc0 = cli_output_dir(APP, "--vtk", o.vtk_dir))))
+        return rc0;
     plume_layout l = o.l;
     plume_homog_opts ho = o.ho;
     const char *out = o.out, *plot = o.plot;

@@ -161,10 +161,8 @@ int main(int argc, char **argv)
     if (o.globalization)
         plume_globalization_parse(o.globalization, &scene->globalization);
     scene->verbose = o.verbose;
-    if (o.outdir && mkdir(o.outdir, 0777) != 0 && errno != EEXIST) {
-        rc = cli_fail(APP, "-o %s: cannot create the directory: %s", o.outdir, strerror(errno));
+    if (o.outdir && (rc = cli_output_dir(APP, "-o", o.outdir)))
         goto done;
-    }
     if ((s = plume_scene_statics(scene, &p, &st, &err)) != PLUME_OK) {
         fprintf(stderr, "%s: %s\n", APP, err.msg);
         rc = s == PLUME_EINVAL ? 2 : 1;

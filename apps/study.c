@@ -984,16 +984,11 @@ int main(int argc, char **argv)
     }
     /* the output directory first (rank 0), so that a bad one stops the study before its runs */
     int bad_dir = 0;
-    if (rank == 0) {
-        struct stat sb;
-        if (mkdir(s.dir, 0777) != 0 && errno != EEXIST)
-            bad_dir = 1, fprintf(stderr, "study: cannot create %s: %s\n", s.dir, strerror(errno));
-        else if (stat(s.dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
-            bad_dir = 1, fprintf(stderr, "study: %s is not a directory\n", s.dir);
-    }
+    if (rank == 0)
+        bad_dir = cli_output_dir("study", "-o", s.dir) != 0;
     if (schedule_share(bad_dir)) {
         schedule_finalize();
-        return 1;
+        return 2;
     }
     snprintf(s.h5, sizeof s.h5, "%s/study.h5", s.dir);
     /* the runs: planned on every rank (the same walk), executed over the ranks */

@@ -211,6 +211,8 @@ int main(int argc, char **argv)
     }
     if (plume_sweep_load(o.sweep, samples, &s, &err) != PLUME_OK)
         rc = rank == 0 ? cli_fail(APP, "%s", err.msg) : 2;
+    else if (rank == 0 && ((rc = cli_output_file(APP, "-o", o.out)) == 0) && o.summary)
+        rc = cli_output_file(APP, "--summary", o.summary);
     unsigned char *done = NULL;
     int *todo = NULL, ntodo = 0;
     if (!rc && rank == 0) {

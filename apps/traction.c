@@ -405,6 +405,10 @@ int main(int argc, char **argv)
     int rc = parse_args(argc, argv, &o);
     if (rc)
         return rc == CLI_HELP ? 0 : rc;
+    if ((o.out && (rc = cli_output_file("traction", "-o", o.out))) ||
+        (o.plot && (rc = cli_output_file("traction", "--plot", o.plot))) ||
+        (o.vtk && (rc = cli_output_dir("traction", "--vtk", o.vtk))))
+        return rc;
     plume_err err = {{0}};
     plume_status st;
     double angle;

@@ -92,7 +92,7 @@ int main(int argc, char **argv)
         plume_contact_pairs pairs = {0};
         for (; steps < STEPS && ok; steps++) {
             plume_step_report rep;
-            if (plume_dynamics_advance(d, 0.0, &rep) != PLUME_OK)
+            if (plume_dynamics_advance(d, 0.0, &rep, NULL) != PLUME_OK)
                 break;
             iterations += rep.iterations, halvings += rep.halvings, seconds += rep.seconds, limited += rep.step_limited;
             ok = rep.converged;

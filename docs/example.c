@@ -1,5 +1,9 @@
 /* A C program that links libplume: the tilted traction test of a vane with barbs at 45 degrees.
- * Build:  cc example.c $(pkg-config --cflags --libs --static plume) -o example */
+ * Build against the shared library (plume.pc carries its run path, so the program starts without
+ * LD_LIBRARY_PATH; set PKG_CONFIG_PATH=PREFIX/lib/pkgconfig when PREFIX is not a system one):
+ *     cc example.c $(pkg-config --cflags --libs plume) -o example
+ * or against the static one (nothing of plume's to find at run time):
+ *     cc example.c $(pkg-config --cflags plume) $(pkg-config --variable=static_libs plume) -o example */
 #include <stdio.h>
 #include <stdlib.h>
 

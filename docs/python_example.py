@@ -4,7 +4,8 @@ stress-strain curves.
 
     PYTHONPATH=python PLUME_LIBRARY=build/libplume.so python3 docs/python_example.py [out.png]
 
-(or `pip install ./python` after `make install`). Units are SI: Pa, m, degrees.
+(or `pip install './python[plot]'` after `make install`: the `plot` extra brings matplotlib, which
+this example needs and the package does not). Units are SI: Pa, m, degrees.
 """
 import sys
 

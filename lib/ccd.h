@@ -16,6 +16,7 @@
 #ifndef PLUME_CCD_H
 #define PLUME_CCD_H
 
+#include "export.h"
 #include "status.h"
 
 #ifdef __cplusplus
@@ -38,7 +39,7 @@ typedef struct {
     double gap_toi;   /* d(toi) - xi as evaluated (first step: certified analytically) */
 } plume_ccd_report;
 
-void plume_ccd_opts_default(plume_ccd_opts *o);
+PLUME_API void plume_ccd_opts_default(plume_ccd_opts *o);
 
 /* Conservative time of impact of a point–triangle pair over [0, t_max] (0 < t_max <= 1).
  * On PLUME_OK, *toi in (0, t_max] with
@@ -47,12 +48,12 @@ void plume_ccd_opts_default(plume_ccd_opts *o);
  * the pair has no relative motion. A pair already at gap(0) <= 0 returns PLUME_EINFEASIBLE with
  * *toi = 0 (no step is safe). PLUME_EINVAL: NULL x0, x1, toi, non-finite coordinates, t_max
  * outside (0, 1], options out of range (o NULL means the defaults). rep may be NULL. */
-plume_status plume_ccd_point_triangle(const double x0[12], const double x1[12], double t_max,
-                                      const plume_ccd_opts *o, double *toi, plume_ccd_report *rep);
+PLUME_API plume_status plume_ccd_point_triangle(const double x0[12], const double x1[12], double t_max,
+                                                const plume_ccd_opts *o, double *toi, plume_ccd_report *rep);
 
 /* The same for an edge–edge pair (ea0, ea1, eb0, eb1), including parallel and zero-length edges. */
-plume_status plume_ccd_edge_edge(const double x0[12], const double x1[12], double t_max,
-                                 const plume_ccd_opts *o, double *toi, plume_ccd_report *rep);
+PLUME_API plume_status plume_ccd_edge_edge(const double x0[12], const double x1[12], double t_max,
+                                           const plume_ccd_opts *o, double *toi, plume_ccd_report *rep);
 
 #ifdef __cplusplus
 }

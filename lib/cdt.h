@@ -2,6 +2,7 @@
 #ifndef PLUME_CDT_H
 #define PLUME_CDT_H
 
+#include "export.h"
 #include "status.h"
 
 #ifdef __cplusplus
@@ -35,8 +36,8 @@ typedef struct {
 
 /* Triangulates; never throws; on failure returns PLUME_EINVAL (bad input: NaN, out-of-range
  * segment ids, zero points) or PLUME_EDEP (CGAL raised), with a message in err. */
-plume_status plume_cdt_triangulate(const plume_cdt_input *in, plume_cdt_output *out, plume_err *err);
-void plume_cdt_output_free(plume_cdt_output *out);
+PLUME_API plume_status plume_cdt_triangulate(const plume_cdt_input *in, plume_cdt_output *out, plume_err *err);
+PLUME_API void plume_cdt_output_free(plume_cdt_output *out);
 
 #ifdef __cplusplus
 }

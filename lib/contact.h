@@ -1,4 +1,4 @@
-/* plume: contact between shells as one energy term (DESIGN.md "Contact (many feathers)"):
+/* plume: contact between shells as one energy term (docs/design.md "Contact (many feathers)"):
  * point–triangle and edge–edge pairs of a triangle surface closer than dhat, with the barrier
  * kappa b(d) (incremental potential contact) or the paper's penalty stiffness (dhat - d)^2 / 2.
  * The term's stencils follow the state (plume_term.update: candidates from the CGAL broad phase,
@@ -8,6 +8,7 @@
 #ifndef PLUME_CONTACT_H
 #define PLUME_CONTACT_H
 
+#include "export.h"
 #include "ccd.h"
 #include "contact_broad.h"
 #include "contact_narrow.h"
@@ -28,10 +29,10 @@ typedef struct {
     plume_ccd_opts ccd;      /* the barrier's step limit; defaults of ccd.h */
 } plume_contact_term_opts;
 
-void plume_contact_term_opts_default(plume_contact_term_opts *o);
+PLUME_API void plume_contact_term_opts_default(plume_contact_term_opts *o);
 
 /* "barrier" or "penalty" (a static string; "unknown" for anything else). */
-const char *plume_contact_model_name(plume_contact_model m);
+PLUME_API const char *plume_contact_model_name(plume_contact_model m);
 
 /* What the term did (plume_contact_term_stats). */
 typedef struct {
@@ -51,24 +52,24 @@ typedef struct plume_contact plume_contact;
  * [3 nv] rest positions (the edge–edge mollifier's threshold). *out is ready for
  * plume_problem_add_term, which takes ownership; *handle (may be NULL) stays valid as long as the
  * problem and serves plume_contact_term_stats. Errors name what is wrong. */
-plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const plume_index *tri, const int *body,
-                                       const double *xrest, const plume_contact_term_opts *o, plume_term *out,
-                                       plume_contact **handle, plume_err *err);
+PLUME_API plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const plume_index *tri, const int *body,
+                                                 const double *xrest, const plume_contact_term_opts *o, plume_term *out,
+                                                 plume_contact **handle, plume_err *err);
 
-void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s);
+PLUME_API void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s);
 
 /* The pairs of the term's last update (lagged friction reads them): *npt point–triangle then *nee
  * edge–edge stencils of 4 vertices in *stencil, their activation distances in *dhat (dhat, or the
  * reduced one of a self pair within reach at rest), and the pair options in *opts. Valid until the
  * next update; any output may be NULL. */
-void plume_contact_term_pairs(const plume_contact *c, plume_index *npt, plume_index *nee, const plume_index **stencil,
-                              const double **dhat, plume_contact_opts *opts);
+PLUME_API void plume_contact_term_pairs(const plume_contact *c, plume_index *npt, plume_index *nee, const plume_index **stencil,
+                                        const double **dhat, plume_contact_opts *opts);
 
 /* A measure that does not trust the model: the smallest distance between non-adjacent primitives
  * (point–triangle and edge–edge pairs of the broad phase b, lib/contact_broad.h) at positions x,
  * or cap when no pair is closer than cap. */
-plume_status plume_contact_min_distance(plume_contact_broad *b, const double *x, double cap, double *dmin,
-                                        plume_err *err);
+PLUME_API plume_status plume_contact_min_distance(plume_contact_broad *b, const double *x, double cap, double *dmin,
+                                                  plume_err *err);
 
 #ifdef __cplusplus
 }

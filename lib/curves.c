@@ -1,4 +1,4 @@
-/* plume: result curves and moduli in HDF5 (DESIGN.md "Data and files"), written atomically.
+/* plume: result curves and moduli in HDF5 (docs/design.md "Data and files"), written atomically.
  *
  * Every public function here silences HDF5's automatic error-stack printing for its own duration
  * (and restores the caller's handler), so failures surface only as a plume_status and a message
@@ -165,7 +165,7 @@ cleanup:
 /* Fills an open, writable file; returns a status with `err` set on failure. */
 typedef plume_status (*fill_fn)(hid_t fid, const char *path, const void *ctx, plume_err *err);
 
-/* The atomic-write protocol of DESIGN.md: build "<path>.tmp.<pid>" (a byte copy of `path` when
+/* The atomic-write protocol of docs/design.md: build "<path>.tmp.<pid>" (a byte copy of `path` when
  * it exists, so its other content survives), let `fill` edit it, close, fsync and rename over
  * `path`. On any failure the temporary file is removed and `path` is untouched. */
 static plume_status atomic_write(const char *path, const char *what, fill_fn fill, const void *ctx,
@@ -524,7 +524,7 @@ static double *moduli_field(plume_ortho *m, int i)
 
 /* Checks the moduli describe a usable orthotropic material; on failure fills `why` with the
  * offending attribute and value. Beyond finiteness and positivity, the plane-stress tensor of
- * DESIGN.md is positive definite only if nu_xy nu_yx = nu_xy^2 E_yy / E_xx < 1. */
+ * docs/design.md is positive definite only if nu_xy nu_yx = nu_xy^2 E_yy / E_xx < 1. */
 static int moduli_invalid(const plume_ortho *m, char *why, size_t len)
 {
     plume_ortho c = *m;

@@ -1,7 +1,8 @@
-/* plume: result curves and moduli in HDF5 (layout of DESIGN.md), written atomically. */
+/* plume: result curves and moduli in HDF5 (layout of docs/design.md), written atomically. */
 #ifndef PLUME_CURVES_H
 #define PLUME_CURVES_H
 
+#include "export.h"
 #include "status.h"
 
 #ifdef __cplusplus
@@ -39,26 +40,26 @@ typedef struct {
 /* Writes `curve` as /curves/<scale>/<scenario>/{strain,stress,wbar,iterations,seconds} with the
  * parameters as attributes of the group. If `path` exists its other content is kept (a group of
  * the same name is replaced). Written to a temporary file and renamed over `path`. */
-plume_status plume_curve_write(const char *path, const char *scale, const char *scenario,
-                               const plume_curve *curve, const plume_param *params, int nparams,
-                               const plume_sparam *sparams, int nsparams, plume_err *err);
-plume_status plume_curve_read(const char *path, const char *scale, const char *scenario,
-                              plume_curve *curve, plume_err *err);
-void plume_curve_free(plume_curve *curve);
+PLUME_API plume_status plume_curve_write(const char *path, const char *scale, const char *scenario,
+                                         const plume_curve *curve, const plume_param *params, int nparams,
+                                         const plume_sparam *sparams, int nsparams, plume_err *err);
+PLUME_API plume_status plume_curve_read(const char *path, const char *scale, const char *scenario,
+                                        plume_curve *curve, plume_err *err);
+PLUME_API void plume_curve_free(plume_curve *curve);
 
 /* /moduli with attributes E_xx, E_yy, nu_xy, G_xy and a string attribute "provenance". */
-plume_status plume_moduli_write(const char *path, const plume_ortho *m, const char *provenance,
-                                plume_err *err);
+PLUME_API plume_status plume_moduli_write(const char *path, const plume_ortho *m, const char *provenance,
+                                          plume_err *err);
 /* The same with extra numeric attributes of /moduli (how converged the moduli are, the mesh);
  * their names may not be the moduli's, "units" or "provenance" (PLUME_EINVAL). */
-plume_status plume_moduli_write_params(const char *path, const plume_ortho *m, const char *provenance,
-                                       const plume_param *params, int nparams, plume_err *err);
+PLUME_API plume_status plume_moduli_write_params(const char *path, const plume_ortho *m, const char *provenance,
+                                                 const plume_param *params, int nparams, plume_err *err);
 /* Reads /moduli; validates that the moduli are finite and positive (nu finite). */
-plume_status plume_moduli_read(const char *path, plume_ortho *m, plume_err *err);
+PLUME_API plume_status plume_moduli_read(const char *path, plume_ortho *m, plume_err *err);
 /* Reads one extra numeric attribute of /moduli (e.g. "D_long", written by apps/homogenize) into
  * *value, unchecked. PLUME_EIO (unreadable file), PLUME_EFORMAT (no /moduli, attribute missing or
  * not a single number), each message naming the file and the attribute. */
-plume_status plume_moduli_read_param(const char *path, const char *name, double *value, plume_err *err);
+PLUME_API plume_status plume_moduli_read_param(const char *path, const char *name, double *value, plume_err *err);
 
 #ifdef __cplusplus
 }

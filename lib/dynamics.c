@@ -239,8 +239,9 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
                 plume_problem_fix_dof(p, 3 * d->handles[h].vertices[i] + a);
     if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
         goto fail;
-    if ((st = plume_solver_create(o->solver, p, &o->solver_opts, &d->s)) != PLUME_OK) {
-        plume_err_set(err, st, "dynamics: cannot create the %s solver", plume_solver_kind_name(o->solver));
+    plume_err why;
+    if ((st = plume_solver_create(o->solver, p, &o->solver_opts, &d->s, &why)) != PLUME_OK) {
+        plume_err_set(err, st, "dynamics: cannot create the %s solver: %s", plume_solver_kind_name(o->solver), why.msg);
         goto fail;
     }
     d->n = plume_problem_nfree(p);
@@ -269,14 +270,13 @@ fail:
 
 /* Terms whose stencils follow the state (contact) at the problem's x: a new pattern needs a new
  * solver (its symbolic analysis); *changed says whether it happened. */
-static plume_status refresh_stencils(plume_dynamics *d, int *changed)
+static plume_status refresh_stencils(plume_dynamics *d, int *changed, plume_err *err)
 {
-    plume_err err;
-    plume_status st = plume_problem_update_terms(d->p, changed, &err);
+    plume_status st = plume_problem_update_terms(d->p, changed, err);
     if (st != PLUME_OK || !*changed)
         return st;
     plume_solver_destroy(&d->s);
-    return plume_solver_create(d->o.solver, d->p, &d->o.solver_opts, &d->s);
+    return plume_solver_create(d->o.solver, d->p, &d->o.solver_opts, &d->s, err);
 }
 
 /* Where a step with terms that limit steps (contact with CCD) starts: at the handles' targets and
@@ -325,7 +325,7 @@ static plume_status safe_start(plume_dynamics *d, const double *xh, int *safe, i
 }
 
 /* One implicit Euler step of size dt from the current state; 1 when it converged. */
-static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *rep, int *ok)
+static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *rep, int *ok, plume_err *err)
 {
     plume_index nv = d->mesh->nv;
     inertia_ctx *in = d->inertia;
@@ -333,7 +333,8 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
     int limits = plume_problem_limits_steps(d->p);
     plume_status st = plume_problem_lag_terms(d->p, d->x); /* friction lags at x_n */
     if (st != PLUME_OK)
-        return st;
+        return plume_err_set(err, st, "dynamics: the terms could not take the state at t = %g (%s)", d->t,
+                             plume_strerror(st));
     for (plume_index i = 0; i < 3 * nv; i++)
         in->xt[i] = xh[i] = d->x[i] + dt * d->v[i];
     in->inv_dt2 = 1.0 / (dt * dt);
@@ -344,7 +345,8 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
         int safe = 1, limited = 0;
         memcpy(x, d->x, (size_t)(3 * nv) * sizeof *x);
         if ((st = safe_start(d, xh, &safe, &limited)) != PLUME_OK)
-            return st;
+            return plume_err_set(err, st, "dynamics: collision detection failed at t = %g (%s)", d->t,
+                                 plume_strerror(st));
         rep->step_limited += limited;
         if (!safe) {
             *ok = 0;
@@ -356,7 +358,7 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
         memcpy(x, xh, (size_t)(3 * nv) * sizeof *x);
     }
     int changed = 0;
-    if ((st = refresh_stencils(d, &changed)) != PLUME_OK)
+    if ((st = refresh_stencils(d, &changed, err)) != PLUME_OK)
         return st;
     plume_problem_gather(d->p, d->u);
     plume_solve_report sr;
@@ -364,14 +366,15 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
     /* a pair that came within reach during the solve is not among the stencils: solve again with
      * it (at most twice more; the solution then includes every pair it touches) */
     for (int again = 0; st == PLUME_OK && sr.converged && again < 2; again++) {
-        if ((st = refresh_stencils(d, &changed)) != PLUME_OK || !changed)
+        if ((st = refresh_stencils(d, &changed, err)) != PLUME_OK || !changed)
             break;
         rep->iterations += sr.iterations;
         plume_problem_gather(d->p, d->u);
         st = plume_solver_solve(d->s, d->u, d->lambda, &sr);
     }
     if (st != PLUME_OK)
-        return st;
+        return plume_err_set(err, st, "dynamics: the %s solver failed at t = %g (%s)", plume_solver_kind_name(d->o.solver),
+                             d->t, plume_strerror(st));
     rep->iterations += sr.iterations;
     rep->backtracks += sr.backtracks;
     rep->shifts += sr.shifts;
@@ -395,14 +398,14 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
 }
 
 /* dt, halved recursively on failure */
-static plume_status advance_rec(plume_dynamics *d, double dt, int depth, plume_step_report *rep)
+static plume_status advance_rec(plume_dynamics *d, double dt, int depth, plume_step_report *rep, plume_err *err)
 {
     size_t nd = (size_t)(3 * d->mesh->nv);
     memcpy(d->xsave, d->x, nd * sizeof *d->x);
     memcpy(d->vsave, d->v, nd * sizeof *d->v);
     memcpy(d->lsave, d->lambda, (size_t)d->m * sizeof *d->lambda);
     int ok = 0;
-    plume_status st = try_step(d, dt, rep, &ok);
+    plume_status st = try_step(d, dt, rep, &ok, err);
     if (st != PLUME_OK || ok)
         return st;
     /* failed: restore and halve */
@@ -414,20 +417,22 @@ static plume_status advance_rec(plume_dynamics *d, double dt, int depth, plume_s
         return PLUME_OK;
     }
     rep->halvings++;
-    if ((st = advance_rec(d, 0.5 * dt, depth + 1, rep)) != PLUME_OK || !rep->converged)
+    if ((st = advance_rec(d, 0.5 * dt, depth + 1, rep, err)) != PLUME_OK || !rep->converged)
         return st;
-    return advance_rec(d, 0.5 * dt, depth + 1, rep);
+    return advance_rec(d, 0.5 * dt, depth + 1, rep, err);
 }
 
-plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep)
+plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep, plume_err *err)
 {
     if (!d || !rep)
-        return PLUME_EINVAL;
+        return plume_err_set(err, PLUME_EINVAL, "dynamics: invalid arguments (stepper and report are required)");
+    if (!isfinite(dt))
+        return plume_err_set(err, PLUME_EINVAL, "dynamics: the step must be finite (got %g)", dt);
     memset(rep, 0, sizeof *rep);
     rep->converged = 1;
     rep->reason = PLUME_REASON_CONVERGED;
     double t0 = plume_wall_seconds();
-    plume_status st = advance_rec(d, dt > 0.0 ? dt : d->o.dt, 0, rep);
+    plume_status st = advance_rec(d, dt > 0.0 ? dt : d->o.dt, 0, rep, err);
     /* leave the problem's x at the state (a failed attempt may have left a trial there) */
     memcpy(plume_problem_x(d->p), d->x, (size_t)(3 * d->mesh->nv) * sizeof *d->x);
     rep->seconds = plume_wall_seconds() - t0;
@@ -447,14 +452,17 @@ const double *plume_dynamics_multipliers(const plume_dynamics *d, plume_index *m
 }
 
 plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double *x, const double *v,
-                                      const double *lambda)
+                                      const double *lambda, plume_err *err)
 {
-    if (!d || !x || !v || !isfinite(t))
-        return PLUME_EINVAL;
+    if (!d || !x || !v)
+        return plume_err_set(err, PLUME_EINVAL, "dynamics: set_state needs the stepper, positions and velocities");
+    if (!isfinite(t))
+        return plume_err_set(err, PLUME_EINVAL, "dynamics: set_state: the time must be finite (got %g)", t);
     size_t nd = (size_t)(3 * d->mesh->nv);
     for (size_t i = 0; i < nd; i++)
         if (!isfinite(x[i]) || !isfinite(v[i]))
-            return PLUME_EINVAL;
+            return plume_err_set(err, PLUME_EINVAL, "dynamics: set_state: vertex %zu has a non-finite %s", i / 3,
+                                 isfinite(x[i]) ? "velocity" : "position");
     d->t = t;
     memcpy(d->x, x, nd * sizeof *d->x);
     memcpy(d->v, v, nd * sizeof *d->v);

@@ -1,4 +1,4 @@
-/* plume: implicit Euler as a constrained minimisation (DESIGN.md "Dynamics", supplementary §3):
+/* plume: implicit Euler as a constrained minimisation (docs/design.md "Dynamics", supplementary §3):
  *   x_{n+1} = argmin 1/(2 dt^2) (x - x~)^T M (x - x~) + W(x) - f_ext^T x  s.t. g(x) = 0,
  *   x~ = x_n + dt v_n, v_{n+1} = (x_{n+1} - x_n) / dt, M lumped,
  * with gravity, handles that move prescribed vertices along keyframed paths, and a step that
@@ -10,6 +10,7 @@
 #ifndef PLUME_DYNAMICS_H
 #define PLUME_DYNAMICS_H
 
+#include "export.h"
 #include "mesh.h"
 #include "problem.h"
 #include "solver.h"
@@ -40,7 +41,7 @@ typedef struct {
     plume_solver_opts solver_opts;
 } plume_dynamics_opts;
 
-void plume_dynamics_opts_default(plume_dynamics_opts *o);
+PLUME_API void plume_dynamics_opts_default(plume_dynamics_opts *o);
 
 typedef struct plume_dynamics plume_dynamics;
 
@@ -49,10 +50,10 @@ typedef struct plume_dynamics plume_dynamics;
  * surface densities (kg/m^2, indexed by material id), fixes the handles' vertices, finalises it
  * and creates the solver. The problem stays owned by the caller and must outlive the stepper.
  * Initial state: x = the problem's x (set it first, typically the rest shape), v = 0, t = 0. */
-plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, const double *density, int ndensity,
-                                   const plume_handle *handles, int nhandles, const plume_dynamics_opts *o,
-                                   plume_dynamics **out, plume_err *err);
-void plume_dynamics_destroy(plume_dynamics **d);
+PLUME_API plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, const double *density, int ndensity,
+                                             const plume_handle *handles, int nhandles, const plume_dynamics_opts *o,
+                                             plume_dynamics **out, plume_err *err);
+PLUME_API void plume_dynamics_destroy(plume_dynamics **d);
 
 /* What happened in one call of plume_dynamics_advance. */
 typedef struct {
@@ -69,21 +70,23 @@ typedef struct {
 
 /* Advances the state by dt (opts.dt when dt <= 0): one implicit Euler step, halved recursively
  * on non-convergence up to max_halvings. Not converging at the smallest step is reported (state
- * left at the last converged substep), not an error. */
-plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep);
+ * left at the last converged substep), not an error; errors (a solver or contact failure, memory)
+ * carry a message in err (NULL allowed). */
+PLUME_API plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep, plume_err *err);
 
 /* State access: time, positions (3 nv), velocities (3 nv) and the constraint multipliers of
  * the last step (*m of them); set restores a saved state (restart: with the multipliers too, the
- * continued run repeats the uninterrupted one exactly). lambda may be NULL (zero). */
-double plume_dynamics_time(const plume_dynamics *d);
-const double *plume_dynamics_positions(const plume_dynamics *d);
-const double *plume_dynamics_velocities(const plume_dynamics *d);
-const double *plume_dynamics_multipliers(const plume_dynamics *d, plume_index *m);
-plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double *x, const double *v,
-                                      const double *lambda);
+ * continued run repeats the uninterrupted one exactly). lambda may be NULL (zero). set_state:
+ * PLUME_EINVAL for a non-finite time, position or velocity, named in err (NULL allowed). */
+PLUME_API double plume_dynamics_time(const plume_dynamics *d);
+PLUME_API const double *plume_dynamics_positions(const plume_dynamics *d);
+PLUME_API const double *plume_dynamics_velocities(const plume_dynamics *d);
+PLUME_API const double *plume_dynamics_multipliers(const plume_dynamics *d, plume_index *m);
+PLUME_API plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double *x, const double *v,
+                                                const double *lambda, plume_err *err);
 
 /* Lumped vertex masses (nv), for tests and energy checks. */
-const double *plume_dynamics_masses(const plume_dynamics *d);
+PLUME_API const double *plume_dynamics_masses(const plume_dynamics *d);
 
 #ifdef __cplusplus
 }

@@ -22,6 +22,9 @@
 
 
 
+/* the units of /frames' numeric attributes */
+#define FRAMES_UNITS "count: 1; nv: 1; ncons: 1; dt: s"
+
 static int write_attr_long(hid_t obj, const char *name, long v)
 {
     return h5_write_attr(obj, name, H5T_STD_I64LE, H5T_NATIVE_LONG, &v);
@@ -209,7 +212,9 @@ plume_status plume_frames_create(const char *path, plume_index nv, plume_index n
     if (fid < 0 || (g = H5Gcreate2(fid, "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 ||
         write_attr_long(g, "count", 0) < 0 || write_attr_long(g, "nv", (long)nv) < 0 ||
         write_attr_long(g, "ncons", (long)ncons) < 0 || h5_write_attr_double(g, "dt", dt) < 0 ||
-        h5_write_attr_string(g, "scene", scene ? scene : "") < 0) {
+        h5_write_attr_string(g, "scene", scene ? scene : "") < 0 ||
+        /* attributes carry no attributes: their units in one string beside them (docs/hdf5-layout.md) */
+        h5_write_attr_string(g, "units", FRAMES_UNITS) < 0) {
         s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot write /frames (HDF5: %s)", path, h5_cause(&d));
         goto cleanup;
     }
@@ -239,7 +244,7 @@ cleanup:
     return s;
 }
 
-/* the measures' attribute names and their fields */
+/* the measures' attribute names and their fields; the units of a frame's attributes */
 static const char *const measure_names[] = {"newton_iterations", "steps_halved", "seconds", "contact_pairs",
                                             "min_distance", "intersecting_pairs"};
 static const size_t measure_offsets[] = {
@@ -247,6 +252,10 @@ static const size_t measure_offsets[] = {
     offsetof(plume_frame_measures, seconds),           offsetof(plume_frame_measures, contact_pairs),
     offsetof(plume_frame_measures, min_distance),      offsetof(plume_frame_measures, intersecting_pairs)};
 #define NMEASURES (sizeof measure_names / sizeof *measure_names)
+#define FRAME_UNITS "t: s; step: 1"
+#define FRAME_MEASURES_UNITS                                                                                          \
+    FRAME_UNITS "; newton_iterations: 1; steps_halved: 1; seconds: s; contact_pairs: 1; min_distance: m; "           \
+                "intersecting_pairs: 1"
 
 static int write_measures(hid_t fg, const plume_frame_measures *m)
 {
@@ -388,7 +397,7 @@ plume_status plume_frames_append_measured(const char *path, plume_index nv, plum
     if ((fg = H5Gcreate2(g, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 || h5_write_dataset(fg, "x", x, 3 * nv, "m") < 0 ||
         h5_write_dataset(fg, "v", v, 3 * nv, "m/s") < 0 || h5_write_dataset(fg, "lambda", lambda, ncons, "N/m") < 0 ||
         h5_write_attr_double(fg, "t", t) < 0 || write_attr_long(fg, "step", step) < 0 ||
-        (m && write_measures(fg, m) < 0)) {
+        (m && write_measures(fg, m) < 0) || h5_write_attr_string(fg, "units", m ? FRAME_MEASURES_UNITS : FRAME_UNITS) < 0) {
         s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot write /frames/%s (HDF5: %s)", path, name,
                           h5_cause(&d));
         goto cleanup;

@@ -1,4 +1,4 @@
-/* plume: the frames of a dynamic run in HDF5 (DESIGN.md "Data and files"), appended frame by frame
+/* plume: the frames of a dynamic run in HDF5 (docs/design.md "Data and files"), appended frame by frame
  * and readable for a restart:
  *   /frames                 attributes count (frames committed), nv, ncons, dt, scene (string)
  *   /frames/<k>/x, v        [3 nv] positions and velocities (m, m/s), vertex-major
@@ -20,6 +20,7 @@
 #ifndef PLUME_FRAMES_H
 #define PLUME_FRAMES_H
 
+#include "export.h"
 #include "status.h"
 
 #ifdef __cplusplus
@@ -48,14 +49,14 @@ typedef struct {
 /* Creates `path` with an empty /frames (count 0); an existing file of that name is replaced, but
  * only once the new one is complete (built under a temporary name and renamed). Errors: nv < 1,
  * ncons < 0, dt not finite and > 0 (PLUME_EINVAL); the file cannot be written (PLUME_EIO). */
-plume_status plume_frames_create(const char *path, plume_index nv, plume_index ncons, double dt, const char *scene,
-                                 plume_err *err);
+PLUME_API plume_status plume_frames_create(const char *path, plume_index nv, plume_index ncons, double dt, const char *scene,
+                                           plume_err *err);
 
 /* Appends frame number `count` (the next one) with time t, step, x and v (3 nv) and lambda
  * (ncons; may be NULL when ncons is 0). Errors: the file is missing or not a frames file, its
  * nv/ncons differ from the ones the caller gives (PLUME_EFORMAT), a write failure (PLUME_EIO). */
-plume_status plume_frames_append(const char *path, plume_index nv, plume_index ncons, double t, long step,
-                                 const double *x, const double *v, const double *lambda, plume_err *err);
+PLUME_API plume_status plume_frames_append(const char *path, plume_index nv, plume_index ncons, double t, long step,
+                                           const double *x, const double *v, const double *lambda, plume_err *err);
 
 /* What the steps since the previous frame did (apps/feather). Contact fields are -1 without
  * contact. */
@@ -69,20 +70,20 @@ typedef struct {
 } plume_frame_measures;
 
 /* plume_frames_append, with the measures (may be NULL) as attributes of the frame's group. */
-plume_status plume_frames_append_measured(const char *path, plume_index nv, plume_index ncons, double t, long step,
-                                          const double *x, const double *v, const double *lambda,
-                                          const plume_frame_measures *m, plume_err *err);
+PLUME_API plume_status plume_frames_append_measured(const char *path, plume_index nv, plume_index ncons, double t, long step,
+                                                    const double *x, const double *v, const double *lambda,
+                                                    const plume_frame_measures *m, plume_err *err);
 
 /* The measures of frame k (k < 0: the last); PLUME_EFORMAT when the frame has none. */
-plume_status plume_frames_read_measures(const char *path, long k, plume_frame_measures *m, plume_err *err);
+PLUME_API plume_status plume_frames_read_measures(const char *path, long k, plume_frame_measures *m, plume_err *err);
 
 /* Reads the /frames attributes. */
-plume_status plume_frames_info_read(const char *path, plume_frames_info *info, plume_err *err);
+PLUME_API plume_status plume_frames_info_read(const char *path, plume_frames_info *info, plume_err *err);
 
 /* Reads frame k (k < 0: the last committed frame). PLUME_EINVAL when k >= count or the file has
  * no frame; PLUME_EFORMAT when a dataset has the wrong size. */
-plume_status plume_frames_read(const char *path, long k, plume_frame *frame, plume_err *err);
-void plume_frame_free(plume_frame *frame);
+PLUME_API plume_status plume_frames_read(const char *path, long k, plume_frame *frame, plume_err *err);
+PLUME_API void plume_frame_free(plume_frame *frame);
 
 #ifdef __cplusplus
 }

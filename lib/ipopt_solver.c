@@ -1,4 +1,4 @@
-/* plume: the `ipopt` backend (DESIGN.md "Solvers"): min f(u) s.t. g(u) = 0 through Ipopt's C
+/* plume: the `ipopt` backend (docs/design.md "Solvers"): min f(u) s.t. g(u) = 0 through Ipopt's C
  * interface with the exact sparse Hessian of the Lagrangian. The Ipopt problem (sizes, patterns,
  * options) is created once; every solve runs IpoptSolve from the caller's point and then judges
  * the result with plume's own measures, so a report means the same thing for every backend.

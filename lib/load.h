@@ -2,6 +2,7 @@
 #ifndef PLUME_LOAD_H
 #define PLUME_LOAD_H
 
+#include "export.h"
 #include "term.h"
 
 #ifdef __cplusplus
@@ -10,9 +11,9 @@ extern "C" {
 
 /* A term applying force forces[dim*k ...] (N) to vertex vertices[k], k < n (arrays copied).
  * plume_load_scale multiplies every force (load stepping). */
-plume_status plume_load_term_create(const plume_index *vertices, plume_index n, int dim, const double *forces,
-                                    plume_term *out, plume_err *err);
-void plume_load_scale(plume_term *load, double factor);
+PLUME_API plume_status plume_load_term_create(const plume_index *vertices, plume_index n, int dim, const double *forces,
+                                              plume_term *out, plume_err *err);
+PLUME_API void plume_load_scale(plume_term *load, double factor);
 
 #ifdef __cplusplus
 }

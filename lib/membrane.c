@@ -1,4 +1,4 @@
-/* The membrane element (DESIGN.md "Equations every part agrees on"; supplementary eq. 6).
+/* The membrane element (docs/design.md "Equations every part agrees on"; supplementary eq. 6).
  *
  * Everything is written in terms of G = F R = Ds B with B = Dm^-1 R precomputed per triangle:
  * the Green strain in the barb frame is E = (G^T G - I)/2 and J = |g1 x g2| for the columns g1, g2

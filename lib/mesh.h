@@ -2,6 +2,7 @@
 #ifndef PLUME_MESH_H
 #define PLUME_MESH_H
 
+#include "export.h"
 #include "status.h"
 
 #ifdef __cplusplus
@@ -31,26 +32,26 @@ typedef struct {
 
 /* Allocates a mesh with nv vertices and nt triangles in `dim` dimensions; arrays zeroed,
  * barb_dir set to (1, 0), material to 0. Free with plume_mesh_destroy. */
-plume_status plume_mesh_create(plume_index nv, plume_index nt, int dim, plume_mesh **out);
-void plume_mesh_destroy(plume_mesh **m);
+PLUME_API plume_status plume_mesh_create(plume_index nv, plume_index nt, int dim, plume_mesh **out);
+PLUME_API void plume_mesh_destroy(plume_mesh **m);
 
 /* Copies X into x (z = 0 in shell mode): the rest state. */
-void plume_mesh_reset_current(plume_mesh *m);
+PLUME_API void plume_mesh_reset_current(plume_mesh *m);
 
 /* Checks indices, orientation and non-degenerate areas; builds edges, edge_tri, hinges and
  * boundary flags. Fails with PLUME_EINVAL (message in err) on a bad or non-manifold mesh. */
-plume_status plume_mesh_build_topology(plume_mesh *m, plume_err *err);
+PLUME_API plume_status plume_mesh_build_topology(plume_mesh *m, plume_err *err);
 
 /* The same for a mesh whose triangles from first_rigid on belong to rigid (kinematic) bodies: a
  * closed 3D surface has no flat reference, so their reference areas are not checked (they carry
  * no elastic energy; only their indices and manifoldness are). */
-plume_status plume_mesh_build_topology_rigid(plume_mesh *m, plume_index first_rigid, plume_err *err);
+PLUME_API plume_status plume_mesh_build_topology_rigid(plume_mesh *m, plume_index first_rigid, plume_err *err);
 
 /* Signed reference area of triangle t. */
-double plume_mesh_ref_area(const plume_mesh *m, plume_index t);
+PLUME_API double plume_mesh_ref_area(const plume_mesh *m, plume_index t);
 
 /* Total reference area. */
-double plume_mesh_total_area(const plume_mesh *m);
+PLUME_API double plume_mesh_total_area(const plume_mesh *m);
 
 #ifdef __cplusplus
 }

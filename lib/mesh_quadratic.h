@@ -4,6 +4,7 @@
 #ifndef PLUME_MESH_QUADRATIC_H
 #define PLUME_MESH_QUADRATIC_H
 
+#include "export.h"
 #include "mesh.h"
 
 #ifdef __cplusplus
@@ -25,8 +26,8 @@ typedef struct {
 /* Builds the quadratic triangles of a planar mesh whose topology is built (plume_mesh_build_topology):
  * midpoints in the reference (X) and current (x) configurations. PLUME_EINVAL without topology;
  * on failure nothing is left allocated. */
-plume_status plume_mesh_quadratic(const plume_mesh *m, plume_quadratic_mesh *q, plume_err *err);
-void plume_quadratic_mesh_free(plume_quadratic_mesh *q);
+PLUME_API plume_status plume_mesh_quadratic(const plume_mesh *m, plume_quadratic_mesh *q, plume_err *err);
+PLUME_API void plume_quadratic_mesh_free(plume_quadratic_mesh *q);
 
 #ifdef __cplusplus
 }

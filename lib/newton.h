@@ -4,6 +4,7 @@
 #ifndef PLUME_NEWTON_H
 #define PLUME_NEWTON_H
 
+#include "export.h"
 #include "solver.h"
 
 #ifdef __cplusplus
@@ -13,12 +14,12 @@ extern "C" {
 typedef struct plume_newton plume_newton;
 
 /* single_step = 1 gives the `linearized` backend. Analyses the sparse pattern once. */
-plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, int single_step,
-                                 plume_newton **out, plume_err *err);
-void plume_newton_destroy(plume_newton **s);
-plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plume_solve_report *rep);
-void plume_newton_set_tol_kkt(plume_newton *s, double tol_kkt);
-void plume_newton_stats(const plume_newton *s, int *analyses, int *factorizations, double *factor_seconds);
+PLUME_API plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, int single_step,
+                                           plume_newton **out, plume_err *err);
+PLUME_API void plume_newton_destroy(plume_newton **s);
+PLUME_API plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plume_solve_report *rep);
+PLUME_API void plume_newton_set_tol_kkt(plume_newton *s, double tol_kkt);
+PLUME_API void plume_newton_stats(const plume_newton *s, int *analyses, int *factorizations, double *factor_seconds);
 
 #ifdef __cplusplus
 }

@@ -2,6 +2,7 @@
 #ifndef PLUME_PLOT_H
 #define PLUME_PLOT_H
 
+#include "export.h"
 #include "status.h"
 #include "curves.h"
 
@@ -12,8 +13,8 @@ extern "C" {
 /* Draws stress-strain (left) and wbar-strain (right) of `ncurves` curves with their labels into
  * png_path and the same chart as SVG beside it (extension replaced by .svg). Runs gnuplot;
  * PLUME_EDEP with a message if gnuplot is missing or fails. Strain is shown in %, stress in Pa. */
-plume_status plume_plot_curves(const char *png_path, const char *title, const plume_curve *curves,
-                               const char *const *labels, int ncurves, plume_err *err);
+PLUME_API plume_status plume_plot_curves(const char *png_path, const char *title, const plume_curve *curves,
+                                         const char *const *labels, int ncurves, plume_err *err);
 
 /* Axis labels replacing the defaults (NULL fields keep them). */
 typedef struct {
@@ -25,9 +26,9 @@ typedef struct {
 } plume_plot_axes;
 
 /* plume_plot_curves with other axis labels (axes may be NULL). */
-plume_status plume_plot_curves_axes(const char *png_path, const char *title, const plume_plot_axes *axes,
-                                    const plume_curve *curves, const char *const *labels, int ncurves,
-                                    plume_err *err);
+PLUME_API plume_status plume_plot_curves_axes(const char *png_path, const char *title, const plume_plot_axes *axes,
+                                              const plume_curve *curves, const char *const *labels, int ncurves,
+                                              plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -2,6 +2,8 @@
 #ifndef PLUME_PROGRESS_H
 #define PLUME_PROGRESS_H
 
+#include "export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -14,14 +16,14 @@ typedef struct {
 } plume_progress;
 
 /* Starts a progress line; enabled when stderr is a terminal or `force` is non-zero. */
-void plume_progress_start(plume_progress *p, const char *label, int total, int force);
+PLUME_API void plume_progress_start(plume_progress *p, const char *label, int total, int force);
 /* Rewrites the line as "\r<label> step k/total [info]  elapsed 1.2 s  eta 3.4 s", padded with
  * spaces to 79 columns so a shorter line hides a longer previous one ("eta ? s" before step 1). */
-void plume_progress_update(plume_progress *p, int k, const char *info);
-void plume_progress_finish(plume_progress *p);
+PLUME_API void plume_progress_update(plume_progress *p, int k, const char *info);
+PLUME_API void plume_progress_finish(plume_progress *p);
 
 /* Monotonic wall clock in seconds. */
-double plume_wall_seconds(void);
+PLUME_API double plume_wall_seconds(void);
 
 #ifdef __cplusplus
 }

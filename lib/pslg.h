@@ -3,6 +3,7 @@
 #ifndef PLUME_PSLG_H
 #define PLUME_PSLG_H
 
+#include "export.h"
 #include "status.h"
 
 #ifdef __cplusplus
@@ -18,14 +19,14 @@ typedef struct {
 } plume_pslg;
 
 /* Appends a point; returns its id, or -1 when memory runs out. */
-plume_index plume_pslg_point(plume_pslg *g, double x, double y);
+PLUME_API plume_index plume_pslg_point(plume_pslg *g, double x, double y);
 /* Appends the segment (a, b); 0, or -1 when memory runs out. */
-int plume_pslg_segment(plume_pslg *g, plume_index a, plume_index b);
-void plume_pslg_free(plume_pslg *g);
+PLUME_API int plume_pslg_segment(plume_pslg *g, plume_index a, plume_index b);
+PLUME_API void plume_pslg_free(plume_pslg *g);
 
 /* Barb direction for an angle (degrees) from the pulling axis y toward +x: d = (sin a, cos a),
  * exact on the axes (0, 90, 180 degrees). */
-void plume_barb_direction(double angle_deg, double d[2]);
+PLUME_API void plume_barb_direction(double angle_deg, double d[2]);
 
 #ifdef __cplusplus
 }

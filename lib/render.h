@@ -3,6 +3,7 @@
 #ifndef PLUME_RENDER_H
 #define PLUME_RENDER_H
 
+#include "export.h"
 #include "mesh.h"
 
 #ifdef __cplusplus
@@ -18,7 +19,7 @@ typedef struct {
     const char *title;    /* drawn above the picture; NULL for none */
 } plume_render_opts;
 
-void plume_render_opts_default(plume_render_opts *o);
+PLUME_API void plume_render_opts_default(plume_render_opts *o);
 
 /* Draws the triangles of `mesh` at positions x (3 nv; NULL: mesh->x, z = 0 when planar) to
  * png_path, flat-shaded: each triangle's colour is its material's (a fixed palette by material
@@ -26,8 +27,8 @@ void plume_render_opts_default(plume_render_opts *o);
  * view of `o` (NULL: defaults). The picture is made in a private temporary directory and
  * renamed into place. Errors: invalid arguments or view (PLUME_EINVAL), gnuplot missing or
  * failing (PLUME_EDEP, with gnuplot's last message), files (PLUME_EIO). */
-plume_status plume_render_png(const char *png_path, const plume_mesh *mesh, const double *x,
-                              const plume_render_opts *o, plume_err *err);
+PLUME_API plume_status plume_render_png(const char *png_path, const plume_mesh *mesh, const double *x,
+                                        const plume_render_opts *o, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -2,6 +2,7 @@
 #ifndef PLUME_SAMPLE_H
 #define PLUME_SAMPLE_H
 
+#include "export.h"
 #include "status.h"
 
 #ifdef __cplusplus
@@ -18,14 +19,14 @@ typedef struct {
  *   {"samples": [{"id": "L01", "scenario": "longitudinal", "lx_mm": 9, "ly_mm": 18, "h_um": 73}, ...]}
  * Errors (PLUME_EIO unreadable, PLUME_EFORMAT malformed JSON with line and column, missing or
  * non-numeric key, PLUME_EINVAL non-positive/NaN dimension, unknown id) name the file. */
-plume_status plume_sample_load(const char *path, const char *id, plume_sample *out, plume_err *err);
+PLUME_API plume_status plume_sample_load(const char *path, const char *id, plume_sample *out, plume_err *err);
 
 /* Number of samples in the file (every entry validated as by plume_sample_load). */
-plume_status plume_sample_count(const char *path, int *count, plume_err *err);
+PLUME_API plume_status plume_sample_count(const char *path, int *count, plume_err *err);
 
 /* Sample number `index` (0-based, file order) of the file; PLUME_EINVAL if out of range. With
  * plume_sample_count this enumerates a file without knowing its ids. */
-plume_status plume_sample_at(const char *path, int index, plume_sample *out, plume_err *err);
+PLUME_API plume_status plume_sample_at(const char *path, int index, plume_sample *out, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -87,18 +87,25 @@ void plume_solver_opts_set_globalization(plume_solver_opts *o, plume_globalizati
 }
 
 plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p, const plume_solver_opts *o,
-                                 plume_solver **out)
+                                 plume_solver **out, plume_err *err)
 {
-    if (!p || !o || !out || (unsigned)kind > 2)
-        return PLUME_EINVAL;
-    *out = NULL;
+    if (out)
+        *out = NULL;
+    if (!p || !o || !out)
+        return plume_err_set(err, PLUME_EINVAL, "solver: invalid arguments (problem, options and out are required)");
+    if ((unsigned)kind > 2)
+        return plume_err_set(err, PLUME_EINVAL, "solver: unknown solver kind %d", (int)kind);
+    if (!plume_problem_hessian_pattern(p).colptr)
+        return plume_err_set(err, PLUME_EINVAL, "solver: the problem is not finalised (plume_problem_finalize)");
     plume_solver *s = calloc(1, sizeof *s);
     if (!s)
-        return PLUME_ENOMEM;
+        return plume_err_set(err, PLUME_ENOMEM, "solver: out of memory");
     s->kind = kind;
     plume_status st = kind == PLUME_SOLVER_IPOPT
                           ? plume_ipopt_create(p, o, &s->ipopt)
-                          : plume_newton_create(p, o, kind == PLUME_SOLVER_LINEARIZED, &s->newton, NULL);
+                          : plume_newton_create(p, o, kind == PLUME_SOLVER_LINEARIZED, &s->newton, err);
+    if (st != PLUME_OK && kind == PLUME_SOLVER_IPOPT) /* Ipopt's creation keeps no message */
+        plume_err_set(err, st, "ipopt: the solver could not be created (%s)", plume_strerror(st));
     if (st != PLUME_OK) {
         free(s);
         return st;

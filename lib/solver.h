@@ -3,6 +3,7 @@
 #ifndef PLUME_SOLVER_H
 #define PLUME_SOLVER_H
 
+#include "export.h"
 #include "problem.h"
 
 #ifdef __cplusplus
@@ -25,10 +26,10 @@ typedef enum {
     PLUME_REASON_SINGLE_STEP      /* `linearized`: one step taken, convergence not sought */
 } plume_reason;
 
-const char *plume_reason_name(plume_reason r);
+PLUME_API const char *plume_reason_name(plume_reason r);
 /* Parses "newton" | "ipopt" | "linearized"; PLUME_EINVAL otherwise. */
-plume_status plume_solver_kind_parse(const char *s, plume_solver_kind *out);
-const char *plume_solver_kind_name(plume_solver_kind k);
+PLUME_API plume_status plume_solver_kind_parse(const char *s, plume_solver_kind *out);
+PLUME_API const char *plume_solver_kind_name(plume_solver_kind k);
 
 typedef struct {
     plume_reason reason;
@@ -72,8 +73,8 @@ typedef enum {
 } plume_globalization;
 
 /* "curved_line_search" | "line_search" | "trust_region"; PLUME_EINVAL otherwise */
-plume_status plume_globalization_parse(const char *s, plume_globalization *out);
-const char *plume_globalization_name(plume_globalization g);
+PLUME_API plume_status plume_globalization_parse(const char *s, plume_globalization *out);
+PLUME_API const char *plume_globalization_name(plume_globalization g);
 
 /* How the native solver factorises a constrained Newton step. */
 typedef enum {
@@ -95,8 +96,9 @@ typedef struct {
                               divided by 3, at the next failure, and grown 8x until it works */
     double inertia_max_shift; /* the largest shift tried, relative to the largest Hessian diagonal,
                               before falling back to the projected Hessian; default 1 */
-    plume_kkt_mode kkt;    /* newton with constraints; default PLUME_KKT_ELIMINATE (same iterates,
-                              2.2x faster factorisations at 4e4 elements than LDL^T) */
+    plume_kkt_mode kkt;    /* newton with constraints; default PLUME_KKT_ELIMINATE (the same
+                              iterates as LDL^T, faster factorisations: README "How constraints
+                              are solved" and "Measured") */
     plume_line_search line_search; /* newton with constraints; default PLUME_LS_FILTER */
     int reuse_factorization; /* newton: chord steps (the last factorisation of this solve) in
                                 the end game, where the last two Newton steps predict a contraction
@@ -127,38 +129,39 @@ typedef struct {
                                 default 1 */
 } plume_solver_opts;
 
-void plume_solver_opts_default(plume_solver_opts *o);
+PLUME_API void plume_solver_opts_default(plume_solver_opts *o);
 /* Sets curved_search and trust_region for g. */
-void plume_solver_opts_set_globalization(plume_solver_opts *o, plume_globalization g);
+PLUME_API void plume_solver_opts_set_globalization(plume_solver_opts *o, plume_globalization g);
 
 typedef struct plume_solver plume_solver;
 
 /* Creates a solver for a finalised problem (kept by reference, not owned). Symbolic analysis
- * of the sparse systems happens here, once. */
-plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p,
-                                 const plume_solver_opts *o, plume_solver **out);
-void plume_solver_destroy(plume_solver **s);
+ * of the sparse systems happens here, once. PLUME_EINVAL for a problem not finalised or options
+ * out of range, with a message naming them in err (NULL allowed). */
+PLUME_API plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p,
+                                           const plume_solver_opts *o, plume_solver **out, plume_err *err);
+PLUME_API void plume_solver_destroy(plume_solver **s);
 
 /* Solves from u (nfree, in: start, out: result) and lambda (ncons, in: guess, out: multipliers
  * of the Lagrangian f + lambda.g). The problem's x holds the result on return. Returns an error
  * status only for errors (bad input, memory, dependency); convergence is in rep->reason. */
-plume_status plume_solver_solve(plume_solver *s, double *u, double *lambda, plume_solve_report *rep);
+PLUME_API plume_status plume_solver_solve(plume_solver *s, double *u, double *lambda, plume_solve_report *rep);
 
 /* Changes the relative KKT tolerance of the next solves (tol_kkt > 0 and finite, else
  * PLUME_EINVAL): one solver, one symbolic analysis, for solves that need different accuracies
  * (traction's small-strain probe). */
-plume_status plume_solver_set_tol_kkt(plume_solver *s, double tol_kkt);
+PLUME_API plume_status plume_solver_set_tol_kkt(plume_solver *s, double tol_kkt);
 
 /* Time spent and count of numeric factorisations / symbolic analyses so far (benchmarks). */
-void plume_solver_stats(const plume_solver *s, int *analyses, int *factorizations,
-                        double *factor_seconds);
+PLUME_API void plume_solver_stats(const plume_solver *s, int *analyses, int *factorizations,
+                                  double *factor_seconds);
 
 /* Backend entry points used by plume_solver_*; exposed for tests and benchmarks. */
 typedef struct plume_ipopt plume_ipopt;
-plume_status plume_ipopt_create(plume_problem *p, const plume_solver_opts *o, plume_ipopt **out);
-void plume_ipopt_destroy(plume_ipopt **s);
-plume_status plume_ipopt_solve(plume_ipopt *s, double *u, double *lambda, plume_solve_report *rep);
-void plume_ipopt_set_tol_kkt(plume_ipopt *s, double tol_kkt);
+PLUME_API plume_status plume_ipopt_create(plume_problem *p, const plume_solver_opts *o, plume_ipopt **out);
+PLUME_API void plume_ipopt_destroy(plume_ipopt **s);
+PLUME_API plume_status plume_ipopt_solve(plume_ipopt *s, double *u, double *lambda, plume_solve_report *rep);
+PLUME_API void plume_ipopt_set_tol_kkt(plume_ipopt *s, double tol_kkt);
 
 #ifdef __cplusplus
 }

@@ -105,11 +105,12 @@ plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o,
         plume_statics_destroy(&s);
         return plume_err_set(err, PLUME_ENOMEM, "statics: out of memory");
     }
-    st = plume_solver_create(o->solver, p, &o->solver_opts, &s->solver);
+    plume_err why;
+    st = plume_solver_create(o->solver, p, &o->solver_opts, &s->solver, &why);
     if (st != PLUME_OK) {
         plume_statics_destroy(&s);
-        return plume_err_set(err, st, "statics: the %s solver could not be created (%s)",
-                             plume_solver_kind_name(o->solver), plume_strerror(st));
+        return plume_err_set(err, st, "statics: the %s solver could not be created: %s",
+                             plume_solver_kind_name(o->solver), why.msg);
     }
     *out = s;
     return PLUME_OK;

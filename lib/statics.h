@@ -1,4 +1,4 @@
-/* plume: static equilibrium under load stepping (DESIGN.md "Quasi-static"): the load factor goes
+/* plume: static equilibrium under load stepping (docs/design.md "Quasi-static"): the load factor goes
  * from 0 to 1 in `steps` equal increments; at each one  min W(x) - factor f^T x  s.t. g(x) = 0 is
  * solved to convergence, starting from the secant extrapolation through the last two equilibria
  * (or from the last equilibrium). An increment that does not converge is halved (the state
@@ -7,6 +7,7 @@
 #ifndef PLUME_STATICS_H
 #define PLUME_STATICS_H
 
+#include "export.h"
 #include "problem.h"
 #include "solver.h"
 
@@ -33,7 +34,7 @@ typedef struct {
     plume_solver_opts solver_opts;
 } plume_statics_opts;
 
-void plume_statics_opts_default(plume_statics_opts *o);
+PLUME_API void plume_statics_opts_default(plume_statics_opts *o);
 
 /* Sets the loads (and any load-dependent prescribed positions in plume_problem_x) for a load
  * factor in [0, 1]. */
@@ -61,23 +62,23 @@ typedef struct plume_statics plume_statics;
 /* Takes a finalised problem whose x holds the unloaded state, and the scaler of its loads with
  * its data `user`; free_user (may be NULL) frees user when the driver is destroyed, or at once
  * if creation fails. The problem stays the caller's and must outlive the driver. */
-plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o, plume_load_scaler scale,
-                                  void *user, void (*free_user)(void *), plume_statics **out, plume_err *err);
-void plume_statics_destroy(plume_statics **s);
+PLUME_API plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o, plume_load_scaler scale,
+                                            void *user, void (*free_user)(void *), plume_statics **out, plume_err *err);
+PLUME_API void plume_statics_destroy(plume_statics **s);
 
 /* Advances to the next nominal factor. Not converging at the smallest increment is reported
  * (state left at the last equilibrium), not an error; so is calling it after the last step
  * (rep->converged = 0, reason CONVERGED, nothing done). */
-plume_status plume_statics_step(plume_statics *s, plume_load_step_report *rep);
+PLUME_API plume_status plume_statics_step(plume_statics *s, plume_load_step_report *rep);
 
-double plume_statics_factor(const plume_statics *s);   /* last equilibrium's load factor */
+PLUME_API double plume_statics_factor(const plume_statics *s);   /* last equilibrium's load factor */
 /* The solver's numeric factorisations so far and the seconds spent in them (native solvers). */
-void plume_statics_stats(const plume_statics *s, int *factorizations, double *factor_seconds);
+PLUME_API void plume_statics_stats(const plume_statics *s, int *factorizations, double *factor_seconds);
 /* The predictor's name ("none", "secant") and its parse (PLUME_EINVAL for another name). */
-const char *plume_predictor_name(plume_predictor k);
-plume_status plume_predictor_parse(const char *name, plume_predictor *k);
-int plume_statics_steps_done(const plume_statics *s);
-const double *plume_statics_multipliers(const plume_statics *s, plume_index *m);
+PLUME_API const char *plume_predictor_name(plume_predictor k);
+PLUME_API plume_status plume_predictor_parse(const char *name, plume_predictor *k);
+PLUME_API int plume_statics_steps_done(const plume_statics *s);
+PLUME_API const double *plume_statics_multipliers(const plume_statics *s, plume_index *m);
 
 #ifdef __cplusplus
 }

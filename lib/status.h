@@ -2,6 +2,7 @@
 #ifndef PLUME_STATUS_H
 #define PLUME_STATUS_H
 
+#include "export.h"
 #include <stddef.h>
 
 #ifdef __cplusplus
@@ -25,7 +26,7 @@ typedef enum {
 } plume_status;
 
 /* Short static name of a status ("invalid input", ...). Never NULL. */
-const char *plume_strerror(plume_status s);
+PLUME_API const char *plume_strerror(plume_status s);
 
 /* A human message that travels with an error: functions that can fail on user input take an
  * optional `plume_err *` (NULL allowed) and fill `msg` with what went wrong, naming the file,
@@ -35,11 +36,11 @@ typedef struct {
 } plume_err;
 
 /* printf-style; safe with err == NULL. Returns `s` so callers can `return plume_err_set(...)`. */
-plume_status plume_err_set(plume_err *err, plume_status s, const char *fmt, ...)
+PLUME_API plume_status plume_err_set(plume_err *err, plume_status s, const char *fmt, ...)
 #if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
+              __attribute__((format(printf, 3, 4)))
 #endif
-    ;
+              ;
 
 #ifdef __cplusplus
 }

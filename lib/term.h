@@ -40,7 +40,7 @@ typedef struct {
     plume_status (*lag)(void *ctx, int dim, const double *x);
     /* Optional (NULL: not offered): the energy of each stencil at x (full vector), written to
      * e[0 .. nstencil-1]; their sum is the energy eval adds. Output fields use it (energy
-     * densities per triangle, macro/frame_fields.h). */
+     * densities per triangle, macro/fields.h). */
     plume_status (*energies)(void *ctx, int dim, const double *x, double *e);
     /* 1: this term's projected blocks are a cheap closed form that keeps the term's stiffness and
      * drops only a curvature part (shape-operator bending: the Gauss-Newton block), so the native

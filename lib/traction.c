@@ -350,9 +350,10 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         double delta = strain * o->ly;
         plume_solve_report rep, tight;
         memset(&tight, 0, sizeof tight);
-        if (!solver && (st = plume_solver_create(o->solver, p, &o->solver_opts, &solver)) != PLUME_OK) {
-            plume_err_set(err, st, "traction: could not create the %s solver (%s)", plume_solver_kind_name(o->solver),
-                          plume_strerror(st));
+        plume_err why;
+        if (!solver && (st = plume_solver_create(o->solver, p, &o->solver_opts, &solver, &why)) != PLUME_OK) {
+            plume_err_set(err, st, "traction: could not create the %s solver: %s", plume_solver_kind_name(o->solver),
+                          why.msg);
             goto cleanup;
         }
         if (probe && probe_tol < o->solver_opts.tol_kkt && o->solver != PLUME_SOLVER_LINEARIZED) {

@@ -1,9 +1,10 @@
-/* plume: the quasi-static traction test (DESIGN.md, Scenarios): a rectangle [0,lx] x [0,ly]
+/* plume: the quasi-static traction test (docs/design.md, Scenarios): a rectangle [0,lx] x [0,ly]
  * clamped at y = 0 and at y = ly, the top grip moved by delta along y in steps. Works for any
  * planar or shell problem whose vertices are those of the mesh. */
 #ifndef PLUME_TRACTION_H
 #define PLUME_TRACTION_H
 
+#include "export.h"
 #include "curves.h"
 #include "mesh.h"
 #include "problem.h"
@@ -42,7 +43,7 @@ typedef struct {
     void *on_step_user;
 } plume_traction_opts;
 
-void plume_traction_opts_default(plume_traction_opts *o);
+PLUME_API void plume_traction_opts_default(plume_traction_opts *o);
 
 typedef struct {
     plume_curve curve;        /* steps+1 points (fewer if a step failed); arrays owned, see _free */
@@ -65,7 +66,7 @@ typedef struct {
     double factor_seconds;    /* native solvers: time in numeric factorisations */
 } plume_traction_result;
 
-void plume_traction_result_free(plume_traction_result *r);
+PLUME_API void plume_traction_result_free(plume_traction_result *r);
 
 /* Clamps the grips of `p` (created over mesh->nv vertices, terms and constraints added, not
  * finalised), finalises it and runs the test. `rigid_edges` (n pairs; may be 0) are the
@@ -73,9 +74,9 @@ void plume_traction_result_free(plume_traction_result *r);
  * call fails with PLUME_EINFEASIBLE and a message, before any solve. Non-convergence of a step
  * is not an error: the run stops there (except for `linearized`, which never converges by
  * design and runs every step) and the result says which step and why. */
-plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const plume_index *rigid_edges,
-                                plume_index nrigid, const plume_traction_opts *o,
-                                plume_traction_result *res, plume_err *err);
+PLUME_API plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const plume_index *rigid_edges,
+                                          plume_index nrigid, const plume_traction_opts *o,
+                                          plume_traction_result *res, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -3,6 +3,8 @@
 #ifndef PLUME_VERSION_H
 #define PLUME_VERSION_H
 
+#include "export.h"
+
 #define PLUME_VERSION_MAJOR 0
 #define PLUME_VERSION_MINOR 3
 #define PLUME_VERSION_PATCH 0
@@ -13,7 +15,7 @@ extern "C" {
 #endif
 
 /* "MAJOR.MINOR.PATCH" of the library linked in (static string). */
-const char *plume_version(void);
+PLUME_API const char *plume_version(void);
 
 #ifdef __cplusplus
 }

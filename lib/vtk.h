@@ -1,9 +1,10 @@
-/* plume: a mesh state as a legacy VTK ASCII unstructured grid (DESIGN.md "Data and files": frames
+/* plume: a mesh state as a legacy VTK ASCII unstructured grid (docs/design.md "Data and files": frames
  * as VTK for ParaView). One file per frame; a numbered series (frame_00000.vtk, frame_00001.vtk,
  * ...) opens in ParaView as one time series. */
 #ifndef PLUME_VTK_H
 #define PLUME_VTK_H
 
+#include "export.h"
 #include "mesh.h"
 
 #ifdef __cplusplus
@@ -16,7 +17,7 @@ extern "C" {
  * ParaView reads. Written to "<path>.tmp.<pid>" and renamed, so a reader never sees half a file.
  * Errors: invalid arguments (PLUME_EINVAL), a file that cannot be written (PLUME_EIO, message
  * naming it). */
-plume_status plume_vtk_write(const char *path, const plume_mesh *mesh, const double *x, double t, plume_err *err);
+PLUME_API plume_status plume_vtk_write(const char *path, const plume_mesh *mesh, const double *x, double t, plume_err *err);
 
 #ifdef __cplusplus
 }

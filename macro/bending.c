@@ -1,4 +1,4 @@
-/* Discrete anisotropic hinge bending (DESIGN.md "Equations every part agrees on", Bending;
+/* Discrete anisotropic hinge bending (docs/design.md "Equations every part agrees on", Bending;
  * Grinspun et al. 2003 "Discrete Shells"; derivatives after Bridson et al. 2003 and Tamstorf &
  * Grinspun 2013, derived again below).
  *
@@ -20,7 +20,7 @@
  * A1 + A2 = |e| (w1 + w2)/2 the hinge stores c D k^2 |e|^2 (w1 + w2)^2/4 / (|e| (w1 + w2)/2)
  * = c D k^2 (A1 + A2). A hinge whose two triangles span the same two generators is planar and
  * stores nothing. So when each triangle has one edge along the axis, the patch stores
- * c D k^2 * area, and c = 1/2 gives the 1/2 D k^2 per unit area of DESIGN.md, less the boundary
+ * c D k^2 * area, and c = 1/2 gives the 1/2 D k^2 per unit area of docs/design.md, less the boundary
  * triangles whose axis edge is on the boundary (an O(h) deficit: -1/n on n x n grids). Measured
  * (tests/test_bending.c): exact in that sense on right-triangle grids with the axis along an
  * edge family, and on the equilateral lattice for every cylinder direction (checked every 15

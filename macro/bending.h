@@ -1,4 +1,4 @@
-/* plume: discrete anisotropic bending of a shell (DESIGN.md "Bending"): a hinge energy on each
+/* plume: discrete anisotropic bending of a shell (docs/design.md "Bending"): a hinge energy on each
  * interior edge from its dihedral angle, rest angle from the rest shape, scaled with the edge
  * length and the adjacent areas so that bending a flat patch into a cylinder of curvature k
  * stores 1/2 D k^2 per unit area; D depends on the curvature direction relative to the barbs:
@@ -6,6 +6,7 @@
 #ifndef PLUME_BENDING_H
 #define PLUME_BENDING_H
 
+#include "../lib/export.h"
 #include "../lib/mesh.h"
 #include "../lib/term.h"
 
@@ -40,8 +41,8 @@ typedef struct {
  * angles are taken from mesh->X (flat: 0) unless rest_x (3*nv, may be NULL) gives a curved rest
  * shape. Errors (PLUME_EINVAL, message): dim != 3, negative/NaN stiffness, material id out of
  * range, a degenerate triangle. D_twist and D_coupling are ignored (not validated either). */
-plume_status plume_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
-                                       const double *rest_x, plume_term *out, plume_err *err);
+PLUME_API plume_status plume_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
+                                                 const double *rest_x, plume_term *out, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -32,7 +32,7 @@
  *    step that would cross a constrained edge, cuts the barb there: barbs never cross, and
  *    converging barbs end on their neighbour instead of making slivers. Each side is walked base to
  *    tip, rachis-rooted barbs first, so later barbs yield to earlier ones.
- * 3b. Corner-exact stations (input corner_exact; DESIGN.md, "Meshes that respect the fibres"; the
+ * 3b. Corner-exact stations (input corner_exact; docs/design.md, "Meshes that respect the fibres"; the
  *    patch mesher's rule). Without it, the stations are k ds and outline gaps over e get points.
  *    In a strip between two barbs, every boundary vertex that ends no barb adds a triangle and no
  *    barb edge, so it forces one vane triangle without a barb edge: with stations every ds, 85 of
@@ -944,7 +944,7 @@ static double fm_run_extent(const fm *f, int sigma, double s, double ds, int dir
 /* Stations of one side, sorted (malloc'ed *out, *n of them; [*r0, *r1] the rooted ones, those of
  * the strip run [s0, s1], which a corner station may extend to ext[0] <= s0 and ext[1] >= s1, the
  * extent of the strip's side inside the outline (fm_run_extent)). A station whose barb meets the outline exactly at an outline vertex is a
- * corner station (DESIGN.md, "Meshes that respect the fibres": a barb line through every corner);
+ * corner station (docs/design.md, "Meshes that respect the fibres": a barb line through every corner);
  * corners closer than CORNER_GAP ds to a kept station are dropped, and the others are spaced evenly
  * between consecutive kept ones, round(gap / ds) - 1 of them, so that the density stays ~1/ds.
  * Without corners the stations are k ds, kmin <= k <= kmax, as before. */

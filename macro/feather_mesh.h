@@ -7,6 +7,7 @@
 #ifndef PLUME_FEATHER_MESH_H
 #define PLUME_FEATHER_MESH_H
 
+#include "../lib/export.h"
 #include "../lib/mesh.h"
 #include "obj_outline.h" /* plume_obj_outline, the usual source of the outline */
 
@@ -49,12 +50,12 @@ enum { PLUME_FEATHER_VANE = 0, PLUME_FEATHER_RACHIS = 1 };
  * curve with fewer than 2 points or non-finite coordinates, a self-intersecting outline or barb
  * curve, a rachis or barb curve whose start lies outside the outline, a side with no barb curve,
  * edge <= 0 or too small for the outline (more than 5e6 triangles). */
-plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_mesh **out, plume_index **barb_edges,
-                                plume_index *nbarb, plume_err *err);
+PLUME_API plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_mesh **out, plume_index **barb_edges,
+                                          plume_index *nbarb, plume_err *err);
 
 /* Why a vane triangle owns no barb edge: the first of these that applies to one of its vertices.
  * Each such vertex forces one: in the strip between two barbs, a boundary vertex that ends no barb
- * or a barb that ends inside adds a triangle and no barb edge (the count behind DESIGN.md, "Meshes
+ * or a barb that ends inside adds a triangle and no barb edge (the count behind docs/design.md, "Meshes
  * that respect the fibres"). */
 enum {
     PLUME_FEATHER_UNCOVERED_RACHIS = 0,   /* rachis junction: a vertex of the rachis strip from which no
@@ -70,9 +71,9 @@ enum {
 };
 
 /* Names of the reasons above ("rachis junction", "outline", "barb end", "other"); NULL out of range. */
-const char *plume_feather_uncovered_name(int reason);
+PLUME_API const char *plume_feather_uncovered_name(int reason);
 
-/* Barb coverage and quality of a feather mesh (DESIGN.md, "Meshes that respect the fibres"). */
+/* Barb coverage and quality of a feather mesh (docs/design.md, "Meshes that respect the fibres"). */
 typedef struct {
     plume_index vane_triangles;   /* triangles of material PLUME_FEATHER_VANE */
     plume_index vane_covered;     /* of them, those owning one of the returned barb edges (so
@@ -91,13 +92,13 @@ typedef struct {
  * outline when it is a boundary vertex, of the strip when a rachis triangle uses it, and ends a
  * barb when exactly one barb edge uses it. Errors: PLUME_EINVAL (NULL mesh or n, no topology,
  * vertex id out of range), PLUME_ENOMEM. */
-plume_status plume_feather_uncovered(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
-                                     plume_index **tri, unsigned char **reason, plume_index *n, plume_err *err);
+PLUME_API plume_status plume_feather_uncovered(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
+                                               plume_index **tri, unsigned char **reason, plume_index *n, plume_err *err);
 
 /* plume_feather_mesh, and *stats (if non-NULL) filled as above; same outputs and errors. */
-plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int dim, plume_mesh **out,
-                                           plume_index **barb_edges, plume_index *nbarb, plume_feather_stats *stats,
-                                           plume_err *err);
+PLUME_API plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int dim, plume_mesh **out,
+                                                     plume_index **barb_edges, plume_index *nbarb, plume_feather_stats *stats,
+                                                     plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -8,6 +8,8 @@
 
 #include "../lib/io/vtu.h"
 
+#define PLUME_PI 3.14159265358979323846
+
 struct plume_fields {
     const plume_mesh *mesh;
     int dim;
@@ -22,6 +24,8 @@ struct plume_fields {
     double *x_rest;          /* [dim nv] for the displacement */
     double *e, *bend_stencil; /* [7 nt] the per-triangle outputs below; [bending nstencil] */
     double *strain, *stress, *psi_m, *psi_b, *J, *H, *bstrain;
+    double *crease;          /* [nt] the crease angles (mean_curvature) */
+    double *vcurv;           /* [2 nv] per vertex: the integrated curvature and the area it is spread on */
     double *points, *disp, *mat_id, *dir3; /* [3 nv], [3 nv], [nt], [3 nt] for writing */
     /* the series */
     plume_pvd *pvd;
@@ -47,6 +51,8 @@ void plume_fields_destroy(plume_fields **pf)
     free(f->disp);
     free(f->mat_id);
     free(f->dir3);
+    free(f->crease);
+    free(f->vcurv);
     plume_pvd_destroy(&f->pvd);
     free(f->dir);
     free(f->stem);
@@ -122,8 +128,10 @@ plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt
     f->disp = malloc((size_t)(3 * nv + 1) * sizeof *f->disp);
     f->mat_id = malloc((size_t)(nt + 1) * sizeof *f->mat_id);
     f->dir3 = malloc((size_t)(3 * nt + 1) * sizeof *f->dir3);
+    f->crease = malloc((size_t)(nt + 1) * sizeof *f->crease);
+    f->vcurv = malloc((size_t)(2 * nv + 1) * sizeof *f->vcurv);
     if (!f->mats || !f->barb || !f->barb_len || !f->dminv || !f->area0 || !f->x_rest || !f->e || !f->bend_stencil ||
-        !f->points || !f->disp || !f->mat_id || !f->dir3) {
+        !f->points || !f->disp || !f->mat_id || !f->dir3 || !f->crease || !f->vcurv) {
         st = PLUME_ENOMEM;
         goto fail;
     }
@@ -196,14 +204,34 @@ static void tri_normal(const plume_mesh *m, plume_index t, const double *x, doub
     cross(a, b, n);
 }
 
-/* sum over the interior edges of each elastic triangle of theta |e| / 4, over its deformed area */
+/* Mean curvature from the dihedral angles theta of the interior edges (both sides elastic): each
+ * edge's integrated curvature theta |e| / 2 goes half to each of its end vertices, a vertex's
+ * value is its sum over a third of the deformed area of its triangles, and a triangle's is the
+ * mean of its vertices'. The total, sum of H times area, is sum theta |e| / 2 as with a division
+ * by each triangle's own area, but a sliver (the outline's, where the mesher leaves thin
+ * triangles) no longer divides an edge's angle by its near-zero area: on the shipped feather that
+ * gave single cells 10^3 times the median. An edge whose |theta| exceeds pi / 2 is a crease (a
+ * triangle folded over its neighbour), not the bend of a smooth surface: it is left out and its
+ * angle reported in crease[] of both triangles (the largest; 0 elsewhere). */
 static void mean_curvature(plume_fields *f, const double *x)
 {
     const plume_mesh *m = f->mesh;
     for (plume_index t = 0; t < f->nt_el; t++)
-        f->H[t] = 0.0;
+        f->H[t] = 0.0, f->crease[t] = 0.0;
+    for (plume_index t = f->nt_el; t < m->nt; t++)
+        f->crease[t] = NAN;
     if (f->dim != 3)
         return;
+    double *hv = f->vcurv, *av = f->vcurv + m->nv;
+    for (plume_index v = 0; v < 2 * m->nv; v++)
+        f->vcurv[v] = 0.0;
+    for (plume_index t = 0; t < f->nt_el; t++) {
+        double n[3];
+        tri_normal(m, t, x, n);
+        double third = sqrt(dot(n, n)) / 6.0;
+        for (int k = 0; k < 3; k++)
+            av[m->tri[3 * t + k]] += third;
+    }
     for (plume_index e = 0; e < m->ne; e++) {
         plume_index t0 = m->edge_tri[2 * e], t1 = m->edge_tri[2 * e + 1];
         if (t1 < 0 || t0 >= f->nt_el || t1 >= f->nt_el)
@@ -223,9 +251,22 @@ static void mean_curvature(plume_fields *f, const double *x)
         /* positive where the surface bends away from its normals (a cylinder or sphere with
          * outward normals: +1/(2R) or +1/R) */
         double theta = atan2((forward ? 1.0 : -1.0) * dot(c, ed) / len, dot(n0, n1));
+        if (fabs(theta) > 0.5 * PLUME_PI) {
+            f->crease[t0] = fmax(f->crease[t0], fabs(theta));
+            f->crease[t1] = fmax(f->crease[t1], fabs(theta));
+            continue;
+        }
         double share = 0.25 * theta * len;
-        f->H[t0] += share / (0.5 * l0);
-        f->H[t1] += share / (0.5 * l1);
+        hv[a] += share;
+        hv[b] += share;
+    }
+    for (plume_index t = 0; t < f->nt_el; t++) {
+        double h = 0.0;
+        for (int k = 0; k < 3; k++) {
+            plume_index w = m->tri[3 * t + k];
+            h += av[w] > 0.0 ? hv[w] / av[w] : 0.0;
+        }
+        f->H[t] = h / 3.0;
     }
 }
 
@@ -287,6 +328,7 @@ plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_
     out->nt = nt, out->nbarb = f->nbarb;
     out->green_strain = f->strain, out->stress = f->stress, out->membrane_energy = f->psi_m;
     out->bending_energy = f->psi_b, out->J = f->J, out->mean_curvature = f->H, out->barb_strain = f->bstrain;
+    out->crease_angle = f->crease;
     return PLUME_OK;
 }
 
@@ -346,8 +388,9 @@ plume_status plume_fields_series_frame(plume_fields *f, long index, double t, co
                                   {"membrane_energy_density", 1, 0, fv.membrane_energy},
                                   {"bending_energy_density", 1, 0, fv.bending_energy},
                                   {"J", 1, 0, fv.J},
-                                  {"mean_curvature", 1, 0, fv.mean_curvature}};
-    plume_vtu_grid g = {m->nv, f->points, PLUME_VTU_TRIANGLE, m->nt, m->tri, 1, 8, pf, cf, t};
+                                  {"mean_curvature", 1, 0, fv.mean_curvature},
+                                  {"crease_angle", 1, 0, fv.crease_angle}};
+    plume_vtu_grid g = {m->nv, f->points, PLUME_VTU_TRIANGLE, m->nt, m->tri, 1, 9, pf, cf, t};
     size_t len = strlen(f->dir) + strlen(f->stem) + 64;
     char *path = malloc(len), *name = malloc(len);
     if (!path || !name) {

@@ -4,6 +4,7 @@
 #ifndef PLUME_FIELDS_H
 #define PLUME_FIELDS_H
 
+#include "../lib/export.h"
 #include "../lib/mesh.h"
 #include "../lib/membrane.h"
 #include "../lib/term.h"
@@ -22,11 +23,15 @@ typedef struct {
     const double *membrane_energy;  /* [nt] membrane energy per reference area, J/m^2 */
     const double *bending_energy;   /* [nt] bending energy per reference area, J/m^2 (0 without bending) */
     const double *J;                /* [nt] deformed over reference area */
-    const double *mean_curvature;   /* [nt] 1/m, from the dihedral angles of the triangle's edges
-                                       (sum over its interior edges of theta |e| / 4, over its area;
+    const double *mean_curvature;   /* [nt] 1/m, from the dihedral angles theta of the interior
+                                       edges: theta |e| / 4 to each end vertex, over a third of its
+                                       triangles' area, averaged over the triangle's vertices;
                                        positive where the surface bends away from its normals,
-                                       e.g. +1/(2R) on a cylinder with outward normals; 0 in
-                                       planar mode) */
+                                       e.g. +1/(2R) on a cylinder with outward normals; creases
+                                       (|theta| > pi / 2) left out; 0 in planar mode
+                                       (docs/paraview-output.md) */
+    const double *crease_angle;     /* [nt] rad: the largest |theta| > pi / 2 across the triangle's
+                                       interior edges (it is folded over a neighbour), else 0 */
     const double *barb_strain;      /* [nbarb] |x_a - x_b| / L - 1 of each constrained barb edge:
                                        the inextensibility constraint's violation */
 } plume_field_values;
@@ -39,25 +44,25 @@ typedef struct plume_fields plume_fields;
  * object (its `energies` gives the bending energy; NULL: none; its stencils are the triangles,
  * or the mesh's hinges for the hinge model), and the constrained barb edges (copied, may be
  * NULL). PLUME_EINVAL naming what is wrong, PLUME_ENOMEM. */
-plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt_elastic,
-                                 const plume_membrane_material *mats, int nmat, plume_term *bending,
-                                 const plume_index *barb_edges, plume_index nbarb, plume_fields **out,
-                                 plume_err *err);
-void plume_fields_destroy(plume_fields **f);
+PLUME_API plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt_elastic,
+                                           const plume_membrane_material *mats, int nmat, plume_term *bending,
+                                           const plume_index *barb_edges, plume_index nbarb, plume_fields **out,
+                                           plume_err *err);
+PLUME_API void plume_fields_destroy(plume_fields **f);
 
 /* Computes the fields at positions x (dim * nv). */
-plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_values *out, plume_err *err);
+PLUME_API plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_values *out, plume_err *err);
 
 /* Starts a ParaView series in directory dir: files "<stem>_NNNNN.vtu" (and
  * "<stem>_barbs_NNNNN.vtu") and the collection dir/pvd_name (e.g. "frames.pvd"). With
  * resume_until >= 0 an existing collection keeps its entries of time <= resume_until (a restarted
  * run); otherwise it is replaced at the first frame. */
-plume_status plume_fields_series_start(plume_fields *f, const char *dir, const char *pvd_name, const char *stem,
-                                       double resume_until, plume_err *err);
+PLUME_API plume_status plume_fields_series_start(plume_fields *f, const char *dir, const char *pvd_name, const char *stem,
+                                                 double resume_until, plume_err *err);
 
 /* Writes frame `index` at time t (positions x): its .vtu files and the updated .pvd. Point data:
  * displacement; cell data: material, barb_direction, the fields above. */
-plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err);
+PLUME_API plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -26,6 +26,29 @@
 /* ------------------------------------------------------------------------------------------ */
 /* requests */
 
+/* mkdir -p of an output directory, before any work: 0, or -1 with errno (ENOTDIR when the path
+ * names something else) */
+static int make_dirs(const char *path)
+{
+    char buf[4200];
+    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf)
+        return errno = ENAMETOOLONG, -1;
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+            return -1;
+        *p = '/';
+    }
+    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        return -1;
+    struct stat st;
+    if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode))
+        return errno = ENOTDIR, -1;
+    return 0;
+}
+
 static plume_status finish(plume_status st, const plume_err *err, char *msg, long nmsg)
 {
     if (msg && nmsg > 0) {
@@ -129,7 +152,9 @@ static plume_status get_layout(json_t *obj, const char *what, plume_layout *l, p
     return st == PLUME_EFORMAT ? PLUME_EINVAL : st; /* a bad key of a request, not a malformed file */
 }
 
-/* {"E_xx", "E_yy", "nu_xy", "G_xy"} at obj[key] into m (absent moduli kept) */
+/* {"E_xx", "E_yy", "nu_xy", "G_xy"} at obj[key] into m: all four, or obj[key] absent (m kept). A
+ * partial object is refused, naming the missing keys: filling them with defaults would run a
+ * material nobody asked for. */
 static plume_status get_moduli(json_t *obj, const char *what, const char *key, plume_ortho *m, plume_err *err)
 {
     json_t *v = json_object_get(obj, key);
@@ -150,6 +175,14 @@ static plume_status get_moduli(json_t *obj, const char *what, const char *key, p
             return plume_err_set(err, PLUME_EINVAL, "%s: \"%s\" must be a finite number", where, k);
         *dst = json_number_value(x);
     }
+    static const char *const names[] = {"E_xx", "E_yy", "nu_xy", "G_xy"};
+    char missing[64] = "";
+    for (int i = 0; i < 4; i++)
+        if (!json_object_get(v, names[i]))
+            snprintf(missing + strlen(missing), sizeof missing - strlen(missing), "%s%s", missing[0] ? ", " : "",
+                     names[i]);
+    if (missing[0])
+        return plume_err_set(err, PLUME_EINVAL, "%s: missing %s (give all of E_xx, E_yy, nu_xy, G_xy)", where, missing);
     return PLUME_OK;
 }
 
@@ -376,7 +409,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     if (vtk) {
         char dir[4200];
         snprintf(dir, sizeof dir, "%s", vtk);
-        if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+        if (make_dirs(dir) != 0) {
             st = plume_err_set(&err, PLUME_EIO, "traction request: \"vtk\": cannot create the directory '%s': %s", vtk,
                                strerror(errno));
             goto done;
@@ -625,8 +658,9 @@ plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **repor
     plume_status st = PLUME_OK;
     for (int i = 0; i < nsteps; i++) {
         plume_step_report rep;
-        if ((st = plume_dynamics_advance(s->d, 0.0, &rep)) != PLUME_OK) {
-            plume_err_set(&err, st, "scene step %ld: %s", done + 1, plume_strerror(st));
+        plume_err why;
+        if ((st = plume_dynamics_advance(s->d, 0.0, &rep, &why)) != PLUME_OK) {
+            plume_err_set(&err, st, "scene step %ld: %s", done + 1, why.msg);
             return finish(st, &err, msg, nmsg);
         }
         halvings += rep.halvings, iterations += rep.iterations, seconds += rep.seconds;
@@ -696,7 +730,7 @@ plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, ch
         return finish(plume_err_set(&err, PLUME_EINVAL, "scene write_vtk: invalid arguments"), &err, msg, nmsg);
     plume_status st = PLUME_OK;
     if (!s->vtk_dir || strcmp(s->vtk_dir, dir) != 0) { /* a new series */
-        if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+        if (make_dirs(dir) != 0)
             return finish(plume_err_set(&err, PLUME_EIO, "scene write_vtk: cannot create the directory '%s': %s", dir,
                                         strerror(errno)),
                           &err, msg, nmsg);

@@ -21,7 +21,8 @@
  *        {"strain": [], "stress": [], "wbar": [], "iterations": []}} (curves only when
  *        strain_max > 0)}
  *  - traction: {"model": "macro"|"micro", "angle": 45 (deg from the pull), "lx": 1, "ly": 1.3,
- *    "thickness": 1, "moduli": {"E_xx": 1e4, "E_yy": 1, "nu_xy": 0, "G_xy": 1}, "kappa": 0,
+ *    "thickness": 1, "moduli": {"E_xx": 1e4, "E_yy": 1, "nu_xy": 0, "G_xy": 1} (all four, or
+ *    the key absent for these), "kappa": 0,
  *    "constraint": true, "mesh": "aligned"|"unaligned", "edge": min(lx, ly) / 20,
  *    "strain_max": 0.05, "steps": 10, "solver": "newton"|"ipopt"|"linearized",
  *    "layout": {...} (model micro; as apps/traction, the barbs are 0.086 ly apart and the
@@ -43,53 +44,54 @@
 #ifndef PLUME_FLAT_H
 #define PLUME_FLAT_H
 
+#include "../lib/export.h"
 #include "../lib/status.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-plume_status plume_flat_homogenize(const char *request, char **result, char *msg, long nmsg);
-plume_status plume_flat_traction(const char *request, char **result, char *msg, long nmsg);
-plume_status plume_flat_fit(const char *request, char **result, char *msg, long nmsg);
-void plume_flat_free(char *text);
+PLUME_API plume_status plume_flat_homogenize(const char *request, char **result, char *msg, long nmsg);
+PLUME_API plume_status plume_flat_traction(const char *request, char **result, char *msg, long nmsg);
+PLUME_API plume_status plume_flat_fit(const char *request, char **result, char *msg, long nmsg);
+PLUME_API void plume_flat_free(char *text);
 
 /* A dynamic scene (macro/scene.h) being stepped, with its contact and friction if it has them. */
 typedef struct plume_flat_scene plume_flat_scene;
 
 /* Loads and sets up the scene at `path` (errors name the file, line and key). */
-plume_status plume_flat_scene_open(const char *path, plume_flat_scene **out, char *msg, long nmsg);
+PLUME_API plume_status plume_flat_scene_open(const char *path, plume_flat_scene **out, char *msg, long nmsg);
 /* The same from a scene document in memory (JSON text) standing for the file `path`: relative file
  * names in it resolve against path's directory, errors name path and the key (macro/scene.h,
  * plume_scene_load_json). */
-plume_status plume_flat_scene_open_json(const char *json, const char *path, plume_flat_scene **out, char *msg,
-                                        long nmsg);
-void plume_flat_scene_close(plume_flat_scene **s);
+PLUME_API plume_status plume_flat_scene_open_json(const char *json, const char *path, plume_flat_scene **out, char *msg,
+                                                  long nmsg);
+PLUME_API void plume_flat_scene_close(plume_flat_scene **s);
 
 /* Advances nsteps time steps of the scene's dt (each halved when it fails, as apps/feather does).
  * *report (may be NULL) gets {"steps", "time", "converged", "halvings", "newton_iterations",
  * "max_violation", "seconds", "stop_reason"}. A step that does not converge at the smallest step
  * is not an error: the state stays at the last converged substep, "converged" is false, and the
  * status is PLUME_OK. */
-plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **report, char *msg, long nmsg);
+PLUME_API plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **report, char *msg, long nmsg);
 
 /* Sizes and state: vertices, triangles, constrained barb edges; time (s). */
-long plume_flat_scene_nv(const plume_flat_scene *s);
-long plume_flat_scene_nt(const plume_flat_scene *s);
-double plume_flat_scene_time(const plume_flat_scene *s);
+PLUME_API long plume_flat_scene_nv(const plume_flat_scene *s);
+PLUME_API long plume_flat_scene_nt(const plume_flat_scene *s);
+PLUME_API double plume_flat_scene_time(const plume_flat_scene *s);
 
 /* Copies the positions / velocities (3 nv, vertex-major, m and m/s), the reference positions
  * (2 nv: the material coordinates X), the triangles (3 nt vertex ids, as longs) into out. */
-void plume_flat_scene_positions(const plume_flat_scene *s, double *out);
-void plume_flat_scene_velocities(const plume_flat_scene *s, double *out);
-void plume_flat_scene_reference(const plume_flat_scene *s, double *out);
-void plume_flat_scene_triangles(const plume_flat_scene *s, long *out);
+PLUME_API void plume_flat_scene_positions(const plume_flat_scene *s, double *out);
+PLUME_API void plume_flat_scene_velocities(const plume_flat_scene *s, double *out);
+PLUME_API void plume_flat_scene_reference(const plume_flat_scene *s, double *out);
+PLUME_API void plume_flat_scene_triangles(const plume_flat_scene *s, long *out);
 
 /* Writes the current state as the next frame of a ParaView series in directory dir (created if
  * needed): dir/frames.pvd with dir/frame_NNNNN.vtu (and dir/frame_barbs_NNNNN.vtu when the scene
  * has constrained barbs; macro/fields.h); the first call with a dir starts its series (frame 0),
  * later calls with the same dir append. */
-plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, char *msg, long nmsg);
+PLUME_API plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, char *msg, long nmsg);
 
 #ifdef __cplusplus
 }

@@ -86,7 +86,7 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Aligned meshes (DESIGN.md, "Meshes that respect the fibres"). The barb lines are the chords
+/* Aligned meshes (docs/design.md, "Meshes that respect the fibres"). The barb lines are the chords
  * {p : nrm.p = c} of the rectangle; one passes through every corner, because the exact solution
  * of an inextensible-fibre sheet concentrates stress on the fibres through the corners (Pipkin),
  * and the others are spaced uniformly (<= edge sqrt(3)/2 apart) between consecutive corner lines.

@@ -2,6 +2,7 @@
 #ifndef PLUME_PATCH_MESH_H
 #define PLUME_PATCH_MESH_H
 
+#include "../lib/export.h"
 #include "../lib/mesh.h"
 
 #ifdef __cplusplus
@@ -18,18 +19,18 @@ typedef enum {
 } plume_patch_kind;
 
 /* Parses "aligned" | "unaligned". */
-plume_status plume_patch_kind_parse(const char *s, plume_patch_kind *out);
+PLUME_API plume_status plume_patch_kind_parse(const char *s, plume_patch_kind *out);
 
 /* Barb direction for an angle (degrees) measured from the pulling axis y toward +x:
  * d = (sin a, cos a). */
-void plume_patch_barb_direction(double angle_deg, double d[2]);
+PLUME_API void plume_patch_barb_direction(double angle_deg, double d[2]);
 
 /* Meshes the rectangle at target edge length `edge` (m) with barbs at `angle_deg` in [0, 180].
  * Every triangle gets barb_dir = d, material 0; topology is built; x = X (z = 0 in shell mode).
  * Errors (PLUME_EINVAL, message names the parameter): non-finite or non-positive sizes, edge
  * larger than the sample, angle out of range, more than ~5e6 triangles requested. */
-plume_status plume_patch_mesh(double lx, double ly, double angle_deg, double edge, plume_patch_kind kind,
-                              int dim, plume_mesh **out, plume_err *err);
+PLUME_API plume_status plume_patch_mesh(double lx, double ly, double angle_deg, double edge, plume_patch_kind kind,
+                                        int dim, plume_mesh **out, plume_err *err);
 
 #ifdef __cplusplus
 }

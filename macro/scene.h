@@ -98,6 +98,7 @@
 #ifndef PLUME_SCENE_H
 #define PLUME_SCENE_H
 
+#include "../lib/export.h"
 #include "../lib/contact.h"
 #include "../lib/dynamics.h"
 #include "../lib/membrane.h"
@@ -200,7 +201,7 @@ typedef struct {
 /* Reads, validates and meshes the scene in `path`. Errors (PLUME_EIO unreadable file,
  * PLUME_EFORMAT malformed JSON or a wrong type, PLUME_EINVAL a bad value) name the file, the line
  * and the key ("scene.json:12: materials[0].density must be finite and > 0 (got -1)"). */
-plume_status plume_scene_load(const char *path, plume_scene **out, plume_err *err);
+PLUME_API plume_status plume_scene_load(const char *path, plume_scene **out, plume_err *err);
 
 /* What a caller may change in a scene before it is meshed (convergence studies). */
 typedef struct {
@@ -210,35 +211,35 @@ typedef struct {
 
 /* plume_scene_load with overrides (o may be NULL); an override that does not apply to the
  * scene's mesh (an edge for an OBJ) is an error naming the key. */
-plume_status plume_scene_load_with(const char *path, const plume_scene_load_opts *o, plume_scene **out,
-                                   plume_err *err);
+PLUME_API plume_status plume_scene_load_with(const char *path, const plume_scene_load_opts *o, plume_scene **out,
+                                             plume_err *err);
 
 /* plume_scene_load_with on a scene document held in memory (JSON text, e.g. a file's document
  * with some keys changed: apps/sweep) instead of the file: `path` is the file it stands for, whose
  * directory relative file names (OBJ meshes, feather shapes) resolve against; errors name `path`
  * and the key, without a line (the text is not the file). The caller keeps json. */
-plume_status plume_scene_load_json(const char *json, const char *path, const plume_scene_load_opts *o,
-                                   plume_scene **out, plume_err *err);
-void plume_scene_destroy(plume_scene **s);
+PLUME_API plume_status plume_scene_load_json(const char *json, const char *path, const plume_scene_load_opts *o,
+                                             plume_scene **out, plume_err *err);
+PLUME_API void plume_scene_destroy(plume_scene **s);
 
 /* Builds the problem (membrane and bending terms per material, edge-length constraints on the
  * barb edges) with x at the rest state, and the implicit Euler stepper with the scene's
  * densities, handles, gravity, dt, solver, max_halvings and max_iter. *p and *d belong to the
  * caller (destroy d first); the scene must outlive them. */
-plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **p, plume_dynamics **d, plume_err *err);
+PLUME_API plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **p, plume_dynamics **d, plume_err *err);
 
 /* The same, and *contact (may be NULL; NULL without a "contact" block) the contact term's handle
  * for plume_contact_term_stats, valid as long as *p. A contact scene is first checked by
  * plume_scene_check_start. */
-plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_problem **p, plume_dynamics **d,
-                                          plume_contact **contact, plume_err *err);
+PLUME_API plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_problem **p, plume_dynamics **d,
+                                                    plume_contact **contact, plume_err *err);
 
 /* Checks the start of a contact scene (no-op without contact): its bodies at rest, and on the way
  * to where the handles' keyframes put them at t = 0 (the first step makes that jump; 16 placements
  * along it, the last at t = 0), must not intersect — barrier contact cannot start from crossed
  * bodies. PLUME_EINVAL naming the scene, the two bodies (objects' names, else "body N") and the
  * first crossing pair of triangles. */
-plume_status plume_scene_check_start(const plume_scene *s, plume_err *err);
+PLUME_API plume_status plume_scene_check_start(const plume_scene *s, plume_err *err);
 
 /* Builds the problem of a static scene (membrane, bending, constraints, the nominal loads and
  * moments; clamps and handles fixed) and its load-stepping driver (lib/statics.h) with the
@@ -246,21 +247,21 @@ plume_status plume_scene_check_start(const plume_scene *s, plume_err *err);
  * scene must outlive them. Errors: the scene is not static (PLUME_EINVAL). */
 /* The output fields of the scene's states (fields.h): its membrane materials, its bending term
  * and its barb edges, over the whole mesh (kinematic triangles get NaN). */
-plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_err *err);
+PLUME_API plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_err *err);
 
-plume_status plume_scene_statics(const plume_scene *s, plume_problem **p, plume_statics **st, plume_err *err);
+PLUME_API plume_status plume_scene_statics(const plume_scene *s, plume_problem **p, plume_statics **st, plume_err *err);
 
 /* The body of each vertex (body [nv], caller-allocated): the connected components of the scene's
  * mesh, numbered from 0 in vertex order; returns their count. */
-int plume_scene_bodies(const plume_scene *s, int *body);
+PLUME_API int plume_scene_bodies(const plume_scene *s, int *body);
 
 /* A broad phase over the scene's bodies (plume_scene_bodies) with the scene's self-contact
  * setting, for measuring distances and intersections after each step (apps/feather, sweeps);
  * the caller destroys *out. */
-plume_status plume_scene_contact_broad(const plume_scene *s, plume_contact_broad **out, plume_err *err);
+PLUME_API plume_status plume_scene_contact_broad(const plume_scene *s, plume_contact_broad **out, plume_err *err);
 
 /* Mean displacement (3) of probe k at positions x (3 nv). */
-void plume_scene_probe_displacement(const plume_scene *s, int k, const double *x, double u[3]);
+PLUME_API void plume_scene_probe_displacement(const plume_scene *s, int k, const double *x, double u[3]);
 
 #ifdef __cplusplus
 }

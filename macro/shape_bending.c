@@ -1,6 +1,6 @@
 /* Mesh-independent anisotropic bending from a per-triangle second fundamental form: the 6-vertex
- * shape-operator fit with slopes shared across edges (DESIGN.md "Bending is a property of the surface, not of the mesh's
- * edges"; issue 8).
+ * shape-operator fit with slopes shared across edges (docs/design.md "Bending is a property of the
+ * surface, not of the mesh's edges").
  *
  * Why not the hinge. macro/bending.c measures one normal curvature per edge (the dihedral angle)
  * and must guess the direction-dependent stiffness of that one curvature; the guess is exact only

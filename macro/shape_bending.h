@@ -1,4 +1,4 @@
-/* plume: mesh-independent anisotropic bending of a shell (DESIGN.md "Bending"; "Bending is a
+/* plume: mesh-independent anisotropic bending of a shell (docs/design.md "Bending"; "Bending is a
  * property of the surface, not of the mesh's edges"): a per-triangle second fundamental form
  * fitted exactly to every quadratic height field on any triangulation (the 6-vertex
  * shape-operator stencil, macro/shape_bending.c), and the orthotropic plate energy of its
@@ -10,6 +10,7 @@
 #ifndef PLUME_SHAPE_BENDING_H
 #define PLUME_SHAPE_BENDING_H
 
+#include "../lib/export.h"
 #include "../lib/mesh.h"
 #include "../lib/term.h"
 #include "bending.h"
@@ -33,8 +34,8 @@ extern "C" {
  * normalised, a degenerate reference triangle, a triangle with no well-conditioned stencil (a
  * mesh with too few vertices, e.g. one or two triangles), a rest_x that is not finite or
  * collapses a triangle. */
-plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
-                                             const double *rest_x, plume_term *out, plume_err *err);
+PLUME_API plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
+                                                       const double *rest_x, plume_term *out, plume_err *err);
 
 /* Options of plume_shape_bending_term_create_opts (all zero: the default term above).
  *
@@ -57,9 +58,9 @@ typedef struct {
 
 /* The term with options (o may be NULL). Errors as above, and PLUME_EINVAL for a clamped edge
  * with no mirror plane (a collapsed rest_x triangle). */
-plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const plume_bending_material *mats,
-                                                  int nmat, const double *rest_x, const plume_shape_bending_opts *o,
-                                                  plume_term *out, plume_err *err);
+PLUME_API plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const plume_bending_material *mats,
+                                                            int nmat, const double *rest_x, const plume_shape_bending_opts *o,
+                                                            plume_term *out, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -91,7 +91,7 @@ plume_status plume_stability_compression(double kappa, int log_barrier, double l
     plume_solver_opts_default(&o);
     o.max_iter = 300;
     if (st == PLUME_OK && (st = plume_problem_finalize(p, err)) == PLUME_OK)
-        st = plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s);
+        st = plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s, err);
     if (st == PLUME_OK && !(u = malloc((size_t)plume_problem_nfree(p) * sizeof *u)))
         st = PLUME_ENOMEM;
     *converged = 1;

@@ -5,6 +5,7 @@
 #ifndef PLUME_STABILITY_H
 #define PLUME_STABILITY_H
 
+#include "../lib/export.h"
 #include "../lib/status.h"
 
 #ifdef __cplusplus
@@ -16,7 +17,7 @@ extern "C" {
  * E_xx = ratio. constraint 0: the penalty model, whose Hessian carries the stiff mode;
  * 1: what the constrained model leaves to the Hessian once the constraint has taken the stiff
  * mode out (the same sample with E_xx = E_yy), independent of the ratio. */
-plume_status plume_stability_condition(double ratio, double edge, int constraint, double *cond, plume_err *err);
+PLUME_API plume_status plume_stability_condition(double ratio, double edge, int constraint, double *cond, plume_err *err);
 
 /* A strip one element wide (0.05 x 1 m, E = 1 Pa, nu = 0, planar) clamped at both ends and
  * compressed to a length ratio `lambda_end` in `steps` steps, with compression coefficient kappa
@@ -26,8 +27,8 @@ plume_status plume_stability_condition(double ratio, double edge, int constraint
  * smallest and largest element area ratios J at the end, whether every step converged, and the
  * total Newton iterations. Without the term elements collapse and invert (J < 0) so that others
  * can stretch (J > 1); with it they stay open. */
-plume_status plume_stability_compression(double kappa, int log_barrier, double lambda_end, int steps, double *min_J,
-                                         double *max_J, int *converged, int *iterations, plume_err *err);
+PLUME_API plume_status plume_stability_compression(double kappa, int log_barrier, double lambda_end, int steps, double *min_J,
+                                                   double *max_J, int *converged, int *iterations, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -4,6 +4,7 @@
 #ifndef PLUME_STUDY_H
 #define PLUME_STUDY_H
 
+#include "../lib/export.h"
 #include "../lib/curves.h"
 #include "../lib/solver.h"
 #include "../micro/layout.h"
@@ -33,7 +34,7 @@ typedef struct {
     plume_layout layout;       /* micro only; default plume_layout_default */
 } plume_study_config;
 
-void plume_study_config_default(plume_study_config *c);
+PLUME_API void plume_study_config_default(plume_study_config *c);
 
 /* Output of one run. `curve` is owned by the result (plume_study_result_free). */
 typedef struct {
@@ -53,12 +54,12 @@ typedef struct {
  * error: the result says so (converged 0, reason) and holds the points before it. Errors
  * (invalid input or layout, barbs spanning both grips with the constraint on: PLUME_EINFEASIBLE,
  * a dependency) leave `r` zeroed with a message in err. */
-plume_status plume_study_traction(const plume_study_config *c, plume_study_result *r, plume_err *err);
+PLUME_API plume_status plume_study_traction(const plume_study_config *c, plume_study_result *r, plume_err *err);
 
-void plume_study_result_free(plume_study_result *r);
+PLUME_API void plume_study_result_free(plume_study_result *r);
 
 /* |a - ref| / |ref| (|a - ref| if ref is 0); NaN if either is not finite. */
-double plume_study_rel_error(double a, double ref);
+PLUME_API double plume_study_rel_error(double a, double ref);
 
 #ifdef __cplusplus
 }

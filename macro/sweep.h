@@ -30,6 +30,7 @@
 #ifndef PLUME_SWEEP_H
 #define PLUME_SWEEP_H
 
+#include "../lib/export.h"
 #include "../lib/status.h"
 
 #ifdef __cplusplus
@@ -40,16 +41,16 @@ typedef struct plume_sweep plume_sweep;
 
 /* Loads and expands a sweep file; samples come from samples_path (data/samples.json) when the
  * file varies "sample". */
-plume_status plume_sweep_load(const char *path, const char *samples_path, plume_sweep **out, plume_err *err);
-void plume_sweep_destroy(plume_sweep **s);
+PLUME_API plume_status plume_sweep_load(const char *path, const char *samples_path, plume_sweep **out, plume_err *err);
+PLUME_API void plume_sweep_destroy(plume_sweep **s);
 
-int plume_sweep_count(const plume_sweep *s);
-const char *plume_sweep_job(const plume_sweep *s); /* "traction" | "homogenize" | "fit" | "scene" */
+PLUME_API int plume_sweep_count(const plume_sweep *s);
+PLUME_API const char *plume_sweep_job(const plume_sweep *s); /* "traction" | "homogenize" | "fit" | "scene" */
 
 /* Run k's request and its varied values ({"angle": 45, "sample": "T01", ...}) as JSON texts,
  * malloc'ed (free with free()). A scene run's request is {"scene": the file, "steps": n (when
  * given), "document": the scene's document with run k's values set}. */
-plume_status plume_sweep_request(const plume_sweep *s, int k, char **request, char **values, plume_err *err);
+PLUME_API plume_status plume_sweep_request(const plume_sweep *s, int k, char **request, char **values, plume_err *err);
 
 /* Executes run k and returns its record as a JSON text (malloc'ed): {"run": k, "values": {...},
  * "outcome": "converged" | the solver's stop reason | "error", "message": plume's message (errors),
@@ -57,7 +58,7 @@ plume_status plume_sweep_request(const plume_sweep *s, int k, char **request, ch
  * "apps/sweep")}. A run that fails is a record, not an error: NULL only when memory runs out. A
  * scene run whose step does not converge at the smallest step has that solver's reason as its
  * outcome and keeps the steps done. */
-char *plume_sweep_execute(const plume_sweep *s, int k);
+PLUME_API char *plume_sweep_execute(const plume_sweep *s, int k);
 
 /* The results file: /sweep with attributes "job", "runs" and "file" (the sweep file's text); one
  * group /sweep/runs/<k> per recorded run with datasets strain, stress, wbar (when the job gives a
@@ -69,20 +70,20 @@ char *plume_sweep_execute(const plume_sweep *s, int k);
  * attributes with a "units" string (docs/hdf5-layout.md); /sweep then keeps the scene file's text
  * in "scene". Creates the file when it does not exist (refusing one of another sweep, or, for a
  * scene sweep, one whose scene file has changed since: PLUME_EINVAL). */
-plume_status plume_sweep_results_open(const char *h5path, const plume_sweep *s, plume_err *err);
+PLUME_API plume_status plume_sweep_results_open(const char *h5path, const plume_sweep *s, plume_err *err);
 
 /* Which runs the file holds (done[k] = 1), e.g. after a sweep was killed: those are not redone. */
-plume_status plume_sweep_results_done(const char *h5path, const plume_sweep *s, unsigned char *done, plume_err *err);
+PLUME_API plume_status plume_sweep_results_done(const char *h5path, const plume_sweep *s, unsigned char *done, plume_err *err);
 
 /* Adds run k's record (from plume_sweep_execute) to the file; a run is written whole or not at
  * all (its group is created last, from a complete temporary name). */
-plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, int k, const char *record, plume_err *err);
+PLUME_API plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, int k, const char *record, plume_err *err);
 
 /* A markdown table of every recorded run (run, values, outcome, last strain and stress, seconds;
  * for a scene: steps, final time, max displacement and min contact distance) into md_path, and
  * the same as a JSON array into *json (malloc'ed; may be NULL). */
-plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const char *md_path, char **json,
-                                 plume_err *err);
+PLUME_API plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const char *md_path, char **json,
+                                           plume_err *err);
 
 #ifdef __cplusplus
 }

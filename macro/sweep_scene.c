@@ -299,8 +299,9 @@ plume_status plume_sweep_scene_run(const char *request, char **result, char *msg
     for (long i = 0; i < n; i++) {
         plume_step_report rep;
         double t0 = plume_dynamics_time(d);
-        if ((st = plume_dynamics_advance(d, 0.0, &rep)) != PLUME_OK) {
-            plume_err_set(&err, st, "%s: step %ld: %s", path, i + 1, plume_strerror(st));
+        plume_err why;
+        if ((st = plume_dynamics_advance(d, 0.0, &rep, &why)) != PLUME_OK) {
+            plume_err_set(&err, st, "%s: step %ld: %s", path, i + 1, why.msg);
             goto done;
         }
         const double *x = plume_dynamics_positions(d);

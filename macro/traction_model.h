@@ -3,6 +3,7 @@
 #ifndef PLUME_TRACTION_MODEL_H
 #define PLUME_TRACTION_MODEL_H
 
+#include "../lib/export.h"
 #include "../lib/curves.h"
 #include "../lib/solver.h"
 #include "patch_mesh.h"
@@ -27,8 +28,8 @@ typedef struct {
 /* plume_fit_model for the macroscale vane: runs the traction test at angles[icurve] with moduli
  * m and returns its curve (arrays malloc'ed, owned by out). A run that does not converge gives
  * PLUME_EINFEASIBLE; barbs spanning both grips too. */
-plume_status plume_macro_model_curve(void *ctx, const plume_ortho *m, int icurve, plume_curve *out,
-                                     plume_err *err);
+PLUME_API plume_status plume_macro_model_curve(void *ctx, const plume_ortho *m, int icurve, plume_curve *out,
+                                               plume_err *err);
 
 #ifdef __cplusplus
 }

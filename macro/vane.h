@@ -4,6 +4,7 @@
 #ifndef PLUME_VANE_H
 #define PLUME_VANE_H
 
+#include "../lib/export.h"
 #include "../lib/curves.h"
 #include "../lib/membrane.h"
 #include "../lib/mesh.h"
@@ -21,20 +22,20 @@ typedef struct {
     double align_tol;     /* |sin| of the angle below which an edge counts as barb-aligned; default 1e-6 */
 } plume_vane;
 
-void plume_vane_default(plume_vane *v);
+PLUME_API void plume_vane_default(plume_vane *v);
 
 /* The vane's membrane material (its moduli, thickness and kappa). */
-plume_membrane_material plume_vane_material(const plume_vane *v);
+PLUME_API plume_membrane_material plume_vane_material(const plume_vane *v);
 
 /* Validates the moduli and thickness (message names the parameter: "E_yy must be finite and > 0"). */
-plume_status plume_vane_check(const plume_vane *v, plume_err *err);
+PLUME_API plume_status plume_vane_check(const plume_vane *v, plume_err *err);
 
 /* Edges of the mesh (topology built) parallel to the barb direction of an adjacent triangle;
  * returns a malloc'ed array of 2*n vertex ids (free with free()). */
-plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_index **edges,
-                                   plume_index *n);
+PLUME_API plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_index **edges,
+                                             plume_index *n);
 
-/* Barb coverage (DESIGN.md, "Meshes that respect the fibres"): counts the triangles of `m`
+/* Barb coverage (docs/design.md, "Meshes that respect the fibres"): counts the triangles of `m`
  * (topology built) whose material is `material` (or every triangle when material < 0) in *total,
  * and among them those owning at least one of the nbarb edges `barb_edges` (2*nbarb vertex ids,
  * either order; pairs that are not mesh edges are ignored) in *covered. With the constraint on,
@@ -42,16 +43,16 @@ plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_
  * uncovered one does not. If `uncovered` is non-NULL it receives a malloc'ed list of the
  * uncovered triangle ids (*total - *covered of them; NULL when none).
  * Errors: PLUME_EINVAL (NULL mesh or outputs, no topology, vertex id out of range), PLUME_ENOMEM. */
-plume_status plume_vane_barb_coverage(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
-                                      int material, plume_index *covered, plume_index *total,
-                                      plume_index **uncovered);
+PLUME_API plume_status plume_vane_barb_coverage(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
+                                                int material, plume_index *covered, plume_index *total,
+                                                plume_index **uncovered);
 
 /* Adds the vane membrane (every triangle, material 0) and, when v->constraint is set, the
  * inextensibility constraint of the barb edges to `p` (created over mesh->nv vertices).
  * If barb_edges/nbarb are non-NULL they receive the constrained edges (malloc'ed; NULL/0 when
  * the constraint is off). */
-plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, const plume_vane *v,
-                            plume_index **barb_edges, plume_index *nbarb, plume_err *err);
+PLUME_API plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, const plume_vane *v,
+                                      plume_index **barb_edges, plume_index *nbarb, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -232,7 +232,7 @@ plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membra
         goto done;
     plume_solver_opts so;
     plume_solver_opts_default(&so);
-    if ((st = plume_solver_create(PLUME_SOLVER_LINEARIZED, p, &so, &s)) != PLUME_OK)
+    if ((st = plume_solver_create(PLUME_SOLVER_LINEARIZED, p, &so, &s, err)) != PLUME_OK)
         goto done;
     u = calloc((size_t)plume_problem_nfree(p), sizeof *u);
     if (!u) {

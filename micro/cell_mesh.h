@@ -2,6 +2,7 @@
 #ifndef PLUME_CELL_MESH_H
 #define PLUME_CELL_MESH_H
 
+#include "../lib/export.h"
 #include "../lib/mesh.h"
 #include "../lib/mesh_quadratic.h"
 #include "layout.h"
@@ -34,17 +35,17 @@ typedef struct {
  * message): invalid layout, strips narrower than one element is fine but a strip that the mesh
  * cannot resolve (w_B or the gap below 1e-12 d_B), a barbule strip that does not fit in its cell
  * ("cell too small for its layout": barbule extent along the barbs >= barbule_spacing). */
-plume_status plume_cell_mesh(const plume_layout *l, plume_cell **out, plume_err *err);
-void plume_cell_destroy(plume_cell **c);
+PLUME_API plume_status plume_cell_mesh(const plume_layout *l, plume_cell **out, plume_err *err);
+PLUME_API void plume_cell_destroy(plume_cell **c);
 
 /* Elements of the cell: its quadratic triangles at order 2, its triangles at order 1. */
-plume_index plume_cell_elements(const plume_cell *c);
+PLUME_API plume_index plume_cell_elements(const plume_cell *c);
 
 /* The membrane term over a micro mesh: the linear element over `mesh` (quad NULL or empty), or the
  * quadratic one over quad's triangles with mesh's vertices as nodes (lib/membrane_p2.h). Planar. */
-plume_status plume_micro_membrane_term(const plume_mesh *mesh, const plume_quadratic_mesh *quad,
-                                       const plume_membrane_material *mats, int nmat, plume_term *out,
-                                       plume_err *err);
+PLUME_API plume_status plume_micro_membrane_term(const plume_mesh *mesh, const plume_quadratic_mesh *quad,
+                                                 const plume_membrane_material *mats, int nmat, plume_term *out,
+                                                 plume_err *err);
 
 /* Meshes a rectangular traction specimen [0, lx] x [0, ly] of the layout with barbs at angle_deg
  * from the y axis (as in macro/patch_mesh.h: d = (sin a, cos a)); strip boundaries are mesh
@@ -52,8 +53,8 @@ plume_status plume_micro_membrane_term(const plume_mesh *mesh, const plume_quadr
  * layouts leave the empty space out. Always linear triangles (plume_micro_specimen adds the
  * quadratic nodes).
  * Triangles get material ids and barb_dir = d; topology is built. */
-plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, double angle_deg,
-                                 plume_mesh **out, plume_err *err);
+PLUME_API plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, double angle_deg,
+                                           plume_mesh **out, plume_err *err);
 
 #ifdef __cplusplus
 }

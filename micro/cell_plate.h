@@ -3,6 +3,7 @@
 #ifndef PLUME_CELL_PLATE_H
 #define PLUME_CELL_PLATE_H
 
+#include "../lib/export.h"
 #include "../lib/membrane.h"
 #include "cell_mesh.h"
 
@@ -21,7 +22,7 @@ typedef struct {
 } plume_plate_moduli;
 
 /* The moduli of a tensor D (3x3 row-major, the Voigt order above). */
-void plume_plate_moduli_from_tensor(const double D[9], plume_plate_moduli *m);
+PLUME_API void plume_plate_moduli_from_tensor(const double D[9], plume_plate_moduli *m);
 
 /* Sizes of a plate cell solve (optional output). */
 typedef struct {
@@ -41,7 +42,7 @@ typedef struct {
  * pairing vertices and edges. Errors: PLUME_EINVAL (invalid arguments or material, a material id
  * out of range, a degenerate triangle, an edge without its periodic image), PLUME_ENOMEM,
  * PLUME_ESINGULAR (the matrix is not positive definite: a cell falling apart). */
-plume_status plume_cell_plate_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
+PLUME_API plume_status plume_cell_plate_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
                                      double D[9], plume_cell_plate_info *info, plume_err *err);
 
 #ifdef __cplusplus

@@ -95,7 +95,7 @@ static void x_to_moduli(const fit_data *d, const double *x, plume_ortho *m)
     }
 }
 
-/* nu_xy^2 E_yy / E_xx < 1 with positive moduli: the plane-stress tensor of DESIGN.md is PD. */
+/* nu_xy^2 E_yy / E_xx < 1 with positive moduli: the plane-stress tensor of docs/design.md is PD. */
 static double pd_margin(const plume_ortho *m)
 {
     return 1.0 - m->nu_xy * m->nu_xy * m->E_yy / m->E_xx;

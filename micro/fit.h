@@ -4,6 +4,7 @@
 #ifndef PLUME_FIT_H
 #define PLUME_FIT_H
 
+#include "../lib/export.h"
 #include "../lib/curves.h"
 
 #ifdef __cplusplus
@@ -27,7 +28,7 @@ typedef struct {
     double min_strain;   /* target points with |strain| below this are skipped; default 1e-12 */
 } plume_fit_opts;
 
-void plume_fit_opts_default(plume_fit_opts *o);
+PLUME_API void plume_fit_opts_default(plume_fit_opts *o);
 
 typedef struct {
     int evaluations;     /* model evaluations (each runs every curve) */
@@ -43,14 +44,14 @@ typedef struct {
  * log space, so they stay positive; nu_xy linearly), derivative-free (NLopt LN_BOBYQA). `start`
  * gives the initial moduli and the fixed ones. Errors: no curves, empty curve, non-finite data,
  * a model error other than PLUME_EINFEASIBLE. */
-plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const plume_curve *targets, int ncurves,
-                              const plume_ortho *start, const plume_fit_opts *o, plume_ortho *result,
-                              plume_fit_report *rep, plume_err *err);
+PLUME_API plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const plume_curve *targets, int ncurves,
+                                        const plume_ortho *start, const plume_fit_opts *o, plume_ortho *result,
+                                        plume_fit_report *rep, plume_err *err);
 
 /* Reads a measured curve from a text file: two columns, nominal strain and nominal stress (Pa),
  * separated by spaces, tabs or a comma; '#' starts a comment; a header line of words is skipped.
  * Errors name the file and line. wbar/iterations/seconds are zero-filled. */
-plume_status plume_curve_read_text(const char *path, plume_curve *out, plume_err *err);
+PLUME_API plume_status plume_curve_read_text(const char *path, plume_curve *out, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -87,8 +87,9 @@ static plume_status cell_solver_init(cell_solver *c, const plume_cell *cell, con
     }
     if ((st = plume_problem_finalize(c->p, err)) != PLUME_OK)
         return st;
-    if ((st = plume_solver_create(PLUME_SOLVER_NEWTON, c->p, so, &c->s)) != PLUME_OK)
-        return plume_err_set(err, st, "homogenize: cannot create the cell solver (%s)", plume_strerror(st));
+    plume_err why;
+    if ((st = plume_solver_create(PLUME_SOLVER_NEWTON, c->p, so, &c->s, &why)) != PLUME_OK)
+        return plume_err_set(err, st, "homogenize: cannot create the cell solver: %s", why.msg);
     plume_index n = plume_problem_nfree(c->p);
     c->u = malloc((size_t)n * sizeof *c->u);
     c->grad = malloc((size_t)n * sizeof *c->grad);

@@ -3,6 +3,7 @@
 #ifndef PLUME_HOMOGENIZE_H
 #define PLUME_HOMOGENIZE_H
 
+#include "../lib/export.h"
 #include "../lib/curves.h"
 #include "../lib/solver.h"
 #include "cell_mesh.h"
@@ -27,7 +28,7 @@ typedef struct {
     void *on_state_user;
 } plume_homog_opts;
 
-void plume_homog_opts_default(plume_homog_opts *o);
+PLUME_API void plume_homog_opts_default(plume_homog_opts *o);
 
 typedef struct {
     plume_ortho moduli;    /* effective 3D moduli (Pa) in the barb frame (x along the barbs) */
@@ -61,19 +62,19 @@ typedef struct {
     double seconds;
 } plume_homog_result;
 
-void plume_homog_result_free(plume_homog_result *r);
+PLUME_API void plume_homog_result_free(plume_homog_result *r);
 
 /* Meshes the layout's periodic cell and homogenises it: the small-strain tensor from the exact
  * linearised cell problem (micro/cell_linear.h), the bending tensor from the plate cell problem
  * (micro/cell_plate.h), the curves from the nonlinear membrane. Errors: invalid layout or options
  * (PLUME_EINVAL with the field named), a cell solve that does not converge (PLUME_EINFEASIBLE
  * with the load case and the solver's reason). */
-plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, plume_homog_result *r,
-                              plume_err *err);
+PLUME_API plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, plume_homog_result *r,
+                                        plume_err *err);
 
 /* Orthotropic moduli from a plane-stress tensor via its compliance: E_xx = 1/S11, E_yy = 1/S22,
  * G_xy = 1/S33, nu_xy = -S12/S11 (the shear coupling terms, if any, are ignored). */
-plume_status plume_ortho_from_tensor(const double C[9], plume_ortho *m);
+PLUME_API plume_status plume_ortho_from_tensor(const double C[9], plume_ortho *m);
 
 #ifdef __cplusplus
 }

@@ -160,7 +160,7 @@ double plume_layout_thickness(const plume_layout *l, int phase)
 void plume_layout_materials(const plume_layout *l, plume_membrane_material mats[2])
 {
     double E[2] = {l->E_b, l->ratio * l->E_b}, nu[2] = {l->nu_b, l->nu_B};
-    for (int k = 0; k < 2; k++) { /* isotropic: E_xx = E_yy, G = E / (2 (1 + nu)) (DESIGN.md) */
+    for (int k = 0; k < 2; k++) { /* isotropic: E_xx = E_yy, G = E / (2 (1 + nu)) (docs/design.md) */
         mats[k].E_xx = E[k];
         mats[k].E_yy = E[k];
         mats[k].nu_xy = nu[k];

@@ -4,6 +4,7 @@
 #ifndef PLUME_LAYOUT_H
 #define PLUME_LAYOUT_H
 
+#include "../lib/export.h"
 #include "../lib/membrane.h"
 
 #ifdef __cplusplus
@@ -52,13 +53,13 @@ typedef struct {
 /* Defaults: strips, phi = 0.16 (supplementary Figure 10), d_B = 1e-3, E_b = 2.5e9, nu_b = 0.3,
  * ratio = 1e-6, nu_B = 0.3, h = 1e-4, h_barb = h_barbule = 0 (both h), kappa = 0, barbules 0.2 d_B wide every d_B at 60 deg (they
  * span < 0.82 d_B along the barbs for any phi, so they fit the cell), order 2, e_rel = 0 (automatic). */
-void plume_layout_default(plume_layout *l);
+PLUME_API void plume_layout_default(plume_layout *l);
 
 /* w_B = phi d_B. */
-double plume_layout_barb_width(const plume_layout *l);
+PLUME_API double plume_layout_barb_width(const plume_layout *l);
 
 /* The thinnest strip of the layout (m): the barb strip, the gap between barbs, or a barbule. */
-double plume_layout_thinnest(const plume_layout *l);
+PLUME_API double plume_layout_thinnest(const plume_layout *l);
 
 /* What a mesh is for: the automatic element edge differs (docs/micro-convergence.md). */
 typedef enum { PLUME_MESH_CELL = 0, PLUME_MESH_SPECIMEN = 1 } plume_mesh_use;
@@ -66,24 +67,24 @@ typedef enum { PLUME_MESH_CELL = 0, PLUME_MESH_SPECIMEN = 1 } plume_mesh_use;
 /* The target element edge (m): e_rel * w_B when e_rel > 0, else the automatic choice for this use and
  * element order, a fraction of the thinnest feature measured to put the default within 1 % (cell) and
  * 2 % (specimen) of its own refined limit. */
-double plume_layout_element_edge(const plume_layout *l, plume_mesh_use use);
+PLUME_API double plume_layout_element_edge(const plume_layout *l, plume_mesh_use use);
 
 /* The layout meshed for the refinement comparison of `use`: element edge twice this layout's, or half
  * of it when the layout check refuses twice. */
-void plume_layout_refinement(const plume_layout *l, plume_mesh_use use, plume_layout *out);
+PLUME_API void plume_layout_refinement(const plume_layout *l, plume_mesh_use use, plume_layout *out);
 
 /* Validates every field (PLUME_EINVAL naming the field and its value: "phi must be in (0, 1)
  * (got 1.2)", "ratio must be > 0", "strips narrower than an element ...", "cell too small for its
  * layout ..."). */
-plume_status plume_layout_check(const plume_layout *l, plume_err *err);
+PLUME_API plume_status plume_layout_check(const plume_layout *l, plume_err *err);
 
 /* The thickness of phase PLUME_MAT_BARB or PLUME_MAT_BARBULE (m): h_barb or h_barbule, or h where
  * that is 0. */
-double plume_layout_thickness(const plume_layout *l, int phase);
+PLUME_API double plume_layout_thickness(const plume_layout *l, int phase);
 
 /* The two membrane materials: mats[PLUME_MAT_BARB], mats[PLUME_MAT_BARBULE] (isotropic), each with
  * its phase's thickness (plume_layout_thickness). */
-void plume_layout_materials(const plume_layout *l, plume_membrane_material mats[2]);
+PLUME_API void plume_layout_materials(const plume_layout *l, plume_membrane_material mats[2]);
 
 #ifdef __cplusplus
 }

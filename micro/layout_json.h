@@ -2,6 +2,7 @@
 #ifndef PLUME_LAYOUT_JSON_H
 #define PLUME_LAYOUT_JSON_H
 
+#include "../lib/export.h"
 #include "layout.h"
 
 #ifdef __cplusplus
@@ -17,11 +18,11 @@ extern "C" {
  * unreadable file (PLUME_EIO). Values are not range-checked here (call plume_layout_check), except
  * the phase thicknesses: "thickness_barb" and "thickness_barbule" must be finite and > 0
  * (PLUME_EFORMAT naming the key; left out, a phase has the "thickness"). */
-plume_status plume_layout_load_json(const char *path, plume_layout *l, plume_err *err);
+PLUME_API plume_status plume_layout_load_json(const char *path, plume_layout *l, plume_err *err);
 
 /* The same keys from a JSON text (a binding's request); `where` names it in messages
  * ("request.layout"). */
-plume_status plume_layout_apply_json(const char *text, const char *where, plume_layout *l, plume_err *err);
+PLUME_API plume_status plume_layout_apply_json(const char *text, const char *where, plume_layout *l, plume_err *err);
 
 #ifdef __cplusplus
 }

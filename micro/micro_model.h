@@ -3,6 +3,7 @@
 #ifndef PLUME_MICRO_MODEL_H
 #define PLUME_MICRO_MODEL_H
 
+#include "../lib/export.h"
 #include "../lib/problem.h"
 #include "../lib/traction.h"
 #include "layout.h"
@@ -15,12 +16,12 @@ extern "C" {
  * (plume_specimen_mesh) and creates a planar problem holding the two-material membrane of the
  * layout's element order. At order 2 *mesh is the quadratic triangles split in four (its vertices
  * are the elements' nodes, lib/mesh_quadratic.h). The caller owns *mesh and *p (not finalised: plume_traction_run clamps and finalises it). */
-plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, double angle_deg,
-                                  plume_mesh **mesh, plume_problem **p, plume_err *err);
+PLUME_API plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, double angle_deg,
+                                            plume_mesh **mesh, plume_problem **p, plume_err *err);
 
 /* The elements of a specimen mesh made by plume_micro_specimen for layout l: its triangles, or at
  * order 2 its quadratic triangles (each split in four in the mesh). */
-plume_index plume_micro_specimen_elements(const plume_layout *l, const plume_mesh *mesh);
+PLUME_API plume_index plume_micro_specimen_elements(const plume_layout *l, const plume_mesh *mesh);
 
 /* How converged a micro traction run is: the same test on the specimen meshed with elements twice
  * as large (half as large when the layout refuses the coarser mesh). */
@@ -36,9 +37,9 @@ typedef struct {
 /* Runs the traction test of `run` (options o, already done on the layout l) again on the
  * comparison mesh and fills *c. o->on_step is not called. A comparison run that does not converge
  * is not an error: c->converged is 0 and the changes are -1. */
-plume_status plume_micro_traction_convergence(const plume_layout *l, double lx, double ly, double angle_deg,
-                                              const plume_traction_opts *o, const plume_traction_result *run,
-                                              plume_micro_convergence *c, plume_err *err);
+PLUME_API plume_status plume_micro_traction_convergence(const plume_layout *l, double lx, double ly, double angle_deg,
+                                                        const plume_traction_opts *o, const plume_traction_result *run,
+                                                        plume_micro_convergence *c, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -4,6 +4,7 @@
 #ifndef PLUME_PERIODIC_H
 #define PLUME_PERIODIC_H
 
+#include "../lib/export.h"
 #include "../lib/term.h"
 #include "cell_mesh.h"
 
@@ -17,16 +18,16 @@ typedef struct plume_periodic plume_periodic;
  * failure). `*out` is the wrapped term to add to a problem over the cell's nv vertices, in which
  * the non-master vertices must be fixed (their coordinates are never read). `*handle` stays
  * valid while the term lives (the problem owns it) and sets Fbar / reads the average stress. */
-plume_status plume_periodic_term_create(const plume_cell *cell, const plume_term *inner, plume_periodic **handle,
-                                        plume_term *out, plume_err *err);
+PLUME_API plume_status plume_periodic_term_create(const plume_cell *cell, const plume_term *inner, plume_periodic **handle,
+                                                  plume_term *out, plume_err *err);
 
 /* Sets the macroscopic deformation gradient (2x2 row-major); identity at creation. */
-void plume_periodic_set_macro(plume_periodic *h, const double Fbar[4]);
+PLUME_API void plume_periodic_set_macro(plume_periodic *h, const double Fbar[4]);
 
 /* Average first Piola–Kirchhoff membrane stress (N/m, 2x2 row-major) = (1/A_cell) dW/dFbar, from
  * the forces of the last evaluation that computed a gradient (call plume_problem_objective with a
  * gradient at the equilibrium first). Exact at equilibrium of the master vertices. */
-void plume_periodic_average_stress(const plume_periodic *h, double P[4]);
+PLUME_API void plume_periodic_average_stress(const plume_periodic *h, double P[4]);
 
 #ifdef __cplusplus
 }

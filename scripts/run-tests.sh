@@ -7,6 +7,11 @@ set -uo pipefail
 build=${1:-build}
 filter=${TESTS:-}
 cd "$(dirname "$0")/../tests"
+# the build directory as seen from tests/: BUILD may be relative to the top (build) or absolute
+case $build in
+    /*) ;;
+    *) build=../$build ;;
+esac
 summary='^[0-9]+ passed, [0-9]+ failed$'
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
@@ -25,7 +30,7 @@ count() { # adds the last summary line of the log; a suite that printed none cou
     failed=$((failed + ${f%% failed*}))
 }
 
-"../$build/run_tests" $filter 2>&1 | tee "$log"
+"$build/run_tests" $filter 2>&1 | tee "$log"
 count "the C suite"
 
 if [ -z "$filter" ] || [[ "$filter" == *python* ]]; then
@@ -41,8 +46,8 @@ if [ -z "$filter" ] || [[ "$filter" == *python* ]]; then
         echo "run-tests: no python3 with numpy (make deps installs python3-numpy): the Python suite did not run" >&2
         failed=$((failed + 1))
     else
-        lib=$(ls "../$build"/libplume.so.[0-9]*.[0-9]* 2>/dev/null | head -n 1)
-        PLUME_LIBRARY="${lib:-../$build/libplume.so}" PYTHONPATH=../python MPLBACKEND=Agg \
+        lib=$(ls "$build"/libplume.so.[0-9]*.[0-9]* 2>/dev/null | head -n 1)
+        PLUME_LIBRARY="${lib:-$build/libplume.so}" PYTHONPATH=../python MPLBACKEND=Agg \
             "$py" python/run.py 2>&1 | tee "$log"
         count "the Python suite"
     fi

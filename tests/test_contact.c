@@ -177,7 +177,7 @@ static void drop_plates(plume_contact_model model, double stiffness, double dhat
     double *v = calloc((size_t)(3 * m->nv), sizeof *v);
     for (plume_index i = b.nground; i < m->nv; i++)
         v[3 * i + 2] = b.body[i] == n ? -v0 : 0.0;
-    CHECK(plume_dynamics_set_state(d, 0.0, m->x, v, NULL) == PLUME_OK);
+    CHECK(plume_dynamics_set_state(d, 0.0, m->x, v, NULL, NULL) == PLUME_OK);
     free(v);
     plume_contact_pairs pairs = {0, 0, NULL};
     plume_contact_broad *measure = NULL;
@@ -188,7 +188,7 @@ static void drop_plates(plume_contact_model model, double stiffness, double dhat
     r->converged = 1;
     for (int f = 0; f < frames; f++) {
         plume_step_report rep;
-        CHECK(plume_dynamics_advance(d, 0.0, &rep) == PLUME_OK);
+        CHECK(plume_dynamics_advance(d, 0.0, &rep, NULL) == PLUME_OK);
         r->converged &= rep.converged;
         if (!rep.converged)
             fprintf(stderr, "    frame %d: not converged (%s), %d halvings, %d iterations\n", f,

@@ -31,7 +31,7 @@ void test_dynamics_free_fall(void)
     CHECK_REL(mass, rho * 1.0, 1e-12, 0.0); /* lumped masses add up to the total */
     for (int n = 1; n <= 5; n++) {
         plume_step_report rep;
-        CHECK(plume_dynamics_advance(d, 0.0, &rep) == PLUME_OK && rep.converged && rep.substeps == 1);
+        CHECK(plume_dynamics_advance(d, 0.0, &rep, NULL) == PLUME_OK && rep.converged && rep.substeps == 1);
         const double *x = plume_dynamics_positions(d), *v = plume_dynamics_velocities(d);
         CHECK_REL(v[3 * 2 + 2], -9.81 * n * o.dt, 1e-9, 1e-12);
         CHECK_REL(x[3 * 2 + 2], -9.81 * o.dt * o.dt * n * (n + 1) / 2.0, 1e-9, 1e-12);
@@ -101,7 +101,7 @@ void test_dynamics_constraint_every_step(void)
     double worst = 0.0;
     for (int n = 0; n < 10; n++) {
         plume_step_report rep;
-        CHECK(plume_dynamics_advance(h.d, 0.0, &rep) == PLUME_OK && rep.converged);
+        CHECK(plume_dynamics_advance(h.d, 0.0, &rep, NULL) == PLUME_OK && rep.converged);
         CHECK(rep.max_violation <= 1e-8);
         const double *x = plume_dynamics_positions(h.d);
         for (plume_index e = 0; e < h.nb; e++) { /* edge by edge, in 3D */
@@ -130,7 +130,7 @@ void test_dynamics_halving(void)
         return;
     }
     plume_step_report rep;
-    CHECK(plume_dynamics_advance(h.d, 0.0, &rep) == PLUME_OK);
+    CHECK(plume_dynamics_advance(h.d, 0.0, &rep, NULL) == PLUME_OK);
     fprintf(stderr, "    halvings %d, substeps %d, converged %d (%s)\n", rep.halvings, rep.substeps, rep.converged,
             plume_reason_name(rep.reason));
     CHECK(rep.halvings > 0);
@@ -155,9 +155,9 @@ void test_dynamics_restart(void)
     }
     plume_step_report rep;
     for (int n = 0; n < 6; n++)
-        CHECK(plume_dynamics_advance(a.d, 0.0, &rep) == PLUME_OK && rep.converged);
+        CHECK(plume_dynamics_advance(a.d, 0.0, &rep, NULL) == PLUME_OK && rep.converged);
     for (int n = 0; n < 3; n++)
-        CHECK(plume_dynamics_advance(b.d, 0.0, &rep) == PLUME_OK && rep.converged);
+        CHECK(plume_dynamics_advance(b.d, 0.0, &rep, NULL) == PLUME_OK && rep.converged);
     size_t nd = (size_t)(3 * b.mesh->nv);
     plume_index m;
     const double *lam = plume_dynamics_multipliers(b.d, &m);
@@ -168,9 +168,18 @@ void test_dynamics_restart(void)
     memcpy(l, lam, (size_t)m * sizeof *l);
     hanging_free(&b);
     CHECK(hanging_build(&b, 100, 0.01));
-    CHECK(plume_dynamics_set_state(b.d, t, x, v, l) == PLUME_OK);
+    /* bad input is refused with a message naming it, and the state is left alone */
+    plume_err why = {{0}};
+    double keep = x[4];
+    x[4] = NAN;
+    CHECK(plume_dynamics_set_state(b.d, t, x, v, l, &why) == PLUME_EINVAL && strstr(why.msg, "vertex 1"));
+    x[4] = keep;
+    CHECK(plume_dynamics_set_state(b.d, INFINITY, x, v, l, &why) == PLUME_EINVAL && strstr(why.msg, "time"));
+    CHECK(plume_dynamics_advance(b.d, NAN, &rep, &why) == PLUME_EINVAL && strstr(why.msg, "finite"));
+    CHECK(plume_dynamics_time(b.d) == 0.0);
+    CHECK(plume_dynamics_set_state(b.d, t, x, v, l, NULL) == PLUME_OK);
     for (int n = 0; n < 3; n++)
-        CHECK(plume_dynamics_advance(b.d, 0.0, &rep) == PLUME_OK && rep.converged);
+        CHECK(plume_dynamics_advance(b.d, 0.0, &rep, NULL) == PLUME_OK && rep.converged);
     double worst = 0.0;
     for (size_t i = 0; i < nd; i++)
         worst = fmax(worst, fabs(plume_dynamics_positions(a.d)[i] - plume_dynamics_positions(b.d)[i]));
@@ -238,7 +247,7 @@ void test_dynamics_terms_fd(void)
         return;
     }
     plume_step_report rep;
-    CHECK(plume_dynamics_advance(h.d, 0.0, &rep) == PLUME_OK); /* x~ and dt set, a deformed state */
+    CHECK(plume_dynamics_advance(h.d, 0.0, &rep, NULL) == PLUME_OK); /* x~ and dt set, a deformed state */
     plume_index n = plume_problem_nfree(h.p);
     double *u = malloc((size_t)n * sizeof *u), ge, he;
     plume_problem_gather(h.p, u);

@@ -85,7 +85,7 @@ static double strip_deflection(double edge, double alpha, plume_index *nel)
     plume_solver_opts_default(&so);
     so.max_iter = 200;
     plume_solver *s = NULL;
-    if (plume_solver_create(PLUME_SOLVER_NEWTON, p, &so, &s) != PLUME_OK)
+    if (plume_solver_create(PLUME_SOLVER_NEWTON, p, &so, &s, NULL) != PLUME_OK)
         goto done;
     double *u = malloc((size_t)plume_problem_nfree(p) * sizeof *u);
     int ok = 1;

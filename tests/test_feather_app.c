@@ -640,3 +640,103 @@ void test_feather_app_benchmark_scenes(void)
     }
     plume_scene_destroy(&s);
 }
+
+/* --duration T ends at t = T: whole steps of dt, then a shorter one when dt does not divide T, and
+ * the last state is a frame (strip: dt 0.01, a frame every 2 steps; the shipped feather: dt 0.011) */
+void test_feather_app_duration_end_time(void)
+{
+    char dir[64] = "/tmp/plume-feather-XXXXXX", args[512], out[16384], errs[8192], path[256];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    const struct {
+        const char *scene, *duration;
+        double t;
+        long steps, frames;
+    } cases[] = {{"../data/shell/strip_scene.json", "0.035", 0.035, 4, 3},
+                 {"../data/shell/strip_scene.json", "0.04", 0.04, 4, 3},
+                 {"../data/feather/scene_anisotropic.json", "0.05", 0.05, 5, 6}};
+    for (int c = 0; c < 3; c++) {
+        snprintf(args, sizeof args, "%s --duration %s -o %s/%d --json --quiet", cases[c].scene, cases[c].duration, dir, c);
+        CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
+        json_error_t je;
+        json_t *j = json_loads(out, 0, &je);
+        CHECK(j != NULL);
+        if (!j) {
+            fprintf(stderr, "    stdout: %s\n    stderr: %s\n", out, errs);
+            continue;
+        }
+        double t = json_real_value(json_object_get(j, "time"));
+        fprintf(stderr, "    %s --duration %s: t = %.17g after %lld steps, %lld frames\n", cases[c].scene,
+                cases[c].duration, t, (long long)json_integer_value(json_object_get(j, "steps")),
+                (long long)json_integer_value(json_object_get(j, "frames")));
+        CHECK_REL(t, cases[c].t, 1e-12, 0.0);
+        CHECK(json_integer_value(json_object_get(j, "steps")) == cases[c].steps);
+        CHECK(json_integer_value(json_object_get(j, "frames")) == cases[c].frames);
+        json_decref(j);
+        /* the frames file's last frame is the end state */
+        plume_frame f = {0};
+        plume_err err;
+        snprintf(path, sizeof path, "%s/%d/frames.h5", dir, c);
+        CHECK(plume_frames_read(path, -1, &f, &err) == PLUME_OK);
+        CHECK_REL(f.t, cases[c].t, 1e-12, 0.0);
+        CHECK(f.index == cases[c].frames - 1);
+        plume_frame_free(&f);
+    }
+    rm_rf(dir);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The shipped feather's mean_curvature stays in a range ParaView can colour: at the end of its
+ * second, the largest |H| is within 400 times the median (each edge's angle spread over its
+ * vertices' areas; a triangle-area division gave outline slivers 10^3-10^4 times the median), and
+ * crease_angle is 0 or a fold beyond pi / 2 */
+void test_feather_app_curvature_range(void)
+{
+    char dir[64] = "/tmp/plume-feather-XXXXXX", args[512], out[16384], errs[8192], path[256];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(args, sizeof args, "../data/feather/scene_anisotropic.json -o %s/run --json --quiet", dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
+    json_error_t je;
+    json_t *j = json_loads(out, 0, &je);
+    long last = j ? (long)json_integer_value(json_object_get(j, "last_frame")) : -1;
+    json_decref(j);
+    CHECK(last > 0);
+    for (long k = 1; k <= last; k += last - 1) { /* the first step's frame and the last one */
+        snprintf(path, sizeof path, "%s/run/frame_%05ld.vtu", dir, k);
+        plume_vtu_data d;
+        plume_err err;
+        if (plume_vtu_read(path, &d, &err) != PLUME_OK) {
+            CHECK(!"the frame reads back");
+            continue;
+        }
+        const plume_vtu_array *H = plume_vtu_find(&d, 0, "mean_curvature"), *C = plume_vtu_find(&d, 0, "crease_angle");
+        CHECK(H && C && H->ntuples == d.ncells && C->ntuples == d.ncells);
+        if (H && C && H->ntuples > 0) {
+            long n = H->ntuples, creases = 0;
+            double *a = malloc((size_t)n * sizeof *a);
+            for (long i = 0; i < n; i++) {
+                a[i] = fabs(H->values[i]);
+                CHECK(C->values[i] == 0.0 || (C->values[i] > 0.5 * M_PI && C->values[i] <= M_PI));
+                creases += C->values[i] > 0.0;
+            }
+            qsort(a, (size_t)n, sizeof *a, cmp_double);
+            double median = a[n / 2], max = a[n - 1];
+            fprintf(stderr, "    frame %ld: |mean_curvature| median %.3g, max %.3g (%.0f times), %ld triangles on a crease\n",
+                    k, median, max, max / median, creases);
+            CHECK(median > 0.0 && max <= 400.0 * median);
+            free(a);
+        }
+        plume_vtu_data_free(&d);
+    }
+    rm_rf(dir);
+}

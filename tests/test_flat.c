@@ -90,7 +90,9 @@ void test_flat_traction(void)
     const char *bad[][2] = {{"{\"model\": \"meso\"}", "\"model\""},
                             {"{\"angle\": 200}", "\"angle\""},
                             {"{\"moduli\": {\"E_zz\": 1}}", "unknown key \"E_zz\""},
-                            {"{\"moduli\": {\"E_yy\": -1}}", "E_yy"},
+                            {"{\"moduli\": {\"E_xx\": 1e4, \"E_yy\": -1, \"nu_xy\": 0, \"G_xy\": 1}}", "E_yy"},
+                            /* a partial set is refused, naming what is missing */
+                            {"{\"moduli\": {\"E_yy\": 1e3}}", "missing E_xx, nu_xy, G_xy"},
                             {"{\"layout\": {\"phi\": 0.1}}", "micro model"},
                             {"{\"solver\": \"cg\"}", "\"solver\""},
                             {"{\"constraint\": 1}", "\"constraint\""},
@@ -119,7 +121,7 @@ void test_flat_fit(void)
     json_t *t[2];
     const double angles[2] = {45.0, 90.0};
     for (int k = 0; k < 2; k++) {
-        snprintf(req, sizeof req, "{\"steps\": 2, \"edge\": 0.13, \"angle\": %g, \"moduli\": {\"E_yy\": 1.5, \"G_xy\": 3}}",
+        snprintf(req, sizeof req, "{\"steps\": 2, \"edge\": 0.13, \"angle\": %g, \"moduli\": {\"E_xx\": 1e4, \"E_yy\": 1.5, \"nu_xy\": 0, \"G_xy\": 3}}",
                  angles[k]);
         t[k] = run(plume_flat_traction, req, &st, msg);
         CHECK(st == PLUME_OK && t[k]);
@@ -151,9 +153,12 @@ void test_flat_fit(void)
     json_decref(t[0]), json_decref(t[1]);
     char *out = NULL;
     CHECK(plume_flat_fit("{\"targets\": []}", &out, msg, sizeof msg) == PLUME_EINVAL && strstr(msg, "\"start\""));
-    CHECK(plume_flat_fit("{\"start\": {\"E_xx\": 1, \"E_yy\": 1, \"G_xy\": 1}, \"targets\": [{\"angle\": 45}]}", &out,
-                         msg, sizeof msg) == PLUME_EINVAL && strstr(msg, "targets[0]"));
-    CHECK(plume_flat_fit("{\"start\": {\"E_xx\": 1, \"E_yy\": 1, \"G_xy\": 1}, \"free\": [\"E_q\"], \"targets\": []}",
+    CHECK(plume_flat_fit("{\"start\": {\"E_xx\": 1, \"E_yy\": 1, \"G_xy\": 1}, \"targets\": []}", &out, msg,
+                         sizeof msg) == PLUME_EINVAL && strstr(msg, "start: missing nu_xy"));
+    CHECK(plume_flat_fit("{\"start\": {\"E_xx\": 1, \"E_yy\": 1, \"nu_xy\": 0, \"G_xy\": 1}, \"targets\": [{\"angle\": 45}]}",
+                         &out, msg, sizeof msg) == PLUME_EINVAL && strstr(msg, "targets[0]"));
+    CHECK(plume_flat_fit("{\"start\": {\"E_xx\": 1, \"E_yy\": 1, \"nu_xy\": 0, \"G_xy\": 1}, \"free\": [\"E_q\"], "
+                         "\"targets\": []}",
                          &out, msg, sizeof msg) == PLUME_EINVAL && strstr(msg, "\"free\"[0]"));
 }
 

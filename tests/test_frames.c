@@ -109,6 +109,12 @@ void test_frames_roundtrip(void)
     CHECK(h5_units(path, "/frames/2/x", units, sizeof units) == 0 && strcmp(units, "m") == 0);
     CHECK(h5_units(path, "/frames/2/v", units, sizeof units) == 0 && strcmp(units, "m/s") == 0);
     CHECK(h5_units(path, "/frames/2/lambda", units, sizeof units) == 0 && strcmp(units, "N/m") == 0);
+    /* and the numeric attributes theirs, in one "units" string beside them */
+    char aunits[256] = "";
+    CHECK(h5_units(path, "/frames", aunits, sizeof aunits) == 0 && strstr(aunits, "dt: s"));
+    CHECK(h5_units(path, "/frames/2", aunits, sizeof aunits) == 0 && strcmp(aunits, "t: s; step: 1") == 0);
+    CHECK(h5_units(bad, "/frames/1", aunits, sizeof aunits) == 0 && strstr(aunits, "t: s;") &&
+          strstr(aunits, "min_distance: m") && strstr(aunits, "seconds: s") && strstr(aunits, "newton_iterations: 1"));
     remove_dir(dir);
 }
 

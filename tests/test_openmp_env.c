@@ -1,10 +1,9 @@
 /* Tests of lib/openmp_env: after plume_openmp_serial (the runner calls it first) an OpenMP region
  * runs its body once, as a team of one, and OpenBLAS runs on one thread; where the environment
- * keeps OpenMP's teams and sets OpenBLAS's threads the regions are libgomp's own, with their
- * threads, and OpenBLAS has the threads asked for (checked in a child runner, whose environment
- * sets OMP_MAX_ACTIVE_LEVELS and OPENBLAS_NUM_THREADS). CHOLMOD's regions are bound to the same
- * definition, so the factorisation tests cover them too. */
-#define _GNU_SOURCE /* RTLD_DEFAULT */
+ * keeps OpenMP's teams and sets OpenBLAS's threads the regions have their threads and OpenBLAS
+ * the threads asked for (checked in a child runner, whose environment sets OMP_MAX_ACTIVE_LEVELS
+ * and OPENBLAS_NUM_THREADS). The regions are libgomp's own: plume defines none of its symbols. */
+#define _GNU_SOURCE /* RTLD_DEFAULT, dladdr */
 #include <dlfcn.h>
 #include <limits.h>
 #include <stdio.h>
@@ -82,4 +81,18 @@ void test_openmp_env_teams_kept(void)
              "OPENBLAS_NUM_THREADS=2 '%s' test_openmp_env_zchild >/dev/null 2>&1",
              self);
     CHECK(system(cmd) == 0);
+}
+
+/* GOMP_parallel, as the runner (and CHOLMOD) binds it, is libgomp's: the library interposes nothing */
+void test_openmp_env_libgomp_own(void)
+{
+    void *sym = dlsym(RTLD_DEFAULT, "GOMP_parallel");
+    Dl_info info;
+    CHECK(sym != NULL);
+    if (!sym || !dladdr(sym, &info) || !info.dli_fname) {
+        CHECK(!"dladdr of GOMP_parallel");
+        return;
+    }
+    fprintf(stderr, "    GOMP_parallel from %s\n", info.dli_fname);
+    CHECK(strstr(info.dli_fname, "libgomp") != NULL);
 }

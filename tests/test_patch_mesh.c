@@ -1,4 +1,4 @@
-/* Corner-exact aligned patch meshes (DESIGN.md, "Meshes that respect the fibres"): barb lines
+/* Corner-exact aligned patch meshes (docs/design.md, "Meshes that respect the fibres"): barb lines
  * through every corner, every vane triangle owning a constrained barb edge, and the constrained
  * traction slope converging monotonically from above. */
 #include <math.h>

@@ -104,7 +104,7 @@ void test_scene_objects_kinematic(void)
         int ok = 1;
         for (int k = 0; k < 14 && ok; k++) { /* to t = 0.07, between the two keys */
             plume_step_report rep;
-            ok = plume_dynamics_advance(d, 0.0, &rep) == PLUME_OK && rep.converged;
+            ok = plume_dynamics_advance(d, 0.0, &rep, NULL) == PLUME_OK && rep.converged;
             double t = plume_dynamics_time(d), a = (t / 0.1) * 90.0 * 3.14159265358979323846 / 180.0;
             double c = cos(a), sn = sin(a), off = 0.01 * t / 0.1;
             const double *x = plume_dynamics_positions(d);
@@ -235,7 +235,7 @@ static void push_through(const char *dir, const char *model, const char *stiffne
     r->converged = d != NULL && measure != NULL;
     for (int k = 0; r->converged && k < nsteps; k++) {
         plume_step_report rep;
-        CHECK(plume_dynamics_advance(d, 0.0, &rep) == PLUME_OK);
+        CHECK(plume_dynamics_advance(d, 0.0, &rep, NULL) == PLUME_OK);
         r->converged = rep.converged;
         r->limited += rep.step_limited;
         r->halvings += rep.halvings;
@@ -324,7 +324,7 @@ static int slope_run(const char *dir, double tan_theta, double mu, int steps, do
     double v_mid = 0.0;
     for (int k = 0; ok && k < steps; k++) {
         plume_step_report rep;
-        ok = plume_dynamics_advance(d, 0.0, &rep) == PLUME_OK && rep.converged;
+        ok = plume_dynamics_advance(d, 0.0, &rep, NULL) == PLUME_OK && rep.converged;
         const double *v = plume_dynamics_velocities(d);
         double vx = 0.0;
         for (plume_index i = 0; i < s->objects[0].nv; i++)
@@ -410,7 +410,7 @@ void test_scene_objects_obj_shells(void)
     plume_dynamics *d = NULL;
     CHECK(plume_scene_dynamics(s, &p, &d, &err) == PLUME_OK);
     plume_step_report rep;
-    CHECK(d && plume_dynamics_advance(d, 0.0, &rep) == PLUME_OK && rep.converged);
+    CHECK(d && plume_dynamics_advance(d, 0.0, &rep, NULL) == PLUME_OK && rep.converged);
     plume_dynamics_destroy(&d);
     plume_problem_destroy(&p);
     plume_scene_destroy(&s);

@@ -54,7 +54,7 @@ static plume_solve_report solve_rosenbrock(plume_globalization g, int partial, d
     plume_solver_opts_set_globalization(&o, g);
     o.verbose = getenv("PLUME_VERBOSE") != NULL;
     plume_solver *s = NULL;
-    CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s) == PLUME_OK);
+    CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s, NULL) == PLUME_OK);
     out[0] = x0, out[1] = y0;
     if (s)
         CHECK(plume_solver_solve(s, out, NULL, &rep) == PLUME_OK);
@@ -155,7 +155,7 @@ void test_solver_paths_constrained(void)
         plume_solver_opts_set_globalization(&o, (plume_globalization)g);
         o.verbose = getenv("PLUME_VERBOSE") != NULL;
         plume_solver *s = NULL;
-        CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s) == PLUME_OK);
+        CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s, NULL) == PLUME_OK);
         double u[2] = {sin(0.99 * 1.5707963267948966), -cos(0.99 * 1.5707963267948966)}, lam[1] = {0.0};
         plume_solve_report r;
         memset(&r, 0, sizeof r);

@@ -262,7 +262,7 @@ static void case_quadratic_fixed(plume_solver_kind kind)
         return;
     plume_solver_opts o;
     opts(&o);
-    CHECK(plume_solver_create(kind, p, &o, &s) == PLUME_OK);
+    CHECK(plume_solver_create(kind, p, &o, &s, NULL) == PLUME_OK);
     if (!s)
         goto done;
     double u[5] = {0.3, -1.0, 7.0, 2.0, 0.0};
@@ -312,7 +312,7 @@ static void case_circle_projection(plume_solver_kind kind)
     CHECK(plume_problem_nfree(p) == 2 && plume_problem_ncons(p) == 1);
     plume_solver_opts o;
     opts(&o);
-    CHECK(plume_solver_create(kind, p, &o, &s) == PLUME_OK);
+    CHECK(plume_solver_create(kind, p, &o, &s, NULL) == PLUME_OK);
     if (!s)
         goto done;
     double na = hypot(a[0], a[1]), lam_exact = kk * (na / R - 1.0) / 2.0;
@@ -401,7 +401,7 @@ static void case_chain(plume_solver_kind kind)
     CHECK(p != NULL);
     if (!p)
         return;
-    CHECK(plume_solver_create(kind, p, &o, &s) == PLUME_OK);
+    CHECK(plume_solver_create(kind, p, &o, &s, NULL) == PLUME_OK);
     if (!s)
         goto done;
     double u[2 * CHAIN_N], lam[CHAIN_N];
@@ -452,7 +452,7 @@ static void case_set_tol(plume_solver_kind kind)
     plume_solver *s = NULL;
     if (!p)
         return;
-    CHECK(plume_solver_create(kind, p, &o, &s) == PLUME_OK);
+    CHECK(plume_solver_create(kind, p, &o, &s, NULL) == PLUME_OK);
     if (!s)
         goto done;
     double u[2 * CHAIN_N], lam[CHAIN_N];
@@ -513,7 +513,7 @@ static void case_infeasible(plume_solver_kind kind)
         goto done;
     plume_solver_opts o;
     opts(&o);
-    CHECK(plume_solver_create(kind, p, &o, &s) == PLUME_OK);
+    CHECK(plume_solver_create(kind, p, &o, &s, NULL) == PLUME_OK);
     if (!s)
         goto done;
     double u[2] = {1.0, 0.2}, lam[2] = {0.0, 0.0};
@@ -565,7 +565,7 @@ static void case_overdetermined(plume_solver_kind kind)
     CHECK(plume_problem_nfree(p) == 2 && plume_problem_ncons(p) == 3);
     plume_solver_opts o;
     opts(&o);
-    CHECK(plume_solver_create(kind, p, &o, &s) == PLUME_OK);
+    CHECK(plume_solver_create(kind, p, &o, &s, NULL) == PLUME_OK);
     if (!s)
         goto done;
     double u[2] = {1.0, 1.0}, lam[3] = {0.0, 0.0, 0.0};
@@ -623,7 +623,7 @@ static void case_report(plume_solver_kind kind)
     opts(&o);
 
     /* argument checks before anything exists */
-    CHECK(plume_solver_create(kind, NULL, &o, &s) == PLUME_EINVAL && s == NULL);
+    CHECK(plume_solver_create(kind, NULL, &o, &s, NULL) == PLUME_EINVAL && s == NULL);
 
     CHECK(plume_problem_create(2, 2, 1.0, &p) == PLUME_OK);
     if (!p)
@@ -633,9 +633,11 @@ static void case_report(plume_solver_kind kind)
     CHECK(plume_edge_length_create(edge, 1, X, 2, &c, NULL) == PLUME_OK);
     CHECK(plume_problem_add_constraint(p, &c) == PLUME_OK);
     CHECK(plume_problem_fix_dof(p, 0) == PLUME_OK && plume_problem_fix_dof(p, 1) == PLUME_OK);
-    CHECK(plume_solver_create(kind, p, &o, NULL) == PLUME_EINVAL);
-    CHECK(plume_solver_create(kind, p, NULL, &s) == PLUME_EINVAL && s == NULL);
-    CHECK(plume_solver_create(kind, p, &o, &s) == PLUME_EINVAL && s == NULL); /* not finalised */
+    CHECK(plume_solver_create(kind, p, &o, NULL, NULL) == PLUME_EINVAL);
+    CHECK(plume_solver_create(kind, p, NULL, &s, NULL) == PLUME_EINVAL && s == NULL);
+    plume_err why = {{0}};
+    CHECK(plume_solver_create(kind, p, &o, &s, &why) == PLUME_EINVAL && s == NULL); /* not finalised */
+    CHECK(strstr(why.msg, "not finalised") != NULL);
     plume_solver_destroy(&s);
     if (!finalize(p))
         goto done;
@@ -660,14 +662,17 @@ static void case_report(plume_solver_kind kind)
             bad.inertia_max_shift = 0.0;
         else
             bad.inertia_max_shift = INFINITY;
-        plume_status st = plume_solver_create(kind, p, &bad, &s);
+        why.msg[0] = 0;
+        plume_status st = plume_solver_create(kind, p, &bad, &s, &why);
         CHECK(st == PLUME_EINVAL && s == NULL);
+        /* the message names the options (newton's own, or Ipopt's creation) */
+        CHECK(strstr(why.msg, kind == PLUME_SOLVER_IPOPT ? "ipopt" : "options need") != NULL);
         if (st != PLUME_EINVAL)
             fprintf(stderr, "    (bad option %d accepted)\n", which);
         plume_solver_destroy(&s);
     }
 
-    CHECK(plume_solver_create(kind, p, &o, &s) == PLUME_OK);
+    CHECK(plume_solver_create(kind, p, &o, &s, NULL) == PLUME_OK);
     if (!s)
         goto done;
     double u[2] = {1.0, 0.0}, lam = 0.0;
@@ -693,7 +698,7 @@ static void case_report(plume_solver_kind kind)
 
     /* one iteration from far away is not enough: ITERATION_CAP, never a silent success */
     o.max_iter = 1;
-    CHECK(plume_solver_create(kind, p, &o, &s) == PLUME_OK);
+    CHECK(plume_solver_create(kind, p, &o, &s, NULL) == PLUME_OK);
     if (!s)
         goto done;
     u[0] = 0.8, u[1] = -0.6, lam = 0.0;
@@ -729,7 +734,7 @@ void test_solvers_report(void)
     double exact[5];
     plume_problem *p = quadratic_problem(exact);
     if (p) {
-        CHECK(plume_solver_create((plume_solver_kind)3, p, &o, &s) == PLUME_EINVAL && s == NULL);
+        CHECK(plume_solver_create((plume_solver_kind)3, p, &o, &s, NULL) == PLUME_EINVAL && s == NULL);
         plume_problem_destroy(&p);
     }
     for_each_solver(case_report);
@@ -750,7 +755,7 @@ void test_solvers_linearized(void)
     plume_problem *p = quadratic_problem(exact);
     if (!p)
         return;
-    CHECK(plume_solver_create(PLUME_SOLVER_LINEARIZED, p, &o, &s) == PLUME_OK);
+    CHECK(plume_solver_create(PLUME_SOLVER_LINEARIZED, p, &o, &s, NULL) == PLUME_OK);
     if (s) {
         double u[5] = {0.3, -1.0, 7.0, 2.0, 0.0};
         CHECK(plume_solver_solve(s, u, NULL, &rep) == PLUME_OK);
@@ -785,7 +790,7 @@ void test_solvers_linearized(void)
         double u[2 * CHAIN_N], lam[CHAIN_N];
         memcpy(u, u0, sizeof u);
         memcpy(lam, lam0, sizeof lam);
-        CHECK(plume_solver_create(kind, p, &o, &s) == PLUME_OK);
+        CHECK(plume_solver_create(kind, p, &o, &s, NULL) == PLUME_OK);
         if (!s)
             break;
         CHECK(plume_solver_solve(s, u, lam, &rep) == PLUME_OK);
@@ -869,7 +874,7 @@ void test_solvers_partial_projection(void)
         opts(&o);
         o.partial_projection = run == 0;
         plume_solver *s = NULL;
-        CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s) == PLUME_OK);
+        CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s, NULL) == PLUME_OK);
         double u[2] = {0.1, 0.0};
         plume_solve_report rep;
         CHECK(plume_solver_solve(s, u, NULL, &rep) == PLUME_OK && rep.converged);

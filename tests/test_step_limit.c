@@ -11,7 +11,7 @@
 
 /* One vertex pulled by a spring towards (0, -1), through a wall y = 0 that it sees only through
  * its unsigned distance |y|: barrier kappa b(|y|), b(d) = -(d - dhat)^2 ln(d / dhat) for d < dhat
- * (DESIGN.md "Contact"). From the far side (y < -dhat) the barrier is 0, so a full Newton step to
+ * (docs/design.md "Contact"). From the far side (y < -dhat) the barrier is 0, so a full Newton step to
  * the spring's rest point is a perfectly good minimiser: only the step limit keeps it out. */
 typedef struct {
     plume_index v[1];
@@ -96,7 +96,7 @@ void test_step_limit_wall(void)
             plume_solver_opts o;
             plume_solver_opts_default(&o);
             plume_solver *s = NULL;
-            CHECK(plume_solver_create(sk, p, &o, &s) == PLUME_OK);
+            CHECK(plume_solver_create(sk, p, &o, &s, NULL) == PLUME_OK);
             double u[2] = {0.3, 0.5};
             plume_solve_report rep;
             CHECK(plume_solver_solve(s, u, NULL, &rep) == PLUME_OK);
@@ -240,7 +240,7 @@ void test_step_limit_update_pattern(void)
     plume_solver *s = NULL;
     plume_solver_opts o;
     plume_solver_opts_default(&o);
-    CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s) == PLUME_OK);
+    CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s, NULL) == PLUME_OK);
     double u[2];
     plume_problem_gather(p, u);
     plume_solve_report rep;

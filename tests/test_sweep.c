@@ -28,7 +28,8 @@ static void write_file(const char *path, const char *text)
 }
 
 static const char *sweep_text =
-    "{\"run\": \"traction\", \"base\": {\"steps\": 2, \"edge\": 0.13},\n"
+    "{\"run\": \"traction\", \"base\": {\"steps\": 2, \"edge\": 0.13,\n"
+    " \"moduli\": {\"E_xx\": 1e4, \"E_yy\": 1, \"nu_xy\": 0, \"G_xy\": 1}},\n"
     " \"vary\": {\"angle\": [0, 45, 90], \"moduli.E_yy\": {\"from\": 1, \"to\": 100, \"count\": 3, \"scale\": \"log\"}}}\n";
 
 /* the content of a results file as one text: per run, its record attribute and its curves */
@@ -261,9 +262,11 @@ void test_sweep_fit_starts(void)
     }
     /* target curves of E_yy 1.5, G_xy 3 from traction itself */
     char *t45 = NULL, *t90 = NULL, msg[512];
-    CHECK(plume_flat_traction("{\"steps\": 2, \"edge\": 0.13, \"angle\": 45, \"moduli\": {\"E_yy\": 1.5, \"G_xy\": 3}}", &t45,
+    CHECK(plume_flat_traction("{\"steps\": 2, \"edge\": 0.13, \"angle\": 45, "
+                              "\"moduli\": {\"E_xx\": 1e4, \"E_yy\": 1.5, \"nu_xy\": 0, \"G_xy\": 3}}", &t45,
                               msg, sizeof msg) == PLUME_OK);
-    CHECK(plume_flat_traction("{\"steps\": 2, \"edge\": 0.13, \"angle\": 90, \"moduli\": {\"E_yy\": 1.5, \"G_xy\": 3}}", &t90,
+    CHECK(plume_flat_traction("{\"steps\": 2, \"edge\": 0.13, \"angle\": 90, "
+                              "\"moduli\": {\"E_xx\": 1e4, \"E_yy\": 1.5, \"nu_xy\": 0, \"G_xy\": 3}}", &t90,
                               msg, sizeof msg) == PLUME_OK);
     json_t *a = t45 ? json_loads(t45, 0, NULL) : NULL, *b = t90 ? json_loads(t90, 0, NULL) : NULL;
     json_t *doc = json_pack("{s:s, s:{s:i, s:f, s:{s:f, s:f, s:f, s:f}, s:[{s:f, s:O, s:O}, {s:f, s:O, s:O}]}, "

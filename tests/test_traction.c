@@ -81,7 +81,7 @@ void test_traction_off_axis_modulus(void)
         plume_solver_opts so;
         plume_solver_opts_default(&so);
         plume_solver *s = NULL;
-        CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &so, &s) == PLUME_OK);
+        CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &so, &s, NULL) == PLUME_OK);
         double *u = malloc((size_t)plume_problem_nfree(p) * sizeof *u);
         double *force = malloc((size_t)(2 * mesh->nv) * sizeof *force);
         plume_problem_gather(p, u);

@@ -21,7 +21,7 @@
 #define MEMBRANE_DEGENERATE_REL (64.0 * DBL_EPSILON)
 
 /* A material as the element uses it. C is orthotropic in the barb frame, so of the plane-stress
- * tensor only C11, C12 = C21, C22 and C33 are non-zero (DESIGN.md, membrane energy). */
+ * tensor only C11, C12 = C21, C22 and C33 are non-zero (docs/design.md, membrane energy). */
 typedef struct {
     double C11, C12, C22, C33;
     double kappa; /* compression coefficient (Pa) */

@@ -4,6 +4,7 @@
 #ifndef PLUME_VTU_H
 #define PLUME_VTU_H
 
+#include "../export.h"
 #include "../status.h"
 
 #ifdef __cplusplus
@@ -38,7 +39,7 @@ typedef struct {
 
 /* Writes `path` (to "<path>.tmp.<pid>", then renamed: a reader never sees half a file).
  * PLUME_EINVAL for a bad grid (message naming what), PLUME_EIO naming the file, PLUME_ENOMEM. */
-plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_err *err);
+PLUME_API plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_err *err);
 
 /* A grid read back; everything owned (plume_vtu_data_free). Integer arrays come back as doubles. */
 typedef struct {
@@ -64,11 +65,11 @@ typedef struct {
 /* Reads a .vtu with appended raw data, zlib-compressed or not, UInt32 or UInt64 headers (what
  * plume and ParaView write). PLUME_EIO (cannot open), PLUME_EFORMAT naming the file and what is
  * wrong, PLUME_ENOMEM. */
-plume_status plume_vtu_read(const char *path, plume_vtu_data *out, plume_err *err);
-void plume_vtu_data_free(plume_vtu_data *d);
+PLUME_API plume_status plume_vtu_read(const char *path, plume_vtu_data *out, plume_err *err);
+PLUME_API void plume_vtu_data_free(plume_vtu_data *d);
 
 /* The array called name among a grid's point (on_points != 0) or cell arrays, or NULL. */
-const plume_vtu_array *plume_vtu_find(const plume_vtu_data *d, int on_points, const char *name);
+PLUME_API const plume_vtu_array *plume_vtu_find(const plume_vtu_data *d, int on_points, const char *name);
 
 /* A .pvd collection being written: (time, part, file) entries, the file path relative to the
  * .pvd's folder. Every plume_pvd_add rewrites the whole file atomically, so a run that stops
@@ -76,9 +77,9 @@ const plume_vtu_array *plume_vtu_find(const plume_vtu_data *d, int on_points, co
 typedef struct plume_pvd plume_pvd;
 
 /* Starts an empty collection at path (nothing is written until the first add). */
-plume_status plume_pvd_create(const char *path, plume_pvd **out, plume_err *err);
-void plume_pvd_destroy(plume_pvd **p);
-plume_status plume_pvd_add(plume_pvd *p, double time, int part, const char *file, plume_err *err);
+PLUME_API plume_status plume_pvd_create(const char *path, plume_pvd **out, plume_err *err);
+PLUME_API void plume_pvd_destroy(plume_pvd **p);
+PLUME_API plume_status plume_pvd_add(plume_pvd *p, double time, int part, const char *file, plume_err *err);
 
 /* Reads a .pvd's entries (what plume_pvd_add wrote): n entries, times[n], parts[n], files[n]
  * (owned: plume_pvd_entries_free). PLUME_EIO / PLUME_EFORMAT naming the file. */
@@ -89,8 +90,8 @@ typedef struct {
     char **files;
 } plume_pvd_entries;
 
-plume_status plume_pvd_read(const char *path, plume_pvd_entries *out, plume_err *err);
-void plume_pvd_entries_free(plume_pvd_entries *e);
+PLUME_API plume_status plume_pvd_read(const char *path, plume_pvd_entries *out, plume_err *err);
+PLUME_API void plume_pvd_entries_free(plume_pvd_entries *e);
 
 #ifdef __cplusplus
 }

@@ -348,13 +348,15 @@ def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **op
         model: "macro" (an orthotropic vane with the given moduli, barbs inextensible when
             constraint is true) or "micro" (the resolved microstructure of `layout`).
         angle: barb angle from the pull direction (deg).
-        moduli: macro model: a dict with "E_xx", "E_yy", "nu_xy", "G_xy" (Pa, -), or a
+        moduli: macro model: a dict with all of "E_xx", "E_yy", "nu_xy", "G_xy" (Pa, -; a
+            dict without some of them is a PlumeError naming the missing keys), or a
             homogenize / fit result; None: plume's defaults (1e4, 1, 0, 1).
         layout: micro model: a dict of layout keys (see homogenize); those absent keep plume's
             defaults for a sample, as apps/traction: barbs d_B = 0.086 ly apart, elements
             elements chosen from the thinnest strip (the cell-scale d_B = 1 mm would be far too fine). The
             thickness and kappa are the sample's.
-        vtk: a directory (created if needed): the deformed sample at the rest state and at
+        vtk: a directory (created with its parents if needed, before the solve; a PlumeError
+            naming it when it cannot be): the deformed sample at the rest state and at
             every converged step as a ParaView series: vtk/steps.pvd, vtk/step_NNNNN.vtu (and,
             macro model, the barbs as vtk/step_barbs_NNNNN.vtu).
         **options: the request keys of flat.h: lx, ly (m; default 1, 1.3), thickness (m; 1),
@@ -400,7 +402,7 @@ def fit(targets, start, free=("E_yy", "G_xy"), max_eval=300, xtol_rel=1e-6, **op
         targets: a list of targets, each an (angle, strain, stress) tuple, a dict with those keys
             or a TractionResult (angle in deg, strain -, stress Pa). Each target is simulated up
             to its largest strain.
-        start: starting moduli: a dict of "E_xx", "E_yy", "nu_xy", "G_xy" or a homogenize / fit
+        start: starting moduli: a dict of all of "E_xx", "E_yy", "nu_xy", "G_xy" or a homogenize / fit
             result. The moduli not in `free` stay at their start values.
         free: names of the moduli to fit.
         max_eval: most model evaluations.
@@ -522,7 +524,7 @@ class Scene:
 
     def write_vtk(self, dir):
         """Writes the current state as the next frame of a ParaView series in directory `dir`
-        (created if needed): dir/frames.pvd and dir/frame_NNNNN.vtu. The first call for a
+        (created with its parents if needed): dir/frames.pvd and dir/frame_NNNNN.vtu. The first call for a
         directory starts the series, later ones append."""
         h = self._live()
         msg = _native.new_msg()

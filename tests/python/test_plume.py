@@ -297,7 +297,7 @@ class TestTraction(unittest.TestCase):
     def test_vtk_series(self):
         steps = 2
         with tempfile.TemporaryDirectory() as tmp:
-            out = os.path.join(tmp, "series")
+            out = os.path.join(tmp, "out", "py", "series")  # folders that do not exist yet
             r = plume.traction(moduli=MODULI, steps=steps, edge=0.1, vtk=out)
             self.assertTrue(r.converged)
             pvd = os.path.join(out, "steps.pvd")
@@ -332,6 +332,22 @@ class TestErrors(unittest.TestCase):
     def test_unknown_key_in_dicts(self):
         self.assertPlumeError(lambda: plume.homogenize(layout={"ratoi": 1e-6}), "ratoi")
         self.assertPlumeError(lambda: plume.traction(moduli={"E_x": 1.0}), "E_x")
+
+    def test_partial_moduli_name_the_missing_keys(self):
+        e = self.assertPlumeError(lambda: plume.traction(moduli={"E_yy": 1e3}), "missing E_xx, nu_xy, G_xy")
+        self.assertEqual(e.status_name, "invalid input")
+        self.assertPlumeError(lambda: plume.fit([(45.0, [0, 0.01], [0, 1.0])], start={"E_xx": 1e4, "E_yy": 1.0,
+                                                                                     "G_xy": 1.0}), "missing nu_xy")
+
+    def test_unwritable_vtk_fails_before_the_solve(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            blocker = os.path.join(tmp, "a-file")  # a regular file where a folder is wanted
+            open(blocker, "w").close()
+            target = os.path.join(blocker, "series")
+            self.assertPlumeError(lambda: plume.traction(moduli=MODULI, steps=2, edge=0.1, vtk=target), target)
+            with plume.Scene(STRIP_SCENE) as s:
+                self.assertPlumeError(lambda: s.write_vtk(target), target)
+                self.assertEqual(s.time, 0.0)
 
     def test_bad_values(self):
         e = self.assertPlumeError(lambda: plume.traction(mesh="triangular"), "mesh", "triangular")
@@ -441,7 +457,7 @@ class TestScene(unittest.TestCase):
 
     def test_write_vtk(self):
         with tempfile.TemporaryDirectory() as tmp, plume.Scene(STRIP_SCENE) as s:
-            out = os.path.join(tmp, "frames")
+            out = os.path.join(tmp, "out", "strip")  # folders that do not exist yet
             s.write_vtk(out)
             s.step()
             s.write_vtk(out)

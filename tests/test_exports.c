@@ -1,0 +1,321 @@
+/* Tests of libplume.so's face: every symbol the shared library exports is plume's own (a name
+ * starting with plume_, never another library's such as GOMP_ or omp_) and is declared PLUME_API
+ * in an installed header (the Makefile's HEADERS: lib/, lib/io/, micro/, macro/, not internal/);
+ * every function declared PLUME_API is exported; the umbrella header includes every installed
+ * header. The exported set is read with `nm -D --defined-only` from the libplume.so next to the
+ * runner (the build directory). */
+#include <glob.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "harness.h"
+
+typedef struct {
+    char **name;
+    size_t n, cap;
+} names;
+
+static void names_add(names *s, const char *p, size_t len)
+{
+    if (s->n == s->cap) {
+        s->cap = s->cap ? 2 * s->cap : 256;
+        s->name = realloc(s->name, s->cap * sizeof *s->name);
+    }
+    s->name[s->n] = malloc(len + 1);
+    memcpy(s->name[s->n], p, len);
+    s->name[s->n][len] = 0;
+    s->n++;
+}
+
+static int names_has(const names *s, const char *p)
+{
+    for (size_t i = 0; i < s->n; i++)
+        if (!strcmp(s->name[i], p))
+            return 1;
+    return 0;
+}
+
+static void names_free(names *s)
+{
+    for (size_t i = 0; i < s->n; i++)
+        free(s->name[i]);
+    free(s->name);
+}
+
+static char *read_all(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *s = malloc((size_t)n + 1);
+    size_t got = fread(s, 1, (size_t)n, f);
+    s[got] = 0;
+    fclose(f);
+    return s;
+}
+
+static int ident(char c)
+{
+    return c == '_' || (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9');
+}
+
+/* the installed headers, as the Makefile's HEADERS globs them (run from tests/) */
+static void installed_headers(glob_t *g)
+{
+    static const char *const pattern[] = {"../lib/*.h", "../lib/io/*.h", "../micro/*.h", "../macro/*.h"};
+    memset(g, 0, sizeof *g);
+    for (size_t i = 0; i < sizeof pattern / sizeof pattern[0]; i++)
+        glob(pattern[i], i ? GLOB_APPEND : 0, NULL, g);
+}
+
+/* Whether a line (comments blanked) is the prototype of a plume_ function without PLUME_API: type
+ * words, then the name, then '(' (typedefs, static inline definitions and macros excepted). A
+ * public function without the macro would silently stay inside the library. */
+static int unmarked_prototype(const char *line, char *name, size_t n)
+{
+    while (*line == ' ')
+        line++;
+    static const char *const skip[] = {"typedef", "static", "#", "return", "PLUME_API", "extern"};
+    for (size_t i = 0; i < sizeof skip / sizeof skip[0]; i++)
+        if (!strncmp(line, skip[i], strlen(skip[i])))
+            return 0;
+    const char *paren = strchr(line, '(');
+    if (!paren)
+        return 0;
+    const char *e = paren;
+    while (e > line && e[-1] == ' ')
+        e--;
+    const char *b = e;
+    while (b > line && ident(b[-1]))
+        b--;
+    if (b == line || e - b < 7 || strncmp(b, "plume_", 6) != 0)
+        return 0;
+    for (const char *p = line; p < b; p++) /* only type words before the name */
+        if (!ident(*p) && *p != ' ' && *p != '*')
+            return 0;
+    snprintf(name, n, "%.*s", (int)(e - b), b);
+    return 1;
+}
+
+/* The functions an installed header declares PLUME_API: the name before the first '(' after the
+ * macro, comments blanked first. Prototypes of plume_ functions without it are counted in
+ * *unmarked, and named. */
+static void declared_api(names *api, int *unmarked)
+{
+    glob_t g;
+    installed_headers(&g);
+    for (size_t h = 0; h < g.gl_pathc; h++) {
+        if (strstr(g.gl_pathv[h], "/export.h")) /* the macro's definition */
+            continue;
+        char *s = read_all(g.gl_pathv[h]);
+        if (!s)
+            continue;
+        for (char *p = s; *p; p++) { /* blank the comments */
+            if (p[0] == '/' && p[1] == '*') {
+                char *e = strstr(p + 2, "*/");
+                char *end = e ? e + 2 : p + strlen(p);
+                memset(p, ' ', (size_t)(end - p));
+                p = end - 1;
+            } else if (p[0] == '/' && p[1] == '/') {
+                while (*p && *p != '\n')
+                    *p++ = ' ';
+                if (!*p)
+                    break;
+            }
+        }
+        for (char *line = s; line && *line;) {
+            char *nl = strchr(line, '\n'), name[128];
+            if (nl)
+                *nl = 0;
+            if (unmarked_prototype(line, name, sizeof name)) {
+                fprintf(stderr, "    %s: %s is declared without PLUME_API\n", g.gl_pathv[h] + 3, name);
+                (*unmarked)++;
+            }
+            if (nl)
+                *nl = '\n';
+            line = nl ? nl + 1 : NULL;
+        }
+        for (char *p = strstr(s, "PLUME_API"); p; p = strstr(p + 1, "PLUME_API")) {
+            if ((p > s && ident(p[-1])) || ident(p[9]))
+                continue;
+            char *paren = strchr(p, '(');
+            if (!paren)
+                continue;
+            char *e = paren;
+            while (e > p && e[-1] == ' ')
+                e--;
+            char *b = e;
+            while (b > p && ident(b[-1]))
+                b--;
+            if (b > p + 9 && e > b)
+                names_add(api, b, (size_t)(e - b));
+        }
+        free(s);
+    }
+    globfree(&g);
+}
+
+/* the defined dynamic symbols of libplume.so next to the runner; 0 when there is none */
+static int exported(names *out, char *lib, size_t len)
+{
+    char self[PATH_MAX - 16];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0)
+        return 0;
+    self[n] = 0;
+    char *slash = strrchr(self, '/');
+    if (slash)
+        *slash = 0;
+    snprintf(lib, len, "%s/libplume.so", self);
+    if (access(lib, R_OK) != 0)
+        return 0;
+    char cmd[PATH_MAX + 64];
+    snprintf(cmd, sizeof cmd, "nm -D --defined-only '%s' 2>/dev/null", lib);
+    FILE *p = popen(cmd, "r");
+    if (!p)
+        return 0;
+    char line[4096];
+    while (fgets(line, sizeof line, p)) {
+        /* "address type name" */
+        char addr[64], type[8], name[sizeof line];
+        if (sscanf(line, "%63s %7s %4095s", addr, type, name) == 3)
+            names_add(out, name, strlen(name));
+    }
+    pclose(p);
+    return 1;
+}
+
+void test_exports_only_the_api(void)
+{
+    names api = {0}, dyn = {0};
+    char lib[PATH_MAX];
+    int unmarked = 0;
+    declared_api(&api, &unmarked);
+    CHECK(unmarked == 0);
+    if (!exported(&dyn, lib, sizeof lib)) {
+        /* the sanitizer build links the runner alone, without a shared library */
+        fprintf(stderr, "    no libplume.so next to the runner: the exported set is checked in the regular build "
+                        "(skipped)\n");
+        names_free(&api);
+        return;
+    }
+    fprintf(stderr, "    %s exports %zu symbols; the installed headers declare %zu functions PLUME_API\n", lib,
+            dyn.n, api.n);
+    CHECK(api.n > 200);
+    CHECK(dyn.n > 0);
+    int bad = 0;
+    for (size_t i = 0; i < dyn.n; i++) {
+        const char *s = dyn.name[i];
+        if (!strncmp(s, "GOMP_", 5) || !strncmp(s, "omp_", 4) || !strncmp(s, "gomp_", 5)) {
+            fprintf(stderr, "    exported: %s, OpenMP's runtime's own symbol\n", s);
+            bad++;
+        } else if (strncmp(s, "plume_", 6) != 0) {
+            fprintf(stderr, "    exported: %s, not a plume_ name\n", s);
+            bad++;
+        } else if (!names_has(&api, s)) {
+            fprintf(stderr, "    exported: %s, declared PLUME_API in no installed header\n", s);
+            bad++;
+        }
+    }
+    for (size_t i = 0; i < api.n; i++)
+        if (!names_has(&dyn, api.name[i])) {
+            fprintf(stderr, "    declared PLUME_API but not exported: %s\n", api.name[i]);
+            bad++;
+        }
+    CHECK(bad == 0);
+    names_free(&api);
+    names_free(&dyn);
+}
+
+/* lib/plume.h includes every installed header (the path as seen from lib/) */
+void test_exports_umbrella(void)
+{
+    char *umbrella = read_all("../lib/plume.h");
+    CHECK(umbrella != NULL);
+    if (!umbrella)
+        return;
+    glob_t g;
+    installed_headers(&g);
+    CHECK(g.gl_pathc > 40);
+    for (size_t h = 0; h < g.gl_pathc; h++) {
+        const char *path = g.gl_pathv[h] + 3; /* "lib/x.h", "lib/io/x.h", "micro/x.h" */
+        if (!strcmp(path, "lib/plume.h"))
+            continue;
+        char inc[PATH_MAX + 16];
+        if (!strncmp(path, "lib/", 4))
+            snprintf(inc, sizeof inc, "#include \"%s\"", path + 4);
+        else
+            snprintf(inc, sizeof inc, "#include \"../%s\"", path);
+        if (!strstr(umbrella, inc)) {
+            fprintf(stderr, "    lib/plume.h does not include %s\n", path);
+            CHECK(!"every installed header in the umbrella");
+        }
+    }
+    globfree(&g);
+    free(umbrella);
+}
+
+static int sh(const char *fmt, const char *a, const char *b)
+{
+    /* numbered conversions only (%1$s: a, %2$s: b); a leading %1$.0s names a's type for the
+     * formats that use b alone */
+    char f[2560], cmd[4 * PATH_MAX];
+    snprintf(f, sizeof f, "%%1$.0s%s", fmt);
+    snprintf(cmd, sizeof cmd, f, a, b);
+    int rc = system(cmd);
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+/* The library as another C program uses it: `make install` into a fresh prefix, docs/example.c
+ * built with pkg-config against the shared library (it starts without LD_LIBRARY_PATH: plume.pc's
+ * run path) and against the static one (no libplume.so needed at all), both run to convergence;
+ * `make uninstall` leaves the prefix empty. */
+void test_exports_installed_example(void)
+{
+    names dyn = {0};
+    char lib[PATH_MAX];
+    if (!exported(&dyn, lib, sizeof lib)) {
+        fprintf(stderr, "    no libplume.so next to the runner: installed in the regular build (skipped)\n");
+        return;
+    }
+    names_free(&dyn);
+    char build[PATH_MAX], prefix[64] = "/tmp/plume-prefix-XXXXXX";
+    snprintf(build, sizeof build, "%s", lib);
+    *strrchr(build, '/') = 0;
+    if (!mkdtemp(prefix)) {
+        CHECK(0);
+        return;
+    }
+    /* the runner's own build directory: everything is up to date, install only copies */
+    CHECK(sh("make -s -C .. BUILD='%1$s' install PREFIX='%2$s' >'%2$s/make.log' 2>&1", build, prefix) == 0);
+    const char *env = "env -u LD_LIBRARY_PATH PKG_CONFIG_PATH='%2$s/lib/pkgconfig'";
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd,
+             "%s sh -c 'cc -std=c11 ../docs/example.c $(pkg-config --cflags --libs plume) -o %%2$s/shared' "
+             ">>'%%2$s/make.log' 2>&1",
+             env);
+    CHECK(sh(cmd, build, prefix) == 0);
+    snprintf(cmd, sizeof cmd,
+             "%s sh -c 'cc -std=c11 ../docs/example.c $(pkg-config --cflags plume) "
+             "$(pkg-config --variable=static_libs plume) -o %%2$s/static' >>'%%2$s/make.log' 2>&1",
+             env);
+    CHECK(sh(cmd, build, prefix) == 0);
+    /* both run from elsewhere, the loader told nothing; the static one needs no libplume */
+    CHECK(sh("cd / && env -u LD_LIBRARY_PATH '%2$s/shared' 2>&1 | tail -n 1 | grep -q 'converged: 1'", build, prefix) == 0);
+    CHECK(sh("cd / && env -u LD_LIBRARY_PATH '%2$s/static' 2>&1 | tail -n 1 | grep -q 'converged: 1'", build, prefix) == 0);
+    CHECK(sh("readelf -d '%2$s/shared' | grep NEEDED | grep -q libplume.so.0", build, prefix) == 0);
+    CHECK(sh("readelf -d '%2$s/static' | grep NEEDED | grep -q libplume", build, prefix) != 0);
+    CHECK(sh("make -s -C .. BUILD='%1$s' uninstall PREFIX='%2$s' >>'%2$s/make.log' 2>&1", build, prefix) == 0);
+    CHECK(sh("test -z \"$(find '%2$s' \\( -type f -o -type l \\) -not -name shared -not -name static "
+             "-not -name make.log)\"", build, prefix) == 0);
+    if (plume_test_failures)
+        sh("sed 's/^/    /' '%2$s/make.log' | tail -n 20 >&2", build, prefix);
+    sh("rm -rf '%2$s'", build, prefix);
+}
