@@ -10,12 +10,18 @@
 #  5. the whole feather in 3D (apps/feather, supplementary Figure 12) for 0.5 s;
 #  6. a wing of 12 feathers on a flapping bone, in contact that never interpenetrates (~80 s).
 # Everything lands in out/: one HDF5 file (out/plume.h5) and PNG+SVG charts.
+# PLUME_DEMO_QUICK=1 runs every step but simulates the feather for 0.05 s and the wing for one
+# frame: the test suite runs `make demo` that way (scripts/doc-commands.py), in seconds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mkdir -p out
 h5=out/plume.h5
 rm -f "$h5"
 run() { echo "+ $*" >&2; "$@"; }
+feather_time=(--duration 0.5) wing_time=()
+if [ -n "${PLUME_DEMO_QUICK:-}" ]; then
+    feather_time=(--duration 0.05) wing_time=(--frames 1)
+fi
 echo "== 1. homogenisation of the Figure 10 microstructure"
 run ./apps/homogenize --config data/layout_fig10.json -o "$h5" --plot out/cell.png
 echo "== 2. traction at both scales (micro: resolved barbs; macro: homogenised moduli, barbs inextensible)"
@@ -32,7 +38,7 @@ run ./apps/traction --scenario tilted --edge 0.02 --steps 10 --solver ipopt --qu
 run ./apps/traction --scenario tilted --edge 0.02 --steps 10 --constraint off --quiet
 run ./apps/traction --sample T01 --edge 0.0005 --steps 10 -o out/table4.h5 --plot out/transverse_T01.png --quiet
 echo "== 5. the whole feather (supplementary Figure 12): rachis held at its base, tip pulled; 0.5 s"
-run ./apps/feather data/feather/scene_anisotropic.json -o out/feather --duration 0.5 --quiet
+run ./apps/feather data/feather/scene_anisotropic.json -o out/feather "${feather_time[@]}" --quiet
 echo "== 6. a wing: 12 overlapping feathers on a flapping bone, barrier contact + CCD (Table 3 (b)); ~80 s"
-run ./apps/feather data/bird/wing.json -o out/wing --quiet
+run ./apps/feather data/bird/wing.json -o out/wing "${wing_time[@]}" --quiet
 echo "plume demo: outputs in out/, out/feather/ and out/wing/ (VTK series, frames.h5, PNG renders)"

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # `make test`: the C suite (tests/run_tests), then the Python package's suite (tests/python/run.py,
-# against the library just built). Each prints "N passed, N failed"; the last line here adds them
-# up, and the exit status is non-zero when anything failed. TESTS=substring runs the C tests whose
-# names contain it, and the Python suite only when it contains "python".
+# against the library just built), then the commands README.md and docs/ mark runnable
+# (scripts/doc-commands.py). Each prints "N passed, N failed"; the last line here adds them up, and
+# the exit status is non-zero when anything failed. TESTS=substring runs the C tests whose names
+# contain it, the Python suite only when it contains "python", the documented commands only when
+# it contains "docs".
 set -uo pipefail
 build=${1:-build}
 filter=${TESTS:-}
@@ -51,6 +53,15 @@ if [ -z "$filter" ] || [[ "$filter" == *python* ]]; then
             "$py" python/run.py 2>&1 | tee "$log"
         count "the Python suite"
     fi
+fi
+# the commands README.md and docs/ mark runnable (scripts/doc-commands.py), run with this build
+if [ -z "$filter" ] || [[ "$filter" == *docs* ]]; then
+    case $build in
+        /*) abs_build=$build ;;
+        *) abs_build=$(cd "$build" && pwd) ;;
+    esac
+    BUILD="$abs_build" python3 ../scripts/doc-commands.py 2>&1 | tee "$log"
+    count "the documented commands"
 fi
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
