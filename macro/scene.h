@@ -1,100 +1,11 @@
-/* plume: a dynamic shell scene from JSON — mesh (an OBJ triangle mesh or the feather mesher),
- * per-material membrane, bending, density and barb constraint, keyframed handles, gravity and
- * time stepping — validated as a whole, then built into a problem and an implicit Euler stepper
- * (lib/dynamics.h). The format:
+/* plume: a shell scene from JSON: mesh (an OBJ triangle mesh, the feather mesher or a rectangle),
+ * per-material membrane, bending, density and barb constraint, handles, gravity, contact, many
+ * objects, time stepping (dynamic scenes) or clamps, supports, loads and probes (static scenes),
+ * validated as a whole, then built into a problem and an implicit Euler stepper (lib/dynamics.h)
+ * or a load-stepping driver (lib/statics.h).
  *
- *   {
- *     "mesh": {"obj": "strip.obj", "materials_by_group": {"rachis": 1}, "barb_direction": [1, 0]}
- *           | {"feather": "feather_shape.json", "outline": "outline.obj", "edge": 5e-3},
- *     "materials": [ {"membrane": {"E_xx", "E_yy", "nu_xy", "G_xy", "thickness", "kappa"}
- *                                | {"E", "nu", "thickness", "kappa"},
- *                     "bending": {"D_long", "D_trans", "D_twist", "D_coupling"} | {"D"} | "from_membrane"
- *                                | {"from_moduli": "file.h5", "drop_couplings": false},
- *                     "density": kg/m^2, "constraint": true|false}, ... ],
- *     "handles": [ {"near": [x, y], "radius": r} | {"vertices": [ids]} | {"box": [x0, y0, x1, y1]},
- *                  with "keyframes": [[t, dx, dy, dz], ...] ],
- *     "gravity": [gx, gy, gz], "dt": s, "duration": s, "solver": "newton"|"ipopt"|"linearized",
- *     "max_halvings": n, "max_iter": n, "output_every": n, "render": [frames],
- *     "globalization": "curved_line_search" | "line_search" | "trust_region",
- *     "camera": {"rot_x": deg, "rot_z": deg}
- *   }
- * Required: mesh, materials (every material id the mesh uses), dt, duration; everything else has
- * a default (no handles, gravity (0, 0, -9.81), newton, 6 halvings, 100 iterations, every step an
- * output frame, no render, camera 60/30, the curved line search: lib/solver.h). Membrane:
- * "nu"/"nu_xy" default 0, "kappa" default 0;
- * isotropic {"E", "nu"} means E_xx = E_yy = E, G_xy = E / (2 (1 + nu)). "bending" defaults to
- * "from_membrane": D_long = E_xx t^3 / (12 (1 - nu_xy nu_yx)), D_trans alike with E_yy, D_coupling =
- * nu_xy D_trans, D_twist = G_xy t^3 / 12 (orthotropic plate formulas); explicit D_twist defaults to
- * Huber's (sqrt(D_long D_trans) - D_coupling) / 2 (macro/bending.h); "from_moduli" reads the four
- * from the /moduli attributes of a homogenize -o file (the homogenised microstructure,
- * docs/bending-homogenisation.md; relative to the scene's directory), refusing bending-twist
- * couplings D_16, D_26 above 1 % unless "drop_couplings" is true. "bending_model" (top level):
- * "shape_operator" (default, macro/shape_bending.h) or "hinge" (macro/bending.h, for comparison). Barb
- * edges of a material with "constraint": true are made inextensible: for an OBJ mesh the edges
- * parallel (|sin| <= 1e-6) to the barb direction of an adjacent triangle of that material, for the
- * feather the mesher's barb edges next to such a triangle. Handle selectors work on the reference
- * positions X: "near" without "radius" takes the nearest vertex; "vertices" are 0-based indices in
- * the OBJ's vertex list (or the mesher's ids); keyframe offsets are translations of X (z from 0),
- * piecewise linear in time, constant after the last key; a vertex may belong to one handle only.
- * An OBJ face's group is its last "g" (or "o") name; groups absent from "materials_by_group" get
- * material 0. Relative file names are relative to the scene file's directory; a "note" key is
- * allowed in any object; any other unknown key is an error.
- *
- * A third mesh source makes benchmark strips: {"rectangle": [lx, ly], "edge": e, "pattern":
- * "grid" | "delaunay" | "aligned", "barb_direction": [dx, dy]} (grid: right triangles, one
- * diagonal direction; delaunay: a CGAL quality mesh that ignores the barbs; aligned: the barb-
- * aligned patch mesher), all over [0, lx] x [0, ly].
- *
- * Contact between the scene's shells (dynamic scenes; lib/contact.h): "contact": {"model":
- * "barrier" | "penalty", "dhat": m, "stiffness": kappa or the penalty's (required), "self": false,
- * "margin": m}. The bodies are the connected components of the mesh (an OBJ with several pieces);
- * "self": true makes non-adjacent parts of one body touch too. Defaults: barrier, dhat 1e-3 (the
- * paper's repulsion thickness, Table 3 (b)), self false, margin 0. "friction": mu adds lagged
- * Coulomb friction (lib/contact_friction.h; default 0: none) with "eps_v" the speed below which a
- * pair sticks (m/s, default 1e-3).
- *
- * Many bodies (dynamic scenes): "objects": [...] instead of "mesh" and "handles". Each object has
- * a unique "name" and either
- *   "mesh": {as the top-level mesh}, "place": {"scale": s, "rotate": [[ax, ay, az, degrees], ...]
- *   (applied in order), "translate": [x, y, z]}, "handles": [as above], "attach": {"to": the name
- *   of a kinematic object, selector}   an elastic shell; selectors pick in its own reference,
- *                                      before "place"; attached vertices move with that body;
- *   "kinematic": {"obj": a 3D OBJ surface, "pivot": [x, y, z], "keyframes": [[t, dx, dy, dz(, ax,
- *   ay, az, degrees)], ...]}, "place"  a rigid body: translation piecewise linear, rotation about
- *                                      the pivot (after "place") slerped between keys.
- * The mesh holds the elastic objects in order, then the kinematic ones (plume_scene.objects);
- * kinematic triangles take material 0's density (their vertices are held) and no elastic energy.
- *
- * Static scenes ("solve": "static"; dt and duration are then not used, "steps" load steps,
- * default 10, "predictor": "secant" (default) or "none", where each increment's solve starts:
- * lib/statics.h) reach equilibrium under loads stepped from 0 to their full value:
- *     "clamps": [ {selector} ]  the selected vertices are fixed and so is the slope (the rest
- *                               tangent plane): with the shape-operator bending, a clamp that
- *                               holds boundary edges holds the slope on the clamp line itself
- *                               (mirrored stencils, shape_bending.h); with the hinge, or a clamp
- *                               with no boundary edge, its second row (the vertices sharing an
- *                               edge with it) keeps its rest height z, which holds the slope half
- *                               an element further in;
- *     "supports": [ {selector, "fix": "y"} ]  the selected vertices keep their rest value of the
- *                               named coordinates (any of "x", "y", "z", e.g. "xz"): rollers and
- *                               symmetry planes; a strip held in its plane by "fix": "y" on all
- *                               its vertices is the planar benchmark the 2D references solve;
- *     "loads": [ {selector, "force": [fx, fy, fz]}       a total force (N) shared equally by
- *                                                        the selected vertices;
- *                {selector, "line_load": [qx, qy, qz]}   N/m on the boundary edges whose ends
- *                                                        are both selected (each end of an
- *                                                        edge of length l gets q l / 2);
- *                {selector, "moment": [mx, my, mz]} ]    a follower moment (N m) about that
- *                                                        axis on the selected end through its
- *                                                        second row (lib/moment.h);
- *     "probes": [ {"name": "tip", selector, "reference": [ux, uy, uz], "source": "..."} ]
- *                  the mean displacement of the selected vertices, reported per step and
- *                  compared to the reference (optional; a null component has none) at the full
- *                  load.
- * Handles in a static scene are prescribed displacements: their last keyframe's offset times
- * the load factor. A selector is "near" (+ "radius"), "vertices" or "box", as for handles. A
- * static scene needs a clamp or a handle (else rigid motions are free), and "density" is
- * optional in its materials. */
+ * The format (every key, its units, default and error messages) is documented in one place:
+ * docs/scene-format.md. */
 #ifndef PLUME_SCENE_H
 #define PLUME_SCENE_H
 
