@@ -24,6 +24,9 @@ outputs (out/, ...) land in the scratch directory; HOME is a scratch directory t
 made absolute) is exported, so `make` targets use the build the tests use, and PLUME_DEMO_QUICK=1,
 so `make demo` runs every step with the feather and the wing cut short (scripts/demo.sh).
 
+Every relative link of a page (outside code) must name an existing file, and its #anchor a
+heading of that page.
+
 Prints one line per block and, last, "N passed, N failed"; exits 1 if any failed.
 """
 import os
@@ -100,8 +103,53 @@ def check_excerpt(text, path):
     return None
 
 
+LINK = re.compile(r"\]\(([^)\s]+)\)")
+
+
+def slug(title):
+    """GitHub's anchor of a heading."""
+    t = re.sub(r"[^\w\- ]", "", title.strip().lower().replace("`", ""))
+    return t.replace(" ", "-")
+
+
+def anchors(path):
+    out, inside = set(), False
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            if FENCE.match(line):
+                inside = not inside
+            elif not inside and line.startswith("#"):
+                out.add(slug(line.lstrip("#")))
+    return out
+
+
+def broken_links(path):
+    """The relative link targets of a Markdown file (outside code) that name no file."""
+    bad = []
+    inside = False
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            if FENCE.match(line):
+                inside = not inside
+                continue
+            if inside:
+                continue
+            for target in LINK.findall(re.sub(r"`[^`]*`", "", line)):
+                if re.match(r"^[a-z]+:", target):
+                    continue
+                file, _, anchor = target.partition("#")
+                full = os.path.join(os.path.dirname(path), file) if file else path
+                if not os.path.exists(full):
+                    bad.append(target)
+                elif anchor and full.endswith(".md") and anchor not in anchors(full):
+                    bad.append(target)
+    return bad
+
+
 def run_page(path, env, results, verbose):
     rel = os.path.relpath(path, TOP)
+    bad = broken_links(path)
+    results.append((rel + " (links)", not bad, 0.0, "broken links: " + ", ".join(bad) if bad else ""))
     page = [b for b in blocks(path) if interesting(b[1], b[2])]
     if not page:
         return
