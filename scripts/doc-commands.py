@@ -214,7 +214,9 @@ def main(argv):
                     print("%s:%d %s %s" % (os.path.relpath(f, TOP), line, " ".join(words),
                                            " ".join("%s=%s" % kv for kv in attrs.items())))
         return 0
-    env = dict(os.environ)
+    # a make that runs this (make test) passes its jobserver and command-line variables down in
+    # MAKEFLAGS; the documented `make` commands must see only BUILD, as a user's shell would
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL", "MAKEOVERRIDES")}
     build = env.get("BUILD", "build")
     env["BUILD"] = build if os.path.isabs(build) else os.path.join(TOP, build)
     env.setdefault("OMP_WAIT_POLICY", "passive")
