@@ -1,6 +1,6 @@
 /* The plate bending test of both scales (macro/plate_bending.h): the homogeneous plate against
  * plate theory, the resolved strip specimen against the homogeneous plate with the cell's D as
- * the barb spacing shrinks, the bending fit (apps/fit's bending mode), the curves file and bad
+ * the barb spacing shrinks, the bending fit (the plate as the fitter's model), the curves file and bad
  * input. */
 #include <math.h>
 #include <stdio.h>
@@ -140,7 +140,7 @@ void test_plate_bending_both_scales(void)
     CHECK(diff[0][2] < 0.02);
 }
 
-/* apps/fit's bending mode: curves of the plate test made with known moduli (bent at 0, 45 and 90
+/* Fitting bending moduli: curves of the plate test made with known moduli (bent at 0, 45 and 90
  * deg and twisted) are given to the fitter with the plate model, which recovers them. */
 void test_plate_bending_fit_recovers_moduli(void)
 {
