@@ -16,6 +16,7 @@
 #include "../micro/layout_json.h"
 #include "../micro/micro_model.h"
 #include "cli.h"
+#include "traction_bending.h"
 
 static const char usage[] =
     "usage: traction [options]\n"
@@ -50,6 +51,12 @@ static const char usage[] =
     "  --vtk DIR           the deformed sample of every step as a ParaView series: DIR/<macro|micro>/steps.pvd\n"
     "                      (the nominal strain as its time) with step_NNNNN.vtu (strain, stress, energy density,\n"
     "                      J per triangle; step_barbs_NNNNN.vtu the constrained barb edges' strain)\n"
+    "Bending (both scales; docs/bending-homogenisation.md):\n"
+    "  --bending LOAD      cylinder (end moments about x: curvature along y, the barbs at --angle from it) | twist;\n"
+    "                      the resolved layout (order 1 triangles, each phase a shell of its thickness) and/or the\n"
+    "                      plate with the cell's bending tensor; default sample 0.01 x 0.02 m\n"
+    "  --curvature K       the plate's predicted curvature at the last step (1/m, > 0; default 0.01)\n"
+    "                      -o writes /curves/bending/<macro|micro>/<LOAD>_<angle>/{curvature,moment,...}\n"
     "  --json              print a summary object on stdout\n"
     "  --quiet / --verbose no progress line / solver iterations on stderr\n"
     "  --help\n";
@@ -57,6 +64,9 @@ static const char usage[] =
 typedef struct {
     const char *scenario, *sample, *samples_file, *moduli_file, *out, *plot, *mesh, *solver, *vtk;
     const char *model, *layout_file, *layout_kind;
+    const char *bending, *traction_only; /* --bending LOAD; the last traction-only flag given */
+    double curvature;
+    int curvature_set, solver_set, steps_set;
     double phi, ratio, Eb, nu_barb, nu_barbule, dB_rel, e_rel;
     int phi_set, ratio_set, Eb_set, nu_barb_set, nu_barbule_set, dB_rel_set, e_rel_set, order, order_set;
     int no_convergence;
@@ -113,8 +123,10 @@ static int parse_args(int argc, char **argv, options *o)
         DBLSET("--nu", nu);
         DBL("--kappa", kappa);
         DBL("--edge", edge);
-        DBL("--strain-max", strain_max);
-        else if (strcmp(a, "--steps") == 0) r = parse_int(a, v, &o->steps);
+        else if (strcmp(a, "--strain-max") == 0) r = parse_double(a, v, &o->strain_max), o->traction_only = a;
+        else if (strcmp(a, "--curvature") == 0) r = parse_double(a, v, &o->curvature), o->curvature_set = 1;
+        else if (strcmp(a, "--bending") == 0) o->bending = v;
+        else if (strcmp(a, "--steps") == 0) r = parse_int(a, v, &o->steps), o->steps_set = 1;
         else if (strcmp(a, "--max-iter") == 0) r = parse_int(a, v, &o->max_iter);
         else if (strcmp(a, "--order") == 0) r = parse_int(a, v, &o->order), o->order_set = 1;
         DBLSET("--phi", phi);
@@ -127,16 +139,17 @@ static int parse_args(int argc, char **argv, options *o)
         else if (strcmp(a, "--model") == 0) o->model = v;
         else if (strcmp(a, "--layout-config") == 0) o->layout_file = v;
         else if (strcmp(a, "--layout") == 0) o->layout_kind = v;
-        else if (strcmp(a, "--scenario") == 0) o->scenario = v;
-        else if (strcmp(a, "--sample") == 0) o->sample = v;
-        else if (strcmp(a, "--samples") == 0) o->samples_file = v;
+        else if (strcmp(a, "--scenario") == 0) o->scenario = v, o->traction_only = a;
+        else if (strcmp(a, "--sample") == 0) o->sample = v, o->traction_only = a;
+        else if (strcmp(a, "--samples") == 0) o->samples_file = v, o->traction_only = a;
         else if (strcmp(a, "--moduli") == 0) o->moduli_file = v;
-        else if (strcmp(a, "--mesh") == 0) o->mesh = v;
-        else if (strcmp(a, "--solver") == 0) o->solver = v;
+        else if (strcmp(a, "--mesh") == 0) o->mesh = v, o->traction_only = a;
+        else if (strcmp(a, "--solver") == 0) o->solver = v, o->solver_set = 1;
         else if (strcmp(a, "-o") == 0) o->out = v;
-        else if (strcmp(a, "--plot") == 0) o->plot = v;
-        else if (strcmp(a, "--vtk") == 0) o->vtk = v;
+        else if (strcmp(a, "--plot") == 0) o->plot = v, o->traction_only = a;
+        else if (strcmp(a, "--vtk") == 0) o->vtk = v, o->traction_only = a;
         else if (strcmp(a, "--constraint") == 0) {
+            o->traction_only = a;
             if (v && strcmp(v, "on") == 0)
                 o->constraint = 1;
             else if (v && strcmp(v, "off") == 0)
@@ -148,7 +161,7 @@ static int parse_args(int argc, char **argv, options *o)
             if (strcmp(a, "--json") == 0) o->json = 1;
             else if (strcmp(a, "--quiet") == 0) o->quiet = 1;
             else if (strcmp(a, "--verbose") == 0) o->verbose = 1;
-            else if (strcmp(a, "--no-convergence") == 0) o->no_convergence = 1;
+            else if (strcmp(a, "--no-convergence") == 0) o->no_convergence = 1, o->traction_only = a;
             else return fail("unknown option '%s' (see --help)%s", a, "");
         }
 #undef DBL
@@ -411,6 +424,14 @@ int main(int argc, char **argv)
         return rc;
     plume_err err = {{0}};
     plume_status st;
+    if (o.bending) {
+        if (o.traction_only)
+            return fail("--bending cannot be combined with %s (a traction option)%s", o.traction_only, "");
+        if (!o.lx_set)
+            o.lx = 0.01;
+        if (!o.ly_set)
+            o.ly = 0.02;
+    }
     double angle;
     if (strcmp(o.scenario, "longitudinal") == 0)
         angle = 0.0;
@@ -479,10 +500,19 @@ int main(int argc, char **argv)
         layout.barbule_width *= scale;
         layout.barbule_spacing *= scale;
     }
-    layout.h = o.h;
+    if (!o.bending || o.h_set)
+        layout.h = o.h;
     layout.kappa = o.kappa;
+    if (o.bending)
+        layout.order = 1; /* the shell's triangles are linear */
     if (want_micro && (st = plume_layout_check(&layout, &err)) != PLUME_OK)
         return fail("layout: %s%s", err.msg, "");
+    if (o.bending) {
+        bending_cli bc = {o.bending, o.out, o.model, o.lx, o.ly, o.angle_set ? o.angle : 0.0,
+                          o.curvature_set ? o.curvature : 0.01, o.curvature_set, o.edge, o.steps_set ? o.steps : 2,
+                          o.solver_set ? o.solver : "linearized", o.json, o.quiet};
+        return run_bending(&bc, &layout, want_macro, want_micro);
+    }
 
     plume_vane vane;
     plume_vane_default(&vane);

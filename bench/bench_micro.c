@@ -183,7 +183,8 @@ int main(void)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     printf("\nplume bench (micro): homogenisation of a periodic cell (tensor: exact linear cell problem;\n"
-           "curves: uniaxial along and across the barbs and simple shear to 5%%, 10 steps each)\n");
+           "curves: uniaxial stress along and across the barbs and shear with free normal stresses to 5%%,\n"
+           "10 steps each)\n");
     printf("%-28s | %8s | %10s | %12s | %8s |\n", "layout", "elements", "tensor ms", "+ curves ms", "Newton it");
     plume_layout l;
     const double erel[3] = {1.0, 0.5, 0.25};

@@ -320,12 +320,14 @@ void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s)
         *s = c->st;
 }
 
-/* The pairs of one body within dhat + margin of each other at rest (self contact only) get the
+/* The pairs of one body within dhat of each other at rest (self contact only) get the
  * activation distance half their rest distance: nothing pushes at rest, and a pair that closes
  * in is still repelled (and CCD still stops it crossing). */
 static plume_status reduce_rest_pairs(plume_contact *c, const int *body, const double *xrest, plume_err *err)
 {
-    const double reach = c->o.pair.dhat + c->o.margin;
+    /* within dhat only: a pair farther apart at rest has no barrier energy there, whatever the
+     * margin that makes it a candidate */
+    const double reach = c->o.pair.dhat;
     plume_contact_candidates cand;
     plume_status st = plume_contact_broad_update(c->broad, xrest, NULL, reach, &cand, err);
     if (st != PLUME_OK)

@@ -21,11 +21,17 @@ extern "C" {
 typedef struct {
     plume_contact_opts pair; /* model, dhat, stiffness (kappa or the penalty's), PSD projection */
     int self_contact;        /* 1: non-adjacent primitives of one body touch too (pairs already
-                                within dhat + margin at rest with dhat = half their rest distance);
+                                within dhat at rest with dhat = half their rest distance);
                                 0: only pairs of different bodies (body ids required). Default 0. */
     double margin;           /* candidates are the pairs within dhat + margin when the stencils are
                                 updated (before each step, and after it: a step whose solution
-                                brings in new pairs is solved again, lib/dynamics.c); default 0 */
+                                brings in new pairs is solved again, lib/dynamics.c); default 0.
+                                Pairs in the margin cost an evaluation and a place in the
+                                pattern, and their barrier acts as soon as a solve brings them
+                                within dhat: worth it where bodies close in fast (the contact
+                                stack: 406 Newton iterations without, 185 with margin = dhat),
+                                not where many lie just beyond dhat (the wing: 65x the pairs,
+                                1.5x the time). docs/solver-nonconvexity.md */
     plume_ccd_opts ccd;      /* the barrier's step limit; defaults of ccd.h */
 } plume_contact_term_opts;
 
@@ -39,7 +45,7 @@ typedef struct {
     plume_index candidates; /* stencils of the last update */
     long updates;           /* stencil updates */
     long step_limits;       /* steps that CCD cut short */
-    plume_index excluded;   /* self contact: pairs of one body within dhat + margin at rest; they
+    plume_index excluded;   /* self contact: pairs of one body within dhat at rest; they
                                would be pushed apart from the first step, so their barrier acts
                                only within half their rest distance (CCD still applies) */
     double broad_seconds, narrow_seconds, ccd_seconds; /* broad phase, pair energies, CCD */

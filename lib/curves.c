@@ -265,8 +265,11 @@ cleanup:
 /* ------------------------------------------------------------------------- curves ---- */
 
 typedef struct {
-    const char *scale, *scenario;
-    const plume_curve *curve;
+    const char *gpath;             /* the curve's group, /curves/... */
+    int nf;                        /* datasets, each of n points */
+    const char *const *names, *const *units;
+    const double *const *data;
+    plume_index n;
     const plume_param *params;
     int nparams;
     const plume_sparam *sparams;
@@ -302,8 +305,7 @@ static plume_status fill_curve(hid_t fid, const char *path, const void *vctx, pl
     plume_status s = PLUME_OK;
     hid_t lcpl = H5I_INVALID_HID, g = H5I_INVALID_HID;
     h5_detail d;
-    char gpath[640];
-    snprintf(gpath, sizeof gpath, "/curves/%s/%s", c->scale, c->scenario);
+    const char *gpath = c->gpath;
 
     int e = path_exists(fid, gpath);
     if (e < 0 || (e == 1 && H5Ldelete(fid, gpath, H5P_DEFAULT) < 0)) {
@@ -318,10 +320,10 @@ static plume_status fill_curve(hid_t fid, const char *path, const void *vctx, pl
                           path, gpath, h5_cause(&d));
         goto cleanup;
     }
-    for (int i = 0; i < 5; i++) {
-        if (h5_write_dataset(g, curve_fields[i], curve_cfield(c->curve, i), c->curve->n, curve_units[i]) < 0) {
+    for (int i = 0; i < c->nf; i++) {
+        if (h5_write_dataset(g, c->names[i], c->data[i], c->n, c->units[i]) < 0) {
             s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot write dataset %s/%s (HDF5: %s)",
-                              path, gpath, curve_fields[i], h5_cause(&d));
+                              path, gpath, c->names[i], h5_cause(&d));
             goto cleanup;
         }
     }
@@ -359,20 +361,12 @@ cleanup:
     return s;
 }
 
-plume_status plume_curve_write(const char *path, const char *scale, const char *scenario,
-                               const plume_curve *curve, const plume_param *params, int nparams,
-                               const plume_sparam *sparams, int nsparams, plume_err *err)
+/* Checks the parameter lists and writes the datasets data[0..nf) of n points under gpath. */
+static plume_status write_fields(const char *path, const char *gpath, int nf, const char *const *names,
+                                 const char *const *units, const double *const *data, plume_index n,
+                                 const plume_param *params, int nparams, const plume_sparam *sparams, int nsparams,
+                                 plume_err *err)
 {
-    if (!path || !*path)
-        return plume_err_set(err, PLUME_EINVAL, "curves file: empty path");
-    if (bad_names(path, scale, scenario, err))
-        return PLUME_EINVAL;
-    if (!curve || curve->n < 0)
-        return plume_err_set(err, PLUME_EINVAL, "curves file '%s': no curve or negative point count", path);
-    for (int i = 0; i < 5 && curve->n > 0; i++)
-        if (!curve_cfield(curve, i))
-            return plume_err_set(err, PLUME_EINVAL, "curves file '%s': curve %s/%s has no %s array",
-                                 path, scale, scenario, curve_fields[i]);
     if (nparams < 0 || nsparams < 0 || (nparams > 0 && !params) || (nsparams > 0 && !sparams))
         return plume_err_set(err, PLUME_EINVAL, "curves file '%s': bad parameter list", path);
     /* Attribute names must be unique across both lists: HDF5 would refuse the second one. */
@@ -394,12 +388,33 @@ plume_status plume_curve_write(const char *path, const char *scale, const char *
         }
     }
 
-    curve_ctx ctx = {scale, scenario, curve, params, nparams, sparams, nsparams};
+    curve_ctx ctx = {gpath, nf, names, units, data, n, params, nparams, sparams, nsparams};
     h5_quiet q;
     quiet_begin(&q);
     plume_status s = atomic_write(path, "curves file", fill_curve, &ctx, err);
     quiet_end(&q);
     return s;
+}
+
+plume_status plume_curve_write(const char *path, const char *scale, const char *scenario,
+                               const plume_curve *curve, const plume_param *params, int nparams,
+                               const plume_sparam *sparams, int nsparams, plume_err *err)
+{
+    if (!path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "curves file: empty path");
+    if (bad_names(path, scale, scenario, err))
+        return PLUME_EINVAL;
+    if (!curve || curve->n < 0)
+        return plume_err_set(err, PLUME_EINVAL, "curves file '%s': no curve or negative point count", path);
+    const double *data[5];
+    for (int i = 0; i < 5; i++)
+        if (!(data[i] = curve_cfield(curve, i)) && curve->n > 0)
+            return plume_err_set(err, PLUME_EINVAL, "curves file '%s': curve %s/%s has no %s array",
+                                 path, scale, scenario, curve_fields[i]);
+    char gpath[640];
+    snprintf(gpath, sizeof gpath, "/curves/%s/%s", scale, scenario);
+    return write_fields(path, gpath, 5, curve_fields, curve_units, data, curve->n, params, nparams, sparams,
+                        nsparams, err);
 }
 
 void plume_curve_free(plume_curve *curve)
@@ -411,23 +426,15 @@ void plume_curve_free(plume_curve *curve)
     memset(curve, 0, sizeof *curve);
 }
 
-plume_status plume_curve_read(const char *path, const char *scale, const char *scenario,
-                              plume_curve *curve, plume_err *err)
+/* Reads the datasets names[0..nf) of group gpath, all of one length *n, into out[i] (malloc'ed;
+ * on failure the ones read stay in out[] for the caller to free). */
+static plume_status read_fields(const char *path, const char *gpath, int nf, const char *const *names, double **out,
+                                plume_index *np, plume_err *err)
 {
-    if (!curve)
-        return plume_err_set(err, PLUME_EINVAL, "curves file: no output curve");
-    memset(curve, 0, sizeof *curve);
-    if (!path || !*path)
-        return plume_err_set(err, PLUME_EINVAL, "curves file: empty path");
-    if (bad_names(path, scale, scenario, err))
-        return PLUME_EINVAL;
-
     plume_status s = PLUME_OK;
     hid_t fid = H5I_INVALID_HID, g = H5I_INVALID_HID, ds = H5I_INVALID_HID, sp = H5I_INVALID_HID,
           ty = H5I_INVALID_HID;
     h5_detail d;
-    char gpath[640];
-    snprintf(gpath, sizeof gpath, "/curves/%s/%s", scale, scenario);
     h5_quiet q;
     quiet_begin(&q);
 
@@ -445,8 +452,8 @@ plume_status plume_curve_read(const char *path, const char *scale, const char *s
         goto cleanup;
     }
     hsize_t n = 0;
-    for (int i = 0; i < 5; i++) {
-        const char *f = curve_fields[i];
+    for (int i = 0; i < nf; i++) {
+        const char *f = names[i];
         htri_t has = H5Lexists(g, f, H5P_DEFAULT);
         if (has <= 0 || (ds = H5Dopen2(g, f, H5P_DEFAULT)) < 0) {
             s = plume_err_set(err, PLUME_EFORMAT, "curves file '%s': dataset %s/%s missing", path,
@@ -468,8 +475,8 @@ plume_status plume_curve_read(const char *path, const char *scale, const char *s
             n = dims[0];
         else if (dims[0] != n) {
             s = plume_err_set(err, PLUME_EFORMAT,
-                              "curves file '%s': dataset %s/%s has %llu points but strain has %llu",
-                              path, gpath, f, (unsigned long long)dims[0], (unsigned long long)n);
+                              "curves file '%s': dataset %s/%s has %llu points but %s has %llu",
+                              path, gpath, f, (unsigned long long)dims[0], names[0], (unsigned long long)n);
             goto cleanup;
         }
         double *v = malloc((n ? (size_t)n : 1) * sizeof *v);
@@ -478,7 +485,7 @@ plume_status plume_curve_read(const char *path, const char *scale, const char *s
                               path, (unsigned long long)n);
             goto cleanup;
         }
-        *curve_field(curve, i) = v;
+        out[i] = v;
         if (n > 0 && H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) < 0) {
             s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot read dataset %s/%s (HDF5: %s)",
                               path, gpath, f, h5_cause(&d));
@@ -489,7 +496,7 @@ plume_status plume_curve_read(const char *path, const char *scale, const char *s
         H5Dclose(ds);
         ty = sp = ds = H5I_INVALID_HID;
     }
-    curve->n = (plume_index)n;
+    *np = (plume_index)n;
 
 cleanup:
     if (ty >= 0)
@@ -503,9 +510,92 @@ cleanup:
     if (fid >= 0)
         H5Fclose(fid);
     quiet_end(&q);
+    return s;
+}
+
+plume_status plume_curve_read(const char *path, const char *scale, const char *scenario,
+                              plume_curve *curve, plume_err *err)
+{
+    if (!curve)
+        return plume_err_set(err, PLUME_EINVAL, "curves file: no output curve");
+    memset(curve, 0, sizeof *curve);
+    if (!path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "curves file: empty path");
+    if (bad_names(path, scale, scenario, err))
+        return PLUME_EINVAL;
+    char gpath[640];
+    snprintf(gpath, sizeof gpath, "/curves/%s/%s", scale, scenario);
+    double *v[5] = {NULL};
+    plume_status s = read_fields(path, gpath, 5, curve_fields, v, &curve->n, err);
+    for (int i = 0; i < 5; i++)
+        *curve_field(curve, i) = v[i];
     if (s != PLUME_OK)
         plume_curve_free(curve);
     return s;
+}
+
+/* ----------------------------------------------------------------- bending curves ---- */
+
+static const char *const bend_fields[8] = {"curvature", "moment", "k_xx", "k_yy", "twist", "energy", "iterations",
+                                           "seconds"};
+static const char *const bend_units[8] = {"1/m", "N", "1/m", "1/m", "1/m", "J", "1", "s"};
+
+static double **bend_field(plume_bend_curve *c, int i)
+{
+    double **f[8] = {&c->curvature, &c->moment, &c->k_xx, &c->k_yy, &c->twist, &c->energy, &c->iterations,
+                     &c->seconds};
+    return f[i];
+}
+
+plume_status plume_bend_curve_write(const char *path, const char *scale, const char *scenario,
+                                    const plume_bend_curve *curve, const plume_param *params, int nparams,
+                                    const plume_sparam *sparams, int nsparams, plume_err *err)
+{
+    if (!path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "curves file: empty path");
+    if (bad_names(path, scale, scenario, err))
+        return PLUME_EINVAL;
+    if (!curve || curve->n < 0)
+        return plume_err_set(err, PLUME_EINVAL, "curves file '%s': no curve or negative point count", path);
+    const double *data[8];
+    for (int i = 0; i < 8; i++)
+        if (!(data[i] = *bend_field((plume_bend_curve *)curve, i)) && curve->n > 0)
+            return plume_err_set(err, PLUME_EINVAL, "curves file '%s': bending curve %s/%s has no %s array", path,
+                                 scale, scenario, bend_fields[i]);
+    char gpath[640];
+    snprintf(gpath, sizeof gpath, "/curves/bending/%s/%s", scale, scenario);
+    return write_fields(path, gpath, 8, bend_fields, bend_units, data, curve->n, params, nparams, sparams, nsparams,
+                        err);
+}
+
+plume_status plume_bend_curve_read(const char *path, const char *scale, const char *scenario, plume_bend_curve *curve,
+                                   plume_err *err)
+{
+    if (!curve)
+        return plume_err_set(err, PLUME_EINVAL, "curves file: no output curve");
+    memset(curve, 0, sizeof *curve);
+    if (!path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "curves file: empty path");
+    if (bad_names(path, scale, scenario, err))
+        return PLUME_EINVAL;
+    char gpath[640];
+    snprintf(gpath, sizeof gpath, "/curves/bending/%s/%s", scale, scenario);
+    double *v[8] = {NULL};
+    plume_status s = read_fields(path, gpath, 8, bend_fields, v, &curve->n, err);
+    for (int i = 0; i < 8; i++)
+        *bend_field(curve, i) = v[i];
+    if (s != PLUME_OK)
+        plume_bend_curve_free(curve);
+    return s;
+}
+
+void plume_bend_curve_free(plume_bend_curve *curve)
+{
+    if (!curve)
+        return;
+    for (int i = 0; i < 8; i++)
+        free(*bend_field(curve, i));
+    memset(curve, 0, sizeof *curve);
 }
 
 /* ------------------------------------------------------------------------- moduli ---- */

@@ -47,6 +47,30 @@ PLUME_API plume_status plume_curve_read(const char *path, const char *scale, con
                                         plume_curve *curve, plume_err *err);
 PLUME_API void plume_curve_free(plume_curve *curve);
 
+/* One curve of a plate bending test (macro/plate_bending.h): n points, ownership as plume_curve's
+ * (plume_bend_curve_read's arrays: free with plume_bend_curve_free). */
+typedef struct {
+    plume_index n;
+    double *curvature;  /* the curvature the load works on (1/m): k_yy when bent about x, the twist
+                           2 k_xy when twisted */
+    double *moment;     /* the applied moment per unit width (N m / m = N): m_yy, or m_xy twisted */
+    double *k_xx;       /* the fitted curvature field: k_xx, k_yy and 2 k_xy (1/m) */
+    double *k_yy;
+    double *twist;
+    double *energy;     /* elastic energy stored (J) */
+    double *iterations; /* solver iterations of the step */
+    double *seconds;    /* wall time of the step */
+} plume_bend_curve;
+
+/* Writes `curve` as /curves/bending/<scale>/<scenario>/{curvature,moment,k_xx,k_yy,twist,energy,
+ * iterations,seconds} with the parameters as attributes, as plume_curve_write does. */
+PLUME_API plume_status plume_bend_curve_write(const char *path, const char *scale, const char *scenario,
+                                              const plume_bend_curve *curve, const plume_param *params, int nparams,
+                                              const plume_sparam *sparams, int nsparams, plume_err *err);
+PLUME_API plume_status plume_bend_curve_read(const char *path, const char *scale, const char *scenario,
+                                             plume_bend_curve *curve, plume_err *err);
+PLUME_API void plume_bend_curve_free(plume_bend_curve *curve);
+
 /* /moduli with attributes E_xx, E_yy, nu_xy, G_xy and a string attribute "provenance". */
 PLUME_API plume_status plume_moduli_write(const char *path, const plume_ortho *m, const char *provenance,
                                           plume_err *err);

@@ -364,8 +364,15 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
     plume_solve_report sr;
     st = plume_solver_solve(d->s, d->u, d->lambda, &sr);
     /* a pair that came within reach during the solve is not among the stencils: solve again with
-     * it (at most twice more; the solution then includes every pair it touches) */
-    for (int again = 0; st == PLUME_OK && sr.converged && again < 2; again++) {
+     * it (at most twice more after a converged solve; the solution then includes every pair it
+     * touches), and from where a solve stopped because such a pair blocked its steps (up to 8 times;
+     * when the stencils did not change, that solve's failure stands) */
+    for (int again = 0, blocked = 0; st == PLUME_OK && again < 2 && blocked < 8;) {
+        const int was_blocked = sr.reason == PLUME_REASON_CONTACT_SET;
+        if (!sr.converged && !was_blocked)
+            break;
+        again += !was_blocked;
+        blocked += was_blocked;
         if ((st = refresh_stencils(d, &changed, err)) != PLUME_OK || !changed)
             break;
         rep->iterations += sr.iterations;

@@ -45,6 +45,7 @@
 #include "../macro/obj_outline.h"
 #include "../macro/vane.h"
 #include "../macro/traction_model.h"
+#include "../macro/plate_bending.h"
 #include "../macro/bending.h"
 #include "../macro/shape_bending.h"
 #include "../macro/feather_mesh.h"

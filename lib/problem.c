@@ -36,6 +36,9 @@ struct plume_problem {
     plume_index *scol, *srow;          /* the part of it from fixed stencils (terms without update,
                                           constraints, the diagonal): built once, merged with the
                                           changing terms' pairs at every rebuild */
+    plume_index *smerged;              /* [scol[nfree]] where each entry of that part sits in the
+                                          merged pattern: a rebuild moves the fixed stencils' scatter
+                                          maps through it instead of searching the pattern again */
     plume_index jnnz, *jrow, *jcol;    /* Jacobian triplets */
     double *gradfull;                  /* [ndof] workspace */
     double *jtwork;                    /* [ndof] workspace for J^T lambda */
@@ -79,6 +82,7 @@ void plume_problem_destroy(plume_problem **pp)
     plume_problem *p = *pp;
     free(p->scol);
     free(p->srow);
+    free(p->smerged);
     for (int i = 0; i < p->nterms; i++) {
         if (p->terms[i].t.destroy)
             p->terms[i].t.destroy(p->terms[i].t.ctx);
@@ -237,8 +241,10 @@ static int stencil_ok(const plume_problem *p, const plume_index *st, plume_index
     return 1;
 }
 
-/* Frees what finalize builds, so that a finalize that failed half-way can be called again. */
-static void release_structure(plume_problem *p)
+/* Frees what finalize builds, so that a finalize that failed half-way can be called again. With
+ * keep_fixed, the scatter maps of the fixed stencils (terms without update, constraints) stay: a
+ * rebuild after a change of the changing terms' stencils moves them (build_structure). */
+static void release_structure(plume_problem *p, int keep_fixed)
 {
     free(p->free_of_dof);
     free(p->dof_of_free);
@@ -250,21 +256,30 @@ static void release_structure(plume_problem *p)
     p->free_of_dof = p->dof_of_free = p->colptr = p->rowind = p->jrow = p->jcol = NULL;
     p->scale = NULL;
     for (int i = 0; i < p->nterms; i++) {
-        free(p->terms[i].hmap);
+        if (!keep_fixed || p->terms[i].t.update) {
+            free(p->terms[i].hmap);
+            p->terms[i].hmap = NULL;
+        }
         free(p->terms[i].blocks);
-        p->terms[i].hmap = NULL;
         p->terms[i].blocks = NULL;
+    }
+    if (!keep_fixed) {
+        free(p->smerged);
+        p->smerged = NULL;
     }
     for (int i = 0; i < p->ncsets; i++) {
         cons_slot *c = p->cons + i;
         free(c->row);
-        free(c->hmap);
+        if (!keep_fixed) {
+            free(c->hmap);
+            c->hmap = NULL;
+        }
         free(c->jmap);
         free(c->g);
         free(c->jac);
         free(c->lam);
         free(c->blocks);
-        c->row = c->hmap = c->jmap = NULL;
+        c->row = c->jmap = NULL;
         c->g = c->jac = c->lam = c->blocks = NULL;
     }
 }
@@ -367,24 +382,77 @@ static plume_status pairs_to_csc(plume_index nfree, const pair *pairs, plume_ind
     return PLUME_OK;
 }
 
+/* The fixed stencils' scatter maps, kept from the last build, moved to the new merged pattern:
+ * old position -> entry of the fixed part (the old smerged inverted) -> new position. */
+static plume_status move_fixed_maps(plume_problem *p, plume_index old_nnz, const plume_index *old_smerged)
+{
+    const plume_index ns = p->scol[p->nfree];
+    plume_index *fixed_of = malloc((size_t)(old_nnz + 1) * sizeof *fixed_of);
+    if (!fixed_of)
+        return PLUME_ENOMEM;
+    for (plume_index j = 0; j < ns; j++)
+        fixed_of[old_smerged[j]] = j;
+    for (int t = 0; t < p->nterms; t++) {
+        term_slot *ts = p->terms + t;
+        if (ts->t.update)
+            continue;
+        size_t n = (size_t)ts->t.nstencil * (size_t)(ts->t.arity * p->dim) * (size_t)(ts->t.arity * p->dim);
+        for (size_t e = 0; e < n; e++)
+            if (ts->hmap[e] >= 0)
+                ts->hmap[e] = p->smerged[fixed_of[ts->hmap[e]]];
+    }
+    for (int s = 0; s < p->ncsets; s++) {
+        cons_slot *c = p->cons + s;
+        size_t k = (size_t)(c->c.arity * p->dim), n = (size_t)c->c.m * k * k;
+        for (size_t e = 0; e < n; e++)
+            if (c->hmap[e] >= 0)
+                c->hmap[e] = p->smerged[fixed_of[c->hmap[e]]];
+    }
+    free(fixed_of);
+    return PLUME_OK;
+}
+
+static plume_status build_structure_with(plume_problem *p, int rebuild, plume_err *err);
+
+/* A rebuild (the changing terms' stencils changed; the fixed part's pattern exists) keeps the
+ * fixed stencils' scatter maps and moves them; a failed rebuild frees everything, so that the
+ * next build starts from scratch. */
 static plume_status build_structure(plume_problem *p, plume_err *err)
 {
-    release_structure(p);
+    const int rebuild = p->scol != NULL && p->smerged != NULL;
+    plume_status st = build_structure_with(p, rebuild, err);
+    if (st != PLUME_OK && rebuild)
+        release_structure(p, 0);
+    return st;
+}
+
+static plume_status build_structure_with(plume_problem *p, int rebuild, plume_err *err)
+{
+    const plume_index old_nnz = p->nnz;
+    plume_index *old_smerged = rebuild ? p->smerged : NULL;
+    release_structure(p, rebuild);
+    p->smerged = NULL;
     plume_status st = PLUME_OK;
     pair *pairs = NULL;
     plume_index npairs = 0, *dcol = NULL, *drow = NULL;
     int d = p->dim;
     p->free_of_dof = malloc((size_t)p->ndof * sizeof *p->free_of_dof);
-    if (!p->free_of_dof)
-        return PLUME_ENOMEM;
+    if (!p->free_of_dof) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
     p->nfree = 0;
     for (plume_index i = 0; i < p->ndof; i++)
         p->free_of_dof[i] = p->fixed[i] ? -1 : p->nfree++;
-    if (p->nfree == 0)
-        return plume_err_set(err, PLUME_EINVAL, "problem has no free coordinate");
+    if (p->nfree == 0) {
+        st = plume_err_set(err, PLUME_EINVAL, "problem has no free coordinate");
+        goto cleanup;
+    }
     p->dof_of_free = malloc((size_t)p->nfree * sizeof *p->dof_of_free);
-    if (!p->dof_of_free)
-        return PLUME_ENOMEM;
+    if (!p->dof_of_free) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
     for (plume_index i = 0; i < p->ndof; i++)
         if (p->free_of_dof[i] >= 0)
             p->dof_of_free[p->free_of_dof[i]] = i;
@@ -403,7 +471,8 @@ static plume_status build_structure(plume_problem *p, plume_err *err)
         c->lam = calloc((size_t)(c->c.m + 1), sizeof *c->lam);
         c->jac = calloc((size_t)(c->c.m * k + 1), sizeof *c->jac);
         c->blocks = calloc((size_t)(c->c.m * k * k + 1), sizeof *c->blocks);
-        c->hmap = malloc((size_t)(c->c.m * k * k + 1) * sizeof *c->hmap);
+        if (!rebuild)
+            c->hmap = malloc((size_t)(c->c.m * k * k + 1) * sizeof *c->hmap);
         c->jmap = malloc((size_t)(c->c.m * k + 1) * sizeof *c->jmap);
         if (!c->row || !c->g || !c->lam || !c->jac || !c->blocks || !c->hmap || !c->jmap) {
             st = PLUME_ENOMEM;
@@ -442,7 +511,8 @@ static plume_status build_structure(plume_problem *p, plume_err *err)
         goto cleanup;
     p->colptr = malloc((size_t)(p->nfree + 1) * sizeof *p->colptr);
     p->rowind = malloc((size_t)(p->scol[p->nfree] + dcol[p->nfree] + 1) * sizeof *p->rowind);
-    if (!p->colptr || !p->rowind) {
+    p->smerged = malloc((size_t)(p->scol[p->nfree] + 1) * sizeof *p->smerged);
+    if (!p->colptr || !p->rowind || !p->smerged) {
         st = PLUME_ENOMEM;
         goto cleanup;
     }
@@ -454,7 +524,7 @@ static plume_status build_structure(plume_problem *p, plume_err *err)
             plume_index r = j >= je || (i < ie && p->srow[i] <= drow[j]) ? p->srow[i] : drow[j];
             p->rowind[u++] = r;
             while (i < ie && p->srow[i] == r)
-                i++;
+                p->smerged[i++] = u - 1;
             while (j < je && drow[j] == r)
                 j++;
         }
@@ -462,16 +532,20 @@ static plume_status build_structure(plume_problem *p, plume_err *err)
     p->colptr[p->nfree] = u;
     p->nnz = u;
 
+    if (rebuild && (st = move_fixed_maps(p, old_nnz, old_smerged)) != PLUME_OK)
+        goto cleanup;
     for (int t = 0; t < p->nterms; t++) {
         term_slot *ts = p->terms + t;
+        const int kept = rebuild && !ts->t.update;
         size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
-        ts->hmap = malloc(((size_t)ts->t.nstencil * kk + 1) * sizeof *ts->hmap);
+        if (!kept)
+            ts->hmap = malloc(((size_t)ts->t.nstencil * kk + 1) * sizeof *ts->hmap);
         ts->blocks = malloc(((size_t)ts->t.nstencil * kk + 1) * sizeof *ts->blocks);
         if (!ts->hmap || !ts->blocks) {
             st = PLUME_ENOMEM;
             goto cleanup;
         }
-        for (plume_index s = 0; s < ts->t.nstencil; s++)
+        for (plume_index s = 0; !kept && s < ts->t.nstencil; s++)
             stencil_hmap(p, ts->t.stencil + s * ts->t.arity, ts->t.arity, ts->hmap + s * kk);
     }
     /* Jacobian triplets */
@@ -480,7 +554,8 @@ static plume_status build_structure(plume_problem *p, plume_err *err)
         cons_slot *c = p->cons + s;
         int k = c->c.arity * d;
         for (plume_index i = 0; i < c->c.m; i++) {
-            stencil_hmap(p, c->c.stencil + i * c->c.arity, c->c.arity, c->hmap + i * k * k);
+            if (!rebuild)
+                stencil_hmap(p, c->c.stencil + i * c->c.arity, c->c.arity, c->hmap + i * k * k);
             for (int a = 0; a < k; a++)
                 p->jnnz += c->row[i] >= 0 && p->free_of_dof[c->c.stencil[i * c->c.arity + a / d] * d + a % d] >= 0;
         }
@@ -511,6 +586,7 @@ static plume_status build_structure(plume_problem *p, plume_err *err)
                 p->scale[c->row[i]] = c->c.scale[i] > 0 ? c->c.scale[i] : 1.0;
     }
 cleanup:
+    free(old_smerged);
     free(pairs);
     free(dcol);
     free(drow);

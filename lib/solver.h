@@ -23,7 +23,12 @@ typedef enum {
     PLUME_REASON_LINE_SEARCH,     /* no step decreased the merit function */
     PLUME_REASON_INFEASIBLE,      /* constraints could not be satisfied */
     PLUME_REASON_NUMERICAL,       /* non-finite values or a factorisation that kept failing */
-    PLUME_REASON_SINGLE_STEP      /* `linearized`: one step taken, convergence not sought */
+    PLUME_REASON_SINGLE_STEP,     /* `linearized`: one step taken, convergence not sought */
+    PLUME_REASON_CONTACT_SET      /* newton with continuous collision detection: the steps were cut
+                                     to almost nothing for several iterations in a row, as when a
+                                     pair outside the contact set blocks them (its barrier is not in
+                                     the problem yet): the caller updates the terms' stencils and
+                                     solves again from the point returned */
 } plume_reason;
 
 PLUME_API const char *plume_reason_name(plume_reason r);

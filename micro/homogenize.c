@@ -39,7 +39,8 @@ typedef struct {
     double *u, *grad;
     double Fprev[4];
     double h;
-    double lateral_tol; /* relative lateral stress accepted as zero in uniaxial tests */
+    double lateral_tol; /* relative free stress accepted as zero in the stress-controlled tests */
+    double stress_floor; /* absolute free stress (Pa) accepted as zero: round-off of the stiff phase */
     int iterations;
 } cell_solver;
 
@@ -208,8 +209,6 @@ static plume_status alloc_curve(plume_curve *cv, int n)
     return cv->strain && cv->stress && cv->wbar && cv->iterations && cv->seconds ? PLUME_OK : PLUME_ENOMEM;
 }
 
-/* Uniaxial stress along axis `a` (0: x, 1: y): F_aa = 1 + eps driven, F_bb found by the secant
- * method so that the lateral stress vanishes, off-diagonal terms zero. */
 /* o->on_state with the cell's current state: masters from the last solve, periodic images
  * x_master + Fbar (X_v - X_master) (the problem holds them at rest). */
 static plume_status report_state(cell_solver *c, const plume_homog_opts *o, int load_case, int step, double strain,
@@ -238,85 +237,113 @@ static plume_status report_state(cell_solver *c, const plume_homog_opts *o, int 
     return PLUME_OK;
 }
 
-static plume_status uniaxial_curve(cell_solver *c, int a, double nu_guess, const plume_homog_opts *o,
-                                   plume_curve *cv, plume_err *err)
+/* The three load cases of the cell curves, each a stress-controlled test: one component of F
+ * driven, two found so that their conjugate nominal stresses vanish, and the fourth held at zero to
+ * remove the rigid rotation. Holding the shear (or, in shear, the stretches) fixed instead measures
+ * C22 - C12^2 / C11 (or C66), not the compliance's 1/S22 (1/S66): for inclined barbules, whose
+ * normal stresses and shear are strongly coupled (C26 / sqrt(C22 C66) = 0.95 for
+ * data/layout_barbules.json), that was 11 times E_yy and G_xy. The rotation is fixed so that the
+ * loaded fibre keeps its direction: uniaxial x F = [1+e g; 0 c] (P22 = P12 = 0), uniaxial y
+ * F = [c 0; g 1+e] (P11 = P21 = 0), each then a Cauchy stress along the load; shear F = [a g; 0 c]
+ * (P11 = P22 = 0). Indices: F and P row-major, free[] into F (and P), voigt[] their rows in C. */
+typedef struct {
+    int drive, free[2];     /* components of F (and of P) */
+    int voigt_drive, voigt_free[2]; /* their Voigt indices (0: 11, 1: 22, 2: 12) */
+    int wbar;               /* free[] entry whose strain is the curve's wbar, -1: none */
+    const char *what;
+} load_case;
+
+static const load_case LOAD_CASES[3] = {
+    {0, {3, 1}, 0, {1, 2}, 0, "uniaxial x at strain"},
+    {3, {0, 2}, 1, {0, 2}, 0, "uniaxial y at strain"},
+    {1, {0, 3}, 2, {0, 1}, -1, "shear at gamma"},
+};
+
+/* 2x2 solve J d = r, J row-major; 0 if singular */
+static int solve2(const double J[4], const double r[2], double d[2])
 {
-    plume_status st = alloc_curve(cv, o->steps + 1);
-    if (st != PLUME_OK)
-        return st;
-    int ia = a ? 3 : 0, ib = a ? 0 : 3;
-    double lateral = 0.0, rate = -nu_guess; /* lateral strain and its slope against eps */
-    char what[64];
-    if ((st = report_state(c, o, a, 0, 0.0, err)) != PLUME_OK)
-        return st;
-    for (int k = 1; k <= o->steps; k++) {
-        double eps = o->strain_max * k / o->steps, t0 = plume_wall_seconds();
-        int it0 = c->iterations;
-        double F[4] = {1.0, 0.0, 0.0, 1.0}, P[4];
-        F[ia] = 1.0 + eps;
-        double l0 = lateral + rate * (o->strain_max / o->steps), l1 = l0 + 1e-3 * o->strain_max / o->steps;
-        double r0, r1 = 0.0;
-        snprintf(what, sizeof what, "uniaxial %c at strain %g", a ? 'y' : 'x', eps);
-        F[ib] = 1.0 + l0;
-        if ((st = cell_solve(c, F, P, what, err)) != PLUME_OK)
-            return st;
-        r0 = P[ib];
-        double drive = fabs(P[ia]);
-        double tol = c->lateral_tol * drive;
-        for (int s = 0; s < 20 && fabs(r0) > tol; s++) {
-            F[ib] = 1.0 + l1;
-            if ((st = cell_solve(c, F, P, what, err)) != PLUME_OK)
-                return st;
-            r1 = P[ib];
-            if (fabs(r1) <= tol || r1 == r0 || fabs(l1 - l0) <= 1e-14) {
-                l0 = l1;
-                r0 = r1;
-                break;
-            }
-            double l2 = l1 - r1 * (l1 - l0) / (r1 - r0);
-            l0 = l1, r0 = r1, l1 = l2;
-        }
-        if (!(fabs(r0) <= 10.0 * tol))
-            return plume_err_set(err, PLUME_EINFEASIBLE, "homogenize: %s: lateral stress did not vanish (%g of %g)",
-                                 what, r0, drive);
-        if (F[ib] != 1.0 + l0) { /* the state of the last solve must be the accepted one */
-            F[ib] = 1.0 + l0;
-            if ((st = cell_solve(c, F, P, what, err)) != PLUME_OK)
-                return st;
-        }
-        rate = (l0 - lateral) / (o->strain_max / o->steps);
-        lateral = l0;
-        cv->strain[k] = eps;
-        cv->stress[k] = P[ia];
-        cv->wbar[k] = lateral;
-        cv->iterations[k] = c->iterations - it0;
-        cv->seconds[k] = plume_wall_seconds() - t0;
-        if ((st = report_state(c, o, a, k, eps, err)) != PLUME_OK)
-            return st;
-    }
-    return PLUME_OK;
+    double det = J[0] * J[3] - J[1] * J[2];
+    if (!(fabs(det) > 0.0) || !isfinite(det))
+        return 0;
+    d[0] = (J[3] * r[0] - J[1] * r[1]) / det;
+    d[1] = (J[0] * r[1] - J[2] * r[0]) / det;
+    return 1;
 }
 
-static plume_status shear_curve(cell_solver *c, const plume_homog_opts *o, plume_curve *cv, plume_err *err)
+/* One curve of load case `lc` (0 uniaxial x, 1 uniaxial y, 2 shear). The free components are found
+ * by Broyden's method on the two stresses, from the linear tensor C (Pa) as the Jacobian and the
+ * linear response as the first predictor: each step starts from the previous step's solution plus
+ * its rate, so that near-linear curves take one or two cell solves a step. */
+static plume_status stress_controlled_curve(cell_solver *c, int lc, const double C[9], const plume_homog_opts *o,
+                                            plume_curve *cv, plume_err *err)
 {
     plume_status st = alloc_curve(cv, o->steps + 1);
     if (st != PLUME_OK)
         return st;
+    const load_case *L = &LOAD_CASES[lc];
+    const double de = o->strain_max / o->steps;
+    double J[4], z[2] = {0.0, 0.0}, rate[2], rhs[2];
+    for (int i = 0; i < 2; i++) {
+        for (int j = 0; j < 2; j++)
+            J[2 * i + j] = C[3 * L->voigt_free[i] + L->voigt_free[j]];
+        rhs[i] = -C[3 * L->voigt_free[i] + L->voigt_drive];
+    }
+    if (!solve2(J, rhs, rate))
+        return plume_err_set(err, PLUME_ESINGULAR, "homogenize: %s: the tensor's free block is singular", L->what);
     char what[64];
-    if ((st = report_state(c, o, 2, 0, 0.0, err)) != PLUME_OK)
+    if ((st = report_state(c, o, lc, 0, 0.0, err)) != PLUME_OK)
         return st;
     for (int k = 1; k <= o->steps; k++) {
-        double g = o->strain_max * k / o->steps, t0 = plume_wall_seconds(), P[4];
+        double eps = de * k, t0 = plume_wall_seconds();
         int it0 = c->iterations;
-        double F[4] = {1.0, g, 0.0, 1.0};
-        snprintf(what, sizeof what, "simple shear at gamma %g", g);
-        if ((st = cell_solve(c, F, P, what, err)) != PLUME_OK)
-            return st;
-        cv->strain[k] = g;
-        cv->stress[k] = P[1];
+        double zk[2] = {z[0] + rate[0] * de, z[1] + rate[1] * de}, F[4], P[4], r[2] = {0, 0}, dz[2] = {0, 0};
+        double drive = 0.0;
+        snprintf(what, sizeof what, "%s %g", L->what, eps);
+        int done = 0;
+        for (int s = 0;; s++) {
+            memcpy(F, (const double[4]){1.0, 0.0, 0.0, 1.0}, sizeof F);
+            F[L->drive] += eps;
+            for (int i = 0; i < 2; i++)
+                F[L->free[i]] += zk[i];
+            if ((st = cell_solve(c, F, P, what, err)) != PLUME_OK)
+                return st;
+            double rn[2] = {P[L->free[0]], P[L->free[1]]};
+            if (s > 0) { /* Broyden's update from the last change */
+                double dr[2] = {rn[0] - r[0], rn[1] - r[1]}, dd = dz[0] * dz[0] + dz[1] * dz[1];
+                for (int i = 0; i < 2; i++) {
+                    double u = dr[i] - (J[2 * i] * dz[0] + J[2 * i + 1] * dz[1]);
+                    for (int j = 0; j < 2; j++)
+                        J[2 * i + j] += u * dz[j] / dd;
+                }
+            }
+            r[0] = rn[0], r[1] = rn[1];
+            drive = fabs(P[L->drive]);
+            double tol = fmax(c->lateral_tol * drive, c->stress_floor);
+            if (fabs(r[0]) <= tol && fabs(r[1]) <= tol) {
+                done = 1;
+                break;
+            }
+            double mr[2] = {-r[0], -r[1]};
+            if (s == 20 || !solve2(J, mr, dz))
+                break;
+            if (fabs(dz[0]) + fabs(dz[1]) <= 1e-14) { /* stalled at round-off: accept within 10 tol */
+                done = fabs(r[0]) <= 10.0 * tol && fabs(r[1]) <= 10.0 * tol;
+                break;
+            }
+            zk[0] += dz[0], zk[1] += dz[1];
+        }
+        if (!done)
+            return plume_err_set(err, PLUME_EINFEASIBLE, "homogenize: %s: the free stresses did not vanish (%g, %g of %g)",
+                                 what, r[0], r[1], drive);
+        /* the state of the last solve is the accepted one */
+        rate[0] = (zk[0] - z[0]) / de, rate[1] = (zk[1] - z[1]) / de;
+        z[0] = zk[0], z[1] = zk[1];
+        cv->strain[k] = eps;
+        cv->stress[k] = P[L->drive];
+        cv->wbar[k] = L->wbar >= 0 ? z[L->wbar] : 0.0;
         cv->iterations[k] = c->iterations - it0;
         cv->seconds[k] = plume_wall_seconds() - t0;
-        if ((st = report_state(c, o, 2, k, g, err)) != PLUME_OK)
+        if ((st = report_state(c, o, lc, k, eps, err)) != PLUME_OK)
             return st;
     }
     return PLUME_OK;
@@ -353,6 +380,12 @@ plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, 
     if ((st = cell_solver_init(&c, cell, mats, 2, l->h, &so, err)) != PLUME_OK)
         goto done;
     c.lateral_tol = 10.0 * lateral_tol;
+    /* The free stresses are sums of the stiff phase's stresses, whose round-off (1e-16 E h / h_ref
+     * per element, some 1e-15 summed) does not shrink with the strain: at small drives (strains of
+     * 1e-6, a soft direction) no relative tolerance can be met below it. Margin 100. */
+    c.stress_floor = 0.0;
+    for (int k = 0; k < 2; k++)
+        c.stress_floor = fmax(c.stress_floor, 1e-13 * fmax(mats[k].E_xx, mats[k].E_yy) * mats[k].h / l->h);
     int lin_iterations = 0;
     if ((st = plume_cell_linear_tensor(cell, mats, 2, l->h, r->C, &lin_iterations, err)) != PLUME_OK)
         goto done;
@@ -376,12 +409,14 @@ plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, 
     if (o->strain_max > 0.0) {
         /* back to the rest state between load cases */
         double I[4] = {1, 0, 0, 1}, P[4];
-        if ((st = uniaxial_curve(&c, 0, r->moduli.nu_xy, o, &r->uniaxial_x, err)) != PLUME_OK ||
-            (st = cell_solve(&c, I, P, "unloading", err)) != PLUME_OK ||
-            (st = uniaxial_curve(&c, 1, r->moduli.nu_xy * r->moduli.E_yy / r->moduli.E_xx, o, &r->uniaxial_y, err)) !=
-                PLUME_OK ||
-            (st = cell_solve(&c, I, P, "unloading", err)) != PLUME_OK ||
-            (st = shear_curve(&c, o, &r->shear, err)) != PLUME_OK)
+        for (int lc = 0; lc < 3 && st == PLUME_OK; lc++)
+            if ((st = stress_controlled_curve(&c, lc, r->C, o, lc == 0   ? &r->uniaxial_x
+                                                               : lc == 1 ? &r->uniaxial_y
+                                                                         : &r->shear,
+                                              err)) == PLUME_OK &&
+                lc < 2)
+                st = cell_solve(&c, I, P, "unloading", err);
+        if (st != PLUME_OK)
             goto done;
     }
 done:

@@ -19,7 +19,7 @@ typedef struct {
     plume_solver_opts solver_opts;
     int convergence;       /* 1 (default): estimate how converged the tensor is (refinement_change); 0: skip */
     /* Optional (NULL: none): called with each state of the cell curves, the rest state as step 0
-     * and then every accepted step: load case (0 uniaxial x, 1 uniaxial y, 2 simple shear), its
+     * and then every accepted step: load case (0 uniaxial x, 1 uniaxial y, 2 shear), its
      * strain, the cell (its mesh: materials and barb directions) and the positions of all its
      * vertices (2 nv; periodic images placed by the macroscopic gradient). A status other than
      * PLUME_OK stops the homogenisation with that status (apps/homogenize --vtk). */
@@ -42,9 +42,12 @@ typedef struct {
     /* How converged the bending moduli are: the largest relative change of D_long, D_trans,
      * D_twist on the coarser mesh of refinement_change (-1 when not estimated). */
     double bending_change;
-    /* cell response curves (nominal = first Piola stress over the thickness, Pa):
-     * uniaxial_x: stress along the barbs at free lateral contraction, wbar = lateral strain;
-     * uniaxial_y: the same across the barbs; shear: simple shear gamma, stress P_xy, wbar = 0. */
+    /* cell response curves (nominal = first Piola stress over the thickness, Pa), each
+     * stress-controlled so that its initial slope is the compliance modulus above (also when the
+     * cell couples normal stresses and shear, coupling > 0):
+     * uniaxial_x: F = [1+e g; 0 1+w], stress P_xx, P_yy = P_xy = 0, wbar = w the lateral strain;
+     * uniaxial_y: F = [1+w 0; g 1+e], stress P_yy, P_xx = P_yx = 0, wbar = w;
+     * shear: F = [1+u gamma; 0 1+v], stress P_xy, P_xx = P_yy = 0 (free normal stretches), wbar = 0. */
     plume_curve uniaxial_x, uniaxial_y, shear;
     plume_index elements, vertices; /* elements (quadratic triangles at order 2) and mesh nodes */
     int order;             /* element order used */

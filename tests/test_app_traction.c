@@ -228,3 +228,34 @@ void test_app_traction_vtk(void)
     snprintf(path, sizeof path, "rm -rf '%s'", scratch);
     CHECK(system(path) == 0);
 }
+
+/* --bending: the macro plate's curve in /curves/bending/macro/cylinder_90 at the curvature asked
+ * for (the plate's own prediction), and each bad input refused naming its flag. */
+void test_app_traction_bending(void)
+{
+    strcpy(scratch, "/tmp/plume-app-XXXXXX");
+    if (!mkdtemp(scratch)) {
+        CHECK(0);
+        return;
+    }
+    expect_error("--bending roll", "--bending expects cylinder|twist");
+    expect_error("--bending twist --curvature -0.01", "--curvature must be finite and > 0");
+    expect_error("--bending cylinder --strain-max 0.1", "--bending cannot be combined with --strain-max");
+    expect_error("--bending cylinder --vtk out", "--bending cannot be combined with --vtk");
+    expect_error("--bending cylinder --curvature 100", "beyond linear plate theory");
+    expect_error("--bending cylinder --layout barbules --phi 0.3 --ratio 1", "couples bending and twist");
+    char out[8192], err[8192], path[128];
+    snprintf(path, sizeof path, "%s/b.h5", scratch);
+    char args[256];
+    snprintf(args, sizeof args, "--bending cylinder --angle 90 --model macro --phi 0.3 --ratio 0.05 --curvature 0.02 -o %s", path);
+    CHECK(run_app(args, out, sizeof out, err, sizeof err) == 0);
+    plume_bend_curve c;
+    plume_err e = {{0}};
+    CHECK(plume_bend_curve_read(path, "macro", "cylinder_90", &c, &e) == PLUME_OK);
+    if (c.n == 3)
+        CHECK_REL(c.curvature[2], 0.02, 0.03, 0.0);
+    CHECK(c.n == 3);
+    plume_bend_curve_free(&c);
+    unlink(path);
+    rmdir(scratch);
+}

@@ -232,3 +232,82 @@ void test_homogenize_barbule_cell_area(void)
     CHECK(r.moduli.E_xx > 0.3 * l.E_b && r.moduli.E_xx < 0.32 * l.E_b);
     plume_homog_result_free(&r);
 }
+
+/* The small-strain tensor's compliance moduli (E_xx = 1/S11, E_yy = 1/S22, G_xy = 1/S33, nu_xy)
+ * are what the cell curves start at: each curve is stress-controlled (the other stresses vanish,
+ * also the shear in the uniaxial tests and the normal stresses in shear), so a cell whose normal
+ * stresses and shear are coupled (barbules at 60 degrees: C26 / sqrt(C22 C66) = 0.95) gives the
+ * same initial slopes as an orthotropic one. The curves' shear used to be held at zero, which
+ * measured C22 - C12^2 / C11 and C66: 11 times E_yy and G_xy for data/layout_barbules.json.
+ * Tolerance 1e-3: both solves share the mesh and order, the step (1e-6, or 1e-4 where the strips'
+ * 1e-6 contrast sets the free stresses' tolerance to 1e-4 of the drive) makes the finite-strain
+ * part that small, and the defect was a factor of 11. */
+static void check_slopes(const plume_homog_result *r, const char *name)
+{
+    double e = r->uniaxial_x.strain[1];
+    fprintf(stderr, "    %s: E_xx %.5g / %.5g, E_yy %.5g / %.5g, G_xy %.5g / %.5g, nu_xy %.4g / %.4g (tensor / curves)\n",
+            name, r->moduli.E_xx, r->uniaxial_x.stress[1] / e, r->moduli.E_yy, r->uniaxial_y.stress[1] / e,
+            r->moduli.G_xy, r->shear.stress[1] / e, r->moduli.nu_xy, -r->uniaxial_x.wbar[1] / e);
+    CHECK_REL(r->uniaxial_x.stress[1] / e, r->moduli.E_xx, 1e-3, 0.0);
+    CHECK_REL(r->uniaxial_y.stress[1] / e, r->moduli.E_yy, 1e-3, 0.0);
+    CHECK_REL(r->shear.stress[1] / e, r->moduli.G_xy, 1e-3, 0.0);
+    CHECK_REL(-r->uniaxial_x.wbar[1] / e, r->moduli.nu_xy, 1e-2, 0.0);
+}
+
+void test_homogenize_curve_slopes(void)
+{
+    plume_homog_opts o;
+    plume_homog_opts_default(&o);
+    o.steps = 1, o.convergence = 0;
+    plume_err err = {{0}};
+    plume_homog_result r;
+    /* data/layout_barbules.json */
+    plume_layout l;
+    plume_layout_default(&l);
+    l.kind = PLUME_LAYOUT_BARBULES, l.phi = 0.3, l.ratio = 1.0, l.barbule_width = 1e-4, l.barbule_spacing = 8e-4;
+    l.barbule_angle = 60.0;
+    o.strain_max = 1e-6;
+    CHECK(plume_homogenize(&l, &o, &r, &err) == PLUME_OK);
+    if (r.uniaxial_x.n == 2) {
+        CHECK(r.coupling > 0.1); /* the case that needs the free shear */
+        check_slopes(&r, "barbules at 60 deg");
+        /* Bounds: the true field's energy is at most that of a field affine in each layer across y
+         * (the barb, then the barbule layer), whose tensor is the laminate of the layers' Voigt
+         * averages (the barbule layer: f_b C, f_b its solid fraction); below the plain Voigt bound
+         * f C of the solid fraction f; the Reuss bound is 0 (there is empty space). A compliance
+         * modulus 1/S_ii is monotone in the tensor, so each bound holds for it. */
+        double fb = l.barbule_width / (l.barbule_spacing * sin(l.barbule_angle * (3.14159265358979323846 / 180.0)));
+        double f = l.phi + (1.0 - l.phi) * fb;
+        double E[2] = {l.E_b, fb * l.E_b}, nu[2] = {l.nu_b, l.nu_b}, frac[2] = {l.phi, 1.0 - l.phi}, Cl[9];
+        laminate_exact(E, nu, frac, 2, Cl);
+        plume_ortho lam;
+        CHECK(plume_ortho_from_tensor(Cl, &lam) == PLUME_OK);
+        const double G_b = l.E_b / (2.0 * (1.0 + l.nu_b));
+        const double m[3] = {r.moduli.E_xx, r.moduli.E_yy, r.moduli.G_xy};
+        const double lam_m[3] = {lam.E_xx, lam.E_yy, lam.G_xy}, voigt[3] = {f * l.E_b, f * l.E_b, f * G_b};
+        const double slope[3] = {r.uniaxial_x.stress[1] / 1e-6, r.uniaxial_y.stress[1] / 1e-6, r.shear.stress[1] / 1e-6};
+        for (int k = 0; k < 3; k++) {
+            CHECK(m[k] > 0.0 && m[k] <= lam_m[k] && lam_m[k] <= voigt[k] * (1.0 + 1e-12));
+            CHECK(slope[k] > 0.0 && slope[k] <= lam_m[k]);
+        }
+        fprintf(stderr, "    bounds: layer-Voigt laminate E_xx %.4g E_yy %.4g G_xy %.4g; Voigt f = %.3f: %.4g %.4g\n",
+                lam.E_xx, lam.E_yy, lam.G_xy, f, f * l.E_b, f * G_b);
+    }
+    plume_homog_result_free(&r);
+    /* a hand-made orthotropic barbule cell: barbules across the barbs, a rectangular grid */
+    l.barbule_angle = 90.0;
+    CHECK(plume_homogenize(&l, &o, &r, &err) == PLUME_OK);
+    if (r.uniaxial_x.n == 2) {
+        CHECK(r.coupling < 1e-3); /* mirror-symmetric up to the mesh */
+        fprintf(stderr, "    90 deg coupling %.2g\n", r.coupling);
+        check_slopes(&r, "barbules at 90 deg");
+    }
+    plume_homog_result_free(&r);
+    /* strips (the default layout): orthotropic, the laminate */
+    plume_layout_default(&l);
+    o.strain_max = 1e-4;
+    CHECK(plume_homogenize(&l, &o, &r, &err) == PLUME_OK);
+    if (r.uniaxial_x.n == 2)
+        check_slopes(&r, "strips");
+    plume_homog_result_free(&r);
+}

@@ -66,13 +66,20 @@ static plume_status wall_max_step(void *ctx, int dim, const double *x, const dou
     return PLUME_OK;
 }
 
+static plume_problem *wall_problem_kappa(int limit, double kappa);
+
 static plume_problem *wall_problem(int limit)
+{
+    return wall_problem_kappa(limit, 1.0);
+}
+
+static plume_problem *wall_problem_kappa(int limit, double kappa)
 {
     plume_problem *p = NULL;
     if (plume_problem_create(1, 2, 1.0, &p) != PLUME_OK)
         return NULL;
     wall_ctx *c = calloc(1, sizeof *c);
-    c->kappa = 1.0, c->dhat = 0.1, c->k = 10.0, c->limit = limit;
+    c->kappa = kappa, c->dhat = 0.1, c->k = 10.0, c->limit = limit;
     plume_term t = {.name = "wall", .arity = 1, .nstencil = 1, .stencil = c->v, .eval = wall_eval,
                     .destroy = free, .ctx = c, .max_step = wall_max_step};
     CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
@@ -127,6 +134,33 @@ void test_step_limit_wall(void)
     CHECK(plume_problem_max_motion(p, dx, &a) == PLUME_OK && fabs(a - 0.4) < 1e-15);
     CHECK(plume_problem_max_motion(p, bad, &a) == PLUME_EINVAL);
     CHECK(plume_problem_max_motion(p, NULL, &a) == PLUME_EINVAL);
+    plume_problem_destroy(&p);
+}
+
+/* The wall without its barrier (kappa 0: a pair outside the contact set) but with the step limit:
+ * every Newton step runs into the wall and is cut to 80 % of the way. newton stops after four
+ * steps cut below 1 % in a row and says why (PLUME_REASON_CONTACT_SET), on the near side, instead
+ * of creeping toward the wall until round-off stops it. */
+void test_step_limit_blocked(void)
+{
+    plume_problem *p = wall_problem_kappa(1, 0.0);
+    if (!p)
+        return;
+    plume_solver_opts o;
+    plume_solver_opts_default(&o);
+    plume_solver *s = NULL;
+    CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &o, &s, NULL) == PLUME_OK);
+    double u[2] = {0.3, 0.5};
+    plume_solve_report rep;
+    memset(&rep, 0, sizeof rep);
+    if (s)
+        CHECK(plume_solver_solve(s, u, NULL, &rep) == PLUME_OK);
+    fprintf(stderr, "    no barrier, step limit on: %s after %d iterations, y = %.3g\n", plume_reason_name(rep.reason),
+            rep.iterations, u[1]);
+    CHECK(rep.reason == PLUME_REASON_CONTACT_SET && !rep.converged);
+    CHECK(rep.iterations <= 10 && u[1] > 0.0);
+    CHECK(strcmp(plume_reason_name(PLUME_REASON_CONTACT_SET), "steps blocked outside the contact set") == 0);
+    plume_solver_destroy(&s);
     plume_problem_destroy(&p);
 }
 

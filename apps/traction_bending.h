@@ -1,0 +1,145 @@
+/* apps/traction --bending: the plate bending test of both scales (macro/plate_bending.h) — the
+ * resolved layout as a shell of its phases and the plate with the cell's bending tensor
+ * (micro/cell_plate.h), the same loads, curves in /curves/bending/<scale>/<LOAD>_<angle>.
+ * Included by apps/traction.c only (file-local functions). */
+#ifndef PLUME_APPS_TRACTION_BENDING_H
+#define PLUME_APPS_TRACTION_BENDING_H
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "../lib/plume.h"
+
+typedef struct {
+    const char *load, *out, *model;
+    double lx, ly, angle, curvature;
+    int curvature_set;
+    double edge; /* macro plate's mesh edge (0: min(lx, ly) / 20) */
+    int steps;
+    const char *solver;
+    int json, quiet;
+} bending_cli;
+
+/* One scale's run: the test on the specimen (mesh, p), written to the curves file. */
+static int bending_scale(const bending_cli *c, const char *scale, plume_mesh *mesh, plume_problem *p,
+                         plume_bend_opts *bo, const char *scenario, const plume_param *params, int nparams,
+                         double *stiffness)
+{
+    plume_err err = {{0}};
+    plume_bend_result r;
+    plume_status st = plume_bend_run(mesh, p, bo, &r, &err);
+    if (st != PLUME_OK) {
+        fprintf(stderr, "traction: --bending %s (%s): %s\n", c->load, scale, err.msg);
+        return 1;
+    }
+    if (!r.converged) {
+        fprintf(stderr, "traction: --bending %s (%s): the solver did not converge\n", c->load, scale);
+        plume_bend_result_free(&r);
+        return 1;
+    }
+    *stiffness = r.stiffness;
+    if (!c->quiet)
+        fprintf(stderr, "traction: bending %s %s: %ld triangles, m/kappa %.6g N m, %.2f s\n", scale, scenario,
+                (long)mesh->nt, r.stiffness, r.seconds);
+    int rc = 0;
+    if (c->out && plume_bend_curve_write(c->out, scale, scenario, &r.curve, params, nparams, NULL, 0, &err) != PLUME_OK)
+        rc = (fprintf(stderr, "traction: %s\n", err.msg), 1);
+    plume_bend_result_free(&r);
+    return rc;
+}
+
+static int run_bending(const bending_cli *c, const plume_layout *layout, int want_macro, int want_micro)
+{
+    plume_bend_load load;
+    if (plume_bend_load_parse(c->load, &load) != PLUME_OK)
+        return fprintf(stderr, "traction: --bending expects cylinder|twist (got '%s')\n", c->load), 2;
+    if (!(c->curvature > 0.0) || !isfinite(c->curvature))
+        return fprintf(stderr, "traction: --curvature must be finite and > 0 (got %g 1/m; the sign of a linear "
+                               "test carries no information)\n", c->curvature), 2;
+    if (!(c->angle >= 0.0 && c->angle <= 180.0))
+        return fprintf(stderr, "traction: --angle must be in [0, 180] degrees (got %g)\n", c->angle), 2;
+    if (c->edge < 0.0 || !isfinite(c->edge))
+        return fprintf(stderr, "traction: --edge must be >= 0 (got %g m)\n", c->edge), 2;
+    plume_bend_opts bo;
+    plume_bend_opts_default(&bo);
+    bo.load = load, bo.lx = c->lx, bo.ly = c->ly, bo.steps = c->steps;
+    if (plume_solver_kind_parse(c->solver, &bo.solver) != PLUME_OK)
+        return fprintf(stderr, "traction: --solver expects newton|ipopt|linearized (got '%s')\n", c->solver), 2;
+
+    /* the cell's bending tensor: the plate's moduli and the moment that gives the curvature asked for */
+    plume_err err = {{0}};
+    plume_cell *cell = NULL;
+    plume_membrane_material mats[2];
+    plume_layout_materials(layout, mats);
+    double D[9];
+    plume_status st = plume_cell_mesh(layout, &cell, &err);
+    if (st == PLUME_OK)
+        st = plume_cell_plate_tensor(cell, mats, 2, D, NULL, &err);
+    plume_cell_destroy(&cell);
+    if (st != PLUME_OK)
+        return fprintf(stderr, "traction: --bending: the cell's plate tensor: %s\n", err.msg), 1;
+    plume_plate_moduli pm;
+    plume_plate_moduli_from_tensor(D, &pm);
+    if (fabs(pm.D_16) > 0.01 * sqrt(pm.D_long * pm.D_twist) || fabs(pm.D_26) > 0.01 * sqrt(pm.D_trans * pm.D_twist))
+        return fprintf(stderr, "traction: --bending: the layout's cell couples bending and twist (D_16 %g, D_26 %g N m), "
+                               "which the plate cannot represent; use a layout symmetric about the barbs (e.g. "
+                               "barbule_angle 90)\n", pm.D_16, pm.D_26), 2;
+    double stiff_pred = 0.0;
+    if ((st = plume_bend_expected(D, c->angle, load, c->curvature, &bo.moment, &stiff_pred, &err)) != PLUME_OK)
+        return fprintf(stderr, "traction: --bending: %s\n", err.msg), 1;
+    const plume_bending_material hom = {.D_long = pm.D_long, .D_trans = pm.D_trans, .D_twist = pm.D_twist,
+                                        .D_coupling = pm.D_coupling};
+    char scenario[64];
+    snprintf(scenario, sizeof scenario, "%s_%g", plume_bend_load_name(load), c->angle);
+    const plume_param params[] = {
+        {"lx", c->lx}, {"ly", c->ly}, {"angle_deg", c->angle}, {"d_B", layout->d_B}, {"phi", layout->phi},
+        {"thickness_barb", plume_layout_thickness(layout, PLUME_MAT_BARB)},
+        {"thickness_barbule", plume_layout_thickness(layout, PLUME_MAT_BARBULE)},
+        {"D_long", pm.D_long}, {"D_trans", pm.D_trans}, {"D_coupling", pm.D_coupling}, {"D_twist", pm.D_twist},
+        {"predicted_stiffness", stiff_pred}, {"steps", c->steps}};
+    const int np = (int)(sizeof params / sizeof params[0]);
+
+    double sm = NAN, sM = NAN;
+    int rc = 0;
+    if (want_micro) {
+        plume_mesh *planar = NULL, *mesh = NULL;
+        plume_problem *p = NULL;
+        plume_bending_material phases[2];
+        plume_plate_of_membrane(&mats[0], &phases[0]);
+        plume_plate_of_membrane(&mats[1], &phases[1]);
+        if ((st = plume_specimen_mesh(layout, c->lx, c->ly, c->angle, &planar, &err)) != PLUME_OK ||
+            (st = plume_shell_specimen(planar, mats, phases, 2, &mesh, &p, &err)) != PLUME_OK)
+            rc = (fprintf(stderr, "traction: --bending micro specimen: %s\n", err.msg), 1);
+        else
+            rc = bending_scale(c, "micro", mesh, p, &bo, scenario, params, np, &sm);
+        plume_problem_destroy(&p);
+        plume_mesh_destroy(&mesh);
+        plume_mesh_destroy(&planar);
+    }
+    if (!rc && want_macro) {
+        plume_mesh *mesh = NULL;
+        plume_problem *p = NULL;
+        /* the in-plane moduli do not enter a linear bending test of a flat plate: the barb phase's */
+        const double edge = c->edge > 0.0 ? c->edge : fmin(c->lx, c->ly) / 20.0;
+        if ((st = plume_plate_specimen(c->lx, c->ly, c->angle, edge, &mats[0], &hom, &mesh, &p, &err)) != PLUME_OK)
+            rc = (fprintf(stderr, "traction: --bending macro plate: %s\n", err.msg), 1);
+        else
+            rc = bending_scale(c, "macro", mesh, p, &bo, scenario, params, np, &sM);
+        plume_problem_destroy(&p);
+        plume_mesh_destroy(&mesh);
+    }
+    if (rc)
+        return rc;
+    if (c->json)
+        printf("{\"load\": \"%s\", \"angle_deg\": %g, \"moment\": %.10g, \"predicted_stiffness\": %.10g, "
+               "\"micro_stiffness\": %.10g, \"macro_stiffness\": %.10g}\n", c->load, c->angle, bo.moment, stiff_pred,
+               want_micro ? sm : -1.0, want_macro ? sM : -1.0);
+    else
+        printf("bending %s: m = %.6g N m/m; m/kappa: micro %.6g, macro %.6g, plate theory %.6g N m%s%.2f %%\n", scenario,
+               bo.moment, sm, sM, stiff_pred, want_micro && want_macro ? "; micro - macro " : "",
+               want_micro && want_macro ? 100.0 * (sm / sM - 1.0) : 0.0);
+    return 0;
+}
+
+#endif

@@ -1,0 +1,549 @@
+/* The plate bending test of macro/plate_bending.h and the homogeneous plate specimen. */
+#include "plate_bending.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../lib/load.h"
+#include "../lib/progress.h"
+#include "patch_mesh.h"
+#include "shape_bending.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+void plume_bend_opts_default(plume_bend_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->load = PLUME_BEND_CYLINDER;
+    o->lx = 1.0, o->ly = 2.0;
+    o->moment = 1.0;
+    o->steps = 3;
+    o->end_strip = 0.1;
+    o->window = 0.5;
+    o->max_rotation = 0.2;
+    o->solver = PLUME_SOLVER_NEWTON;
+    plume_solver_opts_default(&o->solver_opts);
+}
+
+const char *plume_bend_load_name(plume_bend_load k)
+{
+    return k == PLUME_BEND_TWIST ? "twist" : "cylinder";
+}
+
+plume_status plume_bend_load_parse(const char *s, plume_bend_load *k)
+{
+    if (s && strcmp(s, "cylinder") == 0)
+        *k = PLUME_BEND_CYLINDER;
+    else if (s && strcmp(s, "twist") == 0)
+        *k = PLUME_BEND_TWIST;
+    else
+        return PLUME_EINVAL;
+    return PLUME_OK;
+}
+
+void plume_bend_result_free(plume_bend_result *r)
+{
+    if (!r)
+        return;
+    plume_bend_curve_free(&r->curve);
+    memset(r, 0, sizeof *r);
+}
+
+/* Solves the symmetric n x n system A z = b in place (Gaussian elimination with partial pivoting);
+ * 0 when singular relative to its largest diagonal entry. */
+static int solve_small(int n, double *A, double *b)
+{
+    double big = 0.0;
+    for (int i = 0; i < n; i++)
+        big = fmax(big, fabs(A[i * n + i]));
+    for (int c = 0; c < n; c++) {
+        int piv = c;
+        for (int r = c + 1; r < n; r++)
+            if (fabs(A[r * n + c]) > fabs(A[piv * n + c]))
+                piv = r;
+        if (!(fabs(A[piv * n + c]) > 1e-13 * big))
+            return 0;
+        if (piv != c) {
+            for (int k = 0; k < n; k++) {
+                double t = A[c * n + k];
+                A[c * n + k] = A[piv * n + k], A[piv * n + k] = t;
+            }
+            double t = b[c];
+            b[c] = b[piv], b[piv] = t;
+        }
+        for (int r = c + 1; r < n; r++) {
+            double f = A[r * n + c] / A[c * n + c];
+            for (int k = c; k < n; k++)
+                A[r * n + k] -= f * A[c * n + k];
+            b[r] -= f * b[c];
+        }
+    }
+    for (int c = n - 1; c >= 0; c--) {
+        for (int k = c + 1; k < n; k++)
+            b[c] -= A[c * n + k] * b[k];
+        b[c] /= A[c * n + c];
+    }
+    return 1;
+}
+
+/* The forces of one end strip (vertices v[0..n), lumped areas area[]) whose moment is (mx, my)
+ * about the strip's centroid with no resultant, written as z components into f (3 per vertex). */
+static int strip_forces(const plume_mesh *m, const plume_index *v, plume_index n, const double *area, double mx,
+                        double my, double *f)
+{
+    double A = 0.0, xc = 0.0, yc = 0.0;
+    for (plume_index i = 0; i < n; i++) {
+        A += area[v[i]];
+        xc += area[v[i]] * m->X[2 * v[i]];
+        yc += area[v[i]] * m->X[2 * v[i] + 1];
+    }
+    if (!(A > 0.0))
+        return 0;
+    xc /= A, yc /= A;
+    double N[9] = {0}, b[3] = {0.0, -my, mx};
+    for (plume_index i = 0; i < n; i++) {
+        const double a = area[v[i]], phi[3] = {1.0, m->X[2 * v[i]] - xc, m->X[2 * v[i] + 1] - yc};
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+                N[3 * r + c] += a * phi[r] * phi[c];
+    }
+    if (!solve_small(3, N, b))
+        return 0;
+    for (plume_index i = 0; i < n; i++) {
+        const double a = area[v[i]];
+        f[3 * i] = f[3 * i + 1] = 0.0;
+        f[3 * i + 2] = a * (b[0] + b[1] * (m->X[2 * v[i]] - xc) + b[2] * (m->X[2 * v[i] + 1] - yc));
+    }
+    return 1;
+}
+
+/* The area-weighted quadratic fit of z over the window's vertices: k = (k_xx, k_yy, 2 k_xy). */
+static int fit_curvature(const plume_mesh *m, const double *x, const double *area, const unsigned char *in,
+                         double cx, double cy, double L, double k[3])
+{
+    double N[36] = {0}, b[6] = {0};
+    for (plume_index v = 0; v < m->nv; v++) {
+        if (!in[v])
+            continue;
+        const double X = (m->X[2 * v] - cx) / L, Y = (m->X[2 * v + 1] - cy) / L;
+        const double phi[6] = {1.0, X, Y, 0.5 * X * X, X * Y, 0.5 * Y * Y};
+        for (int r = 0; r < 6; r++) {
+            b[r] += area[v] * phi[r] * x[3 * v + 2];
+            for (int c = 0; c < 6; c++)
+                N[6 * r + c] += area[v] * phi[r] * phi[c];
+        }
+    }
+    if (!solve_small(6, N, b))
+        return 0;
+    k[0] = b[3] / (L * L), k[1] = b[5] / (L * L), k[2] = 2.0 * b[4] / (L * L);
+    return 1;
+}
+
+/* The smallest z component of a current triangle normal over its area ratio, i.e. the cosine of
+ * the largest tilt; negative once a triangle has turned over. */
+static double min_normal_z(const plume_mesh *m, const double *x)
+{
+    double lo = 1.0;
+    for (plume_index t = 0; t < m->nt; t++) {
+        const plume_index *v = m->tri + 3 * t;
+        double e1[3], e2[3];
+        for (int a = 0; a < 3; a++)
+            e1[a] = x[3 * v[1] + a] - x[3 * v[0] + a], e2[a] = x[3 * v[2] + a] - x[3 * v[0] + a];
+        const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        lo = fmin(lo, len > 0.0 ? n[2] / len : -1.0);
+    }
+    return lo;
+}
+
+static plume_index nearest_vertex(const plume_mesh *m, double x, double y)
+{
+    plume_index best = 0;
+    double bd = INFINITY;
+    for (plume_index v = 0; v < m->nv; v++) {
+        const double d = hypot(m->X[2 * v] - x, m->X[2 * v + 1] - y);
+        if (d < bd)
+            bd = d, best = v;
+    }
+    return best;
+}
+
+static plume_status check_opts(const plume_bend_opts *o, plume_err *err)
+{
+    if (!(o->lx > 0.0) || !(o->ly > 0.0) || !isfinite(o->lx) || !isfinite(o->ly))
+        return plume_err_set(err, PLUME_EINVAL, "bending test: lx and ly must be finite and > 0 (got %g, %g)", o->lx,
+                             o->ly);
+    if (!(o->moment > 0.0) || !isfinite(o->moment))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "bending test: the moment must be finite and > 0 (got %g; a linear test's sign carries "
+                             "no information)", o->moment);
+    if (o->steps < 1 || o->steps > 1000)
+        return plume_err_set(err, PLUME_EINVAL, "bending test: steps must be in [1, 1000] (got %d)", o->steps);
+    if (!(o->end_strip > 0.0 && o->end_strip <= 0.25))
+        return plume_err_set(err, PLUME_EINVAL, "bending test: end_strip must be in (0, 0.25] (got %g)", o->end_strip);
+    if (!(o->window > 0.0 && o->window <= 1.0 - 2.0 * o->end_strip))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "bending test: window must be in (0, 1 - 2 end_strip] (got %g with end_strip %g)", o->window,
+                             o->end_strip);
+    if (!(o->max_rotation > 0.0) || !isfinite(o->max_rotation))
+        return plume_err_set(err, PLUME_EINVAL, "bending test: max_rotation must be finite and > 0 (got %g)",
+                             o->max_rotation);
+    if (o->load != PLUME_BEND_CYLINDER && o->load != PLUME_BEND_TWIST)
+        return plume_err_set(err, PLUME_EINVAL, "bending test: unknown load %d", (int)o->load);
+    return PLUME_OK;
+}
+
+plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plume_bend_opts *o, plume_bend_result *r,
+                            plume_err *err)
+{
+    if (!mesh || !p || !o || !r)
+        return plume_err_set(err, PLUME_EINVAL, "bending test: invalid arguments");
+    memset(r, 0, sizeof *r);
+    plume_status st = check_opts(o, err);
+    if (st != PLUME_OK)
+        return st;
+    if (mesh->dim != 3 || plume_problem_dim(p) != 3 || plume_problem_nvert(p) != mesh->nv || !mesh->edges)
+        return plume_err_set(err, PLUME_EINVAL, "bending test: needs a shell-mode mesh (dim 3, topology built) and its problem");
+    const double tol = 1e-9 * fmax(o->lx, o->ly);
+    for (plume_index v = 0; v < mesh->nv; v++)
+        if (mesh->X[2 * v] < -tol || mesh->X[2 * v] > o->lx + tol || mesh->X[2 * v + 1] < -tol ||
+            mesh->X[2 * v + 1] > o->ly + tol)
+            return plume_err_set(err, PLUME_EINVAL, "bending test: vertex %ld at (%g, %g) lies outside [0, %g] x [0, %g]",
+                                 (long)v, mesh->X[2 * v], mesh->X[2 * v + 1], o->lx, o->ly);
+
+    const double t0 = plume_wall_seconds();
+    const plume_index nv = mesh->nv;
+    double *area = calloc((size_t)nv, sizeof *area), *f = NULL, *u = NULL, *lambda = NULL;
+    plume_index *sv = malloc((size_t)nv * sizeof *sv);
+    unsigned char *in = calloc((size_t)nv, 1);
+    plume_solver *solver = NULL;
+    plume_term load;
+    memset(&load, 0, sizeof load);
+    const size_t np = (size_t)o->steps + 1;
+    plume_bend_curve *c = &r->curve;
+    double **fields[8] = {&c->curvature, &c->moment, &c->k_xx, &c->k_yy, &c->twist, &c->energy, &c->iterations,
+                          &c->seconds};
+    int fields_ok = 1;
+    for (int i = 0; i < 8; i++)
+        fields_ok &= (*fields[i] = calloc(np, sizeof(double))) != NULL;
+    if (!area || !sv || !in || !fields_ok || !(f = calloc((size_t)(3 * nv), sizeof *f))) {
+        st = plume_err_set(err, PLUME_ENOMEM, "bending test: out of memory");
+        goto cleanup;
+    }
+    for (plume_index t = 0; t < mesh->nt; t++) {
+        const double a = plume_mesh_ref_area(mesh, t) / 3.0;
+        for (int k = 0; k < 3; k++)
+            area[mesh->tri[3 * t + k]] += a;
+    }
+
+    /* the two end strips: lo first, then hi, in sv[0..nlo) and sv[nlo..ns) */
+    const double cs = o->end_strip * o->ly;
+    plume_index nlo = 0, ns = 0;
+    for (plume_index v = 0; v < nv; v++)
+        if (area[v] > 0.0 && mesh->X[2 * v + 1] <= cs)
+            sv[ns++] = v;
+    nlo = ns;
+    for (plume_index v = 0; v < nv; v++)
+        if (area[v] > 0.0 && mesh->X[2 * v + 1] >= o->ly - cs)
+            sv[ns++] = v;
+    const double Mend = (o->load == PLUME_BEND_CYLINDER ? 1.0 : 2.0) * o->moment * o->lx;
+    const double mx = o->load == PLUME_BEND_CYLINDER ? Mend : 0.0, my = o->load == PLUME_BEND_TWIST ? -Mend : 0.0;
+    if (nlo < 3 || ns - nlo < 3 || !strip_forces(mesh, sv, nlo, area, -mx, -my, f) ||
+        !strip_forces(mesh, sv + nlo, ns - nlo, area, mx, my, f + 3 * nlo)) {
+        st = plume_err_set(err, PLUME_EINVAL,
+                           "bending test: an end strip (end_strip %g of ly) holds too few vertices to carry a moment "
+                           "(%ld and %ld): refine the mesh or widen the strip", o->end_strip, (long)nlo, (long)(ns - nlo));
+        goto cleanup;
+    }
+    if ((st = plume_load_term_create(sv, ns, 3, f, &load, err)) != PLUME_OK)
+        goto cleanup;
+    {
+        plume_term copy = load; /* the problem owns the context from here (and frees it if it refuses
+                                   it); `load` keeps a handle to scale it */
+        if ((st = plume_problem_add_term(p, &copy)) != PLUME_OK) {
+            memset(&load, 0, sizeof load);
+            plume_err_set(err, st, "bending test: cannot add the end loads");
+            goto cleanup;
+        }
+    }
+
+    const double cx = 0.5 * o->lx, cy = 0.5 * o->ly, L = fmax(o->lx, o->ly);
+    plume_index nin = 0;
+    for (plume_index v = 0; v < nv; v++)
+        if (area[v] > 0.0 && fabs(mesh->X[2 * v] - cx) <= 0.5 * o->window * o->lx &&
+            fabs(mesh->X[2 * v + 1] - cy) <= 0.5 * o->window * o->ly)
+            in[v] = 1, nin++;
+    if (nin < 6) {
+        st = plume_err_set(err, PLUME_EINVAL, "bending test: the central window (window %g) holds %ld vertices, too few to "
+                           "fit a curvature", o->window, (long)nin);
+        goto cleanup;
+    }
+
+    /* rigid motion: three vertices near the centre, six coordinates, no reaction (the loads balance) */
+    double *x = plume_problem_x(p);
+    for (plume_index v = 0; v < nv; v++)
+        x[3 * v] = mesh->X[2 * v], x[3 * v + 1] = mesh->X[2 * v + 1], x[3 * v + 2] = 0.0;
+    const plume_index va = nearest_vertex(mesh, cx, cy), vb = nearest_vertex(mesh, cx, cy + 0.25 * o->ly),
+                      vc = nearest_vertex(mesh, cx + 0.25 * o->lx, cy);
+    if (va == vb || va == vc || vb == vc) {
+        st = plume_err_set(err, PLUME_EINVAL, "bending test: the mesh is too coarse to hold the specimen at three vertices");
+        goto cleanup;
+    }
+    const plume_index fixed[6] = {3 * va, 3 * va + 1, 3 * va + 2, 3 * vb, 3 * vb + 2, 3 * vc + 2};
+    for (int k = 0; k < 6; k++)
+        if ((st = plume_problem_fix_dof(p, fixed[k])) != PLUME_OK) {
+            plume_err_set(err, st, "bending test: cannot fix the rigid motion");
+            goto cleanup;
+        }
+    if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
+        goto cleanup;
+    const plume_index n = plume_problem_nfree(p), m = plume_problem_ncons(p);
+    u = malloc((size_t)(n + 1) * sizeof *u);
+    lambda = calloc((size_t)(m + 1), sizeof *lambda);
+    if (!u || !lambda) {
+        st = plume_err_set(err, PLUME_ENOMEM, "bending test: out of memory");
+        goto cleanup;
+    }
+    plume_err why = {{0}};
+    if ((st = plume_solver_create(o->solver, p, &o->solver_opts, &solver, &why)) != PLUME_OK) {
+        plume_err_set(err, st, "bending test: could not create the %s solver: %s", plume_solver_kind_name(o->solver),
+                      why.msg);
+        goto cleanup;
+    }
+    c->n = 1;
+    r->converged = 1;
+    for (int k = 1; k <= o->steps; k++) {
+        const double factor = (double)k / o->steps;
+        plume_load_scale(&load, factor);
+        plume_problem_gather(p, u);
+        plume_solve_report rep;
+        if ((st = plume_solver_solve(solver, u, lambda, &rep)) != PLUME_OK) {
+            plume_err_set(err, st, "bending test: step %d: solver error (%s)", k, plume_strerror(st));
+            goto cleanup;
+        }
+        if (!rep.converged && rep.reason != PLUME_REASON_SINGLE_STEP) { /* linearized: the linear plate */
+            r->converged = 0;
+            break;
+        }
+        double kf[3];
+        if (!fit_curvature(mesh, x, area, in, cx, cy, L, kf)) {
+            st = plume_err_set(err, PLUME_EINVAL, "bending test: the central window's vertices do not determine a "
+                               "quadratic (too few or collinear)");
+            goto cleanup;
+        }
+        const double kappa = o->load == PLUME_BEND_CYLINDER ? kf[1] : kf[2];
+        const double kmax = fmax(fabs(kf[0]), fmax(fabs(kf[1]), 0.5 * fabs(kf[2])));
+        if (min_normal_z(mesh, x) <= 0.0 || kmax * L > o->max_rotation) {
+            st = plume_err_set(err, PLUME_EINFEASIBLE,
+                               "bending test: the moment %g N m/m %s (curvature %g 1/m over %g m: %.3g rad, the test "
+                               "accepts %g); use a smaller moment or curvature", o->moment * factor,
+                               min_normal_z(mesh, x) <= 0.0 ? "inverts an element" : "bends the specimen beyond linear plate theory",
+                               kmax, L, kmax * L, o->max_rotation);
+            goto cleanup;
+        }
+        /* the elastic energy: the objective with the loads off */
+        double e = 0.0;
+        plume_load_scale(&load, 0.0);
+        plume_problem_gather(p, u);
+        st = plume_problem_objective(p, u, &e, NULL);
+        plume_load_scale(&load, factor);
+        if (st != PLUME_OK) {
+            plume_err_set(err, st, "bending test: step %d: energy evaluation failed", k);
+            goto cleanup;
+        }
+        const plume_index i = c->n++;
+        c->curvature[i] = kappa;
+        c->moment[i] = o->moment * factor;
+        c->k_xx[i] = kf[0], c->k_yy[i] = kf[1], c->twist[i] = kf[2];
+        c->energy[i] = e;
+        c->iterations[i] = rep.iterations;
+        c->seconds[i] = rep.seconds;
+    }
+    double sxy = 0.0, sxx = 0.0;
+    for (plume_index i = 1; i < c->n; i++)
+        sxy += c->moment[i] * c->curvature[i], sxx += c->curvature[i] * c->curvature[i];
+    r->stiffness = sxx > 0.0 ? sxy / sxx : NAN;
+
+cleanup:
+    plume_solver_destroy(&solver);
+    free(area), free(sv), free(in), free(f), free(u), free(lambda);
+    r->seconds = plume_wall_seconds() - t0;
+    if (st != PLUME_OK)
+        plume_bend_result_free(r);
+    return st;
+}
+
+void plume_plate_of_membrane(const plume_membrane_material *m, plume_bending_material *b)
+{
+    double C[9];
+    plume_membrane_stiffness(m, C);
+    const double f = m->h * m->h * m->h / 12.0;
+    b->D_long = f * C[0], b->D_trans = f * C[4], b->D_coupling = f * C[1], b->D_twist = f * C[8];
+}
+
+plume_status plume_shell_specimen(const plume_mesh *planar, const plume_membrane_material *mem,
+                                  const plume_bending_material *bend, int nmat, plume_mesh **mesh, plume_problem **p,
+                                  plume_err *err)
+{
+    if (!planar || !mem || !bend || nmat < 1 || !mesh || !p)
+        return plume_err_set(err, PLUME_EINVAL, "shell specimen: invalid arguments");
+    *mesh = NULL, *p = NULL;
+    plume_term tm, tb;
+    plume_status st = plume_mesh_create(planar->nv, planar->nt, 3, mesh);
+    if (st != PLUME_OK)
+        return plume_err_set(err, st, "shell specimen: out of memory");
+    memcpy((*mesh)->X, planar->X, (size_t)(2 * planar->nv) * sizeof *planar->X);
+    memcpy((*mesh)->tri, planar->tri, (size_t)(3 * planar->nt) * sizeof *planar->tri);
+    memcpy((*mesh)->barb_dir, planar->barb_dir, (size_t)(2 * planar->nt) * sizeof *planar->barb_dir);
+    memcpy((*mesh)->material, planar->material, (size_t)planar->nt * sizeof *planar->material);
+    plume_mesh_reset_current(*mesh);
+    if ((st = plume_mesh_build_topology(*mesh, err)) != PLUME_OK)
+        goto fail;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (plume_index v = 0; v < planar->nv; v++)
+        for (int a = 0; a < 2; a++)
+            lo[a] = fmin(lo[a], planar->X[2 * v + a]), hi[a] = fmax(hi[a], planar->X[2 * v + a]);
+    if ((st = plume_problem_create((*mesh)->nv, 3, fmax(hi[0] - lo[0], hi[1] - lo[1]), p)) != PLUME_OK) {
+        plume_err_set(err, st, "shell specimen: cannot create the problem");
+        goto fail;
+    }
+    if ((st = plume_membrane_term_create(*mesh, 3, mem, nmat, &tm, err)) != PLUME_OK)
+        goto fail;
+    if ((st = plume_problem_add_term(*p, &tm)) != PLUME_OK) {
+        plume_err_set(err, st, "shell specimen: cannot add the membrane");
+        goto fail;
+    }
+    if ((st = plume_shape_bending_term_create(*mesh, bend, nmat, NULL, &tb, err)) != PLUME_OK)
+        goto fail;
+    if ((st = plume_problem_add_term(*p, &tb)) != PLUME_OK) {
+        plume_err_set(err, st, "shell specimen: cannot add the bending");
+        goto fail;
+    }
+    return PLUME_OK;
+fail:
+    plume_problem_destroy(p);
+    plume_mesh_destroy(mesh);
+    return st;
+}
+
+plume_status plume_plate_specimen(double lx, double ly, double angle_deg, double edge, const plume_membrane_material *mem,
+                                  const plume_bending_material *bend, plume_mesh **mesh, plume_problem **p,
+                                  plume_err *err)
+{
+    if (!mem || !bend || !mesh || !p)
+        return plume_err_set(err, PLUME_EINVAL, "plate specimen: invalid arguments");
+    *mesh = NULL, *p = NULL;
+    plume_mesh *planar = NULL;
+    plume_status st = plume_patch_mesh(lx, ly, angle_deg, edge, PLUME_PATCH_UNALIGNED, 2, &planar, err);
+    if (st == PLUME_OK)
+        st = plume_shell_specimen(planar, mem, bend, 1, mesh, p, err);
+    plume_mesh_destroy(&planar);
+    return st;
+}
+
+/* D rotated into the specimen frame (x across, y along the specimen) for barbs at angle_deg from y:
+ * the barb frame's axis 1 is d = (sin a, cos a). Curvature transforms as a strain (Voigt with 2 k12). */
+static void rotate_plate(const double D[9], double angle_deg, double Ds[9])
+{
+    const double a = angle_deg * M_PI / 180.0, d0 = sin(a), d1 = cos(a), q0 = -d1, q1 = d0;
+    /* kappa_barb = T kappa_spec with T the strain transformation for the frame (d, q) */
+    const double T[9] = {d0 * d0, d1 * d1, d0 * d1,
+                         q0 * q0, q1 * q1, q0 * q1,
+                         2.0 * d0 * q0, 2.0 * d1 * q1, d0 * q1 + d1 * q0};
+    double DT[9] = {0};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++)
+                DT[3 * i + j] += D[3 * i + k] * T[3 * k + j];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            Ds[3 * i + j] = 0.0;
+            for (int k = 0; k < 3; k++)
+                Ds[3 * i + j] += T[3 * k + i] * DT[3 * k + j];
+        }
+}
+
+plume_status plume_bend_expected(const double D[9], double angle_deg, plume_bend_load load, double curvature,
+                                 double *moment, double *stiffness, plume_err *err)
+{
+    if (!D || !moment || !isfinite(angle_deg) || !isfinite(curvature))
+        return plume_err_set(err, PLUME_EINVAL, "bending prediction: invalid arguments");
+    double Ds[9], b[3] = {0.0, 0.0, 0.0};
+    rotate_plate(D, angle_deg, Ds);
+    const int j = load == PLUME_BEND_TWIST ? 2 : 1;
+    b[j] = 1.0;
+    double A[9];
+    memcpy(A, Ds, sizeof A);
+    const double det = Ds[0] * (Ds[4] * Ds[8] - Ds[5] * Ds[7]) - Ds[1] * (Ds[3] * Ds[8] - Ds[5] * Ds[6]) +
+                       Ds[2] * (Ds[3] * Ds[7] - Ds[4] * Ds[6]);
+    if (!(Ds[0] > 0.0) || !(Ds[0] * Ds[4] - Ds[1] * Ds[3] > 0.0) || !(det > 0.0) || !solve_small(3, A, b) || !(b[j] > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "bending prediction: the plate tensor is not positive definite");
+    const double s = 1.0 / b[j];
+    *moment = s * curvature;
+    if (stiffness)
+        *stiffness = s;
+    return PLUME_OK;
+}
+
+void plume_bend_pack(const plume_bending_material *b, plume_ortho *m)
+{
+    const double g = sqrt(b->D_long * b->D_trans);
+    m->E_xx = b->D_long, m->E_yy = b->D_trans, m->G_xy = b->D_twist;
+    m->nu_xy = g > 0.0 ? b->D_coupling / g : 0.0;
+}
+
+void plume_bend_unpack(const plume_ortho *m, plume_bending_material *b)
+{
+    b->D_long = m->E_xx, b->D_trans = m->E_yy, b->D_twist = m->G_xy;
+    b->D_coupling = m->nu_xy * sqrt(m->E_xx * m->E_yy);
+}
+
+plume_status plume_plate_model_curve(void *ctx, const plume_ortho *m, int icurve, plume_curve *out, plume_err *err)
+{
+    const plume_plate_model *pm = ctx;
+    if (!pm || !m || !out || icurve < 0 || icurve >= pm->ncurves)
+        return plume_err_set(err, PLUME_EINVAL, "plate model: invalid arguments");
+    memset(out, 0, sizeof *out);
+    plume_bending_material b;
+    plume_bend_unpack(m, &b);
+    if (!(fabs(m->nu_xy) < 1.0) || !(b.D_twist > 0.0))
+        return plume_err_set(err, PLUME_EINFEASIBLE, "plate model: moduli out of the plate's range");
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_bend_result r;
+    memset(&r, 0, sizeof r);
+    plume_status st = plume_plate_specimen(pm->lx, pm->ly, pm->angles[icurve], pm->edge, &pm->membrane, &b, &mesh, &p, err);
+    if (st == PLUME_OK) {
+        plume_bend_opts o;
+        plume_bend_opts_default(&o);
+        o.load = pm->loads[icurve];
+        o.lx = pm->lx, o.ly = pm->ly;
+        o.moment = pm->moments[icurve];
+        o.steps = pm->steps;
+        st = plume_bend_run(mesh, p, &o, &r, err);
+        if (st == PLUME_OK && !r.converged)
+            st = plume_err_set(err, PLUME_EINFEASIBLE, "plate model: curve %d did not converge", icurve);
+        else if (st == PLUME_EINFEASIBLE)
+            st = PLUME_EINFEASIBLE;
+    }
+    if (st == PLUME_OK) {
+        const size_t np = (size_t)r.curve.n;
+        out->strain = r.curve.curvature, r.curve.curvature = NULL;
+        out->stress = r.curve.moment, r.curve.moment = NULL;
+        out->iterations = r.curve.iterations, r.curve.iterations = NULL;
+        out->seconds = r.curve.seconds, r.curve.seconds = NULL;
+        out->wbar = calloc(np, sizeof *out->wbar);
+        out->n = r.curve.n;
+        if (!out->wbar) {
+            plume_curve_free(out);
+            st = plume_err_set(err, PLUME_ENOMEM, "plate model: out of memory");
+        }
+    }
+    plume_bend_result_free(&r);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&mesh);
+    return st;
+}

@@ -1,0 +1,233 @@
+/* The plate bending test of both scales (macro/plate_bending.h): the homogeneous plate against
+ * plate theory, the resolved strip specimen against the homogeneous plate with the cell's D as
+ * the barb spacing shrinks, the bending fit (the plate as the fitter's model), the curves file and bad
+ * input. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "harness.h"
+#include "../lib/plume.h"
+#include "../micro/fit.h"
+
+/* One test of a specimen; the stiffness (N m), NaN when it fails (printed). */
+static double bend_stiffness(plume_mesh *mesh, plume_problem *p, plume_bend_load load, double lx, double ly,
+                             double moment, plume_bend_result *keep)
+{
+    plume_bend_opts o;
+    plume_bend_opts_default(&o);
+    o.load = load, o.lx = lx, o.ly = ly, o.moment = moment, o.steps = 1;
+    o.solver = PLUME_SOLVER_LINEARIZED;
+    plume_bend_result r;
+    plume_err err = {{0}};
+    double s = NAN;
+    if (plume_bend_run(mesh, p, &o, &r, &err) == PLUME_OK && r.converged)
+        s = r.stiffness;
+    else
+        fprintf(stderr, "    bending test failed: %s\n", err.msg);
+    if (keep)
+        *keep = r;
+    else
+        plume_bend_result_free(&r);
+    return s;
+}
+
+static const plume_membrane_material iso_plate = {1e9, 1e9, 0.3, 1e9 / 2.6, 1e-4, 0.0, 0};
+
+/* An isotropic plate bent by end moments with free sides: m / k_yy = D (1 - nu^2), and
+ * k_xx / k_yy = -nu (anticlastic); twisted: m_xy / (2 k_xy) = D_twist = (1 - nu) D / 2. The same
+ * whatever the barb angle (the material is isotropic), on a quality mesh of 1000 triangles. */
+void test_plate_bending_isotropic(void)
+{
+    plume_bending_material b;
+    plume_plate_of_membrane(&iso_plate, &b);
+    const double D = 1e9 * 1e-12 / 12.0 / 0.91;
+    CHECK_REL(b.D_long, D, 1e-12, 0.0);
+    CHECK_REL(b.D_coupling, 0.3 * D, 1e-12, 0.0);
+    CHECK_REL(b.D_twist, 0.35 * D, 1e-12, 0.0);
+    for (int load = 0; load < 2; load++) {
+        plume_mesh *mesh = NULL;
+        plume_problem *p = NULL;
+        plume_err err = {{0}};
+        CHECK(plume_plate_specimen(0.01, 0.02, 30.0, 0.001, &iso_plate, &b, &mesh, &p, &err) == PLUME_OK);
+        plume_bend_result r;
+        const double s = bend_stiffness(mesh, p, (plume_bend_load)load, 0.01, 0.02, 0.005 * D, &r);
+        const double expect = load == 0 ? D * 0.91 : 0.35 * D;
+        fprintf(stderr, "    %s: m/kappa %.6g N m, plate theory %.6g (%+.2f %%)\n", load ? "twist" : "cylinder", s, expect,
+                100.0 * (s / expect - 1.0));
+        CHECK_REL(s, expect, 0.015, 0.0);
+        if (load == 0 && r.curve.n == 2)
+            CHECK_REL(r.curve.k_xx[1] / r.curve.k_yy[1], -0.3, 0.08, 0.0); /* the ends' layers reach the window */
+        if (r.curve.n == 2)
+            CHECK(r.curve.energy[1] > 0.0);
+        plume_bend_result_free(&r);
+        plume_problem_destroy(&p);
+        plume_mesh_destroy(&mesh);
+    }
+}
+
+/* plume_bend_expected: an isotropic tensor gives D (1 - nu^2) at any angle; an orthotropic one
+ * D_long (1 - nu12 nu21) at 0 deg, D_trans (1 - ...) at 90, its D_twist twisted. */
+void test_plate_bending_expected(void)
+{
+    const double D[9] = {4.0, 0.5, 0.0, 0.5, 1.0, 0.0, 0.0, 0.0, 0.7};
+    double m, s;
+    plume_err err = {{0}};
+    CHECK(plume_bend_expected(D, 0.0, PLUME_BEND_CYLINDER, 2.0, &m, &s, &err) == PLUME_OK);
+    CHECK_REL(s, 4.0 - 0.25 / 1.0, 1e-12, 0.0);
+    CHECK_REL(m, 2.0 * s, 1e-12, 0.0);
+    CHECK(plume_bend_expected(D, 90.0, PLUME_BEND_CYLINDER, 1.0, &m, &s, &err) == PLUME_OK);
+    CHECK_REL(s, 1.0 - 0.25 / 4.0, 1e-12, 0.0);
+    CHECK(plume_bend_expected(D, 0.0, PLUME_BEND_TWIST, 1.0, &m, &s, &err) == PLUME_OK);
+    CHECK_REL(s, 0.7, 1e-12, 0.0);
+    const double bad[9] = {1.0, 2.0, 0.0, 2.0, 1.0, 0.0, 0.0, 0.0, 1.0};
+    CHECK(plume_bend_expected(bad, 0.0, PLUME_BEND_CYLINDER, 1.0, &m, &s, &err) == PLUME_EINVAL &&
+          strstr(err.msg, "positive definite"));
+}
+
+/* A strip layout (barbs 0.3 of the spacing, 1.5e-4 m thick; a matrix 20 times softer, 5e-5 m
+ * thick) on a 10 x 20 mm specimen, resolved, against the homogeneous plate with the cell's D, the
+ * same loads and the same fitted window, at barb spacings lx/2, lx/4, lx/8. The difference is the
+ * size effect (boundary layers of width d_B at the free sides and the loaded ends) and falls as
+ * d_B shrinks. Across the barbs (90 deg) the resolved specimen's own discretisation dominates
+ * (docs/bending-homogenisation.md): that case is measured by apps/traction --bending, not here. */
+void test_plate_bending_both_scales(void)
+{
+    const double lx = 0.01, ly = 0.02;
+    plume_layout l;
+    plume_layout_default(&l);
+    l.phi = 0.3, l.ratio = 0.05, l.h = 1e-4, l.h_barb = 1.5e-4, l.h_barbule = 5e-5, l.order = 1;
+    const plume_bend_load loads[2] = {PLUME_BEND_CYLINDER, PLUME_BEND_TWIST};
+    double diff[2][3];
+    for (int is = 0; is < 3; is++) {
+        l.d_B = lx / (2 << is);
+        plume_err err = {{0}};
+        plume_cell *cell = NULL;
+        double D[9];
+        plume_membrane_material mats[2];
+        plume_layout_materials(&l, mats);
+        CHECK(plume_cell_mesh(&l, &cell, &err) == PLUME_OK);
+        CHECK(plume_cell_plate_tensor(cell, mats, 2, D, NULL, &err) == PLUME_OK);
+        plume_cell_destroy(&cell);
+        plume_bending_material phases[2], hom = {D[0], D[4], D[8], D[1]};
+        plume_plate_of_membrane(&mats[0], &phases[0]);
+        plume_plate_of_membrane(&mats[1], &phases[1]);
+        for (int c = 0; c < 2; c++) {
+            double moment, predicted;
+            CHECK(plume_bend_expected(D, 0.0, loads[c], 0.01, &moment, &predicted, &err) == PLUME_OK);
+            plume_mesh *planar = NULL, *mesh = NULL;
+            plume_problem *p = NULL;
+            double sm = NAN, sM = NAN;
+            if (plume_specimen_mesh(&l, lx, ly, 0.0, &planar, &err) == PLUME_OK &&
+                plume_shell_specimen(planar, mats, phases, 2, &mesh, &p, &err) == PLUME_OK)
+                sm = bend_stiffness(mesh, p, loads[c], lx, ly, moment, NULL);
+            plume_problem_destroy(&p);
+            plume_mesh_destroy(&mesh);
+            plume_mesh_destroy(&planar);
+            if (plume_plate_specimen(lx, ly, 0.0, lx / 20, &mats[0], &hom, &mesh, &p, &err) == PLUME_OK)
+                sM = bend_stiffness(mesh, p, loads[c], lx, ly, moment, NULL);
+            plume_problem_destroy(&p);
+            plume_mesh_destroy(&mesh);
+            diff[c][is] = fabs(sm / sM - 1.0);
+            fprintf(stderr, "    d_B = lx/%d, %s: micro %.5g, macro %.5g N m (%+.2f %%)\n", 2 << is,
+                    plume_bend_load_name(loads[c]), sm, sM, 100.0 * (sm / sM - 1.0));
+        }
+    }
+    for (int c = 0; c < 2; c++)
+        CHECK(diff[c][2] < diff[c][1] && diff[c][1] < diff[c][0]);
+    CHECK(diff[0][2] < 0.02);
+}
+
+/* Fitting bending moduli: curves of the plate test made with known moduli (bent at 0, 45 and 90
+ * deg and twisted) are given to the fitter with the plate model, which recovers them. */
+void test_plate_bending_fit_recovers_moduli(void)
+{
+    const double angles[4] = {0.0, 45.0, 90.0, 0.0};
+    const plume_bend_load loads[4] = {PLUME_BEND_CYLINDER, PLUME_BEND_CYLINDER, PLUME_BEND_CYLINDER, PLUME_BEND_TWIST};
+    const double moments[4] = {2e-6, 2e-7, 2e-7, 2e-7};
+    plume_plate_model pm = {0.01, 0.02, 0.0025, iso_plate, 4, angles, loads, moments, 1};
+    const plume_bending_material truth = {.D_long = 1e-4, .D_trans = 2e-5, .D_twist = 3e-6, .D_coupling = 8e-6};
+    plume_ortho t, start, fit;
+    plume_bend_pack(&truth, &t);
+    plume_curve targets[4] = {{0}};
+    plume_err err = {{0}};
+    for (int i = 0; i < 4; i++)
+        CHECK(plume_plate_model_curve(&pm, &t, i, &targets[i], &err) == PLUME_OK);
+    start = t;
+    start.E_xx *= 1.5, start.E_yy *= 0.6, start.G_xy *= 1.4, start.nu_xy = 0.1;
+    plume_fit_opts o;
+    plume_fit_opts_default(&o);
+    o.free_mask = PLUME_FIT_EXX | PLUME_FIT_EYY | PLUME_FIT_NU | PLUME_FIT_GXY;
+    o.xtol_rel = 1e-8;
+    plume_fit_report rep;
+    CHECK(plume_fit_moduli(plume_plate_model_curve, &pm, targets, 4, &start, &o, &fit, &rep, &err) == PLUME_OK);
+    plume_bending_material b;
+    plume_bend_unpack(&fit, &b);
+    fprintf(stderr, "    fit: D_long %.6g (1e-4), D_trans %.6g (2e-5), D_coupling %.6g (8e-6), D_twist %.6g (3e-6); "
+            "%d evaluations, residual %.2g, %s\n", b.D_long, b.D_trans, b.D_coupling, b.D_twist, rep.evaluations,
+            rep.residual, rep.stop);
+    CHECK_REL(b.D_long, truth.D_long, 1e-4, 0.0);
+    CHECK_REL(b.D_trans, truth.D_trans, 1e-4, 0.0);
+    CHECK_REL(b.D_coupling, truth.D_coupling, 1e-3, 0.0);
+    CHECK_REL(b.D_twist, truth.D_twist, 1e-4, 0.0);
+    for (int i = 0; i < 4; i++)
+        plume_curve_free(&targets[i]);
+}
+
+/* Bad input: each refused with a message naming the option; a moment that bends the specimen
+ * beyond the linear range is refused naming the moment; the curves round-trip through HDF5. */
+void test_plate_bending_bad_input(void)
+{
+    plume_bending_material b;
+    plume_plate_of_membrane(&iso_plate, &b);
+    plume_err err = {{0}};
+    plume_bend_opts o;
+    plume_bend_result r;
+    const char *why[] = {"moment must be finite and > 0", "moment must be finite and > 0", "steps", "end_strip",
+                         "window", "max_rotation", "beyond linear plate theory"};
+    for (int k = 0; k < 7; k++) {
+        plume_mesh *mesh = NULL;
+        plume_problem *p = NULL;
+        CHECK(plume_plate_specimen(0.01, 0.02, 0.0, 0.002, &iso_plate, &b, &mesh, &p, &err) == PLUME_OK);
+        plume_bend_opts_default(&o);
+        o.lx = 0.01, o.ly = 0.02, o.moment = 1e-6, o.steps = 1;
+        switch (k) {
+        case 0: o.moment = -1e-6; break;
+        case 1: o.moment = NAN; break;
+        case 2: o.steps = 0; break;
+        case 3: o.end_strip = 0.3; break;
+        case 4: o.window = 0.9; break;
+        case 5: o.max_rotation = 0.0; break;
+        default: o.moment = 1e-3; break; /* curvature ~ 100 1/m: 2 rad over the specimen */
+        }
+        const plume_status st = plume_bend_run(mesh, p, &o, &r, &err);
+        CHECK(st == (k == 6 ? PLUME_EINFEASIBLE : PLUME_EINVAL));
+        CHECK(strstr(err.msg, why[k]) != NULL);
+        if (!strstr(err.msg, why[k]))
+            fprintf(stderr, "    case %d: %s\n", k, err.msg);
+        plume_problem_destroy(&p);
+        plume_mesh_destroy(&mesh);
+    }
+    plume_bend_load k;
+    CHECK(plume_bend_load_parse("twist", &k) == PLUME_OK && k == PLUME_BEND_TWIST);
+    CHECK(plume_bend_load_parse("cylinder", &k) == PLUME_OK && k == PLUME_BEND_CYLINDER);
+    CHECK(plume_bend_load_parse("roll", &k) == PLUME_EINVAL);
+
+    /* the curves file */
+    char path[] = "/tmp/plume_bend_XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0);
+    close(fd);
+    unlink(path);
+    double a[3] = {0.0, 1.0, 2.0}, bm[3] = {0.0, 3.0, 6.0};
+    plume_bend_curve c = {3, a, bm, a, a, a, bm, a, a}, back;
+    const plume_param prm[1] = {{"D_long", 1e-4}};
+    CHECK(plume_bend_curve_write(path, "micro", "bend_0", &c, prm, 1, NULL, 0, &err) == PLUME_OK);
+    CHECK(plume_bend_curve_read(path, "micro", "bend_0", &back, &err) == PLUME_OK);
+    CHECK(back.n == 3 && back.moment[2] == 6.0 && back.curvature[1] == 1.0);
+    plume_bend_curve_free(&back);
+    CHECK(plume_bend_curve_read(path, "macro", "bend_0", &back, &err) == PLUME_EFORMAT && strstr(err.msg, "/curves/bending/macro/bend_0"));
+    unlink(path);
+}
