@@ -17,7 +17,7 @@ static const char usage[] =
     "usage: homogenize [options]\n"
     "Effective orthotropic moduli (E_xx along the barbs, E_yy, nu_xy, G_xy) of a vane microstructure,\n"
     "and its bending moduli (D_long along the barbs, D_trans, D_coupling, D_twist, in N m).\n"
-    "  --config FILE.json   layout keys (see README); flags given after it override it\n"
+    "  --config FILE.json   layout keys (docs/apps/homogenize.md); flags given after it override it\n"
     "  --layout strips|barbules   barb strips in a soft barbule matrix (default), or explicit barbules\n"
     "  --phi V              barb surface fraction w_B/d_B in (0, 1) (default 0.16)\n"
     "  --dB M | --wB M      barb spacing, or barb width (default d_B = 1e-3 m)\n"

@@ -21,7 +21,7 @@ struct plume_chol {
 };
 
 /* CHOLMOD factorises a permuted matrix by first transposing it into P M P^T (a pass over every
- * entry, 3-4 % of a traction run at 4e4 elements: README "Profile"); in its natural order and
+ * entry, 3-4 % of a traction run at 4e4 elements: docs/benchmarks.md); in its natural order and
  * lower form it factorises the matrix as given. So the pattern is analysed once with AMD and
  * METIS for the permutation P, and A is laid out as the lower triangle of P M P^T, each value of
  * M's upper triangle with its place in A (rows sorted within each column), then analysed again in

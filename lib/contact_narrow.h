@@ -136,7 +136,7 @@ typedef struct {
 enum { PLUME_CONTACT_PROJECT_EIGEN = 1, PLUME_CONTACT_PROJECT_GAUSS_NEWTON = 2 };
 
 /* Defaults: barrier, dhat = 1e-3 (IPC's 1e-3 of a unit scene: set it from the scene's size),
- * stiffness 1, Gauss-Newton blocks (why, with measurements: README "Contact", "Pair blocks"). */
+ * stiffness 1, Gauss-Newton blocks (why, with measurements: docs/theory-contact.md). */
 PLUME_API void plume_contact_opts_default(plume_contact_opts *o);
 
 /* Energy E of one point–triangle pair x = (p, t0, t1, t2): stiffness * phi(d) with phi the

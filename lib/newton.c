@@ -10,7 +10,7 @@
  *   H + dw I + J^T J / dcf on the Hessian's own pattern (edge constraints couple vertices that
  *   already share a triangle), factorised by CHOLMOD's supernodal LL^T; lam_new is recovered as
  *   lam + (J du + g) / dcf. With kkt_refine, dcf = 1e3 dc and iterative refinement solves the dc
- *   system (kkt_solve_j). Same iterates as LDL^T in our tests, 2-3x faster factorisations.
+ *   system (kkt_solve_j). Same iterates as LDL^T in our tests, faster factorisations (docs/theory-constraints.md).
  * - PLUME_KKT_LDL: the quasi-definite matrix itself, whose LDL^T without pivoting exists for any
  *   ordering, by CHOLMOD's simplicial LDL^T.
  * Either way the symbolic analysis is done once. Globalisation: Ipopt's filter line search
@@ -590,7 +590,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
          * on Newton steps). In Newton's quadratic regime e' = C e^2 with steps s ~ e, so the two
          * last full Newton steps of this solve give C ~ s_f / s_{f-1}^2, and a chord step at
          * x_f + s_f with x_f's matrix contracts by about C s_f = (s_f / s_{f-1})^2. Measured
-         * (README "Chord steps"): tried whenever a factorisation was valid they mostly failed
+         * (docs/theory-constraints.md): tried whenever a factorisation was valid they mostly failed
          * their rate test early in a load step, where the residual lags the error. */
         double chord_rho = s->chord_prev > 0.0 ? (s->chord_last / s->chord_prev) * (s->chord_last / s->chord_prev) : INFINITY;
         int chord = s->o.reuse_factorization && s->factor_valid && !s->single_step && !s->limits && !s->o.trust_region &&
@@ -689,7 +689,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                 if ((st = merit_at(s, s->ut, mu, &phi, &ft, ls == 0 || curved)) != PLUME_OK)
                     return st;
                 if (filter) {
-                    /* filter line search; a step below 2^-30 falls back to the merit function,
+                    /* filter line search; a step below 2^-29 falls back to the merit function,
                      * in place of Ipopt's restoration phase */
                     double theta_t = l1norm(s->gt, m);
                     /* a full step whose change of f is at round-off level and that does not raise

@@ -1,6 +1,6 @@
 /* plume: the native solver — Newton (no constraints) or SQP on the regularised KKT system
- * (constraints), CHOLMOD factorisations, filter or merit line search (lib/newton.c, README "How
- * constraints are solved"). `linearized` is the same machinery limited to one full step. */
+ * (constraints), CHOLMOD factorisations, filter or merit line search (lib/newton.c,
+ * docs/theory-constraints.md). `linearized` is the same machinery limited to one full step. */
 #ifndef PLUME_NEWTON_H
 #define PLUME_NEWTON_H
 

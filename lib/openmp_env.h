@@ -5,7 +5,7 @@
  * one supernode at a time; OMP_NUM_THREADS cannot lower a num_threads clause. On 2-core machines
  * those 4-thread teams wake and park for every supernode, and OpenBLAS's second thread spins
  * between the supernodes' small BLAS calls. Serial regions and one BLAS thread give the same
- * iterates in less time (measurements: README "Threads").
+ * iterates in less time (measurements: docs/library.md "Threads").
  *
  * The library never changes a process-wide setting by itself: the apps, tests and benchmarks call
  * this at start, and so may any program that links libplume. It uses OpenMP's own API only. */

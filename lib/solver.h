@@ -102,15 +102,15 @@ typedef struct {
     double inertia_max_shift; /* the largest shift tried, relative to the largest Hessian diagonal,
                               before falling back to the projected Hessian; default 1 */
     plume_kkt_mode kkt;    /* newton with constraints; default PLUME_KKT_ELIMINATE (the same
-                              iterates as LDL^T, faster factorisations: README "How constraints
-                              are solved" and "Measured") */
+                              iterates as LDL^T, faster factorisations:
+                              docs/theory-constraints.md) */
     plume_line_search line_search; /* newton with constraints; default PLUME_LS_FILTER */
     int reuse_factorization; /* newton: chord steps (the last factorisation of this solve) in
                                 the end game, where the last two Newton steps predict a contraction
                                 below 1e-2 a step; each must cut the KKT residual by reuse_rate
                                 (else it is undone and the iteration refactorises), and they stop
                                 once their rate predicts more than 4 to converge; default 1
-                                (README "Chord steps") */
+                                (docs/theory-constraints.md) */
     double reuse_rate;     /* default 0.25 */
     int kkt_refine;        /* newton, eliminated KKT: factorise with a 1e3 times larger multiplier
                               regularisation and refine the solution iteratively against the

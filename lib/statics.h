@@ -22,7 +22,7 @@ typedef enum {
                                 increment (first-order continuation; from the second increment on). Its
                                 error is O(increment^2) where the last equilibrium's is O(increment): on
                                 the shell benchmarks it takes 35-56 % fewer Newton iterations to the same
-                                equilibria (README "Measured"). A solve that fails from it is retried from
+                                equilibria (docs/benchmarks.md). A solve that fails from it is retried from
                                 the last equilibrium before the increment is cut */
 } plume_predictor;
 

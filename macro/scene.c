@@ -1,4 +1,4 @@
-/* plume: reading and validating a shell scene from JSON (format in scene.h and README.md): the
+/* plume: reading and validating a shell scene from JSON (format in docs/scene-format.md): the
  * document's order and ownership here; its settings (scene_settings.c), materials
  * (scene_materials.c), mesh (scene_mesh.c) or objects (scene_objects.c), handles
  * (scene_handles.c), static part (scene_loads.c) and contact block (scene_contact.c) in their

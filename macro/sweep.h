@@ -54,8 +54,8 @@ PLUME_API plume_status plume_sweep_request(const plume_sweep *s, int k, char **r
 
 /* Executes run k and returns its record as a JSON text (malloc'ed): {"run": k, "values": {...},
  * "outcome": "converged" | the solver's stop reason | "error", "message": plume's message (errors),
- * "result": the job's result (macro/flat.h; a scene's: macro/internal/sweep_scene.h, and README
- * "apps/sweep")}. A run that fails is a record, not an error: NULL only when memory runs out. A
+ * "result": the job's result (macro/flat.h; a scene's: macro/internal/sweep_scene.h, and
+ * docs/apps/sweep.md)}. A run that fails is a record, not an error: NULL only when memory runs out. A
  * scene run whose step does not converge at the smallest step has that solver's reason as its
  * outcome and keeps the steps done. */
 PLUME_API char *plume_sweep_execute(const plume_sweep *s, int k);

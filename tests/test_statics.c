@@ -390,7 +390,7 @@ void test_statics_benchmarks(void)
  * under a conservative end moment the planar circle of a 3D strip is unstable (the smallest
  * eigenvalue of the unsupported Hessian at the planar equilibrium changes sign between
  * M/M_max 0.95 and 1 on the 0.25 grid), and without the support the tip drifts sideways and the
- * load step fails near 0.9 (README, apps/shell). Within 1 % at the finer mesh and falling, on a
+ * load step fails near 0.9 (docs/benchmarks.md). Within 1 % at the finer mesh and falling, on a
  * grid and on Delaunay meshes; the finest meshes (0.0625: 0.117 % grid, 0.069 % Delaunay) take
  * 19 and 57 s, so they stay out of the suite. */
 void test_statics_rollup(void)
@@ -503,7 +503,7 @@ done:
 }
 
 /* The secant predictor reaches the same equilibria as starting from the last one, in fewer Newton
- * iterations (measured 35-56 % fewer on the shell benchmarks: README "Measured"). */
+ * iterations (measured 35-56 % fewer on the shell benchmarks: docs/benchmarks.md). */
 void test_statics_predictor(void)
 {
     static const char *const files[] = {"../data/benchmarks/cantilever_shear.json",
