@@ -63,14 +63,15 @@ $(BUILD)/$(SOFILE): $(LIB_OBJ) lib/libplume.map
 $(BUILD)/libplume.so: $(BUILD)/$(SOFILE)
 	ln -sf $(SOFILE) $@
 
-apps/%: apps/%.c $(BUILD)/libplume.a $(HEADERS)
+APP_HEADERS := $(wildcard apps/*.h)
+apps/%: apps/%.c $(BUILD)/libplume.a $(HEADERS) $(APP_HEADERS)
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(BUILD)/libplume.a $(LDFLAGS) $(LDLIBS)
 
 # the sweep, the fit and the study are built with MPI when OpenMPI's compiler wrapper is there (scripts/install-deps.sh
 # --mpi installs it), serial otherwise; the library never needs MPI. -lmpi comes first: Ipopt's
 # sequential MUMPS (libdmumps_seq) exports a stub MPI_Init that would otherwise be the one called
 MPICC := $(shell command -v mpicc 2>/dev/null)
-apps/sweep apps/fit apps/study: apps/%: apps/%.c apps/schedule.h $(BUILD)/libplume.a $(HEADERS)
+apps/sweep apps/fit apps/study: apps/%: apps/%.c $(BUILD)/libplume.a $(HEADERS) $(APP_HEADERS)
 	$(if $(MPICC),$(MPICC) -DPLUME_MPI,$(CC)) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(if $(MPICC),-lmpi) $(BUILD)/libplume.a \
 	    $(LDFLAGS) $(LDLIBS)
 

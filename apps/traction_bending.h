@@ -135,10 +135,17 @@ static int run_bending(const bending_cli *c, const plume_layout *layout, int wan
         printf("{\"load\": \"%s\", \"angle_deg\": %g, \"moment\": %.10g, \"predicted_stiffness\": %.10g, "
                "\"micro_stiffness\": %.10g, \"macro_stiffness\": %.10g}\n", c->load, c->angle, bo.moment, stiff_pred,
                want_micro ? sm : -1.0, want_macro ? sM : -1.0);
-    else
-        printf("bending %s: m = %.6g N m/m; m/kappa: micro %.6g, macro %.6g, plate theory %.6g N m%s%.2f %%\n", scenario,
-               bo.moment, sm, sM, stiff_pred, want_micro && want_macro ? "; micro - macro " : "",
-               want_micro && want_macro ? 100.0 * (sm / sM - 1.0) : 0.0);
+    else {
+        printf("bending %s: m = %.6g N m/m; m/kappa (N m):", scenario, bo.moment);
+        if (want_micro)
+            printf(" micro %.6g,", sm);
+        if (want_macro)
+            printf(" macro %.6g,", sM);
+        printf(" plate theory %.6g", stiff_pred);
+        if (want_micro && want_macro)
+            printf("; micro - macro %.2f %%", 100.0 * (sm / sM - 1.0));
+        printf("\n");
+    }
     return 0;
 }
 
