@@ -70,6 +70,7 @@ apps/%: apps/%.c $(BUILD)/libplume.a $(HEADERS)
 # --mpi installs it), serial otherwise; the library never needs MPI. -lmpi comes first: Ipopt's
 # sequential MUMPS (libdmumps_seq) exports a stub MPI_Init that would otherwise be the one called
 MPICC := $(shell command -v mpicc 2>/dev/null)
+apps/fit: apps/fit_bending.h
 apps/sweep apps/fit apps/study: apps/%: apps/%.c apps/schedule.h $(BUILD)/libplume.a $(HEADERS)
 	$(if $(MPICC),$(MPICC) -DPLUME_MPI,$(CC)) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(if $(MPICC),-lmpi) $(BUILD)/libplume.a \
 	    $(LDFLAGS) $(LDLIBS)
