@@ -1,5 +1,7 @@
 /* apps/fit — macroscale moduli fitted to traction curves (microscale ones from apps/traction
- * --model micro, or measured ones as text files) with NLopt: the paper's protocol. */
+ * --model micro, or measured ones as text files) with NLopt: the paper's protocol. With --bending,
+ * the plate's bending moduli fitted the same way to the bending curves of apps/traction --bending
+ * (docs/bending-homogenisation.md, "Fitting bending moduli"). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -7,6 +9,7 @@
 #include <jansson.h>
 
 #include "../lib/plume.h"
+#include "../macro/plate_bending.h"
 #include "../macro/traction_model.h"
 #include "../micro/fit.h"
 #include "cli.h"
@@ -33,18 +36,58 @@ static const char usage[] =
     "  -o FILE.h5           write /moduli (fitted) and /curves/fit/<i>/... model curves\n"
     "  --plot FILE.png      targets and fitted model curves\n"
     "  --json               print the fitted moduli, residual, evaluations, seconds\n"
+    "Bending (docs/bending-homogenisation.md):\n"
+    "  --bending FILE.h5[:SCALE]  fit the plate's bending moduli to every bending curve of the file, the\n"
+    "                       groups /curves/bending/SCALE/<LOAD>_<angle> of apps/traction --bending -o\n"
+    "                       (SCALE micro by default); repeat for more files. The sample (lx, ly), the\n"
+    "                       barb angle and the load are the curves' own; the model is the homogeneous plate\n"
+    "                       test (linearized) on a mesh of --edge (default min(lx, ly)/20, as traction's)\n"
+    "  --D-long --D-trans --D-coupling --D-twist NM   start values and the fixed ones (N m; default the\n"
+    "                       homogenised D the curves record)\n"
+    "  --free LIST          from D_long,D_trans,D_coupling,D_twist (default all four); a fit needs at least\n"
+    "                       as many distinct curves (load and angle) as free moduli\n"
+    "  --max-eval, --starts, --edge, -o, --json as above; -o writes /moduli with the fitted D as attributes\n"
+    "                       D_long, D_trans, D_coupling, D_twist (D_16 = D_26 = 0) for a scene's\n"
+    "                       \"from_moduli\"; its E_xx..G_xy are the model plate's membrane, not fitted.\n"
+    "                       The membrane-only flags (--target, --angle, --lx, --ly, --thickness, --Exx,\n"
+    "                       --Eyy, --Gxy, --nu, --constraint, --steps, --plot) are refused with --bending\n"
     "  --help\n";
+
+#define MAX_BEND_FILES 8
 
 /* the flags */
 typedef struct {
     const char *targets[MAX_TARGETS];
     double angles[MAX_TARGETS];
-    int nt, json, constraint, steps, max_eval, starts;
+    int nt, json, constraint, steps, max_eval, starts, free_set;
     double lx, ly, h, edge, angle;
     plume_ortho start;
     const char *out, *plot, *free_list;
     plume_fit_opts fo;
+    /* --bending: the files; start D (D_long, D_trans, D_coupling, D_twist) and which were given;
+     * the last membrane-only and bending-only flags seen (to refuse a mix) */
+    const char *bend_files[MAX_BEND_FILES];
+    int nb;
+    double D_start[4];
+    int D_set[4];
+    const char *membrane_flag, *bend_flag;
 } options;
+
+static const char *const bend_moduli[4] = {"D_long", "D_trans", "D_coupling", "D_twist"};
+static const char *const bend_flags[4] = {"--D-long", "--D-trans", "--D-coupling", "--D-twist"};
+/* the fitter's slot of each (plume_bend_pack): E_xx, E_yy, nu_xy, G_xy */
+static const unsigned bend_bits[4] = {PLUME_FIT_EXX, PLUME_FIT_EYY, PLUME_FIT_NU, PLUME_FIT_GXY};
+
+/* whether a is a flag of the membrane fit only */
+static int membrane_only(const char *a)
+{
+    static const char *const f[] = {"--target", "--angle", "--lx", "--ly", "--thickness", "--Exx", "--Eyy", "--Gxy",
+                                    "--nu", "--constraint", "--steps", "--plot", NULL};
+    for (int k = 0; f[k]; k++)
+        if (strcmp(a, f[k]) == 0)
+            return 1;
+    return 0;
+}
 
 /* Parses argv into o (defaults first). 0, CLI_HELP after --help, or the exit code of bad input. */
 static int parse_args(int argc, char **argv, options *o)
@@ -68,7 +111,21 @@ static int parse_args(int argc, char **argv, options *o)
         if (!v)
             return cli_fail(APP, "%s needs a value (see --help)", a);
         i++;
-        if (strcmp(a, "--target") == 0) {
+        if (membrane_only(a))
+            o->membrane_flag = a;
+        int bk = -1;
+        for (int k = 0; k < 4; k++)
+            if (strcmp(a, bend_flags[k]) == 0)
+                bk = k;
+        if (bk >= 0) {
+            o->bend_flag = a;
+            r = cli_double(APP, a, v, &o->D_start[bk]);
+            o->D_set[bk] = 1;
+        } else if (strcmp(a, "--bending") == 0) {
+            if (o->nb == MAX_BEND_FILES)
+                return cli_fail(APP, "at most %d --bending files", MAX_BEND_FILES);
+            o->bend_files[o->nb++] = v;
+        } else if (strcmp(a, "--target") == 0) {
             if (o->nt == MAX_TARGETS)
                 return cli_fail(APP, "at most %d targets", MAX_TARGETS);
             o->targets[o->nt] = v;
@@ -92,7 +149,7 @@ static int parse_args(int argc, char **argv, options *o)
             if (!r && (o->starts < 1 || o->starts > 10000))
                 return cli_fail(APP, "--starts must be in [1, 10000] (got %d)", o->starts);
         }
-        else if (strcmp(a, "--free") == 0) o->free_list = v;
+        else if (strcmp(a, "--free") == 0) o->free_list = v, o->free_set = 1;
         else if (strcmp(a, "--constraint") == 0) {
             if (strcmp(v, "on") && strcmp(v, "off"))
                 return cli_fail(APP, "--constraint expects on|off (got '%s')", v);
@@ -104,8 +161,37 @@ static int parse_args(int argc, char **argv, options *o)
         if (r)
             return r;
     }
+    if (o->nb > 0 && o->membrane_flag)
+        return cli_fail(APP, "--bending cannot be combined with %s (a flag of the membrane fit; the bending "
+                        "curves give the sample, angles and loads)", o->membrane_flag);
+    if (o->nb == 0 && o->bend_flag)
+        return cli_fail(APP, "%s is a start value of a bending fit: it needs --bending FILE.h5", o->bend_flag);
+    if (o->nb > 0) {
+        plume_fit_opts_default(&o->fo);
+        o->fo.max_eval = o->max_eval;
+        o->fo.free_mask = 0;
+        for (int k = 0; k < 4; k++)
+            if (o->D_set[k] && !(isfinite(o->D_start[k]) && (k == 2 || o->D_start[k] > 0.0)))
+                return cli_fail(APP, "%s must be finite%s (got %g N m)", bend_flags[k], k == 2 ? "" : " and > 0",
+                                o->D_start[k]);
+        char list[128];
+        snprintf(list, sizeof list, "%s", o->free_set ? o->free_list : "D_long,D_trans,D_coupling,D_twist");
+        char *save = NULL;
+        for (char *tok = strtok_r(list, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+            int k = 0;
+            while (k < 4 && strcmp(tok, bend_moduli[k]))
+                k++;
+            if (k == 4)
+                return cli_fail(APP, "--free: '%s' is not a bending modulus (D_long, D_trans, D_coupling, D_twist)",
+                                tok);
+            o->fo.free_mask |= bend_bits[k];
+        }
+        if (!o->fo.free_mask)
+            return cli_fail(APP, "--free names no modulus");
+        return 0;
+    }
     if (o->nt == 0)
-        return cli_fail(APP, "no --target given (see --help)");
+        return cli_fail(APP, "no --target given (see --help; --bending FILE.h5 fits bending moduli)");
     if (!(o->lx > 0 && o->ly > 0 && o->h > 0))
         return cli_fail(APP, "--lx, --ly and --thickness must be > 0 (got %g, %g, %g)", o->lx, o->ly, o->h);
     plume_fit_opts_default(&o->fo);
@@ -129,7 +215,9 @@ static int parse_args(int argc, char **argv, options *o)
 
 /* --starts: the K fits, as runs of apps/schedule.h */
 typedef struct {
-    plume_macro_model *mm;
+    plume_fit_model model;
+    void *mm;
+    int bending; /* the slots hold bending moduli (plume_bend_pack): labels only */
     const plume_curve *curves;
     int nt;
     plume_ortho start;
@@ -176,7 +264,7 @@ static char *fit_start(void *vctx, int k)
     plume_fit_report rep;
     plume_err err = {{0}};
     json_t *j;
-    if (plume_fit_moduli(plume_macro_model_curve, c->mm, c->curves, c->nt, &s, &c->fo, &fit, &rep, &err) == PLUME_OK)
+    if (plume_fit_moduli(c->model, c->mm, c->curves, c->nt, &s, &c->fo, &fit, &rep, &err) == PLUME_OK)
         j = json_pack("{s:f, s:f, s:f, s:f, s:f, s:i, s:s, s:f, s:f, s:f}", "E_xx", fit.E_xx, "E_yy", fit.E_yy, "nu_xy",
                       fit.nu_xy, "G_xy", fit.G_xy, "residual", rep.residual, "evaluations", rep.evaluations, "stop",
                       rep.stop, "seconds", rep.seconds, "start_E_yy", s.E_yy, "start_G_xy", s.G_xy);
@@ -198,7 +286,8 @@ static int keep_start(void *vctx, int k, const char *record)
         fprintf(stderr, "%s: start %d: %s\n", APP, k, json_string_value(json_object_get(j, "error")));
     } else {
         double r = json_real_value(json_object_get(j, "residual"));
-        fprintf(stderr, "%s: start %d (E_yy %.4g, G_xy %.4g): E_yy %.6g, G_xy %.6g Pa, misfit %.3g\n", APP, k,
+        fprintf(stderr, c->bending ? "%s: start %d (D_trans %.4g, D_twist %.4g): D_trans %.6g, D_twist %.6g N m, misfit %.3g\n"
+                                   : "%s: start %d (E_yy %.4g, G_xy %.4g): E_yy %.6g, G_xy %.6g Pa, misfit %.3g\n", APP, k,
                 json_real_value(json_object_get(j, "start_E_yy")), json_real_value(json_object_get(j, "start_G_xy")),
                 json_real_value(json_object_get(j, "E_yy")), json_real_value(json_object_get(j, "G_xy")), r);
         /* the smallest misfit; ties to the lowest start, so the answer does not depend on the ranks */
@@ -219,6 +308,8 @@ static int keep_start(void *vctx, int k, const char *record)
     return 0;
 }
 
+#include "fit_bending.h"
+
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
@@ -237,6 +328,11 @@ int main(int argc, char **argv)
     if (schedule_share(bad_out)) {
         schedule_finalize();
         return 2;
+    }
+    if (o.nb > 0) {
+        int rc = run_bending_fit(&o, rank, size);
+        schedule_finalize();
+        return rc;
     }
     const char *const *targets = o.targets;
     double *angles = o.angles;
@@ -281,7 +377,7 @@ int main(int argc, char **argv)
     plume_fit_report rep;
     rc = schedule_share(rc);
     if (rc == 0 && (o.starts > 1 || size > 1)) { /* K fits over the ranks, the best kept */
-        starts_ctx c = {&mm, curves, nt, start, fo, -1, 0, {0, 0, 0, 0}, {0}, INFINITY};
+        starts_ctx c = {plume_macro_model_curve, &mm, 0, curves, nt, start, fo, -1, 0, {0, 0, 0, 0}, {0}, INFINITY};
         int *todo = malloc((size_t)o.starts * sizeof *todo);
         for (int k = 0; k < o.starts; k++)
             todo[k] = k;

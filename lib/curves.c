@@ -598,6 +598,139 @@ void plume_bend_curve_free(plume_bend_curve *curve)
     memset(curve, 0, sizeof *curve);
 }
 
+/* The bending curves' group of a scale: "/curves/bending/<scale>" in buf (size 640). */
+static int bend_scale_path(const char *path, const char *scale, char *buf, plume_err *err)
+{
+    if (!path || !*path) {
+        plume_err_set(err, PLUME_EINVAL, "curves file: empty path");
+        return 1;
+    }
+    if (bad_names(path, scale, "x", err))
+        return 1;
+    snprintf(buf, 640, "/curves/bending/%s", scale);
+    return 0;
+}
+
+plume_status plume_bend_curve_names(const char *path, const char *scale, char ***names, int *n, plume_err *err)
+{
+    if (!names || !n)
+        return plume_err_set(err, PLUME_EINVAL, "curves file: no output given");
+    *names = NULL, *n = 0;
+    char gpath[640];
+    if (bend_scale_path(path, scale, gpath, err))
+        return PLUME_EINVAL;
+    plume_status s = PLUME_OK;
+    hid_t fid = H5I_INVALID_HID, g = H5I_INVALID_HID;
+    h5_detail d;
+    h5_quiet q;
+    quiet_begin(&q);
+    char **out = NULL;
+    int count = 0;
+    if ((s = open_for_read(path, "curves file", &fid, err)) != PLUME_OK)
+        goto cleanup;
+    H5G_info_t info;
+    if (path_exists(fid, gpath) != 1 || (g = H5Gopen2(fid, gpath, H5P_DEFAULT)) < 0 || H5Gget_info(g, &info) < 0 ||
+        info.nlinks == 0) {
+        s = plume_err_set(err, PLUME_EFORMAT, "curves file '%s': no bending curves (no %s group or an empty one; "
+                          "apps/traction --bending LOAD -o writes them)", path, gpath);
+        goto cleanup;
+    }
+    if (info.nlinks > 100000) {
+        s = plume_err_set(err, PLUME_EFORMAT, "curves file '%s': %s has %llu entries", path, gpath,
+                          (unsigned long long)info.nlinks);
+        goto cleanup;
+    }
+    out = calloc((size_t)info.nlinks, sizeof *out);
+    if (!out) {
+        s = plume_err_set(err, PLUME_ENOMEM, "curves file '%s': out of memory", path);
+        goto cleanup;
+    }
+    for (hsize_t i = 0; i < info.nlinks; i++) {
+        ssize_t len = H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, i, NULL, 0, H5P_DEFAULT);
+        if (len < 0) {
+            s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot list %s (HDF5: %s)", path, gpath, h5_cause(&d));
+            goto cleanup;
+        }
+        if (!(out[count] = malloc((size_t)len + 1))) {
+            s = plume_err_set(err, PLUME_ENOMEM, "curves file '%s': out of memory", path);
+            goto cleanup;
+        }
+        H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, i, out[count], (size_t)len + 1, H5P_DEFAULT);
+        count++;
+    }
+    *names = out, *n = count;
+    out = NULL;
+cleanup:
+    if (out)
+        plume_bend_curve_names_free(out, count);
+    if (g >= 0)
+        H5Gclose(g);
+    if (fid >= 0)
+        H5Fclose(fid);
+    quiet_end(&q);
+    return s;
+}
+
+void plume_bend_curve_names_free(char **names, int n)
+{
+    for (int i = 0; names && i < n; i++)
+        free(names[i]);
+    free(names);
+}
+
+plume_status plume_bend_curve_param(const char *path, const char *scale, const char *scenario, const char *name,
+                                    double *value, plume_err *err)
+{
+    if (!name || !value)
+        return plume_err_set(err, PLUME_EINVAL, "curves file: no parameter or output given");
+    if (!path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "curves file: empty path");
+    if (bad_names(path, scale, scenario, err))
+        return PLUME_EINVAL;
+    char gpath[640];
+    snprintf(gpath, sizeof gpath, "/curves/bending/%s/%s", scale, scenario);
+    plume_status s = PLUME_OK;
+    hid_t fid = H5I_INVALID_HID, g = H5I_INVALID_HID, a = H5I_INVALID_HID, sp = H5I_INVALID_HID,
+          ty = H5I_INVALID_HID;
+    h5_detail d;
+    h5_quiet q;
+    quiet_begin(&q);
+    if ((s = open_for_read(path, "curves file", &fid, err)) != PLUME_OK)
+        goto cleanup;
+    if (path_exists(fid, gpath) != 1 || (g = H5Gopen2(fid, gpath, H5P_DEFAULT)) < 0) {
+        s = plume_err_set(err, PLUME_EFORMAT, "curves file '%s': no %s group", path, gpath);
+        goto cleanup;
+    }
+    if (H5Aexists(g, name) <= 0 || (a = H5Aopen(g, name, H5P_DEFAULT)) < 0) {
+        s = plume_err_set(err, PLUME_EFORMAT, "curves file '%s': %s has no attribute %s", path, gpath, name);
+        goto cleanup;
+    }
+    sp = H5Aget_space(a);
+    ty = H5Aget_type(a);
+    H5T_class_t cls = ty < 0 ? H5T_NO_CLASS : H5Tget_class(ty);
+    if (sp < 0 || H5Sget_simple_extent_npoints(sp) != 1 || (cls != H5T_FLOAT && cls != H5T_INTEGER)) {
+        s = plume_err_set(err, PLUME_EFORMAT, "curves file '%s': attribute %s of %s is not a single number", path,
+                          name, gpath);
+        goto cleanup;
+    }
+    if (H5Aread(a, H5T_NATIVE_DOUBLE, value) < 0)
+        s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot read attribute %s of %s (HDF5: %s)", path, name,
+                          gpath, h5_cause(&d));
+cleanup:
+    if (ty >= 0)
+        H5Tclose(ty);
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (a >= 0)
+        H5Aclose(a);
+    if (g >= 0)
+        H5Gclose(g);
+    if (fid >= 0)
+        H5Fclose(fid);
+    quiet_end(&q);
+    return s;
+}
+
 /* ------------------------------------------------------------------------- moduli ---- */
 
 static const char *const moduli_names[4] = {"E_xx", "E_yy", "nu_xy", "G_xy"};

@@ -71,6 +71,21 @@ PLUME_API plume_status plume_bend_curve_read(const char *path, const char *scale
                                              plume_bend_curve *curve, plume_err *err);
 PLUME_API void plume_bend_curve_free(plume_bend_curve *curve);
 
+/* The names of the bending curves of one scale in a curves file (the groups under
+ * /curves/bending/<scale>, in HDF5's name order): *names an array of *n malloc'ed strings, freed by
+ * plume_bend_curve_names_free. PLUME_EIO (unreadable file), PLUME_EFORMAT (not HDF5, or no such
+ * curve: the message names the file and /curves/bending/<scale>), PLUME_ENOMEM. */
+PLUME_API plume_status plume_bend_curve_names(const char *path, const char *scale, char ***names, int *n,
+                                              plume_err *err);
+PLUME_API void plume_bend_curve_names_free(char **names, int n);
+
+/* One numeric parameter (attribute) of the bending curve /curves/bending/<scale>/<scenario>, as
+ * apps/traction --bending writes them (lx, ly, angle_deg, D_long, ...), into *value, unchecked.
+ * PLUME_EIO, PLUME_EFORMAT (no such curve, attribute missing or not one number; the message names
+ * the file, the group and the attribute). */
+PLUME_API plume_status plume_bend_curve_param(const char *path, const char *scale, const char *scenario,
+                                              const char *name, double *value, plume_err *err);
+
 /* /moduli with attributes E_xx, E_yy, nu_xy, G_xy and a string attribute "provenance". */
 PLUME_API plume_status plume_moduli_write(const char *path, const plume_ortho *m, const char *provenance,
                                           plume_err *err);

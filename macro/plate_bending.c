@@ -523,6 +523,7 @@ plume_status plume_plate_model_curve(void *ctx, const plume_ortho *m, int icurve
         o.lx = pm->lx, o.ly = pm->ly;
         o.moment = pm->moments[icurve];
         o.steps = pm->steps;
+        o.solver = pm->solver;
         st = plume_bend_run(mesh, p, &o, &r, err);
         if (st == PLUME_OK && !r.converged)
             st = plume_err_set(err, PLUME_EINFEASIBLE, "plate model: curve %d did not converge", icurve);

@@ -126,6 +126,9 @@ typedef struct {
     const plume_bend_load *loads;     /* [ncurves] */
     const double *moments;            /* [ncurves] final moment per unit width (N m / m) */
     int steps;                        /* curve points after the rest state */
+    plume_solver_kind solver;         /* the test's solver; 0 is newton (apps/traction --bending and
+                                         apps/fit --bending use linearized, where the membrane does not
+                                         enter) */
 } plume_plate_model;
 
 /* plume_fit_model for the plate: runs curve icurve of ctx (a plume_plate_model) with the bending

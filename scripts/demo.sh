@@ -7,7 +7,8 @@
 #  3. fit the macro moduli (E_yy, G_xy, barbs inextensible) to the micro curves with NLopt;
 #  4. the macroscale vane of supplementary Table 4 (E_xx/E_yy = 1e4) with the native solver and
 #     with Ipopt, the penalty alternative, and sample T01 of Table 1;
-#  5. the whole feather in 3D (apps/feather, supplementary Figure 12) for 0.5 s;
+#  5. the whole feather in 3D (apps/feather, supplementary Figure 12) for 0.5 s, with the hand-set
+#     bending of Table 3 (a) and with bending homogenised from explicit barbules;
 #  6. a wing of 12 feathers on a flapping bone, in contact that never interpenetrates (~80 s).
 # Everything lands in out/: one HDF5 file (out/plume.h5) and PNG+SVG charts.
 # PLUME_DEMO_QUICK=1 runs every step but simulates the feather for 0.05 s and the wing for one
@@ -39,6 +40,8 @@ run ./apps/traction --scenario tilted --edge 0.02 --steps 10 --constraint off --
 run ./apps/traction --sample T01 --edge 0.0005 --steps 10 -o out/table4.h5 --plot out/transverse_T01.png --quiet
 echo "== 5. the whole feather (supplementary Figure 12): rachis held at its base, tip pulled; 0.5 s"
 run ./apps/feather data/feather/scene_anisotropic.json -o out/feather "${feather_time[@]}" --quiet
+echo "   the same feather with the vane's bending homogenised from explicit barbules (data/layout_barbules_table3a.json)"
+run ./apps/feather data/feather/scene_anisotropic_homogenised.json -o out/feather_homogenised "${feather_time[@]}" --quiet
 echo "== 6. a wing: 12 overlapping feathers on a flapping bone, barrier contact + CCD (Table 3 (b)); ~80 s"
 run ./apps/feather data/bird/wing.json -o out/wing "${wing_time[@]}" --quiet
 echo "plume demo: outputs in out/, out/feather/ and out/wing/ (VTK series, frames.h5, PNG renders)"

@@ -740,3 +740,35 @@ void test_feather_app_curvature_range(void)
     }
     rm_rf(dir);
 }
+
+/* data/feather/scene_anisotropic_homogenised.json: the vane's bending read from the moduli that
+ * apps/homogenize writes for data/layout_barbules_table3a.json (make writes the file beside the
+ * scene; here a copy of the scene and its mesh inputs in a scratch directory gets its own). Its
+ * D_long and D_trans are Table 3 (a)'s to 1 %, its D_16 and D_26 small enough to be taken as is. */
+void test_feather_app_homogenised_scene(void)
+{
+    char dir[] = "/tmp/plume-feather-hom-XXXXXX";
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    char cmd[1024], out[4096], errs[4096];
+    snprintf(cmd, sizeof cmd, "cp ../data/feather/scene_anisotropic_homogenised.json ../data/feather/feather_shape.json "
+             "../data/feather/outline.obj %s/", dir);
+    CHECK(system(cmd) == 0);
+    snprintf(cmd, sizeof cmd, "--config ../data/layout_barbules_table3a.json -o %s/moduli_table3a.h5", dir);
+    CHECK(app_run(dir, "homogenize", cmd, out, sizeof out, errs, sizeof errs) == 0);
+    snprintf(cmd, sizeof cmd, "%s/scene_anisotropic_homogenised.json", dir);
+    plume_scene *s = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_scene_load(cmd, &s, &err) == PLUME_OK);
+    if (s) {
+        CHECK_REL(s->mats[0].bending.D_long, 2.5e-4, 0.01, 0.0);
+        CHECK_REL(s->mats[0].bending.D_trans, 1e-7, 0.01, 0.0);
+        CHECK(s->mats[0].bending.D_twist > 0.0 && s->mats[0].constraint && s->nmat == 2);
+    } else {
+        fprintf(stderr, "    %s\n", err.msg);
+    }
+    plume_scene_destroy(&s);
+    rm_rf(dir);
+}

@@ -147,7 +147,7 @@ void test_plate_bending_fit_recovers_moduli(void)
     const double angles[4] = {0.0, 45.0, 90.0, 0.0};
     const plume_bend_load loads[4] = {PLUME_BEND_CYLINDER, PLUME_BEND_CYLINDER, PLUME_BEND_CYLINDER, PLUME_BEND_TWIST};
     const double moments[4] = {2e-6, 2e-7, 2e-7, 2e-7};
-    plume_plate_model pm = {0.01, 0.02, 0.0025, iso_plate, 4, angles, loads, moments, 1};
+    plume_plate_model pm = {0.01, 0.02, 0.0025, iso_plate, 4, angles, loads, moments, 1, PLUME_SOLVER_NEWTON};
     const plume_bending_material truth = {.D_long = 1e-4, .D_trans = 2e-5, .D_twist = 3e-6, .D_coupling = 8e-6};
     plume_ortho t, start, fit;
     plume_bend_pack(&truth, &t);
