@@ -12,31 +12,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "../lib/fs.h"
+
 /* What an app's parse_args returns after printing --help (main then exits 0): a flag parser
  * never exits by itself, so it can be fuzzed (tests/fuzz/fuzz_cli_*.c). */
 #define CLI_HELP (-1)
-
-/* mkdir -p: 0, or -1 with errno set (ENOTDIR when the path names something else) */
-static inline int cli_make_dirs(const char *path)
-{
-    char buf[4096];
-    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf)
-        return errno = ENAMETOOLONG, -1;
-    for (char *p = buf + 1; *p; p++) {
-        if (*p != '/')
-            continue;
-        *p = '\0';
-        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-            return -1;
-        *p = '/';
-    }
-    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-        return -1;
-    struct stat st;
-    if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode))
-        return errno = ENOTDIR, -1;
-    return 0;
-}
 
 /* Prints "<app>: <message>" on stderr and returns 2 (the apps' exit code for bad input). */
 static inline int cli_fail(const char *app, const char *fmt, ...)
@@ -69,7 +49,7 @@ static inline int cli_dir_writable(const char *dir)
  * the exit code of bad input after a message naming the flag and the path. */
 static inline int cli_output_dir(const char *app, const char *flag, const char *dir)
 {
-    if (cli_make_dirs(dir) != 0)
+    if (plume_make_dirs(dir) != 0)
         return cli_fail(app, "%s %s: cannot create the directory: %s", flag, dir, strerror(errno));
     if (cli_dir_writable(dir) != 0)
         return cli_fail(app, "%s %s: cannot write in the directory: %s", flag, dir, strerror(errno));
@@ -93,7 +73,7 @@ static inline int cli_output_file(const char *app, const char *flag, const char 
     struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
         return cli_fail(app, "%s %s: a directory, not a file", flag, path);
-    if (cli_make_dirs(dir) != 0)
+    if (plume_make_dirs(dir) != 0)
         return cli_fail(app, "%s %s: cannot create the directory '%s': %s", flag, path, dir, strerror(errno));
     if (cli_dir_writable(dir) != 0)
         return cli_fail(app, "%s %s: cannot write in the directory '%s': %s", flag, path, dir, strerror(errno));

@@ -65,7 +65,7 @@ static plume_status vtk_state(void *user, int load_case, int step, double strain
     if (!v->series[load_case]) {
         char dir[4200];
         snprintf(dir, sizeof dir, "%s/%s", v->dir, names[load_case]);
-        if (cli_make_dirs(dir) != 0) {
+        if (plume_make_dirs(dir) != 0) {
             fprintf(stderr, "%s: --vtk: cannot create the directory '%s': %s\n", APP, dir, strerror(errno));
             return PLUME_EIO;
         }

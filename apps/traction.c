@@ -225,7 +225,7 @@ static int vtk_start(const options *o, const char *scale, const plume_mesh *mesh
     char dir[4200];
     plume_err err = {{0}};
     snprintf(dir, sizeof dir, "%s/%s", o->vtk, scale);
-    if (cli_make_dirs(dir) != 0) {
+    if (plume_make_dirs(dir) != 0) {
         fprintf(stderr, "traction: --vtk: cannot create the directory '%s': %s\n", dir, strerror(errno));
         return 1;
     }

@@ -30,6 +30,7 @@
 #include "moment.h"
 #include "dynamics.h"
 #include "frames.h"
+#include "fs.h"
 #include "vtk.h"
 #include "io/vtu.h"
 #include "render.h"

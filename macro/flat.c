@@ -12,6 +12,7 @@
 #include <jansson.h>
 
 #include "../lib/dynamics.h"
+#include "../lib/fs.h"
 #include "../lib/traction.h"
 #include "../micro/fit.h"
 #include "../micro/homogenize.h"
@@ -25,29 +26,6 @@
 
 /* ------------------------------------------------------------------------------------------ */
 /* requests */
-
-/* mkdir -p of an output directory, before any work: 0, or -1 with errno (ENOTDIR when the path
- * names something else) */
-static int make_dirs(const char *path)
-{
-    char buf[4200];
-    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf)
-        return errno = ENAMETOOLONG, -1;
-    for (char *p = buf + 1; *p; p++) {
-        if (*p != '/')
-            continue;
-        *p = '\0';
-        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-            return -1;
-        *p = '/';
-    }
-    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
-        return -1;
-    struct stat st;
-    if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode))
-        return errno = ENOTDIR, -1;
-    return 0;
-}
 
 static plume_status finish(plume_status st, const plume_err *err, char *msg, long nmsg)
 {
@@ -409,7 +387,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     if (vtk) {
         char dir[4200];
         snprintf(dir, sizeof dir, "%s", vtk);
-        if (make_dirs(dir) != 0) {
+        if (plume_make_dirs(dir) != 0) {
             st = plume_err_set(&err, PLUME_EIO, "traction request: \"vtk\": cannot create the directory '%s': %s", vtk,
                                strerror(errno));
             goto done;
@@ -730,7 +708,7 @@ plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, ch
         return finish(plume_err_set(&err, PLUME_EINVAL, "scene write_vtk: invalid arguments"), &err, msg, nmsg);
     plume_status st = PLUME_OK;
     if (!s->vtk_dir || strcmp(s->vtk_dir, dir) != 0) { /* a new series */
-        if (make_dirs(dir) != 0)
+        if (plume_make_dirs(dir) != 0)
             return finish(plume_err_set(&err, PLUME_EIO, "scene write_vtk: cannot create the directory '%s': %s", dir,
                                         strerror(errno)),
                           &err, msg, nmsg);
