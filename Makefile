@@ -7,7 +7,7 @@ CXX ?= c++
 OPT ?= -O2 -g
 BUILD ?= build
 DEPS_PKGS := ipopt nlopt hdf5 gsl jansson zlib
-# the version (lib/version.h says the same; a test checks they agree): the shared library is
+# the version (lib/core/version.h says the same; a test checks they agree): the shared library is
 # libplume.so.MAJOR.MINOR with the soname libplume.so.MAJOR
 VERSION_MAJOR := 0
 VERSION_MINOR := 3
@@ -17,22 +17,25 @@ SOFILE := libplume.so.$(VERSION_MAJOR).$(VERSION_MINOR)
 
 PKG_CFLAGS := $(shell pkg-config --cflags $(DEPS_PKGS) 2>/dev/null)
 PKG_LIBS := $(shell pkg-config --libs $(DEPS_PKGS) 2>/dev/null)
-CPPFLAGS += -Ilib -I/usr/include/suitesparse $(PKG_CFLAGS)
+CPPFLAGS += -I/usr/include/suitesparse $(PKG_CFLAGS)
 # -fvisibility=hidden: libplume.so exports only what an installed header marks PLUME_API
-# (lib/export.h); the internal functions the apps and tests call come from libplume.a
+# (lib/core/export.h); the internal functions the apps and tests call come from libplume.a
 CFLAGS += -std=c11 -Wall -Wextra -Wpedantic -fPIC -fvisibility=hidden $(OPT) -D_POSIX_C_SOURCE=200809L
 CXXFLAGS += -std=c++17 -Wall -Wextra -fPIC -fvisibility=hidden -fvisibility-inlines-hidden $(OPT)
 LDLIBS += -lcholmod -lsuitesparseconfig $(PKG_LIBS) -lgmp -lmpfr -lgomp -lstdc++ -lm
 
-LIB_C := $(wildcard lib/*.c) $(wildcard lib/io/*.c) $(wildcard micro/*.c) $(wildcard macro/*.c)
-LIB_CXX := $(wildcard lib/*.cpp)
+# lib/ in rooms (docs/design.md): core, then io, solve, contact, and the drivers in sim; macro/ and
+# micro/ above; the umbrella header include/plume.h over all of them
+LIB_ROOMS := core io solve contact sim
+LIB_C := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.c)) $(wildcard micro/*.c) $(wildcard macro/*.c)
+LIB_CXX := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.cpp))
 LIB_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(LIB_C)) $(patsubst %.cpp,$(BUILD)/%.o,$(LIB_CXX))
 APP_SRC := $(wildcard apps/*.c)
 APPS := $(patsubst %.c,%,$(APP_SRC))
 TEST_SRC := $(wildcard tests/*.c)
 TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
-HEADERS := $(wildcard lib/*.h) $(wildcard lib/io/*.h) $(wildcard micro/*.h) $(wildcard macro/*.h)
-PRIVATE_HEADERS := $(wildcard lib/internal/*.h) $(wildcard macro/internal/*.h)
+HEADERS := include/plume.h $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.h)) $(wildcard micro/*.h) $(wildcard macro/*.h)
+PRIVATE_HEADERS := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/internal/*.h)) $(wildcard macro/internal/*.h)
 
 .PHONY: all deps deps-check test asan bench demo install uninstall clean fuzz fuzz-build
 all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)
@@ -149,7 +152,7 @@ demo: deps
 data/feather/moduli_table3a.h5: data/layout_barbules_table3a.json apps/homogenize
 	$(OMP_ENV) ./apps/homogenize --config $< -o $@
 
-# headers under include/plume/ as in the tree (lib/, macro/, micro/), with the umbrella plume.h at
+# headers under include/plume/ as in the tree (include/, lib/ROOM/, macro/, micro/), with the umbrella plume.h at
 # its root; pkg-config's Cflags point there, so other C code writes #include <plume.h>
 install: all
 	install -d $(DESTDIR)$(PREFIX)/lib $(DESTDIR)$(PREFIX)/include/plume $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin
@@ -158,7 +161,7 @@ install: all
 	ln -sf $(SOFILE) $(DESTDIR)$(PREFIX)/lib/libplume.so
 	for h in $(HEADERS); do install -d $(DESTDIR)$(PREFIX)/include/plume/$$(dirname $$h); \
 	    install -m 644 $$h $(DESTDIR)$(PREFIX)/include/plume/$$h; done
-	printf '/* plume: the umbrella header (the library is lib/plume.h) */\n#include "lib/plume.h"\n' \
+	printf '/* plume: the umbrella header (the library is include/plume.h) */\n#include "include/plume.h"\n' \
 	    > $(DESTDIR)$(PREFIX)/include/plume/plume.h
 	install -m 755 $(APPS) $(DESTDIR)$(PREFIX)/bin/
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBS@|$(LDLIBS)|' -e 's|@VERSION@|$(VERSION_MAJOR).$(VERSION_MINOR).$(VERSION_PATCH)|' \

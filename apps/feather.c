@@ -14,10 +14,10 @@
 
 #include <jansson.h>
 
-#include "../lib/dynamics.h"
-#include "../lib/frames.h"
-#include "../lib/plume.h"
-#include "../lib/render.h"
+#include "../lib/sim/dynamics.h"
+#include "../lib/io/frames.h"
+#include "../include/plume.h"
+#include "../lib/io/render.h"
 #include "../macro/scene.h"
 #include "cli.h"
 

@@ -8,7 +8,7 @@
 
 #include <jansson.h>
 
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../macro/plate_bending.h"
 #include "../macro/traction_model.h"
 #include "../micro/fit.h"

@@ -7,7 +7,7 @@
 
 #include <jansson.h>
 
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"
 #include "../micro/layout_json.h"

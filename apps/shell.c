@@ -12,8 +12,8 @@
 
 #include <jansson.h>
 
-#include "../lib/plume.h"
-#include "../lib/statics.h"
+#include "../include/plume.h"
+#include "../lib/sim/statics.h"
 #include "../macro/scene.h"
 #include "cli.h"
 
@@ -29,10 +29,10 @@ static const char usage[] =
     "  --solver S          newton | ipopt (overrides the scene's \"solver\")\n"
     "  --bending B         shape_operator | hinge (overrides the scene's \"bending_model\")\n"
     "  --predictor P       secant | none: where each load increment's solve starts (overrides the\n"
-    "                      scene's \"predictor\"; default secant, lib/statics.h)\n"
+    "                      scene's \"predictor\"; default secant, lib/sim/statics.h)\n"
     "  --globalization G   curved_line_search | line_search | trust_region: how the native solver\n"
     "                      globalises its Newton steps (overrides the scene's \"globalization\";\n"
-    "                      default curved_line_search, lib/solver.h)\n"
+    "                      default curved_line_search, lib/solve/solver.h)\n"
     "  -o DIR              write DIR/steps.pvd and DIR/step_NNNNN.vtu, the equilibrium of each load step with\n"
     "                      its strain, stress, energy densities, J and curvature (ParaView series; the\n"
     "                      load factor is the time)\n"

@@ -15,7 +15,7 @@
 
 #include <jansson.h>
 
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../macro/study.h"
 #include "../macro/stability.h"
 #include "../micro/homogenize.h"

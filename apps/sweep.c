@@ -14,7 +14,7 @@
 
 #include <jansson.h>
 
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../macro/sweep.h"
 #include "cli.h"
 #include "schedule.h"

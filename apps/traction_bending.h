@@ -9,7 +9,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../lib/plume.h"
+#include "../include/plume.h"
 
 typedef struct {
     const char *load, *out, *model;

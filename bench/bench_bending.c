@@ -18,7 +18,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../tests/bend_meshes.h"
 
 static double now(void)

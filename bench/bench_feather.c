@@ -11,7 +11,7 @@
 
 #include <jansson.h>
 
-#include "../lib/plume.h"
+#include "../include/plume.h"
 
 #define STEPS 20
 

@@ -4,7 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../micro/cell_linear.h"
 #include "../micro/cell_plate.h"
 #include "../micro/layout.h"

@@ -8,8 +8,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../lib/plume.h"
-#include "../lib/statics.h"
+#include "../include/plume.h"
+#include "../lib/sim/statics.h"
 #include "../macro/scene.h"
 
 typedef struct {

@@ -15,7 +15,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "../lib/plume.h"
+#include "../include/plume.h"
 
 typedef struct {
     int ok, converged, iterations, factorizations, chord_steps;

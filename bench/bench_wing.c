@@ -13,8 +13,8 @@
 
 #include <jansson.h>
 
-#include "../lib/plume.h"
-#include "../lib/contact_broad.h"
+#include "../include/plume.h"
+#include "../lib/contact/contact_broad.h"
 
 #define STEPS 30
 

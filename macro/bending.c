@@ -79,9 +79,9 @@
  *
  * Nothing is allocated after create. */
 #include "bending.h"
-#include "../lib/internal/vec3.h"
+#include "../lib/core/internal/vec3.h"
 
-#include "../lib/dense.h"
+#include "../lib/core/dense.h"
 
 #include <float.h>
 #include <math.h>

@@ -6,9 +6,9 @@
 #ifndef PLUME_BENDING_H
 #define PLUME_BENDING_H
 
-#include "../lib/export.h"
-#include "../lib/mesh.h"
-#include "../lib/term.h"
+#include "../lib/core/export.h"
+#include "../lib/core/mesh.h"
+#include "../lib/core/term.h"
 
 #ifdef __cplusplus
 extern "C" {

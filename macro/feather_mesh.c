@@ -67,7 +67,7 @@
  *    OUTLINE_GAP e between two barb or side ends. (Each such point ends no barb, so forces an
  *    uncovered triangle: with points in every gap over e there were 27 at 3.5 mm and 54 at 2.5 mm
  *    on the shipped feather. A gap up to 2 e between barb ends matches barbs up to ~1.4 e apart
- *    meeting the outline at 45 degrees or more.) Constrained Delaunay (lib/cdt.h) with
+ *    meeting the outline at 45 degrees or more.) Constrained Delaunay (lib/core/cdt.h) with
  *    remove_exterior and *no refinement*. CGAL's Delaunay refinement splits every
  *    encroached constrained segment whatever the size and shape criteria: the rachis sides (5 mm
  *    stations, the other side 1-3 mm away) and barb edges at shallow angles get split, and the
@@ -90,8 +90,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/cdt.h"
-#include "../lib/pslg.h"
+#include "../lib/core/cdt.h"
+#include "../lib/core/pslg.h"
 #include "vane.h"
 #include "internal/bins.h"
 #include "internal/feather_geom.h"
@@ -1577,7 +1577,7 @@ plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int di
         keys[k].a = i < j ? i : j, keys[k].b = i < j ? j : i, keys[k].sign = i < j ? 1 : -1;
         plume_index pair[2] = {keys[k].a, keys[k].b};
         plume_index lo = 0, hi = m->ne - 1, found = 0;
-        while (lo <= hi && !found) { /* m->edges is sorted (lib/mesh.c sorts its half-edges) */
+        while (lo <= hi && !found) { /* m->edges is sorted (lib/core/mesh.c sorts its half-edges) */
             plume_index mid = (lo + hi) / 2, *ed = m->edges + 2 * mid;
             if (ed[0] == pair[0] && ed[1] == pair[1])
                 found = 1;

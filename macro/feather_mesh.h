@@ -1,14 +1,14 @@
 /* plume: the feather mesher of supplementary §6 — a rachis strip walked at the target edge length
  * with linearly interpolated width, and from each rachis vertex a barb curve interpolated from the
  * closest input barb curves of that side only, walked to the outline; points and barb edges
- * triangulated by constrained Delaunay (lib/cdt.h). With corner_exact set, a barb ends on every
+ * triangulated by constrained Delaunay (lib/core/cdt.h). With corner_exact set, a barb ends on every
  * outline vertex it can reach, so nearly every vane triangle owns a barb edge; either way
  * plume_feather_uncovered says why each other one does not. */
 #ifndef PLUME_FEATHER_MESH_H
 #define PLUME_FEATHER_MESH_H
 
-#include "../lib/export.h"
-#include "../lib/mesh.h"
+#include "../lib/core/export.h"
+#include "../lib/core/mesh.h"
 #include "obj_outline.h" /* plume_obj_outline, the usual source of the outline */
 
 #ifdef __cplusplus

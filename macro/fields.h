@@ -4,10 +4,10 @@
 #ifndef PLUME_FIELDS_H
 #define PLUME_FIELDS_H
 
-#include "../lib/export.h"
-#include "../lib/mesh.h"
-#include "../lib/membrane.h"
-#include "../lib/term.h"
+#include "../lib/core/export.h"
+#include "../lib/core/mesh.h"
+#include "../lib/core/membrane.h"
+#include "../lib/core/term.h"
 
 #ifdef __cplusplus
 extern "C" {

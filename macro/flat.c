@@ -11,9 +11,9 @@
 
 #include <jansson.h>
 
-#include "../lib/dynamics.h"
-#include "../lib/fs.h"
-#include "../lib/traction.h"
+#include "../lib/sim/dynamics.h"
+#include "../lib/io/fs.h"
+#include "../lib/sim/traction.h"
 #include "../micro/fit.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout_json.h"

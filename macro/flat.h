@@ -44,8 +44,8 @@
 #ifndef PLUME_FLAT_H
 #define PLUME_FLAT_H
 
-#include "../lib/export.h"
-#include "../lib/status.h"
+#include "../lib/core/export.h"
+#include "../lib/core/status.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -2,8 +2,8 @@
 #ifndef PLUME_GRID_MESH_H
 #define PLUME_GRID_MESH_H
 
-#include "../lib/export.h"
-#include "../lib/mesh.h"
+#include "../lib/core/export.h"
+#include "../lib/core/mesh.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -2,8 +2,8 @@
 #ifndef PLUME_OBJ_OUTLINE_H
 #define PLUME_OBJ_OUTLINE_H
 
-#include "../lib/export.h"
-#include "../lib/status.h"
+#include "../lib/core/export.h"
+#include "../lib/core/status.h"
 
 #ifdef __cplusplus
 extern "C" {

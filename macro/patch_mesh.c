@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/cdt.h"
-#include "../lib/pslg.h"
+#include "../lib/core/cdt.h"
+#include "../lib/core/pslg.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -27,7 +27,7 @@ void plume_patch_barb_direction(double angle_deg, double d[2])
     plume_barb_direction(angle_deg, d);
 }
 
-typedef plume_pslg geometry; /* lib/pslg.h */
+typedef plume_pslg geometry; /* lib/core/pslg.h */
 
 /* Boundary points are tracked per side by their parameter so that corners and barb ends are
  * shared exactly: side 0 bottom (t = x), 1 right (t = y), 2 top (t = x), 3 left (t = y). */

@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/load.h"
-#include "../lib/progress.h"
+#include "../lib/core/load.h"
+#include "../lib/io/progress.h"
 #include "patch_mesh.h"
 #include "shape_bending.h"
 

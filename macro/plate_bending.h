@@ -24,12 +24,12 @@
 #ifndef PLUME_PLATE_BENDING_H
 #define PLUME_PLATE_BENDING_H
 
-#include "../lib/curves.h"
-#include "../lib/export.h"
-#include "../lib/membrane.h"
-#include "../lib/mesh.h"
-#include "../lib/problem.h"
-#include "../lib/solver.h"
+#include "../lib/io/curves.h"
+#include "../lib/core/export.h"
+#include "../lib/core/membrane.h"
+#include "../lib/core/mesh.h"
+#include "../lib/core/problem.h"
+#include "../lib/solve/solver.h"
 #include "bending.h"
 
 #ifdef __cplusplus
@@ -51,7 +51,7 @@ typedef struct {
     double window;        /* fitted central window over each side; default 0.5 */
     double max_rotation;  /* largest |curvature| * max(lx, ly) accepted (rad); default 0.2 */
     plume_solver_kind solver;      /* default newton */
-    plume_solver_opts solver_opts; /* defaults of lib/solver.h */
+    plume_solver_opts solver_opts; /* defaults of lib/solve/solver.h */
 } plume_bend_opts;
 
 PLUME_API void plume_bend_opts_default(plume_bend_opts *o);
@@ -86,7 +86,7 @@ PLUME_API plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, 
 PLUME_API void plume_plate_of_membrane(const plume_membrane_material *m, plume_bending_material *b);
 
 /* A shell-mode specimen of the planar mesh `planar` (its X, triangles, material ids and barb
- * directions, copied; planar is the caller's): membrane mem[material[t]] (lib/membrane.h) and
+ * directions, copied; planar is the caller's): membrane mem[material[t]] (lib/core/membrane.h) and
  * shape-operator bending bend[material[t]] (macro/shape_bending.h) per triangle, nmat materials.
  * This is how a resolved micro specimen (micro/specimen_bending.h gives its mesh and phases) and
  * the homogeneous plate become the same kind of shell. The caller owns *mesh and *p (not

@@ -1,21 +1,21 @@
 /* plume: a shell scene from JSON: mesh (an OBJ triangle mesh, the feather mesher or a rectangle),
  * per-material membrane, bending, density and barb constraint, handles, gravity, contact, many
  * objects, time stepping (dynamic scenes) or clamps, supports, loads and probes (static scenes),
- * validated as a whole, then built into a problem and an implicit Euler stepper (lib/dynamics.h)
- * or a load-stepping driver (lib/statics.h).
+ * validated as a whole, then built into a problem and an implicit Euler stepper (lib/sim/dynamics.h)
+ * or a load-stepping driver (lib/sim/statics.h).
  *
  * The format (every key, its units, default and error messages) is documented in one place:
  * docs/scene-format.md. */
 #ifndef PLUME_SCENE_H
 #define PLUME_SCENE_H
 
-#include "../lib/export.h"
-#include "../lib/contact.h"
-#include "../lib/dynamics.h"
-#include "../lib/membrane.h"
-#include "../lib/mesh.h"
-#include "../lib/problem.h"
-#include "../lib/statics.h"
+#include "../lib/core/export.h"
+#include "../lib/contact/contact.h"
+#include "../lib/sim/dynamics.h"
+#include "../lib/core/membrane.h"
+#include "../lib/core/mesh.h"
+#include "../lib/core/problem.h"
+#include "../lib/sim/statics.h"
 #include "bending.h"
 #include "fields.h"
 
@@ -36,7 +36,7 @@ typedef struct {
     int constraint;                   /* 1: the barb edges of this material's triangles are inextensible */
 } plume_scene_material;
 
-/* A follower end moment of a static scene (lib/moment.h). */
+/* A follower end moment of a static scene (lib/core/moment.h). */
 typedef struct {
     plume_index nend, nrow;
     plume_index *end, *row;       /* the selected end and its second row */
@@ -97,9 +97,9 @@ typedef struct {
     /* static scenes */
     int is_static;                /* "solve": "static" */
     int steps;                    /* load steps; default 10 */
-    plume_predictor predictor;    /* "predictor": "secant" (default) | "none" (lib/statics.h) */
+    plume_predictor predictor;    /* "predictor": "secant" (default) | "none" (lib/sim/statics.h) */
     plume_globalization globalization; /* "globalization": "curved_line_search" (default) |
-                                     "line_search" | "trust_region" (lib/solver.h) */
+                                     "line_search" | "trust_region" (lib/solve/solver.h) */
     unsigned char *clamped;       /* [nv] or NULL: PLUME_CLAMP_* bits */
     unsigned char *supported;     /* [nv] or NULL: bit a set = coordinate a held ("supports") */
     double *force;                /* [3 nv] or NULL: nominal point and line loads (N) */
@@ -153,7 +153,7 @@ PLUME_API plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_
 PLUME_API plume_status plume_scene_check_start(const plume_scene *s, plume_err *err);
 
 /* Builds the problem of a static scene (membrane, bending, constraints, the nominal loads and
- * moments; clamps and handles fixed) and its load-stepping driver (lib/statics.h) with the
+ * moments; clamps and handles fixed) and its load-stepping driver (lib/sim/statics.h) with the
  * scene's steps, solver and max_iter. *p and *st belong to the caller (destroy st first); the
  * scene must outlive them. Errors: the scene is not static (PLUME_EINVAL). */
 /* The output fields of the scene's states (fields.h): its membrane materials, its bending term

@@ -5,11 +5,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/contact_friction.h"
-#include "../lib/edge_length.h"
-#include "../lib/load.h"
-#include "../lib/membrane.h"
-#include "../lib/moment.h"
+#include "../lib/contact/contact_friction.h"
+#include "../lib/core/edge_length.h"
+#include "../lib/core/load.h"
+#include "../lib/core/membrane.h"
+#include "../lib/core/moment.h"
 #include "internal/scene_internal.h"
 #include "shape_bending.h"
 

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/curves.h"
+#include "../lib/io/curves.h"
 #include "internal/scene_internal.h"
 
 /* "bending": {"from_moduli": "file.h5", "drop_couplings": false}: the bending moduli apps/homogenize

@@ -11,8 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/internal/obj_read.h"
-#include "../lib/rigid_motion.h"
+#include "../lib/io/internal/obj_read.h"
+#include "../lib/core/rigid_motion.h"
 
 static const double deg = 3.14159265358979323846 / 180.0;
 

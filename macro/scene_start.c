@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/contact_broad.h"
-#include "../lib/rigid_motion.h"
+#include "../lib/contact/contact_broad.h"
+#include "../lib/core/rigid_motion.h"
 #include "internal/scene_internal.h"
 
 /* samples of the motion from the rest placement to the handles' placement at t = 0 */

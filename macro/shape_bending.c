@@ -148,7 +148,7 @@
  * Nothing is allocated after create. */
 #include "shape_bending.h"
 #include "internal/shape_stencil.h"
-#include "../lib/internal/vec3.h"
+#include "../lib/core/internal/vec3.h"
 
 #include <float.h>
 #include <math.h>

@@ -10,9 +10,9 @@
 #ifndef PLUME_SHAPE_BENDING_H
 #define PLUME_SHAPE_BENDING_H
 
-#include "../lib/export.h"
-#include "../lib/mesh.h"
-#include "../lib/term.h"
+#include "../lib/core/export.h"
+#include "../lib/core/mesh.h"
+#include "../lib/core/term.h"
 #include "bending.h"
 
 #ifdef __cplusplus

@@ -4,10 +4,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/cholesky.h"
-#include "../lib/membrane.h"
-#include "../lib/problem.h"
-#include "../lib/solver.h"
+#include "../lib/solve/cholesky.h"
+#include "../lib/core/membrane.h"
+#include "../lib/core/problem.h"
+#include "../lib/solve/solver.h"
 #include "patch_mesh.h"
 #include "vane.h"
 

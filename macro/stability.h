@@ -5,8 +5,8 @@
 #ifndef PLUME_STABILITY_H
 #define PLUME_STABILITY_H
 
-#include "../lib/export.h"
-#include "../lib/status.h"
+#include "../lib/core/export.h"
+#include "../lib/core/status.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/problem.h"
-#include "../lib/traction.h"
+#include "../lib/core/problem.h"
+#include "../lib/sim/traction.h"
 #include "../micro/micro_model.h"
 #include "vane.h"
 

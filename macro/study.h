@@ -4,9 +4,9 @@
 #ifndef PLUME_STUDY_H
 #define PLUME_STUDY_H
 
-#include "../lib/export.h"
-#include "../lib/curves.h"
-#include "../lib/solver.h"
+#include "../lib/core/export.h"
+#include "../lib/io/curves.h"
+#include "../lib/solve/solver.h"
 #include "../micro/layout.h"
 #include "patch_mesh.h"
 

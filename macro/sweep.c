@@ -14,10 +14,10 @@
 #include <hdf5.h>
 #include <jansson.h>
 
-#include "../lib/internal/h5util.h"
-#include "../lib/internal/input_file.h"
-#include "../lib/progress.h"
-#include "../lib/sample.h"
+#include "../lib/io/internal/h5util.h"
+#include "../lib/io/internal/input_file.h"
+#include "../lib/io/progress.h"
+#include "../lib/io/sample.h"
 #include "flat.h"
 #include "internal/sweep_scene.h"
 
@@ -505,7 +505,7 @@ plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, i
         json_decref(rec);
         return plume_err_set(err, PLUME_EINVAL, "sweep results: run %d: invalid record", k);
     }
-    /* room first (a full disk fails here, before HDF5 writes: lib/frames.c) */
+    /* room first (a full disk fails here, before HDF5 writes: lib/io/frames.c) */
     int fd = open(h5path, O_WRONLY);
     struct stat sb;
     int rc = fd < 0 ? errno : fstat(fd, &sb) != 0 ? errno : posix_fallocate(fd, sb.st_size, (off_t)strlen(record) * 3 + 65536);

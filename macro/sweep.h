@@ -30,8 +30,8 @@
 #ifndef PLUME_SWEEP_H
 #define PLUME_SWEEP_H
 
-#include "../lib/export.h"
-#include "../lib/status.h"
+#include "../lib/core/export.h"
+#include "../lib/core/status.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -8,9 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/contact.h"
-#include "../lib/internal/h5util.h"
-#include "../lib/internal/json_read.h"
+#include "../lib/contact/contact.h"
+#include "../lib/io/internal/h5util.h"
+#include "../lib/io/internal/json_read.h"
 #include "scene.h"
 
 void plume_sweep_scene_free(plume_sweep_scene *sc)

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/problem.h"
-#include "../lib/traction.h"
+#include "../lib/core/problem.h"
+#include "../lib/sim/traction.h"
 #include "vane.h"
 
 plume_status plume_macro_model_curve(void *ctx, const plume_ortho *m, int icurve, plume_curve *out, plume_err *err)

@@ -3,9 +3,9 @@
 #ifndef PLUME_TRACTION_MODEL_H
 #define PLUME_TRACTION_MODEL_H
 
-#include "../lib/export.h"
-#include "../lib/curves.h"
-#include "../lib/solver.h"
+#include "../lib/core/export.h"
+#include "../lib/io/curves.h"
+#include "../lib/solve/solver.h"
 #include "patch_mesh.h"
 
 #ifdef __cplusplus

@@ -3,7 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "../lib/edge_length.h"
+#include "../lib/core/edge_length.h"
 
 void plume_vane_default(plume_vane *v)
 {

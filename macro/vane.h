@@ -4,11 +4,11 @@
 #ifndef PLUME_VANE_H
 #define PLUME_VANE_H
 
-#include "../lib/export.h"
-#include "../lib/curves.h"
-#include "../lib/membrane.h"
-#include "../lib/mesh.h"
-#include "../lib/problem.h"
+#include "../lib/core/export.h"
+#include "../lib/io/curves.h"
+#include "../lib/core/membrane.h"
+#include "../lib/core/mesh.h"
+#include "../lib/core/problem.h"
 
 #ifdef __cplusplus
 extern "C" {

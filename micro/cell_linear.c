@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/problem.h"
-#include "../lib/solver.h"
+#include "../lib/core/problem.h"
+#include "../lib/solve/solver.h"
 #include "periodic.h"
 
 /* The linearised membrane over the cell: unknowns are displacements w (as "positions"); the

@@ -3,8 +3,8 @@
 #ifndef PLUME_CELL_LINEAR_H
 #define PLUME_CELL_LINEAR_H
 
-#include "../lib/export.h"
-#include "../lib/membrane.h"
+#include "../lib/core/export.h"
+#include "../lib/core/membrane.h"
 #include "cell_mesh.h"
 
 #ifdef __cplusplus

@@ -10,15 +10,15 @@
  * own periodic image. Barbules: a = barbule_spacing; the barb strip [0, a] x [0, w_B] is meshed
  * fully and the gap only inside the barbule parallelogram, centred in x (so it crosses neither
  * x = 0 nor x = a), whose outline is constrained; remove_exterior drops the empty space. */
-#include "../lib/pslg.h"
+#include "../lib/core/pslg.h"
 #include "cell_mesh.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/cdt.h"
-#include "../lib/membrane_p2.h"
+#include "../lib/core/cdt.h"
+#include "../lib/core/membrane_p2.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -31,7 +31,7 @@
 /* ceil(x - slack): a ratio that is an integer up to round-off does not get one more piece */
 #define PIECES(x) ((long)ceil((x) - 1e-9))
 
-typedef plume_pslg geometry; /* lib/pslg.h */
+typedef plume_pslg geometry; /* lib/core/pslg.h */
 
 static int cmp_double(const void *a, const void *b)
 {

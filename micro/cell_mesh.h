@@ -2,9 +2,9 @@
 #ifndef PLUME_CELL_MESH_H
 #define PLUME_CELL_MESH_H
 
-#include "../lib/export.h"
-#include "../lib/mesh.h"
-#include "../lib/mesh_quadratic.h"
+#include "../lib/core/export.h"
+#include "../lib/core/mesh.h"
+#include "../lib/core/mesh_quadratic.h"
 #include "layout.h"
 
 #ifdef __cplusplus
@@ -27,7 +27,7 @@ typedef struct {
     plume_index nmasters;  /* distinct masters */
 } plume_cell;
 
-/* Meshes the periodic cell of a layout (constrained Delaunay through lib/cdt.h, no Steiner
+/* Meshes the periodic cell of a layout (constrained Delaunay through lib/core/cdt.h, no Steiner
  * points on the cell boundary so the periodic pairs match). For strips the cell length a along
  * the barbs is the barb width times 4 (fields are constant along the barbs, any a works); for
  * barbules it is barbule_spacing. Element edges are about plume_layout_element_edge(l,
@@ -42,7 +42,7 @@ PLUME_API void plume_cell_destroy(plume_cell **c);
 PLUME_API plume_index plume_cell_elements(const plume_cell *c);
 
 /* The membrane term over a micro mesh: the linear element over `mesh` (quad NULL or empty), or the
- * quadratic one over quad's triangles with mesh's vertices as nodes (lib/membrane_p2.h). Planar. */
+ * quadratic one over quad's triangles with mesh's vertices as nodes (lib/core/membrane_p2.h). Planar. */
 PLUME_API plume_status plume_micro_membrane_term(const plume_mesh *mesh, const plume_quadratic_mesh *quad,
                                                  const plume_membrane_material *mats, int nmat, plume_term *out,
                                                  plume_err *err);

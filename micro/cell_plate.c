@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/cholesky.h"
+#include "../lib/solve/cholesky.h"
 #include "cell_linear.h"
 
 void plume_plate_moduli_from_tensor(const double D[9], plume_plate_moduli *m)

@@ -4,8 +4,8 @@
 #ifndef PLUME_FIT_H
 #define PLUME_FIT_H
 
-#include "../lib/export.h"
-#include "../lib/curves.h"
+#include "../lib/core/export.h"
+#include "../lib/io/curves.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/membrane.h"
-#include "../lib/progress.h"
+#include "../lib/core/membrane.h"
+#include "../lib/io/progress.h"
 #include "cell_linear.h"
 #include "periodic.h"
 

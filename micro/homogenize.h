@@ -3,9 +3,9 @@
 #ifndef PLUME_HOMOGENIZE_H
 #define PLUME_HOMOGENIZE_H
 
-#include "../lib/export.h"
-#include "../lib/curves.h"
-#include "../lib/solver.h"
+#include "../lib/core/export.h"
+#include "../lib/io/curves.h"
+#include "../lib/solve/solver.h"
 #include "cell_mesh.h"
 #include "cell_plate.h"
 

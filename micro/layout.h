@@ -4,8 +4,8 @@
 #ifndef PLUME_LAYOUT_H
 #define PLUME_LAYOUT_H
 
-#include "../lib/export.h"
-#include "../lib/membrane.h"
+#include "../lib/core/export.h"
+#include "../lib/core/membrane.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -2,7 +2,7 @@
 #ifndef PLUME_LAYOUT_JSON_H
 #define PLUME_LAYOUT_JSON_H
 
-#include "../lib/export.h"
+#include "../lib/core/export.h"
 #include "layout.h"
 
 #ifdef __cplusplus

@@ -3,9 +3,9 @@
 #include <math.h>
 #include <string.h>
 
-#include "../lib/membrane.h"
-#include "../lib/mesh_quadratic.h"
-#include "../lib/progress.h"
+#include "../lib/core/membrane.h"
+#include "../lib/core/mesh_quadratic.h"
+#include "../lib/io/progress.h"
 #include "cell_mesh.h"
 
 plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, double angle_deg,

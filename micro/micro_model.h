@@ -1,11 +1,11 @@
 /* plume: the microscale model of a traction specimen — the resolved layout as a planar membrane
- * of barb and barbule materials, ready for the traction scenario (lib/traction.h). */
+ * of barb and barbule materials, ready for the traction scenario (lib/sim/traction.h). */
 #ifndef PLUME_MICRO_MODEL_H
 #define PLUME_MICRO_MODEL_H
 
-#include "../lib/export.h"
-#include "../lib/problem.h"
-#include "../lib/traction.h"
+#include "../lib/core/export.h"
+#include "../lib/core/problem.h"
+#include "../lib/sim/traction.h"
 #include "layout.h"
 
 #ifdef __cplusplus
@@ -15,7 +15,7 @@ extern "C" {
 /* Meshes the specimen [0, lx] x [0, ly] with barbs at angle_deg from the pulling axis y
  * (plume_specimen_mesh) and creates a planar problem holding the two-material membrane of the
  * layout's element order. At order 2 *mesh is the quadratic triangles split in four (its vertices
- * are the elements' nodes, lib/mesh_quadratic.h). The caller owns *mesh and *p (not finalised: plume_traction_run clamps and finalises it). */
+ * are the elements' nodes, lib/core/mesh_quadratic.h). The caller owns *mesh and *p (not finalised: plume_traction_run clamps and finalises it). */
 PLUME_API plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, double angle_deg,
                                             plume_mesh **mesh, plume_problem **p, plume_err *err);
 

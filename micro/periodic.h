@@ -4,8 +4,8 @@
 #ifndef PLUME_PERIODIC_H
 #define PLUME_PERIODIC_H
 
-#include "../lib/export.h"
-#include "../lib/term.h"
+#include "../lib/core/export.h"
+#include "../lib/core/term.h"
 #include "cell_mesh.h"
 
 #ifdef __cplusplus

@@ -18,14 +18,14 @@
  *
  * Strip boundaries clipped to less than e/1000 (a line grazing a corner) are not constrained; the
  * triangles there still get their material from the centroid. */
-#include "../lib/pslg.h"
+#include "../lib/core/pslg.h"
 #include "cell_mesh.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/cdt.h"
+#include "../lib/core/cdt.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -36,7 +36,7 @@
 /* Clipped lines shorter than this fraction of e are not constrained. */
 #define MIN_LINE_REL 1e-3
 
-typedef plume_pslg geometry; /* lib/pslg.h */
+typedef plume_pslg geometry; /* lib/core/pslg.h */
 
 /* A point of a line or a side, by its parameter along it. */
 typedef struct {

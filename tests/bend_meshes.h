@@ -15,8 +15,8 @@
 #include <string.h>
 
 #include "test_rng.h"
-#include "../lib/cdt.h"
-#include "../lib/mesh.h"
+#include "../lib/core/cdt.h"
+#include "../lib/core/mesh.h"
 #include "../macro/bending.h"
 
 #define BM_PI 3.14159265358979323846

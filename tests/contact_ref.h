@@ -1,4 +1,4 @@
-/* Reference distances for the contact tests, written independently of lib/contact_narrow.c:
+/* Reference distances for the contact tests, written independently of lib/contact/contact_narrow.c:
  * exhaustive candidate enumeration in long double (every vertex, clamped segment, and the interior
  * solution when it lies inside) and brute-force sampling on a parameter grid. */
 #ifndef PLUME_TEST_CONTACT_REF_H

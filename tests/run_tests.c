@@ -12,7 +12,7 @@ static double wall(void)
 }
 
 #include "harness.h"
-#include "../lib/openmp_env.h"
+#include "../lib/core/openmp_env.h"
 
 int plume_test_failures;
 

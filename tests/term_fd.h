@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../lib/term.h"
+#include "../lib/core/term.h"
 
 static inline double term_max_abs(const double *a, long n)
 {

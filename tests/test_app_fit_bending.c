@@ -12,7 +12,7 @@
 
 #include "app_runner.h"
 #include "harness.h"
-#include "../lib/curves.h"
+#include "../lib/io/curves.h"
 
 static char scratch[64];
 

@@ -11,7 +11,7 @@
 
 #include "app_runner.h"
 #include "harness.h"
-#include "../lib/curves.h"
+#include "../lib/io/curves.h"
 #include "../lib/io/vtu.h"
 
 void test_app_homogenize_and_fit(void)

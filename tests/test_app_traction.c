@@ -11,7 +11,7 @@
 
 #include "app_runner.h"
 #include "harness.h"
-#include "../lib/curves.h"
+#include "../lib/io/curves.h"
 #include "../lib/io/vtu.h"
 
 static char scratch[64];

@@ -12,8 +12,8 @@
 #include "term_fd.h"
 #include "test_rng.h"
 #include "bend_meshes.h"
-#include "../lib/dense.h"
-#include "../lib/mesh.h"
+#include "../lib/core/dense.h"
+#include "../lib/core/mesh.h"
 #include "../macro/bending.h"
 
 #define PI 3.14159265358979323846

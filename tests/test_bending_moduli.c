@@ -10,7 +10,7 @@
 #include "app_runner.h"
 #include "h5_units.h"
 #include "harness.h"
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../macro/scene.h"
 #include "../micro/layout.h"
 #include "../micro/layout_json.h"

@@ -1,4 +1,4 @@
-/* Continuous collision detection (lib/ccd.h, Additive CCD): known crossings through a face, an
+/* Continuous collision detection (lib/contact/ccd.h, Additive CCD): known crossings through a face, an
  * edge, a vertex, crossing and parallel edges, zero-length edges and motions; grazing passes;
  * options, cap and errors; and seeded random trajectories checked against brute-force time
  * sampling of the signed volume (a crossing must never be missed) and of the distance (the
@@ -10,8 +10,8 @@
 #include "contact_ref.h"
 #include "harness.h"
 #include "test_rng.h"
-#include "../lib/ccd.h"
-#include "../lib/contact_narrow.h"
+#include "../lib/contact/ccd.h"
+#include "../lib/contact/contact_narrow.h"
 
 static void lerp12(const double *x0, const double *x1, double t, double *x)
 {

@@ -1,11 +1,11 @@
-/* Tests of the CGAL shim (lib/cdt.h): exact areas, constrained edges kept, refinement bounds,
+/* Tests of the CGAL shim (lib/core/cdt.h): exact areas, constrained edges kept, refinement bounds,
  * holes and exterior removal, orientation, and every input error path. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "harness.h"
-#include "../lib/cdt.h"
+#include "../lib/core/cdt.h"
 
 static const double pi = 3.14159265358979323846;
 

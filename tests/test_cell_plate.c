@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../micro/cell_linear.h"
 #include "../micro/cell_plate.h"
 #include "../micro/layout.h"

@@ -8,7 +8,7 @@
 
 #include "harness.h"
 #include "test_rng.h"
-#include "../lib/cholesky.h"
+#include "../lib/solve/cholesky.h"
 
 /* the upper triangle (CSC, rows sorted) of a 2D grid of nx x ny nodes with 3 dofs each, every dof
  * of a node coupled to every dof of its 8 neighbours: the pattern of a shell mesh's Hessian */

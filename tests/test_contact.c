@@ -7,10 +7,10 @@
 
 #include "harness.h"
 #include "term_fd.h"
-#include "../lib/plume.h"
-#include "../lib/contact.h"
-#include "../lib/contact_broad.h"
-#include "../lib/dynamics.h"
+#include "../include/plume.h"
+#include "../lib/contact/contact.h"
+#include "../lib/contact/contact_broad.h"
+#include "../lib/sim/dynamics.h"
 
 /* Bodies in one mesh: a fixed ground square 1 m x 1 m (body 0, material 0) at z = 0, then n
  * square plates (bodies 1..n, material 1) of the given sides, element edges and heights, centred

@@ -1,4 +1,4 @@
-/* Tests of the contact broad phase and the exact intersection audit (lib/contact_broad.h):
+/* Tests of the contact broad phase and the exact intersection audit (lib/contact/contact_broad.h):
  * box pairs against brute force (touching boxes included), candidate pairs against true
  * distances on random two-body meshes, swept boxes, exact audit counts, bad inputs, and the
  * timings at 10k and 50k triangles (printed, not asserted). */
@@ -9,8 +9,8 @@
 
 #include "harness.h"
 #include "test_rng.h"
-#include "../lib/contact_broad.h"
-#include "../lib/progress.h"
+#include "../lib/contact/contact_broad.h"
+#include "../lib/io/progress.h"
 
 /* --- helpers ------------------------------------------------------------------------------------- */
 

@@ -1,4 +1,4 @@
-/* Lagged friction (lib/contact_friction.h): the mollifier, the pair frames of every contact type
+/* Lagged friction (lib/contact/contact_friction.h): the mollifier, the pair frames of every contact type
  * (closest points against contact_narrow's distances), finite differences of the pair energy in
  * both regimes, PSD blocks, the Coulomb force of a sliding and a sticking point, the normal force,
  * the term through plume_problem, and the error paths. */
@@ -11,9 +11,9 @@
 #include "harness.h"
 #include "term_fd.h"
 #include "test_rng.h"
-#include "../lib/contact_friction.h"
-#include "../lib/dense.h"
-#include "../lib/problem.h"
+#include "../lib/contact/contact_friction.h"
+#include "../lib/core/dense.h"
+#include "../lib/core/problem.h"
 
 /* max |a| over n entries */
 static double max_abs(const double *a, int n)

@@ -1,4 +1,4 @@
-/* Narrow-phase contact (lib/contact_narrow.h): squared distances against an independent
+/* Narrow-phase contact (lib/contact/contact_narrow.h): squared distances against an independent
  * long-double enumeration and brute-force sampling, finite differences of every gradient and
  * Hessian (distances, mollifier, pair energies), PSD projection, the scalar barrier and penalty,
  * and the error paths. */
@@ -10,8 +10,8 @@
 #include "contact_ref.h"
 #include "harness.h"
 #include "test_rng.h"
-#include "../lib/contact_narrow.h"
-#include "../lib/dense.h"
+#include "../lib/contact/contact_narrow.h"
+#include "../lib/core/dense.h"
 
 static double norm3d(const double *a)
 {

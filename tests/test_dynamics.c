@@ -5,9 +5,9 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../lib/plume.h"
-#include "../lib/dynamics.h"
-#include "../lib/load.h"
+#include "../include/plume.h"
+#include "../lib/sim/dynamics.h"
+#include "../lib/core/load.h"
 
 /* Free fall: with only inertia and gravity, implicit Euler gives v_n = n dt g and
  * z_n = dt^2 g n (n + 1) / 2 exactly. */

@@ -7,8 +7,8 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../lib/plume.h"
-#include "../lib/load.h"
+#include "../include/plume.h"
+#include "../lib/core/load.h"
 #include "../macro/bending.h"
 
 /* theta'' = -alpha cos(theta), theta(0) = 0; y = (theta, theta', deflection) over s in [0, 1] */

@@ -1,6 +1,6 @@
 /* Tests of libplume.so's face: every symbol the shared library exports is plume's own (a name
  * starting with plume_, never another library's such as GOMP_ or omp_) and is declared PLUME_API
- * in an installed header (the Makefile's HEADERS: lib/, lib/io/, micro/, macro/, not internal/);
+ * in an installed header (the Makefile's HEADERS: include/, lib/ROOM/, micro/, macro/, not internal/);
  * every function declared PLUME_API is exported; the umbrella header includes every installed
  * header. The exported set is read with `nm -D --defined-only` from the libplume.so next to the
  * runner (the build directory). */
@@ -69,7 +69,7 @@ static int ident(char c)
 /* the installed headers, as the Makefile's HEADERS globs them (run from tests/) */
 static void installed_headers(glob_t *g)
 {
-    static const char *const pattern[] = {"../lib/*.h", "../lib/io/*.h", "../micro/*.h", "../macro/*.h"};
+    static const char *const pattern[] = {"../include/*.h", "../lib/*/*.h", "../micro/*.h", "../macro/*.h"};
     memset(g, 0, sizeof *g);
     for (size_t i = 0; i < sizeof pattern / sizeof pattern[0]; i++)
         glob(pattern[i], i ? GLOB_APPEND : 0, NULL, g);
@@ -234,10 +234,10 @@ void test_exports_only_the_api(void)
     names_free(&dyn);
 }
 
-/* lib/plume.h includes every installed header (the path as seen from lib/) */
+/* include/plume.h includes every installed header (the path as seen from include/) */
 void test_exports_umbrella(void)
 {
-    char *umbrella = read_all("../lib/plume.h");
+    char *umbrella = read_all("../include/plume.h");
     CHECK(umbrella != NULL);
     if (!umbrella)
         return;
@@ -245,16 +245,13 @@ void test_exports_umbrella(void)
     installed_headers(&g);
     CHECK(g.gl_pathc > 40);
     for (size_t h = 0; h < g.gl_pathc; h++) {
-        const char *path = g.gl_pathv[h] + 3; /* "lib/x.h", "lib/io/x.h", "micro/x.h" */
-        if (!strcmp(path, "lib/plume.h"))
+        const char *path = g.gl_pathv[h] + 3; /* "lib/core/x.h", "micro/x.h" */
+        if (!strcmp(path, "include/plume.h"))
             continue;
         char inc[PATH_MAX + 16];
-        if (!strncmp(path, "lib/", 4))
-            snprintf(inc, sizeof inc, "#include \"%s\"", path + 4);
-        else
-            snprintf(inc, sizeof inc, "#include \"../%s\"", path);
+        snprintf(inc, sizeof inc, "#include \"../%s\"", path);
         if (!strstr(umbrella, inc)) {
-            fprintf(stderr, "    lib/plume.h does not include %s\n", path);
+            fprintf(stderr, "    include/plume.h does not include %s\n", path);
             CHECK(!"every installed header in the umbrella");
         }
     }

@@ -14,7 +14,7 @@
 
 #include "app_runner.h"
 #include "harness.h"
-#include "../lib/frames.h"
+#include "../lib/io/frames.h"
 #include "../lib/io/vtu.h"
 #include "../macro/scene.h"
 

@@ -3,7 +3,7 @@
 #include <stdlib.h>
 
 #include "harness.h"
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../macro/traction_model.h"
 #include "../micro/fit.h"
 

@@ -13,10 +13,10 @@
 #include "harness.h"
 #include "h5_units.h"
 #include "test_rng.h"
-#include "../lib/frames.h"
-#include "../lib/mesh.h"
-#include "../lib/render.h"
-#include "../lib/vtk.h"
+#include "../lib/io/frames.h"
+#include "../lib/core/mesh.h"
+#include "../lib/io/render.h"
+#include "../lib/io/vtk.h"
 #include "../macro/patch_mesh.h"
 
 static int scratch_dir(char *dir)

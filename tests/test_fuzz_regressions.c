@@ -12,9 +12,9 @@
 #include <unistd.h>
 
 #include "harness.h"
-#include "../lib/frames.h"
+#include "../lib/io/frames.h"
 #include "../lib/io/vtu.h"
-#include "../lib/progress.h"
+#include "../lib/io/progress.h"
 #include "../macro/scene.h"
 
 /* copies src to dst */

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../lib/plume.h"
+#include "../include/plume.h"
 
 typedef struct {
     int converged, iterations, factorizations, chord_steps;

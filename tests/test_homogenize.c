@@ -6,7 +6,7 @@
 
 #include "harness.h"
 #include "test_rng.h"
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"
 #include "../micro/periodic.h"

@@ -1,5 +1,5 @@
-/* Tests of the I/O modules: HDF5 curves and moduli (lib/curves.c), sample JSON (lib/sample.c),
- * gnuplot charts (lib/plot.c) and the progress line (lib/progress.c). Scratch files live in a
+/* Tests of the I/O modules: HDF5 curves and moduli (lib/io/curves.c), sample JSON (lib/io/sample.c),
+ * gnuplot charts (lib/io/plot.c) and the progress line (lib/io/progress.c). Scratch files live in a
  * mkdtemp directory under /tmp that each test removes. Run from tests/ (data in ../data). */
 #include <dirent.h>
 #include <fcntl.h>
@@ -14,10 +14,10 @@
 
 #include "harness.h"
 #include "h5_units.h"
-#include "../lib/curves.h"
-#include "../lib/plot.h"
-#include "../lib/progress.h"
-#include "../lib/sample.h"
+#include "../lib/io/curves.h"
+#include "../lib/io/plot.h"
+#include "../lib/io/progress.h"
+#include "../lib/io/sample.h"
 
 #define SAMPLES "../data/samples.json"
 

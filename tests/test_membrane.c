@@ -1,5 +1,5 @@
-/* Tests of the membrane element (lib/membrane.c) and the dense symmetric kernels it uses
- * (lib/dense.c): finite-difference checks of gradient and Hessian, PSD projection, patch test,
+/* Tests of the membrane element (lib/core/membrane.c) and the dense symmetric kernels it uses
+ * (lib/core/dense.c): finite-difference checks of gradient and Hessian, PSD projection, patch test,
  * analytic densities, rotation invariance, and every input error. */
 #include <math.h>
 #include <stdint.h>
@@ -8,9 +8,9 @@
 
 #include "harness.h"
 #include "test_rng.h"
-#include "../lib/dense.h"
-#include "../lib/membrane.h"
-#include "../lib/mesh.h"
+#include "../lib/core/dense.h"
+#include "../lib/core/membrane.h"
+#include "../lib/core/mesh.h"
 
 #define PI 3.14159265358979323846
 

@@ -1,4 +1,4 @@
-/* Tests of the quadratic planar membrane element (lib/membrane_p2.c): finite-difference checks of
+/* Tests of the quadratic planar membrane element (lib/core/membrane_p2.c): finite-difference checks of
  * gradient and Hessian, patch test, rigid motions, PSD projection, the linear-elastic limit, the
  * in-plane bending of a strip where linear triangles lock, and every input error. */
 #include <math.h>
@@ -7,10 +7,10 @@
 
 #include "harness.h"
 #include "test_rng.h"
-#include "../lib/dense.h"
-#include "../lib/membrane.h"
-#include "../lib/membrane_p2.h"
-#include "../lib/mesh.h"
+#include "../lib/core/dense.h"
+#include "../lib/core/membrane.h"
+#include "../lib/core/membrane_p2.h"
+#include "../lib/core/mesh.h"
 
 #define PI 3.14159265358979323846
 #define KK 12 /* dofs of one element */

@@ -8,7 +8,7 @@
 
 #include "harness.h"
 #include "micro_specimen.h"
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../micro/cell_linear.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"

@@ -7,7 +7,7 @@
 
 #include "harness.h"
 #include "micro_specimen.h"
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"
 #include "../micro/micro_model.h"

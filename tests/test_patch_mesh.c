@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../lib/plume.h"
+#include "../include/plume.h"
 
 static int cmp_dbl(const void *a, const void *b)
 {

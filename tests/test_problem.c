@@ -1,4 +1,4 @@
-/* Tests of the assembled problem (lib/problem.c), not of single elements: finite-difference checks
+/* Tests of the assembled problem (lib/core/problem.c), not of single elements: finite-difference checks
  * of the objective gradient, the Lagrangian Hessian on its sparse pattern, the constraint
  * Jacobian triplets and the forces on prescribed dofs, for a membrane mesh with a nonlinear
  * point potential and edge-length constraints, with some dofs prescribed; dropping of fully
@@ -10,11 +10,11 @@
 
 #include "harness.h"
 #include "test_rng.h"
-#include "../lib/dense.h"
-#include "../lib/edge_length.h"
-#include "../lib/membrane.h"
-#include "../lib/mesh.h"
-#include "../lib/problem.h"
+#include "../lib/core/dense.h"
+#include "../lib/core/edge_length.h"
+#include "../lib/core/membrane.h"
+#include "../lib/core/mesh.h"
+#include "../lib/core/problem.h"
 
 /* ---- helpers ---------------------------------------------------------------------------- */
 

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "problem.h"
+#include "../lib/core/problem.h"
 #include "test_rng.h"
 
 enum { NV = 40, NFIXED_PAIRS = 60, NCHANGING = 12, NSETS = 4 };

@@ -10,9 +10,9 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../lib/plume.h"
-#include "../lib/contact_broad.h"
-#include "../lib/rigid_motion.h"
+#include "../include/plume.h"
+#include "../lib/contact/contact_broad.h"
+#include "../lib/core/rigid_motion.h"
 
 static void write_file(const char *path, const char *text)
 {

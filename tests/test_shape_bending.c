@@ -11,8 +11,8 @@
 #include "term_fd.h"
 #include "test_rng.h"
 #include "bend_meshes.h"
-#include "../lib/dense.h"
-#include "../lib/mesh.h"
+#include "../lib/core/dense.h"
+#include "../lib/core/mesh.h"
 #include "../macro/shape_bending.h"
 
 /* The vane of supplementary Table 3 (a), D_long/D_trans = 2500; twist by Huber's rule. */

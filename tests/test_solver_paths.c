@@ -7,9 +7,9 @@
 
 #include "../macro/scene.h"
 #include "harness.h"
-#include "problem.h"
-#include "solver.h"
-#include "statics.h"
+#include "../lib/core/problem.h"
+#include "../lib/solve/solver.h"
+#include "../lib/sim/statics.h"
 
 /* Rosenbrock's valley on one 2-D vertex: (1 - x)^2 + 100 (y - x^2)^2, minimum 0 at (1, 1). The
  * Hessian is indefinite where y > x^2 + 1/200; the "projection" (partial_projection) is the

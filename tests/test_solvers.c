@@ -6,10 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "edge_length.h"
+#include "../lib/core/edge_length.h"
 #include "harness.h"
-#include "problem.h"
-#include "solver.h"
+#include "../lib/core/problem.h"
+#include "../lib/solve/solver.h"
 
 /* ---- test terms (any dim, exact gradient and Hessian) ---- */
 

@@ -3,8 +3,8 @@
 #include <math.h>
 
 #include "harness.h"
-#include "../lib/membrane.h"
-#include "../lib/mesh.h"
+#include "../lib/core/membrane.h"
+#include "../lib/core/mesh.h"
 #include "../macro/stability.h"
 #include <stdlib.h>
 #include <string.h>

@@ -9,11 +9,11 @@
 
 #include "app_runner.h"
 #include "harness.h"
-#include "../lib/dense.h"
-#include "../lib/load.h"
-#include "../lib/moment.h"
-#include "../lib/plume.h"
-#include "../lib/statics.h"
+#include "../lib/core/dense.h"
+#include "../lib/core/load.h"
+#include "../lib/core/moment.h"
+#include "../include/plume.h"
+#include "../lib/sim/statics.h"
 #include "../macro/grid_mesh.h"
 #include "../macro/scene.h"
 

@@ -1,8 +1,8 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../lib/status.h"
-#include "../lib/version.h"
+#include "../lib/core/status.h"
+#include "../lib/core/version.h"
 #include <stdio.h>
 
 void test_status_strerror(void)

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../lib/solver.h"
+#include "../lib/solve/solver.h"
 
 /* One vertex pulled by a spring towards (0, -1), through a wall y = 0 that it sees only through
  * its unsigned distance |y|: barrier kappa b(|y|), b(d) = -(d - dhat)^2 ln(d / dhat) for d < dhat

@@ -8,7 +8,7 @@
 
 #include "app_runner.h"
 #include "harness.h"
-#include "../lib/plume.h"
+#include "../include/plume.h"
 #include "../macro/study.h"
 #include "../micro/micro_model.h"
 

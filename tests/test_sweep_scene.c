@@ -16,7 +16,7 @@
 #include "app_runner.h"
 #include "h5_units.h"
 #include "harness.h"
-#include "../lib/frames.h"
+#include "../lib/io/frames.h"
 #include "../macro/flat.h"
 #include "../macro/sweep.h"
 

@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../lib/plume.h"
+#include "../include/plume.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846

@@ -10,7 +10,7 @@
 #include "harness.h"
 #include "test_rng.h"
 #include "../lib/io/vtu.h"
-#include "../lib/membrane.h"
+#include "../lib/core/membrane.h"
 #include "../macro/bending.h"
 #include "../macro/fields.h"
 #include "../macro/patch_mesh.h"

@@ -4,8 +4,8 @@
 #ifndef PLUME_VTU_H
 #define PLUME_VTU_H
 
-#include "../export.h"
-#include "../status.h"
+#include "../core/export.h"
+#include "../core/status.h"
 
 #ifdef __cplusplus
 extern "C" {

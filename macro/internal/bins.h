@@ -5,7 +5,7 @@
 
 #include <math.h>
 
-#include "../../lib/status.h"
+#include "../../lib/core/status.h"
 
 /* Zeroed by plume_bins_init; arrays owned, freed by plume_bins_free. */
 typedef struct {

@@ -5,7 +5,7 @@
 
 #include <math.h>
 
-#include "../../lib/status.h"
+#include "../../lib/core/status.h"
 #include "../feather_mesh.h"
 
 #define FM_PI 3.14159265358979323846

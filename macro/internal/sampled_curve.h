@@ -3,7 +3,7 @@
 #ifndef PLUME_MACRO_INTERNAL_SAMPLED_CURVE_H
 #define PLUME_MACRO_INTERNAL_SAMPLED_CURVE_H
 
-#include "../../lib/status.h"
+#include "../../lib/core/status.h"
 #include "../feather_mesh.h"
 
 /* Samples of a curve: positions, arc length s, tangent angle a (unwrapped). */

@@ -6,7 +6,7 @@
 #ifndef PLUME_MACRO_INTERNAL_SHAPE_STENCIL_H
 #define PLUME_MACRO_INTERNAL_SHAPE_STENCIL_H
 
-#include "../../lib/mesh.h"
+#include "../../lib/core/mesh.h"
 
 /* Row-normalised determinant s(M) (shape_bending.c's top comment) above which a complete natural stencil is kept, and
  * below which no stencil is accepted at all. s is affine-invariant (barycentric coordinates

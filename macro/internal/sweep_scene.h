@@ -8,7 +8,7 @@
 #include <hdf5.h>
 #include <jansson.h>
 
-#include "../../lib/status.h"
+#include "../../lib/core/status.h"
 
 /* A run records its final positions when the scene has at most this many vertices. */
 enum { PLUME_SWEEP_SCENE_MAX_POSITIONS = 20000 };

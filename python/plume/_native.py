@@ -38,7 +38,7 @@ class PlumeError(Exception):
     """An error reported by the plume library.
 
     Attributes:
-        status: the plume_status code (a negative int, see lib/status.h).
+        status: the plume_status code (a negative int, see lib/core/status.h).
         status_name: plume_strerror(status), e.g. "invalid input".
         message: plume's own message (naming the file, line, key or parameter); also str(error).
     """
@@ -125,7 +125,7 @@ def _load():
 
 lib, LIBRARY_PATH = _load()
 
-# --- declarations (macro/flat.h, lib/status.h, lib/version.h) ---------------------------------
+# --- declarations (macro/flat.h, lib/core/status.h, lib/core/version.h) ---------------------------------
 
 _c_int, _c_long, _c_double, _c_char_p, _c_void_p = (ctypes.c_int, ctypes.c_long, ctypes.c_double,
                                                    ctypes.c_char_p, ctypes.c_void_p)

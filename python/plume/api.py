@@ -31,7 +31,7 @@ def version():
 
 
 def openmp_serial():
-    """Makes OpenMP parallel regions serial in this process (plume_openmp_serial, lib/openmp_env.h).
+    """Makes OpenMP parallel regions serial in this process (plume_openmp_serial, lib/core/openmp_env.h).
 
     plume's apps call it first: Debian's CHOLMOD opens 4-thread OpenMP regions per supernode, which
     on a 2-core machine cost about a quarter of a scene's run in waits (README, "Threads"). It

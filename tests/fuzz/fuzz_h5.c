@@ -7,8 +7,8 @@
 #include <math.h>
 
 #include "fuzz_common.h"
-#include "../../lib/curves.h"
-#include "../../lib/frames.h"
+#include "../../lib/io/curves.h"
+#include "../../lib/io/frames.h"
 
 typedef struct {
     const uint8_t *p;

@@ -1,6 +1,6 @@
 /* libFuzzer: a samples file (data/samples.json, supplementary Table 1). */
 #include "fuzz_common.h"
-#include "../../lib/sample.h"
+#include "../../lib/io/sample.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

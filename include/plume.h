@@ -1,0 +1,82 @@
+/* plume — feather vanes as strongly anisotropic elastic shells, at two scales.
+ * The umbrella header: include this and link libplume (pkg-config plume). */
+#ifndef PLUME_H
+#define PLUME_H
+
+/* core: the mesh, the problem and its energy terms, the dense algebra */
+#include "../lib/core/export.h"
+#include "../lib/core/status.h"
+#include "../lib/core/version.h"
+#include "../lib/core/mesh.h"
+#include "../lib/core/mesh_quadratic.h"
+#include "../lib/core/cdt.h"
+#include "../lib/core/term.h"
+#include "../lib/core/problem.h"
+#include "../lib/core/membrane.h"
+#include "../lib/core/membrane_p2.h"
+#include "../lib/core/edge_length.h"
+#include "../lib/core/dense.h"
+#include "../lib/core/pslg.h"
+#include "../lib/core/load.h"
+#include "../lib/core/moment.h"
+#include "../lib/core/openmp_env.h"
+#include "../lib/core/rigid_motion.h"
+
+/* io: HDF5 curves and frames, VTK, JSON and OBJ input, plots and renders */
+#include "../lib/io/curves.h"
+#include "../lib/io/sample.h"
+#include "../lib/io/plot.h"
+#include "../lib/io/gnuplot.h"
+#include "../lib/io/progress.h"
+#include "../lib/io/frames.h"
+#include "../lib/io/fs.h"
+#include "../lib/io/vtk.h"
+#include "../lib/io/vtu.h"
+#include "../lib/io/render.h"
+
+/* solve: CHOLMOD, the native Newton/SQP, Ipopt, one dispatcher */
+#include "../lib/solve/cholesky.h"
+#include "../lib/solve/solver.h"
+#include "../lib/solve/newton.h"
+
+/* contact: barrier, broad and narrow phase, CCD, friction */
+#include "../lib/contact/contact_narrow.h"
+#include "../lib/contact/ccd.h"
+#include "../lib/contact/contact_broad.h"
+#include "../lib/contact/contact.h"
+#include "../lib/contact/contact_friction.h"
+
+/* sim: the drivers that step a problem (statics, dynamics, traction) */
+#include "../lib/sim/statics.h"
+#include "../lib/sim/traction.h"
+#include "../lib/sim/dynamics.h"
+
+/* macro: the shell, the meshers, scenes and the experiment drivers */
+#include "../macro/patch_mesh.h"
+#include "../macro/grid_mesh.h"
+#include "../macro/obj_outline.h"
+#include "../macro/vane.h"
+#include "../macro/traction_model.h"
+#include "../macro/plate_bending.h"
+#include "../macro/bending.h"
+#include "../macro/shape_bending.h"
+#include "../macro/feather_mesh.h"
+#include "../macro/scene.h"
+#include "../macro/fields.h"
+#include "../macro/flat.h"
+#include "../macro/sweep.h"
+#include "../macro/study.h"
+#include "../macro/stability.h"
+
+/* micro: layouts, cells, specimens, homogenisation, fitting */
+#include "../micro/layout.h"
+#include "../micro/layout_json.h"
+#include "../micro/cell_mesh.h"
+#include "../micro/periodic.h"
+#include "../micro/cell_linear.h"
+#include "../micro/cell_plate.h"
+#include "../micro/homogenize.h"
+#include "../micro/micro_model.h"
+#include "../micro/fit.h"
+
+#endif

@@ -1,0 +1,482 @@
+#include "dynamics.h"
+#include "../core/rigid_motion.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../io/progress.h"
+
+void plume_dynamics_opts_default(plume_dynamics_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->dt = 1e-2;
+    o->gravity[2] = -9.81;
+    o->max_halvings = 6;
+    o->solver = PLUME_SOLVER_NEWTON;
+    plume_solver_opts_default(&o->solver_opts);
+}
+
+/* 1/(2 dt^2) sum_v m_v |x_v - xt_v|^2 - sum_v m_v g.x_v: inertia of implicit Euler and gravity. */
+typedef struct {
+    plume_index nv;
+    plume_index *stencil; /* 0..nv-1 */
+    double *mass;         /* [nv] */
+    double *xt;           /* [3 nv] predicted positions x_n + dt v_n */
+    double inv_dt2;
+    double g[3];
+} inertia_ctx;
+
+static void inertia_destroy(void *ctx)
+{
+    inertia_ctx *c = ctx;
+    if (!c)
+        return;
+    free(c->stencil);
+    free(c->mass);
+    free(c->xt);
+    free(c);
+}
+
+static plume_status inertia_eval(void *ctx, int dim, const double *x, double *energy, double *grad, double *hblocks,
+                                 int project)
+{
+    (void)project; /* blocks are m/dt^2 I: PSD */
+    const inertia_ctx *c = ctx;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    for (plume_index v = 0; v < c->nv; v++) {
+        double m = c->mass[v], k = m * c->inv_dt2;
+        for (int a = 0; a < 3; a++) {
+            double d = x[3 * v + a] - c->xt[3 * v + a];
+            if (energy)
+                *energy += 0.5 * k * d * d - m * c->g[a] * x[3 * v + a];
+            if (grad)
+                grad[3 * v + a] += k * d - m * c->g[a];
+        }
+        if (hblocks) {
+            double *H = hblocks + 9 * v;
+            memset(H, 0, 9 * sizeof *H);
+            H[0] = H[4] = H[8] = k;
+        }
+    }
+    return PLUME_OK;
+}
+
+typedef struct {
+    plume_index nv;
+    plume_index *vertices;
+    int nkeys;
+    double *times, *offsets, *rotations; /* rotations NULL: translation only */
+    double pivot[3];
+    double *y0;                          /* [3 nv] the vertices' positions at creation */
+} handle_copy;
+
+struct plume_dynamics {
+    const plume_mesh *mesh;
+    plume_problem *p;
+    plume_solver *s;
+    plume_dynamics_opts o;
+    inertia_ctx *inertia; /* owned by the problem */
+    handle_copy *handles;
+    int nhandles;
+    double t;
+    double *x, *v, *xsave, *vsave, *u, *lambda, *lsave;
+    double *xh, *dx; /* [3 nv] a step's start with the handles moved; a motion checked by CCD */
+    plume_index n, m;
+};
+
+void plume_dynamics_destroy(plume_dynamics **pd)
+{
+    if (!pd || !*pd)
+        return;
+    plume_dynamics *d = *pd;
+    plume_solver_destroy(&d->s);
+    for (int h = 0; h < d->nhandles; h++) {
+        free(d->handles[h].vertices);
+        free(d->handles[h].times);
+        free(d->handles[h].offsets);
+        free(d->handles[h].rotations);
+        free(d->handles[h].y0);
+    }
+    free(d->handles);
+    free(d->x);
+    free(d->v);
+    free(d->xsave);
+    free(d->xh);
+    free(d->dx);
+    free(d->vsave);
+    free(d->u);
+    free(d->lambda);
+    free(d->lsave);
+    free(d);
+    *pd = NULL;
+}
+
+/* where handle h puts its vertex i at time t (rigid_motion.h) */
+static void handle_position(const handle_copy *h, plume_index i, double t, double out[3])
+{
+    const plume_rigid_motion m = {h->nkeys, h->times, h->offsets, h->rotations, h->pivot};
+    plume_rigid_motion_apply(&m, t, h->y0 + 3 * i, out);
+}
+
+static plume_status copy_handles(plume_dynamics *d, const plume_mesh *mesh, const double *x0, const plume_handle *hs,
+                                 int nh, plume_err *err)
+{
+    d->handles = calloc((size_t)(nh + 1), sizeof *d->handles);
+    if (!d->handles)
+        return PLUME_ENOMEM;
+    d->nhandles = nh;
+    for (int h = 0; h < nh; h++) {
+        const plume_handle *in = hs + h;
+        if (in->nvertices < 1 || !in->vertices || in->nkeys < 1 || !in->times || !in->offsets)
+            return plume_err_set(err, PLUME_EINVAL, "handle %d: needs at least one vertex and one keyframe", h);
+        for (int k = 0; k < in->nkeys; k++) {
+            if (!isfinite(in->times[k]) || (k > 0 && !(in->times[k] > in->times[k - 1])))
+                return plume_err_set(err, PLUME_EINVAL, "handle %d: keyframe times must be finite and increasing (key %d)",
+                                     h, k);
+            for (int a = 0; a < 3; a++)
+                if (!isfinite(in->offsets[3 * k + a]) || (in->rotations && !isfinite(in->rotations[3 * k + a])))
+                    return plume_err_set(err, PLUME_EINVAL, "handle %d: keyframe %d has a non-finite offset or rotation",
+                                         h, k);
+        }
+        for (int a = 0; a < 3; a++)
+            if (!isfinite(in->pivot[a]))
+                return plume_err_set(err, PLUME_EINVAL, "handle %d: the pivot must be finite", h);
+        handle_copy *c = d->handles + h;
+        c->nv = in->nvertices;
+        c->nkeys = in->nkeys;
+        c->vertices = malloc((size_t)in->nvertices * sizeof *c->vertices);
+        c->times = malloc((size_t)in->nkeys * sizeof *c->times);
+        c->offsets = malloc((size_t)(3 * in->nkeys) * sizeof *c->offsets);
+        c->rotations = in->rotations ? malloc((size_t)(3 * in->nkeys) * sizeof *c->rotations) : NULL;
+        c->y0 = malloc((size_t)(3 * in->nvertices) * sizeof *c->y0);
+        if (!c->vertices || !c->times || !c->offsets || !c->y0 || (in->rotations && !c->rotations))
+            return PLUME_ENOMEM;
+        for (plume_index i = 0; i < in->nvertices; i++) {
+            if (in->vertices[i] < 0 || in->vertices[i] >= mesh->nv)
+                return plume_err_set(err, PLUME_EINVAL, "handle %d: vertex %ld out of range [0, %ld)", h,
+                                     (long)in->vertices[i], (long)mesh->nv);
+            c->vertices[i] = in->vertices[i];
+            memcpy(c->y0 + 3 * i, x0 + 3 * in->vertices[i], 3 * sizeof *x0);
+        }
+        if (in->rotations)
+            memcpy(c->rotations, in->rotations, (size_t)(3 * in->nkeys) * sizeof *c->rotations);
+        memcpy(c->pivot, in->pivot, sizeof c->pivot);
+        memcpy(c->times, in->times, (size_t)in->nkeys * sizeof *c->times);
+        memcpy(c->offsets, in->offsets, (size_t)(3 * in->nkeys) * sizeof *c->offsets);
+    }
+    return PLUME_OK;
+}
+
+plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, const double *density, int ndensity,
+                                   const plume_handle *handles, int nhandles, const plume_dynamics_opts *o,
+                                   plume_dynamics **out, plume_err *err)
+{
+    if (!mesh || !p || !density || ndensity < 1 || (nhandles > 0 && !handles) || !o || !out)
+        return plume_err_set(err, PLUME_EINVAL, "dynamics: invalid arguments");
+    *out = NULL;
+    if (plume_problem_dim(p) != 3 || plume_problem_nvert(p) != mesh->nv)
+        return plume_err_set(err, PLUME_EINVAL, "dynamics: needs a shell-mode (dim 3) problem over the mesh's vertices");
+    if (!(o->dt > 0.0) || !isfinite(o->dt) || o->max_halvings < 0)
+        return plume_err_set(err, PLUME_EINVAL, "dynamics: dt must be finite and > 0 (got %g)", o->dt);
+    for (int k = 0; k < 3; k++)
+        if (!isfinite(o->gravity[k]))
+            return plume_err_set(err, PLUME_EINVAL, "dynamics: gravity must be finite");
+    for (int k = 0; k < ndensity; k++)
+        if (!(density[k] > 0.0) || !isfinite(density[k]))
+            return plume_err_set(err, PLUME_EINVAL, "dynamics: surface density %d must be finite and > 0 (got %g)", k,
+                                 density[k]);
+    plume_status st;
+    plume_dynamics *d = calloc(1, sizeof *d);
+    inertia_ctx *in = calloc(1, sizeof *in);
+    if (!d || !in) {
+        free(d);
+        free(in);
+        return PLUME_ENOMEM;
+    }
+    d->mesh = mesh;
+    d->p = p;
+    d->o = *o;
+    plume_index nv = mesh->nv;
+    in->nv = nv;
+    in->stencil = malloc((size_t)nv * sizeof *in->stencil);
+    in->mass = calloc((size_t)nv, sizeof *in->mass);
+    in->xt = calloc((size_t)(3 * nv), sizeof *in->xt);
+    if (!in->stencil || !in->mass || !in->xt) {
+        inertia_destroy(in);
+        free(d);
+        return PLUME_ENOMEM;
+    }
+    memcpy(in->g, o->gravity, sizeof in->g);
+    in->inv_dt2 = 1.0 / (o->dt * o->dt);
+    for (plume_index v = 0; v < nv; v++)
+        in->stencil[v] = v;
+    for (plume_index t = 0; t < mesh->nt; t++) { /* lumped mass: a third of each triangle per vertex */
+        int id = mesh->material[t];
+        if (id < 0 || id >= ndensity) {
+            inertia_destroy(in);
+            free(d);
+            return plume_err_set(err, PLUME_EINVAL, "dynamics: triangle %ld has material %d without a density", (long)t,
+                                 id);
+        }
+        double m3 = density[id] * fabs(plume_mesh_ref_area(mesh, t)) / 3.0;
+        for (int k = 0; k < 3; k++)
+            in->mass[mesh->tri[3 * t + k]] += m3;
+    }
+    plume_term term = {.name = "inertia", .arity = 1, .nstencil = nv, .stencil = in->stencil, .eval = inertia_eval,
+                       .destroy = inertia_destroy, .ctx = in};
+    d->inertia = in;
+    if ((st = plume_problem_add_term(p, &term)) != PLUME_OK) {
+        free(d);
+        return st;
+    }
+    if ((st = copy_handles(d, mesh, plume_problem_x(p), handles, nhandles, err)) != PLUME_OK)
+        goto fail;
+    for (int h = 0; h < nhandles; h++)
+        for (plume_index i = 0; i < d->handles[h].nv; i++)
+            for (int a = 0; a < 3; a++)
+                plume_problem_fix_dof(p, 3 * d->handles[h].vertices[i] + a);
+    if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
+        goto fail;
+    plume_err why;
+    if ((st = plume_solver_create(o->solver, p, &o->solver_opts, &d->s, &why)) != PLUME_OK) {
+        plume_err_set(err, st, "dynamics: cannot create the %s solver: %s", plume_solver_kind_name(o->solver), why.msg);
+        goto fail;
+    }
+    d->n = plume_problem_nfree(p);
+    d->m = plume_problem_ncons(p);
+    size_t nd = (size_t)(3 * nv);
+    d->x = malloc(nd * sizeof *d->x);
+    d->v = calloc(nd, sizeof *d->v);
+    d->xsave = malloc(nd * sizeof *d->xsave);
+    d->xh = malloc(nd * sizeof *d->xh);
+    d->dx = malloc(nd * sizeof *d->dx);
+    d->vsave = malloc(nd * sizeof *d->vsave);
+    d->u = malloc((size_t)(d->n + 1) * sizeof *d->u);
+    d->lambda = calloc((size_t)(d->m + 1), sizeof *d->lambda);
+    d->lsave = calloc((size_t)(d->m + 1), sizeof *d->lsave);
+    if (!d->x || !d->v || !d->xsave || !d->xh || !d->dx || !d->vsave || !d->u || !d->lambda || !d->lsave) {
+        st = PLUME_ENOMEM;
+        goto fail;
+    }
+    memcpy(d->x, plume_problem_x(p), nd * sizeof *d->x);
+    *out = d;
+    return PLUME_OK;
+fail:
+    plume_dynamics_destroy(&d);
+    return st;
+}
+
+/* Terms whose stencils follow the state (contact) at the problem's x: a new pattern needs a new
+ * solver (its symbolic analysis); *changed says whether it happened. */
+static plume_status refresh_stencils(plume_dynamics *d, int *changed, plume_err *err)
+{
+    plume_status st = plume_problem_update_terms(d->p, changed, err);
+    if (st != PLUME_OK || !*changed)
+        return st;
+    plume_solver_destroy(&d->s);
+    return plume_solver_create(d->o.solver, d->p, &d->o.solver_opts, &d->s, err);
+}
+
+/* Where a step with terms that limit steps (contact with CCD) starts: at the handles' targets and
+ * the inertial prediction x_n + dt v_n together when that motion crosses nothing; otherwise the
+ * handles move first, and that motion must cross nothing (else the step fails and is halved:
+ * *safe = 0), then the free dofs start at the safe fraction of the prediction, whose full value
+ * stays the inertia's target (*limited = 1 when it was cut). x holds x_n on entry, with the
+ * handles at x_n too. */
+static plume_status safe_start(plume_dynamics *d, const double *xh, int *safe, int *limited)
+{
+    plume_index nd = 3 * d->mesh->nv;
+    double *x = plume_problem_x(d->p), *dx = d->dx;
+    double a = 1.0;
+    /* everything at once first: attached shells move with their handles (a flapping wing), and
+     * checking the handles alone against shells standing still would refuse such steps */
+    for (plume_index i = 0; i < nd; i++)
+        dx[i] = xh[i] - x[i];
+    plume_status st = plume_problem_max_motion(d->p, dx, &a);
+    if (st != PLUME_OK)
+        return st;
+    if (a >= 1.0) {
+        memcpy(x, xh, (size_t)nd * sizeof *x);
+        *safe = 1;
+        return PLUME_OK;
+    }
+    for (plume_index i = 0; i < nd; i++) /* the handles' move (0 on the free dofs) */
+        dx[i] = plume_problem_is_fixed(d->p, i) ? xh[i] - x[i] : 0.0;
+    a = 1.0;
+    st = plume_problem_max_motion(d->p, dx, &a);
+    if (st != PLUME_OK)
+        return st;
+    *safe = a >= 1.0;
+    if (!*safe)
+        return PLUME_OK;
+    for (plume_index i = 0; i < nd; i++)
+        if (plume_problem_is_fixed(d->p, i))
+            x[i] = xh[i];
+    for (plume_index i = 0; i < nd; i++)
+        dx[i] = plume_problem_is_fixed(d->p, i) ? 0.0 : d->inertia->xt[i] - x[i];
+    if ((st = plume_problem_max_motion(d->p, dx, &a)) != PLUME_OK)
+        return st;
+    for (plume_index i = 0; i < nd; i++)
+        x[i] += a * dx[i];
+    *limited = a < 1.0;
+    return PLUME_OK;
+}
+
+/* One implicit Euler step of size dt from the current state; 1 when it converged. */
+static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *rep, int *ok, plume_err *err)
+{
+    plume_index nv = d->mesh->nv;
+    inertia_ctx *in = d->inertia;
+    double *x = plume_problem_x(d->p), *xh = d->xh;
+    int limits = plume_problem_limits_steps(d->p);
+    plume_status st = plume_problem_lag_terms(d->p, d->x); /* friction lags at x_n */
+    if (st != PLUME_OK)
+        return plume_err_set(err, st, "dynamics: the terms could not take the state at t = %g (%s)", d->t,
+                             plume_strerror(st));
+    for (plume_index i = 0; i < 3 * nv; i++)
+        in->xt[i] = xh[i] = d->x[i] + dt * d->v[i];
+    in->inv_dt2 = 1.0 / (dt * dt);
+    for (int h = 0; h < d->nhandles; h++)
+        for (plume_index i = 0; i < d->handles[h].nv; i++)
+            handle_position(d->handles + h, i, d->t + dt, xh + 3 * d->handles[h].vertices[i]);
+    if (limits) {
+        int safe = 1, limited = 0;
+        memcpy(x, d->x, (size_t)(3 * nv) * sizeof *x);
+        if ((st = safe_start(d, xh, &safe, &limited)) != PLUME_OK)
+            return plume_err_set(err, st, "dynamics: collision detection failed at t = %g (%s)", d->t,
+                                 plume_strerror(st));
+        rep->step_limited += limited;
+        if (!safe) {
+            *ok = 0;
+            if (rep->converged)
+                rep->reason = PLUME_REASON_LINE_SEARCH; /* the handles would cross: a smaller step */
+            return PLUME_OK;
+        }
+    } else {
+        memcpy(x, xh, (size_t)(3 * nv) * sizeof *x);
+    }
+    int changed = 0;
+    if ((st = refresh_stencils(d, &changed, err)) != PLUME_OK)
+        return st;
+    plume_problem_gather(d->p, d->u);
+    plume_solve_report sr;
+    st = plume_solver_solve(d->s, d->u, d->lambda, &sr);
+    /* a pair that came within reach during the solve is not among the stencils: solve again with
+     * it (at most twice more after a converged solve; the solution then includes every pair it
+     * touches), and from where a solve stopped because such a pair blocked its steps (up to 8 times;
+     * when the stencils did not change, that solve's failure stands) */
+    for (int again = 0, blocked = 0; st == PLUME_OK && again < 2 && blocked < 8;) {
+        const int was_blocked = sr.reason == PLUME_REASON_CONTACT_SET;
+        if (!sr.converged && !was_blocked)
+            break;
+        again += !was_blocked;
+        blocked += was_blocked;
+        if ((st = refresh_stencils(d, &changed, err)) != PLUME_OK || !changed)
+            break;
+        rep->iterations += sr.iterations;
+        plume_problem_gather(d->p, d->u);
+        st = plume_solver_solve(d->s, d->u, d->lambda, &sr);
+    }
+    if (st != PLUME_OK)
+        return plume_err_set(err, st, "dynamics: the %s solver failed at t = %g (%s)", plume_solver_kind_name(d->o.solver),
+                             d->t, plume_strerror(st));
+    rep->iterations += sr.iterations;
+    rep->backtracks += sr.backtracks;
+    rep->shifts += sr.shifts;
+    rep->step_limited += sr.step_limited;
+    *ok = sr.converged || (d->o.solver == PLUME_SOLVER_LINEARIZED && sr.reason == PLUME_REASON_SINGLE_STEP);
+    if (!*ok) {
+        if (rep->converged)
+            rep->reason = sr.reason;
+        return PLUME_OK;
+    }
+    if (!sr.converged)
+        rep->converged = 0, rep->reason = sr.reason;
+    rep->max_violation = fmax(rep->max_violation, sr.max_violation);
+    for (plume_index i = 0; i < 3 * nv; i++) {
+        d->v[i] = (x[i] - d->x[i]) / dt;
+        d->x[i] = x[i];
+    }
+    d->t += dt;
+    rep->substeps++;
+    return PLUME_OK;
+}
+
+/* dt, halved recursively on failure */
+static plume_status advance_rec(plume_dynamics *d, double dt, int depth, plume_step_report *rep, plume_err *err)
+{
+    size_t nd = (size_t)(3 * d->mesh->nv);
+    memcpy(d->xsave, d->x, nd * sizeof *d->x);
+    memcpy(d->vsave, d->v, nd * sizeof *d->v);
+    memcpy(d->lsave, d->lambda, (size_t)d->m * sizeof *d->lambda);
+    int ok = 0;
+    plume_status st = try_step(d, dt, rep, &ok, err);
+    if (st != PLUME_OK || ok)
+        return st;
+    /* failed: restore and halve */
+    memcpy(d->x, d->xsave, nd * sizeof *d->x);
+    memcpy(d->v, d->vsave, nd * sizeof *d->v);
+    memcpy(d->lambda, d->lsave, (size_t)d->m * sizeof *d->lambda);
+    if (depth >= d->o.max_halvings) {
+        rep->converged = 0;
+        return PLUME_OK;
+    }
+    rep->halvings++;
+    if ((st = advance_rec(d, 0.5 * dt, depth + 1, rep, err)) != PLUME_OK || !rep->converged)
+        return st;
+    return advance_rec(d, 0.5 * dt, depth + 1, rep, err);
+}
+
+plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep, plume_err *err)
+{
+    if (!d || !rep)
+        return plume_err_set(err, PLUME_EINVAL, "dynamics: invalid arguments (stepper and report are required)");
+    if (!isfinite(dt))
+        return plume_err_set(err, PLUME_EINVAL, "dynamics: the step must be finite (got %g)", dt);
+    memset(rep, 0, sizeof *rep);
+    rep->converged = 1;
+    rep->reason = PLUME_REASON_CONVERGED;
+    double t0 = plume_wall_seconds();
+    plume_status st = advance_rec(d, dt > 0.0 ? dt : d->o.dt, 0, rep, err);
+    /* leave the problem's x at the state (a failed attempt may have left a trial there) */
+    memcpy(plume_problem_x(d->p), d->x, (size_t)(3 * d->mesh->nv) * sizeof *d->x);
+    rep->seconds = plume_wall_seconds() - t0;
+    return st;
+}
+
+double plume_dynamics_time(const plume_dynamics *d) { return d->t; }
+const double *plume_dynamics_positions(const plume_dynamics *d) { return d->x; }
+const double *plume_dynamics_velocities(const plume_dynamics *d) { return d->v; }
+const double *plume_dynamics_masses(const plume_dynamics *d) { return d->inertia->mass; }
+
+const double *plume_dynamics_multipliers(const plume_dynamics *d, plume_index *m)
+{
+    if (m)
+        *m = d->m;
+    return d->lambda;
+}
+
+plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double *x, const double *v,
+                                      const double *lambda, plume_err *err)
+{
+    if (!d || !x || !v)
+        return plume_err_set(err, PLUME_EINVAL, "dynamics: set_state needs the stepper, positions and velocities");
+    if (!isfinite(t))
+        return plume_err_set(err, PLUME_EINVAL, "dynamics: set_state: the time must be finite (got %g)", t);
+    size_t nd = (size_t)(3 * d->mesh->nv);
+    for (size_t i = 0; i < nd; i++)
+        if (!isfinite(x[i]) || !isfinite(v[i]))
+            return plume_err_set(err, PLUME_EINVAL, "dynamics: set_state: vertex %zu has a non-finite %s", i / 3,
+                                 isfinite(x[i]) ? "velocity" : "position");
+    d->t = t;
+    memcpy(d->x, x, nd * sizeof *d->x);
+    memcpy(d->v, v, nd * sizeof *d->v);
+    memcpy(plume_problem_x(d->p), x, nd * sizeof *x);
+    if (lambda)
+        memcpy(d->lambda, lambda, (size_t)d->m * sizeof *d->lambda);
+    else
+        memset(d->lambda, 0, (size_t)d->m * sizeof *d->lambda);
+    return PLUME_OK;
+}

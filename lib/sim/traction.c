@@ -1,0 +1,495 @@
+#include "traction.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../io/progress.h"
+
+void plume_traction_opts_default(plume_traction_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->strain_max = 0.05;
+    o->steps = 10;
+    o->max_cuts = 8;
+    o->probe_strain = 1e-6;
+    o->solver = PLUME_SOLVER_NEWTON;
+    plume_solver_opts_default(&o->solver_opts);
+    o->progress = 1;
+}
+
+void plume_traction_result_free(plume_traction_result *r)
+{
+    if (!r)
+        return;
+    free(r->curve.strain);
+    free(r->curve.stress);
+    free(r->curve.wbar);
+    free(r->curve.iterations);
+    free(r->curve.seconds);
+    memset(&r->curve, 0, sizeof r->curve);
+}
+
+static plume_index uf_find(plume_index *parent, plume_index i)
+{
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+/* Which vertices sit on the grips and on the free sides (reference coordinates). */
+typedef struct {
+    plume_index *top, ntop, *left, nleft, *right, nright;
+    unsigned char *bottom_flag, *top_flag;
+} grips;
+
+static void grips_free(grips *g)
+{
+    free(g->top);
+    free(g->left);
+    free(g->right);
+    free(g->bottom_flag);
+    free(g->top_flag);
+}
+
+typedef struct {
+    double y;
+    plume_index v;
+} keyed_vertex;
+
+static int by_y(const void *a, const void *b)
+{
+    double ya = ((const keyed_vertex *)a)->y, yb = ((const keyed_vertex *)b)->y;
+    return (ya > yb) - (ya < yb);
+}
+
+/* sorts vertex ids by reference Y (qsort has no context argument, so sort keyed copies) */
+static plume_status sort_by_y(const double *X, plume_index *v, plume_index n)
+{
+    keyed_vertex *k = malloc((size_t)(n + 1) * sizeof *k);
+    if (!k)
+        return PLUME_ENOMEM;
+    for (plume_index i = 0; i < n; i++)
+        k[i].y = X[2 * v[i] + 1], k[i].v = v[i];
+    qsort(k, (size_t)n, sizeof *k, by_y);
+    for (plume_index i = 0; i < n; i++)
+        v[i] = k[i].v;
+    free(k);
+    return PLUME_OK;
+}
+
+static plume_status find_grips(const plume_mesh *m, double lx, double ly, grips *g, plume_err *err)
+{
+    double tol = 1e-9 * fmax(lx, ly);
+    memset(g, 0, sizeof *g);
+    size_t nv = (size_t)m->nv;
+    g->top = malloc(nv * sizeof *g->top);
+    g->left = malloc(nv * sizeof *g->left);
+    g->right = malloc(nv * sizeof *g->right);
+    g->bottom_flag = calloc(nv, 1);
+    g->top_flag = calloc(nv, 1);
+    if (!g->top || !g->left || !g->right || !g->bottom_flag || !g->top_flag)
+        return PLUME_ENOMEM;
+    plume_index nbottom = 0;
+    double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
+    for (plume_index v = 0; v < m->nv; v++) {
+        double X = m->X[2 * v], Y = m->X[2 * v + 1];
+        xmin = fmin(xmin, X), xmax = fmax(xmax, X), ymin = fmin(ymin, Y), ymax = fmax(ymax, Y);
+        if (fabs(Y) <= tol)
+            g->bottom_flag[v] = 1, nbottom++;
+        if (fabs(Y - ly) <= tol)
+            g->top_flag[v] = 1, g->top[g->ntop++] = v;
+        if (fabs(X) <= tol)
+            g->left[g->nleft++] = v;
+        if (fabs(X - lx) <= tol)
+            g->right[g->nright++] = v;
+    }
+    if (fabs(xmin) > tol || fabs(xmax - lx) > tol || fabs(ymin) > tol || fabs(ymax - ly) > tol)
+        return plume_err_set(err, PLUME_EINVAL,
+                             "traction: mesh bounding box [%g, %g] x [%g, %g] does not match the sample %g x %g m",
+                             xmin, xmax, ymin, ymax, lx, ly);
+    if (nbottom < 2 || g->ntop < 2 || g->nleft < 2 || g->nright < 2)
+        return plume_err_set(err, PLUME_EINVAL, "traction: mesh has too few vertices on the sample's edges");
+    plume_status st = sort_by_y(m->X, g->left, g->nleft);
+    return st == PLUME_OK ? sort_by_y(m->X, g->right, g->nright) : st;
+}
+
+/* trapezoidal integral over y of u_x along a side, vertices sorted by Y */
+static double side_integral(const plume_mesh *m, const double *x, int dim, const plume_index *v, plume_index n)
+{
+    double s = 0.0;
+    for (plume_index k = 0; k + 1 < n; k++) {
+        double ua = x[dim * v[k]] - m->X[2 * v[k]], ub = x[dim * v[k + 1]] - m->X[2 * v[k + 1]];
+        s += 0.5 * (ua + ub) * (m->X[2 * v[k + 1] + 1] - m->X[2 * v[k] + 1]);
+    }
+    return s;
+}
+
+/* Sets the top grip at displacement delta and predicts the free dofs. With no history
+ * (da == db) the prediction is the previous state plus the increment of an affine stretch;
+ * otherwise it extrapolates linearly through the last two converged states xa (at da) and xb (at
+ * db) — from the small-strain probe this is the linear response, a far better start for Newton
+ * than an affine stretch that loads the stiff barbs. */
+static void predict(const plume_mesh *m, plume_problem *p, const grips *g, double ly, double delta,
+                    const double *xa, double da, const double *xb, double db)
+{
+    int dim = plume_problem_dim(p);
+    double *x = plume_problem_x(p);
+    plume_index ndof = dim * m->nv;
+    if (da == db) {
+        for (plume_index i = 0; i < ndof; i++)
+            x[i] = xa[i];
+        for (plume_index v = 0; v < m->nv; v++)
+            x[dim * v + 1] += (delta - da) * m->X[2 * v + 1] / ly;
+    } else {
+        double s = (delta - da) / (da - db);
+        for (plume_index i = 0; i < ndof; i++)
+            x[i] = xa[i] + s * (xa[i] - xb[i]);
+    }
+    for (plume_index v = 0; v < m->nv; v++)
+        if (g->top_flag[v]) {
+            x[dim * v] = m->X[2 * v];
+            x[dim * v + 1] = m->X[2 * v + 1] + delta;
+        } else if (g->bottom_flag[v]) {
+            x[dim * v] = m->X[2 * v];
+            x[dim * v + 1] = m->X[2 * v + 1];
+        }
+}
+
+/* The y-reaction on the moving grip as the virtual work of the generalised forces `force` over
+ * the field w = Y/ly on the y-dofs (1 on the top grip, 0 on the bottom one): the grip's reaction
+ * plus sum_free w r, r the residual of equilibrium, so the two agree at equilibrium. Why the
+ * probe uses it: at 1e-6 strain the forces are so small that the round-off of the stiff barbs'
+ * membrane stress (E_xx times a barb strain at round-off, ~1e-16 |x| / edge, that the multipliers
+ * of the final iterate do not match) is a visible part of them. The grip's sum takes that noise
+ * whole from the elements along the grip; here each element's contribution is weighted by the
+ * change of w across it, ~edge/ly. Measured on the tilted vane (E_xx/E_yy = 1e4, edge 0.01, 3e4
+ * triangles), five converged solves of the same probe (newton, ipopt, three tolerances): the
+ * slope spreads over 1e-5 Pa by the grip's sum, over 3e-8 Pa by this one. */
+static double reaction_virtual_work(const plume_mesh *m, const grips *g, const double *force, int dim, double ly)
+{
+    double F = 0.0;
+    for (plume_index v = 0; v < m->nv; v++) {
+        double w = g->top_flag[v] ? 1.0 : g->bottom_flag[v] ? 0.0 : m->X[2 * v + 1] / ly;
+        F += w * force[dim * v + 1];
+    }
+    return F;
+}
+
+/* The probe's relative KKT tolerance (plume_traction_opts.probe_tol_kkt). */
+static double probe_tolerance(const plume_traction_opts *o)
+{
+    if (o->probe_tol_kkt > 0.0)
+        return o->probe_tol_kkt;
+    return o->solver_opts.tol_kkt * fmin(1.0, o->probe_strain * o->steps / o->strain_max);
+}
+
+/* The probe solved with the relative KKT tolerance tol, tighter than the steps' (the solver's
+ * own tolerance is restored after it). Why: with the steps' tolerance a newton probe stops early.
+ * Its KKT residual is measured against the force scale of the stiff barbs (~1e-6 E_xx h L), whose
+ * round-off floor (~1e-10 of it) the probe reaches while its displacement is still ~1e-4 off at
+ * 3e4 triangles (newton converges linearly there, by ~1/50 per iteration). Below the floor the
+ * solve ends on the step test (tol_step) instead, i.e. at round-off. */
+static plume_status solve_probe_tight(const plume_mesh *mesh, plume_problem *p, const grips *g,
+                                      const plume_traction_opts *o, plume_solver *s, double tol, const double *xrest,
+                                      double delta, double *u, double *lambda, plume_solve_report *rep,
+                                      plume_err *err)
+{
+    predict(mesh, p, g, o->ly, delta, xrest, 0.0, xrest, 0.0);
+    plume_problem_gather(p, u);
+    plume_status st = plume_solver_set_tol_kkt(s, tol);
+    if (st == PLUME_OK)
+        st = plume_solver_solve(s, u, lambda, rep);
+    plume_solver_set_tol_kkt(s, o->solver_opts.tol_kkt);
+    if (st != PLUME_OK)
+        return plume_err_set(err, st, "traction: step 0 (probe): solver error (%s)", plume_strerror(st));
+    return PLUME_OK;
+}
+
+/* The last two converged states of a run (positions, multipliers, grip displacements), the
+ * predictor's history: a is the latest. */
+typedef struct {
+    double *xa, *xb, *la, *lb;
+    double da, db;
+} history;
+
+/* the converged state (x, lambda) at grip displacement delta becomes the latest */
+static void history_push(history *h, const double *x, const double *lambda, double delta, size_t nx, plume_index m)
+{
+    double *t = h->xb;
+    h->xb = h->xa, h->db = h->da;
+    h->xa = t, h->da = delta;
+    memcpy(h->xa, x, nx * sizeof *x);
+    t = h->lb, h->lb = h->la, h->la = t;
+    if (m > 0)
+        memcpy(h->la, lambda, (size_t)m * sizeof *lambda);
+}
+
+plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const plume_index *rigid_edges,
+                                plume_index nrigid, const plume_traction_opts *o,
+                                plume_traction_result *res, plume_err *err)
+{
+    if (!mesh || !p || !o || !res || (nrigid > 0 && !rigid_edges))
+        return plume_err_set(err, PLUME_EINVAL, "traction: invalid arguments");
+    memset(res, 0, sizeof *res);
+    res->failed_step = -1;
+    if (!(o->lx > 0) || !(o->ly > 0) || !(o->h > 0) || !isfinite(o->lx * o->ly * o->h))
+        return plume_err_set(err, PLUME_EINVAL, "traction: lx, ly and thickness must be finite and > 0 (got %g, %g, %g)",
+                             o->lx, o->ly, o->h);
+    if (!(o->strain_max > 0) || !isfinite(o->strain_max) || o->steps < 1 || !(o->probe_strain > 0))
+        return plume_err_set(err, PLUME_EINVAL, "traction: strain-max must be > 0 and steps >= 1 (got %g, %d)",
+                             o->strain_max, o->steps);
+    if (o->max_cuts < 0 || o->max_cuts > 30)
+        return plume_err_set(err, PLUME_EINVAL, "traction: max_cuts must be in [0, 30] (got %d)", o->max_cuts);
+    if (!(o->probe_tol_kkt >= 0) || !isfinite(o->probe_tol_kkt))
+        return plume_err_set(err, PLUME_EINVAL, "traction: probe_tol_kkt must be finite and >= 0 (got %g)",
+                             o->probe_tol_kkt);
+    if (plume_problem_nvert(p) != mesh->nv)
+        return plume_err_set(err, PLUME_EINVAL, "traction: problem and mesh sizes differ");
+    plume_status st;
+    grips g;
+    plume_solver *solver = NULL;
+    double *u = NULL, *lambda = NULL, *lambda_saved = NULL, *force = NULL;
+    history h = {NULL, NULL, NULL, NULL, 0.0, 0.0};
+    plume_index *parent = NULL;
+    double t_start = plume_wall_seconds();
+    if ((st = find_grips(mesh, o->lx, o->ly, &g, err)) != PLUME_OK)
+        goto cleanup;
+
+    /* barbs spanning both grips cannot stretch: union-find over the rigid edges */
+    if (nrigid > 0) {
+        parent = malloc((size_t)mesh->nv * sizeof *parent);
+        if (!parent) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+        for (plume_index v = 0; v < mesh->nv; v++)
+            parent[v] = v;
+        for (plume_index e = 0; e < nrigid; e++)
+            parent[uf_find(parent, rigid_edges[2 * e])] = uf_find(parent, rigid_edges[2 * e + 1]);
+        unsigned char *root_bottom = calloc((size_t)mesh->nv, 1);
+        if (!root_bottom) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
+        for (plume_index v = 0; v < mesh->nv; v++)
+            if (g.bottom_flag[v])
+                root_bottom[uf_find(parent, v)] = 1;
+        plume_index culprit = -1;
+        for (plume_index k = 0; k < g.ntop && culprit < 0; k++)
+            if (root_bottom[uf_find(parent, g.top[k])])
+                culprit = g.top[k];
+        free(root_bottom);
+        if (culprit >= 0) {
+            st = plume_err_set(err, PLUME_EINFEASIBLE,
+                               "traction: inextensible barbs span both grips (e.g. the barb through (%g, %g) m), "
+                               "so the sample cannot stretch; use --constraint off, or a barb angle whose barbs "
+                               "leave through the free sides",
+                               mesh->X[2 * culprit], mesh->X[2 * culprit + 1]);
+            goto cleanup;
+        }
+    }
+
+    int dim = plume_problem_dim(p);
+    double *x = plume_problem_x(p);
+    for (plume_index v = 0; v < mesh->nv; v++) {
+        x[dim * v] = mesh->X[2 * v];
+        x[dim * v + 1] = mesh->X[2 * v + 1];
+        if (dim == 3)
+            x[dim * v + 2] = 0.0;
+        if (g.bottom_flag[v] || g.top_flag[v])
+            for (int k = 0; k < dim; k++)
+                if ((st = plume_problem_fix_dof(p, dim * v + k)) != PLUME_OK)
+                    goto cleanup;
+    }
+    if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
+        goto cleanup;
+    plume_index n = plume_problem_nfree(p), m = plume_problem_ncons(p);
+    size_t np = (size_t)o->steps + 1;
+    u = malloc((size_t)(n + 1) * sizeof *u);
+    lambda = calloc((size_t)(m + 1), sizeof *lambda);
+    lambda_saved = calloc((size_t)(m + 1), sizeof *lambda_saved);
+    h.la = calloc((size_t)(m + 1), sizeof *h.la);
+    h.lb = calloc((size_t)(m + 1), sizeof *h.lb);
+    force = malloc((size_t)(dim * mesh->nv) * sizeof *force);
+    h.xa = malloc((size_t)(dim * mesh->nv) * sizeof *h.xa);
+    h.xb = malloc((size_t)(dim * mesh->nv) * sizeof *h.xb);
+    res->curve.strain = calloc(np, sizeof(double));
+    res->curve.stress = calloc(np, sizeof(double));
+    res->curve.wbar = calloc(np, sizeof(double));
+    res->curve.iterations = calloc(np, sizeof(double));
+    res->curve.seconds = calloc(np, sizeof(double));
+    if (!u || !lambda || !lambda_saved || !h.la || !h.lb || !force || !h.xa || !h.xb || !res->curve.strain ||
+        !res->curve.stress || !res->curve.wbar || !res->curve.iterations || !res->curve.seconds) {
+        st = PLUME_ENOMEM;
+        goto cleanup;
+    }
+    memcpy(h.xa, x, (size_t)(dim * mesh->nv) * sizeof *h.xa);
+    memcpy(h.xb, x, (size_t)(dim * mesh->nv) * sizeof *h.xb);
+    double inc = o->strain_max * o->ly / o->steps; /* the current increment (adaptive stepping) */
+    res->curve.n = 1; /* the rest state */
+    res->converged = 1;
+    plume_progress prog;
+    plume_progress_start(&prog, "traction", o->steps, o->progress == 2);
+    if (o->progress == 0)
+        prog.enabled = 0;
+
+    double probe_tol = probe_tolerance(o);
+    if (o->on_step && (st = o->on_step(o->on_step_user, 0, 0.0, x)) != PLUME_OK) {
+        plume_err_set(err, st, "traction: writing the rest state failed (%s)", plume_strerror(st));
+        goto cleanup;
+    }
+
+    /* step 0 is the small-strain probe (initial slope), then the quasi-static steps */
+    for (int k = 0; k <= o->steps; k++) {
+        int probe = k == 0;
+        double strain = probe ? o->probe_strain : o->strain_max * k / o->steps;
+        double delta = strain * o->ly;
+        plume_solve_report rep, tight;
+        memset(&tight, 0, sizeof tight);
+        plume_err why;
+        if (!solver && (st = plume_solver_create(o->solver, p, &o->solver_opts, &solver, &why)) != PLUME_OK) {
+            plume_err_set(err, st, "traction: could not create the %s solver: %s", plume_solver_kind_name(o->solver),
+                          why.msg);
+            goto cleanup;
+        }
+        if (probe && probe_tol < o->solver_opts.tol_kkt && o->solver != PLUME_SOLVER_LINEARIZED) {
+            if ((st = solve_probe_tight(mesh, p, &g, o, solver, probe_tol, h.xa, delta, u, lambda, &tight, err)) !=
+                PLUME_OK)
+                goto cleanup;
+            if (!tight.converged) /* a round-off floor above sqrt(probe_tol): start again below */
+                memset(lambda, 0, (size_t)(m + 1) * sizeof *lambda);
+        }
+        if (tight.converged) {
+            rep = tight;
+            res->probe_tol_kkt = probe_tol;
+        } else if (probe || o->solver == PLUME_SOLVER_LINEARIZED || o->max_cuts == 0) {
+            predict(mesh, p, &g, o->ly, delta, h.xa, h.da, h.xb, h.db);
+            plume_problem_gather(p, u);
+            if ((st = plume_solver_solve(solver, u, lambda, &rep)) != PLUME_OK) {
+                plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
+                goto cleanup;
+            }
+            rep.iterations += tight.iterations; /* a tight probe that failed counts too */
+            rep.seconds += tight.seconds;
+            if (probe && rep.converged)
+                res->probe_tol_kkt = o->solver_opts.tol_kkt;
+        } else {
+            /* adaptive load stepping: an increment that does not converge is undone (back to the
+             * last equilibrium h.xa and its multipliers) and halved, up to max_cuts times; after a
+             * success it grows back by doubling, never past the nominal step. Only the nominal
+             * strains enter the curve. */
+            plume_solve_report sub;
+            memset(&rep, 0, sizeof rep);
+            rep.reason = PLUME_REASON_CONVERGED;
+            const double nominal = o->strain_max * o->ly / o->steps, smallest = ldexp(nominal, -o->max_cuts);
+            int failed = 0;
+            while (h.da < delta * (1.0 - 1e-12)) {
+                double next = fmin(delta, h.da + inc);
+                if (delta - next < 1e-9 * nominal)
+                    next = delta;
+                memcpy(lambda_saved, lambda, (size_t)(m + 1) * sizeof *lambda);
+                predict(mesh, p, &g, o->ly, next, h.xa, h.da, h.xb, h.db);
+                if (h.da != h.db) /* the multipliers extrapolated with the positions: the barbs'
+                                 tension grows with the load */
+                    for (plume_index r = 0; r < m; r++)
+                        lambda[r] = h.la[r] + (next - h.da) / (h.da - h.db) * (h.la[r] - h.lb[r]);
+                plume_problem_gather(p, u);
+                if ((st = plume_solver_solve(solver, u, lambda, &sub)) != PLUME_OK) {
+                    plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
+                    goto cleanup;
+                }
+                rep.iterations += sub.iterations;
+                rep.chord_steps += sub.chord_steps;
+                rep.seconds += sub.seconds;
+                rep.max_violation = fmax(rep.max_violation, sub.max_violation);
+                if (sub.converged) {
+                    history_push(&h, x, lambda, next, (size_t)(dim * mesh->nv), m);
+                    inc = fmin(nominal, 2.0 * inc);
+                    if (next < delta)
+                        res->substeps++;
+                    continue;
+                }
+                if (!failed)
+                    rep.reason = sub.reason;
+                failed = 1;
+                memcpy(x, h.xa, (size_t)(dim * mesh->nv) * sizeof *x); /* back to the last equilibrium */
+                memcpy(lambda, lambda_saved, (size_t)(m + 1) * sizeof *lambda);
+                if (inc * 0.5 < smallest * (1.0 - 1e-12)) {
+                    rep.converged = 0;
+                    break;
+                }
+                inc *= 0.5;
+                res->cuts++;
+            }
+            if (h.da >= delta * (1.0 - 1e-12)) {
+                rep.converged = 1;
+                rep.reason = PLUME_REASON_CONVERGED;
+                memcpy(x, h.xa, (size_t)(dim * mesh->nv) * sizeof *x);
+            }
+        }
+        res->newton_iterations += rep.iterations;
+        res->chord_steps += rep.chord_steps + (tight.converged ? 0 : tight.chord_steps);
+        int ok = rep.converged || (o->solver == PLUME_SOLVER_LINEARIZED && rep.reason == PLUME_REASON_SINGLE_STEP);
+        if (!rep.converged && res->converged) {
+            res->converged = 0;
+            res->failed_step = k;
+            res->failed_reason = rep.reason;
+        }
+        if (!ok)
+            break;
+        if (rep.converged)
+            res->max_violation = fmax(res->max_violation, rep.max_violation);
+        if ((st = plume_problem_forces(p, m ? lambda : NULL, force)) != PLUME_OK)
+            goto cleanup;
+        if (!(h.da == delta)) /* the adaptive path has pushed it already */
+            history_push(&h, x, lambda, delta, (size_t)(dim * mesh->nv), m);
+        if (probe) { /* the probe's equilibrium is the first state of the history */
+            res->initial_slope = reaction_virtual_work(mesh, &g, force, dim, o->ly) / (o->lx * o->h) / strain;
+            res->curve.iterations[0] = rep.iterations;
+            res->curve.seconds[0] = rep.seconds;
+            continue;
+        }
+        double F = 0.0;
+        for (plume_index t = 0; t < g.ntop; t++)
+            F += force[dim * g.top[t] + 1];
+        double stress = F / (o->lx * o->h);
+        double wbar = (side_integral(mesh, x, dim, g.right, g.nright) - side_integral(mesh, x, dim, g.left, g.nleft)) /
+                      (o->lx * o->ly);
+        size_t i = (size_t)res->curve.n++;
+        res->curve.strain[i] = strain;
+        res->curve.stress[i] = stress;
+        res->curve.wbar[i] = wbar;
+        res->curve.iterations[i] = rep.iterations;
+        res->curve.seconds[i] = rep.seconds;
+        if (o->on_step && (st = o->on_step(o->on_step_user, k, strain, x)) != PLUME_OK) {
+            plume_err_set(err, st, "traction: writing step %d failed (%s)", k, plume_strerror(st));
+            goto cleanup;
+        }
+        char info[128];
+        snprintf(info, sizeof info, "strain %.4f  stress %.4g Pa  %d it", strain, stress, rep.iterations);
+        plume_progress_update(&prog, k, info);
+    }
+    plume_progress_finish(&prog);
+    plume_solver_stats(solver, NULL, &res->factorizations, &res->factor_seconds);
+    st = PLUME_OK;
+cleanup:
+    res->seconds = plume_wall_seconds() - t_start;
+    if (st != PLUME_OK)
+        plume_traction_result_free(res);
+    plume_solver_destroy(&solver);
+    grips_free(&g);
+    free(parent);
+    free(u);
+    free(h.xa);
+    free(h.xb);
+    free(lambda);
+    free(lambda_saved);
+    free(h.la);
+    free(h.lb);
+    free(force);
+    return st;
+}

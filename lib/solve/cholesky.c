@@ -1,0 +1,238 @@
+#include "cholesky.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cholmod.h>
+#include "../io/progress.h"
+
+struct plume_chol {
+    cholmod_common cm;
+    cholmod_sparse *A;
+    cholmod_factor *L;
+    cholmod_dense *B, *X, *Y, *E; /* solve2 workspaces, reused */
+    plume_index n;
+    int ldl, analyses, factorizations;
+    double factor_seconds;
+    /* LL^T: A holds P M P^T in lower form, analysed in its natural order (see permuted_lower) */
+    SuiteSparse_long *perm; /* [n] row/column perm[k] of M is the k-th of A */
+    SuiteSparse_long *slot; /* [nnz] the place in A->x of each value of M's upper triangle */
+};
+
+/* CHOLMOD factorises a permuted matrix by first transposing it into P M P^T (a pass over every
+ * entry, 3-4 % of a traction run at 4e4 elements: docs/benchmarks.md); in its natural order and
+ * lower form it factorises the matrix as given. So the pattern is analysed once with AMD and
+ * METIS for the permutation P, and A is laid out as the lower triangle of P M P^T, each value of
+ * M's upper triangle with its place in A (rows sorted within each column), then analysed again in
+ * its natural order: a factorisation only scatters the values (plume_chol_factor). */
+static plume_status permuted_lower(plume_chol *c, const plume_index *colptr, const plume_index *rowind,
+                                   const SuiteSparse_long *perm)
+{
+    plume_index n = c->n, nnz = colptr[n];
+    SuiteSparse_long *inv = malloc((size_t)n * sizeof *inv);
+    SuiteSparse_long *cnt = calloc((size_t)n + 1, sizeof *cnt);
+    SuiteSparse_long *tmp_col = malloc(((size_t)nnz + 1) * sizeof *tmp_col);
+    SuiteSparse_long *tmp_k = malloc(((size_t)nnz + 1) * sizeof *tmp_k);
+    c->perm = malloc((size_t)n * sizeof *c->perm);
+    c->slot = malloc(((size_t)nnz + 1) * sizeof *c->slot);
+    c->A = cholmod_l_allocate_sparse((size_t)n, (size_t)n, (size_t)nnz, 1, 1, -1, CHOLMOD_REAL, &c->cm);
+    plume_status st = PLUME_ENOMEM;
+    if (!inv || !cnt || !tmp_col || !tmp_k || !c->perm || !c->slot || !c->A)
+        goto done;
+    for (plume_index k = 0; k < n; k++) {
+        c->perm[k] = perm[k];
+        inv[perm[k]] = k;
+    }
+    /* entry (i, j) of M, i <= j, lands at (max, min) of (inv i, inv j): bucket by row first, then
+     * a stable bucketing by column leaves the rows of each column sorted */
+    for (plume_index j = 0; j < n; j++)
+        for (plume_index q = colptr[j]; q < colptr[j + 1]; q++) {
+            SuiteSparse_long a = inv[rowind[q]], b = inv[j];
+            cnt[(a > b ? a : b) + 1]++;
+        }
+    for (plume_index r = 0; r < n; r++)
+        cnt[r + 1] += cnt[r];
+    for (plume_index j = 0; j < n; j++)
+        for (plume_index q = colptr[j]; q < colptr[j + 1]; q++) {
+            SuiteSparse_long a = inv[rowind[q]], b = inv[j];
+            SuiteSparse_long row = a > b ? a : b, col = a > b ? b : a;
+            SuiteSparse_long at = cnt[row]++;
+            tmp_col[at] = col;
+            tmp_k[at] = q;
+        }
+    /* tmp_* now run by row; cnt[r] is the end of row r */
+    SuiteSparse_long *Ap = c->A->p, *Ai = c->A->i;
+    memset(Ap, 0, ((size_t)n + 1) * sizeof *Ap);
+    for (plume_index e = 0; e < nnz; e++)
+        Ap[tmp_col[e] + 1]++;
+    for (plume_index col = 0; col < n; col++)
+        Ap[col + 1] += Ap[col];
+    SuiteSparse_long *next = inv; /* inv is no longer needed: the fill position of each column */
+    memcpy(next, Ap, (size_t)n * sizeof *next);
+    for (plume_index row = 0, e = 0; row < n; row++)
+        for (; e < cnt[row]; e++) {
+            SuiteSparse_long at = next[tmp_col[e]]++;
+            Ai[at] = row;
+            c->slot[tmp_k[e]] = at;
+        }
+    memset(c->A->x, 0, (size_t)nnz * sizeof(double));
+    st = PLUME_OK;
+done:
+    free(inv);
+    free(cnt);
+    free(tmp_col);
+    free(tmp_k);
+    return st;
+}
+
+plume_status plume_chol_create(plume_index n, const plume_index *colptr, const plume_index *rowind,
+                               int ldl, plume_chol **out, plume_err *err)
+{
+    if (!out || n <= 0 || !colptr || !rowind)
+        return plume_err_set(err, PLUME_EINVAL, "cholesky: invalid arguments");
+    *out = NULL;
+    plume_chol *c = calloc(1, sizeof *c);
+    if (!c)
+        return PLUME_ENOMEM;
+    cholmod_l_start(&c->cm);
+    c->cm.print = 0;
+    c->cm.error_handler = NULL;
+    c->cm.quick_return_if_not_posdef = 1;
+    /* 2D meshes: nested dissection (METIS) gives ~40% fewer flops than AMD here; analysing with
+     * both and keeping the better one costs once per pattern */
+    c->cm.nmethods = 2;
+    c->cm.method[0].ordering = CHOLMOD_AMD;
+    c->cm.method[1].ordering = CHOLMOD_METIS;
+    c->cm.postorder = 1;
+    c->n = n;
+    c->ldl = ldl;
+    if (ldl) {
+        c->cm.supernodal = CHOLMOD_SIMPLICIAL;
+        c->cm.final_ll = 0;
+    } else {
+        /* LL^T also when CHOLMOD picks a simplicial factor (small matrices): its simplicial LDL^T
+         * accepts negative pivots, and the callers rely on a failed factorisation to see that a
+         * matrix is not positive definite (the exact Hessian tried first, inertia corrections) */
+        c->cm.final_ll = 1;
+    }
+    plume_index nnz = colptr[n];
+    c->A = cholmod_l_allocate_sparse((size_t)n, (size_t)n, (size_t)nnz, 1, 1, 1, CHOLMOD_REAL, &c->cm);
+    c->B = cholmod_l_zeros((size_t)n, 1, CHOLMOD_REAL, &c->cm);
+    if (!c->A || !c->B) {
+        plume_chol_destroy(&c);
+        return PLUME_ENOMEM;
+    }
+    memcpy(c->A->p, colptr, (size_t)(n + 1) * sizeof(SuiteSparse_long));
+    memcpy(c->A->i, rowind, (size_t)nnz * sizeof(SuiteSparse_long));
+    for (plume_index k = 0; k < nnz; k++)
+        ((double *)c->A->x)[k] = 0.0;
+    c->L = cholmod_l_analyze(c->A, &c->cm);
+    if (c->L && c->cm.status >= CHOLMOD_OK && !ldl && c->L->ordering != CHOLMOD_NATURAL) {
+        /* LL^T: lay the matrix out in the order found, and analyse that in its natural order */
+        cholmod_sparse *upper = c->A;
+        cholmod_factor *first = c->L;
+        c->A = NULL;
+        c->L = NULL;
+        plume_status st = permuted_lower(c, colptr, rowind, first->Perm);
+        cholmod_l_free_sparse(&upper, &c->cm);
+        cholmod_l_free_factor(&first, &c->cm);
+        if (st != PLUME_OK) {
+            plume_chol_destroy(&c);
+            return st;
+        }
+        c->cm.nmethods = 1;
+        c->cm.method[0].ordering = CHOLMOD_NATURAL;
+        c->cm.postorder = 0;
+        c->L = cholmod_l_analyze(c->A, &c->cm);
+        if (c->L && c->L->ordering != CHOLMOD_NATURAL) { /* CHOLMOD chose otherwise: not expected */
+            plume_chol_destroy(&c);
+            return plume_err_set(err, PLUME_EDEP, "cholesky: CHOLMOD did not keep the natural order");
+        }
+    }
+    if (!c->L || c->cm.status < CHOLMOD_OK) {
+        int s = c->cm.status;
+        plume_chol_destroy(&c);
+        return plume_err_set(err, s == CHOLMOD_OUT_OF_MEMORY ? PLUME_ENOMEM : PLUME_EDEP,
+                             "cholesky: CHOLMOD analysis failed (status %d)", s);
+    }
+    c->analyses = 1;
+    *out = c;
+    return PLUME_OK;
+}
+
+void plume_chol_destroy(plume_chol **pc)
+{
+    if (!pc || !*pc)
+        return;
+    plume_chol *c = *pc;
+    cholmod_l_free_sparse(&c->A, &c->cm);
+    cholmod_l_free_factor(&c->L, &c->cm);
+    cholmod_l_free_dense(&c->B, &c->cm);
+    cholmod_l_free_dense(&c->X, &c->cm);
+    cholmod_l_free_dense(&c->Y, &c->cm);
+    cholmod_l_free_dense(&c->E, &c->cm);
+    cholmod_l_finish(&c->cm);
+    free(c->perm);
+    free(c->slot);
+    free(c);
+    *pc = NULL;
+}
+
+plume_status plume_chol_factor(plume_chol *c, const double *values, double shift)
+{
+    double t0 = plume_wall_seconds();
+    plume_index nnz = ((SuiteSparse_long *)c->A->p)[c->n];
+    if (c->slot) {
+        double *ax = c->A->x;
+        for (plume_index k = 0; k < nnz; k++)
+            ax[c->slot[k]] = values[k];
+    } else {
+        memcpy(c->A->x, values, (size_t)nnz * sizeof(double));
+    }
+    double beta[2] = {shift, 0.0};
+    int ok = cholmod_l_factorize_p(c->A, beta, NULL, 0, c->L, &c->cm);
+    c->factorizations++;
+    c->factor_seconds += plume_wall_seconds() - t0;
+    if (!ok || c->cm.status == CHOLMOD_OUT_OF_MEMORY)
+        return c->cm.status == CHOLMOD_OUT_OF_MEMORY ? PLUME_ENOMEM : PLUME_EDEP;
+    if (c->cm.status == CHOLMOD_NOT_POSDEF || c->L->minor < (size_t)c->n)
+        return PLUME_ESINGULAR;
+    return PLUME_OK;
+}
+
+plume_status plume_chol_solve(plume_chol *c, const double *b, double *x)
+{
+    double *bs = c->B->x;
+    if (c->perm) /* P b, then x = P^T y */
+        for (plume_index k = 0; k < c->n; k++)
+            bs[k] = b[c->perm[k]];
+    else
+        memcpy(bs, b, (size_t)c->n * sizeof(double));
+    if (!cholmod_l_solve2(CHOLMOD_A, c->L, c->B, NULL, &c->X, NULL, &c->Y, &c->E, &c->cm))
+        return c->cm.status == CHOLMOD_OUT_OF_MEMORY ? PLUME_ENOMEM : PLUME_EDEP;
+    const double *xs = c->X->x;
+    for (plume_index k = 0; k < c->n; k++) {
+        if (!isfinite(xs[k]))
+            return PLUME_ESINGULAR;
+        x[c->perm ? c->perm[k] : k] = xs[k];
+    }
+    return PLUME_OK;
+}
+
+double plume_chol_rcond(plume_chol *c)
+{
+    if (!c || !c->L || !c->factorizations)
+        return 0.0;
+    return cholmod_l_rcond(c->L, &c->cm);
+}
+
+void plume_chol_stats(const plume_chol *c, int *analyses, int *factorizations, double *factor_seconds)
+{
+    if (analyses)
+        *analyses = c ? c->analyses : 0;
+    if (factorizations)
+        *factorizations = c ? c->factorizations : 0;
+    if (factor_seconds)
+        *factor_seconds = c ? c->factor_seconds : 0.0;
+}
