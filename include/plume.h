@@ -36,6 +36,9 @@
 
 /* solve: CHOLMOD, the native Newton/SQP, Ipopt, one dispatcher */
 #include "../lib/solve/cholesky.h"
+#include "../lib/solve/report.h"
+#include "../lib/solve/options.h"
+#include "../lib/solve/ipopt_solver.h"
 #include "../lib/solve/solver.h"
 #include "../lib/solve/newton.h"
 

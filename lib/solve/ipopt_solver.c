@@ -21,7 +21,7 @@
  * early in plume's terms: the solve is then resumed (warm, multipliers kept) with the scale of
  * the current point (and from the second resumption on a tighter tol), at most PASSES runs in
  * all, within the max_iter budget. */
-#include "solver.h"
+#include "ipopt_solver.h"
 
 #include <IpStdCInterface.h>
 #include <limits.h>

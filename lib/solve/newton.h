@@ -5,7 +5,9 @@
 #define PLUME_NEWTON_H
 
 #include "../core/export.h"
-#include "solver.h"
+#include "../core/problem.h"
+#include "options.h"
+#include "report.h"
 
 #ifdef __cplusplus
 extern "C" {

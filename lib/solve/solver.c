@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "ipopt_solver.h"
 #include "newton.h"
 
 struct plume_solver {
@@ -11,20 +12,6 @@ struct plume_solver {
     plume_newton *newton; /* newton and linearized */
     plume_ipopt *ipopt;
 };
-
-const char *plume_reason_name(plume_reason r)
-{
-    switch (r) {
-    case PLUME_REASON_CONVERGED: return "converged";
-    case PLUME_REASON_ITERATION_CAP: return "iteration cap";
-    case PLUME_REASON_LINE_SEARCH: return "line-search failure";
-    case PLUME_REASON_INFEASIBLE: return "infeasible";
-    case PLUME_REASON_NUMERICAL: return "numerical failure";
-    case PLUME_REASON_SINGLE_STEP: return "single linearised step";
-    case PLUME_REASON_CONTACT_SET: return "steps blocked outside the contact set";
-    }
-    return "unknown";
-}
 
 static const char *const kind_names[] = {"newton", "ipopt", "linearized"};
 
@@ -41,50 +28,6 @@ plume_status plume_solver_kind_parse(const char *s, plume_solver_kind *out)
 const char *plume_solver_kind_name(plume_solver_kind k)
 {
     return (unsigned)k < 3 ? kind_names[k] : "unknown";
-}
-
-void plume_solver_opts_default(plume_solver_opts *o)
-{
-    o->max_iter = 100;
-    o->tol_kkt = 1e-9;
-    o->tol_violation = 1e-10;
-    o->tol_step = 1e-13;
-    o->max_step = 100.0;
-    o->kkt = PLUME_KKT_ELIMINATE;
-    o->inertia_corrections = 1;
-    o->inertia_max_shift = 1.0;
-    o->line_search = PLUME_LS_FILTER;
-    o->reuse_factorization = 1;
-    o->reuse_rate = 0.25;
-    o->kkt_refine = 1;
-    o->verbose = 0;
-    o->exact_hessian_first = 1;
-    o->partial_projection = 1;
-    o->trust_region = 0;
-    o->curved_search = 1;
-}
-
-static const char *const globalization_names[] = {"curved_line_search", "line_search", "trust_region"};
-
-plume_status plume_globalization_parse(const char *s, plume_globalization *out)
-{
-    for (int k = 0; s && k < 3; k++)
-        if (strcmp(s, globalization_names[k]) == 0) {
-            *out = (plume_globalization)k;
-            return PLUME_OK;
-        }
-    return PLUME_EINVAL;
-}
-
-const char *plume_globalization_name(plume_globalization g)
-{
-    return (unsigned)g < 3 ? globalization_names[g] : "unknown";
-}
-
-void plume_solver_opts_set_globalization(plume_solver_opts *o, plume_globalization g)
-{
-    o->curved_search = g == PLUME_GLOBAL_CURVED_LINE_SEARCH;
-    o->trust_region = g == PLUME_GLOBAL_TRUST_REGION;
 }
 
 plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p, const plume_solver_opts *o,
