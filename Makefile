@@ -24,18 +24,19 @@ CFLAGS += -std=c11 -Wall -Wextra -Wpedantic -fPIC -fvisibility=hidden $(OPT) -D_
 CXXFLAGS += -std=c++17 -Wall -Wextra -fPIC -fvisibility=hidden -fvisibility-inlines-hidden $(OPT)
 LDLIBS += -lcholmod -lsuitesparseconfig $(PKG_LIBS) -lgmp -lmpfr -lgomp -lstdc++ -lm
 
-# lib/ in rooms (docs/design.md): core, then io, solve, contact, and the drivers in sim; macro/ and
-# micro/ above; the umbrella header include/plume.h over all of them
+# lib/ in rooms (docs/design.md): core, then io, solve, contact, and the steppers in sim; macro/ and
+# micro/ above, the experiment drivers (study, sweep, stability, the flat interface) in drivers/
+# above those; the umbrella header include/plume.h over all of them
 LIB_ROOMS := core io solve contact sim
-LIB_C := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.c)) $(wildcard micro/*.c) $(wildcard macro/*.c)
+LIB_C := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.c)) $(wildcard micro/*.c) $(wildcard macro/*.c) $(wildcard drivers/*.c)
 LIB_CXX := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.cpp))
 LIB_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(LIB_C)) $(patsubst %.cpp,$(BUILD)/%.o,$(LIB_CXX))
 APP_SRC := $(wildcard apps/*.c)
 APPS := $(patsubst %.c,%,$(APP_SRC))
 TEST_SRC := $(wildcard tests/*.c)
 TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
-HEADERS := include/plume.h $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.h)) $(wildcard micro/*.h) $(wildcard macro/*.h)
-PRIVATE_HEADERS := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/internal/*.h)) $(wildcard macro/internal/*.h)
+HEADERS := include/plume.h $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.h)) $(wildcard micro/*.h) $(wildcard macro/*.h) $(wildcard drivers/*.h)
+PRIVATE_HEADERS := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/internal/*.h)) $(wildcard macro/internal/*.h) $(wildcard drivers/internal/*.h)
 
 .PHONY: all deps deps-check test asan bench demo install uninstall clean fuzz fuzz-build
 all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)
@@ -152,7 +153,7 @@ demo: deps
 data/feather/moduli_table3a.h5: data/layout_barbules_table3a.json apps/homogenize
 	$(OMP_ENV) ./apps/homogenize --config $< -o $@
 
-# headers under include/plume/ as in the tree (include/, lib/ROOM/, macro/, micro/), with the umbrella plume.h at
+# headers under include/plume/ as in the tree (include/, lib/ROOM/, macro/, micro/, drivers/), with the umbrella plume.h at
 # its root; pkg-config's Cflags point there, so other C code writes #include <plume.h>
 install: all
 	install -d $(DESTDIR)$(PREFIX)/lib $(DESTDIR)$(PREFIX)/include/plume $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin

@@ -16,8 +16,8 @@
 #include <jansson.h>
 
 #include "../include/plume.h"
-#include "../macro/study.h"
-#include "../macro/stability.h"
+#include "../drivers/study.h"
+#include "../drivers/stability.h"
 #include "../micro/homogenize.h"
 #include "cli.h"
 #include "schedule.h"

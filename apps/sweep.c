@@ -1,4 +1,4 @@
-/* apps/sweep — a parameter sweep (macro/sweep.h): expands a sweep file into runs, executes them
+/* apps/sweep — a parameter sweep (drivers/sweep.h): expands a sweep file into runs, executes them
  * serially or over MPI ranks with dynamic scheduling, and gathers every curve, its parameters and
  * its outcome into one HDF5 file, with a summary table. A killed sweep resumes from that file.
  * Built with MPI when mpicc is found (PLUME_MPI); the same binary then runs serially or under
@@ -15,7 +15,7 @@
 #include <jansson.h>
 
 #include "../include/plume.h"
-#include "../macro/sweep.h"
+#include "../drivers/sweep.h"
 #include "cli.h"
 #include "schedule.h"
 
@@ -24,7 +24,7 @@
 
 static const char usage[] =
     "usage: sweep SWEEP.json -o FILE.h5 [options]\n"
-    "Runs a parameter sweep (the format is in macro/sweep.h): every run's curve (or a scene's per-step measures\n"
+    "Runs a parameter sweep (the format is in drivers/sweep.h): every run's curve (or a scene's per-step measures\n"
     "and final positions), parameters and outcome go to FILE.h5 (/sweep/runs/<k>), a summary table to FILE.md.\n"
     "Runs already in FILE.h5 are not redone (resume).\n"
     "Under mpirun -n N (or srun) the runs are spread over the ranks as they free up; rank 0 writes.\n"

@@ -49,12 +49,12 @@
 #include "../lib/contact/contact.h"
 #include "../lib/contact/contact_friction.h"
 
-/* sim: the drivers that step a problem (statics, dynamics, traction) */
+/* sim: the steppers (statics, dynamics, the traction scenario) */
 #include "../lib/sim/statics.h"
 #include "../lib/sim/traction.h"
 #include "../lib/sim/dynamics.h"
 
-/* macro: the shell, the meshers, scenes and the experiment drivers */
+/* macro: the shell, the meshers and scenes */
 #include "../macro/patch_mesh.h"
 #include "../macro/grid_mesh.h"
 #include "../macro/obj_outline.h"
@@ -66,10 +66,6 @@
 #include "../macro/feather_mesh.h"
 #include "../macro/scene.h"
 #include "../macro/fields.h"
-#include "../macro/flat.h"
-#include "../macro/sweep.h"
-#include "../macro/study.h"
-#include "../macro/stability.h"
 
 /* micro: layouts, cells, specimens, homogenisation, fitting */
 #include "../micro/layout.h"
@@ -81,5 +77,11 @@
 #include "../micro/homogenize.h"
 #include "../micro/micro_model.h"
 #include "../micro/fit.h"
+
+/* drivers: the experiments over both scales (study, sweep, stability) and the flat interface */
+#include "../drivers/flat.h"
+#include "../drivers/sweep.h"
+#include "../drivers/study.h"
+#include "../drivers/stability.h"
 
 #endif

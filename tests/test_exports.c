@@ -1,6 +1,6 @@
 /* Tests of libplume.so's face: every symbol the shared library exports is plume's own (a name
  * starting with plume_, never another library's such as GOMP_ or omp_) and is declared PLUME_API
- * in an installed header (the Makefile's HEADERS: include/, lib/ROOM/, micro/, macro/, not internal/);
+ * in an installed header (the Makefile's HEADERS: include/, lib/ROOM/, micro/, macro/, drivers/, not internal/);
  * every function declared PLUME_API is exported; the umbrella header includes every installed
  * header. The exported set is read with `nm -D --defined-only` from the libplume.so next to the
  * runner (the build directory). */
@@ -69,7 +69,7 @@ static int ident(char c)
 /* the installed headers, as the Makefile's HEADERS globs them (run from tests/) */
 static void installed_headers(glob_t *g)
 {
-    static const char *const pattern[] = {"../include/*.h", "../lib/*/*.h", "../micro/*.h", "../macro/*.h"};
+    static const char *const pattern[] = {"../include/*.h", "../lib/*/*.h", "../micro/*.h", "../macro/*.h", "../drivers/*.h"};
     memset(g, 0, sizeof *g);
     for (size_t i = 0; i < sizeof pattern / sizeof pattern[0]; i++)
         glob(pattern[i], i ? GLOB_APPEND : 0, NULL, g);

@@ -1,4 +1,4 @@
-/* The flat interface for bindings (macro/flat.h): JSON requests and results that agree with the
+/* The flat interface for bindings (drivers/flat.h): JSON requests and results that agree with the
  * library's own calls, errors that name the key, and a scene stepped through its handle (also run
  * under the sanitizers, which the Python tests are not). */
 #include <math.h>
@@ -11,7 +11,7 @@
 
 #include "harness.h"
 #include "../lib/io/vtu.h"
-#include "../macro/flat.h"
+#include "../drivers/flat.h"
 #include "../micro/homogenize.h"
 
 static json_t *run(plume_status (*f)(const char *, char **, char *, long), const char *req, plume_status *st,

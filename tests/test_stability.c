@@ -5,7 +5,7 @@
 #include "harness.h"
 #include "../lib/core/membrane.h"
 #include "../lib/core/mesh.h"
-#include "../macro/stability.h"
+#include "../drivers/stability.h"
 #include <stdlib.h>
 #include <string.h>
 

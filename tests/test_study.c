@@ -1,4 +1,4 @@
-/* macro/study.h (the runner of apps/study) and apps/study as a user runs it. */
+/* drivers/study.h (the runner of apps/study) and apps/study as a user runs it. */
 #define _DEFAULT_SOURCE
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,7 +9,7 @@
 #include "app_runner.h"
 #include "harness.h"
 #include "../include/plume.h"
-#include "../macro/study.h"
+#include "../drivers/study.h"
 #include "../micro/micro_model.h"
 
 /* The runner gives what a direct plume_traction_run of the same problem gives. */

@@ -1,4 +1,4 @@
-/* Parameter sweeps (macro/sweep.h, apps/sweep): expansion of lists, ranges and Table 1 samples;
+/* Parameter sweeps (drivers/sweep.h, apps/sweep): expansion of lists, ranges and Table 1 samples;
  * bad sweep files named; failed runs recorded with their reason; a killed sweep resumes without
  * redoing finished runs; the results file's content (curves, parameters, outcomes; not timings)
  * is the same whatever the order the runs finished in, and under mpirun -n 1, 2 and 4 when MPI
@@ -15,8 +15,8 @@
 
 #include "app_runner.h"
 #include "harness.h"
-#include "../macro/flat.h"
-#include "../macro/sweep.h"
+#include "../drivers/flat.h"
+#include "../drivers/sweep.h"
 
 static void write_file(const char *path, const char *text)
 {

@@ -1,4 +1,4 @@
-/* Scene sweeps (macro/sweep.h "run": "scene", macro/sweep_scene.c): expansion of key paths into a
+/* Scene sweeps (drivers/sweep.h "run": "scene", drivers/sweep_scene.c): expansion of key paths into a
  * scene's document; bad keys named; runs recorded with their per-step measures and final positions,
  * bit for bit those of the same scene stepped through the flat interface; contact measures as
  * apps/feather reports them; failed scenes recorded with the loader's message; the same content
@@ -17,8 +17,8 @@
 #include "h5_units.h"
 #include "harness.h"
 #include "../lib/io/frames.h"
-#include "../macro/flat.h"
-#include "../macro/sweep.h"
+#include "../drivers/flat.h"
+#include "../drivers/sweep.h"
 
 static void write_file(const char *path, const char *text)
 {

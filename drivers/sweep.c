@@ -1,4 +1,4 @@
-/* plume: parameter sweeps (macro/sweep.h) — expansion, execution through the flat interface, and
+/* plume: parameter sweeps (drivers/sweep.h) — expansion, execution through the flat interface, and
  * the results file. */
 #include "sweep.h"
 

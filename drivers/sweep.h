@@ -1,13 +1,13 @@
 /* plume: parameter sweeps — a JSON sweep file expands into independent runs of one job (a
  * traction test at either scale, a homogenisation, a fit, e.g. from several starting points:
  * "vary": {"start.E_yy": [...]}, or a dynamic scene), each run a request of the flat interface
- * (macro/flat.h) or a scene document; their results are gathered into one HDF5 file that a killed
+ * (drivers/flat.h) or a scene document; their results are gathered into one HDF5 file that a killed
  * sweep resumes from.
  * apps/sweep executes the runs serially or spread over MPI ranks.
  *
  * The sweep file:
  *   {"run": "traction" | "homogenize" | "fit" | "scene",
- *    "base": {...a request of that job, macro/flat.h...},
+ *    "base": {...a request of that job, drivers/flat.h...},
  *    "vary": {"key": [v1, v2, ...],                                 a list of values
  *             "key": {"from": a, "to": b, "count": n, "scale": "linear" | "log"},   a range
  *             "sample": "table1" | ["T01", "L03", ...]}}            supplementary Table 1 samples
@@ -54,7 +54,7 @@ PLUME_API plume_status plume_sweep_request(const plume_sweep *s, int k, char **r
 
 /* Executes run k and returns its record as a JSON text (malloc'ed): {"run": k, "values": {...},
  * "outcome": "converged" | the solver's stop reason | "error", "message": plume's message (errors),
- * "result": the job's result (macro/flat.h; a scene's: macro/internal/sweep_scene.h, and
+ * "result": the job's result (drivers/flat.h; a scene's: drivers/internal/sweep_scene.h, and
  * docs/apps/sweep.md)}. A run that fails is a record, not an error: NULL only when memory runs out. A
  * scene run whose step does not converge at the smallest step has that solver's reason as its
  * outcome and keeps the steps done. */

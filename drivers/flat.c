@@ -18,11 +18,11 @@
 #include "../micro/homogenize.h"
 #include "../micro/layout_json.h"
 #include "../micro/micro_model.h"
-#include "fields.h"
-#include "patch_mesh.h"
-#include "scene.h"
-#include "traction_model.h"
-#include "vane.h"
+#include "../macro/fields.h"
+#include "../macro/patch_mesh.h"
+#include "../macro/scene.h"
+#include "../macro/traction_model.h"
+#include "../macro/vane.h"
 
 /* ------------------------------------------------------------------------------------------ */
 /* requests */

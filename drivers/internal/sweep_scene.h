@@ -1,5 +1,5 @@
-/* plume (private, not installed): the scene job of a parameter sweep (macro/sweep_scene.c), for
- * macro/sweep.c. A scene sweep's base names a scene file and how long to run it; its "vary" keys
+/* plume (private, not installed): the scene job of a parameter sweep (drivers/sweep_scene.c), for
+ * drivers/sweep.c. A scene sweep's base names a scene file and how long to run it; its "vary" keys
  * are key paths into the scene's document ("contact.dhat", "materials[0].membrane.E",
  * "gravity[2]"); each run loads the changed document (plume_scene_load_json) and steps it. */
 #ifndef PLUME_INTERNAL_SWEEP_SCENE_H
@@ -37,7 +37,7 @@ plume_status plume_sweep_scene_set(json_t *doc, const char *key, json_t *value, 
                                    const char *scene_path, plume_err *err);
 
 /* Runs a request: loads the document, steps it, and gives the result as a JSON text (malloc'ed)
- * as the flat interface's jobs do (macro/flat.h): {"scene", "vertices", "elements", "dt",
+ * as the flat interface's jobs do (drivers/flat.h): {"scene", "vertices", "elements", "dt",
  * "steps" (done), "steps_planned", "time", "converged", "stop_reason", "newton_iterations",
  * "halvings", "max_violation", "max_displacement", "max_displacement_vertex", "contact": {...}
  * (contact scenes), "per_step": {"time", "newton_iterations", "halvings", and "contact_pairs",

@@ -1,4 +1,4 @@
-/* plume: the scene job of a parameter sweep (macro/internal/sweep_scene.h): the scene file of the
+/* plume: the scene job of a parameter sweep (drivers/internal/sweep_scene.h): the scene file of the
  * base, key paths into its document, a run stepped with the measures apps/feather reports, and
  * the run's datasets in the results file. */
 #include "internal/sweep_scene.h"
@@ -11,7 +11,7 @@
 #include "../lib/contact/contact.h"
 #include "../lib/io/internal/h5util.h"
 #include "../lib/io/internal/json_read.h"
-#include "scene.h"
+#include "../macro/scene.h"
 
 void plume_sweep_scene_free(plume_sweep_scene *sc)
 {
