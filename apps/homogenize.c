@@ -265,7 +265,7 @@ int main(int argc, char **argv)
         }
         const char *labels[3] = {"uniaxial along barbs (/E_xx)", "uniaxial across barbs (/E_yy)",
                                  "shear, normal stresses free (/G_xy)"};
-        const plume_plot_axes axes = {"stress / small-strain modulus", "lateral strain (uniaxial)", NULL, 0.0, 0};
+        const plume_plot_axes axes = {"stress / small-strain modulus", "lateral strain (uniaxial)", NULL, 0.0, 0, NULL, NULL, 0};
         if (!scaled || plume_plot_curves_axes(plot, "periodic cell response", &axes, cv, labels, 3, &err) != PLUME_OK) {
             fprintf(stderr, "%s: %s\n", APP, scaled ? err.msg : "out of memory");
             rc = 1;

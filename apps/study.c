@@ -201,14 +201,15 @@ static void series_sort(series *a)
 }
 
 /* Series as curves: x goes in curve.strain, drawn unscaled with its own axis label. */
-static int plot_series(study *s, const char *file, const char *title, const char *x, const char *y1, const char *y2,
-                       series *sr, int ns, FILE *md)
+/* color/point: per series (NULL: the defaults); key_below: the legend under the panels. */
+static int plot_series_styled(study *s, const char *file, const char *title, const char *x, const char *y1,
+                              const char *y2, series *sr, int ns, const int *color, const int *point, FILE *md)
 {
     if (s->planning)
         return 0;
     plume_curve cv[32];
     const char *labels[32];
-    int nc = 0;
+    int nc = 0, colors[32], points[32];
     double xs[32][64];
     for (int k = 0; k < ns && nc < 32; k++) {
         if (sr[k].n == 0)
@@ -222,6 +223,8 @@ static int plot_series(study *s, const char *file, const char *title, const char
         cv[nc].stress = sr[k].y1;
         cv[nc].wbar = sr[k].y2;
         labels[nc] = sr[k].label;
+        colors[nc] = color ? color[k] : nc + 1;
+        points[nc] = point ? point[k] : 7;
         nc++;
     }
     if (nc == 0) {
@@ -230,7 +233,7 @@ static int plot_series(study *s, const char *file, const char *title, const char
     }
     char path[1200];
     snprintf(path, sizeof path, "%s/%s", s->dir, file);
-    plume_plot_axes ax = {y1, y2, x, 1.0, 1};
+    plume_plot_axes ax = {y1, y2, x, 1.0, 1, color ? colors : NULL, point ? points : NULL, color != NULL};
     plume_err err = {{0}};
     if (plume_plot_curves_axes(path, title, &ax, cv, labels, nc, &err) != PLUME_OK) {
         fprintf(stderr, "study: chart %s: %s\n", file, err.msg);
@@ -239,6 +242,12 @@ static int plot_series(study *s, const char *file, const char *title, const char
     }
     fprintf(md, "\n![%s](%s) (SVG beside it)\n", title, file);
     return 0;
+}
+
+static int plot_series(study *s, const char *file, const char *title, const char *x, const char *y1, const char *y2,
+                       series *sr, int ns, FILE *md)
+{
+    return plot_series_styled(s, file, title, x, y1, y2, sr, ns, NULL, NULL, md);
 }
 
 static void base_tilted(plume_study_config *c, double ratio)
@@ -353,8 +362,15 @@ static void section_cost(study *s, FILE *md)
             for (int k = 0; k < 2; k++)
                 fprintf(md, "- %s\n", refnotes[ir][k]);
     }
-    plot_series(s, "cost_error.png", "Cost against error, tilted 45 deg traction, 5% strain", "log10 wall time (s)",
-                "log10 relative stress error at 5% strain", "log10 relative w-bar error at 5% strain", sr, nr * 3, md);
+    /* colour by model, point type by E_xx/E_yy (circle, square, triangle), the legend under the panels */
+    static const int ratio_point[3] = {7, 5, 9};
+    int color[9], point[9];
+    for (int ir = 0; ir < nr; ir++)
+        for (int m = 0; m < 3; m++)
+            color[ir * 3 + m] = m + 1, point[ir * 3 + m] = ratio_point[ir];
+    plot_series_styled(s, "cost_error.png", "Cost against error, tilted 45 deg traction, 5% strain",
+                       "log10 wall time (s)", "log10 relative stress error at 5% strain",
+                       "log10 relative w-bar error at 5% strain", sr, nr * 3, color, point, md);
 }
 
 /* ---- 2. solvers ---- */

@@ -17,6 +17,7 @@
 #include "../micro/micro_model.h"
 #include "cli.h"
 #include "traction_bending.h"
+#include "traction_size.h"
 
 static const char usage[] =
     "usage: traction [options]\n"
@@ -44,6 +45,9 @@ static const char usage[] =
     "  within 2 % of its refined limit), --order 1|2 (element order: 2 quadratic triangles, the\n"
     "  default; 1 linear, the paper's); the layout thickness is --thickness.\n"
     "  --no-convergence    skip the micro run's convergence estimate (the same test on a mesh twice as coarse)\n"
+    "  --size-effect V[,V...]  the micro specimen again at finer barb spacings (over ly, each finer than\n"
+    "                      the last): -o adds /curves/micro_dB<V>/<scenario>, --plot draws the family with the\n"
+    "                      macro curve as its limit, and the summary gives each one's difference from macro\n"
     "  With --model both the macro model uses --moduli FILE.h5 if given, else the layout's moduli\n"
     "  homogenised on the spot.\n"
     "  -o FILE.h5          write /curves/<macro|micro>/<scenario>/{strain,stress,wbar,iterations,seconds}\n"
@@ -65,6 +69,7 @@ typedef struct {
     const char *scenario, *sample, *samples_file, *moduli_file, *out, *plot, *mesh, *solver, *vtk;
     const char *model, *layout_file, *layout_kind;
     const char *bending, *traction_only; /* --bending LOAD; the last traction-only flag given */
+    const char *size_effect;             /* --size-effect V[,V...] */
     double curvature;
     int curvature_set, solver_set, steps_set;
     double phi, ratio, Eb, nu_barb, nu_barbule, dB_rel, e_rel;
@@ -148,6 +153,7 @@ static int parse_args(int argc, char **argv, options *o)
         else if (strcmp(a, "-o") == 0) o->out = v;
         else if (strcmp(a, "--plot") == 0) o->plot = v, o->traction_only = a;
         else if (strcmp(a, "--vtk") == 0) o->vtk = v, o->traction_only = a;
+        else if (strcmp(a, "--size-effect") == 0) o->size_effect = v, o->traction_only = a;
         else if (strcmp(a, "--constraint") == 0) {
             o->traction_only = a;
             if (v && strcmp(v, "on") == 0)
@@ -566,6 +572,15 @@ int main(int argc, char **argv)
     to.solver_opts.verbose = o.verbose;
     to.progress = o.quiet ? 0 : 1;
 
+    size_family fam = {0};
+    if (o.size_effect) {
+        if (!want_micro)
+            return fail("--size-effect needs --model micro or both (got '%s')%s", o.model, "");
+        if ((rc = size_effect_parse(o.size_effect, o.dB_rel_set || !o.layout_file ? o.dB_rel : layout.d_B / o.ly,
+                                    &fam)))
+            return rc;
+    }
+
     /* run the requested models: index 0 macro, 1 micro */
     model_run runs[2];
     memset(runs, 0, sizeof runs);
@@ -593,6 +608,11 @@ int main(int argc, char **argv)
         rc = 3;
         goto done;
     }
+    const double d_rel0 = layout.d_B / o.ly;
+    const char *macro_label = o.constraint ? "macro (barbs inextensible)" : "macro (penalty)";
+    const char *macro_short = o.constraint ? "macro" : "macro (penalty)";
+    if (fam.n && (rc = size_effect_run(&layout, o.lx, o.ly, angle, &to, &fam)) != 0)
+        goto done;
     if (o.out) {
         for (int k = 0; k < 2; k++) {
             if (!runs[k].wanted)
@@ -621,8 +641,14 @@ int main(int argc, char **argv)
                 goto done;
             }
         }
+        if (fam.n && (rc = size_effect_write(o.out, o.scenario, &layout, o.ly, &fam)) != 0)
+            goto done;
     }
-    if (o.plot) {
+    if (o.plot && fam.n) {
+        if ((rc = size_effect_plot(o.plot, o.scenario, angle, d_rel0, &runs[1].res.curve,
+                                   runs[0].wanted ? &runs[0].res.curve : NULL, macro_short, &fam)) != 0)
+            goto done;
+    } else if (o.plot) {
         char title[256];
         snprintf(title, sizeof title, "%s traction, barbs at %g deg, %s", o.scenario, angle, o.model);
         plume_curve curves[2];
@@ -631,7 +657,7 @@ int main(int argc, char **argv)
         for (int k = 0; k < 2; k++)
             if (runs[k].wanted) {
                 curves[nc] = runs[k].res.curve;
-                labels[nc++] = k == 0 ? (o.constraint ? "macro (barbs inextensible)" : "macro (penalty)") : "micro (resolved barbs)";
+                labels[nc++] = k == 0 ? macro_label : "micro (resolved barbs)";
             }
         if ((st = plume_plot_curves(o.plot, title, curves, labels, nc, &err)) != PLUME_OK) {
             fprintf(stderr, "traction: %s\n", err.msg);
@@ -669,6 +695,22 @@ int main(int argc, char **argv)
             json_object_set_new(j, "converged", json_boolean(runs[0].res.converged && runs[1].res.converged));
             json_object_set_new(j, "seconds", json_real(runs[0].res.seconds + runs[1].res.seconds));
         }
+        if (fam.n) {
+            json_t *a = json_array();
+            for (int k = -1; k < fam.n; k++) {
+                json_t *e = json_object();
+                const plume_curve *c = k < 0 ? &runs[1].res.curve : &fam.res[k].curve;
+                double s_end = size_effect_end_stress(c);
+                json_object_set_new(e, "dB_rel", json_real(k < 0 ? d_rel0 : fam.d_rel[k]));
+                json_object_set_new(e, "elements", json_integer(k < 0 ? runs[1].elements : fam.elements[k]));
+                json_object_set_new(e, "stress_at_max_strain", json_real(s_end));
+                if (runs[0].wanted)
+                    json_object_set_new(e, "relative_to_macro",
+                                        json_real(s_end / size_effect_end_stress(&runs[0].res.curve) - 1.0));
+                json_array_append_new(a, e);
+            }
+            json_object_set_new(j, "size_effect", a);
+        }
         if (o.out)
             json_object_set_new(j, "output", json_string(o.out));
         char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
@@ -683,8 +725,12 @@ int main(int argc, char **argv)
         if (both)
             printf("micro vs macro: max stress difference %.3g of the micro stress range, %.3g at %g%% strain; "
                    "w-bar %.3g\n", diff_max, diff_end, 100.0 * o.strain_max, dw_end);
+        if (fam.n)
+            size_effect_print(d_rel0, &runs[1].res.curve, runs[0].wanted ? &runs[0].res.curve : NULL, &fam,
+                              o.strain_max);
     }
 done:
+    size_effect_free(&fam);
     for (int k = 0; k < 2; k++)
         plume_traction_result_free(&runs[k].res);
     return rc;

@@ -3,7 +3,8 @@
 #  1. homogenise the microstructure of supplementary Figure 10 (data/layout_fig10.json: barbs
 #     phi = 0.16 in a barbule matrix 1e6 times softer) into macroscale moduli;
 #  2. the tilted and transverse traction tests at both scales: the resolved microstructure
-#     (d_B = 0.086 l_y) against the macro model with the homogenised moduli;
+#     (d_B = 0.086 l_y; tilted also at 0.043 and 0.0215, the size effect) against the macro model
+#     with the homogenised moduli, the limit the micro curves approach as d_B shrinks;
 #  3. fit the macro moduli (E_yy, G_xy, barbs inextensible) to the micro curves with NLopt;
 #  4. the macroscale vane of supplementary Table 4 (E_xx/E_yy = 1e4) with the native solver and
 #     with Ipopt, the penalty alternative, and sample T01 of Table 1;
@@ -19,17 +20,18 @@ mkdir -p out
 h5=out/plume.h5
 rm -f "$h5"
 run() { echo "+ $*" >&2; "$@"; }
-feather_time=(--duration 0.5) wing_time=()
+feather_time=(--duration 0.5) wing_time=() finer_spacings=0.043,0.0215
 if [ -n "${PLUME_DEMO_QUICK:-}" ]; then
-    feather_time=(--duration 0.05) wing_time=(--frames 1)
+    feather_time=(--duration 0.05) wing_time=(--frames 1) finer_spacings=0.043
 fi
 echo "== 1. homogenisation of the Figure 10 microstructure"
 run ./apps/homogenize --config data/layout_fig10.json -o "$h5" --plot out/cell.png
 echo "== 2. traction at both scales (micro: resolved barbs; macro: homogenised moduli, barbs inextensible)"
-for scenario in tilted transverse; do
-    run ./apps/traction --model both --scenario "$scenario" --layout-config data/layout_fig10.json --dB-rel 0.086 \
-        --moduli "$h5" --steps 10 -o "$h5" --plot "out/both_$scenario.png" --quiet
-done
+echo "   tilted: the micro specimen at barb spacings 0.086 and $finer_spacings l_y, the macro curve their limit (~70 s)"
+run ./apps/traction --model both --scenario tilted --layout-config data/layout_fig10.json --dB-rel 0.086 \
+    --size-effect "$finer_spacings" --moduli "$h5" --steps 10 -o "$h5" --plot out/both_tilted.png --quiet
+run ./apps/traction --model both --scenario transverse --layout-config data/layout_fig10.json --dB-rel 0.086 \
+    --moduli "$h5" --steps 10 -o "$h5" --plot out/both_transverse.png --quiet
 echo "== 3. macro moduli fitted to the micro curves (the paper's protocol, micro model as intermediary)"
 run ./apps/fit --target "$h5:micro/tilted" --angle 45 --target "$h5:micro/transverse" --angle 90 \
     --Exx 4e8 --Eyy 3e3 --Gxy 1e3 --plot out/fit.png

@@ -162,6 +162,54 @@ void test_app_traction_both_models(void)
     CHECK(system(cmd) == 0);
 }
 
+/* --size-effect: the micro specimen at finer barb spacings approaches the macro curve, which is
+ * its limit (docs/micro-convergence.md): halving d_B from 0.086 l_y brings the end stress closer
+ * to the macro one from above (coarser spacings swing with the barbs' phase against the corners:
+ * 0.17 -> 0.085 goes +27 % -> +64 %); the family lands in /curves/micro_dB<V>/ and on the chart; bad lists are
+ * refused with the flag named. */
+void test_app_traction_size_effect(void)
+{
+    char args[1024], path[256], out[16384], err[8192];
+    strcpy(scratch, "/tmp/plume-size-XXXXXX");
+    if (!mkdtemp(scratch)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(path, sizeof path, "%s/size.h5", scratch);
+    snprintf(args, sizeof args,
+             "--model both --dB-rel 0.086 --size-effect 0.043 --steps 2 --no-convergence -o %s --plot %s/size.png "
+             "--json --quiet", path, scratch);
+    CHECK(run_app(args, out, sizeof out, err, sizeof err) == 0);
+    json_error_t je;
+    json_t *j = json_loads(out, 0, &je);
+    CHECK(j != NULL);
+    json_t *fam = j ? json_object_get(j, "size_effect") : NULL;
+    CHECK(json_array_size(fam) == 2);
+    if (json_array_size(fam) == 2) {
+        double d0 = json_number_value(json_object_get(json_array_get(fam, 0), "relative_to_macro"));
+        double d1 = json_number_value(json_object_get(json_array_get(fam, 1), "relative_to_macro"));
+        /* stiffer than the limit, and closer to it at the finer spacing */
+        CHECK(d0 > 0.0 && d1 > 0.0 && d1 < d0);
+        CHECK(fabs(json_number_value(json_object_get(json_array_get(fam, 1), "dB_rel")) - 0.043) < 1e-12);
+        if (!(d1 < d0))
+            fprintf(stderr, "    micro - macro: %g at 0.086, %g at 0.043\n", d0, d1);
+    } else
+        fprintf(stderr, "    output: %s\n    stderr: %s\n", out, err);
+    json_decref(j);
+    plume_curve c;
+    plume_err e;
+    CHECK(plume_curve_read(path, "micro_dB0.043", "tilted", &c, &e) == PLUME_OK);
+    plume_curve_free(&c);
+    snprintf(args, sizeof args, "%s/size.png", scratch);
+    CHECK(access(args, R_OK) == 0);
+    expect_error("--model both --size-effect 0.2", "--size-effect expects spacings");
+    expect_error("--model both --size-effect 0.05,0.06", "each finer than the one before");
+    expect_error("--model macro --size-effect 0.05", "--size-effect needs --model micro or both");
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
+    CHECK(system(cmd) == 0);
+}
+
 /* --vtk: both models' deformed samples as ParaView series at the nominal strains; the macro
  * barbs keep their length (constraint) and so does the barb-direction Green strain of every
  * triangle of the aligned mesh, while the sample stretches to ly (1 + strain). */

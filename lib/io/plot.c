@@ -88,14 +88,19 @@ static void write_body(FILE *f, const scratch *s, const char *title, const plume
         fputs(" title ", f);
         put_quoted(f, title);
     }
-    fputs(ax && ax->small_key ? "\nset grid\nset key top left box opaque font ',8' spacing 0.8\nset xlabel "
-                                : "\nset grid\nset key top left box opaque\nset xlabel ",
-          f);
+    const int below = ax && ax->key_below;
+    fputs(below ? "\nset grid\nset bmargin 7\nset key below Left reverse box width -2 maxrows 3"
+                : "\nset grid\nset key top left Left reverse box opaque width -2", f);
+    fputs(ax && ax->small_key ? " font ',8' spacing 0.8\nset xlabel " : "\nset xlabel ", f);
     put_quoted(f, ax && ax->x_label ? ax->x_label : "nominal strain (%)");
     fputc('\n', f);
     const char *const ylabel[2] = {ax && ax->stress_label ? ax->stress_label : "nominal stress (Pa)",
                                    ax && ax->wbar_label ? ax->wbar_label : "w-bar (average relative width change)"};
     for (int panel = 0; panel < 2; panel++) {
+        /* the legend where the curves are not: stress rises from the origin, so top left is free;
+         * w-bar falls from 0 (the sample narrows), so bottom left is */
+        if (panel == 1 && !below)
+            fputs("set key bottom left\n", f);
         fputs("set ylabel ", f);
         put_quoted(f, ylabel[panel]);
         fputs("\nplot ", f);
@@ -110,8 +115,9 @@ static void write_body(FILE *f, const scratch *s, const char *title, const plume
                 put_quoted(f, s->data);
             else
                 fputs(", ''", f);
-            fprintf(f, " index %d using 1:%d with linespoints lc %d pt 7 ps 0.5 title ", c,
-                    panel == 0 ? 2 : 3, c + 1);
+            fprintf(f, " index %d using 1:%d with linespoints lc %d pt %d ps %s title ", c, panel == 0 ? 2 : 3,
+                    ax && ax->color ? ax->color[c] : c + 1, ax && ax->point ? ax->point[c] : 7,
+                    ax && ax->point ? "0.8" : "0.5");
             put_quoted(f, label);
         }
         fputc('\n', f);
@@ -125,17 +131,19 @@ static int write_script(const scratch *s, const char *title, const plume_plot_ax
     FILE *f = fopen(s->script, "w");
     if (!f)
         return -1;
-    fputs("# written by plume_plot_curves\nset encoding utf8\n"
-          "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
-          "    set terminal pngcairo size 1200,500 noenhanced\n"
-          "} else {\n"
-          "    set terminal png size 1200,500 noenhanced\n"
-          "}\nset output ",
-          f);
+    const int height = ax && ax->key_below ? 620 : 500; /* room for the legend under the panels */
+    fprintf(f,
+            "# written by plume_plot_curves\nset encoding utf8\n"
+            "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
+            "    set terminal pngcairo size 1200,%d noenhanced\n"
+            "} else {\n"
+            "    set terminal png size 1200,%d noenhanced\n"
+            "}\nset output ",
+            height, height);
     put_quoted(f, s->png);
     fputc('\n', f);
     write_body(f, s, title, ax, labels, ncurves);
-    fputs("set terminal svg size 1200,500 noenhanced\nset output ", f);
+    fprintf(f, "set terminal svg size 1200,%d noenhanced\nset output ", height);
     put_quoted(f, s->svg);
     fputc('\n', f);
     write_body(f, s, title, ax, labels, ncurves);

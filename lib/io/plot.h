@@ -23,6 +23,10 @@ typedef struct {
     const char *x_label;      /* both panels, default "nominal strain (%)" */
     double x_scale;           /* x drawn = x_scale * curve.strain; 0 selects 100 (percent) */
     int small_key;            /* 1: a smaller legend font, for charts with many series */
+    const int *color;         /* per curve: gnuplot colour index 1..8 (NULL: curve k gets k + 1, which
+                                 repeats after 8), so that families share a colour */
+    const int *point;         /* per curve: gnuplot point type (NULL: 7, a filled circle) */
+    int key_below;            /* 1: the legend under each panel in columns, clear of the data */
 } plume_plot_axes;
 
 /* plume_plot_curves with other axis labels (axes may be NULL). */
