@@ -37,6 +37,9 @@ static const char usage[] =
     "  --restart FILE.h5   continue from the last frame of a frames file (time, x, v, multipliers) and append\n"
     "                      to DIR/frames.h5 (FILE.h5 is copied there first if it is another file)\n"
     "  --solver S          newton | ipopt | linearized (overrides the scene's \"solver\")\n"
+    "  --render-field F    colour the PNG renders by F with a colour bar (overrides the scene's \"render_field\"):\n"
+    "                      material, object, mean_curvature, J, membrane_energy, bending_energy, strain_bb,\n"
+    "                      strain_tt, strain_bt, stress_bb, stress_tt, stress_bt, crease_angle\n"
     "  --json              print a summary object on stdout\n"
     "  --quiet / --verbose no progress line / solver iterations on stderr\n"
     "  --help\n"
@@ -56,7 +59,7 @@ static int run_fail(const char *fmt, ...)
 }
 
 typedef struct {
-    const char *scene, *outdir, *restart, *solver;
+    const char *scene, *outdir, *restart, *solver, *render_field;
     int frames, json, quiet, verbose;
     double duration;
 } options;
@@ -91,7 +94,7 @@ static int parse_args(int argc, char **argv, options *o)
             continue;
         }
         if (strcmp(a, "-o") && strcmp(a, "--frames") && strcmp(a, "--duration") && strcmp(a, "--restart") &&
-            strcmp(a, "--solver"))
+            strcmp(a, "--solver") && strcmp(a, "--render-field"))
             return cli_fail(APP, "unknown option '%s' (see --help)", a);
         if (!v)
             return cli_fail(APP, "%s needs a value (see --help)", a);
@@ -106,7 +109,12 @@ static int parse_args(int argc, char **argv, options *o)
                 r = cli_fail(APP, "--duration must be > 0 (got %g)", o->duration);
         } else if (strcmp(a, "--restart") == 0)
             o->restart = v;
-        else
+        else if (strcmp(a, "--render-field") == 0) {
+            o->render_field = v;
+            if (!plume_render_field_valid(v))
+                r = cli_fail(APP, "--render-field expects material, object or one of %s (got '%s')",
+                             plume_field_names(), v);
+        } else
             o->solver = v;
         if (r)
             return r;
@@ -252,12 +260,64 @@ static void frame_measures_reset(plume_frame_measures *fm, const plume_scene *s)
     fm->min_distance = s->has_contact ? 10.0 * s->contact.pair.dhat : -1.0;
 }
 
+/* The scene's render_field per triangle into v[nt]: "object" the object index, a field of
+ * macro/fields.h its values at x. Returns the colour-bar label (NULL: colour by material). */
+static const char *render_values(const output_ctx *oc, const double *x, double *v, plume_err *err)
+{
+    const plume_scene *s = oc->scene;
+    if (strcmp(s->render_field, "material") == 0)
+        return NULL;
+    if (strcmp(s->render_field, "object") == 0) {
+        for (plume_index t = 0; t < s->mesh->nt; t++)
+            v[t] = 0.0;
+        for (int i = 0; i < s->nobjects; i++)
+            for (plume_index t = s->objects[i].t0; t < s->objects[i].t0 + s->objects[i].nt; t++)
+                v[t] = (double)i;
+        return "object";
+    }
+    plume_field_values fv;
+    if (plume_fields_compute(oc->fields, x, &fv, err) != PLUME_OK ||
+        plume_field_values_select(&fv, s->render_field, v, err) != PLUME_OK)
+        return "";
+    return plume_field_label(s->render_field);
+}
+
+/* The PNG of frame k (DIR/frame_NNNNN.png), coloured as the scene asks. Exit code. */
+static int render_frame(const output_ctx *oc, const double *x, double t, long k)
+{
+    plume_err err = {{0}};
+    const plume_mesh *m = oc->scene->mesh;
+    plume_render_opts ro;
+    plume_render_opts_default(&ro);
+    ro.rot_x = oc->scene->camera[0];
+    ro.rot_z = oc->scene->camera[1];
+    char title[512], path[4400];
+    snprintf(title, sizeof title, "%s   t = %.4f s   frame %ld", oc->stem, t, k);
+    ro.title = title;
+    double *values = malloc((size_t)m->nt * sizeof *values);
+    if (!values)
+        return run_fail("render: out of memory");
+    const char *label = render_values(oc, x, values, &err);
+    if (label && !*label) {
+        free(values);
+        return run_fail("render: %s", err.msg);
+    }
+    if (label) {
+        ro.field = values, ro.field_label = label;
+        if (strcmp(oc->scene->render_field, "object") == 0)
+            ro.field_min = 0.0, ro.field_max = oc->scene->nobjects > 1 ? oc->scene->nobjects - 1 : 1;
+    }
+    snprintf(path, sizeof path, "%s/frame_%05ld.png", oc->outdir, k);
+    plume_status st = plume_render_png(path, m, x, &ro, &err);
+    free(values);
+    return st == PLUME_OK ? 0 : run_fail("%s", err.msg);
+}
+
 /* Writes frame k of the current state: VTU in the series, HDF5 frame, PNG when requested. Exit code. */
 static int write_frame(const output_ctx *oc, const plume_dynamics *d, long k, long step, int append,
                        const plume_frame_measures *fm)
 {
     plume_err err = {{0}};
-    char path[4400];
     const plume_mesh *m = oc->scene->mesh;
     const double *x = plume_dynamics_positions(d);
     double t = plume_dynamics_time(d);
@@ -270,18 +330,8 @@ static int write_frame(const output_ctx *oc, const plume_dynamics *d, long k, lo
                                          fm, &err) != PLUME_OK)
             return run_fail("%s", err.msg);
     }
-    if (wants_render(oc->scene, k)) {
-        plume_render_opts ro;
-        plume_render_opts_default(&ro);
-        ro.rot_x = oc->scene->camera[0];
-        ro.rot_z = oc->scene->camera[1];
-        char title[512];
-        snprintf(title, sizeof title, "%s   t = %.4f s   frame %ld", oc->stem, t, k);
-        ro.title = title;
-        snprintf(path, sizeof path, "%s/frame_%05ld.png", oc->outdir, k);
-        if (plume_render_png(path, m, x, &ro, &err) != PLUME_OK)
-            return run_fail("%s", err.msg);
-    }
+    if (wants_render(oc->scene, k) && render_frame(oc, x, t, k) != 0)
+        return 1;
     return 0;
 }
 
@@ -310,6 +360,8 @@ int main(int argc, char **argv)
         plume_scene_destroy(&scene);
         return cli_fail(APP, "--solver expects newton|ipopt|linearized (got '%s')", o.solver);
     }
+    if (o.render_field)
+        snprintf(scene->render_field, sizeof scene->render_field, "%s", o.render_field);
 
     char stem[256], outdir[4096], frames_path[4200];
     scene_stem(o.scene, stem, sizeof stem);

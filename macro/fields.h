@@ -36,6 +36,17 @@ typedef struct {
                                        the inextensibility constraint's violation */
 } plume_field_values;
 
+/* The names of the per-triangle fields above, as a render takes them: "mean_curvature, J, ...". */
+PLUME_API const char *plume_field_names(void);
+/* 1 when a render can be coloured by `name`: "material", "object" or one of plume_field_names. */
+PLUME_API int plume_render_field_valid(const char *name);
+/* The colour-bar label of a field name (with its unit), NULL for an unknown name. */
+PLUME_API const char *plume_field_label(const char *name);
+/* Copies the field `name` (one of plume_field_names; strain_bb etc. are components of
+ * green_strain and stress) into out[v->nt]. PLUME_EINVAL naming the names for an unknown one. */
+PLUME_API plume_status plume_field_values_select(const plume_field_values *v, const char *name, double *out,
+                                                 plume_err *err);
+
 typedef struct plume_fields plume_fields;
 
 /* What the fields need, copied or taken: the mesh (borrowed, must outlive the object; topology

@@ -88,6 +88,9 @@ typedef struct {
     int nrender;
     long *render;                 /* [nrender] frame indices to render as PNG */
     double camera[2];             /* rot_x, rot_z (degrees); default 60, 30 */
+    char render_field[32];        /* what the renders are coloured by: "material" (default),
+                                     "object" (one colour per scene object), or a field of
+                                     plume_field_names (macro/fields.h) with a colour bar */
     double length;                /* diagonal of the reference bounding box (m) */
     int hinge_bending;            /* "bending_model": "hinge"; default "shape_operator" */
     int has_contact;              /* a "contact" block */

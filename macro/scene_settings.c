@@ -18,6 +18,7 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
     s->output_every = 1;
     s->camera[0] = 60.0;
     s->camera[1] = 30.0;
+    snprintf(s->render_field, sizeof s->render_field, "material");
     json_t *v;
     if ((v = json_object_get(doc, "gravity")) && (st = plume_json_vector(c, v, "gravity", 3, s->gravity)) != PLUME_OK)
         return st;
@@ -87,6 +88,13 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
             }
             s->render[s->nrender++] = (long)d;
         }
+    }
+    if ((v = json_object_get(doc, "render_field"))) {
+        const char *name = json_string_value(v);
+        if (!name || !plume_render_field_valid(name))
+            return plume_json_bad(c, PLUME_EINVAL, "render_field", "must be \"material\", \"object\" or one of %s",
+                                  plume_field_names());
+        snprintf(s->render_field, sizeof s->render_field, "%s", name);
     }
     if ((v = json_object_get(doc, "camera"))) {
         static const char *const ck[] = {"rot_x", "rot_z", NULL};

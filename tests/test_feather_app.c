@@ -158,6 +158,8 @@ void test_feather_app_scene_errors(void)
         {"{\"strip\": 0}", "{\"strip\": 1}", "scene.json:2: mesh.materials_by_group material id without a material"},
         {"\"E\": 1e7", "\"E\": -1e7", "scene.json:4: materials[0].membrane.E must be > 0"},
         {"\"dt\": 0.01", "\"dt\": 0", "scene.json:8: dt must be > 0 (got 0)"},
+        {"\"dt\": 0.01", "\"dt\": 0.01, \"render_field\": \"curl\"",
+         "scene.json:8: render_field must be \"material\", \"object\" or one of mean_curvature, J"},
         {"\"duration\"", "\"duraton\"", "scene.json:9: duraton is an unknown key"},
         {"\"strip\": 0", "\"strp\": 0", "scene.json:2: mesh.materials_by_group.strp names a group"},
         {"\"thickness\": 1e-3", "\"thickness\": 1e-3, \"kappa\": -1", "scene.json:4: materials[0].membrane.kappa must be >= 0"},
@@ -257,7 +259,8 @@ void test_feather_app_scene_errors(void)
     write_text(path, good);
     const char *bad[][2] = {{"", "no scene file"}, {"@ --frames 0", "--frames"}, {"@ --solver cg", "--solver"},
                             {"@ --bogus", "unknown option '--bogus'"}, {"/nonexistent.json", "/nonexistent.json"},
-                            {"@ --frames 2 --duration 1", "exclusive"}, {"@ --restart /nonexistent.h5", "/nonexistent.h5"}};
+                            {"@ --frames 2 --duration 1", "exclusive"}, {"@ --restart /nonexistent.h5", "/nonexistent.h5"},
+                            {"@ --render-field curl", "--render-field expects material, object or one of"}};
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         char *a = replace(bad[k][0], "@", path);
         snprintf(args, sizeof args, "%s -o %s/out --quiet", a, dir);
@@ -501,6 +504,25 @@ void test_feather_app_strip_run(void)
     check_series(path, 4, 1);
     snprintf(path, sizeof path, "%s/run/frame_00000.png", dir); /* "render": [0, ...] */
     CHECK(exists_nonempty(path));
+    /* coloured by a field: the same frame, a different picture */
+    snprintf(args, sizeof args, "../data/shell/strip_scene.json -o %s/field --frames 1 --quiet --render-field J", dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
+    snprintf(path, sizeof path, "%s/field/frame_00000.png", dir);
+    CHECK(exists_nonempty(path));
+    {
+        char a[256], b[256];
+        snprintf(a, sizeof a, "%s/run/frame_00000.png", dir);
+        snprintf(b, sizeof b, "%s/field/frame_00000.png", dir);
+        FILE *fa = fopen(a, "rb"), *fb = fopen(b, "rb");
+        int same = fa && fb;
+        for (int ca = 0, cb = 0; same && ca != EOF;)
+            ca = fgetc(fa), cb = fgetc(fb), same = ca == cb;
+        CHECK(fa && fb && !same);
+        if (fa)
+            fclose(fa);
+        if (fb)
+            fclose(fb);
+    }
     snprintf(path, sizeof path, "%s/run/frames.h5", dir);
     plume_frames_info info;
     plume_err err = {{0}};

@@ -11,6 +11,7 @@
 #include <hdf5.h>
 
 #include "harness.h"
+#include "png_read.h"
 #include "h5_units.h"
 #include "test_rng.h"
 #include "../lib/io/frames.h"
@@ -324,6 +325,65 @@ void test_frames_render_png(void)
     CHECK(plume_render_png(path, m, NULL, &o, &err) == PLUME_EINVAL && strstr(err.msg, "rot_x"));
     CHECK(plume_render_png("/nonexistent/dir/m.png", m, NULL, NULL, &err) == PLUME_EIO);
     CHECK(strstr(err.msg, "/nonexistent/dir/m.png") != NULL);
+    plume_mesh_destroy(&m);
+    remove_dir(dir);
+}
+
+/* Coloured by a field: a flat sheet seen from above with the field x, on a fixed colour bar [0, 1],
+ * is dark blue-purple on the left and yellow on the right (the map's ends, shaded by the light);
+ * NaN triangles come out grey; the automatic range also draws. */
+void test_frames_render_field(void)
+{
+    char dir[64], path[128];
+    if (!scratch_dir(dir)) {
+        CHECK(0);
+        return;
+    }
+    plume_mesh *m = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_patch_mesh(1.0, 1.0, 0.0, 0.05, PLUME_PATCH_ALIGNED, 3, &m, &err) == PLUME_OK);
+    if (!m) {
+        remove_dir(dir);
+        return;
+    }
+    double *field = malloc((size_t)m->nt * sizeof *field);
+    for (plume_index t = 0; t < m->nt; t++) {
+        const plume_index *v = m->tri + 3 * t;
+        field[t] = (m->X[2 * v[0]] + m->X[2 * v[1]] + m->X[2 * v[2]]) / 3.0;
+    }
+    snprintf(path, sizeof path, "%s/field.png", dir);
+    plume_render_opts o;
+    plume_render_opts_default(&o);
+    o.rot_x = 0.0, o.rot_z = 0.0; /* from above: x to the right */
+    o.field = field, o.field_label = "x (m)", o.field_min = 0.0, o.field_max = 1.0;
+    CHECK(plume_render_png(path, m, NULL, &o, &err) == PLUME_OK);
+    test_png png;
+    CHECK(test_png_read(path, &png) == 0);
+    if (png.rgb) {
+        /* the mean column of yellow pixels right of the mean column of purple ones, the colour bar
+         * (the right tenth of the picture) left out */
+        double xy = 0, xp = 0;
+        long ny = 0, np = 0;
+        for (int y = 0; y < png.height; y++)
+            for (int x = 0; x < png.width * 85 / 100; x++) {
+                const unsigned char *c = png.rgb + 3 * ((size_t)y * (size_t)png.width + (size_t)x);
+                if (c[0] > 150 && c[1] > 150 && c[2] < 80)
+                    xy += x, ny++;
+                else if (c[2] > 50 && c[2] > c[0] && c[1] < 30)
+                    xp += x, np++;
+            }
+        CHECK(ny > 500 && np > 500);
+        CHECK(ny > 0 && np > 0 && xy / (double)ny > xp / (double)np + 0.2 * png.width);
+        if (!(ny > 500 && np > 500))
+            fprintf(stderr, "    yellow pixels %ld, purple %ld\n", ny, np);
+        free(png.rgb);
+    }
+    /* NaN (a kinematic body) is grey, the automatic range draws too */
+    for (plume_index t = 0; t < m->nt; t += 3)
+        field[t] = NAN;
+    o.field_min = o.field_max = 0.0;
+    CHECK(plume_render_png(path, m, NULL, &o, &err) == PLUME_OK);
+    free(field);
     plume_mesh_destroy(&m);
     remove_dir(dir);
 }

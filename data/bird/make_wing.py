@@ -79,6 +79,7 @@ def main():
         "output_every": 5,
         "render": [0, 9, 18],
         "camera": {"rot_x": 60, "rot_z": 30},
+        "render_field": "object",
     }
     with open(os.path.join(HERE, "wing.json"), "w") as f:
         json.dump(scene, f, indent=1)

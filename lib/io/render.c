@@ -3,7 +3,9 @@
  * Shading is computed here, not by gnuplot's pm3d lighting, so a picture does not depend on the
  * gnuplot version: each triangle gets one value m + s, its material id m plus its brightness s in
  * (0, 1), and the palette ramps from a dark to a light shade of the material's colour over every
- * unit interval [m, m + 1]. Triangles are drawn as degenerate pm3d quadrangles (v0 v1 / v2 v2),
+ * unit interval [m, m + 1]. Coloured by a field, each triangle carries its own RGB (the map's
+ * colour at its value times its brightness, "fillcolor rgb variable"), and the palette is used only
+ * for the colour bar. Triangles are drawn as degenerate pm3d quadrangles (v0 v1 / v2 v2),
  * sorted back to front by "set pm3d depthorder"; "with polygons" would be the natural plot style
  * but gnuplot 5.4 ignores per-polygon colours there.
  *
@@ -88,7 +90,59 @@ static int camera_normal(const plume_mesh *m, const double *x, plume_index t, do
     return 1;
 }
 
-static int write_data(const scratch *s, const plume_mesh *m, const double *x, const plume_render_opts *o)
+/* A perceptual blue-green-yellow map (stops sampled from matplotlib's viridis), t in [0, 1]. */
+static const double field_map[9][3] = {{0.267, 0.005, 0.329}, {0.278, 0.175, 0.483}, {0.231, 0.322, 0.546},
+                                       {0.173, 0.449, 0.558}, {0.128, 0.567, 0.551}, {0.153, 0.680, 0.506},
+                                       {0.361, 0.788, 0.388}, {0.668, 0.862, 0.196}, {0.993, 0.906, 0.144}};
+
+static void field_colour(double t, double rgb[3])
+{
+    t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+    double u = t * 8.0;
+    int i = (int)u;
+    if (i > 7)
+        i = 7;
+    u -= i;
+    for (int k = 0; k < 3; k++)
+        rgb[k] = (1.0 - u) * field_map[i][k] + u * field_map[i + 1][k];
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The colour bar's range: o's if set, else the 2nd to 98th percentile of the finite values (a
+ * field constant to round-off gets a range of its magnitude, at least 1, around its value). -1 when out of memory. */
+static int field_range(const plume_mesh *m, const plume_render_opts *o, double *lo, double *hi)
+{
+    if (o->field_max > o->field_min) {
+        *lo = o->field_min, *hi = o->field_max;
+        return 0;
+    }
+    double *v = malloc((size_t)m->nt * sizeof *v);
+    if (!v)
+        return -1;
+    plume_index n = 0;
+    for (plume_index t = 0; t < m->nt; t++)
+        if (isfinite(o->field[t]))
+            v[n++] = o->field[t];
+    *lo = 0.0, *hi = 1.0;
+    if (n > 0) {
+        qsort(v, (size_t)n, sizeof *v, cmp_double);
+        *lo = v[(plume_index)(0.02 * (double)(n - 1))], *hi = v[(plume_index)(0.98 * (double)(n - 1))];
+    }
+    free(v);
+    if (!(*hi - *lo > 1e-6 * fmax(fabs(*lo), fabs(*hi)))) { /* constant, to round-off */
+        double c = 0.5 * (*lo + *hi), w = fmax(fabs(c), 1.0) * 0.5;
+        *lo = c - w, *hi = c + w;
+    }
+    return 0;
+}
+
+static int write_data(const scratch *s, const plume_mesh *m, const double *x, const plume_render_opts *o,
+                      double flo, double fhi)
 {
     FILE *f = fopen(s->data, "w");
     if (!f)
@@ -104,13 +158,22 @@ static int write_data(const scratch *s, const plume_mesh *m, const double *x, co
         double shade = 0.5;
         if (camera_normal(m, x, t, cx, sx, cz, sz, n))
             shade = 0.18 + 0.8 * fabs(n[0] * L[0] + n[1] * L[1] + n[2] * L[2]);
-        int mat = slot(m, t);
-        double c = (double)mat + shade;
         const plume_index *v = m->tri + 3 * t;
         const plume_index order[4] = {v[0], v[1], v[2], v[2]};
+        char colour[32];
+        if (o->field) { /* the field's colour times the shade, as 0xRRGGBB for "fillcolor rgb variable" */
+            double rgb[3] = {0.62, 0.62, 0.62};
+            if (isfinite(o->field[t]))
+                field_colour((o->field[t] - flo) / (fhi - flo), rgb);
+            double k = 0.25 + 0.75 * shade;
+            unsigned r = (unsigned)lround(255.0 * fmin(1.0, rgb[0] * k)), g = (unsigned)lround(255.0 * fmin(1.0, rgb[1] * k)),
+                     b = (unsigned)lround(255.0 * fmin(1.0, rgb[2] * k));
+            snprintf(colour, sizeof colour, "%u", (r << 16) | (g << 8) | b);
+        } else
+            snprintf(colour, sizeof colour, "%.6f", (double)slot(m, t) + shade);
         for (int k = 0; k < 4; k++) {
             const double *p = x + 3 * order[k];
-            fprintf(f, "%.9g %.9g %.9g %.6f\n", p[0], p[1], p[2], c);
+            fprintf(f, "%.9g %.9g %.9g %s\n", p[0], p[1], p[2], colour);
             if (k == 1)
                 fputc('\n', f);
         }
@@ -120,15 +183,12 @@ static int write_data(const scratch *s, const plume_mesh *m, const double *x, co
     return (fclose(f) != 0 || bad) ? -1 : 0;
 }
 
-static int write_script(const scratch *s, const plume_mesh *m, const double *x, const plume_render_opts *o)
+static int write_script(const scratch *s, const plume_mesh *m, const double *x, const plume_render_opts *o,
+                        double flo, double fhi)
 {
     FILE *f = fopen(s->script, "w");
     if (!f)
         return -1;
-    int nmat = 1;
-    for (plume_index t = 0; t < m->nt; t++)
-        if (slot(m, t) + 1 > nmat)
-            nmat = slot(m, t) + 1;
     fprintf(f,
             "# written by plume_render_png\nset encoding utf8\n"
             "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
@@ -160,20 +220,45 @@ static int write_script(const scratch *s, const plume_mesh *m, const double *x, 
         double pad = 0.02 * ext + 0.5 * fmax(0.0, 0.1 * ext - (hi[a] - lo[a]));
         fprintf(f, "set %crange [%.9g:%.9g]\n", axis[a], lo[a] - pad, hi[a] + pad);
     }
-    fprintf(f, "set view %.6g, %.6g, 1.6\nset view equal xyz\nset xyplane 0\nunset key\nunset colorbox\n", o->rot_x,
-            o->rot_z);
+    fprintf(f, "set view %.6g, %.6g, 1.6\nset view equal xyz\nset xyplane 0\nunset key\n", o->rot_x, o->rot_z);
     fputs("set pm3d depthorder corners2color c1\nset pm3d border retrace\nset style fill solid 1.0\n", f);
     fputs("set tics font ',8'\nset xlabel 'x (m)'\nset ylabel 'y (m)'\nset zlabel 'z (m)'\n", f);
-    fputs("set palette defined (", f);
-    for (int k = 0; k < nmat; k++) {
-        unsigned rgb = palette_rgb[k % 6];
-        unsigned r = (rgb >> 16) & 255, g = (rgb >> 8) & 255, b = rgb & 255;
-        fprintf(f, "%s%d '#%02x%02x%02x', %d '#%02x%02x%02x'", k ? ", " : "", k, r / 8, g / 8, b / 8, k + 1, r, g, b);
+    if (o->field) {
+        /* the triangles carry their shaded colours; the palette only draws the colour bar (through a
+         * plot of no points that uses it) */
+        fputs("set palette defined (", f);
+        for (int k = 0; k < 9; k++)
+            fprintf(f, "%s%g '#%02x%02x%02x'", k ? ", " : "", k / 8.0, (unsigned)lround(255 * field_map[k][0]),
+                    (unsigned)lround(255 * field_map[k][1]), (unsigned)lround(255 * field_map[k][2]));
+        fprintf(f, ")\nset cbrange [%.9g:%.9g]\nset origin 0.03, 0\nset size 0.84, 1\nset colorbox vertical user origin 0.875, 0.2 size 0.022, 0.6\n"
+                   "set cbtics font ',9'\nset format cb '%%g'\n", flo, fhi);
+        if (o->field_label && *o->field_label) {
+            fputs("set cblabel ", f);
+            put_quoted(f, o->field_label);
+            fputc('\n', f);
+        }
+        fputs("splot ", f);
+        put_quoted(f, s->data);
+        fputs(" using 1:2:3:4 with pm3d fillcolor rgb variable, ", f);
+        put_quoted(f, s->data);
+        fputs(" using 1:2:(NaN):(0) with points palette\nunset output\n", f);
+    } else {
+        int nmat = 1;
+        for (plume_index t = 0; t < m->nt; t++)
+            if (slot(m, t) + 1 > nmat)
+                nmat = slot(m, t) + 1;
+        fputs("unset colorbox\nset palette defined (", f);
+        for (int k = 0; k < nmat; k++) {
+            unsigned rgb = palette_rgb[k % 6];
+            unsigned r = (rgb >> 16) & 255, g = (rgb >> 8) & 255, b = rgb & 255;
+            fprintf(f, "%s%d '#%02x%02x%02x', %d '#%02x%02x%02x'", k ? ", " : "", k, r / 8, g / 8, b / 8, k + 1, r, g,
+                    b);
+        }
+        fprintf(f, ")\nset cbrange [0:%d]\n", nmat);
+        fputs("splot ", f);
+        put_quoted(f, s->data);
+        fputs(" using 1:2:3:4 with pm3d\nunset output\n", f);
     }
-    fprintf(f, ")\nset cbrange [0:%d]\n", nmat);
-    fputs("splot ", f);
-    put_quoted(f, s->data);
-    fputs(" using 1:2:3:4 with pm3d\nunset output\n", f);
     int bad = ferror(f);
     return (fclose(f) != 0 || bad) ? -1 : 0;
 }
@@ -249,7 +334,12 @@ plume_status plume_render_png(const char *png_path, const plume_mesh *m, const d
     snprintf(s.log, sizeof s.log, "%s/gnuplot.log", s.dir);
 
     plume_status st = PLUME_OK;
-    if (write_data(&s, m, x3, &o) != 0 || write_script(&s, m, x3, &o) != 0) {
+    double flo = 0.0, fhi = 1.0;
+    if (o.field && field_range(m, &o, &flo, &fhi) != 0) {
+        st = plume_err_set(err, PLUME_ENOMEM, "render '%s': out of memory", png_path);
+        goto cleanup;
+    }
+    if (write_data(&s, m, x3, &o, flo, fhi) != 0 || write_script(&s, m, x3, &o, flo, fhi) != 0) {
         st = plume_err_set(err, PLUME_EIO, "render: cannot write gnuplot input in %s: %s", s.dir, strerror(errno));
         goto cleanup;
     }

@@ -17,13 +17,20 @@ typedef struct {
     double light[3];      /* direction the light comes from, in the camera frame (x right, y up,
                              z toward the viewer); default (-0.3, 0.5, 1) */
     const char *title;    /* drawn above the picture; NULL for none */
+    const double *field;  /* [nt] a value per triangle to colour by (a perceptual blue-green-yellow
+                             map, shaded by the light, with a colour bar); NaN draws the triangle
+                             grey (kinematic bodies); NULL: colours by material */
+    const char *field_label; /* the colour bar's label; NULL for none */
+    double field_min, field_max; /* the colour bar's range; equal (default 0, 0): the 2nd to 98th
+                             percentile of the finite values, so that a few outliers (a crease) do
+                             not flatten the rest; values outside are drawn at the ends */
 } plume_render_opts;
 
 PLUME_API void plume_render_opts_default(plume_render_opts *o);
 
 /* Draws the triangles of `mesh` at positions x (3 nv; NULL: mesh->x, z = 0 when planar) to
  * png_path, flat-shaded: each triangle's colour is its material's (a fixed palette by material
- * id) scaled by |n . light| (two-sided), drawn back to front, with equal axis scales and the fixed
+ * id), or its field value's when o->field is set, scaled by |n . light| (two-sided), drawn back to front, with equal axis scales and the fixed
  * view of `o` (NULL: defaults). The picture is made in a private temporary directory and
  * renamed into place. Errors: invalid arguments or view (PLUME_EINVAL), gnuplot missing or
  * failing (PLUME_EDEP, with gnuplot's last message), files (PLUME_EIO). */
