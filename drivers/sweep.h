@@ -1,4 +1,5 @@
-/* plume: parameter sweeps — a JSON sweep file expands into independent runs of one job (a
+/** \file
+ * plume: parameter sweeps — a JSON sweep file expands into independent runs of one job (a
  * traction test at either scale, a homogenisation, a fit, e.g. from several starting points:
  * "vary": {"start.E_yy": [...]}, or a dynamic scene), each run a request of the flat interface
  * (drivers/flat.h) or a scene document; their results are gathered into one HDF5 file that a killed
@@ -39,20 +40,20 @@ extern "C" {
 
 typedef struct plume_sweep plume_sweep;
 
-/* Loads and expands a sweep file; samples come from samples_path (data/samples.json) when the
+/** Loads and expands a sweep file; samples come from samples_path (data/samples.json) when the
  * file varies "sample". */
 PLUME_API plume_status plume_sweep_load(const char *path, const char *samples_path, plume_sweep **out, plume_err *err);
 PLUME_API void plume_sweep_destroy(plume_sweep **s);
 
 PLUME_API int plume_sweep_count(const plume_sweep *s);
-PLUME_API const char *plume_sweep_job(const plume_sweep *s); /* "traction" | "homogenize" | "fit" | "scene" */
+PLUME_API const char *plume_sweep_job(const plume_sweep *s); /**< "traction" | "homogenize" | "fit" | "scene" */
 
-/* Run k's request and its varied values ({"angle": 45, "sample": "T01", ...}) as JSON texts,
+/** Run k's request and its varied values ({"angle": 45, "sample": "T01", ...}) as JSON texts,
  * malloc'ed (free with free()). A scene run's request is {"scene": the file, "steps": n (when
  * given), "document": the scene's document with run k's values set}. */
 PLUME_API plume_status plume_sweep_request(const plume_sweep *s, int k, char **request, char **values, plume_err *err);
 
-/* Executes run k and returns its record as a JSON text (malloc'ed): {"run": k, "values": {...},
+/** Executes run k and returns its record as a JSON text (malloc'ed): {"run": k, "values": {...},
  * "outcome": "converged" | the solver's stop reason | "error", "message": plume's message (errors),
  * "result": the job's result (drivers/flat.h; a scene's: drivers/internal/sweep_scene.h, and
  * docs/apps/sweep.md)}. A run that fails is a record, not an error: NULL only when memory runs out. A
@@ -60,7 +61,7 @@ PLUME_API plume_status plume_sweep_request(const plume_sweep *s, int k, char **r
  * outcome and keeps the steps done. */
 PLUME_API char *plume_sweep_execute(const plume_sweep *s, int k);
 
-/* The results file: /sweep with attributes "job", "runs" and "file" (the sweep file's text); one
+/** The results file: /sweep with attributes "job", "runs" and "file" (the sweep file's text); one
  * group /sweep/runs/<k> per recorded run with datasets strain, stress, wbar (when the job gives a
  * curve; units 1, Pa, 1) and string attributes "values", "outcome", "record" (the JSON record
  * without the curve arrays and without timings, so that the file's content does not depend on
@@ -72,14 +73,14 @@ PLUME_API char *plume_sweep_execute(const plume_sweep *s, int k);
  * scene sweep, one whose scene file has changed since: PLUME_EINVAL). */
 PLUME_API plume_status plume_sweep_results_open(const char *h5path, const plume_sweep *s, plume_err *err);
 
-/* Which runs the file holds (done[k] = 1), e.g. after a sweep was killed: those are not redone. */
+/** Which runs the file holds (done[k] = 1), e.g. after a sweep was killed: those are not redone. */
 PLUME_API plume_status plume_sweep_results_done(const char *h5path, const plume_sweep *s, unsigned char *done, plume_err *err);
 
-/* Adds run k's record (from plume_sweep_execute) to the file; a run is written whole or not at
+/** Adds run k's record (from plume_sweep_execute) to the file; a run is written whole or not at
  * all (its group is created last, from a complete temporary name). */
 PLUME_API plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, int k, const char *record, plume_err *err);
 
-/* A markdown table of every recorded run (run, values, outcome, last strain and stress, seconds;
+/** A markdown table of every recorded run (run, values, outcome, last strain and stress, seconds;
  * for a scene: steps, final time, max displacement and min contact distance) into md_path, and
  * the same as a JSON array into *json (malloc'ed; may be NULL). */
 PLUME_API plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const char *md_path, char **json,

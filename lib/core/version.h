@@ -1,4 +1,5 @@
-/* plume: the library's version, at compile time (the macros) and at run time (the library a
+/** \file
+ * plume: the library's version, at compile time (the macros) and at run time (the library a
  * program actually loaded). */
 #ifndef PLUME_VERSION_H
 #define PLUME_VERSION_H
@@ -14,7 +15,7 @@
 extern "C" {
 #endif
 
-/* "MAJOR.MINOR.PATCH" of the library linked in (static string). */
+/** "MAJOR.MINOR.PATCH" of the library linked in (static string). */
 PLUME_API const char *plume_version(void);
 
 #ifdef __cplusplus

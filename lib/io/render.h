@@ -1,4 +1,5 @@
-/* plume: a shaded picture of a triangle-mesh state as PNG through gnuplot, for a quick look at a
+/** \file
+ * plume: a shaded picture of a triangle-mesh state as PNG through gnuplot, for a quick look at a
  * frame without ParaView. */
 #ifndef PLUME_RENDER_H
 #define PLUME_RENDER_H
@@ -11,17 +12,17 @@ extern "C" {
 #endif
 
 typedef struct {
-    double rot_x, rot_z;  /* gnuplot view angles (degrees): rot_x in [0, 180], rot_z in [0, 360];
+    double rot_x, rot_z;  /**< gnuplot view angles (degrees): rot_x in [0, 180], rot_z in [0, 360];
                              default 60, 30 */
-    int width, height;    /* pixels; default 1000 x 800 */
-    double light[3];      /* direction the light comes from, in the camera frame (x right, y up,
+    int width, height;    /**< pixels; default 1000 x 800 */
+    double light[3];      /**< direction the light comes from, in the camera frame (x right, y up,
                              z toward the viewer); default (-0.3, 0.5, 1) */
-    const char *title;    /* drawn above the picture; NULL for none */
+    const char *title;    /**< drawn above the picture; NULL for none */
 } plume_render_opts;
 
 PLUME_API void plume_render_opts_default(plume_render_opts *o);
 
-/* Draws the triangles of `mesh` at positions x (3 nv; NULL: mesh->x, z = 0 when planar) to
+/** Draws the triangles of `mesh` at positions x (3 nv; NULL: mesh->x, z = 0 when planar) to
  * png_path, flat-shaded: each triangle's colour is its material's (a fixed palette by material
  * id) scaled by |n . light| (two-sided), drawn back to front, with equal axis scales and the fixed
  * view of `o` (NULL: defaults). The picture is made in a private temporary directory and

@@ -1,4 +1,5 @@
-/* plume: implicit Euler as a constrained minimisation (docs/design.md "Dynamics", supplementary §3):
+/** \file
+ * plume: implicit Euler as a constrained minimisation (docs/design.md "Dynamics", supplementary §3):
  *   x_{n+1} = argmin 1/(2 dt^2) (x - x~)^T M (x - x~) + W(x) - f_ext^T x  s.t. g(x) = 0,
  *   x~ = x_n + dt v_n, v_{n+1} = (x_{n+1} - x_n) / dt, M lumped,
  * with gravity, handles that move prescribed vertices along keyframed paths, and a step that
@@ -19,7 +20,7 @@
 extern "C" {
 #endif
 
-/* A handle: vertices that follow a keyframed rigid motion (lib/core/rigid_motion.h) of their positions
+/** A handle: vertices that follow a keyframed rigid motion (lib/core/rigid_motion.h) of their positions
  * y at the stepper's creation: pivot + offset(t) + R(t) (y - pivot), offset piecewise linear and R
  * slerped between keyframes, both constant after the last. Without rotations a handle translates:
  * y + offset(t). Arrays owned by the caller; copied at creation. */
@@ -27,16 +28,16 @@ typedef struct {
     plume_index nvertices;
     const plume_index *vertices;
     int nkeys;
-    const double *times;     /* [nkeys], increasing, seconds */
-    const double *offsets;   /* [3 nkeys] translation of the handle at each key (m) */
-    const double *rotations; /* [3 nkeys] rotation vectors (axis times angle, radians) or NULL */
-    double pivot[3];         /* the rotations' centre at the creation positions (m) */
+    const double *times;     /**< [nkeys], increasing, seconds */
+    const double *offsets;   /**< [3 nkeys] translation of the handle at each key (m) */
+    const double *rotations; /**< [3 nkeys] rotation vectors (axis times angle, radians) or NULL */
+    double pivot[3];         /**< the rotations' centre at the creation positions (m) */
 } plume_handle;
 
 typedef struct {
-    double dt;               /* time step (s) */
-    double gravity[3];       /* m/s^2, e.g. (0, 0, -9.81) */
-    int max_halvings;        /* a failed step is halved at most this often; default 6 */
+    double dt;               /**< time step (s) */
+    double gravity[3];       /**< m/s^2, e.g. (0, 0, -9.81) */
+    int max_halvings;        /**< a failed step is halved at most this often; default 6 */
     plume_solver_kind solver;
     plume_solver_opts solver_opts;
 } plume_dynamics_opts;
@@ -45,7 +46,7 @@ PLUME_API void plume_dynamics_opts_default(plume_dynamics_opts *o);
 
 typedef struct plume_dynamics plume_dynamics;
 
-/* Takes a shell-mode problem over mesh->nv vertices holding the elastic terms and constraints
+/** Takes a shell-mode problem over mesh->nv vertices holding the elastic terms and constraints
  * (not finalised), adds the inertia and gravity terms with the lumped masses of the per-triangle
  * surface densities (kg/m^2, indexed by material id), fixes the handles' vertices, finalises it
  * and creates the solver. The problem stays owned by the caller and must outlive the stepper.
@@ -55,26 +56,26 @@ PLUME_API plume_status plume_dynamics_create(const plume_mesh *mesh, plume_probl
                                              plume_dynamics **out, plume_err *err);
 PLUME_API void plume_dynamics_destroy(plume_dynamics **d);
 
-/* What happened in one call of plume_dynamics_advance. */
+/** What happened in one call of plume_dynamics_advance. */
 typedef struct {
-    int substeps;          /* implicit Euler steps taken (1 when nothing was halved) */
-    int halvings;          /* times a step was halved */
-    int iterations;        /* solver iterations over all substeps */
-    int backtracks, shifts; /* newton's line-search rejections and inertia shifts (plume_solve_report) */
-    int step_limited;      /* solver steps cut short by continuous collision detection (contact) */
-    double max_violation;  /* max relative constraint violation over the substeps */
-    int converged;         /* every substep converged */
-    plume_reason reason;   /* why the first attempt that failed stopped (CONVERGED if none failed) */
+    int substeps;          /**< implicit Euler steps taken (1 when nothing was halved) */
+    int halvings;          /**< times a step was halved */
+    int iterations;        /**< solver iterations over all substeps */
+    int backtracks, shifts; /**< newton's line-search rejections and inertia shifts (plume_solve_report) */
+    int step_limited;      /**< solver steps cut short by continuous collision detection (contact) */
+    double max_violation;  /**< max relative constraint violation over the substeps */
+    int converged;         /**< every substep converged */
+    plume_reason reason;   /**< why the first attempt that failed stopped (CONVERGED if none failed) */
     double seconds;
 } plume_step_report;
 
-/* Advances the state by dt (opts.dt when dt <= 0): one implicit Euler step, halved recursively
+/** Advances the state by dt (opts.dt when dt <= 0): one implicit Euler step, halved recursively
  * on non-convergence up to max_halvings. Not converging at the smallest step is reported (state
  * left at the last converged substep), not an error; errors (a solver or contact failure, memory)
  * carry a message in err (NULL allowed). */
 PLUME_API plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep, plume_err *err);
 
-/* State access: time, positions (3 nv), velocities (3 nv) and the constraint multipliers of
+/** State access: time, positions (3 nv), velocities (3 nv) and the constraint multipliers of
  * the last step (*m of them); set restores a saved state (restart: with the multipliers too, the
  * continued run repeats the uninterrupted one exactly). lambda may be NULL (zero). set_state:
  * PLUME_EINVAL for a non-finite time, position or velocity, named in err (NULL allowed). */
@@ -85,7 +86,7 @@ PLUME_API const double *plume_dynamics_multipliers(const plume_dynamics *d, plum
 PLUME_API plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double *x, const double *v,
                                                 const double *lambda, plume_err *err);
 
-/* Lumped vertex masses (nv), for tests and energy checks. */
+/** Lumped vertex masses (nv), for tests and energy checks. */
 PLUME_API const double *plume_dynamics_masses(const plume_dynamics *d);
 
 #ifdef __cplusplus

@@ -1,4 +1,5 @@
-/* plume: static equilibrium under load stepping (docs/design.md "Quasi-static"): the load factor goes
+/** \file
+ * plume: static equilibrium under load stepping (docs/design.md "Quasi-static"): the load factor goes
  * from 0 to 1 in `steps` equal increments; at each one  min W(x) - factor f^T x  s.t. g(x) = 0 is
  * solved to convergence, starting from the secant extrapolation through the last two equilibria
  * (or from the last equilibrium). An increment that does not converge is halved (the state
@@ -15,10 +16,10 @@
 extern "C" {
 #endif
 
-/* Where each solve of a load increment starts. */
+/** Where each solve of a load increment starts. */
 typedef enum {
-    PLUME_PREDICT_NONE = 0,  /* the last equilibrium */
-    PLUME_PREDICT_SECANT = 1 /* the last equilibrium plus the secant through the last two, scaled to the
+    PLUME_PREDICT_NONE = 0,  /**< the last equilibrium */
+    PLUME_PREDICT_SECANT = 1 /**< the last equilibrium plus the secant through the last two, scaled to the
                                 increment (first-order continuation; from the second increment on). Its
                                 error is O(increment^2) where the last equilibrium's is O(increment): on
                                 the shell benchmarks it takes 35-56 % fewer Newton iterations to the same
@@ -27,54 +28,54 @@ typedef enum {
 } plume_predictor;
 
 typedef struct {
-    int steps;            /* nominal load steps; default 10 */
-    int max_cuts;         /* an increment is halved at most this often below the nominal one; default 10 */
-    plume_predictor predictor; /* default PLUME_PREDICT_SECANT */
+    int steps;            /**< nominal load steps; default 10 */
+    int max_cuts;         /**< an increment is halved at most this often below the nominal one; default 10 */
+    plume_predictor predictor; /**< default PLUME_PREDICT_SECANT */
     plume_solver_kind solver;
     plume_solver_opts solver_opts;
 } plume_statics_opts;
 
 PLUME_API void plume_statics_opts_default(plume_statics_opts *o);
 
-/* Sets the loads (and any load-dependent prescribed positions in plume_problem_x) for a load
+/** Sets the loads (and any load-dependent prescribed positions in plume_problem_x) for a load
  * factor in [0, 1]. */
 typedef void (*plume_load_scaler)(void *user, double factor);
 
-/* What one nominal step took. */
+/** What one nominal step took. */
 typedef struct {
-    int step;              /* 1-based nominal step */
-    double factor;         /* load factor reached (step / steps when converged) */
-    int substeps;          /* converged solves taken (1 when nothing was cut) */
-    int cuts;              /* times an increment was halved */
-    int iterations;        /* solver iterations, failed attempts included */
+    int step;              /**< 1-based nominal step */
+    double factor;         /**< load factor reached (step / steps when converged) */
+    int substeps;          /**< converged solves taken (1 when nothing was cut) */
+    int cuts;              /**< times an increment was halved */
+    int iterations;        /**< solver iterations, failed attempts included */
     int factorizations;
-    int backtracks, shifts; /* newton's line-search rejections and inertia shifts (plume_solve_report) */
-    int predictor_retries; /* solves that failed from the predictor and were retried from the last
+    int backtracks, shifts; /**< newton's line-search rejections and inertia shifts (plume_solve_report) */
+    int predictor_retries; /**< solves that failed from the predictor and were retried from the last
                               equilibrium */
-    double max_violation;  /* over the converged sub-steps */
-    int converged;         /* the step reached its factor */
-    plume_reason reason;   /* why the first failed attempt stopped (CONVERGED when none failed) */
+    double max_violation;  /**< over the converged sub-steps */
+    int converged;         /**< the step reached its factor */
+    plume_reason reason;   /**< why the first failed attempt stopped (CONVERGED when none failed) */
     double seconds;
 } plume_load_step_report;
 
 typedef struct plume_statics plume_statics;
 
-/* Takes a finalised problem whose x holds the unloaded state, and the scaler of its loads with
+/** Takes a finalised problem whose x holds the unloaded state, and the scaler of its loads with
  * its data `user`; free_user (may be NULL) frees user when the driver is destroyed, or at once
  * if creation fails. The problem stays the caller's and must outlive the driver. */
 PLUME_API plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o, plume_load_scaler scale,
                                             void *user, void (*free_user)(void *), plume_statics **out, plume_err *err);
 PLUME_API void plume_statics_destroy(plume_statics **s);
 
-/* Advances to the next nominal factor. Not converging at the smallest increment is reported
+/** Advances to the next nominal factor. Not converging at the smallest increment is reported
  * (state left at the last equilibrium), not an error; so is calling it after the last step
  * (rep->converged = 0, reason CONVERGED, nothing done). */
 PLUME_API plume_status plume_statics_step(plume_statics *s, plume_load_step_report *rep);
 
-PLUME_API double plume_statics_factor(const plume_statics *s);   /* last equilibrium's load factor */
-/* The solver's numeric factorisations so far and the seconds spent in them (native solvers). */
+PLUME_API double plume_statics_factor(const plume_statics *s);   /**< last equilibrium's load factor */
+/** The solver's numeric factorisations so far and the seconds spent in them (native solvers). */
 PLUME_API void plume_statics_stats(const plume_statics *s, int *factorizations, double *factor_seconds);
-/* The predictor's name ("none", "secant") and its parse (PLUME_EINVAL for another name). */
+/** The predictor's name ("none", "secant") and its parse (PLUME_EINVAL for another name). */
 PLUME_API const char *plume_predictor_name(plume_predictor k);
 PLUME_API plume_status plume_predictor_parse(const char *name, plume_predictor *k);
 PLUME_API int plume_statics_steps_done(const plume_statics *s);

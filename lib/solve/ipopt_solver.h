@@ -1,4 +1,5 @@
-/* plume: the Ipopt backend of plume_solver (lib/solve/ipopt_solver.c): the problem as an NLP with
+/** \file
+ * plume: the Ipopt backend of plume_solver (lib/solve/ipopt_solver.c): the problem as an NLP with
  * exact Hessians through Ipopt's C interface. */
 #ifndef PLUME_SOLVE_IPOPT_SOLVER_H
 #define PLUME_SOLVE_IPOPT_SOLVER_H
@@ -12,7 +13,7 @@
 extern "C" {
 #endif
 
-/* Used by plume_solver_*; exposed for tests and benchmarks. */
+/** Used by plume_solver_*; exposed for tests and benchmarks. */
 typedef struct plume_ipopt plume_ipopt;
 PLUME_API plume_status plume_ipopt_create(plume_problem *p, const plume_solver_opts *o, plume_ipopt **out);
 PLUME_API void plume_ipopt_destroy(plume_ipopt **s);

@@ -1,4 +1,5 @@
-/* plume: the native solver — Newton (no constraints) or SQP on the regularised KKT system
+/** \file
+ * plume: the native solver — Newton (no constraints) or SQP on the regularised KKT system
  * (constraints), CHOLMOD factorisations, filter or merit line search (lib/solve/newton.c,
  * docs/theory-constraints.md). `linearized` is the same machinery limited to one full step. */
 #ifndef PLUME_NEWTON_H
@@ -15,7 +16,7 @@ extern "C" {
 
 typedef struct plume_newton plume_newton;
 
-/* single_step = 1 gives the `linearized` backend. Analyses the sparse pattern once. */
+/** single_step = 1 gives the `linearized` backend. Analyses the sparse pattern once. */
 PLUME_API plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, int single_step,
                                            plume_newton **out, plume_err *err);
 PLUME_API void plume_newton_destroy(plume_newton **s);
