@@ -52,9 +52,18 @@
 extern "C" {
 #endif
 
+/** Runs the "homogenize" request above (plume_homogenize) and gives its result in *result, a
+ * malloc'ed JSON text (plume_flat_free; NULL on failure). PLUME_EFORMAT / PLUME_EINVAL for a bad
+ * request, and the errors of the homogenisation, with the message in msg. */
 PLUME_API plume_status plume_flat_homogenize(const char *request, char **result, char *msg, long nmsg);
+/** Runs the "traction" request above (the macro vane or the micro specimen through
+ * plume_traction_run) and gives its result in *result (plume_flat_free; NULL on failure). A run
+ * that does not converge is a result ("converged": false, "stop_reason"), not an error. */
 PLUME_API plume_status plume_flat_traction(const char *request, char **result, char *msg, long nmsg);
+/** Runs the "fit" request above (plume_fit_moduli over the macro traction model) and gives its
+ * result in *result (plume_flat_free; NULL on failure). */
 PLUME_API plume_status plume_flat_fit(const char *request, char **result, char *msg, long nmsg);
+/** Frees a text this interface returned (free()); NULL-safe. */
 PLUME_API void plume_flat_free(char *text);
 
 /** A dynamic scene (macro/scene.h) being stepped, with its contact and friction if it has them. */
@@ -67,6 +76,7 @@ PLUME_API plume_status plume_flat_scene_open(const char *path, plume_flat_scene 
  * plume_scene_load_json). */
 PLUME_API plume_status plume_flat_scene_open_json(const char *json, const char *path, plume_flat_scene **out, char *msg,
                                                   long nmsg);
+/** Frees the scene, its problem, stepper and output series; sets *s = NULL; NULL-safe. */
 PLUME_API void plume_flat_scene_close(plume_flat_scene **s);
 
 /** Advances nsteps time steps of the scene's dt (each halved when it fails, as apps/feather does).
@@ -76,16 +86,21 @@ PLUME_API void plume_flat_scene_close(plume_flat_scene **s);
  * status is PLUME_OK. */
 PLUME_API plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **report, char *msg, long nmsg);
 
-/** Sizes and state: vertices, triangles, constrained barb edges; time (s). */
+/** The scene mesh's number of vertices nv (0 for s NULL). */
 PLUME_API long plume_flat_scene_nv(const plume_flat_scene *s);
+/** The scene mesh's number of triangles nt (0 for s NULL). */
 PLUME_API long plume_flat_scene_nt(const plume_flat_scene *s);
+/** The time of the current state (s; NaN for s NULL). */
 PLUME_API double plume_flat_scene_time(const plume_flat_scene *s);
 
-/** Copies the positions / velocities (3 nv, vertex-major, m and m/s), the reference positions
- * (2 nv: the material coordinates X), the triangles (3 nt vertex ids, as longs) into out. */
+/** Copies the current positions (3 nv, vertex-major, m) into out (caller-allocated); nothing when
+ * s or out is NULL. */
 PLUME_API void plume_flat_scene_positions(const plume_flat_scene *s, double *out);
+/** Copies the current velocities (3 nv, vertex-major, m/s) into out (caller-allocated). */
 PLUME_API void plume_flat_scene_velocities(const plume_flat_scene *s, double *out);
+/** Copies the reference positions (2 nv: the material coordinates X, m) into out (caller-allocated). */
 PLUME_API void plume_flat_scene_reference(const plume_flat_scene *s, double *out);
+/** Copies the triangles (3 nt vertex ids, as longs) into out (caller-allocated). */
 PLUME_API void plume_flat_scene_triangles(const plume_flat_scene *s, long *out);
 
 /** Writes the current state as the next frame of a ParaView series in directory dir (created if

@@ -1,5 +1,5 @@
 /** \file
- * plume: measurements of where methods fail (issue 5's stability matrix, first cells): the
+ * plume: measurements of where methods fail: the
  * conditioning of the penalty model as the stiffness ratio grows (paper Figure 6), and the
  * collapse of St Venant–Kirchhoff elements under strong compression without the compression
  * term (supplementary Figure 7). */

@@ -17,7 +17,9 @@ extern "C" {
 
 /** Input of one run. */
 typedef struct {
-    double lx, ly, h;          /**< sample (m); default 1, 1.3, 1 (supplementary Table 4) */
+    double lx;                 /**< sample width (m); default 1 (supplementary Table 4) */
+    double ly;                 /**< sample length between the grips (m); default 1.3 */
+    double h;                  /**< thickness (m); default 1 (a micro run's layout.h follows it) */
     double angle;              /**< barb angle from the pulling axis y (deg); default 45 (tilted) */
     plume_ortho moduli;        /**< Pa; default E_xx 1e4, E_yy 1, G_xy 1, nu 0 */
     double kappa;              /**< compression-term coefficient; default 0 */
@@ -35,20 +37,24 @@ typedef struct {
     plume_layout layout;       /**< micro only; default plume_layout_default */
 } plume_study_config;
 
+/** Fills c with the defaults each field names (layout.h set to h). */
 PLUME_API void plume_study_config_default(plume_study_config *c);
 
 /** Output of one run. `curve` is owned by the result (plume_study_result_free). */
 typedef struct {
     plume_curve curve;       /**< the points computed (all steps unless a step failed) */
-    double strain, stress, wbar; /**< at the last computed point */
+    double strain;           /**< nominal strain at the last computed point */
+    double stress;           /**< nominal stress at the last computed point (Pa) */
+    double wbar;             /**< w-bar at the last computed point */
     double seconds;          /**< wall time of the traction run (mesh and set-up excluded) */
     int iterations;          /**< solver iterations, all steps and the small-strain probe (solved
                                 with the steps' tolerance: the study reads no initial slope) */
     int converged;           /**< every step converged (never for `linearized`) */
     int complete;            /**< the last point is at strain_max (linearized runs count) */
     plume_reason reason;     /**< CONVERGED, or why the first failed step stopped */
-    long elements, vertices; /**< elements (micro at order 2: quadratic triangles, not the four
-                                triangles each is split into) and mesh vertices (nodes) */
+    long elements;           /**< elements (micro at order 2: quadratic triangles, not the four
+                                triangles each is split into) */
+    long vertices;           /**< mesh vertices (nodes) */
 } plume_study_result;
 
 /** Meshes, builds and runs the traction test of `c` (the vane, or the micro specimen). A step that does not converge is not an
@@ -57,6 +63,7 @@ typedef struct {
  * a dependency) leave `r` zeroed with a message in err. */
 PLUME_API plume_status plume_study_traction(const plume_study_config *c, plume_study_result *r, plume_err *err);
 
+/** Frees the curve's arrays and zeroes r; NULL-safe. */
 PLUME_API void plume_study_result_free(plume_study_result *r);
 
 /** |a - ref| / |ref| (|a - ref| if ref is 0); NaN if either is not finite. */

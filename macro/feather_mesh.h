@@ -18,7 +18,7 @@ extern "C" {
 
 /** A polyline in the 2D reference (material) plane. */
 typedef struct {
-    plume_index n;
+    plume_index n;   /**< number of points */
     const double *p; /**< [2 n], owned by the caller */
 } plume_polyline;
 
@@ -27,10 +27,13 @@ typedef struct {
     plume_polyline outline;     /**< closed outline of the whole feather (last point != first) */
     plume_polyline rachis;      /**< rachis centre line from base to tip (extrapolated linearly to
                                    the outline if it stops short) */
-    double rachis_width_base, rachis_width_tip;
-    int nbarbs_left, nbarbs_right;
-    const plume_polyline *barbs_left, *barbs_right; /**< barb curves on each side, from the rachis
-                                                       outward (extrapolated to the outline) */
+    double rachis_width_base;   /**< rachis width at the base */
+    double rachis_width_tip;    /**< rachis width at the tip (linear in between) */
+    int nbarbs_left;            /**< entries of barbs_left */
+    int nbarbs_right;           /**< entries of barbs_right */
+    const plume_polyline *barbs_left;  /**< barb curves on the left side, from the rachis outward
+                                          (extrapolated to the outline) */
+    const plume_polyline *barbs_right; /**< barb curves on the right side, likewise */
     double edge;                /**< target edge length e */
     int corner_exact;           /**< 1: corner-exact stations, a barb ending on every outline vertex it
                                    can reach (macro/feather_mesh.c, step 3b); on the shipped feather
@@ -42,7 +45,10 @@ typedef struct {
 } plume_feather_input;
 
 /** Material ids of the output. */
-enum { PLUME_FEATHER_VANE = 0, PLUME_FEATHER_RACHIS = 1 };
+enum {
+    PLUME_FEATHER_VANE = 0,  /**< a vane triangle */
+    PLUME_FEATHER_RACHIS = 1 /**< a triangle of the rachis strip */
+};
 
 /** Meshes the feather. Output: a mesh with X (2D reference), x = X (z = 0 in shell mode), material
  * per triangle (vane or rachis), barb_dir per vane triangle (local barb direction; for the rachis
@@ -68,7 +74,7 @@ enum {
                                              barb where neighbours diverge, a barb cut where it converges
                                              on another) */
     PLUME_FEATHER_UNCOVERED_OTHER = 3,    /**< none of the above */
-    PLUME_FEATHER_UNCOVERED_REASONS = 4
+    PLUME_FEATHER_UNCOVERED_REASONS = 4   /**< the number of reasons (not a reason) */
 };
 
 /** Names of the reasons above ("rachis junction", "outline", "barb end", "other"); NULL out of range. */

@@ -14,11 +14,12 @@
 extern "C" {
 #endif
 
-/** Per-triangle values of one state (triangles past the elastic ones, e.g. kinematic bodies, get
+/** Per-triangle values of one state (triangles past the elastic ones, e.g., kinematic bodies, get
  * NaN). Arrays owned by the plume_fields object that computed them; valid until the next
  * compute or destroy. */
 typedef struct {
-    plume_index nt, nbarb;
+    plume_index nt;                 /**< triangles (the mesh's) */
+    plume_index nbarb;              /**< constrained barb edges */
     const double *green_strain;     /**< [3 nt] Green strain (bb, tt, bt) in the barb frame */
     const double *stress;           /**< [3 nt] second Piola–Kirchhoff stress (bb, tt, bt), Pa */
     const double *membrane_energy;  /**< [nt] membrane energy per reference area, J/m^2 */
@@ -28,7 +29,7 @@ typedef struct {
                                        edges: theta |e| / 4 to each end vertex, over a third of its
                                        triangles' area, averaged over the triangle's vertices;
                                        positive where the surface bends away from its normals,
-                                       e.g. +1/(2R) on a cylinder with outward normals; creases
+                                       e.g., +1/(2R) on a cylinder with outward normals; creases
                                        (|theta| > pi / 2) left out; 0 in planar mode
                                        (docs/paraview-output.md) */
     const double *crease_angle;     /**< [nt] rad: the largest |theta| > pi / 2 across the triangle's
@@ -37,6 +38,9 @@ typedef struct {
                                        the inextensibility constraint's violation */
 } plume_field_values;
 
+/** Opaque field calculator of one mesh: materials, the bending term, the barb edges, the rest
+ * geometry, the output arrays and an open ParaView series (plume_fields_create, freed by
+ * plume_fields_destroy). */
 typedef struct plume_fields plume_fields;
 
 /** What the fields need, copied or taken: the mesh (borrowed, must outlive the object; topology
@@ -49,13 +53,15 @@ PLUME_API plume_status plume_fields_create(const plume_mesh *mesh, int dim, plum
                                            const plume_membrane_material *mats, int nmat, plume_term *bending,
                                            const plume_index *barb_edges, plume_index nbarb, plume_fields **out,
                                            plume_err *err);
+/** Frees the object, its bending term and its output arrays (not the mesh); sets *f = NULL;
+ * NULL-safe. */
 PLUME_API void plume_fields_destroy(plume_fields **f);
 
 /** Computes the fields at positions x (dim * nv). */
 PLUME_API plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_values *out, plume_err *err);
 
 /** Starts a ParaView series in directory dir: files "<stem>_NNNNN.vtu" (and
- * "<stem>_barbs_NNNNN.vtu") and the collection dir/pvd_name (e.g. "frames.pvd"). With
+ * "<stem>_barbs_NNNNN.vtu") and the collection dir/pvd_name (e.g., "frames.pvd"). With
  * resume_until >= 0 an existing collection keeps its entries of time <= resume_until (a restarted
  * run); otherwise it is replaced at the first frame. */
 PLUME_API plume_status plume_fields_series_start(plume_fields *f, const char *dir, const char *pvd_name, const char *stem,

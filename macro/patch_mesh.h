@@ -10,6 +10,7 @@
 extern "C" {
 #endif
 
+/** How a rectangular sample is meshed (names "aligned", "unaligned"). */
 typedef enum {
     PLUME_PATCH_ALIGNED = 0,  /**< corner-exact: a barb line through every corner of the sample, the
                                  others uniformly between (<= edge sqrt(3)/2 apart), vertices on them
@@ -19,7 +20,7 @@ typedef enum {
     PLUME_PATCH_UNALIGNED = 1 /**< quality Delaunay mesh (CGAL refinement) that ignores the barbs */
 } plume_patch_kind;
 
-/** Parses "aligned" | "unaligned". */
+/** Parses "aligned" | "unaligned" into *out; PLUME_EINVAL (no message) otherwise. */
 PLUME_API plume_status plume_patch_kind_parse(const char *s, plume_patch_kind *out);
 
 /** Barb direction for an angle (degrees) measured from the pulling axis y toward +x:

@@ -1,7 +1,7 @@
 /** \file
  * plume: the bending test of a plate specimen, one procedure for both scales (docs/bending-homogenisation.md,
  * "Both scales in bending"): a shell-mode specimen [0, lx] x [0, ly] — the resolved barbs and barbules
- * of a layout (micro/specimen_bending.h) or the homogeneous plate with the homogenised moduli
+ * of a layout (plume_specimen_mesh, micro/cell_mesh.h) or the homogeneous plate with the homogenised moduli
  * (plume_plate_specimen below) — loaded by self-equilibrated end moments and measured by the
  * curvature fitted in its centre.
  *
@@ -15,10 +15,11 @@
  * by area is the same per period of the microstructure, so it homogenises to a uniform end moment.
  *
  * Measure: the height z(X) of the vertices of the central window (window * lx by window * ly) is
- * fitted, weighted by lumped area, with a quadratic c0 + c1 x + c2 y + 1/2 (k_xx x^2 + 2 k_xy x y
- * + k_yy y^2); the periodic fluctuation of a microstructure averages out. For a homogeneous plate
- * of tensor D (specimen frame) the centre is the uniform state kappa = D^-1 m, so bending gives
- * m_yy / k_yy = 1 / (D^-1)_yy and twist m_xy / (2 k_xy) = 1 / (D^-1)_66.
+ * fitted, weighted by lumped area, with a quadratic
+ * c0 + c1 x + c2 y + 1/2 (k_xx x^2 + 2 k_xy x y + k_yy y^2); the periodic fluctuation of a
+ * microstructure averages out. For a homogeneous plate of tensor D (specimen frame) the centre
+ * is the uniform state kappa = D^-1 m, so bending gives m_yy / k_yy = 1 / (D^-1)_yy and twist
+ * m_xy / (2 k_xy) = 1 / (D^-1)_66.
  *
  * The test is geometrically exact (the shell's own terms) but meant for the linear range: the load
  * is refused when the curvature it produces, times the specimen's length, exceeds max_rotation. */
@@ -37,14 +38,17 @@
 extern "C" {
 #endif
 
+/** The load of the plate test (names "cylinder", "twist"). */
 typedef enum {
     PLUME_BEND_CYLINDER = 0, /**< end moments about x: curvature k_yy along the specimen */
     PLUME_BEND_TWIST = 1     /**< end torques about y: twist 2 k_xy */
 } plume_bend_load;
 
+/** Options of the plate test (plume_bend_opts_default). */
 typedef struct {
-    plume_bend_load load;
-    double lx, ly;        /**< specimen (m) */
+    plume_bend_load load; /**< bending or twist; default cylinder */
+    double lx;            /**< specimen width along x (m); default 1 */
+    double ly;            /**< specimen length along y, between the loaded ends (m); default 2 */
     double moment;        /**< final moment per unit width (N m / m): m_yy or m_xy; finite and > 0 (the
                              sign of a linear test carries no information) */
     int steps;            /**< curve points after the rest state; default 3 */
@@ -55,19 +59,23 @@ typedef struct {
     plume_solver_opts solver_opts; /**< defaults of lib/solve/solver.h */
 } plume_bend_opts;
 
+/** Fills o with the defaults each field names (moment 1). */
 PLUME_API void plume_bend_opts_default(plume_bend_opts *o);
 
-/** The name of a load ("cylinder", "twist") and its parse (PLUME_EINVAL for another name). */
+/** The name of a load: "twist" for PLUME_BEND_TWIST, else "cylinder" (static string). */
 PLUME_API const char *plume_bend_load_name(plume_bend_load k);
+/** The load named "cylinder" or "twist" into *k; PLUME_EINVAL (no message) for another name. */
 PLUME_API plume_status plume_bend_load_parse(const char *s, plume_bend_load *k);
 
+/** What plume_bend_run gives (free with plume_bend_result_free). */
 typedef struct {
     plume_bend_curve curve; /**< rest state then `steps` points (arrays owned: plume_bend_result_free) */
     double stiffness;       /**< least-squares slope of moment over curvature through 0 (N m) */
     int converged;          /**< every step converged */
-    double seconds;
+    double seconds;         /**< wall time of the run */
 } plume_bend_result;
 
+/** Frees the curve's arrays and zeroes r; NULL-safe. */
 PLUME_API void plume_bend_result_free(plume_bend_result *r);
 
 /** Runs the test on a shell-mode specimen: mesh (dim 3, X over [0, lx] x [0, ly], topology built)
@@ -89,7 +97,7 @@ PLUME_API void plume_plate_of_membrane(const plume_membrane_material *m, plume_b
 /** A shell-mode specimen of the planar mesh `planar` (its X, triangles, material ids and barb
  * directions, copied; planar is the caller's): membrane mem[material[t]] (lib/core/membrane.h) and
  * shape-operator bending bend[material[t]] (macro/shape_bending.h) per triangle, nmat materials.
- * This is how a resolved micro specimen (micro/specimen_bending.h gives its mesh and phases) and
+ * This is how a resolved micro specimen (plume_specimen_mesh's mesh, phases by plume_plate_of_membrane) and
  * the homogeneous plate become the same kind of shell. The caller owns *mesh and *p (not
  * finalised). Errors: the terms' (PLUME_EINVAL with a message), PLUME_ENOMEM. */
 PLUME_API plume_status plume_shell_specimen(const plume_mesh *planar, const plume_membrane_material *mem,
@@ -116,15 +124,19 @@ PLUME_API plume_status plume_bend_expected(const double D[9], double angle_deg, 
  * E_xx = D_long, E_yy = D_trans, G_xy = D_twist (searched in log space) and nu_xy =
  * D_coupling / sqrt(D_long D_trans) (linearly, in (-1, 1)). */
 PLUME_API void plume_bend_pack(const plume_bending_material *b, plume_ortho *m);
+/** The inverse of plume_bend_pack: D_long = E_xx, D_trans = E_yy, D_twist = G_xy and
+ * D_coupling = nu_xy sqrt(E_xx E_yy); unchecked. */
 PLUME_API void plume_bend_unpack(const plume_ortho *m, plume_bending_material *b);
 
 /** The plate test as a model of the bending moduli, for apps/fit (micro/fit.h, plume_fit_model). */
 typedef struct {
-    double lx, ly, edge;              /**< specimen and mesh edge (m) */
+    double lx;                        /**< specimen width (m) */
+    double ly;                        /**< specimen length (m) */
+    double edge;                      /**< mesh edge (m) */
     plume_membrane_material membrane; /**< the plate's membrane (barb frame) */
-    int ncurves;
+    int ncurves;                      /**< curves the model computes (entries of angles, loads, moments) */
     const double *angles;             /**< [ncurves] barb angle from y (deg) */
-    const plume_bend_load *loads;     /**< [ncurves] */
+    const plume_bend_load *loads;     /**< [ncurves] the load of each curve */
     const double *moments;            /**< [ncurves] final moment per unit width (N m / m) */
     int steps;                        /**< curve points after the rest state */
     plume_solver_kind solver;         /**< the test's solver; 0 is newton (apps/traction --bending and

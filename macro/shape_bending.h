@@ -33,7 +33,7 @@ extern "C" {
  * topology not built, a negative/NaN/infinite stiffness or D_coupling^2 > D_long D_trans (naming
  * the material and field), material or vertex id out of range, a barb direction that cannot be
  * normalised, a degenerate reference triangle, a triangle with no well-conditioned stencil (a
- * mesh with too few vertices, e.g. one or two triangles), a rest_x that is not finite or
+ * mesh with too few vertices, e.g., one or two triangles), a rest_x that is not finite or
  * collapses a triangle. */
 PLUME_API plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
                                                        const double *rest_x, plume_term *out, plume_err *err);
@@ -53,8 +53,8 @@ PLUME_API plume_status plume_shape_bending_term_create(const plume_mesh *mesh, c
  * exact for quadratics but it fails the patch test on irregular meshes (kept for comparison,
  * see shape_bending.c). */
 typedef struct {
-    const unsigned char *clamped;
-    int own_fit_only;
+    const unsigned char *clamped; /**< [nv] non-zero for a clamped vertex, or NULL (borrowed) */
+    int own_fit_only;             /**< != 0: each triangle's own 6-point fit alone */
 } plume_shape_bending_opts;
 
 /** The term with options (o may be NULL). Errors as above, and PLUME_EINVAL for a clamped edge

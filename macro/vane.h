@@ -15,6 +15,7 @@
 extern "C" {
 #endif
 
+/** The macroscale vane's material and how its barbs are modelled (plume_vane_default). */
 typedef struct {
     plume_ortho moduli;   /**< Pa */
     double h;             /**< thickness, m */
@@ -23,6 +24,8 @@ typedef struct {
     double align_tol;     /**< |sin| of the angle below which an edge counts as barb-aligned; default 1e-6 */
 } plume_vane;
 
+/** Fills v with a dimensionless default: E_xx 1e4, E_yy 1, nu_xy 0, G_xy 1, h 1, kappa 0,
+ * constraint on, align_tol 1e-6. Callers set the moduli and thickness of their sample. */
 PLUME_API void plume_vane_default(plume_vane *v);
 
 /** The vane's membrane material (its moduli, thickness and kappa). */

@@ -22,7 +22,8 @@ typedef struct {
     plume_quadratic_mesh quad; /**< order 2: the quadratic triangles (quad.split is NULL: it is `mesh`);
                                   order 1: zeroed */
     int order;             /**< element order, 1 or 2 (the layout's) */
-    double a, b;           /**< cell size */
+    double a;              /**< cell length along the barbs (x) */
+    double b;              /**< cell width across the barbs (y): d_B */
     plume_index *master;   /**< [nv] owned */
     double *shift;         /**< [2*nv] owned */
     plume_index nmasters;  /**< distinct masters */
@@ -37,6 +38,7 @@ typedef struct {
  * cannot resolve (w_B or the gap below 1e-12 d_B), a barbule strip that does not fit in its cell
  * ("cell too small for its layout": barbule extent along the barbs >= barbule_spacing). */
 PLUME_API plume_status plume_cell_mesh(const plume_layout *l, plume_cell **out, plume_err *err);
+/** Frees the cell, its meshes and arrays; sets *c = NULL; NULL-safe. */
 PLUME_API void plume_cell_destroy(plume_cell **c);
 
 /** Elements of the cell: its quadratic triangles at order 2, its triangles at order 1. */

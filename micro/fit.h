@@ -20,8 +20,14 @@ typedef plume_status (*plume_fit_model)(void *ctx, const plume_ortho *m, int icu
                                         plume_err *err);
 
 /** Which moduli are free; the others keep the start value. */
-enum { PLUME_FIT_EXX = 1, PLUME_FIT_EYY = 2, PLUME_FIT_NU = 4, PLUME_FIT_GXY = 8 };
+enum {
+    PLUME_FIT_EXX = 1, /**< E_xx free */
+    PLUME_FIT_EYY = 2, /**< E_yy free */
+    PLUME_FIT_NU = 4,  /**< nu_xy free */
+    PLUME_FIT_GXY = 8  /**< G_xy free */
+};
 
+/** Options of the fit (plume_fit_opts_default). */
 typedef struct {
     unsigned free_mask;  /**< default PLUME_FIT_EYY | PLUME_FIT_GXY (the barbs are inextensible) */
     int max_eval;        /**< default 300 */
@@ -29,12 +35,14 @@ typedef struct {
     double min_strain;   /**< target points with |strain| below this are skipped; default 1e-12 */
 } plume_fit_opts;
 
+/** Fills o with the defaults each field names; NULL-safe. */
 PLUME_API void plume_fit_opts_default(plume_fit_opts *o);
 
+/** How a fit went (optional output of plume_fit_moduli). */
 typedef struct {
     int evaluations;     /**< model evaluations (each runs every curve) */
     double residual;     /**< final RMS relative stress misfit over all points */
-    double seconds;
+    double seconds;      /**< wall time of the fit */
     int nlopt_result;    /**< NLopt's return code (positive: success) */
     char stop[64];       /**< "xtol reached", "maxeval reached", ... */
 } plume_fit_report;

@@ -12,6 +12,7 @@
 extern "C" {
 #endif
 
+/** The kind of microstructure (names "strips", "barbules" in JSON). */
 typedef enum {
     PLUME_LAYOUT_STRIPS = 0,  /**< barb strips of width w_B every d_B in a soft barbule matrix */
     PLUME_LAYOUT_BARBULES = 1 /**< barb strips joined by explicit barbule strips; empty between */
@@ -22,14 +23,18 @@ typedef enum {
 #define PLUME_LAYOUT_MAX_E_REL 4.0
 
 /** Material ids used by every micro mesh. */
-enum { PLUME_MAT_BARB = 0, PLUME_MAT_BARBULE = 1 };
+enum {
+    PLUME_MAT_BARB = 0,   /**< the barb phase */
+    PLUME_MAT_BARBULE = 1 /**< the barbule phase (soft matrix or explicit barbule strips) */
+};
 
 /** A layout, in the barb frame: x along the barbs, y across. All lengths in m, moduli in Pa. */
 typedef struct {
-    plume_layout_kind kind;
+    plume_layout_kind kind; /**< strips in a matrix, or explicit barbules */
     double phi;            /**< barb surface fraction w_B / d_B, in (0, 1) */
     double d_B;            /**< barb spacing (period across the barbs) */
-    double E_b, nu_b;      /**< barb material */
+    double E_b;            /**< barb material Young's modulus */
+    double nu_b;           /**< barb material Poisson ratio */
     double ratio;          /**< E_B / E_b: barbule material modulus over barb modulus, > 0 */
     double nu_B;           /**< barbule material Poisson ratio */
     double h;              /**< reference thickness: the membrane moduli in Pa are the membrane
@@ -38,12 +43,12 @@ typedef struct {
     double h_barbule;      /**< thickness of the barbule phase (matrix or explicit barbules); 0
                               (default): h. Either may exceed the other (layout.c says why) */
     double kappa;          /**< compression-term coefficient of both materials (Pa), >= 0 */
-    /** PLUME_LAYOUT_BARBULES only: */
+    /* PLUME_LAYOUT_BARBULES only: */
     double barbule_width;    /**< width of a barbule strip */
     double barbule_spacing;  /**< distance between consecutive barbules along a barb (the period
                                 along x) */
     double barbule_angle;    /**< angle between barbules and barbs, degrees, in (0, 180) */
-    /** meshing: */
+    /* meshing: */
     int order;             /**< element order: 2 (default) quadratic triangles, which do not lock when
                               a slender strip bends in-plane; 1 linear triangles (the paper's) */
     double e_rel;          /**< target element edge over the barb width, e-bar = e / w_B, in
@@ -63,7 +68,10 @@ PLUME_API double plume_layout_barb_width(const plume_layout *l);
 PLUME_API double plume_layout_thinnest(const plume_layout *l);
 
 /** What a mesh is for: the automatic element edge differs (docs/micro-convergence.md). */
-typedef enum { PLUME_MESH_CELL = 0, PLUME_MESH_SPECIMEN = 1 } plume_mesh_use;
+typedef enum {
+    PLUME_MESH_CELL = 0,    /**< a periodic cell (micro/cell_mesh.h) */
+    PLUME_MESH_SPECIMEN = 1 /**< a traction or bending specimen */
+} plume_mesh_use;
 
 /** The target element edge (m): e_rel * w_B when e_rel > 0, else the automatic choice for this use and
  * element order, a fraction of the thinnest feature measured to put the default within 1 % (cell) and

@@ -27,7 +27,8 @@ PLUME_API plume_index plume_micro_specimen_elements(const plume_layout *l, const
 /** How converged a micro traction run is: the same test on the specimen meshed with elements twice
  * as large (half as large when the layout refuses the coarser mesh). */
 typedef struct {
-    double edge, refinement_edge; /**< target element edges (m) of the run and of the comparison */
+    double edge;                  /**< target element edge of the run (m) */
+    double refinement_edge;       /**< target element edge of the comparison (m) */
     double stress_change;         /**< max over the common curve points of |s - s'|, over max |s| */
     double slope_change;          /**< |initial_slope - initial_slope'| / |initial_slope| */
     plume_index refinement_elements; /**< elements of the comparison mesh */

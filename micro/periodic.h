@@ -13,6 +13,8 @@
 extern "C" {
 #endif
 
+/** Opaque handle on a periodic wrapper's data, owned by the wrapped term (and so by the problem
+ * that holds it): sets Fbar and reads the average stress; never freed by the caller. */
 typedef struct plume_periodic plume_periodic;
 
 /** Wraps `inner` (a planar term over the cell mesh's vertices; ownership is taken, also on

@@ -24,6 +24,7 @@
 extern "C" {
 #endif
 
+/** Options of one CCD call (plume_ccd_opts_default; a NULL pointer means the defaults). */
 typedef struct {
     double s;            /**< in (0, 1): toi is where the gap may have shrunk to s gap(0); default 0.1 */
     double min_distance; /**< xi >= 0: a thickness, the gap is d - xi; default 0 */
@@ -40,6 +41,7 @@ typedef struct {
     double gap_toi;   /**< d(toi) - xi as evaluated (first step: certified analytically) */
 } plume_ccd_report;
 
+/** Fills o with the defaults above (s 0.1, min_distance 0, eta 0.9, max_iter 10^6); NULL-safe. */
 PLUME_API void plume_ccd_opts_default(plume_ccd_opts *o);
 
 /** Conservative time of impact of a point–triangle pair over [0, t_max] (0 < t_max <= 1).

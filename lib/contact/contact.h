@@ -19,6 +19,7 @@
 extern "C" {
 #endif
 
+/** Options of the contact term (plume_contact_term_opts_default). */
 typedef struct {
     plume_contact_opts pair; /**< model, dhat, stiffness (kappa or the penalty's), PSD projection */
     int self_contact;        /**< 1: non-adjacent primitives of one body touch too (pairs already
@@ -36,6 +37,8 @@ typedef struct {
     plume_ccd_opts ccd;      /**< the barrier's step limit; defaults of ccd.h */
 } plume_contact_term_opts;
 
+/** Fills o with the defaults: plume_contact_opts_default for the pair, no self contact, no margin,
+ * plume_ccd_opts_default. */
 PLUME_API void plume_contact_term_opts_default(plume_contact_term_opts *o);
 
 /** "barrier" or "penalty" (a static string; "unknown" for anything else). */
@@ -49,9 +52,13 @@ typedef struct {
     plume_index excluded;   /**< self contact: pairs of one body within dhat at rest; they
                                would be pushed apart from the first step, so their barrier acts
                                only within half their rest distance (CCD still applies) */
-    double broad_seconds, narrow_seconds, ccd_seconds; /**< broad phase, pair energies, CCD */
+    double broad_seconds;   /**< wall time in the broad phase (stencil updates) */
+    double narrow_seconds;  /**< wall time evaluating the pair energies */
+    double ccd_seconds;     /**< wall time in continuous collision detection (step limits) */
 } plume_contact_stats;
 
+/** Opaque handle on a contact term's data, owned by the term (and so by the problem that holds
+ * it): a way to ask the term what it did, never freed by the caller. */
 typedef struct plume_contact plume_contact;
 
 /** A contact term over a triangle surface in shell mode (dim 3): nv vertices (the problem's),
@@ -63,6 +70,7 @@ PLUME_API plume_status plume_contact_term_create(plume_index nv, plume_index ntr
                                                  const double *xrest, const plume_contact_term_opts *o, plume_term *out,
                                                  plume_contact **handle, plume_err *err);
 
+/** Copies the term's counters and timings into s (zeros for c NULL; s NULL: nothing). */
 PLUME_API void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s);
 
 /** The pairs of the term's last update (lagged friction reads them): *npt point–triangle then *nee

@@ -14,7 +14,8 @@ extern "C" {
 
 /** One pair of ids (box, vertex/triangle or edge/edge ids, depending on the call). */
 typedef struct {
-    plume_index a, b;
+    plume_index a; /**< first id (box of the first set, vertex, or the lower edge id) */
+    plume_index b; /**< second id (box of the second set, triangle, or the higher edge id) */
 } plume_contact_pair;
 
 /** A growable list of pairs owned by the caller: start from {0} (or reuse one from an earlier call);
@@ -52,21 +53,25 @@ PLUME_API plume_status plume_contact_box_self_pairs(plume_index n, const double 
  * side, so a pair closer than dhat at any time of the step is a candidate (proof in
  * contact_broad.c). Candidates are a superset: the narrow phase computes the distances. */
 
+/** Options of the candidate search (plume_contact_broad_opts_default). */
 typedef struct {
     int self_contact; /**< 1: every pair of non-adjacent primitives (within a body too);
                          0: only pairs of primitives of different bodies (needs body). Default 1. */
 } plume_contact_broad_opts;
 
+/** Fills o with the defaults (self_contact 1). */
 PLUME_API void plume_contact_broad_opts_default(plume_contact_broad_opts *o);
 
+/** Opaque broad phase of one triangle surface: its topology, edges, box arrays and candidate lists,
+ * reused from update to update (plume_contact_broad_create, freed by plume_contact_broad_destroy). */
 typedef struct plume_contact_broad plume_contact_broad;
 
 /** Candidates found by one update. The arrays belong to the handle and stay valid until the next
  * update or destroy (an empty list may be NULL). */
 typedef struct {
-    plume_index nvt;
+    plume_index nvt;              /**< point–triangle candidates */
     const plume_contact_pair *vt; /**< [nvt] (vertex, triangle), sorted */
-    plume_index nee;
+    plume_index nee;              /**< edge–edge candidates */
     const plume_contact_pair *ee; /**< [nee] (edge a, edge b), a < b, ids into the handle's edges */
     double seconds;               /**< wall time of this update (boxes, CGAL, filters, sorting) */
 } plume_contact_candidates;
@@ -79,6 +84,8 @@ typedef struct {
 PLUME_API plume_status plume_contact_broad_create(plume_index nv, plume_index ntri, const plume_index *tri,
                                                   const int *body, const plume_contact_broad_opts *opts,
                                                   plume_contact_broad **out, plume_err *err);
+/** Frees the handle and every array it owns (the candidates it returned included); sets *b = NULL;
+ * NULL-safe. */
 PLUME_API void plume_contact_broad_destroy(plume_contact_broad **b);
 
 /** The unique undirected edges built at create: *edges is [2 * *ne], each (i, j) with i < j, sorted;
@@ -102,6 +109,7 @@ PLUME_API void plume_contact_broad_stats(const plume_contact_broad *b, long *upd
 
 /* --- Exact intersection audit ------------------------------------------------------------------ */
 
+/** The result of plume_contact_count_intersections. */
 typedef struct {
     plume_index intersecting; /**< pairs of triangles with no common vertex that intersect */
     plume_index degenerate;   /**< triangles with exactly collinear corners (zero area): tested as

@@ -1,5 +1,5 @@
 /** \file
- * plume: lagged Coulomb friction between shells (incremental potential contact, Li et al. 2020,
+ * plume: lagged Coulomb friction between shells (incremental potential contact, Li et al., 2020,
  * ACM TOG 39(4), §5). Over a step, each contact pair keeps what it had at the lagged positions
  * x_lag (the start of the step, or the previous lagged iterate): its normal force magnitude
  * lambda, the closest points' weights and a tangent basis P. Its tangential relative
@@ -89,6 +89,7 @@ PLUME_API plume_status plume_friction_pair_normal_force(const plume_contact_opts
 
 /* ---- the friction term ------------------------------------------------------------------- */
 
+/** Options of the friction term (plume_friction_opts_default). */
 typedef struct {
     double mu;    /**< Coulomb coefficient (>= 0); 0 gives a term that costs nothing. Default 0.3 */
     double eps_v; /**< sliding-speed threshold (m/s), below which a pair sticks; default 1e-3 (IPC) */
@@ -96,15 +97,18 @@ typedef struct {
                      default 1e-2, plume_dynamics_opts' default */
 } plume_friction_opts;
 
+/** Fills o with the defaults (mu 0.3, eps_v 1e-3 m/s, dt 1e-2 s); NULL-safe. */
 PLUME_API void plume_friction_opts_default(plume_friction_opts *o);
 
 /** One lagged contact pair: its four vertices in the layout above and its normal force. */
 typedef struct {
     int is_edge_edge;  /**< 0: v = (p, t0, t1, t2); 1: v = (ea0, ea1, eb0, eb1) */
     plume_index v[4];  /**< distinct vertices < nv */
-    double lambda;     /**< normal force magnitude (>= 0), e.g. plume_friction_pair_normal_force */
+    double lambda;     /**< normal force magnitude (>= 0), e.g., plume_friction_pair_normal_force */
 } plume_friction_pair;
 
+/** Opaque handle on a friction term's data, owned by the term (and so by the problem that holds
+ * it): through it the caller sets the lagged pairs; never freed by the caller. */
 typedef struct plume_friction plume_friction;
 
 /** A friction term (dim 3) over nv vertices, with no pair yet. *out is ready for

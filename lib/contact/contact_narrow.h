@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 /** Which feature of the triangle is closest to the point; the squared distance of that pair is
- * then the smooth point–point, point–line or point–plane function (Li et al. 2020). */
+ * then the smooth point–point, point–line or point–plane function (Li et al., 2020). */
 typedef enum {
     PLUME_CONTACT_PT_T0 = 0, /**< point–point: p and t0 */
     PLUME_CONTACT_PT_T1,     /**< point–point: p and t1 */
@@ -29,7 +29,7 @@ typedef enum {
     PLUME_CONTACT_PT_E12,    /**< point–line: p and the line through t1, t2 */
     PLUME_CONTACT_PT_E20,    /**< point–line: p and the line through t2, t0 */
     PLUME_CONTACT_PT_FACE,   /**< point–plane: p and the plane of the triangle */
-    PLUME_CONTACT_PT_NTYPES
+    PLUME_CONTACT_PT_NTYPES  /**< the number of point–triangle types (not a type) */
 } plume_contact_pt_type;
 
 /** Which features of two segments are closest: 4 endpoint–endpoint, 4 endpoint–line, line–line. */
@@ -43,7 +43,7 @@ typedef enum {
     PLUME_CONTACT_EE_B0_EA,    /**< point–line eb0 and the line through ea0, ea1 */
     PLUME_CONTACT_EE_B1_EA,    /**< point–line eb1 and the line through ea0, ea1 */
     PLUME_CONTACT_EE_LINES,    /**< line–line: the two supporting lines */
-    PLUME_CONTACT_EE_NTYPES
+    PLUME_CONTACT_EE_NTYPES    /**< the number of edge–edge types (not a type) */
 } plume_contact_ee_type;
 
 /** Two edges whose sin^2(angle) is below this are classified as parallel (never LINES), and a
@@ -54,7 +54,7 @@ typedef enum {
  * reason). */
 #define PLUME_CONTACT_PARALLEL_SIN2 1e-16
 
-/** IPC's mollifier threshold scale: eps_x = 1e-3 |ea_rest|^2 |eb_rest|^2 (Li et al. 2020). */
+/** IPC's mollifier threshold scale: eps_x = 1e-3 |ea_rest|^2 |eb_rest|^2 (Li et al., 2020). */
 #define PLUME_CONTACT_MOLLIFIER_SCALE 1e-3
 
 /** Closest feature of the triangle (t0, t1, t2) to the point p, x = (p, t0, t1, t2): the Voronoi
@@ -83,9 +83,11 @@ PLUME_API plume_status plume_contact_pt_distance2(const double x[12], plume_cont
 PLUME_API plume_status plume_contact_ee_distance2(const double x[12], plume_contact_ee_type type, double *d2,
                                                   double *g, double *H);
 
-/** Squared distance only (classify + distance2), the function continuous collision detection
- * samples. NULL or non-finite input: PLUME_EINVAL. */
+/** Squared point–triangle distance only (classify + distance2) of x = (p, t0, t1, t2), the
+ * function continuous collision detection samples. NULL or non-finite input: PLUME_EINVAL. */
 PLUME_API plume_status plume_contact_pt_dist2(const double x[12], double *d2);
+/** Squared edge–edge distance only (classify + distance2) of x = (ea0, ea1, eb0, eb1), parallel
+ * and zero-length edges included. NULL or non-finite input: PLUME_EINVAL. */
 PLUME_API plume_status plume_contact_ee_dist2(const double x[12], double *d2);
 
 /** The mollifier threshold eps_x = PLUME_CONTACT_MOLLIFIER_SCALE |ea|^2 |eb|^2 of an edge–edge pair
@@ -93,7 +95,7 @@ PLUME_API plume_status plume_contact_ee_dist2(const double x[12], double *d2);
  * PLUME_EINVAL: NULL or non-finite input. */
 PLUME_API plume_status plume_contact_ee_mollifier_threshold(const double xrest[12], double *eps_x);
 
-/** IPC's edge–edge mollifier m(c), c = |(ea1 - ea0) x (eb1 - eb0)|^2 (Li et al. 2020):
+/** IPC's edge–edge mollifier m(c), c = |(ea1 - ea0) x (eb1 - eb0)|^2 (Li et al., 2020):
  * m = -c^2/eps_x^2 + 2 c/eps_x for c < eps_x, else 1; C^1 in c at eps_x, m(0) = 0. Outputs m and its
  * gradient g[12] and Hessian H[144] with respect to x (g, H may be NULL). PLUME_EINVAL: x or m NULL,
  * x not finite, eps_x not finite or <= 0. */
@@ -113,6 +115,7 @@ PLUME_API plume_status plume_contact_barrier(double d, double dhat, double *b, d
  * not finite, dhat not finite or <= 0, p NULL: PLUME_EINVAL. */
 PLUME_API plume_status plume_contact_penalty(double d, double dhat, double *p, double *dp, double *d2p);
 
+/** The pair potential of contact. */
 typedef enum {
     PLUME_CONTACT_BARRIER = 0, /**< kappa b(d); needs continuous collision detection (ccd.h) */
     PLUME_CONTACT_PENALTY = 1  /**< stiffness (dhat - d)^2 / 2 */
@@ -120,7 +123,7 @@ typedef enum {
 
 /** Parameters of the pair potential. */
 typedef struct {
-    plume_contact_model model;
+    plume_contact_model model; /**< barrier (default) or penalty */
     double dhat;      /**< activation distance (> 0, in length units of x); pairs at d >= dhat cost 0 */
     double stiffness; /**< kappa of the barrier, or the penalty stiffness (>= 0) */
     int project_psd;  /**< the 12 x 12 Hessian blocks: 0 exact; PLUME_CONTACT_PROJECT_EIGEN the nearest
@@ -134,7 +137,11 @@ typedef struct {
                          exact-Hessian path and these on its projected ones */
 } plume_contact_opts;
 
-enum { PLUME_CONTACT_PROJECT_EIGEN = 1, PLUME_CONTACT_PROJECT_GAUSS_NEWTON = 2 };
+/** Values of plume_contact_opts.project_psd besides 0 (exact blocks). */
+enum {
+    PLUME_CONTACT_PROJECT_EIGEN = 1,       /**< the nearest PSD matrix, by eigen-decomposition */
+    PLUME_CONTACT_PROJECT_GAUSS_NEWTON = 2 /**< phi''(d) grad d grad d^T, PSD in closed form (default) */
+};
 
 /** Defaults: barrier, dhat = 1e-3 (IPC's 1e-3 of a unit scene: set it from the scene's size),
  * stiffness 1, Gauss-Newton blocks (why, with measurements: docs/theory-contact.md). */

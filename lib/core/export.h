@@ -7,6 +7,8 @@
 #ifndef PLUME_EXPORT_H
 #define PLUME_EXPORT_H
 
+/** Marks a public function: default visibility (exported from libplume.so) with GCC and clang,
+ * nothing elsewhere. */
 #if defined(__GNUC__) || defined(__clang__)
 #define PLUME_API __attribute__((visibility("default")))
 #else

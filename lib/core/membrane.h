@@ -1,6 +1,6 @@
 /** \file
  * plume: the membrane element of docs/design.md — orthotropic St Venant–Kirchhoff in the barb frame
- * plus the cubic compression term (supplementary eq. 6), planar (dim 2) and shell (dim 3) modes,
+ * plus the cubic compression term (supplementary equation 6), planar (dim 2) and shell (dim 3) modes,
  * exact gradient and Hessian. */
 #ifndef PLUME_MEMBRANE_H
 #define PLUME_MEMBRANE_H
@@ -16,9 +16,12 @@ extern "C" {
 /** One membrane material: 3D moduli (Pa) in the barb frame (x along the barbs), thickness h (m)
  * and the compression coefficient kappa (Pa; 0 disables the term). */
 typedef struct {
-    double E_xx, E_yy, nu_xy, G_xy;
-    double h;
-    double kappa;
+    double E_xx;  /**< Young's modulus along the barbs (Pa) */
+    double E_yy;  /**< Young's modulus across the barbs (Pa) */
+    double nu_xy; /**< Poisson's ratio: contraction across the barbs under a pull along them */
+    double G_xy;  /**< in-plane shear modulus (Pa) */
+    double h;     /**< thickness (m) */
+    double kappa; /**< compression coefficient (Pa); 0 disables the compression term */
     int log_barrier; /**< 0: the cubic compression term (default); 1: a log barrier
                         kappa/12 (J - 1 - ln J) for J < 1 in its place (supplementary §8: it blows
                         up as J -> 0, and the paper found the solver could not converge with it) */

@@ -34,6 +34,7 @@ typedef struct {
 /** Allocates a mesh with nv vertices and nt triangles in `dim` dimensions; arrays zeroed,
  * barb_dir set to (1, 0), material to 0. Free with plume_mesh_destroy. */
 PLUME_API plume_status plume_mesh_create(plume_index nv, plume_index nt, int dim, plume_mesh **out);
+/** Frees the mesh and every array it holds, sets *m = NULL; NULL-safe. */
 PLUME_API void plume_mesh_destroy(plume_mesh **m);
 
 /** Copies X into x (z = 0 in shell mode): the rest state. */

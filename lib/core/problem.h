@@ -13,23 +13,31 @@
 extern "C" {
 #endif
 
+/** Opaque problem handle: terms, constraints, prescribed dofs, the state x and every workspace
+ * (plume_problem_create, freed by plume_problem_destroy). */
 typedef struct plume_problem plume_problem;
 
 /** Upper triangle of a symmetric n x n matrix in compressed sparse columns (row indices sorted). */
 typedef struct {
-    plume_index n, nnz;
+    plume_index n;   /**< matrix size (the free dofs) */
+    plume_index nnz; /**< stored entries of the upper triangle */
     const plume_index *colptr; /**< [n+1] */
     const plume_index *rowind; /**< [nnz] */
 } plume_sparsity;
 
 /** A problem over nv vertices with dim coordinates each (dof = dim*vertex + axis).
- * length_scale: a typical size of the body (m), used by solvers for step-size tolerances. */
+ * length_scale: a typical size of the body (m), used by solvers for step-size tolerances.
+ * Free with plume_problem_destroy. */
 PLUME_API plume_status plume_problem_create(plume_index nv, int dim, double length_scale, plume_problem **out);
+/** Frees the problem, calling every term's and constraint set's destroy; sets *p = NULL; NULL-safe. */
 PLUME_API void plume_problem_destroy(plume_problem **p);
 
-/** Adds a term / constraint set. The problem takes ownership of its ctx (freed with `destroy`)
- * on success and on failure. Only before plume_problem_finalize. */
+/** Adds a term. The problem takes ownership of its ctx (freed with `destroy`) on success and on
+ * failure. Only before plume_problem_finalize (PLUME_EINVAL after it, or without eval). */
 PLUME_API plume_status plume_problem_add_term(plume_problem *p, const plume_term *t);
+/** Adds a constraint set, with the same ownership rule as plume_problem_add_term: the problem
+ * owns its ctx on success and on failure. PLUME_EINVAL after finalize, without eval or hess, or
+ * with m > 0 and no stencil or scale. */
 PLUME_API plume_status plume_problem_add_constraint(plume_problem *p, const plume_constraint *c);
 
 /** Marks a coordinate as prescribed (its value is whatever plume_problem_x holds). Before finalize. */
@@ -40,17 +48,24 @@ PLUME_API plume_status plume_problem_fix_dof(plume_problem *p, plume_index dof);
  * the evaluations need, so nothing is allocated afterwards. */
 PLUME_API plume_status plume_problem_finalize(plume_problem *p, plume_err *err);
 
+/** Coordinates per vertex (2 or 3), as created. */
 PLUME_API int plume_problem_dim(const plume_problem *p);
+/** Number of vertices, as created. */
 PLUME_API plume_index plume_problem_nvert(const plume_problem *p);
+/** Number of free (unknown) coordinates, the length of u; set by finalize. */
 PLUME_API plume_index plume_problem_nfree(const plume_problem *p);
-PLUME_API plume_index plume_problem_ncons(const plume_problem *p); /**< kept constraints, after finalize */
+/** Number of kept constraints (rows of g), after finalize. */
+PLUME_API plume_index plume_problem_ncons(const plume_problem *p);
+/** The length scale given to plume_problem_create (m). */
 PLUME_API double plume_problem_length_scale(const plume_problem *p);
+/** 1 if coordinate `dof` (in [0, dim*nv), unchecked) is prescribed, else 0. */
 PLUME_API int plume_problem_is_fixed(const plume_problem *p, plume_index dof);
 
 /** Full coordinate vector (dim*nv): set prescribed values and the initial guess here. */
 PLUME_API double *plume_problem_x(plume_problem *p);
-/** u <- free part of x;  x <- u on the free part. */
+/** u (nfree values) <- the free part of x. */
 PLUME_API void plume_problem_gather(const plume_problem *p, double *u);
+/** The free part of x <- u (nfree values); u NULL leaves x unchanged. */
 PLUME_API void plume_problem_scatter(plume_problem *p, const double *u);
 
 /** f(u) and, if grad != NULL, its gradient (nfree). Sets x's free part to u (u may be NULL: use x). */
@@ -84,6 +99,8 @@ PLUME_API plume_status plume_problem_constraints(plume_problem *p, const double 
  * (owned by the problem, valid until destroy). */
 PLUME_API void plume_problem_jacobian_pattern(const plume_problem *p, plume_index *nnz,
                                               const plume_index **rows, const plume_index **cols);
+/** values[nnz] <- the Jacobian of g at u (NULL: use x) in the order of plume_problem_jacobian_pattern;
+ * PLUME_EINVAL before finalize. */
 PLUME_API plume_status plume_problem_jacobian(plume_problem *p, const double *u, double *values);
 
 /** Generalised forces at the current x on every dof (dim*nv): grad W + J^T lambda, including the
@@ -96,7 +113,7 @@ PLUME_API plume_status plume_problem_forces(plume_problem *p, const double *lamb
  * measured against, so that a body at rest is not judged by its round-off gradients. */
 PLUME_API double plume_problem_force_scale(const plume_problem *p);
 
-/** Terms whose stencils follow the state (plume_term.update, e.g. contact pairs): recomputes them
+/** Terms whose stencils follow the state (plume_term.update, e.g., contact pairs): recomputes them
  * at the current x and, when any changed, rebuilds the Hessian pattern (*pattern_changed = 1;
  * solvers created before must then be recreated, their symbolic analysis is stale). The force
  * floor of finalize is kept. After finalize, never during a solve. */
@@ -114,7 +131,7 @@ PLUME_API int plume_problem_limits_steps(const plume_problem *p);
 PLUME_API plume_status plume_problem_max_step(plume_problem *p, const double *u, const double *du, double *alpha);
 
 /** The same for a motion dx of every dof (3 nv or 2 nv values, prescribed ones included) from
- * the current x: e.g. the handles' move at the start of a time step. */
+ * the current x: e.g., the handles' move at the start of a time step. */
 PLUME_API plume_status plume_problem_max_motion(plume_problem *p, const double *dx, double *alpha);
 
 /** Relative stationarity of the Lagrangian f + lambda.g at u, on the free dofs:

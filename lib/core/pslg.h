@@ -14,15 +14,18 @@ extern "C" {
 /** Zero-initialise ({0}) before use; arrays owned, freed by plume_pslg_free. */
 typedef struct {
     double *p;          /**< [2 n] points */
-    plume_index n, cap;
+    plume_index n;      /**< points in use */
+    plume_index cap;    /**< points allocated */
     plume_index *s;     /**< [2 ns] segments (point ids) */
-    plume_index ns, scap;
+    plume_index ns;     /**< segments in use */
+    plume_index scap;   /**< segments allocated */
 } plume_pslg;
 
 /** Appends a point; returns its id, or -1 when memory runs out. */
 PLUME_API plume_index plume_pslg_point(plume_pslg *g, double x, double y);
 /** Appends the segment (a, b); 0, or -1 when memory runs out. */
 PLUME_API int plume_pslg_segment(plume_pslg *g, plume_index a, plume_index b);
+/** Frees the points and segments and zeroes the graph, ready for reuse. */
 PLUME_API void plume_pslg_free(plume_pslg *g);
 
 /** Barb direction for an angle (degrees) from the pulling axis y toward +x: d = (sin a, cos a),

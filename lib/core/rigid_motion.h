@@ -27,7 +27,7 @@ PLUME_API void plume_quat_slerp(const double a[4], const double b[4], double s, 
 /** A keyframed rigid motion (arrays borrowed): a point y at rest goes to
  *   pivot + offset(t) + R(t) (y - pivot). */
 typedef struct {
-    int nkeys;
+    int nkeys;               /**< number of keys (>= 1) */
     const double *times;     /**< [nkeys], increasing (s) */
     const double *offsets;   /**< [3 nkeys] translations (m) */
     const double *rotations; /**< [3 nkeys] rotation vectors (radians) or NULL: no rotation */

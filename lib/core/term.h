@@ -16,14 +16,16 @@ extern "C" {
  * non-zero each block is projected to the nearest positive semidefinite matrix.
  * Any of energy/grad/hblocks may be NULL. `ctx` belongs to the term; `destroy` frees it. */
 typedef struct {
-    const char *name;
-    int arity;
-    plume_index nstencil;
+    const char *name;           /**< name in error messages ("membrane", ...); a string that outlives the term */
+    int arity;                  /**< vertices per stencil */
+    plume_index nstencil;       /**< number of stencils */
     const plume_index *stencil; /**< [nstencil*arity], owned by ctx */
+    /** Adds the energy and gradient and writes the Hessian blocks at x (full vector, dim*nv), as
+     * above; a non-zero status aborts the evaluation (e.g., PLUME_EINVAL for an inverted element). */
     plume_status (*eval)(void *ctx, int dim, const double *x, double *energy, double *grad,
                          double *hblocks, int project);
-    void (*destroy)(void *ctx);
-    void *ctx;
+    void (*destroy)(void *ctx); /**< frees ctx; NULL when there is nothing to free */
+    void *ctx;                  /**< the term's data, passed to every callback */
     /** Optional (NULL for fixed stencils): terms whose stencils follow the state, such as contact
      * pairs. Recomputes the stencils at positions x (full vector, dim*nv), returns the new array
      * (owned by ctx, valid until the next update or destroy) and count, and *changed = 1 when the
@@ -59,16 +61,18 @@ typedef struct {
  * with project != 0 a block is projected to PSD. `scale` (m values, owned by ctx) gives the
  * natural size of each g_c, so |g_c| / scale_c is the relative violation reported by solvers. */
 typedef struct {
-    const char *name;
-    int arity;
-    plume_index m;
+    const char *name;           /**< name in error messages ("edge length", ...); a string that outlives the set */
+    int arity;                  /**< vertices per constraint */
+    plume_index m;              /**< number of constraints */
     const plume_index *stencil; /**< [m*arity], owned by ctx */
     const double *scale;        /**< [m], owned by ctx */
+    /** Writes g (m values) and, if jac is non-NULL, the m dense stencil gradients at x (full vector). */
     plume_status (*eval)(void *ctx, int dim, const double *x, double *g, double *jac);
+    /** Writes the m blocks lambda_c Hess g_c at x, PSD-projected when project != 0. */
     plume_status (*hess)(void *ctx, int dim, const double *x, const double *lambda,
                          double *hblocks, int project);
-    void (*destroy)(void *ctx);
-    void *ctx;
+    void (*destroy)(void *ctx); /**< frees ctx; NULL when there is nothing to free */
+    void *ctx;                  /**< the constraint set's data, passed to every callback */
     int partial_projection; /**< as plume_term's (edge lengths: lambda clamped at 0 per edge) */
 } plume_constraint;
 

@@ -1,13 +1,15 @@
 /** \file
  * plume: the frames of a dynamic run in HDF5 (docs/design.md "Data and files"), appended frame by frame
  * and readable for a restart:
- *   /frames                 attributes count (frames committed), nv, ncons, dt, scene (string)
- *   /frames/<k>/x, v        [3 nv] positions and velocities (m, m/s), vertex-major
- *   /frames/<k>/lambda      [ncons] constraint multipliers of the step that produced the frame
- *   /frames/<k>             attributes t (s) and step, and the run's measures of the steps since
- *                           the previous frame (plume_frame_measures: iterations, halvings,
- *                           seconds, contact pairs, smallest distance, intersecting pairs), each a
- *                           double attribute named after its field
+ *
+ *     /frames                 attributes count (frames committed), nv, ncons, dt, scene (string)
+ *     /frames/<k>/x, v        [3 nv] positions and velocities (m, m/s), vertex-major
+ *     /frames/<k>/lambda      [ncons] constraint multipliers of the step that produced the frame
+ *     /frames/<k>             attributes t (s) and step, and the run's measures of the steps since
+ *                             the previous frame (plume_frame_measures: iterations, halvings,
+ *                             seconds, contact pairs, smallest distance, intersecting pairs), each a
+ *                             double attribute named after its field
+ *
  * k = 0, 1, ... in decimal.
  *
  * Why not the temporary-file-and-rename protocol of lib/io/curves.c: it copies the whole file for
@@ -32,7 +34,7 @@ extern "C" {
 typedef struct {
     long count;       /**< committed frames */
     plume_index nv;   /**< vertices (x and v have 3 nv values) */
-    plume_index ncons;/* multipliers per frame */
+    plume_index ncons;/**< multipliers per frame */
     double dt;        /**< the run's time step (s) */
     char scene[1024]; /**< the scene file the run was made from */
 } plume_frames_info;
@@ -43,8 +45,11 @@ typedef struct {
     long index;       /**< k */
     long step;        /**< time steps taken since t = 0 */
     double t;         /**< time (s) */
-    plume_index nv, ncons;
-    double *x, *v, *lambda;
+    plume_index nv;   /**< vertices */
+    plume_index ncons;/**< constraint multipliers */
+    double *x;        /**< [3 nv] positions (m), vertex-major */
+    double *v;        /**< [3 nv] velocities (m/s) */
+    double *lambda;   /**< [ncons] multipliers, NULL when ncons = 0 */
 } plume_frame;
 
 /** Creates `path` with an empty /frames (count 0); an existing file of that name is replaced, but
@@ -67,7 +72,7 @@ typedef struct {
     double seconds;           /**< wall time of the steps */
     double contact_pairs;     /**< most contact stencils of an update (pairs within reach) */
     double min_distance;      /**< smallest distance between non-adjacent primitives (m, capped) */
-    double intersecting_pairs;/* most intersecting triangle pairs after a step (exact audit) */
+    double intersecting_pairs;/**< most intersecting triangle pairs after a step (exact audit) */
 } plume_frame_measures;
 
 /** plume_frames_append, with the measures (may be NULL) as attributes of the frame's group. */
@@ -84,6 +89,7 @@ PLUME_API plume_status plume_frames_info_read(const char *path, plume_frames_inf
 /** Reads frame k (k < 0: the last committed frame). PLUME_EINVAL when k >= count or the file has
  * no frame; PLUME_EFORMAT when a dataset has the wrong size. */
 PLUME_API plume_status plume_frames_read(const char *path, long k, plume_frame *frame, plume_err *err);
+/** Frees x, v and lambda of a frame read by plume_frames_read and sets them to NULL; NULL-safe. */
 PLUME_API void plume_frame_free(plume_frame *frame);
 
 #ifdef __cplusplus

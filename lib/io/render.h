@@ -11,15 +11,18 @@
 extern "C" {
 #endif
 
+/** How plume_render_png draws: view, size, light and title. */
 typedef struct {
-    double rot_x, rot_z;  /**< gnuplot view angles (degrees): rot_x in [0, 180], rot_z in [0, 360];
-                             default 60, 30 */
-    int width, height;    /**< pixels; default 1000 x 800 */
+    double rot_x;         /**< gnuplot view angle about x (degrees), in [0, 180]; default 60 */
+    double rot_z;         /**< gnuplot view angle about z (degrees), in [0, 360]; default 30 */
+    int width;            /**< picture width (pixels); default 1000 */
+    int height;           /**< picture height (pixels); default 800 */
     double light[3];      /**< direction the light comes from, in the camera frame (x right, y up,
                              z toward the viewer); default (-0.3, 0.5, 1) */
     const char *title;    /**< drawn above the picture; NULL for none */
 } plume_render_opts;
 
+/** Fills o with the defaults above (title NULL). */
 PLUME_API void plume_render_opts_default(plume_render_opts *o);
 
 /** Draws the triangles of `mesh` at positions x (3 nv; NULL: mesh->x, z = 0 when planar) to

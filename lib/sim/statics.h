@@ -27,14 +27,16 @@ typedef enum {
                                 the last equilibrium before the increment is cut */
 } plume_predictor;
 
+/** Options of the load-stepping driver (plume_statics_opts_default). */
 typedef struct {
     int steps;            /**< nominal load steps; default 10 */
     int max_cuts;         /**< an increment is halved at most this often below the nominal one; default 10 */
     plume_predictor predictor; /**< default PLUME_PREDICT_SECANT */
-    plume_solver_kind solver;
-    plume_solver_opts solver_opts;
+    plume_solver_kind solver;      /**< the backend of every solve; default newton */
+    plume_solver_opts solver_opts; /**< its options; default plume_solver_opts_default */
 } plume_statics_opts;
 
+/** Fills o with the defaults each field names. */
 PLUME_API void plume_statics_opts_default(plume_statics_opts *o);
 
 /** Sets the loads (and any load-dependent prescribed positions in plume_problem_x) for a load
@@ -48,16 +50,19 @@ typedef struct {
     int substeps;          /**< converged solves taken (1 when nothing was cut) */
     int cuts;              /**< times an increment was halved */
     int iterations;        /**< solver iterations, failed attempts included */
-    int factorizations;
-    int backtracks, shifts; /**< newton's line-search rejections and inertia shifts (plume_solve_report) */
+    int factorizations;    /**< numeric factorisations (native solvers), failed attempts included */
+    int backtracks;        /**< newton's line-search rejections (plume_solve_report) */
+    int shifts;            /**< newton's inertia shifts (plume_solve_report) */
     int predictor_retries; /**< solves that failed from the predictor and were retried from the last
                               equilibrium */
     double max_violation;  /**< over the converged sub-steps */
     int converged;         /**< the step reached its factor */
     plume_reason reason;   /**< why the first failed attempt stopped (CONVERGED when none failed) */
-    double seconds;
+    double seconds;        /**< wall time of the step's solves */
 } plume_load_step_report;
 
+/** Opaque load-stepping driver over one problem: the load factor, the solver and the saved
+ * states (plume_statics_create, freed by plume_statics_destroy). */
 typedef struct plume_statics plume_statics;
 
 /** Takes a finalised problem whose x holds the unloaded state, and the scaler of its loads with
@@ -65,6 +70,8 @@ typedef struct plume_statics plume_statics;
  * if creation fails. The problem stays the caller's and must outlive the driver. */
 PLUME_API plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o, plume_load_scaler scale,
                                             void *user, void (*free_user)(void *), plume_statics **out, plume_err *err);
+/** Frees the driver and its solver and calls free_user(user); not the problem. Sets *s = NULL;
+ * NULL-safe. */
 PLUME_API void plume_statics_destroy(plume_statics **s);
 
 /** Advances to the next nominal factor. Not converging at the smallest increment is reported
@@ -72,13 +79,18 @@ PLUME_API void plume_statics_destroy(plume_statics **s);
  * (rep->converged = 0, reason CONVERGED, nothing done). */
 PLUME_API plume_status plume_statics_step(plume_statics *s, plume_load_step_report *rep);
 
-PLUME_API double plume_statics_factor(const plume_statics *s);   /**< last equilibrium's load factor */
+/** The load factor of the last equilibrium (0 before the first step). */
+PLUME_API double plume_statics_factor(const plume_statics *s);
 /** The solver's numeric factorisations so far and the seconds spent in them (native solvers). */
 PLUME_API void plume_statics_stats(const plume_statics *s, int *factorizations, double *factor_seconds);
-/** The predictor's name ("none", "secant") and its parse (PLUME_EINVAL for another name). */
+/** The predictor's name, "none" or "secant" (static string; "unknown" out of range). */
 PLUME_API const char *plume_predictor_name(plume_predictor k);
+/** The predictor named "none" or "secant" into *k; PLUME_EINVAL (no message) for another name. */
 PLUME_API plume_status plume_predictor_parse(const char *name, plume_predictor *k);
+/** Nominal steps completed so far (each one reached its load factor). */
 PLUME_API int plume_statics_steps_done(const plume_statics *s);
+/** The constraint multipliers of the last equilibrium, *m of them (m may be NULL); the driver's
+ * array, valid until it is destroyed. */
 PLUME_API const double *plume_statics_multipliers(const plume_statics *s, plume_index *m);
 
 #ifdef __cplusplus

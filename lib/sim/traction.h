@@ -15,8 +15,10 @@
 extern "C" {
 #endif
 
+/** Options of the traction test (plume_traction_opts_default; lx, ly and h have no default). */
 typedef struct {
-    double lx, ly;       /**< sample size (m), must match the mesh's reference bounding box */
+    double lx;           /**< sample width along x (m), must match the mesh's reference bounding box */
+    double ly;           /**< sample length along y, between the grips (m), likewise */
     double h;            /**< thickness (m), for the nominal stress F / (lx h) */
     double strain_max;   /**< final nominal strain delta/ly; default 0.05 */
     int steps;           /**< quasi-static steps; default 10 */
@@ -34,18 +36,21 @@ typedef struct {
                              newton's was 1.3e-5 off at 3e4 triangles; the probe takes 4-7 newton
                              iterations instead of 2, and 5 ipopt ones instead of 2 (ipopt's 2 were
                              already as exact). Set tol_kkt here when the slope is not read. */
-    plume_solver_kind solver;
-    plume_solver_opts solver_opts;
+    plume_solver_kind solver;      /**< the backend of every solve; default newton */
+    plume_solver_opts solver_opts; /**< its options; default plume_solver_opts_default */
     int progress;        /**< progress line on stderr: 0 off, 1 when stderr is a terminal, 2 always */
     /** Optional (NULL: none): called with each state of the curve, the rest state as step 0 and
      * then every nominal step that converged (strain, positions x: dim * nv); a status other than
-     * PLUME_OK stops the run with that status (output written by it, e.g. --vtk). */
+     * PLUME_OK stops the run with that status (output written by it, e.g., --vtk). */
     plume_status (*on_step)(void *user, int step, double strain, const double *x);
-    void *on_step_user;
+    void *on_step_user;  /**< passed to on_step as `user` */
 } plume_traction_opts;
 
+/** Fills o with the defaults each field names (progress 1, on_step NULL); lx, ly, h are left 0. */
 PLUME_API void plume_traction_opts_default(plume_traction_opts *o);
 
+/** What a traction run gives: the curve and how the solves went (free with
+ * plume_traction_result_free). */
 typedef struct {
     plume_curve curve;        /**< steps+1 points (fewer if a step failed); arrays owned, see _free */
     double initial_slope;     /**< Pa: nominal stress / strain at probe_strain, the reaction taken as
@@ -55,7 +60,7 @@ typedef struct {
                                  is then solved again with tol_kkt); 0 if the probe failed */
     int converged;            /**< every step converged (always 0 for `linearized`) */
     int failed_step;          /**< first step that did not converge, or -1 */
-    plume_reason failed_reason;
+    plume_reason failed_reason; /**< why that step's solve stopped (meaningful when failed_step >= 0) */
     int newton_iterations;    /**< total over all steps and the probe */
     int chord_steps;          /**< newton: iterations of those that reused an earlier factorisation */
     int cuts;                 /**< adaptive stepping: increments halved after a failed solve */
@@ -67,6 +72,7 @@ typedef struct {
     double factor_seconds;    /**< native solvers: time in numeric factorisations */
 } plume_traction_result;
 
+/** Frees the curve's arrays and zeroes the curve (the rest of r is left); NULL-safe. */
 PLUME_API void plume_traction_result_free(plume_traction_result *r);
 
 /** Clamps the grips of `p` (created over mesh->nv vertices, terms and constraints added, not

@@ -12,6 +12,8 @@
 extern "C" {
 #endif
 
+/** Opaque CHOLMOD factorisation of one sparsity pattern: the matrix, its factor and workspaces
+ * (plume_chol_create, freed by plume_chol_destroy). */
 typedef struct plume_chol plume_chol;
 
 /** Analyses the n x n symmetric pattern given by its upper triangle in CSC (copied; rows sorted).
@@ -19,6 +21,7 @@ typedef struct plume_chol plume_chol;
  * pivoting, valid for quasi-definite matrices [H J^T; J -D] with H, D positive definite. */
 PLUME_API plume_status plume_chol_create(plume_index n, const plume_index *colptr, const plume_index *rowind,
                                          int ldl, plume_chol **out, plume_err *err);
+/** Frees the factor and the CHOLMOD workspace; sets *c = NULL; NULL-safe. */
 PLUME_API void plume_chol_destroy(plume_chol **c);
 
 /** Numeric factorisation of the matrix with these values (same order as rowind) plus shift*I.

@@ -28,6 +28,7 @@ typedef enum {
 
 /** "curved_line_search" | "line_search" | "trust_region"; PLUME_EINVAL otherwise */
 PLUME_API plume_status plume_globalization_parse(const char *s, plume_globalization *out);
+/** The name plume_globalization_parse accepts for g (static string); "unknown" out of range. */
 PLUME_API const char *plume_globalization_name(plume_globalization g);
 
 /** How the native solver factorises a constrained Newton step. */
@@ -36,8 +37,10 @@ typedef enum {
     PLUME_KKT_ELIMINATE = 1 /**< multipliers eliminated: SPD H + J^T J / dc, CHOLMOD supernodal LL^T */
 } plume_kkt_mode;
 
+/** Options of every solver backend (the native ones read all of them, Ipopt the tolerances and the
+ * cap); fill with plume_solver_opts_default, then change fields. */
 typedef struct {
-    int max_iter;          /**< default 100 */
+    int max_iter;          /**< iteration cap; default 100 */
     double tol_kkt;        /**< relative KKT residual (see plume_problem_kkt_residual); default 1e-9 */
     double tol_violation;  /**< max relative constraint violation; default 1e-10 */
     double tol_step;       /**< also converged when max|du| <= tol_step * length_scale and the
@@ -60,13 +63,14 @@ typedef struct {
                                 (else it is undone and the iteration refactorises), and they stop
                                 once their rate predicts more than 4 to converge; default 1
                                 (docs/theory-constraints.md) */
-    double reuse_rate;     /**< default 0.25 */
+    double reuse_rate;     /**< the factor by which a chord step must cut the KKT residual, in (0, 1);
+                              default 0.25 */
     int kkt_refine;        /**< newton, eliminated KKT: factorise with a 1e3 times larger multiplier
                               regularisation and refine the solution iteratively against the
                               requested one (a Cholesky factor of H + J^T J / dc, whose constraint
                               part is 1e8 times the Hessian's, loses 8 digits of H), to a relative
                               residual of min(1e-2, KKT residual) (inexact Newton); default 1 */
-    int verbose;           /**< print one line per iteration on stderr */
+    int verbose;           /**< print one line per iteration on stderr; default 0 */
     int partial_projection; /**< newton, exact-Hessian path: when the exact Hessian is not positive
                               definite, project the terms whose projection is a cheap closed form
                               (plume_term.partial_projection: shape bending, edge-length
@@ -83,6 +87,7 @@ typedef struct {
                                 default 1 */
 } plume_solver_opts;
 
+/** Fills o with the defaults each field names. */
 PLUME_API void plume_solver_opts_default(plume_solver_opts *o);
 /** Sets curved_search and trust_region for g. */
 PLUME_API void plume_solver_opts_set_globalization(plume_solver_opts *o, plume_globalization g);

@@ -11,7 +11,7 @@ extern "C" {
 
 /** Why a solve stopped. Only CONVERGED means the tolerances below were met. */
 typedef enum {
-    PLUME_REASON_CONVERGED = 0,
+    PLUME_REASON_CONVERGED = 0,   /**< the KKT residual and the violation met their tolerances */
     PLUME_REASON_ITERATION_CAP,   /**< max_iter reached */
     PLUME_REASON_LINE_SEARCH,     /**< no step decreased the merit function */
     PLUME_REASON_INFEASIBLE,      /**< constraints could not be satisfied */
@@ -24,10 +24,12 @@ typedef enum {
                                      solves again from the point returned */
 } plume_reason;
 
+/** A short static name of r ("converged", "iteration cap", ...); "unknown" out of range. */
 PLUME_API const char *plume_reason_name(plume_reason r);
 
+/** What one solve did and where it stopped (plume_solver_solve fills every field). */
 typedef struct {
-    plume_reason reason;
+    plume_reason reason;  /**< why the solve stopped */
     int converged;        /**< reason == CONVERGED */
     int iterations;       /**< Newton / SQP / Ipopt iterations */
     int factorizations;   /**< numeric factorisations (native solvers) */

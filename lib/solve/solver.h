@@ -13,16 +13,20 @@
 extern "C" {
 #endif
 
+/** The solver backends (names "newton", "ipopt", "linearized"). */
 typedef enum {
-    PLUME_SOLVER_NEWTON = 0,
-    PLUME_SOLVER_IPOPT = 1,
-    PLUME_SOLVER_LINEARIZED = 2
+    PLUME_SOLVER_NEWTON = 0,    /**< the native projected Newton / SQP (lib/solve/newton.h) */
+    PLUME_SOLVER_IPOPT = 1,     /**< Ipopt, interior point with exact Hessians (lib/solve/ipopt_solver.h) */
+    PLUME_SOLVER_LINEARIZED = 2 /**< one full Newton step of the native solver, no convergence sought */
 } plume_solver_kind;
 
 /** Parses "newton" | "ipopt" | "linearized"; PLUME_EINVAL otherwise. */
 PLUME_API plume_status plume_solver_kind_parse(const char *s, plume_solver_kind *out);
+/** The name plume_solver_kind_parse accepts for k (static string); "unknown" out of range. */
 PLUME_API const char *plume_solver_kind_name(plume_solver_kind k);
 
+/** Opaque solver: one backend over one finalised problem (plume_solver_create, freed by
+ * plume_solver_destroy). */
 typedef struct plume_solver plume_solver;
 
 /** Creates a solver for a finalised problem (kept by reference, not owned). Symbolic analysis
@@ -30,6 +34,7 @@ typedef struct plume_solver plume_solver;
  * out of range, with a message naming them in err (NULL allowed). */
 PLUME_API plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p,
                                            const plume_solver_opts *o, plume_solver **out, plume_err *err);
+/** Frees the solver (not the problem); sets *s = NULL; NULL-safe. */
 PLUME_API void plume_solver_destroy(plume_solver **s);
 
 /** Solves from u (nfree, in: start, out: result) and lambda (ncons, in: guess, out: multipliers
