@@ -38,7 +38,7 @@ TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 HEADERS := include/plume.h $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.h)) $(wildcard micro/*.h) $(wildcard macro/*.h) $(wildcard drivers/*.h)
 PRIVATE_HEADERS := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/internal/*.h)) $(wildcard macro/internal/*.h) $(wildcard drivers/internal/*.h)
 
-.PHONY: all deps deps-check test asan bench demo install uninstall clean fuzz fuzz-build
+.PHONY: all deps deps-check test asan bench demo docs install uninstall clean fuzz fuzz-build
 all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)
 
 deps:
@@ -152,6 +152,22 @@ demo: deps
 # explicit-barbule layout (about 10 s), not kept in git
 data/feather/moduli_table3a.h5: data/layout_barbules_table3a.json apps/homogenize
 	$(OMP_ENV) ./apps/homogenize --config $< -o $@
+
+# The API reference: Doxygen over the installed headers (docs/Doxyfile; the main page is
+# docs/api.md), HTML in $(BUILD)/docs/html. Any warning fails it and is printed: an undocumented
+# public function, struct, field, enum value, typedef or macro, or a doc comment Doxygen cannot read.
+# doxygen is not a build dependency (plain make does not ask for it); make deps installs it.
+docs:
+	@command -v doxygen >/dev/null || { echo "make docs: doxygen not found; install it with make deps (apt-get install doxygen)" >&2; exit 1; }
+	@rm -rf $(BUILD)/docs && mkdir -p $(BUILD)/docs
+	@PLUME_DOCS_OUT=$(BUILD)/docs PLUME_VERSION=$(VERSION_MAJOR).$(VERSION_MINOR).$(VERSION_PATCH) \
+	    doxygen docs/Doxyfile >$(BUILD)/docs/doxygen.log 2>&1; rc=$$?; \
+	    n=$$(grep -c . $(BUILD)/docs/warnings.log 2>/dev/null || true); \
+	    if [ $$rc -ne 0 ] || [ "$${n:-0}" -gt 0 ]; then \
+	        if [ "$${n:-0}" -gt 0 ]; then sed "s|$$PWD/||" $(BUILD)/docs/warnings.log >&2; else cat $(BUILD)/docs/doxygen.log >&2; fi; \
+	        echo "make docs: failed, $${n:-0} doxygen warnings (docs/Doxyfile treats every warning as an error)" >&2; exit 1; \
+	    fi
+	@echo "API reference: $(BUILD)/docs/html/index.html"
 
 # headers under include/plume/ as in the tree (include/, lib/ROOM/, macro/, micro/, drivers/), with the umbrella plume.h at
 # its root; pkg-config's Cflags point there, so other C code writes #include <plume.h>

@@ -1,4 +1,5 @@
-/* plume — feather vanes as strongly anisotropic elastic shells, at two scales.
+/** \file
+ * plume — feather vanes as strongly anisotropic elastic shells, at two scales.
  * The umbrella header: include this and link libplume (pkg-config plume). */
 #ifndef PLUME_H
 #define PLUME_H

@@ -1,4 +1,5 @@
-/* plume: discrete anisotropic bending of a shell (docs/design.md "Bending"): a hinge energy on each
+/** \file
+ * plume: discrete anisotropic bending of a shell (docs/design.md "Bending"): a hinge energy on each
  * interior edge from its dihedral angle, rest angle from the rest shape, scaled with the edge
  * length and the adjacent areas so that bending a flat patch into a cylinder of curvature k
  * stores 1/2 D k^2 per unit area; D depends on the curvature direction relative to the barbs:
@@ -14,7 +15,7 @@
 extern "C" {
 #endif
 
-/* Bending stiffness of one material (N m): for an isotropic plate D_long = D_trans =
+/** Bending stiffness of one material (N m): for an isotropic plate D_long = D_trans =
  * E t^3 / (12 (1 - nu^2)), D_coupling = nu D, D_twist = (1 - nu) D / 2.
  * The orthotropic plate energy density, k11 along d, k22 across, k12 the twist in the barb frame:
  *     1/2 (D_long k11^2 + D_trans k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2).
@@ -28,13 +29,13 @@ extern "C" {
  * All four must be finite and >= 0, and D_coupling^2 <= D_long D_trans (a positive semidefinite
  * plate). */
 typedef struct {
-    double D_long;     /* curvature along the barb direction d (bending the barbs) */
-    double D_trans;    /* curvature across the barbs */
-    double D_twist;    /* D_66, twist; 0: (sqrt(D_long D_trans) - D_coupling) / 2 (Huber) */
-    double D_coupling; /* D_12, Poisson-type coupling of k11 and k22 */
+    double D_long;     /**< curvature along the barb direction d (bending the barbs) */
+    double D_trans;    /**< curvature across the barbs */
+    double D_twist;    /**< D_66, twist; 0: (sqrt(D_long D_trans) - D_coupling) / 2 (Huber) */
+    double D_coupling; /**< D_12, Poisson-type coupling of k11 and k22 */
 } plume_bending_material;
 
-/* A term over every interior edge (hinge) of a shell-mode mesh (dim 3, topology built): stencil
+/** A term over every interior edge (hinge) of a shell-mode mesh (dim 3, topology built): stencil
  * (edge v0, edge v1, opposite 0, opposite 1) as in mesh->hinges. Each hinge uses the materials and
  * barb directions of its two triangles (mats[mesh->material[t]], averaged over the two). Exact
  * gradient and Hessian; with project != 0 Hessian blocks are projected to PSD. Rest dihedral

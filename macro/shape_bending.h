@@ -1,4 +1,5 @@
-/* plume: mesh-independent anisotropic bending of a shell (docs/design.md "Bending"; "Bending is a
+/** \file
+ * plume: mesh-independent anisotropic bending of a shell (docs/design.md "Bending"; "Bending is a
  * property of the surface, not of the mesh's edges"): a per-triangle second fundamental form
  * fitted exactly to every quadratic height field on any triangulation (the 6-vertex
  * shape-operator stencil, macro/shape_bending.c), and the orthotropic plate energy of its
@@ -19,7 +20,7 @@
 extern "C" {
 #endif
 
-/* A term with one stencil per triangle of a shell-mode mesh (dim 3, topology built): arity 6,
+/** A term with one stencil per triangle of a shell-mode mesh (dim 3, topology built): arity 6,
  * (x0, x1, x2, p1, p2, p3) with (x0, x1, x2) = mesh->tri[t] and p_k the vertex across the edge
  * opposite x_{k-1} in the neighbouring triangle, or, on a boundary edge, the vertex of the 2-ring
  * (3-ring if need be) that keeps the quadratic fit best conditioned. Material mats[material[t]]
@@ -32,12 +33,12 @@ extern "C" {
  * topology not built, a negative/NaN/infinite stiffness or D_coupling^2 > D_long D_trans (naming
  * the material and field), material or vertex id out of range, a barb direction that cannot be
  * normalised, a degenerate reference triangle, a triangle with no well-conditioned stencil (a
- * mesh with too few vertices, e.g. one or two triangles), a rest_x that is not finite or
+ * mesh with too few vertices, e.g., one or two triangles), a rest_x that is not finite or
  * collapses a triangle. */
 PLUME_API plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
                                                        const double *rest_x, plume_term *out, plume_err *err);
 
-/* Options of plume_shape_bending_term_create_opts (all zero: the default term above).
+/** Options of plume_shape_bending_term_create_opts (all zero: the default term above).
  *
  * clamped (nv flags, may be NULL) marks the vertices a clamp holds. A boundary edge whose two
  * vertices are both clamped is a clamped edge: the surface leaves it with zero slope, in the
@@ -52,11 +53,11 @@ PLUME_API plume_status plume_shape_bending_term_create(const plume_mesh *mesh, c
  * exact for quadratics but it fails the patch test on irregular meshes (kept for comparison,
  * see shape_bending.c). */
 typedef struct {
-    const unsigned char *clamped;
-    int own_fit_only;
+    const unsigned char *clamped; /**< [nv] non-zero for a clamped vertex, or NULL (borrowed) */
+    int own_fit_only;             /**< != 0: each triangle's own 6-point fit alone */
 } plume_shape_bending_opts;
 
-/* The term with options (o may be NULL). Errors as above, and PLUME_EINVAL for a clamped edge
+/** The term with options (o may be NULL). Errors as above, and PLUME_EINVAL for a clamped edge
  * with no mirror plane (a collapsed rest_x triangle). */
 PLUME_API plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const plume_bending_material *mats,
                                                             int nmat, const double *rest_x, const plume_shape_bending_opts *o,

@@ -1,4 +1,5 @@
-/* plume: the macroscale orthotropic vane — membrane from (E_xx, E_yy, nu_xy, G_xy) in the barb
+/** \file
+ * plume: the macroscale orthotropic vane — membrane from (E_xx, E_yy, nu_xy, G_xy) in the barb
  * frame, and the inextensibility constraint on barb-aligned edges (or the penalty alternative:
  * finite E_xx and no constraint). */
 #ifndef PLUME_VANE_H
@@ -14,28 +15,31 @@
 extern "C" {
 #endif
 
+/** The macroscale vane's material and how its barbs are modelled (plume_vane_default). */
 typedef struct {
-    plume_ortho moduli;   /* Pa */
-    double h;             /* thickness, m */
-    double kappa;         /* compression coefficient (Pa); 0 disables it */
-    int constraint;       /* 1: barb edges inextensible; 0: penalty (E_xx only) */
-    double align_tol;     /* |sin| of the angle below which an edge counts as barb-aligned; default 1e-6 */
+    plume_ortho moduli;   /**< Pa */
+    double h;             /**< thickness, m */
+    double kappa;         /**< compression coefficient (Pa); 0 disables it */
+    int constraint;       /**< 1: barb edges inextensible; 0: penalty (E_xx only) */
+    double align_tol;     /**< |sin| of the angle below which an edge counts as barb-aligned; default 1e-6 */
 } plume_vane;
 
+/** Fills v with a dimensionless default: E_xx 1e4, E_yy 1, nu_xy 0, G_xy 1, h 1, kappa 0,
+ * constraint on, align_tol 1e-6. Callers set the moduli and thickness of their sample. */
 PLUME_API void plume_vane_default(plume_vane *v);
 
-/* The vane's membrane material (its moduli, thickness and kappa). */
+/** The vane's membrane material (its moduli, thickness and kappa). */
 PLUME_API plume_membrane_material plume_vane_material(const plume_vane *v);
 
-/* Validates the moduli and thickness (message names the parameter: "E_yy must be finite and > 0"). */
+/** Validates the moduli and thickness (message names the parameter: "E_yy must be finite and > 0"). */
 PLUME_API plume_status plume_vane_check(const plume_vane *v, plume_err *err);
 
-/* Edges of the mesh (topology built) parallel to the barb direction of an adjacent triangle;
+/** Edges of the mesh (topology built) parallel to the barb direction of an adjacent triangle;
  * returns a malloc'ed array of 2*n vertex ids (free with free()). */
 PLUME_API plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_index **edges,
                                              plume_index *n);
 
-/* Barb coverage (docs/design.md, "Meshes that respect the fibres"): counts the triangles of `m`
+/** Barb coverage (docs/design.md, "Meshes that respect the fibres"): counts the triangles of `m`
  * (topology built) whose material is `material` (or every triangle when material < 0) in *total,
  * and among them those owning at least one of the nbarb edges `barb_edges` (2*nbarb vertex ids,
  * either order; pairs that are not mesh edges are ignored) in *covered. With the constraint on,
@@ -47,7 +51,7 @@ PLUME_API plume_status plume_vane_barb_coverage(const plume_mesh *m, const plume
                                                 int material, plume_index *covered, plume_index *total,
                                                 plume_index **uncovered);
 
-/* Adds the vane membrane (every triangle, material 0) and, when v->constraint is set, the
+/** Adds the vane membrane (every triangle, material 0) and, when v->constraint is set, the
  * inextensibility constraint of the barb edges to `p` (created over mesh->nv vertices).
  * If barb_edges/nbarb are non-NULL they receive the constrained edges (malloc'ed; NULL/0 when
  * the constraint is off). */

@@ -1,4 +1,5 @@
-/* plume: the small-strain (linearised) periodic cell problem, solved exactly: the effective
+/** \file
+ * plume: the small-strain (linearised) periodic cell problem, solved exactly: the effective
  * plane-stress tensor of a cell without finite differences. */
 #ifndef PLUME_CELL_LINEAR_H
 #define PLUME_CELL_LINEAR_H
@@ -11,7 +12,7 @@
 extern "C" {
 #endif
 
-/* Effective tensor C (Pa, Voigt E11, E22, 2 E12, row-major, in the cell frame) of a periodic cell,
+/** Effective tensor C (Pa, Voigt E11, E22, 2 E12, row-major, in the cell frame) of a periodic cell,
  * the membrane stiffness A (N/m; each material weighs with its own thickness mats[k].h) divided by
  * the reference thickness h_ref (m, finite and > 0; with one thickness h_ref = h, C is the
  * area-averaged 3D stress per unit strain):
@@ -24,7 +25,7 @@ extern "C" {
 PLUME_API plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
                                       double h_ref, double C[9], int *iterations, plume_err *err);
 
-/* C = T^T Cb T: a tensor given in the barb frame (Voigt with engineering shear, row-major) in the
+/** C = T^T Cb T: a tensor given in the barb frame (Voigt with engineering shear, row-major) in the
  * cell frame, T the Voigt rotation of strains from the cell frame to the barb frame with the barb
  * direction d = (cos, sin) (unit). Curvatures (k11, k22, 2 k12) rotate like strains, so plate
  * tensors D use it too. */

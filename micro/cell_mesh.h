@@ -1,4 +1,5 @@
-/* plume: periodic cells of a layout, meshed so that every strip boundary is a mesh edge. */
+/** \file
+ * plume: periodic cells of a layout, meshed so that every strip boundary is a mesh edge. */
 #ifndef PLUME_CELL_MESH_H
 #define PLUME_CELL_MESH_H
 
@@ -11,23 +12,24 @@
 extern "C" {
 #endif
 
-/* A periodic cell in the barb frame: the rectangle [0, a] x [0, b] with lattice vectors (a, 0)
+/** A periodic cell in the barb frame: the rectangle [0, a] x [0, b] with lattice vectors (a, 0)
  * and (0, b), b = d_B. Vertices on opposite sides come in matching pairs (same y on x = 0 and
  * x = a, same x on y = 0 and y = b). Every vertex has a master: itself, or the vertex it is a
  * periodic image of; shift = X_v - X_master(v) is a lattice vector. */
 typedef struct {
-    plume_mesh *mesh;      /* owned; triangles carry material ids and barb_dir = (1, 0). Order 2: the
+    plume_mesh *mesh;      /**< owned; triangles carry material ids and barb_dir = (1, 0). Order 2: the
                               quadratic triangles split in four, its vertices the 6-node elements' nodes */
-    plume_quadratic_mesh quad; /* order 2: the quadratic triangles (quad.split is NULL: it is `mesh`);
+    plume_quadratic_mesh quad; /**< order 2: the quadratic triangles (quad.split is NULL: it is `mesh`);
                                   order 1: zeroed */
-    int order;             /* element order, 1 or 2 (the layout's) */
-    double a, b;           /* cell size */
-    plume_index *master;   /* [nv] owned */
-    double *shift;         /* [2*nv] owned */
-    plume_index nmasters;  /* distinct masters */
+    int order;             /**< element order, 1 or 2 (the layout's) */
+    double a;              /**< cell length along the barbs (x) */
+    double b;              /**< cell width across the barbs (y): d_B */
+    plume_index *master;   /**< [nv] owned */
+    double *shift;         /**< [2*nv] owned */
+    plume_index nmasters;  /**< distinct masters */
 } plume_cell;
 
-/* Meshes the periodic cell of a layout (constrained Delaunay through lib/core/cdt.h, no Steiner
+/** Meshes the periodic cell of a layout (constrained Delaunay through lib/core/cdt.h, no Steiner
  * points on the cell boundary so the periodic pairs match). For strips the cell length a along
  * the barbs is the barb width times 4 (fields are constant along the barbs, any a works); for
  * barbules it is barbule_spacing. Element edges are about plume_layout_element_edge(l,
@@ -36,18 +38,19 @@ typedef struct {
  * cannot resolve (w_B or the gap below 1e-12 d_B), a barbule strip that does not fit in its cell
  * ("cell too small for its layout": barbule extent along the barbs >= barbule_spacing). */
 PLUME_API plume_status plume_cell_mesh(const plume_layout *l, plume_cell **out, plume_err *err);
+/** Frees the cell, its meshes and arrays; sets *c = NULL; NULL-safe. */
 PLUME_API void plume_cell_destroy(plume_cell **c);
 
-/* Elements of the cell: its quadratic triangles at order 2, its triangles at order 1. */
+/** Elements of the cell: its quadratic triangles at order 2, its triangles at order 1. */
 PLUME_API plume_index plume_cell_elements(const plume_cell *c);
 
-/* The membrane term over a micro mesh: the linear element over `mesh` (quad NULL or empty), or the
+/** The membrane term over a micro mesh: the linear element over `mesh` (quad NULL or empty), or the
  * quadratic one over quad's triangles with mesh's vertices as nodes (lib/core/membrane_p2.h). Planar. */
 PLUME_API plume_status plume_micro_membrane_term(const plume_mesh *mesh, const plume_quadratic_mesh *quad,
                                                  const plume_membrane_material *mats, int nmat, plume_term *out,
                                                  plume_err *err);
 
-/* Meshes a rectangular traction specimen [0, lx] x [0, ly] of the layout with barbs at angle_deg
+/** Meshes a rectangular traction specimen [0, lx] x [0, ly] of the layout with barbs at angle_deg
  * from the y axis (as in macro/patch_mesh.h: d = (sin a, cos a)); strip boundaries are mesh
  * edges, the mesh is refined to edges <= plume_layout_element_edge(l, PLUME_MESH_SPECIMEN); barbule
  * layouts leave the empty space out. Always linear triangles (plume_micro_specimen adds the

@@ -1,4 +1,5 @@
-/* plume: the periodic Kirchhoff plate cell problem, solved exactly — the effective bending tensor
+/** \file
+ * plume: the periodic Kirchhoff plate cell problem, solved exactly — the effective bending tensor
  * of a cell whose phases are plates of their own thickness (docs/bending-homogenisation.md). */
 #ifndef PLUME_CELL_PLATE_H
 #define PLUME_CELL_PLATE_H
@@ -11,27 +12,34 @@
 extern "C" {
 #endif
 
-/* The bending moduli of a plate (N m) in the barb frame (1 along the barbs), with the energy
- * density of macro/bending.h plus the bending-twist couplings:
- *   1/2 (D_long k11^2 + D_trans k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2
- *        + 4 D_16 k11 k12 + 4 D_26 k22 k12),
- * i.e. 1/2 kappa^T D kappa with kappa = (k11, k22, 2 k12) and
+/** The bending moduli of a plate (N m) in the barb frame (1 along the barbs), with the energy
+ * density of macro/bending.h plus the bending-twist couplings
+ *
+ *     1/2 (D_long k11^2 + D_trans k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2
+ *          + 4 D_16 k11 k12 + 4 D_26 k22 k12),
+ *
+ * i.e., 1/2 kappa^T D kappa with kappa = (k11, k22, 2 k12) and
  * D = [D_long D_coupling D_16; D_coupling D_trans D_26; D_16 D_26 D_twist]. */
 typedef struct {
-    double D_long, D_trans, D_coupling, D_twist, D_16, D_26;
+    double D_long;     /**< D_11: curvature along the barbs */
+    double D_trans;    /**< D_22: curvature across the barbs */
+    double D_coupling; /**< D_12: coupling of k11 and k22 */
+    double D_twist;    /**< D_66: twist */
+    double D_16;       /**< coupling of k11 and the twist (0 for an orthotropic cell) */
+    double D_26;       /**< coupling of k22 and the twist (0 for an orthotropic cell) */
 } plume_plate_moduli;
 
-/* The moduli of a tensor D (3x3 row-major, the Voigt order above). */
+/** The moduli of a tensor D (3x3 row-major, the Voigt order above). */
 PLUME_API void plume_plate_moduli_from_tensor(const double D[9], plume_plate_moduli *m);
 
-/* Sizes of a plate cell solve (optional output). */
+/** Sizes of a plate cell solve (optional output). */
 typedef struct {
-    plume_index elements; /* Morley triangles: the cell mesh's triangles */
-    plume_index dofs;     /* unknowns: periodic vertex deflections (one anchored) and edge slopes */
-    plume_index nnz;      /* stored entries of the upper triangle of the matrix */
+    plume_index elements; /**< Morley triangles: the cell mesh's triangles */
+    plume_index dofs;     /**< unknowns: periodic vertex deflections (one anchored) and edge slopes */
+    plume_index nnz;      /**< stored entries of the upper triangle of the matrix */
 } plume_cell_plate_info;
 
-/* Effective bending tensor D (N m, Voigt (k11, k22, 2 k12) as above, row-major, in the cell frame)
+/** Effective bending tensor D (N m, Voigt (k11, k22, 2 k12) as above, row-major, in the cell frame)
  * of a periodic cell: for each unit macroscopic curvature kbar the deflection
  * w = 1/2 X^T kbar X + w~, w~ periodic, minimising the Kirchhoff plate energy
  * 1/2 sum_i int (kbar + grad grad w~)^T D_i (kbar + grad grad w~), D_i = h_i^3 / 12 Q_i (Q_i the

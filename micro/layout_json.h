@@ -1,4 +1,5 @@
-/* plume: a microstructure layout from a JSON file or text (jansson). */
+/** \file
+ * plume: a microstructure layout from a JSON file or text (jansson). */
 #ifndef PLUME_LAYOUT_JSON_H
 #define PLUME_LAYOUT_JSON_H
 
@@ -9,7 +10,7 @@
 extern "C" {
 #endif
 
-/* Reads keys into *l (which holds the defaults or earlier values; absent keys are kept):
+/** Reads keys into *l (which holds the defaults or earlier values; absent keys are kept):
  *   {"layout": "strips" | "barbules", "phi": 0.16, "d_B": 1e-3, "w_B": 1.6e-4, "E_b": 2.5e9,
  *    "nu_b": 0.3, "ratio": 1e-6, "nu_B": 0.3, "thickness": 1e-4, "thickness_barb": 1e-4,
  *    "thickness_barbule": 1e-5, "kappa": 0, "order": 2, "e_rel": 0, "barbule_width": 1e-4, "barbule_spacing": 8e-4, "barbule_angle": 60}
@@ -20,7 +21,7 @@ extern "C" {
  * (PLUME_EFORMAT naming the key; left out, a phase has the "thickness"). */
 PLUME_API plume_status plume_layout_load_json(const char *path, plume_layout *l, plume_err *err);
 
-/* The same keys from a JSON text (a binding's request); `where` names it in messages
+/** The same keys from a JSON text (a binding's request); `where` names it in messages
  * ("request.layout"). */
 PLUME_API plume_status plume_layout_apply_json(const char *text, const char *where, plume_layout *l, plume_err *err);
 

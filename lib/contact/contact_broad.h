@@ -1,4 +1,5 @@
-/* plume: broad phase of shell contact and the exact intersection audit (docs/design.md "Contact (many
+/** \file
+ * plume: broad phase of shell contact and the exact intersection audit (docs/design.md "Contact (many
  * feathers)"). Axis-aligned boxes are paired by CGAL's box_intersection_d; triangle pairs of the
  * audit are tested with CGAL's exact predicates. CGAL stays in lib/contact/contact_cgal.cpp. */
 #ifndef PLUME_CONTACT_BROAD_H
@@ -11,21 +12,22 @@
 extern "C" {
 #endif
 
-/* One pair of ids (box, vertex/triangle or edge/edge ids, depending on the call). */
+/** One pair of ids (box, vertex/triangle or edge/edge ids, depending on the call). */
 typedef struct {
-    plume_index a, b;
+    plume_index a; /**< first id (box of the first set, vertex, or the lower edge id) */
+    plume_index b; /**< second id (box of the second set, triangle, or the higher edge id) */
 } plume_contact_pair;
 
-/* A growable list of pairs owned by the caller: start from {0} (or reuse one from an earlier call);
+/** A growable list of pairs owned by the caller: start from {0} (or reuse one from an earlier call);
  * the library sets n and grows p with realloc only when cap is too small, so a list reused across
  * calls stops allocating. Free with plume_contact_pairs_free. */
 typedef struct {
-    plume_index n;         /* output: pairs found */
-    plume_index cap;       /* capacity of p, in pairs */
-    plume_contact_pair *p; /* [cap]; pairs sorted by (a, b) */
+    plume_index n;         /**< output: pairs found */
+    plume_index cap;       /**< capacity of p, in pairs */
+    plume_contact_pair *p; /**< [cap]; pairs sorted by (a, b) */
 } plume_contact_pairs;
 
-/* Frees p and zeroes the list; NULL-safe. */
+/** Frees p and zeroes the list; NULL-safe. */
 PLUME_API void plume_contact_pairs_free(plume_contact_pairs *pairs);
 
 /* --- Generic box intersection ------------------------------------------------------------------
@@ -33,13 +35,13 @@ PLUME_API void plume_contact_pairs_free(plume_contact_pairs *pairs);
  * boxes that only touch (a face, an edge or a corner) intersect. These calls copy the boxes into
  * temporary arrays (CGAL reorders what it is given); the contact handle below reuses its memory. */
 
-/* All pairs (i, j), i a box of a (na boxes), j a box of b (nb boxes), whose boxes intersect; each
+/** All pairs (i, j), i a box of a (na boxes), j a box of b (nb boxes), whose boxes intersect; each
  * once, sorted. na or nb may be 0. PLUME_EINVAL (message in err) on NULL arrays with a positive
  * count, negative counts, non-finite coordinates or lo > hi; PLUME_ENOMEM; PLUME_EDEP if CGAL threw. */
 PLUME_API plume_status plume_contact_box_pairs(plume_index na, const double *a, plume_index nb, const double *b,
                                                plume_contact_pairs *out, plume_err *err);
 
-/* All pairs (i, j), i < j, of intersecting boxes within one set (never (i, i), never twice). */
+/** All pairs (i, j), i < j, of intersecting boxes within one set (never (i, i), never twice). */
 PLUME_API plume_status plume_contact_box_self_pairs(plume_index n, const double *boxes, plume_contact_pairs *out,
                                                     plume_err *err);
 
@@ -51,26 +53,30 @@ PLUME_API plume_status plume_contact_box_self_pairs(plume_index n, const double 
  * side, so a pair closer than dhat at any time of the step is a candidate (proof in
  * contact_broad.c). Candidates are a superset: the narrow phase computes the distances. */
 
+/** Options of the candidate search (plume_contact_broad_opts_default). */
 typedef struct {
-    int self_contact; /* 1: every pair of non-adjacent primitives (within a body too);
+    int self_contact; /**< 1: every pair of non-adjacent primitives (within a body too);
                          0: only pairs of primitives of different bodies (needs body). Default 1. */
 } plume_contact_broad_opts;
 
+/** Fills o with the defaults (self_contact 1). */
 PLUME_API void plume_contact_broad_opts_default(plume_contact_broad_opts *o);
 
+/** Opaque broad phase of one triangle surface: its topology, edges, box arrays and candidate lists,
+ * reused from update to update (plume_contact_broad_create, freed by plume_contact_broad_destroy). */
 typedef struct plume_contact_broad plume_contact_broad;
 
-/* Candidates found by one update. The arrays belong to the handle and stay valid until the next
+/** Candidates found by one update. The arrays belong to the handle and stay valid until the next
  * update or destroy (an empty list may be NULL). */
 typedef struct {
-    plume_index nvt;
-    const plume_contact_pair *vt; /* [nvt] (vertex, triangle), sorted */
-    plume_index nee;
-    const plume_contact_pair *ee; /* [nee] (edge a, edge b), a < b, ids into the handle's edges */
-    double seconds;               /* wall time of this update (boxes, CGAL, filters, sorting) */
+    plume_index nvt;              /**< point–triangle candidates */
+    const plume_contact_pair *vt; /**< [nvt] (vertex, triangle), sorted */
+    plume_index nee;              /**< edge–edge candidates */
+    const plume_contact_pair *ee; /**< [nee] (edge a, edge b), a < b, ids into the handle's edges */
+    double seconds;               /**< wall time of this update (boxes, CGAL, filters, sorting) */
 } plume_contact_candidates;
 
-/* Fixes the topology: nv vertices, ntri triangles tri [3*ntri] (copied), body [nv] a body id per
+/** Fixes the topology: nv vertices, ntri triangles tri [3*ntri] (copied), body [nv] a body id per
  * vertex (copied) or NULL for one body. Builds the unique undirected edges and allocates every box
  * array. PLUME_EINVAL (message in err) on negative counts, NULL arrays, triangle ids out of
  * [0, nv), a triangle with a repeated vertex, a triangle whose corners lie in different bodies, or
@@ -78,17 +84,19 @@ typedef struct {
 PLUME_API plume_status plume_contact_broad_create(plume_index nv, plume_index ntri, const plume_index *tri,
                                                   const int *body, const plume_contact_broad_opts *opts,
                                                   plume_contact_broad **out, plume_err *err);
+/** Frees the handle and every array it owns (the candidates it returned included); sets *b = NULL;
+ * NULL-safe. */
 PLUME_API void plume_contact_broad_destroy(plume_contact_broad **b);
 
-/* The unique undirected edges built at create: *edges is [2 * *ne], each (i, j) with i < j, sorted;
+/** The unique undirected edges built at create: *edges is [2 * *ne], each (i, j) with i < j, sorted;
  * owned by the handle. Edge ids of the candidates index this array. */
 PLUME_API void plume_contact_broad_edges(const plume_contact_broad *b, plume_index *ne, const plume_index **edges);
 
-/* The triangles copied at create: *tri is [3 * *ntri], owned by the handle. Triangle ids of the
+/** The triangles copied at create: *tri is [3 * *ntri], owned by the handle. Triangle ids of the
  * candidates index this array. */
 PLUME_API void plume_contact_broad_triangles(const plume_contact_broad *b, plume_index *ntri, const plume_index **tri);
 
-/* Candidates for positions x [3*nv] (start of the step) and x1 [3*nv] (end of the step, or NULL for
+/** Candidates for positions x [3*nv] (start of the step) and x1 [3*nv] (end of the step, or NULL for
  * a static query), inflation dhat >= 0. Allocates only when the candidate lists outgrow their
  * capacity. PLUME_EINVAL (message in err) on NULL b/x/out, non-finite coordinates (naming the
  * vertex) or a negative or non-finite dhat; PLUME_ENOMEM; PLUME_EDEP if CGAL threw. On failure
@@ -96,19 +104,20 @@ PLUME_API void plume_contact_broad_triangles(const plume_contact_broad *b, plume
 PLUME_API plume_status plume_contact_broad_update(plume_contact_broad *b, const double *x, const double *x1,
                                                   double dhat, plume_contact_candidates *out, plume_err *err);
 
-/* Updates since create and their total wall time (benchmarks and reports); NULL-safe. */
+/** Updates since create and their total wall time (benchmarks and reports); NULL-safe. */
 PLUME_API void plume_contact_broad_stats(const plume_contact_broad *b, long *updates, double *seconds);
 
 /* --- Exact intersection audit ------------------------------------------------------------------ */
 
+/** The result of plume_contact_count_intersections. */
 typedef struct {
-    plume_index intersecting; /* pairs of triangles with no common vertex that intersect */
-    plume_index degenerate;   /* triangles with exactly collinear corners (zero area): tested as
+    plume_index intersecting; /**< pairs of triangles with no common vertex that intersect */
+    plume_index degenerate;   /**< triangles with exactly collinear corners (zero area): tested as
                                  the segment or point they are, and counted here */
-    double seconds;           /* wall time of the audit */
+    double seconds;           /**< wall time of the audit */
 } plume_contact_audit;
 
-/* Counts the pairs of triangles (tri [3*ntri] over x [3*nv]) that share no vertex and intersect,
+/** Counts the pairs of triangles (tri [3*ntri] over x [3*nv]) that share no vertex and intersect,
  * closed triangles, exact predicates (CGAL Epick): touching counts, a corner lying on another
  * triangle counts. Every body of a scene is one surface here (bodies share no vertex). Pairs that
  * share a vertex are never counted, even when a fold makes them cross elsewhere. Broad phase:

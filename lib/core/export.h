@@ -1,4 +1,5 @@
-/* plume: PLUME_API marks the functions of the public interface. The library is compiled with
+/** \file
+ * plume: PLUME_API marks the functions of the public interface. The library is compiled with
  * -fvisibility=hidden, so a function is exported from libplume.so only when its declaration in an
  * installed header carries PLUME_API; everything else (internal helpers that several files share)
  * stays inside the library, and the programs that use those helpers (the apps, the tests) link
@@ -6,6 +7,8 @@
 #ifndef PLUME_EXPORT_H
 #define PLUME_EXPORT_H
 
+/** Marks a public function: default visibility (exported from libplume.so) with GCC and clang,
+ * nothing elsewhere. */
 #if defined(__GNUC__) || defined(__clang__)
 #define PLUME_API __attribute__((visibility("default")))
 #else

@@ -1,4 +1,5 @@
-/* plume: the quadratic (6-node) planar membrane element — the material law of lib/core/membrane.h on
+/** \file
+ * plume: the quadratic (6-node) planar membrane element — the material law of lib/core/membrane.h on
  * straight-sided quadratic triangles, which do not lock when slender stiff strips bend in-plane. */
 #ifndef PLUME_MEMBRANE_P2_H
 #define PLUME_MEMBRANE_P2_H
@@ -11,7 +12,7 @@
 extern "C" {
 #endif
 
-/* Creates the quadratic (6-node) planar membrane term: the material law of lib/core/membrane.h on
+/** Creates the quadratic (6-node) planar membrane term: the material law of lib/core/membrane.h on
  * straight-sided quadratic triangles, integrated by the 6-point degree-4 rule (exact for the St
  * Venant–Kirchhoff part, whose density is quartic in the positions). X: [2 nnodes] reference
  * positions; tri6: [6 nt] node ids, corners v0 v1 v2 (counter-clockwise by convention; as in

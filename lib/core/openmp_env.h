@@ -1,4 +1,5 @@
-/* plume: serial OpenMP regions and one BLAS thread, for the Debian CHOLMOD build.
+/** \file
+ * plume: serial OpenMP regions and one BLAS thread, for the Debian CHOLMOD build.
  *
  * Why: CHOLMOD 5.12's supernodal factorisation opens OpenMP regions with a compiled-in
  * num_threads(4) (CHOLMOD_OMP_NUM_THREADS in cholmod_core.h) around loops that clear and scatter
@@ -18,7 +19,7 @@
 extern "C" {
 #endif
 
-/* Every OpenMP parallel region of the process runs on one thread from now on (OpenMP's
+/** Every OpenMP parallel region of the process runs on one thread from now on (OpenMP's
  * max-active-levels set to 0, omp_set_max_active_levels), unless the environment sets
  * OMP_MAX_ACTIVE_LEVELS or OMP_THREAD_LIMIT: the user's choice wins (OMP_MAX_ACTIVE_LEVELS=1 keeps
  * CHOLMOD's teams). OpenBLAS, when it is the BLAS, runs on one thread, unless the environment sets

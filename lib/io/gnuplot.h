@@ -1,4 +1,5 @@
-/* plume: running gnuplot on a script (charts and renders). */
+/** \file
+ * plume: running gnuplot on a script (charts and renders). */
 #ifndef PLUME_GNUPLOT_H
 #define PLUME_GNUPLOT_H
 
@@ -9,15 +10,15 @@
 extern "C" {
 #endif
 
-/* Runs `gnuplot script`, its output going to `log`. PLUME_EDEP with a message starting with
+/** Runs `gnuplot script`, its output going to `log`. PLUME_EDEP with a message starting with
  * `who` when gnuplot is missing ("install gnuplot-nox"), fails (its last output line) or dies. */
 PLUME_API plume_status plume_gnuplot_run(const char *script, const char *log, const char *who, plume_err *err);
 
-/* Copies gnuplot's output `src` to "<dst>.tmp.<pid>" and renames it over `dst`, so a failed or
+/** Copies gnuplot's output `src` to "<dst>.tmp.<pid>" and renames it over `dst`, so a failed or
  * interrupted write never leaves a truncated picture under the final name. */
 PLUME_API plume_status plume_gnuplot_install(const char *src, const char *dst, const char *who, plume_err *err);
 
-/* The last non-empty line of a gnuplot log (its error), into out (empty if none). */
+/** The last non-empty line of a gnuplot log (its error), into out (empty if none). */
 PLUME_API void plume_gnuplot_log_tail(const char *path, char *out, size_t len);
 
 #ifdef __cplusplus

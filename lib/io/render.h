@@ -1,4 +1,5 @@
-/* plume: a shaded picture of a triangle-mesh state as PNG through gnuplot, for a quick look at a
+/** \file
+ * plume: a shaded picture of a triangle-mesh state as PNG through gnuplot, for a quick look at a
  * frame without ParaView. */
 #ifndef PLUME_RENDER_H
 #define PLUME_RENDER_H
@@ -10,25 +11,29 @@
 extern "C" {
 #endif
 
+/** How plume_render_png draws: view, size, light and title. */
 typedef struct {
-    double rot_x, rot_z;  /* gnuplot view angles (degrees): rot_x in [0, 180], rot_z in [0, 360];
-                             default 60, 30 */
-    int width, height;    /* pixels; default 1000 x 800 */
-    double light[3];      /* direction the light comes from, in the camera frame (x right, y up,
+    double rot_x;         /**< gnuplot view angle about x (degrees), in [0, 180]; default 60 */
+    double rot_z;         /**< gnuplot view angle about z (degrees), in [0, 360]; default 30 */
+    int width;            /**< picture width (pixels); default 1000 */
+    int height;           /**< picture height (pixels); default 800 */
+    double light[3];      /**< direction the light comes from, in the camera frame (x right, y up,
                              z toward the viewer); default (-0.3, 0.5, 1) */
-    const char *title;    /* drawn above the picture; NULL for none */
-    const double *field;  /* [nt] a value per triangle to colour by (a perceptual blue-green-yellow
+    const char *title;    /**< drawn above the picture; NULL for none */
+    const double *field;  /**< [nt] a value per triangle to colour by (a perceptual blue-green-yellow
                              map, shaded by the light, with a colour bar); NaN draws the triangle
                              grey (kinematic bodies); NULL: colours by material */
-    const char *field_label; /* the colour bar's label; NULL for none */
-    double field_min, field_max; /* the colour bar's range; equal (default 0, 0): the 2nd to 98th
-                             percentile of the finite values, so that a few outliers (a crease) do
-                             not flatten the rest; values outside are drawn at the ends */
+    const char *field_label; /**< the colour bar's label; NULL for none */
+    double field_min;     /**< the colour bar's lower end; field_min == field_max (default 0, 0): the
+                             2nd to 98th percentile of the finite values, so that a few outliers (a
+                             crease) do not flatten the rest; values outside are drawn at the ends */
+    double field_max;     /**< the colour bar's upper end */
 } plume_render_opts;
 
+/** Fills o with the defaults above (title NULL). */
 PLUME_API void plume_render_opts_default(plume_render_opts *o);
 
-/* Draws the triangles of `mesh` at positions x (3 nv; NULL: mesh->x, z = 0 when planar) to
+/** Draws the triangles of `mesh` at positions x (3 nv; NULL: mesh->x, z = 0 when planar) to
  * png_path, flat-shaded: each triangle's colour is its material's (a fixed palette by material
  * id), or its field value's when o->field is set, scaled by |n . light| (two-sided), drawn back to front, with equal axis scales and the fixed
  * view of `o` (NULL: defaults). The picture is made in a private temporary directory and

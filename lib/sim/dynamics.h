@@ -1,4 +1,5 @@
-/* plume: implicit Euler as a constrained minimisation (docs/design.md "Dynamics", supplementary §3):
+/** \file
+ * plume: implicit Euler as a constrained minimisation (docs/design.md "Dynamics", supplementary §3):
  *   x_{n+1} = argmin 1/(2 dt^2) (x - x~)^T M (x - x~) + W(x) - f_ext^T x  s.t. g(x) = 0,
  *   x~ = x_n + dt v_n, v_{n+1} = (x_{n+1} - x_n) / dt, M lumped,
  * with gravity, handles that move prescribed vertices along keyframed paths, and a step that
@@ -19,33 +20,37 @@
 extern "C" {
 #endif
 
-/* A handle: vertices that follow a keyframed rigid motion (lib/core/rigid_motion.h) of their positions
+/** A handle: vertices that follow a keyframed rigid motion (lib/core/rigid_motion.h) of their positions
  * y at the stepper's creation: pivot + offset(t) + R(t) (y - pivot), offset piecewise linear and R
  * slerped between keyframes, both constant after the last. Without rotations a handle translates:
  * y + offset(t). Arrays owned by the caller; copied at creation. */
 typedef struct {
-    plume_index nvertices;
-    const plume_index *vertices;
-    int nkeys;
-    const double *times;     /* [nkeys], increasing, seconds */
-    const double *offsets;   /* [3 nkeys] translation of the handle at each key (m) */
-    const double *rotations; /* [3 nkeys] rotation vectors (axis times angle, radians) or NULL */
-    double pivot[3];         /* the rotations' centre at the creation positions (m) */
+    plume_index nvertices;       /**< number of vertices the handle moves */
+    const plume_index *vertices; /**< [nvertices] their ids (prescribed by the stepper) */
+    int nkeys;                   /**< number of keyframes (>= 1) */
+    const double *times;     /**< [nkeys], increasing, seconds */
+    const double *offsets;   /**< [3 nkeys] translation of the handle at each key (m) */
+    const double *rotations; /**< [3 nkeys] rotation vectors (axis times angle, radians) or NULL */
+    double pivot[3];         /**< the rotations' centre at the creation positions (m) */
 } plume_handle;
 
+/** Options of the stepper (plume_dynamics_opts_default). */
 typedef struct {
-    double dt;               /* time step (s) */
-    double gravity[3];       /* m/s^2, e.g. (0, 0, -9.81) */
-    int max_halvings;        /* a failed step is halved at most this often; default 6 */
-    plume_solver_kind solver;
-    plume_solver_opts solver_opts;
+    double dt;               /**< time step (s); default 1e-2 */
+    double gravity[3];       /**< m/s^2; default (0, 0, -9.81) */
+    int max_halvings;        /**< a failed step is halved at most this often; default 6 */
+    plume_solver_kind solver;      /**< the backend of every step's solve; default newton */
+    plume_solver_opts solver_opts; /**< its options; default plume_solver_opts_default */
 } plume_dynamics_opts;
 
+/** Fills o with the defaults each field names. */
 PLUME_API void plume_dynamics_opts_default(plume_dynamics_opts *o);
 
+/** Opaque implicit-Euler stepper: the state (t, x, v, multipliers), the copied handles, the
+ * inertia term and the solver (plume_dynamics_create, freed by plume_dynamics_destroy). */
 typedef struct plume_dynamics plume_dynamics;
 
-/* Takes a shell-mode problem over mesh->nv vertices holding the elastic terms and constraints
+/** Takes a shell-mode problem over mesh->nv vertices holding the elastic terms and constraints
  * (not finalised), adds the inertia and gravity terms with the lumped masses of the per-triangle
  * surface densities (kg/m^2, indexed by material id), fixes the handles' vertices, finalises it
  * and creates the solver. The problem stays owned by the caller and must outlive the stepper.
@@ -53,39 +58,46 @@ typedef struct plume_dynamics plume_dynamics;
 PLUME_API plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, const double *density, int ndensity,
                                              const plume_handle *handles, int nhandles, const plume_dynamics_opts *o,
                                              plume_dynamics **out, plume_err *err);
+/** Frees the stepper, its solver and its copies of the handles (not the problem, which the caller
+ * owns); sets *d = NULL; NULL-safe. */
 PLUME_API void plume_dynamics_destroy(plume_dynamics **d);
 
-/* What happened in one call of plume_dynamics_advance. */
+/** What happened in one call of plume_dynamics_advance. */
 typedef struct {
-    int substeps;          /* implicit Euler steps taken (1 when nothing was halved) */
-    int halvings;          /* times a step was halved */
-    int iterations;        /* solver iterations over all substeps */
-    int backtracks, shifts; /* newton's line-search rejections and inertia shifts (plume_solve_report) */
-    int step_limited;      /* solver steps cut short by continuous collision detection (contact) */
-    double max_violation;  /* max relative constraint violation over the substeps */
-    int converged;         /* every substep converged */
-    plume_reason reason;   /* why the first attempt that failed stopped (CONVERGED if none failed) */
-    double seconds;
+    int substeps;          /**< implicit Euler steps taken (1 when nothing was halved) */
+    int halvings;          /**< times a step was halved */
+    int iterations;        /**< solver iterations over all substeps */
+    int backtracks;        /**< newton's line-search rejections (plume_solve_report) over all solves */
+    int shifts;            /**< newton's inertia shifts (plume_solve_report) over all solves */
+    int step_limited;      /**< solver steps cut short by continuous collision detection (contact) */
+    double max_violation;  /**< max relative constraint violation over the substeps */
+    int converged;         /**< every substep converged */
+    plume_reason reason;   /**< why the first attempt that failed stopped (CONVERGED if none failed) */
+    double seconds;        /**< wall time of the call */
 } plume_step_report;
 
-/* Advances the state by dt (opts.dt when dt <= 0): one implicit Euler step, halved recursively
+/** Advances the state by dt (opts.dt when dt <= 0): one implicit Euler step, halved recursively
  * on non-convergence up to max_halvings. Not converging at the smallest step is reported (state
  * left at the last converged substep), not an error; errors (a solver or contact failure, memory)
  * carry a message in err (NULL allowed). */
 PLUME_API plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep, plume_err *err);
 
-/* State access: time, positions (3 nv), velocities (3 nv) and the constraint multipliers of
- * the last step (*m of them); set restores a saved state (restart: with the multipliers too, the
- * continued run repeats the uninterrupted one exactly). lambda may be NULL (zero). set_state:
- * PLUME_EINVAL for a non-finite time, position or velocity, named in err (NULL allowed). */
+/** The time of the current state (s). */
 PLUME_API double plume_dynamics_time(const plume_dynamics *d);
+/** Positions of the current state (3 nv, m); the stepper's array, valid until it is destroyed. */
 PLUME_API const double *plume_dynamics_positions(const plume_dynamics *d);
+/** Velocities of the current state (3 nv, m/s); the stepper's array, valid until it is destroyed. */
 PLUME_API const double *plume_dynamics_velocities(const plume_dynamics *d);
+/** The constraint multipliers of the last step, *m of them (m may be NULL); the stepper's array. */
 PLUME_API const double *plume_dynamics_multipliers(const plume_dynamics *d, plume_index *m);
+/** Restores a saved state: time t, positions x and velocities v (3 nv each, copied) and the
+ * multipliers lambda (NULL: zero). With the multipliers too, a restarted run repeats the
+ * uninterrupted one exactly. PLUME_EINVAL for a non-finite time, position or velocity, named in
+ * err (NULL allowed); nothing changes then. */
 PLUME_API plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double *x, const double *v,
                                                 const double *lambda, plume_err *err);
 
-/* Lumped vertex masses (nv), for tests and energy checks. */
+/** Lumped vertex masses (nv, kg), for tests and energy checks; the stepper's array. */
 PLUME_API const double *plume_dynamics_masses(const plume_dynamics *d);
 
 #ifdef __cplusplus
