@@ -2,7 +2,9 @@
  * a flapping kinematic bone) with the barrier and continuous collision detection against the
  * paper's penalty (stiffness 1e11, Table 3 (b)), side by side: seconds per step, the shares of
  * broad phase (CGAL box intersection), narrow phase (pair energies), CCD and the rest (solver,
- * elastic terms, pattern rebuilds), contact pairs, and the exact audit's intersecting pairs. */
+ * elastic terms, pattern rebuilds), contact pairs, and the exact audit's intersecting pairs; then the
+ * barrier's time per Newton iteration split into evaluation, assembly, contact and the rest.
+ * bench_wing [SCENE [--barrier]]: --barrier runs the barrier alone (the penalty takes minutes). */
 #define _DEFAULT_SOURCE
 #include <limits.h>
 #include <math.h>
@@ -62,8 +64,9 @@ int main(int argc, char **argv)
     printf("\nplume bench (wing): %s, first %d steps, barrier + CCD against the paper's penalty\n", scene, STEPS);
     printf("%-8s %9s | %8s %8s %8s %7s %6s | %6s %6s %6s %6s | %6s %9s %11s | %s\n", "model", "elements", "s/frame", "s/step", "it/step",
            "halved", "limit", "broad", "narrow", "ccd", "rest", "pairs", "intersect", "min gap", "vs barrier");
-    double t_barrier = NAN;
-    for (int k = 0; k < 2; k++) {
+    double t_barrier = NAN, split[6] = {NAN, NAN, NAN, NAN, NAN, NAN}, split_hessians = NAN;
+    const int nmodels = argc > 2 && !strcmp(argv[2], "--barrier") ? 1 : 2; /* profiling: the barrier alone */
+    for (int k = 0; k < nmodels; k++) {
         char path[256];
         plume_err err = {{0}};
         plume_scene *s = NULL;
@@ -112,8 +115,18 @@ int main(int argc, char **argv)
         plume_contact_stats cs;
         plume_contact_term_stats(c, &cs);
         double per = seconds / steps, rest = seconds - cs.broad_seconds - cs.narrow_seconds - cs.ccd_seconds;
-        if (k == 0)
+        if (k == 0) {
             t_barrier = per;
+            plume_problem_timing pt;
+            plume_problem_timing_get(p, &pt);
+            split[0] = seconds / iterations;
+            split[1] = (pt.objective_seconds + pt.constraint_seconds) / iterations;
+            split[2] = pt.hessian_eval_seconds / iterations;
+            split[3] = pt.hessian_scatter_seconds / iterations;
+            split[4] = (cs.broad_seconds + cs.ccd_seconds) / iterations;
+            split[5] = split[0] - split[1] - split[2] - split[3] - split[4];
+            split_hessians = (double)pt.hessian_calls / iterations;
+        }
         printf("%-8s %9ld | %8.3f %8.3f %8.1f %7d %6d | %5.1f%% %5.1f%% %5.1f%% %5.1f%% | %6ld %4ld/%-4d %9.2e m | %.2fx%s\n",
                models[k], (long)s->mesh->nt, per * s->output_every, per, (double)iterations / steps, halvings, limited,
                100 * cs.broad_seconds / seconds, 100 * cs.narrow_seconds / seconds, 100 * cs.ccd_seconds / seconds,
@@ -129,5 +142,9 @@ int main(int argc, char **argv)
     }
     printf("(s/frame: s/step times the scene's output_every; pairs: most contact stencils of an update; intersect: steps with an intersecting triangle pair, CGAL exact "
            "audit, self-intersections included; min gap: smallest distance between primitives of different bodies)\n");
+    printf("\nbarrier, per Newton iteration (ms): total | energy+gradient+constraints | Hessian blocks | scatter | broad phase+CCD | rest "
+           "(factorisation, solves, pattern rebuilds) | Hessians assembled per iteration\n");
+    printf("%8.2f | %8.2f | %8.2f | %8.2f | %8.2f | %8.2f | %.2f\n", 1e3 * split[0], 1e3 * split[1], 1e3 * split[2],
+           1e3 * split[3], 1e3 * split[4], 1e3 * split[5], split_hessians);
     return 0;
 }
