@@ -49,6 +49,8 @@ typedef struct {
                                would be pushed apart from the first step, so their barrier acts
                                only within half their rest distance (CCD still applies) */
     double broad_seconds, narrow_seconds, ccd_seconds; /* broad phase, pair energies, CCD */
+    long broad_updates, broad_searches; /* broad-phase queries (stencil updates and CCD) and, of those,
+                                           the ones that searched anew (plume_contact_broad_opts.reuse) */
 } plume_contact_stats;
 
 typedef struct plume_contact plume_contact;

@@ -116,8 +116,9 @@ PLUME_API plume_status plume_problem_max_step(plume_problem *p, const double *u,
  * the current x: e.g. the handles' move at the start of a time step. */
 PLUME_API plume_status plume_problem_max_motion(plume_problem *p, const double *dx, double *alpha);
 
-/* Where a problem's evaluations spent their time since create (wall seconds; benchmarks and
- * profiles). Evaluations inside terms (a contact term's narrow phase) count where they are called. */
+/* Where a problem's evaluations spent their time since create (CPU seconds of the calling thread,
+ * which other processes on the machine do not inflate; benchmarks and profiles). Evaluations
+ * inside terms (a contact term's narrow phase) count where they are called. */
 typedef struct {
     long objective_calls;           /* energy, with or without its gradient (objective, residuals, forces) */
     double objective_seconds;
