@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <jansson.h>
@@ -41,9 +42,130 @@ static int variant(const char *scene, double edge, const char *solver, char *out
     return rc;
 }
 
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The feather at 44.7k elements: what one Newton iteration costs, its parts measured one by one at
+ * the start state (best of 3), and the first steps' time per iteration split by the problem's
+ * counters (the rest is the factorisations, the solves and the line search). */
+static void large_feather(const char *scene, int steps)
+{
+    plume_err err = {{0}};
+    plume_scene *s = NULL;
+    plume_problem *p = NULL;
+    plume_dynamics *d = NULL;
+    plume_chol *chol = NULL;
+    double *u = NULL, *grad = NULL, *values = NULL, *g = NULL, *jv = NULL, *lambda = NULL, *sol = NULL;
+    printf("\nplume bench (feather, one iteration): %s\n", scene);
+    if (plume_scene_load(scene, &s, &err) != PLUME_OK || plume_scene_dynamics(s, &p, &d, &err) != PLUME_OK) {
+        printf("setup failed: %s\n", err.msg);
+        goto done;
+    }
+    const plume_index n = plume_problem_nfree(p), m = plume_problem_ncons(p);
+    plume_sparsity hp = plume_problem_hessian_pattern(p);
+    plume_index jnnz;
+    const plume_index *jr, *jc;
+    plume_problem_jacobian_pattern(p, &jnnz, &jr, &jc);
+    u = malloc((size_t)n * sizeof *u);
+    grad = malloc((size_t)n * sizeof *grad);
+    sol = malloc((size_t)n * sizeof *sol);
+    values = malloc((size_t)hp.nnz * sizeof *values);
+    g = malloc((size_t)(m + 1) * sizeof *g);
+    jv = malloc((size_t)(jnnz + 1) * sizeof *jv);
+    lambda = calloc((size_t)m + 1, sizeof *lambda);
+    if (!u || !grad || !sol || !values || !g || !jv || !lambda)
+        goto done;
+    plume_problem_gather(p, u);
+    double best[6] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY}, f, t0;
+    double analyse = cpu_seconds();
+    if (plume_chol_create(n, hp.colptr, hp.rowind, 0, &chol, &err) != PLUME_OK) {
+        printf("analysis failed: %s\n", err.msg);
+        goto done;
+    }
+    analyse = cpu_seconds() - analyse;
+    for (int r = 0; r < 3; r++) {
+        plume_problem_timing a, b;
+        t0 = cpu_seconds();
+        plume_problem_objective(p, u, &f, grad);
+        best[0] = fmin(best[0], cpu_seconds() - t0);
+        t0 = cpu_seconds();
+        plume_problem_constraints(p, u, g, NULL);
+        plume_problem_jacobian(p, u, jv);
+        best[1] = fmin(best[1], cpu_seconds() - t0);
+        plume_problem_timing_get(p, &a);
+        plume_problem_hessian(p, u, 1.0, lambda, PLUME_HESSIAN_EXACT, values);
+        plume_problem_timing_get(p, &b);
+        best[2] = fmin(best[2], b.hessian_eval_seconds - a.hessian_eval_seconds);
+        best[3] = fmin(best[3], b.hessian_scatter_seconds - a.hessian_scatter_seconds);
+        double shift = 0.0, hmax = 0.0;
+        for (plume_index c = 0; c < n; c++)
+            hmax = fmax(hmax, fabs(values[hp.colptr[c + 1] - 1]));
+        t0 = cpu_seconds();
+        while (plume_chol_factor(chol, values, shift) == PLUME_ESINGULAR && shift < hmax)
+            shift = shift > 0.0 ? 10.0 * shift : 1e-8 * hmax;
+        best[4] = fmin(best[4], cpu_seconds() - t0);
+        t0 = cpu_seconds();
+        plume_chol_solve(chol, grad, sol);
+        best[5] = fmin(best[5], cpu_seconds() - t0);
+    }
+    printf("%ld elements, %ld unknowns, %ld constraints, %ld Hessian entries (upper); CPU ms, best of 3:\n",
+           (long)s->mesh->nt, (long)n, (long)m, (long)hp.nnz);
+    printf("%12s %12s %12s %12s %12s %12s | %12s\n", "energy+grad", "constraints", "Hessian blk", "scatter",
+           "factorise", "solve", "analysis");
+    printf("%12.1f %12.1f %12.1f %12.1f %12.1f %12.1f | %12.1f\n", 1e3 * best[0], 1e3 * best[1], 1e3 * best[2],
+           1e3 * best[3], 1e3 * best[4], 1e3 * best[5], 1e3 * analyse);
+    printf("evaluation + assembly against one factorisation: %.2f\n",
+           (best[0] + best[1] + best[2] + best[3]) / best[4]);
+
+    plume_problem_timing t0s, t1s;
+    plume_problem_timing_get(p, &t0s);
+    int iterations = 0, k = 0;
+    double seconds = 0.0, cpu = cpu_seconds();
+    for (; k < steps; k++) {
+        plume_step_report rep;
+        if (plume_dynamics_advance(d, 0.0, &rep, &err) != PLUME_OK || !rep.converged) {
+            printf("step %d failed: %s\n", k, err.msg);
+            break;
+        }
+        iterations += rep.iterations, seconds += rep.seconds;
+    }
+    cpu = cpu_seconds() - cpu;
+    plume_problem_timing_get(p, &t1s);
+    if (iterations > 0) {
+        double ev = (t1s.objective_seconds - t0s.objective_seconds + t1s.constraint_seconds - t0s.constraint_seconds);
+        double he = t1s.hessian_eval_seconds - t0s.hessian_eval_seconds;
+        double sc = t1s.hessian_scatter_seconds - t0s.hessian_scatter_seconds;
+        printf("first %d steps, %d Newton iterations: s/iteration wall %.3f (CPU %.3f) = energy+gradient+constraints "
+               "%.3f + Hessian blocks %.3f + scatter %.3f + rest (factorisations, solves) %.3f; Hessians per "
+               "iteration %.2f\n",
+               k, iterations, seconds / iterations, cpu / iterations, ev / iterations, he / iterations, sc / iterations,
+               (seconds - ev - he - sc) / iterations, (double)(t1s.hessian_calls - t0s.hessian_calls) / iterations);
+    }
+done:
+    plume_chol_destroy(&chol);
+    free(u);
+    free(grad);
+    free(sol);
+    free(values);
+    free(g);
+    free(jv);
+    free(lambda);
+    plume_dynamics_destroy(&d);
+    plume_problem_destroy(&p);
+    plume_scene_destroy(&s);
+}
+
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
+    if (argc > 1 && !strcmp(argv[1], "--large")) { /* bench_feather --large [SCENE [STEPS]]: that part alone */
+        large_feather(argc > 2 ? argv[2] : "data/feather/scene_anisotropic_0.625mm.json", argc > 3 ? atoi(argv[3]) : 1);
+        return 0;
+    }
     const char *scene = argc > 1 ? argv[1] : "data/feather/scene_anisotropic.json";
     const double edges[2] = {5e-3, 3.5e-3};
     const char *solvers[3] = {"newton", "ipopt", "linearized"};
@@ -88,5 +210,6 @@ int main(int argc, char **argv)
             unlink(path);
         }
     }
+    large_feather("data/feather/scene_anisotropic_0.625mm.json", 1);
     return 0;
 }

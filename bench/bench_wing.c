@@ -2,13 +2,16 @@
  * a flapping kinematic bone) with the barrier and continuous collision detection against the
  * paper's penalty (stiffness 1e11, Table 3 (b)), side by side: seconds per step, the shares of
  * broad phase (CGAL box intersection), narrow phase (pair energies), CCD and the rest (solver,
- * elastic terms, pattern rebuilds), contact pairs, and the exact audit's intersecting pairs. */
+ * elastic terms, pattern rebuilds), contact pairs, and the exact audit's intersecting pairs; then the
+ * barrier's time per Newton iteration split into evaluation, assembly, contact and the rest.
+ * bench_wing [SCENE [--barrier]]: --barrier runs the barrier alone (the penalty takes minutes). */
 #define _DEFAULT_SOURCE
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <jansson.h>
@@ -53,6 +56,13 @@ static int variant(const char *scene, const char *model, double stiffness, char 
     return rc;
 }
 
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 int main(int argc, char **argv)
 {
     plume_openmp_serial();
@@ -62,8 +72,10 @@ int main(int argc, char **argv)
     printf("\nplume bench (wing): %s, first %d steps, barrier + CCD against the paper's penalty\n", scene, STEPS);
     printf("%-8s %9s | %8s %8s %8s %7s %6s | %6s %6s %6s %6s | %6s %9s %11s | %s\n", "model", "elements", "s/frame", "s/step", "it/step",
            "halved", "limit", "broad", "narrow", "ccd", "rest", "pairs", "intersect", "min gap", "vs barrier");
-    double t_barrier = NAN;
-    for (int k = 0; k < 2; k++) {
+    double t_barrier = NAN, split[6] = {NAN, NAN, NAN, NAN, NAN, NAN}, split_hessians = NAN;
+    long broad_queries = 0, broad_searches = 0;
+    const int nmodels = argc > 2 && !strcmp(argv[2], "--barrier") ? 1 : 2; /* profiling: the barrier alone */
+    for (int k = 0; k < nmodels; k++) {
         char path[256];
         plume_err err = {{0}};
         plume_scene *s = NULL;
@@ -88,12 +100,14 @@ int main(int argc, char **argv)
         }
         int iterations = 0, halvings = 0, limited = 0, steps = 0, ok = 1;
         long intersecting = 0, max_pairs = 0;
-        double seconds = 0.0, dmin = INFINITY;
+        double seconds = 0.0, dmin = INFINITY, cpu = 0.0;
         plume_contact_pairs pairs = {0};
         for (; steps < STEPS && ok; steps++) {
             plume_step_report rep;
+            const double c0 = cpu_seconds();
             if (plume_dynamics_advance(d, 0.0, &rep, NULL) != PLUME_OK)
                 break;
+            cpu += cpu_seconds() - c0;
             iterations += rep.iterations, halvings += rep.halvings, seconds += rep.seconds, limited += rep.step_limited;
             ok = rep.converged;
             plume_contact_stats cs;
@@ -112,8 +126,19 @@ int main(int argc, char **argv)
         plume_contact_stats cs;
         plume_contact_term_stats(c, &cs);
         double per = seconds / steps, rest = seconds - cs.broad_seconds - cs.narrow_seconds - cs.ccd_seconds;
-        if (k == 0)
+        if (k == 0) {
             t_barrier = per;
+            plume_problem_timing pt;
+            plume_problem_timing_get(p, &pt);
+            split[0] = cpu / iterations;
+            split[1] = (pt.objective_seconds + pt.constraint_seconds) / iterations;
+            split[2] = pt.hessian_eval_seconds / iterations;
+            split[3] = pt.hessian_scatter_seconds / iterations;
+            split[4] = (cs.broad_seconds + cs.ccd_seconds) / iterations;
+            split[5] = split[0] - split[1] - split[2] - split[3] - split[4];
+            split_hessians = (double)pt.hessian_calls / iterations;
+            broad_queries = cs.broad_updates, broad_searches = cs.broad_searches;
+        }
         printf("%-8s %9ld | %8.3f %8.3f %8.1f %7d %6d | %5.1f%% %5.1f%% %5.1f%% %5.1f%% | %6ld %4ld/%-4d %9.2e m | %.2fx%s\n",
                models[k], (long)s->mesh->nt, per * s->output_every, per, (double)iterations / steps, halvings, limited,
                100 * cs.broad_seconds / seconds, 100 * cs.narrow_seconds / seconds, 100 * cs.ccd_seconds / seconds,
@@ -129,5 +154,10 @@ int main(int argc, char **argv)
     }
     printf("(s/frame: s/step times the scene's output_every; pairs: most contact stencils of an update; intersect: steps with an intersecting triangle pair, CGAL exact "
            "audit, self-intersections included; min gap: smallest distance between primitives of different bodies)\n");
+    printf("\nbarrier, per Newton iteration (CPU ms; broad phase + CCD: wall): total | energy+gradient+constraints | Hessian blocks | "
+           "scatter | broad phase+CCD | rest (factorisation, solves, pattern rebuilds) | Hessians assembled per iteration | "
+           "broad-phase searches / queries\n");
+    printf("%8.2f | %8.2f | %8.2f | %8.2f | %8.2f | %8.2f | %.2f | %ld / %ld\n", 1e3 * split[0], 1e3 * split[1],
+           1e3 * split[2], 1e3 * split[3], 1e3 * split[4], 1e3 * split[5], split_hessians, broad_searches, broad_queries);
     return 0;
 }

@@ -563,6 +563,63 @@ void test_contact_cgal_candidates_reuse(void)
     free_two_grids(&g);
 }
 
+/* With opts.reuse the handle answers from the pairs kept at a reference placement while the
+ * vertices stay within their reach: every answer must be the fresh search's, pair for pair and in
+ * its order, through drifts, sweeps of every size (a vertex-dependent share of a random motion, as
+ * a Newton step moves a feather's tip more than its root), alternating inflations, and jumps that
+ * force a new search. */
+void test_contact_cgal_candidates_kept_pairs(void)
+{
+    rng64 r = {0x5eedf00dULL};
+    plume_err err;
+    long queries = 0, searches = 0;
+    for (int self = 0; self <= 1; self++) {
+        two_grids g = make_two_grids(&r, 7, 0.04, 0.2, 0.01);
+        plume_contact_broad_opts o;
+        plume_contact_broad_opts_default(&o);
+        CHECK(o.reuse == 0);
+        o.self_contact = self;
+        plume_contact_broad *fresh = NULL, *kept = NULL;
+        CHECK(plume_contact_broad_create(g.nv, g.ntri, g.tri, g.body, &o, &fresh, &err) == PLUME_OK);
+        o.reuse = 1;
+        CHECK(plume_contact_broad_create(g.nv, g.ntri, g.tri, g.body, &o, &kept, &err) == PLUME_OK);
+        double *x1 = malloc(3 * (size_t)g.nv * sizeof *x1), *share = malloc((size_t)g.nv * sizeof *share);
+        for (plume_index v = 0; v < g.nv; v++)
+            share[v] = urand(&r);
+        long nonempty = 0;
+        for (int q = 0; q < 200; q++) {
+            const int swept = q % 3 != 0;
+            const double size = q % 37 == 36 ? 0.2 : pow(10.0, urange(&r, -9.0, -1.5)); /* now and then a jump */
+            for (plume_index i = 0; i < 3 * g.nv; i++)
+                x1[i] = g.x[i] + size * share[i / 3] * urange(&r, -1.0, 1.0);
+            const double dhat = swept ? 0.0 : 0.03;
+            plume_contact_candidates a, b;
+            CHECK(plume_contact_broad_update(fresh, g.x, swept ? x1 : NULL, dhat, &a, &err) == PLUME_OK);
+            CHECK(plume_contact_broad_update(kept, g.x, swept ? x1 : NULL, dhat, &b, &err) == PLUME_OK);
+            CHECK(a.nvt == b.nvt && a.nee == b.nee);
+            CHECK(a.nvt == b.nvt && (a.nvt == 0 || memcmp(a.vt, b.vt, (size_t)a.nvt * sizeof *a.vt) == 0));
+            CHECK(a.nee == b.nee && (a.nee == 0 || memcmp(a.ee, b.ee, (size_t)a.nee * sizeof *a.ee) == 0));
+            nonempty += a.nvt + a.nee > 0;
+            if (q % 2) /* the iterate moves along part of the swept motion */
+                for (plume_index i = 0; i < 3 * g.nv; i++)
+                    g.x[i] += urand(&r) * (x1[i] - g.x[i]);
+            queries++;
+        }
+        CHECK(nonempty > 100);
+        CHECK(plume_contact_broad_searches(fresh) == 200);
+        const long s = plume_contact_broad_searches(kept);
+        CHECK(s >= 5 && s < 100); /* the jumps search anew; most updates do not */
+        searches += s;
+        free(x1);
+        free(share);
+        plume_contact_broad_destroy(&fresh);
+        plume_contact_broad_destroy(&kept);
+        free_two_grids(&g);
+    }
+    CHECK(plume_contact_broad_searches(NULL) == 0);
+    fprintf(stderr, "    %ld updates answered as a fresh search would, %ld of them searched anew\n", queries, searches);
+}
+
 /* --- audit ------------------------------------------------------------------------------------------ */
 
 static plume_index audit(plume_index nv, const double *x, plume_index ntri, const plume_index *tri,

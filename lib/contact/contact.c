@@ -316,8 +316,11 @@ void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s)
     if (!s)
         return;
     memset(s, 0, sizeof *s);
-    if (c)
+    if (c) {
         *s = c->st;
+        plume_contact_broad_stats(c->broad, &s->broad_updates, NULL);
+        s->broad_searches = plume_contact_broad_searches(c->broad);
+    }
 }
 
 /* The pairs of one body within dhat of each other at rest (self contact only) get the
@@ -404,6 +407,7 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
     plume_contact_broad_opts bo;
     plume_contact_broad_opts_default(&bo);
     bo.self_contact = o->self_contact;
+    bo.reuse = 1; /* the stencil updates and every Newton step's CCD ask again as the bodies move a little */
     plume_status st = plume_contact_broad_create(nv, ntri, tri, body, &bo, &c->broad, err);
     if (st != PLUME_OK)
         goto fail;

@@ -55,6 +55,8 @@ typedef struct {
     double broad_seconds;   /**< wall time in the broad phase (stencil updates) */
     double narrow_seconds;  /**< wall time evaluating the pair energies */
     double ccd_seconds;     /**< wall time in continuous collision detection (step limits) */
+    long broad_updates;     /**< broad-phase queries (stencil updates and CCD) */
+    long broad_searches;    /**< of those, the ones that searched anew (plume_contact_broad_opts.reuse) */
 } plume_contact_stats;
 
 /** Opaque handle on a contact term's data, owned by the term (and so by the problem that holds

@@ -57,9 +57,15 @@ PLUME_API plume_status plume_contact_box_self_pairs(plume_index n, const double 
 typedef struct {
     int self_contact; /**< 1: every pair of non-adjacent primitives (within a body too);
                          0: only pairs of primitives of different bodies (needs body). Default 1. */
+    int reuse;        /**< 1: keep the pairs of boxes inflated by a reach R at a reference placement, and
+                         answer each update whose boxes fit in them (every vertex within R - r of
+                         its reference, r the update's inflation) by testing those pairs alone: the
+                         same candidates, in the same order, without a new search. For a handle
+                         queried again and again as a body moves a little (a contact term: the
+                         stencil updates and every Newton step's CCD). Default 0. */
 } plume_contact_broad_opts;
 
-/** Fills o with the defaults (self_contact 1). */
+/** Fills o with the defaults (self_contact 1, reuse 0). */
 PLUME_API void plume_contact_broad_opts_default(plume_contact_broad_opts *o);
 
 /** Opaque broad phase of one triangle surface: its topology, edges, box arrays and candidate lists,
@@ -106,6 +112,10 @@ PLUME_API plume_status plume_contact_broad_update(plume_contact_broad *b, const 
 
 /** Updates since create and their total wall time (benchmarks and reports); NULL-safe. */
 PLUME_API void plume_contact_broad_stats(const plume_contact_broad *b, long *updates, double *seconds);
+
+/** With reuse: how many of the updates ran a new box search (the others filtered the kept pairs);
+ * 0 when b is NULL. */
+PLUME_API long plume_contact_broad_searches(const plume_contact_broad *b);
 
 /* --- Exact intersection audit ------------------------------------------------------------------ */
 

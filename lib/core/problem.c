@@ -3,18 +3,29 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+/* Where the element blocks of a term go in the Hessian values: for stencil s, the entries
+ * start[s] .. start[s+1]-1 add block entry src[e] (row-major in the k x k block) to values[dst[e]].
+ * Only the entries that land in the upper triangle on free dofs are listed (about half of each
+ * block), in the block's row-major order, so the sums are those of a scan of the whole block. */
+typedef struct {
+    plume_index *start; /* [nstencil + 1] */
+    unsigned *src;      /* [start[nstencil]] */
+    plume_index *dst;   /* [start[nstencil]] */
+} scatter_map;
 
 /* A term or constraint set with its scatter maps into the free-dof structures. */
 typedef struct {
     plume_term t;
-    plume_index *hmap; /* [nstencil*k*k] position in the Hessian values or -1 */
+    scatter_map hmap;
     double *blocks;    /* [nstencil*k*k] workspace */
 } term_slot;
 
 typedef struct {
     plume_constraint c;
     plume_index *row;  /* [m] global constraint row or -1 (dropped: all of its dofs prescribed) */
-    plume_index *hmap; /* [m*k*k] */
+    scatter_map hmap;
     plume_index *jmap; /* [m*k] position in the Jacobian triplets or -1 */
     double *g, *jac, *lam, *blocks; /* workspaces [m], [m*k], [m], [m*k*k] */
 } cons_slot;
@@ -46,7 +57,35 @@ struct plume_problem {
     double force_scale;                /* max |grad f| over all dofs at the last gradient */
     double force_floor;                /* forces below this are round-off (set by finalize) */
     double *scale;                     /* [ncons] */
+    plume_problem_timing timing;
 };
+
+static void scatter_map_free(scatter_map *m)
+{
+    free(m->start);
+    free(m->src);
+    free(m->dst);
+    m->start = m->dst = NULL;
+    m->src = NULL;
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0)
+        return 0.0;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void plume_problem_timing_get(const plume_problem *p, plume_problem_timing *t)
+{
+    if (!t)
+        return;
+    if (p)
+        *t = p->timing;
+    else
+        memset(t, 0, sizeof *t);
+}
 
 plume_status plume_problem_create(plume_index nv, int dim, double length_scale, plume_problem **out)
 {
@@ -86,7 +125,7 @@ void plume_problem_destroy(plume_problem **pp)
     for (int i = 0; i < p->nterms; i++) {
         if (p->terms[i].t.destroy)
             p->terms[i].t.destroy(p->terms[i].t.ctx);
-        free(p->terms[i].hmap);
+        scatter_map_free(&p->terms[i].hmap);
         free(p->terms[i].blocks);
     }
     for (int i = 0; i < p->ncsets; i++) {
@@ -94,7 +133,7 @@ void plume_problem_destroy(plume_problem **pp)
         if (c->c.destroy)
             c->c.destroy(c->c.ctx);
         free(c->row);
-        free(c->hmap);
+        scatter_map_free(&c->hmap);
         free(c->jmap);
         free(c->g);
         free(c->jac);
@@ -221,16 +260,42 @@ static plume_index stencil_pairs(const plume_problem *p, const plume_index *st, 
     return n;
 }
 
-static void stencil_hmap(const plume_problem *p, const plume_index *st, int arity, plume_index *map)
+/* The scatter map of n stencils of `arity` vertices (stencils [n*arity]) on the current pattern.
+ * The listed entries are those stencil_pairs counts, in the same order. */
+static plume_status scatter_map_build(const plume_problem *p, const plume_index *stencils, int arity, plume_index n,
+                                      scatter_map *m)
 {
-    int d = p->dim, k = arity * d;
-    for (int a = 0; a < k; a++) {
-        plume_index fa = p->free_of_dof[st[a / d] * d + a % d];
-        for (int b = 0; b < k; b++) {
-            plume_index fb = p->free_of_dof[st[b / d] * d + b % d];
-            map[a * k + b] = (fa < 0 || fb < 0 || fa > fb) ? -1 : find_entry(p, fa, fb);
+    const int d = p->dim, k = arity * d;
+    m->start = malloc((size_t)(n + 1) * sizeof *m->start);
+    if (!m->start)
+        return PLUME_ENOMEM;
+    m->start[0] = 0;
+    for (plume_index s = 0; s < n; s++)
+        m->start[s + 1] = m->start[s] + stencil_pairs(p, stencils + s * arity, arity, NULL);
+    const plume_index ne = m->start[n];
+    m->src = malloc((size_t)(ne + 1) * sizeof *m->src);
+    m->dst = malloc((size_t)(ne + 1) * sizeof *m->dst);
+    if (!m->src || !m->dst) {
+        scatter_map_free(m);
+        return PLUME_ENOMEM;
+    }
+    for (plume_index s = 0; s < n; s++) {
+        const plume_index *st = stencils + s * arity;
+        plume_index e = m->start[s];
+        for (int a = 0; a < k; a++) {
+            plume_index fa = p->free_of_dof[st[a / d] * d + a % d];
+            if (fa < 0)
+                continue;
+            for (int b = 0; b < k; b++) {
+                plume_index fb = p->free_of_dof[st[b / d] * d + b % d];
+                if (fb < 0 || fa > fb)
+                    continue;
+                m->src[e] = (unsigned)(a * k + b);
+                m->dst[e++] = find_entry(p, fa, fb);
+            }
         }
     }
+    return PLUME_OK;
 }
 
 static int stencil_ok(const plume_problem *p, const plume_index *st, plume_index n)
@@ -256,12 +321,11 @@ static void release_structure(plume_problem *p, int keep_fixed)
     p->free_of_dof = p->dof_of_free = p->colptr = p->rowind = p->jrow = p->jcol = NULL;
     p->scale = NULL;
     for (int i = 0; i < p->nterms; i++) {
-        if (!keep_fixed || p->terms[i].t.update) {
-            free(p->terms[i].hmap);
-            p->terms[i].hmap = NULL;
+        if (!keep_fixed || p->terms[i].t.update) { /* a fixed term's blocks keep their size */
+            scatter_map_free(&p->terms[i].hmap);
+            free(p->terms[i].blocks);
+            p->terms[i].blocks = NULL;
         }
-        free(p->terms[i].blocks);
-        p->terms[i].blocks = NULL;
     }
     if (!keep_fixed) {
         free(p->smerged);
@@ -270,10 +334,8 @@ static void release_structure(plume_problem *p, int keep_fixed)
     for (int i = 0; i < p->ncsets; i++) {
         cons_slot *c = p->cons + i;
         free(c->row);
-        if (!keep_fixed) {
-            free(c->hmap);
-            c->hmap = NULL;
-        }
+        if (!keep_fixed)
+            scatter_map_free(&c->hmap);
         free(c->jmap);
         free(c->g);
         free(c->jac);
@@ -396,17 +458,13 @@ static plume_status move_fixed_maps(plume_problem *p, plume_index old_nnz, const
         term_slot *ts = p->terms + t;
         if (ts->t.update)
             continue;
-        size_t n = (size_t)ts->t.nstencil * (size_t)(ts->t.arity * p->dim) * (size_t)(ts->t.arity * p->dim);
-        for (size_t e = 0; e < n; e++)
-            if (ts->hmap[e] >= 0)
-                ts->hmap[e] = p->smerged[fixed_of[ts->hmap[e]]];
+        for (plume_index e = 0; e < ts->hmap.start[ts->t.nstencil]; e++)
+            ts->hmap.dst[e] = p->smerged[fixed_of[ts->hmap.dst[e]]];
     }
     for (int s = 0; s < p->ncsets; s++) {
         cons_slot *c = p->cons + s;
-        size_t k = (size_t)(c->c.arity * p->dim), n = (size_t)c->c.m * k * k;
-        for (size_t e = 0; e < n; e++)
-            if (c->hmap[e] >= 0)
-                c->hmap[e] = p->smerged[fixed_of[c->hmap[e]]];
+        for (plume_index e = 0; e < c->hmap.start[c->c.m]; e++)
+            c->hmap.dst[e] = p->smerged[fixed_of[c->hmap.dst[e]]];
     }
     free(fixed_of);
     return PLUME_OK;
@@ -471,10 +529,8 @@ static plume_status build_structure_with(plume_problem *p, int rebuild, plume_er
         c->lam = calloc((size_t)(c->c.m + 1), sizeof *c->lam);
         c->jac = calloc((size_t)(c->c.m * k + 1), sizeof *c->jac);
         c->blocks = calloc((size_t)(c->c.m * k * k + 1), sizeof *c->blocks);
-        if (!rebuild)
-            c->hmap = malloc((size_t)(c->c.m * k * k + 1) * sizeof *c->hmap);
         c->jmap = malloc((size_t)(c->c.m * k + 1) * sizeof *c->jmap);
-        if (!c->row || !c->g || !c->lam || !c->jac || !c->blocks || !c->hmap || !c->jmap) {
+        if (!c->row || !c->g || !c->lam || !c->jac || !c->blocks || !c->jmap) {
             st = PLUME_ENOMEM;
             goto cleanup;
         }
@@ -536,26 +592,25 @@ static plume_status build_structure_with(plume_problem *p, int rebuild, plume_er
         goto cleanup;
     for (int t = 0; t < p->nterms; t++) {
         term_slot *ts = p->terms + t;
-        const int kept = rebuild && !ts->t.update;
+        if (rebuild && !ts->t.update)
+            continue; /* kept, its map moved */
         size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
-        if (!kept)
-            ts->hmap = malloc(((size_t)ts->t.nstencil * kk + 1) * sizeof *ts->hmap);
         ts->blocks = malloc(((size_t)ts->t.nstencil * kk + 1) * sizeof *ts->blocks);
-        if (!ts->hmap || !ts->blocks) {
+        if (!ts->blocks || scatter_map_build(p, ts->t.stencil, ts->t.arity, ts->t.nstencil, &ts->hmap) != PLUME_OK) {
             st = PLUME_ENOMEM;
             goto cleanup;
         }
-        for (plume_index s = 0; !kept && s < ts->t.nstencil; s++)
-            stencil_hmap(p, ts->t.stencil + s * ts->t.arity, ts->t.arity, ts->hmap + s * kk);
     }
     /* Jacobian triplets */
     p->jnnz = 0;
     for (int s = 0; s < p->ncsets; s++) {
         cons_slot *c = p->cons + s;
         int k = c->c.arity * d;
+        if (!rebuild && scatter_map_build(p, c->c.stencil, c->c.arity, c->c.m, &c->hmap) != PLUME_OK) {
+            st = PLUME_ENOMEM;
+            goto cleanup;
+        }
         for (plume_index i = 0; i < c->c.m; i++) {
-            if (!rebuild)
-                stencil_hmap(p, c->c.stencil + i * c->c.arity, c->c.arity, c->hmap + i * k * k);
             for (int a = 0; a < k; a++)
                 p->jnnz += c->row[i] >= 0 && p->free_of_dof[c->c.stencil[i * c->c.arity + a / d] * d + a % d] >= 0;
         }
@@ -729,17 +784,22 @@ void plume_problem_scatter(plume_problem *p, const double *u)
 /* grad f over all dofs into p->gradfull; *f total energy */
 static plume_status full_gradient(plume_problem *p, double *f)
 {
+    const double t0 = now();
     memset(p->gradfull, 0, (size_t)p->ndof * sizeof *p->gradfull);
     *f = 0.0;
+    p->timing.objective_calls++;
     for (int t = 0; t < p->nterms; t++) {
         plume_status st = p->terms[t].t.eval(p->terms[t].t.ctx, p->dim, p->x, f, p->gradfull, NULL, 0);
-        if (st != PLUME_OK)
+        if (st != PLUME_OK) {
+            p->timing.objective_seconds += now() - t0;
             return st;
+        }
     }
     double s = 0.0;
     for (plume_index i = 0; i < p->ndof; i++)
         s = fmax(s, fabs(p->gradfull[i]));
     p->force_scale = s;
+    p->timing.objective_seconds += now() - t0;
     return PLUME_OK;
 }
 
@@ -749,13 +809,14 @@ plume_status plume_problem_objective(plume_problem *p, const double *u, double *
         return PLUME_EINVAL;
     plume_problem_scatter(p, u);
     if (!grad) {
+        const double t0 = now();
+        plume_status st = PLUME_OK;
         *f = 0.0;
-        for (int t = 0; t < p->nterms; t++) {
-            plume_status st = p->terms[t].t.eval(p->terms[t].t.ctx, p->dim, p->x, f, NULL, NULL, 0);
-            if (st != PLUME_OK)
-                return st;
-        }
-        return PLUME_OK;
+        p->timing.objective_calls++;
+        for (int t = 0; t < p->nterms && st == PLUME_OK; t++)
+            st = p->terms[t].t.eval(p->terms[t].t.ctx, p->dim, p->x, f, NULL, NULL, 0);
+        p->timing.objective_seconds += now() - t0;
+        return st;
     }
     plume_status st = full_gradient(p, f);
     if (st != PLUME_OK)
@@ -771,11 +832,16 @@ plume_sparsity plume_problem_hessian_pattern(const plume_problem *p)
     return s;
 }
 
-static void scatter_blocks(double *values, const plume_index *map, const double *blocks, size_t n, double w)
+static void scatter_blocks(double *values, const scatter_map *m, plume_index n, const double *blocks, size_t kk,
+                           double w)
 {
-    for (size_t i = 0; i < n; i++)
-        if (map[i] >= 0)
-            values[map[i]] += w * blocks[i];
+    const unsigned *src = m->src;
+    const plume_index *dst = m->dst;
+    for (plume_index s = 0; s < n; s++) {
+        const double *b = blocks + (size_t)s * kk;
+        for (plume_index e = m->start[s], ee = m->start[s + 1]; e < ee; e++)
+            values[dst[e]] += w * b[src[e]];
+    }
 }
 
 int plume_problem_has_partial_projection(const plume_problem *p)
@@ -797,16 +863,22 @@ plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj
     if (!p || !p->finalized || !values)
         return PLUME_EINVAL;
     plume_problem_scatter(p, u);
+    p->timing.hessian_calls++;
+    double t0 = now(), t1;
     memset(values, 0, (size_t)p->nnz * sizeof *values);
     int d = p->dim;
     for (int t = 0; t < p->nterms; t++) {
         term_slot *ts = p->terms + t;
         int pj = project == PLUME_HESSIAN_PARTIAL ? ts->t.partial_projection : project != 0;
         plume_status st = ts->t.eval(ts->t.ctx, d, p->x, NULL, NULL, ts->blocks, pj);
+        t1 = now();
+        p->timing.hessian_eval_seconds += t1 - t0;
         if (st != PLUME_OK)
             return st;
         size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
-        scatter_blocks(values, ts->hmap, ts->blocks, (size_t)ts->t.nstencil * kk, obj_factor);
+        scatter_blocks(values, &ts->hmap, ts->t.nstencil, ts->blocks, kk, obj_factor);
+        t0 = now();
+        p->timing.hessian_scatter_seconds += t0 - t1;
     }
     if (!lambda)
         return PLUME_OK;
@@ -816,10 +888,14 @@ plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj
             c->lam[i] = c->row[i] >= 0 ? lambda[c->row[i]] : 0.0;
         int pj = project == PLUME_HESSIAN_PARTIAL ? c->c.partial_projection : project != 0;
         plume_status st = c->c.hess(c->c.ctx, d, p->x, c->lam, c->blocks, pj);
+        t1 = now();
+        p->timing.hessian_eval_seconds += t1 - t0;
         if (st != PLUME_OK)
             return st;
         size_t kk = (size_t)(c->c.arity * d) * (size_t)(c->c.arity * d);
-        scatter_blocks(values, c->hmap, c->blocks, (size_t)c->c.m * kk, 1.0);
+        scatter_blocks(values, &c->hmap, c->c.m, c->blocks, kk, 1.0);
+        t0 = now();
+        p->timing.hessian_scatter_seconds += t0 - t1;
     }
     return PLUME_OK;
 }
@@ -830,11 +906,15 @@ plume_status plume_problem_constraints(plume_problem *p, const double *u, double
         return PLUME_EINVAL;
     plume_problem_scatter(p, u);
     double mx = 0.0;
+    const double t0 = now();
+    p->timing.constraint_calls++;
     for (int s = 0; s < p->ncsets; s++) {
         cons_slot *c = p->cons + s;
         plume_status st = c->c.eval(c->c.ctx, p->dim, p->x, c->g, NULL);
-        if (st != PLUME_OK)
+        if (st != PLUME_OK) {
+            p->timing.constraint_seconds += now() - t0;
             return st;
+        }
         for (plume_index i = 0; i < c->c.m; i++) {
             if (c->row[i] < 0)
                 continue;
@@ -847,6 +927,7 @@ plume_status plume_problem_constraints(plume_problem *p, const double *u, double
     }
     if (max_rel)
         *max_rel = mx;
+    p->timing.constraint_seconds += now() - t0;
     return PLUME_OK;
 }
 
@@ -863,17 +944,21 @@ plume_status plume_problem_jacobian(plume_problem *p, const double *u, double *v
     if (!p || !p->finalized || (!values && p->jnnz))
         return PLUME_EINVAL;
     plume_problem_scatter(p, u);
-    for (int s = 0; s < p->ncsets; s++) {
+    const double t0 = now();
+    p->timing.constraint_calls++;
+    plume_status st = PLUME_OK;
+    for (int s = 0; s < p->ncsets && st == PLUME_OK; s++) {
         cons_slot *c = p->cons + s;
-        plume_status st = c->c.eval(c->c.ctx, p->dim, p->x, c->g, c->jac);
+        st = c->c.eval(c->c.ctx, p->dim, p->x, c->g, c->jac);
         if (st != PLUME_OK)
-            return st;
+            break;
         plume_index n = c->c.m * c->c.arity * p->dim;
         for (plume_index i = 0; i < n; i++)
             if (c->jmap[i] >= 0)
                 values[c->jmap[i]] = c->jac[i];
     }
-    return PLUME_OK;
+    p->timing.constraint_seconds += now() - t0;
+    return st;
 }
 
 /* force[dof] += sum_c lambda_c dg_c/dx_dof over all dofs (prescribed included) */

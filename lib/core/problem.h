@@ -134,6 +134,22 @@ PLUME_API plume_status plume_problem_max_step(plume_problem *p, const double *u,
  * the current x: e.g., the handles' move at the start of a time step. */
 PLUME_API plume_status plume_problem_max_motion(plume_problem *p, const double *dx, double *alpha);
 
+/** Where a problem's evaluations spent their time since create (CPU seconds of the calling thread,
+ * which other processes on the machine do not inflate; benchmarks and profiles). Evaluations
+ * inside terms (a contact term's narrow phase) count where they are called. */
+typedef struct {
+    long objective_calls;           /**< energy, with or without its gradient (objective, residuals, forces) */
+    double objective_seconds;       /**< CPU seconds in those calls */
+    long hessian_calls;             /**< plume_problem_hessian calls */
+    double hessian_eval_seconds;    /**< CPU seconds in the terms' and constraints' element blocks */
+    double hessian_scatter_seconds; /**< CPU seconds adding the blocks into the sparse values */
+    long constraint_calls;          /**< constraint values and Jacobians */
+    double constraint_seconds;      /**< CPU seconds in those calls */
+} plume_problem_timing;
+
+/** Copies the counters into *t (zeroes when p is NULL). */
+PLUME_API void plume_problem_timing_get(const plume_problem *p, plume_problem_timing *t);
+
 /** Relative stationarity of the Lagrangian f + lambda.g at u, on the free dofs:
  * ||grad f + J^T lambda||_inf / max(force scale, ||grad f||_inf, ||J^T lambda||_inf), with the
  * force scale above (so a loaded body at equilibrium is measured against its reactions);
