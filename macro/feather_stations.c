@@ -140,34 +140,19 @@ double plume_fm_run_extent(const fm *f, int sigma, double s, double ds, int dir)
     return ok;
 }
 
-/* Stations of one side, sorted (malloc'ed *out, *n of them; [*r0, *r1] the rooted ones, those of
- * the strip run [s0, s1], which a corner station may extend to ext[0] <= s0 and ext[1] >= s1, the
- * extent of the strip's side inside the outline (plume_fm_run_extent)). A station whose barb meets
- * the outline exactly at an outline vertex is a corner station (docs/design.md, "Meshes that
- * respect the fibres": a barb line through every corner);
- * corners closer than CORNER_GAP ds to a kept station are dropped, and the others are spaced evenly
- * between consecutive kept ones, round(gap / ds) - 1 of them, so that the density stays ~1/ds.
- * Without corners the stations are k ds, kmin <= k <= kmax, as before. */
-plume_status plume_fm_stations(fm *f, int side, double ds, long kmin, long kmax, double s0, double s1,
-                               const double ext[2], double **out, long *n, long *r0, long *r1)
+/* The corner stations of one side, sorted (malloc'ed *out, *n of them): for each outline vertex a
+ * station whose barb crosses the outline exactly there, bracketed by the family sampled every ds/2
+ * (stations kmin ds to kmax ds) and at the ends ext of the strip's extent, then bisected. */
+static plume_status fm_corners(const fm *f, int side, double ds, long kmin, long kmax, const double ext[2],
+                               double **out, long *n)
 {
     plume_status st = PLUME_OK;
-    if (!f->in->corner_exact) { /* every ds, as before corner-exact stations */
-        long a = lround(s0 / ds), b = lround(s1 / ds);
-        if (!(*out = malloc((size_t)(kmax - kmin + 1) * sizeof **out)))
-            return PLUME_ENOMEM;
-        for (long k = kmin; k <= kmax; k++)
-            (*out)[k - kmin] = (double)k * ds;
-        *n = kmax - kmin + 1, *r0 = a - kmin, *r1 = b - kmin;
-        return PLUME_OK;
-    }
     long ns = 2 * (kmax - kmin) + 1 + 2;
-    ftrace *tr = malloc((size_t)ns * sizeof *tr), *ftf = NULL;
+    ftrace *tr = malloc((size_t)ns * sizeof *tr);
     double *ss = malloc((size_t)ns * sizeof *ss);
-    double *cs = NULL, *fixed = NULL, *sta = NULL;
     unsigned char *found = calloc((size_t)f->no, 1);
-    long nc = 0, ccap = 64, nf = 0, nsta = 0;
-    cs = malloc((size_t)ccap * sizeof *cs);
+    long nc = 0, ccap = 64;
+    double *cs = malloc((size_t)ccap * sizeof *cs);
     if (!tr || !ss || !found || !cs) {
         st = PLUME_ENOMEM;
         goto cleanup;
@@ -212,25 +197,40 @@ plume_status plume_fm_stations(fm *f, int side, double ds, long kmin, long kmax,
         }
     }
     qsort(cs, (size_t)nc, sizeof *cs, cmp_double);
-    /* the strip run's end stations, moved onto the outermost corner of the strip's extent near them */
+    *out = cs, cs = NULL;
+    *n = nc;
+cleanup:
+    free(tr);
+    free(ss);
+    free(found);
+    free(cs);
+    return st;
+}
+
+/* The kept stations (malloc'ed *out, sorted, *n of them): the strip run's ends [*s0, *s1], moved
+ * onto the outermost corner of the strip's extent near them, and the corners cs (nc, sorted) at
+ * least CORNER_GAP ds from every one kept before. */
+static plume_status fm_kept(const double *cs, long nc, double ds, const double ext[2], double *s0, double *s1,
+                            double **out, long *n)
+{
+    const double tol = 1e-9 * ds;
     for (long c = 0; c < nc; c++)
-        if (cs[c] >= ext[0] - tol && cs[c] < s0 + CORNER_GAP * ds) {
-            s0 = cs[c];
+        if (cs[c] >= ext[0] - tol && cs[c] < *s0 + CORNER_GAP * ds) {
+            *s0 = cs[c];
             break;
         }
     for (long c = nc - 1; c >= 0; c--)
-        if (cs[c] <= ext[1] + tol && cs[c] > s1 - CORNER_GAP * ds) {
-            s1 = cs[c];
+        if (cs[c] <= ext[1] + tol && cs[c] > *s1 - CORNER_GAP * ds) {
+            *s1 = cs[c];
             break;
         }
-    fixed = malloc((size_t)(nc + 2) * sizeof *fixed);
-    if (!fixed) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
-    fixed[nf++] = s0;
-    if (s1 > s0)
-        fixed[nf++] = s1;
+    double *fixed = malloc((size_t)(nc + 2) * sizeof *fixed);
+    if (!fixed)
+        return PLUME_ENOMEM;
+    long nf = 0;
+    fixed[nf++] = *s0;
+    if (*s1 > *s0)
+        fixed[nf++] = *s1;
     for (long c = 0; c < nc; c++) {
         int ok = 1;
         for (long q = 0; q < nf && ok; q++) /* tens of corners: a scan is enough */
@@ -239,14 +239,27 @@ plume_status plume_fm_stations(fm *f, int side, double ds, long kmin, long kmax,
             fixed[nf++] = cs[c];
     }
     qsort(fixed, (size_t)nf, sizeof *fixed, cmp_double);
-    if (!(ftf = malloc((size_t)nf * sizeof *ftf))) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
+    *out = fixed;
+    *n = nf;
+    return PLUME_OK;
+}
+
+/* All stations of one side (malloc'ed *out, *n of them) from the kept ones (nf, sorted, those in
+ * [s0, s1] rooted): below the first every ds down to kmin ds, between kept ones evenly, above the
+ * last every ds up to kmax ds. */
+static plume_status fm_spaced(const fm *f, int side, double ds, long kmin, long kmax, const double *fixed, long nf,
+                              double s0, double s1, double **out, long *n)
+{
+    plume_status st = PLUME_OK;
+    const double tol = 1e-9 * ds;
+    double *sta = NULL;
+    long nsta = 0;
+    ftrace *ftf = malloc((size_t)nf * sizeof *ftf);
+    if (!ftf)
+        return PLUME_ENOMEM;
     for (long q = 0; q < nf; q++)
         fm_trace(f, side, fixed[q], fixed[q] >= s0 && fixed[q] <= s1, ftf + q);
-    /* stations: below the first fixed one every ds, between fixed ones evenly, above every ds
-     * (counted in the first pass, stored in the second) */
+    /* counted in the first pass, stored in the second */
     double lo_end = (double)kmin * ds - tol, hi_end = (double)kmax * ds + tol;
     for (int pass = 0; pass < 2; pass++) {
         double carry = 0;
@@ -287,9 +300,42 @@ plume_status plume_fm_stations(fm *f, int side, double ds, long kmin, long kmax,
                 sta[nsta] = fixed[nf - 1] + (double)j * ds;
         if (pass == 0 && !(sta = malloc((size_t)nsta * sizeof *sta))) {
             st = PLUME_ENOMEM;
-            goto cleanup;
+            break;
         }
     }
+    free(ftf);
+    *out = sta;
+    *n = nsta;
+    return st;
+}
+
+/* Stations of one side, sorted (malloc'ed *out, *n of them; [*r0, *r1] the rooted ones, those of
+ * the strip run [s0, s1], which a corner station may extend to ext[0] <= s0 and ext[1] >= s1, the
+ * extent of the strip's side inside the outline (plume_fm_run_extent)). A station whose barb meets
+ * the outline exactly at an outline vertex is a corner station (docs/design.md, "Meshes that
+ * respect the fibres": a barb line through every corner); corners closer than CORNER_GAP ds to a
+ * kept station are dropped, and the others are spaced evenly between consecutive kept ones,
+ * round(gap / ds) - 1 of them, so that the density stays ~1/ds. Without corners the stations are
+ * k ds, kmin <= k <= kmax, as before. */
+plume_status plume_fm_stations(fm *f, int side, double ds, long kmin, long kmax, double s0, double s1,
+                               const double ext[2], double **out, long *n, long *r0, long *r1)
+{
+    if (!f->in->corner_exact) { /* every ds, as before corner-exact stations */
+        long a = lround(s0 / ds), b = lround(s1 / ds);
+        if (!(*out = malloc((size_t)(kmax - kmin + 1) * sizeof **out)))
+            return PLUME_ENOMEM;
+        for (long k = kmin; k <= kmax; k++)
+            (*out)[k - kmin] = (double)k * ds;
+        *n = kmax - kmin + 1, *r0 = a - kmin, *r1 = b - kmin;
+        return PLUME_OK;
+    }
+    double *cs = NULL, *fixed = NULL, *sta = NULL;
+    long nc = 0, nf = 0, nsta = 0;
+    plume_status st;
+    if ((st = fm_corners(f, side, ds, kmin, kmax, ext, &cs, &nc)) != PLUME_OK ||
+        (st = fm_kept(cs, nc, ds, ext, &s0, &s1, &fixed, &nf)) != PLUME_OK ||
+        (st = fm_spaced(f, side, ds, kmin, kmax, fixed, nf, s0, s1, &sta, &nsta)) != PLUME_OK)
+        goto cleanup;
     *r0 = *r1 = -1;
     for (long q = 0; q < nsta; q++)
         if (sta[q] >= s0 && sta[q] <= s1) {
@@ -300,12 +346,8 @@ plume_status plume_fm_stations(fm *f, int side, double ds, long kmin, long kmax,
     *out = sta, sta = NULL;
     *n = nsta;
 cleanup:
-    free(tr);
-    free(ss);
-    free(ftf);
     free(cs);
     free(fixed);
     free(sta);
-    free(found);
     return st;
 }
