@@ -1,5 +1,5 @@
-/* plume (private, not installed): small 2D geometry for the feather mesher (macro/feather_mesh.c)
- * and its helpers; static inline because the mesher calls them in its innermost loops. */
+/* plume (private, not installed): small 2D geometry for the feather mesher (macro/feather_*.c)
+ * and the OBJ outline reader; static inline because the mesher calls them in its innermost loops. */
 #ifndef PLUME_MACRO_INTERNAL_FEATHER_GEOM_H
 #define PLUME_MACRO_INTERNAL_FEATHER_GEOM_H
 
@@ -107,11 +107,5 @@ static inline double polygon_area(const double *p, plume_index n)
         s += p[2 * j] * p[2 * i + 1] - p[2 * i] * p[2 * j + 1];
     return 0.5 * s;
 }
-
-/* Validation of one input curve (feather_check.c): at least min_points points, finite, no
- * coincident neighbours, not self-intersecting (sweep over x); `closed` for the outline.
- * PLUME_EINVAL with a message naming `name` and the points, or PLUME_ENOMEM. */
-plume_status plume_feather_check_curve(const char *name, const plume_polyline *c, int closed, plume_index min_points,
-                                       plume_err *err);
 
 #endif
