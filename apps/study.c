@@ -1,4 +1,4 @@
-/* apps/study — measured studies of the macroscale traction model (issue 5): cost against error
+/* apps/study — measured studies of the macroscale traction model: cost against error
  * (supplementary Figure 2 as a Pareto chart), the three solvers on the same problems, the
  * sensitivity to +-10 % on E_yy and G_xy (supplementary section 10, Table 2, Figure 15), the
  * cheapest model each shipped scenario needs, where methods fail, and the micro model against its

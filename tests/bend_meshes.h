@@ -1,5 +1,5 @@
 /* Mesh families and the cylinder map shared by tests/test_shape_bending.c and
- * bench/bench_bending.c (bending that must not depend on the mesh, issue 8). Header-only,
+ * bench/bench_bending.c (bending that must not depend on the mesh). Header-only,
  * static functions; a patch Lx x Ly (in its own frame) triangulated five ways:
  *   BM_RIGHT        right-triangle grid, edges along x, y and a diagonal
  *   BM_RIGHT45      the same grid with the patch rotated 45 degrees

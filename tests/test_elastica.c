@@ -52,7 +52,7 @@ static double strip_deflection(double edge, double alpha, plume_index *nel)
     plume_problem *p = NULL;
     double defl = NAN;
     /* a quality Delaunay mesh: the material is isotropic, and hinge energies on the cocircular
-     * right-triangle rows of an aligned strip mesh drift softer under refinement (issue note) */
+     * right-triangle rows of an aligned strip mesh drift softer under refinement */
     if (plume_patch_mesh(w, L, 0.0, edge, PLUME_PATCH_UNALIGNED, 3, &mesh, &err) != PLUME_OK)
         return NAN;
     *nel = mesh->nt;

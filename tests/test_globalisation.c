@@ -1,4 +1,4 @@
-/* Tests of the native solver's globalisation and work per load step (issue 9): the filter line
+/* Tests of the native solver's globalisation and work per load step: the filter line
  * search and the l1 merit, with and without chord steps (reused factorisations), reach the same
  * equilibria as Ipopt, and the reports count what they claim. */
 #include <math.h>

@@ -1,4 +1,4 @@
-/* The micro model converged at its defaults (issue 23): linear triangles lock when a slender strip
+/* The micro model converged at its defaults: linear triangles lock when a slender strip
  * bends in-plane; quadratic ones do not. Asserted under refinement on the explicit-barbule cell
  * (re-entrant corners where barbules meet barbs: every order converges at about h^1.1 there) and on
  * traction specimens (the paper's Figure 10 strips, and explicit barbules). */

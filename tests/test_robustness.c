@@ -1,4 +1,4 @@
-/* Faults rehearsed (issue 12): inputs that are FIFOs or directories are refused, not read forever;
+/* Faults rehearsed: inputs that are FIFOs or directories are refused, not read forever;
  * a full disk during every kind of output (curves, moduli, frames, VTU series, charts) leaves the
  * previous file intact and the app exits non-zero naming it; kills at random moments leave every
  * output readable and a restart continues from the last committed frame; the library never calls

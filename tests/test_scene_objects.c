@@ -417,7 +417,7 @@ void test_scene_objects_obj_shells(void)
     CHECK(remove_dir(dir) == 0);
 }
 
-/* A contact scene that starts crossed (issue 24): a plate through a kinematic ground at rest, or a
+/* A contact scene that starts crossed: a plate through a kinematic ground at rest, or a
  * ground whose first keyframe (t = 0) lifts it through the plate, is refused before any step with a
  * message naming both bodies, instead of failing the first step's line search. */
 static plume_status start_run(const char *dir, const char *ground_key, double plate_z, plume_err *err)

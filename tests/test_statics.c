@@ -370,7 +370,7 @@ void test_statics_benchmarks(void)
         for (int q = 0; q < 2; q++) {
             double err[3];
             benchmark_series(files[f], patterns[q], 3, edges, err, NULL);
-            /* Within 1 % at every mesh and falling monotonically (issue 8). The clamp holds the
+            /* Within 1 % at every mesh and falling monotonically. The clamp holds the
              * slope on the clamp line itself (mirrored stencils), and the shared edge slopes pass
              * the patch test, so Delaunay meshes converge too (the own fit alone converged to a
              * tip 2.3 % too far on them; the second-row clamp shortened the strip by h/2). Grids
@@ -405,7 +405,7 @@ void test_statics_rollup(void)
     }
 }
 
-/* Buckling (issue 9): a cantilever strip under twice Euler's load with a 1 % perturbation leaves
+/* Buckling: a cantilever strip under twice Euler's load with a 1 % perturbation leaves
  * the straight branch for the elastica (tip turned by 124 degrees; reference by shooting on the
  * elastica ODE). newton and ipopt follow the same branch to the same tip, and the error falls
  * under refinement on grids and Delaunay meshes (grid 1.01 / 0.30 %, Delaunay 0.16 / 0.12 %; the

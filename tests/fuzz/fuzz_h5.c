@@ -2,7 +2,7 @@
  * datasets exist, with which types, ranks, sizes and values — and the harness writes that (valid)
  * HDF5 file and hands it to plume's readers: moduli, curves, frames (restart). Raw byte mutation of
  * HDF5 would mostly exercise libhdf5's own parser; what plume must survive is a well-formed file
- * with the wrong shapes, types or values (issue 12). */
+ * with the wrong shapes, types or values. */
 #include <hdf5.h>
 #include <math.h>
 
