@@ -41,13 +41,24 @@ typedef enum {
     PLUME_BEND_TWIST = 1     /* end torques about y: twist 2 k_xy */
 } plume_bend_load;
 
+/* How the end moments are applied. */
+typedef enum {
+    PLUME_BEND_EDGE_MOMENTS = 0, /* the uniform state's own boundary loads: the work of a uniform moment
+                                    on the shell's discrete curvatures, which lands on the ends (cylinder)
+                                    and the corners (twist); default */
+    PLUME_BEND_END_STRIPS = 1    /* forces over each end strip, linear in position (kept for comparison:
+                                    a strongly orthotropic plate turns their departure from the uniform
+                                    state into large transverse modes) */
+} plume_bend_loading;
+
 typedef struct {
     plume_bend_load load;
+    plume_bend_loading loading; /* default PLUME_BEND_EDGE_MOMENTS */
     double lx, ly;        /* specimen (m) */
     double moment;        /* final moment per unit width (N m / m): m_yy or m_xy; finite and > 0 (the
                              sign of a linear test carries no information) */
     int steps;            /* curve points after the rest state; default 3 */
-    double end_strip;     /* loaded strip at each end over ly; default 0.1 */
+    double end_strip;     /* PLUME_BEND_END_STRIPS: loaded strip at each end over ly; default 0.1 */
     double window;        /* fitted central window over each side; default 0.5 */
     double max_rotation;  /* largest |curvature| * max(lx, ly) accepted (rad); default 0.2 */
     plume_solver_kind solver;      /* default newton */
