@@ -148,21 +148,26 @@ void test_plate_bending_expected(void)
 }
 
 /* A strip layout (barbs 0.3 of the spacing, 1.5e-4 m thick; a matrix 20 times softer, 5e-5 m
- * thick) on a 10 x 20 mm specimen, resolved, against the homogeneous plate with the cell's D, the
- * same loads and the same fitted window, at barb spacings lx/2, lx/4, lx/8. The difference is the
- * size effect (boundary layers of width d_B at the free sides and the loaded ends) and falls as
- * d_B shrinks. Across the barbs (90 deg) the resolved specimen's own discretisation dominates
- * (docs/bending-homogenisation.md): that case is measured by apps/traction --bending, not here. */
+ * thick) on a 10 x 20 mm specimen, resolved (phase-aware stencils), against the homogeneous plate
+ * with the cell's D, the same edge moments and the same fitted window, at barb spacings lx/4,
+ * lx/8 and lx/16: bent along (0 deg), across (90 deg) and at 45 deg to the barbs, and twisted.
+ * The difference is the size effect and falls as d_B shrinks; the issue's bound, 2 % at the
+ * finest spacing, holds for the three cylinders (measured -0.05, -1.31, -0.10 %). The twist's
+ * corner layers decay over the specimen's length and fall more slowly (measured -53, -21, -6.6 %;
+ * docs/bending-homogenisation.md): asserted falling and below 8 % at lx/16. Element edge 0.7 of
+ * the barb width, twice the default: with phase-aware stencils the figures stay within 0.2 % of
+ * the default mesh's for the cylinders and 1 % for the twist (measured), at a quarter of the cost. */
 void test_plate_bending_both_scales(void)
 {
     const double lx = 0.01, ly = 0.02;
     plume_layout l;
     plume_layout_default(&l);
-    l.phi = 0.3, l.ratio = 0.05, l.h = 1e-4, l.h_barb = 1.5e-4, l.h_barbule = 5e-5, l.order = 1;
-    const plume_bend_load loads[2] = {PLUME_BEND_CYLINDER, PLUME_BEND_TWIST};
-    double diff[2][3];
+    l.phi = 0.3, l.ratio = 0.05, l.h = 1e-4, l.h_barb = 1.5e-4, l.h_barbule = 5e-5, l.order = 1, l.e_rel = 0.7;
+    const plume_bend_load loads[4] = {PLUME_BEND_CYLINDER, PLUME_BEND_CYLINDER, PLUME_BEND_CYLINDER, PLUME_BEND_TWIST};
+    const double angles[4] = {0.0, 45.0, 90.0, 0.0};
+    double diff[4][3];
     for (int is = 0; is < 3; is++) {
-        l.d_B = lx / (2 << is);
+        l.d_B = lx / (4 << is);
         plume_err err = {{0}};
         plume_cell *cell = NULL;
         double D[9];
@@ -174,30 +179,33 @@ void test_plate_bending_both_scales(void)
         plume_bending_material phases[2], hom = {D[0], D[4], D[8], D[1]};
         plume_plate_of_membrane(&mats[0], &phases[0]);
         plume_plate_of_membrane(&mats[1], &phases[1]);
-        for (int c = 0; c < 2; c++) {
+        for (int c = 0; c < 4; c++) {
             double moment, predicted;
-            CHECK(plume_bend_expected(D, 0.0, loads[c], 0.01, &moment, &predicted, &err) == PLUME_OK);
+            CHECK(plume_bend_expected(D, angles[c], loads[c], 0.01, &moment, &predicted, &err) == PLUME_OK);
             plume_mesh *planar = NULL, *mesh = NULL;
             plume_problem *p = NULL;
             double sm = NAN, sM = NAN;
-            if (plume_specimen_mesh(&l, lx, ly, 0.0, &planar, &err) == PLUME_OK &&
+            if (plume_specimen_mesh(&l, lx, ly, angles[c], &planar, &err) == PLUME_OK &&
                 plume_shell_specimen(planar, mats, phases, 2, &mesh, &p, &err) == PLUME_OK)
                 sm = bend_stiffness(mesh, p, loads[c], PLUME_BEND_EDGE_MOMENTS, lx, ly, moment, NULL);
             plume_problem_destroy(&p);
             plume_mesh_destroy(&mesh);
             plume_mesh_destroy(&planar);
-            if (plume_plate_specimen(lx, ly, 0.0, lx / 20, &mats[0], &hom, &mesh, &p, &err) == PLUME_OK)
+            if (plume_plate_specimen(lx, ly, angles[c], lx / 20, &mats[0], &hom, &mesh, &p, &err) == PLUME_OK)
                 sM = bend_stiffness(mesh, p, loads[c], PLUME_BEND_EDGE_MOMENTS, lx, ly, moment, NULL);
             plume_problem_destroy(&p);
             plume_mesh_destroy(&mesh);
+            CHECK_REL(sM, predicted, 1e-6, 0.0);
             diff[c][is] = fabs(sm / sM - 1.0);
-            fprintf(stderr, "    d_B = lx/%d, %s: micro %.5g, macro %.5g N m (%+.2f %%)\n", 2 << is,
-                    plume_bend_load_name(loads[c]), sm, sM, 100.0 * (sm / sM - 1.0));
+            fprintf(stderr, "    d_B = lx/%d, %s %2.0f deg: micro %.5g, macro %.5g N m (%+.2f %%)\n", 4 << is,
+                    plume_bend_load_name(loads[c]), angles[c], sm, sM, 100.0 * (sm / sM - 1.0));
         }
     }
-    for (int c = 0; c < 2; c++)
+    for (int c = 0; c < 4; c++)
         CHECK(diff[c][2] < diff[c][1] && diff[c][1] < diff[c][0]);
-    CHECK(diff[0][2] < 0.02);
+    for (int c = 0; c < 3; c++)
+        CHECK(diff[c][2] < 0.02);
+    CHECK(diff[3][2] < 0.08);
 }
 
 /* Fitting bending moduli: curves of the plate test made with known moduli (bent at 0, 45 and 90
