@@ -396,8 +396,8 @@ plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plum
     }
     /* The KKT residual is measured against the problem's round-off floor (1e-6 of its stiffest
      * diagonal times its size: lib/problem.h), which a stiff membrane sets. The end loads of a soft
-     * direction sit far below it (bent across the barbs at the default contrast: forces ~1e-12 N
-     * against a floor ~1e-3 N), and the solver would stop at the rest state. The tolerance is
+     * direction sit far below it (bent across the barbs at the default contrast: forces ~1e-11 N
+     * against a floor ~2e-2 N), and the solver would stop at the rest state. The tolerance is
      * therefore taken relative to the loads; where round-off keeps the residual above it, the
      * step criterion (tol_step) ends the solve. Native solvers only: Ipopt scales its objective
      * by the same reference and stops on its own scaled criterion, which reaches the solution at
