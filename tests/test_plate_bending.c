@@ -254,8 +254,8 @@ void test_plate_bending_bad_input(void)
     plume_bend_opts o;
     plume_bend_result r;
     const char *why[] = {"moment must be finite and > 0", "moment must be finite and > 0", "steps", "end_strip",
-                         "window", "max_rotation", "beyond linear plate theory"};
-    for (int k = 0; k < 7; k++) {
+                         "window", "max_rotation", "beyond linear plate theory", "unknown loading"};
+    for (int k = 0; k < 8; k++) {
         plume_mesh *mesh = NULL;
         plume_problem *p = NULL;
         CHECK(plume_plate_specimen(0.01, 0.02, 0.0, 0.002, &iso_plate, &b, &mesh, &p, &err) == PLUME_OK);
@@ -268,7 +268,8 @@ void test_plate_bending_bad_input(void)
         case 3: o.end_strip = 0.3; break;
         case 4: o.window = 0.9; break;
         case 5: o.max_rotation = 0.0; break;
-        default: o.moment = 1e-3; break; /* curvature ~ 100 1/m: 2 rad over the specimen */
+        case 6: o.moment = 1e-3; break; /* curvature ~ 100 1/m: 2 rad over the specimen */
+        default: o.loading = (plume_bend_loading)7; break;
         }
         const plume_status st = plume_bend_run(mesh, p, &o, &r, &err);
         CHECK(st == (k == 6 ? PLUME_EINFEASIBLE : PLUME_EINVAL));
