@@ -3,7 +3,7 @@
  * the best of three runs, side by side with their ratio. Then both scales in bending
  * (macro/plate_bending.h) down to the finest barb spacing, lx/16: the resolved strip specimen
  * against the plate with the cell's D, the figures of docs/bending-homogenisation.md (the lx/16
- * specimens have 2.3e5 triangles and take about 10 GB and a minute each). */
+ * specimens have 2.3e5 triangles and take up to 12.5 GB and 35-50 s of CPU each). */
 #include <math.h>
 #include <stdio.h>
 #include <time.h>
