@@ -35,7 +35,7 @@ typedef plume_status (*create_fn)(const plume_mesh *, const plume_bending_materi
 static plume_status shape_own_create(const plume_mesh *m, const plume_bending_material *mat, int nmat, const double *rest,
                                      plume_term *out, plume_err *err)
 {
-    const plume_shape_bending_opts o = {NULL, 1};
+    const plume_shape_bending_opts o = {NULL, 1, 0};
     return plume_shape_bending_term_create_opts(m, mat, nmat, rest, &o, out, err);
 }
 

@@ -5,14 +5,19 @@
  * (plume_plate_specimen below) — loaded by self-equilibrated end moments and measured by the
  * curvature fitted in its centre.
  *
- * Loads: each end strip (y <= c and y >= ly - c, c = end_strip * ly) carries vertical dead forces
- * f_v = A_v (a + b (x - xc) + g (y - yc)), A_v the vertex's lumped area, with a, b, g set so that
- * the strip's forces have no resultant and their moment is the end moment: m_yy lx about the x axis
- * (bending, "cylinder") or 2 m_xy lx about the y axis (twist: a uniform twisting moment m_xy reaches
- * an end as m_xy lx through the edge and as much again through the Kirchhoff corner forces). The
- * two ends carry opposite moments: the specimen is free, held only against rigid motion by six
- * fixed coordinates at three vertices near its centre, which carry no reaction. A load distributed
- * by area is the same per period of the microstructure, so it homogenises to a uniform end moment.
+ * Loads (PLUME_BEND_EDGE_MOMENTS, the default): the boundary loads of the uniform state, i.e. the
+ * work of a uniform moment on the shell's own discrete curvatures, sum_T A_T mbar . kappa_T, which
+ * the shape operator's discrete divergence theorem puts on the boundary: the end moment m_yy per
+ * unit width at y = 0 and y = ly (cylinder: m_yy lx about the x axis at each end) or the
+ * Kirchhoff corner forces 2 m_xy of a uniform twisting moment (twist: 2 m_xy lx about the y axis).
+ * For a homogeneous plate of any D the uniform state D^-1 m is then the discrete solution, on any
+ * mesh. PLUME_BEND_END_STRIPS instead spreads vertical dead forces over each end strip
+ * (y <= c and y >= ly - c, c = end_strip * ly), f_v = A_v (a + b (x - xc) + g (y - yc)), A_v the
+ * vertex's lumped area, with no resultant and the same end moment: their departure from the
+ * uniform state's loads makes end layers, which a strongly orthotropic plate carries across the
+ * whole specimen (docs/bending-homogenisation.md). Either way the two ends carry opposite moments:
+ * the specimen is free, held only against rigid motion by six fixed coordinates at three vertices
+ * near its centre, which carry no reaction.
  *
  * Measure: the height z(X) of the vertices of the central window (window * lx by window * ly) is
  * fitted, weighted by lumped area, with a quadratic
@@ -22,7 +27,10 @@
  * m_xy / (2 k_xy) = 1 / (D^-1)_66.
  *
  * The test is geometrically exact (the shell's own terms) but meant for the linear range: the load
- * is refused when the curvature it produces, times the specimen's length, exceeds max_rotation. */
+ * is refused when the curvature it produces, times the specimen's length, exceeds max_rotation.
+ * The linearized solver is the linear plate (every step solved from the rest state); the native
+ * Newton's KKT tolerance is taken relative to the end loads, which in a soft direction lie far
+ * below the problem's round-off floor. */
 #ifndef PLUME_PLATE_BENDING_H
 #define PLUME_PLATE_BENDING_H
 
@@ -44,15 +52,26 @@ typedef enum {
     PLUME_BEND_TWIST = 1     /**< end torques about y: twist 2 k_xy */
 } plume_bend_load;
 
+/** How the end moments are applied. */
+typedef enum {
+    PLUME_BEND_EDGE_MOMENTS = 0, /**< the uniform state's own boundary loads: the work of a uniform moment
+                                    on the shell's discrete curvatures, which lands on the ends (cylinder)
+                                    and the corners (twist); default */
+    PLUME_BEND_END_STRIPS = 1    /**< forces over each end strip, linear in position (kept for comparison:
+                                    a strongly orthotropic plate turns their departure from the uniform
+                                    state into large transverse modes) */
+} plume_bend_loading;
+
 /** Options of the plate test (plume_bend_opts_default). */
 typedef struct {
     plume_bend_load load; /**< bending or twist; default cylinder */
+    plume_bend_loading loading; /**< default PLUME_BEND_EDGE_MOMENTS */
     double lx;            /**< specimen width along x (m); default 1 */
     double ly;            /**< specimen length along y, between the loaded ends (m); default 2 */
     double moment;        /**< final moment per unit width (N m / m): m_yy or m_xy; finite and > 0 (the
                              sign of a linear test carries no information) */
     int steps;            /**< curve points after the rest state; default 3 */
-    double end_strip;     /**< loaded strip at each end over ly; default 0.1 */
+    double end_strip;     /**< PLUME_BEND_END_STRIPS: loaded strip at each end over ly; default 0.1 */
     double window;        /**< fitted central window over each side; default 0.5 */
     double max_rotation;  /**< largest |curvature| * max(lx, ly) accepted (rad); default 0.2 */
     plume_solver_kind solver;      /**< default newton */
@@ -96,8 +115,8 @@ PLUME_API void plume_plate_of_membrane(const plume_membrane_material *m, plume_b
 
 /** A shell-mode specimen of the planar mesh `planar` (its X, triangles, material ids and barb
  * directions, copied; planar is the caller's): membrane mem[material[t]] (lib/core/membrane.h) and
- * shape-operator bending bend[material[t]] (macro/shape_bending.h) per triangle, nmat materials.
- * This is how a resolved micro specimen (plume_specimen_mesh's mesh, phases by plume_plate_of_membrane) and
+ * shape-operator bending bend[material[t]] (macro/shape_bending.h, phase-aware stencils: no fit
+ * spans two materials) per triangle, nmat materials. This is how a resolved micro specimen (plume_specimen_mesh's mesh, phases by plume_plate_of_membrane) and
  * the homogeneous plate become the same kind of shell. The caller owns *mesh and *p (not
  * finalised). Errors: the terms' (PLUME_EINVAL with a message), PLUME_ENOMEM. */
 PLUME_API plume_status plume_shell_specimen(const plume_mesh *planar, const plume_membrane_material *mem,

@@ -25,7 +25,7 @@ static plume_status bending_term(const plume_scene *s, const plume_mesh *m, cons
         return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
     for (plume_index v = 0; held && v < m->nv; v++)
         held[v] = (s->clamped[v] & PLUME_CLAMP_HELD) != 0;
-    const plume_shape_bending_opts so = {held, 0};
+    const plume_shape_bending_opts so = {held, 0, 0};
     plume_status st = plume_shape_bending_term_create_opts(m, bm, s->nmat, NULL, &so, term, err);
     free(held);
     return st;

@@ -640,7 +640,8 @@ static void fit_slopes(const ref_tri *R, const double X[2], const double N[2], d
 
 /* First pass for triangle t: own stencil (natural, ghost or from the ring), its fit. */
 static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const double *rest_x,
-                                const unsigned char *clamped, search_ws *W, own_fit *F, plume_err *err)
+                                const unsigned char *clamped, int phase_aware, search_ws *W, own_fit *F,
+                                plume_err *err)
 {
     const plume_index *tv = mesh->tri + 3 * t;
     ref_tri *R = &F->R;
@@ -662,10 +663,10 @@ static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const dou
     R->g[0][1] = -R->g[1][1] - R->g[2][1];
 
     /* natural stencil: p_k across the edge (tv[k+1], tv[k+2]) */
-    plume_index p[3];
+    plume_index p[3], across[3];
     for (int k = 0; k < 3; k++) {
         const plume_index a = tv[(k + 1) % 3], b = tv[(k + 2) % 3];
-        p[k] = F->nb[k] = -1;
+        p[k] = across[k] = F->nb[k] = -1;
         for (plume_index s = W->vstart[a]; s < W->vstart[a + 1]; s++) {
             const plume_index u = W->vtri[s];
             if (u == t)
@@ -678,7 +679,10 @@ static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const dou
                 continue;
             for (int j = 0; j < 3; j++)
                 if (uv[j] != a && uv[j] != b) {
-                    p[k] = uv[j];
+                    /* phase-aware: a neighbour of another material still shares its slope
+                     * estimate (nb), but its vertex is not fitted */
+                    across[k] = uv[j];
+                    p[k] = phase_aware && mesh->material[u] != mesh->material[t] ? -1 : uv[j];
                     F->nb[k] = u;
                 }
         }
@@ -688,7 +692,7 @@ static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const dou
     for (int k = 0; k < 3; k++) {
         const plume_index a = tv[(k + 1) % 3], b = tv[(k + 2) % 3];
         F->a[k] = -1;
-        if (!clamped || p[k] >= 0 || !clamped[a] || !clamped[b])
+        if (!clamped || across[k] >= 0 || !clamped[a] || !clamped[b])
             continue;
         const double *Xa = mesh->X + 2 * a, *Xb = mesh->X + 2 * b, *Xc = mesh->X + 2 * tv[k];
         const double ex = Xb[0] - Xa[0], ey = Xb[1] - Xa[1], el = hypot(ex, ey);
@@ -722,7 +726,17 @@ static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const dou
         for (int i = 0; i < 3; i++)
             m[i] /= ml;
     }
-    const double q = shape_choose_stencil(mesh, t, R, &gr, W, p);
+    W->phase = phase_aware ? mesh->material[t] : -1;
+    double q = shape_choose_stencil(mesh, t, R, &gr, W, p);
+    if (q >= 0.0 && !(q >= SHAPE_MIN_STENCIL) && phase_aware) {
+        /* the phase is too thin to hold a well-conditioned stencil: the whole mesh's */
+        for (int k = 0; k < 3; k++)
+            if (F->a[k] < 0)
+                p[k] = across[k];
+        W->phase = -1;
+        q = shape_choose_stencil(mesh, t, R, &gr, W, p);
+    }
+    W->phase = -1;
     if (q < 0.0)
         return plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
     if (!(q >= SHAPE_MIN_STENCIL))
@@ -831,7 +845,7 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
     search_ws W;
     memset(&W, 0, sizeof W);
     const unsigned char *clamped = o ? o->clamped : NULL;
-    const int average = !(o && o->own_fit_only);
+    const int average = !(o && o->own_fit_only), phase_aware = o && o->phase_aware;
     if (out)
         memset(out, 0, sizeof *out);
     if (!mesh || !mats || !out)
@@ -899,7 +913,7 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
     }
     ctx->nt = nt;
     for (plume_index t = 0; t < nt; t++)
-        if ((st = own_stencil(mesh, t, rest_x, clamped, &W, &fits[t], err)) != PLUME_OK)
+        if ((st = own_stencil(mesh, t, rest_x, clamped, phase_aware, &W, &fits[t], err)) != PLUME_OK)
             goto cleanup;
 
     /* sizes: slots, points and K per triangle */

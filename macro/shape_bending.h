@@ -51,10 +51,21 @@ PLUME_API plume_status plume_shape_bending_term_create(const plume_mesh *mesh, c
  *
  * own_fit_only != 0 uses each triangle's own 6-point fit alone (the first formulation, arity 6):
  * exact for quadratics but it fails the patch test on irregular meshes (kept for comparison,
- * see shape_bending.c). */
+ * see shape_bending.c).
+ *
+ * phase_aware != 0 treats a change of material id as a boundary for the fit: a triangle's own fit
+ * takes its points from triangles of its own material only (the vertex across an edge into
+ * another material is replaced from the triangle's rings within its material, as on a boundary).
+ * The slope across such an edge is still the mean of the two sides' fits, so the patch test and
+ * the exactness for quadratics are kept; what changes is that a curvature jump between phases (a
+ * stiff barb beside a soft matrix) is no longer smeared by a fit through both: a piecewise
+ * quadratic C1 surface whose pieces meet on mesh edges is reproduced exactly. Where a phase is too
+ * thin to hold a well-conditioned stencil, the triangle's stencil is searched in the whole mesh,
+ * as without the option. For resolved microstructures (plume_shell_specimen). */
 typedef struct {
     const unsigned char *clamped; /**< [nv] non-zero for a clamped vertex, or NULL (borrowed) */
     int own_fit_only;             /**< != 0: each triangle's own 6-point fit alone */
+    int phase_aware;              /**< != 0: no fit spans two materials (see above) */
 } plume_shape_bending_opts;
 
 /** The term with options (o may be NULL). Errors as above, and PLUME_EINVAL for a clamped edge

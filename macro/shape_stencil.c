@@ -18,6 +18,7 @@ int shape_search_init(search_ws *W, const plume_mesh *m)
         return -1;
     for (plume_index v = 0; v < nv; v++)
         W->mark[v] = -1;
+    W->phase = -1;
     /* vertex -> triangles (CSR) */
     for (plume_index t = 0; t < nt; t++)
         for (int k = 0; k < 3; k++)
@@ -68,14 +69,15 @@ static int ring_push(search_ws *W, plume_index v)
 }
 
 /* Grows W->ring (which starts with T's vertices) by one ring: every vertex of a triangle incident
- * to a vertex already in it. Returns 0 on allocation failure. */
+ * to a vertex already in it (of material W->phase if that is >= 0). Returns 0 on allocation
+ * failure. */
 static int ring_grow(search_ws *W, const plume_mesh *m)
 {
     const plume_index n0 = W->nring;
     for (plume_index r = 0; r < n0; r++) {
         const plume_index v = W->ring[r];
         for (plume_index s = W->vstart[v]; s < W->vstart[v + 1]; s++)
-            for (int k = 0; k < 3; k++)
+            for (int k = 0; k < 3 && (W->phase < 0 || m->material[W->vtri[s]] == W->phase); k++)
                 if (!ring_push(W, m->tri[3 * W->vtri[s] + k]))
                     return 0;
     }

@@ -4,6 +4,7 @@
  * Gauss-Newton blocks, the stencil on boundaries, every input error, and the issue's acceptance
  * test: cylinders on five mesh families against the continuum orthotropic plate energy. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -14,6 +15,7 @@
 #include "../lib/core/dense.h"
 #include "../lib/core/mesh.h"
 #include "../macro/shape_bending.h"
+#include "../include/plume.h"
 
 /* The vane of supplementary Table 3 (a), D_long/D_trans = 2500; twist by Huber's rule. */
 static const plume_bending_material SB_VANE = {2.5e-4, 1e-7, 0.0, 0.0};
@@ -164,7 +166,7 @@ void test_shape_bending_clamped_edges(void)
         CHECK(ncl >= 3);
         plume_term t;
         plume_err err;
-        CHECK(plume_shape_bending_term_create_opts(m, &mat, 1, NULL, &(plume_shape_bending_opts){cl, 0}, &t, &err) == PLUME_OK);
+        CHECK(plume_shape_bending_term_create_opts(m, &mat, 1, NULL, &(plume_shape_bending_opts){cl, 0, 0}, &t, &err) == PLUME_OK);
         double lo = INFINITY;
         for (plume_index v = 0; v < m->nv; v++)
             lo = fmin(lo, u[0] * m->X[2 * v] + u[1] * m->X[2 * v + 1]);
@@ -194,7 +196,7 @@ void test_shape_bending_clamped_edges(void)
             for (plume_index i = 0; i < 3 * m->nv; i++)
                 rest[i] += urange(&r, -0.03, 0.03);
             for (int curved = 0; curved < 2; curved++) {
-                CHECK(plume_shape_bending_term_create_opts(m, &mat, 1, curved ? rest : NULL, &(plume_shape_bending_opts){cl, 0}, &t, &err) ==
+                CHECK(plume_shape_bending_term_create_opts(m, &mat, 1, curved ? rest : NULL, &(plume_shape_bending_opts){cl, 0, 0}, &t, &err) ==
                       PLUME_OK);
                 bm_map_cylinder(m, urange(&r, 0.0, 180.0), urange(&r, -2.0, 2.0), m->x);
                 for (plume_index i = 0; i < 3 * m->nv; i++)
@@ -209,7 +211,7 @@ void test_shape_bending_clamped_edges(void)
         /* a rest shape that gives a clamped edge no mirror plane: an error naming it */
         if (fam == 0) {
             memset(rest, 0, sizeof(double) * 3 * (size_t)m->nv);
-            CHECK(plume_shape_bending_term_create_opts(m, &mat, 1, rest, &(plume_shape_bending_opts){cl, 0}, &t,
+            CHECK(plume_shape_bending_term_create_opts(m, &mat, 1, rest, &(plume_shape_bending_opts){cl, 0, 0}, &t,
                                                        &err) == PLUME_EINVAL);
             CHECK(strstr(err.msg, "clamped edge") && strstr(err.msg, "mirror plane"));
         }
@@ -241,7 +243,7 @@ static double sb_patch_residual(int fam, int own_only)
     double *g = calloc((size_t)n, sizeof *g);
     unsigned char *bnd = calloc((size_t)m->nv, 1);
     plume_term t;
-    const plume_shape_bending_opts o = {NULL, own_only};
+    const plume_shape_bending_opts o = {NULL, own_only, 0};
     if (!g || !bnd || plume_shape_bending_term_create_opts(m, &mat, 1, NULL, &o, &t, NULL) != PLUME_OK)
         goto done;
     const double eps = 1e-7;
@@ -448,7 +450,7 @@ void test_shape_bending_stencil(void)
     plume_term t;
     plume_err err;
     /* the own fit alone: six distinct vertices, the natural ones inside */
-    const plume_shape_bending_opts own = {NULL, 1};
+    const plume_shape_bending_opts own = {NULL, 1, 0};
     CHECK(plume_shape_bending_term_create_opts(m, &SB_VANE, 1, NULL, &own, &t, &err) == PLUME_OK);
     CHECK(strcmp(t.name, "shape bending") == 0);
     CHECK(t.arity == 6 && t.nstencil == m->nt);
@@ -828,4 +830,90 @@ void test_shape_bending_cylinder_equi_across(void)
 void test_shape_bending_cylinder_delaunay(void)
 {
     sb_cylinder_family(BM_DELAUNAY);
+}
+
+/* ---- phases ------------------------------------------------------------------------------------ */
+
+/* A resolved strip laminate bent across its strips: barbs along x (the layout's specimen mesh at
+ * 90 degrees, strip boundaries on mesh edges), a deflection w(y) whose curvature is k_i in phase
+ * i with D_i k_i the same in both (the laminate's uniform moment), C1 across the interfaces. The
+ * phase-aware stencils fit each triangle within its own phase, where w is one quadratic, so the
+ * term stores the exact sum of A/2 D_i k_i^2. The stencils that reach across the interface smear
+ * the jump (a stiff barb triangle takes some of the matrix's curvature) and store more. */
+void test_shape_bending_phase_aware_laminate(void)
+{
+    plume_layout l;
+    plume_layout_default(&l);
+    l.phi = 0.3, l.ratio = 0.05, l.h = 1e-4, l.h_barb = 1.5e-4, l.h_barbule = 5e-5, l.order = 1;
+    const double lx = 0.01, ly = 0.01;
+    l.d_B = ly / 4;
+    plume_mesh *planar = NULL, *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_err err = {{0}};
+    plume_membrane_material mats[2];
+    plume_bending_material ph[2];
+    plume_layout_materials(&l, mats);
+    plume_plate_of_membrane(&mats[0], &ph[0]);
+    plume_plate_of_membrane(&mats[1], &ph[1]);
+    CHECK(plume_specimen_mesh(&l, lx, ly, 90.0, &planar, &err) == PLUME_OK);
+    CHECK(planar && plume_shell_specimen(planar, mats, ph, 2, &mesh, &p, &err) == PLUME_OK);
+    if (!mesh) {
+        plume_mesh_destroy(&planar);
+        return;
+    }
+    /* the phases along y: barb k covers y in ly/2 + k d_B +- w_B/2 (micro/specimen_mesh.c) */
+    const double wB = l.phi * l.d_B, eps = 1e-3, kB = eps * ph[1].D_trans / ph[0].D_trans, kM = eps;
+#define LAM_BARB(y) (fabs(remainder((y) - 0.5 * ly, l.d_B)) < 0.5 * wB)
+    int consistent = 1;
+    for (plume_index t = 0; t < mesh->nt; t++) {
+        const plume_index *v = mesh->tri + 3 * t;
+        const double yc = (mesh->X[2 * v[0] + 1] + mesh->X[2 * v[1] + 1] + mesh->X[2 * v[2] + 1]) / 3.0;
+        consistent &= (mesh->material[t] == 0) == LAM_BARB(yc);
+    }
+    CHECK(consistent);
+    /* w(y) = int_0^y int_0^s k: exact on each piece, breakpoints at the interfaces */
+    double *x = malloc((size_t)(3 * mesh->nv) * sizeof *x);
+    for (plume_index v = 0; v < mesh->nv; v++) {
+        const double Y = mesh->X[2 * v + 1];
+        double y = 0.0, w = 0.0, s = 0.0;
+        while (y < Y) {
+            const double k = LAM_BARB(y + 1e-12 * ly) ? kB : kM;
+            /* the next interface above y */
+            double next = Y;
+            for (int j = -8; j <= 8; j++)
+                for (int side = -1; side <= 1; side += 2) {
+                    const double yi = 0.5 * ly + j * l.d_B + side * 0.5 * wB;
+                    if (yi > y + 1e-12 * ly && yi < next)
+                        next = yi;
+                }
+            const double d = next - y;
+            w += s * d + 0.5 * k * d * d;
+            s += k * d;
+            y = next;
+        }
+        x[3 * v] = mesh->X[2 * v], x[3 * v + 1] = Y, x[3 * v + 2] = w;
+    }
+    double expect = 0.0;
+    for (plume_index t = 0; t < mesh->nt; t++) {
+        const double k = mesh->material[t] == 0 ? kB : kM;
+        expect += 0.5 * plume_mesh_ref_area(mesh, t) * ph[mesh->material[t]].D_trans * k * k;
+    }
+#undef LAM_BARB
+    for (int aware = 0; aware < 2; aware++) {
+        plume_term t;
+        const plume_shape_bending_opts o = {NULL, 0, aware};
+        CHECK(plume_shape_bending_term_create_opts(mesh, ph, 2, NULL, &o, &t, &err) == PLUME_OK);
+        const double E = sb_energy(&t, x);
+        fprintf(stderr, "    %s stencils: energy / laminate's %.8f (%ld triangles)\n", aware ? "phase-aware" : "plain",
+                E / expect, (long)mesh->nt);
+        if (aware)
+            CHECK_REL(E, expect, 1e-6, 0.0);
+        else
+            CHECK(E > 1.02 * expect);
+        t.destroy(t.ctx);
+    }
+    free(x);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&mesh);
+    plume_mesh_destroy(&planar);
 }

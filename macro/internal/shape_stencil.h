@@ -68,6 +68,8 @@ typedef struct {
     struct near_cand { double d; plume_index v, at; int rank, sector; } *near; /* [near_cap]: ring_candidates' sort */
     plume_index near_cap;
     plume_index cand[SHAPE_MAX_CANDIDATES];
+    int phase; /* >= 0: rings grow through triangles of this material only (phase-aware stencils);
+                  -1: through every triangle. Set by the caller before each search. */
 } search_ws;
 
 /* Where the stencil's points are in the reference plane: mesh vertices, except the ghost slots
