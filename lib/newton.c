@@ -147,6 +147,11 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     if (s->eliminate) {
         if ((st = nt_build_elimination_pairs(s)) != PLUME_OK)
             goto fail;
+        s->kval = malloc(((size_t)s->hp.nnz + 1) * sizeof *s->kval);
+        if (!s->kval) {
+            st = PLUME_ENOMEM;
+            goto fail;
+        }
         st = plume_chol_create(s->n, s->hp.colptr, s->hp.rowind, 0, &s->chol, err);
     } else if (s->m > 0) {
         if ((st = nt_build_kkt_pattern(s)) != PLUME_OK)
