@@ -28,7 +28,11 @@ typedef enum {
                                      to almost nothing for several iterations in a row, as when a
                                      pair outside the contact set blocks them (its barrier is not in
                                      the problem yet): the caller updates the terms' stencils and
-                                     solves again from the point returned */
+                                     solves again from the point returned */,
+    PLUME_REASON_STALLED          /* newton with stall_iterations: that many iterations in a row
+                                     cut neither the KKT residual nor the constraint violation to
+                                     half of its best in this solve (a caller with a smaller step
+                                     to try gives up early, instead of at the cap) */
 } plume_reason;
 
 PLUME_API const char *plume_reason_name(plume_reason r);
@@ -132,6 +136,9 @@ typedef struct {
     int exact_hessian_first; /* newton without constraints: factorise the exact Hessian first and
                                 fall back to the PSD-projected one if it is not positive definite;
                                 default 1 */
+    int stall_iterations;  /* newton: stop (PLUME_REASON_STALLED) after this many iterations in a
+                              row that cut neither the KKT residual nor the constraint violation to
+                              half of its best in this solve; 0 (default): only max_iter stops */
 } plume_solver_opts;
 
 PLUME_API void plume_solver_opts_default(plume_solver_opts *o);
