@@ -46,6 +46,7 @@ const char *plume_solver_kind_name(plume_solver_kind k)
 
 void plume_solver_opts_default(plume_solver_opts *o)
 {
+    memset(o, 0, sizeof *o); /* a field added later is never left undefined */
     o->max_iter = 100;
     o->tol_kkt = 1e-9;
     o->tol_violation = 1e-10;
@@ -63,6 +64,7 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->partial_projection = 1;
     o->trust_region = 0;
     o->curved_search = 1;
+    o->stall_iterations = 0;
 }
 
 static const char *const globalization_names[] = {"curved_line_search", "line_search", "trust_region"};
