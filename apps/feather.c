@@ -469,15 +469,25 @@ int main(int argc, char **argv)
         rc = run_fail("contact measures: %s", err.msg);
         goto done;
     }
+    long substeps = 0;
     for (long i = 1; i <= nsteps; i++) {
         plume_step_report rep;
         double t0 = plume_dynamics_time(d);
-        double h = i == nsteps && last_short ? end - t0 : dt;
+        /* adaptive steps: one call per output frame (the stepper picks its steps inside and
+         * lands on the frame's time); otherwise one call per step of dt */
+        long k = 1;
+        if (scene->adaptive_dt) {
+            k = scene->output_every - step % scene->output_every;
+            if (k > nsteps - i + 1)
+                k = nsteps - i + 1;
+        }
+        double h = i + k - 1 == nsteps && last_short ? end - t0 : (double)k * dt;
         if ((st = plume_dynamics_advance(d, h, &rep, &err)) != PLUME_OK) {
             rc = run_fail("step %ld: %s", step + 1, err.msg);
             goto done;
         }
         halvings += rep.halvings;
+        substeps += rep.substeps;
         iterations += rep.iterations;
         backtracks += rep.backtracks;
         shifts += rep.shifts;
@@ -518,8 +528,9 @@ int main(int argc, char **argv)
                 break;
             }
         }
-        step++;
-        done_steps++;
+        step += k;
+        done_steps += k;
+        i += k - 1;
         if (step % scene->output_every == 0 || i == nsteps) {
             if ((rc = write_frame(&oc, d, next_frame, step, 1, &fm)) != 0)
                 goto done;
@@ -541,6 +552,7 @@ int main(int argc, char **argv)
         json_t *j = json_object();
         json_object_set_new(j, "frames", json_integer(frames));
         json_object_set_new(j, "steps", json_integer(done_steps));
+        json_object_set_new(j, "substeps", json_integer(substeps));
         json_object_set_new(j, "steps_halved", json_integer(halvings));
         json_object_set_new(j, "newton_iterations", json_integer(iterations));
         json_object_set_new(j, "line_search_backtracks", json_integer(backtracks));

@@ -2,8 +2,10 @@
  * a flapping kinematic bone) with the barrier and continuous collision detection against the
  * paper's penalty (stiffness 1e11, Table 3 (b)), side by side: seconds per step, the shares of
  * broad phase (CGAL box intersection), narrow phase (pair energies), CCD and the rest (solver,
- * elastic terms, pattern rebuilds), contact pairs, and the exact audit's intersecting pairs; then the
- * barrier's time per Newton iteration split into evaluation, assembly, contact and the rest.
+ * elastic terms, pattern rebuilds), contact pairs, and the exact audit's intersecting pairs; the
+ * barrier also with adaptive time steps ("adaptive_dt", dt_max one frame: the stepper covers each
+ * frame's interval in steps it picks, figures per nominal step of dt); then the barrier's time per
+ * Newton iteration split into evaluation, assembly, contact and the rest.
  * bench_wing [SCENE [--barrier]]: --barrier runs the barrier alone (the penalty takes minutes). */
 #define _DEFAULT_SOURCE
 #include <limits.h>
@@ -22,7 +24,7 @@
 #define STEPS 30
 
 /* A copy of the scene with the given contact model and stiffness, paths made absolute. */
-static int variant(const char *scene, const char *model, double stiffness, char *out, size_t n)
+static int variant(const char *scene, const char *model, double stiffness, int adaptive, char *out, size_t n)
 {
     char dir[PATH_MAX];
     if (!realpath(scene, dir))
@@ -50,6 +52,11 @@ static int variant(const char *scene, const char *model, double stiffness, char 
     json_object_set_new(c, "model", json_string(model));
     json_object_set_new(c, "stiffness", json_real(stiffness));
     json_object_set_new(j, "max_halvings", json_integer(3));
+    if (adaptive) {
+        json_object_set_new(j, "adaptive_dt", json_true());
+        json_object_set_new(j, "dt_max", json_real(json_real_value(json_object_get(j, "dt")) *
+                                                   (double)json_integer_value(json_object_get(j, "output_every"))));
+    }
     snprintf(out, n, "/tmp/plume-bench-wing-%d.json", (int)getpid());
     int rc = json_dump_file(j, out, JSON_INDENT(1));
     json_decref(j);
@@ -67,14 +74,14 @@ int main(int argc, char **argv)
 {
     plume_openmp_serial();
     const char *scene = argc > 1 ? argv[1] : "data/bird/wing.json";
-    const char *models[2] = {"barrier", "penalty"};
-    const double stiffness[2] = {1.0, 1e11};
+    const char *models[3] = {"barrier", "adaptive", "penalty"};
+    const double stiffness[3] = {1.0, 1.0, 1e11};
     printf("\nplume bench (wing): %s, first %d steps, barrier + CCD against the paper's penalty\n", scene, STEPS);
     printf("%-8s %9s | %8s %8s %8s %7s %6s | %6s %6s %6s %6s | %6s %9s %11s | %s\n", "model", "elements", "s/frame", "s/step", "it/step",
            "halved", "limit", "broad", "narrow", "ccd", "rest", "pairs", "intersect", "min gap", "vs barrier");
     double t_barrier = NAN, split[6] = {NAN, NAN, NAN, NAN, NAN, NAN}, split_hessians = NAN;
     long broad_queries = 0, broad_searches = 0;
-    const int nmodels = argc > 2 && !strcmp(argv[2], "--barrier") ? 1 : 2; /* profiling: the barrier alone */
+    const int nmodels = argc > 2 && !strcmp(argv[2], "--barrier") ? 1 : 3; /* profiling: the barrier alone */
     for (int k = 0; k < nmodels; k++) {
         char path[256];
         plume_err err = {{0}};
@@ -84,7 +91,7 @@ int main(int argc, char **argv)
         plume_contact *c = NULL;
         plume_contact_broad *measure = NULL;
         int *body = NULL;
-        if (variant(scene, models[k], stiffness[k], path, sizeof path) != 0 || plume_scene_load(path, &s, &err) != PLUME_OK ||
+        if (variant(scene, k == 2 ? "penalty" : "barrier", stiffness[k], k == 1, path, sizeof path) != 0 || plume_scene_load(path, &s, &err) != PLUME_OK ||
             plume_scene_dynamics_contact(s, &p, &d, &c, &err) != PLUME_OK) {
             printf("%-8s | setup failed: %s\n", models[k], err.msg);
             goto next;
@@ -102,10 +109,11 @@ int main(int argc, char **argv)
         long intersecting = 0, max_pairs = 0;
         double seconds = 0.0, dmin = INFINITY, cpu = 0.0;
         plume_contact_pairs pairs = {0};
-        for (; steps < STEPS && ok; steps++) {
+        const int per_call = k == 1 ? s->output_every : 1; /* adaptive: a frame per call */
+        for (; steps < STEPS && ok; steps += per_call) {
             plume_step_report rep;
             const double c0 = cpu_seconds();
-            if (plume_dynamics_advance(d, 0.0, &rep, NULL) != PLUME_OK)
+            if (plume_dynamics_advance(d, per_call * s->dt, &rep, NULL) != PLUME_OK)
                 break;
             cpu += cpu_seconds() - c0;
             iterations += rep.iterations, halvings += rep.halvings, seconds += rep.seconds, limited += rep.step_limited;

@@ -56,7 +56,7 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s, 
     static const char *const keys[] = {"mesh", "materials", "handles", "gravity", "dt", "duration", "solver",
                                        "max_halvings", "max_iter", "output_every", "render", "render_field", "camera", "solve",
                                        "steps", "clamps", "supports", "loads", "probes", "bending_model", "contact",
-                                       "objects", "predictor", "globalization", NULL};
+                                       "objects", "predictor", "globalization", "adaptive_dt", "dt_max", NULL};
     plume_status st;
     plume_index *map = NULL, nobj = 0;
     if (!json_is_object(doc))

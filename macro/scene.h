@@ -92,6 +92,10 @@ typedef struct {
     double gravity[3];            /**< m/s^2; default (0, 0, -9.81) */
     double dt;                    /**< time step (s) */
     double duration;              /**< simulated time (s) */
+    int adaptive_dt;              /**< "adaptive_dt": true: steps grow after easy solves and are cut
+                                     when the solver stalls (plume_dynamics_opts.adaptive); default
+                                     false */
+    double dt_max;                /**< "dt_max": the largest adaptive step (s); 0 (default): dt */
     plume_solver_kind solver;     /**< default newton */
     int max_halvings;             /**< default 6 */
     int max_iter;                 /**< solver iterations per step; default 100 */

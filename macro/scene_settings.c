@@ -54,6 +54,17 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
     if ((st = plume_json_positive(c, doc, "", "dt", !s->is_static, 0, &s->dt, NULL)) != PLUME_OK ||
         (st = plume_json_positive(c, doc, "", "duration", !s->is_static, 0, &s->duration, NULL)) != PLUME_OK)
         return st;
+    if ((v = json_object_get(doc, "adaptive_dt"))) {
+        if (!json_is_boolean(v))
+            return plume_json_bad(c, PLUME_EFORMAT, "adaptive_dt", "must be true or false");
+        s->adaptive_dt = json_is_true(v);
+    }
+    if ((st = plume_json_positive(c, doc, "", "dt_max", 0, 0, &s->dt_max, NULL)) != PLUME_OK)
+        return st;
+    if (s->dt_max > 0.0 && !s->adaptive_dt)
+        return plume_json_bad(c, PLUME_EINVAL, "dt_max", "needs \"adaptive_dt\": true");
+    if (s->dt_max > 0.0 && s->dt > 0.0 && s->dt_max < s->dt)
+        return plume_json_bad(c, PLUME_EINVAL, "dt_max", "must be >= dt (got %g < %g)", s->dt_max, s->dt);
     if ((v = json_object_get(doc, "solver"))) {
         if (!json_is_string(v) || plume_solver_kind_parse(json_string_value(v), &s->solver) != PLUME_OK)
             return plume_json_bad(c, PLUME_EINVAL, "solver", "must be \"newton\", \"ipopt\" or \"linearized\" (got %s%s%s)",

@@ -60,7 +60,14 @@ static void hanging_free(hanging *h)
     free(h->top);
 }
 
+static int hanging_build_adaptive(hanging *h, int max_iter, double dt, int adaptive, double dt_max, int stall);
+
 static int hanging_build(hanging *h, int max_iter, double dt)
+{
+    return hanging_build_adaptive(h, max_iter, dt, 0, 0.0, 0);
+}
+
+static int hanging_build_adaptive(hanging *h, int max_iter, double dt, int adaptive, double dt_max, int stall)
 {
     memset(h, 0, sizeof *h);
     plume_err err = {{0}};
@@ -86,6 +93,10 @@ static int hanging_build(hanging *h, int max_iter, double dt)
     o.dt = dt;
     o.gravity[0] = 0.0, o.gravity[1] = -9.81, o.gravity[2] = 0.0;
     o.solver_opts.max_iter = max_iter;
+    o.adaptive = adaptive;
+    o.dt_max = dt_max;
+    if (stall > 0)
+        o.stall_iterations = stall;
     double rho = 0.026;
     return plume_dynamics_create(h->mesh, h->p, &rho, 1, &handle, 1, &o, &h->d, &err) == PLUME_OK;
 }
@@ -138,6 +149,56 @@ void test_dynamics_halving(void)
     CHECK(rep.reason == PLUME_REASON_ITERATION_CAP); /* what stopped the first, failed attempt */
     if (rep.converged)
         CHECK_REL(plume_dynamics_time(h.d), 0.05, 1e-12, 0.0);
+    hanging_free(&h);
+}
+
+/* Adaptive steps: each advance lands on its nominal time exactly, whatever steps it took inside
+ * (here they grow from dt to dt_max, so fewer than interval / dt), and the constraint holds. */
+void test_dynamics_adaptive_frames(void)
+{
+    hanging h;
+    CHECK(hanging_build_adaptive(&h, 100, 0.005, 1, 0.02, 0));
+    if (!h.d) {
+        hanging_free(&h);
+        return;
+    }
+    int substeps = 0;
+    double grown = 0.0;
+    for (int k = 1; k <= 4; k++) {
+        plume_step_report rep;
+        CHECK(plume_dynamics_advance(h.d, 0.025, &rep, NULL) == PLUME_OK && rep.converged);
+        CHECK(rep.max_violation <= 1e-8);
+        CHECK(plume_dynamics_time(h.d) == 0.025 * k); /* the nominal time, not a sum of steps */
+        CHECK(rep.dt_max <= 0.02 * (1.0 + 1e-12) && rep.dt_min > 0.0);
+        substeps += rep.substeps;
+        grown = fmax(grown, rep.dt_max);
+    }
+    fprintf(stderr, "    %d steps for 4 intervals of 5 dt, the largest %g s\n", substeps, grown);
+    CHECK(grown > 0.005 * 1.5);
+    CHECK(substeps < 20);
+    hanging_free(&h);
+}
+
+/* The stalling case: a step of 0.05 s is too large for the sheet (test_dynamics_halving). With
+ * adaptive steps the solver gives up after 2 non-contracting iterations, far below the cap of 100,
+ * and the step is cut; the interval is still covered and every step converged. */
+void test_dynamics_adaptive_stall(void)
+{
+    hanging h;
+    CHECK(hanging_build_adaptive(&h, 100, 0.05, 1, 0.0, 2));
+    if (!h.d) {
+        hanging_free(&h);
+        return;
+    }
+    plume_step_report rep;
+    CHECK(plume_dynamics_advance(h.d, 0.0, &rep, NULL) == PLUME_OK);
+    fprintf(stderr, "    cuts %d, stalls %d, steps %d, iterations %d, converged %d (first failure: %s)\n", rep.halvings,
+            rep.stalls, rep.substeps, rep.iterations, rep.converged, plume_reason_name(rep.reason));
+    CHECK(rep.halvings > 0 && rep.stalls > 0);
+    CHECK(rep.reason == PLUME_REASON_STALLED); /* not the iteration cap */
+    CHECK(rep.converged && rep.max_violation <= 1e-8);
+    CHECK(plume_dynamics_time(h.d) == 0.05);
+    CHECK(rep.dt_min < 0.05);
     hanging_free(&h);
 }
 

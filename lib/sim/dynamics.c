@@ -15,6 +15,8 @@ void plume_dynamics_opts_default(plume_dynamics_opts *o)
     o->max_halvings = 6;
     o->solver = PLUME_SOLVER_NEWTON;
     plume_solver_opts_default(&o->solver_opts);
+    o->stall_iterations = 6;
+    o->easy_iterations = 5;
 }
 
 /* 1/(2 dt^2) sum_v m_v |x_v - xt_v|^2 - sum_v m_v g.x_v: inertia of implicit Euler and gravity. */
@@ -84,6 +86,7 @@ struct plume_dynamics {
     double *x, *v, *xsave, *vsave, *u, *lambda, *lsave;
     double *xh, *dx; /* [3 nv] a step's start with the handles moved; a motion checked by CCD */
     plume_index n, m;
+    int last_iterations; /* the solver iterations of the last step attempted */
 };
 
 void plume_dynamics_destroy(plume_dynamics **pd)
@@ -180,6 +183,10 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
         return plume_err_set(err, PLUME_EINVAL, "dynamics: needs a shell-mode (dim 3) problem over the mesh's vertices");
     if (!(o->dt > 0.0) || !isfinite(o->dt) || o->max_halvings < 0)
         return plume_err_set(err, PLUME_EINVAL, "dynamics: dt must be finite and > 0 (got %g)", o->dt);
+    if (o->adaptive && (!(o->dt_max >= 0.0) || !isfinite(o->dt_max) || o->stall_iterations < 0 || o->easy_iterations < 1))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "dynamics: adaptive steps need dt_max >= 0 and finite, stall_iterations >= 0 and "
+                             "easy_iterations >= 1 (got %g, %d, %d)", o->dt_max, o->stall_iterations, o->easy_iterations);
     for (int k = 0; k < 3; k++)
         if (!isfinite(o->gravity[k]))
             return plume_err_set(err, PLUME_EINVAL, "dynamics: gravity must be finite");
@@ -198,6 +205,8 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
     d->mesh = mesh;
     d->p = p;
     d->o = *o;
+    if (o->adaptive && o->solver == PLUME_SOLVER_NEWTON && d->o.solver_opts.stall_iterations == 0)
+        d->o.solver_opts.stall_iterations = o->stall_iterations;
     plume_index nv = mesh->nv;
     in->nv = nv;
     in->stencil = malloc((size_t)nv * sizeof *in->stencil);
@@ -240,7 +249,7 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
     if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
         goto fail;
     plume_err why;
-    if ((st = plume_solver_create(o->solver, p, &o->solver_opts, &d->s, &why)) != PLUME_OK) {
+    if ((st = plume_solver_create(o->solver, p, &d->o.solver_opts, &d->s, &why)) != PLUME_OK) {
         plume_err_set(err, st, "dynamics: cannot create the %s solver: %s", plume_solver_kind_name(o->solver), why.msg);
         goto fail;
     }
@@ -383,6 +392,8 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
         return plume_err_set(err, st, "dynamics: the %s solver failed at t = %g (%s)", plume_solver_kind_name(d->o.solver),
                              d->t, plume_strerror(st));
     rep->iterations += sr.iterations;
+    d->last_iterations = sr.iterations;
+    rep->stalls += sr.reason == PLUME_REASON_STALLED;
     rep->backtracks += sr.backtracks;
     rep->shifts += sr.shifts;
     rep->step_limited += sr.step_limited;
@@ -401,6 +412,8 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
     }
     d->t += dt;
     rep->substeps++;
+    rep->dt_min = rep->substeps == 1 ? dt : fmin(rep->dt_min, dt);
+    rep->dt_max = fmax(rep->dt_max, dt);
     return PLUME_OK;
 }
 
@@ -429,6 +442,47 @@ static plume_status advance_rec(plume_dynamics *d, double dt, int depth, plume_s
     return advance_rec(d, 0.5 * dt, depth + 1, rep, err);
 }
 
+/* Adaptive steps over [t, t + span]: each step is the interval left divided into whole steps of
+ * at most h, so the last one lands on t + span exactly; h starts at dt, doubles (up to dt_max)
+ * after a step that converged within easy_iterations and halves after a failed or stalled one. */
+static plume_status advance_adaptive(plume_dynamics *d, double span, plume_step_report *rep, plume_err *err)
+{
+    size_t nd = (size_t)(3 * d->mesh->nv);
+    const double t_end = d->t + span, h_max = d->o.dt_max > 0.0 ? d->o.dt_max : d->o.dt;
+    const double h_min = d->o.dt / ldexp(1.0, d->o.max_halvings);
+    double h = fmin(d->o.dt, h_max);
+    while (t_end - d->t > 1e-12 * span) {
+        double left = t_end - d->t;
+        double k = ceil(left / h * (1.0 - 1e-12));
+        double step = k <= 1.0 ? left : left / k;
+        memcpy(d->xsave, d->x, nd * sizeof *d->x);
+        memcpy(d->vsave, d->v, nd * sizeof *d->v);
+        memcpy(d->lsave, d->lambda, (size_t)d->m * sizeof *d->lambda);
+        int ok = 0;
+        plume_status st = try_step(d, step, rep, &ok, err);
+        if (st != PLUME_OK)
+            return st;
+        if (ok) {
+            if (d->last_iterations <= d->o.easy_iterations)
+                h = fmin(2.0 * step, h_max);
+            else
+                h = fmax(h, step); /* a step made shorter to land on t_end does not shrink h */
+            continue;
+        }
+        memcpy(d->x, d->xsave, nd * sizeof *d->x);
+        memcpy(d->v, d->vsave, nd * sizeof *d->v);
+        memcpy(d->lambda, d->lsave, (size_t)d->m * sizeof *d->lambda);
+        if (0.5 * step < h_min * (1.0 - 1e-9)) {
+            rep->converged = 0;
+            return PLUME_OK;
+        }
+        rep->halvings++;
+        h = 0.5 * step;
+    }
+    d->t = t_end; /* the round-off of the sum of steps */
+    return PLUME_OK;
+}
+
 plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep, plume_err *err)
 {
     if (!d || !rep)
@@ -439,7 +493,8 @@ plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_rep
     rep->converged = 1;
     rep->reason = PLUME_REASON_CONVERGED;
     double t0 = plume_wall_seconds();
-    plume_status st = advance_rec(d, dt > 0.0 ? dt : d->o.dt, 0, rep, err);
+    plume_status st = d->o.adaptive ? advance_adaptive(d, dt > 0.0 ? dt : d->o.dt, rep, err)
+                                     : advance_rec(d, dt > 0.0 ? dt : d->o.dt, 0, rep, err);
     /* leave the problem's x at the state (a failed attempt may have left a trial there) */
     memcpy(plume_problem_x(d->p), d->x, (size_t)(3 * d->mesh->nv) * sizeof *d->x);
     rep->seconds = plume_wall_seconds() - t0;

@@ -41,6 +41,17 @@ typedef struct {
     int max_halvings;        /**< a failed step is halved at most this often; default 6 */
     plume_solver_kind solver;      /**< the backend of every step's solve; default newton */
     plume_solver_opts solver_opts; /**< its options; default plume_solver_opts_default */
+    /** Adaptive steps (0, the default: every step is dt, halved recursively when it fails). With 1,
+     * each plume_dynamics_advance covers its interval exactly (frames stay at their nominal
+     * times) in steps that start at dt, grow 2x after a step that converged within
+     * easy_iterations, up to dt_max, and are halved when the solver stalls (stall_iterations
+     * non-contracting iterations in a row, newton: plume_solver_opts.stall_iterations) or fails,
+     * down to dt / 2^max_halvings. Each advance starts again from dt, so a run continued from a
+     * saved state repeats the uninterrupted one. */
+    int adaptive;
+    double dt_max;           /**< adaptive: the largest step (s); 0 (default): dt */
+    int stall_iterations;    /**< adaptive, newton: default 6 (0: only the iteration cap) */
+    int easy_iterations;     /**< adaptive: default 5 */
 } plume_dynamics_opts;
 
 /** Fills o with the defaults each field names. */
@@ -65,7 +76,10 @@ PLUME_API void plume_dynamics_destroy(plume_dynamics **d);
 /** What happened in one call of plume_dynamics_advance. */
 typedef struct {
     int substeps;          /**< implicit Euler steps taken (1 when nothing was halved) */
-    int halvings;          /**< times a step was halved */
+    int halvings;          /**< times a step was halved (adaptive: cut after a failed attempt) */
+    int stalls;            /**< adaptive: attempts the solver gave up as stalled (each then halved) */
+    double dt_min;         /**< the smallest step taken (s) */
+    double dt_max;         /**< the largest step taken (s) */
     int iterations;        /**< solver iterations over all substeps */
     int backtracks;        /**< newton's line-search rejections (plume_solve_report) over all solves */
     int shifts;            /**< newton's inertia shifts (plume_solve_report) over all solves */
@@ -77,7 +91,8 @@ typedef struct {
 } plume_step_report;
 
 /** Advances the state by dt (opts.dt when dt <= 0): one implicit Euler step, halved recursively
- * on non-convergence up to max_halvings. Not converging at the smallest step is reported (state
+ * on non-convergence up to max_halvings (adaptive: as many steps as the interval needs, see
+ * plume_dynamics_opts.adaptive). Not converging at the smallest step is reported (state
  * left at the last converged substep), not an error; errors (a solver or contact failure, memory)
  * carry a message in err (NULL allowed). */
 PLUME_API plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep, plume_err *err);

@@ -86,10 +86,10 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     if (!p || !o || !out)
         return plume_err_set(err, PLUME_EINVAL, "newton: invalid arguments");
     *out = NULL;
-    if (o->max_iter < 0 || !(o->tol_kkt > 0.0) || !(o->tol_violation > 0.0) || !(o->tol_step >= 0.0) ||
+    if (o->max_iter < 0 || o->stall_iterations < 0 || !(o->tol_kkt > 0.0) || !(o->tol_violation > 0.0) || !(o->tol_step >= 0.0) ||
         !(o->max_step > 0.0) || !isfinite(o->tol_kkt + o->tol_violation + o->tol_step + o->max_step))
         return plume_err_set(err, PLUME_EINVAL,
-                             "newton: options need max_iter >= 0, tol_kkt > 0, tol_violation > 0, tol_step >= 0, "
+                             "newton: options need max_iter >= 0, stall_iterations >= 0, tol_kkt > 0, tol_violation > 0, tol_step >= 0, "
                              "max_step > 0, all finite");
     if ((unsigned)o->line_search > PLUME_LS_MERIT || !(o->reuse_rate > 0.0 && o->reuse_rate < 1.0) ||
         !(o->inertia_max_shift > 0.0) || !isfinite(o->inertia_max_shift))
@@ -147,6 +147,11 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     if (s->eliminate) {
         if ((st = nt_build_elimination_pairs(s)) != PLUME_OK)
             goto fail;
+        s->kval = malloc(((size_t)s->hp.nnz + 1) * sizeof *s->kval);
+        if (!s->kval) {
+            st = PLUME_ENOMEM;
+            goto fail;
+        }
         st = plume_chol_create(s->n, s->hp.colptr, s->hp.rowind, 0, &s->chol, err);
     } else if (s->m > 0) {
         if ((st = nt_build_kkt_pattern(s)) != PLUME_OK)
@@ -523,7 +528,8 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
     s->partial_factorizations = 0;
     s->refinements = 0;
     int max_iter = s->single_step ? 1 : s->o.max_iter;
-    int it = 0, stalled = 0, last_negligible = 0, held = 0, blocked = 0;
+    int it = 0, stalled = 0, last_negligible = 0, held = 0, blocked = 0, flat = 0;
+    double best_res = INFINITY, best_viol = INFINITY; /* stall_iterations: the progress so far */
     s->tr_sigma = 0.0;
     double best = INFINITY, f_prev = f, best_ok = INFINITY;
     s->factor_valid = 0; /* chord steps use a factorisation of this solve (their prediction does) */
@@ -536,6 +542,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
          * within sqrt(tol_kkt) and the constraints hold; a numerical failure otherwise. */
         /* (a negligible last step counts as no change of f: its f may jitter at round-off) */
         /* (an iteration whose trust-region step was refused, `held`, has not moved: not a stall) */
+        const int held_before = held;
         if (!held)
             stalled = (it > 0 && (fabs(f - f_prev) <= 1e-13 * fabs(f) || last_negligible) && !(res < 0.5 * best))
                           ? stalled + 1
@@ -575,6 +582,20 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
             fprintf(stderr, "  newton %3d  f % .10e  kkt %.3e  viol %.3e\n", it, f, res, viol);
         if (!s->single_step && res <= s->o.tol_kkt && viol <= s->o.tol_violation) {
             rep->reason = PLUME_REASON_CONVERGED;
+            break;
+        }
+        /* stall_iterations: an iteration contracts when it halves the best KKT residual or the
+         * best violation of this solve; a run of iterations that do neither (a line search
+         * creeping, an inertia shift holding the steps back) is reported at once, for a caller
+         * that has a smaller increment to try (lib/dynamics.c) */
+        if (res < 0.5 * best_res || viol < 0.5 * best_viol || it == 0)
+            flat = 0;
+        else if (!held_before)
+            flat++;
+        best_res = fmin(best_res, res);
+        best_viol = fmin(best_viol, viol);
+        if (s->o.stall_iterations > 0 && flat >= s->o.stall_iterations && !s->single_step) {
+            rep->reason = PLUME_REASON_STALLED;
             break;
         }
         if (it >= max_iter)

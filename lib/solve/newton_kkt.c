@@ -148,12 +148,15 @@ static plume_status factor_with(plume_newton *s, double dw, double dc)
     plume_status st;
     dw += s->tr_sigma; /* the trust region's regularisation, on top of any inertia shift */
     if (s->eliminate) {
-        /* K = H + dw I + sum_r J_r^T J_r / dc on the Hessian's own pattern */
+        /* K = H + dw I + sum_r J_r^T J_r / dc on the Hessian's own pattern, in a copy: adding
+         * the constraint part to H and subtracting it again would leave H with the round-off of
+         * J^T J / dc, 1e5 times the largest stiffness (about 1e-2 on the feather at 11k elements,
+         * above its soft directions' own stiffness) after every inertia-correction attempt, and the
+         * refinement measures residuals against H */
+        memcpy(s->kval, s->hval, (size_t)s->hp.nnz * sizeof *s->kval);
         for (plume_index k = 0; k < s->npairs; k++)
-            s->hval[s->pair_pos[k]] += s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
-        st = plume_chol_factor(s->chol, s->hval, dw);
-        for (plume_index k = 0; k < s->npairs; k++) /* undo: a retry starts from H again */
-            s->hval[s->pair_pos[k]] -= s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
+            s->kval[s->pair_pos[k]] += s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
+        st = plume_chol_factor(s->chol, s->kval, dw);
     } else if (s->m > 0) {
         memcpy(s->kval, s->hval, (size_t)s->hp.nnz * sizeof *s->kval);
         for (plume_index c = 0; c < s->n; c++)
@@ -230,10 +233,15 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
                         s->shift = sh;
                         s->projected = mode == PLUME_HESSIAN_PARTIAL;
                         s->partial_factorizations += mode == PLUME_HESSIAN_PARTIAL;
+                        /* As in Ipopt, the last shift that was needed is kept however many
+                         * unshifted factorisations came since, from one solve to the next too:
+                         * the next indefinite state (the vane buckling in a later time step)
+                         * starts from a third of it. A first guess of 1e-6 of the largest
+                         * diagonal (the rachis's) is 5e4 times what the feather's buckling
+                         * modes need at 11.4k elements, and a shift only comes down by 3 an
+                         * iteration (docs/solver-nonconvexity.md) */
                         if (sh > 0.0)
                             s->shift_last = sh;
-                        else
-                            s->shift_last *= 1.0 / 3.0; /* forget it slowly once not needed */
                     }
                     return st;
                 }

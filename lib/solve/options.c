@@ -4,6 +4,7 @@
 
 void plume_solver_opts_default(plume_solver_opts *o)
 {
+    memset(o, 0, sizeof *o); /* a field added later is never left undefined */
     o->max_iter = 100;
     o->tol_kkt = 1e-9;
     o->tol_violation = 1e-10;
@@ -21,6 +22,7 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->partial_projection = 1;
     o->trust_region = 0;
     o->curved_search = 1;
+    o->stall_iterations = 0;
 }
 
 static const char *const globalization_names[] = {"curved_line_search", "line_search", "trust_region"};

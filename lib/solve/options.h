@@ -85,6 +85,9 @@ typedef struct {
     int exact_hessian_first; /**< newton without constraints: factorise the exact Hessian first and
                                 fall back to the PSD-projected one if it is not positive definite;
                                 default 1 */
+    int stall_iterations;  /**< newton: stop (PLUME_REASON_STALLED) after this many iterations in a
+                              row that cut neither the KKT residual nor the constraint violation to
+                              half of its best in this solve; 0 (default): only max_iter stops */
 } plume_solver_opts;
 
 /** Fills o with the defaults each field names. */

@@ -21,7 +21,11 @@ typedef enum {
                                      to almost nothing for several iterations in a row, as when a
                                      pair outside the contact set blocks them (its barrier is not in
                                      the problem yet): the caller updates the terms' stencils and
-                                     solves again from the point returned */
+                                     solves again from the point returned */,
+    PLUME_REASON_STALLED          /**< newton with stall_iterations: that many iterations in a row
+                                     cut neither the KKT residual nor the constraint violation to
+                                     half of its best in this solve (a caller with a smaller step
+                                     to try gives up early, instead of at the cap) */
 } plume_reason;
 
 /** A short static name of r ("converged", "iteration cap", ...); "unknown" out of range. */

@@ -55,7 +55,9 @@ struct plume_newton {
     double *u_b, *l_b;       /* the best iterate within the violation tolerance (round-off floor) */
     double saved_f, saved_g1, saved_viol;        /* ... and its f, |g|_1, violation */
     double *kwork, *lwork;   /* [n+1], [m+1] eliminate: workspaces */
-    double *hval, *kval, *jval, *grad, *g, *gt, *rhs, *sol, *ut, *jtl;
+    double *hval;            /* the Hessian as assembled (kept: the refinement measures against it) */
+    double *kval;            /* the matrix factorised: the KKT values (LDL^T) or H + J^T J / dcf */
+    double *jval, *grad, *g, *gt, *rhs, *sol, *ut, *jtl;
     double *acc;             /* [n+1] the geodesic acceleration of the curved line search ... */
     double *acc_g, *acc_j;   /* [m+1], [jnnz+1] ... and its workspaces */
     double *grad_t;          /* [n+1] the gradient at the line search's first trial s->ut ... */
