@@ -260,7 +260,7 @@ static int run_macro(const options *o, const plume_vane *vane, plume_patch_kind 
         fprintf(stderr, "traction: mesh: %s\n", err.msg);
         goto done;
     }
-    if ((st = plume_problem_create(mesh->nv, 2, fmax(o->lx, o->ly), &p)) != PLUME_OK ||
+    if ((st = plume_problem_create(mesh->nv, 2, fmax(o->lx, o->ly), &p, &err)) != PLUME_OK ||
         (st = plume_vane_add(p, mesh, vane, &barbs, &nbarbs, &err)) != PLUME_OK) {
         fprintf(stderr, "traction: %s\n", err.msg[0] ? err.msg : plume_strerror(st));
         goto done;

@@ -75,7 +75,7 @@ static double macro_run(const plume_ortho *m, double edge, double *stress, long 
     plume_err err = {{0}};
     double s = NAN;
     if (plume_patch_mesh(1.0, 1.3, 45.0, edge, PLUME_PATCH_ALIGNED, 2, &mesh, &err) != PLUME_OK ||
-        plume_problem_create(mesh->nv, 2, 1.3, &p) != PLUME_OK || plume_vane_add(p, mesh, &v, &barbs, &nb, &err) != PLUME_OK)
+        plume_problem_create(mesh->nv, 2, 1.3, &p, &err) != PLUME_OK || plume_vane_add(p, mesh, &v, &barbs, &nb, &err) != PLUME_OK)
         return NAN;
     plume_traction_opts o;
     plume_traction_opts_default(&o);
@@ -107,7 +107,7 @@ static double barbule_cell(int order, double e_rel, double *seconds, long *eleme
     double C[9], t0 = plume_wall_seconds(), E = NAN;
     plume_ortho m;
     if (plume_cell_mesh(&l, &c, &err) == PLUME_OK && plume_cell_linear_tensor(c, mats, 2, l.h, C, NULL, &err) == PLUME_OK &&
-        plume_ortho_from_tensor(C, &m) == PLUME_OK)
+        plume_ortho_from_tensor(C, &m, &err) == PLUME_OK)
         E = m.E_yy;
     *seconds = plume_wall_seconds() - t0;
     *elements = c ? (long)plume_cell_elements(c) : 0;

@@ -46,7 +46,7 @@ static run_result run_child(double edge, plume_solver_kind solver, native_varian
     plume_vane_default(&vane);
     plume_err err = {{0}};
     if (plume_patch_mesh(1.0, 1.3, 45.0, edge, PLUME_PATCH_ALIGNED, 2, &mesh, &err) != PLUME_OK ||
-        plume_problem_create(mesh->nv, 2, 1.3, &p) != PLUME_OK ||
+        plume_problem_create(mesh->nv, 2, 1.3, &p, &err) != PLUME_OK ||
         plume_vane_add(p, mesh, &vane, &barbs, &nb, &err) != PLUME_OK) {
         fprintf(stderr, "bench: %s\n", err.msg);
         return r;

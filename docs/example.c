@@ -19,7 +19,7 @@ int main(void)
     plume_vane vane;
     plume_vane_default(&vane);            /* E_xx = 1e4, E_yy = 1, G_xy = 1 Pa, h = 1 m, constraint on */
     if (plume_patch_mesh(1.0, 1.3, 45.0, 0.05, PLUME_PATCH_ALIGNED, 2, &mesh, &err) ||
-        plume_problem_create(mesh->nv, 2, 1.3, &p) ||
+        plume_problem_create(mesh->nv, 2, 1.3, &p, &err) ||
         plume_vane_add(p, mesh, &vane, &barbs, &nb, &err)) {
         fprintf(stderr, "setup: %s\n", err.msg);
         return 1;

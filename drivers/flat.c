@@ -375,7 +375,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
         vane.h = t.h, vane.kappa = t.kappa, vane.constraint = t.constraint;
         if ((st = plume_vane_check(&vane, &err)) != PLUME_OK ||
             (st = plume_patch_mesh(t.lx, t.ly, angle, t.edge, t.mesh, 2, &mesh, &err)) != PLUME_OK ||
-            (st = plume_problem_create(mesh->nv, 2, fmax(t.lx, t.ly), &p)) != PLUME_OK ||
+            (st = plume_problem_create(mesh->nv, 2, fmax(t.lx, t.ly), &p, &err)) != PLUME_OK ||
             (st = plume_vane_add(p, mesh, &vane, &barbs, &nbarbs, &err)) != PLUME_OK)
             goto done;
         mats[0] = plume_vane_material(&vane);

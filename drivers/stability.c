@@ -18,7 +18,7 @@ static plume_status clamped_sample(double angle, double edge, const plume_vane *
     plume_status st = plume_patch_mesh(1.0, 1.3, angle, edge, PLUME_PATCH_ALIGNED, 2, mesh, err);
     if (st != PLUME_OK)
         return st;
-    if ((st = plume_problem_create((*mesh)->nv, 2, 1.3, p)) != PLUME_OK ||
+    if ((st = plume_problem_create((*mesh)->nv, 2, 1.3, p, err)) != PLUME_OK ||
         (st = plume_vane_add(*p, *mesh, v, NULL, NULL, err)) != PLUME_OK)
         return st;
     double *x = plume_problem_x(*p);
@@ -27,7 +27,7 @@ static plume_status clamped_sample(double angle, double edge, const plume_vane *
         x[2 * i + 1] = (*mesh)->X[2 * i + 1];
         double Y = (*mesh)->X[2 * i + 1];
         if (Y < 1e-12 || Y > 1.3 - 1e-12)
-            plume_problem_fix_dof(*p, 2 * i), plume_problem_fix_dof(*p, 2 * i + 1);
+            plume_problem_fix_dof(*p, 2 * i, err), plume_problem_fix_dof(*p, 2 * i + 1, err);
     }
     return plume_problem_finalize(*p, err);
 }
@@ -77,15 +77,15 @@ plume_status plume_stability_compression(double kappa, int log_barrier, double l
     plume_membrane_material mat = {1.0, 1.0, 0.0, 0.5, 1.0, kappa, log_barrier};
     plume_term t;
     plume_status st = plume_patch_mesh(0.05, 1.0, 0.0, 0.05, PLUME_PATCH_ALIGNED, 2, &m, err);
-    if (st == PLUME_OK && (st = plume_problem_create(m->nv, 2, 1.0, &p)) == PLUME_OK &&
+    if (st == PLUME_OK && (st = plume_problem_create(m->nv, 2, 1.0, &p, err)) == PLUME_OK &&
         (st = plume_membrane_term_create(m, 2, &mat, 1, &t, err)) == PLUME_OK)
-        st = plume_problem_add_term(p, &t);
+        st = plume_problem_add_term(p, &t, err);
     double *x = st == PLUME_OK ? plume_problem_x(p) : NULL;
     for (plume_index i = 0; st == PLUME_OK && i < m->nv; i++) {
         x[2 * i] = m->X[2 * i];
         x[2 * i + 1] = m->X[2 * i + 1];
         if (m->X[2 * i + 1] < 1e-12 || m->X[2 * i + 1] > 1.0 - 1e-12)
-            plume_problem_fix_dof(p, 2 * i), plume_problem_fix_dof(p, 2 * i + 1);
+            plume_problem_fix_dof(p, 2 * i, err), plume_problem_fix_dof(p, 2 * i + 1, err);
     }
     plume_solver_opts o;
     plume_solver_opts_default(&o);

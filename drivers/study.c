@@ -57,7 +57,7 @@ static plume_status build_vane(const plume_study_config *c, plume_mesh **mesh, p
     if (st == PLUME_OK)
         st = plume_patch_mesh(c->lx, c->ly, c->angle, c->edge, c->mesh, 2, mesh, err);
     if (st == PLUME_OK)
-        st = plume_problem_create((*mesh)->nv, 2, fmax(c->lx, c->ly), p);
+        st = plume_problem_create((*mesh)->nv, 2, fmax(c->lx, c->ly), p, err);
     if (st == PLUME_OK)
         st = plume_vane_add(*p, *mesh, &vane, barbs, nb, err);
     return st;

@@ -44,7 +44,7 @@ plume_status plume_feather_uncovered(const plume_mesh *m, const plume_index *bar
         if (m->material[t] == PLUME_FEATHER_RACHIS)
             for (int k = 0; k < 3; k++)
                 strip[m->tri[3 * t + k]] = 1;
-    if ((st = plume_vane_barb_coverage(m, barb_edges, nbarb, PLUME_FEATHER_VANE, &covered, &total, &unc)) != PLUME_OK) {
+    if ((st = plume_vane_barb_coverage(m, barb_edges, nbarb, PLUME_FEATHER_VANE, &covered, &total, &unc, err)) != PLUME_OK) {
         plume_err_set(err, st, "feather uncovered: %s", st == PLUME_ENOMEM ? "out of memory" : "invalid mesh");
         goto cleanup;
     }

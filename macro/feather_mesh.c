@@ -444,7 +444,7 @@ static plume_status fm_triangulate(const fm *f, int dim, plume_mesh **out)
     ci.npoints = f->g.n, ci.points = f->g.p, ci.nsegments = f->g.ns, ci.segments = f->g.s;
     ci.remove_exterior = 1, ci.max_edge = 0;
     plume_status st = plume_cdt_triangulate(&ci, &cdt, f->err);
-    if (st == PLUME_OK && (st = plume_mesh_create(cdt.npoints, cdt.ntriangles, dim, &m)) == PLUME_OK) {
+    if (st == PLUME_OK && (st = plume_mesh_create(cdt.npoints, cdt.ntriangles, dim, &m, f->err)) == PLUME_OK) {
         memcpy(m->X, cdt.points, (size_t)(2 * cdt.npoints) * sizeof *m->X);
         memcpy(m->tri, cdt.triangles, (size_t)(3 * cdt.ntriangles) * sizeof *m->tri);
         plume_mesh_reset_current(m);
@@ -570,7 +570,7 @@ static plume_status fm_stats(const plume_mesh *m, const plume_index *be, plume_i
     unsigned char *why = NULL;
     memset(stats, 0, sizeof *stats);
     if ((st = plume_vane_barb_coverage(m, be, nbe, PLUME_FEATHER_VANE, &stats->vane_covered, &stats->vane_triangles,
-                                       NULL)) != PLUME_OK ||
+                                       NULL, err)) != PLUME_OK ||
         (st = plume_feather_uncovered(m, be, nbe, NULL, &why, &nu, err)) != PLUME_OK)
         return st;
     for (plume_index k = 0; k < nu; k++)

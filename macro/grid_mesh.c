@@ -20,7 +20,7 @@ plume_status plume_grid_mesh(double lx, double ly, long nx, long ny, const doubl
         dir[0] = d[0] / l, dir[1] = d[1] / l;
     }
     plume_mesh *m = NULL;
-    plume_status st = plume_mesh_create((nx + 1) * (ny + 1), 2 * nx * ny, dim, &m);
+    plume_status st = plume_mesh_create((nx + 1) * (ny + 1), 2 * nx * ny, dim, &m, err);
     if (st != PLUME_OK)
         return plume_err_set(err, st, "grid mesh: out of memory");
     for (long j = 0; j <= ny; j++)

@@ -237,7 +237,7 @@ plume_status plume_patch_mesh(double lx, double ly, double angle_deg, double edg
     in.max_edge = kind == PLUME_PATCH_UNALIGNED ? edge : 0.0;
     if ((st = plume_cdt_triangulate(&in, &cdt, err)) != PLUME_OK)
         goto cleanup;
-    if ((st = plume_mesh_create(cdt.npoints, cdt.ntriangles, dim, &m)) != PLUME_OK)
+    if ((st = plume_mesh_create(cdt.npoints, cdt.ntriangles, dim, &m, err)) != PLUME_OK)
         goto cleanup;
     memcpy(m->X, cdt.points, (size_t)(2 * cdt.npoints) * sizeof *m->X);
     memcpy(m->tri, cdt.triangles, (size_t)(3 * cdt.ntriangles) * sizeof *m->tri);

@@ -346,7 +346,7 @@ plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plum
     {
         plume_term copy = load; /* the problem owns the context from here (and frees it if it refuses
                                    it); `load` keeps a handle to scale it */
-        if ((st = plume_problem_add_term(p, &copy)) != PLUME_OK) {
+        if ((st = plume_problem_add_term(p, &copy, err)) != PLUME_OK) {
             memset(&load, 0, sizeof load);
             plume_err_set(err, st, "bending test: cannot add the end loads");
             goto cleanup;
@@ -377,7 +377,7 @@ plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plum
     }
     const plume_index fixed[6] = {3 * va, 3 * va + 1, 3 * va + 2, 3 * vb, 3 * vb + 2, 3 * vc + 2};
     for (int k = 0; k < 6; k++)
-        if ((st = plume_problem_fix_dof(p, fixed[k])) != PLUME_OK) {
+        if ((st = plume_problem_fix_dof(p, fixed[k], err)) != PLUME_OK) {
             plume_err_set(err, st, "bending test: cannot fix the rigid motion");
             goto cleanup;
         }
@@ -411,7 +411,7 @@ plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plum
             fl = fmax(fl, fabs(f[i]));
         const double floor = plume_problem_force_scale(p);
         if (floor > fl && fl > 0.0 &&
-            (st = plume_solver_set_tol_kkt(solver, o->solver_opts.tol_kkt * fl / floor)) != PLUME_OK) {
+            (st = plume_solver_set_tol_kkt(solver, o->solver_opts.tol_kkt * fl / floor, err)) != PLUME_OK) {
             plume_err_set(err, st, "bending test: cannot set the solver tolerance");
             goto cleanup;
         }
@@ -500,7 +500,7 @@ plume_status plume_shell_specimen(const plume_mesh *planar, const plume_membrane
         return plume_err_set(err, PLUME_EINVAL, "shell specimen: invalid arguments");
     *mesh = NULL, *p = NULL;
     plume_term tm, tb;
-    plume_status st = plume_mesh_create(planar->nv, planar->nt, 3, mesh);
+    plume_status st = plume_mesh_create(planar->nv, planar->nt, 3, mesh, err);
     if (st != PLUME_OK)
         return plume_err_set(err, st, "shell specimen: out of memory");
     memcpy((*mesh)->X, planar->X, (size_t)(2 * planar->nv) * sizeof *planar->X);
@@ -514,13 +514,13 @@ plume_status plume_shell_specimen(const plume_mesh *planar, const plume_membrane
     for (plume_index v = 0; v < planar->nv; v++)
         for (int a = 0; a < 2; a++)
             lo[a] = fmin(lo[a], planar->X[2 * v + a]), hi[a] = fmax(hi[a], planar->X[2 * v + a]);
-    if ((st = plume_problem_create((*mesh)->nv, 3, fmax(hi[0] - lo[0], hi[1] - lo[1]), p)) != PLUME_OK) {
+    if ((st = plume_problem_create((*mesh)->nv, 3, fmax(hi[0] - lo[0], hi[1] - lo[1]), p, err)) != PLUME_OK) {
         plume_err_set(err, st, "shell specimen: cannot create the problem");
         goto fail;
     }
     if ((st = plume_membrane_term_create(*mesh, 3, mem, nmat, &tm, err)) != PLUME_OK)
         goto fail;
-    if ((st = plume_problem_add_term(*p, &tm)) != PLUME_OK) {
+    if ((st = plume_problem_add_term(*p, &tm, err)) != PLUME_OK) {
         plume_err_set(err, st, "shell specimen: cannot add the membrane");
         goto fail;
     }
@@ -529,7 +529,7 @@ plume_status plume_shell_specimen(const plume_mesh *planar, const plume_membrane
     const plume_shape_bending_opts so = {.phase_aware = 1};
     if ((st = plume_shape_bending_term_create_opts(*mesh, bend, nmat, NULL, &so, &tb, err)) != PLUME_OK)
         goto fail;
-    if ((st = plume_problem_add_term(*p, &tb)) != PLUME_OK) {
+    if ((st = plume_problem_add_term(*p, &tb, err)) != PLUME_OK) {
         plume_err_set(err, st, "shell specimen: cannot add the bending");
         goto fail;
     }

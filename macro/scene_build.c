@@ -70,7 +70,7 @@ static plume_status elastic_problem(const plume_scene *s, plume_problem **out, p
     plume_membrane_material *mm = malloc((size_t)s->nmat * sizeof *mm);
     plume_bending_material *bm = malloc((size_t)s->nmat * sizeof *bm);
     plume_status st = PLUME_ENOMEM;
-    if (!mm || !bm || (st = plume_problem_create(m->nv, 3, s->length, &p)) != PLUME_OK) {
+    if (!mm || !bm || (st = plume_problem_create(m->nv, 3, s->length, &p, err)) != PLUME_OK) {
         plume_err_set(err, st, "scene: out of memory");
         goto done;
     }
@@ -82,15 +82,15 @@ static plume_status elastic_problem(const plume_scene *s, plume_problem **out, p
     }
     plume_term term;
     if ((st = plume_membrane_term_create(m, 3, mm, s->nmat, &term, err)) != PLUME_OK ||
-        (st = plume_problem_add_term(p, &term)) != PLUME_OK)
+        (st = plume_problem_add_term(p, &term, err)) != PLUME_OK)
         goto done;
     if (bending && ((st = bending_term(s, m, bm, &term, err)) != PLUME_OK ||
-                    (st = plume_problem_add_term(p, &term)) != PLUME_OK))
+                    (st = plume_problem_add_term(p, &term, err)) != PLUME_OK))
         goto done;
     if (s->nbarb > 0) {
         plume_constraint con;
         if ((st = plume_edge_length_create(s->barb_edges, s->nbarb, m->X, m->nv, &con, err)) != PLUME_OK ||
-            (st = plume_problem_add_constraint(p, &con)) != PLUME_OK)
+            (st = plume_problem_add_constraint(p, &con, err)) != PLUME_OK)
             goto done;
     }
     memcpy(plume_problem_x(p), s->mesh->x, (size_t)(3 * m->nv) * sizeof(double));
@@ -116,7 +116,7 @@ static plume_status add_contact(const plume_scene *s, plume_problem *p, plume_co
     plume_status st = plume_contact_term_create(m->nv, m->nt, m->tri, body, m->x, &s->contact, &t, &c, err);
     free(body);
     if (st == PLUME_OK)
-        st = plume_problem_add_term(p, &t);
+        st = plume_problem_add_term(p, &t, err);
     if (handle)
         *handle = st == PLUME_OK ? c : NULL;
     if (st != PLUME_OK || !(s->friction_mu > 0.0))
@@ -131,7 +131,7 @@ static plume_status add_contact(const plume_scene *s, plume_problem *p, plume_co
     if ((st = plume_friction_term_create(m->nv, &fo, &t, &f, err)) != PLUME_OK)
         return st;
     plume_friction_follow_contact(f, c);
-    return plume_problem_add_term(p, &t);
+    return plume_problem_add_term(p, &t, err);
 }
 
 plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **pp, plume_dynamics **pd, plume_err *err)
@@ -258,7 +258,7 @@ plume_status plume_scene_statics(const plume_scene *s, plume_problem **pp, plume
     if (nf > 0) {
         plume_term t;
         if ((st = plume_load_term_create(ids, nf, 3, f, &t, err)) != PLUME_OK ||
-            (st = plume_problem_add_term(p, &t)) != PLUME_OK)
+            (st = plume_problem_add_term(p, &t, err)) != PLUME_OK)
             goto fail;
         l->force = t; /* a copy: its ctx is the problem's, which scales it */
         l->has_force = 1;
@@ -270,7 +270,7 @@ plume_status plume_scene_statics(const plume_scene *s, plume_problem **pp, plume
         plume_term t;
         if ((st = plume_moment_term_create(mo->end, mo->nend, mo->row, mo->nrow, mo->axis, mo->moment, X3, &t, err)) !=
                 PLUME_OK ||
-            (st = plume_problem_add_term(p, &t)) != PLUME_OK)
+            (st = plume_problem_add_term(p, &t, err)) != PLUME_OK)
             goto fail;
         l->moments[l->nmoments++] = t;
     }
@@ -279,18 +279,18 @@ plume_status plume_scene_statics(const plume_scene *s, plume_problem **pp, plume
     for (plume_index v = 0; v < m->nv; v++) {
         if (s->clamped[v] & PLUME_CLAMP_HELD)
             for (int a = 0; a < 3; a++)
-                plume_problem_fix_dof(p, 3 * v + a);
+                plume_problem_fix_dof(p, 3 * v + a, err);
         else if ((s->clamped[v] & PLUME_CLAMP_ROW) || ((s->clamped[v] & PLUME_CLAMP_ROW_EDGE) && s->hinge_bending))
-            plume_problem_fix_dof(p, 3 * v + 2);
+            plume_problem_fix_dof(p, 3 * v + 2, err);
     }
     for (plume_index v = 0; v < m->nv; v++)
         for (int a = 0; a < 3; a++)
             if (s->supported[v] & (1u << a))
-                plume_problem_fix_dof(p, 3 * v + a);
+                plume_problem_fix_dof(p, 3 * v + a, err);
     for (int h = 0; h < s->nhandles; h++)
         for (plume_index i = 0; i < s->handles[h].nvertices; i++)
             for (int a = 0; a < 3; a++)
-                plume_problem_fix_dof(p, 3 * s->handles[h].vertices[i] + a);
+                plume_problem_fix_dof(p, 3 * s->handles[h].vertices[i] + a, err);
     static_loads_scale(l, 0.0);
     if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
         goto fail;

@@ -92,7 +92,7 @@ plume_status plume_scene_mesh_from_obj(const plume_json_ctx *c, json_t *m, plume
     for (plume_index v = 0; v < o.nv; v++)
         if (map[v] == 0)
             map[v] = nv++;
-    if ((st = plume_mesh_create(nv, o.nf, 3, &s->mesh)) != PLUME_OK) {
+    if ((st = plume_mesh_create(nv, o.nf, 3, &s->mesh, NULL)) != PLUME_OK) {
         plume_err_set(c->err, st, "%s: out of memory", c->file);
         goto done;
     }

@@ -387,7 +387,7 @@ done:
 
 static plume_status copy_mesh_part(const merged *mg, plume_index nt, plume_mesh **out, plume_err *err)
 {
-    plume_status st = plume_mesh_create(mg->nv, nt, 3, out);
+    plume_status st = plume_mesh_create(mg->nv, nt, 3, out, err);
     if (st != PLUME_OK)
         return plume_err_set(err, st, "scene: out of memory");
     plume_mesh *m = *out;

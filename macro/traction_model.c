@@ -25,7 +25,7 @@ plume_status plume_macro_model_curve(void *ctx, const plume_ortho *m, int icurve
     plume_index *barbs = NULL, nb = 0;
     plume_status st = plume_patch_mesh(mm->lx, mm->ly, mm->angles[icurve], mm->edge, mm->mesh, 2, &mesh, err);
     if (st == PLUME_OK)
-        st = plume_problem_create(mesh->nv, 2, fmax(mm->lx, mm->ly), &p);
+        st = plume_problem_create(mesh->nv, 2, fmax(mm->lx, mm->ly), &p, err);
     if (st == PLUME_OK)
         st = plume_vane_add(p, mesh, &vane, &barbs, &nb, err);
     if (st == PLUME_OK) {

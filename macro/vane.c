@@ -29,13 +29,21 @@ plume_status plume_vane_check(const plume_vane *v, plume_err *err)
     return plume_membrane_material_check(&mat, err);
 }
 
-plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_index **edges, plume_index *n)
+plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_index **edges, plume_index *n,
+                                   plume_err *err)
 {
+    if (!edges || !n)
+        return plume_err_set(err, PLUME_EINVAL, "barb edges: edges and n are required");
     *edges = NULL;
     *n = 0;
+    if (!m || (m->ne > 0 && (!m->edges || !m->edge_tri)))
+        return plume_err_set(err, PLUME_EINVAL, "barb edges: %s", m ? "the mesh's topology is not built "
+                                                                     "(plume_mesh_build_topology)" : "no mesh");
+    if (!(align_tol >= 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "barb edges: align_tol must be >= 0 (got %g)", align_tol);
     plume_index *e = malloc((size_t)(2 * m->ne + 1) * sizeof *e);
     if (!e)
-        return PLUME_ENOMEM;
+        return plume_err_set(err, PLUME_ENOMEM, "barb edges: out of memory");
     plume_index k = 0;
     for (plume_index i = 0; i < m->ne; i++) {
         plume_index a = m->edges[2 * i], b = m->edges[2 * i + 1];
@@ -70,26 +78,29 @@ static int cmp_pair(const void *p, const void *q)
 
 plume_status plume_vane_barb_coverage(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
                                       int material, plume_index *covered, plume_index *total,
-                                      plume_index **uncovered)
+                                      plume_index **uncovered, plume_err *err)
 {
     if (uncovered)
         *uncovered = NULL;
-    if (!m || !covered || !total || nbarb < 0 || (nbarb > 0 && !barb_edges) || (m->ne > 0 && !m->edges))
-        return PLUME_EINVAL;
+    if (!m || !covered || !total || nbarb < 0 || (nbarb > 0 && !barb_edges))
+        return plume_err_set(err, PLUME_EINVAL, "barb coverage: a mesh, the outputs and %ld barb edges (>= 0, "
+                                                "with their array) are required", (long)nbarb);
     *covered = *total = 0;
-    if (m->nt > 0 && !m->edge_tri)
-        return PLUME_EINVAL; /* topology not built */
+    if ((m->ne > 0 && !m->edges) || (m->nt > 0 && !m->edge_tri))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "barb coverage: the mesh's topology is not built (plume_mesh_build_topology)");
     plume_status st = PLUME_OK;
     plume_index *keys = malloc((size_t)(2 * nbarb + 2) * sizeof *keys);
     unsigned char *own = calloc((size_t)m->nt + 1, 1);
     if (!keys || !own) {
-        st = PLUME_ENOMEM;
+        st = plume_err_set(err, PLUME_ENOMEM, "barb coverage: out of memory");
         goto cleanup;
     }
     for (plume_index e = 0; e < nbarb; e++) {
         plume_index a = barb_edges[2 * e], b = barb_edges[2 * e + 1];
         if (a < 0 || b < 0 || a >= m->nv || b >= m->nv) {
-            st = PLUME_EINVAL;
+            st = plume_err_set(err, PLUME_EINVAL, "barb coverage: barb edge %ld (%ld, %ld) names a vertex out of "
+                               "[0, %ld)", (long)e, (long)a, (long)b, (long)m->nv);
             goto cleanup;
         }
         keys[2 * e] = a < b ? a : b;
@@ -109,7 +120,7 @@ plume_status plume_vane_barb_coverage(const plume_mesh *m, const plume_index *ba
             n++, c += own[t];
     if (uncovered && c < n) {
         if (!(*uncovered = malloc((size_t)(n - c) * sizeof **uncovered))) {
-            st = PLUME_ENOMEM;
+            st = plume_err_set(err, PLUME_ENOMEM, "barb coverage: out of memory");
             goto cleanup;
         }
         plume_index k = 0;
@@ -139,16 +150,16 @@ plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, const plume_v
     plume_term term;
     if ((st = plume_membrane_term_create(m, plume_problem_dim(p), &mat, 1, &term, err)) != PLUME_OK)
         return st;
-    if ((st = plume_problem_add_term(p, &term)) != PLUME_OK)
+    if ((st = plume_problem_add_term(p, &term, err)) != PLUME_OK)
         return st;
     if (!v->constraint)
         return PLUME_OK;
     plume_index *edges = NULL, n = 0;
-    if ((st = plume_vane_barb_edges(m, v->align_tol, &edges, &n)) != PLUME_OK)
+    if ((st = plume_vane_barb_edges(m, v->align_tol, &edges, &n, err)) != PLUME_OK)
         return st;
     plume_constraint c;
     if ((st = plume_edge_length_create(edges, n, m->X, m->nv, &c, err)) == PLUME_OK)
-        st = plume_problem_add_constraint(p, &c);
+        st = plume_problem_add_constraint(p, &c, err);
     if (st == PLUME_OK && barb_edges) {
         *barb_edges = edges;
         *nbarb = n;

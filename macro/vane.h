@@ -34,10 +34,12 @@ PLUME_API plume_membrane_material plume_vane_material(const plume_vane *v);
 /** Validates the moduli and thickness (message names the parameter: "E_yy must be finite and > 0"). */
 PLUME_API plume_status plume_vane_check(const plume_vane *v, plume_err *err);
 
-/** Edges of the mesh (topology built) parallel to the barb direction of an adjacent triangle;
- * returns a malloc'ed array of 2*n vertex ids (free with free()). */
+/** Edges of the mesh (topology built) parallel to the barb direction of an adjacent triangle
+ * (|sin| of the angle <= align_tol); returns a malloc'ed array of 2*n vertex ids (free with
+ * free()). PLUME_EINVAL (no mesh or topology, align_tol < 0) and PLUME_ENOMEM with a message in
+ * err (NULL allowed). */
 PLUME_API plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_index **edges,
-                                             plume_index *n);
+                                             plume_index *n, plume_err *err);
 
 /** Barb coverage (docs/design.md, "Meshes that respect the fibres"): counts the triangles of `m`
  * (topology built) whose material is `material` (or every triangle when material < 0) in *total,
@@ -46,10 +48,11 @@ PLUME_API plume_status plume_vane_barb_edges(const plume_mesh *m, double align_t
  * a covered triangle has an inextensible barb (its constant strain has no barb stretch), an
  * uncovered one does not. If `uncovered` is non-NULL it receives a malloc'ed list of the
  * uncovered triangle ids (*total - *covered of them; NULL when none).
- * Errors: PLUME_EINVAL (NULL mesh or outputs, no topology, vertex id out of range), PLUME_ENOMEM. */
+ * Errors: PLUME_EINVAL (NULL mesh or outputs, no topology, vertex id out of range, naming the
+ * edge), PLUME_ENOMEM, with a message in err (NULL allowed). */
 PLUME_API plume_status plume_vane_barb_coverage(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
                                                 int material, plume_index *covered, plume_index *total,
-                                                plume_index **uncovered);
+                                                plume_index **uncovered, plume_err *err);
 
 /** Adds the vane membrane (every triangle, material 0) and, when v->constraint is set, the
  * inextensibility constraint of the barb edges to `p` (created over mesh->nv vertices).

@@ -216,17 +216,17 @@ plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membra
         return st;
     const double zero[4] = {0, 0, 0, 0};
     plume_periodic_set_macro(per, zero); /* w_v = w_master(v): the fluctuation is periodic */
-    if ((st = plume_problem_create(m->nv, 2, fmax(cell->a, cell->b), &p)) != PLUME_OK) {
+    if ((st = plume_problem_create(m->nv, 2, fmax(cell->a, cell->b), &p, err)) != PLUME_OK) {
         wrapped.destroy(wrapped.ctx);
         return st;
     }
-    if ((st = plume_problem_add_term(p, &wrapped)) != PLUME_OK)
+    if ((st = plume_problem_add_term(p, &wrapped, err)) != PLUME_OK)
         goto done;
     plume_index anchor = cell->master[0]; /* rigid translation */
     for (plume_index v = 0; v < m->nv; v++)
         if (cell->master[v] != v || v == anchor) {
-            plume_problem_fix_dof(p, 2 * v);
-            plume_problem_fix_dof(p, 2 * v + 1);
+            plume_problem_fix_dof(p, 2 * v, err);
+            plume_problem_fix_dof(p, 2 * v + 1, err);
         }
     if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
         goto done;

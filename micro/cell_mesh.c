@@ -319,7 +319,7 @@ plume_status plume_cell_mesh(const plume_layout *l, plume_cell **out, plume_err 
                            (long)(cdt.npoints - g.n));
         goto cleanup;
     }
-    if ((st = plume_mesh_create(cdt.npoints, cdt.ntriangles, 2, &c->mesh)) != PLUME_OK)
+    if ((st = plume_mesh_create(cdt.npoints, cdt.ntriangles, 2, &c->mesh, err)) != PLUME_OK)
         goto cleanup;
     plume_mesh *m = c->mesh;
     memcpy(m->X, cdt.points, (size_t)(2 * cdt.npoints) * sizeof *m->X);

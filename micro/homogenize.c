@@ -66,11 +66,11 @@ static plume_status cell_solver_init(cell_solver *c, const plume_cell *cell, con
         return st;
     if ((st = plume_periodic_term_create(cell, &membrane, &c->per, &wrapped, err)) != PLUME_OK)
         return st;
-    if ((st = plume_problem_create(m->nv, 2, fmax(cell->a, cell->b), &c->p)) != PLUME_OK) {
+    if ((st = plume_problem_create(m->nv, 2, fmax(cell->a, cell->b), &c->p, err)) != PLUME_OK) {
         wrapped.destroy(wrapped.ctx);
         return st;
     }
-    if ((st = plume_problem_add_term(c->p, &wrapped)) != PLUME_OK)
+    if ((st = plume_problem_add_term(c->p, &wrapped, err)) != PLUME_OK)
         return st;
     /* the anchor: the master at the origin if there is one (so that Fbar X = 0 there) */
     plume_index anchor = cell->master[0];
@@ -82,8 +82,8 @@ static plume_status cell_solver_init(cell_solver *c, const plume_cell *cell, con
         x[2 * v] = m->X[2 * v];
         x[2 * v + 1] = m->X[2 * v + 1];
         if (cell->master[v] != v || v == anchor) {
-            plume_problem_fix_dof(c->p, 2 * v);
-            plume_problem_fix_dof(c->p, 2 * v + 1);
+            plume_problem_fix_dof(c->p, 2 * v, err);
+            plume_problem_fix_dof(c->p, 2 * v + 1, err);
         }
     }
     if ((st = plume_problem_finalize(c->p, err)) != PLUME_OK)
@@ -134,19 +134,27 @@ static plume_status cell_solve(cell_solver *c, const double F[4], double P[4], c
     return PLUME_OK;
 }
 
-plume_status plume_ortho_from_tensor(const double C[9], plume_ortho *m)
+plume_status plume_ortho_from_tensor(const double C[9], plume_ortho *m, plume_err *err)
 {
+    if (!C || !m)
+        return plume_err_set(err, PLUME_EINVAL, "moduli from a tensor: the tensor and the output are required");
     double det = C[0] * (C[4] * C[8] - C[5] * C[7]) - C[1] * (C[3] * C[8] - C[5] * C[6]) +
                  C[2] * (C[3] * C[7] - C[4] * C[6]);
     if (!(fabs(det) > 0.0) || !isfinite(det))
-        return PLUME_ESINGULAR;
+        return plume_err_set(err, PLUME_ESINGULAR,
+                             "moduli from a tensor: the tensor is singular or not finite (determinant %g): a phase "
+                             "with no stiffness?", det);
     double S11 = (C[4] * C[8] - C[5] * C[7]) / det, S22 = (C[0] * C[8] - C[2] * C[6]) / det;
     double S33 = (C[0] * C[4] - C[1] * C[3]) / det, S12 = -(C[1] * C[8] - C[2] * C[7]) / det;
     m->E_xx = 1.0 / S11;
     m->E_yy = 1.0 / S22;
     m->G_xy = 1.0 / S33;
     m->nu_xy = -S12 / S11;
-    return (m->E_xx > 0 && m->E_yy > 0 && m->G_xy > 0) ? PLUME_OK : PLUME_ESINGULAR;
+    if (!(m->E_xx > 0 && m->E_yy > 0 && m->G_xy > 0))
+        return plume_err_set(err, PLUME_ESINGULAR,
+                             "moduli from a tensor: the tensor is not positive definite (E_xx %g, E_yy %g, G_xy %g)",
+                             m->E_xx, m->E_yy, m->G_xy);
+    return PLUME_OK;
 }
 
 /* The convergence estimate (plume_homog_result): the tensor of the cell meshed at twice the element
@@ -168,7 +176,7 @@ static plume_status refinement_estimate(const plume_layout *l, const plume_membr
     }
     plume_cell_destroy(&cell);
     plume_ortho m;
-    if (st != PLUME_OK || plume_ortho_from_tensor(C, &m) != PLUME_OK) {
+    if (st != PLUME_OK || plume_ortho_from_tensor(C, &m, err) != PLUME_OK) {
         /* no estimate is not a failure of the homogenisation itself */
         r->refinement_change = -1.0;
         return PLUME_OK;
@@ -390,7 +398,7 @@ plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, 
     if ((st = plume_cell_linear_tensor(cell, mats, 2, l->h, r->C, &lin_iterations, err)) != PLUME_OK)
         goto done;
     c.iterations += lin_iterations;
-    if (plume_ortho_from_tensor(r->C, &r->moduli) != PLUME_OK) {
+    if (plume_ortho_from_tensor(r->C, &r->moduli, err) != PLUME_OK) {
         st = plume_err_set(err, PLUME_ESINGULAR, "homogenize: the effective tensor is not positive definite");
         goto done;
     }

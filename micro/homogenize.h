@@ -86,8 +86,9 @@ PLUME_API plume_status plume_homogenize(const plume_layout *l, const plume_homog
                                         plume_err *err);
 
 /** Orthotropic moduli from a plane-stress tensor via its compliance: E_xx = 1/S11, E_yy = 1/S22,
- * G_xy = 1/S33, nu_xy = -S12/S11 (the shear coupling terms, if any, are ignored). */
-PLUME_API plume_status plume_ortho_from_tensor(const double C[9], plume_ortho *m);
+ * G_xy = 1/S33, nu_xy = -S12/S11 (the shear coupling terms, if any, are ignored). PLUME_ESINGULAR
+ * when the tensor is singular or not positive definite, with a message in err (NULL allowed). */
+PLUME_API plume_status plume_ortho_from_tensor(const double C[9], plume_ortho *m, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -33,9 +33,9 @@ plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, d
     plume_membrane_material mats[2];
     plume_layout_materials(l, mats);
     plume_term term;
-    if ((st = plume_problem_create((*mesh)->nv, 2, fmax(lx, ly), p)) != PLUME_OK ||
+    if ((st = plume_problem_create((*mesh)->nv, 2, fmax(lx, ly), p, err)) != PLUME_OK ||
         (st = plume_micro_membrane_term(*mesh, l->order == 2 ? &quad : NULL, mats, 2, &term, err)) != PLUME_OK ||
-        (st = plume_problem_add_term(*p, &term)) != PLUME_OK) {
+        (st = plume_problem_add_term(*p, &term, err)) != PLUME_OK) {
         plume_problem_destroy(p);
         plume_mesh_destroy(mesh);
     }

@@ -444,7 +444,7 @@ plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, do
                            lx, ly, angle_deg);
         goto cleanup;
     }
-    if ((st = plume_mesh_create(nv, kept, 2, &m)) != PLUME_OK)
+    if ((st = plume_mesh_create(nv, kept, 2, &m, err)) != PLUME_OK)
         goto cleanup;
     for (plume_index i = 0; i < np; i++)
         if (newid[i] >= 0)

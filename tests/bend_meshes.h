@@ -85,7 +85,7 @@ static inline plume_mesh *bm_rows_mesh(int ncol, int nrow, double Lx, double Ly,
             nt++;
         }
     }
-    if (plume_mesh_create(nv, nt, 3, &m) != PLUME_OK) {
+    if (plume_mesh_create(nv, nt, 3, &m, NULL) != PLUME_OK) {
         m = NULL;
         goto done;
     }
@@ -135,7 +135,7 @@ static inline plume_mesh *bm_delaunay_mesh(double h, double Lx, double Ly, unsig
     plume_cdt_output out;
     memset(&out, 0, sizeof out);
     if (plume_cdt_triangulate(&in, &out, NULL) == PLUME_OK &&
-        plume_mesh_create(out.npoints, out.ntriangles, 3, &m) == PLUME_OK) {
+        plume_mesh_create(out.npoints, out.ntriangles, 3, &m, NULL) == PLUME_OK) {
         memcpy(m->X, out.points, sizeof(double) * 2 * (size_t)out.npoints);
         memcpy(m->tri, out.triangles, sizeof(plume_index) * 3 * (size_t)out.ntriangles);
         m = bm_finish(m, barb_deg);

@@ -57,7 +57,7 @@ static plume_cell *transposed(const plume_cell *c)
 {
     const plume_mesh *m = c->mesh;
     plume_cell *r = calloc(1, sizeof *r);
-    if (!r || plume_mesh_create(m->nv, m->nt, 2, &r->mesh) != PLUME_OK)
+    if (!r || plume_mesh_create(m->nv, m->nt, 2, &r->mesh, NULL) != PLUME_OK)
         return free(r), NULL;
     plume_mesh *q = r->mesh;
     for (plume_index v = 0; v < m->nv; v++)

@@ -35,7 +35,7 @@ static int bodies_build(two_bodies *b, int n, const double *side, const double *
             nv += part[k]->nv, nt += part[k]->nt;
     }
     if (ok)
-        ok = plume_mesh_create(nv, nt, 3, &b->mesh) == PLUME_OK;
+        ok = plume_mesh_create(nv, nt, 3, &b->mesh, &err) == PLUME_OK;
     plume_mesh *m = b->mesh;
     if (ok) {
         b->nground = part[0]->nv;
@@ -144,11 +144,11 @@ static void drop_plates(plume_contact_model model, double stiffness, double dhat
     plume_mesh *m = b.mesh;
     plume_problem *p = NULL;
     plume_err err = {{0}};
-    CHECK(plume_problem_create(m->nv, 3, 1.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(m->nv, 3, 1.0, &p, &err) == PLUME_OK);
     plume_membrane_material mats[2] = {{1e6, 1e6, 0.3, 1e6 / 2.6, 1e-3, 0.0, 0},
                                        {1e6, 1e6, 0.3, 1e6 / 2.6, 1e-3, 0.0, 0}};
     plume_term mt;
-    CHECK(plume_membrane_term_create(m, 3, mats, 2, &mt, &err) == PLUME_OK && plume_problem_add_term(p, &mt) == PLUME_OK);
+    CHECK(plume_membrane_term_create(m, 3, mats, 2, &mt, &err) == PLUME_OK && plume_problem_add_term(p, &mt, &err) == PLUME_OK);
     plume_contact_term_opts o;
     plume_contact_term_opts_default(&o);
     o.pair.model = model;
@@ -157,7 +157,7 @@ static void drop_plates(plume_contact_model model, double stiffness, double dhat
     plume_term ct;
     plume_contact *h = NULL;
     CHECK(plume_contact_term_create(m->nv, m->nt, m->tri, b.body, m->x, &o, &ct, &h, &err) == PLUME_OK &&
-          plume_problem_add_term(p, &ct) == PLUME_OK);
+          plume_problem_add_term(p, &ct, &err) == PLUME_OK);
     memcpy(plume_problem_x(p), m->x, (size_t)(3 * m->nv) * sizeof(double));
     plume_index *ground = malloc((size_t)b.nground * sizeof *ground);
     for (plume_index v = 0; v < b.nground; v++)

@@ -505,7 +505,7 @@ void test_contact_friction_normal_force(void)
 void test_contact_friction_problem(void)
 {
     plume_problem *p = NULL;
-    CHECK(plume_problem_create(5, 3, 1.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(5, 3, 1.0, &p, NULL) == PLUME_OK);
     if (!p)
         return;
     plume_friction_opts o;
@@ -515,7 +515,7 @@ void test_contact_friction_problem(void)
     plume_friction *f = NULL;
     plume_err err;
     CHECK(plume_friction_term_create(5, &o, &t, &f, &err) == PLUME_OK);
-    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t, &err) == PLUME_OK);
     double *x = plume_problem_x(p);
     const double xl[15] = {0.3, 0.2, 0.05, 0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 5, 5};
     memcpy(x, xl, sizeof xl);

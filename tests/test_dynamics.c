@@ -17,7 +17,7 @@ void test_dynamics_free_fall(void)
     plume_err err = {{0}};
     CHECK(plume_patch_mesh(1.0, 1.0, 0.0, 0.5, PLUME_PATCH_UNALIGNED, 3, &mesh, &err) == PLUME_OK);
     plume_problem *p = NULL;
-    CHECK(plume_problem_create(mesh->nv, 3, 1.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(mesh->nv, 3, 1.0, &p, &err) == PLUME_OK);
     memcpy(plume_problem_x(p), mesh->x, (size_t)(3 * mesh->nv) * sizeof(double));
     plume_dynamics_opts o;
     plume_dynamics_opts_default(&o);
@@ -78,7 +78,7 @@ static int hanging_build_adaptive(hanging *h, int max_iter, double dt, int adapt
     vane.moduli.E_yy = vane.moduli.G_xy = 1e3;
     vane.moduli.E_xx = 1e7;
     vane.h = 1e-4;
-    if (plume_problem_create(h->mesh->nv, 3, 0.13, &h->p) != PLUME_OK ||
+    if (plume_problem_create(h->mesh->nv, 3, 0.13, &h->p, &err) != PLUME_OK ||
         plume_vane_add(h->p, h->mesh, &vane, &h->barbs, &h->nb, &err) != PLUME_OK)
         return 0;
     memcpy(plume_problem_x(h->p), h->mesh->x, (size_t)(3 * h->mesh->nv) * sizeof(double));
@@ -329,12 +329,12 @@ void test_dynamics_terms_fd(void)
     plume_term mem, load;
     const plume_index v[2] = {1, 2};
     const double f[6] = {0.3, -0.2, 0.5, -0.1, 0.4, 0.2};
-    CHECK(plume_problem_create(mesh->nv, 3, 1.0, &p) == PLUME_OK);
-    CHECK(plume_membrane_term_create(mesh, 3, &mat, 1, &mem, &err) == PLUME_OK && plume_problem_add_term(p, &mem) == PLUME_OK);
-    CHECK(plume_load_term_create(v, 2, 3, f, &load, &err) == PLUME_OK && plume_problem_add_term(p, &load) == PLUME_OK);
+    CHECK(plume_problem_create(mesh->nv, 3, 1.0, &p, &err) == PLUME_OK);
+    CHECK(plume_membrane_term_create(mesh, 3, &mat, 1, &mem, &err) == PLUME_OK && plume_problem_add_term(p, &mem, &err) == PLUME_OK);
+    CHECK(plume_load_term_create(v, 2, 3, f, &load, &err) == PLUME_OK && plume_problem_add_term(p, &load, &err) == PLUME_OK);
     memcpy(plume_problem_x(p), mesh->x, (size_t)(3 * mesh->nv) * sizeof(double));
     for (int a = 0; a < 3; a++)
-        plume_problem_fix_dof(p, a);
+        plume_problem_fix_dof(p, a, &err);
     CHECK(plume_problem_finalize(p, &err) == PLUME_OK);
     n = plume_problem_nfree(p);
     u = malloc((size_t)n * sizeof *u);

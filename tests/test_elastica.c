@@ -66,10 +66,10 @@ static double strip_deflection(double edge, double alpha, plume_index *nel)
     double *f = calloc((size_t)(3 * ntip), sizeof *f);
     for (plume_index k = 0; k < ntip; k++)
         f[3 * k + 2] = -P / (double)ntip;
-    if (plume_problem_create(mesh->nv, 3, L, &p) != PLUME_OK ||
-        plume_membrane_term_create(mesh, 3, &mat, 1, &mem, &err) != PLUME_OK || plume_problem_add_term(p, &mem) ||
-        plume_bending_term_create(mesh, &bm, 1, NULL, &bend, &err) != PLUME_OK || plume_problem_add_term(p, &bend) ||
-        plume_load_term_create(tip, ntip, 3, f, &load, &err) != PLUME_OK || plume_problem_add_term(p, &load)) {
+    if (plume_problem_create(mesh->nv, 3, L, &p, &err) != PLUME_OK ||
+        plume_membrane_term_create(mesh, 3, &mat, 1, &mem, &err) != PLUME_OK || plume_problem_add_term(p, &mem, &err) ||
+        plume_bending_term_create(mesh, &bm, 1, NULL, &bend, &err) != PLUME_OK || plume_problem_add_term(p, &bend, &err) ||
+        plume_load_term_create(tip, ntip, 3, f, &load, &err) != PLUME_OK || plume_problem_add_term(p, &load, &err)) {
         fprintf(stderr, "    setup: %s\n", err.msg);
         goto done;
     }
@@ -78,7 +78,7 @@ static double strip_deflection(double edge, double alpha, plume_index *nel)
     for (plume_index v = 0; v < mesh->nv; v++)
         if (mesh->X[2 * v + 1] <= edge * 1.01) /* two rows: a clamp, not a hinge */
             for (int a = 0; a < 3; a++)
-                plume_problem_fix_dof(p, 3 * v + a);
+                plume_problem_fix_dof(p, 3 * v + a, &err);
     if (plume_problem_finalize(p, &err) != PLUME_OK)
         goto done;
     plume_solver_opts so;

@@ -1236,7 +1236,7 @@ void test_feather_mesh_coverage(void)
     unsigned char *why = NULL;
     CHECK(plume_feather_uncovered(NULL, NULL, 0, &tri, &why, &n, &err) == PLUME_EINVAL);
     plume_mesh *m = NULL;
-    CHECK(plume_mesh_create(3, 1, 2, &m) == PLUME_OK);
+    CHECK(plume_mesh_create(3, 1, 2, &m, &err) == PLUME_OK);
     if (m) {
         const double X[6] = {0, 0, 1, 0, 0, 1};
         memcpy(m->X, X, sizeof X);

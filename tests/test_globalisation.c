@@ -27,7 +27,7 @@ static traction_run tilted(plume_solver_kind kind, plume_line_search ls, int reu
     CHECK(plume_patch_mesh(1.0, 1.3, 45.0, 0.05, PLUME_PATCH_ALIGNED, 2, &m, &err) == PLUME_OK);
     if (!m)
         return r;
-    CHECK(plume_problem_create(m->nv, 2, 1.3, &p) == PLUME_OK);
+    CHECK(plume_problem_create(m->nv, 2, 1.3, &p, &err) == PLUME_OK);
     CHECK(plume_vane_add(p, m, &vane, &barbs, &nb, &err) == PLUME_OK);
     plume_traction_opts o;
     plume_traction_opts_default(&o);
@@ -92,7 +92,7 @@ static void adaptive_run(int adaptive, int cap, int steps, int constraint, plume
     CHECK(plume_patch_mesh(1.0, 1.3, 45.0, 0.1, kind, 2, &m, &err) == PLUME_OK);
     if (!m)
         return;
-    CHECK(plume_problem_create(m->nv, 2, 1.3, &p) == PLUME_OK);
+    CHECK(plume_problem_create(m->nv, 2, 1.3, &p, &err) == PLUME_OK);
     CHECK(plume_vane_add(p, m, &vane, &barbs, &nb, &err) == PLUME_OK);
     plume_traction_opts o;
     plume_traction_opts_default(&o);

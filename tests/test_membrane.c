@@ -65,7 +65,7 @@ static const plume_membrane_material MAT_ISO = {10.0, 10.0, 0.3, 10.0 / 2.6, 0.0
 static plume_mesh *small_mesh(double barb_angle_deg, double barb_len)
 {
     plume_mesh *m = NULL;
-    if (plume_mesh_create(5, 4, 3, &m) != PLUME_OK)
+    if (plume_mesh_create(5, 4, 3, &m, NULL) != PLUME_OK)
         return NULL;
     const double X[10] = {0.0, 0.0, 1.3, 0.1, 1.1, 0.9, -0.2, 1.2, 0.45, 0.55};
     const plume_index tri[12] = {0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4};
@@ -396,7 +396,7 @@ void test_membrane_projection_split(void)
 {
     rng64 r = {0x7777123412341234ULL};
     plume_mesh *m = NULL;
-    CHECK(plume_mesh_create(3, 1, 3, &m) == PLUME_OK);
+    CHECK(plume_mesh_create(3, 1, 3, &m, NULL) == PLUME_OK);
     if (!m)
         return;
     const double X[6] = {0, 0, 1, 0, 0, 1};
@@ -444,7 +444,7 @@ void test_membrane_projection_split(void)
 static plume_mesh *grid_mesh(rng64 *r)
 {
     plume_mesh *m = NULL;
-    if (plume_mesh_create(16, 18, 3, &m) != PLUME_OK)
+    if (plume_mesh_create(16, 18, 3, &m, NULL) != PLUME_OK)
         return NULL;
     const double xs[4] = {0.0, 0.7, 1.9, 3.0}, ys[4] = {0.0, 0.5, 1.6, 2.2};
     for (int j = 0; j < 4; j++)
@@ -634,7 +634,7 @@ void test_membrane_analytic(void)
 
     /* a single-triangle term reproduces A * density for a stretch along its barbs */
     plume_mesh *m = NULL;
-    CHECK(plume_mesh_create(3, 1, 2, &m) == PLUME_OK);
+    CHECK(plume_mesh_create(3, 1, 2, &m, NULL) == PLUME_OK);
     if (!m)
         return;
     const double X[6] = {0.1, 0.2, 2.1, 0.5, 0.4, 1.7};
@@ -766,7 +766,7 @@ void test_membrane_term_interface(void)
 void test_membrane_collapsed(void)
 {
     plume_mesh *m = NULL;
-    CHECK(plume_mesh_create(3, 1, 3, &m) == PLUME_OK);
+    CHECK(plume_mesh_create(3, 1, 3, &m, NULL) == PLUME_OK);
     if (!m)
         return;
     const double X[6] = {0, 0, 1, 0, 0, 1};

@@ -747,7 +747,7 @@ void test_membrane_p2_cantilever(void)
             CHECK(p2_term(&s, &mat, 1, &t) == PLUME_OK);
         } else {
             plume_mesh *pm = NULL;
-            CHECK(plume_mesh_create(s.nn, s.nt, 2, &pm) == PLUME_OK);
+            CHECK(plume_mesh_create(s.nn, s.nt, 2, &pm, NULL) == PLUME_OK);
             if (!pm) {
                 p2_mesh_free(&s);
                 return;

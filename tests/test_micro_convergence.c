@@ -34,7 +34,7 @@ static int cell_moduli(const plume_layout *base, int order, double e_rel, plume_
     plume_err err = {{0}};
     double C[9];
     int ok = plume_cell_mesh(&l, &c, &err) == PLUME_OK && plume_cell_linear_tensor(c, mats, 2, l.h, C, NULL, &err) == PLUME_OK &&
-             plume_ortho_from_tensor(C, m) == PLUME_OK;
+             plume_ortho_from_tensor(C, m, &err) == PLUME_OK;
     if (!ok)
         fprintf(stderr, "    cell failed: %s\n", err.msg);
     *elements = c ? plume_cell_elements(c) : 0;

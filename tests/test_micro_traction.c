@@ -56,7 +56,7 @@ void test_micro_traction_approaches_homogenised(void)
     plume_problem *p = NULL;
     plume_index *barbs = NULL, nb = 0;
     CHECK(plume_patch_mesh(1.0, 1.3, 45.0, 0.02, PLUME_PATCH_ALIGNED, 2, &mesh, &err) == PLUME_OK);
-    CHECK(plume_problem_create(mesh->nv, 2, 1.3, &p) == PLUME_OK);
+    CHECK(plume_problem_create(mesh->nv, 2, 1.3, &p, &err) == PLUME_OK);
     CHECK(plume_vane_add(p, mesh, &vane, &barbs, &nb, &err) == PLUME_OK);
     plume_traction_opts o;
     plume_traction_opts_default(&o);

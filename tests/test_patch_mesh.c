@@ -92,8 +92,8 @@ void test_patch_mesh_corner_exact(void)
                 double d[2];
                 plume_patch_barb_direction(angles[a], d);
                 plume_index *barbs = NULL, nb = 0, cov = -1, tot = -1, *unc = NULL;
-                CHECK(plume_vane_barb_edges(m, 1e-6, &barbs, &nb) == PLUME_OK);
-                CHECK(plume_vane_barb_coverage(m, barbs, nb, 0, &cov, &tot, &unc) == PLUME_OK);
+                CHECK(plume_vane_barb_edges(m, 1e-6, &barbs, &nb, &err) == PLUME_OK);
+                CHECK(plume_vane_barb_coverage(m, barbs, nb, 0, &cov, &tot, &unc, &err) == PLUME_OK);
                 CHECK(tot == m->nt);
                 CHECK(cov == tot);
                 CHECK(unc == NULL);
@@ -151,8 +151,8 @@ void test_patch_mesh_coverage_api(void)
     double d[2];
     plume_patch_barb_direction(45.0, d);
     plume_index *barbs = NULL, nb = 0, cov = -1, tot = -1, *unc = NULL;
-    CHECK(plume_vane_barb_edges(m, 1e-6, &barbs, &nb) == PLUME_OK);
-    CHECK(plume_vane_barb_coverage(m, barbs, nb, -1, &cov, &tot, &unc) == PLUME_OK);
+    CHECK(plume_vane_barb_edges(m, 1e-6, &barbs, &nb, &err) == PLUME_OK);
+    CHECK(plume_vane_barb_coverage(m, barbs, nb, -1, &cov, &tot, &unc, &err) == PLUME_OK);
     CHECK(tot == m->nt && cov == count_parallel(m, d));
     CHECK(cov < tot); /* a Delaunay mesh that ignores the barbs */
     fprintf(stderr, "    unaligned 45 deg, edge 0.1: %ld of %ld triangles own a barb edge\n", (long)cov, (long)tot);
@@ -163,19 +163,19 @@ void test_patch_mesh_coverage_api(void)
         CHECK(ok);
     }
     free(unc);
-    CHECK(plume_vane_barb_coverage(m, barbs, nb, 1, &cov, &tot, NULL) == PLUME_OK);
+    CHECK(plume_vane_barb_coverage(m, barbs, nb, 1, &cov, &tot, NULL, &err) == PLUME_OK);
     CHECK(tot == 0 && cov == 0); /* no triangle of material 1 */
-    CHECK(plume_vane_barb_coverage(NULL, barbs, nb, 0, &cov, &tot, NULL) == PLUME_EINVAL);
-    CHECK(plume_vane_barb_coverage(m, NULL, 3, 0, &cov, &tot, NULL) == PLUME_EINVAL);
-    CHECK(plume_vane_barb_coverage(m, barbs, nb, 0, NULL, &tot, NULL) == PLUME_EINVAL);
+    CHECK(plume_vane_barb_coverage(NULL, barbs, nb, 0, &cov, &tot, NULL, &err) == PLUME_EINVAL);
+    CHECK(plume_vane_barb_coverage(m, NULL, 3, 0, &cov, &tot, NULL, &err) == PLUME_EINVAL);
+    CHECK(plume_vane_barb_coverage(m, barbs, nb, 0, NULL, &tot, NULL, &err) == PLUME_EINVAL);
     plume_index bad[2] = {0, m->nv};
-    CHECK(plume_vane_barb_coverage(m, bad, 1, 0, &cov, &tot, NULL) == PLUME_EINVAL);
+    CHECK(plume_vane_barb_coverage(m, bad, 1, 0, &cov, &tot, NULL, &err) == PLUME_EINVAL);
     free(barbs);
     plume_mesh_destroy(&m);
 
     /* unit square split by its diagonal (0,2): the diagonal covers both triangles, the side (0,1)
      * one of them, a pair that is not an edge (none here) nothing */
-    CHECK(plume_mesh_create(4, 2, 2, &m) == PLUME_OK);
+    CHECK(plume_mesh_create(4, 2, 2, &m, &err) == PLUME_OK);
     const double X[8] = {0, 0, 1, 0, 1, 1, 0, 1};
     const plume_index T[6] = {0, 1, 2, 0, 2, 3};
     memcpy(m->X, X, sizeof X);
@@ -183,12 +183,12 @@ void test_patch_mesh_coverage_api(void)
     plume_mesh_reset_current(m);
     CHECK(plume_mesh_build_topology(m, &err) == PLUME_OK);
     plume_index diag[2] = {2, 0}, side[2] = {0, 1};
-    CHECK(plume_vane_barb_coverage(m, diag, 1, 0, &cov, &tot, NULL) == PLUME_OK);
+    CHECK(plume_vane_barb_coverage(m, diag, 1, 0, &cov, &tot, NULL, &err) == PLUME_OK);
     CHECK(cov == 2 && tot == 2);
-    CHECK(plume_vane_barb_coverage(m, side, 1, 0, &cov, &tot, &unc) == PLUME_OK);
+    CHECK(plume_vane_barb_coverage(m, side, 1, 0, &cov, &tot, &unc, &err) == PLUME_OK);
     CHECK(cov == 1 && tot == 2 && unc && unc[0] == 1);
     free(unc);
-    CHECK(plume_vane_barb_coverage(m, NULL, 0, 0, &cov, &tot, NULL) == PLUME_OK);
+    CHECK(plume_vane_barb_coverage(m, NULL, 0, 0, &cov, &tot, NULL, &err) == PLUME_OK);
     CHECK(cov == 0 && tot == 2);
     plume_mesh_destroy(&m);
 }
@@ -214,9 +214,9 @@ void test_patch_mesh_tilted_slope_monotone(void)
         CHECK(plume_patch_mesh(1.0, 1.3, 45.0, edges[k], PLUME_PATCH_ALIGNED, 2, &m, &err) == PLUME_OK);
         if (!m)
             return;
-        CHECK(plume_problem_create(m->nv, 2, 1.3, &p) == PLUME_OK);
+        CHECK(plume_problem_create(m->nv, 2, 1.3, &p, &err) == PLUME_OK);
         CHECK(plume_vane_add(p, m, &vane, &barbs, &nb, &err) == PLUME_OK);
-        CHECK(plume_vane_barb_coverage(m, barbs, nb, 0, &cov, &tot, NULL) == PLUME_OK);
+        CHECK(plume_vane_barb_coverage(m, barbs, nb, 0, &cov, &tot, NULL, &err) == PLUME_OK);
         CHECK(cov == tot && tot == m->nt);
         plume_traction_opts o;
         plume_traction_opts_default(&o);
@@ -241,4 +241,36 @@ void test_patch_mesh_tilted_slope_monotone(void)
     for (int k = 0; k + 2 < 4; k++)
         CHECK(s[k + 1] - s[k + 2] <= 0.5 * (s[k] - s[k + 1])); /* observed 0.31 */
     CHECK(s[3] > 5.2 && s[0] < 5.4); /* and near the known value (5.280 extrapolated) */
+}
+
+/* Bad input to the mesh, barb-edge and tensor helpers: an error status and a message that says
+ * what was wrong (every public function that can fail on input takes a plume_err). */
+void test_patch_mesh_error_messages(void)
+{
+    plume_err err = {{0}};
+    plume_mesh *m = (plume_mesh *)&m; /* not NULL: create must reset it */
+    CHECK(plume_mesh_create(-1, 2, 3, &m, &err) == PLUME_EINVAL && m == NULL);
+    CHECK(strstr(err.msg, "-1 vertices") != NULL);
+    CHECK(plume_mesh_create(3, 1, 4, &m, &err) == PLUME_EINVAL && strstr(err.msg, "dimension 4") != NULL);
+    /* barb edges need the topology */
+    CHECK(plume_mesh_create(3, 1, 2, &m, &err) == PLUME_OK && m);
+    if (m) {
+        m->tri[0] = 0, m->tri[1] = 1, m->tri[2] = 2;
+        m->X[2] = 1.0, m->X[5] = 1.0; /* (0, 0), (1, 0), (0, 1) */
+        m->ne = 3; /* claims edges it does not have */
+        plume_index *e = NULL, ne = 0, cov = 0, tot = 0;
+        CHECK(plume_vane_barb_edges(m, 1e-6, &e, &ne, &err) == PLUME_EINVAL && e == NULL);
+        CHECK(strstr(err.msg, "topology is not built") != NULL);
+        m->ne = 0;
+        CHECK(plume_mesh_build_topology(m, &err) == PLUME_OK);
+        CHECK(plume_vane_barb_edges(m, -1.0, &e, &ne, &err) == PLUME_EINVAL && strstr(err.msg, "align_tol"));
+        const plume_index bad[2] = {0, 7};
+        CHECK(plume_vane_barb_coverage(m, bad, 1, -1, &cov, &tot, NULL, &err) == PLUME_EINVAL);
+        CHECK(strstr(err.msg, "barb edge 0 (0, 7)") != NULL);
+        plume_mesh_destroy(&m);
+    }
+    /* a tensor with a soft phase of zero stiffness */
+    const double C[9] = {1, 0, 0, 0, 0, 0, 0, 0, 1};
+    plume_ortho o;
+    CHECK(plume_ortho_from_tensor(C, &o, &err) == PLUME_ESINGULAR && strstr(err.msg, "singular") != NULL);
 }

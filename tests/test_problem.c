@@ -113,7 +113,7 @@ static int strip_build(strip *st, int dim, double stiff, uint64_t seed, int at_r
     plume_err err;
     int ok = 0;
     memset(st, 0, sizeof *st);
-    if (plume_mesh_create(NV, NT, dim, &m) != PLUME_OK)
+    if (plume_mesh_create(NV, NT, dim, &m, &err) != PLUME_OK)
         return 0;
     for (int row = 0; row < 2; row++)
         for (int c = 0; c < NCOL; c++) {
@@ -184,19 +184,19 @@ static int strip_build(strip *st, int dim, double stiff, uint64_t seed, int at_r
                      .destroy = quartic_destroy, .ctx = q};
     plume_term mt;
     plume_constraint ec;
-    if (plume_problem_create(NV, dim, 3.0, &p) != PLUME_OK)
+    if (plume_problem_create(NV, dim, 3.0, &p, &err) != PLUME_OK)
         goto cleanup;
     CHECK(plume_membrane_term_create(m, dim, &mat, 1, &mt, &err) == PLUME_OK);
-    CHECK(plume_problem_add_term(p, &mt) == PLUME_OK);
-    CHECK(plume_problem_add_term(p, &qt) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &mt, &err) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &qt, &err) == PLUME_OK);
     q = NULL; /* the problem owns it now */
     CHECK(plume_edge_length_create(st->edges, NE, m->X, NV, &ec, &err) == PLUME_OK);
-    CHECK(plume_problem_add_constraint(p, &ec) == PLUME_OK);
+    CHECK(plume_problem_add_constraint(p, &ec, &err) == PLUME_OK);
     memcpy(plume_problem_x(p), x, (size_t)(dim * NV) * sizeof *x);
     for (int i = 0; i < 3; i++)
         for (int a = 0; a < dim; a++)
             if (FIXED[i][1] < 0 || FIXED[i][1] == a)
-                CHECK(plume_problem_fix_dof(p, FIXED[i][0] * dim + a) == PLUME_OK);
+                CHECK(plume_problem_fix_dof(p, FIXED[i][0] * dim + a, &err) == PLUME_OK);
     plume_status s = plume_problem_finalize(p, &err);
     CHECK(s == PLUME_OK);
     if (s != PLUME_OK) {
@@ -554,7 +554,7 @@ void test_problem_kkt_residual(void)
         const plume_index edge[2] = {0, 1};
         const double X[4] = {0.1, 0.2, 0.7, -0.3};
         plume_constraint ec;
-        CHECK(q && plume_problem_create(2, 2, 1.0, &p) == PLUME_OK);
+        CHECK(q && plume_problem_create(2, 2, 1.0, &p, NULL) == PLUME_OK);
         if (!q || !p) {
             free(q);
             plume_problem_destroy(&p);
@@ -564,10 +564,10 @@ void test_problem_kkt_residual(void)
         q->a[0] = X[0], q->a[1] = X[1], q->a[3] = X[2], q->a[4] = X[3];
         plume_term qt = {.name = "quartic points", .arity = 1, .nstencil = q->n, .stencil = q->verts, .eval = quartic_eval,
                      .destroy = quartic_destroy, .ctx = q};
-        CHECK(plume_problem_add_term(p, &qt) == PLUME_OK);
+        CHECK(plume_problem_add_term(p, &qt, NULL) == PLUME_OK);
         CHECK(plume_edge_length_create(edge, 1, X, 2, &ec, NULL) == PLUME_OK);
-        CHECK(plume_problem_add_constraint(p, &ec) == PLUME_OK);
-        CHECK(plume_problem_fix_dof(p, 0) == PLUME_OK && plume_problem_fix_dof(p, 1) == PLUME_OK);
+        CHECK(plume_problem_add_constraint(p, &ec, NULL) == PLUME_OK);
+        CHECK(plume_problem_fix_dof(p, 0, NULL) == PLUME_OK && plume_problem_fix_dof(p, 1, NULL) == PLUME_OK);
         memcpy(plume_problem_x(p), X, sizeof X);
         CHECK(plume_problem_finalize(p, NULL) == PLUME_OK);
         double u[2] = {X[2], X[3]}, zero = 0.0, rr = -1.0;
@@ -662,28 +662,30 @@ void test_problem_errors(void)
     double f, v[4];
 
     /* create */
-    CHECK(plume_problem_create(0, 2, 1.0, &p) == PLUME_EINVAL && p == NULL);
-    CHECK(plume_problem_create(3, 1, 1.0, &p) == PLUME_EINVAL && p == NULL);
-    CHECK(plume_problem_create(3, 4, 1.0, &p) == PLUME_EINVAL && p == NULL);
-    CHECK(plume_problem_create(3, 2, 0.0, &p) == PLUME_EINVAL && p == NULL);
-    CHECK(plume_problem_create(3, 2, NAN, &p) == PLUME_EINVAL && p == NULL);
-    CHECK(plume_problem_create(3, 2, INFINITY, &p) == PLUME_EINVAL && p == NULL);
-    CHECK(plume_problem_create(3, 2, 1.0, NULL) == PLUME_EINVAL);
+    CHECK(plume_problem_create(0, 2, 1.0, &p, &err) == PLUME_EINVAL && p == NULL);
+    CHECK(plume_problem_create(3, 1, 1.0, &p, &err) == PLUME_EINVAL && p == NULL);
+    CHECK(plume_problem_create(3, 4, 1.0, &p, &err) == PLUME_EINVAL && p == NULL);
+    CHECK(plume_problem_create(3, 2, 0.0, &p, &err) == PLUME_EINVAL && p == NULL);
+    CHECK(plume_problem_create(3, 2, NAN, &p, &err) == PLUME_EINVAL && p == NULL);
+    CHECK(plume_problem_create(3, 2, INFINITY, &p, &err) == PLUME_EINVAL && p == NULL);
+    CHECK(strstr(err.msg, "length scale inf") != NULL); /* the message says what was given */
+    CHECK(plume_problem_create(3, 2, 1.0, NULL, &err) == PLUME_EINVAL);
     plume_problem_destroy(NULL);
     plume_problem_destroy(&p);
 
     /* fix_dof range; evaluations before finalize; add after finalize (ctx destroyed once) */
     dummy_ctx a = {{0, 1}, {0}, 0}, b = {{1, 2}, {0}, 0}, c = {{0, 2}, {0}, 0}, d = {{0, 1}, {0}, 0};
-    CHECK(plume_problem_create(3, 2, 1.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(3, 2, 1.0, &p, &err) == PLUME_OK);
     if (!p)
         return;
-    CHECK(plume_problem_fix_dof(p, -1) == PLUME_EINVAL);
-    CHECK(plume_problem_fix_dof(p, 6) == PLUME_EINVAL);
-    CHECK(plume_problem_fix_dof(p, 5) == PLUME_OK && plume_problem_is_fixed(p, 5));
-    CHECK(plume_problem_fix_dof(p, 5) == PLUME_OK); /* twice is harmless */
-    CHECK(plume_problem_fix_dof(NULL, 0) == PLUME_EINVAL);
-    CHECK(plume_problem_add_term(p, NULL) == PLUME_EINVAL);
-    CHECK(plume_problem_add_constraint(p, NULL) == PLUME_EINVAL);
+    CHECK(plume_problem_fix_dof(p, -1, &err) == PLUME_EINVAL);
+    CHECK(plume_problem_fix_dof(p, 6, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "dof 6 out of [0, 6) (vertex 3, component 0)") != NULL);
+    CHECK(plume_problem_fix_dof(p, 5, &err) == PLUME_OK && plume_problem_is_fixed(p, 5));
+    CHECK(plume_problem_fix_dof(p, 5, &err) == PLUME_OK); /* twice is harmless */
+    CHECK(plume_problem_fix_dof(NULL, 0, &err) == PLUME_EINVAL);
+    CHECK(plume_problem_add_term(p, NULL, &err) == PLUME_EINVAL);
+    CHECK(plume_problem_add_constraint(p, NULL, &err) == PLUME_EINVAL);
     CHECK(plume_problem_objective(p, NULL, &f, NULL) == PLUME_EINVAL);
     CHECK(plume_problem_hessian(p, NULL, 1.0, NULL, 0, v) == PLUME_EINVAL);
     CHECK(plume_problem_constraints(p, NULL, v, NULL) == PLUME_EINVAL);
@@ -693,20 +695,22 @@ void test_problem_errors(void)
     /* a term without eval is refused, and its ctx freed */
     plume_term bad = dummy_term(&d, "no eval");
     bad.eval = NULL;
-    CHECK(plume_problem_add_term(p, &bad) == PLUME_EINVAL && d.destroyed == 1);
+    CHECK(plume_problem_add_term(p, &bad, &err) == PLUME_EINVAL && d.destroyed == 1);
+    CHECK(strstr(err.msg, "needs eval") != NULL);
     plume_term ta = dummy_term(&a, "a");
     plume_constraint cb = dummy_constraint(&b, "b");
-    CHECK(plume_problem_add_term(p, &ta) == PLUME_OK);
-    CHECK(plume_problem_add_constraint(p, &cb) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &ta, &err) == PLUME_OK);
+    CHECK(plume_problem_add_constraint(p, &cb, &err) == PLUME_OK);
     err.msg[0] = '\0';
     CHECK(plume_problem_finalize(p, &err) == PLUME_OK);
     CHECK(plume_problem_nfree(p) == 5 && plume_problem_ncons(p) == 1);
     CHECK(plume_problem_finalize(p, &err) == PLUME_EINVAL); /* twice */
     plume_term tc = dummy_term(&c, "late term");
-    CHECK(plume_problem_add_term(p, &tc) == PLUME_EINVAL && c.destroyed == 1);
+    CHECK(plume_problem_add_term(p, &tc, &err) == PLUME_EINVAL && c.destroyed == 1);
+    CHECK(strstr(err.msg, "before plume_problem_finalize") != NULL);
     plume_constraint cc = dummy_constraint(&c, "late constraint");
-    CHECK(plume_problem_add_constraint(p, &cc) == PLUME_EINVAL && c.destroyed == 2);
-    CHECK(plume_problem_fix_dof(p, 0) == PLUME_EINVAL && !plume_problem_is_fixed(p, 0));
+    CHECK(plume_problem_add_constraint(p, &cc, &err) == PLUME_EINVAL && c.destroyed == 2);
+    CHECK(plume_problem_fix_dof(p, 0, &err) == PLUME_EINVAL && !plume_problem_is_fixed(p, 0));
     CHECK(plume_problem_objective(p, NULL, NULL, NULL) == PLUME_EINVAL);
     CHECK(plume_problem_hessian(p, NULL, 1.0, NULL, 0, NULL) == PLUME_EINVAL);
     CHECK(plume_problem_jacobian(p, NULL, NULL) == PLUME_EINVAL); /* jnnz > 0 */
@@ -718,17 +722,17 @@ void test_problem_errors(void)
     /* a term with a vertex out of range: finalize fails naming the term */
     for (int which = 0; which < 3; which++) {
         dummy_ctx e = {{0, which == 0 ? 3 : which == 1 ? -1 : 1}, {0}, 0};
-        CHECK(plume_problem_create(3, 2, 1.0, &p) == PLUME_OK);
+        CHECK(plume_problem_create(3, 2, 1.0, &p, &err) == PLUME_OK);
         if (!p)
             return;
         plume_status st;
         if (which < 2) {
             plume_term te = dummy_term(&e, "bent spring #7");
-            CHECK(plume_problem_add_term(p, &te) == PLUME_OK);
+            CHECK(plume_problem_add_term(p, &te, &err) == PLUME_OK);
         } else { /* the same for a constraint set (edge_length checks its own input) */
             e.stencil[1] = 5;
             plume_constraint ce = dummy_constraint(&e, "tied pair #3");
-            CHECK(plume_problem_add_constraint(p, &ce) == PLUME_OK);
+            CHECK(plume_problem_add_constraint(p, &ce, &err) == PLUME_OK);
         }
         err.msg[0] = '\0';
         st = plume_problem_finalize(p, &err);
@@ -742,11 +746,11 @@ void test_problem_errors(void)
     }
 
     /* every dof prescribed: nothing to solve for */
-    CHECK(plume_problem_create(2, 3, 1.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(2, 3, 1.0, &p, &err) == PLUME_OK);
     if (!p)
         return;
     for (plume_index dof = 0; dof < 6; dof++)
-        CHECK(plume_problem_fix_dof(p, dof) == PLUME_OK);
+        CHECK(plume_problem_fix_dof(p, dof, &err) == PLUME_OK);
     err.msg[0] = '\0';
     CHECK(plume_problem_finalize(p, &err) == PLUME_EINVAL && err.msg[0] != '\0');
     CHECK(plume_problem_finalize(p, NULL) == PLUME_EINVAL);

@@ -106,7 +106,7 @@ static plume_status cons_hess(void *ctx, int dim, const double *x, const double 
 static plume_problem *build(springs *fixed, springs *changing, int with_update)
 {
     plume_problem *p = NULL;
-    CHECK(plume_problem_create(NV, 3, 1.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(NV, 3, 1.0, &p, NULL) == PLUME_OK);
     if (!p)
         return NULL;
     plume_term tf = {.name = "fixed", .arity = 2, .nstencil = fixed->n, .stencil = fixed->pairs, .eval = springs_eval,
@@ -115,10 +115,10 @@ static plume_problem *build(springs *fixed, springs *changing, int with_update)
                      .eval = springs_eval, .ctx = changing, .update = with_update ? springs_update : NULL};
     plume_constraint c = {.name = "lengths", .arity = 2, .m = 3, .stencil = CPAIRS, .scale = CSCALE,
                           .eval = cons_eval, .hess = cons_hess};
-    CHECK(plume_problem_add_term(p, &tc) == PLUME_OK && plume_problem_add_term(p, &tf) == PLUME_OK &&
-          plume_problem_add_constraint(p, &c) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &tc, NULL) == PLUME_OK && plume_problem_add_term(p, &tf, NULL) == PLUME_OK &&
+          plume_problem_add_constraint(p, &c, NULL) == PLUME_OK);
     for (int a = 0; a < 3; a++)
-        CHECK(plume_problem_fix_dof(p, 3 * 3 + a) == PLUME_OK && plume_problem_fix_dof(p, 3 * 17 + a) == PLUME_OK);
+        CHECK(plume_problem_fix_dof(p, 3 * 3 + a, NULL) == PLUME_OK && plume_problem_fix_dof(p, 3 * 17 + a, NULL) == PLUME_OK);
     double *x = plume_problem_x(p);
     rng64 s = {7};
     for (plume_index i = 0; i < 3 * NV; i++)

@@ -558,7 +558,7 @@ static int sb_create_fails(const plume_mesh *m, const plume_bending_material *ma
 static plume_mesh *sb_small_mesh(int nv, const double *X, int nt, const plume_index *tri, int dim)
 {
     plume_mesh *m = NULL;
-    if (plume_mesh_create(nv, nt, dim, &m) != PLUME_OK)
+    if (plume_mesh_create(nv, nt, dim, &m, NULL) != PLUME_OK)
         return NULL;
     memcpy(m->X, X, sizeof(double) * 2 * (size_t)nv);
     memcpy(m->tri, tri, sizeof(plume_index) * 3 * (size_t)nt);
@@ -729,7 +729,7 @@ void test_shape_bending_bad_inputs(void)
     /* topology not built */
     {
         plume_mesh *raw = NULL;
-        CHECK(plume_mesh_create(4, 2, 3, &raw) == PLUME_OK);
+        CHECK(plume_mesh_create(4, 2, 3, &raw, NULL) == PLUME_OK);
         if (raw) {
             const double X[8] = {0.0, 0.0, 1.0, 0.0, 0.5, 1.0, 0.5, -1.0};
             const plume_index tri[6] = {0, 1, 2, 1, 0, 3};

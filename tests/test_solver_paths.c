@@ -42,13 +42,13 @@ static plume_solve_report solve_rosenbrock(plume_globalization g, int partial, d
     plume_solve_report rep;
     memset(&rep, 0, sizeof rep);
     plume_problem *p = NULL;
-    CHECK(plume_problem_create(1, 2, 1.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(1, 2, 1.0, &p, NULL) == PLUME_OK);
     if (!p)
         return rep;
     plume_term t = {.name = "rosenbrock", .arity = 1, .nstencil = 1, .stencil = ONE_VERTEX, .eval = rosenbrock_eval,
                     .partial_projection = partial};
     plume_err err;
-    CHECK(plume_problem_add_term(p, &t) == PLUME_OK && plume_problem_finalize(p, &err) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t, &err) == PLUME_OK && plume_problem_finalize(p, &err) == PLUME_OK);
     plume_solver_opts o;
     plume_solver_opts_default(&o);
     plume_solver_opts_set_globalization(&o, g);
@@ -140,7 +140,7 @@ void test_solver_paths_constrained(void)
 {
     for (int g = 0; g < 3; g++) {
         plume_problem *p = NULL;
-        CHECK(plume_problem_create(1, 2, 1.0, &p) == PLUME_OK);
+        CHECK(plume_problem_create(1, 2, 1.0, &p, NULL) == PLUME_OK);
         if (!p)
             return;
         static const double one[1] = {1.0};
@@ -148,7 +148,7 @@ void test_solver_paths_constrained(void)
         plume_constraint c = {.name = "circle", .arity = 1, .m = 1, .stencil = ONE_VERTEX, .scale = one,
                               .eval = circle_eval, .hess = circle_hess};
         plume_err err;
-        CHECK(plume_problem_add_term(p, &t) == PLUME_OK && plume_problem_add_constraint(p, &c) == PLUME_OK &&
+        CHECK(plume_problem_add_term(p, &t, &err) == PLUME_OK && plume_problem_add_constraint(p, &c, &err) == PLUME_OK &&
               plume_problem_finalize(p, &err) == PLUME_OK);
         plume_solver_opts o;
         plume_solver_opts_default(&o);

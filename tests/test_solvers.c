@@ -222,16 +222,16 @@ static plume_problem *quadratic_problem(double exact[5])
     const double k[] = {1.0, 2.0, 4.0, 0.5}, L[] = {0, 0, 0, 0};
     plume_problem *p = NULL;
     plume_term t;
-    CHECK(plume_problem_create(5, 2, 3.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(5, 2, 3.0, &p, NULL) == PLUME_OK);
     if (!p)
         return NULL;
     CHECK(spring_term(edges, 4, k, L, &t) == PLUME_OK);
-    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t, NULL) == PLUME_OK);
     double *x = plume_problem_x(p);
     x[0] = QF_X0[0], x[1] = QF_X0[1], x[8] = QF_X4[0], x[9] = QF_X4[1], x[5] = QF_Y2;
     const plume_index fixed[] = {0, 1, 8, 9, 5};
     for (int i = 0; i < 5; i++)
-        CHECK(plume_problem_fix_dof(p, fixed[i]) == PLUME_OK);
+        CHECK(plume_problem_fix_dof(p, fixed[i], NULL) == PLUME_OK);
     if (!finalize(p)) {
         plume_problem_destroy(&p);
         return NULL;
@@ -299,14 +299,14 @@ static void case_circle_projection(plume_solver_kind kind)
     plume_solver *s = NULL;
     plume_term t;
     plume_constraint c;
-    CHECK(plume_problem_create(2, 2, R, &p) == PLUME_OK);
+    CHECK(plume_problem_create(2, 2, R, &p, NULL) == PLUME_OK);
     if (!p)
         return;
     CHECK(anchor_term(&v1, 1, kk, a, NULL, &t) == PLUME_OK);
-    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t, NULL) == PLUME_OK);
     CHECK(plume_edge_length_create(edge, 1, X, 2, &c, NULL) == PLUME_OK);
-    CHECK(plume_problem_add_constraint(p, &c) == PLUME_OK);
-    CHECK(plume_problem_fix_dof(p, 0) == PLUME_OK && plume_problem_fix_dof(p, 1) == PLUME_OK);
+    CHECK(plume_problem_add_constraint(p, &c, NULL) == PLUME_OK);
+    CHECK(plume_problem_fix_dof(p, 0, NULL) == PLUME_OK && plume_problem_fix_dof(p, 1, NULL) == PLUME_OK);
     if (!finalize(p))
         goto done;
     CHECK(plume_problem_nfree(p) == 2 && plume_problem_ncons(p) == 1);
@@ -373,15 +373,15 @@ static plume_problem *chain_problem(double h, double ks, anchor_ctx **force)
     plume_term t;
     plume_constraint c;
     const plume_index last = CHAIN_N;
-    if (plume_problem_create(nv, 2, h * CHAIN_N, &p) != PLUME_OK)
+    if (plume_problem_create(nv, 2, h * CHAIN_N, &p, NULL) != PLUME_OK)
         return NULL;
-    int ok = spring_term(skips, CHAIN_N - 1, kv, Lv, &t) == PLUME_OK && plume_problem_add_term(p, &t) == PLUME_OK;
+    int ok = spring_term(skips, CHAIN_N - 1, kv, Lv, &t) == PLUME_OK && plume_problem_add_term(p, &t, NULL) == PLUME_OK;
     ok = ok && anchor_term(&last, 1, 0.0, NULL, NULL, &t) == PLUME_OK;
     *force = ok ? t.ctx : NULL; /* owned by the problem, stays valid: the test turns the force */
-    ok = ok && plume_problem_add_term(p, &t) == PLUME_OK;
+    ok = ok && plume_problem_add_term(p, &t, NULL) == PLUME_OK;
     ok = ok && plume_edge_length_create(links, CHAIN_N, X, nv, &c, NULL) == PLUME_OK &&
-         plume_problem_add_constraint(p, &c) == PLUME_OK;
-    ok = ok && plume_problem_fix_dof(p, 0) == PLUME_OK && plume_problem_fix_dof(p, 1) == PLUME_OK;
+         plume_problem_add_constraint(p, &c, NULL) == PLUME_OK;
+    ok = ok && plume_problem_fix_dof(p, 0, NULL) == PLUME_OK && plume_problem_fix_dof(p, 1, NULL) == PLUME_OK;
     memcpy(plume_problem_x(p), X, sizeof X);
     if (!ok || plume_problem_finalize(p, NULL) != PLUME_OK)
         plume_problem_destroy(&p);
@@ -462,18 +462,18 @@ static void case_set_tol(plume_solver_kind kind)
     plume_solve_report rep;
     CHECK(plume_solver_solve(s, u, lam, &rep) == PLUME_OK && rep.converged);
     force->f[0] = CHAIN_F * cos(1e-3), force->f[1] = CHAIN_F * sin(1e-3); /* turned a little */
-    CHECK(plume_solver_set_tol_kkt(s, 1.0) == PLUME_OK);
+    CHECK(plume_solver_set_tol_kkt(s, 1.0, NULL) == PLUME_OK);
     CHECK(plume_solver_solve(s, u, lam, &rep) == PLUME_OK && rep.converged && rep.iterations == 0);
     double loose = rep.kkt_residual;
-    CHECK(plume_solver_set_tol_kkt(s, o.tol_kkt) == PLUME_OK);
+    CHECK(plume_solver_set_tol_kkt(s, o.tol_kkt, NULL) == PLUME_OK);
     CHECK(plume_solver_solve(s, u, lam, &rep) == PLUME_OK && rep.converged && rep.iterations > 0);
     fprintf(stderr, "    %s: kkt %.2e after 0 iterations at tolerance 1, %.2e after %d at %.0e\n",
             plume_solver_kind_name(kind), loose, rep.kkt_residual, rep.iterations, o.tol_kkt);
     CHECK(loose > o.tol_kkt && rep.kkt_residual <= o.tol_kkt);
-    CHECK(plume_solver_set_tol_kkt(s, 0.0) == PLUME_EINVAL);
-    CHECK(plume_solver_set_tol_kkt(s, NAN) == PLUME_EINVAL);
-    CHECK(plume_solver_set_tol_kkt(s, INFINITY) == PLUME_EINVAL);
-    CHECK(plume_solver_set_tol_kkt(NULL, 1e-9) == PLUME_EINVAL);
+    CHECK(plume_solver_set_tol_kkt(s, 0.0, NULL) == PLUME_EINVAL);
+    CHECK(plume_solver_set_tol_kkt(s, NAN, NULL) == PLUME_EINVAL);
+    CHECK(plume_solver_set_tol_kkt(s, INFINITY, NULL) == PLUME_EINVAL);
+    CHECK(plume_solver_set_tol_kkt(NULL, 1e-9, NULL) == PLUME_EINVAL);
 done:
     plume_solver_destroy(&s);
     plume_problem_destroy(&p);
@@ -497,18 +497,18 @@ static void case_infeasible(plume_solver_kind kind)
     plume_solver *s = NULL;
     plume_term t;
     plume_constraint c;
-    CHECK(plume_problem_create(3, 2, 1.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(3, 2, 1.0, &p, NULL) == PLUME_OK);
     if (!p)
         return;
     CHECK(anchor_term(&vc, 1, 1.0, a, NULL, &t) == PLUME_OK);
-    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t, NULL) == PLUME_OK);
     CHECK(plume_edge_length_create(edges, 2, X, 3, &c, NULL) == PLUME_OK);
-    CHECK(plume_problem_add_constraint(p, &c) == PLUME_OK);
+    CHECK(plume_problem_add_constraint(p, &c, NULL) == PLUME_OK);
     double *x = plume_problem_x(p);
     x[4] = 2.0; /* B at (2, 0) */
     for (plume_index d = 0; d < 6; d++)
         if (d != 2 && d != 3)
-            CHECK(plume_problem_fix_dof(p, d) == PLUME_OK);
+            CHECK(plume_problem_fix_dof(p, d, NULL) == PLUME_OK);
     if (!finalize(p))
         goto done;
     plume_solver_opts o;
@@ -550,16 +550,16 @@ static void case_overdetermined(plume_solver_kind kind)
     plume_solver *s = NULL;
     plume_term t;
     plume_constraint c;
-    CHECK(plume_problem_create(4, 2, 2.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(4, 2, 2.0, &p, NULL) == PLUME_OK);
     if (!p)
         return;
     CHECK(anchor_term(&v3, 1, 1.0, a, NULL, &t) == PLUME_OK);
-    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t, NULL) == PLUME_OK);
     CHECK(plume_edge_length_create(edges, 3, X, 4, &c, NULL) == PLUME_OK);
-    CHECK(plume_problem_add_constraint(p, &c) == PLUME_OK);
+    CHECK(plume_problem_add_constraint(p, &c, NULL) == PLUME_OK);
     memcpy(plume_problem_x(p), X, sizeof X);
     for (plume_index d = 0; d < 6; d++)
-        CHECK(plume_problem_fix_dof(p, d) == PLUME_OK);
+        CHECK(plume_problem_fix_dof(p, d, NULL) == PLUME_OK);
     if (!finalize(p))
         goto done;
     CHECK(plume_problem_nfree(p) == 2 && plume_problem_ncons(p) == 3);
@@ -625,14 +625,14 @@ static void case_report(plume_solver_kind kind)
     /* argument checks before anything exists */
     CHECK(plume_solver_create(kind, NULL, &o, &s, NULL) == PLUME_EINVAL && s == NULL);
 
-    CHECK(plume_problem_create(2, 2, 1.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(2, 2, 1.0, &p, NULL) == PLUME_OK);
     if (!p)
         return;
     CHECK(anchor_term(&v1, 1, 1.0, a, NULL, &t) == PLUME_OK);
-    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t, NULL) == PLUME_OK);
     CHECK(plume_edge_length_create(edge, 1, X, 2, &c, NULL) == PLUME_OK);
-    CHECK(plume_problem_add_constraint(p, &c) == PLUME_OK);
-    CHECK(plume_problem_fix_dof(p, 0) == PLUME_OK && plume_problem_fix_dof(p, 1) == PLUME_OK);
+    CHECK(plume_problem_add_constraint(p, &c, NULL) == PLUME_OK);
+    CHECK(plume_problem_fix_dof(p, 0, NULL) == PLUME_OK && plume_problem_fix_dof(p, 1, NULL) == PLUME_OK);
     CHECK(plume_solver_create(kind, p, &o, NULL, NULL) == PLUME_EINVAL);
     CHECK(plume_solver_create(kind, p, NULL, &s, NULL) == PLUME_EINVAL && s == NULL);
     plume_err why = {{0}};
@@ -842,18 +842,18 @@ void test_solvers_partial_projection(void)
     int shifts[2], partial[2];
     for (int run = 0; run < 2; run++) {
         plume_problem *p = NULL;
-        CHECK(plume_problem_create(1, 2, 1.0, &p) == PLUME_OK);
+        CHECK(plume_problem_create(1, 2, 1.0, &p, NULL) == PLUME_OK);
         if (!p)
             return;
         const plume_index v0 = 0;
         const double a[3] = {2.0, 0.5, 0.0};
         plume_term anchor;
         CHECK(anchor_term(&v0, 1, 1.0, a, NULL, &anchor) == PLUME_OK);
-        CHECK(plume_problem_add_term(p, &anchor) == PLUME_OK);
+        CHECK(plume_problem_add_term(p, &anchor, NULL) == PLUME_OK);
         static wave_ctx w = {{0}, 3.0};
         plume_term t = {.name = "wave", .arity = 1, .nstencil = 1, .stencil = w.v, .eval = wave_eval, .ctx = &w,
                         .partial_projection = 1};
-        CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+        CHECK(plume_problem_add_term(p, &t, NULL) == PLUME_OK);
         CHECK(finalize(p));
         double *x = plume_problem_x(p);
         x[0] = 0.1, x[1] = 0.0; /* cos > 1/3: the exact Hessian 1 - 3 cos(x0) is negative */

@@ -48,7 +48,7 @@ void test_stability_compression_collapse(void)
 void test_stability_log_barrier_fd(void)
 {
     plume_mesh *m = NULL;
-    CHECK(plume_mesh_create(4, 2, 2, &m) == PLUME_OK);
+    CHECK(plume_mesh_create(4, 2, 2, &m, NULL) == PLUME_OK);
     const double X[8] = {0, 0, 1, 0, 1, 1, 0, 1};
     const plume_index tri[6] = {0, 1, 2, 0, 2, 3};
     memcpy(m->X, X, sizeof X);

@@ -122,10 +122,10 @@ static plume_problem *strip_problem(plume_mesh **pm, plume_term *load)
             tip[nt++] = v;
     double f[9] = {0, 0, 4.0 / 3, 0, 0, 4.0 / 3, 0, 0, 4.0 / 3};
     plume_term mem, bend;
-    if (plume_problem_create(m->nv, 3, 10.0, &p) != PLUME_OK || plume_membrane_term_create(m, 3, &mat, 1, &mem, &err) ||
-        plume_problem_add_term(p, &mem) || plume_bending_term_create(m, &bm, 1, NULL, &bend, &err) ||
-        plume_problem_add_term(p, &bend) || plume_load_term_create(tip, nt, 3, f, load, &err) ||
-        plume_problem_add_term(p, load)) {
+    if (plume_problem_create(m->nv, 3, 10.0, &p, &err) != PLUME_OK || plume_membrane_term_create(m, 3, &mat, 1, &mem, &err) ||
+        plume_problem_add_term(p, &mem, &err) || plume_bending_term_create(m, &bm, 1, NULL, &bend, &err) ||
+        plume_problem_add_term(p, &bend, &err) || plume_load_term_create(tip, nt, 3, f, load, &err) ||
+        plume_problem_add_term(p, load, &err)) {
         plume_problem_destroy(&p);
         plume_mesh_destroy(&m);
         return NULL;
@@ -134,7 +134,7 @@ static plume_problem *strip_problem(plume_mesh **pm, plume_term *load)
     for (plume_index v = 0; v < m->nv; v++)
         if (m->X[2 * v] <= 0.5 + 1e-12)
             for (int a = 0; a < 3; a++)
-                plume_problem_fix_dof(p, 3 * v + a);
+                plume_problem_fix_dof(p, 3 * v + a, &err);
     if (plume_problem_finalize(p, &err) != PLUME_OK)
         plume_problem_destroy(&p);
     *pm = m;
@@ -566,7 +566,7 @@ void test_statics_predictor_retry(void)
 {
     barrier_spring b = {{0}, 300.0, 0.0};
     plume_problem *p = NULL;
-    CHECK(plume_problem_create(1, 2, 1.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(1, 2, 1.0, &p, NULL) == PLUME_OK);
     if (!p)
         return;
     plume_term t = {0};
@@ -576,8 +576,8 @@ void test_statics_predictor_retry(void)
     t.stencil = b.stencil;
     t.eval = barrier_eval;
     t.ctx = &b;
-    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
-    plume_problem_fix_dof(p, 1);
+    CHECK(plume_problem_add_term(p, &t, NULL) == PLUME_OK);
+    plume_problem_fix_dof(p, 1, NULL);
     plume_err err = {{0}};
     CHECK(plume_problem_finalize(p, &err) == PLUME_OK);
     plume_statics_opts o;
@@ -603,8 +603,8 @@ void test_statics_predictor_retry(void)
     plume_statics_opts_default(&bad);
     bad.predictor = (plume_predictor)7;
     plume_problem *q = NULL;
-    CHECK(plume_problem_create(1, 2, 1.0, &q) == PLUME_OK);
-    plume_problem_fix_dof(q, 1);
+    CHECK(plume_problem_create(1, 2, 1.0, &q, &err) == PLUME_OK);
+    plume_problem_fix_dof(q, 1, &err);
     CHECK(plume_problem_finalize(q, &err) == PLUME_OK);
     CHECK(plume_statics_create(q, &bad, barrier_scale, &b, NULL, &s, &err) == PLUME_EINVAL && strstr(err.msg, "predictor"));
     plume_problem_destroy(&q);

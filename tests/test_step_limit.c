@@ -76,13 +76,13 @@ static plume_problem *wall_problem(int limit)
 static plume_problem *wall_problem_kappa(int limit, double kappa)
 {
     plume_problem *p = NULL;
-    if (plume_problem_create(1, 2, 1.0, &p) != PLUME_OK)
+    if (plume_problem_create(1, 2, 1.0, &p, NULL) != PLUME_OK)
         return NULL;
     wall_ctx *c = calloc(1, sizeof *c);
     c->kappa = kappa, c->dhat = 0.1, c->k = 10.0, c->limit = limit;
     plume_term t = {.name = "wall", .arity = 1, .nstencil = 1, .stencil = c->v, .eval = wall_eval,
                     .destroy = free, .ctx = c, .max_step = wall_max_step};
-    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t, NULL) == PLUME_OK);
     double *x = plume_problem_x(p);
     x[0] = 0.3, x[1] = 0.5;
     plume_err err;
@@ -216,18 +216,18 @@ static plume_status near_update(void *ctx, int dim, const double *x, const plume
 static plume_problem *near_problem(int fix_01)
 {
     plume_problem *p = NULL;
-    CHECK(plume_problem_create(3, 2, 1.0, &p) == PLUME_OK);
+    CHECK(plume_problem_create(3, 2, 1.0, &p, NULL) == PLUME_OK);
     if (!p)
         return NULL;
     near_ctx *c = calloc(1, sizeof *c);
     c->pair[0] = 0, c->pair[1] = 2, c->r = 1.0;
     plume_term t = {.name = "near", .arity = 2, .nstencil = 0, .stencil = c->pair, .eval = near_eval,
                     .destroy = free, .ctx = c, .update = near_update};
-    CHECK(plume_problem_add_term(p, &t) == PLUME_OK);
+    CHECK(plume_problem_add_term(p, &t, NULL) == PLUME_OK);
     double *x = plume_problem_x(p);
     x[0] = 0.0, x[2] = 1.0, x[4] = 3.0; /* far apart: no stencil */
     for (int d = 0; fix_01 && d < 4; d++)
-        CHECK(plume_problem_fix_dof(p, d) == PLUME_OK);
+        CHECK(plume_problem_fix_dof(p, d, NULL) == PLUME_OK);
     plume_err err;
     CHECK(plume_problem_finalize(p, &err) == PLUME_OK);
     return p;

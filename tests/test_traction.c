@@ -20,7 +20,7 @@ static plume_status run_traction(double angle, double edge, plume_patch_kind kin
     plume_index *barbs = NULL, nb = 0;
     plume_status st = plume_patch_mesh(1.0, 1.3, angle, edge, kind, 2, &mesh, err);
     if (st == PLUME_OK)
-        st = plume_problem_create(mesh->nv, 2, 1.3, &p);
+        st = plume_problem_create(mesh->nv, 2, 1.3, &p, err);
     if (st == PLUME_OK)
         st = plume_vane_add(p, mesh, vane, &barbs, &nb, err);
     if (st == PLUME_OK) {
@@ -60,20 +60,20 @@ void test_traction_off_axis_modulus(void)
             return;
         plume_membrane_material mat = {Exx, Eyy, nu, G, h, 0.0, 0};
         plume_term term;
-        CHECK(plume_problem_create(mesh->nv, 2, 1.3, &p) == PLUME_OK);
+        CHECK(plume_problem_create(mesh->nv, 2, 1.3, &p, &err) == PLUME_OK);
         CHECK(plume_membrane_term_create(mesh, 2, &mat, 1, &term, &err) == PLUME_OK);
-        CHECK(plume_problem_add_term(p, &term) == PLUME_OK);
+        CHECK(plume_problem_add_term(p, &term, &err) == PLUME_OK);
         double *x = plume_problem_x(p);
         plume_index pinned = -1;
         for (plume_index v = 0; v < mesh->nv; v++) {
             x[2 * v] = mesh->X[2 * v];
             x[2 * v + 1] = mesh->X[2 * v + 1];
             if (mesh->X[2 * v + 1] == 0.0) {
-                plume_problem_fix_dof(p, 2 * v + 1);
+                plume_problem_fix_dof(p, 2 * v + 1, &err);
                 if (pinned < 0)
-                    plume_problem_fix_dof(p, 2 * v), pinned = v;
+                    plume_problem_fix_dof(p, 2 * v, &err), pinned = v;
             } else if (mesh->X[2 * v + 1] == 1.3) {
-                plume_problem_fix_dof(p, 2 * v + 1);
+                plume_problem_fix_dof(p, 2 * v + 1, &err);
                 x[2 * v + 1] = 1.3 * (1.0 + eps);
             }
         }
@@ -115,7 +115,7 @@ static plume_status probe_run(double edge, plume_solver_kind solver, double prob
     plume_vane_default(&vane);
     plume_status st = plume_patch_mesh(1.0, 1.3, 45.0, edge, PLUME_PATCH_ALIGNED, 2, &m, err);
     if (st == PLUME_OK)
-        st = plume_problem_create(m->nv, 2, 1.3, &p);
+        st = plume_problem_create(m->nv, 2, 1.3, &p, err);
     if (st == PLUME_OK)
         st = plume_vane_add(p, m, &vane, &barbs, &nb, err);
     if (st == PLUME_OK) {
@@ -202,7 +202,7 @@ void test_traction_barb_lengths(void)
     plume_vane vane;
     plume_vane_default(&vane);
     CHECK(plume_patch_mesh(1.0, 1.3, 60.0, 0.1, PLUME_PATCH_ALIGNED, 2, &mesh, &err) == PLUME_OK);
-    CHECK(plume_problem_create(mesh->nv, 2, 1.3, &p) == PLUME_OK);
+    CHECK(plume_problem_create(mesh->nv, 2, 1.3, &p, &err) == PLUME_OK);
     CHECK(plume_vane_add(p, mesh, &vane, &barbs, &nb, &err) == PLUME_OK);
     CHECK(nb > mesh->nt / 3); /* every triangle between two barb lines has a barb edge */
     plume_traction_opts o;
@@ -336,7 +336,7 @@ void test_traction_kkt_modes_agree(void)
         plume_index *barbs = NULL, nb = 0;
         plume_err err = {{0}};
         CHECK(plume_patch_mesh(1.0, 1.3, 45.0, 0.06, PLUME_PATCH_ALIGNED, 2, &mesh, &err) == PLUME_OK);
-        CHECK(plume_problem_create(mesh->nv, 2, 1.3, &p) == PLUME_OK);
+        CHECK(plume_problem_create(mesh->nv, 2, 1.3, &p, &err) == PLUME_OK);
         CHECK(plume_vane_add(p, mesh, &vane, &barbs, &nb, &err) == PLUME_OK);
         plume_traction_opts o;
         plume_traction_opts_default(&o);

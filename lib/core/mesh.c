@@ -4,14 +4,18 @@
 #include <stdlib.h>
 #include <string.h>
 
-plume_status plume_mesh_create(plume_index nv, plume_index nt, int dim, plume_mesh **out)
+plume_status plume_mesh_create(plume_index nv, plume_index nt, int dim, plume_mesh **out, plume_err *err)
 {
+    if (out)
+        *out = NULL;
     if (!out || nv < 0 || nt < 0 || (dim != 2 && dim != 3))
-        return PLUME_EINVAL;
-    *out = NULL;
+        return plume_err_set(err, PLUME_EINVAL,
+                             "mesh: %ld vertices, %ld triangles in dimension %d: counts must be >= 0 and the "
+                             "dimension 2 (planar) or 3 (shell)%s",
+                             (long)nv, (long)nt, dim, out ? "" : " (and out is required)");
     plume_mesh *m = calloc(1, sizeof *m);
     if (!m)
-        return PLUME_ENOMEM;
+        return plume_err_set(err, PLUME_ENOMEM, "mesh: out of memory");
     m->nv = nv;
     m->nt = nt;
     m->dim = dim;
@@ -23,7 +27,8 @@ plume_status plume_mesh_create(plume_index nv, plume_index nt, int dim, plume_me
     m->boundary = calloc((size_t)(nv + 1), sizeof *m->boundary);
     if (!m->X || !m->x || !m->tri || !m->barb_dir || !m->material || !m->boundary) {
         plume_mesh_destroy(&m);
-        return PLUME_ENOMEM;
+        return plume_err_set(err, PLUME_ENOMEM, "mesh: out of memory for %ld vertices and %ld triangles", (long)nv,
+                             (long)nt);
     }
     for (plume_index t = 0; t < nt; t++)
         m->barb_dir[2 * t] = 1.0;

@@ -32,8 +32,9 @@ typedef struct {
 } plume_mesh;
 
 /** Allocates a mesh with nv vertices and nt triangles in `dim` dimensions; arrays zeroed,
- * barb_dir set to (1, 0), material to 0. Free with plume_mesh_destroy. */
-PLUME_API plume_status plume_mesh_create(plume_index nv, plume_index nt, int dim, plume_mesh **out);
+ * barb_dir set to (1, 0), material to 0. Free with plume_mesh_destroy. PLUME_EINVAL (negative
+ * counts, dim not 2 or 3) and PLUME_ENOMEM with a message in err (NULL allowed). */
+PLUME_API plume_status plume_mesh_create(plume_index nv, plume_index nt, int dim, plume_mesh **out, plume_err *err);
 /** Frees the mesh and every array it holds, sets *m = NULL; NULL-safe. */
 PLUME_API void plume_mesh_destroy(plume_mesh **m);
 

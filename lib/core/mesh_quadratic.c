@@ -37,7 +37,7 @@ plume_status plume_mesh_quadratic(const plume_mesh *m, plume_quadratic_mesh *q, 
         return plume_err_set(err, PLUME_EINVAL, "quadratic mesh: the mesh's topology is not built");
     const plume_index nv = m->nv, nt = m->nt, ne = m->ne;
     const int dim = m->dim;
-    plume_status st = plume_mesh_create(nv + ne, 4 * nt, dim, &q->split);
+    plume_status st = plume_mesh_create(nv + ne, 4 * nt, dim, &q->split, err);
     q->nt = nt;
     q->tri6 = malloc((size_t)(6 * nt + 1) * sizeof *q->tri6);
     q->material = malloc((size_t)(nt + 1) * sizeof *q->material);

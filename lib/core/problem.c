@@ -87,16 +87,20 @@ void plume_problem_timing_get(const plume_problem *p, plume_problem_timing *t)
         memset(t, 0, sizeof *t);
 }
 
-plume_status plume_problem_create(plume_index nv, int dim, double length_scale, plume_problem **out)
+plume_status plume_problem_create(plume_index nv, int dim, double length_scale, plume_problem **out,
+                                  plume_err *err)
 {
     if (!out)
-        return PLUME_EINVAL;
+        return plume_err_set(err, PLUME_EINVAL, "problem: out is required");
     *out = NULL;
     if (nv <= 0 || (dim != 2 && dim != 3) || !(length_scale > 0.0) || !isfinite(length_scale))
-        return PLUME_EINVAL;
+        return plume_err_set(err, PLUME_EINVAL,
+                             "problem: %ld vertices in dimension %d with length scale %g: needs vertices > 0, "
+                             "dimension 2 or 3 and a finite length scale > 0",
+                             (long)nv, dim, length_scale);
     plume_problem *p = calloc(1, sizeof *p);
     if (!p)
-        return PLUME_ENOMEM;
+        return plume_err_set(err, PLUME_ENOMEM, "problem: out of memory");
     p->nv = nv;
     p->dim = dim;
     p->ndof = nv * dim;
@@ -108,7 +112,7 @@ plume_status plume_problem_create(plume_index nv, int dim, double length_scale, 
     p->dxfull = calloc((size_t)p->ndof, sizeof *p->dxfull);
     if (!p->x || !p->fixed || !p->gradfull || !p->jtwork || !p->dxfull) {
         plume_problem_destroy(&p);
-        return PLUME_ENOMEM;
+        return plume_err_set(err, PLUME_ENOMEM, "problem: out of memory for %ld vertices", (long)nv);
     }
     *out = p;
     return PLUME_OK;
@@ -158,12 +162,13 @@ void plume_problem_destroy(plume_problem **pp)
     *pp = NULL;
 }
 
-/* The problem owns what it is given, also when it refuses it: free the context and return st. */
-static plume_status refuse(void (*destroy)(void *), void *ctx, plume_status st)
+/* The problem owns what it is given, also when it refuses it: free the context and return st
+ * with the message `why`. */
+static plume_status refuse(void (*destroy)(void *), void *ctx, plume_status st, plume_err *err, const char *why)
 {
     if (destroy)
         destroy(ctx);
-    return st;
+    return plume_err_set(err, st, "%s", why);
 }
 
 /* Grows an array of `count` slots of `size` bytes by one zeroed slot; NULL when memory runs out. */
@@ -175,38 +180,53 @@ static void *grow_slots(void *slots, int count, size_t size)
     return g;
 }
 
-plume_status plume_problem_add_term(plume_problem *p, const plume_term *t)
+plume_status plume_problem_add_term(plume_problem *p, const plume_term *t, plume_err *err)
 {
     if (!p || !t)
-        return PLUME_EINVAL;
-    if (p->finalized || !t->eval || t->arity <= 0 || t->nstencil < 0 || (t->nstencil && !t->stencil))
-        return refuse(t->destroy, t->ctx, PLUME_EINVAL);
+        return plume_err_set(err, PLUME_EINVAL, "problem: add_term needs a problem and a term");
+    if (p->finalized)
+        return refuse(t->destroy, t->ctx, PLUME_EINVAL, err,
+                      "problem: terms are added before plume_problem_finalize (the term is freed)");
+    if (!t->eval || t->arity <= 0 || t->nstencil < 0 || (t->nstencil && !t->stencil))
+        return refuse(t->destroy, t->ctx, PLUME_EINVAL, err,
+                      "problem: a term needs eval, arity > 0 and, with stencils, its stencil array (the term is "
+                      "freed)");
     term_slot *ts = grow_slots(p->terms, p->nterms, sizeof *ts);
     if (!ts)
-        return refuse(t->destroy, t->ctx, PLUME_ENOMEM);
+        return refuse(t->destroy, t->ctx, PLUME_ENOMEM, err, "problem: out of memory adding a term");
     p->terms = ts;
     ts[p->nterms++].t = *t;
     return PLUME_OK;
 }
 
-plume_status plume_problem_add_constraint(plume_problem *p, const plume_constraint *c)
+plume_status plume_problem_add_constraint(plume_problem *p, const plume_constraint *c, plume_err *err)
 {
     if (!p || !c)
-        return PLUME_EINVAL;
-    if (p->finalized || !c->eval || !c->hess || c->arity <= 0 || c->m < 0 || (c->m && (!c->stencil || !c->scale)))
-        return refuse(c->destroy, c->ctx, PLUME_EINVAL);
+        return plume_err_set(err, PLUME_EINVAL, "problem: add_constraint needs a problem and a constraint set");
+    if (p->finalized)
+        return refuse(c->destroy, c->ctx, PLUME_EINVAL, err,
+                      "problem: constraints are added before plume_problem_finalize (the set is freed)");
+    if (!c->eval || !c->hess || c->arity <= 0 || c->m < 0 || (c->m && (!c->stencil || !c->scale)))
+        return refuse(c->destroy, c->ctx, PLUME_EINVAL, err,
+                      "problem: a constraint set needs eval, hess, arity > 0 and, with constraints, its stencil "
+                      "and scale arrays (the set is freed)");
     cons_slot *cs = grow_slots(p->cons, p->ncsets, sizeof *cs);
     if (!cs)
-        return refuse(c->destroy, c->ctx, PLUME_ENOMEM);
+        return refuse(c->destroy, c->ctx, PLUME_ENOMEM, err, "problem: out of memory adding a constraint set");
     p->cons = cs;
     cs[p->ncsets++].c = *c;
     return PLUME_OK;
 }
 
-plume_status plume_problem_fix_dof(plume_problem *p, plume_index dof)
+plume_status plume_problem_fix_dof(plume_problem *p, plume_index dof, plume_err *err)
 {
-    if (!p || p->finalized || dof < 0 || dof >= p->ndof)
-        return PLUME_EINVAL;
+    if (!p)
+        return plume_err_set(err, PLUME_EINVAL, "problem: fix_dof needs a problem");
+    if (p->finalized)
+        return plume_err_set(err, PLUME_EINVAL, "problem: dofs are fixed before plume_problem_finalize");
+    if (dof < 0 || dof >= p->ndof)
+        return plume_err_set(err, PLUME_EINVAL, "problem: dof %ld out of [0, %ld) (vertex %ld, component %ld)",
+                             (long)dof, (long)p->ndof, (long)(dof / p->dim), (long)(dof % p->dim));
     p->fixed[dof] = 1;
     return PLUME_OK;
 }

@@ -27,21 +27,25 @@ typedef struct {
 
 /** A problem over nv vertices with dim coordinates each (dof = dim*vertex + axis).
  * length_scale: a typical size of the body (m), used by solvers for step-size tolerances.
- * Free with plume_problem_destroy. */
-PLUME_API plume_status plume_problem_create(plume_index nv, int dim, double length_scale, plume_problem **out);
+ * Free with plume_problem_destroy. PLUME_EINVAL (nv <= 0, dim not 2 or 3, length_scale not
+ * finite and > 0) and PLUME_ENOMEM with a message in err (NULL allowed). */
+PLUME_API plume_status plume_problem_create(plume_index nv, int dim, double length_scale, plume_problem **out,
+                                            plume_err *err);
 /** Frees the problem, calling every term's and constraint set's destroy; sets *p = NULL; NULL-safe. */
 PLUME_API void plume_problem_destroy(plume_problem **p);
 
 /** Adds a term. The problem takes ownership of its ctx (freed with `destroy`) on success and on
- * failure. Only before plume_problem_finalize (PLUME_EINVAL after it, or without eval). */
-PLUME_API plume_status plume_problem_add_term(plume_problem *p, const plume_term *t);
+ * failure. Only before plume_problem_finalize (PLUME_EINVAL after it, or without eval, arity or
+ * stencil; the message in err says which). */
+PLUME_API plume_status plume_problem_add_term(plume_problem *p, const plume_term *t, plume_err *err);
 /** Adds a constraint set, with the same ownership rule as plume_problem_add_term: the problem
  * owns its ctx on success and on failure. PLUME_EINVAL after finalize, without eval or hess, or
- * with m > 0 and no stencil or scale. */
-PLUME_API plume_status plume_problem_add_constraint(plume_problem *p, const plume_constraint *c);
+ * with m > 0 and no stencil or scale; the message in err says which. */
+PLUME_API plume_status plume_problem_add_constraint(plume_problem *p, const plume_constraint *c, plume_err *err);
 
-/** Marks a coordinate as prescribed (its value is whatever plume_problem_x holds). Before finalize. */
-PLUME_API plume_status plume_problem_fix_dof(plume_problem *p, plume_index dof);
+/** Marks a coordinate as prescribed (its value is whatever plume_problem_x holds). Before finalize;
+ * PLUME_EINVAL after it or for a dof out of range, naming the vertex and component in err. */
+PLUME_API plume_status plume_problem_fix_dof(plume_problem *p, plume_index dof, plume_err *err);
 
 /** Builds the free-dof map, the Hessian sparsity (terms and constraints) and the Jacobian
  * sparsity; drops constraints whose stencil is entirely prescribed. Allocates every workspace

@@ -236,7 +236,7 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
     plume_term term = {.name = "inertia", .arity = 1, .nstencil = nv, .stencil = in->stencil, .eval = inertia_eval,
                        .destroy = inertia_destroy, .ctx = in};
     d->inertia = in;
-    if ((st = plume_problem_add_term(p, &term)) != PLUME_OK) {
+    if ((st = plume_problem_add_term(p, &term, err)) != PLUME_OK) {
         free(d);
         return st;
     }
@@ -245,7 +245,7 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
     for (int h = 0; h < nhandles; h++)
         for (plume_index i = 0; i < d->handles[h].nv; i++)
             for (int a = 0; a < 3; a++)
-                plume_problem_fix_dof(p, 3 * d->handles[h].vertices[i] + a);
+                plume_problem_fix_dof(p, 3 * d->handles[h].vertices[i] + a, err);
     if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
         goto fail;
     plume_err why;

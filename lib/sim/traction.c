@@ -200,10 +200,10 @@ static plume_status solve_probe_tight(const plume_mesh *mesh, plume_problem *p, 
 {
     predict(mesh, p, g, o->ly, delta, xrest, 0.0, xrest, 0.0);
     plume_problem_gather(p, u);
-    plume_status st = plume_solver_set_tol_kkt(s, tol);
+    plume_status st = plume_solver_set_tol_kkt(s, tol, err);
     if (st == PLUME_OK)
         st = plume_solver_solve(s, u, lambda, rep);
-    plume_solver_set_tol_kkt(s, o->solver_opts.tol_kkt);
+    plume_solver_set_tol_kkt(s, o->solver_opts.tol_kkt, err);
     if (st != PLUME_OK)
         return plume_err_set(err, st, "traction: step 0 (probe): solver error (%s)", plume_strerror(st));
     return PLUME_OK;
@@ -302,7 +302,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
             x[dim * v + 2] = 0.0;
         if (g.bottom_flag[v] || g.top_flag[v])
             for (int k = 0; k < dim; k++)
-                if ((st = plume_problem_fix_dof(p, dim * v + k)) != PLUME_OK)
+                if ((st = plume_problem_fix_dof(p, dim * v + k, err)) != PLUME_OK)
                     goto cleanup;
     }
     if ((st = plume_problem_finalize(p, err)) != PLUME_OK)

@@ -75,10 +75,11 @@ plume_status plume_solver_solve(plume_solver *s, double *u, double *lambda, plum
     return s->ipopt ? plume_ipopt_solve(s->ipopt, u, lambda, rep) : plume_newton_solve(s->newton, u, lambda, rep);
 }
 
-plume_status plume_solver_set_tol_kkt(plume_solver *s, double tol_kkt)
+plume_status plume_solver_set_tol_kkt(plume_solver *s, double tol_kkt, plume_err *err)
 {
     if (!s || !(tol_kkt > 0.0) || !isfinite(tol_kkt))
-        return PLUME_EINVAL;
+        return plume_err_set(err, PLUME_EINVAL, "solver: the KKT tolerance must be finite and > 0 (got %g)%s",
+                             tol_kkt, s ? "" : "; no solver given");
     if (s->ipopt)
         plume_ipopt_set_tol_kkt(s->ipopt, tol_kkt);
     else

@@ -43,9 +43,9 @@ PLUME_API void plume_solver_destroy(plume_solver **s);
 PLUME_API plume_status plume_solver_solve(plume_solver *s, double *u, double *lambda, plume_solve_report *rep);
 
 /** Changes the relative KKT tolerance of the next solves (tol_kkt > 0 and finite, else
- * PLUME_EINVAL): one solver, one symbolic analysis, for solves that need different accuracies
- * (traction's small-strain probe). */
-PLUME_API plume_status plume_solver_set_tol_kkt(plume_solver *s, double tol_kkt);
+ * PLUME_EINVAL with a message in err, NULL allowed): one solver, one symbolic analysis, for solves
+ * that need different accuracies (traction's small-strain probe). */
+PLUME_API plume_status plume_solver_set_tol_kkt(plume_solver *s, double tol_kkt, plume_err *err);
 
 /** Time spent and count of numeric factorisations / symbolic analyses so far (benchmarks). */
 PLUME_API void plume_solver_stats(const plume_solver *s, int *analyses, int *factorizations,
