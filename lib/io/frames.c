@@ -24,6 +24,11 @@
 
 /* the units of /frames' numeric attributes */
 #define FRAMES_UNITS "count: 1; nv: 1; ncons: 1; dt: s"
+/* half the frame links a B-tree leaf of /frames holds: appends up to frame 2 FRAMES_LEAF_K write into
+ * existing nodes (plume_frames_create) */
+#define FRAMES_LEAF_K 256
+/* bytes reserved for the frame links' names (8 each up to frame 9999999) */
+#define FRAMES_NAME_HEAP 16384
 
 static int write_attr_long(hid_t obj, const char *name, long v)
 {
@@ -208,8 +213,31 @@ plume_status plume_frames_create(const char *path, plume_index nv, plume_index n
     }
     close(fd);
     made = 1;
-    fid = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    if (fid < 0 || (g = H5Gcreate2(fid, "/frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 ||
+    /* /frames/<k> are links of one symbol-table group: their names in a local heap, the links in
+     * B-tree leaves of 2 FRAMES_LEAF_K. When the heap is full it moves, and when a leaf is full it
+     * splits; either is several writes, and a SIGKILL between them left a file whose count was
+     * intact and whose links were lost ("/frames/0 is missing" with HDF5's defaults, at the append
+     * of frame 8; found by killing apps/feather at every write of a 9-frame run,
+     * test_robustness_kill_every_write). A heap of FRAMES_NAME_HEAP bytes and leaves of 512 links
+     * make every append up to frame 512 a write into existing nodes. */
+    hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
+    if (fcpl >= 0 && H5Pset_sym_k(fcpl, 16, FRAMES_LEAF_K) < 0) {
+        H5Pclose(fcpl);
+        fcpl = H5I_INVALID_HID;
+    }
+    fid = fcpl < 0 ? H5I_INVALID_HID : H5Fcreate(tmp, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    if (fcpl >= 0)
+        H5Pclose(fcpl);
+    hid_t gcpl = H5Pcreate(H5P_GROUP_CREATE);
+    if (gcpl >= 0 && H5Pset_local_heap_size_hint(gcpl, FRAMES_NAME_HEAP) < 0) {
+        H5Pclose(gcpl);
+        gcpl = H5I_INVALID_HID;
+    }
+    if (fid >= 0 && gcpl >= 0)
+        g = H5Gcreate2(fid, "/frames", H5P_DEFAULT, gcpl, H5P_DEFAULT);
+    if (gcpl >= 0)
+        H5Pclose(gcpl);
+    if (fid < 0 || g < 0 ||
         write_attr_long(g, "count", 0) < 0 || write_attr_long(g, "nv", (long)nv) < 0 ||
         write_attr_long(g, "ncons", (long)ncons) < 0 || h5_write_attr_double(g, "dt", dt) < 0 ||
         h5_write_attr_string(g, "scene", scene ? scene : "") < 0 ||
