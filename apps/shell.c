@@ -28,8 +28,9 @@ static const char usage[] =
     "  --steps N           load steps (overrides the scene's \"steps\")\n"
     "  --solver S          newton | ipopt (overrides the scene's \"solver\")\n"
     "  --bending B         shape_operator | hinge (overrides the scene's \"bending_model\")\n"
-    "  --predictor P       secant | none: where each load increment's solve starts (overrides the\n"
-    "                      scene's \"predictor\"; default secant, lib/sim/statics.h)\n"
+    "  --predictor P       secant | none | tangent | secant_tangent: where each load increment's\n"
+    "                      solve starts (overrides the scene's \"predictor\"; default secant,\n"
+    "                      lib/sim/statics.h)\n"
     "  --globalization G   curved_line_search | line_search | trust_region: how the native solver\n"
     "                      globalises its Newton steps (overrides the scene's \"globalization\";\n"
     "                      default curved_line_search, lib/solve/solver.h)\n"
@@ -92,7 +93,7 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (strcmp(a, "--predictor") == 0) {
             plume_predictor k;
             if (plume_predictor_parse(v, &k) != PLUME_OK)
-                r = cli_fail(APP, "--predictor must be secant or none (got '%s')", v);
+                r = cli_fail(APP, "--predictor must be secant, none, tangent or secant_tangent (got '%s')", v);
             o->predictor = v;
         } else if (strcmp(a, "--globalization") == 0) {
             plume_globalization g;

@@ -42,6 +42,7 @@
 #include "../lib/solve/ipopt_solver.h"
 #include "../lib/solve/solver.h"
 #include "../lib/solve/newton.h"
+#include "../lib/solve/predict.h"
 
 /* contact: barrier, broad and narrow phase, CCD, friction */
 #include "../lib/contact/contact_narrow.h"

@@ -116,7 +116,9 @@ typedef struct {
     /* static scenes */
     int is_static;                /**< "solve": "static" */
     int steps;                    /**< load steps; default 10 */
-    plume_predictor predictor;    /**< "predictor": "secant" (default) | "none" (lib/sim/statics.h) */
+    plume_predictor predictor;    /**< "predictor": "secant" (default) | "none" | "tangent" | "secant_tangent"
+                                     (lib/sim/statics.h); dynamic scenes: "tangent" or "secant_tangent"
+                                     set plume_dynamics_opts.tangent_predictor */
     plume_globalization globalization; /**< "globalization": "curved_line_search" (default) |
                                      "line_search" | "trust_region" (lib/solve/solver.h) */
     unsigned char *clamped;       /**< [nv] or NULL: PLUME_CLAMP_* bits */

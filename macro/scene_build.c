@@ -174,6 +174,7 @@ plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_problem **
     o.solver_opts.verbose = s->verbose;
     o.adaptive = s->adaptive_dt;
     o.dt_max = s->dt_max;
+    o.tangent_predictor = s->predictor == PLUME_PREDICT_TANGENT || s->predictor == PLUME_PREDICT_SECANT_TANGENT;
     plume_solver_opts_set_globalization(&o.solver_opts, s->globalization);
     if ((st = plume_dynamics_create(s->mesh, p, rho, s->nmat, s->handles, s->nhandles, &o, pd, err)) != PLUME_OK)
         goto fail;

@@ -39,7 +39,7 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
     s->predictor = PLUME_PREDICT_SECANT;
     if ((v = json_object_get(doc, "predictor")) &&
         (!json_is_string(v) || plume_predictor_parse(json_string_value(v), &s->predictor) != PLUME_OK))
-        return plume_json_bad(c, PLUME_EINVAL, "predictor", "must be \"secant\" or \"none\"");
+        return plume_json_bad(c, PLUME_EINVAL, "predictor", "must be \"secant\", \"none\", \"tangent\" or \"secant_tangent\"");
     s->globalization = PLUME_GLOBAL_CURVED_LINE_SEARCH;
     if ((v = json_object_get(doc, "globalization")) &&
         (!json_is_string(v) || plume_globalization_parse(json_string_value(v), &s->globalization) != PLUME_OK))

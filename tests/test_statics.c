@@ -244,7 +244,7 @@ void test_statics_scene_errors(void)
     }
     /* nothing holds it */
     check_scene_error(dir, "", "clamps are missing: a static scene needs a clamp or a handle");
-    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"predictor\": \"tangent\"", "predictor");
+    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"predictor\": \"quadratic\"", "predictor");
     check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"globalization\": \"dogleg\"",
                       "globalization must be \"curved_line_search\", \"line_search\" or \"trust_region\"");
     check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"probes\": [{\"name\": \"t\", \"near\": [10, 0], "
@@ -451,9 +451,9 @@ void test_statics_shell_app(void)
     CHECK(strstr(out, "\"load_steps\": 4") != NULL);
     rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --pattern hex", out, sizeof out, err, sizeof err);
     CHECK(rc == 2 && strstr(err, "--pattern must be"));
-    rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --predictor tangent", out, sizeof out, err,
+    rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --predictor quadratic", out, sizeof out, err,
                  sizeof err);
-    CHECK(rc == 2 && strstr(err, "--predictor must be secant or none"));
+    CHECK(rc == 2 && strstr(err, "--predictor must be secant, none, tangent or secant_tangent"));
     rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --globalization dogleg", out, sizeof out, err,
                  sizeof err);
     CHECK(rc == 2 && strstr(err, "--globalization must be curved_line_search, line_search or trust_region (got 'dogleg')"));
@@ -521,7 +521,7 @@ void test_statics_predictor(void)
     plume_predictor k;
     CHECK(plume_predictor_parse("secant", &k) == PLUME_OK && k == PLUME_PREDICT_SECANT);
     CHECK(plume_predictor_parse("none", &k) == PLUME_OK && k == PLUME_PREDICT_NONE);
-    CHECK(plume_predictor_parse("tangent", &k) == PLUME_EINVAL);
+    CHECK(plume_predictor_parse("quadratic", &k) == PLUME_EINVAL);
     CHECK(strcmp(plume_predictor_name(PLUME_PREDICT_SECANT), "secant") == 0);
     plume_globalization g;
     CHECK(plume_globalization_parse("trust_region", &g) == PLUME_OK && g == PLUME_GLOBAL_TRUST_REGION);

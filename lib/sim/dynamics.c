@@ -83,7 +83,7 @@ struct plume_dynamics {
     handle_copy *handles;
     int nhandles;
     double t;
-    double *x, *v, *xsave, *vsave, *u, *lambda, *lsave;
+    double *x, *v, *xsave, *vsave, *u, *lambda, *lsave, *lsave2;
     double *xh, *dx; /* [3 nv] a step's start with the handles moved; a motion checked by CCD */
     plume_index n, m;
     int last_iterations; /* the solver iterations of the last step attempted */
@@ -112,6 +112,7 @@ void plume_dynamics_destroy(plume_dynamics **pd)
     free(d->u);
     free(d->lambda);
     free(d->lsave);
+    free(d->lsave2);
     free(d);
     *pd = NULL;
 }
@@ -265,7 +266,8 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
     d->u = malloc((size_t)(d->n + 1) * sizeof *d->u);
     d->lambda = calloc((size_t)(d->m + 1), sizeof *d->lambda);
     d->lsave = calloc((size_t)(d->m + 1), sizeof *d->lsave);
-    if (!d->x || !d->v || !d->xsave || !d->xh || !d->dx || !d->vsave || !d->u || !d->lambda || !d->lsave) {
+    d->lsave2 = calloc((size_t)(d->m + 1), sizeof *d->lsave2);
+    if (!d->x || !d->v || !d->xsave || !d->xh || !d->dx || !d->vsave || !d->u || !d->lambda || !d->lsave || !d->lsave2) {
         st = PLUME_ENOMEM;
         goto fail;
     }
@@ -362,6 +364,21 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
             if (rep->converged)
                 rep->reason = PLUME_REASON_LINE_SEARCH; /* the handles would cross: a smaller step */
             return PLUME_OK;
+        }
+    } else if (d->o.tangent_predictor && d->o.solver != PLUME_SOLVER_IPOPT) {
+        /* x~ everywhere, handles included (their own inertial prediction); the predictor moves the
+         * handles to their targets along the tangent and the free dofs with them */
+        memcpy(x, in->xt, (size_t)(3 * nv) * sizeof *x);
+        plume_problem_gather(d->p, d->u);
+        memcpy(d->lsave2, d->lambda, (size_t)d->m * sizeof *d->lambda);
+        int nf = 0;
+        st = plume_solver_predict(d->s, d->u, d->lambda, xh, &nf, NULL);
+        rep->predictions++;
+        if (st == PLUME_ENOMEM)
+            return plume_err_set(err, st, "dynamics: out of memory");
+        if (st != PLUME_OK) { /* no prediction: the plain start */
+            memcpy(x, xh, (size_t)(3 * nv) * sizeof *x);
+            memcpy(d->lambda, d->lsave2, (size_t)d->m * sizeof *d->lambda);
         }
     } else {
         memcpy(x, xh, (size_t)(3 * nv) * sizeof *x);

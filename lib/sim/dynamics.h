@@ -52,6 +52,14 @@ typedef struct {
     double dt_max;           /**< adaptive: the largest step (s); 0 (default): dt */
     int stall_iterations;    /**< adaptive, newton: default 6 (0: only the iteration cap) */
     int easy_iterations;     /**< adaptive: default 5 */
+    /** 1: each step's solve starts from the tangent (consistent) predictor (plume_solver_predict):
+     * one linear solve with the tangent at x~ = x_n + dt v_n (handles at their own x~, inertia
+     * included) for the free dofs' response to the handles' move from x~ to their keyframed
+     * targets, instead of starting the free dofs at x~ with the handles already at their targets
+     * (a jump of more than an element crushes the membrane next to a handle). One more
+     * factorisation a step; native solvers only; not used with terms that limit steps (contact).
+     * Default 0 (docs/solver-nonconvexity.md) */
+    int tangent_predictor;
 } plume_dynamics_opts;
 
 /** Fills o with the defaults each field names. */
@@ -84,6 +92,7 @@ typedef struct {
     int backtracks;        /**< newton's line-search rejections (plume_solve_report) over all solves */
     int shifts;            /**< newton's inertia shifts (plume_solve_report) over all solves */
     int step_limited;      /**< solver steps cut short by continuous collision detection (contact) */
+    int predictions;       /**< tangent predictor solves (opts.tangent_predictor; each one factorisation) */
     double max_violation;  /**< max relative constraint violation over the substeps */
     int converged;         /**< every substep converged */
     plume_reason reason;   /**< why the first attempt that failed stopped (CONVERGED if none failed) */

@@ -15,6 +15,7 @@ struct plume_statics {
     void (*free_user)(void *);
     plume_index n, m;
     double *u, *u_saved, *lambda, *lambda_saved;
+    double *xref, *xtarget; /* [dim nv] the tangent predictor's: x at the last equilibrium, at the target */
     double *u_prev;  /* the equilibrium before the last one (the secant predictor's), if have_prev */
     double factor_prev;
     int have_prev;
@@ -33,20 +34,21 @@ void plume_statics_opts_default(plume_statics_opts *o)
     plume_solver_opts_default(&o->solver_opts);
 }
 
+static const char *const predictor_names[] = {"none", "secant", "tangent", "secant_tangent"};
+
 const char *plume_predictor_name(plume_predictor k)
 {
-    return k == PLUME_PREDICT_NONE ? "none" : k == PLUME_PREDICT_SECANT ? "secant" : "unknown";
+    return (unsigned)k < 4 ? predictor_names[k] : "unknown";
 }
 
 plume_status plume_predictor_parse(const char *name, plume_predictor *k)
 {
-    if (name && strcmp(name, "none") == 0)
-        *k = PLUME_PREDICT_NONE;
-    else if (name && strcmp(name, "secant") == 0)
-        *k = PLUME_PREDICT_SECANT;
-    else
-        return PLUME_EINVAL;
-    return PLUME_OK;
+    for (int i = 0; i < 4 && name; i++)
+        if (strcmp(name, predictor_names[i]) == 0) {
+            *k = (plume_predictor)i;
+            return PLUME_OK;
+        }
+    return PLUME_EINVAL;
 }
 
 void plume_statics_destroy(plume_statics **ps)
@@ -62,6 +64,8 @@ void plume_statics_destroy(plume_statics **ps)
     free(s->lambda);
     free(s->lambda_saved);
     free(s->u_prev);
+    free(s->xref);
+    free(s->xtarget);
     free(s);
     *ps = NULL;
 }
@@ -75,9 +79,12 @@ plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o,
     } else if (o->steps < 1 || o->max_cuts < 0 || o->max_cuts > 50) {
         st = plume_err_set(err, PLUME_EINVAL, "statics: steps must be >= 1 and max_cuts in [0, 50] (got %d, %d)",
                            o->steps, o->max_cuts);
-    } else if (o->predictor != PLUME_PREDICT_NONE && o->predictor != PLUME_PREDICT_SECANT) {
-        st = plume_err_set(err, PLUME_EINVAL, "statics: predictor must be PLUME_PREDICT_NONE or PLUME_PREDICT_SECANT "
-                           "(got %d)", (int)o->predictor);
+    } else if ((unsigned)o->predictor > PLUME_PREDICT_SECANT_TANGENT) {
+        st = plume_err_set(err, PLUME_EINVAL, "statics: predictor must be PLUME_PREDICT_NONE, _SECANT, _TANGENT or "
+                           "_SECANT_TANGENT (got %d)", (int)o->predictor);
+    } else if (o->predictor >= PLUME_PREDICT_TANGENT && o->solver == PLUME_SOLVER_IPOPT) {
+        st = plume_err_set(err, PLUME_EINVAL, "statics: the %s predictor needs the native solver (newton or "
+                           "linearized), not ipopt", plume_predictor_name(o->predictor));
     } else {
         *out = NULL;
         st = PLUME_OK;
@@ -101,7 +108,10 @@ plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o,
     s->u_prev = malloc((size_t)(s->n + 1) * sizeof *s->u_prev);
     s->lambda = calloc((size_t)(s->m + 1), sizeof *s->lambda);
     s->lambda_saved = calloc((size_t)(s->m + 1), sizeof *s->lambda_saved);
-    if (!s->u || !s->u_saved || !s->u_prev || !s->lambda || !s->lambda_saved) {
+    size_t nd = (size_t)plume_problem_dim(p) * (size_t)plume_problem_nvert(p) + 1;
+    s->xref = malloc(nd * sizeof *s->xref);
+    s->xtarget = malloc(nd * sizeof *s->xtarget);
+    if (!s->u || !s->u_saved || !s->u_prev || !s->lambda || !s->lambda_saved || !s->xref || !s->xtarget) {
         plume_statics_destroy(&s);
         return plume_err_set(err, PLUME_ENOMEM, "statics: out of memory");
     }
@@ -138,9 +148,36 @@ plume_status plume_statics_step(plume_statics *s, plume_load_step_report *rep)
             memcpy(s->u_saved, s->u, (size_t)s->n * sizeof *s->u);
             memcpy(s->lambda_saved, s->lambda, (size_t)s->m * sizeof *s->lambda);
         }
+        const plume_predictor k = s->o.predictor;
+        const int secant = (k == PLUME_PREDICT_SECANT || k == PLUME_PREDICT_SECANT_TANGENT) && s->have_prev;
+        const int tangent = !secant && (k == PLUME_PREDICT_TANGENT || k == PLUME_PREDICT_SECANT_TANGENT);
+        const size_t nd = (size_t)plume_problem_dim(s->p) * (size_t)plume_problem_nvert(s->p);
+        double *x = plume_problem_x(s->p);
+        if (!from_predictor && tangent) { /* the prescribed values at the last equilibrium (a cut leaves
+                                             those of the failed target in x) */
+            s->scale(s->user, s->factor);
+            memcpy(s->xref, x, nd * sizeof *x);
+        }
         s->scale(s->user, next);
-        from_predictor = !from_predictor && s->o.predictor == PLUME_PREDICT_SECANT && s->have_prev;
-        if (from_predictor) {
+        from_predictor = !from_predictor && (secant || tangent);
+        if (from_predictor && tangent) {
+            /* the load at next, the prescribed dofs back at the last equilibrium: the predictor
+             * moves them to next's along the tangent */
+            memcpy(s->xtarget, x, nd * sizeof *x);
+            memcpy(x, s->xref, nd * sizeof *x);
+            memcpy(s->u, s->u_saved, (size_t)s->n * sizeof *s->u);
+            int nf = 0;
+            plume_status pst = plume_solver_predict(s->solver, s->u, s->m > 0 ? s->lambda : NULL, s->xtarget, &nf, NULL);
+            rep->factorizations += nf;
+            rep->predictions++;
+            if (pst == PLUME_ENOMEM)
+                return pst;
+            if (pst != PLUME_OK) { /* no prediction: the last equilibrium, as without one */
+                from_predictor = 0;
+                memcpy(s->u, s->u_saved, (size_t)s->n * sizeof *s->u);
+                memcpy(s->lambda, s->lambda_saved, (size_t)s->m * sizeof *s->lambda);
+            }
+        } else if (from_predictor) {
             double r = (next - s->factor) / (s->factor - s->factor_prev);
             for (plume_index i = 0; i < s->n; i++)
                 s->u[i] = s->u_saved[i] + r * (s->u_saved[i] - s->u_prev[i]);

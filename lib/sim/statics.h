@@ -19,12 +19,19 @@ extern "C" {
 /** Where each solve of a load increment starts. */
 typedef enum {
     PLUME_PREDICT_NONE = 0,  /**< the last equilibrium */
-    PLUME_PREDICT_SECANT = 1 /**< the last equilibrium plus the secant through the last two, scaled to the
+    PLUME_PREDICT_SECANT = 1, /**< the last equilibrium plus the secant through the last two, scaled to the
                                 increment (first-order continuation; from the second increment on). Its
                                 error is O(increment^2) where the last equilibrium's is O(increment): on
                                 the shell benchmarks it takes 35-56 % fewer Newton iterations to the same
                                 equilibria (docs/benchmarks.md). A solve that fails from it is retried from
                                 the last equilibrium before the increment is cut */
+    PLUME_PREDICT_TANGENT = 2, /**< the tangent (consistent) predictor on every increment: one linear solve
+                                with the tangent at the last equilibrium for the response to the load
+                                increment and the prescribed dofs' move (plume_solver_predict; one more
+                                factorisation an increment; native solvers only). Retried from the last
+                                equilibrium as the secant is */
+    PLUME_PREDICT_SECANT_TANGENT = 3 /**< the secant where it is available, the tangent where it is not
+                                (the first increment) */
 } plume_predictor;
 
 /** Options of the load-stepping driver (plume_statics_opts_default). */
@@ -53,6 +60,8 @@ typedef struct {
     int factorizations;    /**< numeric factorisations (native solvers), failed attempts included */
     int backtracks;        /**< newton's line-search rejections (plume_solve_report) */
     int shifts;            /**< newton's inertia shifts (plume_solve_report) */
+    int predictions;       /**< tangent predictor solves (each one factorisation, counted in
+                              factorizations, not in iterations) */
     int predictor_retries; /**< solves that failed from the predictor and were retried from the last
                               equilibrium */
     double max_violation;  /**< over the converged sub-steps */
@@ -83,9 +92,11 @@ PLUME_API plume_status plume_statics_step(plume_statics *s, plume_load_step_repo
 PLUME_API double plume_statics_factor(const plume_statics *s);
 /** The solver's numeric factorisations so far and the seconds spent in them (native solvers). */
 PLUME_API void plume_statics_stats(const plume_statics *s, int *factorizations, double *factor_seconds);
-/** The predictor's name, "none" or "secant" (static string; "unknown" out of range). */
+/** The predictor's name, "none", "secant", "tangent" or "secant_tangent" (static string; "unknown"
+ * out of range). */
 PLUME_API const char *plume_predictor_name(plume_predictor k);
-/** The predictor named "none" or "secant" into *k; PLUME_EINVAL (no message) for another name. */
+/** The predictor named "none", "secant", "tangent" or "secant_tangent" into *k; PLUME_EINVAL (no
+ * message) for another name. */
 PLUME_API plume_status plume_predictor_parse(const char *name, plume_predictor *k);
 /** Nominal steps completed so far (each one reached its load factor). */
 PLUME_API int plume_statics_steps_done(const plume_statics *s);

@@ -42,6 +42,24 @@ PLUME_API void plume_solver_destroy(plume_solver **s);
  * status only for errors (bad input, memory, dependency); convergence is in rep->reason. */
 PLUME_API plume_status plume_solver_solve(plume_solver *s, double *u, double *lambda, plume_solve_report *rep);
 
+/** The tangent (consistent) predictor of an increment: where the solve of a step should start when
+ * the prescribed dofs move from where the problem's x holds them to x_target and the loads have
+ * already been changed. With K the tangent (the native solver's matrix at u and the prescribed
+ * values x holds now, made positive definite as a Newton iteration makes it) it solves
+ *   K_ff du = -(grad_f + K_fp dx_p),  J_f du = -(g + J_p dx_p)   (linearised KKT with constraints)
+ * where grad_f is the gradient at u under the current loads (so it holds the load increment) and
+ * K_fp dx_p, J_p dx_p are central differences of the gradient and constraints along the prescribed
+ * move. u (nfree, in: start, out: u + du) and lambda (ncons, in: guess, out: the linearised
+ * multipliers; NULL without constraints) are updated; x_target (dim*nv, only its prescribed
+ * entries read; NULL: no move) is copied into x's prescribed dofs and u into its free ones in any
+ * case. A predicted state whose energy cannot be evaluated is pulled back halfway up to 4 times.
+ * *factorizations (may be NULL) gets the numeric factorisations it took. PLUME_EINVAL (message in
+ * err) for the Ipopt backend or missing arguments; PLUME_ESINGULAR when no factorisation worked
+ * or the predicted states were all undefined (u, lambda then unchanged); evaluation errors at the
+ * start as the problem returns them. */
+PLUME_API plume_status plume_solver_predict(plume_solver *s, double *u, double *lambda, const double *x_target,
+                                            int *factorizations, plume_err *err);
+
 /** Changes the relative KKT tolerance of the next solves (tol_kkt > 0 and finite, else
  * PLUME_EINVAL with a message in err, NULL allowed): one solver, one symbolic analysis, for solves
  * that need different accuracies (traction's small-strain probe). */

@@ -1,0 +1,283 @@
+/* The tangent predictor (plume_solver_predict): on a linear problem (linear springs, a linear
+ * constraint, inertia and gravity) it lands on the answer, so Newton takes no iteration after it,
+ * in statics (a prescribed move and a load increment) and in dynamics (a handle's jump). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "../include/plume.h"
+#include "../lib/sim/dynamics.h"
+#include "../lib/sim/statics.h"
+
+/* Springs along the triangles' edges with the rest vector of the reference, E = k/2 |x_j - x_i -
+ * (X_j - X_i)|^2 (forces linear in x), and a load factor * F on the last vertex. */
+typedef struct {
+    plume_index ne, *edge;
+    const double *X; /* [3 nv] reference */
+    double k, F[3], factor;
+    plume_index last;
+    double move[3];  /* statics: vertex 0 goes to X_0 + factor * move */
+    plume_problem *p;
+} springs;
+
+static plume_status springs_eval(void *ctx, int dim, const double *x, double *energy, double *grad, double *h,
+                                 int project)
+{
+    (void)project, (void)h;
+    const springs *s = ctx;
+    for (plume_index e = 0; e < s->ne; e++) {
+        plume_index i = s->edge[2 * e], j = s->edge[2 * e + 1];
+        for (int a = 0; a < dim; a++) {
+            double d = x[dim * j + a] - x[dim * i + a] - (s->X[dim * j + a] - s->X[dim * i + a]);
+            if (energy)
+                *energy += 0.5 * s->k * d * d;
+            if (grad) {
+                grad[dim * j + a] += s->k * d;
+                grad[dim * i + a] -= s->k * d;
+            }
+        }
+    }
+    if (energy)
+        for (int a = 0; a < dim; a++)
+            *energy -= s->factor * s->F[a] * x[dim * s->last + a];
+    if (grad)
+        for (int a = 0; a < dim; a++)
+            grad[dim * s->last + a] -= s->factor * s->F[a];
+    return PLUME_OK;
+}
+
+/* hblocks: the edge stencils' 6 x 6 blocks; the load adds nothing */
+static plume_status springs_eval_blocks(void *ctx, int dim, const double *x, double *energy, double *grad,
+                                        double *h, int project)
+{
+    const springs *s = ctx;
+    plume_status st = springs_eval(ctx, dim, x, energy, grad, NULL, project);
+    if (st != PLUME_OK || !h)
+        return st;
+    int k = 2 * dim;
+    for (plume_index e = 0; e < s->ne; e++) {
+        double *b = h + (size_t)e * (size_t)(k * k);
+        memset(b, 0, (size_t)(k * k) * sizeof *b);
+        for (int a = 0; a < dim; a++) {
+            b[a * k + a] = b[(dim + a) * k + dim + a] = s->k;
+            b[a * k + dim + a] = b[(dim + a) * k + a] = -s->k;
+        }
+    }
+    return PLUME_OK;
+}
+
+/* g = z_a - z_b: a linear constraint (zero curvature) */
+typedef struct {
+    plume_index stencil[2];
+    double scale[1];
+} level;
+
+static plume_status level_eval(void *ctx, int dim, const double *x, double *g, double *jac)
+{
+    const level *c = ctx;
+    g[0] = x[dim * c->stencil[0] + 2] - x[dim * c->stencil[1] + 2];
+    if (jac) {
+        memset(jac, 0, (size_t)(2 * dim) * sizeof *jac);
+        jac[2] = 1.0;
+        jac[dim + 2] = -1.0;
+    }
+    return PLUME_OK;
+}
+
+static plume_status level_hess(void *ctx, int dim, const double *x, const double *lambda, double *h, int project)
+{
+    (void)ctx, (void)x, (void)lambda, (void)project;
+    memset(h, 0, (size_t)(4 * dim * dim) * sizeof *h);
+    return PLUME_OK;
+}
+
+static void springs_scale(void *user, double factor)
+{
+    springs *s = user;
+    s->factor = factor;
+    double *x = plume_problem_x(s->p);
+    for (int a = 0; a < 3; a++)
+        x[a] = s->X[a] + factor * s->move[a];
+}
+
+/* the springs of a patch mesh's edges (each triangle's three; shared edges twice: still linear) */
+static int build(const plume_mesh *mesh, springs *s, level *c, plume_problem **out, int fix0)
+{
+    s->ne = 3 * mesh->nt;
+    s->edge = malloc((size_t)(2 * s->ne) * sizeof *s->edge);
+    if (!s->edge)
+        return 0;
+    for (plume_index t = 0; t < mesh->nt; t++)
+        for (int k = 0; k < 3; k++) {
+            s->edge[6 * t + 2 * k] = mesh->tri[3 * t + k];
+            s->edge[6 * t + 2 * k + 1] = mesh->tri[3 * t + (k + 1) % 3];
+        }
+    s->X = mesh->x;
+    s->last = mesh->nv - 1;
+    plume_err err = {{0}};
+    plume_problem *p = NULL;
+    CHECK(plume_problem_create(mesh->nv, 3, 1.0, &p, &err) == PLUME_OK);
+    if (!p)
+        return 0;
+    memcpy(plume_problem_x(p), mesh->x, (size_t)(3 * mesh->nv) * sizeof(double));
+    plume_term t = {.name = "linear springs", .arity = 2, .nstencil = s->ne, .stencil = s->edge,
+                    .eval = springs_eval_blocks, .ctx = s};
+    CHECK(plume_problem_add_term(p, &t, &err) == PLUME_OK);
+    c->stencil[0] = mesh->nv / 2;
+    c->stencil[1] = mesh->nv - 2;
+    c->scale[0] = 1.0;
+    plume_constraint g = {.name = "level", .arity = 2, .m = 1, .stencil = c->stencil, .scale = c->scale,
+                          .eval = level_eval, .hess = level_hess, .ctx = c};
+    CHECK(plume_problem_add_constraint(p, &g, &err) == PLUME_OK);
+    for (int a = 0; fix0 && a < 3; a++)
+        CHECK(plume_problem_fix_dof(p, a, &err) == PLUME_OK);
+    s->p = p;
+    *out = p;
+    return 1;
+}
+
+/* Statics: vertex 0 moved by factor * move and the last vertex loaded by factor * F, with a linear
+ * constraint: every increment converged at the predictor (zero Newton iterations), to the
+ * equilibrium the secant predictor reaches. */
+void test_predict_linear_statics(void)
+{
+    plume_mesh *mesh = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_patch_mesh(1.0, 1.0, 0.0, 0.35, PLUME_PATCH_UNALIGNED, 3, &mesh, &err) == PLUME_OK);
+    if (!mesh)
+        return;
+    double xs[2][3 * 64];
+    for (int run = 0; run < 2; run++) {
+        springs s = {.k = 50.0, .F = {0.3, -0.2, 1.5}, .move = {0.2, -0.1, 0.4}};
+        level c;
+        plume_problem *p = NULL;
+        if (!build(mesh, &s, &c, &p, 1))
+            break;
+        plume_err e2 = {{0}};
+        CHECK(plume_problem_finalize(p, &e2) == PLUME_OK);
+        plume_statics_opts o;
+        plume_statics_opts_default(&o);
+        o.steps = 2;
+        o.predictor = run == 0 ? PLUME_PREDICT_TANGENT : PLUME_PREDICT_SECANT;
+        plume_statics *st = NULL;
+        CHECK(plume_statics_create(p, &o, springs_scale, &s, NULL, &st, &e2) == PLUME_OK);
+        for (int k = 0; st && k < 2; k++) {
+            plume_load_step_report r;
+            CHECK(plume_statics_step(st, &r) == PLUME_OK && r.converged);
+            if (run == 0)
+                CHECK(r.iterations == 0 && r.predictions == 1 && r.factorizations == 1);
+        }
+        CHECK(mesh->nv <= 64);
+        memcpy(xs[run], plume_problem_x(p), (size_t)(3 * mesh->nv) * sizeof(double));
+        plume_statics_destroy(&st);
+        plume_problem_destroy(&p);
+        free(s.edge);
+    }
+    double dmax = 0.0, xmax = 0.0;
+    for (plume_index i = 0; i < 3 * mesh->nv; i++) {
+        dmax = fmax(dmax, fabs(xs[0][i] - xs[1][i]));
+        xmax = fmax(xmax, fabs(xs[1][i] - mesh->x[i]));
+    }
+    CHECK(dmax <= 1e-8 * xmax && xmax > 0.1);
+    CHECK(fabs(xs[0][3 * (mesh->nv / 2) + 2] - xs[0][3 * (mesh->nv - 2) + 2]) <= 1e-9); /* the constraint */
+    plume_mesh_destroy(&mesh);
+}
+
+/* Dynamics: a handle jumps vertex 0 by 0.3 in the first step (three element sizes), with linear
+ * springs, a linear constraint, inertia and gravity: every step converged at the predictor, to the
+ * states reached without it. */
+void test_predict_linear_dynamics(void)
+{
+    plume_mesh *mesh = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_patch_mesh(1.0, 1.0, 0.0, 0.35, PLUME_PATCH_UNALIGNED, 3, &mesh, &err) == PLUME_OK);
+    if (!mesh)
+        return;
+    double xs[2][3 * 64];
+    const plume_index hv[1] = {0};
+    const double times[2] = {0.0, 0.01}, offsets[6] = {0.0, 0.0, 0.0, 0.1, 0.2, 0.2};
+    plume_handle h = {.nvertices = 1, .vertices = hv, .nkeys = 2, .times = times, .offsets = offsets};
+    for (int run = 0; run < 2; run++) {
+        springs s = {.k = 50.0, .F = {0.0, 0.0, 0.0}};
+        level c;
+        plume_problem *p = NULL;
+        if (!build(mesh, &s, &c, &p, 0))
+            break;
+        plume_dynamics_opts o;
+        plume_dynamics_opts_default(&o);
+        o.dt = 0.01;
+        o.tangent_predictor = run == 0;
+        double rho = 0.5;
+        plume_dynamics *d = NULL;
+        CHECK(plume_dynamics_create(mesh, p, &rho, 1, &h, 1, &o, &d, &err) == PLUME_OK);
+        for (int k = 0; d && k < 4; k++) {
+            plume_step_report r;
+            CHECK(plume_dynamics_advance(d, 0.0, &r, &err) == PLUME_OK && r.converged && r.substeps == 1);
+            CHECK(r.predictions == (run == 0));
+            if (run == 0)
+                CHECK(r.iterations == 0);
+        }
+        CHECK(mesh->nv <= 64);
+        if (d)
+            memcpy(xs[run], plume_dynamics_positions(d), (size_t)(3 * mesh->nv) * sizeof(double));
+        plume_dynamics_destroy(&d);
+        plume_problem_destroy(&p);
+        free(s.edge);
+    }
+    double dmax = 0.0, xmax = 0.0;
+    for (plume_index i = 0; i < 3 * mesh->nv; i++) {
+        dmax = fmax(dmax, fabs(xs[0][i] - xs[1][i]));
+        xmax = fmax(xmax, fabs(xs[1][i] - mesh->x[i]));
+    }
+    CHECK(dmax <= 1e-8 * xmax && xmax > 0.1);
+    plume_mesh_destroy(&mesh);
+}
+
+/* Error paths: the Ipopt backend has no predictor (a message naming it), a constrained problem
+ * needs its multipliers, and statics refuses the tangent predictor with Ipopt. */
+void test_predict_errors(void)
+{
+    plume_mesh *mesh = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_patch_mesh(1.0, 1.0, 0.0, 0.5, PLUME_PATCH_UNALIGNED, 3, &mesh, &err) == PLUME_OK);
+    if (!mesh)
+        return;
+    springs s = {.k = 1.0};
+    level c;
+    plume_problem *p = NULL;
+    if (build(mesh, &s, &c, &p, 1)) {
+        CHECK(plume_problem_finalize(p, &err) == PLUME_OK);
+        plume_solver_opts so;
+        plume_solver_opts_default(&so);
+        plume_solver *ip = NULL, *nw = NULL;
+        double *u = calloc((size_t)plume_problem_nfree(p) + 1, sizeof *u), lam[1] = {0.0};
+        plume_problem_gather(p, u);
+        if (plume_solver_create(PLUME_SOLVER_IPOPT, p, &so, &ip, &err) == PLUME_OK) {
+            err.msg[0] = 0;
+            CHECK(plume_solver_predict(ip, u, lam, NULL, NULL, &err) == PLUME_EINVAL && strstr(err.msg, "ipopt"));
+        }
+        CHECK(plume_solver_create(PLUME_SOLVER_NEWTON, p, &so, &nw, &err) == PLUME_OK);
+        CHECK(plume_solver_predict(nw, u, NULL, NULL, NULL, &err) == PLUME_EINVAL && strstr(err.msg, "multipliers"));
+        CHECK(plume_solver_predict(NULL, u, lam, NULL, NULL, &err) == PLUME_EINVAL);
+        int nf = -1;
+        CHECK(plume_solver_predict(nw, u, lam, NULL, &nf, &err) == PLUME_OK && nf == 1); /* no move, no load */
+        plume_statics_opts o;
+        plume_statics_opts_default(&o);
+        o.predictor = PLUME_PREDICT_TANGENT;
+        o.solver = PLUME_SOLVER_IPOPT;
+        plume_statics *st = NULL;
+        CHECK(plume_statics_create(p, &o, springs_scale, &s, NULL, &st, &err) == PLUME_EINVAL &&
+              strstr(err.msg, "tangent") && strstr(err.msg, "ipopt"));
+        plume_predictor k;
+        CHECK(plume_predictor_parse("tangent", &k) == PLUME_OK && k == PLUME_PREDICT_TANGENT);
+        CHECK(plume_predictor_parse("secant_tangent", &k) == PLUME_OK && k == PLUME_PREDICT_SECANT_TANGENT);
+        CHECK(strcmp(plume_predictor_name(PLUME_PREDICT_TANGENT), "tangent") == 0);
+        plume_solver_destroy(&ip);
+        plume_solver_destroy(&nw);
+        free(u);
+        plume_problem_destroy(&p);
+    }
+    free(s.edge);
+    plume_mesh_destroy(&mesh);
+}
