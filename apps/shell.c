@@ -29,7 +29,7 @@ static const char usage[] =
     "  --solver S          newton | ipopt (overrides the scene's \"solver\")\n"
     "  --bending B         shape_operator | hinge (overrides the scene's \"bending_model\")\n"
     "  --predictor P       secant | none | tangent | secant_tangent: where each load increment's\n"
-    "                      solve starts (overrides the scene's \"predictor\"; default secant,\n"
+    "                      solve starts (overrides the scene's \"predictor\"; default tangent,\n"
     "                      lib/sim/statics.h)\n"
     "  --globalization G   curved_line_search | line_search | trust_region: how the native solver\n"
     "                      globalises its Newton steps (overrides the scene's \"globalization\";\n"

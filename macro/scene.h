@@ -116,7 +116,8 @@ typedef struct {
     /* static scenes */
     int is_static;                /**< "solve": "static" */
     int steps;                    /**< load steps; default 10 */
-    plume_predictor predictor;    /**< "predictor": "secant" (default) | "none" | "tangent" | "secant_tangent"
+    plume_predictor predictor;    /**< "predictor": "tangent" (static default) | "secant" (dynamic
+                                     default: no predictor) | "none" | "secant_tangent"
                                      (lib/sim/statics.h); dynamic scenes: "tangent" or "secant_tangent"
                                      set plume_dynamics_opts.tangent_predictor */
     plume_globalization globalization; /**< "globalization": "curved_line_search" (default) |

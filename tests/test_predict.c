@@ -267,8 +267,9 @@ void test_predict_errors(void)
         o.predictor = PLUME_PREDICT_TANGENT;
         o.solver = PLUME_SOLVER_IPOPT;
         plume_statics *st = NULL;
-        CHECK(plume_statics_create(p, &o, springs_scale, &s, NULL, &st, &err) == PLUME_EINVAL &&
-              strstr(err.msg, "tangent") && strstr(err.msg, "ipopt"));
+        /* the default predictor with Ipopt: the secant (Ipopt has no tangent solve to lend) */
+        CHECK(plume_statics_create(p, &o, springs_scale, &s, NULL, &st, &err) == PLUME_OK && st);
+        plume_statics_destroy(&st);
         plume_predictor k;
         CHECK(plume_predictor_parse("tangent", &k) == PLUME_OK && k == PLUME_PREDICT_TANGENT);
         CHECK(plume_predictor_parse("secant_tangent", &k) == PLUME_OK && k == PLUME_PREDICT_SECANT_TANGENT);

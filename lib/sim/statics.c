@@ -30,7 +30,7 @@ void plume_statics_opts_default(plume_statics_opts *o)
     o->steps = 10;
     o->max_cuts = 10;
     o->solver = PLUME_SOLVER_NEWTON;
-    o->predictor = PLUME_PREDICT_SECANT;
+    o->predictor = PLUME_PREDICT_TANGENT;
     plume_solver_opts_default(&o->solver_opts);
 }
 
@@ -82,9 +82,6 @@ plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o,
     } else if ((unsigned)o->predictor > PLUME_PREDICT_SECANT_TANGENT) {
         st = plume_err_set(err, PLUME_EINVAL, "statics: predictor must be PLUME_PREDICT_NONE, _SECANT, _TANGENT or "
                            "_SECANT_TANGENT (got %d)", (int)o->predictor);
-    } else if (o->predictor >= PLUME_PREDICT_TANGENT && o->solver == PLUME_SOLVER_IPOPT) {
-        st = plume_err_set(err, PLUME_EINVAL, "statics: the %s predictor needs the native solver (newton or "
-                           "linearized), not ipopt", plume_predictor_name(o->predictor));
     } else {
         *out = NULL;
         st = PLUME_OK;
@@ -97,6 +94,8 @@ plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o,
     }
     s->p = p;
     s->o = *o;
+    if (s->o.predictor >= PLUME_PREDICT_TANGENT && s->o.solver == PLUME_SOLVER_IPOPT)
+        s->o.predictor = PLUME_PREDICT_SECANT; /* Ipopt has no tangent solve to lend */
     s->scale = scale;
     s->user = user;
     s->free_user = free_user;

@@ -38,7 +38,8 @@ typedef enum {
 typedef struct {
     int steps;            /**< nominal load steps; default 10 */
     int max_cuts;         /**< an increment is halved at most this often below the nominal one; default 10 */
-    plume_predictor predictor; /**< default PLUME_PREDICT_SECANT */
+    plume_predictor predictor; /**< default PLUME_PREDICT_TANGENT (docs/solver-nonconvexity.md); with
+                                  Ipopt, which has no tangent solve, the tangent ones act as the secant */
     plume_solver_kind solver;      /**< the backend of every solve; default newton */
     plume_solver_opts solver_opts; /**< its options; default plume_solver_opts_default */
 } plume_statics_opts;
