@@ -3,7 +3,10 @@
  * the best of three runs, side by side with their ratio. Then both scales in bending
  * (macro/plate_bending.h) down to the finest barb spacing, lx/16: the resolved strip specimen
  * against the plate with the cell's D, the figures of docs/bending-homogenisation.md (the lx/16
- * specimens have 2.3e5 triangles and take up to 12.5 GB and 35-50 s of CPU each). */
+ * specimens have 2.3e5 triangles and take up to 12.5 GB and 35-50 s of CPU each). The cylinders
+ * use the edge moments ("edge"); the twist is run under both the edge moments' corner forces and
+ * the uniform-curvature loads ("unif", each barb gripped), whose last column is the interior
+ * residual of the uniform state (0 for the edge moments). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -141,10 +144,11 @@ int main(int argc, char **argv)
     }
 
     printf("\nplume bench (bending, both scales): strips phi 0.3, barbs 1.5e-4 m thick, a matrix 20 times softer\n"
-           "and 5e-5 m thick, 10 x 20 mm specimen, curvature 0.01 1/m, edge moments, linear plate; the micro\n"
-           "specimen at the default element edge (phase-aware stencils); micro - macro is the size effect\n");
-    printf("%-8s | %-12s | %9s | %12s | %12s | %10s | %9s | %7s\n", "d_B", "load", "triangles", "micro N m", "macro N m",
-           "micro-macro", "macro-th.", "cpu s");
+           "and 5e-5 m thick, 10 x 20 mm specimen, curvature 0.01 1/m, linear plate; edge moments (edge) or\n"
+           "uniform-curvature loads (unif); the micro specimen at the default element edge (phase-aware\n"
+           "stencils); micro - macro is the size effect; residual: interior forces of the uniform state\n");
+    printf("%-8s | %-18s | %9s | %12s | %12s | %10s | %9s | %7s | %s\n", "d_B", "load", "triangles", "micro N m",
+           "macro N m", "micro-macro", "macro-th.", "cpu s", "residual");
     plume_layout b;
     plume_layout_default(&b);
     b.phi = 0.3, b.ratio = 0.05, b.h = 1e-4, b.h_barb = 1.5e-4, b.h_barbule = 5e-5, b.order = 1;

@@ -15,7 +15,9 @@
  * (y <= c and y >= ly - c, c = end_strip * ly), f_v = A_v (a + b (x - xc) + g (y - yc)), A_v the
  * vertex's lumped area, with no resultant and the same end moment: their departure from the
  * uniform state's loads makes end layers, which a strongly orthotropic plate carries across the
- * whole specimen (docs/bending-homogenisation.md). Either way the two ends carry opposite moments:
+ * whole specimen (docs/bending-homogenisation.md). PLUME_BEND_UNIFORM_CURVATURE takes the same
+ * construction with the specimen's own phases: the boundary loads of its uniform-curvature state,
+ * which for a twisted laminate grip every barb. Either way the two ends carry opposite moments:
  * the specimen is free, held only against rigid motion by six fixed coordinates at three vertices
  * near its centre, which carry no reaction.
  *
