@@ -16,8 +16,8 @@
 #include "../micro/layout_json.h"
 #include "../micro/micro_model.h"
 #include "cli.h"
-#include "traction_bending.h"
 #include "traction_size.h"
+#include "traction_bending.h"
 
 static const char usage[] =
     "usage: traction [options]\n"
@@ -60,7 +60,9 @@ static const char usage[] =
     "                      the resolved layout (order 1 triangles, each phase a shell of its thickness) and/or the\n"
     "                      plate with the cell's bending tensor; default sample 0.01 x 0.02 m\n"
     "  --curvature K       the plate's predicted curvature at the last step (1/m, > 0; default 0.01)\n"
-    "                      -o writes /curves/bending/<macro|micro>/<LOAD>_<angle>/{curvature,moment,...}\n"
+    "                      -o writes /curves/bending/<macro|micro>/<LOAD>_<angle>/{curvature,moment,...};\n"
+    "                      --size-effect V[,V...] adds /curves/bending/micro_dB<V>/..., and --plot draws micro\n"
+    "                      m/kappa against d_B / lx with the macro value as the limit\n"
     "  --json              print a summary object on stdout\n"
     "  --quiet / --verbose no progress line / solver iterations on stderr\n"
     "  --help\n";
@@ -151,9 +153,9 @@ static int parse_args(int argc, char **argv, options *o)
         else if (strcmp(a, "--mesh") == 0) o->mesh = v, o->traction_only = a;
         else if (strcmp(a, "--solver") == 0) o->solver = v, o->solver_set = 1;
         else if (strcmp(a, "-o") == 0) o->out = v;
-        else if (strcmp(a, "--plot") == 0) o->plot = v, o->traction_only = a;
+        else if (strcmp(a, "--plot") == 0) o->plot = v;
         else if (strcmp(a, "--vtk") == 0) o->vtk = v, o->traction_only = a;
-        else if (strcmp(a, "--size-effect") == 0) o->size_effect = v, o->traction_only = a;
+        else if (strcmp(a, "--size-effect") == 0) o->size_effect = v;
         else if (strcmp(a, "--constraint") == 0) {
             o->traction_only = a;
             if (v && strcmp(v, "on") == 0)
@@ -514,9 +516,17 @@ int main(int argc, char **argv)
     if (want_micro && (st = plume_layout_check(&layout, &err)) != PLUME_OK)
         return fail("layout: %s%s", err.msg, "");
     if (o.bending) {
+        size_family bfam = {0};
+        if (o.size_effect) {
+            if (!want_micro)
+                return fail("--size-effect needs --model micro or both (got '%s')%s", o.model, "");
+            if ((rc = size_effect_parse(o.size_effect, layout.d_B / o.ly, &bfam)))
+                return rc;
+        }
         bending_cli bc = {o.bending, o.out, o.model, o.lx, o.ly, o.angle_set ? o.angle : 0.0,
                           o.curvature_set ? o.curvature : 0.01, o.curvature_set, o.edge, o.steps_set ? o.steps : 2,
-                          o.solver_set ? o.solver : "linearized", o.json, o.quiet};
+                          o.solver_set ? o.solver : "linearized", o.json, o.quiet, o.size_effect ? &bfam : NULL,
+                          o.plot};
         return run_bending(&bc, &layout, want_macro, want_micro);
     }
 

@@ -3,9 +3,14 @@
  * the best of three runs, side by side with their ratio. Then both scales in bending
  * (macro/plate_bending.h) down to the finest barb spacing, lx/16: the resolved strip specimen
  * against the plate with the cell's D, the figures of docs/bending-homogenisation.md (the lx/16
- * specimens have 2.3e5 triangles and take up to 12.5 GB and 35-50 s of CPU each). */
+ * specimens have 2.3e5 triangles and take up to 12.5 GB and 35-50 s of CPU each). The cylinders
+ * use the edge moments ("edge"); the twist is run under both the edge moments' corner forces and
+ * the uniform-curvature loads ("unif", each barb gripped), whose last column is the interior
+ * residual of the uniform state (0 for the edge moments). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "../include/plume.h"
@@ -50,11 +55,12 @@ static void row(const char *name, const plume_layout *l)
 
 /* One load of both scales in bending (linear plate, one step): the resolved specimen of l and the
  * plate with the cell's D (edge lx/20), the same edge moments. */
-static void both_scales(const plume_layout *l, double lx, double ly, double angle, plume_bend_load load)
+static void both_scales(const plume_layout *l, double lx, double ly, double angle, plume_bend_load load,
+                        plume_bend_loading loading)
 {
     plume_err err = {{0}};
     plume_cell *cell = NULL;
-    double D[9], moment, predicted, s[2] = {NAN, NAN}, cpu = NAN;
+    double D[9], moment, predicted, s[2] = {NAN, NAN}, cpu = NAN, resid = 0.0;
     long nt = 0;
     plume_membrane_material mats[2];
     plume_layout_materials(l, mats);
@@ -79,10 +85,14 @@ static void both_scales(const plume_layout *l, double lx, double ly, double angl
         if (st == PLUME_OK) {
             plume_bend_opts o;
             plume_bend_opts_default(&o);
-            o.load = load, o.lx = lx, o.ly = ly, o.moment = moment, o.steps = 1, o.solver = PLUME_SOLVER_LINEARIZED;
+            o.load = load, o.loading = loading, o.lx = lx, o.ly = ly, o.moment = moment, o.steps = 1;
+            o.solver = PLUME_SOLVER_LINEARIZED;
+            o.phases = scale == 0 ? phases : &hom, o.nphases = scale == 0 ? 2 : 1;
             plume_bend_result r;
             if ((st = plume_bend_run(mesh, p, &o, &r, &err)) == PLUME_OK) {
                 s[scale] = r.converged ? r.stiffness : NAN;
+                if (scale == 0)
+                    resid = r.load_residual;
                 plume_bend_result_free(&r);
             }
             if (scale == 0)
@@ -94,14 +104,21 @@ static void both_scales(const plume_layout *l, double lx, double ly, double angl
         plume_mesh_destroy(&mesh);
         plume_mesh_destroy(&planar);
     }
-    printf("%-8s | %-8s %3.0f | %9ld | %12.6g | %12.6g | %+8.2f %% | %+9.1e | %7.1f\n", "", plume_bend_load_name(load),
-           angle, nt, s[0], s[1], 100.0 * (s[0] / s[1] - 1.0), s[1] / predicted - 1.0, cpu);
+    printf("%-8s | %-8s %3.0f %-5s | %9ld | %12.6g | %12.6g | %+8.2f %% | %+9.1e | %7.1f | %.1e\n", "",
+           plume_bend_load_name(load), angle, loading == PLUME_BEND_UNIFORM_CURVATURE ? "unif" : "edge", nt, s[0], s[1],
+           100.0 * (s[0] / s[1] - 1.0), s[1] / predicted - 1.0, cpu, resid);
     fflush(stdout);
 }
 
-int main(void)
+/* bench_plate [both [E_REL [N_MAX]]]: "both" runs the both-scales part alone, on an element edge of
+ * E_REL barb widths (default: the layout's) down to d_B = lx / N_MAX (default 16). */
+int main(int argc, char **argv)
 {
     plume_openmp_serial();
+    const int both_only = argc > 1 && strcmp(argv[1], "both") == 0;
+    const double e_rel = argc > 2 ? atof(argv[2]) : -1.0;
+    const int n_max = argc > 3 ? atoi(argv[3]) : 16;
+    if (!both_only) {
     printf("\nplume bench (bending): the plate cell (Morley, exact bending tensor) against the membrane cell\n"
            "(exact small-strain tensor) on the same cell; best of %d; plate/membrane is the cost ratio\n", REPS);
     printf("%-30s | %9s | %9s | %9s | %10s | %10s | %6s | %s\n", "layout", "elements", "2 nodes", "plate dofs",
@@ -124,23 +141,28 @@ int main(void)
     }
     l.order = 2, l.e_rel = 0.0;
     row("barbules, automatic (P2)", &l);
+    }
 
     printf("\nplume bench (bending, both scales): strips phi 0.3, barbs 1.5e-4 m thick, a matrix 20 times softer\n"
-           "and 5e-5 m thick, 10 x 20 mm specimen, curvature 0.01 1/m, edge moments, linear plate; the micro\n"
-           "specimen at the default element edge (phase-aware stencils); micro - macro is the size effect\n");
-    printf("%-8s | %-12s | %9s | %12s | %12s | %10s | %9s | %7s\n", "d_B", "load", "triangles", "micro N m", "macro N m",
-           "micro-macro", "macro-th.", "cpu s");
+           "and 5e-5 m thick, 10 x 20 mm specimen, curvature 0.01 1/m, linear plate; edge moments (edge) or\n"
+           "uniform-curvature loads (unif); the micro specimen at the default element edge (phase-aware\n"
+           "stencils); micro - macro is the size effect; residual: interior forces of the uniform state\n");
+    printf("%-8s | %-18s | %9s | %12s | %12s | %10s | %9s | %7s | %s\n", "d_B", "load", "triangles", "micro N m",
+           "macro N m", "micro-macro", "macro-th.", "cpu s", "residual");
     plume_layout b;
     plume_layout_default(&b);
     b.phi = 0.3, b.ratio = 0.05, b.h = 1e-4, b.h_barb = 1.5e-4, b.h_barbule = 5e-5, b.order = 1;
+    if (e_rel > 0.0)
+        b.e_rel = e_rel;
     const double lx = 0.01, ly = 0.02;
-    for (int n = 4; n <= 16; n *= 2) {
+    for (int n = 4; n <= n_max; n *= 2) {
         b.d_B = lx / n;
         printf("lx/%-5d |\n", n);
-        both_scales(&b, lx, ly, 0.0, PLUME_BEND_CYLINDER);
-        both_scales(&b, lx, ly, 45.0, PLUME_BEND_CYLINDER);
-        both_scales(&b, lx, ly, 90.0, PLUME_BEND_CYLINDER);
-        both_scales(&b, lx, ly, 0.0, PLUME_BEND_TWIST);
+        both_scales(&b, lx, ly, 0.0, PLUME_BEND_CYLINDER, PLUME_BEND_EDGE_MOMENTS);
+        both_scales(&b, lx, ly, 45.0, PLUME_BEND_CYLINDER, PLUME_BEND_EDGE_MOMENTS);
+        both_scales(&b, lx, ly, 90.0, PLUME_BEND_CYLINDER, PLUME_BEND_EDGE_MOMENTS);
+        both_scales(&b, lx, ly, 0.0, PLUME_BEND_TWIST, PLUME_BEND_EDGE_MOMENTS);
+        both_scales(&b, lx, ly, 0.0, PLUME_BEND_TWIST, PLUME_BEND_UNIFORM_CURVATURE);
     }
     return 0;
 }

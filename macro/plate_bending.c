@@ -138,9 +138,13 @@ static int strip_forces(const plume_mesh *m, const plume_index *v, plume_index n
  * so the forces have no resultant and the three held vertices carry no reaction. For a homogeneous
  * plate of any D the uniform state D^-1 mbar is then the discrete solution itself, on any mesh:
  * the distributed end-strip loads are not, and a strongly orthotropic plate (D_trans ~ 1e-5 D_long)
- * turns their small departure into large transverse modes (docs/bending-homogenisation.md). */
-static plume_status edge_moment_forces(const plume_mesh *mesh, plume_bend_load load, double moment, double L,
-                                       double *f, plume_err *err)
+ * turns their small departure into large transverse modes (docs/bending-homogenisation.md).
+ * With `phases` (PLUME_BEND_UNIFORM_CURVATURE) the stand-in is the specimen's own energy instead,
+ * each material with its moduli: the gradient at the uniform curvature is then the work of each
+ * phase's own moment D_i kappa*, the uniform-curvature state's loads. They land on the boundary,
+ * plus the phase interfaces wherever the uniform curvature is not the specimen's equilibrium. */
+static plume_status edge_moment_forces(const plume_mesh *mesh, const plume_bending_material *phases,
+                                       plume_bend_load load, double moment, double L, double *f, plume_err *err)
 {
     const plume_index nv = mesh->nv;
     int nmat = 1;
@@ -157,7 +161,8 @@ static plume_status edge_moment_forces(const plume_mesh *mesh, plume_bend_load l
         goto cleanup;
     }
     for (int i = 0; i < nmat; i++)
-        unit[i] = (plume_bending_material){.D_long = 1.0, .D_trans = 1.0, .D_coupling = 0.0, .D_twist = 0.5};
+        unit[i] = phases ? phases[i]
+                         : (plume_bending_material){.D_long = 1.0, .D_trans = 1.0, .D_coupling = 0.0, .D_twist = 0.5};
     const plume_shape_bending_opts so = {.phase_aware = 1}; /* plume_shell_specimen's stencils */
     if ((st = plume_shape_bending_term_create_opts(mesh, unit, nmat, NULL, &so, &t, err)) != PLUME_OK)
         goto cleanup;
@@ -181,6 +186,65 @@ cleanup:
         t.destroy(t.ctx);
     free(unit), free(x);
     return st;
+}
+
+/* The moment the loads f (z components) carry across the specimen's middle y = ly / 2: the moment
+ * about the x axis (cylinder) or the torque about the y axis (twist) of the forces on the far half. */
+static double section_moment(const plume_mesh *mesh, const plume_bend_opts *o, const double *f)
+{
+    const double cx = 0.5 * o->lx, cy = 0.5 * o->ly;
+    double s = 0.0;
+    for (plume_index v = 0; v < mesh->nv; v++)
+        if (mesh->X[2 * v + 1] > cy)
+            s += f[3 * v + 2] * (o->load == PLUME_BEND_TWIST ? mesh->X[2 * v] - cx : mesh->X[2 * v + 1] - cy);
+    return s;
+}
+
+/* PLUME_BEND_UNIFORM_CURVATURE: f holds the edge moments on entry; on return, the uniform-curvature
+ * state's loads of the specimen's own energy (o->phases) on the boundary vertices, scaled to carry
+ * the same moment across the middle as the edge moments (the nominal m of the test). The interior
+ * forces are not applied: *residual is the largest over the largest boundary force. */
+static plume_status uniform_curvature_forces(const plume_mesh *mesh, const plume_bend_opts *o, double *f,
+                                             double *residual, plume_err *err)
+{
+    int nmat = 1;
+    for (plume_index t = 0; t < mesh->nt; t++)
+        if (mesh->material[t] + 1 > nmat)
+            nmat = mesh->material[t] + 1;
+    if (!o->phases || o->nphases < nmat)
+        return plume_err_set(err, PLUME_EINVAL,
+                             "bending test: the uniform-curvature loads need phases for the mesh's %d materials (got %d)",
+                             nmat, o->phases ? o->nphases : 0);
+    const plume_index nv = mesh->nv;
+    double *g = malloc((size_t)(3 * nv) * sizeof *g);
+    if (!g)
+        return plume_err_set(err, PLUME_ENOMEM, "bending test: out of memory");
+    plume_status st = edge_moment_forces(mesh, o->phases, o->load, o->moment, fmax(o->lx, o->ly), g, err);
+    if (st != PLUME_OK) {
+        free(g);
+        return st;
+    }
+    const double tol = 1e-9 * fmax(o->lx, o->ly);
+    double fb = 0.0, fi = 0.0;
+    for (plume_index v = 0; v < nv; v++) {
+        const double X = mesh->X[2 * v], Y = mesh->X[2 * v + 1];
+        const int edge = X <= tol || X >= o->lx - tol || Y <= tol || Y >= o->ly - tol;
+        if (edge)
+            fb = fmax(fb, fabs(g[3 * v + 2]));
+        else
+            fi = fmax(fi, fabs(g[3 * v + 2])), g[3 * v + 2] = 0.0;
+    }
+    const double want = section_moment(mesh, o, f), have = section_moment(mesh, o, g);
+    if (!(fb > 0.0) || !(want / have > 0.0)) {
+        free(g);
+        return plume_err_set(err, PLUME_EINVAL, "bending test: the uniform-curvature loads carry no %s across the "
+                             "specimen (check the phases' moduli)", o->load == PLUME_BEND_TWIST ? "torque" : "moment");
+    }
+    for (plume_index v = 0; v < nv; v++)
+        f[3 * v] = f[3 * v + 1] = 0.0, f[3 * v + 2] = g[3 * v + 2] * (want / have);
+    *residual = fi / fb;
+    free(g);
+    return PLUME_OK;
 }
 
 /* The area-weighted quadratic fit of z over the window's vertices: k = (k_xx, k_yy, 2 k_xy). */
@@ -254,7 +318,8 @@ static plume_status check_opts(const plume_bend_opts *o, plume_err *err)
     if (!(o->max_rotation > 0.0) || !isfinite(o->max_rotation))
         return plume_err_set(err, PLUME_EINVAL, "bending test: max_rotation must be finite and > 0 (got %g)",
                              o->max_rotation);
-    if (o->loading != PLUME_BEND_EDGE_MOMENTS && o->loading != PLUME_BEND_END_STRIPS)
+    if (o->loading != PLUME_BEND_EDGE_MOMENTS && o->loading != PLUME_BEND_END_STRIPS &&
+        o->loading != PLUME_BEND_UNIFORM_CURVATURE)
         return plume_err_set(err, PLUME_EINVAL, "bending test: unknown loading %d", (int)o->loading);
     if (o->load != PLUME_BEND_CYLINDER && o->load != PLUME_BEND_TWIST)
         return plume_err_set(err, PLUME_EINVAL, "bending test: unknown load %d", (int)o->load);
@@ -330,7 +395,9 @@ plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plum
         /* the edge moments, compacted into (sv, f): the patch test leaves the interior vertices
          * rounding only (about 1e-10 of the largest force, measured), and forces below 1e-12 of
          * it are left out */
-        if ((st = edge_moment_forces(mesh, o->load, o->moment, fmax(o->lx, o->ly), f, err)) != PLUME_OK)
+        if ((st = edge_moment_forces(mesh, NULL, o->load, o->moment, fmax(o->lx, o->ly), f, err)) != PLUME_OK)
+            goto cleanup;
+        if (o->loading == PLUME_BEND_UNIFORM_CURVATURE && (st = uniform_curvature_forces(mesh, o, f, &r->load_residual, err)) != PLUME_OK)
             goto cleanup;
         double fmax_z = 0.0;
         for (plume_index v = 0; v < nv; v++)

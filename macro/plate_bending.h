@@ -15,7 +15,9 @@
  * (y <= c and y >= ly - c, c = end_strip * ly), f_v = A_v (a + b (x - xc) + g (y - yc)), A_v the
  * vertex's lumped area, with no resultant and the same end moment: their departure from the
  * uniform state's loads makes end layers, which a strongly orthotropic plate carries across the
- * whole specimen (docs/bending-homogenisation.md). Either way the two ends carry opposite moments:
+ * whole specimen (docs/bending-homogenisation.md). PLUME_BEND_UNIFORM_CURVATURE takes the same
+ * construction with the specimen's own phases: the boundary loads of its uniform-curvature state,
+ * which for a twisted laminate grip every barb. Either way the two ends carry opposite moments:
  * the specimen is free, held only against rigid motion by six fixed coordinates at three vertices
  * near its centre, which carry no reaction.
  *
@@ -57,9 +59,15 @@ typedef enum {
     PLUME_BEND_EDGE_MOMENTS = 0, /**< the uniform state's own boundary loads: the work of a uniform moment
                                     on the shell's discrete curvatures, which lands on the ends (cylinder)
                                     and the corners (twist); default */
-    PLUME_BEND_END_STRIPS = 1    /**< forces over each end strip, linear in position (kept for comparison:
+    PLUME_BEND_END_STRIPS = 1,   /**< forces over each end strip, linear in position (kept for comparison:
                                     a strongly orthotropic plate turns their departure from the uniform
                                     state into large transverse modes) */
+    PLUME_BEND_UNIFORM_CURVATURE = 2 /**< the boundary loads of the uniform-curvature state of the specimen's
+                                    own bending energy (plume_bend_opts.phases): each phase's moment
+                                    D_i kappa on its own share of the ends, scaled to the edge moments' end
+                                    moment; for a homogeneous plate the same loads as the edge moments, and for
+                                    a resolved laminate twisted the grip that twists every barb (the twist of
+                                    a laminate is uniform: docs/bending-homogenisation.md) */
 } plume_bend_loading;
 
 /** Options of the plate test (plume_bend_opts_default). */
@@ -74,6 +82,10 @@ typedef struct {
     double end_strip;     /**< PLUME_BEND_END_STRIPS: loaded strip at each end over ly; default 0.1 */
     double window;        /**< fitted central window over each side; default 0.5 */
     double max_rotation;  /**< largest |curvature| * max(lx, ly) accepted (rad); default 0.2 */
+    const plume_bending_material *phases; /**< PLUME_BEND_UNIFORM_CURVATURE: the bending moduli of each
+                                             material id of the mesh, as its shape-operator term was built
+                                             (caller's array, nphases entries); default NULL */
+    int nphases;          /**< entries of phases; more than the mesh's largest material id */
     plume_solver_kind solver;      /**< default newton */
     plume_solver_opts solver_opts; /**< defaults of lib/solve/solver.h */
 } plume_bend_opts;
@@ -92,6 +104,9 @@ typedef struct {
     double stiffness;       /**< least-squares slope of moment over curvature through 0 (N m) */
     int converged;          /**< every step converged */
     double seconds;         /**< wall time of the run */
+    double load_residual;   /**< PLUME_BEND_UNIFORM_CURVATURE: the largest interior force of the uniform state
+                               over the largest end force (not applied: ~1e-10 when the uniform curvature is
+                               the specimen's equilibrium, larger when its microstructure is not); else 0 */
 } plume_bend_result;
 
 /** Frees the curve's arrays and zeroes r; NULL-safe. */
@@ -101,7 +116,7 @@ PLUME_API void plume_bend_result_free(plume_bend_result *r);
  * and p, its elastic terms added, not finalised (this function adds the loads, fixes the six
  * coordinates and finalises it; p is spent afterwards). Errors (PLUME_EINVAL, message naming the
  * option): options out of range, a mesh that is not a shell over the rectangle, an end strip or
- * window without vertices; PLUME_EINFEASIBLE: a step whose curvature exceeds max_rotation or that
+ * window without vertices, PLUME_BEND_UNIFORM_CURVATURE without phases for every material id; PLUME_EINFEASIBLE: a step whose curvature exceeds max_rotation or that
  * turns a triangle over ("inverts an element"), naming the moment; solver errors pass through. A
  * step that does not converge is reported in r->converged, not as an error. r is filled on success
  * and freed on failure. */
