@@ -228,14 +228,23 @@ static void history_push(history *h, const double *x, const double *lambda, doub
         memcpy(h->la, lambda, (size_t)m * sizeof *lambda);
 }
 
-plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const plume_index *rigid_edges,
-                                plume_index nrigid, const plume_traction_opts *o,
-                                plume_traction_result *res, plume_err *err)
+/* plume_traction_run's inputs and workspaces, shared by the jobs it is split into */
+typedef struct {
+    const plume_mesh *mesh;
+    plume_problem *p;
+    const plume_traction_opts *o;
+    grips g;
+    plume_solver *solver;    /* created at the first step */
+    int dim;
+    double *x;               /* the problem's positions */
+    plume_index n, m;        /* free dofs, constraints */
+    double *u, *lambda, *lambda_saved, *force;
+    history h;
+    double inc;              /* the current increment (adaptive stepping) */
+} traction_run;
+
+static plume_status check_opts(const plume_mesh *mesh, plume_problem *p, const plume_traction_opts *o, plume_err *err)
 {
-    if (!mesh || !p || !o || !res || (nrigid > 0 && !rigid_edges))
-        return plume_err_set(err, PLUME_EINVAL, "traction: invalid arguments");
-    memset(res, 0, sizeof *res);
-    res->failed_step = -1;
     if (!(o->lx > 0) || !(o->ly > 0) || !(o->h > 0) || !isfinite(o->lx * o->ly * o->h))
         return plume_err_set(err, PLUME_EINVAL, "traction: lx, ly and thickness must be finite and > 0 (got %g, %g, %g)",
                              o->lx, o->ly, o->h);
@@ -249,87 +258,285 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
                              o->probe_tol_kkt);
     if (plume_problem_nvert(p) != mesh->nv)
         return plume_err_set(err, PLUME_EINVAL, "traction: problem and mesh sizes differ");
+    return PLUME_OK;
+}
+
+/* barbs spanning both grips cannot stretch: union-find over the rigid edges, PLUME_EINFEASIBLE
+ * when a top grip vertex is joined to a bottom one */
+static plume_status check_barbs_stretch(const plume_mesh *mesh, const grips *g, const plume_index *rigid_edges,
+                                        plume_index nrigid, plume_err *err)
+{
+    if (nrigid == 0)
+        return PLUME_OK;
+    plume_index *parent = malloc((size_t)mesh->nv * sizeof *parent);
+    if (!parent)
+        return PLUME_ENOMEM;
+    for (plume_index v = 0; v < mesh->nv; v++)
+        parent[v] = v;
+    for (plume_index e = 0; e < nrigid; e++)
+        parent[uf_find(parent, rigid_edges[2 * e])] = uf_find(parent, rigid_edges[2 * e + 1]);
+    unsigned char *root_bottom = calloc((size_t)mesh->nv, 1);
+    if (!root_bottom) {
+        free(parent);
+        return PLUME_ENOMEM;
+    }
+    for (plume_index v = 0; v < mesh->nv; v++)
+        if (g->bottom_flag[v])
+            root_bottom[uf_find(parent, v)] = 1;
+    plume_index culprit = -1;
+    for (plume_index k = 0; k < g->ntop && culprit < 0; k++)
+        if (root_bottom[uf_find(parent, g->top[k])])
+            culprit = g->top[k];
+    free(root_bottom);
+    free(parent);
+    if (culprit >= 0)
+        return plume_err_set(err, PLUME_EINFEASIBLE,
+                             "traction: inextensible barbs span both grips (e.g. the barb through (%g, %g) m), "
+                             "so the sample cannot stretch; use --constraint off, or a barb angle whose barbs "
+                             "leave through the free sides",
+                             mesh->X[2 * culprit], mesh->X[2 * culprit + 1]);
+    return PLUME_OK;
+}
+
+/* the sample at rest in the problem (the mesh's plane, z = 0), its grips' dofs fixed, the problem
+ * finalised */
+static plume_status place_sample(traction_run *r, plume_err *err)
+{
+    const plume_mesh *mesh = r->mesh;
     plume_status st;
-    grips g;
-    plume_solver *solver = NULL;
-    double *u = NULL, *lambda = NULL, *lambda_saved = NULL, *force = NULL;
-    history h = {NULL, NULL, NULL, NULL, 0.0, 0.0};
-    plume_index *parent = NULL;
-    double t_start = plume_wall_seconds();
-    if ((st = find_grips(mesh, o->lx, o->ly, &g, err)) != PLUME_OK)
-        goto cleanup;
-
-    /* barbs spanning both grips cannot stretch: union-find over the rigid edges */
-    if (nrigid > 0) {
-        parent = malloc((size_t)mesh->nv * sizeof *parent);
-        if (!parent) {
-            st = PLUME_ENOMEM;
-            goto cleanup;
-        }
-        for (plume_index v = 0; v < mesh->nv; v++)
-            parent[v] = v;
-        for (plume_index e = 0; e < nrigid; e++)
-            parent[uf_find(parent, rigid_edges[2 * e])] = uf_find(parent, rigid_edges[2 * e + 1]);
-        unsigned char *root_bottom = calloc((size_t)mesh->nv, 1);
-        if (!root_bottom) {
-            st = PLUME_ENOMEM;
-            goto cleanup;
-        }
-        for (plume_index v = 0; v < mesh->nv; v++)
-            if (g.bottom_flag[v])
-                root_bottom[uf_find(parent, v)] = 1;
-        plume_index culprit = -1;
-        for (plume_index k = 0; k < g.ntop && culprit < 0; k++)
-            if (root_bottom[uf_find(parent, g.top[k])])
-                culprit = g.top[k];
-        free(root_bottom);
-        if (culprit >= 0) {
-            st = plume_err_set(err, PLUME_EINFEASIBLE,
-                               "traction: inextensible barbs span both grips (e.g. the barb through (%g, %g) m), "
-                               "so the sample cannot stretch; use --constraint off, or a barb angle whose barbs "
-                               "leave through the free sides",
-                               mesh->X[2 * culprit], mesh->X[2 * culprit + 1]);
-            goto cleanup;
-        }
-    }
-
-    int dim = plume_problem_dim(p);
-    double *x = plume_problem_x(p);
+    r->dim = plume_problem_dim(r->p);
+    r->x = plume_problem_x(r->p);
     for (plume_index v = 0; v < mesh->nv; v++) {
-        x[dim * v] = mesh->X[2 * v];
-        x[dim * v + 1] = mesh->X[2 * v + 1];
-        if (dim == 3)
-            x[dim * v + 2] = 0.0;
-        if (g.bottom_flag[v] || g.top_flag[v])
-            for (int k = 0; k < dim; k++)
-                if ((st = plume_problem_fix_dof(p, dim * v + k, err)) != PLUME_OK)
-                    goto cleanup;
+        r->x[r->dim * v] = mesh->X[2 * v];
+        r->x[r->dim * v + 1] = mesh->X[2 * v + 1];
+        if (r->dim == 3)
+            r->x[r->dim * v + 2] = 0.0;
+        if (r->g.bottom_flag[v] || r->g.top_flag[v])
+            for (int k = 0; k < r->dim; k++)
+                if ((st = plume_problem_fix_dof(r->p, r->dim * v + k, err)) != PLUME_OK)
+                    return st;
     }
-    if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
-        goto cleanup;
-    plume_index n = plume_problem_nfree(p), m = plume_problem_ncons(p);
-    size_t np = (size_t)o->steps + 1;
-    u = malloc((size_t)(n + 1) * sizeof *u);
-    lambda = calloc((size_t)(m + 1), sizeof *lambda);
-    lambda_saved = calloc((size_t)(m + 1), sizeof *lambda_saved);
-    h.la = calloc((size_t)(m + 1), sizeof *h.la);
-    h.lb = calloc((size_t)(m + 1), sizeof *h.lb);
-    force = malloc((size_t)(dim * mesh->nv) * sizeof *force);
-    h.xa = malloc((size_t)(dim * mesh->nv) * sizeof *h.xa);
-    h.xb = malloc((size_t)(dim * mesh->nv) * sizeof *h.xb);
+    if ((st = plume_problem_finalize(r->p, err)) != PLUME_OK)
+        return st;
+    r->n = plume_problem_nfree(r->p), r->m = plume_problem_ncons(r->p);
+    return PLUME_OK;
+}
+
+/* the run's workspaces and the result's curve (steps + 1 points); the history starts at rest */
+static plume_status alloc_run(traction_run *r, plume_traction_result *res)
+{
+    const plume_index n = r->n, m = r->m;
+    const size_t nx = (size_t)(r->dim * r->mesh->nv), np = (size_t)r->o->steps + 1;
+    r->u = malloc((size_t)(n + 1) * sizeof *r->u);
+    r->lambda = calloc((size_t)(m + 1), sizeof *r->lambda);
+    r->lambda_saved = calloc((size_t)(m + 1), sizeof *r->lambda_saved);
+    r->h.la = calloc((size_t)(m + 1), sizeof *r->h.la);
+    r->h.lb = calloc((size_t)(m + 1), sizeof *r->h.lb);
+    r->force = malloc(nx * sizeof *r->force);
+    r->h.xa = malloc(nx * sizeof *r->h.xa);
+    r->h.xb = malloc(nx * sizeof *r->h.xb);
     res->curve.strain = calloc(np, sizeof(double));
     res->curve.stress = calloc(np, sizeof(double));
     res->curve.wbar = calloc(np, sizeof(double));
     res->curve.iterations = calloc(np, sizeof(double));
     res->curve.seconds = calloc(np, sizeof(double));
-    if (!u || !lambda || !lambda_saved || !h.la || !h.lb || !force || !h.xa || !h.xb || !res->curve.strain ||
-        !res->curve.stress || !res->curve.wbar || !res->curve.iterations || !res->curve.seconds) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
+    if (!r->u || !r->lambda || !r->lambda_saved || !r->h.la || !r->h.lb || !r->force || !r->h.xa || !r->h.xb ||
+        !res->curve.strain || !res->curve.stress || !res->curve.wbar || !res->curve.iterations || !res->curve.seconds)
+        return PLUME_ENOMEM;
+    memcpy(r->h.xa, r->x, nx * sizeof *r->h.xa);
+    memcpy(r->h.xb, r->x, nx * sizeof *r->h.xb);
+    return PLUME_OK;
+}
+
+static void free_run(traction_run *r)
+{
+    plume_solver_destroy(&r->solver);
+    grips_free(&r->g);
+    free(r->u);
+    free(r->h.xa);
+    free(r->h.xb);
+    free(r->lambda);
+    free(r->lambda_saved);
+    free(r->h.la);
+    free(r->h.lb);
+    free(r->force);
+}
+
+/* Adaptive load stepping to the grip displacement delta: an increment that does not converge is
+ * undone (back to the last equilibrium h.xa and its multipliers) and halved, up to max_cuts
+ * times; after a success it grows back by doubling, never past the nominal step. Only the
+ * nominal strains enter the curve. The increments' reports summed into *rep. */
+static plume_status adaptive_step(traction_run *r, int k, double delta, plume_solve_report *rep,
+                                  plume_traction_result *res, plume_err *err)
+{
+    const plume_traction_opts *o = r->o;
+    const plume_index m = r->m;
+    const size_t nx = (size_t)(r->dim * r->mesh->nv);
+    history *h = &r->h;
+    plume_solve_report sub;
+    memset(rep, 0, sizeof *rep);
+    rep->reason = PLUME_REASON_CONVERGED;
+    const double nominal = o->strain_max * o->ly / o->steps, smallest = ldexp(nominal, -o->max_cuts);
+    int failed = 0;
+    while (h->da < delta * (1.0 - 1e-12)) {
+        double next = fmin(delta, h->da + r->inc);
+        if (delta - next < 1e-9 * nominal)
+            next = delta;
+        memcpy(r->lambda_saved, r->lambda, (size_t)(m + 1) * sizeof *r->lambda);
+        predict(r->mesh, r->p, &r->g, o->ly, next, h->xa, h->da, h->xb, h->db);
+        if (h->da != h->db) /* the multipliers extrapolated with the positions: the barbs'
+                             tension grows with the load */
+            for (plume_index q = 0; q < m; q++)
+                r->lambda[q] = h->la[q] + (next - h->da) / (h->da - h->db) * (h->la[q] - h->lb[q]);
+        plume_problem_gather(r->p, r->u);
+        plume_status st = plume_solver_solve(r->solver, r->u, r->lambda, &sub);
+        if (st != PLUME_OK)
+            return plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
+        rep->iterations += sub.iterations;
+        rep->chord_steps += sub.chord_steps;
+        rep->seconds += sub.seconds;
+        rep->max_violation = fmax(rep->max_violation, sub.max_violation);
+        if (sub.converged) {
+            history_push(h, r->x, r->lambda, next, nx, m);
+            r->inc = fmin(nominal, 2.0 * r->inc);
+            if (next < delta)
+                res->substeps++;
+            continue;
+        }
+        if (!failed)
+            rep->reason = sub.reason;
+        failed = 1;
+        memcpy(r->x, h->xa, nx * sizeof *r->x); /* back to the last equilibrium */
+        memcpy(r->lambda, r->lambda_saved, (size_t)(m + 1) * sizeof *r->lambda);
+        if (r->inc * 0.5 < smallest * (1.0 - 1e-12)) {
+            rep->converged = 0;
+            break;
+        }
+        r->inc *= 0.5;
+        res->cuts++;
     }
-    memcpy(h.xa, x, (size_t)(dim * mesh->nv) * sizeof *h.xa);
-    memcpy(h.xb, x, (size_t)(dim * mesh->nv) * sizeof *h.xb);
-    double inc = o->strain_max * o->ly / o->steps; /* the current increment (adaptive stepping) */
+    if (h->da >= delta * (1.0 - 1e-12)) {
+        rep->converged = 1;
+        rep->reason = PLUME_REASON_CONVERGED;
+        memcpy(r->x, h->xa, nx * sizeof *r->x);
+    }
+    return PLUME_OK;
+}
+
+/* Step k's solve to the grip displacement delta, report in *rep: the probe (k = 0) first with
+ * the tight tolerance (*tight: that solve; not converged, it is solved again from zero
+ * multipliers), then one solve from the predictor (the probe, the linearised solver, no cuts
+ * allowed) or adaptive_step */
+static plume_status solve_step(traction_run *r, int k, double delta, double probe_tol, plume_solve_report *rep,
+                               plume_solve_report *tight, plume_traction_result *res, plume_err *err)
+{
+    const plume_traction_opts *o = r->o;
+    const int probe = k == 0;
+    plume_status st;
+    memset(tight, 0, sizeof *tight);
+    plume_err why;
+    if (!r->solver && (st = plume_solver_create(o->solver, r->p, &o->solver_opts, &r->solver, &why)) != PLUME_OK)
+        return plume_err_set(err, st, "traction: could not create the %s solver: %s", plume_solver_kind_name(o->solver),
+                             why.msg);
+    if (probe && probe_tol < o->solver_opts.tol_kkt && o->solver != PLUME_SOLVER_LINEARIZED) {
+        if ((st = solve_probe_tight(r->mesh, r->p, &r->g, o, r->solver, probe_tol, r->h.xa, delta, r->u, r->lambda,
+                                    tight, err)) != PLUME_OK)
+            return st;
+        if (!tight->converged) /* a round-off floor above sqrt(probe_tol): start again below */
+            memset(r->lambda, 0, (size_t)(r->m + 1) * sizeof *r->lambda);
+    }
+    if (tight->converged) {
+        *rep = *tight;
+        res->probe_tol_kkt = probe_tol;
+        return PLUME_OK;
+    }
+    if (!(probe || o->solver == PLUME_SOLVER_LINEARIZED || o->max_cuts == 0))
+        return adaptive_step(r, k, delta, rep, res, err);
+    predict(r->mesh, r->p, &r->g, o->ly, delta, r->h.xa, r->h.da, r->h.xb, r->h.db);
+    plume_problem_gather(r->p, r->u);
+    if ((st = plume_solver_solve(r->solver, r->u, r->lambda, rep)) != PLUME_OK)
+        return plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
+    rep->iterations += tight->iterations; /* a tight probe that failed counts too */
+    rep->seconds += tight->seconds;
+    if (probe && rep->converged)
+        res->probe_tol_kkt = o->solver_opts.tol_kkt;
+    return PLUME_OK;
+}
+
+/* Step k solved (rep, tight: solve_step's): its counts into the result, then, where it is an
+ * equilibrium, the reactions, the history, and the probe's initial slope or a point of the curve
+ * (on_step, the progress line). *stop: the run ends here (not converged). */
+static plume_status record_step(traction_run *r, int k, double strain, const plume_solve_report *rep,
+                                const plume_solve_report *tight, plume_traction_result *res, plume_progress *prog,
+                                int *stop, plume_err *err)
+{
+    const plume_traction_opts *o = r->o;
+    const plume_mesh *mesh = r->mesh;
+    const int dim = r->dim;
+    const double delta = strain * o->ly;
+    plume_status st;
+    res->newton_iterations += rep->iterations;
+    res->chord_steps += rep->chord_steps + (tight->converged ? 0 : tight->chord_steps);
+    int ok = rep->converged || (o->solver == PLUME_SOLVER_LINEARIZED && rep->reason == PLUME_REASON_SINGLE_STEP);
+    if (!rep->converged && res->converged) {
+        res->converged = 0;
+        res->failed_step = k;
+        res->failed_reason = rep->reason;
+    }
+    *stop = !ok;
+    if (!ok)
+        return PLUME_OK;
+    if (rep->converged)
+        res->max_violation = fmax(res->max_violation, rep->max_violation);
+    if ((st = plume_problem_forces(r->p, r->m ? r->lambda : NULL, r->force)) != PLUME_OK)
+        return st;
+    if (!(r->h.da == delta)) /* the adaptive path has pushed it already */
+        history_push(&r->h, r->x, r->lambda, delta, (size_t)(dim * mesh->nv), r->m);
+    if (k == 0) { /* the probe's equilibrium is the first state of the history */
+        res->initial_slope = reaction_virtual_work(mesh, &r->g, r->force, dim, o->ly) / (o->lx * o->h) / strain;
+        res->curve.iterations[0] = rep->iterations;
+        res->curve.seconds[0] = rep->seconds;
+        return PLUME_OK;
+    }
+    double F = 0.0;
+    for (plume_index t = 0; t < r->g.ntop; t++)
+        F += r->force[dim * r->g.top[t] + 1];
+    double stress = F / (o->lx * o->h);
+    double wbar = (side_integral(mesh, r->x, dim, r->g.right, r->g.nright) -
+                   side_integral(mesh, r->x, dim, r->g.left, r->g.nleft)) /
+                  (o->lx * o->ly);
+    size_t i = (size_t)res->curve.n++;
+    res->curve.strain[i] = strain;
+    res->curve.stress[i] = stress;
+    res->curve.wbar[i] = wbar;
+    res->curve.iterations[i] = rep->iterations;
+    res->curve.seconds[i] = rep->seconds;
+    if (o->on_step && (st = o->on_step(o->on_step_user, k, strain, r->x)) != PLUME_OK)
+        return plume_err_set(err, st, "traction: writing step %d failed (%s)", k, plume_strerror(st));
+    char info[128];
+    snprintf(info, sizeof info, "strain %.4f  stress %.4g Pa  %d it", strain, stress, rep->iterations);
+    plume_progress_update(prog, k, info);
+    return PLUME_OK;
+}
+
+plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const plume_index *rigid_edges,
+                                plume_index nrigid, const plume_traction_opts *o,
+                                plume_traction_result *res, plume_err *err)
+{
+    if (!mesh || !p || !o || !res || (nrigid > 0 && !rigid_edges))
+        return plume_err_set(err, PLUME_EINVAL, "traction: invalid arguments");
+    memset(res, 0, sizeof *res);
+    res->failed_step = -1;
+    plume_status st = check_opts(mesh, p, o, err);
+    if (st != PLUME_OK)
+        return st;
+    traction_run r = {.mesh = mesh, .p = p, .o = o};
+    double t_start = plume_wall_seconds();
+    if ((st = find_grips(mesh, o->lx, o->ly, &r.g, err)) != PLUME_OK ||
+        (st = check_barbs_stretch(mesh, &r.g, rigid_edges, nrigid, err)) != PLUME_OK ||
+        (st = place_sample(&r, err)) != PLUME_OK || (st = alloc_run(&r, res)) != PLUME_OK)
+        goto cleanup;
+    r.inc = o->strain_max * o->ly / o->steps;
     res->curve.n = 1; /* the rest state */
     res->converged = 1;
     plume_progress prog;
@@ -338,158 +545,29 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         prog.enabled = 0;
 
     double probe_tol = probe_tolerance(o);
-    if (o->on_step && (st = o->on_step(o->on_step_user, 0, 0.0, x)) != PLUME_OK) {
+    if (o->on_step && (st = o->on_step(o->on_step_user, 0, 0.0, r.x)) != PLUME_OK) {
         plume_err_set(err, st, "traction: writing the rest state failed (%s)", plume_strerror(st));
         goto cleanup;
     }
 
     /* step 0 is the small-strain probe (initial slope), then the quasi-static steps */
     for (int k = 0; k <= o->steps; k++) {
-        int probe = k == 0;
-        double strain = probe ? o->probe_strain : o->strain_max * k / o->steps;
-        double delta = strain * o->ly;
+        double strain = k == 0 ? o->probe_strain : o->strain_max * k / o->steps;
         plume_solve_report rep, tight;
-        memset(&tight, 0, sizeof tight);
-        plume_err why;
-        if (!solver && (st = plume_solver_create(o->solver, p, &o->solver_opts, &solver, &why)) != PLUME_OK) {
-            plume_err_set(err, st, "traction: could not create the %s solver: %s", plume_solver_kind_name(o->solver),
-                          why.msg);
+        int stop;
+        if ((st = solve_step(&r, k, strain * o->ly, probe_tol, &rep, &tight, res, err)) != PLUME_OK ||
+            (st = record_step(&r, k, strain, &rep, &tight, res, &prog, &stop, err)) != PLUME_OK)
             goto cleanup;
-        }
-        if (probe && probe_tol < o->solver_opts.tol_kkt && o->solver != PLUME_SOLVER_LINEARIZED) {
-            if ((st = solve_probe_tight(mesh, p, &g, o, solver, probe_tol, h.xa, delta, u, lambda, &tight, err)) !=
-                PLUME_OK)
-                goto cleanup;
-            if (!tight.converged) /* a round-off floor above sqrt(probe_tol): start again below */
-                memset(lambda, 0, (size_t)(m + 1) * sizeof *lambda);
-        }
-        if (tight.converged) {
-            rep = tight;
-            res->probe_tol_kkt = probe_tol;
-        } else if (probe || o->solver == PLUME_SOLVER_LINEARIZED || o->max_cuts == 0) {
-            predict(mesh, p, &g, o->ly, delta, h.xa, h.da, h.xb, h.db);
-            plume_problem_gather(p, u);
-            if ((st = plume_solver_solve(solver, u, lambda, &rep)) != PLUME_OK) {
-                plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
-                goto cleanup;
-            }
-            rep.iterations += tight.iterations; /* a tight probe that failed counts too */
-            rep.seconds += tight.seconds;
-            if (probe && rep.converged)
-                res->probe_tol_kkt = o->solver_opts.tol_kkt;
-        } else {
-            /* adaptive load stepping: an increment that does not converge is undone (back to the
-             * last equilibrium h.xa and its multipliers) and halved, up to max_cuts times; after a
-             * success it grows back by doubling, never past the nominal step. Only the nominal
-             * strains enter the curve. */
-            plume_solve_report sub;
-            memset(&rep, 0, sizeof rep);
-            rep.reason = PLUME_REASON_CONVERGED;
-            const double nominal = o->strain_max * o->ly / o->steps, smallest = ldexp(nominal, -o->max_cuts);
-            int failed = 0;
-            while (h.da < delta * (1.0 - 1e-12)) {
-                double next = fmin(delta, h.da + inc);
-                if (delta - next < 1e-9 * nominal)
-                    next = delta;
-                memcpy(lambda_saved, lambda, (size_t)(m + 1) * sizeof *lambda);
-                predict(mesh, p, &g, o->ly, next, h.xa, h.da, h.xb, h.db);
-                if (h.da != h.db) /* the multipliers extrapolated with the positions: the barbs'
-                                 tension grows with the load */
-                    for (plume_index r = 0; r < m; r++)
-                        lambda[r] = h.la[r] + (next - h.da) / (h.da - h.db) * (h.la[r] - h.lb[r]);
-                plume_problem_gather(p, u);
-                if ((st = plume_solver_solve(solver, u, lambda, &sub)) != PLUME_OK) {
-                    plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
-                    goto cleanup;
-                }
-                rep.iterations += sub.iterations;
-                rep.chord_steps += sub.chord_steps;
-                rep.seconds += sub.seconds;
-                rep.max_violation = fmax(rep.max_violation, sub.max_violation);
-                if (sub.converged) {
-                    history_push(&h, x, lambda, next, (size_t)(dim * mesh->nv), m);
-                    inc = fmin(nominal, 2.0 * inc);
-                    if (next < delta)
-                        res->substeps++;
-                    continue;
-                }
-                if (!failed)
-                    rep.reason = sub.reason;
-                failed = 1;
-                memcpy(x, h.xa, (size_t)(dim * mesh->nv) * sizeof *x); /* back to the last equilibrium */
-                memcpy(lambda, lambda_saved, (size_t)(m + 1) * sizeof *lambda);
-                if (inc * 0.5 < smallest * (1.0 - 1e-12)) {
-                    rep.converged = 0;
-                    break;
-                }
-                inc *= 0.5;
-                res->cuts++;
-            }
-            if (h.da >= delta * (1.0 - 1e-12)) {
-                rep.converged = 1;
-                rep.reason = PLUME_REASON_CONVERGED;
-                memcpy(x, h.xa, (size_t)(dim * mesh->nv) * sizeof *x);
-            }
-        }
-        res->newton_iterations += rep.iterations;
-        res->chord_steps += rep.chord_steps + (tight.converged ? 0 : tight.chord_steps);
-        int ok = rep.converged || (o->solver == PLUME_SOLVER_LINEARIZED && rep.reason == PLUME_REASON_SINGLE_STEP);
-        if (!rep.converged && res->converged) {
-            res->converged = 0;
-            res->failed_step = k;
-            res->failed_reason = rep.reason;
-        }
-        if (!ok)
+        if (stop)
             break;
-        if (rep.converged)
-            res->max_violation = fmax(res->max_violation, rep.max_violation);
-        if ((st = plume_problem_forces(p, m ? lambda : NULL, force)) != PLUME_OK)
-            goto cleanup;
-        if (!(h.da == delta)) /* the adaptive path has pushed it already */
-            history_push(&h, x, lambda, delta, (size_t)(dim * mesh->nv), m);
-        if (probe) { /* the probe's equilibrium is the first state of the history */
-            res->initial_slope = reaction_virtual_work(mesh, &g, force, dim, o->ly) / (o->lx * o->h) / strain;
-            res->curve.iterations[0] = rep.iterations;
-            res->curve.seconds[0] = rep.seconds;
-            continue;
-        }
-        double F = 0.0;
-        for (plume_index t = 0; t < g.ntop; t++)
-            F += force[dim * g.top[t] + 1];
-        double stress = F / (o->lx * o->h);
-        double wbar = (side_integral(mesh, x, dim, g.right, g.nright) - side_integral(mesh, x, dim, g.left, g.nleft)) /
-                      (o->lx * o->ly);
-        size_t i = (size_t)res->curve.n++;
-        res->curve.strain[i] = strain;
-        res->curve.stress[i] = stress;
-        res->curve.wbar[i] = wbar;
-        res->curve.iterations[i] = rep.iterations;
-        res->curve.seconds[i] = rep.seconds;
-        if (o->on_step && (st = o->on_step(o->on_step_user, k, strain, x)) != PLUME_OK) {
-            plume_err_set(err, st, "traction: writing step %d failed (%s)", k, plume_strerror(st));
-            goto cleanup;
-        }
-        char info[128];
-        snprintf(info, sizeof info, "strain %.4f  stress %.4g Pa  %d it", strain, stress, rep.iterations);
-        plume_progress_update(&prog, k, info);
     }
     plume_progress_finish(&prog);
-    plume_solver_stats(solver, NULL, &res->factorizations, &res->factor_seconds);
+    plume_solver_stats(r.solver, NULL, &res->factorizations, &res->factor_seconds);
     st = PLUME_OK;
 cleanup:
     res->seconds = plume_wall_seconds() - t_start;
     if (st != PLUME_OK)
         plume_traction_result_free(res);
-    plume_solver_destroy(&solver);
-    grips_free(&g);
-    free(parent);
-    free(u);
-    free(h.xa);
-    free(h.xb);
-    free(lambda);
-    free(lambda_saved);
-    free(h.la);
-    free(h.lb);
-    free(force);
+    free_run(&r);
     return st;
 }

@@ -505,352 +505,503 @@ static void save_iterate(plume_newton *s, int save, double *u, double *lambda, d
     }
 }
 
-plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plume_solve_report *rep)
+/* plume_newton_solve's running state, shared by the jobs it is split into */
+typedef struct {
+    double *u, *lambda;      /* the iterate: the caller's arrays */
+    plume_solve_report *rep;
+    double L;                /* the problem's length scale (tol_step is relative to it) */
+    int max_iter;
+    double f, g1, viol;      /* the energy, |g|_1 and the largest relative violation at u */
+    double mu;               /* the l1 merit's penalty, nondecreasing over the solve */
+    double res;              /* the KKT residual at the start of the iteration */
+    /* progress over the iterations: the round-off floor (stalled, f_prev, best), the best iterate
+     * within the violation tolerance (best_ok; u_b, l_b), stall_iterations (flat, best_res,
+     * best_viol), continuous collision detection's blocked steps */
+    double f_prev, best, best_ok, best_res, best_viol;
+    int stalled, flat, blocked;
+    int held;                /* the last iteration's trust-region step was refused: u has not moved */
+    int last_negligible;     /* the last step was at round-off level */
+} nt_run;
+
+/* one iteration's step */
+typedef struct {
+    int chord;               /* along a chord direction (the last factorisation reused) */
+    double mu_before;        /* the merit's penalty before this direction raised it */
+    double step_max;         /* max |du| */
+    double dirderiv;         /* the l1 merit's slope along du */
+    double alpha_max;        /* continuous collision detection: no trial beyond it (1: no bound) */
+    double alpha;            /* the step taken along du */
+    int negligible;          /* step_max at round-off level (tol_step) */
+    int accepted;
+} nt_step;
+
+/* how an iteration's step ended */
+typedef enum {
+    STEP_TAKEN,  /* u moved: after_step */
+    STEP_HELD,   /* the trust region refused the step: u in place, a larger regularisation */
+    STEP_REDO,   /* no chord step after all (unusable direction, refused, undone): factorise */
+    STEP_FAILED, /* the solve ends here, rep->reason set; this iteration does not count */
+    STEP_FINAL   /* the solve ends here, rep->reason set; this iteration counts */
+} nt_outcome;
+
+/* The bookkeeping at an iteration's start: the round-off floor's count, the best residual and the
+ * best iterate within the violation tolerance. Round-off floor: iterations that change neither
+ * the energy (to 1e-13) nor the best residual (by half) for 4 iterations in a row have hit what
+ * the arithmetic can resolve (e.g. a soft phase's stresses under a 1e6 times stiffer one). A
+ * negligible last step counts as no change of f (its f may jitter at round-off); an iteration
+ * whose trust-region step was refused (held) has not moved: not a stall. */
+static void track_progress(plume_newton *s, nt_run *c, int it)
 {
-    if (!s || !u || (s->m && !lambda) || !rep)
-        return PLUME_EINVAL;
-    double t0 = plume_wall_seconds();
-    memset(rep, 0, sizeof *rep);
-    int f0;
-    plume_chol_stats(s->chol, NULL, &f0, NULL);
-    plume_index n = s->n, m = s->m;
-    double L = plume_problem_length_scale(s->p);
-    double f, g1, viol, mu = 0.0;
-    s->trial_grad = 0; /* a trial left by an earlier solve is not this start */
-    plume_status st = evaluate(s, u, &f, &g1, &viol);
-    if (st != PLUME_OK)
-        return st;
-    rep->reason = PLUME_REASON_ITERATION_CAP;
-    s->nfilt = 0; /* a new filter per solve (Ipopt's theta_max and theta_min) */
-    s->theta_max = 1e4 * fmax(1.0, g1);
-    s->theta_min = 1e-4 * fmax(1.0, g1);
-    s->shifts = 0;
-    s->partial_factorizations = 0;
-    s->refinements = 0;
-    int max_iter = s->single_step ? 1 : s->o.max_iter;
-    int it = 0, stalled = 0, last_negligible = 0, held = 0, blocked = 0, flat = 0;
-    double best_res = INFINITY, best_viol = INFINITY; /* stall_iterations: the progress so far */
-    s->tr_sigma = 0.0;
-    double best = INFINITY, f_prev = f, best_ok = INFINITY;
-    s->factor_valid = 0; /* chord steps use a factorisation of this solve (their prediction does) */
-    s->chord_last = s->chord_prev = 0.0;
-    for (;; it++) {
-        double res = kkt_residual(s, lambda);
-        /* Round-off floor: iterations that change neither the energy (to 1e-13) nor the best
-         * residual (by half) for 4 iterations in a row have hit what the arithmetic can resolve
-         * (e.g. a soft phase's stresses under a 1e6 times stiffer one). Converged if that floor is
-         * within sqrt(tol_kkt) and the constraints hold; a numerical failure otherwise. */
-        /* (a negligible last step counts as no change of f: its f may jitter at round-off) */
-        /* (an iteration whose trust-region step was refused, `held`, has not moved: not a stall) */
-        const int held_before = held;
-        if (!held)
-            stalled = (it > 0 && (fabs(f - f_prev) <= 1e-13 * fabs(f) || last_negligible) && !(res < 0.5 * best))
-                          ? stalled + 1
-                          : 0;
-        held = 0;
-        last_negligible = 0;
-        best = fmin(best, res);
-        f_prev = f;
-        /* the best iterate that meets the violation tolerance, for the floor's exit */
-        if (viol <= s->o.tol_violation && res < best_ok) {
-            best_ok = res;
-            memcpy(s->u_b, u, (size_t)n * sizeof *u);
-            if (m > 0) /* lambda may be NULL without constraints */
-                memcpy(s->l_b, lambda, (size_t)m * sizeof *lambda);
-        }
-        if (stalled >= 4) {
-            int ok = res <= sqrt(s->o.tol_kkt) && viol <= s->o.tol_violation;
-            if (!ok && best_ok <= sqrt(s->o.tol_kkt)) {
-                /* the floor wandered off an iterate that was acceptable (its violation at the
-                 * tolerance's edge): return that one */
-                memcpy(u, s->u_b, (size_t)n * sizeof *u);
-                if (m > 0)
-                    memcpy(lambda, s->l_b, (size_t)m * sizeof *lambda);
-                s->trial_grad = 0;
-                if ((st = evaluate(s, u, &f, &g1, &viol)) != PLUME_OK)
-                    return st;
-                ok = 1;
-            }
-            rep->reason = ok ? PLUME_REASON_CONVERGED : PLUME_REASON_NUMERICAL;
-            break;
-        }
-        if (!isfinite(f) || !isfinite(res)) {
-            rep->reason = PLUME_REASON_NUMERICAL;
-            break;
-        }
-        if (s->o.verbose)
-            fprintf(stderr, "  newton %3d  f % .10e  kkt %.3e  viol %.3e\n", it, f, res, viol);
-        if (!s->single_step && res <= s->o.tol_kkt && viol <= s->o.tol_violation) {
-            rep->reason = PLUME_REASON_CONVERGED;
-            break;
-        }
-        /* stall_iterations: an iteration contracts when it halves the best KKT residual or the
-         * best violation of this solve; a run of iterations that do neither (a line search
-         * creeping, an inertia shift holding the steps back) is reported at once, for a caller
-         * that has a smaller increment to try (lib/dynamics.c) */
-        if (res < 0.5 * best_res || viol < 0.5 * best_viol || it == 0)
-            flat = 0;
-        else if (!held_before)
-            flat++;
-        best_res = fmin(best_res, res);
-        best_viol = fmin(best_viol, viol);
-        if (s->o.stall_iterations > 0 && flat >= s->o.stall_iterations && !s->single_step) {
-            rep->reason = PLUME_REASON_STALLED;
-            break;
-        }
-        if (it >= max_iter)
-            break;
-        /* inexact Newton (Eisenstat & Walker's forcing term): the refined KKT solve needs a
-         * linear residual of eta ||rhs|| with eta = min(1e-2, res), loose while the residual is
-         * large, tight (down to round-off) near convergence, where it keeps the quadratic rate */
-        s->refine_rtol = fmax(1e-15, fmin(1e-2, res));
-        double step_max;
-    retry:;
-        /* Chord steps only where the last factorisation predicts a fast contraction (the end
-         * game of a Newton solve), nor in the last 3 iterations of the cap (a tight cap is spent
-         * on Newton steps). In Newton's quadratic regime e' = C e^2 with steps s ~ e, so the two
-         * last full Newton steps of this solve give C ~ s_f / s_{f-1}^2, and a chord step at
-         * x_f + s_f with x_f's matrix contracts by about C s_f = (s_f / s_{f-1})^2. Measured
-         * (docs/theory-constraints.md): tried whenever a factorisation was valid they mostly failed
-         * their rate test early in a load step, where the residual lags the error. */
-        double chord_rho = s->chord_prev > 0.0 ? (s->chord_last / s->chord_prev) * (s->chord_last / s->chord_prev) : INFINITY;
-        int chord = s->o.reuse_factorization && s->factor_valid && !s->single_step && !s->limits && !s->o.trust_region &&
-                    chord_rho <= CHORD_MAX_CONTRACTION && it + 3 < max_iter;
-        if (chord && nt_chord_direction(s, lambda, L, &step_max)) {
+    if (!c->held)
+        c->stalled = (it > 0 && (fabs(c->f - c->f_prev) <= 1e-13 * fabs(c->f) || c->last_negligible) &&
+                      !(c->res < 0.5 * c->best))
+                         ? c->stalled + 1
+                         : 0;
+    c->held = 0;
+    c->last_negligible = 0;
+    c->best = fmin(c->best, c->res);
+    c->f_prev = c->f;
+    if (c->viol <= s->o.tol_violation && c->res < c->best_ok) {
+        c->best_ok = c->res;
+        memcpy(s->u_b, c->u, (size_t)s->n * sizeof *c->u);
+        if (s->m > 0) /* lambda may be NULL without constraints */
+            memcpy(s->l_b, c->lambda, (size_t)s->m * sizeof *c->lambda);
+    }
+}
+
+/* The round-off floor reached: converged if the floor is within sqrt(tol_kkt) and the
+ * constraints hold, or if an earlier iterate was acceptable (its violation at the tolerance's
+ * edge) and the floor wandered off it: that one is returned. A numerical failure otherwise. */
+static plume_status roundoff_floor_exit(plume_newton *s, nt_run *c)
+{
+    int ok = c->res <= sqrt(s->o.tol_kkt) && c->viol <= s->o.tol_violation;
+    if (!ok && c->best_ok <= sqrt(s->o.tol_kkt)) {
+        memcpy(c->u, s->u_b, (size_t)s->n * sizeof *c->u);
+        if (s->m > 0)
+            memcpy(c->lambda, s->l_b, (size_t)s->m * sizeof *c->lambda);
+        s->trial_grad = 0;
+        plume_status st = evaluate(s, c->u, &c->f, &c->g1, &c->viol);
+        if (st != PLUME_OK)
+            return st;
+        ok = 1;
+    }
+    c->rep->reason = ok ? PLUME_REASON_CONVERGED : PLUME_REASON_NUMERICAL;
+    return PLUME_OK;
+}
+
+/* The tests at an iteration's start, in order: the round-off floor, a non-finite iterate, the KKT
+ * test, stall_iterations, the iteration cap. *stop = 1 when the solve ends here (rep->reason set,
+ * or left at the iteration cap). */
+static plume_status convergence_test(plume_newton *s, nt_run *c, int it, int *stop)
+{
+    plume_solve_report *rep = c->rep;
+    const int held_before = c->held;
+    *stop = 1;
+    c->res = kkt_residual(s, c->lambda);
+    track_progress(s, c, it);
+    if (c->stalled >= 4)
+        return roundoff_floor_exit(s, c);
+    if (!isfinite(c->f) || !isfinite(c->res)) {
+        rep->reason = PLUME_REASON_NUMERICAL;
+        return PLUME_OK;
+    }
+    if (s->o.verbose)
+        fprintf(stderr, "  newton %3d  f % .10e  kkt %.3e  viol %.3e\n", it, c->f, c->res, c->viol);
+    if (!s->single_step && c->res <= s->o.tol_kkt && c->viol <= s->o.tol_violation) {
+        rep->reason = PLUME_REASON_CONVERGED;
+        return PLUME_OK;
+    }
+    /* stall_iterations: an iteration contracts when it halves the best KKT residual or the
+     * best violation of this solve; a run of iterations that do neither (a line search
+     * creeping, an inertia shift holding the steps back) is reported at once, for a caller
+     * that has a smaller increment to try (lib/dynamics.c) */
+    if (c->res < 0.5 * c->best_res || c->viol < 0.5 * c->best_viol || it == 0)
+        c->flat = 0;
+    else if (!held_before)
+        c->flat++;
+    c->best_res = fmin(c->best_res, c->res);
+    c->best_viol = fmin(c->best_viol, c->viol);
+    if (s->o.stall_iterations > 0 && c->flat >= s->o.stall_iterations && !s->single_step) {
+        rep->reason = PLUME_REASON_STALLED;
+        return PLUME_OK;
+    }
+    *stop = it >= c->max_iter;
+    return PLUME_OK;
+}
+
+/* Chord steps only where the last factorisation predicts a fast contraction (the end game of a
+ * Newton solve), nor in the last 3 iterations of the cap (a tight cap is spent on Newton steps).
+ * In Newton's quadratic regime e' = C e^2 with steps s ~ e, so the two last full Newton steps of
+ * this solve give C ~ s_f / s_{f-1}^2, and a chord step at x_f + s_f with x_f's matrix contracts
+ * by about C s_f = (s_f / s_{f-1})^2. Measured (docs/theory-constraints.md): tried whenever a
+ * factorisation was valid they mostly failed their rate test early in a load step, where the
+ * residual lags the error. */
+static int chord_wanted(const plume_newton *s, const nt_run *c, int it)
+{
+    double chord_rho = s->chord_prev > 0.0 ? (s->chord_last / s->chord_prev) * (s->chord_last / s->chord_prev) : INFINITY;
+    return s->o.reuse_factorization && s->factor_valid && !s->single_step && !s->limits && !s->o.trust_region &&
+           chord_rho <= CHORD_MAX_CONTRACTION && it + 3 < c->max_iter;
+}
+
+/* The step direction in s->sol (du, then the new multipliers): a chord direction from the last
+ * factorisation (d->chord; the iterate is saved, in case the step fails its rate test), or a
+ * factorisation with inertia correction or partial projection (nt_direction); then the merit's
+ * penalty and slope along du, and continuous collision detection's bound on the step.
+ * STEP_REDO: the chord direction is unusable; STEP_FAILED: the matrix is singular. */
+static plume_status step_direction(plume_newton *s, nt_run *c, nt_step *d, nt_outcome *out)
+{
+    const plume_index n = s->n, m = s->m;
+    plume_status st;
+    *out = STEP_TAKEN;
+    if (d->chord) {
+        if (nt_chord_direction(s, c->lambda, c->L, &d->step_max)) {
             if (s->o.verbose)
                 fprintf(stderr, "           chord direction unusable: refactorising\n");
-            chord = 0, s->factor_valid = 0;
+            s->factor_valid = 0;
+            *out = STEP_REDO;
+            return PLUME_OK;
         }
-        if (chord) /* keep the iterate, in case the chord step fails its rate test */
-            save_iterate(s, 1, u, lambda, f, g1, viol);
-        if (!chord) {
-            st = nt_direction(s, u, lambda, &step_max);
-            if (st == PLUME_ESINGULAR) {
-                s->factor_valid = 0;
-                rep->reason = PLUME_REASON_NUMERICAL;
-                break;
-            }
-            if (st != PLUME_OK)
-                return st;
-            s->factor_valid = 1;
-            memcpy(s->jval_f, s->jval, (size_t)s->jnnz * sizeof *s->jval_f);
+        save_iterate(s, 1, c->u, c->lambda, c->f, c->g1, c->viol);
+    } else {
+        st = nt_direction(s, c->u, c->lambda, &d->step_max);
+        if (st == PLUME_ESINGULAR) {
+            s->factor_valid = 0;
+            c->rep->reason = PLUME_REASON_NUMERICAL;
+            *out = STEP_FAILED;
+            return PLUME_OK;
         }
-        const double *du = s->sol, *lnew = s->sol + n;
-        double dirderiv = 0.0, lmax = 0.0, mu_before = mu;
-        for (plume_index i = 0; i < n; i++)
-            dirderiv += s->grad[i] * du[i];
-        for (plume_index r = 0; r < m; r++)
-            lmax = nt_max_abs(lmax, lnew[r]);
-        mu = fmax(mu, 1.5 * lmax);
-        dirderiv -= mu * g1;
-        /* continuous collision detection: no trial beyond alpha_max, where a pair would cross */
-        double alpha_max = 1.0;
-        if (s->limits) {
-            if ((st = plume_problem_max_step(s->p, u, du, &alpha_max)) != PLUME_OK)
-                return st;
-            rep->step_limited += alpha_max < 1.0;
-        }
-        double phi0 = f + mu * g1, alpha = alpha_max, phi, ft;
-        int accepted = 0;
-        int negligible = step_max <= s->o.tol_step * L;
-        last_negligible = negligible;
-        s->trial_grad = 0; /* no trial of this iteration evaluated yet */
-        if (s->single_step || negligible) {
-            /* one linearised step, or a step at round-off level: no line search to do, and the
-             * multipliers are taken whole (they may still have far to go) */
-            for (plume_index i = 0; i < n; i++)
-                u[i] += alpha_max * du[i];
-            if (m > 0)
-                memcpy(lambda, lnew, (size_t)m * sizeof *lambda);
-            accepted = 1;
-        } else if (s->o.trust_region) {
-            int taken;
-            if ((st = trust_region_step(s, u, lambda, du, lnew, alpha_max, mu, f, g1, &taken)) != PLUME_OK)
-                return st;
-            if (taken < 0) {
-                rep->reason = PLUME_REASON_LINE_SEARCH;
-                break;
-            }
-            if (!taken) { /* refused: the same iterate, a larger regularisation, a new factorisation */
-                rep->rejected_steps++;
-                held = 1;
-                /* the problem's state back at u (the trial moved it: caches such as contact pairs) */
-                if ((st = evaluate(s, u, &f, &g1, &viol)) != PLUME_OK)
-                    return st;
-                continue;
-            }
-            accepted = 1;
-            if (s->o.verbose)
-                fprintf(stderr, "           step %.3e  alpha %.3e  slope %.3e  sigma %.1e  shift %.1e%s\n", step_max,
-                        alpha, dirderiv, s->tr_sigma, s->shift, s->projected ? " (projected)" : "");
-        } else {
-            int filter = s->o.line_search == PLUME_LS_FILTER && m > 0;
-            double gd = dirderiv + mu * g1; /* grad f . du */
-            int curved = 0; /* the trials follow u + alpha du + alpha^2 / 2 acc */
-            /* Without constraints every line search follows the curve. With them, only a full
-             * step the filter refused is retried along it: measured on the feather at 11.4k
-             * elements, curving every step took 72 iterations against 55 (docs/solver-nonconvexity.md) */
-            const int curve_first = m == 0;
-            if (curve_first && !s->limits && !chord && s->o.curved_search && !geodesic_acceleration(s, u, du, lnew, step_max, L)) {
-                curved = 1;
-                rep->curved_searches++;
-            }
-            for (int ls = 0; ls < 60 && !accepted; ls++, alpha *= 0.5) {
-                if (chord && ls > 0) {
-                    /* a chord step is taken whole or not at all: refactorise and redo the iteration */
-                    s->factor_valid = 0;
-                    rep->chord_rejected++;
-                    if (s->o.verbose)
-                        fprintf(stderr, "           chord step %.3e refused whole: refactorising\n", step_max);
-                    mu = mu_before;
-                    goto retry;
-                }
-                for (plume_index i = 0; i < n; i++)
-                    s->ut[i] = u[i] + alpha * du[i] + (curved ? 0.5 * alpha * alpha * s->acc[i] : 0.0);
-                if ((st = merit_at(s, s->ut, mu, &phi, &ft, ls == 0 || curved)) != PLUME_OK)
-                    return st;
-                if (filter) {
-                    /* filter line search; a step below 2^-29 falls back to the merit function,
-                     * in place of Ipopt's restoration phase */
-                    double theta_t = l1norm(s->gt, m);
-                    /* a full step whose change of f is at round-off level and that does not raise
-                     * theta is taken, as with the merit function (the filter cannot see progress
-                     * below the arithmetic's resolution) */
-                    int roundoff = alpha == 1.0 && isfinite(ft) && fabs(ft - f) <= 1e-14 * fabs(f) && theta_t <= g1;
-                    if (isfinite(phi) && ls < 30 && filter_take(s, g1, f, gd, alpha, theta_t, ft, roundoff)) {
-                        accepted = 1;
-                        break;
-                    }
-                    if (ls == 0 && alpha == 1.0 && !curved && isfinite(phi) && theta_t >= g1) { /* second-order correction */
-                        int ok;
-                        if ((st = soc_trial(s, u, du, mu, &phi, &ft, &ok)) != PLUME_OK)
-                            return st;
-                        if (ok && isfinite(phi) && filter_take(s, g1, f, gd, 1.0, l1norm(s->gt, m), ft, 0)) {
-                            accepted = 1;
-                            break;
-                        }
-                    }
-                    if (ls == 0 && !curve_first && !curved && !s->limits && !chord && s->o.curved_search &&
-                        !geodesic_acceleration(s, u, du, lnew, step_max, L)) {
-                        rep->backtracks++;
-                        curved = 1;
-                        rep->curved_searches++;
-                        alpha *= 2.0;
-                        continue;
-                    }
-                    if (ls < 29) {
-                        rep->backtracks++;
-                        continue;
-                    }
-                    if (ls == 29) { /* fall back: the l1 merit from the full step again */
-                        alpha = 2.0 * alpha_max;
-                        rep->merit_fallbacks++;
-                        continue;
-                    }
-                }
-                /* accept on Armijo, or when the change is at round-off level of the merit */
-                if (phi <= phi0 + 1e-4 * alpha * dirderiv ||
-                    (isfinite(phi) && fabs(phi - phi0) <= 1e-14 * fabs(phi0) && alpha == 1.0)) {
-                    accepted = 1;
-                    break;
-                }
-                rep->backtracks++;
-                if (ls == 0 && !curve_first && !curved && !s->limits && !chord && s->o.curved_search &&
-                    !geodesic_acceleration(s, u, du, lnew, step_max, L)) {
-                    curved = 1;
-                    rep->curved_searches++;
-                    alpha *= 2.0;
-                    continue;
-                }
-                if (ls == 0 && alpha == 1.0 && m > 0 && !filter && !curved) { /* second-order correction */
-                    int ok;
-                    if ((st = soc_trial(s, u, du, mu, &phi, &ft, &ok)) != PLUME_OK)
-                        return st;
-                    if (ok && phi <= phi0 + 1e-4 * dirderiv) {
-                        accepted = 1;
-                        break;
-                    }
-                }
-            }
-            if (!accepted) {
-                rep->reason = PLUME_REASON_LINE_SEARCH;
-                break;
-            }
-            if (s->o.verbose)
-                fprintf(stderr, "           step %.3e  alpha %.3e  slope %.3e  %s%.1e%s\n", step_max, alpha, dirderiv,
-                        chord ? "chord, shift " : "shift ", s->shift, s->projected ? " (projected)" : "");
-            memcpy(u, s->ut, (size_t)n * sizeof *u);
-            /* the QP multipliers are taken whole even after a damped step: they are the current
-             * least-squares estimate, and damping them too would freeze them whenever the line
-             * search has to cut the primal step to nothing (redundant constraints) */
-            if (m > 0)
-                memcpy(lambda, lnew, (size_t)m * sizeof *lambda);
-        }
-        if (!chord) { /* the history that predicts a chord step's contraction: full steps only */
-            int full = accepted && alpha == alpha_max && alpha_max == 1.0 && !s->projected;
-            s->chord_prev = full ? s->chord_last : 0.0;
-            s->chord_last = full ? step_max : 0.0;
-        }
-        if ((st = evaluate(s, u, &f, &g1, &viol)) != PLUME_OK)
+        if (st != PLUME_OK)
             return st;
-        /* Steps that continuous collision detection cut below 1 % of the direction four times in a
-         * row: the direction runs into a pair whose barrier is not in the problem (it came within
-         * reach during this solve; stencils change only between solves). Measured on the contact
-         * stack: without this exit such a solve crept on at alpha ~ 1e-1, 1e-2, ... 1e-15 until
-         * the round-off floor stopped it 66 iterations later, and the time step was halved. */
-        blocked = s->limits && alpha_max < 1e-2 ? blocked + 1 : 0;
-        if (blocked >= 4) {
-            it++;
-            rep->reason = PLUME_REASON_CONTACT_SET;
-            break;
-        }
-        if (chord) {
-            /* rate test: a chord step must cut the KKT residual by reuse_rate (or converge);
-             * otherwise it is undone (back to the iterate before it) and the iteration
-             * refactorises. Keeping the weaker chord steps and refactorising only at the next
-             * iteration was measured worse (tilted traction at 4e4 elements: 74 iterations and
-             * 4.0 s against 41 and 2.1 s). */
-            double res_new = kkt_residual(s, lambda);
-            /* converged, or a negligible step that the test below takes as converged (the
-             * round-off floor: no rate to see there) */
-            int done = viol <= s->o.tol_violation &&
-                       (res_new <= s->o.tol_kkt || (negligible && res_new <= sqrt(s->o.tol_kkt)));
-            if (!(res_new <= s->o.reuse_rate * res) && !done) {
-                save_iterate(s, 0, u, lambda, 0.0, 0.0, 0.0);
-                f = s->saved_f, g1 = s->saved_g1, viol = s->saved_viol;
-                kkt_residual(s, lambda); /* s->jtl of the restored iterate */
-                s->factor_valid = 0;
-                rep->chord_rejected++;
-                if (s->o.verbose)
-                    fprintf(stderr, "           chord step failed its rate test (residual %.3e from %.3e): undone, "
-                                    "refactorising\n", res_new, res);
-                goto retry;
-            }
-            rep->chord_steps++;
-            /* the chord steps' own rate decides whether they go on: when reaching tol_kkt at the
-             * rate just seen would take more than CHORD_MAX_MORE steps (a chord step costs about
-             * a quarter of a Newton iteration), the next iteration refactorises. The prediction
-             * that let them start misses where the matrix was built with multipliers still far
-             * off (the first load step of a traction test: rates of 0.2 against 1e-3 predicted). */
-            double rate = res_new / res;
-            if (!done && res_new > 0.0 && rate > 0.0 && log(s->o.tol_kkt / res_new) / log(rate) > CHORD_MAX_MORE)
-                s->factor_valid = 0;
-        }
-        if (s->single_step) {
-            it++;
-            rep->reason = PLUME_REASON_SINGLE_STEP;
-            break;
-        }
-        /* the full Newton direction (not the damped step: a line search that shrank alpha to
-         * nothing has not converged) is negligible, the constraints hold and the multipliers
-         * are not far off (the KKT test itself may be out of reach of round-off) */
-        if (negligible && viol <= s->o.tol_violation && kkt_residual(s, lambda) <= sqrt(s->o.tol_kkt)) {
-            it++;
-            rep->reason = PLUME_REASON_CONVERGED;
-            break;
+        s->factor_valid = 1;
+        memcpy(s->jval_f, s->jval, (size_t)s->jnnz * sizeof *s->jval_f);
+    }
+    const double *du = s->sol, *lnew = s->sol + n;
+    double lmax = 0.0;
+    d->dirderiv = 0.0;
+    d->mu_before = c->mu;
+    for (plume_index i = 0; i < n; i++)
+        d->dirderiv += s->grad[i] * du[i];
+    for (plume_index r = 0; r < m; r++)
+        lmax = nt_max_abs(lmax, lnew[r]);
+    c->mu = fmax(c->mu, 1.5 * lmax);
+    d->dirderiv -= c->mu * c->g1;
+    d->alpha_max = 1.0;
+    if (s->limits) {
+        if ((st = plume_problem_max_step(s->p, c->u, du, &d->alpha_max)) != PLUME_OK)
+            return st;
+        c->rep->step_limited += d->alpha_max < 1.0;
+    }
+    return PLUME_OK;
+}
+
+/* the step taken whole: one linearised step, or a step at round-off level (no line search to
+ * do); the multipliers are taken whole (they may still have far to go) */
+static void whole_step(plume_newton *s, nt_run *c, nt_step *d)
+{
+    for (plume_index i = 0; i < s->n; i++)
+        c->u[i] += d->alpha_max * s->sol[i];
+    if (s->m > 0)
+        memcpy(c->lambda, s->sol + s->n, (size_t)s->m * sizeof *c->lambda);
+    d->accepted = 1;
+}
+
+/* The trust region's iteration (trust_region_step). Refused (STEP_HELD): the same iterate, a
+ * larger regularisation, a new factorisation at the next iteration; no regularisation left:
+ * STEP_FAILED. */
+static plume_status trust_region_iteration(plume_newton *s, nt_run *c, nt_step *d, nt_outcome *out)
+{
+    int taken;
+    plume_status st = trust_region_step(s, c->u, c->lambda, s->sol, s->sol + s->n, d->alpha_max, c->mu, c->f, c->g1,
+                                        &taken);
+    if (st != PLUME_OK)
+        return st;
+    if (taken < 0) {
+        c->rep->reason = PLUME_REASON_LINE_SEARCH;
+        *out = STEP_FAILED;
+        return PLUME_OK;
+    }
+    if (!taken) {
+        c->rep->rejected_steps++;
+        c->held = 1;
+        *out = STEP_HELD;
+        /* the problem's state back at u (the trial moved it: caches such as contact pairs) */
+        return evaluate(s, c->u, &c->f, &c->g1, &c->viol);
+    }
+    d->accepted = 1;
+    if (s->o.verbose)
+        fprintf(stderr, "           step %.3e  alpha %.3e  slope %.3e  sigma %.1e  shift %.1e%s\n", d->step_max,
+                d->alpha, d->dirderiv, s->tr_sigma, s->shift, s->projected ? " (projected)" : "");
+    return PLUME_OK;
+}
+
+/* one line search's state */
+typedef struct {
+    int trial;               /* the trial's index (0: the full step) */
+    double alpha;            /* the trial's step */
+    double phi0;             /* the l1 merit at u */
+    double gd;               /* grad f . du */
+    double phi, ft;          /* the trial's merit and energy */
+    int filter;              /* Ipopt's filter (with constraints), else the l1 merit with Armijo */
+    int curve_first;         /* every search follows the curve (no constraints) */
+    int curved;              /* the trials follow u + alpha du + alpha^2 / 2 acc */
+    int accepted;
+} nt_search;
+
+/* The curved search may start: the geodesic acceleration is computed (into s->acc) only where
+ * the curve may be followed, and it must be usable. Without constraints every line search follows
+ * the curve. With them, only a full step the filter refused is retried along it: measured on the
+ * feather at 11.4k elements, curving every step took 72 iterations against 55
+ * (docs/solver-nonconvexity.md) */
+static int curve_available(plume_newton *s, const nt_run *c, const nt_step *d)
+{
+    return !s->limits && !d->chord && s->o.curved_search &&
+           !geodesic_acceleration(s, c->u, s->sol, s->sol + s->n, d->step_max, c->L);
+}
+
+/* A trial with Ipopt's filter (ls < 30): accepted, or the next trial set up (halved from
+ * ls->alpha by the caller): a second-order correction of a refused full step, a restart along the
+ * curve, a backtrack, and below 2^-29 the fallback to the l1 merit from the full step again, in
+ * place of Ipopt's restoration phase */
+static plume_status filter_trial(plume_newton *s, nt_run *c, const nt_step *d, nt_search *ls)
+{
+    const plume_index m = s->m;
+    const double f = c->f, g1 = c->g1;
+    plume_solve_report *rep = c->rep;
+    double theta_t = l1norm(s->gt, m);
+    /* a full step whose change of f is at round-off level and that does not raise theta is
+     * taken, as with the merit function (the filter cannot see progress below the arithmetic's
+     * resolution) */
+    int roundoff = ls->alpha == 1.0 && isfinite(ls->ft) && fabs(ls->ft - f) <= 1e-14 * fabs(f) && theta_t <= g1;
+    if (isfinite(ls->phi) && filter_take(s, g1, f, ls->gd, ls->alpha, theta_t, ls->ft, roundoff)) {
+        ls->accepted = 1;
+        return PLUME_OK;
+    }
+    if (ls->trial == 0 && ls->alpha == 1.0 && !ls->curved && isfinite(ls->phi) && theta_t >= g1) { /* second-order correction */
+        int ok;
+        plume_status st = soc_trial(s, c->u, s->sol, c->mu, &ls->phi, &ls->ft, &ok);
+        if (st != PLUME_OK)
+            return st;
+        if (ok && isfinite(ls->phi) && filter_take(s, g1, f, ls->gd, 1.0, l1norm(s->gt, m), ls->ft, 0)) {
+            ls->accepted = 1;
+            return PLUME_OK;
         }
     }
-    plume_problem_scatter(s->p, u);
+    if (ls->trial == 0 && !ls->curve_first && !ls->curved && curve_available(s, c, d)) {
+        rep->backtracks++;
+        ls->curved = 1;
+        rep->curved_searches++;
+        ls->alpha *= 2.0; /* the same step again, along the curve */
+        return PLUME_OK;
+    }
+    if (ls->trial < 29) {
+        rep->backtracks++;
+        return PLUME_OK;
+    }
+    /* ls == 29: fall back to the l1 merit from the full step again */
+    ls->alpha = 2.0 * d->alpha_max;
+    rep->merit_fallbacks++;
+    return PLUME_OK;
+}
+
+/* A trial with the l1 merit: accepted on Armijo, or when the change is at round-off level of the
+ * merit; else a backtrack, after the first trial a restart along the curve or a second-order
+ * correction */
+static plume_status merit_trial(plume_newton *s, nt_run *c, const nt_step *d, nt_search *ls)
+{
+    if (ls->phi <= ls->phi0 + 1e-4 * ls->alpha * d->dirderiv ||
+        (isfinite(ls->phi) && fabs(ls->phi - ls->phi0) <= 1e-14 * fabs(ls->phi0) && ls->alpha == 1.0)) {
+        ls->accepted = 1;
+        return PLUME_OK;
+    }
+    c->rep->backtracks++;
+    if (ls->trial == 0 && !ls->curve_first && !ls->curved && curve_available(s, c, d)) {
+        ls->curved = 1;
+        c->rep->curved_searches++;
+        ls->alpha *= 2.0; /* the same step again, along the curve */
+        return PLUME_OK;
+    }
+    if (ls->trial == 0 && ls->alpha == 1.0 && s->m > 0 && !ls->filter && !ls->curved) { /* second-order correction */
+        int ok;
+        plume_status st = soc_trial(s, c->u, s->sol, c->mu, &ls->phi, &ls->ft, &ok);
+        if (st != PLUME_OK)
+            return st;
+        if (ok && ls->phi <= ls->phi0 + 1e-4 * d->dirderiv)
+            ls->accepted = 1;
+    }
+    return PLUME_OK;
+}
+
+/* The line search along du, or along the curve u + alpha du + alpha^2 / 2 acc (curve_available):
+ * the filter for its first 30 trials where there are constraints, the l1 merit otherwise. A chord
+ * step is taken whole or not at all (STEP_REDO: refactorise and redo the iteration); no step
+ * found: STEP_FAILED. */
+static plume_status line_search(plume_newton *s, nt_run *c, nt_step *d, nt_outcome *out)
+{
+    const plume_index n = s->n, m = s->m;
+    const double *du = s->sol, *lnew = s->sol + n;
+    plume_solve_report *rep = c->rep;
+    nt_search ls = {0};
+    ls.phi0 = c->f + c->mu * c->g1;
+    ls.gd = d->dirderiv + c->mu * c->g1;
+    ls.filter = s->o.line_search == PLUME_LS_FILTER && m > 0;
+    ls.curve_first = m == 0;
+    *out = STEP_TAKEN;
+    if (ls.curve_first && curve_available(s, c, d)) {
+        ls.curved = 1;
+        rep->curved_searches++;
+    }
+    for (ls.alpha = d->alpha_max; ls.trial < 60 && !ls.accepted; ls.trial++, ls.alpha *= 0.5) {
+        if (d->chord && ls.trial > 0) {
+            s->factor_valid = 0;
+            rep->chord_rejected++;
+            if (s->o.verbose)
+                fprintf(stderr, "           chord step %.3e refused whole: refactorising\n", d->step_max);
+            c->mu = d->mu_before;
+            *out = STEP_REDO;
+            return PLUME_OK;
+        }
+        for (plume_index i = 0; i < n; i++)
+            s->ut[i] = c->u[i] + ls.alpha * du[i] + (ls.curved ? 0.5 * ls.alpha * ls.alpha * s->acc[i] : 0.0);
+        plume_status st = merit_at(s, s->ut, c->mu, &ls.phi, &ls.ft, ls.trial == 0 || ls.curved);
+        if (st == PLUME_OK)
+            st = ls.filter && ls.trial < 30 ? filter_trial(s, c, d, &ls) : merit_trial(s, c, d, &ls);
+        if (st != PLUME_OK)
+            return st;
+        if (ls.accepted)
+            break;
+    }
+    if (!ls.accepted) {
+        rep->reason = PLUME_REASON_LINE_SEARCH;
+        *out = STEP_FAILED;
+        return PLUME_OK;
+    }
+    d->alpha = ls.alpha;
+    d->accepted = 1;
+    if (s->o.verbose)
+        fprintf(stderr, "           step %.3e  alpha %.3e  slope %.3e  %s%.1e%s\n", d->step_max, d->alpha, d->dirderiv,
+                d->chord ? "chord, shift " : "shift ", s->shift, s->projected ? " (projected)" : "");
+    memcpy(c->u, s->ut, (size_t)n * sizeof *c->u);
+    /* the QP multipliers are taken whole even after a damped step: they are the current
+     * least-squares estimate, and damping them too would freeze them whenever the line search
+     * has to cut the primal step to nothing (redundant constraints) */
+    if (m > 0)
+        memcpy(c->lambda, lnew, (size_t)m * sizeof *c->lambda);
+    return PLUME_OK;
+}
+
+/* Rate test: a chord step must cut the KKT residual by reuse_rate (or converge); otherwise it is
+ * undone (back to the iterate before it) and the iteration refactorises (STEP_REDO). Keeping the
+ * weaker chord steps and refactorising only at the next iteration was measured worse (tilted
+ * traction at 4e4 elements: 74 iterations and 4.0 s against 41 and 2.1 s). */
+static void chord_rate_test(plume_newton *s, nt_run *c, const nt_step *d, nt_outcome *out)
+{
+    double res_new = kkt_residual(s, c->lambda);
+    /* converged, or a negligible step that the test below takes as converged (the round-off
+     * floor: no rate to see there) */
+    int done = c->viol <= s->o.tol_violation &&
+               (res_new <= s->o.tol_kkt || (d->negligible && res_new <= sqrt(s->o.tol_kkt)));
+    if (!(res_new <= s->o.reuse_rate * c->res) && !done) {
+        save_iterate(s, 0, c->u, c->lambda, 0.0, 0.0, 0.0);
+        c->f = s->saved_f, c->g1 = s->saved_g1, c->viol = s->saved_viol;
+        kkt_residual(s, c->lambda); /* s->jtl of the restored iterate */
+        s->factor_valid = 0;
+        c->rep->chord_rejected++;
+        if (s->o.verbose)
+            fprintf(stderr, "           chord step failed its rate test (residual %.3e from %.3e): undone, "
+                            "refactorising\n", res_new, c->res);
+        *out = STEP_REDO;
+        return;
+    }
+    c->rep->chord_steps++;
+    /* the chord steps' own rate decides whether they go on: when reaching tol_kkt at the rate
+     * just seen would take more than CHORD_MAX_MORE steps (a chord step costs about a quarter of
+     * a Newton iteration), the next iteration refactorises. The prediction that let them start
+     * misses where the matrix was built with multipliers still far off (the first load step of
+     * a traction test: rates of 0.2 against 1e-3 predicted). */
+    double rate = res_new / c->res;
+    if (!done && res_new > 0.0 && rate > 0.0 && log(s->o.tol_kkt / res_new) / log(rate) > CHORD_MAX_MORE)
+        s->factor_valid = 0;
+}
+
+/* After a step: the history that predicts a chord step's contraction, the new iterate's
+ * evaluation, then the exits that end the solve with this iteration (STEP_FINAL): steps blocked
+ * by continuous collision detection, a single step, a negligible step that has converged; a chord
+ * step that fails its rate test is undone (STEP_REDO). */
+static plume_status after_step(plume_newton *s, nt_run *c, const nt_step *d, nt_outcome *out)
+{
+    plume_solve_report *rep = c->rep;
+    if (!d->chord) { /* full steps only */
+        int full = d->accepted && d->alpha == d->alpha_max && d->alpha_max == 1.0 && !s->projected;
+        s->chord_prev = full ? s->chord_last : 0.0;
+        s->chord_last = full ? d->step_max : 0.0;
+    }
+    plume_status st = evaluate(s, c->u, &c->f, &c->g1, &c->viol);
+    if (st != PLUME_OK)
+        return st;
+    /* Steps that continuous collision detection cut below 1 % of the direction four times in a
+     * row: the direction runs into a pair whose barrier is not in the problem (it came within
+     * reach during this solve; stencils change only between solves). Measured on the contact
+     * stack: without this exit such a solve crept on at alpha ~ 1e-1, 1e-2, ... 1e-15 until the
+     * round-off floor stopped it 66 iterations later, and the time step was halved. */
+    c->blocked = s->limits && d->alpha_max < 1e-2 ? c->blocked + 1 : 0;
+    if (c->blocked >= 4) {
+        rep->reason = PLUME_REASON_CONTACT_SET;
+        *out = STEP_FINAL;
+        return PLUME_OK;
+    }
+    if (d->chord) {
+        chord_rate_test(s, c, d, out);
+        if (*out == STEP_REDO)
+            return PLUME_OK;
+    }
+    if (s->single_step) {
+        rep->reason = PLUME_REASON_SINGLE_STEP;
+        *out = STEP_FINAL;
+        return PLUME_OK;
+    }
+    /* the full Newton direction (not the damped step: a line search that shrank alpha to
+     * nothing has not converged) is negligible, the constraints hold and the multipliers are
+     * not far off (the KKT test itself may be out of reach of round-off) */
+    if (d->negligible && c->viol <= s->o.tol_violation && kkt_residual(s, c->lambda) <= sqrt(s->o.tol_kkt)) {
+        rep->reason = PLUME_REASON_CONVERGED;
+        *out = STEP_FINAL;
+    }
+    return PLUME_OK;
+}
+
+/* One step, a chord step (chord) or a Newton step: the direction, then the step taken whole (a
+ * single step, a negligible one), by the trust region or by the line search, then after_step */
+static plume_status take_step(plume_newton *s, nt_run *c, int chord, nt_outcome *out)
+{
+    nt_step d = {0};
+    d.chord = chord;
+    plume_status st = step_direction(s, c, &d, out);
+    if (st != PLUME_OK || *out != STEP_TAKEN)
+        return st;
+    d.alpha = d.alpha_max;
+    d.negligible = d.step_max <= s->o.tol_step * c->L;
+    c->last_negligible = d.negligible;
+    s->trial_grad = 0; /* no trial of this iteration evaluated yet */
+    if (s->single_step || d.negligible) {
+        whole_step(s, c, &d);
+    } else if (s->o.trust_region) {
+        st = trust_region_iteration(s, c, &d, out);
+        if (st != PLUME_OK || *out != STEP_TAKEN)
+            return st;
+    } else {
+        st = line_search(s, c, &d, out);
+        if (st != PLUME_OK || *out != STEP_TAKEN)
+            return st;
+    }
+    return after_step(s, c, &d, out);
+}
+
+/* the report of a solve that has ended after `it` iterations (f0: the factorisations before it,
+ * t0: its start) */
+static void solve_report(plume_newton *s, const nt_run *c, int it, int f0, double t0)
+{
+    plume_solve_report *rep = c->rep;
+    plume_problem_scatter(s->p, c->u);
     int f1;
     plume_chol_stats(s->chol, NULL, &f1, NULL);
     rep->converged = rep->reason == PLUME_REASON_CONVERGED;
@@ -864,10 +1015,62 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
                         "%d backtracks, %d refused trust-region steps, %d inertia shifts, %d partly projected\n",
                 plume_reason_name(rep->reason), rep->iterations, rep->factorizations, rep->chord_steps,
                 rep->refinements, rep->backtracks, rep->rejected_steps, rep->shifts, rep->partial_projections);
-    rep->energy = f;
-    rep->kkt_residual = kkt_residual(s, lambda);
-    rep->max_violation = viol;
+    rep->energy = c->f;
+    rep->kkt_residual = kkt_residual(s, c->lambda);
+    rep->max_violation = c->viol;
     rep->seconds = plume_wall_seconds() - t0;
+}
+
+plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plume_solve_report *rep)
+{
+    if (!s || !u || (s->m && !lambda) || !rep)
+        return PLUME_EINVAL;
+    double t0 = plume_wall_seconds();
+    memset(rep, 0, sizeof *rep);
+    int f0;
+    plume_chol_stats(s->chol, NULL, &f0, NULL);
+    nt_run c = {.u = u, .lambda = lambda, .rep = rep, .L = plume_problem_length_scale(s->p)};
+    s->trial_grad = 0; /* a trial left by an earlier solve is not this start */
+    plume_status st = evaluate(s, u, &c.f, &c.g1, &c.viol);
+    if (st != PLUME_OK)
+        return st;
+    rep->reason = PLUME_REASON_ITERATION_CAP;
+    s->nfilt = 0; /* a new filter per solve (Ipopt's theta_max and theta_min) */
+    s->theta_max = 1e4 * fmax(1.0, c.g1);
+    s->theta_min = 1e-4 * fmax(1.0, c.g1);
+    s->shifts = 0;
+    s->partial_factorizations = 0;
+    s->refinements = 0;
+    s->tr_sigma = 0.0;
+    s->factor_valid = 0; /* chord steps use a factorisation of this solve (their prediction does) */
+    s->chord_last = s->chord_prev = 0.0;
+    c.max_iter = s->single_step ? 1 : s->o.max_iter;
+    c.best = c.best_ok = c.best_res = c.best_viol = INFINITY;
+    c.f_prev = c.f;
+    int it;
+    for (it = 0;; it++) {
+        int stop;
+        if ((st = convergence_test(s, &c, it, &stop)) != PLUME_OK)
+            return st;
+        if (stop)
+            break;
+        /* inexact Newton (Eisenstat & Walker's forcing term): the refined KKT solve needs a
+         * linear residual of eta ||rhs|| with eta = min(1e-2, res), loose while the residual is
+         * large, tight (down to round-off) near convergence, where it keeps the quadratic rate */
+        s->refine_rtol = fmax(1e-15, fmin(1e-2, c.res));
+        /* a chord step where the last factorisation predicts one; a Newton step where none was
+         * wanted, or the chord step was refused or undone (the same iteration, refactorised) */
+        nt_outcome out = STEP_REDO;
+        if (chord_wanted(s, &c, it) && (st = take_step(s, &c, 1, &out)) != PLUME_OK)
+            return st;
+        if (out == STEP_REDO && (st = take_step(s, &c, 0, &out)) != PLUME_OK) /* a Newton step */
+            return st;
+        if (out == STEP_FINAL)
+            it++;
+        if (out == STEP_FAILED || out == STEP_FINAL)
+            break;
+    }
+    solve_report(s, &c, it, f0, t0);
     return PLUME_OK;
 }
 
