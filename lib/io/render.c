@@ -230,7 +230,7 @@ static int write_script(const scratch *s, const plume_mesh *m, const double *x, 
         for (int k = 0; k < 9; k++)
             fprintf(f, "%s%g '#%02x%02x%02x'", k ? ", " : "", k / 8.0, (unsigned)lround(255 * field_map[k][0]),
                     (unsigned)lround(255 * field_map[k][1]), (unsigned)lround(255 * field_map[k][2]));
-        fprintf(f, ")\nset cbrange [%.9g:%.9g]\nset origin 0.03, 0\nset size 0.84, 1\nset colorbox vertical user origin 0.875, 0.2 size 0.022, 0.6\n"
+        fprintf(f, ")\nset cbrange [%.9g:%.9g]\nset origin 0.05, 0\nset size 0.82, 1\nset colorbox vertical user origin 0.875, 0.2 size 0.022, 0.6\n"
                    "set cbtics font ',9'\nset format cb '%%g'\n", flo, fhi);
         if (o->field_label && *o->field_label) {
             fputs("set cblabel ", f);
