@@ -148,3 +148,18 @@ plume_status plume_gnuplot_install(const char *src, const char *dst, const char 
         unlink(tmp);
     return st;
 }
+
+void plume_gnuplot_put_quoted(FILE *f, const char *s)
+{
+    fputc('\'', f);
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '\'')
+            fputs("''", f);
+        else if (c < 0x20 || c == 0x7f)
+            fputc(' ', f);
+        else
+            fputc(c, f);
+    }
+    fputc('\'', f);
+}

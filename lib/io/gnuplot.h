@@ -3,6 +3,8 @@
 #ifndef PLUME_GNUPLOT_H
 #define PLUME_GNUPLOT_H
 
+#include <stdio.h>
+
 #include "../core/export.h"
 #include "../core/status.h"
 
@@ -17,6 +19,10 @@ PLUME_API plume_status plume_gnuplot_run(const char *script, const char *log, co
 /** Copies gnuplot's output `src` to "<dst>.tmp.<pid>" and renames it over `dst`, so a failed or
  * interrupted write never leaves a truncated picture under the final name. */
 PLUME_API plume_status plume_gnuplot_install(const char *src, const char *dst, const char *who, plume_err *err);
+
+/** Writes `s` to f as a gnuplot single-quoted string: inside one only '' is special (it stands for
+ * a quote); control characters would end the command, so they become spaces. */
+PLUME_API void plume_gnuplot_put_quoted(FILE *f, const char *s);
 
 /** The last non-empty line of a gnuplot log (its error), into out (empty if none). */
 PLUME_API void plume_gnuplot_log_tail(const char *path, char *out, size_t len);

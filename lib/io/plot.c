@@ -34,23 +34,6 @@ static const char *scratch_file(const scratch *s, int i)
     return f[i];
 }
 
-/* Writes `s` as a gnuplot single-quoted string: inside one only '' is special (it stands for a
- * quote); control characters would end the command, so they become spaces. */
-static void put_quoted(FILE *f, const char *s)
-{
-    fputc('\'', f);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '\'')
-            fputs("''", f);
-        else if (c < 0x20 || c == 0x7f)
-            fputc(' ', f);
-        else
-            fputc(c, f);
-    }
-    fputc('\'', f);
-}
-
 static void put_value(FILE *f, double v)
 {
     if (isfinite(v))
@@ -86,13 +69,13 @@ static void write_body(FILE *f, const scratch *s, const char *title, const plume
     fputs("set multiplot layout 1,2", f);
     if (title && *title) {
         fputs(" title ", f);
-        put_quoted(f, title);
+        plume_gnuplot_put_quoted(f, title);
     }
     const int below = ax && ax->key_below;
     fputs(below ? "\nset grid\nset bmargin 7\nset key below Left reverse box width -2 maxrows 3"
                 : "\nset grid\nset key top left Left reverse box opaque width -2", f);
     fputs(ax && ax->small_key ? " font ',8' spacing 0.8\nset xlabel " : "\nset xlabel ", f);
-    put_quoted(f, ax && ax->x_label ? ax->x_label : "nominal strain (%)");
+    plume_gnuplot_put_quoted(f, ax && ax->x_label ? ax->x_label : "nominal strain (%)");
     fputc('\n', f);
     const char *const ylabel[2] = {ax && ax->stress_label ? ax->stress_label : "nominal stress (Pa)",
                                    ax && ax->wbar_label ? ax->wbar_label : "w-bar (average relative width change)"};
@@ -102,7 +85,7 @@ static void write_body(FILE *f, const scratch *s, const char *title, const plume
         if (panel == 1 && !below)
             fputs("set key bottom left\n", f);
         fputs("set ylabel ", f);
-        put_quoted(f, ylabel[panel]);
+        plume_gnuplot_put_quoted(f, ylabel[panel]);
         fputs("\nplot ", f);
         for (int c = 0; c < ncurves; c++) {
             char fallback[32];
@@ -112,13 +95,13 @@ static void write_body(FILE *f, const scratch *s, const char *title, const plume
                 label = fallback;
             }
             if (c == 0)
-                put_quoted(f, s->data);
+                plume_gnuplot_put_quoted(f, s->data);
             else
                 fputs(", ''", f);
             fprintf(f, " index %d using 1:%d with linespoints lc %d pt %d ps %s title ", c, panel == 0 ? 2 : 3,
                     ax && ax->color ? ax->color[c] : c + 1, ax && ax->point ? ax->point[c] : 7,
                     ax && ax->point ? "0.8" : "0.5");
-            put_quoted(f, label);
+            plume_gnuplot_put_quoted(f, label);
         }
         fputc('\n', f);
     }
@@ -140,11 +123,11 @@ static int write_script(const scratch *s, const char *title, const plume_plot_ax
             "    set terminal png size 1200,%d noenhanced\n"
             "}\nset output ",
             height, height);
-    put_quoted(f, s->png);
+    plume_gnuplot_put_quoted(f, s->png);
     fputc('\n', f);
     write_body(f, s, title, ax, labels, ncurves);
     fprintf(f, "set terminal svg size 1200,%d noenhanced\nset output ", height);
-    put_quoted(f, s->svg);
+    plume_gnuplot_put_quoted(f, s->svg);
     fputc('\n', f);
     write_body(f, s, title, ax, labels, ncurves);
     int bad = ferror(f);

@@ -54,21 +54,6 @@ static int slot(const plume_mesh *m, plume_index t)
     return m->material[t] < 0 ? 0 : m->material[t] % RENDER_MAX_MATERIALS;
 }
 
-static void put_quoted(FILE *f, const char *s)
-{
-    fputc('\'', f);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '\'')
-            fputs("''", f);
-        else if (c < 0x20 || c == 0x7f)
-            fputc(' ', f);
-        else
-            fputc(c, f);
-    }
-    fputc('\'', f);
-}
-
 /* The unit normal of triangle t at x, in the camera frame of gnuplot's "set view rot_x, rot_z"
  * (rotation about z by rot_z, then about the screen's x axis by rot_x; x right, y up, z toward the
  * viewer). 0 for a degenerate triangle. */
@@ -197,11 +182,11 @@ static int write_script(const scratch *s, const plume_mesh *m, const double *x, 
             "    set terminal png size %d,%d noenhanced\n"
             "}\nset output ",
             o->width, o->height, o->width, o->height);
-    put_quoted(f, s->png);
+    plume_gnuplot_put_quoted(f, s->png);
     fputc('\n', f);
     if (o->title && *o->title) {
         fputs("set title ", f);
-        put_quoted(f, o->title);
+        plume_gnuplot_put_quoted(f, o->title);
         fputc('\n', f);
     }
     /* ranges: the bounding box, padded so that a flat or degenerate axis still has a range; with
@@ -234,13 +219,13 @@ static int write_script(const scratch *s, const plume_mesh *m, const double *x, 
                    "set cbtics font ',9'\nset format cb '%%g'\n", flo, fhi);
         if (o->field_label && *o->field_label) {
             fputs("set cblabel ", f);
-            put_quoted(f, o->field_label);
+            plume_gnuplot_put_quoted(f, o->field_label);
             fputc('\n', f);
         }
         fputs("splot ", f);
-        put_quoted(f, s->data);
+        plume_gnuplot_put_quoted(f, s->data);
         fputs(" using 1:2:3:4 with pm3d fillcolor rgb variable, ", f);
-        put_quoted(f, s->data);
+        plume_gnuplot_put_quoted(f, s->data);
         fputs(" using 1:2:(NaN):(0) with points palette\nunset output\n", f);
     } else {
         int nmat = 1;
@@ -256,7 +241,7 @@ static int write_script(const scratch *s, const plume_mesh *m, const double *x, 
         }
         fprintf(f, ")\nset cbrange [0:%d]\n", nmat);
         fputs("splot ", f);
-        put_quoted(f, s->data);
+        plume_gnuplot_put_quoted(f, s->data);
         fputs(" using 1:2:3:4 with pm3d\nunset output\n", f);
     }
     int bad = ferror(f);
