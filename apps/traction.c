@@ -502,12 +502,8 @@ int main(int argc, char **argv)
     if (o.nu_barbule_set) layout.nu_B = o.nu_barbule;
     if (o.e_rel_set || !o.layout_file) layout.e_rel = o.e_rel;
     if (o.order_set) layout.order = o.order;
-    if (o.dB_rel_set || !o.layout_file) {
-        double scale = o.dB_rel * o.ly / layout.d_B; /* keep barbule geometry proportional */
-        layout.d_B *= scale;
-        layout.barbule_width *= scale;
-        layout.barbule_spacing *= scale;
-    }
+    if (o.dB_rel_set || !o.layout_file)
+        plume_layout_set_spacing(&layout, o.dB_rel * o.ly); /* barbule geometry kept proportional */
     if (!o.bending || o.h_set)
         layout.h = o.h;
     layout.kappa = o.kappa;

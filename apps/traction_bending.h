@@ -184,8 +184,7 @@ static int run_bending(const bending_cli *c, const plume_layout *layout, int wan
     double sfam[SIZE_EFFECT_MAX];
     for (int k = 0; k < nfam && !rc; k++) {
         plume_layout l = *layout;
-        const double scale = c->fam->d_rel[k] * c->ly / l.d_B;
-        l.d_B *= scale, l.barbule_width *= scale, l.barbule_spacing *= scale;
+        plume_layout_set_spacing(&l, c->fam->d_rel[k] * c->ly);
         char name[64];
         size_effect_scale(c->fam, k, name, sizeof name);
         plume_param pk[sizeof params / sizeof params[0]];

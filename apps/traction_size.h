@@ -55,8 +55,7 @@ static int size_effect_run(const plume_layout *layout, double lx, double ly, dou
 {
     for (int k = 0; k < fam->n; k++) {
         plume_layout l = *layout;
-        double scale = fam->d_rel[k] * ly / l.d_B;
-        l.d_B *= scale, l.barbule_width *= scale, l.barbule_spacing *= scale;
+        plume_layout_set_spacing(&l, fam->d_rel[k] * ly);
         plume_err err = {{0}};
         plume_mesh *mesh = NULL;
         plume_problem *p = NULL;

@@ -358,8 +358,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     if (micro) {
         /* as apps/traction: barbs 0.086 ly apart, elements chosen from the thinnest strip, unless the
          * layout says */
-        double scale = 0.086 * t.ly / layout.d_B;
-        layout.d_B *= scale, layout.barbule_width *= scale, layout.barbule_spacing *= scale;
+        plume_layout_set_spacing(&layout, 0.086 * t.ly);
         if ((st = get_layout(req, "traction", &layout, &err)) != PLUME_OK)
             goto done;
         layout.h = t.h, layout.kappa = t.kappa;

@@ -29,6 +29,14 @@ void plume_layout_default(plume_layout *l)
     l->e_rel = 0.0;
 }
 
+void plume_layout_set_spacing(plume_layout *l, double d_B)
+{
+    const double scale = d_B / l->d_B;
+    l->d_B = d_B;
+    l->barbule_width *= scale;
+    l->barbule_spacing *= scale;
+}
+
 double plume_layout_barb_width(const plume_layout *l)
 {
     return l->phi * l->d_B;

@@ -61,6 +61,10 @@ typedef struct {
  * span < 0.82 d_B along the barbs for any phi, so they fit the cell), order 2, e_rel = 0 (automatic). */
 PLUME_API void plume_layout_default(plume_layout *l);
 
+/** Sets the barb spacing d_B (m, > 0) and scales the barbules' width and spacing with it, so the
+ * microstructure keeps its shape at another size (a specimen's d_B = d l_y, a size-effect family). */
+PLUME_API void plume_layout_set_spacing(plume_layout *l, double d_B);
+
 /** w_B = phi d_B. */
 PLUME_API double plume_layout_barb_width(const plume_layout *l);
 

@@ -137,8 +137,8 @@ void test_micro_convergence_barbule_specimen(void)
 {
     plume_layout l;
     barbule_layout(&l);
-    const double scale = 0.086 * 1.3 / l.d_B; /* as apps/traction: d_B = 0.086 l_y, geometry kept */
-    l.d_B *= scale, l.barbule_width *= scale, l.barbule_spacing *= scale, l.h = 1.0;
+    plume_layout_set_spacing(&l, 0.086 * 1.3); /* as apps/traction: d_B = 0.086 l_y, geometry kept */
+    l.h = 1.0;
     const double e[3] = {4.0 / 3.0, 2.0 / 3.0, 1.0 / 3.0};
     double s[3], t = 0.0;
     for (int k = 0; k < 3; k++) {
