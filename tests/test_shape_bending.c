@@ -111,6 +111,57 @@ void test_shape_bending_fd_random(void)
     }
 }
 
+/* The phase-aware stencils (opts.phase_aware: no fit spans two materials) change which vertices a
+ * triangle's fit uses, not the energy's form: gradient and Hessian against finite differences on
+ * meshes split into two materials (the resolved-specimen case), flat and curved rest. */
+void test_shape_bending_fd_phase_aware(void)
+{
+    rng64 r = {0xba5eba11ULL};
+    const plume_bending_material mats[2] = {{2.0, 0.3, 0.0, 0.1}, {0.05, 0.02, 0.0, 0.01}};
+    int trials_changed = 0; /* trials whose stencils the option changed: it is exercised */
+    for (int trial = 0; trial < 4; trial++) {
+        const int fam = trial % BM_NFAMILY;
+        plume_mesh *m = bm_family_mesh(fam, 0.125, 0.75, 0.5, 30.0 * trial);
+        CHECK(m != NULL);
+        if (!m)
+            return;
+        for (plume_index q = 0; q < m->nt; q++) { /* two halves across x */
+            const plume_index *v = m->tri + 3 * q;
+            m->material[q] = m->X[2 * v[0]] + m->X[2 * v[1]] + m->X[2 * v[2]] < 3.0 * 0.375;
+        }
+        double *rest = NULL;
+        if (trial >= 2) {
+            rest = malloc(sizeof(double) * 3 * (size_t)m->nv);
+            CHECK(rest != NULL);
+            if (!rest)
+                break;
+            bm_map_cylinder(m, 20.0 * trial, 1.5, rest);
+        }
+        plume_shape_bending_opts o = {0};
+        o.phase_aware = 1;
+        plume_term t;
+        plume_err err;
+        CHECK(plume_shape_bending_term_create_opts(m, mats, 2, rest, &o, &t, &err) == PLUME_OK);
+        plume_term plain; /* the option must change some stencils here, or this tests nothing new */
+        CHECK(plume_shape_bending_term_create(m, mats, 2, rest, &plain, &err) == PLUME_OK);
+        long changed = plain.arity != t.arity; /* a wider stencil somewhere */
+        for (plume_index k = 0; !changed && k < (plume_index)t.arity * t.nstencil; k++)
+            changed += t.stencil[k] != plain.stencil[k];
+        trials_changed += changed > 0;
+        plain.destroy(plain.ctx);
+        bm_map_cylinder(m, urange(&r, 0.0, 180.0), urange(&r, -2.5, 2.5), m->x);
+        for (plume_index i = 0; i < 3 * m->nv; i++)
+            m->x[i] += urange(&r, -0.1, 0.1);
+        char what[96];
+        snprintf(what, sizeof what, "phase-aware, %s%s", bm_family_name[fam], rest ? ", curved rest" : "");
+        term_fd_check(&t, m->nv, m->x, 1e-6, 2e-7, what);
+        t.destroy(t.ctx);
+        free(rest);
+        plume_mesh_destroy(&m);
+    }
+    CHECK(trials_changed >= 3);
+}
+
 /* ---- clamped edges (mirror ghosts) ------------------------------------------------------------ */
 
 /* Marks the vertices with u . X within 1e-9 of its minimum (one straight side of the patch);
