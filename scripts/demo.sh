@@ -27,7 +27,7 @@ fi
 echo "== 1. homogenisation of the Figure 10 microstructure"
 run ./apps/homogenize --config data/layout_fig10.json -o "$h5" --plot out/cell.png
 echo "== 2. traction at both scales (micro: resolved barbs; macro: homogenised moduli, barbs inextensible)"
-echo "   tilted: the micro specimen at barb spacings 0.086 and $finer_spacings l_y, the macro curve their limit (~70 s)"
+echo "   tilted: the micro specimen at barb spacings 0.086 and $finer_spacings l_y, the macro curve their limit"
 run ./apps/traction --model both --scenario tilted --layout-config data/layout_fig10.json --dB-rel 0.086 \
     --size-effect "$finer_spacings" --moduli "$h5" --steps 10 -o "$h5" --plot out/both_tilted.png --quiet
 run ./apps/traction --model both --scenario transverse --layout-config data/layout_fig10.json --dB-rel 0.086 \
