@@ -116,10 +116,10 @@ typedef struct {
     /* static scenes */
     int is_static;                /**< "solve": "static" */
     int steps;                    /**< load steps; default 10 */
-    plume_predictor predictor;    /**< "predictor": "tangent" (static default) | "secant" (dynamic
-                                     default: no predictor) | "none" | "secant_tangent"
-                                     (lib/sim/statics.h); dynamic scenes: "tangent" or "secant_tangent"
-                                     set plume_dynamics_opts.tangent_predictor */
+    plume_predictor predictor;    /**< "predictor": "tangent" (default) | "secant" | "none" |
+                                     "secant_tangent" (lib/sim/statics.h); dynamic scenes: "tangent"
+                                     or "secant_tangent" set plume_dynamics_opts.tangent_predictor,
+                                     "secant" and "none" start every step at x + dt v */
     plume_globalization globalization; /**< "globalization": "curved_line_search" (default) |
                                      "line_search" | "trust_region" (lib/solve/solver.h) */
     unsigned char *clamped;       /**< [nv] or NULL: PLUME_CLAMP_* bits */

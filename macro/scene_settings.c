@@ -36,10 +36,9 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
     }
     if ((v = json_object_get(doc, "contact")) && (st = plume_scene_parse_contact(c, v, s)) != PLUME_OK)
         return st;
-    /* static scenes start each increment from the tangent predictor; dynamic ones from x + dt v
-     * unless the scene asks for the tangent (it moved the feather to another local minimum next
-     * to its handle: docs/solver-nonconvexity.md) */
-    s->predictor = s->is_static ? PLUME_PREDICT_TANGENT : PLUME_PREDICT_SECANT;
+    /* every scene starts from the tangent predictor: each static increment, and each dynamic step
+     * whose handles start, stop or turn (docs/solver-nonconvexity.md) */
+    s->predictor = PLUME_PREDICT_TANGENT;
     if ((v = json_object_get(doc, "predictor")) &&
         (!json_is_string(v) || plume_predictor_parse(json_string_value(v), &s->predictor) != PLUME_OK))
         return plume_json_bad(c, PLUME_EINVAL, "predictor", "must be \"secant\", \"none\", \"tangent\" or \"secant_tangent\"");

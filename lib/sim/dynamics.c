@@ -17,6 +17,7 @@ void plume_dynamics_opts_default(plume_dynamics_opts *o)
     plume_solver_opts_default(&o->solver_opts);
     o->stall_iterations = 6;
     o->easy_iterations = 5;
+    o->tangent_predictor = 1;
 }
 
 /* 1/(2 dt^2) sum_v m_v |x_v - xt_v|^2 - sum_v m_v g.x_v: inertia of implicit Euler and gravity. */
@@ -335,6 +336,22 @@ static plume_status safe_start(plume_dynamics *d, const double *xh, int *safe, i
     return PLUME_OK;
 }
 
+/* Whether the handles' targets xh leave the inertial prediction xt: only then does the tangent
+ * predictor have a move to answer (handles at rest or moving at a constant velocity are already
+ * where x + dt v puts them, and the predictor's solve would return zero for a factorisation). */
+static int handles_accelerate(const plume_dynamics *d, const double *xt, const double *xh)
+{
+    const double tol = 1e-12 * plume_problem_length_scale(d->p);
+    for (int h = 0; h < d->nhandles; h++)
+        for (plume_index i = 0; i < d->handles[h].nv; i++) {
+            plume_index v = d->handles[h].vertices[i];
+            for (int c = 0; c < 3; c++)
+                if (fabs(xh[3 * v + c] - xt[3 * v + c]) > tol)
+                    return 1;
+        }
+    return 0;
+}
+
 /* One implicit Euler step of size dt from the current state; 1 when it converged. */
 static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *rep, int *ok, plume_err *err)
 {
@@ -365,7 +382,7 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
                 rep->reason = PLUME_REASON_LINE_SEARCH; /* the handles would cross: a smaller step */
             return PLUME_OK;
         }
-    } else if (d->o.tangent_predictor && d->o.solver != PLUME_SOLVER_IPOPT) {
+    } else if (d->o.tangent_predictor && d->o.solver != PLUME_SOLVER_IPOPT && handles_accelerate(d, in->xt, xh)) {
         /* x~ everywhere, handles included (their own inertial prediction); the predictor moves the
          * handles to their targets along the tangent and the free dofs with them */
         memcpy(x, in->xt, (size_t)(3 * nv) * sizeof *x);

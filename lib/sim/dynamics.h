@@ -52,13 +52,15 @@ typedef struct {
     double dt_max;           /**< adaptive: the largest step (s); 0 (default): dt */
     int stall_iterations;    /**< adaptive, newton: default 6 (0: only the iteration cap) */
     int easy_iterations;     /**< adaptive: default 5 */
-    /** 1: each step's solve starts from the tangent (consistent) predictor (plume_solver_predict):
-     * one linear solve with the tangent at x~ = x_n + dt v_n (handles at their own x~, inertia
-     * included) for the free dofs' response to the handles' move from x~ to their keyframed
-     * targets, instead of starting the free dofs at x~ with the handles already at their targets
-     * (a jump of more than an element crushes the membrane next to a handle). One more
-     * factorisation a step; native solvers only; not used with terms that limit steps (contact).
-     * Default 0 (docs/solver-nonconvexity.md) */
+    /** 1 (the default): a step whose handles leave their inertial prediction x~ = x_n + dt v_n
+     * (they start, stop or turn) starts its solve from the tangent (consistent) predictor
+     * (plume_solver_predict): one linear solve with the tangent at x~, inertia included, for the
+     * residual there and the free dofs' response to the handles' move from x~ to their keyframed
+     * targets. 0: the free dofs start at x~ with the handles already at their targets; a jump of
+     * more than an element crushes the membrane next to a handle, and Newton may then settle in
+     * another local minimum than the time-converged trajectory (the shipped feather: 1 mm away,
+     * for good; docs/solver-nonconvexity.md). One factorisation per predicted step; native
+     * solvers only; not used with terms that limit steps (contact). */
     int tangent_predictor;
 } plume_dynamics_opts;
 

@@ -172,6 +172,29 @@ static plume_status factor_with(plume_newton *s, double dw, double dc)
     return st;
 }
 
+/* The Hessian diagonal's typical size: the median of its binary exponents, as a power of two (no
+ * workspace; a factor of 2 is all the precision a first shift needs). */
+static double typical_diagonal(const plume_newton *s)
+{
+    enum { EXP_MIN = -1100, EXP_SPAN = 2200 };
+    int count[EXP_SPAN] = {0};
+    plume_index nonzero = 0;
+    for (plume_index c = 0; c < s->n; c++) {
+        double d = fabs(s->hval[s->hp.colptr[c + 1] - 1]);
+        if (!(d > 0.0) || !isfinite(d))
+            continue;
+        int e;
+        frexp(d, &e);
+        count[e - EXP_MIN]++;
+        nonzero++;
+    }
+    plume_index seen = 0;
+    for (int k = 0; k < EXP_SPAN && nonzero > 0; k++)
+        if ((seen += count[k]) * 2 >= nonzero)
+            return ldexp(1.0, k + EXP_MIN);
+    return 1.0;
+}
+
 /* Assembles and factorises the Newton/KKT matrix at u with multipliers lambda, with at least
  * dw_min added to the Hessian's diagonal; raises the regularisation until the factorisation
  * succeeds. *hmax_out receives the largest Hessian diagonal (the scale of any regularisation). */
@@ -217,7 +240,12 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
         double dw = fmax(dw_min, s->m && !s->eliminate ? 1e-12 * hmax : 0.0);
         /* Exact (or partly projected) Hessian: Ipopt's inertia correction. Try no shift; if the
          * matrix is not positive definite, start from a third of the last shift that worked (or
-         * 1e-6 hmax the first time) and grow it 8x (100x the first time) until it is, up to hmax;
+         * 1e-6 of the typical diagonal the first time) and grow it 8x (100x the first time) until
+         * it is, up to hmax. The first guess follows the median diagonal, not the largest: that
+         * one belongs to the stiffest material (a feather's rachis, whose diagonal is 1e4 times its
+         * vane's), and a shift scaled by it damps every soft direction of the rest for the many
+         * iterations it takes to come down by 3 each (the 11.4k feather's first step: 16 iterations,
+         * 9 of them shifted, against 10 and 2; docs/solver-nonconvexity.md);
          * then fall back to the next Hessian. The shift carried from one iteration to the next
          * damps the directions along soft (buckling) modes the way a trust region would, so full
          * steps are taken instead of cut ones. With a partly projected Hessian still to try, the
@@ -236,10 +264,7 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
                         /* As in Ipopt, the last shift that was needed is kept however many
                          * unshifted factorisations came since, from one solve to the next too:
                          * the next indefinite state (the vane buckling in a later time step)
-                         * starts from a third of it. A first guess of 1e-6 of the largest
-                         * diagonal (the rachis's) is 5e4 times what the feather's buckling
-                         * modes need at 11.4k elements, and a shift only comes down by 3 an
-                         * iteration (docs/solver-nonconvexity.md) */
+                         * starts from a third of it */
                         if (sh > 0.0)
                             s->shift_last = sh;
                     }
@@ -249,7 +274,7 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
                     break;
                 s->shifts++;
                 if (sh == 0.0)
-                    sh = s->shift_last > 1e-12 * hmax ? s->shift_last / 3.0 : 1e-6 * hmax;
+                    sh = s->shift_last > 1e-12 * hmax ? s->shift_last / 3.0 : 1e-6 * typical_diagonal(s);
                 else
                     sh *= s->shift_last > 1e-12 * hmax ? 8.0 : 100.0;
                 if (!(sh <= s->o.inertia_max_shift * hmax) || s->o.inertia_corrections == 0)
