@@ -67,7 +67,7 @@ def blocks(lines):
     for i, line in enumerate(lines):
         m = MARKER.match(line.strip())
         if not m:
-            if "<!-- bench:" in line:
+            if line.strip().startswith("<!-- bench:"):  # a marker mistyped (one quoted in text is fine)
                 errors.append("line %d: a bench marker not of the form <!-- bench:NAME begin|end -->" % (i + 1))
             continue
         name, what = m.group(1), m.group(2)
