@@ -34,6 +34,7 @@ edited by hand into a header the program does not print. Prints one line per che
 import datetime
 import os
 import re
+import shutil
 import subprocess
 import sys
 import time
@@ -187,9 +188,12 @@ def git(*args):
         return None
 
 
-def stamp_line(load, seconds):
-    """Date, commit, machine, the load average before the run and its duration, as the block's
-    first line."""
+def stamp_line(seconds, before=None):
+    """Date, commit, machine, the load average now and a run's duration, as the block's first line.
+    Made before the run (the code it ran, the load it started under), then given the run's seconds
+    as stamp_line(seconds, before)."""
+    if before is not None:
+        return re.sub(r"the run took [^.]*\.$", "the run took %s." % took(seconds), before)
     commit = git("rev-parse", "--short", "HEAD")
     if commit is None:
         commit = "unknown (not a git clone)"
@@ -205,9 +209,13 @@ def stamp_line(load, seconds):
     except OSError:
         pass
     n = os.cpu_count() or 0
-    took = "%.0f s" % seconds if seconds < 120 else "%.0f min" % (seconds / 60)
     return ("Measured by `make bench` on %s at commit %s, on %d core%s (%s), load average %.1f at the start; "
-            "the run took %s." % (datetime.date.today().isoformat(), commit, n, "" if n == 1 else "s", cpu, load, took))
+            "the run took %s." % (datetime.date.today().isoformat(), commit, n, "" if n == 1 else "s", cpu,
+                                  os.getloadavg()[0], took(seconds)))
+
+
+def took(seconds):
+    return "%.0f s" % seconds if seconds < 120 else "%.0f min" % (seconds / 60)
 
 
 def capture(build, name):
@@ -222,8 +230,10 @@ def run(build, names):
         exe = os.path.join(build, "bench_" + name)
         print("%s  (captured in %s)" % (os.path.relpath(exe, TOP), os.path.relpath(capture(build, name)[0], TOP)))
         sys.stdout.flush()
-        load, t0 = os.getloadavg()[0], time.time()  # the machine's load before the run, not during it
-        p = subprocess.Popen([exe], cwd=TOP, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE)
+        before, t0 = stamp_line(0), time.time()  # the code and the load the run starts with
+        # line-buffered, so the output shows as it comes (stdio buffers a pipe whole)
+        cmd = (["stdbuf", "-oL"] if shutil.which("stdbuf") else []) + [exe]
+        p = subprocess.Popen(cmd, cwd=TOP, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE)
         out = []
         for raw in p.stdout:
             line = raw.decode("utf-8", "replace")
@@ -234,12 +244,12 @@ def run(build, names):
             print("bench-tables: bench_%s exited with %d; its previous capture is kept" % (name, p.returncode),
                   file=sys.stderr)
             return 1
-        took = time.time() - t0
+        seconds = time.time() - t0
         txt, st = capture(build, name)
         with open(txt, "w", encoding="utf-8") as f:
             f.write("".join(out))
         with open(st, "w", encoding="utf-8") as f:
-            f.write(stamp_line(load, took) + "\n")
+            f.write(stamp_line(seconds, before) + "\n")
     return write(build, names)
 
 
@@ -285,7 +295,7 @@ def main(argv):
     if len(argv) < 2 or argv[0] not in ("run", "write", "check"):
         print(__doc__.split("\n\n")[1], file=sys.stderr)
         return 2
-    build = argv[1] if os.path.isabs(argv[1]) else os.path.join(TOP, argv[1])
+    build = os.path.abspath(argv[1])  # as given from the caller's directory (run-tests.sh: tests/)
     names = argv[2:] or benches()
     unknown = [n for n in names if n not in benches()]
     if unknown:
