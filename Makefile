@@ -36,9 +36,15 @@ APPS := $(patsubst %.c,%,$(APP_SRC))
 TEST_SRC := $(wildcard tests/*.c)
 TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 HEADERS := include/plume.h $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.h)) $(wildcard micro/*.h) $(wildcard macro/*.h) $(wildcard drivers/*.h)
+# the benchmarks (bench/bench_NAME.c), in the order make bench runs them; each has its block in
+# docs/benchmarks.md, which scripts/bench-tables.py rewrites from the run's output (captured in
+# $(BUILD)/bench/NAME.txt) and which make test checks against what `bench_NAME --header` prints.
+# `make bench BENCHES=statics` runs one; `make bench-docs` rewrites the blocks from the captures.
+BENCHES ?= traction micro plate feather bending statics wing
+BENCH_BINS := $(patsubst bench/%.c,$(BUILD)/%,$(wildcard bench/bench_*.c))
 PRIVATE_HEADERS := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/internal/*.h)) $(wildcard macro/internal/*.h) $(wildcard drivers/internal/*.h)
 
-.PHONY: all deps deps-check test asan bench demo docs install uninstall clean fuzz fuzz-build
+.PHONY: all deps deps-check test asan bench bench-docs demo docs install uninstall clean fuzz fuzz-build
 all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)
 
 deps:
@@ -91,7 +97,7 @@ $(TEST_OBJ): $(wildcard tests/*.h)
 OMP_ENV := OMP_WAIT_POLICY=$${OMP_WAIT_POLICY:-passive}
 
 test: deps
-	@$(MAKE) --no-print-directory all $(BUILD)/run_tests
+	@$(MAKE) --no-print-directory all $(BUILD)/run_tests $(BENCH_BINS)
 	$(OMP_ENV) TESTS="$(TESTS)" bash scripts/run-tests.sh $(BUILD)
 
 # the app tests run the regular apps/ binaries, so they are built too
@@ -131,14 +137,11 @@ fuzz: fuzz-build
 # deps first, then a sub-make: pkg-config flags are read when make starts, so they must be read
 # again once missing packages are installed
 bench: deps
-	@$(MAKE) --no-print-directory all $(BUILD)/bench_traction $(BUILD)/bench_micro $(BUILD)/bench_feather $(BUILD)/bench_bending $(BUILD)/bench_wing $(BUILD)/bench_statics $(BUILD)/bench_plate
-	$(OMP_ENV) ./$(BUILD)/bench_traction
-	$(OMP_ENV) ./$(BUILD)/bench_micro
-	$(OMP_ENV) ./$(BUILD)/bench_plate
-	$(OMP_ENV) ./$(BUILD)/bench_feather
-	$(OMP_ENV) ./$(BUILD)/bench_bending
-	$(OMP_ENV) ./$(BUILD)/bench_statics
-	$(OMP_ENV) ./$(BUILD)/bench_wing
+	@$(MAKE) --no-print-directory all $(BENCH_BINS)
+	$(OMP_ENV) python3 scripts/bench-tables.py run $(BUILD) $(BENCHES)
+
+bench-docs:
+	python3 scripts/bench-tables.py write $(BUILD) $(BENCHES)
 
 $(BUILD)/bench_%: bench/bench_%.c $(BUILD)/libplume.a
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(BUILD)/libplume.a $(LDFLAGS) $(LDLIBS)

@@ -86,8 +86,27 @@ static double time_eval(create_fn create, const plume_mesh *m, const plume_bendi
     return best;
 }
 
-int main(void)
+/* the two tables' titles and column lines; `bench_bending --header` prints them alone (the check
+ * of docs/benchmarks.md, scripts/bench-tables.py, compares them with the page) */
+static void header_ratios(void)
 {
+    printf("bending: cylinder k = 1 on a 1 x 0.8 patch, h = 1/24: stored energy / continuum plate energy\n");
+    printf("%-18s | curv | mat  | barbs |  hinge  | own fit |  shape\n", "mesh family");
+}
+
+static void header_timing(void)
+{
+    printf("\nbending: one energy + gradient + Hessian evaluation (best of 3), ms\n");
+    printf("%-18s | triangles | term  | stencils | create | exact | projected\n", "mesh");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1 && !strcmp(argv[1], "--header")) {
+        header_ratios();
+        header_timing();
+        return 0;
+    }
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     const plume_bending_material vane = {2.5e-4, 1e-7, (2.5e-4 + 1e-7) / 4.0, 0.0};
     const plume_bending_material iso = {1.0, 1.0, 0.5, 0.0};
@@ -96,8 +115,7 @@ int main(void)
     const double barbs[4] = {0.0, 30.0, 45.0, 90.0}, curvs[2] = {0.0, 30.0};
     const double h = 1.0 / 24, k = 1.0;
 
-    printf("bending: cylinder k = 1 on a 1 x 0.8 patch, h = 1/24: stored energy / continuum plate energy\n");
-    printf("%-18s | curv | mat  | barbs |  hinge  | own fit |  shape\n", "mesh family");
+    header_ratios();
     for (int f = 0; f < BM_NFAMILY; f++)
         for (int ic = 0; ic < 2; ic++)
             for (int im = 0; im < 2; im++)
@@ -112,8 +130,7 @@ int main(void)
                 }
 
     /* ~40k triangles: the right grid at h = 1/158 (158 x 126 cells) and a Delaunay mesh */
-    printf("\nbending: one energy + gradient + Hessian evaluation (best of 3), ms\n");
-    printf("%-18s | triangles | term  | stencils | create | exact | projected\n", "mesh");
+    header_timing();
     const int fams[2] = {BM_RIGHT, BM_DELAUNAY};
     for (int i = 0; i < 2; i++) {
         plume_mesh *m = bm_family_mesh(fams[i], 1.0 / 158, 1.0, 0.8, 30.0);

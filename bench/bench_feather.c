@@ -15,6 +15,8 @@
 #include "../include/plume.h"
 
 #define STEPS 20
+#define DEFAULT_SCENE "data/feather/scene_anisotropic.json"
+#define LARGE_SCENE "data/feather/scene_anisotropic_0.625mm.json"
 
 /* A copy of the scene with another mesh edge and solver, paths made absolute, in /tmp. */
 static int variant(const char *scene, double edge, const char *solver, char *out, size_t n)
@@ -49,6 +51,28 @@ static double cpu_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The tables' titles and column lines (the large feather's apart: a line of sizes sits between
+ * them); `bench_feather --header` prints them alone, for the default scenes (the check of
+ * docs/benchmarks.md, scripts/bench-tables.py, compares them with the page). */
+static void header_steps(const char *scene)
+{
+    printf("\nplume bench (feather): %s, first %d steps, seconds per frame (= step) and Newton iterations per step\n",
+           scene, STEPS);
+    printf("%8s %9s | %-10s | %9s %8s %8s %9s | %s\n", "edge", "elements", "solver", "s/frame", "it/step", "halved",
+           "violation", "vs newton");
+}
+
+static void header_large_title(const char *scene)
+{
+    printf("\nplume bench (feather, one iteration): %s\n", scene);
+}
+
+static void header_large_columns(void)
+{
+    printf("%12s %12s %12s %12s %12s %12s | %12s\n", "energy+grad", "constraints", "Hessian blk", "scatter",
+           "factorise", "solve", "analysis");
+}
+
 /* The feather at 44.7k elements: what one Newton iteration costs, its parts measured one by one at
  * the start state (best of 3), and the first steps' time per iteration split by the problem's
  * counters (the rest is the factorisations, the solves and the line search). */
@@ -60,7 +84,7 @@ static void large_feather(const char *scene, int steps)
     plume_dynamics *d = NULL;
     plume_chol *chol = NULL;
     double *u = NULL, *grad = NULL, *values = NULL, *g = NULL, *jv = NULL, *lambda = NULL, *sol = NULL;
-    printf("\nplume bench (feather, one iteration): %s\n", scene);
+    header_large_title(scene);
     if (plume_scene_load(scene, &s, &err) != PLUME_OK || plume_scene_dynamics(s, &p, &d, &err) != PLUME_OK) {
         printf("setup failed: %s\n", err.msg);
         goto done;
@@ -114,8 +138,7 @@ static void large_feather(const char *scene, int steps)
     }
     printf("%ld elements, %ld unknowns, %ld constraints, %ld Hessian entries (upper); CPU ms, best of 3:\n",
            (long)s->mesh->nt, (long)n, (long)m, (long)hp.nnz);
-    printf("%12s %12s %12s %12s %12s %12s | %12s\n", "energy+grad", "constraints", "Hessian blk", "scatter",
-           "factorise", "solve", "analysis");
+    header_large_columns();
     printf("%12.1f %12.1f %12.1f %12.1f %12.1f %12.1f | %12.1f\n", 1e3 * best[0], 1e3 * best[1], 1e3 * best[2],
            1e3 * best[3], 1e3 * best[4], 1e3 * best[5], 1e3 * analyse);
     printf("evaluation + assembly against one factorisation: %.2f\n",
@@ -162,17 +185,20 @@ done:
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
-    if (argc > 1 && !strcmp(argv[1], "--large")) { /* bench_feather --large [SCENE [STEPS]]: that part alone */
-        large_feather(argc > 2 ? argv[2] : "data/feather/scene_anisotropic_0.625mm.json", argc > 3 ? atoi(argv[3]) : 1);
+    if (argc > 1 && !strcmp(argv[1], "--header")) {
+        header_steps(DEFAULT_SCENE);
+        header_large_title(LARGE_SCENE);
+        header_large_columns();
         return 0;
     }
-    const char *scene = argc > 1 ? argv[1] : "data/feather/scene_anisotropic.json";
+    if (argc > 1 && !strcmp(argv[1], "--large")) { /* bench_feather --large [SCENE [STEPS]]: that part alone */
+        large_feather(argc > 2 ? argv[2] : LARGE_SCENE, argc > 3 ? atoi(argv[3]) : 1);
+        return 0;
+    }
+    const char *scene = argc > 1 ? argv[1] : DEFAULT_SCENE;
     const double edges[2] = {5e-3, 3.5e-3};
     const char *solvers[3] = {"newton", "ipopt", "linearized"};
-    printf("\nplume bench (feather): %s, first %d steps, seconds per frame (= step) and Newton iterations per step\n",
-           scene, STEPS);
-    printf("%8s %9s | %-10s | %9s %8s %8s %9s | %s\n", "edge", "elements", "solver", "s/frame", "it/step", "halved",
-           "violation", "vs newton");
+    header_steps(scene);
     for (int e = 0; e < 2; e++) {
         double t_newton = NAN;
         for (int k = 0; k < 3; k++) {
@@ -210,6 +236,6 @@ int main(int argc, char **argv)
             unlink(path);
         }
     }
-    large_feather("data/feather/scene_anisotropic_0.625mm.json", 1);
+    large_feather(LARGE_SCENE, 1);
     return 0;
 }

@@ -115,6 +115,48 @@ static double barbule_cell(int order, double e_rel, double *seconds, long *eleme
     return E;
 }
 
+/* The tables' titles and column lines (a table with a reference line has its title and its columns
+ * apart); `bench_micro --header` prints them alone (the check of docs/benchmarks.md,
+ * scripts/bench-tables.py, compares them with the page). */
+static void header_homogenisation(void)
+{
+    printf("\nplume bench (micro): homogenisation of a periodic cell (tensor: exact linear cell problem;\n"
+           "curves: uniaxial stress along and across the barbs and shear with free normal stresses to 5%%,\n"
+           "10 steps each)\n");
+    printf("%-28s | %8s | %10s | %12s | %8s |\n", "layout", "elements", "tensor ms", "+ curves ms", "Newton it");
+}
+
+static void header_barbule_title(void)
+{
+    printf("\nExplicit-barbule cell, E_yy of the exact small-strain tensor: linear (P1, the paper's) against\n"
+           "quadratic (P2) triangles on the same meshes; error against P2 at e-bar 1/128\n");
+}
+
+static void header_barbule_columns(void)
+{
+    printf("%8s | %8s | %10s %8s %9s | %10s %8s %9s | %s\n", "e-bar", "elements", "P1 E_yy", "error", "ms", "P2 E_yy",
+           "error", "ms", "P1 error / P2 error");
+}
+
+static void header_specimen_title(void)
+{
+    printf("\nFigure 10 specimen (strips, contrast 1e-6, d-bar_B 0.086, tilted 45 deg, 5 %% in 5 steps): linear\n"
+           "(the paper's) against quadratic triangles; error against quadratic at e-bar 0.725\n");
+}
+
+static void header_specimen_columns(void)
+{
+    printf("%5s %6s | %8s %9s %9s %8s\n", "order", "e-bar", "elements", "seconds", "stress", "error");
+}
+
+static void header_micro_macro(void)
+{
+    printf("\nMicro (resolved barbs, Figure 10 setting) against macro (homogenised moduli, barbs inextensible,\n"
+           "aligned mesh, edge 0.02) on the same tilted 45 deg traction to 5%% strain in 5 steps:\n");
+    printf("%7s %5s %s | %9s %9s | %9s %9s | %8s | %s\n", "d-bar_B", "e-bar", "  ", "micro el", "micro s", "macro el", "macro s",
+           "micro/ma", "stress micro vs macro");
+}
+
 /* The explicit-barbule cell (data/layout_barbules.json) under refinement, linear against quadratic
  * elements: E_yy's error against the quadratic result at e-bar 1/128. The corners where barbules
  * meet barbs make every order converge at about h^1, unevenly (the meshes are not nested): on
@@ -122,14 +164,12 @@ static double barbule_cell(int order, double e_rel, double *seconds, long *eleme
  * so the reference is about 0.07 % above the limit. */
 static void barbule_cell_table(void)
 {
-    printf("\nExplicit-barbule cell, E_yy of the exact small-strain tensor: linear (P1, the paper's) against\n"
-           "quadratic (P2) triangles on the same meshes; error against P2 at e-bar 1/128\n");
+    header_barbule_title();
     double t;
     long n;
     double limit = barbule_cell(2, 0.0078125, &t, &n);
     printf("reference %.6g Pa (%ld elements, %.2f s)\n", limit, n, t);
-    printf("%8s | %8s | %10s %8s %9s | %10s %8s %9s | %s\n", "e-bar", "elements", "P1 E_yy", "error", "ms", "P2 E_yy",
-           "error", "ms", "P1 error / P2 error");
+    header_barbule_columns();
     const double e[5] = {0.5, 0.25, 0.125, 0.0625, 0.03125};
     for (int k = 0; k < 5; k++) {
         double t1, t2;
@@ -151,8 +191,7 @@ static void barbule_cell_table(void)
  * error, the error against the quadratic run at e-bar 0.725 (within 0.05 % of its own limit). */
 static void specimen_table(void)
 {
-    printf("\nFigure 10 specimen (strips, contrast 1e-6, d-bar_B 0.086, tilted 45 deg, 5 %% in 5 steps): linear\n"
-           "(the paper's) against quadratic triangles; error against quadratic at e-bar 0.725\n");
+    header_specimen_title();
     plume_layout l;
     plume_layout_default(&l);
     l.d_B = 0.086 * 1.3, l.h = 1.0;
@@ -161,7 +200,7 @@ static void specimen_table(void)
     l.order = 2, l.e_rel = 0.725;
     double tref = micro_run(&l, &ref, &nref);
     printf("reference %.6g Pa (%ld elements, %.2f s)\n", ref, nref / 4, tref);
-    printf("%5s %6s | %8s %9s %9s %8s\n", "order", "e-bar", "elements", "seconds", "stress", "error");
+    header_specimen_columns();
     const double e[3] = {2.9, 1.45, 0.725};
     for (int o = 1; o <= 2; o++)
         for (int k = 0; k < (o == 1 ? 3 : 2); k++) {
@@ -179,13 +218,19 @@ static void specimen_table(void)
            100.0 * (s - ref) / ref, plume_layout_element_edge(&l, PLUME_MESH_SPECIMEN) / plume_layout_barb_width(&l));
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    if (argc > 1 && !strcmp(argv[1], "--header")) {
+        header_homogenisation();
+        header_barbule_title();
+        header_barbule_columns();
+        header_specimen_title();
+        header_specimen_columns();
+        header_micro_macro();
+        return 0;
+    }
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
-    printf("\nplume bench (micro): homogenisation of a periodic cell (tensor: exact linear cell problem;\n"
-           "curves: uniaxial stress along and across the barbs and shear with free normal stresses to 5%%,\n"
-           "10 steps each)\n");
-    printf("%-28s | %8s | %10s | %12s | %8s |\n", "layout", "elements", "tensor ms", "+ curves ms", "Newton it");
+    header_homogenisation();
     plume_layout l;
     const double erel[3] = {1.0, 0.5, 0.25};
     for (int k = 0; k < 3; k++) {
@@ -210,10 +255,7 @@ int main(void)
     barbule_cell_table();
     specimen_table();
 
-    printf("\nMicro (resolved barbs, Figure 10 setting) against macro (homogenised moduli, barbs inextensible,\n"
-           "aligned mesh, edge 0.02) on the same tilted 45 deg traction to 5%% strain in 5 steps:\n");
-    printf("%7s %5s %s | %9s %9s | %9s %9s | %8s | %s\n", "d-bar_B", "e-bar", "  ", "micro el", "micro s", "macro el", "macro s",
-           "micro/ma", "stress micro vs macro");
+    header_micro_macro();
     plume_layout_default(&l);
     plume_homog_opts ho;
     plume_homog_opts_default(&ho);

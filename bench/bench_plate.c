@@ -110,19 +110,41 @@ static void both_scales(const plume_layout *l, double lx, double ly, double angl
     fflush(stdout);
 }
 
+/* the two tables' titles and column lines; `bench_plate --header` prints them alone (the check
+ * of docs/benchmarks.md, scripts/bench-tables.py, compares them with the page) */
+static void header_cell(void)
+{
+    printf("\nplume bench (bending): the plate cell (Morley, exact bending tensor) against the membrane cell\n"
+           "(exact small-strain tensor) on the same cell; best of %d; plate/membrane is the cost ratio\n", REPS);
+    printf("%-30s | %9s | %9s | %9s | %10s | %10s | %6s | %s\n", "layout", "elements", "2 nodes", "plate dofs",
+           "membr. ms", "plate ms", "ratio", "D_long D_trans D_twist (N m)");
+}
+
+static void header_both_scales(void)
+{
+    printf("\nplume bench (bending, both scales): strips phi 0.3, barbs 1.5e-4 m thick, a matrix 20 times softer\n"
+           "and 5e-5 m thick, 10 x 20 mm specimen, curvature 0.01 1/m, linear plate; edge moments (edge) or\n"
+           "uniform-curvature loads (unif); the micro specimen at the default element edge (phase-aware\n"
+           "stencils); micro - macro is the size effect; residual: interior forces of the uniform state\n");
+    printf("%-8s | %-18s | %9s | %12s | %12s | %10s | %9s | %7s | %s\n", "d_B", "load", "triangles", "micro N m",
+           "macro N m", "micro-macro", "macro-th.", "cpu s", "residual");
+}
+
 /* bench_plate [both [E_REL [N_MAX]]]: "both" runs the both-scales part alone, on an element edge of
  * E_REL barb widths (default: the layout's) down to d_B = lx / N_MAX (default 16). */
 int main(int argc, char **argv)
 {
+    if (argc > 1 && !strcmp(argv[1], "--header")) {
+        header_cell();
+        header_both_scales();
+        return 0;
+    }
     plume_openmp_serial();
     const int both_only = argc > 1 && strcmp(argv[1], "both") == 0;
     const double e_rel = argc > 2 ? atof(argv[2]) : -1.0;
     const int n_max = argc > 3 ? atoi(argv[3]) : 16;
     if (!both_only) {
-    printf("\nplume bench (bending): the plate cell (Morley, exact bending tensor) against the membrane cell\n"
-           "(exact small-strain tensor) on the same cell; best of %d; plate/membrane is the cost ratio\n", REPS);
-    printf("%-30s | %9s | %9s | %9s | %10s | %10s | %6s | %s\n", "layout", "elements", "2 nodes", "plate dofs",
-           "membr. ms", "plate ms", "ratio", "D_long D_trans D_twist (N m)");
+    header_cell();
     plume_layout l;
     plume_layout_default(&l);
     row("strips, automatic (P2)", &l);
@@ -143,12 +165,7 @@ int main(int argc, char **argv)
     row("barbules, automatic (P2)", &l);
     }
 
-    printf("\nplume bench (bending, both scales): strips phi 0.3, barbs 1.5e-4 m thick, a matrix 20 times softer\n"
-           "and 5e-5 m thick, 10 x 20 mm specimen, curvature 0.01 1/m, linear plate; edge moments (edge) or\n"
-           "uniform-curvature loads (unif); the micro specimen at the default element edge (phase-aware\n"
-           "stencils); micro - macro is the size effect; residual: interior forces of the uniform state\n");
-    printf("%-8s | %-18s | %9s | %12s | %12s | %10s | %9s | %7s | %s\n", "d_B", "load", "triangles", "micro N m",
-           "macro N m", "micro-macro", "macro-th.", "cpu s", "residual");
+    header_both_scales();
     plume_layout b;
     plume_layout_default(&b);
     b.phi = 0.3, b.ratio = 0.05, b.h = 1e-4, b.h_barb = 1.5e-4, b.h_barbule = 5e-5, b.order = 1;

@@ -71,8 +71,26 @@ done:
     return r;
 }
 
-int main(void)
+/* the table's title and column line; `bench_statics --header` prints them alone (the check of
+ * docs/benchmarks.md, scripts/bench-tables.py, compares them with the page) */
+static void print_header(void)
 {
+    printf("\nplume bench (statics): the shell benchmarks of data/benchmarks/ at their shipped meshes and steps.\n"
+           "Each load increment solved from the last equilibrium (none), the secant predictor (secant) or the\n"
+           "tangent predictor (tangent, the default; its factorisation counted in fact/it), with the line search\n"
+           "along the straight Newton step (line), along the geodesic-acceleration curve (curved, the default)\n"
+           "or the adaptive-regularisation trust region (trust); the ratios are the first row's iterations and\n"
+           "time over each row's\n");
+    printf("%-24s %-15s | %6s %7s %7s %8s %8s %9s | %s\n", "scene", "start, search", "it", "it/step", "fact/it",
+           "factor%", "s/step", "error", "ratios (iterations, time)");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1 && !strcmp(argv[1], "--header")) {
+        print_header();
+        return 0;
+    }
     plume_openmp_serial();
     static const char *const files[] = {"data/benchmarks/cantilever_shear.json", "data/benchmarks/elastica_end_load.json",
                                         "data/benchmarks/buckled_cantilever.json", "data/benchmarks/rollup.json",
@@ -89,14 +107,7 @@ int main(void)
                 {PLUME_PREDICT_SECANT, PLUME_GLOBAL_TRUST_REGION, "secant, trust"},
                 {PLUME_PREDICT_TANGENT, PLUME_GLOBAL_CURVED_LINE_SEARCH, "tangent, curved"}};
     enum { NWAYS = sizeof ways / sizeof ways[0] };
-    printf("\nplume bench (statics): the shell benchmarks of data/benchmarks/ at their shipped meshes and steps.\n"
-           "Each load increment solved from the last equilibrium (none), the secant predictor (secant) or the\n"
-           "tangent predictor (tangent, the default; its factorisation counted in fact/it), with the line search\n"
-           "along the straight Newton step (line), along the geodesic-acceleration curve (curved, the default)\n"
-           "or the adaptive-regularisation trust region (trust); the ratios are the first row's iterations and\n"
-           "time over each row's\n");
-    printf("%-24s %-15s | %6s %7s %7s %8s %8s %9s | %s\n", "scene", "start, search", "it", "it/step", "fact/it",
-           "factor%", "s/step", "error", "ratios (iterations, time)");
+    print_header();
     for (size_t f = 0; f < sizeof files / sizeof files[0]; f++) {
         run r[NWAYS];
         for (int k = 0; k < NWAYS; k++)

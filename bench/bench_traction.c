@@ -121,6 +121,29 @@ static void keep_fastest(run_result *best, run_result r, int rep)
         *best = r;
 }
 
+/* the two tables' titles and column lines; `bench_traction --header` prints them alone (the check
+ * of docs/benchmarks.md, scripts/bench-tables.py, compares them with the page) */
+static void header_times(int steps, int repeats)
+{
+    printf("plume bench: tilted 45 deg traction, E_xx/E_yy = 1e4, constraint on, aligned mesh, %d steps to 5%% strain\n"
+           "(each figure the fastest of %d runs, %d at 4e4 elements, the variants alternating)\n", steps, repeats,
+           repeats < 3 ? repeats : 3);
+    printf("%9s | %44s | %13s | %13s | %23s | %13s | %8s\n", "", "time to 5% strain (s)", "ip/nt ratio",
+           "iterations", "factorisations/step", "peak MiB", "");
+    printf("%9s | %7s %7s %7s %7s %6s %6s | %6s %6s | %6s %6s | %7s %7s %7s | %6s %6s | %8s\n", "elements", "newton",
+           "nochord", "old", "ipopt", "nc/nt", "old/nt", "wall", "cpu", "newton", "ipopt", "newton", "nochord", "old",
+           "newton", "ipopt", "dstress");
+}
+
+static void header_iteration(void)
+{
+    printf("\nnewton's time per iteration (chord steps, which factorise nothing, included) against one\n"
+           "CHOLMOD numeric factorisation (the SPD matrix H + J^T J / dc of the eliminated KKT system;\n"
+           "symbolic analysis done once per run, not counted):\n");
+    printf("%9s | %12s %14s %7s | %11s | %s\n", "elements", "iteration ms", "factorisation ms", "ratio", "chord steps",
+           "max violation");
+}
+
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
@@ -130,6 +153,11 @@ int main(int argc, char **argv)
     int repeats = 5; /* 3 at 4e4 elements, where one round of the four variants takes 20 s */
     if (argc > 1 && strcmp(argv[1], "--quick") == 0)
         nsizes = 1, repeats = 1;
+    if (argc > 1 && strcmp(argv[1], "--header") == 0) {
+        header_times(steps, repeats);
+        header_iteration();
+        return 0;
+    }
     if (argc > 1 && strcmp(argv[1], "--one") == 0) {
         /* one run in this process, for perf: --one newton|nochord|old|ipopt EDGE (BENCH_VERBOSE=1: its
          * iterations on stderr) */
@@ -148,14 +176,7 @@ int main(int argc, char **argv)
                r.factor_seconds, r.chord_steps, r.stress, r.converged ? "" : " NOT CONVERGED");
         return r.ok && r.converged ? 0 : 1;
     }
-    printf("plume bench: tilted 45 deg traction, E_xx/E_yy = 1e4, constraint on, aligned mesh, %d steps to 5%% strain\n"
-           "(each figure the fastest of %d runs, %d at 4e4 elements, the variants alternating)\n", steps, repeats,
-           repeats < 3 ? repeats : 3);
-    printf("%9s | %44s | %13s | %13s | %23s | %13s | %8s\n", "", "time to 5% strain (s)", "ip/nt ratio",
-           "iterations", "factorisations/step", "peak MiB", "");
-    printf("%9s | %7s %7s %7s %7s %6s %6s | %6s %6s | %6s %6s | %7s %7s %7s | %6s %6s | %8s\n", "elements", "newton",
-           "nochord", "old", "ipopt", "nc/nt", "old/nt", "wall", "cpu", "newton", "ipopt", "newton", "nochord", "old",
-           "newton", "ipopt", "dstress");
+    header_times(steps, repeats);
     run_result rn[3], rc[3], ro[3], ri[3];
     for (int k = 0; k < nsizes; k++) {
         /* each variant `repeats` times, alternating, keeping each one's fastest run: on a shared
@@ -180,11 +201,7 @@ int main(int argc, char **argv)
     printf("(nochord: newton without chord steps; old: the previous release's native solver; newton's\n"
            " iterations count its chord steps too (listed below); factorisations per load step over the %d\n"
            " steps and the small-strain probe; dstress: largest relative difference of the final stress)\n", steps);
-    printf("\nnewton's time per iteration (chord steps, which factorise nothing, included) against one\n"
-           "CHOLMOD numeric factorisation (the SPD matrix H + J^T J / dc of the eliminated KKT system;\n"
-           "symbolic analysis done once per run, not counted):\n");
-    printf("%9s | %12s %14s %7s | %11s | %s\n", "elements", "iteration ms", "factorisation ms", "ratio", "chord steps",
-           "max violation");
+    header_iteration();
     for (int k = 0; k < nsizes; k++) {
         double it = 1e3 * rn[k].seconds / rn[k].iterations, fa = 1e3 * rn[k].factor_seconds / rn[k].factorizations;
         printf("%9ld | %12.2f %14.2f %7.2f | %11d | %.1e\n", rn[k].elements, it, fa, it / fa, rn[k].chord_steps,

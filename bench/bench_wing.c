@@ -6,7 +6,8 @@
  * barrier also with adaptive time steps ("adaptive_dt", dt_max one frame: the stepper covers each
  * frame's interval in steps it picks, figures per nominal step of dt); then the barrier's time per
  * Newton iteration split into evaluation, assembly, contact and the rest.
- * bench_wing [SCENE [--barrier]]: --barrier runs the barrier alone (the penalty takes minutes). */
+ * bench_wing [SCENE [--barrier]]: --barrier runs the barrier alone (the penalty takes minutes);
+ * bench_wing --header prints the tables' titles and column lines alone. */
 #define _DEFAULT_SOURCE
 #include <limits.h>
 #include <math.h>
@@ -70,15 +71,35 @@ static double cpu_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-int main(int argc, char **argv)
+/* the two tables' titles and column lines; `bench_wing --header` prints them alone, for the
+ * default scene (the check of docs/benchmarks.md, scripts/bench-tables.py, compares them with the
+ * page) */
+static void header_models(const char *scene)
 {
-    plume_openmp_serial();
-    const char *scene = argc > 1 ? argv[1] : "data/bird/wing.json";
-    const char *models[3] = {"barrier", "adaptive", "penalty"};
-    const double stiffness[3] = {1.0, 1.0, 1e11};
     printf("\nplume bench (wing): %s, first %d steps, barrier + CCD against the paper's penalty\n", scene, STEPS);
     printf("%-8s %9s | %8s %8s %8s %7s %6s | %6s %6s %6s %6s | %6s %9s %11s | %s\n", "model", "elements", "s/frame", "s/step", "it/step",
            "halved", "limit", "broad", "narrow", "ccd", "rest", "pairs", "intersect", "min gap", "vs barrier");
+}
+
+static void header_iteration(void)
+{
+    printf("\nbarrier, per Newton iteration (CPU ms; broad phase + CCD: wall): total | energy+gradient+constraints | Hessian blocks | "
+           "scatter | broad phase+CCD | rest (factorisation, solves, pattern rebuilds) | Hessians assembled per iteration | "
+           "broad-phase searches / queries\n");
+}
+
+int main(int argc, char **argv)
+{
+    const char *scene = argc > 1 ? argv[1] : "data/bird/wing.json";
+    if (!strcmp(scene, "--header")) {
+        header_models("data/bird/wing.json");
+        header_iteration();
+        return 0;
+    }
+    plume_openmp_serial();
+    const char *models[3] = {"barrier", "adaptive", "penalty"};
+    const double stiffness[3] = {1.0, 1.0, 1e11};
+    header_models(scene);
     double t_barrier = NAN, split[6] = {NAN, NAN, NAN, NAN, NAN, NAN}, split_hessians = NAN;
     long broad_queries = 0, broad_searches = 0;
     const int nmodels = argc > 2 && !strcmp(argv[2], "--barrier") ? 1 : 3; /* profiling: the barrier alone */
@@ -162,9 +183,7 @@ int main(int argc, char **argv)
     }
     printf("(s/frame: s/step times the scene's output_every; pairs: most contact stencils of an update; intersect: steps with an intersecting triangle pair, CGAL exact "
            "audit, self-intersections included; min gap: smallest distance between primitives of different bodies)\n");
-    printf("\nbarrier, per Newton iteration (CPU ms; broad phase + CCD: wall): total | energy+gradient+constraints | Hessian blocks | "
-           "scatter | broad phase+CCD | rest (factorisation, solves, pattern rebuilds) | Hessians assembled per iteration | "
-           "broad-phase searches / queries\n");
+    header_iteration();
     printf("%8.2f | %8.2f | %8.2f | %8.2f | %8.2f | %8.2f | %.2f | %ld / %ld\n", 1e3 * split[0], 1e3 * split[1],
            1e3 * split[2], 1e3 * split[3], 1e3 * split[4], 1e3 * split[5], split_hessians, broad_searches, broad_queries);
     return 0;

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # `make test`: the C suite (tests/run_tests), then the Python package's suite (tests/python/run.py,
 # against the library just built), then the commands README.md and docs/ mark runnable
-# (scripts/doc-commands.py). Each prints "N passed, N failed"; the last line here adds them up, and
-# the exit status is non-zero when anything failed. TESTS=substring runs the C tests whose names
-# contain it, the Python suite only when it contains "python", the documented commands only when
-# it contains "docs".
+# (scripts/doc-commands.py), then the benchmark tables of docs/benchmarks.md against the bench
+# programs (scripts/bench-tables.py check). Each prints "N passed, N failed"; the last line here adds
+# them up, and the exit status is non-zero when anything failed. TESTS=substring runs the C tests
+# whose names contain it, the Python suite only when it contains "python", the documented commands
+# only when it contains "docs", the benchmark tables when it contains "docs" or "bench".
 set -uo pipefail
 build=${1:-build}
 filter=${TESTS:-}
@@ -62,6 +63,12 @@ if [ -z "$filter" ] || [[ "$filter" == *docs* ]]; then
     esac
     BUILD="$abs_build" python3 ../scripts/doc-commands.py 2>&1 | tee "$log"
     count "the documented commands"
+fi
+# the benchmark tables of docs/benchmarks.md against the bench programs' headers
+# (scripts/bench-tables.py check: runs `bench_NAME --header`, not the benchmarks)
+if [ -z "$filter" ] || [[ "$filter" == *docs* ]] || [[ "$filter" == *bench* ]]; then
+    python3 ../scripts/bench-tables.py check "$build" 2>&1 | tee "$log"
+    count "the benchmark tables"
 fi
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
