@@ -241,6 +241,149 @@ static plume_status follow(const plume_json_ctx *c, const kinematic_body *b, plu
     return PLUME_OK;
 }
 
+/* An elastic object's mesh into sub (map/nobj: an OBJ mesh's vertex map), parsed like the top-level
+ * "mesh" with errors under the object's key (cc), its material ids checked against the scene's,
+ * its size and its constrained edges. */
+static plume_status object_mesh(const plume_json_ctx *c, const plume_json_ctx *cc, json_t *jo, const plume_scene *s,
+                                const plume_scene_load_opts *o, plume_scene *sub, plume_index **map, plume_index *nobj)
+{
+    json_t *jm = json_object_get(jo, "mesh");
+    if (!json_is_object(jm))
+        return plume_json_bad(cc, PLUME_EFORMAT, "mesh", "must be an object {\"feather\": ...}, {\"obj\": ...} or "
+                                                         "{\"rectangle\": ...}");
+    int feather = json_object_get(jm, "feather") != NULL, rectangle = json_object_get(jm, "rectangle") != NULL;
+    if (feather + rectangle + (json_object_get(jm, "obj") != NULL) != 1)
+        return plume_json_bad(cc, PLUME_EFORMAT, "mesh", "needs one of \"obj\", \"feather\" or \"rectangle\"");
+    plume_status st;
+    if (feather)
+        st = plume_scene_mesh_from_feather(cc, jm, sub, o);
+    else if (rectangle)
+        st = plume_scene_mesh_from_rectangle(cc, jm, sub, o);
+    else
+        st = plume_scene_mesh_from_obj(cc, jm, sub, map, nobj);
+    if (st != PLUME_OK)
+        return st;
+    const plume_mesh *m = sub->mesh;
+    for (plume_index t = 0; t < m->nt; t++)
+        if (m->material[t] < 0 || m->material[t] >= s->nmat)
+            return plume_json_bad(cc, PLUME_EINVAL, "mesh", "uses material %d (triangle %ld), but materials has %d entr%s",
+                                  m->material[t], (long)t, s->nmat, s->nmat == 1 ? "y" : "ies");
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (plume_index i = 0; i < m->nv; i++)
+        for (int a = 0; a < 2; a++)
+            lo[a] = fmin(lo[a], m->X[2 * i + a]), hi[a] = fmax(hi[a], m->X[2 * i + a]);
+    sub->length = hypot(hi[0] - lo[0], hi[1] - lo[1]);
+    return plume_scene_constrained_edges(sub, c->err);
+}
+
+/* The object's "handles", added to the scene, selecting in the object's own mesh sub. */
+static plume_status object_handles(const plume_json_ctx *c, const plume_json_ctx *cc, json_t *jo, plume_scene *s,
+                                   const plume_scene *sub, const plume_index *map, plume_index nobj)
+{
+    json_t *jh = json_object_get(jo, "handles");
+    if (jh && !json_is_array(jh))
+        return plume_json_bad(cc, PLUME_EFORMAT, "handles", "must be an array of handles");
+    plume_status st = PLUME_OK;
+    for (size_t k = 0; jh && k < json_array_size(jh); k++) {
+        char kp[PLUME_JSON_KEY_MAX];
+        plume_handle *h;
+        plume_json_subindex(kp, "handles", k);
+        if ((st = add_handle(c, s, 0, &h, NULL)) != PLUME_OK ||
+            (st = plume_scene_parse_handle(cc, json_array_get(jh, k), kp, sub, map, nobj, h)) != PLUME_OK)
+            return st;
+    }
+    return st;
+}
+
+/* The object's "attach" (ja, not NULL): a handle of the vertices it selects in sub that follows the
+ * kinematic body it names. */
+static plume_status object_attach(const plume_json_ctx *c, const plume_json_ctx *cc, json_t *ja, plume_scene *s,
+                                  const plume_scene *sub, const plume_index *map, plume_index nobj,
+                                  const kinematic_body *kin, int nkin)
+{
+    static const char *const keys[] = {"to", "near", "radius", "vertices", "box", NULL};
+    if (!json_is_object(ja))
+        return plume_json_bad(cc, PLUME_EFORMAT, "attach", "must be an object {\"to\": kinematic object, selector}");
+    plume_status st;
+    if ((st = plume_json_check_keys(cc, ja, "attach", keys)) != PLUME_OK)
+        return st;
+    json_t *jt = json_object_get(ja, "to");
+    const char *to = json_is_string(jt) ? json_string_value(jt) : NULL;
+    int b = 0;
+    while (to && b < nkin && strcmp(kin[b].name, to) != 0)
+        b++;
+    if (!to || b == nkin)
+        return plume_json_bad(cc, PLUME_EINVAL, "attach.to", "must name a kinematic object (got %s%s%s)", to ? "\"" : "",
+                              to ? to : "no name", to ? "\"" : "");
+    plume_index *ids = NULL, n = 0;
+    plume_handle *h;
+    if ((st = add_handle(c, s, sub->mesh->nv + 1, &h, &ids)) != PLUME_OK ||
+        (st = plume_scene_select(cc, ja, "attach", sub, map, nobj, ids, &n)) != PLUME_OK ||
+        (st = follow(c, kin + b, ids, n, h)) != PLUME_OK)
+        return st;
+    return PLUME_OK;
+}
+
+/* The object's handles (s->handles[h0..]) over its nv vertices: refused if a vertex is in two of
+ * them (it would follow two paths), then renumbered to the merged mesh (from v0). */
+static plume_status own_handles(const plume_json_ctx *c, const plume_json_ctx *cc, plume_scene *s, int h0,
+                                plume_index nv, int has_attach, plume_index v0)
+{
+    plume_index *owner = malloc((size_t)(nv + 1) * sizeof *owner);
+    if (!owner)
+        return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+    for (plume_index i = 0; i < nv; i++)
+        owner[i] = -1;
+    plume_status st = PLUME_OK;
+    for (int h = h0; h < s->nhandles && st == PLUME_OK; h++) {
+        plume_index *ids = (plume_index *)s->handles[h].vertices;
+        for (plume_index i = 0; i < s->handles[h].nvertices; i++) {
+            if (owner[ids[i]] >= 0 && owner[ids[i]] != h) {
+                st = plume_json_bad(cc, PLUME_EINVAL, has_attach && h == s->nhandles - 1 ? "attach" : "handles",
+                                    "shares vertex %ld with another handle of the object: a vertex can follow one handle only",
+                                    (long)ids[i]);
+                break;
+            }
+            owner[ids[i]] = h;
+        }
+        for (plume_index i = 0; st == PLUME_OK && i < s->handles[h].nvertices; i++)
+            ids[i] += v0;
+    }
+    free(owner);
+    return st;
+}
+
+/* Appends the object's mesh and barb edges (sub) to mg, placed by pl. */
+static plume_status append_placed(const plume_json_ctx *c, const plume_scene *sub, const placement *pl, merged *mg)
+{
+    const plume_mesh *m = sub->mesh;
+    const plume_index v0 = mg->nv;
+    if (!grow((void **)&mg->X, (size_t)(2 * (mg->nv + m->nv)), sizeof *mg->X) ||
+        !grow((void **)&mg->x, (size_t)(3 * (mg->nv + m->nv)), sizeof *mg->x) ||
+        !grow((void **)&mg->tri, (size_t)(3 * (mg->nt + m->nt)), sizeof *mg->tri) ||
+        !grow((void **)&mg->bd, (size_t)(2 * (mg->nt + m->nt)), sizeof *mg->bd) ||
+        !grow((void **)&mg->mat, (size_t)(mg->nt + m->nt), sizeof *mg->mat) ||
+        !grow((void **)&mg->barb, (size_t)(2 * (mg->nbarb + sub->nbarb)), sizeof *mg->barb))
+        return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+    for (plume_index i = 0; i < m->nv; i++) {
+        double y[3] = {m->X[2 * i], m->X[2 * i + 1], 0.0};
+        mg->X[2 * (v0 + i)] = pl->scale * y[0];
+        mg->X[2 * (v0 + i) + 1] = pl->scale * y[1];
+        place_point(pl, y, mg->x + 3 * (v0 + i));
+    }
+    for (plume_index t = 0; t < m->nt; t++) {
+        for (int k = 0; k < 3; k++)
+            mg->tri[3 * (mg->nt + t) + k] = m->tri[3 * t + k] + v0;
+        mg->bd[2 * (mg->nt + t)] = m->barb_dir[2 * t];
+        mg->bd[2 * (mg->nt + t) + 1] = m->barb_dir[2 * t + 1];
+        mg->mat[mg->nt + t] = m->material[t];
+    }
+    for (plume_index k = 0; k < 2 * sub->nbarb; k++)
+        mg->barb[2 * mg->nbarb + k] = sub->barb_edges[k] + v0;
+    mg->nv += m->nv, mg->nt += m->nt, mg->nbarb += sub->nbarb;
+    return PLUME_OK;
+}
+
 /* An elastic object: its mesh (parsed like the top-level "mesh", errors under its key), placement,
  * handles and attachments, appended to mg; its vertices become v0 = mg->nv on. */
 static plume_status parse_elastic(const plume_json_ctx *c, json_t *jo, const char *where, plume_scene *s,
@@ -253,132 +396,21 @@ static plume_status parse_elastic(const plume_json_ctx *c, json_t *jo, const cha
     sub.path = s->path;
     sub.nmat = s->nmat;
     sub.mats = s->mats;
-    plume_index *map = NULL, nobj = 0, *owner = NULL;
+    plume_index *map = NULL, nobj = 0;
     placement pl;
     plume_status st;
     int h0 = s->nhandles;
     if ((st = parse_place(c, jo, where, &pl)) != PLUME_OK)
         return st;
-    json_t *jm = json_object_get(jo, "mesh");
-    if (!json_is_object(jm))
-        return plume_json_bad(&cc, PLUME_EFORMAT, "mesh", "must be an object {\"feather\": ...}, {\"obj\": ...} or "
-                                                          "{\"rectangle\": ...}");
-    int feather = json_object_get(jm, "feather") != NULL, rectangle = json_object_get(jm, "rectangle") != NULL;
-    if (feather + rectangle + (json_object_get(jm, "obj") != NULL) != 1)
-        return plume_json_bad(&cc, PLUME_EFORMAT, "mesh", "needs one of \"obj\", \"feather\" or \"rectangle\"");
-    if (feather)
-        st = plume_scene_mesh_from_feather(&cc, jm, &sub, o);
-    else if (rectangle)
-        st = plume_scene_mesh_from_rectangle(&cc, jm, &sub, o);
-    else
-        st = plume_scene_mesh_from_obj(&cc, jm, &sub, &map, &nobj);
-    if (st != PLUME_OK)
-        goto done;
-    const plume_mesh *m = sub.mesh;
-    for (plume_index t = 0; t < m->nt; t++)
-        if (m->material[t] < 0 || m->material[t] >= s->nmat) {
-            st = plume_json_bad(&cc, PLUME_EINVAL, "mesh", "uses material %d (triangle %ld), but materials has %d entr%s",
-                                m->material[t], (long)t, s->nmat, s->nmat == 1 ? "y" : "ies");
-            goto done;
-        }
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    for (plume_index i = 0; i < m->nv; i++)
-        for (int a = 0; a < 2; a++)
-            lo[a] = fmin(lo[a], m->X[2 * i + a]), hi[a] = fmax(hi[a], m->X[2 * i + a]);
-    sub.length = hypot(hi[0] - lo[0], hi[1] - lo[1]);
-    if ((st = plume_scene_constrained_edges(&sub, c->err)) != PLUME_OK)
-        goto done;
     /* handles and the attachment select in the object's own reference (before "place") */
-    plume_index v0 = mg->nv;
-    json_t *jh = json_object_get(jo, "handles");
-    if (jh && !json_is_array(jh)) {
-        st = plume_json_bad(&cc, PLUME_EFORMAT, "handles", "must be an array of handles");
-        goto done;
-    }
-    for (size_t k = 0; jh && k < json_array_size(jh); k++) {
-        char kp[PLUME_JSON_KEY_MAX];
-        plume_handle *h;
-        plume_json_subindex(kp, "handles", k);
-        if ((st = add_handle(c, s, 0, &h, NULL)) != PLUME_OK ||
-            (st = plume_scene_parse_handle(&cc, json_array_get(jh, k), kp, &sub, map, nobj, h)) != PLUME_OK)
-            goto done;
-    }
     json_t *ja = json_object_get(jo, "attach");
-    if (ja) {
-        static const char *const keys[] = {"to", "near", "radius", "vertices", "box", NULL};
-        if (!json_is_object(ja)) {
-            st = plume_json_bad(&cc, PLUME_EFORMAT, "attach", "must be an object {\"to\": kinematic object, selector}");
-            goto done;
-        }
-        if ((st = plume_json_check_keys(&cc, ja, "attach", keys)) != PLUME_OK)
-            goto done;
-        json_t *jt = json_object_get(ja, "to");
-        const char *to = json_is_string(jt) ? json_string_value(jt) : NULL;
-        int b = 0;
-        while (to && b < nkin && strcmp(kin[b].name, to) != 0)
-            b++;
-        if (!to || b == nkin) {
-            st = plume_json_bad(&cc, PLUME_EINVAL, "attach.to", "must name a kinematic object (got %s%s%s)", to ? "\"" : "",
-                                to ? to : "no name", to ? "\"" : "");
-            goto done;
-        }
-        plume_index *ids = NULL, n = 0;
-        plume_handle *h;
-        if ((st = add_handle(c, s, m->nv + 1, &h, &ids)) != PLUME_OK ||
-            (st = plume_scene_select(&cc, ja, "attach", &sub, map, nobj, ids, &n)) != PLUME_OK ||
-            (st = follow(c, kin + b, ids, n, h)) != PLUME_OK)
-            goto done;
-    }
-    /* a vertex in two of the object's handles would follow two paths */
-    owner = malloc((size_t)(m->nv + 1) * sizeof *owner);
-    if (!owner) {
-        st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+    if ((st = object_mesh(c, &cc, jo, s, o, &sub, &map, &nobj)) != PLUME_OK ||
+        (st = object_handles(c, &cc, jo, s, &sub, map, nobj)) != PLUME_OK ||
+        (ja && (st = object_attach(c, &cc, ja, s, &sub, map, nobj, kin, nkin)) != PLUME_OK) ||
+        (st = own_handles(c, &cc, s, h0, sub.mesh->nv, ja != NULL, mg->nv)) != PLUME_OK)
         goto done;
-    }
-    for (plume_index i = 0; i < m->nv; i++)
-        owner[i] = -1;
-    for (int h = h0; h < s->nhandles; h++) {
-        plume_index *ids = (plume_index *)s->handles[h].vertices;
-        for (plume_index i = 0; i < s->handles[h].nvertices; i++) {
-            if (owner[ids[i]] >= 0 && owner[ids[i]] != h) {
-                st = plume_json_bad(&cc, PLUME_EINVAL, ja && h == s->nhandles - 1 ? "attach" : "handles",
-                                    "shares vertex %ld with another handle of the object: a vertex can follow one handle only",
-                                    (long)ids[i]);
-                goto done;
-            }
-            owner[ids[i]] = h;
-        }
-        for (plume_index i = 0; i < s->handles[h].nvertices; i++)
-            ids[i] += v0;
-    }
-    /* append, placed */
-    if (!grow((void **)&mg->X, (size_t)(2 * (mg->nv + m->nv)), sizeof *mg->X) ||
-        !grow((void **)&mg->x, (size_t)(3 * (mg->nv + m->nv)), sizeof *mg->x) ||
-        !grow((void **)&mg->tri, (size_t)(3 * (mg->nt + m->nt)), sizeof *mg->tri) ||
-        !grow((void **)&mg->bd, (size_t)(2 * (mg->nt + m->nt)), sizeof *mg->bd) ||
-        !grow((void **)&mg->mat, (size_t)(mg->nt + m->nt), sizeof *mg->mat) ||
-        !grow((void **)&mg->barb, (size_t)(2 * (mg->nbarb + sub.nbarb)), sizeof *mg->barb)) {
-        st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
-        goto done;
-    }
-    for (plume_index i = 0; i < m->nv; i++) {
-        double y[3] = {m->X[2 * i], m->X[2 * i + 1], 0.0};
-        mg->X[2 * (v0 + i)] = pl.scale * y[0];
-        mg->X[2 * (v0 + i) + 1] = pl.scale * y[1];
-        place_point(&pl, y, mg->x + 3 * (v0 + i));
-    }
-    for (plume_index t = 0; t < m->nt; t++) {
-        for (int k = 0; k < 3; k++)
-            mg->tri[3 * (mg->nt + t) + k] = m->tri[3 * t + k] + v0;
-        mg->bd[2 * (mg->nt + t)] = m->barb_dir[2 * t];
-        mg->bd[2 * (mg->nt + t) + 1] = m->barb_dir[2 * t + 1];
-        mg->mat[mg->nt + t] = m->material[t];
-    }
-    for (plume_index k = 0; k < 2 * sub.nbarb; k++)
-        mg->barb[2 * mg->nbarb + k] = sub.barb_edges[k] + v0;
-    mg->nv += m->nv, mg->nt += m->nt, mg->nbarb += sub.nbarb;
+    st = append_placed(c, &sub, &pl, mg);
 done:
-    free(owner);
     free(map);
     plume_mesh_destroy(&sub.mesh);
     free(sub.barb_edges);
