@@ -431,9 +431,134 @@ static plume_status copy_mesh_part(const merged *mg, plume_index nt, plume_mesh 
     return PLUME_OK;
 }
 
-plume_status plume_scene_parse_objects(const plume_json_ctx *c, json_t *v, plume_scene *s, const plume_scene_load_opts *o)
+/* The objects' heads, before any mesh: each an object with known keys, a unique non-empty name and
+ * exactly one of "mesh" and "kinematic" (a kinematic one with no handles or attach); the kinematic
+ * bodies parsed into kin[0 .. *nkin) (attachments refer to them by name). */
+static plume_status parse_heads(const plume_json_ctx *c, json_t *v, kinematic_body *kin, int *nkin)
 {
     static const char *const keys[] = {"name", "mesh", "kinematic", "place", "handles", "attach", NULL};
+    plume_status st;
+    for (size_t k = 0; k < json_array_size(v); k++) {
+        char kp[PLUME_JSON_KEY_MAX], kn[PLUME_JSON_KEY_MAX];
+        json_t *jo = json_array_get(v, k);
+        plume_json_subindex(kp, "objects", k);
+        if (!json_is_object(jo))
+            return plume_json_bad(c, PLUME_EFORMAT, kp, "must be an object");
+        if ((st = plume_json_check_keys(c, jo, kp, keys)) != PLUME_OK)
+            return st;
+        json_t *jn = json_object_get(jo, "name");
+        plume_json_subkey(kn, kp, "name");
+        if (!json_is_string(jn) || !*json_string_value(jn))
+            return plume_json_bad(c, PLUME_EFORMAT, kn, jn ? "must be a non-empty string" : "is missing (every object has a name)");
+        for (size_t j = 0; j < k; j++)
+            if (strcmp(json_string_value(json_object_get(json_array_get(v, j), "name")), json_string_value(jn)) == 0)
+                return plume_json_bad(c, PLUME_EINVAL, kn, "\"%s\" is also the name of objects[%zu]", json_string_value(jn), j);
+        int is_kin = json_object_get(jo, "kinematic") != NULL;
+        if (is_kin == (json_object_get(jo, "mesh") != NULL))
+            return plume_json_bad(c, PLUME_EFORMAT, kp, "needs exactly one of \"mesh\" (an elastic shell) and \"kinematic\" "
+                                                        "(a rigid body moved by keyframes)");
+        if (is_kin && (json_object_get(jo, "handles") || json_object_get(jo, "attach")))
+            return plume_json_bad(c, PLUME_EINVAL, kp, "is kinematic: its keyframes move all of it (no handles or attach)");
+        if (is_kin) {
+            kin[*nkin].name = json_string_value(jn);
+            if ((st = parse_kinematic(c, jo, kp, kin + (*nkin)++)) != PLUME_OK)
+                return st;
+        }
+    }
+    return PLUME_OK;
+}
+
+/* The elastic objects, in the list's order, appended to mg and recorded in s->objects. */
+static plume_status add_elastic_objects(const plume_json_ctx *c, json_t *v, plume_scene *s, const plume_scene_load_opts *o,
+                                        const kinematic_body *kin, int nkin, merged *mg)
+{
+    for (size_t k = 0; k < json_array_size(v); k++) {
+        json_t *jo = json_array_get(v, k);
+        if (json_object_get(jo, "kinematic"))
+            continue;
+        char kp[PLUME_JSON_KEY_MAX];
+        plume_json_subindex(kp, "objects", k);
+        plume_scene_object *ob = s->objects + s->nobjects;
+        ob->v0 = mg->nv, ob->t0 = mg->nt;
+        if (!(ob->name = strdup(json_string_value(json_object_get(jo, "name")))))
+            return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+        s->nobjects++;
+        plume_status st = parse_elastic(c, jo, kp, s, o, kin, nkin, mg);
+        if (st != PLUME_OK)
+            return st;
+        ob->nv = mg->nv - ob->v0, ob->nt = mg->nt - ob->t0;
+    }
+    return PLUME_OK;
+}
+
+/* Kinematic body kb appended to mg (held by a handle that follows its keyframes) and recorded in
+ * s->objects. */
+static plume_status add_kinematic_object(const plume_json_ctx *c, const kinematic_body *kb, plume_scene *s, merged *mg)
+{
+    plume_scene_object *ob = s->objects + s->nobjects;
+    ob->v0 = mg->nv, ob->t0 = mg->nt, ob->nv = kb->nv, ob->nt = kb->nt, ob->kinematic = 1;
+    if (!(ob->name = strdup(kb->name)) ||
+        !grow((void **)&mg->X, (size_t)(2 * (mg->nv + kb->nv)), sizeof *mg->X) ||
+        !grow((void **)&mg->x, (size_t)(3 * (mg->nv + kb->nv)), sizeof *mg->x) ||
+        !grow((void **)&mg->tri, (size_t)(3 * (mg->nt + kb->nt)), sizeof *mg->tri) ||
+        !grow((void **)&mg->bd, (size_t)(2 * (mg->nt + kb->nt)), sizeof *mg->bd) ||
+        !grow((void **)&mg->mat, (size_t)(mg->nt + kb->nt), sizeof *mg->mat)) {
+        free(ob->name);
+        ob->name = NULL;
+        return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+    }
+    s->nobjects++;
+    plume_index *ids = NULL;
+    plume_handle *h;
+    plume_status st;
+    if ((st = add_handle(c, s, kb->nv, &h, &ids)) != PLUME_OK)
+        return st;
+    for (plume_index i = 0; i < kb->nv; i++) {
+        ids[i] = mg->nv + i;
+        /* no flat reference: X is the projection, used by nothing elastic */
+        mg->X[2 * (mg->nv + i)] = kb->y[3 * i], mg->X[2 * (mg->nv + i) + 1] = kb->y[3 * i + 1];
+        memcpy(mg->x + 3 * (mg->nv + i), kb->y + 3 * i, 3 * sizeof *mg->x);
+    }
+    if ((st = follow(c, kb, ids, kb->nv, h)) != PLUME_OK)
+        return st;
+    for (plume_index t = 0; t < kb->nt; t++) {
+        for (int a = 0; a < 3; a++)
+            mg->tri[3 * (mg->nt + t) + a] = kb->tri[3 * t + a] + mg->nv;
+        mg->bd[2 * (mg->nt + t)] = 1.0, mg->bd[2 * (mg->nt + t) + 1] = 0.0;
+        mg->mat[mg->nt + t] = 0; /* a density for the (fixed) vertices' lumped mass; no energy */
+    }
+    mg->nv += kb->nv, mg->nt += kb->nt;
+    return PLUME_OK;
+}
+
+/* The scene's mesh from mg, its elastic part (the first nt_elastic triangles) for the elastic terms
+ * when there are kinematic bodies, its barb edges (taken from mg) and its size. */
+static plume_status merged_meshes(const plume_json_ctx *c, merged *mg, plume_index nt_elastic, int nkin, plume_scene *s)
+{
+    plume_err e2 = {{0}};
+    plume_status st;
+    if ((st = copy_mesh_part(mg, mg->nt, &s->mesh, c->err)) != PLUME_OK)
+        return st;
+    if ((st = plume_mesh_build_topology_rigid(s->mesh, nt_elastic, &e2)) != PLUME_OK)
+        return plume_json_bad(c, st, "objects", "do not make a valid mesh: %s", e2.msg);
+    if (nkin > 0) {
+        if ((st = copy_mesh_part(mg, nt_elastic, &s->elastic, c->err)) != PLUME_OK)
+            return st;
+        if ((st = plume_mesh_build_topology(s->elastic, &e2)) != PLUME_OK)
+            return plume_json_bad(c, st, "objects", "do not make a valid mesh: %s", e2.msg);
+    }
+    s->barb_edges = mg->barb, s->nbarb = mg->nbarb;
+    mg->barb = NULL;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (plume_index i = 0; i < mg->nv; i++)
+        for (int a = 0; a < 3; a++)
+            lo[a] = fmin(lo[a], mg->x[3 * i + a]), hi[a] = fmax(hi[a], mg->x[3 * i + a]);
+    s->length = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    return PLUME_OK;
+}
+
+plume_status plume_scene_parse_objects(const plume_json_ctx *c, json_t *v, plume_scene *s, const plume_scene_load_opts *o)
+{
     if (!json_is_array(v) || json_array_size(v) < 1)
         return plume_json_bad(c, PLUME_EFORMAT, "objects", "must be a non-empty array of objects ({\"name\", \"mesh\", "
                                                            "\"place\", ...} or {\"name\", \"kinematic\", ...})");
@@ -448,126 +573,18 @@ plume_status plume_scene_parse_objects(const plume_json_ctx *c, json_t *v, plume
         st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
         goto done;
     }
-    /* names and kinds first: attachments refer to kinematic bodies by name */
-    for (size_t k = 0; k < n; k++) {
-        char kp[PLUME_JSON_KEY_MAX], kn[PLUME_JSON_KEY_MAX];
-        json_t *jo = json_array_get(v, k);
-        plume_json_subindex(kp, "objects", k);
-        if (!json_is_object(jo)) {
-            st = plume_json_bad(c, PLUME_EFORMAT, kp, "must be an object");
-            goto done;
-        }
-        if ((st = plume_json_check_keys(c, jo, kp, keys)) != PLUME_OK)
-            goto done;
-        json_t *jn = json_object_get(jo, "name");
-        plume_json_subkey(kn, kp, "name");
-        if (!json_is_string(jn) || !*json_string_value(jn)) {
-            st = plume_json_bad(c, PLUME_EFORMAT, kn, jn ? "must be a non-empty string" : "is missing (every object has a name)");
-            goto done;
-        }
-        for (size_t j = 0; j < k; j++)
-            if (strcmp(json_string_value(json_object_get(json_array_get(v, j), "name")), json_string_value(jn)) == 0) {
-                st = plume_json_bad(c, PLUME_EINVAL, kn, "\"%s\" is also the name of objects[%zu]", json_string_value(jn), j);
-                goto done;
-            }
-        int is_kin = json_object_get(jo, "kinematic") != NULL;
-        if (is_kin == (json_object_get(jo, "mesh") != NULL)) {
-            st = plume_json_bad(c, PLUME_EFORMAT, kp, "needs exactly one of \"mesh\" (an elastic shell) and \"kinematic\" "
-                                                      "(a rigid body moved by keyframes)");
-            goto done;
-        }
-        if (is_kin && (json_object_get(jo, "handles") || json_object_get(jo, "attach"))) {
-            st = plume_json_bad(c, PLUME_EINVAL, kp, "is kinematic: its keyframes move all of it (no handles or attach)");
-            goto done;
-        }
-        if (is_kin) {
-            kin[nkin].name = json_string_value(jn);
-            if ((st = parse_kinematic(c, jo, kp, kin + nkin++)) != PLUME_OK)
-                goto done;
-        }
-    }
-    /* the elastic objects, in order, then the kinematic ones */
-    for (size_t k = 0; k < n; k++) {
-        json_t *jo = json_array_get(v, k);
-        if (json_object_get(jo, "kinematic"))
-            continue;
-        char kp[PLUME_JSON_KEY_MAX];
-        plume_json_subindex(kp, "objects", k);
-        plume_scene_object *ob = s->objects + s->nobjects;
-        ob->v0 = mg.nv, ob->t0 = mg.nt;
-        if (!(ob->name = strdup(json_string_value(json_object_get(jo, "name"))))) {
-            st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
-            goto done;
-        }
-        s->nobjects++;
-        if ((st = parse_elastic(c, jo, kp, s, o, kin, nkin, &mg)) != PLUME_OK)
-            goto done;
-        ob->nv = mg.nv - ob->v0, ob->nt = mg.nt - ob->t0;
-    }
+    /* names and kinds first, then the elastic objects in order, then the kinematic ones */
+    if ((st = parse_heads(c, v, kin, &nkin)) != PLUME_OK || (st = add_elastic_objects(c, v, s, o, kin, nkin, &mg)) != PLUME_OK)
+        goto done;
     plume_index nt_elastic = mg.nt;
     if (nt_elastic == 0) {
         st = plume_json_bad(c, PLUME_EINVAL, "objects", "has no elastic object (one with a \"mesh\"): nothing to simulate");
         goto done;
     }
-    for (int b = 0; b < nkin; b++) {
-        kinematic_body *kb = kin + b;
-        plume_scene_object *ob = s->objects + s->nobjects;
-        ob->v0 = mg.nv, ob->t0 = mg.nt, ob->nv = kb->nv, ob->nt = kb->nt, ob->kinematic = 1;
-        if (!(ob->name = strdup(kb->name)) ||
-            !grow((void **)&mg.X, (size_t)(2 * (mg.nv + kb->nv)), sizeof *mg.X) ||
-            !grow((void **)&mg.x, (size_t)(3 * (mg.nv + kb->nv)), sizeof *mg.x) ||
-            !grow((void **)&mg.tri, (size_t)(3 * (mg.nt + kb->nt)), sizeof *mg.tri) ||
-            !grow((void **)&mg.bd, (size_t)(2 * (mg.nt + kb->nt)), sizeof *mg.bd) ||
-            !grow((void **)&mg.mat, (size_t)(mg.nt + kb->nt), sizeof *mg.mat)) {
-            free(ob->name);
-            ob->name = NULL;
-            st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+    for (int b = 0; b < nkin; b++)
+        if ((st = add_kinematic_object(c, kin + b, s, &mg)) != PLUME_OK)
             goto done;
-        }
-        s->nobjects++;
-        plume_index *ids = NULL;
-        plume_handle *h;
-        if ((st = add_handle(c, s, kb->nv, &h, &ids)) != PLUME_OK)
-            goto done;
-        for (plume_index i = 0; i < kb->nv; i++) {
-            ids[i] = mg.nv + i;
-            /* no flat reference: X is the projection, used by nothing elastic */
-            mg.X[2 * (mg.nv + i)] = kb->y[3 * i], mg.X[2 * (mg.nv + i) + 1] = kb->y[3 * i + 1];
-            memcpy(mg.x + 3 * (mg.nv + i), kb->y + 3 * i, 3 * sizeof *mg.x);
-        }
-        if ((st = follow(c, kb, ids, kb->nv, h)) != PLUME_OK)
-            goto done;
-        for (plume_index t = 0; t < kb->nt; t++) {
-            for (int a = 0; a < 3; a++)
-                mg.tri[3 * (mg.nt + t) + a] = kb->tri[3 * t + a] + mg.nv;
-            mg.bd[2 * (mg.nt + t)] = 1.0, mg.bd[2 * (mg.nt + t) + 1] = 0.0;
-            mg.mat[mg.nt + t] = 0; /* a density for the (fixed) vertices' lumped mass; no energy */
-        }
-        mg.nv += kb->nv, mg.nt += kb->nt;
-    }
-    /* the merged mesh, and its elastic part for the elastic terms */
-    plume_err e2 = {{0}};
-    if ((st = copy_mesh_part(&mg, mg.nt, &s->mesh, c->err)) != PLUME_OK)
-        goto done;
-    if ((st = plume_mesh_build_topology_rigid(s->mesh, nt_elastic, &e2)) != PLUME_OK) {
-        st = plume_json_bad(c, st, "objects", "do not make a valid mesh: %s", e2.msg);
-        goto done;
-    }
-    if (nkin > 0) {
-        if ((st = copy_mesh_part(&mg, nt_elastic, &s->elastic, c->err)) != PLUME_OK)
-            goto done;
-        if ((st = plume_mesh_build_topology(s->elastic, &e2)) != PLUME_OK) {
-            st = plume_json_bad(c, st, "objects", "do not make a valid mesh: %s", e2.msg);
-            goto done;
-        }
-    }
-    s->barb_edges = mg.barb, s->nbarb = mg.nbarb;
-    mg.barb = NULL;
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (plume_index i = 0; i < mg.nv; i++)
-        for (int a = 0; a < 3; a++)
-            lo[a] = fmin(lo[a], mg.x[3 * i + a]), hi[a] = fmax(hi[a], mg.x[3 * i + a]);
-    s->length = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    st = merged_meshes(c, &mg, nt_elastic, nkin, s);
 done:
     for (int b = 0; kin && b < nkin; b++)
         kinematic_free(kin + b);
