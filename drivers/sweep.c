@@ -137,11 +137,9 @@ static json_t *sample_values(const char *path, const char *samples_path, json_t 
     return v;
 }
 
-plume_status plume_sweep_load(const char *path, const char *samples_path, plume_sweep **out, plume_err *err)
+/* The whole sweep file as a string (*text, the caller frees it). */
+static plume_status read_sweep_file(const char *path, char **text_out, plume_err *err)
 {
-    if (!path || !out)
-        return plume_err_set(err, PLUME_EINVAL, "sweep: invalid arguments");
-    *out = NULL;
     FILE *f = plume_input_fopen(path, "rb", "sweep file", err);
     if (!f)
         return PLUME_EIO;
@@ -164,51 +162,45 @@ plume_status plume_sweep_load(const char *path, const char *samples_path, plume_
     if (!text)
         return plume_err_set(err, PLUME_ENOMEM, "sweep: out of memory");
     text[n] = '\0';
-    json_error_t je;
-    json_t *doc = json_loads(text, JSON_REJECT_DUPLICATES, &je);
-    plume_sweep *s = calloc(1, sizeof *s);
-    plume_status st = PLUME_OK;
-    if (!s) {
-        free(text);
-        json_decref(doc);
-        return plume_err_set(err, PLUME_ENOMEM, "sweep: out of memory");
-    }
-    s->text = text, s->path = strdup(path);
-    if (!doc) {
-        st = plume_err_set(err, PLUME_EFORMAT, "%s:%d:%d: %s", path, je.line, je.column, je.text);
-        goto fail;
-    }
+    *text_out = text;
+    return PLUME_OK;
+}
+
+/* The sweep document's keys, its job ("run") and its base request (a scene job's file set up). */
+static plume_status parse_job(plume_sweep *s, json_t *doc, const char *path, plume_err *err)
+{
     const char *key;
     json_t *v;
     json_object_foreach(doc, key, v) {
-        if (strcmp(key, "run") && strcmp(key, "base") && strcmp(key, "vary") && strcmp(key, "note")) {
-            st = plume_err_set(err, PLUME_EINVAL, "%s: unknown key \"%s\" (run, base, vary, note)", path, key);
-            goto fail;
-        }
+        if (strcmp(key, "run") && strcmp(key, "base") && strcmp(key, "vary") && strcmp(key, "note"))
+            return plume_err_set(err, PLUME_EINVAL, "%s: unknown key \"%s\" (run, base, vary, note)", path, key);
     }
     const char *job = json_string_value(json_object_get(doc, "run"));
-    if (!job || (strcmp(job, "traction") && strcmp(job, "homogenize") && strcmp(job, "fit") && strcmp(job, "scene"))) {
-        st = plume_err_set(err, PLUME_EINVAL, "%s: \"run\" must be \"traction\", \"homogenize\", \"fit\" or \"scene\"",
-                           path);
-        goto fail;
-    }
+    if (!job || (strcmp(job, "traction") && strcmp(job, "homogenize") && strcmp(job, "fit") && strcmp(job, "scene")))
+        return plume_err_set(err, PLUME_EINVAL, "%s: \"run\" must be \"traction\", \"homogenize\", \"fit\" or \"scene\"",
+                             path);
     s->job = strdup(job);
     s->is_scene = strcmp(job, "scene") == 0;
     json_t *base = json_object_get(doc, "base");
-    if (base && !json_is_object(base)) {
-        st = plume_err_set(err, PLUME_EINVAL, "%s: \"base\" must be an object (a %s request)", path, job);
-        goto fail;
-    }
+    if (base && !json_is_object(base))
+        return plume_err_set(err, PLUME_EINVAL, "%s: \"base\" must be an object (a %s request)", path, job);
     s->base = base ? json_deep_copy(base) : json_object();
-    if (s->is_scene && (st = plume_sweep_scene_setup(path, s->base, &s->scene, err)) != PLUME_OK)
-        goto fail;
+    if (s->is_scene)
+        return plume_sweep_scene_setup(path, s->base, &s->scene, err);
+    return PLUME_OK;
+}
+
+/* The sweep document's "vary": one axis per key (a list, a range, or for "sample" the samples
+ * named), and the number of runs they expand to. */
+static plume_status parse_vary(plume_sweep *s, json_t *doc, const char *path, const char *samples_path, plume_err *err)
+{
     json_t *vary = json_object_get(doc, "vary");
-    if (vary && !json_is_object(vary)) {
-        st = plume_err_set(err, PLUME_EINVAL, "%s: \"vary\" must be an object of key: values", path);
-        goto fail;
-    }
+    if (vary && !json_is_object(vary))
+        return plume_err_set(err, PLUME_EINVAL, "%s: \"vary\" must be an object of key: values", path);
     s->count = 1;
     s->axes = calloc(json_object_size(vary) + 1, sizeof *s->axes);
+    const char *key;
+    json_t *v;
     json_object_foreach(vary, key, v) {
         axis *a = &s->axes[s->naxes++];
         a->key = strdup(key);
@@ -221,17 +213,40 @@ plume_status plume_sweep_load(const char *path, const char *samples_path, plume_
             a->values = range_values(path, key, v, err);
         else
             plume_err_set(err, PLUME_EINVAL, "%s: vary.%s must be a non-empty list or a range", path, key);
-        if (!a->values) {
-            st = PLUME_EINVAL;
-            goto fail;
-        }
+        if (!a->values)
+            return PLUME_EINVAL;
         size_t m = json_array_size(a->values);
-        if ((double)s->count * (double)m > 1e6) {
-            st = plume_err_set(err, PLUME_EINVAL, "%s: the sweep expands to more than 10^6 runs", path);
-            goto fail;
-        }
+        if ((double)s->count * (double)m > 1e6)
+            return plume_err_set(err, PLUME_EINVAL, "%s: the sweep expands to more than 10^6 runs", path);
         s->count *= (int)m;
     }
+    return PLUME_OK;
+}
+
+plume_status plume_sweep_load(const char *path, const char *samples_path, plume_sweep **out, plume_err *err)
+{
+    if (!path || !out)
+        return plume_err_set(err, PLUME_EINVAL, "sweep: invalid arguments");
+    *out = NULL;
+    char *text = NULL;
+    plume_status st = read_sweep_file(path, &text, err);
+    if (st != PLUME_OK)
+        return st;
+    json_error_t je;
+    json_t *doc = json_loads(text, JSON_REJECT_DUPLICATES, &je);
+    plume_sweep *s = calloc(1, sizeof *s);
+    if (!s) {
+        free(text);
+        json_decref(doc);
+        return plume_err_set(err, PLUME_ENOMEM, "sweep: out of memory");
+    }
+    s->text = text, s->path = strdup(path);
+    if (!doc) {
+        st = plume_err_set(err, PLUME_EFORMAT, "%s:%d:%d: %s", path, je.line, je.column, je.text);
+        goto fail;
+    }
+    if ((st = parse_job(s, doc, path, err)) != PLUME_OK || (st = parse_vary(s, doc, path, samples_path, err)) != PLUME_OK)
+        goto fail;
     json_decref(doc);
     /* every run's request must be well formed before anything runs: check run 0's keys */
     char *req = NULL, *vals = NULL;
