@@ -621,6 +621,98 @@ static double last_value(hid_t g, const char *name)
     return v;
 }
 
+/* What the summary adds up over the recorded runs. */
+typedef struct {
+    int recorded, converged;
+    double total; /* seconds */
+} summary_totals;
+
+/* The summary table's title and header: a scene run's columns are its steps, time, displacement
+ * and contact distance, another run's its last strain and stress. */
+static void summary_header(FILE *md, const plume_sweep *s)
+{
+    if (s->is_scene)
+        fprintf(md, "# plume sweep: %s, %d runs (%s)\n\n| run | values | outcome | %s | seconds |\n"
+                    "|---|---|---|---|---|---|---|---|\n",
+                s->job, s->count, s->path, plume_sweep_scene_summary_header);
+    else
+        fprintf(md, "# plume sweep: %s, %d runs (%s)\n\n| run | values | outcome | strain | stress (Pa) | seconds |\n"
+                    "|---|---|---|---|---|---|\n",
+                s->job, s->count, s->path);
+}
+
+/* The run group's "seconds" attribute, NaN without one. */
+static double run_seconds(hid_t g)
+{
+    double seconds = NAN;
+    if (H5Aexists(g, "seconds") > 0) {
+        hid_t a = H5Aopen(g, "seconds", H5P_DEFAULT);
+        H5Aread(a, H5T_NATIVE_DOUBLE, &seconds);
+        H5Aclose(a);
+    }
+    return seconds;
+}
+
+/* Recorded run k (its group g): its row of the table (md, may be NULL) and of the JSON array, and
+ * its share of the totals. */
+static void summarize_run(hid_t g, int k, const plume_sweep *s, FILE *md, json_t *arr, summary_totals *tot)
+{
+    char *values = attr_string(g, "values"), *outcome = attr_string(g, "outcome"), *rec = attr_string(g, "record");
+    json_t *rj = rec ? json_loads(rec, 0, NULL) : NULL;
+    const char *message = json_string_value(json_object_get(rj, "message"));
+    double seconds = run_seconds(g), strain = last_value(g, "strain"), stress = last_value(g, "stress");
+    tot->recorded++;
+    tot->converged += outcome && strcmp(outcome, "converged") == 0;
+    tot->total += isfinite(seconds) ? seconds : 0.0;
+    /* a fit's outcome is its moduli and misfit */
+    json_t *res = json_object_get(rj, "result");
+    char fitted[256] = "";
+    if (json_object_get(res, "residual"))
+        snprintf(fitted, sizeof fitted, " (E_xx %.6g, E_yy %.6g, nu_xy %.4g, G_xy %.6g Pa; residual %.3g)",
+                 json_number_value(json_object_get(res, "E_xx")), json_number_value(json_object_get(res, "E_yy")),
+                 json_number_value(json_object_get(res, "nu_xy")), json_number_value(json_object_get(res, "G_xy")),
+                 json_number_value(json_object_get(res, "residual")));
+    if (s->is_scene) {
+        json_t *row = json_pack("{s:i, s:o, s:s, s:f}", "run", k, "values",
+                                values ? json_loads(values, 0, NULL) : json_object(), "outcome",
+                                outcome ? outcome : "?", "seconds", isfinite(seconds) ? seconds : 0.0);
+        char cells[256];
+        plume_sweep_scene_summary_row(res, cells, sizeof cells, row);
+        if (md)
+            fprintf(md, "| %d | `%s` | %s%s%.100s | %s | %.3f |\n", k, values ? values : "", outcome ? outcome : "?",
+                    message ? ": " : "", message ? message : "", cells, seconds);
+        json_array_append_new(arr, row);
+    } else {
+        if (md)
+            fprintf(md, "| %d | `%s` | %s%s%.100s%s | %.6g | %.6g | %.3f |\n", k, values ? values : "",
+                    outcome ? outcome : "?", message ? ": " : "", message ? message : "", fitted, strain, stress,
+                    seconds);
+        json_array_append_new(arr, json_pack("{s:i, s:o, s:s, s:f, s:f, s:f}", "run", k, "values",
+                                             values ? json_loads(values, 0, NULL) : json_object(), "outcome",
+                                             outcome ? outcome : "?", "strain", isfinite(strain) ? strain : 0.0,
+                                             "stress", isfinite(stress) ? stress : 0.0, "seconds",
+                                             isfinite(seconds) ? seconds : 0.0));
+    }
+    free(values);
+    free(outcome);
+    free(rec);
+    json_decref(rj);
+}
+
+/* The table's last line, then the table (written under the name tmp) renamed to md_path. */
+static plume_status summary_close(FILE *md, const char *tmp, const char *md_path, const plume_sweep *s,
+                                  const summary_totals *tot, plume_err *err)
+{
+    fprintf(md, "\n%d of %d runs recorded, %d converged; %.1f s of runs in all.\n", tot->recorded, s->count,
+            tot->converged, tot->total);
+    int bad = ferror(md);
+    if (fclose(md) != 0 || bad || rename(tmp, md_path) != 0) {
+        unlink(tmp);
+        return plume_err_set(err, PLUME_EIO, "sweep summary '%s': cannot write", md_path);
+    }
+    return PLUME_OK;
+}
+
 plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const char *md_path, char **json,
                                  plume_err *err)
 {
@@ -644,16 +736,9 @@ plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const
         return plume_err_set(err, PLUME_EIO, "sweep summary '%s': cannot create: %s", md_path, strerror(errno));
     }
     json_t *arr = json_array();
-    int recorded = 0, converged = 0;
-    double total = 0.0;
-    if (md && s->is_scene) /* a scene run's columns: its steps, time, displacement, contact distance */
-        fprintf(md, "# plume sweep: %s, %d runs (%s)\n\n| run | values | outcome | %s | seconds |\n"
-                    "|---|---|---|---|---|---|---|---|\n",
-                s->job, s->count, s->path, plume_sweep_scene_summary_header);
-    else if (md)
-        fprintf(md, "# plume sweep: %s, %d runs (%s)\n\n| run | values | outcome | strain | stress (Pa) | seconds |\n"
-                    "|---|---|---|---|---|---|\n",
-                s->job, s->count, s->path);
+    summary_totals tot = {0, 0, 0.0};
+    if (md)
+        summary_header(md, s);
     for (int k = 0; runs >= 0 && k < s->count; k++) {
         char name[32];
         snprintf(name, sizeof name, "%d", k);
@@ -663,67 +748,14 @@ plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const
             continue;
         }
         hid_t g = H5Gopen2(runs, name, H5P_DEFAULT);
-        char *values = attr_string(g, "values"), *outcome = attr_string(g, "outcome"), *rec = attr_string(g, "record");
-        json_t *rj = rec ? json_loads(rec, 0, NULL) : NULL;
-        const char *message = json_string_value(json_object_get(rj, "message"));
-        double seconds = NAN, strain = last_value(g, "strain"), stress = last_value(g, "stress");
-        if (H5Aexists(g, "seconds") > 0) {
-            hid_t a = H5Aopen(g, "seconds", H5P_DEFAULT);
-            H5Aread(a, H5T_NATIVE_DOUBLE, &seconds);
-            H5Aclose(a);
-        }
-        recorded++;
-        converged += outcome && strcmp(outcome, "converged") == 0;
-        total += isfinite(seconds) ? seconds : 0.0;
-        /* a fit's outcome is its moduli and misfit */
-        json_t *res = json_object_get(rj, "result");
-        char fitted[256] = "";
-        if (json_object_get(res, "residual"))
-            snprintf(fitted, sizeof fitted, " (E_xx %.6g, E_yy %.6g, nu_xy %.4g, G_xy %.6g Pa; residual %.3g)",
-                     json_number_value(json_object_get(res, "E_xx")), json_number_value(json_object_get(res, "E_yy")),
-                     json_number_value(json_object_get(res, "nu_xy")), json_number_value(json_object_get(res, "G_xy")),
-                     json_number_value(json_object_get(res, "residual")));
-        if (s->is_scene) {
-            json_t *row = json_pack("{s:i, s:o, s:s, s:f}", "run", k, "values",
-                                    values ? json_loads(values, 0, NULL) : json_object(), "outcome",
-                                    outcome ? outcome : "?", "seconds", isfinite(seconds) ? seconds : 0.0);
-            char cells[256];
-            plume_sweep_scene_summary_row(res, cells, sizeof cells, row);
-            if (md)
-                fprintf(md, "| %d | `%s` | %s%s%.100s | %s | %.3f |\n", k, values ? values : "", outcome ? outcome : "?",
-                        message ? ": " : "", message ? message : "", cells, seconds);
-            json_array_append_new(arr, row);
-        } else {
-            if (md)
-                fprintf(md, "| %d | `%s` | %s%s%.100s%s | %.6g | %.6g | %.3f |\n", k, values ? values : "",
-                        outcome ? outcome : "?", message ? ": " : "", message ? message : "", fitted, strain, stress,
-                        seconds);
-            json_array_append_new(arr, json_pack("{s:i, s:o, s:s, s:f, s:f, s:f}", "run", k, "values",
-                                                 values ? json_loads(values, 0, NULL) : json_object(), "outcome",
-                                                 outcome ? outcome : "?", "strain", isfinite(strain) ? strain : 0.0,
-                                                 "stress", isfinite(stress) ? stress : 0.0, "seconds",
-                                                 isfinite(seconds) ? seconds : 0.0));
-        }
-        free(values);
-        free(outcome);
-        free(rec);
-        json_decref(rj);
+        summarize_run(g, k, s, md, arr, &tot);
         H5Gclose(g);
     }
     if (runs >= 0)
         H5Gclose(runs);
     H5Fclose(fid);
     quiet_end(&q);
-    plume_status st = PLUME_OK;
-    if (md) {
-        fprintf(md, "\n%d of %d runs recorded, %d converged; %.1f s of runs in all.\n", recorded, s->count, converged,
-                total);
-        int bad = ferror(md);
-        if (fclose(md) != 0 || bad || rename(tmp, md_path) != 0) {
-            unlink(tmp);
-            st = plume_err_set(err, PLUME_EIO, "sweep summary '%s': cannot write", md_path);
-        }
-    }
+    plume_status st = md ? summary_close(md, tmp, md_path, s, &tot, err) : PLUME_OK;
     if (json && st == PLUME_OK)
         *json = json_dumps(arr, JSON_REAL_PRECISION(17) | JSON_INDENT(2));
     json_decref(arr);
