@@ -116,16 +116,9 @@ static plume_status check_grid(const plume_vtu_grid *g, plume_err *err)
     return PLUME_OK;
 }
 
-plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_err *err)
+/* The size of the scratch buffer that holds any one array of g before it is packed. */
+static size_t largest_raw_array(const plume_vtu_grid *g, int nodes)
 {
-    if (!path || !*path || !g)
-        return plume_err_set(err, PLUME_EINVAL, "vtu: invalid arguments (path, grid)");
-    plume_status st = check_grid(g, err);
-    if (st != PLUME_OK)
-        return st;
-    const int nodes = g->cell_type == PLUME_VTU_LINE ? 2 : 3;
-    const int narr = 5 + g->npoint_fields + g->ncell_fields; /* time, fields, points, 3 cell arrays */
-    packed *pk = calloc((size_t)narr, sizeof *pk);
     size_t maxraw = (size_t)(nodes * g->ncells + 1) * sizeof(int64_t);
     if ((size_t)(3 * g->npoints + 1) * sizeof(double) > maxraw)
         maxraw = (size_t)(3 * g->npoints + 1) * sizeof(double);
@@ -135,17 +128,17 @@ plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_er
             size_t need = (size_t)((s ? g->ncells : g->npoints) * fl->ncomp + 1) * sizeof(double);
             maxraw = need > maxraw ? need : maxraw;
         }
-    unsigned char *raw = malloc(maxraw);
-    char *tmp = malloc(strlen(path) + 32);
-    FILE *f = NULL;
-    if (!pk || !raw || !tmp) {
-        st = plume_err_set(err, PLUME_ENOMEM, "vtu '%s': out of memory", path);
-        goto cleanup;
-    }
-    /* the arrays in the order their tags appear: time, point fields, cell fields, points, cells */
+    return maxraw;
+}
+
+/* Every array of g compressed into pk, in the order their tags appear: time, point fields, cell
+ * fields, points, connectivity, offsets, types (raw: scratch room for the largest). */
+static plume_status pack_arrays(const plume_vtu_grid *g, int nodes, unsigned char *raw, packed *pk)
+{
     int a = 0;
+    plume_status st;
     if ((st = pack(&g->time, sizeof g->time, &pk[a++])) != PLUME_OK)
-        goto packfail;
+        return st;
     for (int s = 0; s < 2; s++) {
         plume_index n = s ? g->ncells : g->npoints;
         for (int i = 0; i < (s ? g->ncell_fields : g->npoint_fields); i++) {
@@ -160,34 +153,32 @@ plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_er
                 st = pack(fl->values, cnt * sizeof(double), &pk[a++]);
             }
             if (st != PLUME_OK)
-                goto packfail;
+                return st;
         }
     }
     if ((st = pack(g->points, (size_t)(3 * g->npoints) * sizeof(double), &pk[a++])) != PLUME_OK)
-        goto packfail;
+        return st;
     int64_t *iv = (int64_t *)raw;
     for (plume_index k = 0; k < nodes * g->ncells; k++)
         iv[k] = g->cells[k];
     if ((st = pack(raw, (size_t)(nodes * g->ncells) * sizeof *iv, &pk[a++])) != PLUME_OK)
-        goto packfail;
+        return st;
     for (plume_index c = 0; c < g->ncells; c++)
         iv[c] = (int64_t)nodes * (c + 1);
     if ((st = pack(raw, (size_t)g->ncells * sizeof *iv, &pk[a++])) != PLUME_OK)
-        goto packfail;
+        return st;
     memset(raw, g->cell_type, (size_t)g->ncells);
-    if ((st = pack(raw, (size_t)g->ncells, &pk[a++])) != PLUME_OK)
-        goto packfail;
+    return pack(raw, (size_t)g->ncells, &pk[a++]);
+}
 
-    snprintf(tmp, strlen(path) + 32, "%s.tmp.%ld", path, (long)getpid());
-    if (!(f = fopen(tmp, "wb"))) {
-        st = plume_err_set(err, PLUME_EIO, "vtu '%s': cannot create '%s': %s", path, tmp, strerror(errno));
-        goto cleanup;
-    }
+/* The XML of g with its narr packed arrays pk appended. */
+static void put_vtu(FILE *f, const plume_vtu_grid *g, const packed *pk, int narr)
+{
     fprintf(f, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"%s\" "
                "header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\">\n  <UnstructuredGrid>\n",
             host_little_endian() ? "LittleEndian" : "BigEndian");
     size_t off = 0;
-    a = 0;
+    int a = 0;
     fputs("    <FieldData>\n", f);
     fputs("      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\"", f);
     fprintf(f, " format=\"appended\" offset=\"%zu\"/>\n    </FieldData>\n", off);
@@ -211,18 +202,44 @@ plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_er
     for (int k = 0; k < narr; k++)
         fwrite(pk[k].bytes, 1, pk[k].len, f);
     fputs("\n  </AppendedData>\n</VTKFile>\n", f);
+}
+
+plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_err *err)
+{
+    if (!path || !*path || !g)
+        return plume_err_set(err, PLUME_EINVAL, "vtu: invalid arguments (path, grid)");
+    plume_status st = check_grid(g, err);
+    if (st != PLUME_OK)
+        return st;
+    const int nodes = g->cell_type == PLUME_VTU_LINE ? 2 : 3;
+    const int narr = 5 + g->npoint_fields + g->ncell_fields; /* time, fields, points, 3 cell arrays */
+    packed *pk = calloc((size_t)narr, sizeof *pk);
+    unsigned char *raw = malloc(largest_raw_array(g, nodes));
+    char *tmp = malloc(strlen(path) + 32);
+    FILE *f = NULL;
+    if (!pk || !raw || !tmp) {
+        st = plume_err_set(err, PLUME_ENOMEM, "vtu '%s': out of memory", path);
+        goto cleanup;
+    }
+    if ((st = pack_arrays(g, nodes, raw, pk)) != PLUME_OK) {
+        st = plume_err_set(err, st, "vtu '%s': %s while compressing", path,
+                           st == PLUME_ENOMEM ? "out of memory" : "zlib failed");
+        goto cleanup;
+    }
+    /* written under a temporary name, then renamed over path: a reader never sees half a file */
+    snprintf(tmp, strlen(path) + 32, "%s.tmp.%ld", path, (long)getpid());
+    if (!(f = fopen(tmp, "wb"))) {
+        st = plume_err_set(err, PLUME_EIO, "vtu '%s': cannot create '%s': %s", path, tmp, strerror(errno));
+        goto cleanup;
+    }
+    put_vtu(f, g, pk, narr);
     int bad = ferror(f);
     if (fclose(f) != 0 || bad)
         st = plume_err_set(err, PLUME_EIO, "vtu '%s': cannot write '%s': %s", path, tmp, strerror(errno));
     else if (rename(tmp, path) != 0)
         st = plume_err_set(err, PLUME_EIO, "vtu '%s': cannot rename '%s' over it: %s", path, tmp, strerror(errno));
-    f = NULL;
     if (st != PLUME_OK)
         unlink(tmp);
-    goto cleanup;
-packfail:
-    st = plume_err_set(err, st, "vtu '%s': %s while compressing", path,
-                       st == PLUME_ENOMEM ? "out of memory" : "zlib failed");
 cleanup:
     for (int k = 0; pk && k < narr; k++)
         free(pk[k].bytes);
