@@ -335,6 +335,287 @@ static int write_frame(const output_ctx *oc, const plume_dynamics *d, long k, lo
     return 0;
 }
 
+/* The output directory: -o, else the restart file's directory, else out/<scene name>. */
+static void output_dir(const options *o, const char *stem, char *outdir, size_t n)
+{
+    if (o->outdir)
+        snprintf(outdir, n, "%s", o->outdir);
+    else if (o->restart && strrchr(o->restart, '/'))
+        snprintf(outdir, n, "%.*s", (int)(strrchr(o->restart, '/') - o->restart), o->restart);
+    else if (o->restart)
+        snprintf(outdir, n, ".");
+    else
+        snprintf(outdir, n, "out/%s", stem);
+    if (!outdir[0])
+        snprintf(outdir, n, "/");
+}
+
+/* What the run did, over its steps. */
+typedef struct {
+    long step, next_frame; /* the scene's steps so far; the index of the next frame */
+    long frames, done_steps, substeps, halvings, iterations, backtracks, shifts;
+    double max_violation, solve_seconds, loop_seconds;
+    int converged, failed;
+    plume_reason failed_reason;
+} run_tally;
+
+/* --restart: the state of the frames file's last frame (into *last), the file copied to
+ * frames_path if it is another, the series continued. Exit code. */
+static int restart_run(const options *o, const output_ctx *oc, plume_dynamics *d, plume_index ncons, plume_frame *last,
+                       run_tally *r)
+{
+    plume_err err = {{0}};
+    const plume_mesh *mesh = oc->scene->mesh;
+    const double dt = oc->scene->dt;
+    plume_frames_info info;
+    if (plume_frames_info_read(o->restart, &info, &err) != PLUME_OK ||
+        plume_frames_read(o->restart, -1, last, &err) != PLUME_OK)
+        return cli_fail(APP, "--restart: %s", err.msg);
+    if (info.nv != mesh->nv || info.ncons != ncons)
+        return cli_fail(APP, "--restart: '%s' holds frames of %ld vertices and %ld constraints, but the scene '%s' "
+                             "has %ld and %ld (another scene or mesh?)",
+                        o->restart, (long)info.nv, (long)info.ncons, o->scene, (long)mesh->nv, (long)ncons);
+    if (fabs(info.dt - dt) > 1e-12 * dt)
+        fprintf(stderr, "%s: warning: '%s' was written with dt = %g s, the scene now has %g s\n", APP, o->restart,
+                info.dt, dt);
+    if (plume_dynamics_set_state(d, last->t, last->x, last->v, last->lambda, &err) != PLUME_OK)
+        return cli_fail(APP, "--restart: the last frame of '%s': %s", o->restart, err.msg);
+    if (!same_file(o->restart, oc->frames_path) && copy_file(o->restart, oc->frames_path) != 0)
+        return run_fail("cannot copy '%s' to '%s': %s", o->restart, oc->frames_path, strerror(errno));
+    r->step = last->step;
+    r->next_frame = last->index + 1;
+    if (plume_fields_series_start(oc->fields, oc->outdir, "frames.pvd", "frame", last->t, &err) != PLUME_OK)
+        return run_fail("%s", err.msg);
+    return 0;
+}
+
+/* A new run: stale frames removed, a new series and frames file, the initial state as frame 0.
+ * Exit code. */
+static int start_run(const options *o, const output_ctx *oc, const plume_dynamics *d, plume_index ncons,
+                     const plume_frame_measures *fm, run_tally *r)
+{
+    plume_err err = {{0}};
+    int rc;
+    remove_stale_frames(oc->outdir);
+    if (plume_fields_series_start(oc->fields, oc->outdir, "frames.pvd", "frame", -1.0, &err) != PLUME_OK)
+        return run_fail("%s", err.msg);
+    if (plume_frames_create(oc->frames_path, oc->scene->mesh->nv, ncons, oc->scene->dt, o->scene, &err) != PLUME_OK)
+        return run_fail("%s", err.msg);
+    if ((rc = write_frame(oc, d, 0, 0, 1, fm)) != 0)
+        return rc;
+    r->next_frame = 1;
+    return 0;
+}
+
+/* How many steps: N frames, or up to the end time: whole steps of dt, then one shorter step that
+ * lands on the end time (*end) when dt does not divide what is left (1e-9 of a step is round-off,
+ * not a step; *last_short); the run's last state is always a frame. */
+static long planned_steps(const options *o, const plume_scene *scene, const plume_dynamics *d, double *end,
+                          int *last_short)
+{
+    const double dt = scene->dt;
+    long nsteps;
+    *end = -1.0;
+    *last_short = 0;
+    if (o->frames > 0)
+        nsteps = (long)o->frames * scene->output_every;
+    else {
+        *end = o->duration > 0.0 ? o->duration : scene->duration;
+        double left = (*end - plume_dynamics_time(d)) / dt;
+        nsteps = left > 1e-9 ? (long)floor(left + 1e-9) : 0;
+        if (left > 1e-9 && left - (double)nsteps > 1e-9)
+            nsteps++, *last_short = 1;
+    }
+    return nsteps;
+}
+
+/* A step's report added to the run's tally, the frame's measures and the steps CCD cut short. */
+static void tally_step(const plume_step_report *rep, run_tally *r, contact_monitor *cm, plume_frame_measures *fm)
+{
+    r->halvings += rep->halvings;
+    r->substeps += rep->substeps;
+    r->iterations += rep->iterations;
+    r->backtracks += rep->backtracks;
+    r->shifts += rep->shifts;
+    cm->step_limited += rep->step_limited;
+    r->solve_seconds += rep->seconds;
+    fm->newton_iterations += rep->iterations;
+    fm->steps_halved += rep->halvings;
+    fm->seconds += rep->seconds;
+    r->max_violation = fmax(r->max_violation, rep->max_violation);
+}
+
+/* The contact measures of a step into the frame's measures (fm) and the run's (cm). */
+static void measure_contact_step(const plume_contact *contact, contact_monitor *cm, plume_frame_measures *fm)
+{
+    plume_contact_stats cs;
+    plume_contact_term_stats(contact, &cs);
+    fm->contact_pairs = fmax(fm->contact_pairs, (double)cs.candidates);
+    if (cs.candidates > cm->max_pairs)
+        cm->max_pairs = cs.candidates;
+    fm->min_distance = fmin(fm->min_distance, cm->last_distance);
+    fm->intersecting_pairs = fmax(fm->intersecting_pairs, (double)cm->last_intersecting);
+}
+
+/* Steps the scene nsteps times (see planned_steps for end and last_short), writing a frame every
+ * output_every steps and at the end, until a step fails to converge (r->failed). Exit code. */
+static int step_run(const options *o, const output_ctx *oc, plume_dynamics *d, const plume_contact *contact,
+                    contact_monitor *cm, plume_frame_measures *fm, long nsteps, double end, int last_short,
+                    run_tally *r)
+{
+    const plume_scene *scene = oc->scene;
+    const plume_mesh *mesh = scene->mesh;
+    const double dt = scene->dt;
+    plume_err err = {{0}};
+    int rc;
+    plume_progress prog;
+    plume_progress_start(&prog, APP, (int)(nsteps < 2000000000L ? nsteps : 2000000000L), 0);
+    if (o->quiet)
+        prog.enabled = 0;
+    r->frames = o->restart ? 0 : 1;
+    r->converged = 1;
+    double loop_start = plume_wall_seconds();
+    if (scene->has_contact && !contact_monitor_start(cm, scene, &err))
+        return run_fail("contact measures: %s", err.msg);
+    for (long i = 1; i <= nsteps; i++) {
+        plume_step_report rep;
+        double t0 = plume_dynamics_time(d);
+        /* adaptive steps: one call per output frame (the stepper picks its steps inside and
+         * lands on the frame's time); otherwise one call per step of dt */
+        long k = 1;
+        if (scene->adaptive_dt) {
+            k = scene->output_every - r->step % scene->output_every;
+            if (k > nsteps - i + 1)
+                k = nsteps - i + 1;
+        }
+        double h = i + k - 1 == nsteps && last_short ? end - t0 : (double)k * dt;
+        if (plume_dynamics_advance(d, h, &rep, &err) != PLUME_OK)
+            return run_fail("step %ld: %s", r->step + 1, err.msg);
+        tally_step(&rep, r, cm, fm);
+        if (scene->has_contact && !contact_monitor_step(cm, mesh, plume_dynamics_positions(d), &err))
+            return run_fail("contact measures: %s", err.msg);
+        if (scene->has_contact)
+            measure_contact_step(contact, cm, fm);
+        double t1 = plume_dynamics_time(d);
+        int advanced = fabs(t1 - (t0 + h)) <= 1e-9 * fmax(dt, fabs(t1));
+        if (!rep.converged) {
+            r->converged = 0;
+            /* linearized takes one unconverged step by design: only a step that did not advance fails */
+            if (scene->solver != PLUME_SOLVER_LINEARIZED || !advanced) {
+                r->failed = 1;
+                r->failed_reason = rep.reason;
+                plume_progress_finish(&prog);
+                fprintf(stderr,
+                        "%s: step %ld (t = %.6g s) did not converge even at dt / 2^%d (%s, after %d halvings); "
+                        "stopping with %ld frame%s kept in %s (the last at step %ld)\n",
+                        APP, r->step + 1, t0, scene->max_halvings, plume_reason_name(rep.reason), rep.halvings,
+                        r->next_frame, r->next_frame == 1 ? "" : "s", oc->frames_path,
+                        r->step - r->step % scene->output_every);
+                break;
+            }
+        }
+        r->step += k;
+        r->done_steps += k;
+        i += k - 1;
+        if (r->step % scene->output_every == 0 || i == nsteps) {
+            if ((rc = write_frame(oc, d, r->next_frame, r->step, 1, fm)) != 0)
+                return rc;
+            frame_measures_reset(fm, scene);
+            r->next_frame++;
+            r->frames++;
+        }
+        char info[128];
+        snprintf(info, sizeof info, "t %.4f s, frame %ld, %d it%s", t1, r->next_frame - 1, rep.iterations,
+                 rep.halvings ? ", halved" : "");
+        plume_progress_update(&prog, (int)i, info);
+    }
+    if (!r->failed)
+        plume_progress_finish(&prog);
+    r->loop_seconds = plume_wall_seconds() - loop_start;
+    return 0;
+}
+
+/* --json: the run's summary object (total: the app's wall time). */
+static json_t *summary_json(const options *o, const output_ctx *oc, const plume_dynamics *d, plume_index ncons,
+                            const contact_monitor *cm, const run_tally *r, double total)
+{
+    const plume_scene *scene = oc->scene;
+    const plume_mesh *mesh = scene->mesh;
+    long new_frames = r->frames - (o->restart ? 0 : 1);
+    json_t *j = json_object();
+    json_object_set_new(j, "frames", json_integer(r->frames));
+    json_object_set_new(j, "steps", json_integer(r->done_steps));
+    json_object_set_new(j, "substeps", json_integer(r->substeps));
+    json_object_set_new(j, "steps_halved", json_integer(r->halvings));
+    json_object_set_new(j, "newton_iterations", json_integer(r->iterations));
+    json_object_set_new(j, "line_search_backtracks", json_integer(r->backtracks));
+    json_object_set_new(j, "inertia_shifts", json_integer(r->shifts));
+    json_object_set_new(j, "max_constraint_violation", json_real(r->max_violation));
+    json_object_set_new(j, "converged", json_boolean(r->converged));
+    json_object_set_new(j, "stop_reason", json_string(r->failed ? plume_reason_name(r->failed_reason)
+                                                                : r->converged ? "converged" : "single_step"));
+    json_object_set_new(j, "seconds", json_real(total));
+    json_object_set_new(j, "solve_seconds", json_real(r->solve_seconds));
+    json_object_set_new(j, "seconds_per_frame", new_frames > 0 ? json_real(r->loop_seconds / (double)new_frames)
+                                                               : json_null());
+    json_object_set_new(j, "elements", json_integer(mesh->nt));
+    json_object_set_new(j, "vertices", json_integer(mesh->nv));
+    json_object_set_new(j, "constraints", json_integer(ncons));
+    json_object_set_new(j, "time", json_real(plume_dynamics_time(d)));
+    json_object_set_new(j, "step", json_integer(r->step));
+    json_object_set_new(j, "last_frame", json_integer(r->next_frame - 1));
+    json_object_set_new(j, "dt", json_real(scene->dt));
+    json_object_set_new(j, "solver", json_string(plume_solver_kind_name(scene->solver)));
+    json_object_set_new(j, "output_dir", json_string(oc->outdir));
+    json_object_set_new(j, "frames_file", json_string(oc->frames_path));
+    if (o->restart)
+        json_object_set_new(j, "restarted_from", json_string(o->restart));
+    if (scene->has_contact) {
+        json_t *jc = json_object();
+        json_object_set_new(jc, "model", json_string(plume_contact_model_name(scene->contact.pair.model)));
+        json_object_set_new(jc, "dhat", json_real(scene->contact.pair.dhat));
+        json_object_set_new(jc, "steps_intersecting", json_integer(cm->steps_intersecting));
+        json_object_set_new(jc, "max_intersecting_pairs", json_integer(cm->max_intersecting));
+        json_object_set_new(jc, "min_distance", json_real(cm->min_distance));
+        json_object_set_new(jc, "min_distance_cap", json_real(cm->cap));
+        json_object_set_new(jc, "step_limited", json_integer(cm->step_limited));
+        json_object_set_new(jc, "max_contact_pairs", json_integer(cm->max_pairs));
+        json_object_set_new(jc, "measure_seconds", json_real(cm->seconds));
+        json_object_set_new(j, "contact", jc);
+    }
+    return j;
+}
+
+/* The run's summary on stdout: the JSON object (--json) or a line, and one on contact. */
+static void report(const options *o, const output_ctx *oc, const plume_dynamics *d, plume_index ncons,
+                   const contact_monitor *cm, const run_tally *r, double total)
+{
+    if (o->json) {
+        json_t *j = summary_json(o, oc, d, ncons, cm, r, total);
+        char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
+        if (txt)
+            puts(txt);
+        free(txt);
+        json_decref(j);
+        return;
+    }
+    const plume_scene *scene = oc->scene;
+    long new_frames = r->frames - (o->restart ? 0 : 1);
+    printf("%s: %ld steps to t = %.6g s, %ld frames (last %ld) in %s; %ld elements, %ld constraints; %ld "
+           "iterations (%ld backtracks, %ld inertia shifts), %ld halvings, max violation %.2g; %.2f s (%.3g s per "
+           "frame)%s\n",
+           oc->stem, r->done_steps, plume_dynamics_time(d), r->frames, r->next_frame - 1, oc->outdir,
+           (long)scene->mesh->nt, (long)ncons, r->iterations, r->backtracks, r->shifts, r->halvings, r->max_violation,
+           total, new_frames > 0 ? r->loop_seconds / (double)new_frames : 0.0,
+           r->failed ? ", stopped: a step did not converge" : !r->converged ? ", single linearised steps, not converged" : "");
+    if (scene->has_contact)
+        printf("%s: contact (%s, dhat %g m): intersecting triangle pairs in %ld of %ld steps (at most %ld), "
+               "smallest distance %.3g m%s, %ld steps cut short by CCD\n",
+               oc->stem, plume_contact_model_name(scene->contact.pair.model),
+               scene->contact.pair.dhat, cm->steps_intersecting, r->done_steps, (long)cm->max_intersecting,
+               cm->min_distance, cm->min_distance >= cm->cap ? " (or more)" : "", cm->step_limited);
+}
+
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
@@ -353,6 +634,9 @@ int main(int argc, char **argv)
     contact_monitor cm; /* contact scenes only; freed at done: */
     memset(&cm, 0, sizeof cm);
     plume_frame last = {0};
+    run_tally r;
+    memset(&r, 0, sizeof r);
+    r.failed_reason = PLUME_REASON_CONVERGED;
     if ((st = plume_scene_load(o.scene, &scene, &err)) != PLUME_OK)
         return cli_fail(APP, "%s", err.msg);
     frame_measures_reset(&fm, scene);
@@ -365,16 +649,7 @@ int main(int argc, char **argv)
 
     char stem[256], outdir[4096], frames_path[4200];
     scene_stem(o.scene, stem, sizeof stem);
-    if (o.outdir)
-        snprintf(outdir, sizeof outdir, "%s", o.outdir);
-    else if (o.restart && strrchr(o.restart, '/'))
-        snprintf(outdir, sizeof outdir, "%.*s", (int)(strrchr(o.restart, '/') - o.restart), o.restart);
-    else if (o.restart)
-        snprintf(outdir, sizeof outdir, ".");
-    else
-        snprintf(outdir, sizeof outdir, "out/%s", stem);
-    if (!outdir[0])
-        snprintf(outdir, sizeof outdir, "/");
+    output_dir(&o, stem, outdir, sizeof outdir);
     snprintf(frames_path, sizeof frames_path, "%s/frames.h5", outdir);
     output_ctx oc = {scene, outdir, frames_path, stem, NULL};
 
@@ -386,230 +661,21 @@ int main(int argc, char **argv)
                                                        : run_fail("%s", err.msg);
         goto done;
     }
-    const plume_mesh *mesh = scene->mesh;
     plume_index ncons;
     plume_dynamics_multipliers(d, &ncons);
     if ((st = plume_scene_fields(scene, &oc.fields, &err)) != PLUME_OK) {
         rc = run_fail("%s", err.msg);
         goto done;
     }
-
-    long step = 0, next_frame = 0;
-    double dt = scene->dt;
-    if (o.restart) {
-        plume_frames_info info;
-        if (plume_frames_info_read(o.restart, &info, &err) != PLUME_OK ||
-            plume_frames_read(o.restart, -1, &last, &err) != PLUME_OK) {
-            rc = cli_fail(APP, "--restart: %s", err.msg);
-            goto done;
-        }
-        if (info.nv != mesh->nv || info.ncons != ncons) {
-            rc = cli_fail(APP, "--restart: '%s' holds frames of %ld vertices and %ld constraints, but the scene '%s' "
-                               "has %ld and %ld (another scene or mesh?)",
-                          o.restart, (long)info.nv, (long)info.ncons, o.scene, (long)mesh->nv, (long)ncons);
-            goto done;
-        }
-        if (fabs(info.dt - dt) > 1e-12 * dt)
-            fprintf(stderr, "%s: warning: '%s' was written with dt = %g s, the scene now has %g s\n", APP, o.restart,
-                    info.dt, dt);
-        if ((st = plume_dynamics_set_state(d, last.t, last.x, last.v, last.lambda, &err)) != PLUME_OK) {
-            rc = cli_fail(APP, "--restart: the last frame of '%s': %s", o.restart, err.msg);
-            goto done;
-        }
-        if (!same_file(o.restart, frames_path) && copy_file(o.restart, frames_path) != 0) {
-            rc = run_fail("cannot copy '%s' to '%s': %s", o.restart, frames_path, strerror(errno));
-            goto done;
-        }
-        step = last.step;
-        next_frame = last.index + 1;
-        if (plume_fields_series_start(oc.fields, outdir, "frames.pvd", "frame", last.t, &err) != PLUME_OK) {
-            rc = run_fail("%s", err.msg);
-            goto done;
-        }
-    } else {
-        remove_stale_frames(outdir);
-        if (plume_fields_series_start(oc.fields, outdir, "frames.pvd", "frame", -1.0, &err) != PLUME_OK) {
-            rc = run_fail("%s", err.msg);
-            goto done;
-        }
-        if (plume_frames_create(frames_path, mesh->nv, ncons, dt, o.scene, &err) != PLUME_OK) {
-            rc = run_fail("%s", err.msg);
-            goto done;
-        }
-        if ((rc = write_frame(&oc, d, 0, 0, 1, &fm)) != 0)
-            goto done;
-        next_frame = 1;
-    }
-
-    /* how many steps: N frames, or up to the end time: whole steps of dt, then one shorter step
-     * that lands on the end time when dt does not divide what is left (1e-9 of a step is round-off,
-     * not a step); the run's last state is always a frame */
-    long nsteps;
-    double end = -1.0;
-    int last_short = 0;
-    if (o.frames > 0)
-        nsteps = (long)o.frames * scene->output_every;
-    else {
-        end = o.duration > 0.0 ? o.duration : scene->duration;
-        double left = (end - plume_dynamics_time(d)) / dt;
-        nsteps = left > 1e-9 ? (long)floor(left + 1e-9) : 0;
-        if (left > 1e-9 && left - (double)nsteps > 1e-9)
-            nsteps++, last_short = 1;
-    }
-
-    plume_progress prog;
-    plume_progress_start(&prog, APP, (int)(nsteps < 2000000000L ? nsteps : 2000000000L), 0);
-    if (o.quiet)
-        prog.enabled = 0;
-    long halvings = 0, iterations = 0, backtracks = 0, shifts = 0, frames = o.restart ? 0 : 1, done_steps = 0;
-    double max_violation = 0.0, loop_start = plume_wall_seconds(), solve_seconds = 0.0;
-    int converged = 1, failed = 0;
-    plume_reason failed_reason = PLUME_REASON_CONVERGED;
-    if (scene->has_contact && !contact_monitor_start(&cm, scene, &err)) {
-        rc = run_fail("contact measures: %s", err.msg);
+    if ((rc = o.restart ? restart_run(&o, &oc, d, ncons, &last, &r) : start_run(&o, &oc, d, ncons, &fm, &r)) != 0)
         goto done;
-    }
-    long substeps = 0;
-    for (long i = 1; i <= nsteps; i++) {
-        plume_step_report rep;
-        double t0 = plume_dynamics_time(d);
-        /* adaptive steps: one call per output frame (the stepper picks its steps inside and
-         * lands on the frame's time); otherwise one call per step of dt */
-        long k = 1;
-        if (scene->adaptive_dt) {
-            k = scene->output_every - step % scene->output_every;
-            if (k > nsteps - i + 1)
-                k = nsteps - i + 1;
-        }
-        double h = i + k - 1 == nsteps && last_short ? end - t0 : (double)k * dt;
-        if ((st = plume_dynamics_advance(d, h, &rep, &err)) != PLUME_OK) {
-            rc = run_fail("step %ld: %s", step + 1, err.msg);
-            goto done;
-        }
-        halvings += rep.halvings;
-        substeps += rep.substeps;
-        iterations += rep.iterations;
-        backtracks += rep.backtracks;
-        shifts += rep.shifts;
-        cm.step_limited += rep.step_limited;
-        solve_seconds += rep.seconds;
-        if (scene->has_contact && !contact_monitor_step(&cm, mesh, plume_dynamics_positions(d), &err)) {
-            rc = run_fail("contact measures: %s", err.msg);
-            goto done;
-        }
-        fm.newton_iterations += rep.iterations;
-        fm.steps_halved += rep.halvings;
-        fm.seconds += rep.seconds;
-        if (scene->has_contact) {
-            plume_contact_stats cs;
-            plume_contact_term_stats(contact, &cs);
-            fm.contact_pairs = fmax(fm.contact_pairs, (double)cs.candidates);
-            if (cs.candidates > cm.max_pairs)
-                cm.max_pairs = cs.candidates;
-            fm.min_distance = fmin(fm.min_distance, cm.last_distance);
-            fm.intersecting_pairs = fmax(fm.intersecting_pairs, (double)cm.last_intersecting);
-        }
-        max_violation = fmax(max_violation, rep.max_violation);
-        double t1 = plume_dynamics_time(d);
-        int advanced = fabs(t1 - (t0 + h)) <= 1e-9 * fmax(dt, fabs(t1));
-        if (!rep.converged) {
-            converged = 0;
-            /* linearized takes one unconverged step by design: only a step that did not advance fails */
-            if (scene->solver != PLUME_SOLVER_LINEARIZED || !advanced) {
-                failed = 1;
-                failed_reason = rep.reason;
-                plume_progress_finish(&prog);
-                fprintf(stderr,
-                        "%s: step %ld (t = %.6g s) did not converge even at dt / 2^%d (%s, after %d halvings); "
-                        "stopping with %ld frame%s kept in %s (the last at step %ld)\n",
-                        APP, step + 1, t0, scene->max_halvings, plume_reason_name(rep.reason), rep.halvings,
-                        next_frame, next_frame == 1 ? "" : "s", frames_path,
-                        step - step % scene->output_every);
-                break;
-            }
-        }
-        step += k;
-        done_steps += k;
-        i += k - 1;
-        if (step % scene->output_every == 0 || i == nsteps) {
-            if ((rc = write_frame(&oc, d, next_frame, step, 1, &fm)) != 0)
-                goto done;
-            frame_measures_reset(&fm, scene);
-            next_frame++;
-            frames++;
-        }
-        char info[128];
-        snprintf(info, sizeof info, "t %.4f s, frame %ld, %d it%s", t1, next_frame - 1, rep.iterations,
-                 rep.halvings ? ", halved" : "");
-        plume_progress_update(&prog, (int)i, info);
-    }
-    if (!failed)
-        plume_progress_finish(&prog);
-    double loop_seconds = plume_wall_seconds() - loop_start;
-    long new_frames = frames - (o.restart ? 0 : 1);
-    double total = plume_wall_seconds() - t_start;
-    if (o.json) {
-        json_t *j = json_object();
-        json_object_set_new(j, "frames", json_integer(frames));
-        json_object_set_new(j, "steps", json_integer(done_steps));
-        json_object_set_new(j, "substeps", json_integer(substeps));
-        json_object_set_new(j, "steps_halved", json_integer(halvings));
-        json_object_set_new(j, "newton_iterations", json_integer(iterations));
-        json_object_set_new(j, "line_search_backtracks", json_integer(backtracks));
-        json_object_set_new(j, "inertia_shifts", json_integer(shifts));
-        json_object_set_new(j, "max_constraint_violation", json_real(max_violation));
-        json_object_set_new(j, "converged", json_boolean(converged));
-        json_object_set_new(j, "stop_reason", json_string(failed ? plume_reason_name(failed_reason)
-                                                                 : converged ? "converged" : "single_step"));
-        json_object_set_new(j, "seconds", json_real(total));
-        json_object_set_new(j, "solve_seconds", json_real(solve_seconds));
-        json_object_set_new(j, "seconds_per_frame", new_frames > 0 ? json_real(loop_seconds / (double)new_frames)
-                                                                   : json_null());
-        json_object_set_new(j, "elements", json_integer(mesh->nt));
-        json_object_set_new(j, "vertices", json_integer(mesh->nv));
-        json_object_set_new(j, "constraints", json_integer(ncons));
-        json_object_set_new(j, "time", json_real(plume_dynamics_time(d)));
-        json_object_set_new(j, "step", json_integer(step));
-        json_object_set_new(j, "last_frame", json_integer(next_frame - 1));
-        json_object_set_new(j, "dt", json_real(dt));
-        json_object_set_new(j, "solver", json_string(plume_solver_kind_name(scene->solver)));
-        json_object_set_new(j, "output_dir", json_string(outdir));
-        json_object_set_new(j, "frames_file", json_string(frames_path));
-        if (o.restart)
-            json_object_set_new(j, "restarted_from", json_string(o.restart));
-        if (scene->has_contact) {
-            json_t *jc = json_object();
-            json_object_set_new(jc, "model", json_string(plume_contact_model_name(scene->contact.pair.model)));
-            json_object_set_new(jc, "dhat", json_real(scene->contact.pair.dhat));
-            json_object_set_new(jc, "steps_intersecting", json_integer(cm.steps_intersecting));
-            json_object_set_new(jc, "max_intersecting_pairs", json_integer(cm.max_intersecting));
-            json_object_set_new(jc, "min_distance", json_real(cm.min_distance));
-            json_object_set_new(jc, "min_distance_cap", json_real(cm.cap));
-            json_object_set_new(jc, "step_limited", json_integer(cm.step_limited));
-            json_object_set_new(jc, "max_contact_pairs", json_integer(cm.max_pairs));
-            json_object_set_new(jc, "measure_seconds", json_real(cm.seconds));
-            json_object_set_new(j, "contact", jc);
-        }
-        char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
-        if (txt)
-            puts(txt);
-        free(txt);
-        json_decref(j);
-    } else {
-        printf("%s: %ld steps to t = %.6g s, %ld frames (last %ld) in %s; %ld elements, %ld constraints; %ld "
-               "iterations (%ld backtracks, %ld inertia shifts), %ld halvings, max violation %.2g; %.2f s (%.3g s per "
-               "frame)%s\n",
-               stem, done_steps, plume_dynamics_time(d), frames, next_frame - 1, outdir, (long)mesh->nt, (long)ncons,
-               iterations, backtracks, shifts, halvings, max_violation, total, new_frames > 0 ? loop_seconds / (double)new_frames : 0.0,
-               failed ? ", stopped: a step did not converge" : !converged ? ", single linearised steps, not converged" : "");
-        if (scene->has_contact)
-            printf("%s: contact (%s, dhat %g m): intersecting triangle pairs in %ld of %ld steps (at most %ld), "
-                   "smallest distance %.3g m%s, %ld steps cut short by CCD\n",
-                   stem, plume_contact_model_name(scene->contact.pair.model),
-                   scene->contact.pair.dhat, cm.steps_intersecting, done_steps, (long)cm.max_intersecting,
-                   cm.min_distance, cm.min_distance >= cm.cap ? " (or more)" : "", cm.step_limited);
-    }
-    rc = failed ? 3 : 0;
+    double end;
+    int last_short;
+    long nsteps = planned_steps(&o, scene, d, &end, &last_short);
+    if ((rc = step_run(&o, &oc, d, contact, &cm, &fm, nsteps, end, last_short, &r)) != 0)
+        goto done;
+    report(&o, &oc, d, ncons, &cm, &r, plume_wall_seconds() - t_start);
+    rc = r.failed ? 3 : 0;
 done:
     plume_fields_destroy(&oc.fields);
     contact_monitor_end(&cm);

@@ -310,16 +310,144 @@ static int keep_start(void *vctx, int k, const char *record)
 
 #include "fit_bending.h"
 
+/* The --target curves (FILE.h5:SCALE/SCENARIO or a text file) into curves, and the largest last
+ * strain among them; each --angle checked. Exit code. */
+static int read_targets(const options *o, plume_curve *curves, double *strain_max)
+{
+    plume_err err = {{0}};
+    int rc = 0;
+    for (int k = 0; k < o->nt && rc == 0; k++) {
+        const char *target = o->targets[k], *colon = strrchr(target, ':');
+        plume_status st;
+        if (colon && colon != target) { /* FILE.h5:SCALE/SCENARIO */
+            char path[1024], group[256];
+            snprintf(path, sizeof path, "%.*s", (int)(colon - target), target);
+            snprintf(group, sizeof group, "%s", colon + 1);
+            char *slash = strchr(group, '/');
+            if (!slash) {
+                rc = cli_fail(APP, "--target %s: expected FILE.h5:SCALE/SCENARIO", target);
+                break;
+            }
+            *slash = '\0';
+            st = plume_curve_read(path, group, slash + 1, &curves[k], &err);
+        } else {
+            st = plume_curve_read_text(target, &curves[k], &err);
+        }
+        if (st != PLUME_OK)
+            rc = cli_fail(APP, "%s", err.msg);
+        else if (!(o->angles[k] >= 0.0 && o->angles[k] <= 180.0))
+            rc = cli_fail(APP, "--angle must be in [0, 180] (got %g)", o->angles[k]);
+        else
+            *strain_max = curves[k].n ? fmax(*strain_max, curves[k].strain[curves[k].n - 1]) : *strain_max;
+    }
+    return rc;
+}
+
+/* --starts K (or several ranks): K fits spread over the ranks, the best kept on rank 0 (*fit,
+ * *rep); *worker is set on the other ranks, which are done. Exit code. */
+static int fit_from_starts(const options *o, int rank, int size, plume_macro_model *mm, const plume_curve *curves,
+                           plume_ortho *fit, plume_fit_report *rep, int *worker)
+{
+    starts_ctx c = {plume_macro_model_curve, mm, 0, curves, o->nt, o->start, o->fo, -1, 0, {0, 0, 0, 0}, {0}, INFINITY};
+    int *todo = malloc((size_t)o->starts * sizeof *todo);
+    for (int k = 0; k < o->starts; k++)
+        todo[k] = k;
+    int rc = schedule_run(rank, size, todo, o->starts, fit_start, keep_start, &c);
+    free(todo);
+    if (rank > 0) {
+        *worker = 1;
+        return rc;
+    }
+    if (c.best < 0) {
+        fprintf(stderr, "%s: none of the %d starts gave a fit\n", APP, o->starts);
+        return 1;
+    }
+    *fit = c.best_fit, *rep = c.best_rep;
+    fprintf(stderr, "%s: the best of %d starts is start %d (misfit %.3g)\n", APP, o->starts, c.best, rep->residual);
+    return rc;
+}
+
+/* -o: /moduli with the fit's provenance, and the fitted model's curves. Exit code. */
+static int write_fit(const options *o, const plume_ortho *fit, const plume_fit_report *rep, const plume_curve *model)
+{
+    plume_err err = {{0}};
+    int rc = 0;
+    char prov[256];
+    snprintf(prov, sizeof prov, "plume fit: %d curve(s), %d evaluations, RMS relative misfit %.3g, %s", o->nt,
+             rep->evaluations, rep->residual, rep->stop);
+    if (plume_moduli_write(o->out, fit, prov, &err) != PLUME_OK) {
+        fprintf(stderr, "%s: %s\n", APP, err.msg);
+        rc = 1;
+    }
+    for (int k = 0; k < o->nt && rc == 0; k++) {
+        char name[32];
+        snprintf(name, sizeof name, "curve%d", k);
+        plume_param params[] = {{"angle_deg", o->angles[k]}, {"residual", rep->residual}};
+        plume_sparam sp[] = {{"target", o->targets[k]}};
+        if (plume_curve_write(o->out, "fit", name, &model[k], params, 2, sp, 1, &err) != PLUME_OK) {
+            fprintf(stderr, "%s: %s\n", APP, err.msg);
+            rc = 1;
+        }
+    }
+    return rc;
+}
+
+/* --plot: each target with its fitted model curve. Exit code. */
+static int plot_fit(const options *o, const plume_curve *curves, const plume_curve *model)
+{
+    plume_err err = {{0}};
+    plume_curve all[2 * MAX_TARGETS];
+    char names[2 * MAX_TARGETS][64];
+    const char *labels[2 * MAX_TARGETS];
+    for (int k = 0; k < o->nt; k++) {
+        all[2 * k] = curves[k], all[2 * k + 1] = model[k];
+        snprintf(names[2 * k], 64, "target %d (%g deg)", k + 1, o->angles[k]);
+        snprintf(names[2 * k + 1], 64, "fitted macro %d", k + 1);
+        labels[2 * k] = names[2 * k], labels[2 * k + 1] = names[2 * k + 1];
+    }
+    if (plume_plot_curves(o->plot, "moduli fitted to traction curves", all, labels, 2 * o->nt, &err) != PLUME_OK) {
+        fprintf(stderr, "%s: %s\n", APP, err.msg);
+        return 1;
+    }
+    return 0;
+}
+
+/* The fitted moduli on stdout: a JSON object (--json) or a line. */
+static void report(const options *o, const plume_ortho *fit, const plume_fit_report *rep)
+{
+    if (o->json) {
+        json_t *j = json_object();
+        json_object_set_new(j, "E_xx", json_real(fit->E_xx));
+        json_object_set_new(j, "E_yy", json_real(fit->E_yy));
+        json_object_set_new(j, "nu_xy", json_real(fit->nu_xy));
+        json_object_set_new(j, "G_xy", json_real(fit->G_xy));
+        json_object_set_new(j, "residual", json_real(rep->residual));
+        json_object_set_new(j, "evaluations", json_integer(rep->evaluations));
+        json_object_set_new(j, "stop", json_string(rep->stop));
+        json_object_set_new(j, "seconds", json_real(rep->seconds));
+        char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
+        if (txt)
+            puts(txt);
+        free(txt);
+        json_decref(j);
+    } else {
+        printf("fitted to %d curve(s): E_xx %.6g Pa, E_yy %.6g Pa, nu_xy %.4g, G_xy %.6g Pa; RMS relative misfit "
+               "%.3g after %d evaluations (%s, %.2f s)\n",
+               o->nt, fit->E_xx, fit->E_yy, fit->nu_xy, fit->G_xy, rep->residual, rep->evaluations, rep->stop,
+               rep->seconds);
+    }
+}
+
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     int rank, size;
     schedule_init(&argc, &argv, &rank, &size);
     options o;
-    int rc0 = parse_args(argc, argv, &o);
-    if (rc0) {
+    int rc = parse_args(argc, argv, &o);
+    if (rc) {
         schedule_finalize();
-        return rc0 == CLI_HELP ? 0 : rc0;
+        return rc == CLI_HELP ? 0 : rc;
     }
     /* rank 0 writes; every rank stops on a bad output before the fit */
     int bad_out = 0;
@@ -330,141 +458,43 @@ int main(int argc, char **argv)
         return 2;
     }
     if (o.nb > 0) {
-        int rc = run_bending_fit(&o, rank, size);
+        rc = run_bending_fit(&o, rank, size);
         schedule_finalize();
         return rc;
     }
-    const char *const *targets = o.targets;
-    double *angles = o.angles;
-    int nt = o.nt, json = o.json, constraint = o.constraint, steps = o.steps;
-    double lx = o.lx, ly = o.ly, h = o.h, edge = o.edge;
-    plume_ortho start = o.start;
-    const char *out = o.out, *plot = o.plot;
-    plume_fit_opts fo = o.fo;
-
     plume_err err = {{0}};
-    plume_curve curves[MAX_TARGETS];
+    plume_curve curves[MAX_TARGETS], model[MAX_TARGETS];
     memset(curves, 0, sizeof curves);
-    int rc = 0;
+    memset(model, 0, sizeof model);
     double strain_max = 0.0;
-    for (int k = 0; k < nt && rc == 0; k++) {
-        const char *colon = strrchr(targets[k], ':');
-        plume_status st;
-        if (colon && colon != targets[k]) { /* FILE.h5:SCALE/SCENARIO */
-            char path[1024], group[256];
-            snprintf(path, sizeof path, "%.*s", (int)(colon - targets[k]), targets[k]);
-            snprintf(group, sizeof group, "%s", colon + 1);
-            char *slash = strchr(group, '/');
-            if (!slash) {
-                rc = cli_fail(APP, "--target %s: expected FILE.h5:SCALE/SCENARIO", targets[k]);
-                break;
-            }
-            *slash = '\0';
-            st = plume_curve_read(path, group, slash + 1, &curves[k], &err);
-        } else {
-            st = plume_curve_read_text(targets[k], &curves[k], &err);
-        }
-        if (st != PLUME_OK)
-            rc = cli_fail(APP, "%s", err.msg);
-        else if (!(angles[k] >= 0.0 && angles[k] <= 180.0))
-            rc = cli_fail(APP, "--angle must be in [0, 180] (got %g)", angles[k]);
-        else
-            strain_max = curves[k].n ? fmax(strain_max, curves[k].strain[curves[k].n - 1]) : strain_max;
-    }
-    plume_macro_model mm = {lx, ly, h, edge > 0 ? edge : fmin(lx, ly) / 20.0, PLUME_PATCH_ALIGNED, constraint, 0.0,
-                            strain_max, steps, nt, angles, PLUME_SOLVER_NEWTON};
+    rc = read_targets(&o, curves, &strain_max);
+    plume_macro_model mm = {o.lx, o.ly, o.h, o.edge > 0 ? o.edge : fmin(o.lx, o.ly) / 20.0, PLUME_PATCH_ALIGNED,
+                            o.constraint, 0.0, strain_max, o.steps, o.nt, o.angles, PLUME_SOLVER_NEWTON};
     plume_ortho fit;
     plume_fit_report rep;
+    int worker = 0;
     rc = schedule_share(rc);
     if (rc == 0 && (o.starts > 1 || size > 1)) { /* K fits over the ranks, the best kept */
-        starts_ctx c = {plume_macro_model_curve, &mm, 0, curves, nt, start, fo, -1, 0, {0, 0, 0, 0}, {0}, INFINITY};
-        int *todo = malloc((size_t)o.starts * sizeof *todo);
-        for (int k = 0; k < o.starts; k++)
-            todo[k] = k;
-        rc = schedule_run(rank, size, todo, o.starts, fit_start, keep_start, &c);
-        free(todo);
-        if (rank > 0) { /* workers are done */
-            for (int k = 0; k < nt; k++)
-                plume_curve_free(&curves[k]);
-            schedule_finalize();
-            return 0;
-        }
-        if (c.best < 0) {
-            fprintf(stderr, "%s: none of the %d starts gave a fit\n", APP, o.starts);
-            rc = 1;
-        } else {
-            fit = c.best_fit, rep = c.best_rep;
-            fprintf(stderr, "%s: the best of %d starts is start %d (misfit %.3g)\n", APP, o.starts, c.best, rep.residual);
-        }
+        rc = fit_from_starts(&o, rank, size, &mm, curves, &fit, &rep, &worker);
+        if (worker)
+            rc = 0; /* workers are done */
     } else if (rc == 0 &&
-               plume_fit_moduli(plume_macro_model_curve, &mm, curves, nt, &start, &fo, &fit, &rep, &err) != PLUME_OK) {
+               plume_fit_moduli(plume_macro_model_curve, &mm, curves, o.nt, &o.start, &o.fo, &fit, &rep, &err) != PLUME_OK) {
         fprintf(stderr, "%s: %s\n", APP, err.msg);
         rc = 1;
     }
-    plume_curve model[MAX_TARGETS];
-    memset(model, 0, sizeof model);
-    for (int k = 0; k < nt && rc == 0; k++)
+    for (int k = 0; k < o.nt && rc == 0 && !worker; k++)
         if (plume_macro_model_curve(&mm, &fit, k, &model[k], &err) != PLUME_OK) {
             fprintf(stderr, "%s: %s\n", APP, err.msg);
             rc = 1;
         }
-    if (rc == 0 && out) {
-        char prov[256];
-        snprintf(prov, sizeof prov, "plume fit: %d curve(s), %d evaluations, RMS relative misfit %.3g, %s", nt,
-                 rep.evaluations, rep.residual, rep.stop);
-        if (plume_moduli_write(out, &fit, prov, &err) != PLUME_OK) {
-            fprintf(stderr, "%s: %s\n", APP, err.msg);
-            rc = 1;
-        }
-        for (int k = 0; k < nt && rc == 0; k++) {
-            char name[32];
-            snprintf(name, sizeof name, "curve%d", k);
-            plume_param params[] = {{"angle_deg", angles[k]}, {"residual", rep.residual}};
-            plume_sparam sp[] = {{"target", targets[k]}};
-            if (plume_curve_write(out, "fit", name, &model[k], params, 2, sp, 1, &err) != PLUME_OK) {
-                fprintf(stderr, "%s: %s\n", APP, err.msg);
-                rc = 1;
-            }
-        }
-    }
-    if (rc == 0 && plot) {
-        plume_curve all[2 * MAX_TARGETS];
-        char names[2 * MAX_TARGETS][64];
-        const char *labels[2 * MAX_TARGETS];
-        for (int k = 0; k < nt; k++) {
-            all[2 * k] = curves[k], all[2 * k + 1] = model[k];
-            snprintf(names[2 * k], 64, "target %d (%g deg)", k + 1, angles[k]);
-            snprintf(names[2 * k + 1], 64, "fitted macro %d", k + 1);
-            labels[2 * k] = names[2 * k], labels[2 * k + 1] = names[2 * k + 1];
-        }
-        if (plume_plot_curves(plot, "moduli fitted to traction curves", all, labels, 2 * nt, &err) != PLUME_OK) {
-            fprintf(stderr, "%s: %s\n", APP, err.msg);
-            rc = 1;
-        }
-    }
-    if (rc == 0) {
-        if (json) {
-            json_t *j = json_object();
-            json_object_set_new(j, "E_xx", json_real(fit.E_xx));
-            json_object_set_new(j, "E_yy", json_real(fit.E_yy));
-            json_object_set_new(j, "nu_xy", json_real(fit.nu_xy));
-            json_object_set_new(j, "G_xy", json_real(fit.G_xy));
-            json_object_set_new(j, "residual", json_real(rep.residual));
-            json_object_set_new(j, "evaluations", json_integer(rep.evaluations));
-            json_object_set_new(j, "stop", json_string(rep.stop));
-            json_object_set_new(j, "seconds", json_real(rep.seconds));
-            char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
-            if (txt)
-                puts(txt);
-            free(txt);
-            json_decref(j);
-        } else {
-            printf("fitted to %d curve(s): E_xx %.6g Pa, E_yy %.6g Pa, nu_xy %.4g, G_xy %.6g Pa; RMS relative misfit "
-                   "%.3g after %d evaluations (%s, %.2f s)\n",
-                   nt, fit.E_xx, fit.E_yy, fit.nu_xy, fit.G_xy, rep.residual, rep.evaluations, rep.stop, rep.seconds);
-        }
-    }
-    for (int k = 0; k < nt; k++) {
+    if (rc == 0 && !worker && o.out)
+        rc = write_fit(&o, &fit, &rep, model);
+    if (rc == 0 && !worker && o.plot)
+        rc = plot_fit(&o, curves, model);
+    if (rc == 0 && !worker)
+        report(&o, &fit, &rep);
+    for (int k = 0; k < o.nt; k++) {
         plume_curve_free(&curves[k]);
         plume_curve_free(&model[k]);
     }

@@ -173,24 +173,175 @@ static int parse_args(int argc, char **argv, options *o)
     return 0;
 }
 
+/* -o: /moduli with the refinement and bending figures and provenance, and the cell curves. Exit code. */
+static int write_results(const char *out, const plume_layout *l, const plume_homog_opts *ho, const plume_homog_result *r)
+{
+    plume_err err = {{0}};
+    int rc = 0;
+    const char *kind = l->kind == PLUME_LAYOUT_STRIPS ? "strips" : "barbules";
+    char prov[512];
+    snprintf(prov, sizeof prov,
+             "plume homogenize: %s layout, phi %g, d_B %g m, E_b %g Pa, nu_b %g, ratio %g, nu_B %g, "
+             "thickness %g m (barbs %g m, barbules %g m), order %d, element edge %g m, %ld elements",
+             kind, l->phi, l->d_B, l->E_b, l->nu_b, l->ratio, l->nu_B, l->h, plume_layout_thickness(l, PLUME_MAT_BARB),
+             plume_layout_thickness(l, PLUME_MAT_BARBULE), r->order, r->element_edge, (long)r->elements);
+    plume_param params[] = {{"phi", l->phi}, {"d_B", l->d_B}, {"E_b", l->E_b}, {"nu_b", l->nu_b},
+                            {"ratio", l->ratio}, {"nu_B", l->nu_B}, {"thickness", l->h},
+                            {"thickness_barb", plume_layout_thickness(l, PLUME_MAT_BARB)},
+                            {"thickness_barbule", plume_layout_thickness(l, PLUME_MAT_BARBULE)},
+                            {"e_rel", r->element_edge / plume_layout_barb_width(l)}, {"elements", (double)r->elements},
+                            {"order", (double)r->order}, {"refinement_change", r->refinement_change}};
+    plume_param mparams[] = {{"order", (double)r->order},
+                             {"element_edge", r->element_edge},
+                             {"elements", (double)r->elements},
+                             {"refinement_change", r->refinement_change},
+                             {"refinement_edge", r->refinement_change >= 0.0 ? r->refinement_edge : -1.0},
+                             {"E_xx_change", r->moduli_change[0]},
+                             {"E_yy_change", r->moduli_change[1]},
+                             {"nu_xy_change", r->moduli_change[2]},
+                             {"G_xy_change", r->moduli_change[3]},
+                             {"D_long", r->bending.D_long},
+                             {"D_trans", r->bending.D_trans},
+                             {"D_coupling", r->bending.D_coupling},
+                             {"D_twist", r->bending.D_twist},
+                             {"D_16", r->bending.D_16},
+                             {"D_26", r->bending.D_26},
+                             {"bending_change", r->bending_change},
+                             {"thickness", l->h},
+                             {"thickness_barb", plume_layout_thickness(l, PLUME_MAT_BARB)},
+                             {"thickness_barbule", plume_layout_thickness(l, PLUME_MAT_BARBULE)}};
+    plume_sparam sp[] = {{"layout", kind}};
+    const char *names[3] = {"uniaxial_x", "uniaxial_y", "shear"};
+    const plume_curve *cv[3] = {&r->uniaxial_x, &r->uniaxial_y, &r->shear};
+    if (plume_moduli_write_params(out, &r->moduli, prov, mparams, (int)(sizeof mparams / sizeof mparams[0]), &err) !=
+        PLUME_OK) {
+        fprintf(stderr, "%s: %s\n", APP, err.msg);
+        rc = 1;
+    }
+    for (int k = 0; k < 3 && rc == 0 && ho->strain_max > 0.0; k++)
+        if (plume_curve_write(out, "cell", names[k], cv[k], params, (int)(sizeof params / sizeof params[0]), sp, 1,
+                              &err) != PLUME_OK) {
+            fprintf(stderr, "%s: %s\n", APP, err.msg);
+            rc = 1;
+        }
+    return rc;
+}
+
+/* --plot: the three responses differ by the contrast (1e6): each is drawn over its own
+ * small-strain modulus, so the charts show the nonlinearity (a straight line is linear
+ * elasticity). Exit code. */
+static int plot_responses(const char *plot, const plume_homog_opts *ho, const plume_homog_result *r)
+{
+    plume_err err = {{0}};
+    int rc = 0;
+    plume_curve cv[3] = {r->uniaxial_x, r->uniaxial_y, r->shear};
+    const double mod[3] = {r->moduli.E_xx, r->moduli.E_yy, r->moduli.G_xy};
+    double *scaled = malloc((size_t)(3 * (ho->steps + 1)) * sizeof *scaled);
+    for (int k = 0; k < 3 && scaled; k++) {
+        for (plume_index i = 0; i < cv[k].n; i++)
+            scaled[k * (ho->steps + 1) + i] = cv[k].stress[i] / mod[k];
+        cv[k].stress = scaled + k * (ho->steps + 1);
+    }
+    const char *labels[3] = {"uniaxial along barbs (/E_xx)", "uniaxial across barbs (/E_yy)",
+                             "shear, normal stresses free (/G_xy)"};
+    const plume_plot_axes axes = {"stress / small-strain modulus", "lateral strain (uniaxial)", NULL, 0.0, 0, NULL, NULL, 0};
+    if (!scaled || plume_plot_curves_axes(plot, "periodic cell response", &axes, cv, labels, 3, &err) != PLUME_OK) {
+        fprintf(stderr, "%s: %s\n", APP, scaled ? err.msg : "out of memory");
+        rc = 1;
+    }
+    free(scaled);
+    return rc;
+}
+
+/* --json: the moduli, the bending tensor, the membrane tensor and the run's figures. */
+static json_t *result_json(const plume_layout *l, const plume_homog_result *r, const char *out)
+{
+    json_t *j = json_object();
+    json_object_set_new(j, "E_xx", json_real(r->moduli.E_xx));
+    json_object_set_new(j, "E_yy", json_real(r->moduli.E_yy));
+    json_object_set_new(j, "nu_xy", json_real(r->moduli.nu_xy));
+    json_object_set_new(j, "G_xy", json_real(r->moduli.G_xy));
+    json_object_set_new(j, "D_long", json_real(r->bending.D_long));
+    json_object_set_new(j, "D_trans", json_real(r->bending.D_trans));
+    json_object_set_new(j, "D_coupling", json_real(r->bending.D_coupling));
+    json_object_set_new(j, "D_twist", json_real(r->bending.D_twist));
+    json_object_set_new(j, "D_16", json_real(r->bending.D_16));
+    json_object_set_new(j, "D_26", json_real(r->bending.D_26));
+    json_t *D = json_array();
+    for (int k = 0; k < 9; k++)
+        json_array_append_new(D, json_real(r->D[k]));
+    json_object_set_new(j, "D", D);
+    json_object_set_new(j, "bending_change", json_real(r->bending_change));
+    json_object_set_new(j, "plate_dofs", json_integer(r->plate_dofs));
+    json_object_set_new(j, "layout", json_string(l->kind == PLUME_LAYOUT_STRIPS ? "strips" : "barbules"));
+    json_t *C = json_array();
+    for (int k = 0; k < 9; k++)
+        json_array_append_new(C, json_real(r->C[k]));
+    json_object_set_new(j, "C", C);
+    json_object_set_new(j, "shear_coupling", json_real(r->coupling));
+    json_object_set_new(j, "elements", json_integer(r->elements));
+    json_object_set_new(j, "order", json_integer(r->order));
+    json_object_set_new(j, "element_edge", json_real(r->element_edge));
+    json_object_set_new(j, "refinement_change", json_real(r->refinement_change));
+    if (r->refinement_change >= 0.0) {
+        json_t *mc = json_object();
+        const char *mn[4] = {"E_xx", "E_yy", "nu_xy", "G_xy"};
+        for (int k = 0; k < 4; k++)
+            json_object_set_new(mc, mn[k], json_real(r->moduli_change[k]));
+        json_object_set_new(j, "moduli_change", mc);
+        json_object_set_new(j, "refinement_edge", json_real(r->refinement_edge));
+    }
+    json_object_set_new(j, "vertices", json_integer(r->vertices));
+    json_object_set_new(j, "newton_iterations", json_integer(r->newton_iterations));
+    json_object_set_new(j, "seconds", json_real(r->seconds));
+    if (out)
+        json_object_set_new(j, "output", json_string(out));
+    return j;
+}
+
+/* The summary on stdout: the JSON object (--json) or the moduli, the bending moduli and the
+ * convergence estimate in words. */
+static void report(const plume_layout *l, const plume_homog_result *r, const char *out, int json)
+{
+    if (json) {
+        json_t *j = result_json(l, r, out);
+        char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
+        if (txt)
+            puts(txt);
+        free(txt);
+        json_decref(j);
+        return;
+    }
+    printf("%s layout, phi %g, ratio %g: E_xx %.6g Pa, E_yy %.6g Pa, nu_xy %.4g, G_xy %.6g Pa "
+           "(%ld %s elements, %d iterations, %.2f s)\n",
+           l->kind == PLUME_LAYOUT_STRIPS ? "strips" : "barbules", l->phi, l->ratio, r->moduli.E_xx, r->moduli.E_yy,
+           r->moduli.nu_xy, r->moduli.G_xy, (long)r->elements, r->order == 2 ? "quadratic" : "linear",
+           r->newton_iterations, r->seconds);
+    printf("bending: D_long %.6g N m, D_trans %.6g N m, D_coupling %.4g N m, D_twist %.6g N m\n", r->bending.D_long,
+           r->bending.D_trans, r->bending.D_coupling, r->bending.D_twist);
+    if (r->refinement_change >= 0.0)
+        printf("converged to %.2g %% (the tensor's change from a mesh of %.3g m elements; E_xx %.2g %%, E_yy %.2g %%, "
+               "nu_xy %.2g %%, G_xy %.2g %%)\n",
+               100.0 * r->refinement_change, r->refinement_edge, 100.0 * r->moduli_change[0],
+               100.0 * r->moduli_change[1], 100.0 * r->moduli_change[2], 100.0 * r->moduli_change[3]);
+}
+
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
     options o;
-    int rc0 = parse_args(argc, argv, &o);
-    if (rc0)
-        return rc0 == CLI_HELP ? 0 : rc0;
-    if ((o.out && (rc0 = cli_output_file(APP, "-o", o.out))) ||
-        (o.plot && (rc0 = cli_output_file(APP, "--plot", o.plot))) ||
-        (o.vtk_dir && (rc0 = cli_output_dir(APP, "--vtk", o.vtk_dir))))
-        return rc0;
+    int rc = parse_args(argc, argv, &o);
+    if (rc)
+        return rc == CLI_HELP ? 0 : rc;
+    if ((o.out && (rc = cli_output_file(APP, "-o", o.out))) ||
+        (o.plot && (rc = cli_output_file(APP, "--plot", o.plot))) ||
+        (o.vtk_dir && (rc = cli_output_dir(APP, "--vtk", o.vtk_dir))))
+        return rc;
     plume_layout l = o.l;
     plume_homog_opts ho = o.ho;
-    const char *out = o.out, *plot = o.plot;
     vtk_out vtk;
     memset(&vtk, 0, sizeof vtk);
     vtk.dir = o.vtk_dir;
-    int json = o.json;
     plume_err err = {{0}};
     if (vtk.dir) {
         plume_layout_materials(&l, vtk.mats);
@@ -203,134 +354,11 @@ int main(int argc, char **argv)
         plume_fields_destroy(&vtk.series[k]);
     if (hs != PLUME_OK)
         return fprintf(stderr, "%s: %s\n", APP, err.msg), 1;
-    int rc = 0;
-    const char *kind = l.kind == PLUME_LAYOUT_STRIPS ? "strips" : "barbules";
-    if (out) {
-        char prov[512];
-        snprintf(prov, sizeof prov,
-                 "plume homogenize: %s layout, phi %g, d_B %g m, E_b %g Pa, nu_b %g, ratio %g, nu_B %g, "
-                 "thickness %g m (barbs %g m, barbules %g m), order %d, element edge %g m, %ld elements",
-                 kind, l.phi, l.d_B, l.E_b, l.nu_b, l.ratio, l.nu_B, l.h, plume_layout_thickness(&l, PLUME_MAT_BARB),
-                 plume_layout_thickness(&l, PLUME_MAT_BARBULE), r.order, r.element_edge, (long)r.elements);
-        plume_param params[] = {{"phi", l.phi}, {"d_B", l.d_B}, {"E_b", l.E_b}, {"nu_b", l.nu_b},
-                                {"ratio", l.ratio}, {"nu_B", l.nu_B}, {"thickness", l.h},
-                                {"thickness_barb", plume_layout_thickness(&l, PLUME_MAT_BARB)},
-                                {"thickness_barbule", plume_layout_thickness(&l, PLUME_MAT_BARBULE)},
-                                {"e_rel", r.element_edge / plume_layout_barb_width(&l)}, {"elements", (double)r.elements},
-                                {"order", (double)r.order}, {"refinement_change", r.refinement_change}};
-        plume_param mparams[] = {{"order", (double)r.order},
-                                 {"element_edge", r.element_edge},
-                                 {"elements", (double)r.elements},
-                                 {"refinement_change", r.refinement_change},
-                                 {"refinement_edge", r.refinement_change >= 0.0 ? r.refinement_edge : -1.0},
-                                 {"E_xx_change", r.moduli_change[0]},
-                                 {"E_yy_change", r.moduli_change[1]},
-                                 {"nu_xy_change", r.moduli_change[2]},
-                                 {"G_xy_change", r.moduli_change[3]},
-                                 {"D_long", r.bending.D_long},
-                                 {"D_trans", r.bending.D_trans},
-                                 {"D_coupling", r.bending.D_coupling},
-                                 {"D_twist", r.bending.D_twist},
-                                 {"D_16", r.bending.D_16},
-                                 {"D_26", r.bending.D_26},
-                                 {"bending_change", r.bending_change},
-                                 {"thickness", l.h},
-                                 {"thickness_barb", plume_layout_thickness(&l, PLUME_MAT_BARB)},
-                                 {"thickness_barbule", plume_layout_thickness(&l, PLUME_MAT_BARBULE)}};
-        plume_sparam sp[] = {{"layout", kind}};
-        const char *names[3] = {"uniaxial_x", "uniaxial_y", "shear"};
-        const plume_curve *cv[3] = {&r.uniaxial_x, &r.uniaxial_y, &r.shear};
-        if (plume_moduli_write_params(out, &r.moduli, prov, mparams, (int)(sizeof mparams / sizeof mparams[0]), &err) !=
-            PLUME_OK) {
-            fprintf(stderr, "%s: %s\n", APP, err.msg);
-            rc = 1;
-        }
-        for (int k = 0; k < 3 && rc == 0 && ho.strain_max > 0.0; k++)
-            if (plume_curve_write(out, "cell", names[k], cv[k], params, (int)(sizeof params / sizeof params[0]), sp, 1,
-                                  &err) != PLUME_OK) {
-                fprintf(stderr, "%s: %s\n", APP, err.msg);
-                rc = 1;
-            }
-    }
-    if (plot && ho.strain_max > 0.0 && rc == 0) {
-        /* the three responses differ by the contrast (1e6): draw each over its own small-strain
-         * modulus, so the charts show the nonlinearity (a straight line is linear elasticity) */
-        plume_curve cv[3] = {r.uniaxial_x, r.uniaxial_y, r.shear};
-        const double mod[3] = {r.moduli.E_xx, r.moduli.E_yy, r.moduli.G_xy};
-        double *scaled = malloc((size_t)(3 * (ho.steps + 1)) * sizeof *scaled);
-        for (int k = 0; k < 3 && scaled; k++) {
-            for (plume_index i = 0; i < cv[k].n; i++)
-                scaled[k * (ho.steps + 1) + i] = cv[k].stress[i] / mod[k];
-            cv[k].stress = scaled + k * (ho.steps + 1);
-        }
-        const char *labels[3] = {"uniaxial along barbs (/E_xx)", "uniaxial across barbs (/E_yy)",
-                                 "shear, normal stresses free (/G_xy)"};
-        const plume_plot_axes axes = {"stress / small-strain modulus", "lateral strain (uniaxial)", NULL, 0.0, 0, NULL, NULL, 0};
-        if (!scaled || plume_plot_curves_axes(plot, "periodic cell response", &axes, cv, labels, 3, &err) != PLUME_OK) {
-            fprintf(stderr, "%s: %s\n", APP, scaled ? err.msg : "out of memory");
-            rc = 1;
-        }
-        free(scaled);
-    }
-    if (json) {
-        json_t *j = json_object();
-        json_object_set_new(j, "E_xx", json_real(r.moduli.E_xx));
-        json_object_set_new(j, "E_yy", json_real(r.moduli.E_yy));
-        json_object_set_new(j, "nu_xy", json_real(r.moduli.nu_xy));
-        json_object_set_new(j, "G_xy", json_real(r.moduli.G_xy));
-        json_object_set_new(j, "D_long", json_real(r.bending.D_long));
-        json_object_set_new(j, "D_trans", json_real(r.bending.D_trans));
-        json_object_set_new(j, "D_coupling", json_real(r.bending.D_coupling));
-        json_object_set_new(j, "D_twist", json_real(r.bending.D_twist));
-        json_object_set_new(j, "D_16", json_real(r.bending.D_16));
-        json_object_set_new(j, "D_26", json_real(r.bending.D_26));
-        json_t *D = json_array();
-        for (int k = 0; k < 9; k++)
-            json_array_append_new(D, json_real(r.D[k]));
-        json_object_set_new(j, "D", D);
-        json_object_set_new(j, "bending_change", json_real(r.bending_change));
-        json_object_set_new(j, "plate_dofs", json_integer(r.plate_dofs));
-        json_object_set_new(j, "layout", json_string(kind));
-        json_t *C = json_array();
-        for (int k = 0; k < 9; k++)
-            json_array_append_new(C, json_real(r.C[k]));
-        json_object_set_new(j, "C", C);
-        json_object_set_new(j, "shear_coupling", json_real(r.coupling));
-        json_object_set_new(j, "elements", json_integer(r.elements));
-        json_object_set_new(j, "order", json_integer(r.order));
-        json_object_set_new(j, "element_edge", json_real(r.element_edge));
-        json_object_set_new(j, "refinement_change", json_real(r.refinement_change));
-        if (r.refinement_change >= 0.0) {
-            json_t *mc = json_object();
-            const char *mn[4] = {"E_xx", "E_yy", "nu_xy", "G_xy"};
-            for (int k = 0; k < 4; k++)
-                json_object_set_new(mc, mn[k], json_real(r.moduli_change[k]));
-            json_object_set_new(j, "moduli_change", mc);
-            json_object_set_new(j, "refinement_edge", json_real(r.refinement_edge));
-        }
-        json_object_set_new(j, "vertices", json_integer(r.vertices));
-        json_object_set_new(j, "newton_iterations", json_integer(r.newton_iterations));
-        json_object_set_new(j, "seconds", json_real(r.seconds));
-        if (out)
-            json_object_set_new(j, "output", json_string(out));
-        char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
-        if (txt)
-            puts(txt);
-        free(txt);
-        json_decref(j);
-    } else {
-        printf("%s layout, phi %g, ratio %g: E_xx %.6g Pa, E_yy %.6g Pa, nu_xy %.4g, G_xy %.6g Pa "
-               "(%ld %s elements, %d iterations, %.2f s)\n",
-               kind, l.phi, l.ratio, r.moduli.E_xx, r.moduli.E_yy, r.moduli.nu_xy, r.moduli.G_xy, (long)r.elements,
-               r.order == 2 ? "quadratic" : "linear", r.newton_iterations, r.seconds);
-        printf("bending: D_long %.6g N m, D_trans %.6g N m, D_coupling %.4g N m, D_twist %.6g N m\n", r.bending.D_long,
-               r.bending.D_trans, r.bending.D_coupling, r.bending.D_twist);
-        if (r.refinement_change >= 0.0)
-            printf("converged to %.2g %% (the tensor's change from a mesh of %.3g m elements; E_xx %.2g %%, E_yy %.2g %%, "
-                   "nu_xy %.2g %%, G_xy %.2g %%)\n",
-                   100.0 * r.refinement_change, r.refinement_edge, 100.0 * r.moduli_change[0],
-                   100.0 * r.moduli_change[1], 100.0 * r.moduli_change[2], 100.0 * r.moduli_change[3]);
-    }
+    if (o.out)
+        rc = write_results(o.out, &l, &ho, &r);
+    if (o.plot && ho.strain_max > 0.0 && rc == 0)
+        rc = plot_responses(o.plot, &ho, &r);
+    report(&l, &r, o.out, o.json);
     plume_homog_result_free(&r);
     return rc;
 }

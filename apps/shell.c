@@ -122,6 +122,154 @@ static double probe_error(const double u[3], const double ref[3], int mask)
     return r > 0.0 ? sqrt(d / r) : sqrt(d);
 }
 
+/* The command line's overrides of the scene's settings; the solver must reach an equilibrium.
+ * Exit code. */
+static int apply_overrides(const options *o, plume_scene *scene)
+{
+    if (o->solver && plume_solver_kind_parse(o->solver, &scene->solver) != PLUME_OK)
+        return cli_fail(APP, "--solver must be newton or ipopt (got '%s')", o->solver);
+    if (scene->solver == PLUME_SOLVER_LINEARIZED)
+        return cli_fail(APP, "the linearized solver takes one step and cannot reach an equilibrium: use newton or ipopt");
+    if (o->steps > 0)
+        scene->steps = o->steps;
+    if (o->bending)
+        scene->hinge_bending = o->bending[0] == 'h';
+    if (o->predictor)
+        plume_predictor_parse(o->predictor, &scene->predictor);
+    if (o->globalization)
+        plume_globalization_parse(o->globalization, &scene->globalization);
+    scene->verbose = o->verbose;
+    return 0;
+}
+
+/* What the load steps did. */
+typedef struct {
+    int converged, iterations, cuts, factorizations;
+    double seconds, max_violation;
+    plume_reason reason;
+} statics_tally;
+
+/* A load step's object (its figures and the probes' displacements at x), and its line on stderr
+ * unless quiet. */
+static json_t *step_json(const plume_load_step_report *r, const plume_scene *scene, const double *x, int quiet)
+{
+    json_t *js = json_object();
+    json_object_set_new(js, "step", json_integer(r->step));
+    json_object_set_new(js, "factor", json_real(r->factor));
+    json_object_set_new(js, "iterations", json_integer(r->iterations));
+    json_object_set_new(js, "backtracks", json_integer(r->backtracks));
+    json_object_set_new(js, "inertia_shifts", json_integer(r->shifts));
+    json_object_set_new(js, "cuts", json_integer(r->cuts));
+    json_object_set_new(js, "converged", json_boolean(r->converged));
+    if (!quiet)
+        fprintf(stderr, "  step %3d  factor %.4f  iterations %3d (backtracks %d, shifts %d)  cuts %d  %s", r->step,
+                r->factor, r->iterations, r->backtracks, r->shifts, r->cuts,
+                r->converged ? "converged" : plume_reason_name(r->reason));
+    json_t *jp = json_object();
+    for (int q = 0; q < scene->nprobes; q++) {
+        double u[3];
+        plume_scene_probe_displacement(scene, q, x, u);
+        json_object_set_new(jp, scene->probes[q].name, json_pack("[f, f, f]", u[0], u[1], u[2]));
+        if (!quiet)
+            fprintf(stderr, "  %s (%.5g, %.5g, %.5g)", scene->probes[q].name, u[0], u[1], u[2]);
+    }
+    if (!quiet)
+        fputc('\n', stderr);
+    json_object_set_new(js, "probes", jp);
+    return js;
+}
+
+/* The load steps, each recorded in jsteps and (with -o) written as a frame of the series, until
+ * one does not converge at the smallest increment. Exit code. */
+static int load_steps(const options *o, const plume_scene *scene, plume_problem *p, plume_statics *st,
+                      plume_fields *fields, json_t *jsteps, statics_tally *t)
+{
+    plume_err err = {{0}};
+    plume_status s;
+    for (int k = 0; k < scene->steps; k++) {
+        plume_load_step_report r;
+        if ((s = plume_statics_step(st, &r)) != PLUME_OK)
+            return cli_fail(APP, "load step %d: %s", k + 1, plume_strerror(s));
+        t->iterations += r.iterations;
+        t->cuts += r.cuts;
+        t->factorizations += r.factorizations;
+        t->seconds += r.seconds;
+        t->max_violation = fmax(t->max_violation, r.max_violation);
+        const double *x = plume_problem_x(p);
+        json_array_append_new(jsteps, step_json(&r, scene, x, o->quiet));
+        if (o->outdir && plume_fields_series_frame(fields, r.step, r.factor, x, &err) != PLUME_OK) {
+            fprintf(stderr, "%s: %s\n", APP, err.msg);
+            return 1; /* an output failure, not bad input */
+        }
+        if (!r.converged) {
+            t->converged = 0;
+            t->reason = r.reason;
+            break;
+        }
+    }
+    return 0;
+}
+
+/* The probes' displacements at x against their references (each error on stderr unless quiet). */
+static json_t *probes_json(const plume_scene *scene, const double *x, int quiet)
+{
+    json_t *jprobes = json_object();
+    for (int q = 0; q < scene->nprobes; q++) {
+        const plume_scene_probe *pr = scene->probes + q;
+        double u[3];
+        plume_scene_probe_displacement(scene, q, x, u);
+        json_t *j = json_object();
+        json_object_set_new(j, "displacement", json_pack("[f, f, f]", u[0], u[1], u[2]));
+        if (pr->has_reference) {
+            double e = probe_error(u, pr->reference, pr->has_reference);
+            json_t *jr = json_array();
+            for (int a = 0; a < 3; a++)
+                json_array_append_new(jr, pr->has_reference & (1 << a) ? json_real(pr->reference[a]) : json_null());
+            json_object_set_new(j, "reference", jr);
+            json_object_set_new(j, "relative_error", json_real(e));
+            if (pr->source)
+                json_object_set_new(j, "source", json_string(pr->source));
+            if (!quiet)
+                fprintf(stderr, "%s: %s displacement (%.6g, %.6g, %.6g), reference (%.6g, %.6g, %.6g): error %.3g %%\n",
+                        APP, pr->name, u[0], u[1], u[2], pr->reference[0], pr->reference[1], pr->reference[2], 100.0 * e);
+        }
+        json_object_set_new(jprobes, pr->name, j);
+    }
+    return jprobes;
+}
+
+/* --json: the run's summary on stdout (takes jprobes and jsteps). */
+static void print_json(const options *o, const plume_scene *scene, const plume_problem *p, const plume_statics *st,
+                       const statics_tally *t, json_t *jprobes, json_t *jsteps)
+{
+    const plume_mesh *m = scene->mesh;
+    json_t *j = json_object();
+    json_object_set_new(j, "scene", json_string(o->scene));
+    json_object_set_new(j, "elements", json_integer(m->nt));
+    json_object_set_new(j, "vertices", json_integer(m->nv));
+    json_object_set_new(j, "constraints", json_integer(plume_problem_ncons(p)));
+    json_object_set_new(j, "bending_model", json_string(scene->hinge_bending ? "hinge" : "shape_operator"));
+    json_object_set_new(j, "solver", json_string(plume_solver_kind_name(scene->solver)));
+    json_object_set_new(j, "load_steps", json_integer(scene->steps));
+    json_object_set_new(j, "predictor", json_string(plume_predictor_name(scene->predictor)));
+    json_object_set_new(j, "globalization", json_string(plume_globalization_name(scene->globalization)));
+    json_object_set_new(j, "load_factor", json_real(plume_statics_factor(st)));
+    json_object_set_new(j, "converged", json_boolean(t->converged));
+    json_object_set_new(j, "stop_reason", json_string(plume_reason_name(t->reason)));
+    json_object_set_new(j, "newton_iterations", json_integer(t->iterations));
+    json_object_set_new(j, "increment_cuts", json_integer(t->cuts));
+    json_object_set_new(j, "factorizations", json_integer(t->factorizations));
+    json_object_set_new(j, "max_constraint_violation", json_real(t->max_violation));
+    json_object_set_new(j, "solve_seconds", json_real(t->seconds));
+    json_object_set_new(j, "probes", jprobes);
+    json_object_set_new(j, "steps", jsteps);
+    char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
+    if (text)
+        puts(text);
+    free(text);
+    json_decref(j);
+}
+
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
@@ -145,24 +293,7 @@ int main(int argc, char **argv)
         rc = cli_fail(APP, "%s is a dynamic scene: run it with apps/feather (or add \"solve\": \"static\")", o.scene);
         goto done;
     }
-    if (o.solver && plume_solver_kind_parse(o.solver, &scene->solver) != PLUME_OK) {
-        rc = cli_fail(APP, "--solver must be newton or ipopt (got '%s')", o.solver);
-        goto done;
-    }
-    if (scene->solver == PLUME_SOLVER_LINEARIZED) {
-        rc = cli_fail(APP, "the linearized solver takes one step and cannot reach an equilibrium: use newton or ipopt");
-        goto done;
-    }
-    if (o.steps > 0)
-        scene->steps = o.steps;
-    if (o.bending)
-        scene->hinge_bending = o.bending[0] == 'h';
-    if (o.predictor)
-        plume_predictor_parse(o.predictor, &scene->predictor);
-    if (o.globalization)
-        plume_globalization_parse(o.globalization, &scene->globalization);
-    scene->verbose = o.verbose;
-    if (o.outdir && (rc = cli_output_dir(APP, "-o", o.outdir)))
+    if ((rc = apply_overrides(&o, scene)) || (o.outdir && (rc = cli_output_dir(APP, "-o", o.outdir))))
         goto done;
     if ((s = plume_scene_statics(scene, &p, &st, &err)) != PLUME_OK) {
         fprintf(stderr, "%s: %s\n", APP, err.msg);
@@ -175,117 +306,22 @@ int main(int argc, char **argv)
         rc = 1;
         goto done;
     }
-    const plume_mesh *m = scene->mesh;
-    int converged = 1, iterations = 0, cuts = 0, factorizations = 0;
-    double seconds = 0.0, max_violation = 0.0;
-    plume_reason reason = PLUME_REASON_CONVERGED;
     if (!o.quiet)
-        fprintf(stderr, "%s: %s, %ld elements, %ld vertices, %d load steps, %s bending\n", APP, o.scene, (long)m->nt,
-                (long)m->nv, scene->steps, scene->hinge_bending ? "hinge" : "shape-operator");
-    for (int k = 0; k < scene->steps; k++) {
-        plume_load_step_report r;
-        if ((s = plume_statics_step(st, &r)) != PLUME_OK) {
-            rc = cli_fail(APP, "load step %d: %s", k + 1, plume_strerror(s));
-            goto done;
-        }
-        iterations += r.iterations;
-        cuts += r.cuts;
-        factorizations += r.factorizations;
-        seconds += r.seconds;
-        max_violation = fmax(max_violation, r.max_violation);
-        const double *x = plume_problem_x(p);
-        json_t *js = json_object();
-        json_object_set_new(js, "step", json_integer(r.step));
-        json_object_set_new(js, "factor", json_real(r.factor));
-        json_object_set_new(js, "iterations", json_integer(r.iterations));
-        json_object_set_new(js, "backtracks", json_integer(r.backtracks));
-        json_object_set_new(js, "inertia_shifts", json_integer(r.shifts));
-        json_object_set_new(js, "cuts", json_integer(r.cuts));
-        json_object_set_new(js, "converged", json_boolean(r.converged));
-        if (!o.quiet)
-            fprintf(stderr, "  step %3d  factor %.4f  iterations %3d (backtracks %d, shifts %d)  cuts %d  %s", r.step,
-                    r.factor, r.iterations, r.backtracks, r.shifts, r.cuts,
-                    r.converged ? "converged" : plume_reason_name(r.reason));
-        json_t *jp = json_object();
-        for (int q = 0; q < scene->nprobes; q++) {
-            double u[3];
-            plume_scene_probe_displacement(scene, q, x, u);
-            json_object_set_new(jp, scene->probes[q].name, json_pack("[f, f, f]", u[0], u[1], u[2]));
-            if (!o.quiet)
-                fprintf(stderr, "  %s (%.5g, %.5g, %.5g)", scene->probes[q].name, u[0], u[1], u[2]);
-        }
-        if (!o.quiet)
-            fputc('\n', stderr);
-        json_object_set_new(js, "probes", jp);
-        json_array_append_new(jsteps, js);
-        if (o.outdir) {
-            if ((s = plume_fields_series_frame(fields, r.step, r.factor, x, &err)) != PLUME_OK) {
-                fprintf(stderr, "%s: %s\n", APP, err.msg);
-                rc = 1; /* an output failure, not bad input */
-                goto done;
-            }
-        }
-        if (!r.converged) {
-            converged = 0;
-            reason = r.reason;
-            break;
-        }
-    }
-    const double *x = plume_problem_x(p);
-    json_t *jprobes = json_object();
-    for (int q = 0; q < scene->nprobes; q++) {
-        const plume_scene_probe *pr = scene->probes + q;
-        double u[3];
-        plume_scene_probe_displacement(scene, q, x, u);
-        json_t *j = json_object();
-        json_object_set_new(j, "displacement", json_pack("[f, f, f]", u[0], u[1], u[2]));
-        if (pr->has_reference) {
-            double e = probe_error(u, pr->reference, pr->has_reference);
-            json_t *jr = json_array();
-            for (int a = 0; a < 3; a++)
-                json_array_append_new(jr, pr->has_reference & (1 << a) ? json_real(pr->reference[a]) : json_null());
-            json_object_set_new(j, "reference", jr);
-            json_object_set_new(j, "relative_error", json_real(e));
-            if (pr->source)
-                json_object_set_new(j, "source", json_string(pr->source));
-            if (!o.quiet)
-                fprintf(stderr, "%s: %s displacement (%.6g, %.6g, %.6g), reference (%.6g, %.6g, %.6g): error %.3g %%\n",
-                        APP, pr->name, u[0], u[1], u[2], pr->reference[0], pr->reference[1], pr->reference[2], 100.0 * e);
-        }
-        json_object_set_new(jprobes, pr->name, j);
-    }
+        fprintf(stderr, "%s: %s, %ld elements, %ld vertices, %d load steps, %s bending\n", APP, o.scene,
+                (long)scene->mesh->nt, (long)scene->mesh->nv, scene->steps,
+                scene->hinge_bending ? "hinge" : "shape-operator");
+    statics_tally t = {1, 0, 0, 0, 0.0, 0.0, PLUME_REASON_CONVERGED};
+    if ((rc = load_steps(&o, scene, p, st, fields, jsteps, &t)))
+        goto done;
+    json_t *jprobes = probes_json(scene, plume_problem_x(p), o.quiet);
     if (o.json) {
-        json_t *j = json_object();
-        json_object_set_new(j, "scene", json_string(o.scene));
-        json_object_set_new(j, "elements", json_integer(m->nt));
-        json_object_set_new(j, "vertices", json_integer(m->nv));
-        json_object_set_new(j, "constraints", json_integer(plume_problem_ncons(p)));
-        json_object_set_new(j, "bending_model", json_string(scene->hinge_bending ? "hinge" : "shape_operator"));
-        json_object_set_new(j, "solver", json_string(plume_solver_kind_name(scene->solver)));
-        json_object_set_new(j, "load_steps", json_integer(scene->steps));
-        json_object_set_new(j, "predictor", json_string(plume_predictor_name(scene->predictor)));
-        json_object_set_new(j, "globalization", json_string(plume_globalization_name(scene->globalization)));
-        json_object_set_new(j, "load_factor", json_real(plume_statics_factor(st)));
-        json_object_set_new(j, "converged", json_boolean(converged));
-        json_object_set_new(j, "stop_reason", json_string(plume_reason_name(reason)));
-        json_object_set_new(j, "newton_iterations", json_integer(iterations));
-        json_object_set_new(j, "increment_cuts", json_integer(cuts));
-        json_object_set_new(j, "factorizations", json_integer(factorizations));
-        json_object_set_new(j, "max_constraint_violation", json_real(max_violation));
-        json_object_set_new(j, "solve_seconds", json_real(seconds));
-        json_object_set_new(j, "probes", jprobes);
-        json_object_set_new(j, "steps", jsteps);
+        print_json(&o, scene, p, st, &t, jprobes, jsteps);
         jprobes = jsteps = NULL;
-        char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
-        if (text)
-            puts(text);
-        free(text);
-        json_decref(j);
     }
     json_decref(jprobes);
-    if (!converged) {
+    if (!t.converged) {
         fprintf(stderr, "%s: load step did not converge at the smallest increment (%s); load factor reached %.6g\n", APP,
-                plume_reason_name(reason), plume_statics_factor(st));
+                plume_reason_name(t.reason), plume_statics_factor(st));
         rc = 3;
     }
 done:

@@ -986,6 +986,116 @@ static int parse_args(int argc, char **argv, study *s)
     return 0;
 }
 
+/* Every section of the study, in order, into md (/dev/null while the runs are planned). */
+static void all_sections(study *s, FILE *md)
+{
+    section_cost(s, md);
+    section_solvers(s, md);
+    section_sensitivity(s, md);
+    section_scenes(s, md);
+    section_stability(s, md);
+    section_figure10(s, md);
+}
+
+/* The runs, planned on every rank by the same walk of the sections. Exit code. */
+static int plan_runs(study *s)
+{
+    FILE *null = fopen("/dev/null", "w");
+    if (!null)
+        return fprintf(stderr, "study: cannot open /dev/null\n"), 1;
+    s->planning = 1;
+    all_sections(s, null);
+    fclose(null);
+    s->planning = 0;
+    return 0;
+}
+
+/* The runs executed over the ranks, handed out longest first by a cost estimate: a dynamic
+ * schedule cannot make up for a long run that starts last (the full study's 142 s Ipopt run,
+ * planned near the end, kept 2 ranks at 231 s against the 156 s the longest-first order allows).
+ * Returns schedule_run's code. */
+static int execute_runs(study *s, int rank, int size)
+{
+    int *todo = malloc(((size_t)s->nruns + 1) * sizeof *todo);
+    for (int k = 0; k < s->nruns; k++)
+        todo[k] = k;
+    cost_order = s;
+    qsort(todo, (size_t)s->nruns, sizeof *todo, by_cost);
+    int rc = schedule_run(rank, size, todo, s->nruns, execute, keep, s);
+    free(todo);
+    return rc;
+}
+
+/* DIR/summary.md (written under a temporary name, then renamed); *failed: the runs without a
+ * converged curve. Exit code. */
+static int write_summary(study *s, const char *mdpath, int *failed)
+{
+    char mdtmp[1300];
+    snprintf(mdtmp, sizeof mdtmp, "%s.tmp", mdpath);
+    FILE *md = fopen(mdtmp, "w");
+    if (!md)
+        return fprintf(stderr, "study: cannot write %s: %s\n", mdtmp, strerror(errno)), 1;
+    s->t0 = now();
+    fprintf(md, "# plume study (%s)\n\nWritten by `apps/study%s`. Curves of every run: study.h5, "
+                "/curves/study/<section>_<case>, with the run's parameters as attributes (`outcome` says converged "
+                "or why not). Times are wall times of the traction run on this machine, one run at a time.\n",
+            s->quick ? "quick" : "full", s->quick ? " --quick" : "");
+    all_sections(s, md);
+    *failed = 0;
+    for (int i = 0; i < s->nruns; i++)
+        *failed += !ok(&s->runs[i]);
+    fprintf(md, "\n## Totals\n\n%d runs, %d without a converged curve to 5 %% strain (listed above), %.1f s wall time "
+                "for the whole study.\n", s->nruns, *failed, now() - s->t0);
+    int bad = ferror(md);
+    if (fclose(md) != 0 || bad || rename(mdtmp, mdpath) != 0) {
+        fprintf(stderr, "study: cannot write %s\n", mdpath);
+        return 1;
+    }
+    return 0;
+}
+
+/* --json: every run's figures, the failures, and where the results are. */
+static void print_json(const study *s, int failed, const char *mdpath)
+{
+    json_t *j = json_object(), *arr = json_array();
+    for (int i = 0; i < s->nruns; i++) {
+        const run *r = &s->runs[i];
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(r->name));
+        json_object_set_new(o, "model", json_string(model_name(&r->cfg)));
+        json_object_set_new(o, "solver", json_string(plume_solver_kind_name(r->cfg.solver)));
+        if (r->cfg.micro) {
+            json_object_set_new(o, "order", json_integer(r->cfg.layout.order));
+            json_object_set_new(o, "e_rel", json_real(fig10_e_rel(&r->cfg)));
+            json_object_set_new(o, "dB_rel", json_real(r->cfg.layout.d_B / r->cfg.ly));
+        } else {
+            json_object_set_new(o, "edge", json_real(r->cfg.edge));
+        }
+        json_object_set_new(o, "outcome", json_string(outcome(r)));
+        if (r->st != PLUME_OK)
+            json_object_set_new(o, "error", json_string(r->msg));
+        json_object_set_new(o, "elements", json_integer(r->res.elements));
+        json_object_set_new(o, "seconds", json_real(r->res.seconds));
+        json_object_set_new(o, "iterations", json_integer(r->res.iterations));
+        if (isfinite(r->res.stress))
+            json_object_set_new(o, "stress", json_real(r->res.stress));
+        if (isfinite(r->res.wbar))
+            json_object_set_new(o, "wbar", json_real(r->res.wbar));
+        json_array_append_new(arr, o);
+    }
+    json_object_set_new(j, "quick", json_boolean(s->quick));
+    json_object_set_new(j, "runs", arr);
+    json_object_set_new(j, "failures", json_integer(failed));
+    json_object_set_new(j, "seconds", json_real(now() - s->t0));
+    json_object_set_new(j, "h5", json_string(s->h5));
+    json_object_set_new(j, "summary", json_string(mdpath));
+    char *txt = json_dumps(j, JSON_INDENT(2));
+    if (txt)
+        puts(txt);
+    free(txt);
+    json_decref(j);
+}
+
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
@@ -993,10 +1103,10 @@ int main(int argc, char **argv)
     schedule_init(&argc, &argv, &rank, &size);
     study s;
     memset(&s, 0, sizeof s);
-    int rc0 = parse_args(argc, argv, &s);
-    if (rc0) {
+    int rc = parse_args(argc, argv, &s);
+    if (rc) {
         schedule_finalize();
-        return rc0 == CLI_HELP ? 0 : rc0;
+        return rc == CLI_HELP ? 0 : rc;
     }
     /* the output directory first (rank 0), so that a bad one stops the study before its runs */
     int bad_dir = 0;
@@ -1007,32 +1117,12 @@ int main(int argc, char **argv)
         return 2;
     }
     snprintf(s.h5, sizeof s.h5, "%s/study.h5", s.dir);
-    /* the runs: planned on every rank (the same walk), executed over the ranks */
-    FILE *null = fopen("/dev/null", "w");
-    if (!null) {
+    if ((rc = plan_runs(&s))) {
         schedule_finalize();
-        return fprintf(stderr, "study: cannot open /dev/null\n"), 1;
+        return rc;
     }
-    s.planning = 1;
-    section_cost(&s, null);
-    section_solvers(&s, null);
-    section_sensitivity(&s, null);
-    section_scenes(&s, null);
-    section_stability(&s, null);
-    section_figure10(&s, null);
-    fclose(null);
-    s.planning = 0;
-    /* handed out longest first, by a cost estimate: a dynamic schedule cannot make up for a long run
-     * that starts last (the full study's 142 s Ipopt run, planned near the end, kept 2 ranks at
-     * 231 s against the 156 s the longest-first order allows) */
-    int *todo = malloc(((size_t)s.nruns + 1) * sizeof *todo);
-    for (int k = 0; k < s.nruns; k++)
-        todo[k] = k;
-    cost_order = &s;
-    qsort(todo, (size_t)s.nruns, sizeof *todo, by_cost);
     double t_runs = now();
-    int rc_runs = schedule_run(rank, size, todo, s.nruns, execute, keep, &s);
-    free(todo);
+    int rc_runs = execute_runs(&s, rank, size);
     if (rank > 0) {
         schedule_finalize();
         return 0;
@@ -1040,75 +1130,15 @@ int main(int argc, char **argv)
     if (rc_runs)
         fprintf(stderr, "study: a run's result was lost on its way to rank 0\n");
     fprintf(stderr, "study: %d runs in %.1f s on %d rank%s\n", s.nruns, now() - t_runs, size, size == 1 ? "" : "s");
-    char mdpath[1200], mdtmp[1300];
+    char mdpath[1200];
     snprintf(mdpath, sizeof mdpath, "%s/summary.md", s.dir);
-    snprintf(mdtmp, sizeof mdtmp, "%s.tmp", mdpath);
-    FILE *md = fopen(mdtmp, "w");
-    if (!md) {
-        schedule_finalize();
-        return fprintf(stderr, "study: cannot write %s: %s\n", mdtmp, strerror(errno)), 1;
-    }
-    s.t0 = now();
-    fprintf(md, "# plume study (%s)\n\nWritten by `apps/study%s`. Curves of every run: study.h5, "
-                "/curves/study/<section>_<case>, with the run's parameters as attributes (`outcome` says converged "
-                "or why not). Times are wall times of the traction run on this machine, one run at a time.\n",
-            s.quick ? "quick" : "full", s.quick ? " --quick" : "");
-    section_cost(&s, md);
-    section_solvers(&s, md);
-    section_sensitivity(&s, md);
-    section_scenes(&s, md);
-    section_stability(&s, md);
-    section_figure10(&s, md);
     int failed = 0;
-    for (int i = 0; i < s.nruns; i++)
-        failed += !ok(&s.runs[i]);
-    fprintf(md, "\n## Totals\n\n%d runs, %d without a converged curve to 5 %% strain (listed above), %.1f s wall time "
-                "for the whole study.\n", s.nruns, failed, now() - s.t0);
-    int bad = ferror(md);
-    if (fclose(md) != 0 || bad || rename(mdtmp, mdpath) != 0) {
-        fprintf(stderr, "study: cannot write %s\n", mdpath);
+    if ((rc = write_summary(&s, mdpath, &failed))) {
         schedule_finalize();
-        return 1;
+        return rc;
     }
-    if (s.json) {
-        json_t *j = json_object(), *arr = json_array();
-        for (int i = 0; i < s.nruns; i++) {
-            const run *r = &s.runs[i];
-            json_t *o = json_object();
-            json_object_set_new(o, "name", json_string(r->name));
-            json_object_set_new(o, "model", json_string(model_name(&r->cfg)));
-            json_object_set_new(o, "solver", json_string(plume_solver_kind_name(r->cfg.solver)));
-            if (r->cfg.micro) {
-                json_object_set_new(o, "order", json_integer(r->cfg.layout.order));
-                json_object_set_new(o, "e_rel", json_real(fig10_e_rel(&r->cfg)));
-                json_object_set_new(o, "dB_rel", json_real(r->cfg.layout.d_B / r->cfg.ly));
-            } else {
-                json_object_set_new(o, "edge", json_real(r->cfg.edge));
-            }
-            json_object_set_new(o, "outcome", json_string(outcome(r)));
-            if (r->st != PLUME_OK)
-                json_object_set_new(o, "error", json_string(r->msg));
-            json_object_set_new(o, "elements", json_integer(r->res.elements));
-            json_object_set_new(o, "seconds", json_real(r->res.seconds));
-            json_object_set_new(o, "iterations", json_integer(r->res.iterations));
-            if (isfinite(r->res.stress))
-                json_object_set_new(o, "stress", json_real(r->res.stress));
-            if (isfinite(r->res.wbar))
-                json_object_set_new(o, "wbar", json_real(r->res.wbar));
-            json_array_append_new(arr, o);
-        }
-        json_object_set_new(j, "quick", json_boolean(s.quick));
-        json_object_set_new(j, "runs", arr);
-        json_object_set_new(j, "failures", json_integer(failed));
-        json_object_set_new(j, "seconds", json_real(now() - s.t0));
-        json_object_set_new(j, "h5", json_string(s.h5));
-        json_object_set_new(j, "summary", json_string(mdpath));
-        char *txt = json_dumps(j, JSON_INDENT(2));
-        if (txt)
-            puts(txt);
-        free(txt);
-        json_decref(j);
-    }
+    if (s.json)
+        print_json(&s, failed, mdpath);
     for (int i = 0; i < s.nruns; i++)
         plume_study_result_free(&s.runs[i].res);
     free(s.runs);

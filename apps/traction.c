@@ -419,6 +419,359 @@ static void print_summary(const model_run *r, const options *o, double angle)
                r->conv.refinement_edge);
 }
 
+/* What main builds from the options and runs: the models' inputs, their runs and the size-effect
+ * family. */
+typedef struct {
+    double angle, edge;
+    int want_macro, want_micro;
+    plume_layout layout;
+    plume_vane vane;
+    const char *moduli_source; /* "flags", "homogenised" or the --moduli file */
+    plume_patch_kind kind;
+    plume_traction_opts to;
+    size_family fam;
+    model_run runs[2]; /* 0 macro, 1 micro */
+} traction_job;
+
+/* The barb angle: the scenario's, or the --sample's (whose size and thickness fill the ones not
+ * given), or --angle; the sample's size checked. Returns an exit code. */
+static int resolve_angle(options *o, const char *argv0, double *angle_out)
+{
+    plume_err err = {{0}};
+    double angle;
+    if (strcmp(o->scenario, "longitudinal") == 0)
+        angle = 0.0;
+    else if (strcmp(o->scenario, "transverse") == 0)
+        angle = 90.0;
+    else if (strcmp(o->scenario, "tilted") == 0)
+        angle = 45.0;
+    else
+        return fail("--scenario expects longitudinal|transverse|tilted (got '%s')%s", o->scenario, "");
+
+    if (o->sample) {
+        char path[4096];
+        if (o->samples_file)
+            snprintf(path, sizeof path, "%s", o->samples_file);
+        else
+            default_samples_path(argv0, path, sizeof path);
+        plume_sample s;
+        if (plume_sample_load(path, o->sample, &s, &err) != PLUME_OK)
+            return fail("%s%s", err.msg, "");
+        if (!o->lx_set)
+            o->lx = s.lx;
+        if (!o->ly_set)
+            o->ly = s.ly;
+        if (!o->h_set)
+            o->h = s.h;
+        if (strcmp(o->scenario, "tilted") == 0) /* the sample decides unless --scenario changed it */
+            o->scenario = strcmp(s.scenario, "transverse") == 0 ? "transverse" : strcmp(s.scenario, "longitudinal") == 0 ? "longitudinal" : "tilted";
+        angle = strcmp(o->scenario, "longitudinal") == 0 ? 0.0 : strcmp(o->scenario, "transverse") == 0 ? 90.0 : 45.0;
+    }
+    if (o->angle_set)
+        angle = o->angle;
+    if (!(angle >= 0.0 && angle <= 180.0))
+        return fprintf(stderr, "traction: --angle must be in [0, 180] degrees (got %g)\n", angle), 2;
+    if (!(o->lx > 0) || !(o->ly > 0) || !(o->h > 0))
+        return fprintf(stderr, "traction: --lx, --ly and --thickness must be > 0 (got %g, %g, %g m): a zero-area or zero-thickness sample cannot be tested\n",
+                       o->lx, o->ly, o->h), 2;
+    *angle_out = angle;
+    return 0;
+}
+
+/* The microscale layout: defaults, then the file, then the flags; sized on the sample (checked when
+ * the micro model runs). Returns an exit code. */
+static int build_layout(const options *o, int want_micro, plume_layout *layout)
+{
+    plume_err err = {{0}};
+    plume_layout_default(layout);
+    if (o->layout_file && plume_layout_load_json(o->layout_file, layout, &err) != PLUME_OK)
+        return fail("%s%s", err.msg, "");
+    if (o->layout_kind) {
+        if (strcmp(o->layout_kind, "strips") == 0)
+            layout->kind = PLUME_LAYOUT_STRIPS;
+        else if (strcmp(o->layout_kind, "barbules") == 0)
+            layout->kind = PLUME_LAYOUT_BARBULES;
+        else
+            return fail("--layout expects strips|barbules (got '%s')%s", o->layout_kind, "");
+    }
+    if (o->phi_set) layout->phi = o->phi;
+    if (o->ratio_set) layout->ratio = o->ratio;
+    if (o->Eb_set) layout->E_b = o->Eb;
+    if (o->nu_barb_set) layout->nu_b = o->nu_barb;
+    if (o->nu_barbule_set) layout->nu_B = o->nu_barbule;
+    if (o->e_rel_set || !o->layout_file) layout->e_rel = o->e_rel;
+    if (o->order_set) layout->order = o->order;
+    if (o->dB_rel_set || !o->layout_file)
+        plume_layout_set_spacing(layout, o->dB_rel * o->ly); /* barbule geometry kept proportional */
+    if (!o->bending || o->h_set)
+        layout->h = o->h;
+    layout->kappa = o->kappa;
+    if (o->bending)
+        layout->order = 1; /* the shell's triangles are linear */
+    if (want_micro && plume_layout_check(layout, &err) != PLUME_OK)
+        return fail("layout: %s%s", err.msg, "");
+    return 0;
+}
+
+/* --bending: the plate test at both scales (apps/traction_bending.h). Returns an exit code. */
+static int bending_main(const options *o, const plume_layout *layout, int want_macro, int want_micro)
+{
+    size_family bfam = {0};
+    int rc;
+    if (o->size_effect) {
+        if (!want_micro)
+            return fail("--size-effect needs --model micro or both (got '%s')%s", o->model, "");
+        if ((rc = size_effect_parse(o->size_effect, layout->d_B / o->ly, &bfam)))
+            return rc;
+    }
+    bending_cli bc = {o->bending, o->out, o->model, o->lx, o->ly, o->angle_set ? o->angle : 0.0,
+                      o->curvature_set ? o->curvature : 0.01, o->curvature_set, o->edge, o->steps_set ? o->steps : 2,
+                      o->solver_set ? o->solver : "linearized", o->json, o->quiet, o->size_effect ? &bfam : NULL,
+                      o->plot};
+    return run_bending(&bc, layout, want_macro, want_micro);
+}
+
+/* The macroscale vane: the moduli from the flags, the --moduli file, or (both models, no file) the
+ * layout's cell homogenised on the spot, explicit flags overriding; checked when the macro model
+ * runs. Returns an exit code. */
+static int build_vane(const options *o, traction_job *j)
+{
+    plume_err err = {{0}};
+    plume_vane *vane = &j->vane;
+    plume_vane_default(vane);
+    vane->moduli.E_xx = o->Exx, vane->moduli.E_yy = o->Eyy, vane->moduli.G_xy = o->Gxy, vane->moduli.nu_xy = o->nu;
+    j->moduli_source = "flags";
+    if (o->moduli_file) {
+        if (plume_moduli_read(o->moduli_file, &vane->moduli, &err) != PLUME_OK)
+            return fail("%s%s", err.msg, "");
+        j->moduli_source = o->moduli_file;
+    } else if (j->want_macro && j->want_micro) {
+        /* the macro model of the same microstructure: homogenise the layout's cell */
+        plume_homog_opts ho;
+        plume_homog_opts_default(&ho);
+        ho.strain_max = 0.0;
+        plume_homog_result hr;
+        if (plume_homogenize(&j->layout, &ho, &hr, &err) != PLUME_OK)
+            return fprintf(stderr, "traction: %s\n", err.msg), 1;
+        vane->moduli = hr.moduli;
+        plume_homog_result_free(&hr);
+        j->moduli_source = "homogenised";
+    }
+    /* explicit flags override the file */
+    if (o->Exx_set) vane->moduli.E_xx = o->Exx;
+    if (o->Eyy_set) vane->moduli.E_yy = o->Eyy;
+    if (o->Gxy_set) vane->moduli.G_xy = o->Gxy;
+    if (o->nu_set) vane->moduli.nu_xy = o->nu;
+    vane->h = o->h;
+    vane->kappa = o->kappa;
+    vane->constraint = o->constraint;
+    if (!(o->kappa >= 0))
+        return fprintf(stderr, "traction: --kappa must be >= 0 (got %g)\n", o->kappa), 2;
+    if (j->want_macro && plume_vane_check(vane, &err) != PLUME_OK)
+        return fail("moduli: %s%s", err.msg, "");
+    return 0;
+}
+
+/* The mesh kind, the element edge and the traction options of the flags. Returns an exit code. */
+static int build_traction_opts(const options *o, traction_job *j)
+{
+    if (plume_patch_kind_parse(o->mesh, &j->kind) != PLUME_OK)
+        return fail("--mesh expects aligned|unaligned (got '%s')%s", o->mesh, "");
+    plume_traction_opts *to = &j->to;
+    plume_traction_opts_default(to);
+    if (plume_solver_kind_parse(o->solver, &to->solver) != PLUME_OK)
+        return fail("--solver expects newton|ipopt|linearized (got '%s')%s", o->solver, "");
+    if (!(o->strain_max > 0 && o->strain_max < 10))
+        return fprintf(stderr, "traction: --strain-max must be in (0, 10) (got %g)\n", o->strain_max), 2;
+    j->edge = o->edge > 0 ? o->edge : fmin(o->lx, o->ly) / 20.0;
+    if (o->edge < 0)
+        return fprintf(stderr, "traction: --edge must be > 0 (got %g)\n", o->edge), 2;
+    to->lx = o->lx, to->ly = o->ly, to->h = o->h;
+    to->strain_max = o->strain_max;
+    to->steps = o->steps;
+    to->solver_opts.max_iter = o->max_iter;
+    to->solver_opts.verbose = o->verbose;
+    to->progress = o->quiet ? 0 : 1;
+    return 0;
+}
+
+/* Runs the requested models; a model that did not converge is reported, and ends the app (exit 3)
+ * unless the linearised solver took its single steps by design. Returns an exit code. */
+static int run_models(const options *o, traction_job *j)
+{
+    model_run *runs = j->runs;
+    runs[0].scale = "macro";
+    runs[1].scale = "micro";
+    int rc = 0;
+    for (int k = 0; k < 2 && rc == 0; k++) {
+        if (!(k == 0 ? j->want_macro : j->want_micro))
+            continue;
+        runs[k].wanted = 1;
+        rc = k == 0 ? run_macro(o, &j->vane, j->kind, j->angle, j->edge, &j->to, &runs[0])
+                    : run_micro(o, &j->layout, j->angle, &j->to, &runs[1]);
+    }
+    if (rc)
+        return rc;
+    int usable = 1;
+    for (int k = 0; k < 2; k++)
+        if (runs[k].wanted && !runs[k].res.converged) {
+            int lin = j->to.solver == PLUME_SOLVER_LINEARIZED;
+            fprintf(stderr, "traction: %s model %s at step %d of %d (%s)%s\n", runs[k].scale,
+                    lin ? "single linearised steps, not converged" : "did not converge", runs[k].res.failed_step,
+                    j->to.steps, plume_reason_name(runs[k].res.failed_reason), lin ? "" : "; no output written");
+            usable &= lin;
+        }
+    return usable ? 0 : 3;
+}
+
+/* -o: each model's curve with its parameters, and the size-effect family. Returns an exit code. */
+static int write_curves(const options *o, const traction_job *j)
+{
+    plume_err err = {{0}};
+    const model_run *runs = j->runs;
+    const plume_vane *vane = &j->vane;
+    const plume_layout *layout = &j->layout;
+    for (int k = 0; k < 2; k++) {
+        if (!runs[k].wanted)
+            continue;
+        plume_param params[] = {
+            {"lx", o->lx}, {"ly", o->ly}, {"thickness", o->h}, {"angle_deg", j->angle},
+            {"E_xx", vane->moduli.E_xx}, {"E_yy", vane->moduli.E_yy}, {"nu_xy", vane->moduli.nu_xy},
+            {"G_xy", vane->moduli.G_xy}, {"kappa", o->kappa}, {"edge", k == 0 ? j->edge : runs[k].edge},
+            {"strain_max", o->strain_max}, {"steps", o->steps}, {"elements", (double)runs[k].elements},
+            {"vertices", (double)runs[k].vertices}, {"constraint", k == 0 ? o->constraint : 0},
+            {"initial_slope", runs[k].res.initial_slope}, {"converged", runs[k].res.converged},
+            {"max_constraint_violation", runs[k].res.max_violation}, {"phi", layout->phi},
+            {"ratio", layout->ratio}, {"E_b", layout->E_b}, {"d_B", layout->d_B},
+            {"e_rel", runs[k].edge / plume_layout_barb_width(layout)}, {"order", runs[k].order},
+            {"refinement_change", runs[k].has_conv ? runs[k].conv.stress_change : -1.0},
+            {"slope_refinement_change", runs[k].has_conv ? runs[k].conv.slope_change : -1.0},
+            {"refinement_edge", runs[k].has_conv ? runs[k].conv.refinement_edge : -1.0}};
+        int np = k == 0 ? 18 : (int)(sizeof params / sizeof params[0]);
+        plume_sparam sparams[] = {{"solver", o->solver}, {"mesh", k == 0 ? o->mesh : "specimen"},
+                                  {"scenario", o->scenario}, {"sample", o->sample ? o->sample : ""},
+                                  {"moduli", j->moduli_source}};
+        if (plume_curve_write(o->out, runs[k].scale, o->scenario, &runs[k].res.curve, params, np, sparams, 5, &err) !=
+            PLUME_OK) {
+            fprintf(stderr, "traction: %s\n", err.msg);
+            return 1;
+        }
+    }
+    if (j->fam.n)
+        return size_effect_write(o->out, o->scenario, layout, o->ly, &j->fam);
+    return 0;
+}
+
+/* --plot: the models' curves, or the size-effect family with the macro curve as its limit. Returns
+ * an exit code. */
+static int plot_curves(const options *o, const traction_job *j)
+{
+    const model_run *runs = j->runs;
+    if (j->fam.n)
+        return size_effect_plot(o->plot, o->scenario, j->angle, j->layout.d_B / o->ly, &runs[1].res.curve,
+                                runs[0].wanted ? &runs[0].res.curve : NULL,
+                                o->constraint ? "macro" : "macro (penalty)", &j->fam);
+    plume_err err = {{0}};
+    char title[256];
+    snprintf(title, sizeof title, "%s traction, barbs at %g deg, %s", o->scenario, j->angle, o->model);
+    plume_curve curves[2];
+    const char *labels[2];
+    int nc = 0;
+    for (int k = 0; k < 2; k++)
+        if (runs[k].wanted) {
+            curves[nc] = runs[k].res.curve;
+            labels[nc++] = k == 0 ? (o->constraint ? "macro (barbs inextensible)" : "macro (penalty)")
+                                  : "micro (resolved barbs)";
+        }
+    if (plume_plot_curves(o->plot, title, curves, labels, nc, &err) != PLUME_OK) {
+        fprintf(stderr, "traction: %s\n", err.msg);
+        return 1;
+    }
+    return 0;
+}
+
+/* --json: one model's object, or both models' with the moduli and their differences (diff: the
+ * largest, the last stress and the last w-bar, relative), and the size-effect family. */
+static json_t *summary_json(const options *o, const traction_job *j, const double diff[3])
+{
+    const model_run *runs = j->runs;
+    const double angle = j->angle, d_rel0 = j->layout.d_B / o->ly;
+    json_t *s;
+    if (!(runs[0].wanted && runs[1].wanted)) {
+        s = run_json(&runs[runs[0].wanted ? 0 : 1], o, angle);
+    } else {
+        s = json_object();
+        json_object_set_new(s, "scenario", json_string(o->scenario));
+        json_object_set_new(s, "angle_deg", json_real(angle));
+        json_object_set_new(s, "model", json_string("both"));
+        json_object_set_new(s, "macro", run_json(&runs[0], o, angle));
+        json_object_set_new(s, "micro", run_json(&runs[1], o, angle));
+        json_t *m = json_object();
+        json_object_set_new(m, "E_xx", json_real(j->vane.moduli.E_xx));
+        json_object_set_new(m, "E_yy", json_real(j->vane.moduli.E_yy));
+        json_object_set_new(m, "nu_xy", json_real(j->vane.moduli.nu_xy));
+        json_object_set_new(m, "G_xy", json_real(j->vane.moduli.G_xy));
+        json_object_set_new(m, "source", json_string(j->moduli_source));
+        json_object_set_new(s, "moduli", m);
+        json_t *d = json_object();
+        json_object_set_new(d, "stress_max_relative", json_real(diff[0]));
+        json_object_set_new(d, "stress_at_max_strain_relative", json_real(diff[1]));
+        json_object_set_new(d, "wbar_at_max_strain_relative", json_real(diff[2]));
+        json_object_set_new(s, "relative_difference", d);
+        json_object_set_new(s, "converged", json_boolean(runs[0].res.converged && runs[1].res.converged));
+        json_object_set_new(s, "seconds", json_real(runs[0].res.seconds + runs[1].res.seconds));
+    }
+    if (j->fam.n) {
+        const size_family *fam = &j->fam;
+        json_t *a = json_array();
+        for (int k = -1; k < fam->n; k++) {
+            json_t *e = json_object();
+            const plume_curve *c = k < 0 ? &runs[1].res.curve : &fam->res[k].curve;
+            double s_end = size_effect_end_stress(c);
+            json_object_set_new(e, "dB_rel", json_real(k < 0 ? d_rel0 : fam->d_rel[k]));
+            json_object_set_new(e, "elements", json_integer(k < 0 ? runs[1].elements : fam->elements[k]));
+            json_object_set_new(e, "stress_at_max_strain", json_real(s_end));
+            if (runs[0].wanted)
+                json_object_set_new(e, "relative_to_macro",
+                                    json_real(s_end / size_effect_end_stress(&runs[0].res.curve) - 1.0));
+            json_array_append_new(a, e);
+        }
+        json_object_set_new(s, "size_effect", a);
+    }
+    if (o->out)
+        json_object_set_new(s, "output", json_string(o->out));
+    return s;
+}
+
+/* The summary on stdout: the JSON object (--json) or a line per model, their difference and the
+ * size-effect family. */
+static void report(const options *o, const traction_job *j)
+{
+    const model_run *runs = j->runs;
+    double diff[3] = {0.0, 0.0, 0.0}; /* largest, last stress and last w-bar difference, relative */
+    int both = runs[0].wanted && runs[1].wanted;
+    if (both)
+        compare_curves(&runs[1].res.curve, &runs[0].res.curve, &diff[0], &diff[1], &diff[2]);
+    if (o->json) {
+        json_t *s = summary_json(o, j, diff);
+        char *txt = json_dumps(s, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
+        if (txt)
+            puts(txt);
+        free(txt);
+        json_decref(s);
+        return;
+    }
+    for (int k = 0; k < 2; k++)
+        if (runs[k].wanted)
+            print_summary(&runs[k], o, j->angle);
+    if (both)
+        printf("micro vs macro: max stress difference %.3g of the micro stress range, %.3g at %g%% strain; "
+               "w-bar %.3g\n", diff[0], diff[1], 100.0 * o->strain_max, diff[2]);
+    if (j->fam.n)
+        size_effect_print(j->layout.d_B / o->ly, &runs[1].res.curve, runs[0].wanted ? &runs[0].res.curve : NULL,
+                          &j->fam, o->strain_max);
+}
+
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
@@ -430,8 +783,6 @@ int main(int argc, char **argv)
         (o.plot && (rc = cli_output_file("traction", "--plot", o.plot))) ||
         (o.vtk && (rc = cli_output_dir("traction", "--vtk", o.vtk))))
         return rc;
-    plume_err err = {{0}};
-    plume_status st;
     if (o.bending) {
         if (o.traction_only)
             return fail("--bending cannot be combined with %s (a traction option)%s", o.traction_only, "");
@@ -440,304 +791,33 @@ int main(int argc, char **argv)
         if (!o.ly_set)
             o.ly = 0.02;
     }
-    double angle;
-    if (strcmp(o.scenario, "longitudinal") == 0)
-        angle = 0.0;
-    else if (strcmp(o.scenario, "transverse") == 0)
-        angle = 90.0;
-    else if (strcmp(o.scenario, "tilted") == 0)
-        angle = 45.0;
-    else
-        return fail("--scenario expects longitudinal|transverse|tilted (got '%s')%s", o.scenario, "");
-
-    if (o.sample) {
-        char path[4096];
-        if (o.samples_file)
-            snprintf(path, sizeof path, "%s", o.samples_file);
-        else
-            default_samples_path(argv[0], path, sizeof path);
-        plume_sample s;
-        if ((st = plume_sample_load(path, o.sample, &s, &err)) != PLUME_OK)
-            return fail("%s%s", err.msg, "");
-        if (!o.lx_set)
-            o.lx = s.lx;
-        if (!o.ly_set)
-            o.ly = s.ly;
-        if (!o.h_set)
-            o.h = s.h;
-        if (strcmp(o.scenario, "tilted") == 0) /* the sample decides unless --scenario changed it */
-            o.scenario = strcmp(s.scenario, "transverse") == 0 ? "transverse" : strcmp(s.scenario, "longitudinal") == 0 ? "longitudinal" : "tilted";
-        angle = strcmp(o.scenario, "longitudinal") == 0 ? 0.0 : strcmp(o.scenario, "transverse") == 0 ? 90.0 : 45.0;
-    }
-    if (o.angle_set)
-        angle = o.angle;
-    if (!(angle >= 0.0 && angle <= 180.0))
-        return fprintf(stderr, "traction: --angle must be in [0, 180] degrees (got %g)\n", angle), 2;
-    if (!(o.lx > 0) || !(o.ly > 0) || !(o.h > 0))
-        return fprintf(stderr, "traction: --lx, --ly and --thickness must be > 0 (got %g, %g, %g m): a zero-area or zero-thickness sample cannot be tested\n",
-                       o.lx, o.ly, o.h), 2;
-
-    int want_macro = strcmp(o.model, "macro") == 0 || strcmp(o.model, "both") == 0;
-    int want_micro = strcmp(o.model, "micro") == 0 || strcmp(o.model, "both") == 0;
-    if (!want_macro && !want_micro)
+    traction_job j;
+    memset(&j, 0, sizeof j);
+    if ((rc = resolve_angle(&o, argv[0], &j.angle)))
+        return rc;
+    j.want_macro = strcmp(o.model, "macro") == 0 || strcmp(o.model, "both") == 0;
+    j.want_micro = strcmp(o.model, "micro") == 0 || strcmp(o.model, "both") == 0;
+    if (!j.want_macro && !j.want_micro)
         return fail("--model expects macro|micro|both (got '%s')%s", o.model, "");
-
-    /* the microscale layout: defaults, then the file, then the flags; sized on the sample */
-    plume_layout layout;
-    plume_layout_default(&layout);
-    if (o.layout_file && (st = plume_layout_load_json(o.layout_file, &layout, &err)) != PLUME_OK)
-        return fail("%s%s", err.msg, "");
-    if (o.layout_kind) {
-        if (strcmp(o.layout_kind, "strips") == 0)
-            layout.kind = PLUME_LAYOUT_STRIPS;
-        else if (strcmp(o.layout_kind, "barbules") == 0)
-            layout.kind = PLUME_LAYOUT_BARBULES;
-        else
-            return fail("--layout expects strips|barbules (got '%s')%s", o.layout_kind, "");
-    }
-    if (o.phi_set) layout.phi = o.phi;
-    if (o.ratio_set) layout.ratio = o.ratio;
-    if (o.Eb_set) layout.E_b = o.Eb;
-    if (o.nu_barb_set) layout.nu_b = o.nu_barb;
-    if (o.nu_barbule_set) layout.nu_B = o.nu_barbule;
-    if (o.e_rel_set || !o.layout_file) layout.e_rel = o.e_rel;
-    if (o.order_set) layout.order = o.order;
-    if (o.dB_rel_set || !o.layout_file)
-        plume_layout_set_spacing(&layout, o.dB_rel * o.ly); /* barbule geometry kept proportional */
-    if (!o.bending || o.h_set)
-        layout.h = o.h;
-    layout.kappa = o.kappa;
+    if ((rc = build_layout(&o, j.want_micro, &j.layout)))
+        return rc;
     if (o.bending)
-        layout.order = 1; /* the shell's triangles are linear */
-    if (want_micro && (st = plume_layout_check(&layout, &err)) != PLUME_OK)
-        return fail("layout: %s%s", err.msg, "");
-    if (o.bending) {
-        size_family bfam = {0};
-        if (o.size_effect) {
-            if (!want_micro)
-                return fail("--size-effect needs --model micro or both (got '%s')%s", o.model, "");
-            if ((rc = size_effect_parse(o.size_effect, layout.d_B / o.ly, &bfam)))
-                return rc;
-        }
-        bending_cli bc = {o.bending, o.out, o.model, o.lx, o.ly, o.angle_set ? o.angle : 0.0,
-                          o.curvature_set ? o.curvature : 0.01, o.curvature_set, o.edge, o.steps_set ? o.steps : 2,
-                          o.solver_set ? o.solver : "linearized", o.json, o.quiet, o.size_effect ? &bfam : NULL,
-                          o.plot};
-        return run_bending(&bc, &layout, want_macro, want_micro);
-    }
-
-    plume_vane vane;
-    plume_vane_default(&vane);
-    vane.moduli.E_xx = o.Exx, vane.moduli.E_yy = o.Eyy, vane.moduli.G_xy = o.Gxy, vane.moduli.nu_xy = o.nu;
-    const char *moduli_source = "flags";
-    if (o.moduli_file) {
-        if ((st = plume_moduli_read(o.moduli_file, &vane.moduli, &err)) != PLUME_OK)
-            return fail("%s%s", err.msg, "");
-        moduli_source = o.moduli_file;
-    } else if (want_macro && want_micro) {
-        /* the macro model of the same microstructure: homogenise the layout's cell */
-        plume_homog_opts ho;
-        plume_homog_opts_default(&ho);
-        ho.strain_max = 0.0;
-        plume_homog_result hr;
-        if ((st = plume_homogenize(&layout, &ho, &hr, &err)) != PLUME_OK)
-            return fprintf(stderr, "traction: %s\n", err.msg), 1;
-        vane.moduli = hr.moduli;
-        plume_homog_result_free(&hr);
-        moduli_source = "homogenised";
-    }
-    /* explicit flags override the file */
-    if (o.Exx_set) vane.moduli.E_xx = o.Exx;
-    if (o.Eyy_set) vane.moduli.E_yy = o.Eyy;
-    if (o.Gxy_set) vane.moduli.G_xy = o.Gxy;
-    if (o.nu_set) vane.moduli.nu_xy = o.nu;
-    vane.h = o.h;
-    vane.kappa = o.kappa;
-    vane.constraint = o.constraint;
-    if (!(o.kappa >= 0))
-        return fprintf(stderr, "traction: --kappa must be >= 0 (got %g)\n", o.kappa), 2;
-    if (want_macro && (st = plume_vane_check(&vane, &err)) != PLUME_OK)
-        return fail("moduli: %s%s", err.msg, "");
-
-    plume_patch_kind kind;
-    if (plume_patch_kind_parse(o.mesh, &kind) != PLUME_OK)
-        return fail("--mesh expects aligned|unaligned (got '%s')%s", o.mesh, "");
-    plume_traction_opts to;
-    plume_traction_opts_default(&to);
-    if (plume_solver_kind_parse(o.solver, &to.solver) != PLUME_OK)
-        return fail("--solver expects newton|ipopt|linearized (got '%s')%s", o.solver, "");
-    if (!(o.strain_max > 0 && o.strain_max < 10))
-        return fprintf(stderr, "traction: --strain-max must be in (0, 10) (got %g)\n", o.strain_max), 2;
-    double edge = o.edge > 0 ? o.edge : fmin(o.lx, o.ly) / 20.0;
-    if (o.edge < 0)
-        return fprintf(stderr, "traction: --edge must be > 0 (got %g)\n", o.edge), 2;
-    to.lx = o.lx, to.ly = o.ly, to.h = o.h;
-    to.strain_max = o.strain_max;
-    to.steps = o.steps;
-    to.solver_opts.max_iter = o.max_iter;
-    to.solver_opts.verbose = o.verbose;
-    to.progress = o.quiet ? 0 : 1;
-
-    size_family fam = {0};
+        return bending_main(&o, &j.layout, j.want_macro, j.want_micro);
+    if ((rc = build_vane(&o, &j)) || (rc = build_traction_opts(&o, &j)))
+        return rc;
     if (o.size_effect) {
-        if (!want_micro)
+        if (!j.want_micro)
             return fail("--size-effect needs --model micro or both (got '%s')%s", o.model, "");
-        if ((rc = size_effect_parse(o.size_effect, o.dB_rel_set || !o.layout_file ? o.dB_rel : layout.d_B / o.ly,
-                                    &fam)))
+        if ((rc = size_effect_parse(o.size_effect, o.dB_rel_set || !o.layout_file ? o.dB_rel : j.layout.d_B / o.ly,
+                                    &j.fam)))
             return rc;
     }
-
-    /* run the requested models: index 0 macro, 1 micro */
-    model_run runs[2];
-    memset(runs, 0, sizeof runs);
-    runs[0].scale = "macro";
-    runs[1].scale = "micro";
-    rc = 0;
-    for (int k = 0; k < 2 && rc == 0; k++) {
-        if (!(k == 0 ? want_macro : want_micro))
-            continue;
-        runs[k].wanted = 1;
-        rc = k == 0 ? run_macro(&o, &vane, kind, angle, edge, &to, &runs[0]) : run_micro(&o, &layout, angle, &to, &runs[1]);
-    }
-    if (rc)
-        goto done;
-    int usable = 1;
+    if ((rc = run_models(&o, &j)) == 0 &&
+        (!j.fam.n || (rc = size_effect_run(&j.layout, o.lx, o.ly, j.angle, &j.to, &j.fam)) == 0) &&
+        (!o.out || (rc = write_curves(&o, &j)) == 0) && (!o.plot || (rc = plot_curves(&o, &j)) == 0))
+        report(&o, &j);
+    size_effect_free(&j.fam);
     for (int k = 0; k < 2; k++)
-        if (runs[k].wanted && !runs[k].res.converged) {
-            int lin = to.solver == PLUME_SOLVER_LINEARIZED;
-            fprintf(stderr, "traction: %s model %s at step %d of %d (%s)%s\n", runs[k].scale,
-                    lin ? "single linearised steps, not converged" : "did not converge", runs[k].res.failed_step,
-                    to.steps, plume_reason_name(runs[k].res.failed_reason), lin ? "" : "; no output written");
-            usable &= lin;
-        }
-    if (!usable) {
-        rc = 3;
-        goto done;
-    }
-    const double d_rel0 = layout.d_B / o.ly;
-    const char *macro_label = o.constraint ? "macro (barbs inextensible)" : "macro (penalty)";
-    const char *macro_short = o.constraint ? "macro" : "macro (penalty)";
-    if (fam.n && (rc = size_effect_run(&layout, o.lx, o.ly, angle, &to, &fam)) != 0)
-        goto done;
-    if (o.out) {
-        for (int k = 0; k < 2; k++) {
-            if (!runs[k].wanted)
-                continue;
-            plume_param params[] = {
-                {"lx", o.lx}, {"ly", o.ly}, {"thickness", o.h}, {"angle_deg", angle},
-                {"E_xx", vane.moduli.E_xx}, {"E_yy", vane.moduli.E_yy}, {"nu_xy", vane.moduli.nu_xy},
-                {"G_xy", vane.moduli.G_xy}, {"kappa", o.kappa}, {"edge", k == 0 ? edge : runs[k].edge},
-                {"strain_max", o.strain_max}, {"steps", o.steps}, {"elements", (double)runs[k].elements},
-                {"vertices", (double)runs[k].vertices}, {"constraint", k == 0 ? o.constraint : 0},
-                {"initial_slope", runs[k].res.initial_slope}, {"converged", runs[k].res.converged},
-                {"max_constraint_violation", runs[k].res.max_violation}, {"phi", layout.phi},
-                {"ratio", layout.ratio}, {"E_b", layout.E_b}, {"d_B", layout.d_B},
-                {"e_rel", runs[k].edge / plume_layout_barb_width(&layout)}, {"order", runs[k].order},
-                {"refinement_change", runs[k].has_conv ? runs[k].conv.stress_change : -1.0},
-                {"slope_refinement_change", runs[k].has_conv ? runs[k].conv.slope_change : -1.0},
-                {"refinement_edge", runs[k].has_conv ? runs[k].conv.refinement_edge : -1.0}};
-            int np = k == 0 ? 18 : (int)(sizeof params / sizeof params[0]);
-            plume_sparam sparams[] = {{"solver", o.solver}, {"mesh", k == 0 ? o.mesh : "specimen"},
-                                      {"scenario", o.scenario}, {"sample", o.sample ? o.sample : ""},
-                                      {"moduli", moduli_source}};
-            if ((st = plume_curve_write(o.out, runs[k].scale, o.scenario, &runs[k].res.curve, params, np, sparams, 5,
-                                        &err)) != PLUME_OK) {
-                fprintf(stderr, "traction: %s\n", err.msg);
-                rc = 1;
-                goto done;
-            }
-        }
-        if (fam.n && (rc = size_effect_write(o.out, o.scenario, &layout, o.ly, &fam)) != 0)
-            goto done;
-    }
-    if (o.plot && fam.n) {
-        if ((rc = size_effect_plot(o.plot, o.scenario, angle, d_rel0, &runs[1].res.curve,
-                                   runs[0].wanted ? &runs[0].res.curve : NULL, macro_short, &fam)) != 0)
-            goto done;
-    } else if (o.plot) {
-        char title[256];
-        snprintf(title, sizeof title, "%s traction, barbs at %g deg, %s", o.scenario, angle, o.model);
-        plume_curve curves[2];
-        const char *labels[2];
-        int nc = 0;
-        for (int k = 0; k < 2; k++)
-            if (runs[k].wanted) {
-                curves[nc] = runs[k].res.curve;
-                labels[nc++] = k == 0 ? macro_label : "micro (resolved barbs)";
-            }
-        if ((st = plume_plot_curves(o.plot, title, curves, labels, nc, &err)) != PLUME_OK) {
-            fprintf(stderr, "traction: %s\n", err.msg);
-            rc = 1;
-            goto done;
-        }
-    }
-    double diff_max = 0.0, diff_end = 0.0, dw_end = 0.0;
-    int both = runs[0].wanted && runs[1].wanted;
-    if (both)
-        compare_curves(&runs[1].res.curve, &runs[0].res.curve, &diff_max, &diff_end, &dw_end);
-    if (o.json) {
-        json_t *j;
-        if (!both) {
-            j = run_json(&runs[runs[0].wanted ? 0 : 1], &o, angle);
-        } else {
-            j = json_object();
-            json_object_set_new(j, "scenario", json_string(o.scenario));
-            json_object_set_new(j, "angle_deg", json_real(angle));
-            json_object_set_new(j, "model", json_string("both"));
-            json_object_set_new(j, "macro", run_json(&runs[0], &o, angle));
-            json_object_set_new(j, "micro", run_json(&runs[1], &o, angle));
-            json_t *m = json_object();
-            json_object_set_new(m, "E_xx", json_real(vane.moduli.E_xx));
-            json_object_set_new(m, "E_yy", json_real(vane.moduli.E_yy));
-            json_object_set_new(m, "nu_xy", json_real(vane.moduli.nu_xy));
-            json_object_set_new(m, "G_xy", json_real(vane.moduli.G_xy));
-            json_object_set_new(m, "source", json_string(moduli_source));
-            json_object_set_new(j, "moduli", m);
-            json_t *d = json_object();
-            json_object_set_new(d, "stress_max_relative", json_real(diff_max));
-            json_object_set_new(d, "stress_at_max_strain_relative", json_real(diff_end));
-            json_object_set_new(d, "wbar_at_max_strain_relative", json_real(dw_end));
-            json_object_set_new(j, "relative_difference", d);
-            json_object_set_new(j, "converged", json_boolean(runs[0].res.converged && runs[1].res.converged));
-            json_object_set_new(j, "seconds", json_real(runs[0].res.seconds + runs[1].res.seconds));
-        }
-        if (fam.n) {
-            json_t *a = json_array();
-            for (int k = -1; k < fam.n; k++) {
-                json_t *e = json_object();
-                const plume_curve *c = k < 0 ? &runs[1].res.curve : &fam.res[k].curve;
-                double s_end = size_effect_end_stress(c);
-                json_object_set_new(e, "dB_rel", json_real(k < 0 ? d_rel0 : fam.d_rel[k]));
-                json_object_set_new(e, "elements", json_integer(k < 0 ? runs[1].elements : fam.elements[k]));
-                json_object_set_new(e, "stress_at_max_strain", json_real(s_end));
-                if (runs[0].wanted)
-                    json_object_set_new(e, "relative_to_macro",
-                                        json_real(s_end / size_effect_end_stress(&runs[0].res.curve) - 1.0));
-                json_array_append_new(a, e);
-            }
-            json_object_set_new(j, "size_effect", a);
-        }
-        if (o.out)
-            json_object_set_new(j, "output", json_string(o.out));
-        char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
-        if (txt)
-            puts(txt);
-        free(txt);
-        json_decref(j);
-    } else {
-        for (int k = 0; k < 2; k++)
-            if (runs[k].wanted)
-                print_summary(&runs[k], &o, angle);
-        if (both)
-            printf("micro vs macro: max stress difference %.3g of the micro stress range, %.3g at %g%% strain; "
-                   "w-bar %.3g\n", diff_max, diff_end, 100.0 * o.strain_max, dw_end);
-        if (fam.n)
-            size_effect_print(d_rel0, &runs[1].res.curve, runs[0].wanted ? &runs[0].res.curve : NULL, &fam,
-                              o.strain_max);
-    }
-done:
-    size_effect_free(&fam);
-    for (int k = 0; k < 2; k++)
-        plume_traction_result_free(&runs[k].res);
+        plume_traction_result_free(&j.runs[k].res);
     return rc;
 }

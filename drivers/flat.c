@@ -308,6 +308,83 @@ static plume_status vtk_step(void *user, int step, double strain, const double *
     return plume_fields_series_frame(user, step, strain, x, &err);
 }
 
+/* The traction request's specimen: the layout's resolved specimen (micro; its materials in mats,
+ * nmat 2) or the vane on a patch mesh (macro; its barb edges in *barbs). */
+static plume_status traction_specimen(json_t *req, const traction_setup *t, int micro, double angle, plume_vane *vane,
+                                      plume_layout *layout, plume_mesh **mesh, plume_problem **p, plume_index **barbs,
+                                      plume_index *nbarbs, plume_membrane_material mats[2], int *nmat, plume_err *err)
+{
+    plume_status st;
+    if (micro) {
+        /* as apps/traction: barbs 0.086 ly apart, elements chosen from the thinnest strip, unless the
+         * layout says */
+        plume_layout_set_spacing(layout, 0.086 * t->ly);
+        if ((st = get_layout(req, "traction", layout, err)) != PLUME_OK)
+            return st;
+        layout->h = t->h, layout->kappa = t->kappa;
+        if ((st = plume_micro_specimen(layout, t->lx, t->ly, angle, mesh, p, err)) != PLUME_OK)
+            return st;
+        plume_layout_materials(layout, mats);
+        *nmat = 2;
+        return PLUME_OK;
+    }
+    if (json_object_get(req, "layout"))
+        return plume_err_set(err, PLUME_EINVAL, "traction request: \"layout\" is for the micro model");
+    vane->h = t->h, vane->kappa = t->kappa, vane->constraint = t->constraint;
+    if ((st = plume_vane_check(vane, err)) != PLUME_OK ||
+        (st = plume_patch_mesh(t->lx, t->ly, angle, t->edge, t->mesh, 2, mesh, err)) != PLUME_OK ||
+        (st = plume_problem_create((*mesh)->nv, 2, fmax(t->lx, t->ly), p, err)) != PLUME_OK ||
+        (st = plume_vane_add(*p, *mesh, vane, barbs, nbarbs, err)) != PLUME_OK)
+        return st;
+    mats[0] = plume_vane_material(vane);
+    *nmat = 1;
+    return PLUME_OK;
+}
+
+/* traction request.vtk: the steps as a ParaView series in DIR vtk, written by to's step callback
+ * through *fields (the caller destroys it). */
+static plume_status traction_vtk(const char *vtk, const plume_mesh *mesh, const plume_membrane_material *mats, int nmat,
+                                 const plume_index *barbs, plume_index nbarbs, plume_fields **fields,
+                                 plume_traction_opts *to, plume_err *err)
+{
+    char dir[4200];
+    snprintf(dir, sizeof dir, "%s", vtk);
+    if (plume_make_dirs(dir) != 0)
+        return plume_err_set(err, PLUME_EIO, "traction request: \"vtk\": cannot create the directory '%s': %s", vtk,
+                             strerror(errno));
+    plume_status st;
+    if ((st = plume_fields_create(mesh, 2, mesh->nt, mats, nmat, NULL, barbs, nbarbs, fields, err)) != PLUME_OK ||
+        (st = plume_fields_series_start(*fields, dir, "steps.pvd", "step", -1.0, err)) != PLUME_OK)
+        return st;
+    to->on_step = vtk_step;
+    to->on_step_user = *fields;
+    return PLUME_OK;
+}
+
+/* The traction result's document; conv only when has_conv. */
+static json_t *traction_json(const plume_traction_result *res, int micro, const plume_layout *layout,
+                             const plume_mesh *mesh, double angle, int has_conv, const plume_micro_convergence *conv)
+{
+    json_t *o = curve_json(&res->curve);
+    json_object_set_new(o, "initial_slope", json_real(res->initial_slope));
+    json_object_set_new(o, "converged", json_boolean(res->converged));
+    json_object_set_new(o, "failed_step", json_integer(res->failed_step));
+    json_object_set_new(o, "stop_reason", json_string(res->converged ? "converged" : plume_reason_name(res->failed_reason)));
+    json_object_set_new(o, "newton_iterations", json_integer(res->newton_iterations));
+    json_object_set_new(o, "max_violation", json_real(res->max_violation));
+    json_object_set_new(o, "seconds", json_real(res->seconds));
+    json_object_set_new(o, "elements", json_integer(micro ? plume_micro_specimen_elements(layout, mesh) : mesh->nt));
+    json_object_set_new(o, "vertices", json_integer(mesh->nv));
+    json_object_set_new(o, "angle", json_real(angle));
+    if (micro) {
+        json_object_set_new(o, "order", json_integer(layout->order));
+        json_object_set_new(o, "element_edge", json_real(plume_layout_element_edge(layout, PLUME_MESH_SPECIMEN)));
+        json_object_set_new(o, "refinement_change", json_real(has_conv ? conv->stress_change : -1.0));
+        json_object_set_new(o, "slope_refinement_change", json_real(has_conv ? conv->slope_change : -1.0));
+    }
+    return o;
+}
+
 plume_status plume_flat_traction(const char *request, char **result, char *msg, long nmsg)
 {
     plume_err err = {{0}};
@@ -355,72 +432,21 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     }
     plume_membrane_material mats[2];
     int nmat = 1;
-    if (micro) {
-        /* as apps/traction: barbs 0.086 ly apart, elements chosen from the thinnest strip, unless the
-         * layout says */
-        plume_layout_set_spacing(&layout, 0.086 * t.ly);
-        if ((st = get_layout(req, "traction", &layout, &err)) != PLUME_OK)
-            goto done;
-        layout.h = t.h, layout.kappa = t.kappa;
-        if ((st = plume_micro_specimen(&layout, t.lx, t.ly, angle, &mesh, &p, &err)) != PLUME_OK)
-            goto done;
-        plume_layout_materials(&layout, mats);
-        nmat = 2;
-    } else {
-        if (json_object_get(req, "layout")) {
-            st = plume_err_set(&err, PLUME_EINVAL, "traction request: \"layout\" is for the micro model");
-            goto done;
-        }
-        vane.h = t.h, vane.kappa = t.kappa, vane.constraint = t.constraint;
-        if ((st = plume_vane_check(&vane, &err)) != PLUME_OK ||
-            (st = plume_patch_mesh(t.lx, t.ly, angle, t.edge, t.mesh, 2, &mesh, &err)) != PLUME_OK ||
-            (st = plume_problem_create(mesh->nv, 2, fmax(t.lx, t.ly), &p, &err)) != PLUME_OK ||
-            (st = plume_vane_add(p, mesh, &vane, &barbs, &nbarbs, &err)) != PLUME_OK)
-            goto done;
-        mats[0] = plume_vane_material(&vane);
-    }
+    if ((st = traction_specimen(req, &t, micro, angle, &vane, &layout, &mesh, &p, &barbs, &nbarbs, mats, &nmat, &err)) !=
+        PLUME_OK)
+        goto done;
     plume_traction_opts to;
     plume_traction_opts_default(&to);
     to.lx = t.lx, to.ly = t.ly, to.h = t.h, to.strain_max = t.strain_max, to.steps = t.steps, to.solver = t.solver;
     to.progress = 0;
-    if (vtk) {
-        char dir[4200];
-        snprintf(dir, sizeof dir, "%s", vtk);
-        if (plume_make_dirs(dir) != 0) {
-            st = plume_err_set(&err, PLUME_EIO, "traction request: \"vtk\": cannot create the directory '%s': %s", vtk,
-                               strerror(errno));
-            goto done;
-        }
-        if ((st = plume_fields_create(mesh, 2, mesh->nt, mats, nmat, NULL, barbs, nbarbs, &fields, &err)) != PLUME_OK ||
-            (st = plume_fields_series_start(fields, dir, "steps.pvd", "step", -1.0, &err)) != PLUME_OK)
-            goto done;
-        to.on_step = vtk_step;
-        to.on_step_user = fields;
-    }
-    if ((st = plume_traction_run(mesh, p, barbs, nbarbs, &to, &res, &err)) != PLUME_OK)
+    if ((vtk && (st = traction_vtk(vtk, mesh, mats, nmat, barbs, nbarbs, &fields, &to, &err)) != PLUME_OK) ||
+        (st = plume_traction_run(mesh, p, barbs, nbarbs, &to, &res, &err)) != PLUME_OK)
         goto done;
     plume_micro_convergence conv;
     int has_conv = micro && convergence && res.converged && to.solver != PLUME_SOLVER_LINEARIZED;
     if (has_conv && (st = plume_micro_traction_convergence(&layout, t.lx, t.ly, angle, &to, &res, &conv, &err)) != PLUME_OK)
         goto done;
-    json_t *o = curve_json(&res.curve);
-    json_object_set_new(o, "initial_slope", json_real(res.initial_slope));
-    json_object_set_new(o, "converged", json_boolean(res.converged));
-    json_object_set_new(o, "failed_step", json_integer(res.failed_step));
-    json_object_set_new(o, "stop_reason", json_string(res.converged ? "converged" : plume_reason_name(res.failed_reason)));
-    json_object_set_new(o, "newton_iterations", json_integer(res.newton_iterations));
-    json_object_set_new(o, "max_violation", json_real(res.max_violation));
-    json_object_set_new(o, "seconds", json_real(res.seconds));
-    json_object_set_new(o, "elements", json_integer(micro ? plume_micro_specimen_elements(&layout, mesh) : mesh->nt));
-    json_object_set_new(o, "vertices", json_integer(mesh->nv));
-    json_object_set_new(o, "angle", json_real(angle));
-    if (micro) {
-        json_object_set_new(o, "order", json_integer(layout.order));
-        json_object_set_new(o, "element_edge", json_real(plume_layout_element_edge(&layout, PLUME_MESH_SPECIMEN)));
-        json_object_set_new(o, "refinement_change", json_real(has_conv ? conv.stress_change : -1.0));
-        json_object_set_new(o, "slope_refinement_change", json_real(has_conv ? conv.slope_change : -1.0));
-    }
-    st = emit(o, result, &err);
+    st = emit(traction_json(&res, micro, &layout, mesh, angle, has_conv, &conv), result, &err);
 done:
     plume_traction_result_free(&res);
     plume_fields_destroy(&fields);
@@ -432,6 +458,85 @@ done:
 }
 
 #define FLAT_MAX_TARGETS 16
+
+/* fit request.start: the starting moduli (required), E_xx, E_yy and G_xy > 0. */
+static plume_status get_fit_start(json_t *req, plume_ortho *start, plume_err *err)
+{
+    if (!json_object_get(req, "start"))
+        return plume_err_set(err, PLUME_EINVAL, "fit request: \"start\" (the starting moduli) is required");
+    plume_status st = get_moduli(req, "fit", "start", start, err);
+    if (st != PLUME_OK)
+        return st;
+    if (!(start->E_xx > 0.0 && start->E_yy > 0.0 && start->G_xy > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "fit request: \"start\" needs E_xx, E_yy and G_xy > 0");
+    return PLUME_OK;
+}
+
+/* fit request.free: the names of the fitted moduli into *mask (left as it is without "free"). */
+static plume_status get_fit_free(json_t *req, unsigned *mask, plume_err *err)
+{
+    json_t *jf = json_object_get(req, "free");
+    if (!jf)
+        return PLUME_OK;
+    *mask = 0;
+    size_t i;
+    json_t *v;
+    if (!json_is_array(jf))
+        return plume_err_set(err, PLUME_EINVAL, "fit request: \"free\" must be a list of modulus names");
+    json_array_foreach(jf, i, v) {
+        const char *s = json_is_string(v) ? json_string_value(v) : "";
+        unsigned bit = strcmp(s, "E_xx") == 0 ? PLUME_FIT_EXX : strcmp(s, "E_yy") == 0 ? PLUME_FIT_EYY
+                     : strcmp(s, "nu_xy") == 0 ? PLUME_FIT_NU : strcmp(s, "G_xy") == 0 ? PLUME_FIT_GXY : 0;
+        if (!bit)
+            return plume_err_set(err, PLUME_EINVAL, "fit request: \"free\"[%zu] must be E_xx, E_yy, nu_xy or G_xy", i);
+        *mask |= bit;
+    }
+    if (!*mask)
+        return plume_err_set(err, PLUME_EINVAL, "fit request: \"free\" names no modulus");
+    return PLUME_OK;
+}
+
+/* fit request.targets: the curves (curves[0 .. *nt), their arrays the caller's to free even on
+ * failure), their barb angles and the largest last strain. */
+static plume_status get_fit_targets(json_t *req, plume_curve *curves, double *angles, int *nt, double *strain_max,
+                                    plume_err *err)
+{
+    json_t *jt = json_object_get(req, "targets");
+    if (!json_is_array(jt) || json_array_size(jt) < 1 || json_array_size(jt) > FLAT_MAX_TARGETS)
+        return plume_err_set(err, PLUME_EINVAL, "fit request: \"targets\" must be a list of 1 to %d curves",
+                             FLAT_MAX_TARGETS);
+    *strain_max = 0.0;
+    for (size_t i = 0; i < json_array_size(jt); i++) {
+        json_t *c = json_array_get(jt, i), *a = json_object_get(c, "angle"), *se = json_object_get(c, "strain"),
+               *ss = json_object_get(c, "stress");
+        size_t n = json_array_size(se);
+        if (!json_is_object(c) || !json_is_number(a) || !json_is_array(se) || !json_is_array(ss) || n < 2 ||
+            json_array_size(ss) != n)
+            return plume_err_set(err, PLUME_EINVAL,
+                                 "fit request: targets[%zu] needs \"angle\" and \"strain\", \"stress\" lists of equal "
+                                 "length >= 2",
+                                 i);
+        angles[*nt] = json_number_value(a);
+        if (!(angles[*nt] >= 0.0 && angles[*nt] <= 180.0))
+            return plume_err_set(err, PLUME_EINVAL, "fit request: targets[%zu].angle must be in [0, 180] (got %g)", i,
+                                 angles[*nt]);
+        plume_curve *cv = &curves[(*nt)++];
+        cv->n = (plume_index)n;
+        cv->strain = calloc(n, sizeof(double)), cv->stress = calloc(n, sizeof(double));
+        cv->wbar = calloc(n, sizeof(double)), cv->iterations = calloc(n, sizeof(double));
+        cv->seconds = calloc(n, sizeof(double));
+        if (!cv->strain || !cv->stress || !cv->wbar || !cv->iterations || !cv->seconds)
+            return plume_err_set(err, PLUME_ENOMEM, "fit: out of memory");
+        for (size_t k = 0; k < n; k++) {
+            json_t *x = json_array_get(se, k), *y = json_array_get(ss, k);
+            if (!json_is_number(x) || !json_is_number(y))
+                return plume_err_set(err, PLUME_EINVAL, "fit request: targets[%zu] point %zu is not a number", i, k);
+            cv->strain[k] = json_number_value(x), cv->stress[k] = json_number_value(y);
+        }
+        *strain_max = fmax(*strain_max, cv->strain[n - 1]);
+    }
+    return PLUME_OK;
+}
 
 plume_status plume_flat_fit(const char *request, char **result, char *msg, long nmsg)
 {
@@ -453,89 +558,13 @@ plume_status plume_flat_fit(const char *request, char **result, char *msg, long 
     plume_fit_opts fo;
     plume_fit_opts_default(&fo);
     plume_ortho start = {0.0, 0.0, 0.0, 0.0}, fit;
+    double strain_max = 0.0;
     if ((st = get_traction_setup(req, "fit", &t, &err)) != PLUME_OK ||
         (st = get_int(req, "fit", "max_eval", &fo.max_eval, &err)) != PLUME_OK ||
-        (st = get_number(req, "fit", "xtol_rel", &fo.xtol_rel, &err)) != PLUME_OK)
+        (st = get_number(req, "fit", "xtol_rel", &fo.xtol_rel, &err)) != PLUME_OK ||
+        (st = get_fit_start(req, &start, &err)) != PLUME_OK || (st = get_fit_free(req, &fo.free_mask, &err)) != PLUME_OK ||
+        (st = get_fit_targets(req, curves, angles, &nt, &strain_max, &err)) != PLUME_OK)
         goto done;
-    json_t *js = json_object_get(req, "start");
-    if (!js) {
-        st = plume_err_set(&err, PLUME_EINVAL, "fit request: \"start\" (the starting moduli) is required");
-        goto done;
-    }
-    if ((st = get_moduli(req, "fit", "start", &start, &err)) != PLUME_OK)
-        goto done;
-    if (!(start.E_xx > 0.0 && start.E_yy > 0.0 && start.G_xy > 0.0)) {
-        st = plume_err_set(&err, PLUME_EINVAL, "fit request: \"start\" needs E_xx, E_yy and G_xy > 0");
-        goto done;
-    }
-    json_t *jf = json_object_get(req, "free");
-    if (jf) {
-        fo.free_mask = 0;
-        size_t i;
-        json_t *v;
-        if (!json_is_array(jf)) {
-            st = plume_err_set(&err, PLUME_EINVAL, "fit request: \"free\" must be a list of modulus names");
-            goto done;
-        }
-        json_array_foreach(jf, i, v) {
-            const char *s = json_is_string(v) ? json_string_value(v) : "";
-            unsigned bit = strcmp(s, "E_xx") == 0 ? PLUME_FIT_EXX : strcmp(s, "E_yy") == 0 ? PLUME_FIT_EYY
-                         : strcmp(s, "nu_xy") == 0 ? PLUME_FIT_NU : strcmp(s, "G_xy") == 0 ? PLUME_FIT_GXY : 0;
-            if (!bit) {
-                st = plume_err_set(&err, PLUME_EINVAL, "fit request: \"free\"[%zu] must be E_xx, E_yy, nu_xy or G_xy", i);
-                goto done;
-            }
-            fo.free_mask |= bit;
-        }
-        if (!fo.free_mask) {
-            st = plume_err_set(&err, PLUME_EINVAL, "fit request: \"free\" names no modulus");
-            goto done;
-        }
-    }
-    json_t *jt = json_object_get(req, "targets");
-    if (!json_is_array(jt) || json_array_size(jt) < 1 || json_array_size(jt) > FLAT_MAX_TARGETS) {
-        st = plume_err_set(&err, PLUME_EINVAL, "fit request: \"targets\" must be a list of 1 to %d curves",
-                           FLAT_MAX_TARGETS);
-        goto done;
-    }
-    double strain_max = 0.0;
-    for (size_t i = 0; i < json_array_size(jt); i++) {
-        json_t *c = json_array_get(jt, i), *a = json_object_get(c, "angle"), *se = json_object_get(c, "strain"),
-               *ss = json_object_get(c, "stress");
-        size_t n = json_array_size(se);
-        if (!json_is_object(c) || !json_is_number(a) || !json_is_array(se) || !json_is_array(ss) || n < 2 ||
-            json_array_size(ss) != n) {
-            st = plume_err_set(&err, PLUME_EINVAL,
-                               "fit request: targets[%zu] needs \"angle\" and \"strain\", \"stress\" lists of equal "
-                               "length >= 2",
-                               i);
-            goto done;
-        }
-        angles[nt] = json_number_value(a);
-        if (!(angles[nt] >= 0.0 && angles[nt] <= 180.0)) {
-            st = plume_err_set(&err, PLUME_EINVAL, "fit request: targets[%zu].angle must be in [0, 180] (got %g)", i,
-                               angles[nt]);
-            goto done;
-        }
-        plume_curve *cv = &curves[nt++];
-        cv->n = (plume_index)n;
-        cv->strain = calloc(n, sizeof(double)), cv->stress = calloc(n, sizeof(double));
-        cv->wbar = calloc(n, sizeof(double)), cv->iterations = calloc(n, sizeof(double));
-        cv->seconds = calloc(n, sizeof(double));
-        if (!cv->strain || !cv->stress || !cv->wbar || !cv->iterations || !cv->seconds) {
-            st = plume_err_set(&err, PLUME_ENOMEM, "fit: out of memory");
-            goto done;
-        }
-        for (size_t k = 0; k < n; k++) {
-            json_t *x = json_array_get(se, k), *y = json_array_get(ss, k);
-            if (!json_is_number(x) || !json_is_number(y)) {
-                st = plume_err_set(&err, PLUME_EINVAL, "fit request: targets[%zu] point %zu is not a number", i, k);
-                goto done;
-            }
-            cv->strain[k] = json_number_value(x), cv->stress[k] = json_number_value(y);
-        }
-        strain_max = fmax(strain_max, cv->strain[n - 1]);
-    }
     plume_macro_model mm = {t.lx, t.ly, t.h, t.edge, t.mesh, t.constraint, t.kappa, strain_max, t.steps, nt, angles,
                             t.solver};
     plume_fit_report rep;

@@ -137,11 +137,9 @@ static json_t *sample_values(const char *path, const char *samples_path, json_t 
     return v;
 }
 
-plume_status plume_sweep_load(const char *path, const char *samples_path, plume_sweep **out, plume_err *err)
+/* The whole sweep file as a string (*text, the caller frees it). */
+static plume_status read_sweep_file(const char *path, char **text_out, plume_err *err)
 {
-    if (!path || !out)
-        return plume_err_set(err, PLUME_EINVAL, "sweep: invalid arguments");
-    *out = NULL;
     FILE *f = plume_input_fopen(path, "rb", "sweep file", err);
     if (!f)
         return PLUME_EIO;
@@ -164,51 +162,45 @@ plume_status plume_sweep_load(const char *path, const char *samples_path, plume_
     if (!text)
         return plume_err_set(err, PLUME_ENOMEM, "sweep: out of memory");
     text[n] = '\0';
-    json_error_t je;
-    json_t *doc = json_loads(text, JSON_REJECT_DUPLICATES, &je);
-    plume_sweep *s = calloc(1, sizeof *s);
-    plume_status st = PLUME_OK;
-    if (!s) {
-        free(text);
-        json_decref(doc);
-        return plume_err_set(err, PLUME_ENOMEM, "sweep: out of memory");
-    }
-    s->text = text, s->path = strdup(path);
-    if (!doc) {
-        st = plume_err_set(err, PLUME_EFORMAT, "%s:%d:%d: %s", path, je.line, je.column, je.text);
-        goto fail;
-    }
+    *text_out = text;
+    return PLUME_OK;
+}
+
+/* The sweep document's keys, its job ("run") and its base request (a scene job's file set up). */
+static plume_status parse_job(plume_sweep *s, json_t *doc, const char *path, plume_err *err)
+{
     const char *key;
     json_t *v;
     json_object_foreach(doc, key, v) {
-        if (strcmp(key, "run") && strcmp(key, "base") && strcmp(key, "vary") && strcmp(key, "note")) {
-            st = plume_err_set(err, PLUME_EINVAL, "%s: unknown key \"%s\" (run, base, vary, note)", path, key);
-            goto fail;
-        }
+        if (strcmp(key, "run") && strcmp(key, "base") && strcmp(key, "vary") && strcmp(key, "note"))
+            return plume_err_set(err, PLUME_EINVAL, "%s: unknown key \"%s\" (run, base, vary, note)", path, key);
     }
     const char *job = json_string_value(json_object_get(doc, "run"));
-    if (!job || (strcmp(job, "traction") && strcmp(job, "homogenize") && strcmp(job, "fit") && strcmp(job, "scene"))) {
-        st = plume_err_set(err, PLUME_EINVAL, "%s: \"run\" must be \"traction\", \"homogenize\", \"fit\" or \"scene\"",
-                           path);
-        goto fail;
-    }
+    if (!job || (strcmp(job, "traction") && strcmp(job, "homogenize") && strcmp(job, "fit") && strcmp(job, "scene")))
+        return plume_err_set(err, PLUME_EINVAL, "%s: \"run\" must be \"traction\", \"homogenize\", \"fit\" or \"scene\"",
+                             path);
     s->job = strdup(job);
     s->is_scene = strcmp(job, "scene") == 0;
     json_t *base = json_object_get(doc, "base");
-    if (base && !json_is_object(base)) {
-        st = plume_err_set(err, PLUME_EINVAL, "%s: \"base\" must be an object (a %s request)", path, job);
-        goto fail;
-    }
+    if (base && !json_is_object(base))
+        return plume_err_set(err, PLUME_EINVAL, "%s: \"base\" must be an object (a %s request)", path, job);
     s->base = base ? json_deep_copy(base) : json_object();
-    if (s->is_scene && (st = plume_sweep_scene_setup(path, s->base, &s->scene, err)) != PLUME_OK)
-        goto fail;
+    if (s->is_scene)
+        return plume_sweep_scene_setup(path, s->base, &s->scene, err);
+    return PLUME_OK;
+}
+
+/* The sweep document's "vary": one axis per key (a list, a range, or for "sample" the samples
+ * named), and the number of runs they expand to. */
+static plume_status parse_vary(plume_sweep *s, json_t *doc, const char *path, const char *samples_path, plume_err *err)
+{
     json_t *vary = json_object_get(doc, "vary");
-    if (vary && !json_is_object(vary)) {
-        st = plume_err_set(err, PLUME_EINVAL, "%s: \"vary\" must be an object of key: values", path);
-        goto fail;
-    }
+    if (vary && !json_is_object(vary))
+        return plume_err_set(err, PLUME_EINVAL, "%s: \"vary\" must be an object of key: values", path);
     s->count = 1;
     s->axes = calloc(json_object_size(vary) + 1, sizeof *s->axes);
+    const char *key;
+    json_t *v;
     json_object_foreach(vary, key, v) {
         axis *a = &s->axes[s->naxes++];
         a->key = strdup(key);
@@ -221,17 +213,40 @@ plume_status plume_sweep_load(const char *path, const char *samples_path, plume_
             a->values = range_values(path, key, v, err);
         else
             plume_err_set(err, PLUME_EINVAL, "%s: vary.%s must be a non-empty list or a range", path, key);
-        if (!a->values) {
-            st = PLUME_EINVAL;
-            goto fail;
-        }
+        if (!a->values)
+            return PLUME_EINVAL;
         size_t m = json_array_size(a->values);
-        if ((double)s->count * (double)m > 1e6) {
-            st = plume_err_set(err, PLUME_EINVAL, "%s: the sweep expands to more than 10^6 runs", path);
-            goto fail;
-        }
+        if ((double)s->count * (double)m > 1e6)
+            return plume_err_set(err, PLUME_EINVAL, "%s: the sweep expands to more than 10^6 runs", path);
         s->count *= (int)m;
     }
+    return PLUME_OK;
+}
+
+plume_status plume_sweep_load(const char *path, const char *samples_path, plume_sweep **out, plume_err *err)
+{
+    if (!path || !out)
+        return plume_err_set(err, PLUME_EINVAL, "sweep: invalid arguments");
+    *out = NULL;
+    char *text = NULL;
+    plume_status st = read_sweep_file(path, &text, err);
+    if (st != PLUME_OK)
+        return st;
+    json_error_t je;
+    json_t *doc = json_loads(text, JSON_REJECT_DUPLICATES, &je);
+    plume_sweep *s = calloc(1, sizeof *s);
+    if (!s) {
+        free(text);
+        json_decref(doc);
+        return plume_err_set(err, PLUME_ENOMEM, "sweep: out of memory");
+    }
+    s->text = text, s->path = strdup(path);
+    if (!doc) {
+        st = plume_err_set(err, PLUME_EFORMAT, "%s:%d:%d: %s", path, je.line, je.column, je.text);
+        goto fail;
+    }
+    if ((st = parse_job(s, doc, path, err)) != PLUME_OK || (st = parse_vary(s, doc, path, samples_path, err)) != PLUME_OK)
+        goto fail;
     json_decref(doc);
     /* every run's request must be well formed before anything runs: check run 0's keys */
     char *req = NULL, *vals = NULL;
@@ -606,6 +621,98 @@ static double last_value(hid_t g, const char *name)
     return v;
 }
 
+/* What the summary adds up over the recorded runs. */
+typedef struct {
+    int recorded, converged;
+    double total; /* seconds */
+} summary_totals;
+
+/* The summary table's title and header: a scene run's columns are its steps, time, displacement
+ * and contact distance, another run's its last strain and stress. */
+static void summary_header(FILE *md, const plume_sweep *s)
+{
+    if (s->is_scene)
+        fprintf(md, "# plume sweep: %s, %d runs (%s)\n\n| run | values | outcome | %s | seconds |\n"
+                    "|---|---|---|---|---|---|---|---|\n",
+                s->job, s->count, s->path, plume_sweep_scene_summary_header);
+    else
+        fprintf(md, "# plume sweep: %s, %d runs (%s)\n\n| run | values | outcome | strain | stress (Pa) | seconds |\n"
+                    "|---|---|---|---|---|---|\n",
+                s->job, s->count, s->path);
+}
+
+/* The run group's "seconds" attribute, NaN without one. */
+static double run_seconds(hid_t g)
+{
+    double seconds = NAN;
+    if (H5Aexists(g, "seconds") > 0) {
+        hid_t a = H5Aopen(g, "seconds", H5P_DEFAULT);
+        H5Aread(a, H5T_NATIVE_DOUBLE, &seconds);
+        H5Aclose(a);
+    }
+    return seconds;
+}
+
+/* Recorded run k (its group g): its row of the table (md, may be NULL) and of the JSON array, and
+ * its share of the totals. */
+static void summarize_run(hid_t g, int k, const plume_sweep *s, FILE *md, json_t *arr, summary_totals *tot)
+{
+    char *values = attr_string(g, "values"), *outcome = attr_string(g, "outcome"), *rec = attr_string(g, "record");
+    json_t *rj = rec ? json_loads(rec, 0, NULL) : NULL;
+    const char *message = json_string_value(json_object_get(rj, "message"));
+    double seconds = run_seconds(g), strain = last_value(g, "strain"), stress = last_value(g, "stress");
+    tot->recorded++;
+    tot->converged += outcome && strcmp(outcome, "converged") == 0;
+    tot->total += isfinite(seconds) ? seconds : 0.0;
+    /* a fit's outcome is its moduli and misfit */
+    json_t *res = json_object_get(rj, "result");
+    char fitted[256] = "";
+    if (json_object_get(res, "residual"))
+        snprintf(fitted, sizeof fitted, " (E_xx %.6g, E_yy %.6g, nu_xy %.4g, G_xy %.6g Pa; residual %.3g)",
+                 json_number_value(json_object_get(res, "E_xx")), json_number_value(json_object_get(res, "E_yy")),
+                 json_number_value(json_object_get(res, "nu_xy")), json_number_value(json_object_get(res, "G_xy")),
+                 json_number_value(json_object_get(res, "residual")));
+    if (s->is_scene) {
+        json_t *row = json_pack("{s:i, s:o, s:s, s:f}", "run", k, "values",
+                                values ? json_loads(values, 0, NULL) : json_object(), "outcome",
+                                outcome ? outcome : "?", "seconds", isfinite(seconds) ? seconds : 0.0);
+        char cells[256];
+        plume_sweep_scene_summary_row(res, cells, sizeof cells, row);
+        if (md)
+            fprintf(md, "| %d | `%s` | %s%s%.100s | %s | %.3f |\n", k, values ? values : "", outcome ? outcome : "?",
+                    message ? ": " : "", message ? message : "", cells, seconds);
+        json_array_append_new(arr, row);
+    } else {
+        if (md)
+            fprintf(md, "| %d | `%s` | %s%s%.100s%s | %.6g | %.6g | %.3f |\n", k, values ? values : "",
+                    outcome ? outcome : "?", message ? ": " : "", message ? message : "", fitted, strain, stress,
+                    seconds);
+        json_array_append_new(arr, json_pack("{s:i, s:o, s:s, s:f, s:f, s:f}", "run", k, "values",
+                                             values ? json_loads(values, 0, NULL) : json_object(), "outcome",
+                                             outcome ? outcome : "?", "strain", isfinite(strain) ? strain : 0.0,
+                                             "stress", isfinite(stress) ? stress : 0.0, "seconds",
+                                             isfinite(seconds) ? seconds : 0.0));
+    }
+    free(values);
+    free(outcome);
+    free(rec);
+    json_decref(rj);
+}
+
+/* The table's last line, then the table (written under the name tmp) renamed to md_path. */
+static plume_status summary_close(FILE *md, const char *tmp, const char *md_path, const plume_sweep *s,
+                                  const summary_totals *tot, plume_err *err)
+{
+    fprintf(md, "\n%d of %d runs recorded, %d converged; %.1f s of runs in all.\n", tot->recorded, s->count,
+            tot->converged, tot->total);
+    int bad = ferror(md);
+    if (fclose(md) != 0 || bad || rename(tmp, md_path) != 0) {
+        unlink(tmp);
+        return plume_err_set(err, PLUME_EIO, "sweep summary '%s': cannot write", md_path);
+    }
+    return PLUME_OK;
+}
+
 plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const char *md_path, char **json,
                                  plume_err *err)
 {
@@ -629,16 +736,9 @@ plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const
         return plume_err_set(err, PLUME_EIO, "sweep summary '%s': cannot create: %s", md_path, strerror(errno));
     }
     json_t *arr = json_array();
-    int recorded = 0, converged = 0;
-    double total = 0.0;
-    if (md && s->is_scene) /* a scene run's columns: its steps, time, displacement, contact distance */
-        fprintf(md, "# plume sweep: %s, %d runs (%s)\n\n| run | values | outcome | %s | seconds |\n"
-                    "|---|---|---|---|---|---|---|---|\n",
-                s->job, s->count, s->path, plume_sweep_scene_summary_header);
-    else if (md)
-        fprintf(md, "# plume sweep: %s, %d runs (%s)\n\n| run | values | outcome | strain | stress (Pa) | seconds |\n"
-                    "|---|---|---|---|---|---|\n",
-                s->job, s->count, s->path);
+    summary_totals tot = {0, 0, 0.0};
+    if (md)
+        summary_header(md, s);
     for (int k = 0; runs >= 0 && k < s->count; k++) {
         char name[32];
         snprintf(name, sizeof name, "%d", k);
@@ -648,67 +748,14 @@ plume_status plume_sweep_summary(const char *h5path, const plume_sweep *s, const
             continue;
         }
         hid_t g = H5Gopen2(runs, name, H5P_DEFAULT);
-        char *values = attr_string(g, "values"), *outcome = attr_string(g, "outcome"), *rec = attr_string(g, "record");
-        json_t *rj = rec ? json_loads(rec, 0, NULL) : NULL;
-        const char *message = json_string_value(json_object_get(rj, "message"));
-        double seconds = NAN, strain = last_value(g, "strain"), stress = last_value(g, "stress");
-        if (H5Aexists(g, "seconds") > 0) {
-            hid_t a = H5Aopen(g, "seconds", H5P_DEFAULT);
-            H5Aread(a, H5T_NATIVE_DOUBLE, &seconds);
-            H5Aclose(a);
-        }
-        recorded++;
-        converged += outcome && strcmp(outcome, "converged") == 0;
-        total += isfinite(seconds) ? seconds : 0.0;
-        /* a fit's outcome is its moduli and misfit */
-        json_t *res = json_object_get(rj, "result");
-        char fitted[256] = "";
-        if (json_object_get(res, "residual"))
-            snprintf(fitted, sizeof fitted, " (E_xx %.6g, E_yy %.6g, nu_xy %.4g, G_xy %.6g Pa; residual %.3g)",
-                     json_number_value(json_object_get(res, "E_xx")), json_number_value(json_object_get(res, "E_yy")),
-                     json_number_value(json_object_get(res, "nu_xy")), json_number_value(json_object_get(res, "G_xy")),
-                     json_number_value(json_object_get(res, "residual")));
-        if (s->is_scene) {
-            json_t *row = json_pack("{s:i, s:o, s:s, s:f}", "run", k, "values",
-                                    values ? json_loads(values, 0, NULL) : json_object(), "outcome",
-                                    outcome ? outcome : "?", "seconds", isfinite(seconds) ? seconds : 0.0);
-            char cells[256];
-            plume_sweep_scene_summary_row(res, cells, sizeof cells, row);
-            if (md)
-                fprintf(md, "| %d | `%s` | %s%s%.100s | %s | %.3f |\n", k, values ? values : "", outcome ? outcome : "?",
-                        message ? ": " : "", message ? message : "", cells, seconds);
-            json_array_append_new(arr, row);
-        } else {
-            if (md)
-                fprintf(md, "| %d | `%s` | %s%s%.100s%s | %.6g | %.6g | %.3f |\n", k, values ? values : "",
-                        outcome ? outcome : "?", message ? ": " : "", message ? message : "", fitted, strain, stress,
-                        seconds);
-            json_array_append_new(arr, json_pack("{s:i, s:o, s:s, s:f, s:f, s:f}", "run", k, "values",
-                                                 values ? json_loads(values, 0, NULL) : json_object(), "outcome",
-                                                 outcome ? outcome : "?", "strain", isfinite(strain) ? strain : 0.0,
-                                                 "stress", isfinite(stress) ? stress : 0.0, "seconds",
-                                                 isfinite(seconds) ? seconds : 0.0));
-        }
-        free(values);
-        free(outcome);
-        free(rec);
-        json_decref(rj);
+        summarize_run(g, k, s, md, arr, &tot);
         H5Gclose(g);
     }
     if (runs >= 0)
         H5Gclose(runs);
     H5Fclose(fid);
     quiet_end(&q);
-    plume_status st = PLUME_OK;
-    if (md) {
-        fprintf(md, "\n%d of %d runs recorded, %d converged; %.1f s of runs in all.\n", recorded, s->count, converged,
-                total);
-        int bad = ferror(md);
-        if (fclose(md) != 0 || bad || rename(tmp, md_path) != 0) {
-            unlink(tmp);
-            st = plume_err_set(err, PLUME_EIO, "sweep summary '%s': cannot write", md_path);
-        }
-    }
+    plume_status st = md ? summary_close(md, tmp, md_path, s, &tot, err) : PLUME_OK;
     if (json && st == PLUME_OK)
         *json = json_dumps(arr, JSON_REAL_PRECISION(17) | JSON_INDENT(2));
     json_decref(arr);

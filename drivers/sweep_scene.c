@@ -234,108 +234,108 @@ static json_t *array_int(const double *v, long n)
 /* per-step measures: time, newton_iterations, halvings, contact_pairs, min_distance, intersecting_pairs */
 enum { M_TIME, M_ITER, M_HALV, M_PAIRS, M_DIST, M_INTER, M_COUNT };
 
-plume_status plume_sweep_scene_run(const char *request, char **result, char *msg, long nmsg)
+/* What a run measured: the per-step measures m[k][0 .. entries) and the totals over the steps. */
+typedef struct {
+    double *m[M_COUNT];
+    long entries, done; /* steps measured, steps that count as done */
+    long iterations, halvings, step_limited, steps_intersecting;
+    double max_violation, min_distance, max_pairs, max_intersecting;
+    int converged;
+    plume_reason reason;
+} run_record;
+
+/* The scene of the request's document (its file name `path` for messages and relative files); a
+ * static scene is refused. *text holds the document's text (the caller frees it). */
+static plume_status load_dynamic_scene(const char *path, json_t *doc, char **text, plume_scene **scene, plume_err *err)
 {
-    plume_err err = {{0}};
-    plume_status st = PLUME_OK;
-    json_t *req = request ? json_loads(request, 0, NULL) : NULL, *o = NULL;
-    const char *path = json_string_value(json_object_get(req, "scene"));
-    json_t *doc = json_object_get(req, "document");
-    long steps = (long)json_integer_value(json_object_get(req, "steps")), entries = 0, done = 0;
-    char *text = NULL;
-    plume_scene *scene = NULL;
-    plume_problem *p = NULL;
-    plume_dynamics *d = NULL;
-    plume_contact *contact = NULL;
-    contact_monitor cm = {NULL, {0, 0, NULL}, 0.0};
-    double *m[M_COUNT] = {NULL}, *x0 = NULL;
-    if (result)
-        *result = NULL;
-    if (!result || !path || !json_is_object(doc)) {
-        st = plume_err_set(&err, PLUME_EINVAL, "scene run: the request needs \"scene\" and \"document\"");
-        goto done;
-    }
-    text = json_dumps(doc, JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_PRESERVE_ORDER);
-    if (!text) {
-        st = plume_err_set(&err, PLUME_ENOMEM, "scene run: out of memory");
-        goto done;
-    }
-    if ((st = plume_scene_load_json(text, path, NULL, &scene, &err)) != PLUME_OK)
-        goto done;
-    if (scene->is_static) {
-        st = plume_err_set(&err, PLUME_EINVAL,
-                           "%s is a static scene (\"solve\": \"static\"): a sweep steps dynamic scenes (apps/shell "
-                           "solves static ones)",
-                           path);
-        goto done;
-    }
-    if ((st = plume_scene_dynamics_contact(scene, &p, &d, &contact, &err)) != PLUME_OK)
-        goto done;
-    double dt = scene->dt;
-    long n = steps > 0 ? steps : (long)fmax(0.0, floor(scene->duration / dt + 0.5));
-    if (n > 1000000) {
-        st = plume_err_set(&err, PLUME_EINVAL,
-                           "%s: the run would take %ld steps of dt = %g s (more than 10^6): set the sweep's base.steps "
-                           "or a shorter duration",
-                           path, n, dt);
-        goto done;
-    }
+    *text = json_dumps(doc, JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_PRESERVE_ORDER);
+    if (!*text)
+        return plume_err_set(err, PLUME_ENOMEM, "scene run: out of memory");
+    plume_status st = plume_scene_load_json(*text, path, NULL, scene, err);
+    if (st != PLUME_OK)
+        return st;
+    if ((*scene)->is_static)
+        return plume_err_set(err, PLUME_EINVAL,
+                             "%s is a static scene (\"solve\": \"static\"): a sweep steps dynamic scenes (apps/shell "
+                             "solves static ones)",
+                             path);
+    return PLUME_OK;
+}
+
+/* The steps of the run: the request's `steps` if > 0, else the scene's duration over dt. */
+static plume_status planned_steps(const plume_scene *scene, const char *path, long steps, long *n_out, plume_err *err)
+{
+    const double dt = scene->dt;
+    const long n = steps > 0 ? steps : (long)fmax(0.0, floor(scene->duration / dt + 0.5));
+    if (n > 1000000)
+        return plume_err_set(err, PLUME_EINVAL,
+                             "%s: the run would take %ld steps of dt = %g s (more than 10^6): set the sweep's base.steps "
+                             "or a shorter duration",
+                             path, n, dt);
+    *n_out = n;
+    return PLUME_OK;
+}
+
+/* The contact measures of the state x into the record's current entry and its totals. */
+static plume_status measure_contact(const plume_mesh *mesh, const double *x, const plume_contact *contact,
+                                    contact_monitor *cm, run_record *rec, plume_err *err)
+{
+    plume_contact_stats cs;
+    plume_contact_audit a;
+    double dmin;
+    plume_contact_term_stats(contact, &cs);
+    plume_status st;
+    if ((st = plume_contact_count_intersections(mesh->nv, x, mesh->nt, mesh->tri, &cm->pairs, &a, err)) != PLUME_OK ||
+        (st = plume_contact_min_distance(cm->broad, x, cm->cap, &dmin, err)) != PLUME_OK)
+        return st;
+    const long e = rec->entries;
+    rec->m[M_PAIRS][e] = (double)cs.candidates, rec->m[M_DIST][e] = dmin;
+    rec->m[M_INTER][e] = (double)a.intersecting;
+    rec->max_pairs = fmax(rec->max_pairs, (double)cs.candidates), rec->min_distance = fmin(rec->min_distance, dmin);
+    rec->max_intersecting = fmax(rec->max_intersecting, (double)a.intersecting);
+    rec->steps_intersecting += a.intersecting > 0;
+    return PLUME_OK;
+}
+
+/* Steps the scene n times (or until a step fails to converge), measuring each step into rec. */
+static plume_status step_scene(const plume_scene *scene, plume_dynamics *d, const plume_contact *contact,
+                               contact_monitor *cm, const char *path, long n, run_record *rec, plume_err *err)
+{
     const plume_mesh *mesh = scene->mesh;
-    size_t nx = 3 * (size_t)mesh->nv;
-    int nomem = !(x0 = malloc(nx * sizeof *x0));
-    for (int k = 0; k < M_COUNT; k++)
-        nomem |= !(m[k] = malloc(((size_t)n + 1) * sizeof **m));
-    if (nomem) {
-        st = plume_err_set(&err, PLUME_ENOMEM, "scene run: out of memory");
-        goto done;
-    }
-    memcpy(x0, plume_dynamics_positions(d), nx * sizeof *x0);
-    if (scene->has_contact && (st = monitor_start(&cm, scene, &err)) != PLUME_OK)
-        goto done;
-    long iterations = 0, halvings = 0, step_limited = 0, steps_intersecting = 0;
-    double max_violation = 0.0, min_distance = cm.cap, max_pairs = 0.0, max_intersecting = 0.0;
-    int converged = 1;
-    plume_reason reason = PLUME_REASON_CONVERGED;
+    const double dt = scene->dt;
+    plume_status st = PLUME_OK;
     for (long i = 0; i < n; i++) {
         plume_step_report rep;
         double t0 = plume_dynamics_time(d);
         plume_err why;
-        if ((st = plume_dynamics_advance(d, 0.0, &rep, &why)) != PLUME_OK) {
-            plume_err_set(&err, st, "%s: step %ld: %s", path, i + 1, why.msg);
-            goto done;
-        }
+        if ((st = plume_dynamics_advance(d, 0.0, &rep, &why)) != PLUME_OK)
+            return plume_err_set(err, st, "%s: step %ld: %s", path, i + 1, why.msg);
         const double *x = plume_dynamics_positions(d);
         double t1 = plume_dynamics_time(d);
-        iterations += rep.iterations, halvings += rep.halvings, step_limited += rep.step_limited;
-        max_violation = fmax(max_violation, rep.max_violation);
-        m[M_TIME][entries] = t1, m[M_ITER][entries] = rep.iterations, m[M_HALV][entries] = rep.halvings;
-        if (scene->has_contact) {
-            plume_contact_stats cs;
-            plume_contact_audit a;
-            double dmin;
-            plume_contact_term_stats(contact, &cs);
-            if ((st = plume_contact_count_intersections(mesh->nv, x, mesh->nt, mesh->tri, &cm.pairs, &a, &err)) !=
-                    PLUME_OK ||
-                (st = plume_contact_min_distance(cm.broad, x, cm.cap, &dmin, &err)) != PLUME_OK)
-                goto done;
-            m[M_PAIRS][entries] = (double)cs.candidates, m[M_DIST][entries] = dmin;
-            m[M_INTER][entries] = (double)a.intersecting;
-            max_pairs = fmax(max_pairs, (double)cs.candidates), min_distance = fmin(min_distance, dmin);
-            max_intersecting = fmax(max_intersecting, (double)a.intersecting);
-            steps_intersecting += a.intersecting > 0;
-        }
-        entries++;
+        rec->iterations += rep.iterations, rec->halvings += rep.halvings, rec->step_limited += rep.step_limited;
+        rec->max_violation = fmax(rec->max_violation, rep.max_violation);
+        rec->m[M_TIME][rec->entries] = t1, rec->m[M_ITER][rec->entries] = rep.iterations;
+        rec->m[M_HALV][rec->entries] = rep.halvings;
+        if (scene->has_contact && (st = measure_contact(mesh, x, contact, cm, rec, err)) != PLUME_OK)
+            return st;
+        rec->entries++;
         /* as apps/feather: the linearized solver takes one unconverged step by design, so only a
          * step of it that did not advance fails */
         int advanced = fabs(t1 - (t0 + dt)) <= 1e-9 * fmax(dt, fabs(t1));
         if (!rep.converged && (scene->solver != PLUME_SOLVER_LINEARIZED || !advanced)) {
-            converged = 0;
-            reason = rep.reason;
+            rec->converged = 0;
+            rec->reason = rep.reason;
             break;
         }
-        done++;
+        rec->done++;
     }
-    const double *x = plume_dynamics_positions(d);
+    return PLUME_OK;
+}
+
+/* The largest displacement of x from x0 and its vertex. */
+static void largest_displacement(const plume_mesh *mesh, const double *x, const double *x0, double *umax_out,
+                                 long *vmax_out)
+{
     double umax = 0.0;
     long vmax = 0;
     for (plume_index v = 0; v < mesh->nv; v++) {
@@ -343,40 +343,97 @@ plume_status plume_sweep_scene_run(const char *request, char **result, char *msg
         if (u > umax)
             umax = u, vmax = (long)v;
     }
-    o = json_object();
+    *umax_out = umax, *vmax_out = vmax;
+}
+
+/* The run's result object (plume_sweep_scene_run's document; the caller owns it). */
+static json_t *run_result(const plume_scene *scene, const char *path, const plume_dynamics *d, long n,
+                          const run_record *rec, const contact_monitor *cm, const double *x0)
+{
+    const plume_mesh *mesh = scene->mesh;
+    const double *x = plume_dynamics_positions(d);
+    double umax;
+    long vmax;
+    largest_displacement(mesh, x, x0, &umax, &vmax);
+    json_t *o = json_object();
     json_object_set_new(o, "scene", json_string(path));
     json_object_set_new(o, "vertices", json_integer(mesh->nv));
     json_object_set_new(o, "elements", json_integer(mesh->nt));
-    json_object_set_new(o, "dt", json_real(dt));
-    json_object_set_new(o, "steps", json_integer(done));
+    json_object_set_new(o, "dt", json_real(scene->dt));
+    json_object_set_new(o, "steps", json_integer(rec->done));
     json_object_set_new(o, "steps_planned", json_integer(n));
     json_object_set_new(o, "time", json_real(plume_dynamics_time(d)));
-    json_object_set_new(o, "converged", json_boolean(converged));
-    json_object_set_new(o, "stop_reason", json_string(plume_reason_name(reason)));
-    json_object_set_new(o, "newton_iterations", json_integer(iterations));
-    json_object_set_new(o, "halvings", json_integer(halvings));
-    json_object_set_new(o, "max_violation", json_real(max_violation));
+    json_object_set_new(o, "converged", json_boolean(rec->converged));
+    json_object_set_new(o, "stop_reason", json_string(plume_reason_name(rec->reason)));
+    json_object_set_new(o, "newton_iterations", json_integer(rec->iterations));
+    json_object_set_new(o, "halvings", json_integer(rec->halvings));
+    json_object_set_new(o, "max_violation", json_real(rec->max_violation));
     json_object_set_new(o, "max_displacement", json_real(umax));
     json_object_set_new(o, "max_displacement_vertex", json_integer(vmax));
     json_t *ps = json_object();
-    json_object_set_new(ps, "time", array_real(m[M_TIME], entries));
-    json_object_set_new(ps, "newton_iterations", array_int(m[M_ITER], entries));
-    json_object_set_new(ps, "halvings", array_int(m[M_HALV], entries));
+    json_object_set_new(ps, "time", array_real(rec->m[M_TIME], rec->entries));
+    json_object_set_new(ps, "newton_iterations", array_int(rec->m[M_ITER], rec->entries));
+    json_object_set_new(ps, "halvings", array_int(rec->m[M_HALV], rec->entries));
     if (scene->has_contact) {
         json_object_set_new(o, "contact",
                             json_pack("{s:s, s:f, s:I, s:f, s:f, s:I, s:I, s:I}", "model",
                                       plume_contact_model_name(scene->contact.pair.model), "dhat",
-                                      scene->contact.pair.dhat, "max_contact_pairs", (json_int_t)max_pairs,
-                                      "min_distance", min_distance, "min_distance_cap", cm.cap,
-                                      "max_intersecting_pairs", (json_int_t)max_intersecting, "steps_intersecting",
-                                      (json_int_t)steps_intersecting, "step_limited", (json_int_t)step_limited));
-        json_object_set_new(ps, "contact_pairs", array_int(m[M_PAIRS], entries));
-        json_object_set_new(ps, "min_distance", array_real(m[M_DIST], entries));
-        json_object_set_new(ps, "intersecting_pairs", array_int(m[M_INTER], entries));
+                                      scene->contact.pair.dhat, "max_contact_pairs", (json_int_t)rec->max_pairs,
+                                      "min_distance", rec->min_distance, "min_distance_cap", cm->cap,
+                                      "max_intersecting_pairs", (json_int_t)rec->max_intersecting, "steps_intersecting",
+                                      (json_int_t)rec->steps_intersecting, "step_limited",
+                                      (json_int_t)rec->step_limited));
+        json_object_set_new(ps, "contact_pairs", array_int(rec->m[M_PAIRS], rec->entries));
+        json_object_set_new(ps, "min_distance", array_real(rec->m[M_DIST], rec->entries));
+        json_object_set_new(ps, "intersecting_pairs", array_int(rec->m[M_INTER], rec->entries));
     }
     json_object_set_new(o, "per_step", ps);
     if (mesh->nv <= PLUME_SWEEP_SCENE_MAX_POSITIONS)
-        json_object_set_new(o, "positions", array_real(x, (long)nx));
+        json_object_set_new(o, "positions", array_real(x, (long)(3 * (size_t)mesh->nv)));
+    return o;
+}
+
+plume_status plume_sweep_scene_run(const char *request, char **result, char *msg, long nmsg)
+{
+    plume_err err = {{0}};
+    plume_status st = PLUME_OK;
+    json_t *req = request ? json_loads(request, 0, NULL) : NULL, *o = NULL;
+    const char *path = json_string_value(json_object_get(req, "scene"));
+    json_t *doc = json_object_get(req, "document");
+    long steps = (long)json_integer_value(json_object_get(req, "steps")), n = 0;
+    char *text = NULL;
+    plume_scene *scene = NULL;
+    plume_problem *p = NULL;
+    plume_dynamics *d = NULL;
+    plume_contact *contact = NULL;
+    contact_monitor cm = {NULL, {0, 0, NULL}, 0.0};
+    run_record rec = {.converged = 1, .reason = PLUME_REASON_CONVERGED};
+    double *x0 = NULL;
+    if (result)
+        *result = NULL;
+    if (!result || !path || !json_is_object(doc)) {
+        st = plume_err_set(&err, PLUME_EINVAL, "scene run: the request needs \"scene\" and \"document\"");
+        goto done;
+    }
+    if ((st = load_dynamic_scene(path, doc, &text, &scene, &err)) != PLUME_OK ||
+        (st = plume_scene_dynamics_contact(scene, &p, &d, &contact, &err)) != PLUME_OK ||
+        (st = planned_steps(scene, path, steps, &n, &err)) != PLUME_OK)
+        goto done;
+    size_t nx = 3 * (size_t)scene->mesh->nv;
+    int nomem = !(x0 = malloc(nx * sizeof *x0));
+    for (int k = 0; k < M_COUNT; k++)
+        nomem |= !(rec.m[k] = malloc(((size_t)n + 1) * sizeof **rec.m));
+    if (nomem) {
+        st = plume_err_set(&err, PLUME_ENOMEM, "scene run: out of memory");
+        goto done;
+    }
+    memcpy(x0, plume_dynamics_positions(d), nx * sizeof *x0);
+    if (scene->has_contact && (st = monitor_start(&cm, scene, &err)) != PLUME_OK)
+        goto done;
+    rec.min_distance = cm.cap;
+    if ((st = step_scene(scene, d, contact, &cm, path, n, &rec, &err)) != PLUME_OK)
+        goto done;
+    o = run_result(scene, path, d, n, &rec, &cm, x0);
     *result = json_dumps(o, JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_PRESERVE_ORDER);
     if (!*result)
         st = plume_err_set(&err, PLUME_ENOMEM, "scene run: out of memory");
@@ -385,7 +442,7 @@ done:
     plume_contact_broad_destroy(&cm.broad);
     plume_contact_pairs_free(&cm.pairs);
     for (int k = 0; k < M_COUNT; k++)
-        free(m[k]);
+        free(rec.m[k]);
     free(x0);
     plume_dynamics_destroy(&d);
     plume_problem_destroy(&p);

@@ -381,16 +381,11 @@ static int material_ok(double D)
     return isfinite(D) && D >= 0.0;
 }
 
-plume_status plume_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
-                                       const double *rest_x, plume_term *out, plume_err *err)
+/* The checks of plume_bending_term_create's inputs that need no allocation (mesh, mats and out
+ * not NULL). */
+static plume_status check_inputs(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
+                                 const double *rest_x, plume_err *err)
 {
-    plume_status st = PLUME_OK;
-    bend_ctx *ctx = NULL;
-    plume_index *vstart = NULL, *vtri = NULL;
-    if (out)
-        memset(out, 0, sizeof *out);
-    if (!mesh || !mats || !out)
-        return plume_err_set(err, PLUME_EINVAL, "bending: NULL mesh, materials or output");
     if (mesh->dim != 3)
         return plume_err_set(err, PLUME_EINVAL,
                              "bending: the mesh must be in shell mode (dim 3), got dim %d", mesh->dim);
@@ -429,6 +424,120 @@ plume_status plume_bending_term_create(const plume_mesh *mesh, const plume_bendi
                 return plume_err_set(err, PLUME_EINVAL,
                                      "bending: rest_x[%ld] (vertex %ld) is not finite (%g)", (long)i,
                                      (long)(i / 3), rest_x[i]);
+    return PLUME_OK;
+}
+
+/* vertex -> triangles (CSR: the triangles of v are vtri[vstart[v] .. vstart[v + 1])), to find each
+ * hinge's two triangles without relying on how the topology orders its arrays. vstart holds nv + 2
+ * zeros on entry, vtri room for 3 nt. */
+static void vertex_triangles(const plume_mesh *mesh, plume_index *vstart, plume_index *vtri)
+{
+    for (plume_index t = 0; t < mesh->nt; t++)
+        for (int k = 0; k < 3; k++)
+            vstart[mesh->tri[3 * t + k] + 2]++;
+    for (plume_index v = 0; v < mesh->nv; v++)
+        vstart[v + 2] += vstart[v + 1];
+    for (plume_index t = 0; t < mesh->nt; t++)
+        for (int k = 0; k < 3; k++)
+            vtri[vstart[mesh->tri[3 * t + k] + 1]++] = t;
+}
+
+/* Hinge h's two triangles (*tA holding the first opposite vertex, *tB the second) and its stencil
+ * sv ordered so that (x0, x1, x2) and (x1, x0, x3) are counter-clockwise. */
+static plume_status hinge_stencil(const plume_mesh *mesh, const plume_index *vstart, const plume_index *vtri,
+                                  plume_index h, plume_index sv[4], plume_index *tA_out, plume_index *tB_out,
+                                  plume_err *err)
+{
+    const plume_index *hv = mesh->hinges + 4 * h;
+    for (int k = 0; k < 4; k++)
+        if (hv[k] < 0 || hv[k] >= mesh->nv)
+            return plume_err_set(err, PLUME_EINVAL, "bending: hinge %ld: vertex id %ld out of range [0, %ld)",
+                                 (long)h, (long)hv[k], (long)mesh->nv);
+    /* the triangles (hv0, hv1, hv2) and (hv0, hv1, hv3) */
+    plume_index tA = -1, tB = -1;
+    for (plume_index s = vstart[hv[0]]; s < vstart[hv[0] + 1]; s++) {
+        const plume_index *tv = mesh->tri + 3 * vtri[s];
+        if (!tri_has(tv, hv[1]))
+            continue;
+        if (tri_has(tv, hv[2]))
+            tA = vtri[s];
+        else if (tri_has(tv, hv[3]))
+            tB = vtri[s];
+    }
+    if (tA < 0 || tB < 0)
+        return plume_err_set(err, PLUME_EINVAL,
+                             "bending: hinge %ld: no triangles (%ld, %ld, %ld) and (%ld, %ld, %ld) in the mesh "
+                             "(topology out of date?)",
+                             (long)h, (long)hv[0], (long)hv[1], (long)hv[2], (long)hv[0], (long)hv[1], (long)hv[3]);
+    const int forward = has_directed_edge(mesh->tri + 3 * tA, hv[0], hv[1]);
+    sv[0] = forward ? hv[0] : hv[1];
+    sv[1] = forward ? hv[1] : hv[0];
+    sv[2] = hv[2];
+    sv[3] = hv[3];
+    if (!has_directed_edge(mesh->tri + 3 * tB, sv[1], sv[0]))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "bending: hinge %ld: triangles %ld and %ld are not consistently oriented",
+                             (long)h, (long)tA, (long)tB);
+    *tA_out = tA, *tB_out = tB;
+    return PLUME_OK;
+}
+
+/* The stiffness kappa = c D_e |e|^2 / (A1 + A2) of hinge h (stencil sv, triangles tA and tB) from
+ * its reference geometry and the barb direction averaged over its two triangles. */
+static plume_status hinge_stiffness(const plume_mesh *mesh, const plume_bending_material *mats, plume_index h,
+                                    const plume_index sv[4], plume_index tA, plume_index tB, double *kappa,
+                                    plume_err *err)
+{
+    const double *X0 = mesh->X + 2 * sv[0], *X1 = mesh->X + 2 * sv[1];
+    const double *X2 = mesh->X + 2 * sv[2], *X3 = mesh->X + 2 * sv[3];
+    const double ex = X1[0] - X0[0], ey = X1[1] - X0[1];
+    const double ax = X2[0] - X0[0], ay = X2[1] - X0[1];
+    const double bx = X3[0] - X0[0], by = X3[1] - X0[1];
+    const double detA = ex * ay - ey * ax, detB = bx * ey - by * ex; /* 2 A, both > 0 */
+    const double l2 = ex * ex + ey * ey;
+    const double sclA = l2 + ax * ax + ay * ay + (ax - ex) * (ax - ex) + (ay - ey) * (ay - ey);
+    const double sclB = l2 + bx * bx + by * by + (bx - ex) * (bx - ex) + (by - ey) * (by - ey);
+    if (!isfinite(detA) || !isfinite(detB) || !(detA > BENDING_DEGENERATE_REL * sclA) ||
+        !(detB > BENDING_DEGENERATE_REL * sclB))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "bending: hinge %ld: degenerate reference triangle %ld or %ld (areas %g, %g)",
+                             (long)h, (long)tA, (long)tB, 0.5 * detA, 0.5 * detB);
+    /* barb direction: the two unit directions with matched signs, averaged */
+    double d[2] = {0.0, 0.0};
+    const plume_index tt[2] = {tA, tB};
+    for (int k = 0; k < 2; k++) {
+        const double dx = mesh->barb_dir[2 * tt[k]], dy = mesh->barb_dir[2 * tt[k] + 1];
+        const double len = hypot(dx, dy);
+        if (!isfinite(len) || !(len > 0.0))
+            return plume_err_set(err, PLUME_EINVAL,
+                                 "bending: triangle %ld: barb direction (%g, %g) cannot be normalised",
+                                 (long)tt[k], dx, dy);
+        const double sg = (k == 1 && d[0] * dx + d[1] * dy < 0.0) ? -1.0 : 1.0;
+        d[0] += sg * dx / len;
+        d[1] += sg * dy / len;
+    }
+    const double dl = hypot(d[0], d[1]); /* >= sqrt 2 */
+    const double td = (ex * d[0] + ey * d[1]) / (sqrt(l2) * dl); /* cos of (t, d) = sin phi */
+    const double sin2 = td * td, cos2 = 1.0 - sin2;
+    const plume_bending_material *mA = &mats[mesh->material[tA]], *mB = &mats[mesh->material[tB]];
+    const double Dl = 0.5 * (mA->D_long + mB->D_long), Dt = 0.5 * (mA->D_trans + mB->D_trans);
+    const double De = Dl * cos2 + Dt * sin2;
+    *kappa = BENDING_C * De * l2 / (0.5 * (detA + detB));
+    return PLUME_OK;
+}
+
+plume_status plume_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
+                                       const double *rest_x, plume_term *out, plume_err *err)
+{
+    plume_status st = PLUME_OK;
+    bend_ctx *ctx = NULL;
+    plume_index *vstart = NULL, *vtri = NULL;
+    if (out)
+        memset(out, 0, sizeof *out);
+    if (!mesh || !mats || !out)
+        return plume_err_set(err, PLUME_EINVAL, "bending: NULL mesh, materials or output");
+    if ((st = check_inputs(mesh, mats, nmat, rest_x, err)) != PLUME_OK)
+        return st;
 
     const plume_index nh = mesh->nh, nv = mesh->nv, nt = mesh->nt;
     ctx = calloc(1, sizeof *ctx);
@@ -445,96 +554,13 @@ plume_status plume_bending_term_create(const plume_mesh *mesh, const plume_bendi
         st = plume_err_set(err, PLUME_ENOMEM, "bending: out of memory");
         goto cleanup;
     }
-    /* vertex -> triangles (CSR), to find each hinge's two triangles without relying on how the
-     * topology orders its arrays */
-    for (plume_index t = 0; t < nt; t++)
-        for (int k = 0; k < 3; k++)
-            vstart[mesh->tri[3 * t + k] + 2]++;
-    for (plume_index v = 0; v < nv; v++)
-        vstart[v + 2] += vstart[v + 1];
-    for (plume_index t = 0; t < nt; t++)
-        for (int k = 0; k < 3; k++)
-            vtri[vstart[mesh->tri[3 * t + k] + 1]++] = t;
+    vertex_triangles(mesh, vstart, vtri);
 
     for (plume_index h = 0; h < nh; h++) {
-        const plume_index *hv = mesh->hinges + 4 * h;
-        for (int k = 0; k < 4; k++)
-            if (hv[k] < 0 || hv[k] >= nv) {
-                st = plume_err_set(err, PLUME_EINVAL, "bending: hinge %ld: vertex id %ld out of range [0, %ld)",
-                                   (long)h, (long)hv[k], (long)nv);
-                goto cleanup;
-            }
-        /* the triangles (hv0, hv1, hv2) and (hv0, hv1, hv3) */
-        plume_index tA = -1, tB = -1;
-        for (plume_index s = vstart[hv[0]]; s < vstart[hv[0] + 1]; s++) {
-            const plume_index *tv = mesh->tri + 3 * vtri[s];
-            if (!tri_has(tv, hv[1]))
-                continue;
-            if (tri_has(tv, hv[2]))
-                tA = vtri[s];
-            else if (tri_has(tv, hv[3]))
-                tB = vtri[s];
-        }
-        if (tA < 0 || tB < 0) {
-            st = plume_err_set(err, PLUME_EINVAL,
-                               "bending: hinge %ld: no triangles (%ld, %ld, %ld) and (%ld, %ld, %ld) in the mesh "
-                               "(topology out of date?)",
-                               (long)h, (long)hv[0], (long)hv[1], (long)hv[2], (long)hv[0], (long)hv[1], (long)hv[3]);
+        plume_index *sv = ctx->stencil + 4 * h, tA = -1, tB = -1;
+        if ((st = hinge_stencil(mesh, vstart, vtri, h, sv, &tA, &tB, err)) != PLUME_OK ||
+            (st = hinge_stiffness(mesh, mats, h, sv, tA, tB, &ctx->hinge[h].kappa, err)) != PLUME_OK)
             goto cleanup;
-        }
-        /* order the stencil so that (x0, x1, x2) and (x1, x0, x3) are counter-clockwise */
-        plume_index *sv = ctx->stencil + 4 * h;
-        const int forward = has_directed_edge(mesh->tri + 3 * tA, hv[0], hv[1]);
-        sv[0] = forward ? hv[0] : hv[1];
-        sv[1] = forward ? hv[1] : hv[0];
-        sv[2] = hv[2];
-        sv[3] = hv[3];
-        if (!has_directed_edge(mesh->tri + 3 * tB, sv[1], sv[0])) {
-            st = plume_err_set(err, PLUME_EINVAL,
-                               "bending: hinge %ld: triangles %ld and %ld are not consistently oriented",
-                               (long)h, (long)tA, (long)tB);
-            goto cleanup;
-        }
-        /* reference geometry */
-        const double *X0 = mesh->X + 2 * sv[0], *X1 = mesh->X + 2 * sv[1];
-        const double *X2 = mesh->X + 2 * sv[2], *X3 = mesh->X + 2 * sv[3];
-        const double ex = X1[0] - X0[0], ey = X1[1] - X0[1];
-        const double ax = X2[0] - X0[0], ay = X2[1] - X0[1];
-        const double bx = X3[0] - X0[0], by = X3[1] - X0[1];
-        const double detA = ex * ay - ey * ax, detB = bx * ey - by * ex; /* 2 A, both > 0 */
-        const double l2 = ex * ex + ey * ey;
-        const double sclA = l2 + ax * ax + ay * ay + (ax - ex) * (ax - ex) + (ay - ey) * (ay - ey);
-        const double sclB = l2 + bx * bx + by * by + (bx - ex) * (bx - ex) + (by - ey) * (by - ey);
-        if (!isfinite(detA) || !isfinite(detB) || !(detA > BENDING_DEGENERATE_REL * sclA) ||
-            !(detB > BENDING_DEGENERATE_REL * sclB)) {
-            st = plume_err_set(err, PLUME_EINVAL,
-                               "bending: hinge %ld: degenerate reference triangle %ld or %ld (areas %g, %g)",
-                               (long)h, (long)tA, (long)tB, 0.5 * detA, 0.5 * detB);
-            goto cleanup;
-        }
-        /* barb direction: the two unit directions with matched signs, averaged */
-        double d[2] = {0.0, 0.0};
-        const plume_index tt[2] = {tA, tB};
-        for (int k = 0; k < 2; k++) {
-            const double dx = mesh->barb_dir[2 * tt[k]], dy = mesh->barb_dir[2 * tt[k] + 1];
-            const double len = hypot(dx, dy);
-            if (!isfinite(len) || !(len > 0.0)) {
-                st = plume_err_set(err, PLUME_EINVAL,
-                                   "bending: triangle %ld: barb direction (%g, %g) cannot be normalised",
-                                   (long)tt[k], dx, dy);
-                goto cleanup;
-            }
-            const double sg = (k == 1 && d[0] * dx + d[1] * dy < 0.0) ? -1.0 : 1.0;
-            d[0] += sg * dx / len;
-            d[1] += sg * dy / len;
-        }
-        const double dl = hypot(d[0], d[1]); /* >= sqrt 2 */
-        const double td = (ex * d[0] + ey * d[1]) / (sqrt(l2) * dl); /* cos of (t, d) = sin phi */
-        const double sin2 = td * td, cos2 = 1.0 - sin2;
-        const plume_bending_material *mA = &mats[mesh->material[tA]], *mB = &mats[mesh->material[tB]];
-        const double Dl = 0.5 * (mA->D_long + mB->D_long), Dt = 0.5 * (mA->D_trans + mB->D_trans);
-        const double De = Dl * cos2 + Dt * sin2;
-        ctx->hinge[h].kappa = BENDING_C * De * l2 / (0.5 * (detA + detB));
         ctx->hinge[h].theta0 = 0.0;
         if (rest_x) {
             hinge_geom G;

@@ -61,63 +61,43 @@ void plume_fields_destroy(plume_fields **pf)
     *pf = NULL;
 }
 
-plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt_elastic,
-                                 const plume_membrane_material *mats, int nmat, plume_term *bending,
-                                 const plume_index *barb_edges, plume_index nbarb, plume_fields **out,
-                                 plume_err *err)
+/* The checks of plume_fields_create's arguments (bending: the term it was given, or zeroed). */
+static plume_status check_fields_args(const plume_mesh *mesh, int dim, plume_index nt_elastic,
+                                      const plume_membrane_material *mats, int nmat, const plume_term *bending,
+                                      const plume_index *barb_edges, plume_index nbarb, plume_fields **out,
+                                      plume_err *err)
 {
-    plume_term owned = {0};
-    if (bending) { /* taken whatever happens */
-        owned = *bending;
-        memset(bending, 0, sizeof *bending);
-    }
-    plume_status st = PLUME_OK;
-    plume_fields *f = NULL;
-    if (out)
-        *out = NULL;
     if (!out || !mesh || !mats || nmat < 1 || (dim != 2 && dim != 3) || nt_elastic < 0 || nt_elastic > mesh->nt ||
-        nbarb < 0 || (nbarb > 0 && !barb_edges)) {
-        st = plume_err_set(err, PLUME_EINVAL, "fields: invalid arguments (mesh, dim 2 or 3, materials, elastic "
-                                              "triangles in [0, nt], barb edges)");
-        goto fail;
-    }
-    if (dim == 3 && mesh->nt > 0 && !mesh->edge_tri) { /* curvature and hinges need the edges */
-        st = plume_err_set(err, PLUME_EINVAL, "fields: the shell mesh's topology is not built");
-        goto fail;
-    }
-    if (owned.eval && !owned.energies) {
-        st = plume_err_set(err, PLUME_EINVAL, "fields: the bending term '%s' cannot give its energies",
-                           owned.name ? owned.name : "?");
-        goto fail;
-    }
-    if (owned.eval && owned.nstencil != nt_elastic && owned.nstencil != mesh->nh) {
-        st = plume_err_set(err, PLUME_EINVAL,
-                           "fields: the bending term has %ld stencils, neither the %ld triangles nor the %ld hinges",
-                           (long)owned.nstencil, (long)nt_elastic, (long)mesh->nh);
-        goto fail;
-    }
+        nbarb < 0 || (nbarb > 0 && !barb_edges))
+        return plume_err_set(err, PLUME_EINVAL, "fields: invalid arguments (mesh, dim 2 or 3, materials, elastic "
+                                                "triangles in [0, nt], barb edges)");
+    if (dim == 3 && mesh->nt > 0 && !mesh->edge_tri) /* curvature and hinges need the edges */
+        return plume_err_set(err, PLUME_EINVAL, "fields: the shell mesh's topology is not built");
+    if (bending->eval && !bending->energies)
+        return plume_err_set(err, PLUME_EINVAL, "fields: the bending term '%s' cannot give its energies",
+                             bending->name ? bending->name : "?");
+    if (bending->eval && bending->nstencil != nt_elastic && bending->nstencil != mesh->nh)
+        return plume_err_set(err, PLUME_EINVAL,
+                             "fields: the bending term has %ld stencils, neither the %ld triangles nor the %ld hinges",
+                             (long)bending->nstencil, (long)nt_elastic, (long)mesh->nh);
     for (plume_index t = 0; t < nt_elastic; t++)
-        if (mesh->material[t] < 0 || mesh->material[t] >= nmat) {
-            st = plume_err_set(err, PLUME_EINVAL, "fields: triangle %ld has material %d, outside [0, %d)", (long)t,
-                               mesh->material[t], nmat);
-            goto fail;
-        }
+        if (mesh->material[t] < 0 || mesh->material[t] >= nmat)
+            return plume_err_set(err, PLUME_EINVAL, "fields: triangle %ld has material %d, outside [0, %d)", (long)t,
+                                 mesh->material[t], nmat);
     for (plume_index k = 0; k < 2 * nbarb; k++)
-        if (barb_edges[k] < 0 || barb_edges[k] >= mesh->nv) {
-            st = plume_err_set(err, PLUME_EINVAL, "fields: barb edge %ld names vertex %ld of %ld", (long)(k / 2),
-                               (long)barb_edges[k], (long)mesh->nv);
-            goto fail;
-        }
-    f = calloc(1, sizeof *f);
-    if (!f) {
-        st = PLUME_ENOMEM;
-        goto fail;
-    }
-    f->mesh = mesh, f->dim = dim, f->nt_el = nt_elastic, f->nbarb = nbarb, f->nmat = nmat;
-    f->bending = owned;
-    memset(&owned, 0, sizeof owned);
-    plume_index nt = mesh->nt, nv = mesh->nv;
-    f->mats = malloc((size_t)nmat * sizeof *f->mats);
+        if (barb_edges[k] < 0 || barb_edges[k] >= mesh->nv)
+            return plume_err_set(err, PLUME_EINVAL, "fields: barb edge %ld names vertex %ld of %ld", (long)(k / 2),
+                                 (long)barb_edges[k], (long)mesh->nv);
+    return PLUME_OK;
+}
+
+/* Every array of f (its mesh, dim, counts and bending term set), the per-triangle outputs as slices
+ * of f->e; 0 when one is missing (plume_fields_destroy frees the others). */
+static int fields_alloc(plume_fields *f)
+{
+    const plume_index nt = f->mesh->nt, nv = f->mesh->nv, nbarb = f->nbarb, nt_elastic = f->nt_el;
+    const int dim = f->dim;
+    f->mats = malloc((size_t)f->nmat * sizeof *f->mats);
     f->barb = malloc((size_t)(2 * nbarb + 1) * sizeof *f->barb);
     f->barb_len = malloc((size_t)(nbarb + 1) * sizeof *f->barb_len);
     f->dminv = malloc((size_t)(4 * nt_elastic + 1) * sizeof *f->dminv);
@@ -132,43 +112,80 @@ plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt
     f->crease = malloc((size_t)(nt + 1) * sizeof *f->crease);
     f->vcurv = malloc((size_t)(2 * nv + 1) * sizeof *f->vcurv);
     if (!f->mats || !f->barb || !f->barb_len || !f->dminv || !f->area0 || !f->x_rest || !f->e || !f->bend_stencil ||
-        !f->points || !f->disp || !f->mat_id || !f->dir3 || !f->crease || !f->vcurv) {
-        st = PLUME_ENOMEM;
-        goto fail;
-    }
+        !f->points || !f->disp || !f->mat_id || !f->dir3 || !f->crease || !f->vcurv)
+        return 0;
     f->strain = f->e, f->stress = f->e + 3 * nt, f->psi_m = f->e + 6 * nt, f->psi_b = f->e + 7 * nt;
     f->J = f->e + 8 * nt, f->H = f->e + 9 * nt, f->bstrain = f->e + 10 * nt;
-    memcpy(f->mats, mats, (size_t)nmat * sizeof *mats);
-    if (nbarb > 0)
-        memcpy(f->barb, barb_edges, (size_t)(2 * nbarb) * sizeof *barb_edges);
-    for (plume_index b = 0; b < nbarb; b++) {
+    return 1;
+}
+
+/* The reference state f measures against: the barb edges' rest lengths, each elastic triangle's
+ * inverse edge matrix and area, the rest positions, and the materials and barb directions written. */
+static plume_status reference_state(plume_fields *f, const plume_membrane_material *mats,
+                                    const plume_index *barb_edges, plume_err *err)
+{
+    const plume_mesh *mesh = f->mesh;
+    const int dim = f->dim;
+    memcpy(f->mats, mats, (size_t)f->nmat * sizeof *mats);
+    if (f->nbarb > 0)
+        memcpy(f->barb, barb_edges, (size_t)(2 * f->nbarb) * sizeof *barb_edges);
+    for (plume_index b = 0; b < f->nbarb; b++) {
         plume_index a = barb_edges[2 * b], c = barb_edges[2 * b + 1];
         f->barb_len[b] = hypot(mesh->X[2 * c] - mesh->X[2 * a], mesh->X[2 * c + 1] - mesh->X[2 * a + 1]);
-        if (!(f->barb_len[b] > 0.0)) {
-            st = plume_err_set(err, PLUME_EINVAL, "fields: barb edge %ld has zero rest length", (long)b);
-            goto fail;
-        }
+        if (!(f->barb_len[b] > 0.0))
+            return plume_err_set(err, PLUME_EINVAL, "fields: barb edge %ld has zero rest length", (long)b);
     }
-    for (plume_index t = 0; t < nt_elastic; t++) {
+    for (plume_index t = 0; t < f->nt_el; t++) {
         const plume_index *v = mesh->tri + 3 * t;
         double a = mesh->X[2 * v[1]] - mesh->X[2 * v[0]], c = mesh->X[2 * v[2]] - mesh->X[2 * v[0]];
         double b = mesh->X[2 * v[1] + 1] - mesh->X[2 * v[0] + 1], d = mesh->X[2 * v[2] + 1] - mesh->X[2 * v[0] + 1];
         double det = a * d - b * c; /* [[a, c], [b, d]]: columns X1 - X0, X2 - X0 */
-        if (!(det != 0.0)) {
-            st = plume_err_set(err, PLUME_EINVAL, "fields: triangle %ld has zero reference area", (long)t);
-            goto fail;
-        }
+        if (!(det != 0.0))
+            return plume_err_set(err, PLUME_EINVAL, "fields: triangle %ld has zero reference area", (long)t);
         f->dminv[4 * t] = d / det, f->dminv[4 * t + 1] = -c / det;
         f->dminv[4 * t + 2] = -b / det, f->dminv[4 * t + 3] = a / det;
         f->area0[t] = 0.5 * fabs(det);
     }
-    for (plume_index v = 0; v < nv; v++)
+    for (plume_index v = 0; v < mesh->nv; v++)
         for (int i = 0; i < dim; i++)
             f->x_rest[dim * v + i] = mesh->dim == dim && mesh->x ? mesh->x[dim * v + i] : i < 2 ? mesh->X[2 * v + i] : 0.0;
-    for (plume_index t = 0; t < nt; t++) {
+    for (plume_index t = 0; t < mesh->nt; t++) {
         f->mat_id[t] = mesh->material[t];
         f->dir3[3 * t] = mesh->barb_dir[2 * t], f->dir3[3 * t + 1] = mesh->barb_dir[2 * t + 1], f->dir3[3 * t + 2] = 0.0;
     }
+    return PLUME_OK;
+}
+
+plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt_elastic,
+                                 const plume_membrane_material *mats, int nmat, plume_term *bending,
+                                 const plume_index *barb_edges, plume_index nbarb, plume_fields **out,
+                                 plume_err *err)
+{
+    plume_term owned = {0};
+    if (bending) { /* taken whatever happens */
+        owned = *bending;
+        memset(bending, 0, sizeof *bending);
+    }
+    plume_status st = PLUME_OK;
+    plume_fields *f = NULL;
+    if (out)
+        *out = NULL;
+    if ((st = check_fields_args(mesh, dim, nt_elastic, mats, nmat, &owned, barb_edges, nbarb, out, err)) != PLUME_OK)
+        goto fail;
+    f = calloc(1, sizeof *f);
+    if (!f) {
+        st = PLUME_ENOMEM;
+        goto fail;
+    }
+    f->mesh = mesh, f->dim = dim, f->nt_el = nt_elastic, f->nbarb = nbarb, f->nmat = nmat;
+    f->bending = owned;
+    memset(&owned, 0, sizeof owned);
+    if (!fields_alloc(f)) {
+        st = PLUME_ENOMEM;
+        goto fail;
+    }
+    if ((st = reference_state(f, mats, barb_edges, err)) != PLUME_OK)
+        goto fail;
     *out = f;
     return PLUME_OK;
 fail:

@@ -143,6 +143,137 @@ done:
     return st;
 }
 
+/* Every face's edges (a < b, its face), sorted, into a new array *ed_out of *ne_out (the caller
+ * frees it); faces with an index out of range or a repeated vertex are refused. */
+static plume_status face_edges(const char *path, const obj_data *o, obj_edge **ed_out, plume_index *ne_out,
+                               plume_err *err)
+{
+    obj_edge *ed = malloc((size_t)o->nfv * sizeof *ed);
+    if (!ed)
+        return PLUME_ENOMEM;
+    *ed_out = ed;
+    plume_index ne = 0;
+    for (plume_index f = 0; f < o->nf; f++) {
+        plume_index a0 = o->fstart[f], a1 = o->fstart[f + 1];
+        for (plume_index k = a0; k < a1; k++) {
+            plume_index i = o->fv[k], j = o->fv[k + 1 < a1 ? k + 1 : a0];
+            if (i >= o->nv || j >= o->nv)
+                return plume_err_set(err, PLUME_EFORMAT, "%s:%ld: face index %ld out of range [1, %ld]", path,
+                                     o->fline[f], (long)(i >= o->nv ? i : j) + 1, (long)o->nv);
+            if (i == j)
+                return plume_err_set(err, PLUME_EFORMAT, "%s:%ld: face repeats vertex %ld", path, o->fline[f],
+                                     (long)i + 1);
+            ed[ne].a = i < j ? i : j, ed[ne].b = i < j ? j : i, ed[ne].face = f;
+            ne++;
+        }
+    }
+    qsort(ed, (size_t)ne, sizeof *ed, cmp_obj_edge);
+    *ne_out = ne;
+    return PLUME_OK;
+}
+
+/* The boundary edges (used by exactly one face; more than two faces is non-manifold) as a graph:
+ * vertex v's boundary neighbours nb[2 v], nb[2 v + 1] (-1 on entry), deg[v] of them (0 on entry);
+ * *nbe the boundary edges. */
+static plume_status boundary_graph(const char *path, const obj_data *o, const obj_edge *ed, plume_index ne,
+                                   plume_index *nb, plume_index *deg, plume_index *nbe_out, plume_err *err)
+{
+    plume_index nbe = 0;
+    for (plume_index k = 0; k < ne;) {
+        plume_index r = k + 1;
+        while (r < ne && ed[r].a == ed[k].a && ed[r].b == ed[k].b)
+            r++;
+        if (r - k > 2)
+            return plume_err_set(err, PLUME_EFORMAT,
+                                 "%s:%ld: edge (%ld, %ld) is used by %ld faces: the mesh is non-manifold", path,
+                                 o->fline[ed[k + 2].face], (long)ed[k].a + 1, (long)ed[k].b + 1, (long)(r - k));
+        if (r - k == 1) {
+            plume_index ends[2] = {ed[k].a, ed[k].b};
+            for (int s = 0; s < 2; s++) {
+                plume_index v = ends[s], w = ends[1 - s];
+                if (deg[v] >= 2)
+                    return plume_err_set(err, PLUME_EFORMAT,
+                                         "%s:%ld: vertex %ld is on more than two boundary edges: the mesh is "
+                                         "non-manifold there",
+                                         path, o->vline[v], (long)v + 1);
+                nb[2 * v + deg[v]++] = w;
+            }
+            nbe++;
+        }
+        k = r;
+    }
+    if (nbe == 0)
+        return plume_err_set(err, PLUME_EFORMAT, "%s: no boundary edge: the faces form a closed surface", path);
+    *nbe_out = nbe;
+    return PLUME_OK;
+}
+
+/* The boundary loop from its first vertex into loop[0 .. *nl) (room for nbe + 1; seen zeroed by the
+ * caller); a chain that ends, or boundary edges left over (a hole or a separate piece), are refused. */
+static plume_status walk_boundary(const char *path, const obj_data *o, const plume_index *nb, const plume_index *deg,
+                                  plume_index nbe, unsigned char *seen, plume_index *loop, plume_index *nl_out,
+                                  plume_err *err)
+{
+    plume_index nl = 0, start = -1;
+    for (plume_index v = 0; v < o->nv && start < 0; v++)
+        if (deg[v] > 0)
+            start = v;
+    for (plume_index prev = -1, v = start;;) {
+        if (deg[v] != 2)
+            return plume_err_set(err, PLUME_EFORMAT,
+                                 "%s:%ld: vertex %ld ends a boundary chain: the mesh is non-manifold", path,
+                                 o->vline[v], (long)v + 1);
+        seen[v] = 1;
+        loop[nl++] = v;
+        plume_index next = nb[2 * v] != prev ? nb[2 * v] : nb[2 * v + 1];
+        if (nb[2 * v] == nb[2 * v + 1])
+            next = nb[2 * v];
+        prev = v, v = next;
+        if (v == start || nl > nbe)
+            break;
+    }
+    if (nl != nbe) {
+        plume_index other = -1, loops = 1;
+        for (plume_index v = 0; v < o->nv; v++)
+            if (deg[v] > 0 && !seen[v]) {
+                if (other < 0)
+                    other = v;
+                /* count the remaining loops */
+                plume_index prev = -1, w = v;
+                do {
+                    seen[w] = 1;
+                    plume_index next = nb[2 * w] != prev ? nb[2 * w] : nb[2 * w + 1];
+                    prev = w, w = next;
+                } while (w >= 0 && w != v && !seen[w]);
+                loops++;
+            }
+        return plume_err_set(err, PLUME_EFORMAT,
+                             "%s:%ld: vertex %ld starts boundary loop 2 of %ld: the outline must be a single loop "
+                             "(a hole or a separate piece)",
+                             path, other >= 0 ? o->vline[other] : 0L, (long)other + 1, (long)loops);
+    }
+    *nl_out = nl;
+    return PLUME_OK;
+}
+
+/* The loop's points, counter-clockwise, in a new array (NULL on no memory). */
+static double *loop_points(const obj_data *o, const plume_index *loop, plume_index nl)
+{
+    double *pts = malloc((size_t)(2 * nl) * sizeof *pts);
+    if (!pts)
+        return NULL;
+    for (plume_index k = 0; k < nl; k++)
+        pts[2 * k] = o->v[2 * loop[k]], pts[2 * k + 1] = o->v[2 * loop[k] + 1];
+    if (polygon_area(pts, nl) < 0)
+        for (plume_index k = 0; k < nl / 2; k++)
+            for (int c = 0; c < 2; c++) {
+                double tmp = pts[2 * k + c];
+                pts[2 * k + c] = pts[2 * (nl - 1 - k) + c];
+                pts[2 * (nl - 1 - k) + c] = tmp;
+            }
+    return pts;
+}
+
 plume_status plume_obj_outline(const char *path, double **points, plume_index *n, plume_err *err)
 {
     if (!path || !points || !n)
@@ -164,32 +295,9 @@ plume_status plume_obj_outline(const char *path, double **points, plume_index *n
         st = plume_err_set(err, PLUME_EFORMAT, "%s: no face", path);
         goto cleanup;
     }
-    ed = malloc((size_t)o.nfv * sizeof *ed);
-    if (!ed) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
     plume_index ne = 0;
-    for (plume_index f = 0; f < o.nf; f++) {
-        plume_index a0 = o.fstart[f], a1 = o.fstart[f + 1];
-        for (plume_index k = a0; k < a1; k++) {
-            plume_index i = o.fv[k], j = o.fv[k + 1 < a1 ? k + 1 : a0];
-            if (i >= o.nv || j >= o.nv) {
-                st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: face index %ld out of range [1, %ld]", path,
-                                   o.fline[f], (long)(i >= o.nv ? i : j) + 1, (long)o.nv);
-                goto cleanup;
-            }
-            if (i == j) {
-                st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: face repeats vertex %ld", path, o.fline[f],
-                                   (long)i + 1);
-                goto cleanup;
-            }
-            ed[ne].a = i < j ? i : j, ed[ne].b = i < j ? j : i, ed[ne].face = f;
-            ne++;
-        }
-    }
-    qsort(ed, (size_t)ne, sizeof *ed, cmp_obj_edge);
-    /* boundary edges: used by exactly one face; more than two faces is non-manifold */
+    if ((st = face_edges(path, &o, &ed, &ne, err)) != PLUME_OK)
+        goto cleanup;
     nb = malloc((size_t)(2 * o.nv) * sizeof *nb);
     deg = calloc((size_t)o.nv, sizeof *deg);
     if (!nb || !deg) {
@@ -199,97 +307,22 @@ plume_status plume_obj_outline(const char *path, double **points, plume_index *n
     for (plume_index v = 0; v < 2 * o.nv; v++)
         nb[v] = -1;
     plume_index nbe = 0;
-    for (plume_index k = 0; k < ne;) {
-        plume_index r = k + 1;
-        while (r < ne && ed[r].a == ed[k].a && ed[r].b == ed[k].b)
-            r++;
-        if (r - k > 2) {
-            st = plume_err_set(err, PLUME_EFORMAT,
-                               "%s:%ld: edge (%ld, %ld) is used by %ld faces: the mesh is non-manifold", path,
-                               o.fline[ed[k + 2].face], (long)ed[k].a + 1, (long)ed[k].b + 1, (long)(r - k));
-            goto cleanup;
-        }
-        if (r - k == 1) {
-            plume_index ends[2] = {ed[k].a, ed[k].b};
-            for (int s = 0; s < 2; s++) {
-                plume_index v = ends[s], w = ends[1 - s];
-                if (deg[v] >= 2) {
-                    st = plume_err_set(err, PLUME_EFORMAT,
-                                       "%s:%ld: vertex %ld is on more than two boundary edges: the mesh is "
-                                       "non-manifold there",
-                                       path, o.vline[v], (long)v + 1);
-                    goto cleanup;
-                }
-                nb[2 * v + deg[v]++] = w;
-            }
-            nbe++;
-        }
-        k = r;
-    }
-    if (nbe == 0) {
-        st = plume_err_set(err, PLUME_EFORMAT, "%s: no boundary edge: the faces form a closed surface", path);
+    if ((st = boundary_graph(path, &o, ed, ne, nb, deg, &nbe, err)) != PLUME_OK)
         goto cleanup;
-    }
     seen = calloc((size_t)o.nv, 1);
     loop = malloc((size_t)(nbe + 1) * sizeof *loop);
     if (!seen || !loop) {
         st = PLUME_ENOMEM;
         goto cleanup;
     }
-    plume_index nl = 0, start = -1;
-    for (plume_index v = 0; v < o.nv && start < 0; v++)
-        if (deg[v] > 0)
-            start = v;
-    for (plume_index prev = -1, v = start;;) {
-        if (deg[v] != 2) {
-            st = plume_err_set(err, PLUME_EFORMAT, "%s:%ld: vertex %ld ends a boundary chain: the mesh is non-manifold",
-                               path, o.vline[v], (long)v + 1);
-            goto cleanup;
-        }
-        seen[v] = 1;
-        loop[nl++] = v;
-        plume_index next = nb[2 * v] != prev ? nb[2 * v] : nb[2 * v + 1];
-        if (nb[2 * v] == nb[2 * v + 1])
-            next = nb[2 * v];
-        prev = v, v = next;
-        if (v == start || nl > nbe)
-            break;
-    }
-    if (nl != nbe) {
-        plume_index other = -1, loops = 1;
-        for (plume_index v = 0; v < o.nv; v++)
-            if (deg[v] > 0 && !seen[v]) {
-                if (other < 0)
-                    other = v;
-                /* count the remaining loops */
-                plume_index prev = -1, w = v;
-                do {
-                    seen[w] = 1;
-                    plume_index next = nb[2 * w] != prev ? nb[2 * w] : nb[2 * w + 1];
-                    prev = w, w = next;
-                } while (w >= 0 && w != v && !seen[w]);
-                loops++;
-            }
-        st = plume_err_set(err, PLUME_EFORMAT,
-                           "%s:%ld: vertex %ld starts boundary loop 2 of %ld: the outline must be a single loop "
-                           "(a hole or a separate piece)",
-                           path, other >= 0 ? o.vline[other] : 0L, (long)other + 1, (long)loops);
+    plume_index nl = 0;
+    if ((st = walk_boundary(path, &o, nb, deg, nbe, seen, loop, &nl, err)) != PLUME_OK)
         goto cleanup;
-    }
-    double *pts = malloc((size_t)(2 * nl) * sizeof *pts);
+    double *pts = loop_points(&o, loop, nl);
     if (!pts) {
         st = PLUME_ENOMEM;
         goto cleanup;
     }
-    for (plume_index k = 0; k < nl; k++)
-        pts[2 * k] = o.v[2 * loop[k]], pts[2 * k + 1] = o.v[2 * loop[k] + 1];
-    if (polygon_area(pts, nl) < 0)
-        for (plume_index k = 0; k < nl / 2; k++)
-            for (int c = 0; c < 2; c++) {
-                double tmp = pts[2 * k + c];
-                pts[2 * k + c] = pts[2 * (nl - 1 - k) + c];
-                pts[2 * (nl - 1 - k) + c] = tmp;
-            }
     *points = pts, *n = nl;
 cleanup:
     obj_free(&o);

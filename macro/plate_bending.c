@@ -326,12 +326,9 @@ static plume_status check_opts(const plume_bend_opts *o, plume_err *err)
     return PLUME_OK;
 }
 
-plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plume_bend_opts *o, plume_bend_result *r,
-                            plume_err *err)
+/* The argument, option and specimen checks of plume_bend_run, before anything is allocated. */
+static plume_status check_specimen(const plume_mesh *mesh, plume_problem *p, const plume_bend_opts *o, plume_err *err)
 {
-    if (!mesh || !p || !o || !r)
-        return plume_err_set(err, PLUME_EINVAL, "bending test: invalid arguments");
-    memset(r, 0, sizeof *r);
     plume_status st = check_opts(o, err);
     if (st != PLUME_OK)
         return st;
@@ -343,6 +340,197 @@ plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plum
             mesh->X[2 * v + 1] > o->ly + tol)
             return plume_err_set(err, PLUME_EINVAL, "bending test: vertex %ld at (%g, %g) lies outside [0, %g] x [0, %g]",
                                  (long)v, mesh->X[2 * v], mesh->X[2 * v + 1], o->lx, o->ly);
+    return PLUME_OK;
+}
+
+/* Each vertex's lumped reference area (a third of each triangle's), into area (zeroed by the caller). */
+static void lumped_areas(const plume_mesh *mesh, double *area)
+{
+    for (plume_index t = 0; t < mesh->nt; t++) {
+        const double a = plume_mesh_ref_area(mesh, t) / 3.0;
+        for (int k = 0; k < 3; k++)
+            area[mesh->tri[3 * t + k]] += a;
+    }
+}
+
+/* The loads of o->loading at the final moment, compacted: vertex sv[i] carries f[3 i .. 3 i + 3),
+ * *ns vertices (f holds 3 nv zeros on entry, sv room for nv). */
+static plume_status end_loads(const plume_mesh *mesh, const plume_bend_opts *o, const double *area, plume_index *sv,
+                              double *f, plume_index *ns_out, double *load_residual, plume_err *err)
+{
+    const plume_index nv = mesh->nv;
+    plume_index ns = 0;
+    plume_status st = PLUME_OK;
+    if (o->loading == PLUME_BEND_END_STRIPS) {
+        /* the two end strips: lo first, then hi, in sv[0..nlo) and sv[nlo..ns) */
+        const double cs = o->end_strip * o->ly;
+        plume_index nlo = 0;
+        for (plume_index v = 0; v < nv; v++)
+            if (area[v] > 0.0 && mesh->X[2 * v + 1] <= cs)
+                sv[ns++] = v;
+        nlo = ns;
+        for (plume_index v = 0; v < nv; v++)
+            if (area[v] > 0.0 && mesh->X[2 * v + 1] >= o->ly - cs)
+                sv[ns++] = v;
+        const double Mend = (o->load == PLUME_BEND_CYLINDER ? 1.0 : 2.0) * o->moment * o->lx;
+        const double mx = o->load == PLUME_BEND_CYLINDER ? Mend : 0.0, my = o->load == PLUME_BEND_TWIST ? -Mend : 0.0;
+        if (nlo < 3 || ns - nlo < 3 || !strip_forces(mesh, sv, nlo, area, -mx, -my, f) ||
+            !strip_forces(mesh, sv + nlo, ns - nlo, area, mx, my, f + 3 * nlo))
+            return plume_err_set(err, PLUME_EINVAL,
+                                 "bending test: an end strip (end_strip %g of ly) holds too few vertices to carry a moment "
+                                 "(%ld and %ld): refine the mesh or widen the strip", o->end_strip, (long)nlo,
+                                 (long)(ns - nlo));
+    } else {
+        /* the edge moments, compacted into (sv, f): the patch test leaves the interior vertices
+         * rounding only (about 1e-10 of the largest force, measured), and forces below 1e-12 of
+         * it are left out */
+        if ((st = edge_moment_forces(mesh, NULL, o->load, o->moment, fmax(o->lx, o->ly), f, err)) != PLUME_OK)
+            return st;
+        if (o->loading == PLUME_BEND_UNIFORM_CURVATURE && (st = uniform_curvature_forces(mesh, o, f, load_residual, err)) != PLUME_OK)
+            return st;
+        double fmax_z = 0.0;
+        for (plume_index v = 0; v < nv; v++)
+            fmax_z = fmax(fmax_z, fabs(f[3 * v + 2]));
+        for (plume_index v = 0; v < nv; v++)
+            if (fabs(f[3 * v + 2]) > 1e-12 * fmax_z) {
+                f[3 * ns] = f[3 * ns + 1] = 0.0, f[3 * ns + 2] = f[3 * v + 2];
+                sv[ns++] = v;
+            }
+    }
+    *ns_out = ns;
+    return PLUME_OK;
+}
+
+/* Adds the loads (sv, f) to p; *load keeps a handle that scales them (the problem owns the context,
+ * and frees it if it refuses it: *load is then zeroed). */
+static plume_status add_loads(plume_problem *p, const plume_index *sv, plume_index ns, const double *f,
+                              plume_term *load, plume_err *err)
+{
+    plume_status st = plume_load_term_create(sv, ns, 3, f, load, err);
+    if (st != PLUME_OK)
+        return st;
+    plume_term copy = *load;
+    if ((st = plume_problem_add_term(p, &copy, err)) != PLUME_OK) {
+        memset(load, 0, sizeof *load);
+        plume_err_set(err, st, "bending test: cannot add the end loads");
+    }
+    return st;
+}
+
+/* Marks in in[] the vertices of the central window whose curvature is fitted (in zeroed by the caller). */
+static plume_status central_window(const plume_mesh *mesh, const plume_bend_opts *o, const double *area,
+                                   unsigned char *in, plume_err *err)
+{
+    const double cx = 0.5 * o->lx, cy = 0.5 * o->ly;
+    plume_index nin = 0;
+    for (plume_index v = 0; v < mesh->nv; v++)
+        if (area[v] > 0.0 && fabs(mesh->X[2 * v] - cx) <= 0.5 * o->window * o->lx &&
+            fabs(mesh->X[2 * v + 1] - cy) <= 0.5 * o->window * o->ly)
+            in[v] = 1, nin++;
+    if (nin < 6)
+        return plume_err_set(err, PLUME_EINVAL, "bending test: the central window (window %g) holds %ld vertices, too few to "
+                             "fit a curvature", o->window, (long)nin);
+    return PLUME_OK;
+}
+
+/* The flat rest state of the specimen into the shell positions x. */
+static void set_rest_state(const plume_mesh *mesh, double *x)
+{
+    for (plume_index v = 0; v < mesh->nv; v++)
+        x[3 * v] = mesh->X[2 * v], x[3 * v + 1] = mesh->X[2 * v + 1], x[3 * v + 2] = 0.0;
+}
+
+/* Puts p at rest and fixes its rigid motion: three vertices near the centre, six coordinates, no
+ * reaction (the loads balance). */
+static plume_status hold_rigid_motion(const plume_mesh *mesh, plume_problem *p, const plume_bend_opts *o, plume_err *err)
+{
+    const double cx = 0.5 * o->lx, cy = 0.5 * o->ly;
+    set_rest_state(mesh, plume_problem_x(p));
+    const plume_index va = nearest_vertex(mesh, cx, cy), vb = nearest_vertex(mesh, cx, cy + 0.25 * o->ly),
+                      vc = nearest_vertex(mesh, cx + 0.25 * o->lx, cy);
+    if (va == vb || va == vc || vb == vc)
+        return plume_err_set(err, PLUME_EINVAL, "bending test: the mesh is too coarse to hold the specimen at three vertices");
+    const plume_index fixed[6] = {3 * va, 3 * va + 1, 3 * va + 2, 3 * vb, 3 * vb + 2, 3 * vc + 2};
+    for (int k = 0; k < 6; k++) {
+        const plume_status st = plume_problem_fix_dof(p, fixed[k], err);
+        if (st != PLUME_OK)
+            return plume_err_set(err, st, "bending test: cannot fix the rigid motion");
+    }
+    return PLUME_OK;
+}
+
+/* The KKT residual is measured against the problem's round-off floor (1e-6 of its stiffest
+ * diagonal times its size: lib/core/problem.h), which a stiff membrane sets. The end loads of a soft
+ * direction sit far below it (bent across the barbs at the default contrast: forces ~1e-11 N
+ * against a floor ~2e-2 N), and the solver would stop at the rest state. The tolerance is
+ * therefore taken relative to the loads; where round-off keeps the residual above it, the
+ * step criterion (tol_step) ends the solve. Native solvers only: Ipopt scales its objective
+ * by the same reference and stops on its own scaled criterion, which reaches the solution at
+ * every angle (measured at the default contrast), whereas a tolerance this tight has it iterate
+ * against round-off (bent along the barbs it did not converge). */
+static plume_status tolerance_of_loads(plume_solver *solver, const plume_problem *p, const plume_bend_opts *o,
+                                       const double *f, plume_index ns, plume_err *err)
+{
+    if (o->solver == PLUME_SOLVER_IPOPT)
+        return PLUME_OK;
+    double fl = 0.0;
+    for (plume_index i = 0; i < 3 * ns; i++)
+        fl = fmax(fl, fabs(f[i]));
+    const double floor = plume_problem_force_scale(p);
+    plume_status st = PLUME_OK;
+    if (floor > fl && fl > 0.0 &&
+        (st = plume_solver_set_tol_kkt(solver, o->solver_opts.tol_kkt * fl / floor, err)) != PLUME_OK)
+        plume_err_set(err, st, "bending test: cannot set the solver tolerance");
+    return st;
+}
+
+/* What a converged step k (load factor `factor`, state in p) measures: the window's fitted
+ * curvatures kf and the elastic energy *e (the objective with the loads off; u is scratch). Refuses
+ * a state beyond linear plate theory or with an element turned over. */
+static plume_status measure_step(const plume_mesh *mesh, plume_problem *p, const plume_bend_opts *o, plume_term *load,
+                                 const double *area, const unsigned char *in, int k, double factor, double *u,
+                                 double kf[3], double *e, plume_err *err)
+{
+    const double cx = 0.5 * o->lx, cy = 0.5 * o->ly, L = fmax(o->lx, o->ly);
+    const double *x = plume_problem_x(p);
+    if (!fit_curvature(mesh, x, area, in, cx, cy, L, kf))
+        return plume_err_set(err, PLUME_EINVAL, "bending test: the central window's vertices do not determine a "
+                             "quadratic (too few or collinear)");
+    const double kmax = fmax(fabs(kf[0]), fmax(fabs(kf[1]), 0.5 * fabs(kf[2])));
+    if (min_normal_z(mesh, x) <= 0.0 || kmax * L > o->max_rotation)
+        return plume_err_set(err, PLUME_EINFEASIBLE,
+                             "bending test: the moment %g N m/m %s (curvature %g 1/m over %g m: %.3g rad, the test "
+                             "accepts %g); use a smaller moment or curvature", o->moment * factor,
+                             min_normal_z(mesh, x) <= 0.0 ? "inverts an element" : "bends the specimen beyond linear plate theory",
+                             kmax, L, kmax * L, o->max_rotation);
+    *e = 0.0;
+    plume_load_scale(load, 0.0);
+    plume_problem_gather(p, u);
+    const plume_status st = plume_problem_objective(p, u, e, NULL);
+    plume_load_scale(load, factor);
+    if (st != PLUME_OK)
+        return plume_err_set(err, st, "bending test: step %d: energy evaluation failed", k);
+    return PLUME_OK;
+}
+
+/* The least-squares slope of moment over curvature through the origin, over the curve's points. */
+static double curve_stiffness(const plume_bend_curve *c)
+{
+    double sxy = 0.0, sxx = 0.0;
+    for (plume_index i = 1; i < c->n; i++)
+        sxy += c->moment[i] * c->curvature[i], sxx += c->curvature[i] * c->curvature[i];
+    return sxx > 0.0 ? sxy / sxx : NAN;
+}
+
+plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plume_bend_opts *o, plume_bend_result *r,
+                            plume_err *err)
+{
+    if (!mesh || !p || !o || !r)
+        return plume_err_set(err, PLUME_EINVAL, "bending test: invalid arguments");
+    memset(r, 0, sizeof *r);
+    plume_status st = check_specimen(mesh, p, o, err);
+    if (st != PLUME_OK)
+        return st;
 
     const double t0 = plume_wall_seconds();
     const plume_index nv = mesh->nv;
@@ -363,92 +551,11 @@ plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plum
         st = plume_err_set(err, PLUME_ENOMEM, "bending test: out of memory");
         goto cleanup;
     }
-    for (plume_index t = 0; t < mesh->nt; t++) {
-        const double a = plume_mesh_ref_area(mesh, t) / 3.0;
-        for (int k = 0; k < 3; k++)
-            area[mesh->tri[3 * t + k]] += a;
-    }
-
+    lumped_areas(mesh, area);
     plume_index ns = 0;
-    if (o->loading == PLUME_BEND_END_STRIPS) {
-        /* the two end strips: lo first, then hi, in sv[0..nlo) and sv[nlo..ns) */
-        const double cs = o->end_strip * o->ly;
-        plume_index nlo = 0;
-        for (plume_index v = 0; v < nv; v++)
-            if (area[v] > 0.0 && mesh->X[2 * v + 1] <= cs)
-                sv[ns++] = v;
-        nlo = ns;
-        for (plume_index v = 0; v < nv; v++)
-            if (area[v] > 0.0 && mesh->X[2 * v + 1] >= o->ly - cs)
-                sv[ns++] = v;
-        const double Mend = (o->load == PLUME_BEND_CYLINDER ? 1.0 : 2.0) * o->moment * o->lx;
-        const double mx = o->load == PLUME_BEND_CYLINDER ? Mend : 0.0, my = o->load == PLUME_BEND_TWIST ? -Mend : 0.0;
-        if (nlo < 3 || ns - nlo < 3 || !strip_forces(mesh, sv, nlo, area, -mx, -my, f) ||
-            !strip_forces(mesh, sv + nlo, ns - nlo, area, mx, my, f + 3 * nlo)) {
-            st = plume_err_set(err, PLUME_EINVAL,
-                               "bending test: an end strip (end_strip %g of ly) holds too few vertices to carry a moment "
-                               "(%ld and %ld): refine the mesh or widen the strip", o->end_strip, (long)nlo,
-                               (long)(ns - nlo));
-            goto cleanup;
-        }
-    } else {
-        /* the edge moments, compacted into (sv, f): the patch test leaves the interior vertices
-         * rounding only (about 1e-10 of the largest force, measured), and forces below 1e-12 of
-         * it are left out */
-        if ((st = edge_moment_forces(mesh, NULL, o->load, o->moment, fmax(o->lx, o->ly), f, err)) != PLUME_OK)
-            goto cleanup;
-        if (o->loading == PLUME_BEND_UNIFORM_CURVATURE && (st = uniform_curvature_forces(mesh, o, f, &r->load_residual, err)) != PLUME_OK)
-            goto cleanup;
-        double fmax_z = 0.0;
-        for (plume_index v = 0; v < nv; v++)
-            fmax_z = fmax(fmax_z, fabs(f[3 * v + 2]));
-        for (plume_index v = 0; v < nv; v++)
-            if (fabs(f[3 * v + 2]) > 1e-12 * fmax_z) {
-                f[3 * ns] = f[3 * ns + 1] = 0.0, f[3 * ns + 2] = f[3 * v + 2];
-                sv[ns++] = v;
-            }
-    }
-    if ((st = plume_load_term_create(sv, ns, 3, f, &load, err)) != PLUME_OK)
-        goto cleanup;
-    {
-        plume_term copy = load; /* the problem owns the context from here (and frees it if it refuses
-                                   it); `load` keeps a handle to scale it */
-        if ((st = plume_problem_add_term(p, &copy, err)) != PLUME_OK) {
-            memset(&load, 0, sizeof load);
-            plume_err_set(err, st, "bending test: cannot add the end loads");
-            goto cleanup;
-        }
-    }
-
-    const double cx = 0.5 * o->lx, cy = 0.5 * o->ly, L = fmax(o->lx, o->ly);
-    plume_index nin = 0;
-    for (plume_index v = 0; v < nv; v++)
-        if (area[v] > 0.0 && fabs(mesh->X[2 * v] - cx) <= 0.5 * o->window * o->lx &&
-            fabs(mesh->X[2 * v + 1] - cy) <= 0.5 * o->window * o->ly)
-            in[v] = 1, nin++;
-    if (nin < 6) {
-        st = plume_err_set(err, PLUME_EINVAL, "bending test: the central window (window %g) holds %ld vertices, too few to "
-                           "fit a curvature", o->window, (long)nin);
-        goto cleanup;
-    }
-
-    /* rigid motion: three vertices near the centre, six coordinates, no reaction (the loads balance) */
-    double *x = plume_problem_x(p);
-    for (plume_index v = 0; v < nv; v++)
-        x[3 * v] = mesh->X[2 * v], x[3 * v + 1] = mesh->X[2 * v + 1], x[3 * v + 2] = 0.0;
-    const plume_index va = nearest_vertex(mesh, cx, cy), vb = nearest_vertex(mesh, cx, cy + 0.25 * o->ly),
-                      vc = nearest_vertex(mesh, cx + 0.25 * o->lx, cy);
-    if (va == vb || va == vc || vb == vc) {
-        st = plume_err_set(err, PLUME_EINVAL, "bending test: the mesh is too coarse to hold the specimen at three vertices");
-        goto cleanup;
-    }
-    const plume_index fixed[6] = {3 * va, 3 * va + 1, 3 * va + 2, 3 * vb, 3 * vb + 2, 3 * vc + 2};
-    for (int k = 0; k < 6; k++)
-        if ((st = plume_problem_fix_dof(p, fixed[k], err)) != PLUME_OK) {
-            plume_err_set(err, st, "bending test: cannot fix the rigid motion");
-            goto cleanup;
-        }
-    if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
+    if ((st = end_loads(mesh, o, area, sv, f, &ns, &r->load_residual, err)) != PLUME_OK ||
+        (st = add_loads(p, sv, ns, f, &load, err)) != PLUME_OK || (st = central_window(mesh, o, area, in, err)) != PLUME_OK ||
+        (st = hold_rigid_motion(mesh, p, o, err)) != PLUME_OK || (st = plume_problem_finalize(p, err)) != PLUME_OK)
         goto cleanup;
     const plume_index n = plume_problem_nfree(p), m = plume_problem_ncons(p);
     u = malloc((size_t)(n + 1) * sizeof *u);
@@ -463,26 +570,8 @@ plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plum
                       why.msg);
         goto cleanup;
     }
-    /* The KKT residual is measured against the problem's round-off floor (1e-6 of its stiffest
-     * diagonal times its size: lib/core/problem.h), which a stiff membrane sets. The end loads of a soft
-     * direction sit far below it (bent across the barbs at the default contrast: forces ~1e-11 N
-     * against a floor ~2e-2 N), and the solver would stop at the rest state. The tolerance is
-     * therefore taken relative to the loads; where round-off keeps the residual above it, the
-     * step criterion (tol_step) ends the solve. Native solvers only: Ipopt scales its objective
-     * by the same reference and stops on its own scaled criterion, which reaches the solution at
-     * every angle (measured at the default contrast), whereas a tolerance this tight has it iterate
-     * against round-off (bent along the barbs it did not converge). */
-    if (o->solver != PLUME_SOLVER_IPOPT) {
-        double fl = 0.0;
-        for (plume_index i = 0; i < 3 * ns; i++)
-            fl = fmax(fl, fabs(f[i]));
-        const double floor = plume_problem_force_scale(p);
-        if (floor > fl && fl > 0.0 &&
-            (st = plume_solver_set_tol_kkt(solver, o->solver_opts.tol_kkt * fl / floor, err)) != PLUME_OK) {
-            plume_err_set(err, st, "bending test: cannot set the solver tolerance");
-            goto cleanup;
-        }
-    }
+    if ((st = tolerance_of_loads(solver, p, o, f, ns, err)) != PLUME_OK)
+        goto cleanup;
     c->n = 1;
     r->converged = 1;
     for (int k = 1; k <= o->steps; k++) {
@@ -491,8 +580,7 @@ plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plum
         /* linearized is the linear plate: every step is solved from the rest state (a step from the
          * last one would linearise about a bent shell whose membrane has not relaxed) */
         if (o->solver == PLUME_SOLVER_LINEARIZED)
-            for (plume_index v = 0; v < nv; v++)
-                x[3 * v] = mesh->X[2 * v], x[3 * v + 1] = mesh->X[2 * v + 1], x[3 * v + 2] = 0.0;
+            set_rest_state(mesh, plume_problem_x(p));
         plume_problem_gather(p, u);
         plume_solve_report rep;
         if ((st = plume_solver_solve(solver, u, lambda, &rep)) != PLUME_OK) {
@@ -503,44 +591,18 @@ plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plum
             r->converged = 0;
             break;
         }
-        double kf[3];
-        if (!fit_curvature(mesh, x, area, in, cx, cy, L, kf)) {
-            st = plume_err_set(err, PLUME_EINVAL, "bending test: the central window's vertices do not determine a "
-                               "quadratic (too few or collinear)");
+        double kf[3] = {0.0, 0.0, 0.0}, e = 0.0;
+        if ((st = measure_step(mesh, p, o, &load, area, in, k, factor, u, kf, &e, err)) != PLUME_OK)
             goto cleanup;
-        }
-        const double kappa = o->load == PLUME_BEND_CYLINDER ? kf[1] : kf[2];
-        const double kmax = fmax(fabs(kf[0]), fmax(fabs(kf[1]), 0.5 * fabs(kf[2])));
-        if (min_normal_z(mesh, x) <= 0.0 || kmax * L > o->max_rotation) {
-            st = plume_err_set(err, PLUME_EINFEASIBLE,
-                               "bending test: the moment %g N m/m %s (curvature %g 1/m over %g m: %.3g rad, the test "
-                               "accepts %g); use a smaller moment or curvature", o->moment * factor,
-                               min_normal_z(mesh, x) <= 0.0 ? "inverts an element" : "bends the specimen beyond linear plate theory",
-                               kmax, L, kmax * L, o->max_rotation);
-            goto cleanup;
-        }
-        /* the elastic energy: the objective with the loads off */
-        double e = 0.0;
-        plume_load_scale(&load, 0.0);
-        plume_problem_gather(p, u);
-        st = plume_problem_objective(p, u, &e, NULL);
-        plume_load_scale(&load, factor);
-        if (st != PLUME_OK) {
-            plume_err_set(err, st, "bending test: step %d: energy evaluation failed", k);
-            goto cleanup;
-        }
         const plume_index i = c->n++;
-        c->curvature[i] = kappa;
+        c->curvature[i] = o->load == PLUME_BEND_CYLINDER ? kf[1] : kf[2];
         c->moment[i] = o->moment * factor;
         c->k_xx[i] = kf[0], c->k_yy[i] = kf[1], c->twist[i] = kf[2];
         c->energy[i] = e;
         c->iterations[i] = rep.iterations;
         c->seconds[i] = rep.seconds;
     }
-    double sxy = 0.0, sxx = 0.0;
-    for (plume_index i = 1; i < c->n; i++)
-        sxy += c->moment[i] * c->curvature[i], sxx += c->curvature[i] * c->curvature[i];
-    r->stiffness = sxx > 0.0 ? sxy / sxx : NAN;
+    r->stiffness = curve_stiffness(c);
 
 cleanup:
     plume_solver_destroy(&solver);

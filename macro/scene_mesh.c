@@ -160,6 +160,124 @@ static plume_status get_curves(const plume_json_ctx *c, json_t *doc, const char 
     return PLUME_OK;
 }
 
+/* What the feather mesher reads from a shape file (freed with feather_shape_free). */
+typedef struct {
+    double *outline, *rachis; /* [2 no], [2 nra] */
+    double **left, **right;   /* each barb curve's points (nl, nr of them) */
+    plume_polyline *lp, *rp;  /* the barb curves over left, right */
+    int nl, nr;
+    plume_index no, nra;
+    double wb, wt; /* rachis widths at base and tip */
+} feather_shape;
+
+static void feather_shape_free(feather_shape *f)
+{
+    free(f->outline);
+    free(f->rachis);
+    for (int i = 0; f->left && i < f->nl; i++)
+        free(f->left[i]);
+    for (int i = 0; f->right && i < f->nr; i++)
+        free(f->right[i]);
+    free(f->left);
+    free(f->right);
+    free(f->lp);
+    free(f->rp);
+}
+
+/* The shape file's text into sc, a context of its own so that its errors name it (its keys are its
+ * own, its relative files are next to it); the caller frees sc->text. */
+static plume_status open_shape(const plume_json_ctx *c, const char *shape_path, plume_json_ctx *sc)
+{
+    *sc = *c;
+    sc->file = shape_path;
+    sc->prefix = NULL; /* the shape file's keys are its own */
+    plume_err e1 = {{0}};
+    plume_status st = PLUME_OK;
+    sc->text = plume_read_text(shape_path, &e1, "feather shape", &st);
+    if (!sc->text)
+        return plume_json_bad(c, st, "mesh.feather", "(%s)", e1.msg);
+    const char *slash = strrchr(shape_path, '/');
+    if (slash)
+        snprintf(sc->dir, sizeof sc->dir, "%.*s", (int)(slash == shape_path ? 1 : slash - shape_path), shape_path);
+    else
+        sc->dir[0] = '\0';
+    return PLUME_OK;
+}
+
+/* The outline: the scene's OBJ (jo), else the shape file's "outline_obj" (or an "outline" polyline). */
+static plume_status shape_outline(const plume_json_ctx *c, const plume_json_ctx *sc, json_t *jo, json_t *doc,
+                                  feather_shape *f)
+{
+    json_t *so = json_object_get(doc, "outline_obj"), *sp = json_object_get(doc, "outline");
+    if (jo || so) {
+        if (!jo && !json_is_string(so))
+            return plume_json_bad(sc, PLUME_EFORMAT, "outline_obj", "must be a file name");
+        char outline_path[4096];
+        if (jo)
+            plume_json_resolve(c, json_string_value(jo), outline_path, sizeof outline_path);
+        else
+            plume_json_resolve(sc, json_string_value(so), outline_path, sizeof outline_path);
+        plume_err e2 = {{0}};
+        plume_status st = plume_obj_outline(outline_path, &f->outline, &f->no, &e2);
+        if (st != PLUME_OK)
+            return plume_json_bad(jo ? c : sc, st, jo ? "mesh.outline" : "outline_obj", "(%s)", e2.msg);
+        return PLUME_OK;
+    }
+    if (sp)
+        return plume_json_polyline(sc, sp, "outline", &f->outline, &f->no);
+    return plume_json_bad(c, PLUME_EFORMAT, "mesh.outline", "is missing (an OBJ file whose boundary is the feather outline; "
+                                                            "or \"outline_obj\" in the shape file)");
+}
+
+/* The rachis: {"points", "width_base", "width_tip"}, or the flat form "rachis": [[x, y], ...] with
+ * "rachis_width_base" and "rachis_width_tip". */
+static plume_status shape_rachis(const plume_json_ctx *sc, json_t *doc, feather_shape *f)
+{
+    json_t *jr = json_object_get(doc, "rachis");
+    plume_status st;
+    if (json_is_object(jr)) {
+        if ((st = plume_json_polyline(sc, json_object_get(jr, "points"), "rachis.points", &f->rachis, &f->nra)) != PLUME_OK ||
+            (st = plume_json_positive(sc, jr, "rachis", "width_base", 1, 0, &f->wb, NULL)) != PLUME_OK ||
+            (st = plume_json_positive(sc, jr, "rachis", "width_tip", 1, 0, &f->wt, NULL)) != PLUME_OK)
+            return st;
+    } else if ((st = plume_json_polyline(sc, jr, "rachis", &f->rachis, &f->nra)) != PLUME_OK ||
+               (st = plume_json_positive(sc, doc, "", "rachis_width_base", 1, 0, &f->wb, NULL)) != PLUME_OK ||
+               (st = plume_json_positive(sc, doc, "", "rachis_width_tip", 1, 0, &f->wt, NULL)) != PLUME_OK) {
+        return st;
+    }
+    return PLUME_OK;
+}
+
+/* The feather mesher on shape f at target edge `edge`: s->mesh and its barb edges (filtered by
+ * material later); errors name the scene file and the shape file. */
+static plume_status mesh_shape(const plume_json_ctx *c, const char *shape_path, const feather_shape *f, double edge,
+                               plume_scene *s)
+{
+    plume_feather_input in;
+    memset(&in, 0, sizeof in);
+    in.outline.n = f->no;
+    in.outline.p = f->outline;
+    in.rachis.n = f->nra;
+    in.rachis.p = f->rachis;
+    in.rachis_width_base = f->wb;
+    in.rachis_width_tip = f->wt;
+    in.nbarbs_left = f->nl;
+    in.nbarbs_right = f->nr;
+    in.barbs_left = f->lp;
+    in.barbs_right = f->rp;
+    in.edge = edge;
+    plume_index *barbs = NULL, nbarb = 0;
+    plume_err e3 = {{0}};
+    plume_status st = plume_feather_mesh(&in, 3, &s->mesh, &barbs, &nbarb, &e3);
+    if (st != PLUME_OK) {
+        free(barbs);
+        return plume_err_set(c->err, st, "%s: feather mesh from %s: %s", c->file, shape_path, e3.msg);
+    }
+    s->barb_edges = barbs;
+    s->nbarb = nbarb;
+    return PLUME_OK;
+}
+
 /* Mesh from the feather mesher: the shape file (data/feather/feather_shape.json: "rachis"
  * {"points", "width_base", "width_tip"}, "barbs_left", "barbs_right", "outline_obj", "edge"; the
  * flat form "rachis": [[x, y], ...] with "rachis_width_base"/"rachis_width_tip" is read too) and
@@ -183,29 +301,15 @@ plume_status plume_scene_mesh_from_feather(const plume_json_ctx *c, json_t *m, p
         return st;
     if (o && o->edge > 0.0)
         edge = o->edge, have_edge = 1;
-    char shape_path[4096], outline_path[4096];
+    char shape_path[4096];
     plume_json_resolve(c, json_string_value(jf), shape_path, sizeof shape_path);
-
-    /* the shape file is parsed with its own context so that its errors name it */
-    plume_json_ctx sc = *c;
-    sc.file = shape_path;
-    sc.prefix = NULL; /* the shape file's keys are its own */
-    plume_err e1 = {{0}};
-    sc.text = plume_read_text(shape_path, &e1, "feather shape", &st);
-    if (!sc.text)
-        return plume_json_bad(c, st, "mesh.feather", "(%s)", e1.msg);
-    const char *slash = strrchr(shape_path, '/');
-    if (slash)
-        snprintf(sc.dir, sizeof sc.dir, "%.*s", (int)(slash == shape_path ? 1 : slash - shape_path), shape_path);
-    else
-        sc.dir[0] = '\0';
+    plume_json_ctx sc;
+    if ((st = open_shape(c, shape_path, &sc)) != PLUME_OK)
+        return st;
     json_error_t je;
     json_t *doc = json_loads(sc.text, JSON_REJECT_DUPLICATES, &je);
-    double *outline = NULL, *rachis = NULL, **left = NULL, **right = NULL;
-    plume_polyline *lp = NULL, *rp = NULL;
-    int nl = 0, nr = 0;
-    plume_index no = 0, nra = 0, *barbs = NULL, nbarb = 0;
-    double wb = 0.0, wt = 0.0;
+    feather_shape f;
+    memset(&f, 0, sizeof f);
     if (!doc) {
         st = plume_err_set(c->err, PLUME_EFORMAT, "%s:%d:%d: %s", shape_path, je.line, je.column, je.text);
         goto done;
@@ -222,79 +326,15 @@ plume_status plume_scene_mesh_from_feather(const plume_json_ctx *c, json_t *m, p
         if ((st = plume_json_positive(&sc, doc, "", "edge", 1, 0, &edge, NULL)) != PLUME_OK)
             goto done;
     }
-    /* the outline: the scene's OBJ, else the shape file's "outline_obj" (or an "outline" polyline) */
-    json_t *so = json_object_get(doc, "outline_obj"), *sp = json_object_get(doc, "outline");
-    if (jo || so) {
-        if (!jo && !json_is_string(so)) {
-            st = plume_json_bad(&sc, PLUME_EFORMAT, "outline_obj", "must be a file name");
-            goto done;
-        }
-        if (jo)
-            plume_json_resolve(c, json_string_value(jo), outline_path, sizeof outline_path);
-        else
-            plume_json_resolve(&sc, json_string_value(so), outline_path, sizeof outline_path);
-        plume_err e2 = {{0}};
-        if ((st = plume_obj_outline(outline_path, &outline, &no, &e2)) != PLUME_OK) {
-            st = plume_json_bad(jo ? c : &sc, st, jo ? "mesh.outline" : "outline_obj", "(%s)", e2.msg);
-            goto done;
-        }
-    } else if (sp) {
-        if ((st = plume_json_polyline(&sc, sp, "outline", &outline, &no)) != PLUME_OK)
-            goto done;
-    } else {
-        st = plume_json_bad(c, PLUME_EFORMAT, "mesh.outline", "is missing (an OBJ file whose boundary is the feather outline; "
-                                                   "or \"outline_obj\" in the shape file)");
+    if ((st = shape_outline(c, &sc, jo, doc, &f)) != PLUME_OK || (st = shape_rachis(&sc, doc, &f)) != PLUME_OK ||
+        (st = get_curves(&sc, doc, "barbs_left", &f.lp, &f.left, &f.nl)) != PLUME_OK ||
+        (st = get_curves(&sc, doc, "barbs_right", &f.rp, &f.right, &f.nr)) != PLUME_OK)
         goto done;
-    }
-    json_t *jr = json_object_get(doc, "rachis");
-    if (json_is_object(jr)) {
-        if ((st = plume_json_polyline(&sc, json_object_get(jr, "points"), "rachis.points", &rachis, &nra)) != PLUME_OK ||
-            (st = plume_json_positive(&sc, jr, "rachis", "width_base", 1, 0, &wb, NULL)) != PLUME_OK ||
-            (st = plume_json_positive(&sc, jr, "rachis", "width_tip", 1, 0, &wt, NULL)) != PLUME_OK)
-            goto done;
-    } else if ((st = plume_json_polyline(&sc, jr, "rachis", &rachis, &nra)) != PLUME_OK ||
-               (st = plume_json_positive(&sc, doc, "", "rachis_width_base", 1, 0, &wb, NULL)) != PLUME_OK ||
-               (st = plume_json_positive(&sc, doc, "", "rachis_width_tip", 1, 0, &wt, NULL)) != PLUME_OK) {
-        goto done;
-    }
-    if ((st = get_curves(&sc, doc, "barbs_left", &lp, &left, &nl)) != PLUME_OK ||
-        (st = get_curves(&sc, doc, "barbs_right", &rp, &right, &nr)) != PLUME_OK)
-        goto done;
-    plume_feather_input in;
-    memset(&in, 0, sizeof in);
-    in.outline.n = no;
-    in.outline.p = outline;
-    in.rachis.n = nra;
-    in.rachis.p = rachis;
-    in.rachis_width_base = wb;
-    in.rachis_width_tip = wt;
-    in.nbarbs_left = nl;
-    in.nbarbs_right = nr;
-    in.barbs_left = lp;
-    in.barbs_right = rp;
-    in.edge = edge;
-    plume_err e3 = {{0}};
-    if ((st = plume_feather_mesh(&in, 3, &s->mesh, &barbs, &nbarb, &e3)) != PLUME_OK) {
-        st = plume_err_set(c->err, st, "%s: feather mesh from %s: %s", c->file, shape_path, e3.msg);
-        goto done;
-    }
-    s->barb_edges = barbs; /* filtered by material later */
-    s->nbarb = nbarb;
-    barbs = NULL;
+    st = mesh_shape(c, shape_path, &f, edge, s);
 done:
-    free(barbs);
     json_decref(doc);
     free(sc.text);
-    free(outline);
-    free(rachis);
-    for (int i = 0; left && i < nl; i++)
-        free(left[i]);
-    for (int i = 0; right && i < nr; i++)
-        free(right[i]);
-    free(left);
-    free(right);
-    free(lp);
-    free(rp);
+    feather_shape_free(&f);
     return st;
 }
 

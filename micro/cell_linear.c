@@ -189,6 +189,74 @@ static plume_status lin_create(const plume_cell *cell, const plume_membrane_mate
     return PLUME_OK;
 }
 
+/* The cell problem: the linear membrane (its context in *lc, owned by the problem) wrapped
+ * periodically with a zero macroscopic part, the slave vertices and one anchor fixed (a rigid
+ * translation), finalised. */
+static plume_status periodic_cell_problem(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
+                                          lin_ctx **lc, plume_problem **p, plume_err *err)
+{
+    const plume_mesh *m = cell->mesh;
+    plume_periodic *per = NULL;
+    plume_term lin, wrapped;
+    plume_status st = lin_create(cell, mats, nmat, &lin, lc, err);
+    if (st != PLUME_OK)
+        return st;
+    if ((st = plume_periodic_term_create(cell, &lin, &per, &wrapped, err)) != PLUME_OK)
+        return st;
+    const double zero[4] = {0, 0, 0, 0};
+    plume_periodic_set_macro(per, zero); /* w_v = w_master(v): the fluctuation is periodic */
+    if ((st = plume_problem_create(m->nv, 2, fmax(cell->a, cell->b), p, err)) != PLUME_OK) {
+        wrapped.destroy(wrapped.ctx);
+        return st;
+    }
+    if ((st = plume_problem_add_term(*p, &wrapped, err)) != PLUME_OK)
+        return st;
+    plume_index anchor = cell->master[0]; /* rigid translation */
+    for (plume_index v = 0; v < m->nv; v++)
+        if (cell->master[v] != v || v == anchor) {
+            plume_problem_fix_dof(*p, 2 * v, err);
+            plume_problem_fix_dof(*p, 2 * v + 1, err);
+        }
+    return plume_problem_finalize(*p, err);
+}
+
+/* The area the stresses are averaged over. Every material has its own thickness: the area is
+ * geometric, the stiffness A = sum h_i C_i (wA holds the thickness) is reported over h_ref (with one
+ * thickness, the very same numbers as the area average of C_i e). A cell with empty space (explicit
+ * barbules) averages over the whole cell, as the periodic wrapper's average stress does (the
+ * vane's stiffness per unit area, not the material's); a full cell keeps its summed area, which is
+ * a b up to round-off. */
+static double averaging_area(const plume_cell *cell, const lin_ctx *lc, const plume_membrane_material *mats)
+{
+    const int *material = cell->order == 2 ? cell->quad.material : cell->mesh->material;
+    double area = 0.0;
+    for (plume_index t = 0; t < lc->nt; t++)
+        for (int q = 0; q < lc->nq; q++)
+            area += lc->wA[(size_t)t * lc->nq + q] / mats[material[t]].h;
+    if (cell->a * cell->b - area > 1e-9 * cell->a * cell->b)
+        area = cell->a * cell->b;
+    return area;
+}
+
+/* The integral of the stress (over h_ref) of the solved fluctuation w, spread first from the
+ * master vertices to every vertex (the wrapper's positions are the periodic fluctuation). */
+static void stress_integral(const plume_cell *cell, const lin_ctx *lc, double h_ref, double *w, double avg[3])
+{
+    for (plume_index v = 0; v < cell->mesh->nv; v++)
+        w[2 * v] = w[2 * cell->master[v]], w[2 * v + 1] = w[2 * cell->master[v] + 1];
+    avg[0] = avg[1] = avg[2] = 0.0;
+    for (plume_index t = 0; t < lc->nt; t++) {
+        const double *Ct = lc->C + 9 * t;
+        for (int q = 0; q < lc->nq; q++) {
+            double e[3];
+            tri_strain(lc, t, q, w, e);
+            double a = lc->wA[(size_t)t * lc->nq + q] / h_ref;
+            for (int i = 0; i < 3; i++)
+                avg[i] += a * (Ct[3 * i] * e[0] + Ct[3 * i + 1] * e[1] + Ct[3 * i + 2] * e[2]);
+        }
+    }
+}
+
 plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
                                       double h_ref, double C[9], int *iterations, plume_err *err)
 {
@@ -205,30 +273,10 @@ plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membra
     const plume_mesh *m = cell->mesh;
     plume_problem *p = NULL;
     plume_solver *s = NULL;
-    plume_periodic *per = NULL;
     lin_ctx *lc = NULL;
     double *u = NULL;
-    plume_term lin, wrapped;
-    plume_status st = lin_create(cell, mats, nmat, &lin, &lc, err);
+    plume_status st = periodic_cell_problem(cell, mats, nmat, &lc, &p, err);
     if (st != PLUME_OK)
-        return st;
-    if ((st = plume_periodic_term_create(cell, &lin, &per, &wrapped, err)) != PLUME_OK)
-        return st;
-    const double zero[4] = {0, 0, 0, 0};
-    plume_periodic_set_macro(per, zero); /* w_v = w_master(v): the fluctuation is periodic */
-    if ((st = plume_problem_create(m->nv, 2, fmax(cell->a, cell->b), &p, err)) != PLUME_OK) {
-        wrapped.destroy(wrapped.ctx);
-        return st;
-    }
-    if ((st = plume_problem_add_term(p, &wrapped, err)) != PLUME_OK)
-        goto done;
-    plume_index anchor = cell->master[0]; /* rigid translation */
-    for (plume_index v = 0; v < m->nv; v++)
-        if (cell->master[v] != v || v == anchor) {
-            plume_problem_fix_dof(p, 2 * v, err);
-            plume_problem_fix_dof(p, 2 * v + 1, err);
-        }
-    if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
         goto done;
     plume_solver_opts so;
     plume_solver_opts_default(&so);
@@ -239,19 +287,7 @@ plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membra
         st = PLUME_ENOMEM;
         goto done;
     }
-    /* every material has its own thickness: the area is geometric, the stiffness A = sum h_i C_i
-     * (wA holds the thickness) is reported over h_ref (with one thickness, the very same numbers as
-     * the area average of C_i e) */
-    const int *material = cell->order == 2 ? cell->quad.material : m->material;
-    double area = 0.0;
-    for (plume_index t = 0; t < lc->nt; t++)
-        for (int q = 0; q < lc->nq; q++)
-            area += lc->wA[(size_t)t * lc->nq + q] / mats[material[t]].h;
-    /* A cell with empty space (explicit barbules) averages over the whole cell, as the periodic
-     * wrapper's average stress does (the vane's stiffness per unit area, not the material's); a
-     * full cell keeps its summed area, which is a b up to round-off. */
-    if (cell->a * cell->b - area > 1e-9 * cell->a * cell->b)
-        area = cell->a * cell->b;
+    const double area = averaging_area(cell, lc, mats);
     if (iterations)
         *iterations = 0;
     double *w = plume_problem_x(p);
@@ -272,20 +308,8 @@ plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membra
         }
         if (iterations)
             *iterations += rep.iterations;
-        /* the wrapper's vertex positions are the periodic fluctuation at every vertex */
-        for (plume_index v = 0; v < m->nv; v++)
-            w[2 * v] = w[2 * cell->master[v]], w[2 * v + 1] = w[2 * cell->master[v] + 1];
-        double avg[3] = {0, 0, 0};
-        for (plume_index t = 0; t < lc->nt; t++) {
-            const double *Ct = lc->C + 9 * t;
-            for (int q = 0; q < lc->nq; q++) {
-                double e[3];
-                tri_strain(lc, t, q, w, e);
-                double a = lc->wA[(size_t)t * lc->nq + q] / h_ref;
-                for (int i = 0; i < 3; i++)
-                    avg[i] += a * (Ct[3 * i] * e[0] + Ct[3 * i + 1] * e[1] + Ct[3 * i + 2] * e[2]);
-            }
-        }
+        double avg[3];
+        stress_integral(cell, lc, h_ref, w, avg);
         for (int i = 0; i < 3; i++)
             C[3 * i + k] = avg[i] / area;
     }

@@ -334,25 +334,11 @@ static plume_status check_target(const plume_curve *c, int ic, plume_err *err)
     return PLUME_OK;
 }
 
-/* `o` and `rep` may be NULL (defaults, no report). On error *result is left unchanged. */
-plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const plume_curve *targets, int ncurves,
-                              const plume_ortho *start, const plume_fit_opts *o, plume_ortho *result,
-                              plume_fit_report *rep, plume_err *err)
+/* The checks of plume_fit_moduli's arguments, options, start moduli and target curves. */
+static plume_status check_fit_inputs(plume_fit_model model, const plume_curve *targets, int ncurves,
+                                     const plume_ortho *start, const plume_fit_opts *o, const plume_ortho *result,
+                                     plume_err *err)
 {
-    double t0 = now_seconds();
-    plume_status s = PLUME_OK;
-    double *floor_ = NULL;
-    plume_fit_opts def;
-    plume_fit_opts_default(&def);
-    if (!o)
-        o = &def;
-    if (rep) {
-        memset(rep, 0, sizeof *rep);
-        rep->residual = NAN;
-        snprintf(rep->stop, sizeof rep->stop, "not started");
-    }
-
-    /* ---- inputs */
     if (!model)
         return plume_err_set(err, PLUME_EINVAL, "fit: no model callback");
     if (!start || !result)
@@ -374,55 +360,125 @@ plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const plume_curv
     if (!(o->min_strain >= 0.0) || !isfinite(o->min_strain))
         return plume_err_set(err, PLUME_EINVAL, "fit: min_strain %g must be finite and >= 0",
                              o->min_strain);
-    {
-        const double mv[3] = {start->E_xx, start->E_yy, start->G_xy};
-        const char *mn[3] = {"E_xx", "E_yy", "G_xy"};
-        for (int i = 0; i < 3; i++)
-            if (!(mv[i] > 0.0) || !isfinite(mv[i]))
-                return plume_err_set(err, PLUME_EINVAL, "fit: start %s = %g must be finite and > 0",
-                                     mn[i], mv[i]);
-        if (!isfinite(start->nu_xy) || !(pd_margin(start) > 0.0))
-            return plume_err_set(err, PLUME_EINVAL, "fit: start nu_xy = %g is not admissible "
-                                 "(need nu_xy^2 E_yy/E_xx < 1)", start->nu_xy);
-        if ((o->free_mask & PLUME_FIT_NU) && fabs(start->nu_xy) > FIT_NU_BOUND)
-            return plume_err_set(err, PLUME_EINVAL, "fit: start nu_xy = %g is outside the search "
-                                 "range [-%g, %g] of a free nu_xy", start->nu_xy, FIT_NU_BOUND,
-                                 FIT_NU_BOUND);
-    }
+    const double mv[3] = {start->E_xx, start->E_yy, start->G_xy};
+    const char *mn[3] = {"E_xx", "E_yy", "G_xy"};
+    for (int i = 0; i < 3; i++)
+        if (!(mv[i] > 0.0) || !isfinite(mv[i]))
+            return plume_err_set(err, PLUME_EINVAL, "fit: start %s = %g must be finite and > 0",
+                                 mn[i], mv[i]);
+    if (!isfinite(start->nu_xy) || !(pd_margin(start) > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "fit: start nu_xy = %g is not admissible "
+                             "(need nu_xy^2 E_yy/E_xx < 1)", start->nu_xy);
+    if ((o->free_mask & PLUME_FIT_NU) && fabs(start->nu_xy) > FIT_NU_BOUND)
+        return plume_err_set(err, PLUME_EINVAL, "fit: start nu_xy = %g is outside the search "
+                             "range [-%g, %g] of a free nu_xy", start->nu_xy, FIT_NU_BOUND,
+                             FIT_NU_BOUND);
     for (int ic = 0; ic < ncurves; ic++) {
-        s = check_target(&targets[ic], ic, err);
+        const plume_status s = check_target(&targets[ic], ic, err);
         if (s != PLUME_OK)
             return s;
     }
+    return PLUME_OK;
+}
 
-    fit_data d;
-    memset(&d, 0, sizeof d);
-    floor_ = malloc((size_t)ncurves * sizeof *floor_);
-    if (!floor_)
-        return plume_err_set(err, PLUME_ENOMEM, "fit: out of memory for %d curves", ncurves);
+/* Each target curve's stress floor (floor_[ic], FIT_STRESS_FLOOR of its largest |stress|) and the
+ * number of target points used (|strain| >= min_strain) into *npoints. */
+static plume_status target_floors(const plume_curve *targets, int ncurves, double min_strain, double *floor_,
+                                  long *npoints, plume_err *err)
+{
     for (int ic = 0; ic < ncurves; ic++) {
         const plume_curve *c = &targets[ic];
         double mx = 0.0;
         long used = 0;
         for (plume_index i = 0; i < c->n; i++) {
             mx = fmax(mx, fabs(c->stress[i]));
-            used += fabs(c->strain[i]) >= o->min_strain;
+            used += fabs(c->strain[i]) >= min_strain;
         }
-        if (used > 0 && !(mx > 0.0)) {
-            s = plume_err_set(err, PLUME_EINVAL, "fit: target curve %d has only zero stresses; "
-                              "its relative misfit is undefined", ic);
-            goto cleanup;
-        }
+        if (used > 0 && !(mx > 0.0))
+            return plume_err_set(err, PLUME_EINVAL, "fit: target curve %d has only zero stresses; "
+                                 "its relative misfit is undefined", ic);
         floor_[ic] = FIT_STRESS_FLOOR * mx;
-        d.npoints += used;
+        *npoints += used;
     }
-    if (d.npoints == 0) {
-        s = plume_err_set(err, PLUME_EINVAL, "fit: no target point has |strain| >= min_strain = %g",
-                          o->min_strain);
-        goto cleanup;
-    }
+    if (*npoints == 0)
+        return plume_err_set(err, PLUME_EINVAL, "fit: no target point has |strain| >= min_strain = %g",
+                             min_strain);
+    return PLUME_OK;
+}
 
-    /* ---- search space */
+/* The search space: the free moduli of o->free_mask into d->which and d->n, with their start x,
+ * bounds, initial steps and tolerances (log space for the moduli, linear for nu_xy). */
+static void search_space(fit_data *d, const plume_ortho *start, const plume_fit_opts *o, double x[4], double lb[4],
+                         double ub[4], double step[4], double xtol[4])
+{
+    static const unsigned bits[4] = {PLUME_FIT_EXX, PLUME_FIT_EYY, PLUME_FIT_NU, PLUME_FIT_GXY};
+    const double v[4] = {start->E_xx, start->E_yy, start->nu_xy, start->G_xy};
+    for (int i = 0; i < 4; i++) {
+        if (!(o->free_mask & bits[i]))
+            continue;
+        unsigned k = d->n++;
+        d->which[k] = i;
+        if (i == 2) {
+            x[k] = v[i];
+            lb[k] = -FIT_NU_BOUND;
+            ub[k] = FIT_NU_BOUND;
+            step[k] = FIT_NU_STEP;
+        } else {
+            x[k] = log(v[i]);
+            lb[k] = x[k] - FIT_LOG_SPAN;
+            ub[k] = x[k] + FIT_LOG_SPAN;
+            step[k] = FIT_LOG_STEP;
+        }
+        xtol[k] = o->xtol_rel;
+    }
+}
+
+/* What the search ended with, as a status: the model's error, NLopt's own failures, or no feasible
+ * evaluation at all. */
+static plume_status fit_outcome(const fit_data *d, nlopt_result r, nlopt_algorithm alg, plume_err *err)
+{
+    if (d->status != PLUME_OK)
+        return plume_err_set(err, d->status, "%s", d->cb_err.msg);
+    if (r == NLOPT_OUT_OF_MEMORY)
+        return plume_err_set(err, PLUME_ENOMEM, "fit: NLopt (%s) ran out of memory", alg_name(alg));
+    /* roundoff-limited still carries a useful best point (NLopt's documentation); other
+     * failures before any evaluation are NLopt's */
+    if (r < 0 && r != NLOPT_ROUNDOFF_LIMITED && d->evaluations == 0)
+        return plume_err_set(err, PLUME_EDEP, "fit: NLopt %s failed to start: %s", alg_name(alg),
+                             stop_text(r));
+    if (d->feasible == 0)
+        return plume_err_set(err, PLUME_EINFEASIBLE, "fit: the model was infeasible at every one of "
+                             "the %d evaluated moduli", d->evaluations);
+    return PLUME_OK;
+}
+
+/* `o` and `rep` may be NULL (defaults, no report). On error *result is left unchanged. */
+plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const plume_curve *targets, int ncurves,
+                              const plume_ortho *start, const plume_fit_opts *o, plume_ortho *result,
+                              plume_fit_report *rep, plume_err *err)
+{
+    double t0 = now_seconds();
+    plume_status s = PLUME_OK;
+    double *floor_ = NULL;
+    plume_fit_opts def;
+    plume_fit_opts_default(&def);
+    if (!o)
+        o = &def;
+    if (rep) {
+        memset(rep, 0, sizeof *rep);
+        rep->residual = NAN;
+        snprintf(rep->stop, sizeof rep->stop, "not started");
+    }
+    if ((s = check_fit_inputs(model, targets, ncurves, start, o, result, err)) != PLUME_OK)
+        return s;
+
+    fit_data d;
+    memset(&d, 0, sizeof d);
+    floor_ = malloc((size_t)ncurves * sizeof *floor_);
+    if (!floor_)
+        return plume_err_set(err, PLUME_ENOMEM, "fit: out of memory for %d curves", ncurves);
+    if ((s = target_floors(targets, ncurves, o->min_strain, floor_, &d.npoints, err)) != PLUME_OK)
+        goto cleanup;
     d.model = model;
     d.ctx = ctx;
     d.targets = targets;
@@ -433,30 +489,9 @@ plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const plume_curv
     d.best_f = HUGE_VAL;
     d.nu_free = (o->free_mask & PLUME_FIT_NU) != 0;
     double x[4], lb[4], ub[4], step[4], xtol[4];
-    {
-        static const unsigned bits[4] = {PLUME_FIT_EXX, PLUME_FIT_EYY, PLUME_FIT_NU, PLUME_FIT_GXY};
-        const double v[4] = {start->E_xx, start->E_yy, start->nu_xy, start->G_xy};
-        for (int i = 0; i < 4; i++) {
-            if (!(o->free_mask & bits[i]))
-                continue;
-            unsigned k = d.n++;
-            d.which[k] = i;
-            if (i == 2) {
-                x[k] = v[i];
-                lb[k] = -FIT_NU_BOUND;
-                ub[k] = FIT_NU_BOUND;
-                step[k] = FIT_NU_STEP;
-            } else {
-                x[k] = log(v[i]);
-                lb[k] = x[k] - FIT_LOG_SPAN;
-                ub[k] = x[k] + FIT_LOG_SPAN;
-                step[k] = FIT_LOG_STEP;
-            }
-            xtol[k] = o->xtol_rel;
-        }
-    }
+    search_space(&d, start, o, x, lb, ub, step, xtol);
 
-    /* ---- optimise */
+    /* BOBYQA, or Nelder-Mead from the same start where BOBYQA refuses the problem before evaluating */
     double x0[4];
     memcpy(x0, x, sizeof x);
     int created = 0;
@@ -473,26 +508,8 @@ plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const plume_curv
         snprintf(rep->stop, sizeof rep->stop, "%s", stop_text(r));
         rep->residual = d.feasible > 0 ? sqrt(d.best_ms) : NAN;
     }
-    if (d.status != PLUME_OK) {
-        s = plume_err_set(err, d.status, "%s", d.cb_err.msg);
+    if ((s = fit_outcome(&d, r, alg, err)) != PLUME_OK)
         goto cleanup;
-    }
-    if (r == NLOPT_OUT_OF_MEMORY) {
-        s = plume_err_set(err, PLUME_ENOMEM, "fit: NLopt (%s) ran out of memory", alg_name(alg));
-        goto cleanup;
-    }
-    /* roundoff-limited still carries a useful best point (NLopt's documentation); other
-     * failures before any evaluation are NLopt's */
-    if (r < 0 && r != NLOPT_ROUNDOFF_LIMITED && d.evaluations == 0) {
-        s = plume_err_set(err, PLUME_EDEP, "fit: NLopt %s failed to start: %s", alg_name(alg),
-                          stop_text(r));
-        goto cleanup;
-    }
-    if (d.feasible == 0) {
-        s = plume_err_set(err, PLUME_EINFEASIBLE, "fit: the model was infeasible at every one of "
-                          "the %d evaluated moduli", d.evaluations);
-        goto cleanup;
-    }
     *result = d.best_m;
 
 cleanup:

@@ -321,12 +321,10 @@ static plume_status build_geometry(builder *B, const pattern *P, line **lines_ou
     return fill_sides(B);
 }
 
-plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, double angle_deg,
-                                 plume_mesh **out, plume_err *err)
+/* The checks of plume_specimen_mesh's layout, size and angle; the barb width *w and element edge *e. */
+static plume_status check_specimen(const plume_layout *l, double lx, double ly, double angle_deg, double *w_out,
+                                   double *e_out, plume_err *err)
 {
-    if (!out)
-        return plume_err_set(err, PLUME_EINVAL, "specimen mesh: out is NULL");
-    *out = NULL;
     plume_status st = plume_layout_check(l, err);
     if (st != PLUME_OK)
         return st;
@@ -347,23 +345,132 @@ plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, do
                              "e_rel = %g gives elements of %g m: a %g x %g m specimen would need ~%.3g triangles "
                              "(more than %g)",
                              e / w, e, lx, ly, estimate, MAX_TRIANGLES);
+    *w_out = w, *e_out = e;
+    return PLUME_OK;
+}
 
-    pattern P;
-    memset(&P, 0, sizeof P);
-    plume_barb_direction(angle_deg, P.d);
-    P.q[0] = -P.d[1], P.q[1] = P.d[0];
-    P.w = w, P.dB = l->d_B, P.gap = l->d_B - w;
+/* The layout's pattern over the lx x ly specimen with barbs at angle_deg, in phase with its centre
+ * (see the file comment); w is the barb width. */
+static void specimen_pattern(const plume_layout *l, double lx, double ly, double angle_deg, double w, pattern *P)
+{
+    memset(P, 0, sizeof *P);
+    plume_barb_direction(angle_deg, P->d);
+    P->q[0] = -P->d[1], P->q[1] = P->d[0];
+    P->w = w, P->dB = l->d_B, P->gap = l->d_B - w;
     double mid[2] = {0.5 * lx, 0.5 * ly};
-    P.c0 = P.q[0] * mid[0] + P.q[1] * mid[1] - 0.5 * w;
-    P.barbules = l->kind == PLUME_LAYOUT_BARBULES;
-    if (P.barbules) {
+    P->c0 = P->q[0] * mid[0] + P->q[1] * mid[1] - 0.5 * w;
+    P->barbules = l->kind == PLUME_LAYOUT_BARBULES;
+    if (P->barbules) {
         double th = l->barbule_angle * M_PI / 180.0;
-        P.sp = l->barbule_spacing;
-        P.cot = cos(th) / sin(th);
-        P.L = l->barbule_width / sin(th);
+        P->sp = l->barbule_spacing;
+        P->cot = cos(th) / sin(th);
+        P->L = l->barbule_width / sin(th);
         /* the barbule of the gap above barb 0 has its centre (s0 + gap cot / 2 + L / 2) at mid */
-        P.s0 = P.d[0] * mid[0] + P.d[1] * mid[1] - 0.5 * (P.gap * P.cot + P.L);
+        P->s0 = P->d[0] * mid[0] + P->d[1] * mid[1] - 0.5 * (P->gap * P->cot + P->L);
     }
+}
+
+/* Each triangle's material (mat[t], -1 for the dropped ones: empty space, and the pieces that touch
+ * neither grip y = 0, y = ly), the new ids of the vertices kept (newid[v], -1 if dropped) and the
+ * counts kept. A union-find of the kept triangles' vertices finds the pieces. */
+static plume_status keep_held_pieces(const plume_cdt_output *cdt, const pattern *P, double ly, int *mat,
+                                     plume_index *newid, plume_index *kept_out, plume_index *nv_out)
+{
+    plume_index np = cdt->npoints, nt = cdt->ntriangles;
+    plume_index *parent = malloc((size_t)np * sizeof *parent);
+    unsigned char *grip = calloc((size_t)np, 1);
+    if (!parent || !grip) {
+        free(parent);
+        free(grip);
+        return PLUME_ENOMEM;
+    }
+    for (plume_index i = 0; i < np; i++)
+        parent[i] = i;
+    for (plume_index t = 0; t < nt; t++) {
+        const plume_index *v = cdt->triangles + 3 * t;
+        double cx = 0, cy = 0;
+        for (int k = 0; k < 3; k++)
+            cx += cdt->points[2 * v[k]] / 3.0, cy += cdt->points[2 * v[k] + 1] / 3.0;
+        mat[t] = material_at(P, cx, cy);
+        if (mat[t] < 0)
+            continue;
+        plume_index r0 = find(parent, v[0]);
+        for (int k = 1; k < 3; k++) {
+            plume_index r = find(parent, v[k]);
+            if (r != r0)
+                parent[r] = r0;
+        }
+    }
+    for (plume_index t = 0; t < nt; t++) /* a piece holds if one of its vertices is on a grip */
+        for (int k = 0; mat[t] >= 0 && k < 3; k++) {
+            plume_index v = cdt->triangles[3 * t + k];
+            double y = cdt->points[2 * v + 1];
+            if (y == 0.0 || y == ly)
+                grip[find(parent, v)] = 1;
+        }
+    plume_index kept = 0, nv = 0;
+    for (plume_index i = 0; i < np; i++)
+        newid[i] = -1;
+    for (plume_index t = 0; t < nt; t++) {
+        if (mat[t] >= 0 && !grip[find(parent, cdt->triangles[3 * t])])
+            mat[t] = -1;
+        if (mat[t] < 0)
+            continue;
+        kept++;
+        for (int k = 0; k < 3; k++) {
+            plume_index v = cdt->triangles[3 * t + k];
+            if (newid[v] < 0)
+                newid[v] = nv++;
+        }
+    }
+    free(parent);
+    free(grip);
+    *kept_out = kept, *nv_out = nv;
+    return PLUME_OK;
+}
+
+/* The mesh of the kept triangles (mat[t] >= 0) renumbered by newid, barbs along d, topology built. */
+static plume_status kept_mesh(const plume_cdt_output *cdt, const int *mat, const plume_index *newid, plume_index nv,
+                              plume_index kept, const double d[2], plume_mesh **out, plume_err *err)
+{
+    plume_mesh *m = NULL;
+    plume_status st = plume_mesh_create(nv, kept, 2, &m, err);
+    if (st != PLUME_OK)
+        return st;
+    for (plume_index i = 0; i < cdt->npoints; i++)
+        if (newid[i] >= 0)
+            m->X[2 * newid[i]] = cdt->points[2 * i], m->X[2 * newid[i] + 1] = cdt->points[2 * i + 1];
+    kept = 0;
+    for (plume_index t = 0; t < cdt->ntriangles; t++) {
+        if (mat[t] < 0)
+            continue;
+        for (int k = 0; k < 3; k++)
+            m->tri[3 * kept + k] = newid[cdt->triangles[3 * t + k]];
+        m->material[kept] = mat[t];
+        m->barb_dir[2 * kept] = d[0], m->barb_dir[2 * kept + 1] = d[1];
+        kept++;
+    }
+    plume_mesh_reset_current(m);
+    if ((st = plume_mesh_build_topology(m, err)) != PLUME_OK) {
+        plume_mesh_destroy(&m);
+        return st;
+    }
+    *out = m;
+    return PLUME_OK;
+}
+
+plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, double angle_deg,
+                                 plume_mesh **out, plume_err *err)
+{
+    if (!out)
+        return plume_err_set(err, PLUME_EINVAL, "specimen mesh: out is NULL");
+    *out = NULL;
+    double w = 0.0, e = 0.0;
+    plume_status st = check_specimen(l, lx, ly, angle_deg, &w, &e, err);
+    if (st != PLUME_OK)
+        return st;
+    pattern P;
+    specimen_pattern(l, lx, ly, angle_deg, w, &P);
 
     builder B;
     memset(&B, 0, sizeof B);
@@ -371,9 +478,7 @@ plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, do
     line *lines = NULL;
     plume_index nlines = 0;
     plume_cdt_output cdt = {0};
-    plume_mesh *m = NULL;
-    plume_index *parent = NULL, *newid = NULL;
-    unsigned char *grip = NULL;
+    plume_index *newid = NULL;
     int *mat = NULL;
     if ((st = build_geometry(&B, &P, &lines, &nlines, err)) != PLUME_OK)
         goto cleanup;
@@ -388,55 +493,15 @@ plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, do
     if ((st = plume_cdt_triangulate(&in, &cdt, err)) != PLUME_OK)
         goto cleanup;
 
-    /* materials; union-find of the vertices of the kept triangles to find the pieces */
-    plume_index np = cdt.npoints, nt = cdt.ntriangles;
-    mat = malloc((size_t)nt * sizeof *mat);
-    parent = malloc((size_t)np * sizeof *parent);
-    newid = malloc((size_t)np * sizeof *newid);
-    grip = calloc((size_t)np, 1);
-    if (!mat || !parent || !newid || !grip) {
+    mat = malloc((size_t)cdt.ntriangles * sizeof *mat);
+    newid = malloc((size_t)cdt.npoints * sizeof *newid);
+    if (!mat || !newid) {
         st = PLUME_ENOMEM;
         goto cleanup;
     }
-    for (plume_index i = 0; i < np; i++)
-        parent[i] = i;
-    for (plume_index t = 0; t < nt; t++) {
-        const plume_index *v = cdt.triangles + 3 * t;
-        double cx = 0, cy = 0;
-        for (int k = 0; k < 3; k++)
-            cx += cdt.points[2 * v[k]] / 3.0, cy += cdt.points[2 * v[k] + 1] / 3.0;
-        mat[t] = material_at(&P, cx, cy);
-        if (mat[t] < 0)
-            continue;
-        plume_index r0 = find(parent, v[0]);
-        for (int k = 1; k < 3; k++) {
-            plume_index r = find(parent, v[k]);
-            if (r != r0)
-                parent[r] = r0;
-        }
-    }
-    for (plume_index t = 0; t < nt; t++) /* a piece holds if one of its vertices is on a grip */
-        for (int k = 0; mat[t] >= 0 && k < 3; k++) {
-            plume_index v = cdt.triangles[3 * t + k];
-            double y = cdt.points[2 * v + 1];
-            if (y == 0.0 || y == ly)
-                grip[find(parent, v)] = 1;
-        }
     plume_index kept = 0, nv = 0;
-    for (plume_index i = 0; i < np; i++)
-        newid[i] = -1;
-    for (plume_index t = 0; t < nt; t++) {
-        if (mat[t] >= 0 && !grip[find(parent, cdt.triangles[3 * t])])
-            mat[t] = -1;
-        if (mat[t] < 0)
-            continue;
-        kept++;
-        for (int k = 0; k < 3; k++) {
-            plume_index v = cdt.triangles[3 * t + k];
-            if (newid[v] < 0)
-                newid[v] = nv++;
-        }
-    }
+    if ((st = keep_held_pieces(&cdt, &P, ly, mat, newid, &kept, &nv)) != PLUME_OK)
+        goto cleanup;
     if (kept == 0) {
         st = plume_err_set(err, PLUME_EINVAL,
                            "specimen mesh: no material left in the %g x %g m specimen at %g deg (every piece is "
@@ -444,30 +509,10 @@ plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, do
                            lx, ly, angle_deg);
         goto cleanup;
     }
-    if ((st = plume_mesh_create(nv, kept, 2, &m, err)) != PLUME_OK)
-        goto cleanup;
-    for (plume_index i = 0; i < np; i++)
-        if (newid[i] >= 0)
-            m->X[2 * newid[i]] = cdt.points[2 * i], m->X[2 * newid[i] + 1] = cdt.points[2 * i + 1];
-    kept = 0;
-    for (plume_index t = 0; t < nt; t++) {
-        if (mat[t] < 0)
-            continue;
-        for (int k = 0; k < 3; k++)
-            m->tri[3 * kept + k] = newid[cdt.triangles[3 * t + k]];
-        m->material[kept] = mat[t];
-        m->barb_dir[2 * kept] = P.d[0], m->barb_dir[2 * kept + 1] = P.d[1];
-        kept++;
-    }
-    plume_mesh_reset_current(m);
-    if ((st = plume_mesh_build_topology(m, err)) != PLUME_OK)
-        goto cleanup;
-    *out = m;
-    m = NULL;
+    st = kept_mesh(&cdt, mat, newid, nv, kept, P.d, out, err);
 cleanup:
     if (st == PLUME_ENOMEM)
         plume_err_set(err, st, "specimen mesh: out of memory");
-    plume_mesh_destroy(&m);
     plume_cdt_output_free(&cdt);
     for (plume_index i = 0; i < nlines; i++)
         free(lines[i].pts.v);
@@ -477,8 +522,6 @@ cleanup:
     free(B.g.p);
     free(B.g.s);
     free(mat);
-    free(parent);
     free(newid);
-    free(grip);
     return st;
 }

@@ -116,16 +116,9 @@ static plume_status check_grid(const plume_vtu_grid *g, plume_err *err)
     return PLUME_OK;
 }
 
-plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_err *err)
+/* The size of the scratch buffer that holds any one array of g before it is packed. */
+static size_t largest_raw_array(const plume_vtu_grid *g, int nodes)
 {
-    if (!path || !*path || !g)
-        return plume_err_set(err, PLUME_EINVAL, "vtu: invalid arguments (path, grid)");
-    plume_status st = check_grid(g, err);
-    if (st != PLUME_OK)
-        return st;
-    const int nodes = g->cell_type == PLUME_VTU_LINE ? 2 : 3;
-    const int narr = 5 + g->npoint_fields + g->ncell_fields; /* time, fields, points, 3 cell arrays */
-    packed *pk = calloc((size_t)narr, sizeof *pk);
     size_t maxraw = (size_t)(nodes * g->ncells + 1) * sizeof(int64_t);
     if ((size_t)(3 * g->npoints + 1) * sizeof(double) > maxraw)
         maxraw = (size_t)(3 * g->npoints + 1) * sizeof(double);
@@ -135,17 +128,17 @@ plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_er
             size_t need = (size_t)((s ? g->ncells : g->npoints) * fl->ncomp + 1) * sizeof(double);
             maxraw = need > maxraw ? need : maxraw;
         }
-    unsigned char *raw = malloc(maxraw);
-    char *tmp = malloc(strlen(path) + 32);
-    FILE *f = NULL;
-    if (!pk || !raw || !tmp) {
-        st = plume_err_set(err, PLUME_ENOMEM, "vtu '%s': out of memory", path);
-        goto cleanup;
-    }
-    /* the arrays in the order their tags appear: time, point fields, cell fields, points, cells */
+    return maxraw;
+}
+
+/* Every array of g compressed into pk, in the order their tags appear: time, point fields, cell
+ * fields, points, connectivity, offsets, types (raw: scratch room for the largest). */
+static plume_status pack_arrays(const plume_vtu_grid *g, int nodes, unsigned char *raw, packed *pk)
+{
     int a = 0;
+    plume_status st;
     if ((st = pack(&g->time, sizeof g->time, &pk[a++])) != PLUME_OK)
-        goto packfail;
+        return st;
     for (int s = 0; s < 2; s++) {
         plume_index n = s ? g->ncells : g->npoints;
         for (int i = 0; i < (s ? g->ncell_fields : g->npoint_fields); i++) {
@@ -160,34 +153,32 @@ plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_er
                 st = pack(fl->values, cnt * sizeof(double), &pk[a++]);
             }
             if (st != PLUME_OK)
-                goto packfail;
+                return st;
         }
     }
     if ((st = pack(g->points, (size_t)(3 * g->npoints) * sizeof(double), &pk[a++])) != PLUME_OK)
-        goto packfail;
+        return st;
     int64_t *iv = (int64_t *)raw;
     for (plume_index k = 0; k < nodes * g->ncells; k++)
         iv[k] = g->cells[k];
     if ((st = pack(raw, (size_t)(nodes * g->ncells) * sizeof *iv, &pk[a++])) != PLUME_OK)
-        goto packfail;
+        return st;
     for (plume_index c = 0; c < g->ncells; c++)
         iv[c] = (int64_t)nodes * (c + 1);
     if ((st = pack(raw, (size_t)g->ncells * sizeof *iv, &pk[a++])) != PLUME_OK)
-        goto packfail;
+        return st;
     memset(raw, g->cell_type, (size_t)g->ncells);
-    if ((st = pack(raw, (size_t)g->ncells, &pk[a++])) != PLUME_OK)
-        goto packfail;
+    return pack(raw, (size_t)g->ncells, &pk[a++]);
+}
 
-    snprintf(tmp, strlen(path) + 32, "%s.tmp.%ld", path, (long)getpid());
-    if (!(f = fopen(tmp, "wb"))) {
-        st = plume_err_set(err, PLUME_EIO, "vtu '%s': cannot create '%s': %s", path, tmp, strerror(errno));
-        goto cleanup;
-    }
+/* The XML of g with its narr packed arrays pk appended. */
+static void put_vtu(FILE *f, const plume_vtu_grid *g, const packed *pk, int narr)
+{
     fprintf(f, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"%s\" "
                "header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\">\n  <UnstructuredGrid>\n",
             host_little_endian() ? "LittleEndian" : "BigEndian");
     size_t off = 0;
-    a = 0;
+    int a = 0;
     fputs("    <FieldData>\n", f);
     fputs("      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\"", f);
     fprintf(f, " format=\"appended\" offset=\"%zu\"/>\n    </FieldData>\n", off);
@@ -211,18 +202,44 @@ plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_er
     for (int k = 0; k < narr; k++)
         fwrite(pk[k].bytes, 1, pk[k].len, f);
     fputs("\n  </AppendedData>\n</VTKFile>\n", f);
+}
+
+plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_err *err)
+{
+    if (!path || !*path || !g)
+        return plume_err_set(err, PLUME_EINVAL, "vtu: invalid arguments (path, grid)");
+    plume_status st = check_grid(g, err);
+    if (st != PLUME_OK)
+        return st;
+    const int nodes = g->cell_type == PLUME_VTU_LINE ? 2 : 3;
+    const int narr = 5 + g->npoint_fields + g->ncell_fields; /* time, fields, points, 3 cell arrays */
+    packed *pk = calloc((size_t)narr, sizeof *pk);
+    unsigned char *raw = malloc(largest_raw_array(g, nodes));
+    char *tmp = malloc(strlen(path) + 32);
+    FILE *f = NULL;
+    if (!pk || !raw || !tmp) {
+        st = plume_err_set(err, PLUME_ENOMEM, "vtu '%s': out of memory", path);
+        goto cleanup;
+    }
+    if ((st = pack_arrays(g, nodes, raw, pk)) != PLUME_OK) {
+        st = plume_err_set(err, st, "vtu '%s': %s while compressing", path,
+                           st == PLUME_ENOMEM ? "out of memory" : "zlib failed");
+        goto cleanup;
+    }
+    /* written under a temporary name, then renamed over path: a reader never sees half a file */
+    snprintf(tmp, strlen(path) + 32, "%s.tmp.%ld", path, (long)getpid());
+    if (!(f = fopen(tmp, "wb"))) {
+        st = plume_err_set(err, PLUME_EIO, "vtu '%s': cannot create '%s': %s", path, tmp, strerror(errno));
+        goto cleanup;
+    }
+    put_vtu(f, g, pk, narr);
     int bad = ferror(f);
     if (fclose(f) != 0 || bad)
         st = plume_err_set(err, PLUME_EIO, "vtu '%s': cannot write '%s': %s", path, tmp, strerror(errno));
     else if (rename(tmp, path) != 0)
         st = plume_err_set(err, PLUME_EIO, "vtu '%s': cannot rename '%s' over it: %s", path, tmp, strerror(errno));
-    f = NULL;
     if (st != PLUME_OK)
         unlink(tmp);
-    goto cleanup;
-packfail:
-    st = plume_err_set(err, st, "vtu '%s': %s while compressing", path,
-                       st == PLUME_ENOMEM ? "out of memory" : "zlib failed");
 cleanup:
     for (int k = 0; pk && k < narr; k++)
         free(pk[k].bytes);
@@ -497,14 +514,9 @@ static plume_status read_array(const reader *r, const char *tag, const char *end
     return grown[*na - 1].name ? PLUME_OK : PLUME_ENOMEM;
 }
 
-plume_status plume_vtu_read(const char *path, plume_vtu_data *out, plume_err *err)
+/* The whole file f (closed here) into *buf (malloc'ed, NUL-terminated), *len bytes. */
+static plume_status read_whole(const char *path, FILE *f, unsigned char **buf_out, size_t *len_out, plume_err *err)
 {
-    if (!path || !out)
-        return plume_err_set(err, PLUME_EINVAL, "vtu: invalid arguments");
-    memset(out, 0, sizeof *out);
-    FILE *f = plume_input_fopen(path, "rb", "vtu", err);
-    if (!f)
-        return PLUME_EIO;
     unsigned char *buf = NULL;
     size_t len = 0, cap = 0;
     for (;;) {
@@ -530,45 +542,47 @@ plume_status plume_vtu_read(const char *path, plume_vtu_data *out, plume_err *er
         return plume_err_set(err, PLUME_EIO, "vtu '%s': read error", path);
     }
     buf[len] = '\0';
-    plume_status st = PLUME_OK;
-    reader r = {path, buf, NULL, len, 0, 1, 0};
-    const char *s = (const char *)buf;
-    const char *app = strstr(s, "<AppendedData");
-    const char *xml_end = app ? app : s + strlen(s);
+    *buf_out = buf, *len_out = len;
+    return PLUME_OK;
+}
+
+/* The <VTKFile> element (ending at *vfe) of an UnstructuredGrid in this machine's byte order, its
+ * header width and compressor into r, and where the appended data (app) starts. */
+static plume_status read_vtkfile(reader *r, const char *xml_end, const char *app, const char **vfe_out, plume_err *err)
+{
+    const char *s = (const char *)r->buf, *path = r->path;
     char v[64];
     const char *vf = strstr(s, "<VTKFile");
-    if (!vf || vf > xml_end) {
-        st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': no <VTKFile> element", path);
-        goto done;
-    }
+    if (!vf || vf > xml_end)
+        return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': no <VTKFile> element", path);
     const char *vfe = strchr(vf, '>');
-    if (!attr(vf, vfe, "type", v, sizeof v) || strcmp(v, "UnstructuredGrid") != 0) {
-        st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': not an UnstructuredGrid file", path);
-        goto done;
-    }
-    if (attr(vf, vfe, "byte_order", v, sizeof v) && (strcmp(v, "LittleEndian") == 0) != host_little_endian()) {
-        st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': byte order %s differs from this machine's", path, v);
-        goto done;
-    }
-    r.header64 = attr(vf, vfe, "header_type", v, sizeof v) && strcmp(v, "UInt64") == 0;
-    r.compressed = attr(vf, vfe, "compressor", v, sizeof v);
-    if (r.compressed && strcmp(v, "vtkZLibDataCompressor") != 0) {
-        st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': compressor %s (only zlib is read)", path, v);
-        goto done;
-    }
-    if (!app) {
-        st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': no <AppendedData> (only appended data is read)", path);
-        goto done;
-    }
+    if (!attr(vf, vfe, "type", v, sizeof v) || strcmp(v, "UnstructuredGrid") != 0)
+        return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': not an UnstructuredGrid file", path);
+    if (attr(vf, vfe, "byte_order", v, sizeof v) && (strcmp(v, "LittleEndian") == 0) != host_little_endian())
+        return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': byte order %s differs from this machine's", path, v);
+    r->header64 = attr(vf, vfe, "header_type", v, sizeof v) && strcmp(v, "UInt64") == 0;
+    r->compressed = attr(vf, vfe, "compressor", v, sizeof v);
+    if (r->compressed && strcmp(v, "vtkZLibDataCompressor") != 0)
+        return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': compressor %s (only zlib is read)", path, v);
+    if (!app)
+        return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': no <AppendedData> (only appended data is read)", path);
     const char *us = strchr(app, '_');
-    if (!us) {
-        st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': <AppendedData> without its '_' marker", path);
-        goto done;
-    }
-    r.data = (const unsigned char *)us + 1;
-    r.data_len = len - (size_t)(r.data - buf);
+    if (!us)
+        return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': <AppendedData> without its '_' marker", path);
+    r->data = (const unsigned char *)us + 1;
+    r->data_len = r->len - (size_t)(r->data - r->buf);
+    *vfe_out = vfe;
+    return PLUME_OK;
+}
+
+/* The tags from `from` to xml_end: the one Piece's counts and every DataArray of a section. */
+static plume_status read_tags(const reader *r, const char *from, const char *xml_end, plume_vtu_data *out,
+                              plume_err *err)
+{
+    const char *path = r->path;
+    plume_status st = PLUME_OK;
     int sec = SEC_NONE, pieces = 0;
-    for (const char *p = strchr(vfe, '<'); p && p < xml_end && st == PLUME_OK; p = strchr(p + 1, '<')) {
+    for (const char *p = strchr(from, '<'); p && p < xml_end && st == PLUME_OK; p = strchr(p + 1, '<')) {
         const char *e = strchr(p, '>');
         if (!e || e > xml_end) {
             st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': a tag is not closed", path);
@@ -598,16 +612,22 @@ plume_status plume_vtu_read(const char *path, plume_vtu_data *out, plume_err *er
             if (out->npoints < 0 || out->ncells < 0)
                 st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': negative point or cell count", path);
         } else if (!closing && strncmp(nm, "DataArray", 9) == 0 && sec != SEC_NONE) {
-            st = read_array(&r, p, e, sec, out, err);
+            st = read_array(r, p, e, sec, out, err);
         }
     }
     if (st == PLUME_OK && !pieces)
         st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': no Piece", path);
-    if (st == PLUME_OK && (!out->points || !out->offsets || !out->types || !out->connectivity) &&
-        (out->npoints > 0 || out->ncells > 0))
-        st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': Points or Cells arrays are missing", path);
-    if (st == PLUME_OK && out->ncells > 0) {
-        /* offsets must rise and stay within the connectivity, which must name real points */
+    return st;
+}
+
+/* The grid read is whole: its Points and Cells arrays present, the offsets rising within the
+ * connectivity, which names real points. */
+static plume_status check_read_grid(const char *path, const plume_vtu_data *out, plume_err *err)
+{
+    plume_status st = PLUME_OK;
+    if ((!out->points || !out->offsets || !out->types || !out->connectivity) && (out->npoints > 0 || out->ncells > 0))
+        return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': Points or Cells arrays are missing", path);
+    if (out->ncells > 0) {
         plume_index prev = 0, nconn = out->offsets[out->ncells - 1];
         if (nconn > out->nconnectivity)
             st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': the cells end at %ld, past the %ld connectivity entries",
@@ -622,7 +642,29 @@ plume_status plume_vtu_read(const char *path, plume_vtu_data *out, plume_err *er
                 st = plume_err_set(err, PLUME_EFORMAT, "vtu '%s': connectivity names point %ld of %ld", path,
                                    (long)out->connectivity[k], (long)out->npoints);
     }
-done:
+    return st;
+}
+
+plume_status plume_vtu_read(const char *path, plume_vtu_data *out, plume_err *err)
+{
+    if (!path || !out)
+        return plume_err_set(err, PLUME_EINVAL, "vtu: invalid arguments");
+    memset(out, 0, sizeof *out);
+    FILE *f = plume_input_fopen(path, "rb", "vtu", err);
+    if (!f)
+        return PLUME_EIO;
+    unsigned char *buf = NULL;
+    size_t len = 0;
+    plume_status st = read_whole(path, f, &buf, &len, err);
+    if (st != PLUME_OK)
+        return st;
+    reader r = {path, buf, NULL, len, 0, 1, 0};
+    const char *s = (const char *)buf;
+    const char *app = strstr(s, "<AppendedData");
+    const char *xml_end = app ? app : s + strlen(s), *vfe = NULL;
+    if ((st = read_vtkfile(&r, xml_end, app, &vfe, err)) == PLUME_OK &&
+        (st = read_tags(&r, vfe, xml_end, out, err)) == PLUME_OK)
+        st = check_read_grid(path, out, err);
     free(buf);
     if (st != PLUME_OK)
         plume_vtu_data_free(out);
