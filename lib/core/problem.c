@@ -19,7 +19,7 @@ typedef struct {
 typedef struct {
     plume_term t;
     scatter_map hmap;
-    double *blocks;    /* [nstencil*k*k] workspace */
+    double *blocks;    /* workspace: [nstencil*k*k], or a chunk's blocks with hess_range */
 } term_slot;
 
 typedef struct {
@@ -59,6 +59,20 @@ struct plume_problem {
     double *scale;                     /* [ncons] */
     plume_problem_timing timing;
 };
+
+/* A term with hess_range is assembled this many block entries at a time (256 kB of blocks): they are
+ * scattered while still in the cache. Written whole, the blocks of shape-operator bending on the
+ * wing (45 MB) went out to memory and back at every Hessian. */
+#define HESS_CHUNK_ENTRIES 32768
+
+/* Stencils of a term assembled per call of its hess_range, and the size of its blocks workspace. */
+static plume_index term_chunk(const plume_term *t, size_t kk)
+{
+    if (!t->hess_range)
+        return t->nstencil;
+    const plume_index c = (plume_index)(HESS_CHUNK_ENTRIES / kk);
+    return c < 1 ? 1 : c < t->nstencil ? c : t->nstencil;
+}
 
 static void scatter_map_free(scatter_map *m)
 {
@@ -257,16 +271,28 @@ static plume_index find_entry(const plume_problem *p, plume_index r, plume_index
     return -1;
 }
 
-/* Adds the upper-triangle free pairs of one stencil to `pairs` (if non-NULL); returns their count. */
-static plume_index stencil_pairs(const plume_problem *p, const plume_index *st, int arity, pair *pairs)
+/* The places of a stencil that hold its vertices: all of them, or with `padded` (plume_term's) those
+ * before the trailing repeats of its first vertex. */
+static int stencil_size(const plume_index *st, int arity, int padded)
+{
+    int n = arity;
+    while (padded && n > 1 && st[n - 1] == st[0])
+        n--;
+    return n;
+}
+
+/* Adds the upper-triangle free pairs of one stencil to `pairs` (if non-NULL); returns their count.
+ * A padded stencil's repeats of its first vertex add no pair that its first place does not. */
+static plume_index stencil_pairs(const plume_problem *p, const plume_index *st, int arity, int padded, pair *pairs)
 {
     plume_index n = 0;
     int d = p->dim;
-    for (int a = 0; a < arity * d; a++) {
+    const int used = stencil_size(st, arity, padded) * d;
+    for (int a = 0; a < used; a++) {
         plume_index fa = p->free_of_dof[st[a / d] * d + a % d];
         if (fa < 0)
             continue;
-        for (int b = 0; b < arity * d; b++) {
+        for (int b = 0; b < used; b++) {
             plume_index fb = p->free_of_dof[st[b / d] * d + b % d];
             if (fb < 0 || fa > fb)
                 continue;
@@ -280,10 +306,12 @@ static plume_index stencil_pairs(const plume_problem *p, const plume_index *st, 
     return n;
 }
 
-/* The scatter map of n stencils of `arity` vertices (stencils [n*arity]) on the current pattern.
- * The listed entries are those stencil_pairs counts, in the same order. */
-static plume_status scatter_map_build(const plume_problem *p, const plume_index *stencils, int arity, plume_index n,
-                                      scatter_map *m)
+/* The scatter map of n stencils of `arity` vertices (stencils [n*arity], padded as plume_term's
+ * flag says) on the current pattern. The listed entries are those stencil_pairs counts, in the
+ * same order: a padded place's block entries are zero, and skipping them leaves every sum as it
+ * was. */
+static plume_status scatter_map_build(const plume_problem *p, const plume_index *stencils, int arity, int padded,
+                                      plume_index n, scatter_map *m)
 {
     const int d = p->dim, k = arity * d;
     m->start = malloc((size_t)(n + 1) * sizeof *m->start);
@@ -291,7 +319,7 @@ static plume_status scatter_map_build(const plume_problem *p, const plume_index 
         return PLUME_ENOMEM;
     m->start[0] = 0;
     for (plume_index s = 0; s < n; s++)
-        m->start[s + 1] = m->start[s] + stencil_pairs(p, stencils + s * arity, arity, NULL);
+        m->start[s + 1] = m->start[s] + stencil_pairs(p, stencils + s * arity, arity, padded, NULL);
     const plume_index ne = m->start[n];
     m->src = malloc((size_t)(ne + 1) * sizeof *m->src);
     m->dst = malloc((size_t)(ne + 1) * sizeof *m->dst);
@@ -302,11 +330,12 @@ static plume_status scatter_map_build(const plume_problem *p, const plume_index 
     for (plume_index s = 0; s < n; s++) {
         const plume_index *st = stencils + s * arity;
         plume_index e = m->start[s];
-        for (int a = 0; a < k; a++) {
+        const int used = stencil_size(st, arity, padded) * d;
+        for (int a = 0; a < used; a++) {
             plume_index fa = p->free_of_dof[st[a / d] * d + a % d];
             if (fa < 0)
                 continue;
-            for (int b = 0; b < k; b++) {
+            for (int b = 0; b < used; b++) {
                 plume_index fb = p->free_of_dof[st[b / d] * d + b % d];
                 if (fb < 0 || fa > fb)
                     continue;
@@ -393,10 +422,11 @@ static plume_status collect_pairs(const plume_problem *p, int changing, pair **o
     for (int t = 0; t < p->nterms; t++)
         if ((p->terms[t].t.update != NULL) == changing)
             for (plume_index s = 0; s < p->terms[t].t.nstencil; s++)
-                np += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity, NULL);
+                np += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity,
+                                     p->terms[t].t.padded, NULL);
     for (int s = 0; !changing && s < p->ncsets; s++)
         for (plume_index i = 0; i < p->cons[s].c.m; i++)
-            np += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, NULL);
+            np += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, 0, NULL);
     pair *pairs = malloc((size_t)(np + 1) * sizeof *pairs);
     if (!pairs)
         return PLUME_ENOMEM;
@@ -404,10 +434,11 @@ static plume_status collect_pairs(const plume_problem *p, int changing, pair **o
     for (int t = 0; t < p->nterms; t++)
         if ((p->terms[t].t.update != NULL) == changing)
             for (plume_index s = 0; s < p->terms[t].t.nstencil; s++)
-                k += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity, pairs + k);
+                k += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity,
+                                    p->terms[t].t.padded, pairs + k);
     for (int s = 0; !changing && s < p->ncsets; s++)
         for (plume_index i = 0; i < p->cons[s].c.m; i++)
-            k += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, pairs + k);
+            k += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, 0, pairs + k);
     for (plume_index i = 0; !changing && i < p->nfree; i++, k++) /* the diagonal: regularisation, KKT */
         pairs[k].r = pairs[k].c = i;
     *out = pairs;
@@ -615,8 +646,8 @@ static plume_status build_structure_with(plume_problem *p, int rebuild, plume_er
         if (rebuild && !ts->t.update)
             continue; /* kept, its map moved */
         size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
-        ts->blocks = malloc(((size_t)ts->t.nstencil * kk + 1) * sizeof *ts->blocks);
-        if (!ts->blocks || scatter_map_build(p, ts->t.stencil, ts->t.arity, ts->t.nstencil, &ts->hmap) != PLUME_OK) {
+        ts->blocks = malloc(((size_t)term_chunk(&ts->t, kk) * kk + 1) * sizeof *ts->blocks);
+        if (!ts->blocks || scatter_map_build(p, ts->t.stencil, ts->t.arity, ts->t.padded, ts->t.nstencil, &ts->hmap) != PLUME_OK) {
             st = PLUME_ENOMEM;
             goto cleanup;
         }
@@ -626,7 +657,7 @@ static plume_status build_structure_with(plume_problem *p, int rebuild, plume_er
     for (int s = 0; s < p->ncsets; s++) {
         cons_slot *c = p->cons + s;
         int k = c->c.arity * d;
-        if (!rebuild && scatter_map_build(p, c->c.stencil, c->c.arity, c->c.m, &c->hmap) != PLUME_OK) {
+        if (!rebuild && scatter_map_build(p, c->c.stencil, c->c.arity, 0, c->c.m, &c->hmap) != PLUME_OK) {
             st = PLUME_ENOMEM;
             goto cleanup;
         }
@@ -852,13 +883,14 @@ plume_sparsity plume_problem_hessian_pattern(const plume_problem *p)
     return s;
 }
 
-static void scatter_blocks(double *values, const scatter_map *m, plume_index n, const double *blocks, size_t kk,
-                           double w)
+/* Scatters the blocks of stencils first .. first + n - 1 (blocks: stencil first's first). */
+static void scatter_blocks(double *values, const scatter_map *m, plume_index first, plume_index n,
+                           const double *blocks, size_t kk, double w)
 {
     const unsigned *src = m->src;
     const plume_index *dst = m->dst;
-    for (plume_index s = 0; s < n; s++) {
-        const double *b = blocks + (size_t)s * kk;
+    for (plume_index s = first; s < first + n; s++) {
+        const double *b = blocks + (size_t)(s - first) * kk;
         for (plume_index e = m->start[s], ee = m->start[s + 1]; e < ee; e++)
             values[dst[e]] += w * b[src[e]];
     }
@@ -890,15 +922,22 @@ plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj
     for (int t = 0; t < p->nterms; t++) {
         term_slot *ts = p->terms + t;
         int pj = project == PLUME_HESSIAN_PARTIAL ? ts->t.partial_projection : project != 0;
-        plume_status st = ts->t.eval(ts->t.ctx, d, p->x, NULL, NULL, ts->blocks, pj);
-        t1 = now();
-        p->timing.hessian_eval_seconds += t1 - t0;
-        if (st != PLUME_OK)
-            return st;
-        size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
-        scatter_blocks(values, &ts->hmap, ts->t.nstencil, ts->blocks, kk, obj_factor);
-        t0 = now();
-        p->timing.hessian_scatter_seconds += t0 - t1;
+        const size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
+        const plume_index chunk = term_chunk(&ts->t, kk);
+        plume_index first = 0;
+        do { /* once with no stencils, as eval always was */
+            const plume_index n = ts->t.nstencil - first < chunk ? ts->t.nstencil - first : chunk;
+            plume_status st = ts->t.hess_range ? ts->t.hess_range(ts->t.ctx, d, p->x, first, n, ts->blocks, pj)
+                                               : ts->t.eval(ts->t.ctx, d, p->x, NULL, NULL, ts->blocks, pj);
+            t1 = now();
+            p->timing.hessian_eval_seconds += t1 - t0;
+            if (st != PLUME_OK)
+                return st;
+            scatter_blocks(values, &ts->hmap, first, n, ts->blocks, kk, obj_factor);
+            t0 = now();
+            p->timing.hessian_scatter_seconds += t0 - t1;
+            first += n;
+        } while (first < ts->t.nstencil);
     }
     if (!lambda)
         return PLUME_OK;
@@ -913,7 +952,7 @@ plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj
         if (st != PLUME_OK)
             return st;
         size_t kk = (size_t)(c->c.arity * d) * (size_t)(c->c.arity * d);
-        scatter_blocks(values, &c->hmap, c->c.m, c->blocks, kk, 1.0);
+        scatter_blocks(values, &c->hmap, 0, c->c.m, c->blocks, kk, 1.0);
         t0 = now();
         p->timing.hessian_scatter_seconds += t0 - t1;
     }
