@@ -431,17 +431,16 @@ static int tri_energy(const shape_ctx *ctx, plume_index t, const double *x, doub
     return 1;
 }
 
-static plume_status shape_eval(void *vctx, int dim, const double *x, double *energy, double *grad,
-                               double *hblocks, int project)
+/* The energy, gradient and blocks of triangles first .. first + count - 1 (hblocks: triangle
+ * first's block first). */
+static plume_status shape_eval_range(const shape_ctx *ctx, const double *x, plume_index first, plume_index count,
+                                     double *energy, double *grad, double *hblocks, int project)
 {
-    const shape_ctx *ctx = vctx;
-    if (!ctx || !x || dim != 3)
-        return PLUME_EINVAL;
     const int mp = ctx->maxpt, ka = 3 * ctx->arity;
     double *xv = ctx->work, *h = xv + 3 * mp, *f = h + mp, *gy = f + mp, *gv = gy + 9 * mp, *ga = gv + 3 * mp;
     double *kj = ga + ka, *Hy = kj + 3 * mp, *Hv = Hy + (size_t)9 * mp * mp, *Ht = Hv + (size_t)9 * mp * mp;
     double E = 0.0;
-    for (plume_index t = 0; t < ctx->nt; t++) {
+    for (plume_index t = first; t < first + count; t++) {
         const shape_tri *T = &ctx->tri[t];
         const shape_point *P = ctx->pts + T->pt;
         const int npt = T->npt, n = npt - 3;
@@ -493,7 +492,7 @@ static plume_status shape_eval(void *vctx, int dim, const double *x, double *ene
         }
         if (hblocks) {
             const int nv = 3 * npt;
-            double *Hb = hblocks + (size_t)t * (size_t)ka * (size_t)ka;
+            double *Hb = hblocks + (size_t)(t - first) * (size_t)ka * (size_t)ka;
             shape_hessian_y(&G, xv, npt, K, f, h, gy, project != 0, Hy, kj);
             if (T->plain) { /* point j is slot j: the block is Hv, padded with zeros */
                 y_to_points(Hy, npt, Hb, ka);
@@ -524,6 +523,24 @@ static plume_status shape_eval(void *vctx, int dim, const double *x, double *ene
     if (energy)
         *energy += E;
     return PLUME_OK;
+}
+
+static plume_status shape_eval(void *vctx, int dim, const double *x, double *energy, double *grad,
+                               double *hblocks, int project)
+{
+    const shape_ctx *ctx = vctx;
+    if (!ctx || !x || dim != 3)
+        return PLUME_EINVAL;
+    return shape_eval_range(ctx, x, 0, ctx->nt, energy, grad, hblocks, project);
+}
+
+static plume_status shape_hess_range(void *vctx, int dim, const double *x, plume_index first, plume_index count,
+                                     double *hblocks, int project)
+{
+    const shape_ctx *ctx = vctx;
+    if (!ctx || !x || dim != 3 || !hblocks || first < 0 || count < 0 || count > ctx->nt - first)
+        return PLUME_EINVAL;
+    return shape_eval_range(ctx, x, first, count, NULL, NULL, hblocks, project);
 }
 
 static plume_status shape_energies(void *vctx, int dim, const double *x, double *e)
@@ -999,6 +1016,8 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
     out->eval = shape_eval;
     out->energies = shape_energies;
     out->partial_projection = 1; /* the Gauss-Newton block: closed form, the stiffness kept */
+    out->hess_range = shape_hess_range;
+    out->padded = 1;
     out->destroy = shape_destroy;
     out->ctx = ctx;
     ctx = NULL;
