@@ -976,6 +976,12 @@ plume_sparsity plume_problem_hessian_pattern(const plume_problem *p)
     return s;
 }
 
+plume_sparsity plume_problem_fixed_pattern(const plume_problem *p)
+{
+    plume_sparsity s = {p->nfree, p->scol ? p->scol[p->nfree] : 0, p->scol, p->srow};
+    return s;
+}
+
 /* Scatters the blocks of stencils first .. first + n - 1 (blocks: stencil first's first, k x k). */
 static void scatter_blocks(const plume_problem *p, double *values, const scatter_map *m, plume_index first,
                            plume_index n, const double *blocks, int k, double w)
