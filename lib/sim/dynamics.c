@@ -280,8 +280,8 @@ fail:
 }
 
 /* Terms whose stencils follow the state (contact) at the problem's x: a new pattern needs a new
- * solver (its symbolic analysis, in the last one's order while that fits); *changed says whether
- * it happened. */
+ * solver (its symbolic analysis, in the fixed pattern's order while that fits); *changed says
+ * whether it happened. */
 static plume_status refresh_stencils(plume_dynamics *d, int *changed, plume_err *err)
 {
     plume_status st = plume_problem_update_terms(d->p, changed, err);
