@@ -144,9 +144,8 @@
  * triangle's fit is exact for quadratic surfaces, boundary ones included (tested on all five
  * families to 1e-6). Stencil quality s at h = 1/24: 0.77 on the regular lattices' interiors,
  * >= 0.577 on their boundary replacements, >= 0.10 on the Delaunay meshes.
- * Cost at 40k triangles (bench, -O2): create 14-25 ms; energy + gradient + exact blocks 56-60 ms,
- * with the Gauss-Newton blocks 39-42 ms (the hinge: 25 ms exact, 780-940 ms projected by Jacobi
- * at a large bend, where most of its blocks are indefinite).
+ * Cost at 40k triangles, against the hinge (whose blocks, projected by Jacobi at a large bend where
+ * most are indefinite, cost 25 times its exact ones): docs/benchmarks.md, "Bending term".
  *
  * Nothing is allocated after create. */
 #include "shape_bending.h"
