@@ -86,9 +86,12 @@
  *     Hess h = (Hess V - grad h grad L^T - grad L grad h^T - h Hess L) / L.
  * Hess L does not depend on k, so the heights share it. The block is
  *     J^T K J + sum_k f_k Hess h_k,  J = [grad h_1; ...; grad h_n],
- * built in the 3 (n + 2) variables (e1, e2, q_1..q_n), mapped to the n + 3 points (x0's rows and
- * columns are minus the sums), then to the vertices through the mirror maps, and made exactly
- * symmetric.
+ * built on the n + 3 points directly, its upper triangle only, then mirrored (exactly symmetric):
+ * J's row k is nonzero on T's vertices and on p_k alone (where it is n), so J^T K J is three
+ * n x 3 products with K and outer products with n; the curvature part, written in the variables
+ * (e1, e2, q_1..q_n), has no (q_k, q_l) blocks and goes to the points through x0's rows and
+ * columns being minus the sums (shape_hessian_points). Mirrored points then go to the vertices
+ * through the mirror maps.
  *
  * PSD treatment. With project != 0 the block is the Gauss-Newton part J^T K J alone: PSD by
  * construction since K is, no eigen-decomposition (an 18x18 Jacobi would cost more than the rest
@@ -141,9 +144,8 @@
  * triangle's fit is exact for quadratic surfaces, boundary ones included (tested on all five
  * families to 1e-6). Stencil quality s at h = 1/24: 0.77 on the regular lattices' interiors,
  * >= 0.577 on their boundary replacements, >= 0.10 on the Delaunay meshes.
- * Cost at 40k triangles (bench, -O2): create 14-25 ms; energy + gradient + exact blocks 56-60 ms,
- * with the Gauss-Newton blocks 39-42 ms (the hinge: 25 ms exact, 780-940 ms projected by Jacobi
- * at a large bend, where most of its blocks are indefinite).
+ * Cost at 40k triangles, against the hinge (whose blocks, projected by Jacobi at a large bend where
+ * most are indefinite, cost 25 times its exact ones): docs/benchmarks.md, "Bending term".
  *
  * Nothing is allocated after create. */
 #include "shape_bending.h"
@@ -162,6 +164,10 @@
 /* A current triangle with |N|^2 <= this * |e1|^2 |e2|^2 (sine of its angle at x0 below 1e-14)
  * has collapsed: its normal is undefined. */
 #define SHAPE_COLLAPSED_REL 1e-28
+
+/* Room for the points of a triangle: its 3 vertices and 3 own points, and from each of three
+ * neighbours at most its opposite vertex and its 3 points: 18 (slots never outnumber points). */
+#define SHAPE_MAX_POINTS 24
 
 
 /* A point of a triangle's stencil: a vertex (a slot of the triangle's vertex list) or, on a
@@ -247,149 +253,170 @@ static int shape_geometry(const double *xv, int npt, shape_geom *G, double *h)
     return 1;
 }
 
-/* The Hessian in y = (e1, e2, q_3, ..., q_{npt-1}) (y-block of point j >= 1 is j - 1; ny = 3 (npt
- * - 1)): J^T K J + [!gn] sum_k f_k Hess h_k. gy[3 j + b] (3 doubles each) is grad h_j's part in
- * y-block b (0: e1, 1: e2, 2: q_j); f[j] = (K dh)_j; K is n x n over j = 3..npt-1. */
-static void shape_hessian_y(const shape_geom *G, const double *xv, int npt, const double *K, const double *f,
-                            const double *h, const double *gy, int gauss_newton, double *Hy, double *kj)
+/* The Hessian in the points, J^T K J + [!gauss_newton] sum_k f_k Hess h_k, written to Hv (3 npt x
+ * 3 npt, row stride ld, exactly symmetric). gy[9 j ..] holds grad h_j's parts on e1, e2 and q_j (the
+ * last is n); f[k] = (K dh)_k; K is n x n over points 3..npt-1.
+ * Gauss-Newton part: grad h_k on the points is (c_k, a_k, b_k) on T's vertices (a_k, b_k its e1
+ * and e2 parts, c_k = -(a_k + b_k + n)) and n on p_k alone, so with U_B the n x 3 rows of vertex B
+ * and KU_B = K U_B, the blocks are U_A^T KU_B (T's vertices), KU_A[l] n^T (vertex A, point p_l) and
+ * K_kl n n^T (points p_k, p_l): no y-space matrix and no mapping of it.
+ * Curvature part: in y it has no (q_k, q_l) blocks; its (e_a, e_b) blocks are
+ *     -(w_a gL_b^T + gL_a w_b^T) - S Hess L_ab  - [q_s]x on (e1, e2), w_a = sum_k c_k g_a,k,
+ * q_s = sum_k c_k q_k, c_k = f_k / L, and its (e_a, q_k) blocks c_k ([e2]x, -[e1]x)_a - c_k gL_a n^T;
+ * the points' blocks follow from y_b = x_{b+1} - x_0 (x0's rows and columns minus the sums).
+ * Only the upper triangle is computed, then mirrored. */
+static void shape_hessian_points(const shape_geom *G, const double *xv, int npt, const double *K, const double *f,
+                                 const double *h, const double *gy, int gauss_newton, double *Hv, int ld)
 {
-    const int n = npt - 3, ny = 3 * (npt - 1);
-    memset(Hy, 0, sizeof(double) * (size_t)ny * (size_t)ny);
-    /* Gauss-Newton: for each k, kj = sum_l K_kl grad h_l (over y), then Hy += grad h_k kj^T */
+    const int n = npt - 3;
+    const double *nn = G->n;
+    double U[3][SHAPE_MAX_POINTS][3], KU[3][SHAPE_MAX_POINTS][3];
     for (int k = 0; k < n; k++) {
-        memset(kj, 0, sizeof(double) * (size_t)ny);
+        const double *g = gy + 9 * (3 + k);
+        for (int i = 0; i < 3; i++) {
+            U[1][k][i] = g[i];
+            U[2][k][i] = g[3 + i];
+            U[0][k][i] = -(g[i] + g[3 + i] + nn[i]);
+        }
+    }
+    for (int B = 0; B < 3; B++)
         for (int l = 0; l < n; l++) {
-            const double Kkl = K[k * n + l];
-            if (Kkl == 0.0)
-                continue;
-            const double *g = gy + 9 * (3 + l);
-            for (int i = 0; i < 3; i++) {
-                kj[i] += Kkl * g[i];
-                kj[3 + i] += Kkl * g[3 + i];
-                kj[3 * (2 + l) + i] += Kkl * g[6 + i];
+            double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+            const double *Kl = K + (size_t)l * n;
+            for (int k = 0; k < n; k++) {
+                s0 += Kl[k] * U[B][k][0];
+                s1 += Kl[k] * U[B][k][1];
+                s2 += Kl[k] * U[B][k][2];
+            }
+            KU[B][l][0] = s0, KU[B][l][1] = s1, KU[B][l][2] = s2;
+        }
+    /* T's vertices: U_A^T KU_B, A <= B (the upper half of a diagonal block) */
+    for (int A = 0; A < 3; A++)
+        for (int B = A; B < 3; B++)
+            for (int i = 0; i < 3; i++)
+                for (int j = A == B ? i : 0; j < 3; j++) {
+                    double v = 0.0;
+                    for (int l = 0; l < n; l++)
+                        v += U[A][l][i] * KU[B][l][j];
+                    Hv[(size_t)(3 * A + i) * ld + 3 * B + j] = v;
+                }
+    /* vertex A with point p_l, and points with points */
+    for (int A = 0; A < 3; A++)
+        for (int i = 0; i < 3; i++) {
+            double *row = Hv + (size_t)(3 * A + i) * ld + 9;
+            for (int l = 0; l < n; l++)
+                for (int j = 0; j < 3; j++)
+                    row[3 * l + j] = KU[A][l][i] * nn[j];
+        }
+    for (int k = 0; k < n; k++)
+        for (int i = 0; i < 3; i++) {
+            double *row = Hv + (size_t)(9 + 3 * k + i) * ld + 9;
+            const double ni = nn[i];
+            for (int l = k; l < n; l++) {
+                const double kn = K[(size_t)k * n + l] * ni;
+                for (int j = l == k ? i : 0; j < 3; j++)
+                    row[3 * l + j] = kn * nn[j];
             }
         }
-        const double *g = gy + 9 * (3 + k);
-        const int rows[3] = {0, 1, 2 + k};
-        for (int b = 0; b < 3; b++)
-            for (int i = 0; i < 3; i++) {
-                const double gi = g[3 * b + i];
-                if (gi == 0.0)
-                    continue;
-                double *row = Hy + (size_t)(3 * rows[b] + i) * ny;
-                for (int c = 0; c < ny; c++)
-                    row[c] += gi * kj[c];
-            }
-    }
-    if (!gauss_newton) {
+    int curved = 0; /* no force on any height (the rest shape): the block is its Gauss-Newton part */
+    for (int k = 0; k < n && !gauss_newton; k++)
+        curved |= f[k] != 0.0;
+    if (curved) {
         const double iL = 1.0 / G->L;
-        double gL[2][3];
-        cross3(G->e2, G->n, gL[0]);
-        cross3(G->n, G->e1, gL[1]);
-        double qs[3] = {0.0, 0.0, 0.0}, S = 0.0;
-        double Se1[3][3], Se2[3][3];
+        double gL[2][3], Se1[3][3], Se2[3][3];
+        cross3(G->e2, nn, gL[0]);
+        cross3(nn, G->e1, gL[1]);
         skew(G->e1, Se1);
         skew(G->e2, Se2);
+        double w[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}, qs[3] = {0.0, 0.0, 0.0}, S = 0.0;
+        double Cq[SHAPE_MAX_POINTS][2][3][3]; /* (e_a, q_k) */
+        double D[3][3] = {{0.0}}, Rq[2][3][3] = {{{0.0}}}; /* sum_k of (e1 + e2, q_k), of (q_k, e_a) */
         for (int k = 0; k < n; k++) {
-            const int j = 3 + k, Q = 2 + k;
+            const int j = 3 + k;
             const double c = f[k] * iL;
-            if (c == 0.0)
-                continue;
             const double q[3] = {xv[3 * j] - xv[0], xv[3 * j + 1] - xv[1], xv[3 * j + 2] - xv[2]};
+            const double *g = gy + 9 * j;
             S += c * h[j];
-            for (int i = 0; i < 3; i++)
+            for (int i = 0; i < 3; i++) {
                 qs[i] += c * q[i];
+                w[0][i] += c * g[i];
+                w[1][i] += c * g[3 + i];
+            }
             for (int i = 0; i < 3; i++)
                 for (int jj = 0; jj < 3; jj++) {
-                    Hy[(size_t)i * ny + 3 * Q + jj] += c * Se2[i][jj]; /* V_{e1 q} = [e2]x */
-                    Hy[(size_t)(3 * Q + jj) * ny + i] += c * Se2[i][jj];
-                    Hy[(size_t)(3 + i) * ny + 3 * Q + jj] -= c * Se1[i][jj]; /* V_{e2 q} = -[e1]x */
-                    Hy[(size_t)(3 * Q + jj) * ny + 3 + i] -= c * Se1[i][jj];
+                    const double c0 = c * (Se2[i][jj] - gL[0][i] * nn[jj]);
+                    const double c1 = -c * (Se1[i][jj] + gL[1][i] * nn[jj]);
+                    Cq[k][0][i][jj] = c0;
+                    Cq[k][1][i][jj] = c1;
+                    Rq[0][jj][i] += c0;
+                    Rq[1][jj][i] += c1;
                 }
-            const double *g = gy + 9 * j;
-            for (int a = 0; a < 3; a++) {
-                const int A = a < 2 ? a : Q;
-                for (int b = 0; b < 2; b++)
-                    for (int i = 0; i < 3; i++)
-                        for (int jj = 0; jj < 3; jj++) {
-                            const double v = c * g[3 * a + i] * gL[b][jj];
-                            Hy[(size_t)(3 * A + i) * ny + 3 * b + jj] -= v;
-                            Hy[(size_t)(3 * b + jj) * ny + 3 * A + i] -= v;
-                        }
-            }
         }
-        double Sq[3][3];
+        /* (e_a, e_b), a <= b, the upper half of a diagonal block */
+        double Cee[2][2][3][3], Sq[3][3], A[2][3][3], PA[2][3][3], Sn[3][3];
         skew(qs, Sq);
+        skew(nn, Sn);
         for (int i = 0; i < 3; i++)
             for (int jj = 0; jj < 3; jj++) {
-                Hy[(size_t)i * ny + 3 + jj] -= Sq[i][jj]; /* V_{e1 e2} = -[q]x */
-                Hy[(size_t)(3 + jj) * ny + i] -= Sq[i][jj];
+                A[0][i][jj] = -Se2[i][jj];
+                A[1][i][jj] = Se1[i][jj];
             }
-        /* - S Hess L, S = sum_k f_k h_k / L */
-        if (S != 0.0) {
-            double A[2][3][3], PA[2][3][3], Sn[3][3];
+        for (int a = 0; a < 2; a++)
+            for (int jj = 0; jj < 3; jj++) {
+                const double nA = nn[0] * A[a][0][jj] + nn[1] * A[a][1][jj] + nn[2] * A[a][2][jj];
+                for (int i = 0; i < 3; i++)
+                    PA[a][i][jj] = A[a][i][jj] - nn[i] * nA;
+            }
+        for (int a = 0; a < 2; a++)
+            for (int b = a; b < 2; b++)
+                for (int i = 0; i < 3; i++)
+                    for (int jj = 0; jj < 3; jj++) {
+                        /* (A_a^T P A_b)_{ij} = sum_m A_a[m][i] (P A_b)[m][j] (P^2 = P) */
+                        double v = (A[a][0][i] * PA[b][0][jj] + A[a][1][i] * PA[b][1][jj] + A[a][2][i] * PA[b][2][jj]) * iL;
+                        if (a != b)
+                            v -= Sn[i][jj];
+                        double e = -(w[a][i] * gL[b][jj] + gL[a][i] * w[b][jj]) - S * v;
+                        if (a != b)
+                            e -= Sq[i][jj];
+                        Cee[a][b][i][jj] = e;
+                    }
+        for (int i = 0; i < 3; i++) /* the lower halves of the diagonal blocks, and (e2, e1) */
+            for (int jj = 0; jj < 3; jj++) {
+                if (jj < i)
+                    Cee[0][0][i][jj] = Cee[0][0][jj][i], Cee[1][1][i][jj] = Cee[1][1][jj][i];
+                Cee[1][0][i][jj] = Cee[0][1][jj][i];
+            }
+        /* R_b = column sums of y-block column e_b, D = sum_k (e1 + e2, q_k) */
+        double R[2][3][3];
+        for (int b = 0; b < 2; b++)
+            for (int i = 0; i < 3; i++)
+                for (int jj = 0; jj < 3; jj++)
+                    R[b][i][jj] = Cee[0][b][i][jj] + Cee[1][b][i][jj] + Rq[b][i][jj];
+        for (int k = 0; k < n; k++)
             for (int i = 0; i < 3; i++)
                 for (int jj = 0; jj < 3; jj++) {
-                    A[0][i][jj] = -Se2[i][jj];
-                    A[1][i][jj] = Se1[i][jj];
+                    const double dk = Cq[k][0][i][jj] + Cq[k][1][i][jj];
+                    D[i][jj] += dk;
+                    Hv[(size_t)i * ld + 9 + 3 * k + jj] -= dk;
+                    Hv[(size_t)(3 + i) * ld + 9 + 3 * k + jj] += Cq[k][0][i][jj];
+                    Hv[(size_t)(6 + i) * ld + 9 + 3 * k + jj] += Cq[k][1][i][jj];
                 }
-            for (int a = 0; a < 2; a++)
-                for (int jj = 0; jj < 3; jj++) {
-                    const double nA = G->n[0] * A[a][0][jj] + G->n[1] * A[a][1][jj] + G->n[2] * A[a][2][jj];
-                    for (int i = 0; i < 3; i++)
-                        PA[a][i][jj] = A[a][i][jj] - G->n[i] * nA;
+        for (int i = 0; i < 3; i++)
+            for (int jj = 0; jj < 3; jj++) {
+                if (jj >= i) {
+                    Hv[(size_t)i * ld + jj] += R[0][i][jj] + R[1][i][jj] + D[i][jj];
+                    Hv[(size_t)(3 + i) * ld + 3 + jj] += Cee[0][0][i][jj];
+                    Hv[(size_t)(6 + i) * ld + 6 + jj] += Cee[1][1][i][jj];
                 }
-            skew(G->n, Sn);
-            for (int a = 0; a < 2; a++)
-                for (int b = 0; b < 2; b++)
-                    for (int i = 0; i < 3; i++)
-                        for (int jj = 0; jj < 3; jj++) {
-                            /* (A_a^T P A_b)_{ij} = sum_m A_a[m][i] (P A_b)[m][j] (P^2 = P) */
-                            double v = (A[a][0][i] * PA[b][0][jj] + A[a][1][i] * PA[b][1][jj] +
-                                        A[a][2][i] * PA[b][2][jj]) * iL;
-                            if (a == 0 && b == 1)
-                                v -= Sn[i][jj];
-                            else if (a == 1 && b == 0)
-                                v += Sn[i][jj];
-                            Hy[(size_t)(3 * a + i) * ny + 3 * b + jj] -= S * v;
-                        }
-        }
+                Hv[(size_t)i * ld + 3 + jj] -= R[0][i][jj];
+                Hv[(size_t)i * ld + 6 + jj] -= R[1][i][jj];
+                Hv[(size_t)(3 + i) * ld + 6 + jj] += Cee[0][1][i][jj];
+            }
     }
-    for (int r = 0; r < ny; r++)
-        for (int c = r + 1; c < ny; c++)
-            Hy[(size_t)r * ny + c] = Hy[(size_t)c * ny + r] = 0.5 * (Hy[(size_t)r * ny + c] + Hy[(size_t)c * ny + r]);
-}
-
-/* y -> points: point j >= 1 is y-block j - 1, point 0 is minus their sum. Hv is 3 npt x 3 npt
- * with row stride nv (>= 3 npt). */
-static void y_to_points(const double *Hy, int npt, double *Hv, int nv)
-{
-    const int ny = 3 * (npt - 1);
-    for (int r = 0; r < ny; r++)
-        for (int c = 0; c < ny; c++)
-            Hv[(size_t)(3 + r) * nv + 3 + c] = Hy[(size_t)r * ny + c];
-    /* row i of point 0: minus the sum of rows i of the other points (rows are contiguous) */
-    for (int i = 0; i < 3; i++) {
-        double *r0 = Hv + (size_t)i * nv + 3;
-        memset(r0, 0, sizeof(double) * (size_t)ny);
-        for (int B = 0; B < npt - 1; B++) {
-            const double *r = Hy + (size_t)(3 * B + i) * ny;
-            for (int c = 0; c < ny; c++)
-                r0[c] -= r[c];
-        }
-        for (int c = 0; c < ny; c++)
-            Hv[(size_t)(3 + c) * nv + i] = r0[c];
-    }
-    for (int i = 0; i < 3; i++)
-        for (int jj = 0; jj < 3; jj++) {
-            double s = 0.0;
-            for (int B = 0; B < npt - 1; B++)
-                s += Hv[(size_t)i * nv + 3 + 3 * B + jj];
-            Hv[(size_t)i * nv + jj] = -s;
-        }
-    for (int i = 0; i < 3; i++)
-        for (int jj = i + 1; jj < 3; jj++)
-            Hv[(size_t)i * nv + jj] = Hv[(size_t)jj * nv + i] = 0.5 * (Hv[(size_t)i * nv + jj] + Hv[(size_t)jj * nv + i]);
+    const int nv = 3 * npt;
+    for (int r = 1; r < nv; r++)
+        for (int c = 0; c < r; c++)
+            Hv[(size_t)r * ld + c] = Hv[(size_t)c * ld + r];
 }
 
 /* Adds the 3-vector v of point j to the slots it depends on, in out (stride 1 per coordinate,
@@ -431,17 +458,16 @@ static int tri_energy(const shape_ctx *ctx, plume_index t, const double *x, doub
     return 1;
 }
 
-static plume_status shape_eval(void *vctx, int dim, const double *x, double *energy, double *grad,
-                               double *hblocks, int project)
+/* The energy, gradient and blocks of triangles first .. first + count - 1 (hblocks: triangle
+ * first's block first). */
+static plume_status shape_eval_range(const shape_ctx *ctx, const double *x, plume_index first, plume_index count,
+                                     double *energy, double *grad, double *hblocks, int project)
 {
-    const shape_ctx *ctx = vctx;
-    if (!ctx || !x || dim != 3)
-        return PLUME_EINVAL;
     const int mp = ctx->maxpt, ka = 3 * ctx->arity;
     double *xv = ctx->work, *h = xv + 3 * mp, *f = h + mp, *gy = f + mp, *gv = gy + 9 * mp, *ga = gv + 3 * mp;
-    double *kj = ga + ka, *Hy = kj + 3 * mp, *Hv = Hy + (size_t)9 * mp * mp, *Ht = Hv + (size_t)9 * mp * mp;
+    double *Hv = ga + ka, *Ht = Hv + (size_t)9 * mp * mp;
     double E = 0.0;
-    for (plume_index t = 0; t < ctx->nt; t++) {
+    for (plume_index t = first; t < first + count; t++) {
         const shape_tri *T = &ctx->tri[t];
         const shape_point *P = ctx->pts + T->pt;
         const int npt = T->npt, n = npt - 3;
@@ -493,16 +519,15 @@ static plume_status shape_eval(void *vctx, int dim, const double *x, double *ene
         }
         if (hblocks) {
             const int nv = 3 * npt;
-            double *Hb = hblocks + (size_t)t * (size_t)ka * (size_t)ka;
-            shape_hessian_y(&G, xv, npt, K, f, h, gy, project != 0, Hy, kj);
+            double *Hb = hblocks + (size_t)(t - first) * (size_t)ka * (size_t)ka;
             if (T->plain) { /* point j is slot j: the block is Hv, padded with zeros */
-                y_to_points(Hy, npt, Hb, ka);
+                shape_hessian_points(&G, xv, npt, K, f, h, gy, project != 0, Hb, ka);
                 for (int r = 0; r < ka; r++)
                     memset(Hb + (size_t)r * ka + (r < nv ? nv : 0), 0,
                            sizeof(double) * (size_t)(r < nv ? ka - nv : ka));
                 continue;
             }
-            y_to_points(Hy, npt, Hv, nv);
+            shape_hessian_points(&G, xv, npt, K, f, h, gy, project != 0, Hv, nv);
             /* Ht = Hv T (columns to slots), then the block = T^T Ht (rows to slots) */
             memset(Ht, 0, sizeof(double) * (size_t)nv * (size_t)ka);
             for (int r = 0; r < nv; r++)
@@ -524,6 +549,24 @@ static plume_status shape_eval(void *vctx, int dim, const double *x, double *ene
     if (energy)
         *energy += E;
     return PLUME_OK;
+}
+
+static plume_status shape_eval(void *vctx, int dim, const double *x, double *energy, double *grad,
+                               double *hblocks, int project)
+{
+    const shape_ctx *ctx = vctx;
+    if (!ctx || !x || dim != 3)
+        return PLUME_EINVAL;
+    return shape_eval_range(ctx, x, 0, ctx->nt, energy, grad, hblocks, project);
+}
+
+static plume_status shape_hess_range(void *vctx, int dim, const double *x, plume_index first, plume_index count,
+                                     double *hblocks, int project)
+{
+    const shape_ctx *ctx = vctx;
+    if (!ctx || !x || dim != 3 || !hblocks || first < 0 || count < 0 || count > ctx->nt - first)
+        return PLUME_EINVAL;
+    return shape_eval_range(ctx, x, first, count, NULL, NULL, hblocks, project);
 }
 
 static plume_status shape_energies(void *vctx, int dim, const double *x, double *e)
@@ -831,10 +874,6 @@ plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume
     return plume_shape_bending_term_create_opts(mesh, mats, nmat, rest_x, NULL, out, err);
 }
 
-/* Room for the points of a triangle: its 3 vertices and 3 own points, and from each of three
- * neighbours at most its opposite vertex and its 3 points: 18 (slots never outnumber points). */
-#define SHAPE_MAX_POINTS 24
-
 plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const plume_bending_material *mats,
                                                   int nmat, const double *rest_x, const plume_shape_bending_opts *o,
                                                   plume_term *out, plume_err *err)
@@ -947,7 +986,7 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
     ctx->stencil = malloc(((size_t)arity * (size_t)nt + 1) * sizeof *ctx->stencil);
     ctx->pts = malloc((npts + 1) * sizeof *ctx->pts);
     ctx->dbl = malloc((ndbl + 1) * sizeof *ctx->dbl);
-    ctx->work = malloc((20 * mp + ka + 18 * mp * mp + 3 * mp * ka) * sizeof *ctx->work);
+    ctx->work = malloc((17 * mp + ka + 9 * mp * mp + 3 * mp * ka) * sizeof *ctx->work);
     if (!ctx->stencil || !ctx->pts || !ctx->dbl || !ctx->work) {
         st = plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
         goto cleanup;
@@ -999,6 +1038,8 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
     out->eval = shape_eval;
     out->energies = shape_energies;
     out->partial_projection = 1; /* the Gauss-Newton block: closed form, the stiffness kept */
+    out->hess_range = shape_hess_range;
+    out->padded = 1;
     out->destroy = shape_destroy;
     out->ctx = ctx;
     ctx = NULL;

@@ -9,6 +9,7 @@
 #include "harness.h"
 #include "test_rng.h"
 #include "../lib/solve/cholesky.h"
+#include "../lib/solve/internal/cholesky_like.h"
 
 /* the upper triangle (CSC, rows sorted) of a 2D grid of nx x ny nodes with 3 dofs each, every dof
  * of a node coupled to every dof of its 8 neighbours: the pattern of a shell mesh's Hessian */
@@ -130,4 +131,97 @@ void test_cholesky_permuted_solves(void)
     free(a.colptr);
     free(a.rowind);
     free(a.val);
+}
+
+/* a copy of a with node 0's dofs coupled to the last node's (rows 0..2 added to its 3 columns):
+ * the pattern a contact pair between two far vertices adds */
+static upper_csc with_far_pair(const upper_csc *a)
+{
+    upper_csc b;
+    b.n = a->n;
+    b.colptr = calloc((size_t)b.n + 1, sizeof *b.colptr);
+    b.rowind = malloc(((size_t)a->colptr[a->n] + 9) * sizeof *b.rowind);
+    b.val = malloc(((size_t)a->colptr[a->n] + 9) * sizeof *b.val);
+    plume_index nnz = 0;
+    for (plume_index col = 0; col < b.n; col++) {
+        if (col >= b.n - 3)
+            for (plume_index r = 0; r < 3; r++)
+                b.rowind[nnz++] = r;
+        for (plume_index k = a->colptr[col]; k < a->colptr[col + 1]; k++)
+            b.rowind[nnz++] = a->rowind[k];
+        b.colptr[col + 1] = nnz;
+    }
+    return b;
+}
+
+/* plume_chol_create_like: a pattern that grew by a far pair, analysed in the base pattern's order
+ * (found here, then taken from the first factorisation), a denser one (every node coupled to its
+ * 2-ring), whose fill sends it back to AMD and METIS, and the base pattern itself: each
+ * factorises and solves its own matrix, and the base pattern's factorisation is the one
+ * plume_chol_create makes (the same solution bit for bit). */
+void test_cholesky_create_like(void)
+{
+    upper_csc a = grid_pattern(23, 17), b = with_far_pair(&a);
+    plume_chol *first = NULL, *next = NULL, *self = NULL, *plain = NULL;
+    CHECK(plume_chol_create_like(b.n, b.colptr, b.rowind, 0, a.colptr, a.rowind, NULL, &first, NULL) == PLUME_OK);
+    CHECK(plume_chol_create_like(b.n, b.colptr, b.rowind, 0, a.colptr, a.rowind, first, &next, NULL) == PLUME_OK);
+    CHECK(plume_chol_create_like(a.n, a.colptr, a.rowind, 0, a.colptr, a.rowind, first, &self, NULL) == PLUME_OK);
+    CHECK(plume_chol_create(a.n, a.colptr, a.rowind, 0, &plain, NULL) == PLUME_OK);
+    double *rhs = malloc((size_t)b.n * sizeof *rhs), *x = malloc((size_t)b.n * sizeof *x);
+    double *y = malloc((size_t)b.n * sizeof *y);
+    for (plume_index i = 0; i < b.n; i++)
+        rhs[i] = cos(0.21 * (double)i) + (double)(i % 5);
+    if (first && next && self && plain) {
+        grid_values(&b, 0x5851F42D4C957F2DULL, 50.0);
+        CHECK(plume_chol_factor(first, b.val, 0.0) == PLUME_OK);
+        CHECK(plume_chol_solve(first, rhs, x) == PLUME_OK);
+        CHECK(residual(&b, x, rhs, 0.0) <= 1e-13);
+        CHECK(plume_chol_factor(next, b.val, 0.0) == PLUME_OK);
+        CHECK(plume_chol_solve(next, rhs, y) == PLUME_OK);
+        CHECK(memcmp(x, y, (size_t)b.n * sizeof *x) == 0); /* the same order, however it came */
+        grid_values(&a, 0x14057B7EF767814FULL, 50.0);
+        CHECK(plume_chol_factor(self, a.val, 0.25) == PLUME_OK && plume_chol_factor(plain, a.val, 0.25) == PLUME_OK);
+        CHECK(plume_chol_solve(self, rhs, x) == PLUME_OK && plume_chol_solve(plain, rhs, y) == PLUME_OK);
+        CHECK(residual(&a, x, rhs, 0.25) <= 1e-13);
+        CHECK(memcmp(x, y, (size_t)a.n * sizeof *x) == 0);
+    }
+    /* the denser pattern: a 5 x 5 stencil per node */
+    upper_csc d;
+    d.n = a.n;
+    d.colptr = calloc((size_t)d.n + 1, sizeof *d.colptr);
+    d.rowind = malloc((size_t)d.n * 75 * sizeof *d.rowind);
+    d.val = malloc((size_t)d.n * 75 * sizeof *d.val);
+    plume_index nnz = 0;
+    for (plume_index col = 0; col < d.n; col++) {
+        int node = (int)(col / 3), i = node % 23, j = node / 23;
+        for (int jj = j - 2; jj <= j + 2; jj++)
+            for (int ii = i - 2; ii <= i + 2; ii++)
+                for (int q = 0; q < 3 && ii >= 0 && jj >= 0 && ii < 23 && jj < 17; q++)
+                    if (dof(23, ii, jj, q) <= col)
+                        d.rowind[nnz++] = dof(23, ii, jj, q);
+        d.colptr[col + 1] = nnz;
+    }
+    plume_chol *dense = NULL;
+    CHECK(plume_chol_create_like(d.n, d.colptr, d.rowind, 0, a.colptr, a.rowind, first, &dense, NULL) == PLUME_OK);
+    if (dense) {
+        grid_values(&d, 0x2545F4914F6CDD1DULL, 90.0);
+        CHECK(plume_chol_factor(dense, d.val, 0.0) == PLUME_OK);
+        CHECK(plume_chol_solve(dense, rhs, x) == PLUME_OK);
+        CHECK(residual(&d, x, rhs, 0.0) <= 1e-13);
+    }
+    CHECK(plume_chol_create_like(0, a.colptr, a.rowind, 0, NULL, NULL, NULL, &dense, NULL) == PLUME_EINVAL);
+    plume_chol_destroy(&first);
+    plume_chol_destroy(&next);
+    plume_chol_destroy(&self);
+    plume_chol_destroy(&plain);
+    plume_chol_destroy(&dense);
+    free(rhs);
+    free(x);
+    free(y);
+    upper_csc *all[3] = {&a, &b, &d};
+    for (int k = 0; k < 3; k++) {
+        free(all[k]->colptr);
+        free(all[k]->rowind);
+        free(all[k]->val);
+    }
 }

@@ -570,6 +570,25 @@ void test_shape_bending_stencil(void)
         CHECK(t.eval(t.ctx, 3, m->x, NULL, NULL, H, 1) == PLUME_OK);
         CHECK(t.eval(t.ctx, 2, m->x, &E, NULL, NULL, 0) == PLUME_EINVAL);
         CHECK(t.eval(t.ctx, 3, NULL, &E, NULL, NULL, 0) == PLUME_EINVAL);
+        /* hess_range: the blocks of any range as eval writes them, bit for bit, exact and projected;
+         * the stencils are padded with their first vertex */
+        CHECK(t.hess_range != NULL && t.padded == 1);
+        double *R = malloc(sizeof(double) * kk * 7);
+        for (int pj = 0; pj < 2 && t.hess_range && R; pj++) {
+            CHECK(t.eval(t.ctx, 3, m->x, NULL, NULL, H, pj) == PLUME_OK);
+            for (plume_index first = 0; first < t.nstencil; first += 7) {
+                const plume_index cnt = t.nstencil - first < 7 ? t.nstencil - first : 7;
+                CHECK(t.hess_range(t.ctx, 3, m->x, first, cnt, R, pj) == PLUME_OK);
+                CHECK(memcmp(R, H + kk * (size_t)first, sizeof(double) * kk * (size_t)cnt) == 0);
+            }
+        }
+        if (t.hess_range && R) {
+            CHECK(t.hess_range(t.ctx, 3, m->x, t.nstencil - 1, 2, R, 0) == PLUME_EINVAL);
+            CHECK(t.hess_range(t.ctx, 3, m->x, -1, 1, R, 0) == PLUME_EINVAL);
+            CHECK(t.hess_range(t.ctx, 2, m->x, 0, 1, R, 0) == PLUME_EINVAL);
+            CHECK(t.hess_range(t.ctx, 3, m->x, 0, 1, NULL, 0) == PLUME_EINVAL);
+        }
+        free(R);
         /* a collapsed current triangle: PLUME_ESINGULAR (a trial point the line search rejects), not NaN */
         const plume_index *tv = m->tri;
         for (int i = 0; i < 3; i++)

@@ -275,6 +275,16 @@ static void case_quadratic_fixed(plume_solver_kind kind)
     const double *x = plume_problem_x(p);
     CHECK(x[2] == u[0] && x[7] == u[4] && x[5] == QF_Y2 && x[8] == QF_X4[0]);
     CHECK(rep.kkt_residual <= o.tol_kkt && rep.max_violation == 0.0);
+    /* renewed (same pattern: the old order kept), the same solution from the same start */
+    plume_solver *old = s;
+    CHECK(plume_solver_renew(&s, &o, NULL) == PLUME_OK && s != NULL && s != old);
+    double v[5] = {0.3, -1.0, 7.0, 2.0, 0.0};
+    CHECK(plume_solver_solve(s, v, NULL, &rep) == PLUME_OK && rep.converged);
+    for (int i = 0; i < 5; i++)
+        CHECK_REL(v[i], exact[i], 1e-10, 1.0);
+    CHECK(plume_solver_renew(NULL, &o, NULL) == PLUME_EINVAL);
+    plume_solver *none = NULL;
+    CHECK(plume_solver_renew(&none, &o, NULL) == PLUME_EINVAL && none == NULL);
 done:
     plume_solver_destroy(&s);
     CHECK(s == NULL);

@@ -430,11 +430,12 @@ static plume_status box_search(plume_contact_broad *b, plume_contact_pairs *vt, 
     return st;
 }
 
-/* closed boxes meet: CGAL's CLOSED test */
+/* closed boxes meet: CGAL's CLOSED test. Without branches: the kept pairs are filtered by tens of
+ * thousands at every query, and whether two of them meet is not predictable. */
 static int boxes_meet(const plume_box *a, const plume_box *c)
 {
-    return a->lo[0] <= c->hi[0] && c->lo[0] <= a->hi[0] && a->lo[1] <= c->hi[1] && c->lo[1] <= a->hi[1] &&
-           a->lo[2] <= c->hi[2] && c->lo[2] <= a->hi[2];
+    return (a->lo[0] <= c->hi[0]) & (c->lo[0] <= a->hi[0]) & (a->lo[1] <= c->hi[1]) & (c->lo[1] <= a->hi[1]) &
+           (a->lo[2] <= c->hi[2]) & (c->lo[2] <= a->hi[2]);
 }
 
 static plume_status room_for(plume_contact_pairs *l, plume_index n)
@@ -503,18 +504,18 @@ static plume_status reused_search(plume_contact_broad *b, const double *x, const
         return st;
     if (room_for(&b->vt, b->rvt.n) != PLUME_OK || room_for(&b->ee, b->ree.n) != PLUME_OK)
         return plume_err_set(err, PLUME_ENOMEM, "contact: broad: no memory for %ld pairs", (long)(b->rvt.n + b->ree.n));
-    plume_index n = 0;
+    plume_index n = 0; /* every pair written, the count advanced where the boxes meet */
     for (plume_index k = 0; k < b->rvt.n; k++) {
         const plume_contact_pair q = b->rvt.p[k];
-        if (boxes_meet(b->vbox + q.a, b->tbox + q.b))
-            b->vt.p[n++] = q;
+        b->vt.p[n] = q;
+        n += boxes_meet(b->vbox + q.a, b->tbox + q.b);
     }
     b->vt.n = n;
     n = 0;
     for (plume_index k = 0; k < b->ree.n; k++) {
         const plume_contact_pair q = b->ree.p[k];
-        if (boxes_meet(b->ebox + q.a, b->ebox + q.b))
-            b->ee.p[n++] = q;
+        b->ee.p[n] = q;
+        n += boxes_meet(b->ebox + q.a, b->ebox + q.b);
     }
     b->ee.n = n;
     return PLUME_OK;

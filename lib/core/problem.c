@@ -5,21 +5,34 @@
 #include <string.h>
 #include <time.h>
 
-/* Where the element blocks of a term go in the Hessian values: for stencil s, the entries
- * start[s] .. start[s+1]-1 add block entry src[e] (row-major in the k x k block) to values[dst[e]].
- * Only the entries that land in the upper triangle on free dofs are listed (about half of each
- * block), in the block's row-major order, so the sums are those of a scan of the whole block. */
+/* Where the element blocks of a term go in the Hessian values. Only the entries that land in the
+ * upper triangle on free dofs are added (about half of each block), each value of the pattern at
+ * most once per stencil, so the sums are those of a scan of the whole block, stencil after
+ * stencil, whatever the order within a stencil.
+ * - By vertex blocks (a stencil whose vertices are distinct and each free in all its dofs or in
+ *   none): pairs bstart[s] .. bstart[s+1]-1, local vertices a = bab & 0xffff (the one with the
+ *   smaller free index, the rows) and b = bab >> 16, b's first free index bcol. The pattern is a
+ *   union of whole vertex blocks, so the d x d block sits in columns bcol + j at one offset:
+ *   entry (i, j) at bpos + (colptr[bcol + j] - colptr[bcol]) + i, bpos the position of its
+ *   (0, 0); a == b is a diagonal block, whose column bcol + j ends with rows bcol .. bcol + j.
+ *   About 2 bytes of map per entry instead of 12: the scatter was bound by reading the map.
+ * - Entry by entry (the others): entries start[s] .. start[s+1]-1 add block entry src[e]
+ *   (row-major in the k x k block) to values[dst[e]]. */
 typedef struct {
-    plume_index *start; /* [nstencil + 1] */
-    unsigned *src;      /* [start[nstencil]] */
-    plume_index *dst;   /* [start[nstencil]] */
+    plume_index *start;  /* [nstencil + 1] */
+    unsigned *src;       /* [start[nstencil]] */
+    plume_index *dst;    /* [start[nstencil]] */
+    plume_index *bstart; /* [nstencil + 1] */
+    unsigned *bab;       /* [bstart[nstencil]] */
+    plume_index *bcol;   /* [bstart[nstencil]] */
+    plume_index *bpos;   /* [bstart[nstencil]], -1 on a diagonal block */
 } scatter_map;
 
 /* A term or constraint set with its scatter maps into the free-dof structures. */
 typedef struct {
     plume_term t;
     scatter_map hmap;
-    double *blocks;    /* [nstencil*k*k] workspace */
+    double *blocks;    /* workspace: [nstencil*k*k], or a chunk's blocks with hess_range */
 } term_slot;
 
 typedef struct {
@@ -60,13 +73,31 @@ struct plume_problem {
     plume_problem_timing timing;
 };
 
+/* A term with hess_range is assembled this many block entries at a time (256 kB of blocks): they are
+ * scattered while still in the cache. Written whole, the blocks of shape-operator bending on the
+ * wing (45 MB) went out to memory and back at every Hessian. */
+#define HESS_CHUNK_ENTRIES 32768
+
+/* Stencils of a term assembled per call of its hess_range, and the size of its blocks workspace. */
+static plume_index term_chunk(const plume_term *t, size_t kk)
+{
+    if (!t->hess_range)
+        return t->nstencil;
+    const plume_index c = (plume_index)(HESS_CHUNK_ENTRIES / kk);
+    return c < 1 ? 1 : c < t->nstencil ? c : t->nstencil;
+}
+
 static void scatter_map_free(scatter_map *m)
 {
     free(m->start);
     free(m->src);
     free(m->dst);
-    m->start = m->dst = NULL;
-    m->src = NULL;
+    free(m->bstart);
+    free(m->bab);
+    free(m->bcol);
+    free(m->bpos);
+    m->start = m->dst = m->bstart = m->bcol = m->bpos = NULL;
+    m->src = m->bab = NULL;
 }
 
 static double now(void)
@@ -257,16 +288,28 @@ static plume_index find_entry(const plume_problem *p, plume_index r, plume_index
     return -1;
 }
 
-/* Adds the upper-triangle free pairs of one stencil to `pairs` (if non-NULL); returns their count. */
-static plume_index stencil_pairs(const plume_problem *p, const plume_index *st, int arity, pair *pairs)
+/* The places of a stencil that hold its vertices: all of them, or with `padded` (plume_term's) those
+ * before the trailing repeats of its first vertex. */
+static int stencil_size(const plume_index *st, int arity, int padded)
+{
+    int n = arity;
+    while (padded && n > 1 && st[n - 1] == st[0])
+        n--;
+    return n;
+}
+
+/* Adds the upper-triangle free pairs of one stencil to `pairs` (if non-NULL); returns their count.
+ * A padded stencil's repeats of its first vertex add no pair that its first place does not. */
+static plume_index stencil_pairs(const plume_problem *p, const plume_index *st, int arity, int padded, pair *pairs)
 {
     plume_index n = 0;
     int d = p->dim;
-    for (int a = 0; a < arity * d; a++) {
+    const int used = stencil_size(st, arity, padded) * d;
+    for (int a = 0; a < used; a++) {
         plume_index fa = p->free_of_dof[st[a / d] * d + a % d];
         if (fa < 0)
             continue;
-        for (int b = 0; b < arity * d; b++) {
+        for (int b = 0; b < used; b++) {
             plume_index fb = p->free_of_dof[st[b / d] * d + b % d];
             if (fb < 0 || fa > fb)
                 continue;
@@ -280,33 +323,105 @@ static plume_index stencil_pairs(const plume_problem *p, const plume_index *st, 
     return n;
 }
 
-/* The scatter map of n stencils of `arity` vertices (stencils [n*arity]) on the current pattern.
- * The listed entries are those stencil_pairs counts, in the same order. */
-static plume_status scatter_map_build(const plume_problem *p, const plume_index *stencils, int arity, plume_index n,
-                                      scatter_map *m)
+/* Whether stencil st (used places) is assembled by vertex blocks, and its count of vertex pairs
+ * (upper, diagonal included): its vertices distinct, each free in all of its d dofs (consecutive
+ * free indices) or in none, and every entry where the pattern's block structure puts it. */
+static int stencil_blocked(const plume_problem *p, const plume_index *st, int used, int arity, plume_index *npairs)
+{
+    const int d = p->dim;
+    *npairs = 0;
+    if (arity > 0xffff)
+        return 0;
+    int nfree = 0;
+    for (int a = 0; a < used; a++) {
+        const plume_index f0 = p->free_of_dof[st[a] * d];
+        for (int i = 1; i < d; i++) {
+            const plume_index fi = p->free_of_dof[st[a] * d + i];
+            if (f0 < 0 ? fi >= 0 : fi != f0 + i)
+                return 0;
+        }
+        for (int b = 0; b < a; b++)
+            if (st[b] == st[a])
+                return 0;
+        nfree += f0 >= 0;
+    }
+    for (int a = 0; a < used; a++) {
+        const plume_index fa = p->free_of_dof[st[a] * d];
+        for (int b = 0; b < used && fa >= 0; b++) {
+            const plume_index fb = p->free_of_dof[st[b] * d];
+            if (fb < fa)
+                continue;
+            const plume_index p0 = find_entry(p, fa, fb);
+            for (int j = 0; j < d; j++)
+                for (int i = 0; i < (a == b ? j + 1 : d); i++) {
+                    const plume_index at = a == b ? p->colptr[fb + j + 1] - 1 - j + i
+                                                  : p0 + (p->colptr[fb + j] - p->colptr[fb]) + i;
+                    if (p0 < 0 || at != find_entry(p, fa + i, fb + j))
+                        return 0;
+                }
+        }
+    }
+    *npairs = (plume_index)nfree * (nfree + 1) / 2;
+    return 1;
+}
+
+/* The scatter map of n stencils of `arity` vertices (stencils [n*arity], padded as plume_term's
+ * flag says) on the current pattern: by vertex blocks where stencil_blocked says so, otherwise
+ * the entries stencil_pairs counts. A padded place's block entries are zero, and skipping them
+ * leaves every sum as it was. */
+static plume_status scatter_map_build(const plume_problem *p, const plume_index *stencils, int arity, int padded,
+                                      plume_index n, scatter_map *m)
 {
     const int d = p->dim, k = arity * d;
+    memset(m, 0, sizeof *m);
     m->start = malloc((size_t)(n + 1) * sizeof *m->start);
-    if (!m->start)
+    m->bstart = malloc((size_t)(n + 1) * sizeof *m->bstart);
+    if (!m->start || !m->bstart) {
+        scatter_map_free(m);
         return PLUME_ENOMEM;
-    m->start[0] = 0;
-    for (plume_index s = 0; s < n; s++)
-        m->start[s + 1] = m->start[s] + stencil_pairs(p, stencils + s * arity, arity, NULL);
-    const plume_index ne = m->start[n];
+    }
+    m->start[0] = m->bstart[0] = 0;
+    for (plume_index s = 0; s < n; s++) {
+        const plume_index *st = stencils + s * arity;
+        plume_index np = 0;
+        const int blocked = stencil_blocked(p, st, stencil_size(st, arity, padded), arity, &np);
+        m->start[s + 1] = m->start[s] + (blocked ? 0 : stencil_pairs(p, st, arity, padded, NULL));
+        m->bstart[s + 1] = m->bstart[s] + np;
+    }
+    const plume_index ne = m->start[n], nb = m->bstart[n];
     m->src = malloc((size_t)(ne + 1) * sizeof *m->src);
     m->dst = malloc((size_t)(ne + 1) * sizeof *m->dst);
-    if (!m->src || !m->dst) {
+    m->bab = malloc((size_t)(nb + 1) * sizeof *m->bab);
+    m->bcol = malloc((size_t)(nb + 1) * sizeof *m->bcol);
+    m->bpos = malloc((size_t)(nb + 1) * sizeof *m->bpos);
+    if (!m->src || !m->dst || !m->bab || !m->bcol || !m->bpos) {
         scatter_map_free(m);
         return PLUME_ENOMEM;
     }
     for (plume_index s = 0; s < n; s++) {
         const plume_index *st = stencils + s * arity;
+        const int used_v = stencil_size(st, arity, padded), used = used_v * d;
+        if (m->bstart[s + 1] > m->bstart[s]) {
+            plume_index q = m->bstart[s];
+            for (int a = 0; a < used_v; a++) {
+                const plume_index fa = p->free_of_dof[st[a] * d];
+                for (int b = 0; b < used_v && fa >= 0; b++) {
+                    const plume_index fb = p->free_of_dof[st[b] * d];
+                    if (fb < fa)
+                        continue;
+                    m->bab[q] = (unsigned)a | (unsigned)b << 16;
+                    m->bcol[q] = fb;
+                    m->bpos[q++] = a == b ? -1 : find_entry(p, fa, fb);
+                }
+            }
+            continue;
+        }
         plume_index e = m->start[s];
-        for (int a = 0; a < k; a++) {
+        for (int a = 0; a < used; a++) {
             plume_index fa = p->free_of_dof[st[a / d] * d + a % d];
             if (fa < 0)
                 continue;
-            for (int b = 0; b < k; b++) {
+            for (int b = 0; b < used; b++) {
                 plume_index fb = p->free_of_dof[st[b / d] * d + b % d];
                 if (fb < 0 || fa > fb)
                     continue;
@@ -393,10 +508,11 @@ static plume_status collect_pairs(const plume_problem *p, int changing, pair **o
     for (int t = 0; t < p->nterms; t++)
         if ((p->terms[t].t.update != NULL) == changing)
             for (plume_index s = 0; s < p->terms[t].t.nstencil; s++)
-                np += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity, NULL);
+                np += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity,
+                                     p->terms[t].t.padded, NULL);
     for (int s = 0; !changing && s < p->ncsets; s++)
         for (plume_index i = 0; i < p->cons[s].c.m; i++)
-            np += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, NULL);
+            np += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, 0, NULL);
     pair *pairs = malloc((size_t)(np + 1) * sizeof *pairs);
     if (!pairs)
         return PLUME_ENOMEM;
@@ -404,10 +520,11 @@ static plume_status collect_pairs(const plume_problem *p, int changing, pair **o
     for (int t = 0; t < p->nterms; t++)
         if ((p->terms[t].t.update != NULL) == changing)
             for (plume_index s = 0; s < p->terms[t].t.nstencil; s++)
-                k += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity, pairs + k);
+                k += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity,
+                                    p->terms[t].t.padded, pairs + k);
     for (int s = 0; !changing && s < p->ncsets; s++)
         for (plume_index i = 0; i < p->cons[s].c.m; i++)
-            k += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, pairs + k);
+            k += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, 0, pairs + k);
     for (plume_index i = 0; !changing && i < p->nfree; i++, k++) /* the diagonal: regularisation, KKT */
         pairs[k].r = pairs[k].c = i;
     *out = pairs;
@@ -466,6 +583,17 @@ static plume_status pairs_to_csc(plume_index nfree, const pair *pairs, plume_ind
 
 /* The fixed stencils' scatter maps, kept from the last build, moved to the new merged pattern:
  * old position -> entry of the fixed part (the old smerged inverted) -> new position. */
+/* A fixed stencils' map to the merged pattern's new positions (a vertex block's other entries
+ * follow from its first through the pattern's block structure, which the merge keeps). */
+static void move_map(const plume_problem *p, scatter_map *m, plume_index n, const plume_index *fixed_of)
+{
+    for (plume_index e = 0; e < m->start[n]; e++)
+        m->dst[e] = p->smerged[fixed_of[m->dst[e]]];
+    for (plume_index q = 0; q < m->bstart[n]; q++)
+        if (m->bpos[q] >= 0)
+            m->bpos[q] = p->smerged[fixed_of[m->bpos[q]]];
+}
+
 static plume_status move_fixed_maps(plume_problem *p, plume_index old_nnz, const plume_index *old_smerged)
 {
     const plume_index ns = p->scol[p->nfree];
@@ -478,14 +606,10 @@ static plume_status move_fixed_maps(plume_problem *p, plume_index old_nnz, const
         term_slot *ts = p->terms + t;
         if (ts->t.update)
             continue;
-        for (plume_index e = 0; e < ts->hmap.start[ts->t.nstencil]; e++)
-            ts->hmap.dst[e] = p->smerged[fixed_of[ts->hmap.dst[e]]];
+        move_map(p, &ts->hmap, ts->t.nstencil, fixed_of);
     }
-    for (int s = 0; s < p->ncsets; s++) {
-        cons_slot *c = p->cons + s;
-        for (plume_index e = 0; e < c->hmap.start[c->c.m]; e++)
-            c->hmap.dst[e] = p->smerged[fixed_of[c->hmap.dst[e]]];
-    }
+    for (int s = 0; s < p->ncsets; s++)
+        move_map(p, &p->cons[s].hmap, p->cons[s].c.m, fixed_of);
     free(fixed_of);
     return PLUME_OK;
 }
@@ -615,8 +739,8 @@ static plume_status build_structure_with(plume_problem *p, int rebuild, plume_er
         if (rebuild && !ts->t.update)
             continue; /* kept, its map moved */
         size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
-        ts->blocks = malloc(((size_t)ts->t.nstencil * kk + 1) * sizeof *ts->blocks);
-        if (!ts->blocks || scatter_map_build(p, ts->t.stencil, ts->t.arity, ts->t.nstencil, &ts->hmap) != PLUME_OK) {
+        ts->blocks = malloc(((size_t)term_chunk(&ts->t, kk) * kk + 1) * sizeof *ts->blocks);
+        if (!ts->blocks || scatter_map_build(p, ts->t.stencil, ts->t.arity, ts->t.padded, ts->t.nstencil, &ts->hmap) != PLUME_OK) {
             st = PLUME_ENOMEM;
             goto cleanup;
         }
@@ -626,7 +750,7 @@ static plume_status build_structure_with(plume_problem *p, int rebuild, plume_er
     for (int s = 0; s < p->ncsets; s++) {
         cons_slot *c = p->cons + s;
         int k = c->c.arity * d;
-        if (!rebuild && scatter_map_build(p, c->c.stencil, c->c.arity, c->c.m, &c->hmap) != PLUME_OK) {
+        if (!rebuild && scatter_map_build(p, c->c.stencil, c->c.arity, 0, c->c.m, &c->hmap) != PLUME_OK) {
             st = PLUME_ENOMEM;
             goto cleanup;
         }
@@ -852,15 +976,42 @@ plume_sparsity plume_problem_hessian_pattern(const plume_problem *p)
     return s;
 }
 
-static void scatter_blocks(double *values, const scatter_map *m, plume_index n, const double *blocks, size_t kk,
-                           double w)
+plume_sparsity plume_problem_fixed_pattern(const plume_problem *p)
+{
+    plume_sparsity s = {p->nfree, p->scol ? p->scol[p->nfree] : 0, p->scol, p->srow};
+    return s;
+}
+
+/* Scatters the blocks of stencils first .. first + n - 1 (blocks: stencil first's first, k x k). */
+static void scatter_blocks(const plume_problem *p, double *values, const scatter_map *m, plume_index first,
+                           plume_index n, const double *blocks, int k, double w)
 {
     const unsigned *src = m->src;
-    const plume_index *dst = m->dst;
-    for (plume_index s = 0; s < n; s++) {
-        const double *b = blocks + (size_t)s * kk;
+    const plume_index *dst = m->dst, *cp = p->colptr;
+    const int d = p->dim;
+    const size_t kk = (size_t)k * (size_t)k;
+    for (plume_index s = first; s < first + n; s++) {
+        const double *b = blocks + (size_t)(s - first) * kk;
         for (plume_index e = m->start[s], ee = m->start[s + 1]; e < ee; e++)
             values[dst[e]] += w * b[src[e]];
+        for (plume_index q = m->bstart[s], qe = m->bstart[s + 1]; q < qe; q++) {
+            const unsigned ab = m->bab[q], a = ab & 0xffff, c = ab >> 16;
+            const plume_index f = m->bcol[q], p0 = m->bpos[q];
+            const double *blk = b + (size_t)(d * a) * k + d * c;
+            if (a == c) {
+                for (int j = 0; j < d; j++) {
+                    double *top = values + cp[f + j + 1] - 1 - j;
+                    for (int i = 0; i <= j; i++)
+                        top[i] += w * blk[i * k + j];
+                }
+            } else {
+                for (int j = 0; j < d; j++) {
+                    double *col = values + p0 + (cp[f + j] - cp[f]);
+                    for (int i = 0; i < d; i++)
+                        col[i] += w * blk[i * k + j];
+                }
+            }
+        }
     }
 }
 
@@ -890,15 +1041,22 @@ plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj
     for (int t = 0; t < p->nterms; t++) {
         term_slot *ts = p->terms + t;
         int pj = project == PLUME_HESSIAN_PARTIAL ? ts->t.partial_projection : project != 0;
-        plume_status st = ts->t.eval(ts->t.ctx, d, p->x, NULL, NULL, ts->blocks, pj);
-        t1 = now();
-        p->timing.hessian_eval_seconds += t1 - t0;
-        if (st != PLUME_OK)
-            return st;
-        size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
-        scatter_blocks(values, &ts->hmap, ts->t.nstencil, ts->blocks, kk, obj_factor);
-        t0 = now();
-        p->timing.hessian_scatter_seconds += t0 - t1;
+        const size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
+        const plume_index chunk = term_chunk(&ts->t, kk);
+        plume_index first = 0;
+        do { /* once with no stencils, as eval always was */
+            const plume_index n = ts->t.nstencil - first < chunk ? ts->t.nstencil - first : chunk;
+            plume_status st = ts->t.hess_range ? ts->t.hess_range(ts->t.ctx, d, p->x, first, n, ts->blocks, pj)
+                                               : ts->t.eval(ts->t.ctx, d, p->x, NULL, NULL, ts->blocks, pj);
+            t1 = now();
+            p->timing.hessian_eval_seconds += t1 - t0;
+            if (st != PLUME_OK)
+                return st;
+            scatter_blocks(p, values, &ts->hmap, first, n, ts->blocks, ts->t.arity * d, obj_factor);
+            t0 = now();
+            p->timing.hessian_scatter_seconds += t0 - t1;
+            first += n;
+        } while (first < ts->t.nstencil);
     }
     if (!lambda)
         return PLUME_OK;
@@ -912,8 +1070,7 @@ plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj
         p->timing.hessian_eval_seconds += t1 - t0;
         if (st != PLUME_OK)
             return st;
-        size_t kk = (size_t)(c->c.arity * d) * (size_t)(c->c.arity * d);
-        scatter_blocks(values, &c->hmap, c->c.m, c->blocks, kk, 1.0);
+        scatter_blocks(p, values, &c->hmap, 0, c->c.m, c->blocks, c->c.arity * d, 1.0);
         t0 = now();
         p->timing.hessian_scatter_seconds += t0 - t1;
     }

@@ -77,6 +77,11 @@ PLUME_API plume_status plume_problem_objective(plume_problem *p, const double *u
 
 /** Sparsity of the Hessian of the Lagrangian on the free dofs (upper triangle, fixed). */
 PLUME_API plume_sparsity plume_problem_hessian_pattern(const plume_problem *p);
+/** The part of the Hessian pattern that does not follow the state: the entries of the terms
+ * without update, of the constraints and the diagonal (upper triangle, free dofs, rows sorted;
+ * owned by the problem, the same arrays from finalize to destroy). Equal to the Hessian pattern
+ * without contact terms. A solver orders the factorisation of every contact pattern by it. */
+PLUME_API plume_sparsity plume_problem_fixed_pattern(const plume_problem *p);
 
 /** 1 if some term or constraint set has partial_projection (PLUME_HESSIAN_PARTIAL differs from
  * EXACT). */

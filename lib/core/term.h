@@ -52,6 +52,17 @@ typedef struct {
      * projected. A stiff membrane in compression must stay exact: projecting it slows Newton to a
      * crawl. */
     int partial_projection;
+    /** Optional (NULL: eval writes every block at once): writes the Hessian blocks of stencils
+     * first .. first + count - 1 at x (full vector) to hblocks (stencil first's block at hblocks,
+     * k x k each), exactly as eval would. The problem then assembles the term a few stencils at a
+     * time, scattering the blocks while they are still in the cache instead of through a workspace
+     * of every block (tens of MB for a large bending term). */
+    plume_status (*hess_range)(void *ctx, int dim, const double *x, plume_index first, plume_index count,
+                               double *hblocks, int project);
+    /** 1: a stencil with fewer vertices than `arity` repeats its first vertex in its last places,
+     * and the blocks' rows and columns of those places are zero; the problem does not read them.
+     * 0 (default): every place of a stencil is a vertex of it. */
+    int padded;
 } plume_term;
 
 /** A set of m equality constraints g_c(x) = 0; constraint c couples the `arity` vertices of

@@ -281,13 +281,15 @@ fail:
 }
 
 /* Terms whose stencils follow the state (contact) at the problem's x: a new pattern needs a new
- * solver (its symbolic analysis); *changed says whether it happened. */
+ * solver (its symbolic analysis, in the fixed pattern's order while that fits); *changed says
+ * whether it happened. */
 static plume_status refresh_stencils(plume_dynamics *d, int *changed, plume_err *err)
 {
     plume_status st = plume_problem_update_terms(d->p, changed, err);
     if (st != PLUME_OK || !*changed)
         return st;
-    plume_solver_destroy(&d->s);
+    if (d->s)
+        return plume_solver_renew(&d->s, &d->o.solver_opts, err);
     return plume_solver_create(d->o.solver, d->p, &d->o.solver_opts, &d->s, err);
 }
 

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include <cholmod.h>
+#include "internal/cholesky_like.h"
 #include "../io/progress.h"
 
 struct plume_chol {
@@ -18,7 +19,14 @@ struct plume_chol {
     /* LL^T: A holds P M P^T in lower form, analysed in its natural order (see permuted_lower) */
     SuiteSparse_long *perm; /* [n] row/column perm[k] of M is the k-th of A */
     SuiteSparse_long *slot; /* [nnz] the place in A->x of each value of M's upper triangle */
+    /* plume_chol_create_like: the order found for the base pattern and its factor's entries */
+    SuiteSparse_long *base_perm; /* [n] or NULL */
+    double base_lnz;
 };
+
+/* A pattern analysed in its base pattern's order keeps it while its factor has at most this many
+ * times the entries of the base pattern's; otherwise AMD and METIS order it afresh. */
+#define CHOL_REUSE_FILL 1.2
 
 /* CHOLMOD factorises a permuted matrix by first transposing it into P M P^T (a pass over every
  * entry, 3-4 % of a traction run at 4e4 elements: docs/benchmarks.md); in its natural order and
@@ -86,15 +94,31 @@ done:
     return st;
 }
 
-plume_status plume_chol_create(plume_index n, const plume_index *colptr, const plume_index *rowind,
-                               int ldl, plume_chol **out, plume_err *err)
+/* The LL^T layout in the order perm, analysed in its natural order; PLUME_EDEP when CHOLMOD
+ * fails or does not keep that order. c->A holds the pattern's upper triangle on entry (freed). */
+static plume_status analyse_in_order(plume_chol *c, const plume_index *colptr, const plume_index *rowind,
+                                     const SuiteSparse_long *perm)
 {
-    if (!out || n <= 0 || !colptr || !rowind)
-        return plume_err_set(err, PLUME_EINVAL, "cholesky: invalid arguments");
-    *out = NULL;
+    cholmod_l_free_sparse(&c->A, &c->cm);
+    cholmod_l_free_factor(&c->L, &c->cm);
+    plume_status st = permuted_lower(c, colptr, rowind, perm);
+    if (st != PLUME_OK)
+        return st;
+    c->cm.nmethods = 1;
+    c->cm.method[0].ordering = CHOLMOD_NATURAL;
+    c->cm.postorder = 0;
+    c->L = cholmod_l_analyze(c->A, &c->cm);
+    if (!c->L || c->cm.status < CHOLMOD_OK || c->L->ordering != CHOLMOD_NATURAL)
+        return PLUME_EDEP;
+    return PLUME_OK;
+}
+
+/* A factorisation object with CHOLMOD started and set up, nothing analysed. */
+static plume_chol *chol_start(plume_index n, int ldl)
+{
     plume_chol *c = calloc(1, sizeof *c);
     if (!c)
-        return PLUME_ENOMEM;
+        return NULL;
     cholmod_l_start(&c->cm);
     c->cm.print = 0;
     c->cm.error_handler = NULL;
@@ -116,10 +140,24 @@ plume_status plume_chol_create(plume_index n, const plume_index *colptr, const p
          * matrix is not positive definite (the exact Hessian tried first, inertia corrections) */
         c->cm.final_ll = 1;
     }
+    c->B = cholmod_l_zeros((size_t)n, 1, CHOLMOD_REAL, &c->cm);
+    if (!c->B)
+        plume_chol_destroy(&c);
+    return c;
+}
+
+plume_status plume_chol_create(plume_index n, const plume_index *colptr, const plume_index *rowind,
+                               int ldl, plume_chol **out, plume_err *err)
+{
+    if (!out || n <= 0 || !colptr || !rowind)
+        return plume_err_set(err, PLUME_EINVAL, "cholesky: invalid arguments");
+    *out = NULL;
+    plume_chol *c = chol_start(n, ldl);
+    if (!c)
+        return PLUME_ENOMEM;
     plume_index nnz = colptr[n];
     c->A = cholmod_l_allocate_sparse((size_t)n, (size_t)n, (size_t)nnz, 1, 1, 1, CHOLMOD_REAL, &c->cm);
-    c->B = cholmod_l_zeros((size_t)n, 1, CHOLMOD_REAL, &c->cm);
-    if (!c->A || !c->B) {
+    if (!c->A) {
         plume_chol_destroy(&c);
         return PLUME_ENOMEM;
     }
@@ -161,6 +199,72 @@ plume_status plume_chol_create(plume_index n, const plume_index *colptr, const p
     return PLUME_OK;
 }
 
+plume_status plume_chol_create_like(plume_index n, const plume_index *colptr, const plume_index *rowind, int ldl,
+                                    const plume_index *base_colptr, const plume_index *base_rowind,
+                                    const plume_chol *like, plume_chol **out, plume_err *err)
+{
+    if (!out || n <= 0 || !colptr || !rowind)
+        return plume_err_set(err, PLUME_EINVAL, "cholesky: invalid arguments");
+    *out = NULL;
+    if (ldl || !base_colptr || !base_rowind)
+        return plume_chol_create(n, colptr, rowind, ldl, out, err);
+    const int same = base_colptr[n] == colptr[n] && !memcmp(base_colptr, colptr, (size_t)(n + 1) * sizeof *colptr) &&
+                     !memcmp(base_rowind, rowind, (size_t)colptr[n] * sizeof *rowind);
+    /* the base pattern's order: like's (the same base pattern), or found now */
+    SuiteSparse_long *bperm = NULL;
+    double blnz = 0.0;
+    plume_status st = PLUME_OK;
+    if (like && like->n == n && like->base_perm) {
+        bperm = malloc((size_t)n * sizeof *bperm);
+        if (!bperm)
+            return PLUME_ENOMEM;
+        memcpy(bperm, like->base_perm, (size_t)n * sizeof *bperm);
+        blnz = like->base_lnz;
+    } else {
+        plume_chol *b = NULL;
+        if ((st = plume_chol_create(n, base_colptr, base_rowind, 0, &b, err)) != PLUME_OK)
+            return st;
+        blnz = b->cm.lnz;
+        bperm = b->perm; /* NULL when CHOLMOD kept the natural order */
+        b->perm = NULL;
+        if (same) { /* the base pattern itself: that analysis is the one wanted */
+            b->perm = bperm;
+            b->base_perm = bperm ? malloc((size_t)n * sizeof *bperm) : NULL;
+            if (bperm && !b->base_perm) {
+                plume_chol_destroy(&b);
+                return PLUME_ENOMEM;
+            }
+            if (bperm)
+                memcpy(b->base_perm, bperm, (size_t)n * sizeof *bperm);
+            b->base_lnz = blnz;
+            *out = b;
+            return PLUME_OK;
+        }
+        plume_chol_destroy(&b);
+    }
+    if (!bperm)
+        return plume_chol_create(n, colptr, rowind, 0, out, err);
+    /* the base order, while the fill stays close to the base pattern's: a pattern that changed by
+     * a few contact pairs is analysed without AMD and METIS (most of an analysis) */
+    plume_chol *c = chol_start(n, 0);
+    if (!c) {
+        free(bperm);
+        return PLUME_ENOMEM;
+    }
+    if (analyse_in_order(c, colptr, rowind, bperm) != PLUME_OK || !(c->cm.lnz <= CHOL_REUSE_FILL * blnz)) {
+        plume_chol_destroy(&c);
+        if ((st = plume_chol_create(n, colptr, rowind, 0, &c, err)) != PLUME_OK) {
+            free(bperm);
+            return st;
+        }
+    }
+    c->base_perm = bperm;
+    c->base_lnz = blnz;
+    c->analyses = 1;
+    *out = c;
+    return PLUME_OK;
+}
+
 void plume_chol_destroy(plume_chol **pc)
 {
     if (!pc || !*pc)
@@ -175,6 +279,7 @@ void plume_chol_destroy(plume_chol **pc)
     cholmod_l_finish(&c->cm);
     free(c->perm);
     free(c->slot);
+    free(c->base_perm);
     free(c);
     *pc = NULL;
 }

@@ -28,6 +28,7 @@
 #include <string.h>
 
 #include "cholesky.h"
+#include "internal/cholesky_like.h"
 #include "internal/newton_state.h"
 #include "../io/progress.h"
 
@@ -83,6 +84,12 @@ void plume_newton_destroy(plume_newton **ps)
 plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, int single_step,
                                  plume_newton **out, plume_err *err)
 {
+    return nt_create_like(p, o, single_step, NULL, out, err);
+}
+
+plume_status nt_create_like(plume_problem *p, const plume_solver_opts *o, int single_step, const plume_newton *like,
+                            plume_newton **out, plume_err *err)
+{
     if (!p || !o || !out)
         return plume_err_set(err, PLUME_EINVAL, "newton: invalid arguments");
     *out = NULL;
@@ -110,6 +117,7 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
     s->m = plume_problem_ncons(p);
     s->nk = s->n + s->m;
     s->hp = plume_problem_hessian_pattern(p);
+    const plume_sparsity base = plume_problem_fixed_pattern(p);
     plume_problem_jacobian_pattern(p, &s->jnnz, &s->jrow, &s->jcol);
     size_t n = (size_t)s->n, m = (size_t)s->m, nk = (size_t)s->nk;
     s->hval = malloc(((size_t)s->hp.nnz + 1) * sizeof *s->hval);
@@ -152,7 +160,8 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
             st = PLUME_ENOMEM;
             goto fail;
         }
-        st = plume_chol_create(s->n, s->hp.colptr, s->hp.rowind, 0, &s->chol, err);
+        st = plume_chol_create_like(s->n, s->hp.colptr, s->hp.rowind, 0, base.colptr, base.rowind, like ? like->chol : NULL,
+                                    &s->chol, err);
     } else if (s->m > 0) {
         if ((st = nt_build_kkt_pattern(s)) != PLUME_OK)
             goto fail;
@@ -163,7 +172,8 @@ plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, i
         }
         st = plume_chol_create(s->nk, s->kcolptr, s->krowind, 1, &s->chol, err);
     } else {
-        st = plume_chol_create(s->n, s->hp.colptr, s->hp.rowind, 0, &s->chol, err);
+        st = plume_chol_create_like(s->n, s->hp.colptr, s->hp.rowind, 0, base.colptr, base.rowind, like ? like->chol : NULL,
+                                    &s->chol, err);
     }
     if (st != PLUME_OK)
         goto fail;

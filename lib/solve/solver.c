@@ -7,6 +7,7 @@
 #include "ipopt_solver.h"
 #include "newton.h"
 #include "predict.h"
+#include "internal/newton_state.h"
 
 /* the tangent predictor's workspace (native backends): full vectors xref, dx; free ones r, gp, gm,
  * du, ut; constraint ones c, cp, cm, lnew */
@@ -70,8 +71,30 @@ const char *plume_solver_kind_name(plume_solver_kind k)
     return (unsigned)k < 3 ? kind_names[k] : "unknown";
 }
 
+static plume_status solver_create(plume_solver_kind kind, plume_problem *p, const plume_solver_opts *o,
+                                  const plume_solver *like, plume_solver **out, plume_err *err);
+
 plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p, const plume_solver_opts *o,
                                  plume_solver **out, plume_err *err)
+{
+    return solver_create(kind, p, o, NULL, out, err);
+}
+
+plume_status plume_solver_renew(plume_solver **s, const plume_solver_opts *o, plume_err *err)
+{
+    if (!s || !*s)
+        return plume_err_set(err, PLUME_EINVAL, "solver: renew needs a solver");
+    plume_solver *fresh = NULL;
+    plume_status st = solver_create((*s)->kind, (*s)->p, o, *s, &fresh, err);
+    if (st != PLUME_OK)
+        return st;
+    plume_solver_destroy(s);
+    *s = fresh;
+    return PLUME_OK;
+}
+
+static plume_status solver_create(plume_solver_kind kind, plume_problem *p, const plume_solver_opts *o,
+                                  const plume_solver *like, plume_solver **out, plume_err *err)
 {
     if (out)
         *out = NULL;
@@ -88,7 +111,8 @@ plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p, const
     s->p = p;
     plume_status st = kind == PLUME_SOLVER_IPOPT
                           ? plume_ipopt_create(p, o, &s->ipopt)
-                          : plume_newton_create(p, o, kind == PLUME_SOLVER_LINEARIZED, &s->newton, err);
+                          : nt_create_like(p, o, kind == PLUME_SOLVER_LINEARIZED, like ? like->newton : NULL,
+                                           &s->newton, err);
     if (st != PLUME_OK && kind == PLUME_SOLVER_IPOPT) /* Ipopt's creation keeps no message */
         plume_err_set(err, st, "ipopt: the solver could not be created (%s)", plume_strerror(st));
     if (st == PLUME_OK && kind != PLUME_SOLVER_IPOPT && predict_work_alloc(&s->w, p) != PLUME_OK) {

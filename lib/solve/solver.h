@@ -36,6 +36,14 @@ PLUME_API plume_status plume_solver_create(plume_solver_kind kind, plume_problem
                                            const plume_solver_opts *o, plume_solver **out, plume_err *err);
 /** Frees the solver (not the problem); sets *s = NULL; NULL-safe. */
 PLUME_API void plume_solver_destroy(plume_solver **s);
+/** Replaces *s by a solver of the same kind for its problem's new Hessian pattern (after
+ * plume_problem_update_terms reported a change), as plume_solver_create with options o would,
+ * reusing what does not depend on the new pattern: the fill-reducing order of the problem's
+ * fixed pattern (plume_problem_fixed_pattern), in which the native solver analyses every pattern
+ * whose factor it keeps within 1.2 times the fixed pattern's entries, so a few contact pairs
+ * more or less need no new AMD and METIS analysis. On failure *s is left as it was and err says
+ * why. */
+PLUME_API plume_status plume_solver_renew(plume_solver **s, const plume_solver_opts *o, plume_err *err);
 
 /** Solves from u (nfree, in: start, out: result) and lambda (ncons, in: guess, out: multipliers
  * of the Lagrangian f + lambda.g). The problem's x holds the result on return. Returns an error

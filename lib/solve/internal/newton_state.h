@@ -76,4 +76,9 @@ plume_status nt_direction(plume_newton *s, const double *u, const double *lambda
 /* a chord direction in s->sol from the last factorisation; nonzero when unusable */
 int nt_chord_direction(plume_newton *s, const double *lambda, double L, double *step_max);
 
+/* plume_newton_create, the factorisation analysed in the order of like's where it fits
+ * (plume_chol_create_like); like may be NULL. */
+plume_status nt_create_like(plume_problem *p, const plume_solver_opts *o, int single_step, const plume_newton *like,
+                            plume_newton **out, plume_err *err);
+
 #endif
