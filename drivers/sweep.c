@@ -14,6 +14,7 @@
 #include <hdf5.h>
 #include <jansson.h>
 
+#include "../lib/io/internal/h5_atomic.h"
 #include "../lib/io/internal/h5util.h"
 #include "../lib/io/internal/input_file.h"
 #include "../lib/io/progress.h"
@@ -419,6 +420,26 @@ static char *attr_string(hid_t obj, const char *name)
     return out;
 }
 
+/* A new results file's /sweep group: the job, the sweep file's text (and the scene's), the count of
+ * runs, and an empty /sweep/runs. */
+static plume_status fill_new_results(hid_t fid, const char *path, const void *ctx, plume_err *err)
+{
+    const plume_sweep *s = ctx;
+    hid_t g = H5Gcreate2(fid, "/sweep", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t r = g >= 0 ? H5Gcreate2(g, "runs", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
+    long runs = s->count;
+    plume_status st = PLUME_OK;
+    if (r < 0 || h5_write_attr_string(g, "job", s->job) < 0 || h5_write_attr_string(g, "file", s->text) < 0 ||
+        h5_write_attr(g, "runs", H5T_STD_I64LE, H5T_NATIVE_LONG, &runs) < 0 ||
+        (s->is_scene && h5_write_attr_string(g, "scene", s->scene.text) < 0))
+        st = plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot create its /sweep group", path);
+    if (r >= 0)
+        H5Gclose(r);
+    if (g >= 0)
+        H5Gclose(g);
+    return st;
+}
+
 plume_status plume_sweep_results_open(const char *h5path, const plume_sweep *s, plume_err *err)
 {
     if (!h5path || !s)
@@ -428,7 +449,7 @@ plume_status plume_sweep_results_open(const char *h5path, const plume_sweep *s, 
     struct stat sb;
     plume_status st = PLUME_OK;
     if (stat(h5path, &sb) == 0) { /* resuming: it must be this sweep's file */
-        hid_t fid;
+        hid_t fid = H5I_INVALID_HID;
         if ((st = open_rw(h5path, &fid, err)) == PLUME_OK) {
             hid_t g = H5Lexists(fid, "/sweep", H5P_DEFAULT) > 0 ? H5Gopen2(fid, "/sweep", H5P_DEFAULT) : -1;
             char *file = g >= 0 ? attr_string(g, "file") : NULL;
@@ -449,20 +470,7 @@ plume_status plume_sweep_results_open(const char *h5path, const plume_sweep *s, 
             H5Fclose(fid);
         }
     } else {
-        hid_t fid = H5Fcreate(h5path, H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
-        hid_t g = fid >= 0 ? H5Gcreate2(fid, "/sweep", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
-        hid_t r = g >= 0 ? H5Gcreate2(g, "runs", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
-        long runs = s->count;
-        if (r < 0 || h5_write_attr_string(g, "job", s->job) < 0 || h5_write_attr_string(g, "file", s->text) < 0 ||
-            h5_write_attr(g, "runs", H5T_STD_I64LE, H5T_NATIVE_LONG, &runs) < 0 ||
-            (s->is_scene && h5_write_attr_string(g, "scene", s->scene.text) < 0))
-            st = plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot create: %s", h5path, strerror(errno));
-        if (r >= 0)
-            H5Gclose(r);
-        if (g >= 0)
-            H5Gclose(g);
-        if (fid >= 0)
-            H5Fclose(fid);
+        st = plume_h5_atomic_write(h5path, "sweep results", fill_new_results, s, err);
     }
     quiet_end(&q);
     return st;
@@ -512,54 +520,36 @@ static double *vector(json_t *a, plume_index *n)
     return v;
 }
 
-plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, int k, const char *record,
-                                     plume_err *err)
+/* One run's record: its curves, its scene measures, the record without arrays and timing, the
+ * values, the outcome and the seconds, in the group /sweep/runs/<k> (replacing one there). */
+typedef struct {
+    const plume_sweep *s;
+    int k;
+    json_t *rec;
+} run_record_ctx;
+
+static plume_status fill_run_record(hid_t fid, const char *path, const void *vctx, plume_err *err)
 {
-    json_t *rec = record ? json_loads(record, 0, NULL) : NULL;
-    if (!s || !rec || k < 0 || k >= s->count) {
-        json_decref(rec);
-        return plume_err_set(err, PLUME_EINVAL, "sweep results: run %d: invalid record", k);
-    }
-    /* room first (a full disk fails here, before HDF5 writes: lib/io/frames.c) */
-    int fd = open(h5path, O_WRONLY);
-    struct stat sb;
-    int rc = fd < 0 ? errno : fstat(fd, &sb) != 0 ? errno : posix_fallocate(fd, sb.st_size, (off_t)strlen(record) * 3 + 65536);
-    if (fd >= 0) {
-        if (rc != 0 && rc != EBADF)
-            (void)!ftruncate(fd, sb.st_size);
-        close(fd);
-    }
-    if (rc != 0) {
-        json_decref(rec);
-        return plume_err_set(err, PLUME_EIO, "sweep results '%s': no room for run %d: %s", h5path, k, strerror(rc));
-    }
-    h5_quiet q;
-    quiet_begin(&q);
-    hid_t fid;
-    plume_status st = open_rw(h5path, &fid, err);
-    if (st != PLUME_OK) {
-        quiet_end(&q);
-        json_decref(rec);
-        return st;
-    }
-    char name[32], tmp[48];
-    snprintf(name, sizeof name, "%d", k);
-    snprintf(tmp, sizeof tmp, "writing_%d", k);
+    const run_record_ctx *c = vctx;
+    const plume_sweep *s = c->s;
+    json_t *rec = c->rec;
+    char name[32];
+    snprintf(name, sizeof name, "%d", c->k);
     hid_t runs = H5Gopen2(fid, "/sweep/runs", H5P_DEFAULT);
-    if (runs >= 0 && H5Lexists(runs, tmp, H5P_DEFAULT) > 0)
-        H5Ldelete(runs, tmp, H5P_DEFAULT); /* a run interrupted while being written */
-    hid_t g = runs >= 0 ? H5Gcreate2(runs, tmp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
+    if (runs >= 0 && H5Lexists(runs, name, H5P_DEFAULT) > 0)
+        H5Ldelete(runs, name, H5P_DEFAULT);
+    hid_t g = runs >= 0 ? H5Gcreate2(runs, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
     json_t *res = json_object_get(rec, "result");
     int bad = g < 0;
     static const char *const curves[3] = {"strain", "stress", "wbar"};
     static const char *const units[3] = {"1", "Pa", "1"};
-    for (int c = 0; c < 3 && !bad; c++) {
-        json_t *a = json_object_get(res, curves[c]);
+    for (int q = 0; q < 3 && !bad; q++) {
+        json_t *a = json_object_get(res, curves[q]);
         if (!json_is_array(a))
             continue;
         plume_index n;
         double *v = vector(a, &n);
-        bad = !v || h5_write_dataset(g, curves[c], v, n, units[c]) < 0;
+        bad = !v || h5_write_dataset(g, curves[q], v, n, units[q]) < 0;
         free(v);
     }
     if (!bad && s->is_scene) /* per-step measures, final positions, the run's numbers with units */
@@ -568,11 +558,11 @@ plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, i
     json_t *slim = json_deep_copy(rec);
     json_object_del(slim, "seconds");
     json_t *sres = json_object_get(slim, "result");
-    for (int c = 0; c < 3; c++)
-        json_object_del(sres, curves[c]);
+    for (int q = 0; q < 3; q++)
+        json_object_del(sres, curves[q]);
     json_object_del(sres, "iterations");
-    for (int c = 0; s->is_scene && plume_sweep_scene_arrays[c]; c++)
-        json_object_del(sres, plume_sweep_scene_arrays[c]);
+    for (int q = 0; s->is_scene && plume_sweep_scene_arrays[q]; q++)
+        json_object_del(sres, plume_sweep_scene_arrays[q]);
     char *slim_text = json_dumps(slim, JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_SORT_KEYS);
     char *values = json_dumps(json_object_get(rec, "values"), JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_SORT_KEYS);
     const char *outcome = json_string_value(json_object_get(rec, "outcome"));
@@ -583,21 +573,39 @@ plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, i
               h5_write_attr_double(g, "seconds", json_number_value(json_object_get(rec, "seconds"))) < 0;
     if (g >= 0)
         H5Gclose(g);
-    /* the commit: the complete group takes its run's name */
-    if (!bad && H5Lexists(runs, name, H5P_DEFAULT) > 0)
-        H5Ldelete(runs, name, H5P_DEFAULT);
-    if (!bad && H5Lmove(runs, tmp, runs, name, H5P_DEFAULT, H5P_DEFAULT) < 0)
-        bad = 1;
     if (runs >= 0)
         H5Gclose(runs);
-    if (H5Fclose(fid) < 0)
-        bad = 1;
-    quiet_end(&q);
     free(slim_text);
     free(values);
     json_decref(slim);
+    return bad ? plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot write run %d", path, c->k) : PLUME_OK;
+}
+
+/* The results file is rewritten whole for each run (a copy edited and renamed over it,
+ * lib/io/internal/h5_atomic.h): an HDF5 file edited in place and killed in the middle of its
+ * metadata flush can lose links or point them at other runs' groups (measured: 45 of 130 kill
+ * points of a 9-run sweep). A full disk fails the copy and leaves the file as it was. */
+plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, int k, const char *record,
+                                     plume_err *err)
+{
+    json_t *rec = record ? json_loads(record, 0, NULL) : NULL;
+    if (!s || !rec || k < 0 || k >= s->count) {
+        json_decref(rec);
+        return plume_err_set(err, PLUME_EINVAL, "sweep results: run %d: invalid record", k);
+    }
+    h5_quiet q;
+    quiet_begin(&q);
+    struct stat sb;
+    plume_status st;
+    if (stat(h5path, &sb) != 0 || !S_ISREG(sb.st_mode) || !h5_is_hdf5(h5path))
+        st = plume_err_set(err, PLUME_EIO, "sweep results '%s': not an HDF5 file", h5path);
+    else {
+        run_record_ctx c = {s, k, rec};
+        st = plume_h5_atomic_write(h5path, "sweep results", fill_run_record, &c, err);
+    }
+    quiet_end(&q);
     json_decref(rec);
-    return bad ? plume_err_set(err, PLUME_EIO, "sweep results '%s': cannot write run %d", h5path, k) : PLUME_OK;
+    return st;
 }
 
 /* the last value of dataset `name` of group g, or NaN */
