@@ -628,56 +628,45 @@ static plume_status build_structure(plume_problem *p, plume_err *err)
     return st;
 }
 
-static plume_status build_structure_with(plume_problem *p, int rebuild, plume_err *err)
+/* The free numbering of the coordinates (the fixed ones get -1) and its inverse. */
+static plume_status number_free_dofs(plume_problem *p, plume_err *err)
 {
-    const plume_index old_nnz = p->nnz;
-    plume_index *old_smerged = rebuild ? p->smerged : NULL;
-    release_structure(p, rebuild);
-    p->smerged = NULL;
-    plume_status st = PLUME_OK;
-    pair *pairs = NULL;
-    plume_index npairs = 0, *dcol = NULL, *drow = NULL;
-    int d = p->dim;
     p->free_of_dof = malloc((size_t)p->ndof * sizeof *p->free_of_dof);
-    if (!p->free_of_dof) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
+    if (!p->free_of_dof)
+        return PLUME_ENOMEM;
     p->nfree = 0;
     for (plume_index i = 0; i < p->ndof; i++)
         p->free_of_dof[i] = p->fixed[i] ? -1 : p->nfree++;
-    if (p->nfree == 0) {
-        st = plume_err_set(err, PLUME_EINVAL, "problem has no free coordinate");
-        goto cleanup;
-    }
+    if (p->nfree == 0)
+        return plume_err_set(err, PLUME_EINVAL, "problem has no free coordinate");
     p->dof_of_free = malloc((size_t)p->nfree * sizeof *p->dof_of_free);
-    if (!p->dof_of_free) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
+    if (!p->dof_of_free)
+        return PLUME_ENOMEM;
     for (plume_index i = 0; i < p->ndof; i++)
         if (p->free_of_dof[i] >= 0)
             p->dof_of_free[p->free_of_dof[i]] = i;
+    return PLUME_OK;
+}
 
-    /* constraint rows: drop those whose stencil is entirely prescribed */
+/* Each constraint set's workspaces and rows: a row whose stencil is entirely prescribed is dropped
+ * (-1); the others are numbered across the sets. */
+static plume_status constraint_rows(plume_problem *p, plume_err *err)
+{
+    const int d = p->dim;
     p->ncons = 0;
     for (int s = 0; s < p->ncsets; s++) {
         cons_slot *c = p->cons + s;
         int k = c->c.arity * d;
-        if (!stencil_ok(p, c->c.stencil, c->c.m * c->c.arity)) {
-            st = plume_err_set(err, PLUME_EINVAL, "constraint set '%s': vertex id out of range", c->c.name);
-            goto cleanup;
-        }
+        if (!stencil_ok(p, c->c.stencil, c->c.m * c->c.arity))
+            return plume_err_set(err, PLUME_EINVAL, "constraint set '%s': vertex id out of range", c->c.name);
         c->row = malloc((size_t)(c->c.m + 1) * sizeof *c->row);
         c->g = calloc((size_t)(c->c.m + 1), sizeof *c->g);
         c->lam = calloc((size_t)(c->c.m + 1), sizeof *c->lam);
         c->jac = calloc((size_t)(c->c.m * k + 1), sizeof *c->jac);
         c->blocks = calloc((size_t)(c->c.m * k * k + 1), sizeof *c->blocks);
         c->jmap = malloc((size_t)(c->c.m * k + 1) * sizeof *c->jmap);
-        if (!c->row || !c->g || !c->lam || !c->jac || !c->blocks || !c->jmap) {
-            st = PLUME_ENOMEM;
-            goto cleanup;
-        }
+        if (!c->row || !c->g || !c->lam || !c->jac || !c->blocks || !c->jmap)
+            return PLUME_ENOMEM;
         for (plume_index i = 0; i < c->c.m; i++) {
             int any_free = 0;
             for (int a = 0; a < k; a++)
@@ -686,12 +675,16 @@ static plume_status build_structure_with(plume_problem *p, int rebuild, plume_er
         }
     }
     p->scale = malloc((size_t)(p->ncons + 1) * sizeof *p->scale);
-    if (!p->scale) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
+    return p->scale ? PLUME_OK : PLUME_ENOMEM;
+}
 
-    /* Hessian pattern: the fixed stencils' part once, then the changing terms' pairs merged in */
+/* The Hessian pattern: the fixed stencils' part once (kept across rebuilds), then the changing
+ * terms' pairs merged in; smerged maps each entry of the fixed part to its place in the merge. */
+static plume_status hessian_pattern(plume_problem *p, plume_err *err)
+{
+    plume_status st = PLUME_OK;
+    pair *pairs = NULL;
+    plume_index npairs = 0, *dcol = NULL, *drow = NULL;
     for (int t = 0; t < p->nterms; t++) {
         term_slot *ts = p->terms + t;
         if (!stencil_ok(p, ts->t.stencil, ts->t.nstencil * ts->t.arity)) {
@@ -731,29 +724,41 @@ static plume_status build_structure_with(plume_problem *p, int rebuild, plume_er
     }
     p->colptr[p->nfree] = u;
     p->nnz = u;
+cleanup:
+    free(pairs);
+    free(dcol);
+    free(drow);
+    return st;
+}
 
-    if (rebuild && (st = move_fixed_maps(p, old_nnz, old_smerged)) != PLUME_OK)
-        goto cleanup;
+/* The terms' block workspaces and scatter maps (on a rebuild only the changing terms': the fixed
+ * ones keep theirs, moved by move_fixed_maps). */
+static plume_status term_maps(plume_problem *p, int rebuild)
+{
+    const int d = p->dim;
     for (int t = 0; t < p->nterms; t++) {
         term_slot *ts = p->terms + t;
         if (rebuild && !ts->t.update)
             continue; /* kept, its map moved */
         size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
         ts->blocks = malloc(((size_t)term_chunk(&ts->t, kk) * kk + 1) * sizeof *ts->blocks);
-        if (!ts->blocks || scatter_map_build(p, ts->t.stencil, ts->t.arity, ts->t.padded, ts->t.nstencil, &ts->hmap) != PLUME_OK) {
-            st = PLUME_ENOMEM;
-            goto cleanup;
-        }
+        if (!ts->blocks || scatter_map_build(p, ts->t.stencil, ts->t.arity, ts->t.padded, ts->t.nstencil, &ts->hmap) != PLUME_OK)
+            return PLUME_ENOMEM;
     }
-    /* Jacobian triplets */
+    return PLUME_OK;
+}
+
+/* The constraints' Hessian maps (first build only), the Jacobian's triplets over the kept rows and
+ * free coordinates with each stencil entry's place (jmap, -1 where none), and the rows' scales. */
+static plume_status jacobian_triplets(plume_problem *p, int rebuild)
+{
+    const int d = p->dim;
     p->jnnz = 0;
     for (int s = 0; s < p->ncsets; s++) {
         cons_slot *c = p->cons + s;
         int k = c->c.arity * d;
-        if (!rebuild && scatter_map_build(p, c->c.stencil, c->c.arity, 0, c->c.m, &c->hmap) != PLUME_OK) {
-            st = PLUME_ENOMEM;
-            goto cleanup;
-        }
+        if (!rebuild && scatter_map_build(p, c->c.stencil, c->c.arity, 0, c->c.m, &c->hmap) != PLUME_OK)
+            return PLUME_ENOMEM;
         for (plume_index i = 0; i < c->c.m; i++) {
             for (int a = 0; a < k; a++)
                 p->jnnz += c->row[i] >= 0 && p->free_of_dof[c->c.stencil[i * c->c.arity + a / d] * d + a % d] >= 0;
@@ -761,10 +766,8 @@ static plume_status build_structure_with(plume_problem *p, int rebuild, plume_er
     }
     p->jrow = malloc((size_t)(p->jnnz + 1) * sizeof *p->jrow);
     p->jcol = malloc((size_t)(p->jnnz + 1) * sizeof *p->jcol);
-    if (!p->jrow || !p->jcol) {
-        st = PLUME_ENOMEM;
-        goto cleanup;
-    }
+    if (!p->jrow || !p->jcol)
+        return PLUME_ENOMEM;
     plume_index j = 0;
     for (int s = 0; s < p->ncsets; s++) {
         cons_slot *c = p->cons + s;
@@ -784,11 +787,25 @@ static plume_status build_structure_with(plume_problem *p, int rebuild, plume_er
             if (c->row[i] >= 0)
                 p->scale[c->row[i]] = c->c.scale[i] > 0 ? c->c.scale[i] : 1.0;
     }
-cleanup:
+    return PLUME_OK;
+}
+
+/* The structure a problem is evaluated on: free numbering, constraint rows, the Hessian pattern,
+ * the scatter maps and the Jacobian's triplets. What it allocates belongs to p (released by
+ * release_structure, also after a failure). */
+static plume_status build_structure_with(plume_problem *p, int rebuild, plume_err *err)
+{
+    const plume_index old_nnz = p->nnz;
+    plume_index *old_smerged = rebuild ? p->smerged : NULL;
+    release_structure(p, rebuild);
+    p->smerged = NULL;
+    plume_status st;
+    if ((st = number_free_dofs(p, err)) == PLUME_OK && (st = constraint_rows(p, err)) == PLUME_OK &&
+        (st = hessian_pattern(p, err)) == PLUME_OK &&
+        (!rebuild || (st = move_fixed_maps(p, old_nnz, old_smerged)) == PLUME_OK) &&
+        (st = term_maps(p, rebuild)) == PLUME_OK)
+        st = jacobian_triplets(p, rebuild);
     free(old_smerged);
-    free(pairs);
-    free(dcol);
-    free(drow);
     return st;
 }
 
