@@ -874,21 +874,10 @@ plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume
     return plume_shape_bending_term_create_opts(mesh, mats, nmat, rest_x, NULL, out, err);
 }
 
-plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const plume_bending_material *mats,
-                                                  int nmat, const double *rest_x, const plume_shape_bending_opts *o,
-                                                  plume_term *out, plume_err *err)
+/* The inputs' checks, each failure a message naming the material, triangle or coordinate. */
+static plume_status check_shape_inputs(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
+                                       const double *rest_x, plume_err *err)
 {
-    plume_status st = PLUME_OK;
-    shape_ctx *ctx = NULL;
-    own_fit *fits = NULL;
-    search_ws W;
-    memset(&W, 0, sizeof W);
-    const unsigned char *clamped = o ? o->clamped : NULL;
-    const int average = !(o && o->own_fit_only), phase_aware = o && o->phase_aware;
-    if (out)
-        memset(out, 0, sizeof *out);
-    if (!mesh || !mats || !out)
-        return plume_err_set(err, PLUME_EINVAL, "shape bending: NULL mesh, materials or output");
     if (mesh->dim != 3)
         return plume_err_set(err, PLUME_EINVAL,
                              "shape bending: the mesh must be in shell mode (dim 3), got dim %d", mesh->dim);
@@ -938,6 +927,118 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
                 return plume_err_set(err, PLUME_EINVAL,
                                      "shape bending: rest_x[%ld] (vertex %ld) is not finite (%g)", (long)i,
                                      (long)(i / 3), rest_x[i]);
+    return PLUME_OK;
+}
+
+/* The unit barb direction of triangle t. */
+static void unit_barb_dir(const plume_mesh *mesh, plume_index t, double d[2])
+{
+    const double dl = hypot(mesh->barb_dir[2 * t], mesh->barb_dir[2 * t + 1]);
+    d[0] = mesh->barb_dir[2 * t] / dl;
+    d[1] = mesh->barb_dir[2 * t + 1] / dl;
+}
+
+/* The layout of every triangle's slots, points and K (a first pass over the slopes), the stencil
+ * width and the workspaces sized by it. */
+static plume_status shape_layout(shape_ctx *ctx, const plume_mesh *mesh, const own_fit *fits, int average,
+                                 tri_build *tb, double *Bm, plume_err *err)
+{
+    const plume_index nt = ctx->nt;
+    ctx->tri = malloc((size_t)(nt + 1) * sizeof *ctx->tri);
+    if (!ctx->tri)
+        return plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
+    size_t npts = 0, ndbl = 0;
+    int arity = 1, maxpt = 3;
+    for (plume_index t = 0; t < nt; t++) {
+        double d[2];
+        unit_barb_dir(mesh, t, d);
+        tri_slopes(mesh, t, fits, average, tb, d, Bm);
+        shape_tri *T = &ctx->tri[t];
+        T->nslot = tb->nslot;
+        T->npt = tb->npt;
+        T->plain = tb->nslot == tb->npt;
+        for (int j = 0; j < tb->npt; j++)
+            T->plain &= tb->pt[j].anchor < 0 && tb->pt[j].src == j;
+        T->pt = npts;
+        T->kh = ndbl;
+        npts += (size_t)tb->npt;
+        ndbl += (size_t)(tb->npt - 3) * (size_t)(tb->npt - 2);
+        arity = tb->nslot > arity ? tb->nslot : arity;
+        maxpt = tb->npt > maxpt ? tb->npt : maxpt;
+    }
+    ctx->arity = arity;
+    ctx->maxpt = maxpt;
+    const size_t ka = 3 * (size_t)arity, mp = (size_t)maxpt;
+    ctx->stencil = malloc(((size_t)arity * (size_t)nt + 1) * sizeof *ctx->stencil);
+    ctx->pts = malloc((npts + 1) * sizeof *ctx->pts);
+    ctx->dbl = malloc((ndbl + 1) * sizeof *ctx->dbl);
+    ctx->work = malloc((17 * mp + ka + 9 * mp * mp + 3 * mp * ka) * sizeof *ctx->work);
+    if (!ctx->stencil || !ctx->pts || !ctx->dbl || !ctx->work)
+        return plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
+    return PLUME_OK;
+}
+
+/* Triangle t's stencil (padded to the width with its first vertex), points, K = A B^T Dv B over
+ * points 3.. and rest heights h0 (0 for a flat rest). */
+static plume_status shape_triangle(shape_ctx *ctx, const plume_mesh *mesh, const plume_bending_material *mats,
+                                   const own_fit *fits, int average, const double *rest_x, plume_index t,
+                                   tri_build *tb, double *Bm, plume_err *err)
+{
+    const int arity = ctx->arity;
+    const plume_bending_material *mat = &mats[mesh->material[t]];
+    double d[2];
+    unit_barb_dir(mesh, t, d);
+    tri_slopes(mesh, t, fits, average, tb, d, Bm);
+    shape_tri *T = &ctx->tri[t];
+    plume_index *sv = ctx->stencil + (size_t)arity * t;
+    for (int i = 0; i < arity; i++)
+        sv[i] = tb->slot[i < tb->nslot ? i : 0];
+    memcpy(ctx->pts + T->pt, tb->pt, (size_t)tb->npt * sizeof *tb->pt);
+    const double D66 = mat->D_twist > 0.0 ? mat->D_twist
+                                          : fmax(0.0, 0.5 * (sqrt(mat->D_long * mat->D_trans) - mat->D_coupling));
+    const double Dv[3][3] = {{mat->D_long, mat->D_coupling, 0.0}, {mat->D_coupling, mat->D_trans, 0.0},
+                             {0.0, 0.0, 4.0 * D66}};
+    const double A = 0.5 * fabs(fits[t].R.det);
+    const int np = tb->npt, n = np - 3;
+    double *K = ctx->dbl + T->kh, *h0 = K + (size_t)n * n;
+    for (int a = 0; a < n; a++)
+        for (int b = a; b < n; b++) {
+            double s = 0.0;
+            for (int r = 0; r < 3; r++)
+                for (int c = 0; c < 3; c++)
+                    s += Bm[r * np + 3 + a] * Dv[r][c] * Bm[c * np + 3 + b];
+            K[a * n + b] = K[b * n + a] = A * s;
+        }
+    for (int k = 0; k < n; k++)
+        h0[k] = 0.0;
+    if (rest_x) {
+        double xv[3 * SHAPE_MAX_POINTS], hr[SHAPE_MAX_POINTS];
+        shape_geom G;
+        gather_points(ctx, t, rest_x, xv);
+        if (!shape_geometry(xv, np, &G, hr))
+            return plume_err_set(err, PLUME_EINVAL, "shape bending: triangle %ld is degenerate in rest_x", (long)t);
+        memcpy(h0, hr + 3, (size_t)n * sizeof *h0);
+    }
+    return PLUME_OK;
+}
+
+plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const plume_bending_material *mats,
+                                                  int nmat, const double *rest_x, const plume_shape_bending_opts *o,
+                                                  plume_term *out, plume_err *err)
+{
+    plume_status st = PLUME_OK;
+    shape_ctx *ctx = NULL;
+    own_fit *fits = NULL;
+    search_ws W;
+    memset(&W, 0, sizeof W);
+    const unsigned char *clamped = o ? o->clamped : NULL;
+    const int average = !(o && o->own_fit_only), phase_aware = o && o->phase_aware;
+    if (out)
+        memset(out, 0, sizeof *out);
+    if (!mesh || !mats || !out)
+        return plume_err_set(err, PLUME_EINVAL, "shape bending: NULL mesh, materials or output");
+    if ((st = check_shape_inputs(mesh, mats, nmat, rest_x, err)) != PLUME_OK)
+        return st;
 
     const plume_index nt = mesh->nt;
     plume_index bslot[SHAPE_MAX_POINTS];
@@ -954,85 +1055,14 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
     for (plume_index t = 0; t < nt; t++)
         if ((st = own_stencil(mesh, t, rest_x, clamped, phase_aware, &W, &fits[t], err)) != PLUME_OK)
             goto cleanup;
-
-    /* sizes: slots, points and K per triangle */
-    ctx->tri = malloc((size_t)(nt + 1) * sizeof *ctx->tri);
-    if (!ctx->tri) {
-        st = plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
+    if ((st = shape_layout(ctx, mesh, fits, average, &tb, Bm, err)) != PLUME_OK)
         goto cleanup;
-    }
-    size_t npts = 0, ndbl = 0;
-    int arity = 1, maxpt = 3;
-    for (plume_index t = 0; t < nt; t++) {
-        const double dl = hypot(mesh->barb_dir[2 * t], mesh->barb_dir[2 * t + 1]);
-        double d[2] = {mesh->barb_dir[2 * t] / dl, mesh->barb_dir[2 * t + 1] / dl};
-        tri_slopes(mesh, t, fits, average, &tb, d, Bm);
-        shape_tri *T = &ctx->tri[t];
-        T->nslot = tb.nslot;
-        T->npt = tb.npt;
-        T->plain = tb.nslot == tb.npt;
-        for (int j = 0; j < tb.npt; j++)
-            T->plain &= tb.pt[j].anchor < 0 && tb.pt[j].src == j;
-        T->pt = npts;
-        T->kh = ndbl;
-        npts += (size_t)tb.npt;
-        ndbl += (size_t)(tb.npt - 3) * (size_t)(tb.npt - 2);
-        arity = tb.nslot > arity ? tb.nslot : arity;
-        maxpt = tb.npt > maxpt ? tb.npt : maxpt;
-    }
-    ctx->arity = arity;
-    ctx->maxpt = maxpt;
-    const size_t ka = 3 * (size_t)arity, mp = (size_t)maxpt;
-    ctx->stencil = malloc(((size_t)arity * (size_t)nt + 1) * sizeof *ctx->stencil);
-    ctx->pts = malloc((npts + 1) * sizeof *ctx->pts);
-    ctx->dbl = malloc((ndbl + 1) * sizeof *ctx->dbl);
-    ctx->work = malloc((17 * mp + ka + 9 * mp * mp + 3 * mp * ka) * sizeof *ctx->work);
-    if (!ctx->stencil || !ctx->pts || !ctx->dbl || !ctx->work) {
-        st = plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
-        goto cleanup;
-    }
-    for (plume_index t = 0; t < nt; t++) {
-        const plume_bending_material *mat = &mats[mesh->material[t]];
-        const double dl = hypot(mesh->barb_dir[2 * t], mesh->barb_dir[2 * t + 1]);
-        double d[2] = {mesh->barb_dir[2 * t] / dl, mesh->barb_dir[2 * t + 1] / dl};
-        tri_slopes(mesh, t, fits, average, &tb, d, Bm);
-        shape_tri *T = &ctx->tri[t];
-        plume_index *sv = ctx->stencil + (size_t)arity * t;
-        for (int i = 0; i < arity; i++)
-            sv[i] = tb.slot[i < tb.nslot ? i : 0];
-        memcpy(ctx->pts + T->pt, tb.pt, (size_t)tb.npt * sizeof *tb.pt);
-        /* K = A B^T Dv B over points 3.. */
-        const double D66 = mat->D_twist > 0.0 ? mat->D_twist
-                                              : fmax(0.0, 0.5 * (sqrt(mat->D_long * mat->D_trans) - mat->D_coupling));
-        const double Dv[3][3] = {{mat->D_long, mat->D_coupling, 0.0}, {mat->D_coupling, mat->D_trans, 0.0},
-                                 {0.0, 0.0, 4.0 * D66}};
-        const double A = 0.5 * fabs(fits[t].R.det);
-        const int np = tb.npt, n = np - 3;
-        double *K = ctx->dbl + T->kh, *h0 = K + (size_t)n * n;
-        for (int a = 0; a < n; a++)
-            for (int b = a; b < n; b++) {
-                double s = 0.0;
-                for (int r = 0; r < 3; r++)
-                    for (int c = 0; c < 3; c++)
-                        s += Bm[r * np + 3 + a] * Dv[r][c] * Bm[c * np + 3 + b];
-                K[a * n + b] = K[b * n + a] = A * s;
-            }
-        for (int k = 0; k < n; k++)
-            h0[k] = 0.0;
-        if (rest_x) {
-            double xv[3 * SHAPE_MAX_POINTS], hr[SHAPE_MAX_POINTS];
-            shape_geom G;
-            gather_points(ctx, t, rest_x, xv);
-            if (!shape_geometry(xv, np, &G, hr)) {
-                st = plume_err_set(err, PLUME_EINVAL, "shape bending: triangle %ld is degenerate in rest_x", (long)t);
-                goto cleanup;
-            }
-            memcpy(h0, hr + 3, (size_t)n * sizeof *h0);
-        }
-    }
+    for (plume_index t = 0; t < nt; t++)
+        if ((st = shape_triangle(ctx, mesh, mats, fits, average, rest_x, t, &tb, Bm, err)) != PLUME_OK)
+            goto cleanup;
 
     out->name = "shape bending";
-    out->arity = arity;
+    out->arity = ctx->arity;
     out->nstencil = nt;
     out->stencil = ctx->stencil;
     out->eval = shape_eval;
