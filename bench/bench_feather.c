@@ -73,69 +73,79 @@ static void header_large_columns(void)
            "factorise", "solve", "analysis");
 }
 
-/* The feather at 44.7k elements: what one Newton iteration costs, its parts measured one by one at
- * the start state (best of 3), and the first steps' time per iteration split by the problem's
- * counters (the rest is the factorisations, the solves and the line search). */
-static void large_feather(const char *scene, int steps)
+/* The work arrays of one Newton iteration on a problem of n unknowns and m constraints. */
+typedef struct {
+    double *u, *grad, *sol, *values, *g, *jv, *lambda;
+} iteration_arrays;
+
+/* best[] = the CPU seconds (best of 3) of an iteration's parts at u: energy and gradient, the
+ * constraints and their Jacobian, the Hessian blocks, their scatter, a factorisation (shifted
+ * until it succeeds), a solve. */
+static void time_iteration_parts(plume_problem *p, plume_chol *chol, const plume_sparsity *hp, iteration_arrays *a,
+                                 double best[6])
+{
+    const plume_index n = plume_problem_nfree(p);
+    double f, t0;
+    for (int k = 0; k < 6; k++)
+        best[k] = INFINITY;
+    for (int r = 0; r < 3; r++) {
+        plume_problem_timing ta, tb;
+        t0 = cpu_seconds();
+        plume_problem_objective(p, a->u, &f, a->grad);
+        best[0] = fmin(best[0], cpu_seconds() - t0);
+        t0 = cpu_seconds();
+        plume_problem_constraints(p, a->u, a->g, NULL);
+        plume_problem_jacobian(p, a->u, a->jv);
+        best[1] = fmin(best[1], cpu_seconds() - t0);
+        plume_problem_timing_get(p, &ta);
+        plume_problem_hessian(p, a->u, 1.0, a->lambda, PLUME_HESSIAN_EXACT, a->values);
+        plume_problem_timing_get(p, &tb);
+        best[2] = fmin(best[2], tb.hessian_eval_seconds - ta.hessian_eval_seconds);
+        best[3] = fmin(best[3], tb.hessian_scatter_seconds - ta.hessian_scatter_seconds);
+        double shift = 0.0, hmax = 0.0;
+        for (plume_index c = 0; c < n; c++)
+            hmax = fmax(hmax, fabs(a->values[hp->colptr[c + 1] - 1]));
+        t0 = cpu_seconds();
+        while (plume_chol_factor(chol, a->values, shift) == PLUME_ESINGULAR && shift < hmax)
+            shift = shift > 0.0 ? 10.0 * shift : 1e-8 * hmax;
+        best[4] = fmin(best[4], cpu_seconds() - t0);
+        t0 = cpu_seconds();
+        plume_chol_solve(chol, a->grad, a->sol);
+        best[5] = fmin(best[5], cpu_seconds() - t0);
+    }
+}
+
+/* What one Newton iteration costs at the start state, its parts measured one by one (best of 3),
+ * printed with the sizes and the symbolic analysis; 0 when the arrays or the analysis fail. */
+static int measure_iteration(const plume_scene *s, plume_problem *p)
 {
     plume_err err = {{0}};
-    plume_scene *s = NULL;
-    plume_problem *p = NULL;
-    plume_dynamics *d = NULL;
     plume_chol *chol = NULL;
-    double *u = NULL, *grad = NULL, *values = NULL, *g = NULL, *jv = NULL, *lambda = NULL, *sol = NULL;
-    header_large_title(scene);
-    if (plume_scene_load(scene, &s, &err) != PLUME_OK || plume_scene_dynamics(s, &p, &d, &err) != PLUME_OK) {
-        printf("setup failed: %s\n", err.msg);
-        goto done;
-    }
+    iteration_arrays a = {0};
+    int ok = 0;
     const plume_index n = plume_problem_nfree(p), m = plume_problem_ncons(p);
     plume_sparsity hp = plume_problem_hessian_pattern(p);
     plume_index jnnz;
     const plume_index *jr, *jc;
     plume_problem_jacobian_pattern(p, &jnnz, &jr, &jc);
-    u = malloc((size_t)n * sizeof *u);
-    grad = malloc((size_t)n * sizeof *grad);
-    sol = malloc((size_t)n * sizeof *sol);
-    values = malloc((size_t)hp.nnz * sizeof *values);
-    g = malloc((size_t)(m + 1) * sizeof *g);
-    jv = malloc((size_t)(jnnz + 1) * sizeof *jv);
-    lambda = calloc((size_t)m + 1, sizeof *lambda);
-    if (!u || !grad || !sol || !values || !g || !jv || !lambda)
+    a.u = malloc((size_t)n * sizeof *a.u);
+    a.grad = malloc((size_t)n * sizeof *a.grad);
+    a.sol = malloc((size_t)n * sizeof *a.sol);
+    a.values = malloc((size_t)hp.nnz * sizeof *a.values);
+    a.g = malloc((size_t)(m + 1) * sizeof *a.g);
+    a.jv = malloc((size_t)(jnnz + 1) * sizeof *a.jv);
+    a.lambda = calloc((size_t)m + 1, sizeof *a.lambda);
+    if (!a.u || !a.grad || !a.sol || !a.values || !a.g || !a.jv || !a.lambda)
         goto done;
-    plume_problem_gather(p, u);
-    double best[6] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY}, f, t0;
+    plume_problem_gather(p, a.u);
+    double best[6];
     double analyse = cpu_seconds();
     if (plume_chol_create(n, hp.colptr, hp.rowind, 0, &chol, &err) != PLUME_OK) {
         printf("analysis failed: %s\n", err.msg);
         goto done;
     }
     analyse = cpu_seconds() - analyse;
-    for (int r = 0; r < 3; r++) {
-        plume_problem_timing a, b;
-        t0 = cpu_seconds();
-        plume_problem_objective(p, u, &f, grad);
-        best[0] = fmin(best[0], cpu_seconds() - t0);
-        t0 = cpu_seconds();
-        plume_problem_constraints(p, u, g, NULL);
-        plume_problem_jacobian(p, u, jv);
-        best[1] = fmin(best[1], cpu_seconds() - t0);
-        plume_problem_timing_get(p, &a);
-        plume_problem_hessian(p, u, 1.0, lambda, PLUME_HESSIAN_EXACT, values);
-        plume_problem_timing_get(p, &b);
-        best[2] = fmin(best[2], b.hessian_eval_seconds - a.hessian_eval_seconds);
-        best[3] = fmin(best[3], b.hessian_scatter_seconds - a.hessian_scatter_seconds);
-        double shift = 0.0, hmax = 0.0;
-        for (plume_index c = 0; c < n; c++)
-            hmax = fmax(hmax, fabs(values[hp.colptr[c + 1] - 1]));
-        t0 = cpu_seconds();
-        while (plume_chol_factor(chol, values, shift) == PLUME_ESINGULAR && shift < hmax)
-            shift = shift > 0.0 ? 10.0 * shift : 1e-8 * hmax;
-        best[4] = fmin(best[4], cpu_seconds() - t0);
-        t0 = cpu_seconds();
-        plume_chol_solve(chol, grad, sol);
-        best[5] = fmin(best[5], cpu_seconds() - t0);
-    }
+    time_iteration_parts(p, chol, &hp, &a, best);
     printf("%ld elements, %ld unknowns, %ld constraints, %ld Hessian entries (upper); CPU ms, best of 3:\n",
            (long)s->mesh->nt, (long)n, (long)m, (long)hp.nnz);
     header_large_columns();
@@ -143,7 +153,24 @@ static void large_feather(const char *scene, int steps)
            1e3 * best[3], 1e3 * best[4], 1e3 * best[5], 1e3 * analyse);
     printf("evaluation + assembly against one factorisation: %.2f\n",
            (best[0] + best[1] + best[2] + best[3]) / best[4]);
+    ok = 1;
+done:
+    plume_chol_destroy(&chol);
+    free(a.u);
+    free(a.grad);
+    free(a.sol);
+    free(a.values);
+    free(a.g);
+    free(a.jv);
+    free(a.lambda);
+    return ok;
+}
 
+/* The first steps' time per Newton iteration, split by the problem's counters (the rest is the
+ * factorisations, the solves and the line search). */
+static void time_first_steps(plume_problem *p, plume_dynamics *d, int steps)
+{
+    plume_err err = {{0}};
     plume_problem_timing t0s, t1s;
     plume_problem_timing_get(p, &t0s);
     int iterations = 0, k = 0;
@@ -168,15 +195,21 @@ static void large_feather(const char *scene, int steps)
                k, iterations, seconds / iterations, cpu / iterations, ev / iterations, he / iterations, sc / iterations,
                (seconds - ev - he - sc) / iterations, (double)(t1s.hessian_calls - t0s.hessian_calls) / iterations);
     }
-done:
-    plume_chol_destroy(&chol);
-    free(u);
-    free(grad);
-    free(sol);
-    free(values);
-    free(g);
-    free(jv);
-    free(lambda);
+}
+
+/* The feather at 44.7k elements: what one Newton iteration costs (measure_iteration), and the
+ * first steps' time per iteration (time_first_steps). */
+static void large_feather(const char *scene, int steps)
+{
+    plume_err err = {{0}};
+    plume_scene *s = NULL;
+    plume_problem *p = NULL;
+    plume_dynamics *d = NULL;
+    header_large_title(scene);
+    if (plume_scene_load(scene, &s, &err) != PLUME_OK || plume_scene_dynamics(s, &p, &d, &err) != PLUME_OK)
+        printf("setup failed: %s\n", err.msg);
+    else if (measure_iteration(s, p))
+        time_first_steps(p, d, steps);
     plume_dynamics_destroy(&d);
     plume_problem_destroy(&p);
     plume_scene_destroy(&s);

@@ -127,6 +127,120 @@ int plume_fm_jump_to_outline(const fm *f, double a, double h, double p[2], doubl
     return 1;
 }
 
+/* Where a barb walk is: the start p of its next sub-step, whether it is inside the vane, the last
+ * vertex it placed (-1 none) and where, the sub-steps since that vertex (or the entry); done when
+ * the walk has ended. */
+typedef struct {
+    double p[2];
+    int inside;
+    plume_index last;
+    double lastp[2];
+    long since;
+    int done;
+} barb_walk;
+
+/* Outside the vane, the sub-step p -> q crossing the outline: the barb enters, with a vertex on the
+ * outline where there is room for one; entering through the strip end or the other side ends the
+ * walk. */
+static plume_status enter_vane(fm *f, int sigma, barb_walk *w, const double q[2])
+{
+    const double e = f->e;
+    const double *p = w->p;
+    double t, u;
+    plume_index edge;
+    if (!plume_fm_outline_cross(f, p, q, &t, &edge, &u))
+        return PLUME_OK;
+    w->inside = 1;
+    double x[2] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])}, s, d;
+    plume_fm_project(f, x, &s, &d);
+    plume_index snap = plume_fm_snap_target(f, edge, u, SNAP_OUTLINE * e);
+    const double *xp = snap >= 0 ? f->o + 2 * snap : x;
+    w->last = -1;
+    if (sigma * d >= 0.5 * plume_fm_width(f, s) && !(snap >= 0 && f->outline_used[snap]) &&
+        !plume_fm_near_vertex(f, xp, xp, GAP_POINT * e, -1) &&
+        !plume_fm_near_segment(f, xp, GAP_SEGMENT * e, 1u << SEG_SIDE | 1u << SEG_BARB, -1)) {
+        if ((w->last = plume_fm_outline_vertex(f, edge, u, SNAP_OUTLINE * e)) < 0)
+            return PLUME_ENOMEM;
+        w->lastp[0] = f->g.p[2 * w->last], w->lastp[1] = f->g.p[2 * w->last + 1];
+    } else if (sigma * d < 0.5 * plume_fm_width(f, s)) {
+        w->done = 1; /* entering through the strip end or the other side */
+        return PLUME_OK;
+    }
+    w->since = 0;
+    return PLUME_OK;
+}
+
+/* The barb leaves the feather at the fraction t of the sub-step p -> q, across outline edge `edge`
+ * at u: its last edge ends on the outline, when that edge is short enough and has room. Ends the
+ * walk. */
+static plume_status leave_vane(fm *f, int sigma, plume_index tag, barb_walk *w, const double q[2], double t,
+                               plume_index edge, double u)
+{
+    const double e = f->e, h = e / SUBSTEPS;
+    const double *p = w->p;
+    w->done = 1;
+    if (w->last < 0 || ((double)w->since + t) * h > LAST_ARC * e)
+        return PLUME_OK;
+    double x[2] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])};
+    plume_index snap = plume_fm_snap_target(f, edge, u, SNAP_OUTLINE * e);
+    const double *xp = snap >= 0 ? f->o + 2 * snap : x;
+    if (norm2(xp[0] - w->lastp[0], xp[1] - w->lastp[1]) < GAP_POINT * e ||
+        (snap >= 0 && f->outline_used[snap]) || plume_fm_near_vertex(f, xp, xp, GAP_POINT * e, w->last) ||
+        plume_fm_near_vertex(f, w->lastp, xp, GAP_SEGMENT * e, w->last) ||
+        plume_fm_blocked(f, w->lastp, xp, 0, w->last))
+        return PLUME_OK;
+    plume_index id = plume_fm_outline_vertex(f, edge, u, SNAP_OUTLINE * e);
+    if (id < 0 || plume_fm_add_constraint(f, w->last, id, SEG_BARB, sigma, tag) < 0)
+        return PLUME_ENOMEM;
+    return PLUME_OK;
+}
+
+/* A fill barb starts (its first vertex at p) where the gap between its neighbours opens to
+ * 2 FILL_CLEAR e. */
+static plume_status start_fill_barb(fm *f, barb_walk *w)
+{
+    const double e = f->e;
+    const double *p = w->p;
+    if (!plume_fm_near_segment(f, p, GAP_POINT * e, 1u << SEG_OUTLINE, -1) &&
+        !plume_fm_near_vertex(f, p, p, FILL_CLEAR * e, -1) &&
+        !plume_fm_near_segment(f, p, FILL_CLEAR * e, 1u << SEG_SIDE | 1u << SEG_BARB, -1)) {
+        if ((w->last = plume_fm_add_vertex(f, p)) < 0)
+            return PLUME_ENOMEM;
+        w->lastp[0] = p[0], w->lastp[1] = p[1];
+        w->since = 0;
+    }
+    return PLUME_OK;
+}
+
+/* A barb vertex at p, SUBSTEPS or more sub-steps after the last one, with its edge from it; dropped
+ * near the outline (the walk goes on to the outline, or ends when the arc since the last vertex is
+ * too long), and the walk ends where the barb would come too close to another. */
+static plume_status place_barb_vertex(fm *f, int sigma, plume_index tag, barb_walk *w)
+{
+    const double e = f->e, h = e / SUBSTEPS;
+    const double *p = w->p;
+    if (plume_fm_near_segment(f, p, GAP_POINT * e, 1u << SEG_OUTLINE, -1)) {
+        if ((double)w->since * h > LAST_ARC * e)
+            w->done = 1; /* grazing the outline: end here */
+        return PLUME_OK; /* else dropped: go on to the outline */
+    }
+    if (((double)w->since * h > LAST_ARC * e && w->last >= 0) ||
+        plume_fm_near_vertex(f, p, p, GAP_POINT * e, w->last) ||
+        plume_fm_near_segment(f, p, GAP_SEGMENT * e, 1u << SEG_SIDE | 1u << SEG_BARB, w->last) ||
+        (w->last >= 0 && (plume_fm_near_vertex(f, w->lastp, p, GAP_SEGMENT * e, w->last) ||
+                          plume_fm_blocked(f, w->lastp, p, 0, w->last)))) {
+        w->done = 1; /* too long an arc since the last vertex, or converging on another barb: cut */
+        return PLUME_OK;
+    }
+    plume_index id = plume_fm_add_vertex(f, p);
+    if (id < 0 || (w->last >= 0 && plume_fm_add_constraint(f, w->last, id, SEG_BARB, sigma, tag) < 0))
+        return PLUME_ENOMEM;
+    w->last = id;
+    w->lastp[0] = p[0], w->lastp[1] = p[1];
+    w->since = 0;
+    return PLUME_OK;
+}
+
 /* Walks the barb of a station from `root` (a vertex id, or -1 when the start is not a vertex),
  * adding vertices and constrained barb edges until the outline or a collision. */
 plume_status plume_fm_walk(fm *f, int side, const double *start, plume_index root, int root_on_outline, int fill,
@@ -134,102 +248,47 @@ plume_status plume_fm_walk(fm *f, int side, const double *start, plume_index roo
 {
     const double e = f->e, h = e / SUBSTEPS;
     const int sigma = side == 0 ? 1 : -1;
-    double p[2] = {start[0], start[1]};
-    int inside = root >= 0 || point_in_polygon(f->o, f->no, p);
-    plume_index last = root;
-    double lastp[2] = {p[0], p[1]};
-    long since = 0; /* sub-steps since the last vertex (or the entry) */
+    barb_walk w = {.p = {start[0], start[1]}, .last = root, .lastp = {start[0], start[1]}};
+    w.inside = root >= 0 || point_in_polygon(f->o, f->no, w.p);
     double tau_max = f->max_barb_len + 3 * f->diag + 2 * e;
     int jumped = 0;
+    plume_status st;
     for (double tau = 0; tau < tau_max; tau += h) {
         double a = plume_fm_blend_angle(bl, tau + 0.5 * h);
-        double q[2] = {p[0] + h * cos(a), p[1] + h * sin(a)};
+        double q[2] = {w.p[0] + h * cos(a), w.p[1] + h * sin(a)};
         double t, u;
         plume_index edge;
-        if (!inside) {
+        if (!w.inside) {
             if (tau > f->max_barb_len && !jumped) {
                 jumped = 1;
-                if (!plume_fm_jump_to_outline(f, a, h, p, q, &tau))
+                if (!plume_fm_jump_to_outline(f, a, h, w.p, q, &tau))
                     return PLUME_OK;
             }
-            if (plume_fm_outline_cross(f, p, q, &t, &edge, &u)) {
-                inside = 1;
-                double x[2] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])}, s, d;
-                plume_fm_project(f, x, &s, &d);
-                plume_index snap = plume_fm_snap_target(f, edge, u, SNAP_OUTLINE * e);
-                const double *xp = snap >= 0 ? f->o + 2 * snap : x;
-                last = -1;
-                if (sigma * d >= 0.5 * plume_fm_width(f, s) && !(snap >= 0 && f->outline_used[snap]) &&
-                    !plume_fm_near_vertex(f, xp, xp, GAP_POINT * e, -1) &&
-                    !plume_fm_near_segment(f, xp, GAP_SEGMENT * e, 1u << SEG_SIDE | 1u << SEG_BARB, -1)) {
-                    if ((last = plume_fm_outline_vertex(f, edge, u, SNAP_OUTLINE * e)) < 0)
-                        return PLUME_ENOMEM;
-                    lastp[0] = f->g.p[2 * last], lastp[1] = f->g.p[2 * last + 1];
-                } else if (sigma * d < 0.5 * plume_fm_width(f, s)) {
-                    return PLUME_OK; /* entering through the strip end or the other side */
-                }
-                since = 0;
-            }
-            p[0] = q[0], p[1] = q[1];
+            if ((st = enter_vane(f, sigma, &w, q)) != PLUME_OK || w.done)
+                return st;
+            w.p[0] = q[0], w.p[1] = q[1];
             continue;
         }
         if (tau == 0 && root >= 0 && root_on_outline) {
             /* from a strip end on the outline: go on only if the barb heads into the feather */
             if (!point_in_polygon(f->o, f->no, q))
                 return PLUME_OK;
-        } else if (plume_fm_outline_cross(f, p, q, &t, &edge, &u)) {
-            /* the barb leaves the feather: its last edge ends on the outline */
-            if (last < 0 || ((double)since + t) * h > LAST_ARC * e)
-                return PLUME_OK;
-            double x[2] = {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])};
-            plume_index snap = plume_fm_snap_target(f, edge, u, SNAP_OUTLINE * e);
-            const double *xp = snap >= 0 ? f->o + 2 * snap : x;
-            if (norm2(xp[0] - lastp[0], xp[1] - lastp[1]) < GAP_POINT * e ||
-                (snap >= 0 && f->outline_used[snap]) || plume_fm_near_vertex(f, xp, xp, GAP_POINT * e, last) ||
-                plume_fm_near_vertex(f, lastp, xp, GAP_SEGMENT * e, last) || plume_fm_blocked(f, lastp, xp, 0, last))
-                return PLUME_OK;
-            plume_index id = plume_fm_outline_vertex(f, edge, u, SNAP_OUTLINE * e);
-            if (id < 0 || plume_fm_add_constraint(f, last, id, SEG_BARB, sigma, tag) < 0)
-                return PLUME_ENOMEM;
-            return PLUME_OK;
+        } else if (plume_fm_outline_cross(f, w.p, q, &t, &edge, &u)) {
+            return leave_vane(f, sigma, tag, &w, q, t, edge, u);
         }
-        if (plume_fm_blocked(f, p, q, 0, last) && !(fill && tau == 0))
+        if (plume_fm_blocked(f, w.p, q, 0, w.last) && !(fill && tau == 0))
             return PLUME_OK; /* it would cross another barb or the strip: cut (a fill barb starts on a side) */
-        p[0] = q[0], p[1] = q[1];
-        since++;
-        if (fill && last < 0) {
-            /* a fill barb starts where the gap between its neighbours opens to 2 FILL_CLEAR e */
-            if (!plume_fm_near_segment(f, p, GAP_POINT * e, 1u << SEG_OUTLINE, -1) &&
-                !plume_fm_near_vertex(f, p, p, FILL_CLEAR * e, -1) &&
-                !plume_fm_near_segment(f, p, FILL_CLEAR * e, 1u << SEG_SIDE | 1u << SEG_BARB, -1)) {
-                if ((last = plume_fm_add_vertex(f, p)) < 0)
-                    return PLUME_ENOMEM;
-                lastp[0] = p[0], lastp[1] = p[1];
-                since = 0;
-            }
+        w.p[0] = q[0], w.p[1] = q[1];
+        w.since++;
+        if (fill && w.last < 0) {
+            if ((st = start_fill_barb(f, &w)) != PLUME_OK)
+                return st;
             continue;
         }
-        if (since < SUBSTEPS)
+        if (w.since < SUBSTEPS)
             continue;
-        if (plume_fm_near_segment(f, p, GAP_POINT * e, 1u << SEG_OUTLINE, -1)) {
-            if ((double)since * h > LAST_ARC * e)
-                return PLUME_OK; /* grazing the outline: end here */
-            continue;            /* dropped: go on to the outline */
-        }
-        if ((double)since * h > LAST_ARC * e && last >= 0)
-            return PLUME_OK;
-        if (plume_fm_near_vertex(f, p, p, GAP_POINT * e, last) ||
-            plume_fm_near_segment(f, p, GAP_SEGMENT * e, 1u << SEG_SIDE | 1u << SEG_BARB, last))
-            return PLUME_OK; /* converging on another barb: cut */
-        if (last >= 0 &&
-            (plume_fm_near_vertex(f, lastp, p, GAP_SEGMENT * e, last) || plume_fm_blocked(f, lastp, p, 0, last)))
-            return PLUME_OK;
-        plume_index id = plume_fm_add_vertex(f, p);
-        if (id < 0 || (last >= 0 && plume_fm_add_constraint(f, last, id, SEG_BARB, sigma, tag) < 0))
-            return PLUME_ENOMEM;
-        last = id;
-        lastp[0] = p[0], lastp[1] = p[1];
-        since = 0;
+        if ((st = place_barb_vertex(f, sigma, tag, &w)) != PLUME_OK || w.done)
+            return st;
     }
     return PLUME_OK;
 }

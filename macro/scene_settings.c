@@ -7,18 +7,11 @@
 
 #include "internal/scene_internal.h"
 
-plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+/* What is solved: gravity, static or dynamic, the bending model, the contact block, the predictor
+ * and the globalisation. */
+static plume_status parse_model(const plume_json_ctx *c, json_t *doc, plume_scene *s)
 {
     plume_status st;
-    s->gravity[0] = s->gravity[1] = 0.0;
-    s->gravity[2] = -9.81;
-    s->solver = PLUME_SOLVER_NEWTON;
-    s->max_halvings = 6;
-    s->max_iter = 100;
-    s->output_every = 1;
-    s->camera[0] = 60.0;
-    s->camera[1] = 30.0;
-    snprintf(s->render_field, sizeof s->render_field, "material");
     json_t *v;
     if ((v = json_object_get(doc, "gravity")) && (st = plume_json_vector(c, v, "gravity", 3, s->gravity)) != PLUME_OK)
         return st;
@@ -47,6 +40,14 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
         (!json_is_string(v) || plume_globalization_parse(json_string_value(v), &s->globalization) != PLUME_OK))
         return plume_json_bad(c, PLUME_EINVAL, "globalization",
                               "must be \"curved_line_search\", \"line_search\" or \"trust_region\"");
+    return PLUME_OK;
+}
+
+/* The clock: steps, dt and duration (required by a dynamic scene only), adaptive steps and dt_max. */
+static plume_status parse_stepping(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    json_t *v;
     s->steps = 10;
     long steps = s->steps;
     if ((st = plume_json_int(c, doc, "", "steps", 1, 1000000, &steps)) != PLUME_OK)
@@ -67,6 +68,14 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
         return plume_json_bad(c, PLUME_EINVAL, "dt_max", "needs \"adaptive_dt\": true");
     if (s->dt_max > 0.0 && s->dt > 0.0 && s->dt_max < s->dt)
         return plume_json_bad(c, PLUME_EINVAL, "dt_max", "must be >= dt (got %g < %g)", s->dt_max, s->dt);
+    return PLUME_OK;
+}
+
+/* The solver and its limits: halvings of a step, iterations. */
+static plume_status parse_solver(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    json_t *v;
     if ((v = json_object_get(doc, "solver"))) {
         if (!json_is_string(v) || plume_solver_kind_parse(json_string_value(v), &s->solver) != PLUME_OK)
             return plume_json_bad(c, PLUME_EINVAL, "solver", "must be \"newton\", \"ipopt\" or \"linearized\" (got %s%s%s)",
@@ -81,7 +90,15 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
     if ((st = plume_json_int(c, doc, "", "max_iter", 1, 100000, &lv)) != PLUME_OK)
         return st;
     s->max_iter = (int)lv;
-    lv = s->output_every;
+    return PLUME_OK;
+}
+
+/* What is written: every how many steps a frame, the frames rendered and the field that colours them. */
+static plume_status parse_output(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    json_t *v;
+    long lv = s->output_every;
     if ((st = plume_json_int(c, doc, "", "output_every", 1, 1000000, &lv)) != PLUME_OK)
         return st;
     s->output_every = (int)lv;
@@ -109,6 +126,14 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
                                   plume_field_names());
         snprintf(s->render_field, sizeof s->render_field, "%s", name);
     }
+    return PLUME_OK;
+}
+
+/* The renders' camera: rot_x in [0, 180] and rot_z in [0, 360] degrees. */
+static plume_status parse_camera(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    json_t *v;
     if ((v = json_object_get(doc, "camera"))) {
         static const char *const ck[] = {"rot_x", "rot_z", NULL};
         if (!json_is_object(v))
@@ -122,6 +147,23 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
         if (!(s->camera[1] >= 0.0 && s->camera[1] <= 360.0))
             return plume_json_bad(c, PLUME_EINVAL, "camera.rot_z", "must be in [0, 360] degrees (got %g)", s->camera[1]);
     }
-
     return PLUME_OK;
+}
+
+plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    s->gravity[0] = s->gravity[1] = 0.0;
+    s->gravity[2] = -9.81;
+    s->solver = PLUME_SOLVER_NEWTON;
+    s->max_halvings = 6;
+    s->max_iter = 100;
+    s->output_every = 1;
+    s->camera[0] = 60.0;
+    s->camera[1] = 30.0;
+    snprintf(s->render_field, sizeof s->render_field, "material");
+    if ((st = parse_model(c, doc, s)) != PLUME_OK || (st = parse_stepping(c, doc, s)) != PLUME_OK ||
+        (st = parse_solver(c, doc, s)) != PLUME_OK || (st = parse_output(c, doc, s)) != PLUME_OK)
+        return st;
+    return parse_camera(c, doc, s);
 }

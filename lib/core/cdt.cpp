@@ -142,32 +142,32 @@ plume_status check_duplicates(const plume_cdt_input *in, plume_err *err)
     return PLUME_OK;
 }
 
-plume_status triangulate(const plume_cdt_input *in, plume_cdt_output *out, plume_err *err)
+/* With max_edge > 0, refuses a refinement that would need more than kMaxEstimatedTriangles. */
+plume_status check_refinement_size(const plume_cdt_input *in, plume_err *err)
 {
-    plume_status st = validate(in, err);
-    if (st != PLUME_OK)
-        return st;
-    st = check_duplicates(in, err);
-    if (st != PLUME_OK)
-        return st;
-
+    if (!(in->max_edge > 0))
+        return PLUME_OK;
     const plume_index n = in->npoints;
-    if (in->max_edge > 0) {
-        double x0 = in->points[0], x1 = x0, y0 = in->points[1], y1 = y0;
-        for (plume_index i = 1; i < n; i++) {
-            x0 = std::min(x0, in->points[2 * i]);
-            x1 = std::max(x1, in->points[2 * i]);
-            y0 = std::min(y0, in->points[2 * i + 1]);
-            y1 = std::max(y1, in->points[2 * i + 1]);
-        }
-        double est = (x1 - x0) * (y1 - y0) / (std::sqrt(3.0) / 4 * in->max_edge * in->max_edge);
-        if (!(est <= kMaxEstimatedTriangles))
-            return plume_err_set(err, PLUME_EINVAL,
-                                 "cdt: max_edge = %g would need ~%.3g triangles over the %g x %g bounding box",
-                                 in->max_edge, est, x1 - x0, y1 - y0);
+    double x0 = in->points[0], x1 = x0, y0 = in->points[1], y1 = y0;
+    for (plume_index i = 1; i < n; i++) {
+        x0 = std::min(x0, in->points[2 * i]);
+        x1 = std::max(x1, in->points[2 * i]);
+        y0 = std::min(y0, in->points[2 * i + 1]);
+        y1 = std::max(y1, in->points[2 * i + 1]);
     }
+    double est = (x1 - x0) * (y1 - y0) / (std::sqrt(3.0) / 4 * in->max_edge * in->max_edge);
+    if (!(est <= kMaxEstimatedTriangles))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "cdt: max_edge = %g would need ~%.3g triangles over the %g x %g bounding box",
+                             in->max_edge, est, x1 - x0, y1 - y0);
+    return PLUME_OK;
+}
 
-    CDT cdt;
+/* The input points (each vertex keeping its input id) and segments into cdt. Fails when the points
+ * are collinear or a segment crosses an earlier one away from an input point. */
+plume_status insert_input(CDT &cdt, const plume_cdt_input *in, plume_err *err)
+{
+    const plume_index n = in->npoints;
     {
         std::vector<std::pair<Point, Vinfo>> pts(static_cast<size_t>(n));
         for (plume_index i = 0; i < n; i++) {
@@ -194,9 +194,14 @@ plume_status triangulate(const plume_cdt_input *in, plume_cdt_output *out, plume
                                  s, a, b);
         }
     }
+    return PLUME_OK;
+}
 
-    /* Domain: every finite face, minus the exterior (remove_exterior), minus the hole regions.
-     * Without remove_exterior the convex hull is constrained so the mesher cannot grow it. */
+/* Domain: every finite face, minus the exterior (remove_exterior), minus the hole regions.
+ * Without remove_exterior the convex hull is constrained so the mesher cannot grow it. Fails on a
+ * hole that lies on a point or a segment. */
+plume_status mark_domain(CDT &cdt, const plume_cdt_input *in, plume_err *err)
+{
     for (CDT::All_faces_iterator f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f)
         f->set_in_domain(true); /* infinite faces too: the exterior flood crosses them */
     if (!in->remove_exterior) {
@@ -223,16 +228,15 @@ plume_status triangulate(const plume_cdt_input *in, plume_cdt_output *out, plume
                                  q.x(), q.y(), lt == CDT::VERTEX ? "point" : "segment");
         remove_region(f, stack); /* outside the hull: the exterior, already removed */
     }
+    return PLUME_OK;
+}
 
-    if (in->max_edge > 0) {
-        double b = in->min_angle_bound > 0 ? in->min_angle_bound : kDefaultShapeBound;
-        Mesher mesher(cdt, Criteria(b, in->max_edge));
-        mesher.init(true); /* keep our marks: CGAL only re-clears the infinite component */
-        mesher.refine_mesh();
-    }
-
-    /* Output: input points in input order, then the Steiner points used by a kept triangle, in
-     * the order the face loop meets them (deterministic for a given input). */
+/* Output: input points in input order, then the Steiner points used by a kept triangle, in the
+ * order the face loop meets them (deterministic for a given input); *out is filled only on
+ * success. Fails when no triangle is kept. */
+plume_status write_output(CDT &cdt, const plume_cdt_input *in, plume_cdt_output *out, plume_err *err)
+{
+    const plume_index n = in->npoints;
     plume_index ntri = 0;
     for (CDT::Finite_faces_iterator f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
         if (f->is_in_domain())
@@ -277,6 +281,24 @@ plume_status triangulate(const plume_cdt_input *in, plume_cdt_output *out, plume
     out->ntriangles = ntri;
     out->triangles = tri;
     return PLUME_OK;
+}
+
+plume_status triangulate(const plume_cdt_input *in, plume_cdt_output *out, plume_err *err)
+{
+    plume_status st;
+    if ((st = validate(in, err)) != PLUME_OK || (st = check_duplicates(in, err)) != PLUME_OK ||
+        (st = check_refinement_size(in, err)) != PLUME_OK)
+        return st;
+    CDT cdt;
+    if ((st = insert_input(cdt, in, err)) != PLUME_OK || (st = mark_domain(cdt, in, err)) != PLUME_OK)
+        return st;
+    if (in->max_edge > 0) {
+        double b = in->min_angle_bound > 0 ? in->min_angle_bound : kDefaultShapeBound;
+        Mesher mesher(cdt, Criteria(b, in->max_edge));
+        mesher.init(true); /* keep our marks: CGAL only re-clears the infinite component */
+        mesher.refine_mesh();
+    }
+    return write_output(cdt, in, out, err);
 }
 
 } // namespace

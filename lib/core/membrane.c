@@ -304,16 +304,10 @@ static void membrane_destroy(void *vctx)
     free(ctx);
 }
 
-plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
-                                        const plume_membrane_material *mats, int nmat,
-                                        plume_term *out, plume_err *err)
+/* What plume_membrane_term_create checks before allocating: dim, the materials, the mesh's arrays. */
+static plume_status check_membrane_args(const plume_mesh *mesh, int dim, const plume_membrane_material *mats,
+                                        int nmat, plume_err *err)
 {
-    plume_status st = PLUME_OK;
-    mem_ctx *ctx = NULL;
-    if (out)
-        memset(out, 0, sizeof *out);
-    if (!mesh || !mats || !out)
-        return plume_err_set(err, PLUME_EINVAL, "membrane: NULL mesh, materials or output");
     if (dim != 2 && dim != 3)
         return plume_err_set(err, PLUME_EINVAL, "membrane: dim must be 2 or 3 (got %d)", dim);
     if (nmat < 1)
@@ -326,6 +320,70 @@ plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
         if (plume_membrane_material_check(&mats[i], &e) != PLUME_OK)
             return plume_err_set(err, PLUME_EINVAL, "membrane: material %d: %s", i, e.msg);
     }
+    return PLUME_OK;
+}
+
+/* Triangle t's stencil (its three vertices) and reference data: B = Dm^-1 R in the barb frame and
+ * Ah = area h. Fails on a vertex or material id out of range, a degenerate reference triangle or
+ * a barb direction that cannot be normalised. */
+static plume_status reference_triangle(const plume_mesh *mesh, const plume_membrane_material *mats, int nmat,
+                                       plume_index t, plume_index stencil[3], mem_tri *tr, plume_err *err)
+{
+    const plume_index *v = mesh->tri + 3 * t;
+    for (int l = 0; l < 3; l++) {
+        if (v[l] < 0 || v[l] >= mesh->nv)
+            return plume_err_set(err, PLUME_EINVAL,
+                                 "membrane: triangle %ld: vertex id %ld out of range [0, %ld)",
+                                 (long)t, (long)v[l], (long)mesh->nv);
+        stencil[l] = v[l];
+    }
+    int mid = mesh->material[t];
+    if (mid < 0 || mid >= nmat)
+        return plume_err_set(err, PLUME_EINVAL,
+                             "membrane: triangle %ld: material id %d out of range [0, %d)",
+                             (long)t, mid, nmat);
+    const double *X0 = mesh->X + 2 * v[0], *X1 = mesh->X + 2 * v[1], *X2 = mesh->X + 2 * v[2];
+    double d00 = X1[0] - X0[0], d01 = X2[0] - X0[0]; /* Dm = [X1-X0, X2-X0] */
+    double d10 = X1[1] - X0[1], d11 = X2[1] - X0[1];
+    double det = d00 * d11 - d01 * d10;
+    double area = 0.5 * fabs(det);
+    double scale = d00 * d00 + d10 * d10 + d01 * d01 + d11 * d11 +
+                   (d01 - d00) * (d01 - d00) + (d11 - d10) * (d11 - d10);
+    if (!isfinite(area) || !isfinite(scale) || !(fabs(det) > MEMBRANE_DEGENERATE_REL * scale))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "membrane: triangle %ld: degenerate reference triangle (area %g)",
+                             (long)t, area);
+    double dx = mesh->barb_dir[2 * t], dy = mesh->barb_dir[2 * t + 1];
+    double len = hypot(dx, dy);
+    if (!isfinite(len) || !(len > 0.0))
+        return plume_err_set(err, PLUME_EINVAL,
+                             "membrane: triangle %ld: barb direction (%g, %g) cannot be "
+                             "normalised", (long)t, dx, dy);
+    dx /= len;
+    dy /= len;
+    /* B = Dm^-1 R, R = [d, d_perp], d_perp = (-d_y, d_x) */
+    double i00 = d11 / det, i01 = -d01 / det, i10 = -d10 / det, i11 = d00 / det;
+    tr->B[0] = i00 * dx + i01 * dy;
+    tr->B[1] = -i00 * dy + i01 * dx;
+    tr->B[2] = i10 * dx + i11 * dy;
+    tr->B[3] = -i10 * dy + i11 * dx;
+    tr->Ah = area * mats[mid].h;
+    tr->mat = mid;
+    return PLUME_OK;
+}
+
+plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
+                                        const plume_membrane_material *mats, int nmat,
+                                        plume_term *out, plume_err *err)
+{
+    plume_status st = PLUME_OK;
+    mem_ctx *ctx = NULL;
+    if (out)
+        memset(out, 0, sizeof *out);
+    if (!mesh || !mats || !out)
+        return plume_err_set(err, PLUME_EINVAL, "membrane: NULL mesh, materials or output");
+    if ((st = check_membrane_args(mesh, dim, mats, nmat, err)) != PLUME_OK)
+        return st;
 
     const plume_index nt = mesh->nt;
     ctx = calloc(1, sizeof *ctx);
@@ -342,58 +400,9 @@ plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
     }
     for (int i = 0; i < nmat; i++)
         plume_membrane_law_set(&mats[i], &ctx->mat[i]);
-
-    for (plume_index t = 0; t < nt; t++) {
-        const plume_index *v = mesh->tri + 3 * t;
-        for (int l = 0; l < 3; l++) {
-            if (v[l] < 0 || v[l] >= mesh->nv) {
-                st = plume_err_set(err, PLUME_EINVAL,
-                                   "membrane: triangle %ld: vertex id %ld out of range [0, %ld)",
-                                   (long)t, (long)v[l], (long)mesh->nv);
-                goto cleanup;
-            }
-            ctx->stencil[3 * t + l] = v[l];
-        }
-        int mid = mesh->material[t];
-        if (mid < 0 || mid >= nmat) {
-            st = plume_err_set(err, PLUME_EINVAL,
-                               "membrane: triangle %ld: material id %d out of range [0, %d)",
-                               (long)t, mid, nmat);
+    for (plume_index t = 0; t < nt; t++)
+        if ((st = reference_triangle(mesh, mats, nmat, t, ctx->stencil + 3 * t, &ctx->tri[t], err)) != PLUME_OK)
             goto cleanup;
-        }
-        const double *X0 = mesh->X + 2 * v[0], *X1 = mesh->X + 2 * v[1], *X2 = mesh->X + 2 * v[2];
-        double d00 = X1[0] - X0[0], d01 = X2[0] - X0[0]; /* Dm = [X1-X0, X2-X0] */
-        double d10 = X1[1] - X0[1], d11 = X2[1] - X0[1];
-        double det = d00 * d11 - d01 * d10;
-        double area = 0.5 * fabs(det);
-        double scale = d00 * d00 + d10 * d10 + d01 * d01 + d11 * d11 +
-                       (d01 - d00) * (d01 - d00) + (d11 - d10) * (d11 - d10);
-        if (!isfinite(area) || !isfinite(scale) || !(fabs(det) > MEMBRANE_DEGENERATE_REL * scale)) {
-            st = plume_err_set(err, PLUME_EINVAL,
-                               "membrane: triangle %ld: degenerate reference triangle (area %g)",
-                               (long)t, area);
-            goto cleanup;
-        }
-        double dx = mesh->barb_dir[2 * t], dy = mesh->barb_dir[2 * t + 1];
-        double len = hypot(dx, dy);
-        if (!isfinite(len) || !(len > 0.0)) {
-            st = plume_err_set(err, PLUME_EINVAL,
-                               "membrane: triangle %ld: barb direction (%g, %g) cannot be "
-                               "normalised", (long)t, dx, dy);
-            goto cleanup;
-        }
-        dx /= len;
-        dy /= len;
-        /* B = Dm^-1 R, R = [d, d_perp], d_perp = (-d_y, d_x) */
-        double i00 = d11 / det, i01 = -d01 / det, i10 = -d10 / det, i11 = d00 / det;
-        mem_tri *tr = &ctx->tri[t];
-        tr->B[0] = i00 * dx + i01 * dy;
-        tr->B[1] = -i00 * dy + i01 * dx;
-        tr->B[2] = i10 * dx + i11 * dy;
-        tr->B[3] = -i10 * dy + i11 * dx;
-        tr->Ah = area * mats[mid].h;
-        tr->mat = mid;
-    }
 
     out->name = "membrane";
     out->arity = 3;

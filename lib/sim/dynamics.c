@@ -174,13 +174,11 @@ static plume_status copy_handles(plume_dynamics *d, const plume_mesh *mesh, cons
     return PLUME_OK;
 }
 
-plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, const double *density, int ndensity,
-                                   const plume_handle *handles, int nhandles, const plume_dynamics_opts *o,
-                                   plume_dynamics **out, plume_err *err)
+/* What plume_dynamics_create checks beyond its pointers: a shell-mode problem over the mesh, the
+ * step options and the surface densities. */
+static plume_status check_dynamics_inputs(const plume_mesh *mesh, const plume_problem *p, const double *density,
+                                          int ndensity, const plume_dynamics_opts *o, plume_err *err)
 {
-    if (!mesh || !p || !density || ndensity < 1 || (nhandles > 0 && !handles) || !o || !out)
-        return plume_err_set(err, PLUME_EINVAL, "dynamics: invalid arguments");
-    *out = NULL;
     if (plume_problem_dim(p) != 3 || plume_problem_nvert(p) != mesh->nv)
         return plume_err_set(err, PLUME_EINVAL, "dynamics: needs a shell-mode (dim 3) problem over the mesh's vertices");
     if (!(o->dt > 0.0) || !isfinite(o->dt) || o->max_halvings < 0)
@@ -196,38 +194,34 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
         if (!(density[k] > 0.0) || !isfinite(density[k]))
             return plume_err_set(err, PLUME_EINVAL, "dynamics: surface density %d must be finite and > 0 (got %g)", k,
                                  density[k]);
-    plume_status st;
-    plume_dynamics *d = calloc(1, sizeof *d);
-    inertia_ctx *in = calloc(1, sizeof *in);
-    if (!d || !in) {
-        free(d);
-        free(in);
-        return PLUME_ENOMEM;
-    }
-    d->mesh = mesh;
-    d->p = p;
-    d->o = *o;
-    if (o->adaptive && o->solver == PLUME_SOLVER_NEWTON && d->o.solver_opts.stall_iterations == 0)
-        d->o.solver_opts.stall_iterations = o->stall_iterations;
+    return PLUME_OK;
+}
+
+/* The inertia term's context: lumped masses (a third of each triangle per vertex), gravity and
+ * 1/dt^2; xt is set by each step. Fails on a triangle whose material has no density. */
+static plume_status inertia_create(const plume_mesh *mesh, const double *density, int ndensity,
+                                   const plume_dynamics_opts *o, inertia_ctx **out, plume_err *err)
+{
     plume_index nv = mesh->nv;
+    inertia_ctx *in = calloc(1, sizeof *in);
+    if (!in)
+        return PLUME_ENOMEM;
     in->nv = nv;
     in->stencil = malloc((size_t)nv * sizeof *in->stencil);
     in->mass = calloc((size_t)nv, sizeof *in->mass);
     in->xt = calloc((size_t)(3 * nv), sizeof *in->xt);
     if (!in->stencil || !in->mass || !in->xt) {
         inertia_destroy(in);
-        free(d);
         return PLUME_ENOMEM;
     }
     memcpy(in->g, o->gravity, sizeof in->g);
     in->inv_dt2 = 1.0 / (o->dt * o->dt);
     for (plume_index v = 0; v < nv; v++)
         in->stencil[v] = v;
-    for (plume_index t = 0; t < mesh->nt; t++) { /* lumped mass: a third of each triangle per vertex */
+    for (plume_index t = 0; t < mesh->nt; t++) {
         int id = mesh->material[t];
         if (id < 0 || id >= ndensity) {
             inertia_destroy(in);
-            free(d);
             return plume_err_set(err, PLUME_EINVAL, "dynamics: triangle %ld has material %d without a density", (long)t,
                                  id);
         }
@@ -235,29 +229,26 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
         for (int k = 0; k < 3; k++)
             in->mass[mesh->tri[3 * t + k]] += m3;
     }
-    plume_term term = {.name = "inertia", .arity = 1, .nstencil = nv, .stencil = in->stencil, .eval = inertia_eval,
-                       .destroy = inertia_destroy, .ctx = in};
-    d->inertia = in;
-    if ((st = plume_problem_add_term(p, &term, err)) != PLUME_OK) {
-        free(d);
-        return st;
-    }
-    if ((st = copy_handles(d, mesh, plume_problem_x(p), handles, nhandles, err)) != PLUME_OK)
-        goto fail;
-    for (int h = 0; h < nhandles; h++)
+    *out = in;
+    return PLUME_OK;
+}
+
+/* The handles' vertices are fixed dofs of the problem: their motion is prescribed. */
+static void fix_handle_dofs(const plume_dynamics *d, plume_err *err)
+{
+    for (int h = 0; h < d->nhandles; h++)
         for (plume_index i = 0; i < d->handles[h].nv; i++)
             for (int a = 0; a < 3; a++)
-                plume_problem_fix_dof(p, 3 * d->handles[h].vertices[i] + a, err);
-    if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
-        goto fail;
-    plume_err why;
-    if ((st = plume_solver_create(o->solver, p, &d->o.solver_opts, &d->s, &why)) != PLUME_OK) {
-        plume_err_set(err, st, "dynamics: cannot create the %s solver: %s", plume_solver_kind_name(o->solver), why.msg);
-        goto fail;
-    }
-    d->n = plume_problem_nfree(p);
-    d->m = plume_problem_ncons(p);
-    size_t nd = (size_t)(3 * nv);
+                plume_problem_fix_dof(d->p, 3 * d->handles[h].vertices[i] + a, err);
+}
+
+/* The state and the step's workspaces, sized by the finalized problem (n free dofs, m
+ * constraints); x starts at the problem's x, v at rest. */
+static plume_status alloc_state(plume_dynamics *d)
+{
+    d->n = plume_problem_nfree(d->p);
+    d->m = plume_problem_ncons(d->p);
+    size_t nd = (size_t)(3 * d->mesh->nv);
     d->x = malloc(nd * sizeof *d->x);
     d->v = calloc(nd, sizeof *d->v);
     d->xsave = malloc(nd * sizeof *d->xsave);
@@ -268,11 +259,54 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
     d->lambda = calloc((size_t)(d->m + 1), sizeof *d->lambda);
     d->lsave = calloc((size_t)(d->m + 1), sizeof *d->lsave);
     d->lsave2 = calloc((size_t)(d->m + 1), sizeof *d->lsave2);
-    if (!d->x || !d->v || !d->xsave || !d->xh || !d->dx || !d->vsave || !d->u || !d->lambda || !d->lsave || !d->lsave2) {
-        st = PLUME_ENOMEM;
+    if (!d->x || !d->v || !d->xsave || !d->xh || !d->dx || !d->vsave || !d->u || !d->lambda || !d->lsave || !d->lsave2)
+        return PLUME_ENOMEM;
+    memcpy(d->x, plume_problem_x(d->p), nd * sizeof *d->x);
+    return PLUME_OK;
+}
+
+plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, const double *density, int ndensity,
+                                   const plume_handle *handles, int nhandles, const plume_dynamics_opts *o,
+                                   plume_dynamics **out, plume_err *err)
+{
+    if (!mesh || !p || !density || ndensity < 1 || (nhandles > 0 && !handles) || !o || !out)
+        return plume_err_set(err, PLUME_EINVAL, "dynamics: invalid arguments");
+    *out = NULL;
+    plume_status st = check_dynamics_inputs(mesh, p, density, ndensity, o, err);
+    if (st != PLUME_OK)
+        return st;
+    plume_dynamics *d = calloc(1, sizeof *d);
+    if (!d)
+        return PLUME_ENOMEM;
+    d->mesh = mesh;
+    d->p = p;
+    d->o = *o;
+    if (o->adaptive && o->solver == PLUME_SOLVER_NEWTON && d->o.solver_opts.stall_iterations == 0)
+        d->o.solver_opts.stall_iterations = o->stall_iterations;
+    inertia_ctx *in = NULL;
+    if ((st = inertia_create(mesh, density, ndensity, o, &in, err)) != PLUME_OK) {
+        free(d);
+        return st;
+    }
+    plume_term term = {.name = "inertia", .arity = 1, .nstencil = mesh->nv, .stencil = in->stencil,
+                       .eval = inertia_eval, .destroy = inertia_destroy, .ctx = in};
+    d->inertia = in;
+    if ((st = plume_problem_add_term(p, &term, err)) != PLUME_OK) {
+        free(d);
+        return st;
+    }
+    if ((st = copy_handles(d, mesh, plume_problem_x(p), handles, nhandles, err)) != PLUME_OK)
+        goto fail;
+    fix_handle_dofs(d, err);
+    if ((st = plume_problem_finalize(p, err)) != PLUME_OK)
+        goto fail;
+    plume_err why;
+    if ((st = plume_solver_create(o->solver, p, &d->o.solver_opts, &d->s, &why)) != PLUME_OK) {
+        plume_err_set(err, st, "dynamics: cannot create the %s solver: %s", plume_solver_kind_name(o->solver), why.msg);
         goto fail;
     }
-    memcpy(d->x, plume_problem_x(p), nd * sizeof *d->x);
+    if ((st = alloc_state(d)) != PLUME_OK)
+        goto fail;
     *out = d;
     return PLUME_OK;
 fail:
