@@ -353,7 +353,7 @@ static void output_dir(const options *o, const char *stem, char *outdir, size_t 
 /* What the run did, over its steps. */
 typedef struct {
     long step, next_frame; /* the scene's steps so far; the index of the next frame */
-    long frames, done_steps, substeps, halvings, iterations, backtracks, shifts;
+    long frames, done_steps, substeps, halvings, iterations, backtracks, shifts, predictions;
     double max_violation, solve_seconds, loop_seconds;
     int converged, failed;
     plume_reason failed_reason;
@@ -437,6 +437,7 @@ static void tally_step(const plume_step_report *rep, run_tally *r, contact_monit
     r->iterations += rep->iterations;
     r->backtracks += rep->backtracks;
     r->shifts += rep->shifts;
+    r->predictions += rep->predictions;
     cm->step_limited += rep->step_limited;
     r->solve_seconds += rep->seconds;
     fm->newton_iterations += rep->iterations;
@@ -550,6 +551,7 @@ static json_t *summary_json(const options *o, const output_ctx *oc, const plume_
     json_object_set_new(j, "newton_iterations", json_integer(r->iterations));
     json_object_set_new(j, "line_search_backtracks", json_integer(r->backtracks));
     json_object_set_new(j, "inertia_shifts", json_integer(r->shifts));
+    json_object_set_new(j, "predictions", json_integer(r->predictions));
     json_object_set_new(j, "max_constraint_violation", json_real(r->max_violation));
     json_object_set_new(j, "converged", json_boolean(r->converged));
     json_object_set_new(j, "stop_reason", json_string(r->failed ? plume_reason_name(r->failed_reason)
@@ -602,10 +604,11 @@ static void report(const options *o, const output_ctx *oc, const plume_dynamics 
     const plume_scene *scene = oc->scene;
     long new_frames = r->frames - (o->restart ? 0 : 1);
     printf("%s: %ld steps to t = %.6g s, %ld frames (last %ld) in %s; %ld elements, %ld constraints; %ld "
-           "iterations (%ld backtracks, %ld inertia shifts), %ld halvings, max violation %.2g; %.2f s (%.3g s per "
+           "iterations (%ld backtracks, %ld inertia shifts) and %ld predictions, %ld halvings, max violation %.2g; %.2f s (%.3g s per "
            "frame)%s\n",
            oc->stem, r->done_steps, plume_dynamics_time(d), r->frames, r->next_frame - 1, oc->outdir,
-           (long)scene->mesh->nt, (long)ncons, r->iterations, r->backtracks, r->shifts, r->halvings, r->max_violation,
+           (long)scene->mesh->nt, (long)ncons, r->iterations, r->backtracks, r->shifts, r->predictions, r->halvings,
+           r->max_violation,
            total, new_frames > 0 ? r->loop_seconds / (double)new_frames : 0.0,
            r->failed ? ", stopped: a step did not converge" : !r->converged ? ", single linearised steps, not converged" : "");
     if (scene->has_contact)

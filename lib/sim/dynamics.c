@@ -388,6 +388,25 @@ static int handles_accelerate(const plume_dynamics *d, const double *xt, const d
     return 0;
 }
 
+/* The tangent predictor from the positions in the problem (handles at their x~) to the handles'
+ * targets xh; where it fails, the plain start (every vertex at xh, the multipliers as they were). */
+static plume_status predict_start(plume_dynamics *d, const double *xh, plume_step_report *rep, plume_err *err)
+{
+    double *x = plume_problem_x(d->p);
+    plume_problem_gather(d->p, d->u);
+    memcpy(d->lsave2, d->lambda, (size_t)d->m * sizeof *d->lambda);
+    int nf = 0;
+    plume_status st = plume_solver_predict(d->s, d->u, d->lambda, xh, &nf, NULL);
+    rep->predictions++;
+    if (st == PLUME_ENOMEM)
+        return plume_err_set(err, st, "dynamics: out of memory");
+    if (st != PLUME_OK) {
+        memcpy(x, xh, (size_t)(3 * d->mesh->nv) * sizeof *x);
+        memcpy(d->lambda, d->lsave2, (size_t)d->m * sizeof *d->lambda);
+    }
+    return PLUME_OK;
+}
+
 /* One implicit Euler step of size dt from the current state; 1 when it converged. */
 static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *rep, int *ok, plume_err *err)
 {
@@ -418,21 +437,22 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
                 rep->reason = PLUME_REASON_LINE_SEARCH; /* the handles would cross: a smaller step */
             return PLUME_OK;
         }
+        if (!limited && d->o.tangent_predictor && d->o.solver != PLUME_SOLVER_IPOPT && handles_accelerate(d, in->xt, xh)) {
+            /* every vertex is at xh, reached without a crossing; the predictor starts again from the
+             * handles at their own x~, moves them to their targets with the tangent response of the
+             * rest, and cuts that response where continuous collision detection says */
+            for (plume_index i = 0; i < 3 * nv; i++)
+                if (plume_problem_is_fixed(d->p, i))
+                    x[i] = in->xt[i];
+            if ((st = predict_start(d, xh, rep, err)) != PLUME_OK)
+                return st;
+        }
     } else if (d->o.tangent_predictor && d->o.solver != PLUME_SOLVER_IPOPT && handles_accelerate(d, in->xt, xh)) {
         /* x~ everywhere, handles included (their own inertial prediction); the predictor moves the
          * handles to their targets along the tangent and the free dofs with them */
         memcpy(x, in->xt, (size_t)(3 * nv) * sizeof *x);
-        plume_problem_gather(d->p, d->u);
-        memcpy(d->lsave2, d->lambda, (size_t)d->m * sizeof *d->lambda);
-        int nf = 0;
-        st = plume_solver_predict(d->s, d->u, d->lambda, xh, &nf, NULL);
-        rep->predictions++;
-        if (st == PLUME_ENOMEM)
-            return plume_err_set(err, st, "dynamics: out of memory");
-        if (st != PLUME_OK) { /* no prediction: the plain start */
-            memcpy(x, xh, (size_t)(3 * nv) * sizeof *x);
-            memcpy(d->lambda, d->lsave2, (size_t)d->m * sizeof *d->lambda);
-        }
+        if ((st = predict_start(d, xh, rep, err)) != PLUME_OK)
+            return st;
     } else {
         memcpy(x, xh, (size_t)(3 * nv) * sizeof *x);
     }

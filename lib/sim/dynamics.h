@@ -60,7 +60,9 @@ typedef struct {
      * more than an element crushes the membrane next to a handle, and Newton may then settle in
      * another local minimum than the time-converged trajectory (the shipped feather: 1 mm away,
      * for good; docs/solver-nonconvexity.md). One factorisation per predicted step; native
-     * solvers only; not used with terms that limit steps (contact). */
+     * solvers only. With terms that limit steps (contact) it follows the safe start (the handles'
+     * move checked by continuous collision detection) when that was not cut, and its response is
+     * cut where CCD says. */
     int tangent_predictor;
 } plume_dynamics_opts;
 
