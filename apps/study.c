@@ -480,20 +480,25 @@ static int within(const study *s, int i, const run *rich)
            plume_study_rel_error(s->runs[i].res.stress, rich->res.stress) <= TOL_SCENE;
 }
 
-static void section_scenes(study *s, FILE *md)
+#define SCENE_MAX_EDGES 4
+
+/* Section 4's candidates: models × edges × solvers per scenario, their runs' indices (-1: none). */
+typedef struct {
+    const double *edges;
+    int ne;
+    int idx[3][SCENE_MAX_EDGES][3];
+    int richest;
+} scene_grid;
+
+/* The section's heading, what it measures and the table's head. */
+static void scenes_intro(FILE *md, const scene_grid *g)
 {
-    const double edges_full[] = {0.1, 0.05, 0.025, 0.0125}, edges_quick[] = {0.1, 0.05};
-    const double *edges = s->quick ? edges_quick : edges_full;
-    int ne = s->quick ? 2 : 4;
-    const plume_solver_kind kinds[3] = {PLUME_SOLVER_NEWTON, PLUME_SOLVER_IPOPT, PLUME_SOLVER_LINEARIZED};
-    const char *scen[3] = {"tilted", "transverse", "longitudinal"};
-    const double angles[3] = {45.0, 90.0, 0.0};
     fprintf(md, "\n## 4. Model no more than a scene needs\n\n"
                 "Each shipped traction scenario (l_x = 1, l_y = 1.3, E_xx/E_yy = 1e4, E_yy = G_xy = 1), 2 load "
                 "steps to 5 %% strain. Candidates: {aligned+constraint, aligned+penalty, unaligned+penalty} × "
                 "edges {");
-    for (int ie = 0; ie < ne; ie++)
-        fprintf(md, "%s%g", ie ? ", " : "", edges[ie]);
+    for (int ie = 0; ie < g->ne; ie++)
+        fprintf(md, "%s%g", ie ? ", " : "", g->edges[ie]);
     fprintf(md, "} × {newton, ipopt, linearized}. Richest: aligned+constraint at edge %g with newton (the "
                 "longitudinal scenario: aligned+penalty, because constrained barbs run from one grip to the "
                 "other and the sample cannot stretch). Cheapest: the least wall time whose stress at 5 %% is "
@@ -501,87 +506,129 @@ static void section_scenes(study *s, FILE *md)
                 "solver: a coarse mesh whose discretisation error happens to cancel the model's own difference "
                 "does not count. The last column names the cheapest candidate that is within %.0f %% on its own "
                 "mesh only, with the error of the same model and solver on the finest mesh.\n\n",
-            edges[ne - 1], 100 * TOL_SCENE, 100 * TOL_SCENE);
+            g->edges[g->ne - 1], 100 * TOL_SCENE, 100 * TOL_SCENE);
     fprintf(md, "| scenario | richest stress | cheapest within %.0f %% | its seconds | its error | richest seconds | "
                 "candidates within / also on finer meshes / measured | failures | within on its mesh only |\n"
                 "|---|---|---|---|---|---|---|---|---|\n", 100 * TOL_SCENE);
-    char failures[3][2048];
+}
+
+/* Runs scenario sc's candidates (the longitudinal one's constrained model once: it is infeasible)
+ * and names the richest. */
+static void run_scene_candidates(study *s, int sc, scene_grid *g)
+{
+    const plume_solver_kind kinds[3] = {PLUME_SOLVER_NEWTON, PLUME_SOLVER_IPOPT, PLUME_SOLVER_LINEARIZED};
+    const char *scen[3] = {"tilted", "transverse", "longitudinal"};
+    const double angles[3] = {45.0, 90.0, 0.0};
+    const int ne = g->ne;
+    g->richest = -1;
+    for (int m = 0; m < 3; m++)
+        for (int ie = 0; ie < ne; ie++)
+            for (int k = 0; k < 3; k++) {
+                g->idx[m][ie][k] = -1;
+                plume_study_config c;
+                base_tilted(&c, 1e4);
+                c.angle = angles[sc];
+                set_model(&c, m);
+                c.edge = g->edges[ie];
+                c.solver = kinds[k];
+                if (sc == 2 && m == 0 && !(ie == 0 && k == 0))
+                    continue; /* infeasible: shown once, at the coarsest mesh with newton */
+                char name[160];
+                snprintf(name, sizeof name, "scenes/%s/%s/e%g/%s", scen[sc], model_short[m], g->edges[ie],
+                         plume_solver_kind_name(kinds[k]));
+                g->idx[m][ie][k] = do_run(s, &c, name, name);
+                if (ie == ne - 1 && k == 0 && m == (sc == 2 ? 1 : 0))
+                    g->richest = g->idx[m][ie][k];
+            }
+}
+
+/* What a scenario's candidates gave against its richest run: the cheapest within the tolerance on
+ * its mesh and every finer one (best), the cheapest within it on its own mesh only (lone, with the
+ * same model and solver on the finest mesh), the counts and the failures. */
+typedef struct {
+    int best, lone, lone_finest, nwithin, nstable, measured;
+    char failures[2048];
+} scene_choice;
+
+static void choose_scene_candidate(const study *s, const scene_grid *g, scene_choice *ch)
+{
+    const run *rich = g->richest >= 0 ? &s->runs[g->richest] : NULL;
+    const int ne = g->ne;
+    *ch = (scene_choice){.best = -1, .lone = -1, .lone_finest = -1};
+    for (int m = 0; m < 3; m++)
+        for (int ie = 0; ie < ne; ie++)
+            for (int k = 0; k < 3; k++) {
+                int i = g->idx[m][ie][k];
+                if (i < 0)
+                    continue;
+                const run *r = &s->runs[i];
+                ch->measured++;
+                if (!ok(r)) {
+                    size_t len = strlen(ch->failures);
+                    snprintf(ch->failures + len, sizeof ch->failures - len, "%s`%s`: %s", len ? "; " : "", r->name,
+                             r->st != PLUME_OK ? r->msg : outcome(r));
+                    continue;
+                }
+                if (!within(s, i, rich))
+                    continue;
+                ch->nwithin++;
+                int stable = 1;
+                for (int f = ie + 1; f < ne; f++)
+                    stable &= within(s, g->idx[m][f][k], rich);
+                double t = r->res.seconds;
+                if (stable) {
+                    ch->nstable++;
+                    if (ch->best < 0 || t < s->runs[ch->best].res.seconds)
+                        ch->best = i;
+                } else if (ch->lone < 0 || t < s->runs[ch->lone].res.seconds) {
+                    ch->lone = i, ch->lone_finest = g->idx[m][ne - 1][k];
+                }
+            }
+}
+
+/* The scenario's row of the table. */
+static void write_scene_row(FILE *md, const study *s, const char *scenario, const scene_grid *g,
+                            const scene_choice *ch)
+{
+    const run *rich = g->richest >= 0 ? &s->runs[g->richest] : NULL;
+    const int best = ch->best, lone = ch->lone, lone_finest = ch->lone_finest;
+    char lonetxt[512] = "none";
+    if (lone >= 0 && lone_finest >= 0 && s->runs[lone].res.seconds < (best >= 0 ? s->runs[best].res.seconds : INFINITY)) {
+        const run *l = &s->runs[lone], *lf = &s->runs[lone_finest];
+        char ferr[64];
+        if (ok(lf) && rich && ok(rich))
+            snprintf(ferr, sizeof ferr, "%.2e", plume_study_rel_error(lf->res.stress, rich->res.stress));
+        else
+            snprintf(ferr, sizeof ferr, "%s", outcome(lf));
+        snprintf(lonetxt, sizeof lonetxt, "%s, edge %g, %s: %.3f s, error %.2e; at edge %g: %s", model_name(&l->cfg),
+                 l->cfg.edge, plume_solver_kind_name(l->cfg.solver), l->res.seconds,
+                 plume_study_rel_error(l->res.stress, rich->res.stress), g->edges[g->ne - 1], ferr);
+    }
+    const char *failures = ch->failures[0] ? ch->failures : "none";
+    if (best >= 0) {
+        const run *b = &s->runs[best];
+        fprintf(md, "| %s | %.6g | %s, edge %g, %s | %.3f | %.2e | %.3f | %d / %d / %d | %s | %s |\n", scenario,
+                rich->res.stress, model_name(&b->cfg), b->cfg.edge, plume_solver_kind_name(b->cfg.solver),
+                b->res.seconds, plume_study_rel_error(b->res.stress, rich->res.stress), rich->res.seconds, ch->nwithin,
+                ch->nstable, ch->measured, failures, lonetxt);
+    } else {
+        fprintf(md, "| %s | %s | none | — | — | — | %d / %d / %d | %s | %s |\n", scenario,
+                rich && ok(rich) ? "measured" : "richest run failed", ch->nwithin, ch->nstable, ch->measured, failures,
+                lonetxt);
+    }
+}
+
+static void section_scenes(study *s, FILE *md)
+{
+    static const double edges_full[SCENE_MAX_EDGES] = {0.1, 0.05, 0.025, 0.0125}, edges_quick[2] = {0.1, 0.05};
+    const char *scen[3] = {"tilted", "transverse", "longitudinal"};
+    scene_grid g = {.edges = s->quick ? edges_quick : edges_full, .ne = s->quick ? 2 : 4};
+    scenes_intro(md, &g);
     for (int sc = 0; sc < 3; sc++) {
-        int idx[3][4][3], richest = -1;
-        failures[sc][0] = 0;
-        for (int m = 0; m < 3; m++)
-            for (int ie = 0; ie < ne; ie++)
-                for (int k = 0; k < 3; k++) {
-                    idx[m][ie][k] = -1;
-                    plume_study_config c;
-                    base_tilted(&c, 1e4);
-                    c.angle = angles[sc];
-                    set_model(&c, m);
-                    c.edge = edges[ie];
-                    c.solver = kinds[k];
-                    if (sc == 2 && m == 0 && !(ie == 0 && k == 0))
-                        continue; /* infeasible: shown once, at the coarsest mesh with newton */
-                    char name[160];
-                    snprintf(name, sizeof name, "scenes/%s/%s/e%g/%s", scen[sc], model_short[m], edges[ie],
-                             plume_solver_kind_name(kinds[k]));
-                    idx[m][ie][k] = do_run(s, &c, name, name);
-                    if (ie == ne - 1 && k == 0 && m == (sc == 2 ? 1 : 0))
-                        richest = idx[m][ie][k];
-                }
-        const run *rich = richest >= 0 ? &s->runs[richest] : NULL;
-        int best = -1, lone = -1, lone_finest = -1, nwithin = 0, nstable = 0, measured = 0;
-        for (int m = 0; m < 3; m++)
-            for (int ie = 0; ie < ne; ie++)
-                for (int k = 0; k < 3; k++) {
-                    int i = idx[m][ie][k];
-                    if (i < 0)
-                        continue;
-                    const run *r = &s->runs[i];
-                    measured++;
-                    if (!ok(r)) {
-                        size_t len = strlen(failures[sc]);
-                        snprintf(failures[sc] + len, sizeof failures[sc] - len, "%s`%s`: %s", len ? "; " : "",
-                                 r->name, r->st != PLUME_OK ? r->msg : outcome(r));
-                        continue;
-                    }
-                    if (!within(s, i, rich))
-                        continue;
-                    nwithin++;
-                    int stable = 1;
-                    for (int f = ie + 1; f < ne; f++)
-                        stable &= within(s, idx[m][f][k], rich);
-                    double t = r->res.seconds;
-                    if (stable) {
-                        nstable++;
-                        if (best < 0 || t < s->runs[best].res.seconds)
-                            best = i;
-                    } else if (lone < 0 || t < s->runs[lone].res.seconds) {
-                        lone = i, lone_finest = idx[m][ne - 1][k];
-                    }
-                }
-        char lonetxt[512] = "none";
-        if (lone >= 0 && lone_finest >= 0 && s->runs[lone].res.seconds < (best >= 0 ? s->runs[best].res.seconds : INFINITY)) {
-            const run *l = &s->runs[lone], *lf = &s->runs[lone_finest];
-            char ferr[64];
-            if (ok(lf) && rich && ok(rich))
-                snprintf(ferr, sizeof ferr, "%.2e", plume_study_rel_error(lf->res.stress, rich->res.stress));
-            else
-                snprintf(ferr, sizeof ferr, "%s", outcome(lf));
-            snprintf(lonetxt, sizeof lonetxt, "%s, edge %g, %s: %.3f s, error %.2e; at edge %g: %s", model_name(&l->cfg),
-                     l->cfg.edge, plume_solver_kind_name(l->cfg.solver), l->res.seconds,
-                     plume_study_rel_error(l->res.stress, rich->res.stress), edges[ne - 1], ferr);
-        }
-        if (best >= 0) {
-            const run *b = &s->runs[best];
-            fprintf(md, "| %s | %.6g | %s, edge %g, %s | %.3f | %.2e | %.3f | %d / %d / %d | %s | %s |\n", scen[sc],
-                    rich->res.stress, model_name(&b->cfg), b->cfg.edge, plume_solver_kind_name(b->cfg.solver),
-                    b->res.seconds, plume_study_rel_error(b->res.stress, rich->res.stress), rich->res.seconds, nwithin,
-                    nstable, measured, failures[sc][0] ? failures[sc] : "none", lonetxt);
-        } else {
-            fprintf(md, "| %s | %s | none | — | — | — | %d / %d / %d | %s | %s |\n", scen[sc],
-                    rich && ok(rich) ? "measured" : "richest run failed", nwithin, nstable, measured,
-                    failures[sc][0] ? failures[sc] : "none", lonetxt);
-        }
+        scene_choice ch;
+        run_scene_candidates(s, sc, &g);
+        choose_scene_candidate(s, &g, &ch);
+        write_scene_row(md, s, scen[sc], &g, &ch);
     }
     fprintf(md, "\nA `linearized` candidate never converges by design; it counts when its stress is within the "
                 "tolerance. All stresses of every candidate are in study.h5 under /curves/study/scenes_*.\n");
