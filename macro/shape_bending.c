@@ -682,12 +682,10 @@ static void fit_slopes(const ref_tri *R, const double X[2], const double N[2], d
 }
 
 /* First pass for triangle t: own stencil (natural, ghost or from the ring), its fit. */
-static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const double *rest_x,
-                                const unsigned char *clamped, int phase_aware, search_ws *W, own_fit *F,
-                                plume_err *err)
+/* T's reference triangle: its first vertex, twice its area and the barycentric gradients. */
+static plume_status reference_triangle(const plume_mesh *mesh, plume_index t, ref_tri *R, plume_err *err)
 {
     const plume_index *tv = mesh->tri + 3 * t;
-    ref_tri *R = &F->R;
     const double *X0 = mesh->X + 2 * tv[0], *X1 = mesh->X + 2 * tv[1], *X2 = mesh->X + 2 * tv[2];
     const double ax = X1[0] - X0[0], ay = X1[1] - X0[1], bx = X2[0] - X0[0], by = X2[1] - X0[1];
     R->X0[0] = X0[0];
@@ -704,9 +702,16 @@ static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const dou
     R->g[2][1] = ax / R->det;
     R->g[0][0] = -R->g[1][0] - R->g[2][0];
     R->g[0][1] = -R->g[1][1] - R->g[2][1];
+    return PLUME_OK;
+}
 
-    /* natural stencil: p_k across the edge (tv[k+1], tv[k+2]) */
-    plume_index p[3], across[3];
+/* The natural stencil: p_k the vertex across the edge (tv[k+1], tv[k+2]) (across[k], and the
+ * neighbour nb[k]); -1 on a boundary edge, and (phase-aware) across a neighbour of another
+ * material, which still shares its slope estimate but whose vertex is not fitted. */
+static void natural_stencil(const plume_mesh *mesh, plume_index t, int phase_aware, const search_ws *W, own_fit *F,
+                            plume_index p[3], plume_index across[3])
+{
+    const plume_index *tv = mesh->tri + 3 * t;
     for (int k = 0; k < 3; k++) {
         const plume_index a = tv[(k + 1) % 3], b = tv[(k + 2) % 3];
         p[k] = across[k] = F->nb[k] = -1;
@@ -722,16 +727,22 @@ static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const dou
                 continue;
             for (int j = 0; j < 3; j++)
                 if (uv[j] != a && uv[j] != b) {
-                    /* phase-aware: a neighbour of another material still shares its slope
-                     * estimate (nb), but its vertex is not fitted */
                     across[k] = uv[j];
                     p[k] = phase_aware && mesh->material[u] != mesh->material[t] ? -1 : uv[j];
                     F->nb[k] = u;
                 }
         }
     }
-    /* clamped boundary edges: the missing p_k is the mirror image of T's own vertex x_k */
-    ghost_ref gr = {{NULL, NULL, NULL}};
+}
+
+/* Clamped boundary edges: the missing p_k is the mirror image of T's own vertex x_k through the
+ * plane of the edge and the rest normal (its reference point in F->P[k] and gr, the plane's unit
+ * normal in F->m[k], the edge's first vertex in F->a[k]; -1 elsewhere). */
+static plume_status clamp_mirrors(const plume_mesh *mesh, plume_index t, const double *rest_x,
+                                  const unsigned char *clamped, const plume_index across[3], own_fit *F,
+                                  plume_index p[3], ghost_ref *gr, plume_err *err)
+{
+    const plume_index *tv = mesh->tri + 3 * t;
     for (int k = 0; k < 3; k++) {
         const plume_index a = tv[(k + 1) % 3], b = tv[(k + 2) % 3];
         F->a[k] = -1;
@@ -743,7 +754,7 @@ static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const dou
         const double d = nx * (Xc[0] - Xa[0]) + ny * (Xc[1] - Xa[1]);
         F->P[k][0] = Xc[0] - 2.0 * d * nx;
         F->P[k][1] = Xc[1] - 2.0 * d * ny;
-        gr.gp[k] = F->P[k];
+        gr->gp[k] = F->P[k];
         p[k] = tv[k];
         F->a[k] = a;
         double *m = F->m[k];
@@ -769,6 +780,22 @@ static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const dou
         for (int i = 0; i < 3; i++)
             m[i] /= ml;
     }
+    return PLUME_OK;
+}
+
+static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const double *rest_x,
+                                const unsigned char *clamped, int phase_aware, search_ws *W, own_fit *F,
+                                plume_err *err)
+{
+    ref_tri *R = &F->R;
+    plume_status st = reference_triangle(mesh, t, R, err);
+    if (st != PLUME_OK)
+        return st;
+    plume_index p[3], across[3];
+    natural_stencil(mesh, t, phase_aware, W, F, p, across);
+    ghost_ref gr = {{NULL, NULL, NULL}};
+    if ((st = clamp_mirrors(mesh, t, rest_x, clamped, across, F, p, &gr, err)) != PLUME_OK)
+        return st;
     W->phase = phase_aware ? mesh->material[t] : -1;
     double q = shape_choose_stencil(mesh, t, R, &gr, W, p);
     if (q >= 0.0 && !(q >= SHAPE_MIN_STENCIL) && phase_aware) {
