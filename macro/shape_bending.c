@@ -265,8 +265,9 @@ static int shape_geometry(const double *xv, int npt, shape_geom *G, double *h)
  * q_s = sum_k c_k q_k, c_k = f_k / L, and its (e_a, q_k) blocks c_k ([e2]x, -[e1]x)_a - c_k gL_a n^T;
  * the points' blocks follow from y_b = x_{b+1} - x_0 (x0's rows and columns minus the sums).
  * Only the upper triangle is computed, then mirrored. */
-static void shape_hessian_points(const shape_geom *G, const double *xv, int npt, const double *K, const double *f,
-                                 const double *h, const double *gy, int gauss_newton, double *Hv, int ld)
+/* The block's Gauss-Newton part J^T K J on the points, from the structure of J (row k: the
+ * triangle's vertices and point k), upper triangle. */
+static void gauss_newton_points(const shape_geom *G, int npt, const double *K, const double *gy, double *Hv, int ld)
 {
     const int n = npt - 3;
     const double *nn = G->n;
@@ -318,101 +319,117 @@ static void shape_hessian_points(const shape_geom *G, const double *xv, int npt,
                     row[3 * l + j] = kn * nn[j];
             }
         }
+}
+
+/* Adds the curvature part sum_k f_k Hess h_k on the points (its few nonzero blocks), upper
+ * triangle. */
+static void add_curvature_points(const shape_geom *G, const double *xv, int npt, const double *f, const double *h,
+                                 const double *gy, double *Hv, int ld)
+{
+    const int n = npt - 3;
+    const double *nn = G->n;
+    const double iL = 1.0 / G->L;
+    double gL[2][3], Se1[3][3], Se2[3][3];
+    cross3(G->e2, nn, gL[0]);
+    cross3(nn, G->e1, gL[1]);
+    skew(G->e1, Se1);
+    skew(G->e2, Se2);
+    double w[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}, qs[3] = {0.0, 0.0, 0.0}, S = 0.0;
+    double Cq[SHAPE_MAX_POINTS][2][3][3]; /* (e_a, q_k) */
+    double D[3][3] = {{0.0}}, Rq[2][3][3] = {{{0.0}}}; /* sum_k of (e1 + e2, q_k), of (q_k, e_a) */
+    for (int k = 0; k < n; k++) {
+        const int j = 3 + k;
+        const double c = f[k] * iL;
+        const double q[3] = {xv[3 * j] - xv[0], xv[3 * j + 1] - xv[1], xv[3 * j + 2] - xv[2]};
+        const double *g = gy + 9 * j;
+        S += c * h[j];
+        for (int i = 0; i < 3; i++) {
+            qs[i] += c * q[i];
+            w[0][i] += c * g[i];
+            w[1][i] += c * g[3 + i];
+        }
+        for (int i = 0; i < 3; i++)
+            for (int jj = 0; jj < 3; jj++) {
+                const double c0 = c * (Se2[i][jj] - gL[0][i] * nn[jj]);
+                const double c1 = -c * (Se1[i][jj] + gL[1][i] * nn[jj]);
+                Cq[k][0][i][jj] = c0;
+                Cq[k][1][i][jj] = c1;
+                Rq[0][jj][i] += c0;
+                Rq[1][jj][i] += c1;
+            }
+    }
+    /* (e_a, e_b), a <= b, the upper half of a diagonal block */
+    double Cee[2][2][3][3], Sq[3][3], A[2][3][3], PA[2][3][3], Sn[3][3];
+    skew(qs, Sq);
+    skew(nn, Sn);
+    for (int i = 0; i < 3; i++)
+        for (int jj = 0; jj < 3; jj++) {
+            A[0][i][jj] = -Se2[i][jj];
+            A[1][i][jj] = Se1[i][jj];
+        }
+    for (int a = 0; a < 2; a++)
+        for (int jj = 0; jj < 3; jj++) {
+            const double nA = nn[0] * A[a][0][jj] + nn[1] * A[a][1][jj] + nn[2] * A[a][2][jj];
+            for (int i = 0; i < 3; i++)
+                PA[a][i][jj] = A[a][i][jj] - nn[i] * nA;
+        }
+    for (int a = 0; a < 2; a++)
+        for (int b = a; b < 2; b++)
+            for (int i = 0; i < 3; i++)
+                for (int jj = 0; jj < 3; jj++) {
+                    /* (A_a^T P A_b)_{ij} = sum_m A_a[m][i] (P A_b)[m][j] (P^2 = P) */
+                    double v = (A[a][0][i] * PA[b][0][jj] + A[a][1][i] * PA[b][1][jj] + A[a][2][i] * PA[b][2][jj]) * iL;
+                    if (a != b)
+                        v -= Sn[i][jj];
+                    double e = -(w[a][i] * gL[b][jj] + gL[a][i] * w[b][jj]) - S * v;
+                    if (a != b)
+                        e -= Sq[i][jj];
+                    Cee[a][b][i][jj] = e;
+                }
+    for (int i = 0; i < 3; i++) /* the lower halves of the diagonal blocks, and (e2, e1) */
+        for (int jj = 0; jj < 3; jj++) {
+            if (jj < i)
+                Cee[0][0][i][jj] = Cee[0][0][jj][i], Cee[1][1][i][jj] = Cee[1][1][jj][i];
+            Cee[1][0][i][jj] = Cee[0][1][jj][i];
+        }
+    /* R_b = column sums of y-block column e_b, D = sum_k (e1 + e2, q_k) */
+    double R[2][3][3];
+    for (int b = 0; b < 2; b++)
+        for (int i = 0; i < 3; i++)
+            for (int jj = 0; jj < 3; jj++)
+                R[b][i][jj] = Cee[0][b][i][jj] + Cee[1][b][i][jj] + Rq[b][i][jj];
+    for (int k = 0; k < n; k++)
+        for (int i = 0; i < 3; i++)
+            for (int jj = 0; jj < 3; jj++) {
+                const double dk = Cq[k][0][i][jj] + Cq[k][1][i][jj];
+                D[i][jj] += dk;
+                Hv[(size_t)i * ld + 9 + 3 * k + jj] -= dk;
+                Hv[(size_t)(3 + i) * ld + 9 + 3 * k + jj] += Cq[k][0][i][jj];
+                Hv[(size_t)(6 + i) * ld + 9 + 3 * k + jj] += Cq[k][1][i][jj];
+            }
+    for (int i = 0; i < 3; i++)
+        for (int jj = 0; jj < 3; jj++) {
+            if (jj >= i) {
+                Hv[(size_t)i * ld + jj] += R[0][i][jj] + R[1][i][jj] + D[i][jj];
+                Hv[(size_t)(3 + i) * ld + 3 + jj] += Cee[0][0][i][jj];
+                Hv[(size_t)(6 + i) * ld + 6 + jj] += Cee[1][1][i][jj];
+            }
+            Hv[(size_t)i * ld + 3 + jj] -= R[0][i][jj];
+            Hv[(size_t)i * ld + 6 + jj] -= R[1][i][jj];
+            Hv[(size_t)(3 + i) * ld + 6 + jj] += Cee[0][1][i][jj];
+        }
+}
+
+static void shape_hessian_points(const shape_geom *G, const double *xv, int npt, const double *K, const double *f,
+                                 const double *h, const double *gy, int gauss_newton, double *Hv, int ld)
+{
+    gauss_newton_points(G, npt, K, gy, Hv, ld);
+    const int n = npt - 3;
     int curved = 0; /* no force on any height (the rest shape): the block is its Gauss-Newton part */
     for (int k = 0; k < n && !gauss_newton; k++)
         curved |= f[k] != 0.0;
-    if (curved) {
-        const double iL = 1.0 / G->L;
-        double gL[2][3], Se1[3][3], Se2[3][3];
-        cross3(G->e2, nn, gL[0]);
-        cross3(nn, G->e1, gL[1]);
-        skew(G->e1, Se1);
-        skew(G->e2, Se2);
-        double w[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}, qs[3] = {0.0, 0.0, 0.0}, S = 0.0;
-        double Cq[SHAPE_MAX_POINTS][2][3][3]; /* (e_a, q_k) */
-        double D[3][3] = {{0.0}}, Rq[2][3][3] = {{{0.0}}}; /* sum_k of (e1 + e2, q_k), of (q_k, e_a) */
-        for (int k = 0; k < n; k++) {
-            const int j = 3 + k;
-            const double c = f[k] * iL;
-            const double q[3] = {xv[3 * j] - xv[0], xv[3 * j + 1] - xv[1], xv[3 * j + 2] - xv[2]};
-            const double *g = gy + 9 * j;
-            S += c * h[j];
-            for (int i = 0; i < 3; i++) {
-                qs[i] += c * q[i];
-                w[0][i] += c * g[i];
-                w[1][i] += c * g[3 + i];
-            }
-            for (int i = 0; i < 3; i++)
-                for (int jj = 0; jj < 3; jj++) {
-                    const double c0 = c * (Se2[i][jj] - gL[0][i] * nn[jj]);
-                    const double c1 = -c * (Se1[i][jj] + gL[1][i] * nn[jj]);
-                    Cq[k][0][i][jj] = c0;
-                    Cq[k][1][i][jj] = c1;
-                    Rq[0][jj][i] += c0;
-                    Rq[1][jj][i] += c1;
-                }
-        }
-        /* (e_a, e_b), a <= b, the upper half of a diagonal block */
-        double Cee[2][2][3][3], Sq[3][3], A[2][3][3], PA[2][3][3], Sn[3][3];
-        skew(qs, Sq);
-        skew(nn, Sn);
-        for (int i = 0; i < 3; i++)
-            for (int jj = 0; jj < 3; jj++) {
-                A[0][i][jj] = -Se2[i][jj];
-                A[1][i][jj] = Se1[i][jj];
-            }
-        for (int a = 0; a < 2; a++)
-            for (int jj = 0; jj < 3; jj++) {
-                const double nA = nn[0] * A[a][0][jj] + nn[1] * A[a][1][jj] + nn[2] * A[a][2][jj];
-                for (int i = 0; i < 3; i++)
-                    PA[a][i][jj] = A[a][i][jj] - nn[i] * nA;
-            }
-        for (int a = 0; a < 2; a++)
-            for (int b = a; b < 2; b++)
-                for (int i = 0; i < 3; i++)
-                    for (int jj = 0; jj < 3; jj++) {
-                        /* (A_a^T P A_b)_{ij} = sum_m A_a[m][i] (P A_b)[m][j] (P^2 = P) */
-                        double v = (A[a][0][i] * PA[b][0][jj] + A[a][1][i] * PA[b][1][jj] + A[a][2][i] * PA[b][2][jj]) * iL;
-                        if (a != b)
-                            v -= Sn[i][jj];
-                        double e = -(w[a][i] * gL[b][jj] + gL[a][i] * w[b][jj]) - S * v;
-                        if (a != b)
-                            e -= Sq[i][jj];
-                        Cee[a][b][i][jj] = e;
-                    }
-        for (int i = 0; i < 3; i++) /* the lower halves of the diagonal blocks, and (e2, e1) */
-            for (int jj = 0; jj < 3; jj++) {
-                if (jj < i)
-                    Cee[0][0][i][jj] = Cee[0][0][jj][i], Cee[1][1][i][jj] = Cee[1][1][jj][i];
-                Cee[1][0][i][jj] = Cee[0][1][jj][i];
-            }
-        /* R_b = column sums of y-block column e_b, D = sum_k (e1 + e2, q_k) */
-        double R[2][3][3];
-        for (int b = 0; b < 2; b++)
-            for (int i = 0; i < 3; i++)
-                for (int jj = 0; jj < 3; jj++)
-                    R[b][i][jj] = Cee[0][b][i][jj] + Cee[1][b][i][jj] + Rq[b][i][jj];
-        for (int k = 0; k < n; k++)
-            for (int i = 0; i < 3; i++)
-                for (int jj = 0; jj < 3; jj++) {
-                    const double dk = Cq[k][0][i][jj] + Cq[k][1][i][jj];
-                    D[i][jj] += dk;
-                    Hv[(size_t)i * ld + 9 + 3 * k + jj] -= dk;
-                    Hv[(size_t)(3 + i) * ld + 9 + 3 * k + jj] += Cq[k][0][i][jj];
-                    Hv[(size_t)(6 + i) * ld + 9 + 3 * k + jj] += Cq[k][1][i][jj];
-                }
-        for (int i = 0; i < 3; i++)
-            for (int jj = 0; jj < 3; jj++) {
-                if (jj >= i) {
-                    Hv[(size_t)i * ld + jj] += R[0][i][jj] + R[1][i][jj] + D[i][jj];
-                    Hv[(size_t)(3 + i) * ld + 3 + jj] += Cee[0][0][i][jj];
-                    Hv[(size_t)(6 + i) * ld + 6 + jj] += Cee[1][1][i][jj];
-                }
-                Hv[(size_t)i * ld + 3 + jj] -= R[0][i][jj];
-                Hv[(size_t)i * ld + 6 + jj] -= R[1][i][jj];
-                Hv[(size_t)(3 + i) * ld + 6 + jj] += Cee[0][1][i][jj];
-            }
-    }
+    if (curved)
+        add_curvature_points(G, xv, npt, f, h, gy, Hv, ld);
     const int nv = 3 * npt;
     for (int r = 1; r < nv; r++)
         for (int c = 0; c < r; c++)
