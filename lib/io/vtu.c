@@ -405,93 +405,89 @@ const plume_vtu_array *plume_vtu_find(const plume_vtu_data *d, int on_points, co
 enum { SEC_NONE, SEC_POINTDATA, SEC_CELLDATA, SEC_POINTS, SEC_CELLS, SEC_FIELD };
 
 /* one DataArray tag [tag, end) of section sec: decoded into d */
-static plume_status read_array(const reader *r, const char *tag, const char *end, int sec, plume_vtu_data *d,
-                               plume_err *err)
+/* A DataArray's values as doubles (*v, *cnt of them, malloc'ed), its name and components, from its
+ * tag's attributes and its appended block. */
+static plume_status decode_array(const reader *r, const char *tag, const char *end, char name[256], int *ncomp,
+                                 double **v, size_t *cnt, plume_err *err)
 {
-    char type[32], name[256] = "", sval[64], fmt[32], ncs[32];
+    char type[32], sval[64], fmt[32], ncs[32];
     if (!attr(tag, end, "type", type, sizeof type) || !type_size(type))
         return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': a DataArray without a known type", r->path);
-    attr(tag, end, "Name", name, sizeof name);
+    attr(tag, end, "Name", name, 256);
     if (!attr(tag, end, "format", fmt, sizeof fmt) || strcmp(fmt, "appended") != 0)
         return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': array '%s' is not in appended format (only appended is read)",
                              r->path, name);
     if (!attr(tag, end, "offset", sval, sizeof sval))
         return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': array '%s' has no offset", r->path, name);
-    int ncomp = attr(tag, end, "NumberOfComponents", ncs, sizeof ncs) ? atoi(ncs) : 1;
-    if (ncomp < 1)
-        return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': array '%s' has %d components", r->path, name, ncomp);
+    *ncomp = attr(tag, end, "NumberOfComponents", ncs, sizeof ncs) ? atoi(ncs) : 1;
+    if (*ncomp < 1)
+        return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': array '%s' has %d components", r->path, name, *ncomp);
     unsigned char *bytes;
     size_t n = 0, es = type_size(type);
     plume_status st = read_block(r, (size_t)strtoull(sval, NULL, 10), &bytes, &n, err);
     if (st != PLUME_OK)
         return st;
-    size_t cnt = n / es;
+    *cnt = n / es;
     if (n % es != 0) {
         free(bytes);
         return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': array '%s' holds %zu bytes, not whole %s values", r->path, name,
                              n, type);
     }
-    double *v = malloc((cnt + 1) * sizeof *v);
-    if (!v) {
+    *v = malloc((*cnt + 1) * sizeof **v);
+    if (!*v) {
         free(bytes);
         return PLUME_ENOMEM;
     }
-    for (size_t k = 0; k < cnt; k++)
-        v[k] = element(bytes + k * es, type);
+    for (size_t k = 0; k < *cnt; k++)
+        (*v)[k] = element(bytes + k * es, type);
     free(bytes);
-    if (sec == SEC_FIELD) {
-        if (strcmp(name, "TimeValue") == 0 && cnt >= 1)
-            d->has_time = 1, d->time = v[0];
+    return PLUME_OK;
+}
+
+/* A Cells array (types, connectivity, offsets) into d, as integers; v is freed. */
+static plume_status store_cells(const reader *r, const char *name, double *v, size_t cnt, plume_vtu_data *d,
+                                plume_err *err)
+{
+    plume_index *iv = NULL;
+    if (strcmp(name, "types") == 0 || strcmp(name, "connectivity") == 0 || strcmp(name, "offsets") == 0) {
+        /* these become integers: a value out of range or fractional is refused (a cast of 2.6e10
+         * to a cell type was undefined behaviour: found by fuzzing) */
+        const double max = name[0] == 't' ? 255.0 : 9007199254740992.0; /* a byte; 2^53 */
+        for (size_t k = 0; k < cnt; k++)
+            if (!(v[k] >= 0.0 && v[k] <= max) || v[k] != floor(v[k])) {
+                const double bad = v[k];
+                free(v);
+                return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': %s[%zu] = %g is not an integer in [0, %.0f]",
+                                     r->path, name, k, bad, max);
+            }
+    }
+    if (strcmp(name, "types") == 0) {
+        free(d->types);
+        d->types = malloc(cnt + 1);
+        for (size_t k = 0; d->types && k < cnt; k++)
+            d->types[k] = (unsigned char)v[k];
+    } else if (strcmp(name, "connectivity") == 0 || strcmp(name, "offsets") == 0) {
+        iv = malloc((cnt + 1) * sizeof *iv);
+        for (size_t k = 0; iv && k < cnt; k++)
+            iv[k] = (plume_index)v[k];
+        if (name[0] == 'c')
+            free(d->connectivity), d->connectivity = iv, d->nconnectivity = (plume_index)cnt;
+        else
+            free(d->offsets), d->offsets = iv;
+    }
+    if ((strcmp(name, "offsets") == 0 || strcmp(name, "types") == 0) && cnt != (size_t)d->ncells) {
         free(v);
-        return PLUME_OK;
+        return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': %zu %s for %ld cells", r->path, cnt, name,
+                             (long)d->ncells);
     }
-    if (sec == SEC_POINTS) {
-        if (ncomp != 3 || cnt != (size_t)(3 * d->npoints)) {
-            free(v);
-            return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': Points hold %zu values for %ld points", r->path, cnt,
-                                 (long)d->npoints);
-        }
-        free(d->points); /* a second Points array replaces the first */
-        d->points = v;
-        return PLUME_OK;
-    }
-    if (sec == SEC_CELLS) {
-        plume_index *iv = NULL;
-        if (strcmp(name, "types") == 0 || strcmp(name, "connectivity") == 0 || strcmp(name, "offsets") == 0) {
-            /* these become integers: a value out of range or fractional is refused (a cast of 2.6e10
-             * to a cell type was undefined behaviour: found by fuzzing) */
-            const double max = name[0] == 't' ? 255.0 : 9007199254740992.0; /* a byte; 2^53 */
-            for (size_t k = 0; k < cnt; k++)
-                if (!(v[k] >= 0.0 && v[k] <= max) || v[k] != floor(v[k])) {
-                    const double bad = v[k];
-                    free(v);
-                    return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': %s[%zu] = %g is not an integer in [0, %.0f]",
-                                         r->path, name, k, bad, max);
-                }
-        }
-        if (strcmp(name, "types") == 0) {
-            free(d->types);
-            d->types = malloc(cnt + 1);
-            for (size_t k = 0; d->types && k < cnt; k++)
-                d->types[k] = (unsigned char)v[k];
-        } else if (strcmp(name, "connectivity") == 0 || strcmp(name, "offsets") == 0) {
-            iv = malloc((cnt + 1) * sizeof *iv);
-            for (size_t k = 0; iv && k < cnt; k++)
-                iv[k] = (plume_index)v[k];
-            if (name[0] == 'c')
-                free(d->connectivity), d->connectivity = iv, d->nconnectivity = (plume_index)cnt;
-            else
-                free(d->offsets), d->offsets = iv;
-        }
-        if ((strcmp(name, "offsets") == 0 || strcmp(name, "types") == 0) && cnt != (size_t)d->ncells) {
-            free(v);
-            return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': %zu %s for %ld cells", r->path, cnt, name,
-                                 (long)d->ncells);
-        }
-        free(v);
-        return PLUME_OK;
-    }
-    int on_points = sec == SEC_POINTDATA;
+    free(v);
+    return PLUME_OK;
+}
+
+/* A PointData or CellData array appended to d's list (v is kept by it, or freed on failure). */
+static plume_status store_data_array(const reader *r, const char *name, int ncomp, int on_points, double *v,
+                                     size_t cnt, plume_vtu_data *d, plume_err *err)
+{
     plume_index nt = on_points ? d->npoints : d->ncells;
     if (cnt != (size_t)nt * (size_t)ncomp) {
         free(v);
@@ -512,6 +508,37 @@ static plume_status read_array(const reader *r, const char *tag, const char *end
     grown[*na].values = v;
     (*na)++;
     return grown[*na - 1].name ? PLUME_OK : PLUME_ENOMEM;
+}
+
+static plume_status read_array(const reader *r, const char *tag, const char *end, int sec, plume_vtu_data *d,
+                               plume_err *err)
+{
+    char name[256] = "";
+    int ncomp = 1;
+    double *v = NULL;
+    size_t cnt = 0;
+    plume_status st = decode_array(r, tag, end, name, &ncomp, &v, &cnt, err);
+    if (st != PLUME_OK)
+        return st;
+    if (sec == SEC_FIELD) {
+        if (strcmp(name, "TimeValue") == 0 && cnt >= 1)
+            d->has_time = 1, d->time = v[0];
+        free(v);
+        return PLUME_OK;
+    }
+    if (sec == SEC_POINTS) {
+        if (ncomp != 3 || cnt != (size_t)(3 * d->npoints)) {
+            free(v);
+            return plume_err_set(err, PLUME_EFORMAT, "vtu '%s': Points hold %zu values for %ld points", r->path, cnt,
+                                 (long)d->npoints);
+        }
+        free(d->points); /* a second Points array replaces the first */
+        d->points = v;
+        return PLUME_OK;
+    }
+    if (sec == SEC_CELLS)
+        return store_cells(r, name, v, cnt, d, err);
+    return store_data_array(r, name, ncomp, sec == SEC_POINTDATA, v, cnt, d, err);
 }
 
 /* The whole file f (closed here) into *buf (malloc'ed, NUL-terminated), *len bytes. */
