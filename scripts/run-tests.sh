@@ -49,7 +49,8 @@ if [ -z "$filter" ] || [[ "$filter" == *python* ]]; then
         echo "run-tests: no python3 with numpy (make deps installs python3-numpy): the Python suite did not run" >&2
         failed=$((failed + 1))
     else
-        lib=$(ls "$build"/libplume.so.[0-9]*.[0-9]* 2>/dev/null | head -n 1)
+        # the file the build's libplume.so names (an older version's file may still lie beside it)
+        lib=$(readlink -f "$build/libplume.so" 2>/dev/null)
         PLUME_LIBRARY="${lib:-$build/libplume.so}" PYTHONPATH=../python MPLBACKEND=Agg \
             "$py" python/run.py 2>&1 | tee "$log"
         count "the Python suite"

@@ -7,9 +7,9 @@
 #include "export.h"
 
 #define PLUME_VERSION_MAJOR 0       /**< major version of the headers compiled against */
-#define PLUME_VERSION_MINOR 3       /**< minor version of the headers compiled against */
+#define PLUME_VERSION_MINOR 4       /**< minor version of the headers compiled against */
 #define PLUME_VERSION_PATCH 0       /**< patch version of the headers compiled against */
-#define PLUME_VERSION_STRING "0.3.0" /**< "MAJOR.MINOR.PATCH" of the headers compiled against */
+#define PLUME_VERSION_STRING "0.4.0" /**< "MAJOR.MINOR.PATCH" of the headers compiled against */
 
 #ifdef __cplusplus
 extern "C" {

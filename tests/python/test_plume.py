@@ -73,7 +73,7 @@ def rel(a, b):
 
 class TestLibrary(unittest.TestCase):
     def test_version(self):
-        self.assertEqual(plume.version(), "0.3.0")
+        self.assertEqual(plume.version(), "0.4.0")
         self.assertEqual(plume.__version__, plume.version())
 
     def test_openmp_serial(self):
@@ -135,7 +135,7 @@ class TestLibrary(unittest.TestCase):
                     libdir=${prefix}/lib
                     Name: plume
                     Description: test
-                    Version: 0.3.0
+                    Version: 0.4.0
                     Libs: -L${libdir} -lplume
                     """ % tmp))
             rc, out, err = self._import_in(os.path.join(tmp, "python"), env)
