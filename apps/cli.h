@@ -12,11 +12,23 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <jansson.h>
+
 #include "../lib/io/fs.h"
 
 /* What an app's parse_args returns after printing --help (main then exits 0): a flag parser
  * never exits by itself, so it can be fuzzed (tests/fuzz/fuzz_cli_*.c). */
 #define CLI_HELP (-1)
+
+/* Prints j on stdout (json_dumps with flags, then a newline) and releases it: an app's --json. */
+static inline void cli_print_json(json_t *j, size_t flags)
+{
+    char *text = j ? json_dumps(j, flags) : NULL;
+    if (text)
+        puts(text);
+    free(text);
+    json_decref(j);
+}
 
 /* Prints "<app>: <message>" on stderr and returns 2 (the apps' exit code for bad input). */
 static inline int cli_fail(const char *app, const char *fmt, ...)

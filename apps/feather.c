@@ -594,11 +594,7 @@ static void report(const options *o, const output_ctx *oc, const plume_dynamics 
 {
     if (o->json) {
         json_t *j = summary_json(o, oc, d, ncons, cm, r, total);
-        char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
-        if (txt)
-            puts(txt);
-        free(txt);
-        json_decref(j);
+        cli_print_json(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
         return;
     }
     const plume_scene *scene = oc->scene;

@@ -425,11 +425,7 @@ static void report(const options *o, const plume_ortho *fit, const plume_fit_rep
         json_object_set_new(j, "evaluations", json_integer(rep->evaluations));
         json_object_set_new(j, "stop", json_string(rep->stop));
         json_object_set_new(j, "seconds", json_real(rep->seconds));
-        char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
-        if (txt)
-            puts(txt);
-        free(txt);
-        json_decref(j);
+        cli_print_json(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
     } else {
         printf("fitted to %d curve(s): E_xx %.6g Pa, E_yy %.6g Pa, nu_xy %.4g, G_xy %.6g Pa; RMS relative misfit "
                "%.3g after %d evaluations (%s, %.2f s)\n",

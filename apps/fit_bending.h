@@ -226,11 +226,7 @@ static int run_bending_fit(const options *o, int rank, int size)
             for (int k = 0; k < t.n; k++)
                 json_array_append_new(jc, json_string(t.names[k]));
             json_object_set_new(j, "curves", jc);
-            char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
-            if (txt)
-                puts(txt);
-            free(txt);
-            json_decref(j);
+            cli_print_json(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
         } else {
             printf("fitted to %d bending curve(s): D_long %.6g, D_trans %.6g, D_coupling %.6g, D_twist %.6g N m; RMS "
                    "relative misfit %.3g after %d evaluations (%s, %.2f s)\n",

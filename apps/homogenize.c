@@ -305,11 +305,7 @@ static void report(const plume_layout *l, const plume_homog_result *r, const cha
 {
     if (json) {
         json_t *j = result_json(l, r, out);
-        char *txt = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
-        if (txt)
-            puts(txt);
-        free(txt);
-        json_decref(j);
+        cli_print_json(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
         return;
     }
     printf("%s layout, phi %g, ratio %g: E_xx %.6g Pa, E_yy %.6g Pa, nu_xy %.4g, G_xy %.6g Pa "

@@ -263,11 +263,7 @@ static void print_json(const options *o, const plume_scene *scene, const plume_p
     json_object_set_new(j, "solve_seconds", json_real(t->seconds));
     json_object_set_new(j, "probes", jprobes);
     json_object_set_new(j, "steps", jsteps);
-    char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
-    if (text)
-        puts(text);
-    free(text);
-    json_decref(j);
+    cli_print_json(j, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
 }
 
 int main(int argc, char **argv)

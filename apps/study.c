@@ -1136,11 +1136,7 @@ static void print_json(const study *s, int failed, const char *mdpath)
     json_object_set_new(j, "seconds", json_real(now() - s->t0));
     json_object_set_new(j, "h5", json_string(s->h5));
     json_object_set_new(j, "summary", json_string(mdpath));
-    char *txt = json_dumps(j, JSON_INDENT(2));
-    if (txt)
-        puts(txt);
-    free(txt);
-    json_decref(j);
+    cli_print_json(j, JSON_INDENT(2));
 }
 
 int main(int argc, char **argv)

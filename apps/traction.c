@@ -754,11 +754,7 @@ static void report(const options *o, const traction_job *j)
         compare_curves(&runs[1].res.curve, &runs[0].res.curve, &diff[0], &diff[1], &diff[2]);
     if (o->json) {
         json_t *s = summary_json(o, j, diff);
-        char *txt = json_dumps(s, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
-        if (txt)
-            puts(txt);
-        free(txt);
-        json_decref(s);
+        cli_print_json(s, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
         return;
     }
     for (int k = 0; k < 2; k++)
