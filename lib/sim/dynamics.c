@@ -372,11 +372,14 @@ static plume_status safe_start(plume_dynamics *d, const double *xh, int *safe, i
     return PLUME_OK;
 }
 
-/* Whether the handles' targets xh leave the inertial prediction xt: only then does the tangent
- * predictor have a move to answer (handles at rest or moving at a constant velocity are already
- * where x + dt v puts them, and the predictor's solve would return zero for a factorisation). */
-static int handles_accelerate(const plume_dynamics *d, const double *xt, const double *xh)
+/* Whether a step starts from the tangent predictor: the option is on, the solver is native (Ipopt
+ * has no tangent solve) and the handles' targets xh leave the inertial prediction xt. Handles at
+ * rest or moving at a constant velocity are already where x + dt v puts them; the predictor would
+ * then only answer the residual, one more Newton step counted as none. */
+static int step_predicted(const plume_dynamics *d, const double *xt, const double *xh)
 {
+    if (!d->o.tangent_predictor || d->o.solver == PLUME_SOLVER_IPOPT)
+        return 0;
     const double tol = 1e-12 * plume_problem_length_scale(d->p);
     for (int h = 0; h < d->nhandles; h++)
         for (plume_index i = 0; i < d->handles[h].nv; i++) {
@@ -437,7 +440,7 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
                 rep->reason = PLUME_REASON_LINE_SEARCH; /* the handles would cross: a smaller step */
             return PLUME_OK;
         }
-        if (!limited && d->o.tangent_predictor && d->o.solver != PLUME_SOLVER_IPOPT && handles_accelerate(d, in->xt, xh)) {
+        if (!limited && step_predicted(d, in->xt, xh)) {
             /* every vertex is at xh, reached without a crossing; the predictor starts again from the
              * handles at their own x~, moves them to their targets with the tangent response of the
              * rest, and cuts that response where continuous collision detection says */
@@ -447,7 +450,7 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
             if ((st = predict_start(d, xh, rep, err)) != PLUME_OK)
                 return st;
         }
-    } else if (d->o.tangent_predictor && d->o.solver != PLUME_SOLVER_IPOPT && handles_accelerate(d, in->xt, xh)) {
+    } else if (step_predicted(d, in->xt, xh)) {
         /* x~ everywhere, handles included (their own inertial prediction); the predictor moves the
          * handles to their targets along the tangent and the free dofs with them */
         memcpy(x, in->xt, (size_t)(3 * nv) * sizeof *x);
