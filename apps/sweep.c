@@ -182,6 +182,7 @@ static int keep(void *vctx, int k, const char *rec)
 int main(int argc, char **argv)
 {
     plume_openmp_serial();
+    plume_openmp_factor_threads(1); /* the ranks already share the cores */
     /* rank 0 opens the results file for each run's record while its other thread forks the next
      * run: HDF5's file lock, inherited by that child, made the next open fail ("cannot open for
      * writing", 2 times in 3 under mpirun -n 4). One writer, rank 0, needs no lock. */

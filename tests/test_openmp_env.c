@@ -6,12 +6,16 @@
 #define _GNU_SOURCE /* RTLD_DEFAULT, dladdr */
 #include <dlfcn.h>
 #include <limits.h>
+#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
 #include "harness.h"
+#include "../lib/core/internal/blas_threads.h"
+#include "../lib/core/openmp_env.h"
+#include "../lib/solve/cholesky.h"
 
 /* libgomp's entry points, as GCC calls them (GCC's omp.h does not parse under clang) */
 void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigned flags);
@@ -95,4 +99,48 @@ void test_openmp_env_libgomp_own(void)
     }
     fprintf(stderr, "    GOMP_parallel from %s\n", info.dli_fname);
     CHECK(strstr(info.dli_fname, "libgomp") != NULL);
+}
+
+/* The threads of large factorisations: after plume_openmp_serial, factorisations of at least
+ * PLUME_THREADED_FACTOR_FLOPS run OpenBLAS on every core the runner may use (or the count given to
+ * plume_openmp_factor_threads), smaller ones on one; where the environment chose OpenBLAS's
+ * threads, or the BLAS is not OpenBLAS, plume sets none. */
+void test_openmp_env_factor_threads(void)
+{
+    void *sym = dlsym(RTLD_DEFAULT, "openblas_get_num_threads");
+    int (*get_threads)(void) = NULL;
+    if (sym)
+        memcpy(&get_threads, &sym, sizeof sym);
+    const int managed = get_threads && !getenv("OPENBLAS_NUM_THREADS") && !getenv("GOTO_NUM_THREADS") &&
+                        !getenv("OMP_NUM_THREADS");
+    cpu_set_t set;
+    CHECK(sched_getaffinity(0, sizeof set, &set) == 0);
+    const int cores = CPU_COUNT(&set);
+    fprintf(stderr, "    %s, %d cores: %d threads at 1e9 flops, %d at 3e10\n",
+            managed ? "plume manages OpenBLAS" : "OpenBLAS's threads are not plume's", cores,
+            plume_blas_threads_for(1e9), plume_blas_threads_for(3e10));
+    CHECK(plume_blas_threads_for(0.5 * PLUME_THREADED_FACTOR_FLOPS) == 1);
+    CHECK(plume_blas_threads_for(3.0 * PLUME_THREADED_FACTOR_FLOPS) == (managed ? cores : 1));
+    plume_openmp_factor_threads(1); /* processes sharing the cores */
+    CHECK(plume_blas_threads_for(3.0 * PLUME_THREADED_FACTOR_FLOPS) == 1);
+    plume_openmp_factor_threads(0); /* refused: unchanged */
+    CHECK(plume_blas_threads_for(3.0 * PLUME_THREADED_FACTOR_FLOPS) == 1);
+    plume_openmp_factor_threads(cores);
+    CHECK(plume_blas_threads_for(3.0 * PLUME_THREADED_FACTOR_FLOPS) == (managed ? cores : 1));
+    if (!managed)
+        return;
+    /* the setter reaches OpenBLAS, and a factorisation leaves it on one thread */
+    plume_blas_threads_set(2);
+    CHECK(get_threads() == (cores < 2 ? cores : 2));
+    plume_blas_threads_set(1);
+    CHECK(get_threads() == 1);
+    plume_index colptr[3] = {0, 1, 3}, rowind[3] = {0, 0, 1};
+    double values[3] = {4.0, 1.0, 3.0};
+    plume_chol *c = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_chol_create(2, colptr, rowind, 0, &c, &err) == PLUME_OK);
+    if (c)
+        CHECK(plume_chol_factor(c, values, 0.0) == PLUME_OK);
+    plume_chol_destroy(&c);
+    CHECK(get_threads() == 1);
 }

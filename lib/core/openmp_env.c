@@ -1,27 +1,53 @@
-/* RTLD_DEFAULT is a GNU extension */
+/* RTLD_DEFAULT, sched_getaffinity and CPU_COUNT are GNU extensions */
 #define _GNU_SOURCE
 #include "openmp_env.h"
+#include "internal/blas_threads.h"
 
 #include <dlfcn.h>
+#include <sched.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* the one OpenMP call plume makes, declared as the OpenMP API defines it (libgomp provides it):
  * GCC's omp.h does not parse under clang, which builds the fuzzing harnesses */
 void omp_set_max_active_levels(int max_levels);
 
-/* OpenBLAS's thread count (pthread and OpenMP builds alike), looked up at run time: the BLAS the
- * distribution's alternatives chose may be another one, without it. */
-static void one_blas_thread(void)
+/* OpenBLAS's thread setter, looked up at run time: the BLAS the distribution's alternatives chose
+ * may be another one, without it. NULL when absent. */
+static void (*openblas_setter(void))(int)
 {
-    if (getenv("OPENBLAS_NUM_THREADS") || getenv("GOTO_NUM_THREADS") || getenv("OMP_NUM_THREADS"))
-        return;
     void *sym = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
     void (*set_threads)(int) = NULL;
     if (sym)
         memcpy(&set_threads, &sym, sizeof sym);
-    if (set_threads)
-        set_threads(1);
+    return set_threads;
+}
+
+/* the threads a large factorisation may use (0: plume does not manage OpenBLAS's threads: the
+ * environment chose, the BLAS is not OpenBLAS, or plume_openmp_serial was not called) */
+static int factor_threads;
+
+/* the cores this process may run on */
+static int cores_available(void)
+{
+    cpu_set_t set;
+    if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0)
+        return CPU_COUNT(&set);
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (int)n : 1;
+}
+
+/* One OpenBLAS thread (pthread and OpenMP builds alike), unless the environment chose */
+static void one_blas_thread(void)
+{
+    if (getenv("OPENBLAS_NUM_THREADS") || getenv("GOTO_NUM_THREADS") || getenv("OMP_NUM_THREADS"))
+        return;
+    void (*set_threads)(int) = openblas_setter();
+    if (!set_threads)
+        return;
+    set_threads(1);
+    factor_threads = cores_available();
 }
 
 /* Only OpenMP's own API: max-active-levels 0 is the ICV that makes every parallel region,
@@ -34,4 +60,22 @@ void plume_openmp_serial(void)
     if (getenv("OMP_MAX_ACTIVE_LEVELS") || getenv("OMP_THREAD_LIMIT"))
         return;
     omp_set_max_active_levels(0);
+}
+
+void plume_openmp_factor_threads(int threads)
+{
+    if (factor_threads > 0 && threads >= 1)
+        factor_threads = threads;
+}
+
+int plume_blas_threads_for(double flops)
+{
+    return factor_threads > 1 && flops >= PLUME_THREADED_FACTOR_FLOPS ? factor_threads : 1;
+}
+
+void plume_blas_threads_set(int threads)
+{
+    void (*set_threads)(int) = factor_threads > 0 ? openblas_setter() : NULL;
+    if (set_threads && threads >= 1)
+        set_threads(threads);
 }

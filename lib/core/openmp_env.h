@@ -1,5 +1,6 @@
 /** \file
- * plume: serial OpenMP regions and one BLAS thread, for the Debian CHOLMOD build.
+ * plume: serial OpenMP regions and one BLAS thread (all cores for large factorisations), for the
+ * Debian CHOLMOD build.
  *
  * Why: CHOLMOD 5.12's supernodal factorisation opens OpenMP regions with a compiled-in
  * num_threads(4) (CHOLMOD_OMP_NUM_THREADS in cholmod_core.h) around loops that clear and scatter
@@ -27,6 +28,14 @@ extern "C" {
  * Process-wide; call it once at start, from one thread, before the program's first parallel
  * region. */
 PLUME_API void plume_openmp_serial(void);
+
+/** The OpenBLAS threads of large factorisations after plume_openmp_serial (default: every core the
+ * process may run on; threads >= 1). A factorisation of at least 10^10 flops (CHOLMOD's count:
+ * the feather at 44.7k elements, not the shipped scenes) runs its BLAS on that many threads, and
+ * OpenBLAS goes back to one thread after it; smaller ones stay on one. Call it with 1 where
+ * processes already share the cores (an MPI sweep). Nothing changes when the environment chose
+ * OpenBLAS's threads or the BLAS is not OpenBLAS. */
+PLUME_API void plume_openmp_factor_threads(int threads);
 
 #ifdef __cplusplus
 }

@@ -6,6 +6,7 @@
 
 #include <cholmod.h>
 #include "internal/cholesky_like.h"
+#include "../core/internal/blas_threads.h"
 #include "../io/progress.h"
 
 struct plume_chol {
@@ -15,6 +16,7 @@ struct plume_chol {
     cholmod_dense *B, *X, *Y, *E; /* solve2 workspaces, reused */
     plume_index n;
     int ldl, analyses, factorizations;
+    double flops; /* CHOLMOD's flop count of one factorisation, from the analysis */
     double factor_seconds;
     /* LL^T: A holds P M P^T in lower form, analysed in its natural order (see permuted_lower) */
     SuiteSparse_long *perm; /* [n] row/column perm[k] of M is the k-th of A */
@@ -195,6 +197,7 @@ plume_status plume_chol_create(plume_index n, const plume_index *colptr, const p
                              "cholesky: CHOLMOD analysis failed (status %d)", s);
     }
     c->analyses = 1;
+    c->flops = c->cm.fl;
     *out = c;
     return PLUME_OK;
 }
@@ -261,6 +264,7 @@ plume_status plume_chol_create_like(plume_index n, const plume_index *colptr, co
     c->base_perm = bperm;
     c->base_lnz = blnz;
     c->analyses = 1;
+    c->flops = c->cm.fl;
     *out = c;
     return PLUME_OK;
 }
@@ -296,7 +300,13 @@ plume_status plume_chol_factor(plume_chol *c, const double *values, double shift
         memcpy(c->A->x, values, (size_t)nnz * sizeof(double));
     }
     double beta[2] = {shift, 0.0};
+    /* large factorisations share their BLAS calls among the cores (lib/core/internal/blas_threads.h) */
+    const int threads = plume_blas_threads_for(c->flops);
+    if (threads > 1)
+        plume_blas_threads_set(threads);
     int ok = cholmod_l_factorize_p(c->A, beta, NULL, 0, c->L, &c->cm);
+    if (threads > 1)
+        plume_blas_threads_set(1);
     c->factorizations++;
     c->factor_seconds += plume_wall_seconds() - t0;
     if (!ok || c->cm.status == CHOLMOD_OUT_OF_MEMORY)
