@@ -28,6 +28,7 @@ struct plume_fields {
     double *crease;          /* [nt] the crease angles (mean_curvature) */
     double *vcurv;           /* [2 nv] per vertex: the integrated curvature and the area it is spread on */
     double *points, *disp, *mat_id, *dir3; /* [3 nv], [3 nv], [nt], [3 nt] for writing */
+    double *object_id;                     /* [nt] or NULL: the scene object of each triangle */
     /* the series */
     plume_pvd *pvd;
     char *dir, *stem;
@@ -51,6 +52,7 @@ void plume_fields_destroy(plume_fields **pf)
     free(f->points);
     free(f->disp);
     free(f->mat_id);
+    free(f->object_id);
     free(f->dir3);
     free(f->crease);
     free(f->vcurv);
@@ -381,6 +383,29 @@ plume_status plume_fields_series_start(plume_fields *f, const char *dir, const c
     return st;
 }
 
+plume_status plume_fields_set_objects(plume_fields *f, int nobjects, const plume_index *t0, const plume_index *nt,
+                                      plume_err *err)
+{
+    if (!f || nobjects < 1 || !t0 || !nt)
+        return plume_err_set(err, PLUME_EINVAL, "fields: invalid object arguments");
+    const plume_index ntri = f->mesh->nt;
+    for (int i = 0; i < nobjects; i++)
+        if (t0[i] < 0 || nt[i] < 0 || t0[i] + nt[i] > ntri)
+            return plume_err_set(err, PLUME_EINVAL, "fields: object %d's triangles [%ld, %ld) are outside the mesh's %ld",
+                                 i, (long)t0[i], (long)(t0[i] + nt[i]), (long)ntri);
+    double *id = malloc((size_t)(ntri + 1) * sizeof *id);
+    if (!id)
+        return plume_err_set(err, PLUME_ENOMEM, "fields: out of memory");
+    for (plume_index t = 0; t < ntri; t++)
+        id[t] = -1.0;
+    for (int i = 0; i < nobjects; i++)
+        for (plume_index t = t0[i]; t < t0[i] + nt[i]; t++)
+            id[t] = (double)i;
+    free(f->object_id);
+    f->object_id = id;
+    return PLUME_OK;
+}
+
 plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err)
 {
     if (!f || !x || index < 0 || !isfinite(t))
@@ -407,8 +432,10 @@ plume_status plume_fields_series_frame(plume_fields *f, long index, double t, co
                                   {"bending_energy_density", 1, 0, fv.bending_energy},
                                   {"J", 1, 0, fv.J},
                                   {"mean_curvature", 1, 0, fv.mean_curvature},
-                                  {"crease_angle", 1, 0, fv.crease_angle}};
-    plume_vtu_grid g = {m->nv, f->points, PLUME_VTU_TRIANGLE, m->nt, m->tri, 1, 9, pf, cf, t};
+                                  {"crease_angle", 1, 0, fv.crease_angle},
+                                  {"object", 1, 1, f->object_id}}; /* last: only with objects */
+    const int ncf = f->object_id ? 10 : 9;
+    plume_vtu_grid g = {m->nv, f->points, PLUME_VTU_TRIANGLE, m->nt, m->tri, 1, ncf, pf, cf, t};
     size_t len = strlen(f->dir) + strlen(f->stem) + 64;
     char *path = malloc(len), *name = malloc(len);
     if (!path || !name) {

@@ -78,8 +78,16 @@ PLUME_API plume_status plume_fields_compute(plume_fields *f, const double *x, pl
 PLUME_API plume_status plume_fields_series_start(plume_fields *f, const char *dir, const char *pvd_name, const char *stem,
                                                  double resume_until, plume_err *err);
 
+/** Gives each triangle the scene object it belongs to: object i has triangles t0[i] to
+ * t0[i] + nt[i] - 1 (others get -1). From then on the frames carry the cell array "object"
+ * (Int32), which tells a scene's bodies apart in ParaView. PLUME_EINVAL naming a range outside
+ * the mesh, PLUME_ENOMEM. */
+PLUME_API plume_status plume_fields_set_objects(plume_fields *f, int nobjects, const plume_index *t0, const plume_index *nt,
+                                                plume_err *err);
+
 /** Writes frame `index` at time t (positions x): its .vtu files and the updated .pvd. Point data:
- * displacement; cell data: material, barb_direction, the fields above. */
+ * displacement; cell data: material, barb_direction, the fields above, and "object" after
+ * plume_fields_set_objects. */
 PLUME_API plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err);
 
 #ifdef __cplusplus

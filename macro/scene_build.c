@@ -31,6 +31,23 @@ static plume_status bending_term(const plume_scene *s, const plume_mesh *m, cons
     return st;
 }
 
+/* The fields' "object" array: each triangle's scene object (the series tells bodies apart). */
+static plume_status fields_objects(const plume_scene *s, plume_fields *f, plume_err *err)
+{
+    plume_index *t0 = malloc((size_t)s->nobjects * sizeof *t0), *nt = malloc((size_t)s->nobjects * sizeof *nt);
+    plume_status st = PLUME_OK;
+    if (!t0 || !nt) {
+        st = plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
+    } else {
+        for (int i = 0; i < s->nobjects; i++)
+            t0[i] = s->objects[i].t0, nt[i] = s->objects[i].nt;
+        st = plume_fields_set_objects(f, s->nobjects, t0, nt, err);
+    }
+    free(t0);
+    free(nt);
+    return st;
+}
+
 plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_err *err)
 {
     if (!s || !out)
@@ -55,6 +72,8 @@ plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_
         goto done;
     /* the whole mesh is drawn (kinematic bodies too, with NaN fields); the elastic triangles come first */
     st = plume_fields_create(s->mesh, 3, m->nt, mm, s->nmat, bending ? &term : NULL, s->barb_edges, s->nbarb, out, err);
+    if (st == PLUME_OK && s->nobjects > 0 && (st = fields_objects(s, *out, err)) != PLUME_OK)
+        plume_fields_destroy(out);
 done:
     free(mm);
     free(bm);
@@ -186,6 +205,7 @@ fail:
     free(rho);
     return st;
 }
+
 
 /* What the load scaler of a static scene needs: the load terms (their ctx live in the problem)
  * and the handles, whose prescribed positions are X + factor * (last keyframe offset). */

@@ -385,6 +385,24 @@ void test_feather_app_contact_scene(void)
     rm_rf(dir);
 }
 
+/* The ParaView frame's "object" cell array: each triangle carries its scene object's index. */
+static void check_object_ids(const char *dir, const plume_scene *s)
+{
+    char path[256];
+    snprintf(path, sizeof path, "%s/run/frame_00001.vtu", dir);
+    plume_vtu_data d;
+    plume_err err = {{0}};
+    CHECK(plume_vtu_read(path, &d, &err) == PLUME_OK);
+    const plume_vtu_array *a = plume_vtu_find(&d, 0, "object");
+    CHECK(a && a->ncomp == 1 && a->ntuples == s->mesh->nt);
+    int wrong = 0;
+    for (int i = 0; a && i < s->nobjects; i++)
+        for (plume_index t = s->objects[i].t0; t < s->objects[i].t0 + s->objects[i].nt; t++)
+            wrong += a->values[t] != (double)i;
+    CHECK(wrong == 0);
+    plume_vtu_data_free(&d);
+}
+
 /* The shipped wing (data/bird/wing.json) as a user runs it, for its first two frames (10 steps):
  * exit 0, every feather and the bone in the outputs (VTK, HDF5 frames, the rendered frame 0), no
  * intersecting triangle pair, the bone turned by its keyframes, a restart after the first frame
@@ -432,6 +450,7 @@ void test_feather_app_wing(void)
     check_series(path, 3, 1);
     snprintf(path, sizeof path, "%s/run/frame_00000.png", dir);
     CHECK(exists_nonempty(path));
+    check_object_ids(dir, s);
     snprintf(path, sizeof path, "%s/run/frames.h5", dir);
     plume_frame f;
     CHECK(plume_frames_read(path, -1, &f, &err) == PLUME_OK && f.step == 10 && f.nv == s->mesh->nv);
