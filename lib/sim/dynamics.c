@@ -88,6 +88,8 @@ struct plume_dynamics {
     double *xh, *dx; /* [3 nv] a step's start with the handles moved; a motion checked by CCD */
     plume_index n, m;
     int last_iterations; /* the solver iterations of the last step attempted */
+    int past_factorizations;    /* those of solvers renewed since (plume_dynamics_stats) */
+    double past_factor_seconds;
 };
 
 void plume_dynamics_destroy(plume_dynamics **pd)
@@ -322,8 +324,13 @@ static plume_status refresh_stencils(plume_dynamics *d, int *changed, plume_err 
     plume_status st = plume_problem_update_terms(d->p, changed, err);
     if (st != PLUME_OK || !*changed)
         return st;
-    if (d->s)
+    if (d->s) {
+        int nf = 0;
+        double fs = 0.0;
+        plume_solver_stats(d->s, NULL, &nf, &fs); /* the renewed solver counts from zero */
+        d->past_factorizations += nf, d->past_factor_seconds += fs;
         return plume_solver_renew(&d->s, &d->o.solver_opts, err);
+    }
     return plume_solver_create(d->o.solver, d->p, &d->o.solver_opts, &d->s, err);
 }
 
@@ -598,6 +605,17 @@ double plume_dynamics_time(const plume_dynamics *d) { return d->t; }
 const double *plume_dynamics_positions(const plume_dynamics *d) { return d->x; }
 const double *plume_dynamics_velocities(const plume_dynamics *d) { return d->v; }
 const double *plume_dynamics_masses(const plume_dynamics *d) { return d->inertia->mass; }
+
+void plume_dynamics_stats(const plume_dynamics *d, int *factorizations, double *factor_seconds)
+{
+    int nf = 0;
+    double fs = 0.0;
+    plume_solver_stats(d ? d->s : NULL, NULL, &nf, &fs);
+    if (factorizations)
+        *factorizations = d ? d->past_factorizations + nf : 0;
+    if (factor_seconds)
+        *factor_seconds = d ? d->past_factor_seconds + fs : 0.0;
+}
 
 const double *plume_dynamics_multipliers(const plume_dynamics *d, plume_index *m)
 {

@@ -128,6 +128,10 @@ PLUME_API plume_status plume_dynamics_set_state(plume_dynamics *d, double t, con
 /** Lumped vertex masses (nv, kg), for tests and energy checks; the stepper's array. */
 PLUME_API const double *plume_dynamics_masses(const plume_dynamics *d);
 
+/** The native solver's numeric factorisations since the stepper was created and their wall
+ * seconds (pointers may be NULL; zeros for Ipopt or d == NULL), to split a step's time. */
+PLUME_API void plume_dynamics_stats(const plume_dynamics *d, int *factorizations, double *factor_seconds);
+
 #ifdef __cplusplus
 }
 #endif
