@@ -458,6 +458,38 @@ static void measure_contact_step(const plume_contact *contact, contact_monitor *
     fm->intersecting_pairs = fmax(fm->intersecting_pairs, (double)cm->last_intersecting);
 }
 
+/* The scene object that holds vertex v ("vertex N" when none does) */
+static void vertex_owner(const plume_scene *s, plume_index v, char *out, size_t n)
+{
+    for (int k = 0; k < s->nobjects; k++)
+        if (v >= s->objects[k].v0 && v < s->objects[k].v0 + s->objects[k].nv) {
+            snprintf(out, n, "'%s'", s->objects[k].name);
+            return;
+        }
+    snprintf(out, n, "vertex %ld", (long)v);
+}
+
+/* Why a step's prescribed motion could not start, when contact says which pair stopped it:
+ * the two bodies, into why[n] (empty otherwise) */
+static void prescribed_crossing(const plume_scene *s, const plume_contact *contact, plume_reason reason, char *why,
+                                size_t n)
+{
+    plume_index v[4];
+    int ee = 0;
+    double toi = 1.0;
+    why[0] = 0;
+    if (reason != PLUME_REASON_PRESCRIBED_CROSSING || !plume_contact_last_limit(contact, v, &ee, &toi))
+        return;
+    char a[160], b[160];
+    vertex_owner(s, v[0], a, sizeof a);
+    vertex_owner(s, v[2], b, sizeof b);
+    snprintf(why, n,
+             ": the keyframed motion alone (kinematic bodies and attached vertices moving, the rest still) brings %s "
+             "and %s together (%s, vertices %ld and %ld) within %.0f %% of the smallest step, faster than contact can move "
+             "them apart; slow the keyframes down there or start the bodies farther apart",
+             a, b, ee ? "edge against edge" : "point against triangle", (long)v[0], (long)v[2], 100.0 * toi);
+}
+
 /* Steps the scene nsteps times (see planned_steps for end and last_short), writing a frame every
  * output_every steps and at the end, until a step fails to converge (r->failed). Exit code. */
 static int step_run(const options *o, const output_ctx *oc, plume_dynamics *d, const plume_contact *contact,
@@ -506,10 +538,12 @@ static int step_run(const options *o, const output_ctx *oc, plume_dynamics *d, c
                 r->failed = 1;
                 r->failed_reason = rep.reason;
                 plume_progress_finish(&prog);
+                char why[768];
+                prescribed_crossing(scene, contact, rep.reason, why, sizeof why);
                 fprintf(stderr,
-                        "%s: step %ld (t = %.6g s) did not converge even at dt / 2^%d (%s, after %d halvings); "
+                        "%s: step %ld (t = %.6g s) did not converge even at dt / 2^%d (%s, after %d halvings)%s; "
                         "stopping with %ld frame%s kept in %s (the last at step %ld)\n",
-                        APP, r->step + 1, t0, scene->max_halvings, plume_reason_name(rep.reason), rep.halvings,
+                        APP, r->step + 1, t0, scene->max_halvings, plume_reason_name(rep.reason), rep.halvings, why,
                         r->next_frame, r->next_frame == 1 ? "" : "s", oc->frames_path,
                         r->step - r->step % scene->output_every);
                 break;

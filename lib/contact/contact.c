@@ -33,6 +33,10 @@ struct plume_contact {
     double *excl_dhat;            /* [nexcl] */
     double *pdhat;                /* [cap] the activation distance of each stencil */
     plume_contact_stats st;
+    /* the pair that limited the last max_step (limit_toi < 1), for reports */
+    plume_index limit_v[4];
+    int limit_ee;
+    double limit_toi;
 };
 
 void plume_contact_term_opts_default(plume_contact_term_opts *o)
@@ -260,12 +264,30 @@ static plume_status contact_max_step(void *ctx, int dim, const double *x, const 
         }
         if (st != PLUME_OK)
             break;
+        if (toi < a) {
+            memcpy(c->limit_v, v, sizeof v);
+            c->limit_ee = k >= cand.nvt;
+        }
         a = fmin(a, toi);
     }
+    c->limit_toi = a;
     c->st.ccd_seconds += plume_wall_seconds() - t0;
     c->st.step_limits += a < 1.0;
     *alpha = a;
     return st;
+}
+
+int plume_contact_last_limit(const plume_contact *c, plume_index v[4], int *edge_edge, double *toi)
+{
+    if (!c || !(c->limit_toi < 1.0))
+        return 0;
+    if (v)
+        memcpy(v, c->limit_v, sizeof c->limit_v);
+    if (edge_edge)
+        *edge_edge = c->limit_ee;
+    if (toi)
+        *toi = c->limit_toi;
+    return 1;
 }
 
 plume_status plume_contact_min_distance(plume_contact_broad *b, const double *x, double cap, double *dmin,
@@ -404,6 +426,7 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
         return PLUME_ENOMEM;
     c->o = *o;
     c->nv = nv;
+    c->limit_toi = 1.0; /* no step limited yet */
     plume_contact_broad_opts bo;
     plume_contact_broad_opts_default(&bo);
     bo.self_contact = o->self_contact;

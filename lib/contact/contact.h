@@ -72,6 +72,12 @@ PLUME_API plume_status plume_contact_term_create(plume_index nv, plume_index ntr
                                                  const double *xrest, const plume_contact_term_opts *o, plume_term *out,
                                                  plume_contact **handle, plume_err *err);
 
+/** The pair that limited the term's last step check (plume_term.max_step, continuous collision
+ * detection), when it cut the step (returns 1): its 4 vertices (point, then the triangle's; or
+ * the two edges'), whether it is an edge-edge pair, and the fraction of the step it allowed. 0
+ * when the last check allowed the whole step, or none ran. Any pointer may be NULL. */
+PLUME_API int plume_contact_last_limit(const plume_contact *c, plume_index v[4], int *edge_edge, double *toi);
+
 /** Copies the term's counters and timings into s (zeros for c NULL; s NULL: nothing). */
 PLUME_API void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s);
 

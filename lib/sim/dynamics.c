@@ -444,7 +444,7 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
         if (!safe) {
             *ok = 0;
             if (rep->converged)
-                rep->reason = PLUME_REASON_LINE_SEARCH; /* the handles would cross: a smaller step */
+                rep->reason = PLUME_REASON_PRESCRIBED_CROSSING; /* the handles would cross: a smaller step */
             return PLUME_OK;
         }
         if (!limited && step_predicted(d, in->xt, xh)) {

@@ -11,6 +11,7 @@ const char *plume_reason_name(plume_reason r)
     case PLUME_REASON_SINGLE_STEP: return "single linearised step";
     case PLUME_REASON_CONTACT_SET: return "steps blocked outside the contact set";
     case PLUME_REASON_STALLED: return "stalled";
+    case PLUME_REASON_PRESCRIBED_CROSSING: return "prescribed motion runs into a body";
     }
     return "unknown";
 }

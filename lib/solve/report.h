@@ -25,7 +25,13 @@ typedef enum {
     PLUME_REASON_STALLED          /**< newton with stall_iterations: that many iterations in a row
                                      cut neither the KKT residual nor the constraint violation to
                                      half of its best in this solve (a caller with a smaller step
-                                     to try gives up early, instead of at the cap) */
+                                     to try gives up early, instead of at the cap) */,
+    PLUME_REASON_PRESCRIBED_CROSSING /**< dynamics with continuous collision detection: the step's
+                                     prescribed motion alone (handles, attached and kinematic
+                                     vertices moving, the rest standing still) runs into another
+                                     body, so no solve can start (plume_contact_last_limit names
+                                     the pair); smaller steps help only while the other body can
+                                     get out of the way */
 } plume_reason;
 
 /** A short static name of r ("converged", "iteration cap", ...); "unknown" out of range. */
