@@ -370,3 +370,28 @@ void test_contact_self_rest_pairs(void)
     }
     plume_mesh_destroy(&m);
 }
+
+/* plume_contact_min_distance searches within cap / 5 first and widens to cap when nothing is that
+ * close: two parallel triangles of two bodies at gaps below cap / 5, between cap / 5 and cap, and
+ * beyond cap give the gap itself (to round-off), or cap. */
+void test_contact_min_distance_stages(void)
+{
+    const plume_index tri[6] = {0, 1, 2, 3, 4, 5};
+    const int body[6] = {0, 0, 0, 1, 1, 1};
+    const double cap = 1e-2, gaps[5] = {5e-4, 1.9e-3, 2.1e-3, 7e-3, 1.5e-2};
+    plume_contact_broad *b = NULL;
+    plume_contact_broad_opts bo;
+    plume_contact_broad_opts_default(&bo);
+    plume_err err = {{0}};
+    CHECK(plume_contact_broad_create(6, 2, tri, body, &bo, &b, &err) == PLUME_OK);
+    for (int k = 0; b && k < 5; k++) {
+        /* the upper triangle smaller, inside the lower one's shadow: the gap is a point-triangle distance */
+        const double x[18] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.1, 0.1, gaps[k], 0.3, 0.1, gaps[k], 0.1, 0.3, gaps[k]};
+        double d = -1.0;
+        CHECK(plume_contact_min_distance(b, x, cap, &d, &err) == PLUME_OK);
+        const double expect = fmin(gaps[k], cap);
+        fprintf(stderr, "    gap %.4g m: min distance %.6g m (cap %g)\n", gaps[k], d, cap);
+        CHECK(fabs(d - expect) <= 1e-12);
+    }
+    plume_contact_broad_destroy(&b);
+}

@@ -290,11 +290,9 @@ int plume_contact_last_limit(const plume_contact *c, plume_index v[4], int *edge
     return 1;
 }
 
-plume_status plume_contact_min_distance(plume_contact_broad *b, const double *x, double cap, double *dmin,
-                                        plume_err *err)
+/* The smallest distance below cap (cap when none), one broad-phase search inflated by cap */
+static plume_status min_distance_within(plume_contact_broad *b, const double *x, double cap, double *dmin, plume_err *err)
 {
-    if (!b || !x || !dmin || !(cap > 0.0) || !isfinite(cap))
-        return plume_err_set(err, PLUME_EINVAL, "contact: min distance needs a broad phase, positions and a cap > 0");
     *dmin = cap;
     plume_contact_candidates cand;
     plume_status st = plume_contact_broad_update(b, x, NULL, cap, &cand, err);
@@ -316,6 +314,20 @@ plume_status plume_contact_min_distance(plume_contact_broad *b, const double *x,
     }
     *dmin = sqrt(d2min);
     return PLUME_OK;
+}
+
+/* The candidates within cap grow with cap squared (every layer of a bird's overlapping feathers
+ * within 10 dhat of each other): bodies in contact are found within cap / 5 first (the bird:
+ * 0.10 s a step against 1.0 s), and the search widens to cap only when nothing is that close. */
+plume_status plume_contact_min_distance(plume_contact_broad *b, const double *x, double cap, double *dmin,
+                                        plume_err *err)
+{
+    if (!b || !x || !dmin || !(cap > 0.0) || !isfinite(cap))
+        return plume_err_set(err, PLUME_EINVAL, "contact: min distance needs a broad phase, positions and a cap > 0");
+    plume_status st = min_distance_within(b, x, 0.2 * cap, dmin, err);
+    if (st != PLUME_OK || *dmin < 0.2 * cap)
+        return st;
+    return min_distance_within(b, x, cap, dmin, err);
 }
 
 void plume_contact_term_pairs(const plume_contact *c, plume_index *npt, plume_index *nee, const plume_index **stencil,

@@ -90,7 +90,8 @@ PLUME_API void plume_contact_term_pairs(const plume_contact *c, plume_index *npt
 
 /** A measure that does not trust the model: the smallest distance between non-adjacent primitives
  * (point–triangle and edge–edge pairs of the broad phase b, lib/contact/contact_broad.h) at positions x,
- * or cap when no pair is closer than cap. */
+ * or cap when no pair is closer than cap. The search looks within cap / 5 first and widens to cap only
+ * when nothing is that close (the candidates grow with the cap squared). */
 PLUME_API plume_status plume_contact_min_distance(plume_contact_broad *b, const double *x, double cap, double *dmin,
                                                   plume_err *err);
 
