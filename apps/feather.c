@@ -260,26 +260,34 @@ static void frame_measures_reset(plume_frame_measures *fm, const plume_scene *s)
     fm->min_distance = s->has_contact ? 10.0 * s->contact.pair.dhat : -1.0;
 }
 
-/* The scene's render_field per triangle into v[nt]: "object" the object index, a field of
- * macro/fields.h its values at x. Returns the colour-bar label (NULL: colour by material). */
+/* The scene's render_field per triangle into v[nt]: a field of macro/fields.h, its values at x.
+ * Returns the colour-bar label (NULL: no field, colour by material or by object). */
 static const char *render_values(const output_ctx *oc, const double *x, double *v, plume_err *err)
 {
     const plume_scene *s = oc->scene;
     if (strcmp(s->render_field, "material") == 0)
         return NULL;
-    if (strcmp(s->render_field, "object") == 0) {
-        for (plume_index t = 0; t < s->mesh->nt; t++)
-            v[t] = 0.0;
-        for (int i = 0; i < s->nobjects; i++)
-            for (plume_index t = s->objects[i].t0; t < s->objects[i].t0 + s->objects[i].nt; t++)
-                v[t] = (double)i;
-        return "object";
-    }
+    if (strcmp(s->render_field, "object") == 0)
+        return NULL; /* coloured by category (render_frame) */
     plume_field_values fv;
     if (plume_fields_compute(oc->fields, x, &fv, err) != PLUME_OK ||
         plume_field_values_select(&fv, s->render_field, v, err) != PLUME_OK)
         return "";
     return plume_field_label(s->render_field);
+}
+
+/* Each triangle's scene object (the whole mesh's triangles; NULL when out of memory) */
+static int *object_categories(const plume_scene *s)
+{
+    int *c = malloc((size_t)(s->mesh->nt + 1) * sizeof *c);
+    if (!c)
+        return NULL;
+    for (plume_index t = 0; t < s->mesh->nt; t++)
+        c[t] = 0;
+    for (int i = 0; i < s->nobjects; i++)
+        for (plume_index t = s->objects[i].t0; t < s->objects[i].t0 + s->objects[i].nt; t++)
+            c[t] = i;
+    return c;
 }
 
 /* The PNG of frame k (DIR/frame_NNNNN.png), coloured as the scene asks. Exit code. */
@@ -302,14 +310,15 @@ static int render_frame(const output_ctx *oc, const double *x, double t, long k)
         free(values);
         return run_fail("render: %s", err.msg);
     }
-    if (label) {
+    int *object = NULL;
+    if (label)
         ro.field = values, ro.field_label = label;
-        if (strcmp(oc->scene->render_field, "object") == 0)
-            ro.field_min = 0.0, ro.field_max = oc->scene->nobjects > 1 ? oc->scene->nobjects - 1 : 1;
-    }
+    else if (strcmp(oc->scene->render_field, "object") == 0 && (object = object_categories(oc->scene)) != NULL)
+        ro.category = object; /* one of 12 colours per scene object, cycled: neighbours told apart */
     snprintf(path, sizeof path, "%s/frame_%05ld.png", oc->outdir, k);
     plume_status st = plume_render_png(path, m, x, &ro, &err);
     free(values);
+    free(object);
     return st == PLUME_OK ? 0 : run_fail("%s", err.msg);
 }
 

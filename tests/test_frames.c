@@ -387,3 +387,55 @@ void test_frames_render_field(void)
     plume_mesh_destroy(&m);
     remove_dir(dir);
 }
+
+/* Coloured by category (o.category, the scene objects of apps/feather): a flat sheet seen from
+ * above whose left half is category 0 and right half category 6 comes out blue on the left and
+ * red on the right (palette slots 0 and 6), whatever the triangles' materials. */
+void test_frames_render_category(void)
+{
+    char dir[64], path[128];
+    if (!scratch_dir(dir)) {
+        CHECK(0);
+        return;
+    }
+    plume_mesh *m = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_patch_mesh(1.0, 1.0, 0.0, 0.05, PLUME_PATCH_ALIGNED, 3, &m, &err) == PLUME_OK);
+    if (!m) {
+        remove_dir(dir);
+        return;
+    }
+    int *category = malloc((size_t)m->nt * sizeof *category);
+    for (plume_index t = 0; t < m->nt; t++) {
+        const plume_index *v = m->tri + 3 * t;
+        category[t] = m->X[2 * v[0]] + m->X[2 * v[1]] + m->X[2 * v[2]] < 1.5 ? 0 : 6;
+        m->material[t] = (int)(t % 2); /* ignored */
+    }
+    snprintf(path, sizeof path, "%s/category.png", dir);
+    plume_render_opts o;
+    plume_render_opts_default(&o);
+    o.rot_x = 0.0, o.rot_z = 0.0;
+    o.category = category;
+    CHECK(plume_render_png(path, m, NULL, &o, &err) == PLUME_OK);
+    test_png png;
+    CHECK(test_png_read(path, &png) == 0);
+    if (png.rgb) {
+        double xb = 0, xr = 0;
+        long nb = 0, nr = 0;
+        for (int y = 0; y < png.height; y++)
+            for (int x = 0; x < png.width; x++) {
+                const unsigned char *c = png.rgb + 3 * ((size_t)y * (size_t)png.width + (size_t)x);
+                if (c[2] > c[0] + 60)
+                    xb += x, nb++;
+                else if (c[0] > c[2] + 60)
+                    xr += x, nr++;
+            }
+        fprintf(stderr, "    blue pixels %ld, red %ld\n", nb, nr);
+        CHECK(nb > 500 && nr > 500);
+        CHECK(nb > 0 && nr > 0 && xr / (double)nr > xb / (double)nb + 0.2 * png.width);
+        free(png.rgb);
+    }
+    free(category);
+    plume_mesh_destroy(&m);
+    remove_dir(dir);
+}

@@ -45,13 +45,17 @@ typedef struct {
     char data[RENDER_PATH_MAX], script[RENDER_PATH_MAX], png[RENDER_PATH_MAX], log[RENDER_PATH_MAX];
 } scratch;
 
-/* Material colours: blue vane, orange rachis, then a few distinct others (cycled). */
-static const unsigned palette_rgb[6] = {0x7fb2ff, 0xffb347, 0x8fd18a, 0xe88ad1, 0xd1d18a, 0x8ad1d1};
+/* Material colours: blue vane, orange rachis, then distinct others (cycled) */
+enum { PALETTE_COLOURS = 12 };
+static const unsigned palette_rgb[PALETTE_COLOURS] = {0x7fb2ff, 0xffb347, 0x8fd18a, 0xe88ad1, 0xd1d18a, 0x8ad1d1,
+                                                      0xff8a80, 0xb39ddb, 0x80cbc4, 0xffe082, 0xbcaaa4, 0x90a4ae};
 
-/* Palette slot of a triangle's material (ids are >= 0 in a valid mesh; anything else gets 0). */
-static int slot(const plume_mesh *m, plume_index t)
+/* Palette slot of a triangle: its category (o->category) or its material (ids are >= 0 in a
+ * valid mesh; anything else gets 0) */
+static int slot(const plume_mesh *m, const plume_render_opts *o, plume_index t)
 {
-    return m->material[t] < 0 ? 0 : m->material[t] % RENDER_MAX_MATERIALS;
+    const int c = o->category ? o->category[t] : m->material[t];
+    return c < 0 ? 0 : c % RENDER_MAX_MATERIALS;
 }
 
 /* The unit normal of triangle t at x, in the camera frame of gnuplot's "set view rot_x, rot_z"
@@ -155,7 +159,7 @@ static int write_data(const scratch *s, const plume_mesh *m, const double *x, co
                      b = (unsigned)lround(255.0 * fmin(1.0, rgb[2] * k));
             snprintf(colour, sizeof colour, "%u", (r << 16) | (g << 8) | b);
         } else
-            snprintf(colour, sizeof colour, "%.6f", (double)slot(m, t) + shade);
+            snprintf(colour, sizeof colour, "%.6f", (double)slot(m, o, t) + shade);
         for (int k = 0; k < 4; k++) {
             const double *p = x + 3 * order[k];
             fprintf(f, "%.9g %.9g %.9g %s\n", p[0], p[1], p[2], colour);
@@ -230,11 +234,11 @@ static int write_script(const scratch *s, const plume_mesh *m, const double *x, 
     } else {
         int nmat = 1;
         for (plume_index t = 0; t < m->nt; t++)
-            if (slot(m, t) + 1 > nmat)
-                nmat = slot(m, t) + 1;
+            if (slot(m, o, t) + 1 > nmat)
+                nmat = slot(m, o, t) + 1;
         fputs("unset colorbox\nset palette defined (", f);
         for (int k = 0; k < nmat; k++) {
-            unsigned rgb = palette_rgb[k % 6];
+            unsigned rgb = palette_rgb[k % PALETTE_COLOURS];
             unsigned r = (rgb >> 16) & 255, g = (rgb >> 8) & 255, b = rgb & 255;
             fprintf(f, "%s%d '#%02x%02x%02x', %d '#%02x%02x%02x'", k ? ", " : "", k, r / 8, g / 8, b / 8, k + 1, r, g,
                     b);

@@ -28,6 +28,10 @@ typedef struct {
                              2nd to 98th percentile of the finite values, so that a few outliers (a
                              crease) do not flatten the rest; values outside are drawn at the ends */
     double field_max;     /**< the colour bar's upper end */
+    const int *category;  /**< [nt] or NULL: without a field, colour each triangle by its category
+                             (e.g. its scene object) from the materials' palette of 12 distinct
+                             colours, cycled, instead of by its material: neighbouring objects
+                             numbered in a row are told apart. Default NULL */
 } plume_render_opts;
 
 /** Fills o with the defaults above (title NULL). */
