@@ -1065,8 +1065,10 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
         if (stop)
             break;
         /* inexact Newton (Eisenstat & Walker's forcing term): the refined KKT solve needs a
-         * linear residual of eta ||rhs|| with eta = min(1e-2, res), loose while the residual is
-         * large, tight (down to round-off) near convergence, where it keeps the quadratic rate */
+         * linear residual of eta times the nonlinear residual (grad f + J^T lambda in the force
+         * rows, g in the constraint rows; nt_direction) with eta = min(1e-2, res), loose while the
+         * residual is large, tight (down to round-off) near convergence, where it keeps the
+         * quadratic rate */
         s->refine_rtol = fmax(1e-15, fmin(1e-2, c.res));
         /* a chord step where the last factorisation predicts one; a Newton step where none was
          * wanted, or the chord step was refused or undone (the same iteration, refactorised) */

@@ -346,7 +346,8 @@ static plume_status kkt_solve_j(plume_newton *s, const double *jv, const double 
     for (plume_index q = 0; q < m; q++)
         bc = nt_max_abs(bc, b[n + q]);
     const double floor = 1e-15 * fmax(bf, bc);
-    const double tol_f = fmax(s->refine_rtol * bf, floor), tol_c = fmax(s->refine_rtol * bc, floor);
+    const double tol_f = fmax(s->refine_rtol * (s->refine_bf > 0.0 ? s->refine_bf : bf), floor);
+    const double tol_c = fmax(s->refine_rtol * bc, floor);
     double last = INFINITY;
     for (int pass = 0; st == PLUME_OK && pass < 8; pass++) {
         /* res = b - [H + d I, J^T; J, -dc I] out */
@@ -388,6 +389,18 @@ plume_status nt_kkt_solve(plume_newton *s, const double *r, double *out)
     return kkt_solve_j(s, s->jval, r, out);
 }
 
+double nt_force_residual(plume_newton *s, const double *lambda)
+{
+    double *fr = s->rd; /* scratch: the refinement's workspace, free between solves */
+    memcpy(fr, s->grad, (size_t)s->n * sizeof *fr);
+    for (plume_index k = 0; k < s->jnnz; k++)
+        fr[s->jcol[k]] += s->jval[k] * lambda[s->jrow[k]];
+    double bf = 0.0;
+    for (plume_index i = 0; i < s->n; i++)
+        bf = nt_max_abs(bf, fr[i]);
+    return bf > 0.0 ? bf : 1e-300;
+}
+
 /* Newton/SQP direction: factorise and solve. A direction longer than max_step times the body
  * means the Hessian is (nearly) singular on the constraints' null space (e.g. a straight chain
  * with zero multipliers has no sideways stiffness), so the regularisation is raised,
@@ -405,7 +418,15 @@ plume_status nt_direction(plume_newton *s, const double *u, const double *lambda
             s->rhs[i] = -s->grad[i];
         for (plume_index r = 0; r < m; r++)
             s->rhs[n + r] = -s->g[r] - dc * lambda[r];
-        if ((st = nt_kkt_solve(s, s->rhs, s->sol)) != PLUME_OK && st != PLUME_ESINGULAR)
+        /* the forcing term (refine_rtol) is relative to the nonlinear residual, the KKT residual
+         * grad f + J^T lambda of the increment form, not to this right-hand side -grad f, which
+         * does not vanish at a constrained solution (it is balanced by J^T lambda): measured
+         * against it, the refinement stopped at a linear residual as large as the nonlinear one
+         * (a forcing term of about 1) and the end game lost its quadratic rate */
+        s->refine_bf = m > 0 ? nt_force_residual(s, lambda) : 0.0;
+        st = nt_kkt_solve(s, s->rhs, s->sol);
+        s->refine_bf = 0.0;
+        if (st != PLUME_OK && st != PLUME_ESINGULAR)
             return st;
         *step_max = 0.0;
         double slope = 0.0;

@@ -68,8 +68,9 @@ typedef struct {
     int kkt_refine;        /**< newton, eliminated KKT: factorise with a 1e3 times larger multiplier
                               regularisation and refine the solution iteratively against the
                               requested one (a Cholesky factor of H + J^T J / dc, whose constraint
-                              part is 1e8 times the Hessian's, loses 8 digits of H), to a relative
-                              residual of min(1e-2, KKT residual) (inexact Newton); default 1 */
+                              part is 1e8 times the Hessian's, loses 8 digits of H), to a linear
+                              residual of min(1e-2, KKT residual) times the nonlinear one (inexact
+                              Newton); default 1 */
     int verbose;           /**< print one line per iteration on stderr; default 0 */
     int partial_projection; /**< newton, exact-Hessian path: when the exact Hessian is not positive
                               definite, project the terms whose projection is a cheap closed form

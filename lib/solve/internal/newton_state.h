@@ -38,6 +38,8 @@ struct plume_newton {
     int refinements;         /* refinement passes in this solve */
     double refine_rtol;      /* refinement stops below this residual, relative to the right-hand
                                 side: the forcing term of the current iteration */
+    double refine_bf;        /* > 0: the force rows' residual is judged against this instead of
+                                their right-hand side (nt_direction: the KKT residual) */
     double shift, shift_last; /* exact-Hessian shift of the last factorisation; the last nonzero one */
     double tr_sigma;         /* trust region: the regularisation added to every factorisation of
                                 this solve's iterations (0: none) */
@@ -73,6 +75,9 @@ plume_status nt_build_elimination_pairs(plume_newton *s);
 plume_status nt_kkt_solve(plume_newton *s, const double *r, double *out);
 /* the Newton/SQP direction in s->sol (factorise, solve); *step_max its largest entry */
 plume_status nt_direction(plume_newton *s, const double *u, const double *lambda, double *step_max);
+/* max |grad f + J^T lambda| over the free dofs: the force rows' nonlinear residual, the reference
+ * of the forcing term (refine_bf) */
+double nt_force_residual(plume_newton *s, const double *lambda);
 /* a chord direction in s->sol from the last factorisation; nonzero when unusable */
 int nt_chord_direction(plume_newton *s, const double *lambda, double L, double *step_max);
 
