@@ -599,14 +599,15 @@ def main(argv=None):
             sys.stderr.write("make_bird.py: %s and %s are %s apart at t = 0, closer than dhat = %g m: not written\n"
                              % (a, b, "%.3g m" % d if d is not None else "less than dhat", DHAT))
         sys.exit(1)
-    folder = os.path.join(p.out, "bird")
+    uniform = p.uniform_edge is not None
+    stem = "bird_uniform" if uniform else "bird"  # its own shapes: the two may differ in other flags
+    folder = os.path.join(p.out, stem)
     os.makedirs(folder, exist_ok=True)
     for s in shapes.values():
         s.write(folder)
     body_obj(os.path.join(folder, "body.obj"))
     for name, lo, hi in bones:
         box_obj(os.path.join(folder, name + ".obj"), lo, hi, "the wing segment %s: a box %.3g m long" % (name, hi[0] - lo[0]))
-    uniform = p.uniform_edge is not None
     objects = []
     counts = {}
     for fe in sorted(feathers, key=lambda f: (f.group != 0, f.group, f.kind, f.name)):
@@ -621,17 +622,17 @@ def main(argv=None):
             to = "body"
         objects.append({
             "name": fe.name,
-            "mesh": {"feather": "bird/%s.json" % fe.shape.name, "edge": round(h / fe.scale, 6)},
+            "mesh": {"feather": "%s/%s.json" % (stem, fe.shape.name), "edge": round(h / fe.scale, 6)},
             "place": {"scale": round(fe.scale, 6), "rotate": [[0, 0, 1, round(fe.turn, 6)]],
                       "translate": [round(fe.base[0], 7), round(fe.base[1], 7), fe.z]},
             "attach": {"to": to, "near": [0, 0], "radius": round(radius / fe.scale, 6)},
         })
-    objects.append({"name": "body", "note": "kinematic, still", "kinematic": {"obj": "bird/body.obj", "pivot": [0, 0, 0],
+    objects.append({"name": "body", "note": "kinematic, still", "kinematic": {"obj": stem + "/body.obj", "pivot": [0, 0, 0],
                                                                               "keyframes": [[0, 0, 0, 0]]}})
     for side, w in wings.items():
         for seg, (nm, a, b) in w.names.items():
             name = "%s_%s" % ("r" if side > 0 else "l", seg)
-            objects.append({"name": name, "kinematic": {"obj": "bird/%s.obj" % name, "pivot": a,
+            objects.append({"name": name, "kinematic": {"obj": "%s/%s.obj" % (stem, name), "pivot": a,
                                                          "keyframes": w.keyframes(seg, a)}})
     materials = json.load(open(os.path.join(HERE, "../feather/scene_anisotropic.json")))["materials"]
     nf = len(feathers)
@@ -655,7 +656,7 @@ def main(argv=None):
         "camera": {"rot_x": 55, "rot_z": 20},
         "render_field": "object",
     }
-    name = "bird_uniform.json" if uniform else "bird.json"
+    name = stem + ".json"
     with open(os.path.join(p.out, name), "w") as f:
         f.write(scene_text(scene))
     print("make_bird.py: %s: %d feathers (%s), %d planes" % (os.path.join(p.out, name), nf,
