@@ -75,6 +75,8 @@ PARAMS = {
     "flap": (25.0, 0.0, 45.0, False, "degrees, the wingbeat's downstroke about the fore-aft axis through the shoulder"),
     "elbow": (15.0, 0.0, 30.0, False, "degrees, the fold's elbow flex (forearm forwards) at mid-beat"),
     "wrist": (25.0, 0.0, 40.0, False, "degrees, the fold's wrist flex (hand backwards) at mid-beat"),
+    "wrist_tilt": (10.0, 0.0, 20.0, False, "degrees, the wrist's fold axis tilted from the wing's normal towards the "
+                                           "hand: folding turns the primaries' trailing vanes up under the secondaries"),
     "period": (0.25, 0.05, 2.0, False, "s, one wingbeat: the scene's duration"),
     "dt": (0.0028, 1e-4, 0.01, False, "s, the time step (Table 3 (b))"),
     "tolerance": (8e-4, 1e-5, 0.1, False, "the scene tolerance of mesh_edge(): an element's sagitta over the bending radius"),
@@ -285,11 +287,14 @@ class Wing:
     def motions(self, flap, elbow, wrist):
         """The rest-to-pose motions of humerus, forearm and hand for the joint angles (degrees):
         flap turns the wing tip down about the fore-aft axis through the shoulder, elbow brings the
-        forearm forwards and wrist the hand backwards about the wing plane's normal (the local z)."""
+        forearm forwards about the wing plane's normal (the local z), and wrist the hand backwards
+        about that normal tilted by wrist_tilt towards the hand, which also turns the hand's trailing
+        side up (the primaries against the secondaries over them)."""
         s = self.side
         H = about(self.shoulder, [0, 1, 0], s * flap)
         F = compose(H, about(self.elbow, [0, 0, 1], s * elbow))
-        W = compose(F, about(self.wrist, [0, 0, 1], -s * wrist))
+        tilt = math.radians(self.p.wrist_tilt)
+        W = compose(F, about(self.wrist, [s * math.sin(tilt), 0, math.cos(tilt)], -s * wrist))
         return {"humerus": H, "forearm": F, "hand": W}
 
     def keyframes(self, segment, pivot):
@@ -363,8 +368,8 @@ class Feather:
         return self.shape.length * self.scale
 
     def polygon(self, motion=None, step=1):
-        """The outline in the horizontal plane (x, y) at rest, or moved by the 3D motion (its
-        rotation is about z here: the fold)."""
+        """The outline in the horizontal plane (x, y) at rest, or moved by the 3D motion and
+        projected on that plane (the fold: a turn about z, the hand's tilted a little)."""
         c, s = math.cos(math.radians(self.turn)), math.sin(math.radians(self.turn))
         pts = []
         for x, y in self.loop[::step]:
@@ -423,8 +428,8 @@ def poly_dist(P, Q, limit):
 
 def layer(feathers, wings):
     """Sets each feather's height: within a group, in order, one RISE above the highest feather it
-    comes within CLEARANCE of at any of five folds (0 to the full fold), on the lowest plane z = 0
-    if none."""
+    comes within CLEARANCE of, in the horizontal projection, at any of five folds (0 to the full
+    fold), on the lowest plane z = 0 if none."""
     poses = {}
     for side, w in wings.items():
         for k in range(5):
@@ -610,11 +615,15 @@ def main(argv=None):
         box_obj(os.path.join(folder, name + ".obj"), lo, hi, "the wing segment %s: a box %.3g m long" % (name, hi[0] - lo[0]))
     objects = []
     counts = {}
-    for fe in sorted(feathers, key=lambda f: (f.group != 0, f.group, f.kind, f.name)):
+    # the list's order is the colour order of the "object" renders: by name, then spread by the
+    # golden ratio so that neighbouring feathers (r_p01, r_p02) get distant colours
+    by_name = sorted(feathers, key=lambda f: f.name)
+    spread = sorted(range(len(by_name)), key=lambda i: (i * 0.6180339887498949) % 1.0)
+    for fe in (by_name[i] for i in spread):
         t = TYPES[fe.kind]
         L, W = fe.length, fe.shape.width * fe.scale
         h = p.uniform_edge if uniform else mesh_edge(L, W, fe.bend, t["covered"], p.tolerance)
-        radius = max(0.1 * L, 1.2 * h)  # the calamus: the base and its neighbours at this edge
+        radius = max(0.006, 1.1 * h)  # the calamus: the base and its neighbours at this edge
         counts[fe.kind] = counts.get(fe.kind, 0) + 1
         if fe.wing:
             to = "%s_%s" % ("r" if fe.wing > 0 else "l", fe.segment)
