@@ -5,8 +5,9 @@ A kinematic body (an ellipsoid), two wings and a tail. Each wing is a skeleton o
 segments, the humerus from the shoulder, the forearm from the elbow and the hand from the wrist,
 whose keyframes are computed here by forward kinematics from joint angles over one wingbeat: the
 shoulder flaps the wing down and back up about the body's fore-aft axis, and the elbow and wrist
-flex (fold) in the wing's plane and extend again, all as (1 - cos) / 2 so that nothing jerks at
-t = 0. Feathers, flat at t = 0 and attached at their base (calamus) to their segment or the body:
+flex (fold) and extend again, the elbow in the wing's plane, the wrist about the plane's normal
+tilted towards the hand (so that the folding hand presses the primaries against the secondaries),
+all as (1 - cos) / 2 so that nothing jerks at t = 0. Feathers, flat at t = 0 and attached at their base (calamus) to their segment or the body:
 primaries on the hand, secondaries on the forearm, a row of greater coverts (one over each flight
 feather's base) and a row of median coverts over those, and a tail of rectrices on the body.
 
@@ -476,7 +477,8 @@ def check(feathers, bones):
             d = math.hypot(dz, poly_dist(polys[i], box, DHAT))
             if d < DHAT:
                 bad.append((a.name, name, d))
-        # the body: every outline point and the rachis outside the ellipsoid grown by dhat
+        # the body: the outline's points and its sides' midpoints outside the ellipsoid grown by dhat
+        # along each axis (the faceted body lies inside the ellipsoid)
         A, B, C = (s + DHAT for s in BODY)
         for x, y in polys[i] + [((p[0] + q[0]) / 2, (p[1] + q[1]) / 2) for p, q in zip(polys[i], polys[i][1:])]:
             r = ((x - BODY_CENTRE[0]) / A) ** 2 + ((y - BODY_CENTRE[1]) / B) ** 2 + ((a.z - BODY_CENTRE[2]) / C) ** 2
@@ -506,7 +508,7 @@ def build(p):
             u = k / (S - 1)
             flight.append(("secondary", k + 1, p.humerus + p.forearm - 0.006 - u * (p.forearm - 0.014),
                            6.0 * (1 - u) - 3.0, 1.0 - 0.06 * u, "forearm"))
-        for k in range(P):  # primaries: P1 at the wrist .. P_n at the tip, fanning out to 60 degrees
+        for k in range(P):  # primaries: P1 at the wrist .. P_n at the tip, fanning out to 65 degrees
             u = k / (P - 1)
             length = 0.74 + 0.26 * math.sin(math.pi / 2 * min(1.0, u / 0.8)) - 0.05 * max(0.0, u - 0.8) / 0.2
             flight.append(("primary", k + 1, p.humerus + p.forearm + 0.005 + u * (p.hand - 0.01), 10.0 + 55.0 * u,
@@ -519,7 +521,7 @@ def build(p):
             name = "%s_%s%02d" % (tag, "p" if kind == "primary" else "s", i)
             base = [side * (SHOULDER[0] + dist), SHOULDER[1], 0.0]
             shape = shapes[(kind, side)]
-            turn = side * (180.0 + fan) if side > 0 else 180.0 - fan
+            turn = 180.0 + fan if side > 0 else 180.0 - fan
             fl = Feather(name, kind, shape, lf, turn, base, seg, order_flight[(kind, i)], side, side)
             feathers.append(fl)
             # the greater covert over its base (the primaries' coverts on the hand)
@@ -550,7 +552,6 @@ def build(p):
         feathers.append(Feather(name, "rectrix", shapes[("rectrix", side)], 1.0 - 0.1 * abs(u), turn, base, "body",
                                 -abs(u), 0))
     layer(feathers, wings)
-    # the tail above the body's back end: its lowest plane where the body is dhat * 5 below
     bones = []
     for side, w in wings.items():
         for seg, (nm, a, b) in w.names.items():
