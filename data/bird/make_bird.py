@@ -581,7 +581,7 @@ def parse(argv):
     ap.add_argument("--out", default=HERE, help="folder for bird.json and bird/ (default: data/bird)")
     for key, (default, lo, hi, integer, text) in PARAMS.items():
         ap.add_argument("--" + key.replace("_", "-"), type=int if integer else float, default=default,
-                        help="%s, %g to %g (default %s)" % (text, lo, hi, default))
+                        help="%s, %g to %g (default %s)" % (text, lo, hi, "none" if default is None else default))
     p = ap.parse_args(argv)
     for key, (default, lo, hi, integer, text) in PARAMS.items():
         v = getattr(p, key)
