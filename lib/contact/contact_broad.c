@@ -130,7 +130,7 @@ plume_status plume_contact_box_pairs(plume_index na, const double *a, plume_inde
     st = load_boxes("set a", na, a, ba, err);
     if (st == PLUME_OK)
         st = load_boxes("set b", nb, b, bb, err);
-    plume_pair_ws ws = {{0, 0, NULL}, NULL, 0};
+    plume_pair_ws ws = {{0, 0, NULL}, {0, 0, NULL}, NULL, 0};
     if (st == PLUME_OK)
         st = plume_cgal_box_pairs(ba, na, bb, nb, NULL, NULL, &ws, out, err);
     plume_pair_ws_free(&ws);
@@ -151,7 +151,7 @@ plume_status plume_contact_box_self_pairs(plume_index n, const double *boxes, pl
     if (!bx)
         return plume_err_set(err, PLUME_ENOMEM, "contact: no memory for %ld boxes", n);
     st = load_boxes("boxes", n, boxes, bx, err);
-    plume_pair_ws ws = {{0, 0, NULL}, NULL, 0};
+    plume_pair_ws ws = {{0, 0, NULL}, {0, 0, NULL}, NULL, 0};
     if (st == PLUME_OK)
         st = plume_cgal_box_self_pairs(bx, bx + n, n, NULL, NULL, &ws, out, err);
     plume_pair_ws_free(&ws);

@@ -94,27 +94,32 @@ template <class T> void reserve(T **p, plume_index *cap, plume_index n)
     *cap = n;
 }
 
-/* raw -> out sorted by (a, b), a in [0, na): a counting sort by a, then each bucket (a few pairs:
- * the boxes near one box) sorted by b. Measured on 400 000 pairs: 7 ms against 36 ms for
- * std::sort of the pairs. */
-void bucket_sort(plume_pair_ws *ws, plume_index na, plume_contact_pairs *out)
+/* raw -> out sorted by (a, b), a in [0, na), b in [0, nb): two stable counting sorts, by b into
+ * ws->tmp then by a into out (least significant key first). The same order as sorting each
+ * bucket of a by b (no pair occurs twice), without the buckets' comparison sorts, which took 11 %
+ * of the bird's profile where boxes swept over a wingbeat's step meet hundreds of others. */
+void pair_sort(plume_pair_ws *ws, plume_index na, plume_index nb, plume_contact_pairs *out)
 {
     const plume_contact_pairs &raw = ws->raw;
     reserve(&out->p, &out->cap, raw.n);
-    reserve(&ws->count, &ws->count_cap, na + 1);
+    reserve(&ws->tmp.p, &ws->tmp.cap, raw.n);
+    reserve(&ws->count, &ws->count_cap, std::max(na, nb) + 1);
     plume_index *c = ws->count;
+    plume_contact_pair *tmp = ws->tmp.p;
+    std::fill(c, c + nb + 1, 0);
+    for (plume_index k = 0; k < raw.n; k++)
+        c[raw.p[k].b + 1]++;
+    for (plume_index i = 0; i < nb; i++)
+        c[i + 1] += c[i];
+    for (plume_index k = 0; k < raw.n; k++)
+        tmp[c[raw.p[k].b]++] = raw.p[k];
     std::fill(c, c + na + 1, 0);
     for (plume_index k = 0; k < raw.n; k++)
-        c[raw.p[k].a + 1]++;
+        c[tmp[k].a + 1]++;
     for (plume_index i = 0; i < na; i++)
         c[i + 1] += c[i];
     for (plume_index k = 0; k < raw.n; k++)
-        out->p[c[raw.p[k].a]++] = raw.p[k];
-    /* c[i] is now the end of bucket i */
-    for (plume_index i = 0, start = 0; i < na; start = c[i], i++)
-        if (c[i] - start > 1)
-            std::sort(out->p + start, out->p + c[i],
-                      [](const plume_contact_pair &x, const plume_contact_pair &y) { return x.b < y.b; });
+        out->p[c[tmp[k].a]++] = tmp[k];
     out->n = raw.n;
 }
 
@@ -289,6 +294,7 @@ extern "C" void plume_pair_ws_free(plume_pair_ws *ws)
     if (!ws)
         return;
     plume_contact_pairs_free(&ws->raw);
+    plume_contact_pairs_free(&ws->tmp);
     std::free(ws->count);
     ws->count = nullptr;
     ws->count_cap = 0;
@@ -309,7 +315,7 @@ extern "C" plume_status plume_cgal_box_pairs(plume_box *a, plume_index na, plume
     plume_status st = guarded("contact: box pairs", err, [&] {
         CGAL::box_intersection_d(a, a + na, b, b + nb, Pair_callback{&c}, Box_traits(), cutoff_for(std::max(na, nb)),
                                  CGAL::Box_intersection_d::CLOSED, CGAL::Box_intersection_d::BIPARTITE);
-        bucket_sort(ws, na, out);
+        pair_sort(ws, na, nb, out);
     });
     if (st != PLUME_OK)
         out->n = 0;
@@ -333,7 +339,7 @@ extern "C" plume_status plume_cgal_box_self_pairs(plume_box *boxes, plume_box *s
         CGAL::box_intersection_d(boxes, boxes + n, scratch, scratch + n, Pair_callback{&c}, Box_traits(),
                                  cutoff_for(n), CGAL::Box_intersection_d::CLOSED,
                                  CGAL::Box_intersection_d::COMPLETE);
-        bucket_sort(ws, n, out);
+        pair_sort(ws, n, n, out);
     });
     if (st != PLUME_OK)
         out->n = 0;

@@ -24,7 +24,8 @@ typedef struct {
  * plume_pair_ws_free. The shim grows it with realloc only when it is too small. */
 typedef struct {
     plume_contact_pairs raw; /* kept pairs in CGAL's order, before sorting */
-    plume_index *count;      /* [count_cap] bucket offsets of the counting sort by first id */
+    plume_contact_pairs tmp; /* the pairs sorted by second id (the first pass of the sort) */
+    plume_index *count;      /* [count_cap] offsets of the counting sorts */
     plume_index count_cap;
 } plume_pair_ws;
 
