@@ -329,6 +329,39 @@ void test_frames_render_png(void)
     remove_dir(dir);
 }
 
+/* Pixel classes of the render tests: 1 the left colour, 2 the right one, 0 neither */
+static int purple_or_yellow(const unsigned char *c)
+{
+    return c[0] > 150 && c[1] > 150 && c[2] < 80 ? 2 : c[2] > 50 && c[2] > c[0] && c[1] < 30 ? 1 : 0;
+}
+
+static int blue_or_red(const unsigned char *c)
+{
+    return c[2] > c[0] + 60 ? 1 : c[0] > c[2] + 60 ? 2 : 0;
+}
+
+/* The PNG at path, its left width_pct % of columns scanned: more than 500 pixels of each class,
+ * and the mean column of class 2 a fifth of the width right of class 1's. */
+static void check_left_right(const char *path, int width_pct, int (*classify)(const unsigned char *), const char *left,
+                             const char *right)
+{
+    test_png png;
+    CHECK(test_png_read(path, &png) == 0);
+    if (!png.rgb)
+        return;
+    double sum[3] = {0, 0, 0};
+    long n[3] = {0, 0, 0};
+    for (int y = 0; y < png.height; y++)
+        for (int x = 0; x < png.width * width_pct / 100; x++) {
+            int k = classify(png.rgb + 3 * ((size_t)y * (size_t)png.width + (size_t)x));
+            sum[k] += x, n[k]++;
+        }
+    fprintf(stderr, "    %s pixels %ld, %s %ld\n", left, n[1], right, n[2]);
+    CHECK(n[1] > 500 && n[2] > 500);
+    CHECK(n[1] > 0 && n[2] > 0 && sum[2] / (double)n[2] > sum[1] / (double)n[1] + 0.2 * png.width);
+    free(png.rgb);
+}
+
 /* Coloured by a field: a flat sheet seen from above with the field x, on a fixed colour bar [0, 1],
  * is dark blue-purple on the left and yellow on the right (the map's ends, shaded by the light);
  * NaN triangles come out grey; the automatic range also draws. */
@@ -357,27 +390,9 @@ void test_frames_render_field(void)
     o.rot_x = 0.0, o.rot_z = 0.0; /* from above: x to the right */
     o.field = field, o.field_label = "x (m)", o.field_min = 0.0, o.field_max = 1.0;
     CHECK(plume_render_png(path, m, NULL, &o, &err) == PLUME_OK);
-    test_png png;
-    CHECK(test_png_read(path, &png) == 0);
-    if (png.rgb) {
-        /* the mean column of yellow pixels right of the mean column of purple ones, the colour bar
-         * (the right tenth of the picture) left out */
-        double xy = 0, xp = 0;
-        long ny = 0, np = 0;
-        for (int y = 0; y < png.height; y++)
-            for (int x = 0; x < png.width * 85 / 100; x++) {
-                const unsigned char *c = png.rgb + 3 * ((size_t)y * (size_t)png.width + (size_t)x);
-                if (c[0] > 150 && c[1] > 150 && c[2] < 80)
-                    xy += x, ny++;
-                else if (c[2] > 50 && c[2] > c[0] && c[1] < 30)
-                    xp += x, np++;
-            }
-        CHECK(ny > 500 && np > 500);
-        CHECK(ny > 0 && np > 0 && xy / (double)ny > xp / (double)np + 0.2 * png.width);
-        if (!(ny > 500 && np > 500))
-            fprintf(stderr, "    yellow pixels %ld, purple %ld\n", ny, np);
-        free(png.rgb);
-    }
+    /* the mean column of yellow pixels right of the mean column of purple ones, the colour bar
+     * (the right tenth of the picture) left out */
+    check_left_right(path, 85, purple_or_yellow, "purple", "yellow");
     /* NaN (a kinematic body) is grey, the automatic range draws too */
     for (plume_index t = 0; t < m->nt; t += 3)
         field[t] = NAN;
@@ -417,24 +432,7 @@ void test_frames_render_category(void)
     o.rot_x = 0.0, o.rot_z = 0.0;
     o.category = category;
     CHECK(plume_render_png(path, m, NULL, &o, &err) == PLUME_OK);
-    test_png png;
-    CHECK(test_png_read(path, &png) == 0);
-    if (png.rgb) {
-        double xb = 0, xr = 0;
-        long nb = 0, nr = 0;
-        for (int y = 0; y < png.height; y++)
-            for (int x = 0; x < png.width; x++) {
-                const unsigned char *c = png.rgb + 3 * ((size_t)y * (size_t)png.width + (size_t)x);
-                if (c[2] > c[0] + 60)
-                    xb += x, nb++;
-                else if (c[0] > c[2] + 60)
-                    xr += x, nr++;
-            }
-        fprintf(stderr, "    blue pixels %ld, red %ld\n", nb, nr);
-        CHECK(nb > 500 && nr > 500);
-        CHECK(nb > 0 && nr > 0 && xr / (double)nr > xb / (double)nb + 0.2 * png.width);
-        free(png.rgb);
-    }
+    check_left_right(path, 100, blue_or_red, "blue", "red");
     free(category);
     plume_mesh_destroy(&m);
     remove_dir(dir);
