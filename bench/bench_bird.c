@@ -22,7 +22,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <jansson.h>
@@ -36,11 +35,6 @@
 #define GENERATOR "data/bird/make_bird.py"
 #define DEFAULT_TOLERANCE 8e-4 /* make_bird.py's default */
 
-typedef struct {
-    const char *label;
-    char path[PATH_MAX];
-} variant;
-
 /* what one run measured */
 typedef struct {
     int ok, steps, iterations, halvings, feathers;
@@ -52,13 +46,6 @@ typedef struct {
     char tip_name[MAX_TIPS][64];
     double *tip_u[MAX_TIPS]; /* [3 (steps + 1)] the tip vertex's displacement after each step */
 } run_result;
-
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* Writes a bird into dir with the generator's extra flags; the scene's path into out. */
 static int generate(const char *dir, const char *flags, const char *file, char *out, size_t n)
@@ -167,13 +154,13 @@ static run_result run_scene(const char *path, int steps, int track)
     r.ok = 1;
     for (; r.steps < steps && r.ok; r.steps++) {
         plume_step_report rep;
-        const double c0 = cpu_seconds();
+        const double c0 = plume_cpu_seconds();
         if (plume_dynamics_advance(d, 0.0, &rep, &err) != PLUME_OK) {
             printf("%s: step %d failed: %s\n", path, r.steps + 1, err.msg);
             r.ok = 0;
             break;
         }
-        r.cpu += cpu_seconds() - c0;
+        r.cpu += plume_cpu_seconds() - c0;
         if (r.steps < DETAIL_STEPS)
             r.cpu_detail = r.cpu;
         r.iterations += rep.iterations, r.halvings += rep.halvings, r.seconds += rep.seconds;

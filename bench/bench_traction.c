@@ -12,7 +12,6 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "../include/plume.h"
@@ -25,13 +24,6 @@ typedef struct {
 } run_result;
 
 typedef enum { NATIVE, NATIVE_NO_CHORD, NATIVE_OLD } native_variant;
-
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* NATIVE_OLD: the native solver as it was before the filter line search and the refined KKT
  * solves; NATIVE_NO_CHORD: today's without chord steps */
@@ -63,9 +55,9 @@ static run_result run_child(double edge, plume_solver_kind solver, native_varian
         o.solver_opts.reuse_factorization = 0;
     o.solver_opts.verbose = getenv("BENCH_VERBOSE") != NULL; /* --one's iteration log */
     plume_traction_result res;
-    double cpu0 = cpu_now();
+    double cpu0 = plume_cpu_seconds();
     plume_status st = plume_traction_run(mesh, p, barbs, nb, &o, &res, &err);
-    r.cpu_seconds = cpu_now() - cpu0;
+    r.cpu_seconds = plume_cpu_seconds() - cpu0;
     if (st == PLUME_OK) {
         r.ok = 1;
         r.converged = res.converged;

@@ -14,7 +14,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <jansson.h>
@@ -62,13 +61,6 @@ static int variant(const char *scene, const char *model, double stiffness, int a
     int rc = json_dump_file(j, out, JSON_INDENT(1));
     json_decref(j);
     return rc;
-}
-
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* the two tables' titles and column lines; `bench_wing --header` prints them alone, for the
@@ -133,10 +125,10 @@ int main(int argc, char **argv)
         const int per_call = k == 1 ? s->output_every : 1; /* adaptive: a frame per call */
         for (; steps < STEPS && ok; steps += per_call) {
             plume_step_report rep;
-            const double c0 = cpu_seconds();
+            const double c0 = plume_cpu_seconds();
             if (plume_dynamics_advance(d, per_call * s->dt, &rep, NULL) != PLUME_OK)
                 break;
-            cpu += cpu_seconds() - c0;
+            cpu += plume_cpu_seconds() - c0;
             iterations += rep.iterations, halvings += rep.halvings, seconds += rep.seconds, limited += rep.step_limited;
             ok = rep.converged;
             plume_contact_stats cs;

@@ -28,6 +28,9 @@ PLUME_API void plume_progress_finish(plume_progress *p);
 /** Monotonic wall clock in seconds. */
 PLUME_API double plume_wall_seconds(void);
 
+/** CPU time of the whole process (every thread) in seconds, for benchmarks. */
+PLUME_API double plume_cpu_seconds(void);
+
 #ifdef __cplusplus
 }
 #endif
