@@ -24,9 +24,11 @@ static void (*openblas_setter(void))(int)
     return set_threads;
 }
 
-/* the threads a large factorisation may use (0: plume does not manage OpenBLAS's threads: the
- * environment chose, the BLAS is not OpenBLAS, or plume_openmp_serial was not called) */
+/* the threads a large factorisation may use, and OpenBLAS's setter (0 and NULL: plume does not
+ * manage OpenBLAS's threads: the environment chose, the BLAS is not OpenBLAS, or
+ * plume_openmp_serial was not called) */
 static int factor_threads;
+static void (*blas_setter)(int);
 
 /* the cores this process may run on */
 static int cores_available(void)
@@ -43,10 +45,10 @@ static void one_blas_thread(void)
 {
     if (getenv("OPENBLAS_NUM_THREADS") || getenv("GOTO_NUM_THREADS") || getenv("OMP_NUM_THREADS"))
         return;
-    void (*set_threads)(int) = openblas_setter();
-    if (!set_threads)
+    blas_setter = openblas_setter();
+    if (!blas_setter)
         return;
-    set_threads(1);
+    blas_setter(1);
     factor_threads = cores_available();
 }
 
@@ -75,7 +77,6 @@ int plume_blas_threads_for(double flops)
 
 void plume_blas_threads_set(int threads)
 {
-    void (*set_threads)(int) = factor_threads > 0 ? openblas_setter() : NULL;
-    if (set_threads && threads >= 1)
-        set_threads(threads);
+    if (blas_setter && threads >= 1)
+        blas_setter(threads);
 }
