@@ -255,6 +255,12 @@ void test_fields_uniaxial(void)
     CHECK(plume_fields_create(m, 2, m->nt, &mat, 1, NULL, barbs, nb, &g, &err) == PLUME_EINVAL &&
           strstr(err.msg, "barb edge 0"));
     CHECK(g == NULL);
+    /* objects whose triangles leave the mesh, or none, are refused naming the range */
+    const plume_index t0[2] = {0, m->nt / 2}, ntri[2] = {m->nt / 2, m->nt - m->nt / 2 + 1};
+    CHECK(plume_fields_set_objects(f, 2, t0, ntri, &err) == PLUME_EINVAL && strstr(err.msg, "object 1") &&
+          strstr(err.msg, "outside the mesh"));
+    CHECK(plume_fields_set_objects(f, 0, t0, ntri, &err) == PLUME_EINVAL);
+    CHECK(plume_fields_set_objects(f, 1, t0, ntri, &err) == PLUME_OK);
     plume_fields_destroy(&f);
     CHECK(f == NULL);
     free(x);
