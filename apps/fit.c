@@ -8,10 +8,7 @@
 
 #include <jansson.h>
 
-#include "../include/plume.h"
-#include "../macro/plate_bending.h"
-#include "../macro/traction_model.h"
-#include "../micro/fit.h"
+#include "../include/plume/plume.h"
 #include "cli.h"
 #include "schedule.h"
 

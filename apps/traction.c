@@ -10,11 +10,12 @@
 
 #include <jansson.h>
 
-#include "../include/plume.h"
+#include "../include/plume/plume.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"
 #include "../micro/layout_json.h"
 #include "../micro/micro_model.h"
+#include "../macro/fields.h"
 #include "cli.h"
 #include "traction_size.h"
 #include "traction_bending.h"

@@ -11,7 +11,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../include/plume.h"
+#include "../include/plume/plume.h"
 
 typedef struct {
     const char *load, *out, *model;

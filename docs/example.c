@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include <plume.h>
+#include <plume/plume.h>
 
 int main(void)
 {

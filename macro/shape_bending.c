@@ -150,7 +150,7 @@
  * Nothing is allocated after create. */
 #include "shape_bending.h"
 #include "internal/shape_stencil.h"
-#include "../lib/core/internal/vec3.h"
+#include "../lib/core/vec3.h"
 
 #include <float.h>
 #include <math.h>

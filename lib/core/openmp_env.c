@@ -1,7 +1,7 @@
 /* RTLD_DEFAULT, sched_getaffinity and CPU_COUNT are GNU extensions */
 #define _GNU_SOURCE
 #include "openmp_env.h"
-#include "internal/blas_threads.h"
+#include "blas_threads.h"
 
 #include <dlfcn.h>
 #include <sched.h>

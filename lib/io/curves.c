@@ -9,8 +9,8 @@
 
 #include <hdf5.h>
 
-#include "internal/h5_atomic.h"
-#include "internal/h5util.h"
+#include "h5_atomic.h"
+#include "h5util.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -6,7 +6,7 @@
 
 #include <cholmod.h>
 #include "internal/cholesky_like.h"
-#include "../core/internal/blas_threads.h"
+#include "../core/blas_threads.h"
 #include "../io/progress.h"
 
 struct plume_chol {
@@ -308,7 +308,7 @@ plume_status plume_chol_factor(plume_chol *c, const double *values, double shift
         memcpy(c->A->x, values, (size_t)nnz * sizeof(double));
     }
     double beta[2] = {shift, 0.0};
-    /* large factorisations share their BLAS calls among the cores (lib/core/internal/blas_threads.h) */
+    /* large factorisations share their BLAS calls among the cores (lib/core/blas_threads.h) */
     const int threads = plume_blas_threads_for(c->flops);
     if (threads > 1)
         plume_blas_threads_set(threads);
