@@ -125,6 +125,9 @@ static void alone_and_together(job a, job b)
     pthread_join(t2, NULL);
     CHECK(ta.status == PLUME_OK && tb.status == PLUME_OK);
     CHECK(ta.n == sa.n && tb.n == sb.n);
+    for (long i = 0; ta.n == sa.n && ta.values && sa.values && i < sa.n; i++)
+        if (ta.values[i] != sa.values[i])
+            fprintf(stderr, "    a[%ld]: alone %.17g, in a thread %.17g\n", i, sa.values[i], ta.values[i]);
     if (ta.n == sa.n && ta.values && sa.values)
         CHECK(memcmp(ta.values, sa.values, (size_t)sa.n * sizeof(double)) == 0);
     if (tb.n == sb.n && tb.values && sb.values)
