@@ -47,6 +47,15 @@ typedef struct {
 /** Fills o with the defaults each field names (progress 1, on_step NULL); lx, ly, h are left 0. */
 PLUME_API void plume_traction_opts_default(plume_traction_opts *o);
 
+/** The default element edge (m) of a macro traction sample lx x ly: min(lx, ly) / 20, the one default
+ * apps/traction, apps/fit, the flat interface and Python share. */
+PLUME_API double plume_traction_default_edge(double lx, double ly);
+
+/** The default barb spacing d_B (m) of a resolved specimen of width ly (along the pull): 0.086 ly,
+ * the spacing of supplementary Figure 10 (left); apps/traction's --dB-rel and the flat
+ * interface's micro model start from it. */
+PLUME_API double plume_traction_default_barb_spacing(double ly);
+
 /** What a traction run gives: the curve and how the solves went (free with
  * plume_traction_result_free). */
 typedef struct {
