@@ -395,17 +395,25 @@ static int sh(const char *fmt, const char *a, const char *b)
 {
     /* numbered conversions only (%1$s: a, %2$s: b); a leading %1$.0s names a's type for the
      * formats that use b alone */
-    char f[2560], cmd[4 * PATH_MAX];
+    char f[4 * PATH_MAX + 16], cmd[8 * PATH_MAX];
     snprintf(f, sizeof f, "%%1$.0s%s", fmt);
     snprintf(cmd, sizeof cmd, f, a, b);
     int rc = system(cmd);
     return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
 }
 
-/* The library as another C program uses it: `make install` into a fresh prefix, docs/example.c
- * built with pkg-config against the shared library (it starts without LD_LIBRARY_PATH: plume.pc's
- * run path) and against the static one (no libplume.so needed at all), both run to convergence;
- * `make uninstall` leaves the prefix empty. */
+/* The arguments of the examples that take some (%1$s: the source tree, %2$s: the prefix) */
+static const struct {
+    const char *name, *args;
+} example_args[] = {
+    {"homogenize", "'%1$s/data/layout_barbules.json' '%2$s/examples/moduli.h5'"},
+};
+
+/* The library as another C program uses it: `make install` into a fresh prefix, then every
+ * program of docs/examples/ built with pkg-config against the shared library (it starts without
+ * LD_LIBRARY_PATH: plume.pc's run path) and run from / to its own verdict (exit 0); the traction
+ * example also against the static library (no libplume.so needed at all); `make uninstall`
+ * leaves the prefix with only what the test put there. */
 void test_exports_installed_example(void)
 {
     names dyn = {0};
@@ -415,37 +423,71 @@ void test_exports_installed_example(void)
         return;
     }
     names_free(&dyn);
-    char build[PATH_MAX], prefix[64] = "/tmp/plume-prefix-XXXXXX";
+    char build[PATH_MAX], prefix[64] = "/tmp/plume-prefix-XXXXXX", src[PATH_MAX];
     snprintf(build, sizeof build, "%s", lib);
     *strrchr(build, '/') = 0;
-    if (!mkdtemp(prefix)) {
+    char cwd[PATH_MAX - 8];
+    if (!mkdtemp(prefix) || !getcwd(cwd, sizeof cwd)) {
         CHECK(0);
         return;
     }
+    snprintf(src, sizeof src, "%s/..", cwd);
     /* the runner's own build directory: everything is up to date, install only copies */
     CHECK(sh("make -s -C .. BUILD='%1$s' install PREFIX='%2$s' >'%2$s/make.log' 2>&1", build, prefix) == 0);
+    CHECK(sh("mkdir -p '%2$s/examples'", build, prefix) == 0);
     const char *env = "env -u LD_LIBRARY_PATH PKG_CONFIG_PATH='%2$s/lib/pkgconfig'";
-    char cmd[2048];
+    char cmd[4096];
+    glob_t g;
+    memset(&g, 0, sizeof g);
+    glob("../docs/examples/*.c", 0, NULL, &g);
+    CHECK(g.gl_pathc >= 4);
+    for (size_t i = 0; i < g.gl_pathc; i++) {
+        char name[256];
+        const char *base = strrchr(g.gl_pathv[i], '/') + 1;
+        snprintf(name, sizeof name, "%.*s", (int)(strlen(base) - 2), base);
+        snprintf(cmd, sizeof cmd,
+                 "%s sh -c 'cc -std=c11 -Wall -Wextra -Wpedantic -Werror %s $(pkg-config --cflags --libs plume) -lm "
+                 "-o %%2$s/examples/%s' >>'%%2$s/make.log' 2>&1",
+                 env, g.gl_pathv[i], name);
+        int built = sh(cmd, build, prefix) == 0;
+        if (!built)
+            fprintf(stderr, "    docs/examples/%s.c does not build against the installed library\n", name);
+        CHECK(built);
+        const char *args = "";
+        for (size_t k = 0; k < sizeof example_args / sizeof example_args[0]; k++)
+            if (!strcmp(example_args[k].name, name))
+                args = example_args[k].args;
+        char run[2048];
+        snprintf(run, sizeof run, "cd / && env -u LD_LIBRARY_PATH '%%2$s/examples/%s' %s >'%%2$s/examples/%s.out' 2>&1",
+                 name, args, name);
+        char full[4096];
+        snprintf(full, sizeof full, run, src, prefix); /* %1$s and %2$s of the arguments */
+        /* sh() formats again: percent signs left in the arguments would be read as conversions */
+        int ran = built && sh("%2$s", build, full) == 0;
+        fprintf(stderr, "    docs/examples/%s.c: %s\n", name, ran ? "built, ran, ok" : "FAILED");
+        if (!ran) {
+            snprintf(run, sizeof run, "%s/examples/%s.out", prefix, name);
+            sh("sed 's/^/      /' '%2$s' | tail -n 5 >&2", build, run);
+        }
+        CHECK(ran);
+    }
+    globfree(&g);
     snprintf(cmd, sizeof cmd,
-             "%s sh -c 'cc -std=c11 ../docs/example.c $(pkg-config --cflags --libs plume) -o %%2$s/shared' "
-             ">>'%%2$s/make.log' 2>&1",
-             env);
-    CHECK(sh(cmd, build, prefix) == 0);
-    snprintf(cmd, sizeof cmd,
-             "%s sh -c 'cc -std=c11 ../docs/example.c $(pkg-config --cflags plume) "
+             "%s sh -c 'cc -std=c11 ../docs/examples/traction.c $(pkg-config --cflags plume) "
              "$(pkg-config --variable=static_libs plume) -o %%2$s/static' >>'%%2$s/make.log' 2>&1",
              env);
     CHECK(sh(cmd, build, prefix) == 0);
-    /* both run from elsewhere, the loader told nothing; the static one needs no libplume */
-    CHECK(sh("cd / && env -u LD_LIBRARY_PATH '%2$s/shared' 2>&1 | tail -n 1 | grep -q 'converged: 1'", build, prefix) == 0);
+    CHECK(sh("cd / && env -u LD_LIBRARY_PATH '%2$s/examples/traction' 2>&1 | tail -n 1 | grep -q 'converged: 1'", build,
+             prefix) == 0);
     CHECK(sh("cd / && env -u LD_LIBRARY_PATH '%2$s/static' 2>&1 | tail -n 1 | grep -q 'converged: 1'", build, prefix) == 0);
     char needed[128];
-    snprintf(needed, sizeof needed, "readelf -d '%%2$s/shared' | grep NEEDED | grep -q 'libplume.so.%d\\]'", PLUME_VERSION_MAJOR);
+    snprintf(needed, sizeof needed, "readelf -d '%%2$s/examples/traction' | grep NEEDED | grep -q 'libplume.so.%d\\]'",
+             PLUME_VERSION_MAJOR);
     CHECK(sh(needed, build, prefix) == 0);
     CHECK(sh("readelf -d '%2$s/static' | grep NEEDED | grep -q libplume", build, prefix) != 0);
     CHECK(sh("make -s -C .. BUILD='%1$s' uninstall PREFIX='%2$s' >>'%2$s/make.log' 2>&1", build, prefix) == 0);
-    CHECK(sh("test -z \"$(find '%2$s' \\( -type f -o -type l \\) -not -name shared -not -name static "
-             "-not -name make.log)\"", build, prefix) == 0);
+    CHECK(sh("test -z \"$(find '%2$s' \\( -type f -o -type l \\) -not -name static -not -name make.log "
+             "-not -path '*/examples/*')\"", build, prefix) == 0);
     if (plume_test_failures)
         sh("sed 's/^/    /' '%2$s/make.log' | tail -n 20 >&2", build, prefix);
     sh("rm -rf '%2$s'", build, prefix);
