@@ -24,12 +24,13 @@ CFLAGS += -std=c11 -Wall -Wextra -Wpedantic -fPIC -fvisibility=hidden $(OPT) -D_
 CXXFLAGS += -std=c++17 -Wall -Wextra -fPIC -fvisibility=hidden -fvisibility-inlines-hidden $(OPT)
 LDLIBS += -lcholmod -lsuitesparseconfig $(PKG_LIBS) -lgmp -lmpfr -lgomp -lstdc++ -lm
 
-# lib/ in rooms (docs/design.md): core, then io, solve, contact, and the steppers in sim; macro/ and
+# lib/ in rooms (docs/design.md): core, then io, solve, contact, and the steppers in sim; macro/ (its
+# rooms: shell, the shell's physics; feather, the feather mesher; scene, scenes and their runner) and
 # micro/ above, the experiment drivers (study, sweep, stability, the flat interface) in drivers/
 # above those. The public face is include/plume/ (docs/library.md): one header a job, the umbrella
 # include/plume/plume.h over them; it is all that make install puts on a user's include path
 LIB_ROOMS := core io solve contact sim
-LIB_C := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.c)) $(wildcard micro/*.c) $(wildcard macro/*.c) $(wildcard drivers/*.c)
+LIB_C := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.c)) $(wildcard micro/*.c) $(wildcard macro/*/*.c) $(wildcard drivers/*.c)
 LIB_CXX := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.cpp))
 LIB_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(LIB_C)) $(patsubst %.cpp,$(BUILD)/%.o,$(LIB_CXX))
 APP_SRC := $(wildcard apps/*.c)
@@ -37,7 +38,7 @@ APPS := $(patsubst %.c,%,$(APP_SRC))
 TEST_SRC := $(wildcard tests/*.c)
 TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
 PUBLIC_HEADERS := $(wildcard include/plume/*.h)
-HEADERS := $(PUBLIC_HEADERS) $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.h)) $(wildcard micro/*.h) $(wildcard macro/*.h) \
+HEADERS := $(PUBLIC_HEADERS) $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.h)) $(wildcard micro/*.h) $(wildcard macro/*/*.h) \
     $(wildcard drivers/*.h) tests/plume_tree.h
 # the benchmarks (bench/bench_NAME.c), in the order make bench runs them; each has its block in
 # docs/benchmarks.md, which scripts/bench-tables.py rewrites from the run's output (captured in
@@ -45,7 +46,7 @@ HEADERS := $(PUBLIC_HEADERS) $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.h)) 
 # `make bench BENCHES=statics` runs one; `make bench-docs` rewrites the blocks from the captures.
 BENCHES ?= traction micro plate feather bending statics wing bird
 BENCH_BINS := $(patsubst bench/%.c,$(BUILD)/%,$(wildcard bench/bench_*.c))
-PRIVATE_HEADERS := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/internal/*.h)) $(wildcard macro/internal/*.h) $(wildcard drivers/internal/*.h)
+PRIVATE_HEADERS := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/internal/*.h)) $(wildcard macro/*/internal/*.h) $(wildcard drivers/internal/*.h)
 
 .PHONY: all deps deps-check test asan bench bench-docs demo docs install uninstall clean fuzz fuzz-build abi-check abi-update
 all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)

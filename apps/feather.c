@@ -19,14 +19,14 @@
 #include "../include/plume/plume.h"
 #include "../lib/io/render.h"
 #include "../lib/io/progress.h"
-#include "../macro/scene.h"
+#include "../macro/scene/scene.h"
 #include "cli.h"
 
 #define APP "feather"
 
 static const char usage[] =
     "usage: feather SCENE.json [options]\n"
-    "Steps a shell scene (mesh, materials, handles, gravity: the format is in macro/scene.h) by implicit Euler,\n"
+    "Steps a shell scene (mesh, materials, handles, gravity: the format is in macro/scene/scene.h) by implicit Euler,\n"
     "each step a constrained minimisation solved to convergence (halved when it fails).\n"
     "  -o DIR              output directory (default out/<scene name>, or the restart file's directory):\n"
     "                      DIR/frames.pvd with DIR/frame_00000.vtu ... (ParaView series: strain, stress, energy\n"
@@ -261,7 +261,7 @@ static void frame_measures_reset(plume_frame_measures *fm, const plume_scene *s)
     fm->min_distance = s->has_contact ? 10.0 * s->contact.pair.dhat : -1.0;
 }
 
-/* The scene's render_field per triangle into v[nt]: a field of macro/fields.h, its values at x.
+/* The scene's render_field per triangle into v[nt]: a field of macro/shell/fields.h, its values at x.
  * Returns the colour-bar label (NULL: no field, colour by material or by object). */
 static const char *render_values(const output_ctx *oc, const double *x, double *v, plume_err *err)
 {

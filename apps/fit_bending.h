@@ -1,6 +1,6 @@
 /* apps/fit --bending: the plate's bending moduli (D_long, D_trans, D_coupling, D_twist) fitted to
  * the bending curves of apps/traction --bending with the plate test as the model
- * (plume_plate_model_curve, macro/plate_bending.h), by the fitter of the membrane moduli
+ * (plume_plate_model_curve, macro/shell/plate_bending.h), by the fitter of the membrane moduli
  * (micro/fit.h) with the moduli packed in its four slots (plume_bend_pack). Included by
  * apps/fit.c only (file-local functions; it uses fit.c's options and --starts machinery). */
 #ifndef PLUME_APPS_FIT_BENDING_H

@@ -12,7 +12,7 @@
 #include "../micro/layout.h"
 #include "../micro/layout_json.h"
 #include "../micro/cell_mesh.h"
-#include "../macro/fields.h"
+#include "../macro/shell/fields.h"
 #include "cli.h"
 
 static const char usage[] =

@@ -1,4 +1,4 @@
-/* apps/shell — a static shell scene (macro/scene.h, "solve": "static"): clamps, point and line
+/* apps/shell — a static shell scene (macro/scene/scene.h, "solve": "static"): clamps, point and line
  * loads and end moments stepped from zero to their full value, each load step a constrained
  * minimisation solved to convergence (increments cut when one fails). Prints a line per load step,
  * the probes' displacements against their references, and a JSON summary; writes the equilibrium
@@ -14,7 +14,7 @@
 
 #include "../include/plume/plume.h"
 #include "../lib/sim/statics.h"
-#include "../macro/scene.h"
+#include "../macro/scene/scene.h"
 #include "cli.h"
 
 #define APP "shell"
@@ -22,7 +22,7 @@
 static const char usage[] =
     "usage: shell SCENE.json [options]\n"
     "Brings a static shell scene (\"solve\": \"static\"; clamps, loads, moments, probes: the format is in\n"
-    "macro/scene.h) to equilibrium under load stepping, and reports its probes against their references.\n"
+    "macro/scene/scene.h) to equilibrium under load stepping, and reports its probes against their references.\n"
     "  --edge E            mesh edge length (m), replacing the scene's mesh.edge (rectangle and feather meshes)\n"
     "  --pattern P         grid | delaunay | aligned: replaces a rectangle mesh's pattern\n"
     "  --steps N           load steps (overrides the scene's \"steps\")\n"

@@ -15,7 +15,7 @@
 #include "../micro/layout.h"
 #include "../micro/layout_json.h"
 #include "../micro/micro_model.h"
-#include "../macro/fields.h"
+#include "../macro/shell/fields.h"
 #include "cli.h"
 #include "traction_size.h"
 #include "traction_bending.h"

@@ -1,4 +1,4 @@
-/* apps/traction --bending: the plate bending test of both scales (macro/plate_bending.h) — the
+/* apps/traction --bending: the plate bending test of both scales (macro/shell/plate_bending.h) — the
  * resolved layout as a shell of its phases and the plate with the cell's bending tensor
  * (micro/cell_plate.h), the same loads, curves in /curves/bending/<scale>/<LOAD>_<angle>; with
  * --size-effect the micro specimen again at finer barb spacings (/curves/bending/micro_dB<V>/...)

@@ -1,5 +1,5 @@
-/* make bench — bending that depends on the mesh: the hinge (macro/bending.c) against the
- * shape-operator term (macro/shape_bending.c) on the five mesh families of tests/bend_meshes.h.
+/* make bench — bending that depends on the mesh: the hinge (macro/shell/bending.c) against the
+ * shape-operator term (macro/shell/shape_bending.c) on the five mesh families of tests/bend_meshes.h.
  * Part 1: a 1 x 0.8 patch at h = 1/24 bent into a cylinder of curvature k = 1 (curvature along
  * material x or at 30 degrees to it), barbs at 0, 30, 45, 90 degrees to the curvature; the stored
  * energy over the continuum plate's. Both terms are given the same continuum: the hinge's law

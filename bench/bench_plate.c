@@ -1,7 +1,7 @@
 /* make bench — the cost of the bending moduli: the periodic plate cell (micro/cell_plate.h, Morley
  * triangles) against the membrane cell (micro/cell_linear.h) on the same cell meshes, each timed as
  * the best of three runs, side by side with their ratio. Then both scales in bending
- * (macro/plate_bending.h) down to the finest barb spacing, lx/16: the resolved strip specimen
+ * (macro/shell/plate_bending.h) down to the finest barb spacing, lx/16: the resolved strip specimen
  * against the plate with the cell's D, the figures of docs/bending-homogenisation.md (the lx/16
  * specimens have 2.3e5 triangles and take up to 12.5 GB and 35-50 s of CPU each). The cylinders
  * use the edge moments ("edge"); the twist is run under both the edge moments' corner forces and

@@ -12,7 +12,7 @@
 
 #include "../tests/plume_tree.h"
 #include "../lib/sim/statics.h"
-#include "../macro/scene.h"
+#include "../macro/scene/scene.h"
 
 typedef struct {
     int iterations, factorizations, steps, ok;

@@ -18,11 +18,11 @@
 #include "../micro/homogenize.h"
 #include "../micro/layout_json.h"
 #include "../micro/micro_model.h"
-#include "../macro/fields.h"
-#include "../macro/patch_mesh.h"
-#include "../macro/scene.h"
-#include "../macro/traction_model.h"
-#include "../macro/vane.h"
+#include "../macro/shell/fields.h"
+#include "../macro/shell/patch_mesh.h"
+#include "../macro/scene/scene.h"
+#include "../macro/shell/traction_model.h"
+#include "../macro/shell/vane.h"
 
 /* ------------------------------------------------------------------------------------------ */
 /* requests */

@@ -8,8 +8,8 @@
 #include "../lib/core/membrane.h"
 #include "../lib/core/problem.h"
 #include "../lib/solve/solver.h"
-#include "../macro/patch_mesh.h"
-#include "../macro/vane.h"
+#include "../macro/shell/patch_mesh.h"
+#include "../macro/shell/vane.h"
 
 /* a sample with both grips clamped (bottom at rest, top at `delta` along y), finalised */
 static plume_status clamped_sample(double angle, double edge, const plume_vane *v, plume_mesh **mesh, plume_problem **p,

@@ -7,7 +7,7 @@
 #include "../lib/core/problem.h"
 #include "../lib/sim/traction.h"
 #include "../micro/micro_model.h"
-#include "../macro/vane.h"
+#include "../macro/shell/vane.h"
 
 void plume_study_config_default(plume_study_config *c)
 {

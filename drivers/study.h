@@ -11,7 +11,7 @@
 #include "../lib/io/curves.h"
 #include "../lib/solve/solver.h"
 #include "../micro/layout.h"
-#include "../macro/patch_mesh.h"
+#include "../macro/shell/patch_mesh.h"
 
 #ifdef __cplusplus
 extern "C" {

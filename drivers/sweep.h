@@ -19,7 +19,7 @@
  * runs are the Cartesian product of the "vary" entries in the file's order, the last varying
  * fastest; run k's request is "base" with run k's values set. Errors name the file and the key.
  *
- * A scene job ("run": "scene") steps a dynamic scene (macro/scene.h) as apps/feather does:
+ * A scene job ("run": "scene") steps a dynamic scene (macro/scene/scene.h) as apps/feather does:
  *
  *     "base": {"scene": "FILE.json" (relative to the sweep file's directory),
  *              "steps": n (time steps of the scene's dt) | "duration": s (sets the scene's

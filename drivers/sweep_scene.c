@@ -11,7 +11,7 @@
 #include "../lib/contact/contact.h"
 #include "../lib/io/h5util.h"
 #include "../lib/io/json_read.h"
-#include "../macro/scene.h"
+#include "../macro/scene/scene.h"
 
 void plume_sweep_scene_free(plume_sweep_scene *sc)
 {

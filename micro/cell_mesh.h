@@ -51,7 +51,7 @@ plume_status plume_micro_membrane_term(const plume_mesh *mesh, const plume_quadr
                                                  plume_err *err);
 
 /** Meshes a rectangular traction specimen [0, lx] x [0, ly] of the layout with barbs at angle_deg
- * from the y axis (as in macro/patch_mesh.h: d = (sin a, cos a)); strip boundaries are mesh
+ * from the y axis (as in macro/shell/patch_mesh.h: d = (sin a, cos a)); strip boundaries are mesh
  * edges, the mesh is refined to edges <= plume_layout_element_edge(l, PLUME_MESH_SPECIMEN); barbule
  * layouts leave the empty space out. Always linear triangles (plume_micro_specimen adds the
  * quadratic nodes).

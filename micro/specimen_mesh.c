@@ -1,6 +1,6 @@
 /* plume: rectangular traction specimens of a layout (micro/cell_mesh.h, plume_specimen_mesh).
  *
- * Frame: barbs along d = (sin a, cos a) (as macro/patch_mesh.h), across them q = (-d_y, d_x), so
+ * Frame: barbs along d = (sin a, cos a) (as macro/shell/patch_mesh.h), across them q = (-d_y, d_x), so
  * that (s, c) = (d.p, q.p) is the layout's barb frame (x, y) by a rotation (the membrane's
  * R = [d, d_perp] uses the same d_perp). Phase: a barb strip is centred on the rectangle's centre
  * (barb k covers c in c_mid + k d_B +- w_B / 2), and for barbule layouts a barbule of every gap is

@@ -17,7 +17,7 @@
 #include "test_rng.h"
 #include "../lib/core/cdt.h"
 #include "../lib/core/mesh.h"
-#include "../macro/bending.h"
+#include "../macro/shell/bending.h"
 
 #define BM_PI 3.14159265358979323846
 

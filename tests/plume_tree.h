@@ -57,17 +57,17 @@
 #include "../lib/sim/dynamics.h"
 
 /* macro: the shell, the meshers and scenes */
-#include "../macro/patch_mesh.h"
-#include "../macro/grid_mesh.h"
-#include "../macro/obj_outline.h"
-#include "../macro/vane.h"
-#include "../macro/traction_model.h"
-#include "../macro/plate_bending.h"
-#include "../macro/bending.h"
-#include "../macro/shape_bending.h"
-#include "../macro/feather_mesh.h"
-#include "../macro/scene.h"
-#include "../macro/fields.h"
+#include "../macro/shell/patch_mesh.h"
+#include "../macro/shell/grid_mesh.h"
+#include "../macro/feather/obj_outline.h"
+#include "../macro/shell/vane.h"
+#include "../macro/shell/traction_model.h"
+#include "../macro/shell/plate_bending.h"
+#include "../macro/shell/bending.h"
+#include "../macro/shell/shape_bending.h"
+#include "../macro/feather/feather_mesh.h"
+#include "../macro/scene/scene.h"
+#include "../macro/shell/fields.h"
 
 /* micro: layouts, cells, specimens, homogenisation, fitting */
 #include "../micro/layout.h"

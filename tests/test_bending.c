@@ -1,4 +1,4 @@
-/* Tests of the anisotropic hinge bending term (macro/bending.c): cylinder energies against
+/* Tests of the anisotropic hinge bending term (macro/shell/bending.c): cylinder energies against
  * 1/2 D k^2 per unit area under refinement (barbs along x, along y and at 30 degrees on
  * barb-aligned grids; isotropic plates on the equilateral lattice in every direction), the
  * single-hinge formula and its anisotropic stiffness, finite-difference checks of the gradient and
@@ -14,7 +14,7 @@
 #include "bend_meshes.h"
 #include "../lib/core/dense.h"
 #include "../lib/core/mesh.h"
-#include "../macro/bending.h"
+#include "../macro/shell/bending.h"
 
 #define PI 3.14159265358979323846
 

@@ -11,7 +11,7 @@
 #include "h5_units.h"
 #include "harness.h"
 #include "plume_tree.h"
-#include "../macro/scene.h"
+#include "../macro/scene/scene.h"
 #include "../micro/layout.h"
 #include "../micro/layout_json.h"
 

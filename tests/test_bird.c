@@ -13,7 +13,7 @@
 #include <jansson.h>
 
 #include "harness.h"
-#include "../macro/scene.h"
+#include "../macro/scene/scene.h"
 #include "../lib/io/frames.h"
 #include "app_runner.h"
 

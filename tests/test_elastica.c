@@ -9,7 +9,7 @@
 #include "harness.h"
 #include "plume_tree.h"
 #include "../lib/core/load.h"
-#include "../macro/bending.h"
+#include "../macro/shell/bending.h"
 
 /* theta'' = -alpha cos(theta), theta(0) = 0; y = (theta, theta', deflection) over s in [0, 1] */
 static int elastica_rhs(double s, const double y[], double dy[], void *params)

@@ -77,8 +77,8 @@ static void installed_headers(glob_t *g)
 /* every other header of the tree, the internal/ ones too */
 static void tree_headers(glob_t *g)
 {
-    static const char *const pattern[] = {"../lib/*/*.h", "../lib/*/internal/*.h", "../micro/*.h", "../macro/*.h",
-                                          "../macro/internal/*.h", "../drivers/*.h", "../drivers/internal/*.h"};
+    static const char *const pattern[] = {"../lib/*/*.h", "../lib/*/internal/*.h", "../micro/*.h", "../macro/*/*.h",
+                                          "../macro/*/internal/*.h", "../drivers/*.h", "../drivers/internal/*.h"};
     memset(g, 0, sizeof *g);
     for (size_t i = 0; i < sizeof pattern / sizeof pattern[0]; i++)
         glob(pattern[i], i ? GLOB_APPEND : 0, NULL, g);

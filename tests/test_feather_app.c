@@ -1,4 +1,4 @@
-/* Scenes (macro/scene.h) and apps/feather as a user runs them: parse errors with file, line and
+/* Scenes (macro/scene/scene.h) and apps/feather as a user runs them: parse errors with file, line and
  * key; the shipped scenes; a short run of the strip example with its outputs; restart "as if
  * never stopped"; a step that cannot converge. */
 #define _DEFAULT_SOURCE
@@ -16,7 +16,7 @@
 #include "harness.h"
 #include "../lib/io/frames.h"
 #include "../lib/io/vtu.h"
-#include "../macro/scene.h"
+#include "../macro/scene/scene.h"
 
 /* A valid scene on the strip example; line numbers matter to the error tests below. */
 static const char base_scene[] =

@@ -1,4 +1,4 @@
-/* Tests of the feather mesher (macro/feather_mesh.h) on the shipped synthetic feather
+/* Tests of the feather mesher (macro/feather/feather_mesh.h) on the shipped synthetic feather
  * (data/feather/), on a rectangular feather with straight barbs, where the barb direction is known
  * exactly, and on one whose barbs converge, fan out and curl: barb alignment of the vane
  * triangles, the outline kept exactly, the rachis strip widths, barb edges along the interpolated
@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 #include "harness.h"
-#include "../macro/feather_mesh.h"
+#include "../macro/feather/feather_mesh.h"
 
 static const double pi = 3.14159265358979323846;
 static const char *shape_path = "../data/feather/feather_shape.json";

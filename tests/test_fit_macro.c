@@ -4,7 +4,7 @@
 
 #include "harness.h"
 #include "plume_tree.h"
-#include "../macro/traction_model.h"
+#include "../macro/shell/traction_model.h"
 #include "../micro/fit.h"
 
 void test_fit_macro_recovers_moduli(void)

@@ -18,7 +18,7 @@
 #include "../lib/core/mesh.h"
 #include "../lib/io/render.h"
 #include "../lib/io/vtk.h"
-#include "../macro/patch_mesh.h"
+#include "../macro/shell/patch_mesh.h"
 
 static int scratch_dir(char *dir)
 {

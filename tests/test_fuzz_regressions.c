@@ -15,7 +15,7 @@
 #include "../lib/io/frames.h"
 #include "../lib/io/vtu.h"
 #include "../lib/io/progress.h"
-#include "../macro/scene.h"
+#include "../macro/scene/scene.h"
 
 /* copies src to dst */
 static int copy(const char *src, const char *dst)

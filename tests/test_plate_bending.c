@@ -1,4 +1,4 @@
-/* The plate bending test of both scales (macro/plate_bending.h): the homogeneous plate against
+/* The plate bending test of both scales (macro/shell/plate_bending.h): the homogeneous plate against
  * plate theory, the resolved strip specimen against the homogeneous plate with the cell's D as
  * the barb spacing shrinks, the bending fit (the plate as the fitter's model), the curves file and bad
  * input. */

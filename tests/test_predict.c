@@ -9,7 +9,7 @@
 #include "plume_tree.h"
 #include "../lib/sim/dynamics.h"
 #include "../lib/sim/statics.h"
-#include "../macro/scene.h"
+#include "../macro/scene/scene.h"
 
 /* Springs along the triangles' edges with the rest vector of the reference, E = k/2 |x_j - x_i -
  * (X_j - X_i)|^2 (forces linear in x), and a load factor * F on the last vertex. */

@@ -25,8 +25,8 @@
 #include "../lib/io/frames.h"
 #include "../lib/io/vtu.h"
 #include "../lib/io/sample.h"
-#include "../macro/obj_outline.h"
-#include "../macro/scene.h"
+#include "../macro/feather/obj_outline.h"
+#include "../macro/scene/scene.h"
 #include "../micro/fit.h"
 #include "../micro/layout_json.h"
 

@@ -1,4 +1,4 @@
-/* Scenes with many objects (macro/scene_objects.c): placement, kinematic bodies and attachments
+/* Scenes with many objects (macro/scene/scene_objects.c): placement, kinematic bodies and attachments
  * that follow their keyframed rigid motion exactly, errors that name the key, and two feathers
  * pushed through each other by their handles: never an intersecting triangle pair with the
  * barrier (CGAL's exact audit after every step), the paper's penalty measured on the same scene. */

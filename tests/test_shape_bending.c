@@ -1,4 +1,4 @@
-/* Tests of the shape-operator bending term (macro/shape_bending.c): exactness for quadratic
+/* Tests of the shape-operator bending term (macro/shell/shape_bending.c): exactness for quadratic
  * surfaces on irregular meshes, finite differences of the gradient and Hessian at large random
  * deformations (several barb angles, curved rest shapes), rigid-motion invariance, the PSD
  * Gauss-Newton blocks, the stencil on boundaries, every input error, and the issue's acceptance
@@ -14,7 +14,7 @@
 #include "bend_meshes.h"
 #include "../lib/core/dense.h"
 #include "../lib/core/mesh.h"
-#include "../macro/shape_bending.h"
+#include "../macro/shell/shape_bending.h"
 #include "plume_tree.h"
 
 /* The vane of supplementary Table 3 (a), D_long/D_trans = 2500; twist by Huber's rule. */

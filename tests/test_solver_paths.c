@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../macro/scene.h"
+#include "../macro/scene/scene.h"
 #include "harness.h"
 #include "../lib/core/problem.h"
 #include "../lib/solve/solver.h"

@@ -14,8 +14,8 @@
 #include "../lib/core/moment.h"
 #include "plume_tree.h"
 #include "../lib/sim/statics.h"
-#include "../macro/grid_mesh.h"
-#include "../macro/scene.h"
+#include "../macro/shell/grid_mesh.h"
+#include "../macro/scene/scene.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846

@@ -11,10 +11,10 @@
 #include "test_rng.h"
 #include "../lib/io/vtu.h"
 #include "../lib/core/membrane.h"
-#include "../macro/bending.h"
-#include "../macro/fields.h"
-#include "../macro/patch_mesh.h"
-#include "../macro/shape_bending.h"
+#include "../macro/shell/bending.h"
+#include "../macro/shell/fields.h"
+#include "../macro/shell/patch_mesh.h"
+#include "../macro/shell/shape_bending.h"
 
 static int make_tmpdir(char *dir)
 {

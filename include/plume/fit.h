@@ -57,14 +57,14 @@ PLUME_API plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const 
                                         plume_fit_report *rep, plume_err *err);
 
 
-/* ---- from macro/traction_model.h ---- */
+/* ---- from macro/shell/traction_model.h ---- */
 /** The macro traction test as a model (the ctx of plume_macro_model_curve); borrowed arrays. */
 typedef struct {
     double lx;              /**< sample width (m) */
     double ly;              /**< sample length between the grips (m) */
     double h;               /**< thickness (m) */
     double edge;            /**< mesh edge (m) */
-    plume_patch_kind mesh;  /**< aligned or unaligned patch mesh (macro/patch_mesh.h) */
+    plume_patch_kind mesh;  /**< aligned or unaligned patch mesh (macro/shell/patch_mesh.h) */
     int constraint;         /**< barbs inextensible */
     double kappa;           /**< compression coefficient of the membrane (Pa); 0 disables it */
     double strain_max;      /**< final nominal strain of each curve */

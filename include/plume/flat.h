@@ -28,14 +28,14 @@ PLUME_API plume_status plume_flat_fit(const char *request, char **result, char *
 /** Frees a text this interface returned (free()); NULL-safe. */
 PLUME_API void plume_flat_free(char *text);
 
-/** A dynamic scene (macro/scene.h) being stepped, with its contact and friction if it has them. */
+/** A dynamic scene (macro/scene/scene.h) being stepped, with its contact and friction if it has them. */
 typedef struct plume_flat_scene plume_flat_scene;
 
 /** Loads and sets up the scene at `path` (errors name the file, line and key). */
 PLUME_API plume_status plume_flat_scene_open(const char *path, plume_flat_scene **out, char *msg, long nmsg);
 
 /** The same from a scene document in memory (JSON text) standing for the file `path`: relative file
- * names in it resolve against path's directory, errors name path and the key (macro/scene.h,
+ * names in it resolve against path's directory, errors name path and the key (macro/scene/scene.h,
  * plume_scene_load_json). */
 PLUME_API plume_status plume_flat_scene_open_json(const char *json, const char *path, plume_flat_scene **out, char *msg,
                                                   long nmsg);
@@ -74,7 +74,7 @@ PLUME_API void plume_flat_scene_triangles(const plume_flat_scene *s, long *out);
 
 /** Writes the current state as the next frame of a ParaView series in directory dir (created if
  * needed): dir/frames.pvd with dir/frame_NNNNN.vtu (and dir/frame_barbs_NNNNN.vtu when the scene
- * has constrained barbs; macro/fields.h); the first call with a dir starts its series (frame 0),
+ * has constrained barbs; macro/shell/fields.h); the first call with a dir starts its series (frame 0),
  * later calls with the same dir append. */
 PLUME_API plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, char *msg, long nmsg);
 

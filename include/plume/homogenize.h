@@ -106,7 +106,7 @@ PLUME_API plume_status plume_layout_apply_json(const char *text, const char *whe
 
 /* ---- from micro/cell_plate.h ---- */
 /** The bending moduli of a plate (N m) in the barb frame (1 along the barbs), with the energy
- * density of macro/bending.h plus the bending-twist couplings
+ * density of macro/shell/bending.h plus the bending-twist couplings
  *
  *     1/2 (D_long k11^2 + D_trans k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2
  *          + 4 D_16 k11 k12 + 4 D_26 k22 k12),
@@ -156,7 +156,7 @@ typedef struct {
     /** Bending, from the periodic plate cell (micro/cell_plate.h): the tensor D (N m, Voigt (k11,
      * k22, 2 k12), row-major, barb frame). */
     double D[9];
-    plume_plate_moduli bending; /**< the moduli of D in macro/bending.h's convention */
+    plume_plate_moduli bending; /**< the moduli of D in macro/shell/bending.h's convention */
     plume_index plate_dofs; /**< unknowns of the plate cell problem */
     /** How converged the bending moduli are: the largest relative change of D_long, D_trans,
      * D_twist on the coarser mesh of refinement_change (-1 when not estimated). */

@@ -89,7 +89,7 @@ typedef struct {
     plume_status (*lag)(void *ctx, int dim, const double *x);
     /** Optional (NULL: not offered): the energy of each stencil at x (full vector), written to
      * e[0 .. nstencil-1]; their sum is the energy eval adds. Output fields use it (energy
-     * densities per triangle, macro/fields.h). */
+     * densities per triangle, macro/shell/fields.h). */
     plume_status (*energies)(void *ctx, int dim, const double *x, double *e);
     /** 1: this term's projected blocks are a cheap closed form that keeps the term's stiffness and
      * drops only a curvature part (shape-operator bending: the Gauss-Newton block), so the native
@@ -217,12 +217,12 @@ PLUME_API plume_status plume_edge_length_create(const plume_index *edges, plume_
                                                 plume_index nv, plume_constraint *out, plume_err *err);
 
 
-/* ---- from macro/bending.h ---- */
+/* ---- from macro/shell/bending.h ---- */
 /** Bending stiffness of one material (N m): for an isotropic plate D_long = D_trans =
  * E t^3 / (12 (1 - nu^2)), D_coupling = nu D, D_twist = (1 - nu) D / 2.
  * The orthotropic plate energy density, k11 along d, k22 across, k12 the twist in the barb frame:
  *     1/2 (D_long k11^2 + D_trans k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2).
- * D_twist and D_coupling are read only by the shape-operator term (macro/shape_bending.h); the
+ * D_twist and D_coupling are read only by the shape-operator term (macro/shell/shape_bending.h); the
  * hinge term below ignores them (a hinge sees one normal curvature, not the twist). They come
  * after D_long and D_trans so that `{D_long, D_trans}` initialisers keep meaning what they did,
  * with both new fields zero (gcc -Wextra flags such partial initialisers: spell the zeros out or

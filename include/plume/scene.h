@@ -13,7 +13,7 @@ extern "C" {
 /** A loaded, validated scene (opaque): its mesh, materials, handles, loads and run settings. */
 typedef struct plume_scene plume_scene;
 
-/* ---- from macro/scene.h ---- */
+/* ---- from macro/scene/scene.h ---- */
 /** Reads, validates and meshes the scene in `path`. Errors (PLUME_EIO unreadable file,
  * PLUME_EFORMAT malformed JSON or a wrong type, PLUME_EINVAL a bad value) name the file, the line
  * and the key ("scene.json:12: materials[0].density must be finite and > 0 (got -1)"). */

@@ -93,14 +93,14 @@ PLUME_API plume_status plume_traction_run(const plume_mesh *mesh, plume_problem 
                                           plume_traction_result *res, plume_err *err);
 
 
-/* ---- from macro/patch_mesh.h ---- */
+/* ---- from macro/shell/patch_mesh.h ---- */
 /** How a rectangular sample is meshed (names "aligned", "unaligned"). */
 typedef enum {
     PLUME_PATCH_ALIGNED = 0,  /**< corner-exact: a barb line through every corner of the sample, the
                                  others uniformly between (<= edge sqrt(3)/2 apart), vertices on them
                                  every ~`edge` (and boundary points only where they meet the sides),
                                  barb segments kept as edges: every triangle owns a barb edge
-                                 (check with plume_vane_barb_coverage, macro/vane.h) */
+                                 (check with plume_vane_barb_coverage, macro/shell/vane.h) */
     PLUME_PATCH_UNALIGNED = 1 /**< quality Delaunay mesh (CGAL refinement) that ignores the barbs */
 } plume_patch_kind;
 
@@ -115,7 +115,7 @@ PLUME_API plume_status plume_patch_mesh(double lx, double ly, double angle_deg, 
                                         int dim, plume_mesh **out, plume_err *err);
 
 
-/* ---- from macro/vane.h ---- */
+/* ---- from macro/shell/vane.h ---- */
 /** The macroscale vane's material and how its barbs are modelled (plume_vane_default). */
 typedef struct {
     plume_ortho moduli;   /**< Pa */
@@ -175,7 +175,7 @@ PLUME_API plume_status plume_micro_traction_convergence(const plume_layout *l, d
                                                         plume_micro_convergence *c, plume_err *err);
 
 
-/* ---- from macro/plate_bending.h ---- */
+/* ---- from macro/shell/plate_bending.h ---- */
 /** The load of the plate test (names "cylinder", "twist"). */
 typedef enum {
     PLUME_BEND_CYLINDER = 0, /**< end moments about x: curvature k_yy along the specimen */
@@ -259,7 +259,7 @@ PLUME_API void plume_plate_of_membrane(const plume_membrane_material *m, plume_b
 
 /** A shell-mode specimen of the planar mesh `planar` (its X, triangles, material ids and barb
  * directions, copied; planar is the caller's): membrane mem[material[t]] (lib/core/membrane.h) and
- * shape-operator bending bend[material[t]] (macro/shape_bending.h, phase-aware stencils: no fit
+ * shape-operator bending bend[material[t]] (macro/shell/shape_bending.h, phase-aware stencils: no fit
  * spans two materials) per triangle, nmat materials. This is how a resolved micro specimen (plume_specimen_mesh's mesh, phases by plume_plate_of_membrane) and
  * the homogeneous plate become the same kind of shell. The caller owns *mesh and *p (not
  * finalised). Errors: the terms' (PLUME_EINVAL with a message), PLUME_ENOMEM. */
@@ -268,8 +268,8 @@ PLUME_API plume_status plume_shell_specimen(const plume_mesh *planar, const plum
                                             plume_problem **p, plume_err *err);
 
 /** The homogeneous plate specimen: an unaligned (quality Delaunay) mesh of edge `edge` with barbs at
- * angle_deg from y (macro/patch_mesh.h), shell mode, membrane `mem` and shape-operator bending
- * `bend` (macro/shape_bending.h). The caller owns *mesh and *p (not finalised). Errors as
+ * angle_deg from y (macro/shell/patch_mesh.h), shell mode, membrane `mem` and shape-operator bending
+ * `bend` (macro/shell/shape_bending.h). The caller owns *mesh and *p (not finalised). Errors as
  * plume_patch_mesh and the terms' (PLUME_EINVAL with a message). */
 PLUME_API plume_status plume_plate_specimen(double lx, double ly, double angle_deg, double edge,
                                             const plume_membrane_material *mem, const plume_bending_material *bend,

@@ -1,4 +1,4 @@
-/* libFuzzer: a scene JSON (macro/scene.h), with the shipped meshes beside it. */
+/* libFuzzer: a scene JSON (macro/scene/scene.h), with the shipped meshes beside it. */
 #include "fuzz_scene_common.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

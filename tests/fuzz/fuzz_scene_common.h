@@ -5,7 +5,7 @@
 #define PLUME_FUZZ_SCENE_COMMON_H
 
 #include "fuzz_common.h"
-#include "../../macro/scene.h"
+#include "../../macro/scene/scene.h"
 
 /* the fixed files: the shipped feather's shape and outline, the strip and bone meshes, and scenes
  * that use each of them */

@@ -1,0 +1,166 @@
+/* The materials of a scene (macro/scene/scene.h): membrane (orthotropic or isotropic), bending, density
+ * and barb constraint of each material id. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../../lib/io/curves.h"
+#include "internal/scene_internal.h"
+
+/* "bending": {"from_moduli": "file.h5", "drop_couplings": false}: the bending moduli apps/homogenize
+ * wrote as attributes of /moduli (micro/cell_plate.h's convention, the same as bending.h's). The
+ * shell has no bending-twist coupling: D_16 and D_26 above 1 % of sqrt(D_ii D_twist) are refused
+ * unless "drop_couplings" is true (a cell with tilted barbules has some). */
+static plume_status bending_from_moduli(const plume_json_ctx *c, json_t *jb, const char *kp, plume_bending_material *b)
+{
+    static const char *const keys[] = {"from_moduli", "drop_couplings", NULL};
+    static const char *const names[6] = {"D_long", "D_trans", "D_coupling", "D_twist", "D_16", "D_26"};
+    char kf[PLUME_JSON_KEY_MAX];
+    plume_json_subkey(kf, kp, "from_moduli");
+    plume_status st = plume_json_check_keys(c, jb, kp, keys);
+    if (st != PLUME_OK)
+        return st;
+    json_t *jf = json_object_get(jb, "from_moduli"), *jd = json_object_get(jb, "drop_couplings");
+    if (!json_is_string(jf))
+        return plume_json_bad(c, PLUME_EFORMAT, kf, "must be the name of an HDF5 file written by homogenize -o");
+    if (jd && !json_is_boolean(jd)) {
+        char kd[PLUME_JSON_KEY_MAX];
+        plume_json_subkey(kd, kp, "drop_couplings");
+        return plume_json_bad(c, PLUME_EFORMAT, kd, "must be true or false");
+    }
+    char path[4096];
+    plume_json_resolve(c, json_string_value(jf), path, sizeof path);
+    double v[6];
+    for (int k = 0; k < 6; k++) {
+        plume_err e2 = {{0}};
+        if ((st = plume_moduli_read_param(path, names[k], &v[k], &e2)) != PLUME_OK)
+            return plume_json_bad(c, st, kf, "(%s): %s (a file of homogenize -o, which writes the bending moduli)",
+                                  json_string_value(jf), e2.msg);
+        if (!isfinite(v[k]) || (k < 4 && k != 2 && !(v[k] > 0.0)))
+            return plume_json_bad(c, PLUME_EINVAL, kf, "(%s): %s must be finite%s (got %g)", json_string_value(jf),
+                                  names[k], k < 4 && k != 2 ? " and > 0" : "", v[k]);
+    }
+    if (!(v[2] * v[2] <= v[0] * v[1]))
+        return plume_json_bad(c, PLUME_EINVAL, kf, "(%s): D_coupling = %g makes the plate indefinite (need "
+                              "D_coupling^2 <= D_long D_trans = %g)", json_string_value(jf), v[2], v[0] * v[1]);
+    double r16 = fabs(v[4]) / sqrt(v[0] * v[3]), r26 = fabs(v[5]) / sqrt(v[1] * v[3]);
+    if (!(jd && json_is_true(jd)) && (r16 > 0.01 || r26 > 0.01))
+        return plume_json_bad(c, PLUME_EINVAL, kf,
+                              "(%s): the cell couples bending and twist (D_16 %g, D_26 %g N m: %.3g and %.3g of "
+                              "sqrt(D_ii D_twist)), which the shell cannot represent; add \"drop_couplings\": true "
+                              "to use it without them", json_string_value(jf), v[4], v[5], r16, r26);
+    b->D_long = v[0], b->D_trans = v[1], b->D_coupling = v[2], b->D_twist = v[3];
+    return PLUME_OK;
+}
+
+/* One material entry. */
+static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const char *where, int need_density,
+                                   plume_scene_material *out)
+{
+    static const char *const keys[] = {"membrane", "bending", "density", "constraint", NULL};
+    static const char *const ortho[] = {"E_xx", "E_yy", "nu_xy", "G_xy", "thickness", "kappa", NULL};
+    static const char *const iso[] = {"E", "nu", "thickness", "kappa", NULL};
+    static const char *const bend2[] = {"D_long", "D_trans", "D_twist", "D_coupling", NULL};
+    static const char *const bend1[] = {"D", NULL};
+    char kp[PLUME_JSON_KEY_MAX];
+    plume_status st;
+    if (!json_is_object(jm))
+        return plume_json_bad(c, PLUME_EFORMAT, where, "must be an object with membrane, bending, density, constraint");
+    if ((st = plume_json_check_keys(c, jm, where, keys)) != PLUME_OK)
+        return st;
+    memset(out, 0, sizeof *out);
+    plume_membrane_material *mm = &out->membrane;
+    plume_json_subkey(kp, where, "membrane");
+    json_t *mem = json_object_get(jm, "membrane");
+    if (!json_is_object(mem))
+        return plume_json_bad(c, PLUME_EFORMAT, kp,
+                   mem ? "must be an object {E_xx, E_yy, nu_xy, G_xy, thickness, kappa} or {E, nu, thickness, kappa}"
+                       : "is missing (an object {E_xx, E_yy, nu_xy, G_xy, thickness, kappa} or {E, nu, thickness, kappa})");
+    if (json_object_get(mem, "E")) {
+        double E = 0.0, nu = 0.0;
+        if ((st = plume_json_check_keys(c, mem, kp, iso)) != PLUME_OK || (st = plume_json_positive(c, mem, kp, "E", 1, 0, &E, NULL)) ||
+            (st = plume_json_number(c, mem, kp, "nu", 0, &nu, NULL)))
+            return st;
+        if (!(nu > -1.0 && nu < 0.5)) {
+            char kn[PLUME_JSON_KEY_MAX];
+            plume_json_subkey(kn, kp, "nu");
+            return plume_json_bad(c, PLUME_EINVAL, kn, "must be in (-1, 0.5) (got %g)", nu);
+        }
+        mm->E_xx = mm->E_yy = E;
+        mm->nu_xy = nu;
+        mm->G_xy = E / (2.0 * (1.0 + nu));
+    } else {
+        if ((st = plume_json_check_keys(c, mem, kp, ortho)) != PLUME_OK ||
+            (st = plume_json_positive(c, mem, kp, "E_xx", 1, 0, &mm->E_xx, NULL)) ||
+            (st = plume_json_positive(c, mem, kp, "E_yy", 1, 0, &mm->E_yy, NULL)) ||
+            (st = plume_json_number(c, mem, kp, "nu_xy", 0, &mm->nu_xy, NULL)) ||
+            (st = plume_json_positive(c, mem, kp, "G_xy", 1, 0, &mm->G_xy, NULL)))
+            return st;
+    }
+    if ((st = plume_json_positive(c, mem, kp, "thickness", 1, 0, &mm->h, NULL)) ||
+        (st = plume_json_positive(c, mem, kp, "kappa", 0, 1, &mm->kappa, NULL)))
+        return st;
+    plume_err e2 = {{0}};
+    if ((st = plume_membrane_material_check(mm, &e2)) != PLUME_OK)
+        return plume_json_bad(c, st, kp, "is not a valid material: %s", e2.msg);
+
+    /* bending: explicit, or that of a plate of the membrane's moduli and thickness */
+    plume_json_subkey(kp, where, "bending");
+    json_t *jb = json_object_get(jm, "bending");
+    if (!jb || (json_is_string(jb) && strcmp(json_string_value(jb), "from_membrane") == 0)) {
+        double nu_yx = mm->nu_xy * mm->E_yy / mm->E_xx, h3 = mm->h * mm->h * mm->h;
+        double den = 12.0 * (1.0 - mm->nu_xy * nu_yx);
+        out->bending.D_long = mm->E_xx * h3 / den;
+        out->bending.D_trans = mm->E_yy * h3 / den;
+        out->bending.D_coupling = mm->nu_xy * out->bending.D_trans; /* D_12 = nu_xy D_22 */
+        out->bending.D_twist = mm->G_xy * h3 / 12.0;                /* D_66 = G t^3 / 12 */
+    } else if (json_is_object(jb) && json_object_get(jb, "from_moduli")) {
+        if ((st = bending_from_moduli(c, jb, kp, &out->bending)) != PLUME_OK)
+            return st;
+    } else if (json_is_object(jb) && json_object_get(jb, "D")) {
+        double D = 0.0;
+        if ((st = plume_json_check_keys(c, jb, kp, bend1)) != PLUME_OK || (st = plume_json_positive(c, jb, kp, "D", 1, 1, &D, NULL)))
+            return st;
+        out->bending.D_long = out->bending.D_trans = D;
+    } else if (json_is_object(jb)) {
+        if ((st = plume_json_check_keys(c, jb, kp, bend2)) != PLUME_OK ||
+            (st = plume_json_positive(c, jb, kp, "D_long", 1, 1, &out->bending.D_long, NULL)) ||
+            (st = plume_json_positive(c, jb, kp, "D_trans", 1, 1, &out->bending.D_trans, NULL)) ||
+            (st = plume_json_positive(c, jb, kp, "D_twist", 0, 1, &out->bending.D_twist, NULL)) ||
+            (st = plume_json_positive(c, jb, kp, "D_coupling", 0, 1, &out->bending.D_coupling, NULL)))
+            return st;
+    } else {
+        return plume_json_bad(c, PLUME_EFORMAT, kp, "must be {\"D_long\", \"D_trans\"}, {\"D\"}, {\"from_moduli\": \"file.h5\"} "
+                              "or \"from_membrane\"");
+    }
+    if ((st = plume_json_positive(c, jm, where, "density", need_density, 0, &out->density, NULL)) != PLUME_OK)
+        return st;
+    json_t *jc = json_object_get(jm, "constraint");
+    plume_json_subkey(kp, where, "constraint");
+    if (jc && !json_is_boolean(jc))
+        return plume_json_bad(c, PLUME_EFORMAT, kp, "must be true or false");
+    out->constraint = jc ? json_is_true(jc) : 0;
+    return PLUME_OK;
+}
+
+plume_status plume_scene_parse_materials(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    json_t *jm = json_object_get(doc, "materials");
+    if (!json_is_array(jm) || json_array_size(jm) < 1)
+        return plume_json_bad(c, PLUME_EFORMAT, "materials", jm ? "must be a non-empty array of materials (indexed by material id)"
+                                                     : "is missing (an array of materials indexed by material id)");
+    s->nmat = (int)json_array_size(jm);
+    s->mats = calloc((size_t)s->nmat, sizeof *s->mats);
+    if (!s->mats)
+        return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+    for (int k = 0; k < s->nmat; k++) {
+        char kp[PLUME_JSON_KEY_MAX];
+        plume_json_subindex(kp, "materials", (size_t)k);
+        if ((st = parse_material(c, json_array_get(jm, (size_t)k), kp, !s->is_static, s->mats + k)) != PLUME_OK)
+            return st;
+    }
+
+    return PLUME_OK;
+}

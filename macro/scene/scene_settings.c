@@ -1,0 +1,169 @@
+/* The run settings of a scene (macro/scene/scene.h): gravity, static or dynamic, bending model, the
+ * contact block, steps, dt and duration, solver, halvings, iterations, output, render, camera. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal/scene_internal.h"
+
+/* What is solved: gravity, static or dynamic, the bending model, the contact block, the predictor
+ * and the globalisation. */
+static plume_status parse_model(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    json_t *v;
+    if ((v = json_object_get(doc, "gravity")) && (st = plume_json_vector(c, v, "gravity", 3, s->gravity)) != PLUME_OK)
+        return st;
+    if ((v = json_object_get(doc, "solve"))) {
+        const char *sv = json_is_string(v) ? json_string_value(v) : "";
+        if (strcmp(sv, "static") != 0 && strcmp(sv, "dynamic") != 0)
+            return plume_json_bad(c, PLUME_EINVAL, "solve", "must be \"static\" or \"dynamic\"");
+        s->is_static = sv[0] == 's';
+    }
+    if ((v = json_object_get(doc, "bending_model"))) {
+        const char *bv = json_is_string(v) ? json_string_value(v) : "";
+        if (strcmp(bv, "hinge") != 0 && strcmp(bv, "shape_operator") != 0)
+            return plume_json_bad(c, PLUME_EINVAL, "bending_model", "must be \"shape_operator\" or \"hinge\"");
+        s->hinge_bending = bv[0] == 'h';
+    }
+    if ((v = json_object_get(doc, "contact")) && (st = plume_scene_parse_contact(c, v, s)) != PLUME_OK)
+        return st;
+    /* every scene starts from the tangent predictor: each static increment, and each dynamic step
+     * whose handles start, stop or turn (docs/solver-nonconvexity.md) */
+    s->predictor = PLUME_PREDICT_TANGENT;
+    if ((v = json_object_get(doc, "predictor")) &&
+        (!json_is_string(v) || plume_predictor_parse(json_string_value(v), &s->predictor) != PLUME_OK))
+        return plume_json_bad(c, PLUME_EINVAL, "predictor", "must be \"secant\", \"none\", \"tangent\" or \"secant_tangent\"");
+    s->globalization = PLUME_GLOBAL_CURVED_LINE_SEARCH;
+    if ((v = json_object_get(doc, "globalization")) &&
+        (!json_is_string(v) || plume_globalization_parse(json_string_value(v), &s->globalization) != PLUME_OK))
+        return plume_json_bad(c, PLUME_EINVAL, "globalization",
+                              "must be \"curved_line_search\", \"line_search\" or \"trust_region\"");
+    return PLUME_OK;
+}
+
+/* The clock: steps, dt and duration (required by a dynamic scene only), adaptive steps and dt_max. */
+static plume_status parse_stepping(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    json_t *v;
+    s->steps = 10;
+    long steps = s->steps;
+    if ((st = plume_json_int(c, doc, "", "steps", 1, 1000000, &steps)) != PLUME_OK)
+        return st;
+    s->steps = (int)steps;
+    /* a static scene has no clock: dt and duration are optional (and unused) there */
+    if ((st = plume_json_positive(c, doc, "", "dt", !s->is_static, 0, &s->dt, NULL)) != PLUME_OK ||
+        (st = plume_json_positive(c, doc, "", "duration", !s->is_static, 0, &s->duration, NULL)) != PLUME_OK)
+        return st;
+    if ((v = json_object_get(doc, "adaptive_dt"))) {
+        if (!json_is_boolean(v))
+            return plume_json_bad(c, PLUME_EFORMAT, "adaptive_dt", "must be true or false");
+        s->adaptive_dt = json_is_true(v);
+    }
+    if ((st = plume_json_positive(c, doc, "", "dt_max", 0, 0, &s->dt_max, NULL)) != PLUME_OK)
+        return st;
+    if (s->dt_max > 0.0 && !s->adaptive_dt)
+        return plume_json_bad(c, PLUME_EINVAL, "dt_max", "needs \"adaptive_dt\": true");
+    if (s->dt_max > 0.0 && s->dt > 0.0 && s->dt_max < s->dt)
+        return plume_json_bad(c, PLUME_EINVAL, "dt_max", "must be >= dt (got %g < %g)", s->dt_max, s->dt);
+    return PLUME_OK;
+}
+
+/* The solver and its limits: halvings of a step, iterations. */
+static plume_status parse_solver(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    json_t *v;
+    if ((v = json_object_get(doc, "solver"))) {
+        if (!json_is_string(v) || plume_solver_kind_parse(json_string_value(v), &s->solver) != PLUME_OK)
+            return plume_json_bad(c, PLUME_EINVAL, "solver", "must be \"newton\", \"ipopt\" or \"linearized\" (got %s%s%s)",
+                       json_is_string(v) ? "\"" : "", json_is_string(v) ? json_string_value(v) : "a non-string",
+                       json_is_string(v) ? "\"" : "");
+    }
+    long lv = s->max_halvings;
+    if ((st = plume_json_int(c, doc, "", "max_halvings", 0, 30, &lv)) != PLUME_OK)
+        return st;
+    s->max_halvings = (int)lv;
+    lv = s->max_iter;
+    if ((st = plume_json_int(c, doc, "", "max_iter", 1, 100000, &lv)) != PLUME_OK)
+        return st;
+    s->max_iter = (int)lv;
+    return PLUME_OK;
+}
+
+/* What is written: every how many steps a frame, the frames rendered and the field that colours them. */
+static plume_status parse_output(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    json_t *v;
+    long lv = s->output_every;
+    if ((st = plume_json_int(c, doc, "", "output_every", 1, 1000000, &lv)) != PLUME_OK)
+        return st;
+    s->output_every = (int)lv;
+    if ((v = json_object_get(doc, "render"))) {
+        if (!json_is_array(v))
+            return plume_json_bad(c, PLUME_EFORMAT, "render", "must be an array of frame indices");
+        s->render = malloc((json_array_size(v) + 1) * sizeof *s->render);
+        if (!s->render)
+            return plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
+        for (size_t i = 0; i < json_array_size(v); i++) {
+            json_t *e = json_array_get(v, i);
+            double d = json_is_number(e) ? json_number_value(e) : -1.0;
+            if (!json_is_number(e) || d != floor(d) || d < 0 || d > 1e9) {
+                char kp[PLUME_JSON_KEY_MAX];
+                plume_json_subindex(kp, "render", i);
+                return plume_json_bad(c, PLUME_EINVAL, kp, "must be a frame index (an integer >= 0)");
+            }
+            s->render[s->nrender++] = (long)d;
+        }
+    }
+    if ((v = json_object_get(doc, "render_field"))) {
+        const char *name = json_string_value(v);
+        if (!name || !plume_render_field_valid(name))
+            return plume_json_bad(c, PLUME_EINVAL, "render_field", "must be \"material\", \"object\" or one of %s",
+                                  plume_field_names());
+        snprintf(s->render_field, sizeof s->render_field, "%s", name);
+    }
+    return PLUME_OK;
+}
+
+/* The renders' camera: rot_x in [0, 180] and rot_z in [0, 360] degrees. */
+static plume_status parse_camera(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    json_t *v;
+    if ((v = json_object_get(doc, "camera"))) {
+        static const char *const ck[] = {"rot_x", "rot_z", NULL};
+        if (!json_is_object(v))
+            return plume_json_bad(c, PLUME_EFORMAT, "camera", "must be an object {\"rot_x\": deg, \"rot_z\": deg}");
+        if ((st = plume_json_check_keys(c, v, "camera", ck)) != PLUME_OK ||
+            (st = plume_json_number(c, v, "camera", "rot_x", 0, &s->camera[0], NULL)) != PLUME_OK ||
+            (st = plume_json_number(c, v, "camera", "rot_z", 0, &s->camera[1], NULL)) != PLUME_OK)
+            return st;
+        if (!(s->camera[0] >= 0.0 && s->camera[0] <= 180.0))
+            return plume_json_bad(c, PLUME_EINVAL, "camera.rot_x", "must be in [0, 180] degrees (got %g)", s->camera[0]);
+        if (!(s->camera[1] >= 0.0 && s->camera[1] <= 360.0))
+            return plume_json_bad(c, PLUME_EINVAL, "camera.rot_z", "must be in [0, 360] degrees (got %g)", s->camera[1]);
+    }
+    return PLUME_OK;
+}
+
+plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    plume_status st;
+    s->gravity[0] = s->gravity[1] = 0.0;
+    s->gravity[2] = -9.81;
+    s->solver = PLUME_SOLVER_NEWTON;
+    s->max_halvings = 6;
+    s->max_iter = 100;
+    s->output_every = 1;
+    s->camera[0] = 60.0;
+    s->camera[1] = 30.0;
+    snprintf(s->render_field, sizeof s->render_field, "material");
+    if ((st = parse_model(c, doc, s)) != PLUME_OK || (st = parse_stepping(c, doc, s)) != PLUME_OK ||
+        (st = parse_solver(c, doc, s)) != PLUME_OK || (st = parse_output(c, doc, s)) != PLUME_OK)
+        return st;
+    return parse_camera(c, doc, s);
+}

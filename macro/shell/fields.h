@@ -1,0 +1,96 @@
+/** \file
+ * plume: the fields a user colours a deformed shell by, per triangle and per barb edge, and the
+ * ParaView series that carries them (lib/io/vtu.h): one .vtu of triangles per frame, one of barb
+ * edges when there are constrained barbs, and a .pvd with the frames' times. */
+#ifndef PLUME_FIELDS_H
+#define PLUME_FIELDS_H
+
+#include "../../lib/core/export.h"
+#include "../../lib/core/mesh.h"
+#include "../../lib/core/membrane.h"
+#include "../../lib/core/term.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Per-triangle values of one state (triangles past the elastic ones, e.g., kinematic bodies, get
+ * NaN). Arrays owned by the plume_fields object that computed them; valid until the next
+ * compute or destroy. */
+typedef struct {
+    plume_index nt;                 /**< triangles (the mesh's) */
+    plume_index nbarb;              /**< constrained barb edges */
+    const double *green_strain;     /**< [3 nt] Green strain (bb, tt, bt) in the barb frame */
+    const double *stress;           /**< [3 nt] second Piola–Kirchhoff stress (bb, tt, bt), Pa */
+    const double *membrane_energy;  /**< [nt] membrane energy per reference area, J/m^2 */
+    const double *bending_energy;   /**< [nt] bending energy per reference area, J/m^2 (0 without bending) */
+    const double *J;                /**< [nt] deformed over reference area */
+    const double *mean_curvature;   /**< [nt] 1/m, from the dihedral angles theta of the interior
+                                       edges: theta |e| / 4 to each end vertex, over a third of its
+                                       triangles' area, averaged over the triangle's vertices;
+                                       positive where the surface bends away from its normals,
+                                       e.g., +1/(2R) on a cylinder with outward normals; creases
+                                       (|theta| > pi / 2) left out; 0 in planar mode
+                                       (docs/paraview-output.md) */
+    const double *crease_angle;     /**< [nt] rad: the largest |theta| > pi / 2 across the triangle's
+                                       interior edges (it is folded over a neighbour), else 0 */
+    const double *barb_strain;      /**< [nbarb] |x_a - x_b| / L - 1 of each constrained barb edge:
+                                       the inextensibility constraint's violation */
+} plume_field_values;
+
+/** The names of the per-triangle fields above, as a render takes them: "mean_curvature, J, ...". */
+const char *plume_field_names(void);
+/** 1 when a render can be coloured by `name`: "material", "object" or one of plume_field_names. */
+int plume_render_field_valid(const char *name);
+/** The colour-bar label of a field name (with its unit), NULL for an unknown name. */
+const char *plume_field_label(const char *name);
+/** Copies the field `name` (one of plume_field_names; strain_bb etc. are components of
+ * green_strain and stress) into out[v->nt]. PLUME_EINVAL naming the names for an unknown one. */
+plume_status plume_field_values_select(const plume_field_values *v, const char *name, double *out,
+                                                 plume_err *err);
+
+/** Opaque field calculator of one mesh: materials, the bending term, the barb edges, the rest
+ * geometry, the output arrays and an open ParaView series (plume_fields_create, freed by
+ * plume_fields_destroy). */
+typedef struct plume_fields plume_fields;
+
+/** What the fields need, copied or taken: the mesh (borrowed, must outlive the object; topology
+ * built in shell mode), dim of the positions given later (2: planar, 3: shell), the first nt_elastic triangles
+ * with materials mats[mesh->material[t]], an optional bending term whose ownership passes to the
+ * object (its `energies` gives the bending energy; NULL: none; its stencils are the triangles,
+ * or the mesh's hinges for the hinge model), and the constrained barb edges (copied, may be
+ * NULL). PLUME_EINVAL naming what is wrong, PLUME_ENOMEM. */
+plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt_elastic,
+                                           const plume_membrane_material *mats, int nmat, plume_term *bending,
+                                           const plume_index *barb_edges, plume_index nbarb, plume_fields **out,
+                                           plume_err *err);
+/** Frees the object, its bending term and its output arrays (not the mesh); sets *f = NULL;
+ * NULL-safe. */
+void plume_fields_destroy(plume_fields **f);
+
+/** Computes the fields at positions x (dim * nv). */
+plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_values *out, plume_err *err);
+
+/** Starts a ParaView series in directory dir: files "<stem>_NNNNN.vtu" (and
+ * "<stem>_barbs_NNNNN.vtu") and the collection dir/pvd_name (e.g., "frames.pvd"). With
+ * resume_until >= 0 an existing collection keeps its entries of time <= resume_until (a restarted
+ * run); otherwise it is replaced at the first frame. */
+plume_status plume_fields_series_start(plume_fields *f, const char *dir, const char *pvd_name, const char *stem,
+                                                 double resume_until, plume_err *err);
+
+/** Gives each triangle the scene object it belongs to: object i has triangles t0[i] to
+ * t0[i] + nt[i] - 1 (others get -1). From then on the frames carry the cell array "object"
+ * (Int32), which tells a scene's bodies apart in ParaView. PLUME_EINVAL naming a range outside
+ * the mesh, PLUME_ENOMEM. */
+plume_status plume_fields_set_objects(plume_fields *f, int nobjects, const plume_index *t0, const plume_index *nt,
+                                                plume_err *err);
+
+/** Writes frame `index` at time t (positions x): its .vtu files and the updated .pvd. Point data:
+ * displacement; cell data: material, barb_direction, the fields above, and "object" after
+ * plume_fields_set_objects. */
+plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
