@@ -68,6 +68,7 @@
 #include "../macro/feather_mesh.h"
 #include "../macro/scene.h"
 #include "../macro/fields.h"
+#include "../macro/run.h"
 
 /* micro: layouts, cells, specimens, homogenisation, fitting */
 #include "../micro/layout.h"
