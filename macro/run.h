@@ -105,7 +105,8 @@ PLUME_API plume_status plume_run_start(plume_run *r, plume_err *err);
 /** What one call of plume_run_step did. */
 typedef struct {
     plume_step_report step;  /**< the stepper's report of the call */
-    double t0, t1;           /**< time before and after (s) */
+    double t0;               /**< the time before the step (s) */
+    double t1;               /**< the time after it (s) */
     long steps;              /**< steps of dt the call covered (> 1: an adaptive scene's frame) */
     int accepted;            /**< plume_run_accepts; 0: the run stopped (plume_run_report.stopped) */
     long frame;              /**< the index of the frame written after the step, or -1 */
@@ -141,7 +142,12 @@ typedef struct {
     long frames;             /**< frames this run wrote, frame 0 of a new run included */
     long planned_steps;      /**< steps the plan asks for (-1: open) */
     long steps;              /**< steps accepted */
-    long substeps, halvings, iterations, backtracks, shifts, predictions; /**< sums of the step reports */
+    long substeps;           /**< implicit Euler steps taken (more than steps when some were halved) */
+    long halvings;           /**< times a step was halved */
+    long iterations;         /**< solver iterations */
+    long backtracks;         /**< newton's line-search rejections */
+    long shifts;             /**< newton's inertia shifts */
+    long predictions;        /**< tangent predictor solves */
     double max_violation;    /**< the largest relative constraint violation of a step */
     double solve_seconds;    /**< the steps' wall time (plume_step_report.seconds) */
     double loop_seconds;     /**< wall time spent in the stepping functions */
