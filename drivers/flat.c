@@ -11,7 +11,6 @@
 
 #include <jansson.h>
 
-#include "../lib/sim/dynamics.h"
 #include "../lib/io/fs.h"
 #include "../lib/sim/traction.h"
 #include "../micro/fit.h"
