@@ -11,7 +11,6 @@
 
 #include <jansson.h>
 
-#include "../lib/sim/dynamics.h"
 #include "../lib/io/fs.h"
 #include "../lib/sim/traction.h"
 #include "../micro/fit.h"
@@ -23,6 +22,7 @@
 #include "../macro/scene/scene.h"
 #include "../macro/shell/traction_model.h"
 #include "../macro/shell/vane.h"
+#include "../macro/scene/run.h"
 
 /* ------------------------------------------------------------------------------------------ */
 /* requests */
@@ -587,9 +587,7 @@ done:
 
 struct plume_flat_scene {
     plume_scene *scene;
-    plume_problem *p;
-    plume_dynamics *d;
-    plume_contact *contact;
+    plume_run *run;       /* open-ended, no frames, no contact audit (macro/scene/run.h) */
     plume_fields *fields; /* the ParaView series, once write_vtk is called */
     char *vtk_dir;
     long vtk_frames;
@@ -610,8 +608,12 @@ static plume_status scene_open(const char *json, const char *path, plume_flat_sc
     if (st == PLUME_OK && s->scene->is_static)
         st = plume_err_set(&err, PLUME_EINVAL, "%s is a static scene (\"solve\": \"static\"): run it with apps/shell",
                            path);
-    if (st == PLUME_OK)
-        st = plume_scene_dynamics_contact(s->scene, &s->p, &s->d, &s->contact, &err);
+    plume_run_opts o;
+    plume_run_opts_default(&o);
+    o.open = 1;
+    o.audit = 0;
+    if (st == PLUME_OK && (st = plume_run_create(s->scene, &o, &s->run, &err)) == PLUME_OK)
+        st = plume_run_start(s->run, &err);
     if (st != PLUME_OK) {
         plume_flat_scene_close(&s);
         return finish(st, &err, msg, nmsg);
@@ -644,8 +646,7 @@ void plume_flat_scene_close(plume_flat_scene **ps)
     plume_flat_scene *s = *ps;
     plume_fields_destroy(&s->fields);
     free(s->vtk_dir);
-    plume_dynamics_destroy(&s->d);
-    plume_problem_destroy(&s->p);
+    plume_run_destroy(&s->run);
     plume_scene_destroy(&s->scene);
     free(s);
     *ps = NULL;
@@ -664,24 +665,24 @@ plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **repor
     plume_reason reason = PLUME_REASON_CONVERGED;
     plume_status st = PLUME_OK;
     for (int i = 0; i < nsteps; i++) {
-        plume_step_report rep;
-        plume_err why;
-        if ((st = plume_dynamics_advance(s->d, 0.0, &rep, &why)) != PLUME_OK) {
-            plume_err_set(&err, st, "scene step %ld: %s", done + 1, why.msg);
+        plume_run_step_info info;
+        plume_err why = {{0}};
+        if ((st = plume_run_step(s->run, &info, &why)) != PLUME_OK) {
+            plume_err_set(&err, st, "scene %s", why.msg);
             return finish(st, &err, msg, nmsg);
         }
-        halvings += rep.halvings, iterations += rep.iterations, seconds += rep.seconds;
-        max_violation = fmax(max_violation, rep.max_violation);
-        if (!rep.converged && s->scene->solver != PLUME_SOLVER_LINEARIZED) {
+        halvings += info.step.halvings, iterations += info.step.iterations, seconds += info.step.seconds;
+        max_violation = fmax(max_violation, info.step.max_violation);
+        if (!info.accepted) { /* the runner's acceptance rule (macro/scene/run.h, plume_run_accepts) */
             converged = 0;
-            reason = rep.reason;
+            reason = info.step.reason;
             break;
         }
         done++;
     }
     if (report)
         st = emit(json_pack("{s:I, s:f, s:b, s:I, s:I, s:f, s:f, s:s}", "steps", (json_int_t)done, "time",
-                            plume_dynamics_time(s->d), "converged", converged, "halvings", (json_int_t)halvings,
+                            plume_run_time(s->run), "converged", converged, "halvings", (json_int_t)halvings,
                             "newton_iterations", (json_int_t)iterations, "max_violation", max_violation, "seconds",
                             seconds, "stop_reason", plume_reason_name(reason)),
                   report, &err);
@@ -700,19 +701,19 @@ long plume_flat_scene_nt(const plume_flat_scene *s)
 
 double plume_flat_scene_time(const plume_flat_scene *s)
 {
-    return s ? plume_dynamics_time(s->d) : NAN;
+    return s ? plume_run_time(s->run) : NAN;
 }
 
 void plume_flat_scene_positions(const plume_flat_scene *s, double *out)
 {
     if (s && out)
-        memcpy(out, plume_dynamics_positions(s->d), (size_t)(3 * s->scene->mesh->nv) * sizeof *out);
+        memcpy(out, plume_run_positions(s->run), (size_t)(3 * s->scene->mesh->nv) * sizeof *out);
 }
 
 void plume_flat_scene_velocities(const plume_flat_scene *s, double *out)
 {
     if (s && out)
-        memcpy(out, plume_dynamics_velocities(s->d), (size_t)(3 * s->scene->mesh->nv) * sizeof *out);
+        memcpy(out, plume_run_velocities(s->run), (size_t)(3 * s->scene->mesh->nv) * sizeof *out);
 }
 
 void plume_flat_scene_reference(const plume_flat_scene *s, double *out)
@@ -751,8 +752,7 @@ plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, ch
         if ((st = plume_fields_series_start(s->fields, dir, "frames.pvd", "frame", -1.0, &err)) != PLUME_OK)
             return finish(st, &err, msg, nmsg);
     }
-    st = plume_fields_series_frame(s->fields, s->vtk_frames, plume_dynamics_time(s->d), plume_dynamics_positions(s->d),
-                                   &err);
+    st = plume_fields_series_frame(s->fields, s->vtk_frames, plume_run_time(s->run), plume_run_positions(s->run), &err);
     if (st == PLUME_OK)
         s->vtk_frames++;
     return finish(st, &err, msg, nmsg);

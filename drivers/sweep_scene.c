@@ -8,9 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/contact/contact.h"
 #include "../lib/io/h5util.h"
 #include "../lib/io/json_read.h"
+#include "../macro/scene/run.h"
 #include "../macro/scene/scene.h"
 
 void plume_sweep_scene_free(plume_sweep_scene *sc)
@@ -200,21 +200,6 @@ plume_status plume_sweep_scene_set(json_t *doc, const char *key, json_t *value, 
 /* ------------------------------------------------------------------------------------------ */
 /* a run */
 
-/* The measures of a contact scene that do not trust the model (as apps/feather's): intersecting
- * triangle pairs (exact audit) and the smallest distance between non-adjacent primitives of the
- * bodies in contact, capped at 10 dhat. */
-typedef struct {
-    plume_contact_broad *broad;
-    plume_contact_pairs pairs;
-    double cap;
-} contact_monitor;
-
-static plume_status monitor_start(contact_monitor *cm, const plume_scene *s, plume_err *err)
-{
-    cm->cap = 10.0 * s->contact.pair.dhat;
-    return plume_scene_contact_broad(s, &cm->broad, err);
-}
-
 static json_t *array_real(const double *v, long n)
 {
     json_t *a = json_array();
@@ -234,14 +219,11 @@ static json_t *array_int(const double *v, long n)
 /* per-step measures: time, newton_iterations, halvings, contact_pairs, min_distance, intersecting_pairs */
 enum { M_TIME, M_ITER, M_HALV, M_PAIRS, M_DIST, M_INTER, M_COUNT };
 
-/* What a run measured: the per-step measures m[k][0 .. entries) and the totals over the steps. */
+/* What a run measured step by step: the per-step measures m[k][0 .. entries) (the runner's report
+ * has the totals). */
 typedef struct {
     double *m[M_COUNT];
-    long entries, done; /* steps measured, steps that count as done */
-    long iterations, halvings, step_limited, steps_intersecting;
-    double max_violation, min_distance, max_pairs, max_intersecting;
-    int converged;
-    plume_reason reason;
+    long entries;
 } run_record;
 
 /* The scene of the request's document (its file name `path` for messages and relative files); a
@@ -276,58 +258,23 @@ static plume_status planned_steps(const plume_scene *scene, const char *path, lo
     return PLUME_OK;
 }
 
-/* The contact measures of the state x into the record's current entry and its totals. */
-static plume_status measure_contact(const plume_mesh *mesh, const double *x, const plume_contact *contact,
-                                    contact_monitor *cm, run_record *rec, plume_err *err)
+/* Steps the scene n times through the runner (or until a step is refused: macro/scene/run.h's
+ * acceptance rule), recording each step's measures into rec. */
+static plume_status step_scene(plume_run *run, const char *path, long n, run_record *rec, plume_err *err)
 {
-    plume_contact_stats cs;
-    plume_contact_audit a;
-    double dmin;
-    plume_contact_term_stats(contact, &cs);
-    plume_status st;
-    if ((st = plume_contact_count_intersections(mesh->nv, x, mesh->nt, mesh->tri, &cm->pairs, &a, err)) != PLUME_OK ||
-        (st = plume_contact_min_distance(cm->broad, x, cm->cap, &dmin, err)) != PLUME_OK)
-        return st;
-    const long e = rec->entries;
-    rec->m[M_PAIRS][e] = (double)cs.candidates, rec->m[M_DIST][e] = dmin;
-    rec->m[M_INTER][e] = (double)a.intersecting;
-    rec->max_pairs = fmax(rec->max_pairs, (double)cs.candidates), rec->min_distance = fmin(rec->min_distance, dmin);
-    rec->max_intersecting = fmax(rec->max_intersecting, (double)a.intersecting);
-    rec->steps_intersecting += a.intersecting > 0;
-    return PLUME_OK;
-}
-
-/* Steps the scene n times (or until a step fails to converge), measuring each step into rec. */
-static plume_status step_scene(const plume_scene *scene, plume_dynamics *d, const plume_contact *contact,
-                               contact_monitor *cm, const char *path, long n, run_record *rec, plume_err *err)
-{
-    const plume_mesh *mesh = scene->mesh;
-    const double dt = scene->dt;
     plume_status st = PLUME_OK;
     for (long i = 0; i < n; i++) {
-        plume_step_report rep;
-        double t0 = plume_dynamics_time(d);
-        plume_err why;
-        if ((st = plume_dynamics_advance(d, 0.0, &rep, &why)) != PLUME_OK)
-            return plume_err_set(err, st, "%s: step %ld: %s", path, i + 1, why.msg);
-        const double *x = plume_dynamics_positions(d);
-        double t1 = plume_dynamics_time(d);
-        rec->iterations += rep.iterations, rec->halvings += rep.halvings, rec->step_limited += rep.step_limited;
-        rec->max_violation = fmax(rec->max_violation, rep.max_violation);
-        rec->m[M_TIME][rec->entries] = t1, rec->m[M_ITER][rec->entries] = rep.iterations;
-        rec->m[M_HALV][rec->entries] = rep.halvings;
-        if (scene->has_contact && (st = measure_contact(mesh, x, contact, cm, rec, err)) != PLUME_OK)
-            return st;
-        rec->entries++;
-        /* as apps/feather: the linearized solver takes one unconverged step by design, so only a
-         * step of it that did not advance fails */
-        int advanced = fabs(t1 - (t0 + dt)) <= 1e-9 * fmax(dt, fabs(t1));
-        if (!rep.converged && (scene->solver != PLUME_SOLVER_LINEARIZED || !advanced)) {
-            rec->converged = 0;
-            rec->reason = rep.reason;
+        plume_run_step_info info;
+        plume_err why = {{0}};
+        if ((st = plume_run_step(run, &info, &why)) != PLUME_OK)
+            return plume_err_set(err, st, "%s: %s", path, why.msg);
+        const long e = rec->entries++;
+        rec->m[M_TIME][e] = info.t1, rec->m[M_ITER][e] = info.step.iterations;
+        rec->m[M_HALV][e] = info.step.halvings;
+        rec->m[M_PAIRS][e] = info.contact_pairs, rec->m[M_DIST][e] = info.min_distance;
+        rec->m[M_INTER][e] = info.intersecting;
+        if (!info.accepted)
             break;
-        }
-        rec->done++;
     }
     return PLUME_OK;
 }
@@ -347,11 +294,13 @@ static void largest_displacement(const plume_mesh *mesh, const double *x, const 
 }
 
 /* The run's result object (plume_sweep_scene_run's document; the caller owns it). */
-static json_t *run_result(const plume_scene *scene, const char *path, const plume_dynamics *d, long n,
-                          const run_record *rec, const contact_monitor *cm, const double *x0)
+static json_t *run_result(const plume_run *run, const char *path, long n, const run_record *rec, const double *x0)
 {
+    const plume_scene *scene = plume_run_scene(run);
     const plume_mesh *mesh = scene->mesh;
-    const double *x = plume_dynamics_positions(d);
+    const double *x = plume_run_positions(run);
+    plume_run_report r;
+    plume_run_get_report(run, &r);
     double umax;
     long vmax;
     largest_displacement(mesh, x, x0, &umax, &vmax);
@@ -360,14 +309,14 @@ static json_t *run_result(const plume_scene *scene, const char *path, const plum
     json_object_set_new(o, "vertices", json_integer(mesh->nv));
     json_object_set_new(o, "elements", json_integer(mesh->nt));
     json_object_set_new(o, "dt", json_real(scene->dt));
-    json_object_set_new(o, "steps", json_integer(rec->done));
+    json_object_set_new(o, "steps", json_integer(r.steps));
     json_object_set_new(o, "steps_planned", json_integer(n));
-    json_object_set_new(o, "time", json_real(plume_dynamics_time(d)));
-    json_object_set_new(o, "converged", json_boolean(rec->converged));
-    json_object_set_new(o, "stop_reason", json_string(plume_reason_name(rec->reason)));
-    json_object_set_new(o, "newton_iterations", json_integer(rec->iterations));
-    json_object_set_new(o, "halvings", json_integer(rec->halvings));
-    json_object_set_new(o, "max_violation", json_real(rec->max_violation));
+    json_object_set_new(o, "time", json_real(r.time));
+    json_object_set_new(o, "converged", json_boolean(!r.stopped));
+    json_object_set_new(o, "stop_reason", json_string(plume_reason_name(r.stop_reason)));
+    json_object_set_new(o, "newton_iterations", json_integer(r.iterations));
+    json_object_set_new(o, "halvings", json_integer(r.halvings));
+    json_object_set_new(o, "max_violation", json_real(r.max_violation));
     json_object_set_new(o, "max_displacement", json_real(umax));
     json_object_set_new(o, "max_displacement_vertex", json_integer(vmax));
     json_t *ps = json_object();
@@ -378,11 +327,11 @@ static json_t *run_result(const plume_scene *scene, const char *path, const plum
         json_object_set_new(o, "contact",
                             json_pack("{s:s, s:f, s:I, s:f, s:f, s:I, s:I, s:I}", "model",
                                       plume_contact_model_name(scene->contact.pair.model), "dhat",
-                                      scene->contact.pair.dhat, "max_contact_pairs", (json_int_t)rec->max_pairs,
-                                      "min_distance", rec->min_distance, "min_distance_cap", cm->cap,
-                                      "max_intersecting_pairs", (json_int_t)rec->max_intersecting, "steps_intersecting",
-                                      (json_int_t)rec->steps_intersecting, "step_limited",
-                                      (json_int_t)rec->step_limited));
+                                      scene->contact.pair.dhat, "max_contact_pairs", (json_int_t)r.max_pairs,
+                                      "min_distance", r.min_distance, "min_distance_cap", r.distance_cap,
+                                      "max_intersecting_pairs", (json_int_t)r.max_intersecting, "steps_intersecting",
+                                      (json_int_t)r.steps_intersecting, "step_limited",
+                                      (json_int_t)r.step_limited));
         json_object_set_new(ps, "contact_pairs", array_int(rec->m[M_PAIRS], rec->entries));
         json_object_set_new(ps, "min_distance", array_real(rec->m[M_DIST], rec->entries));
         json_object_set_new(ps, "intersecting_pairs", array_int(rec->m[M_INTER], rec->entries));
@@ -403,11 +352,8 @@ plume_status plume_sweep_scene_run(const char *request, char **result, char *msg
     long steps = (long)json_integer_value(json_object_get(req, "steps")), n = 0;
     char *text = NULL;
     plume_scene *scene = NULL;
-    plume_problem *p = NULL;
-    plume_dynamics *d = NULL;
-    plume_contact *contact = NULL;
-    contact_monitor cm = {NULL, {0, 0, NULL}, 0.0};
-    run_record rec = {.converged = 1, .reason = PLUME_REASON_CONVERGED};
+    plume_run *run = NULL;
+    run_record rec = {{NULL}, 0};
     double *x0 = NULL;
     if (result)
         *result = NULL;
@@ -415,8 +361,11 @@ plume_status plume_sweep_scene_run(const char *request, char **result, char *msg
         st = plume_err_set(&err, PLUME_EINVAL, "scene run: the request needs \"scene\" and \"document\"");
         goto done;
     }
+    plume_run_opts ro; /* stepped one dt at a time, the contact audit on, no frames */
+    plume_run_opts_default(&ro);
+    ro.open = 1;
     if ((st = load_dynamic_scene(path, doc, &text, &scene, &err)) != PLUME_OK ||
-        (st = plume_scene_dynamics_contact(scene, &p, &d, &contact, &err)) != PLUME_OK ||
+        (st = plume_run_create(scene, &ro, &run, &err)) != PLUME_OK ||
         (st = planned_steps(scene, path, steps, &n, &err)) != PLUME_OK)
         goto done;
     size_t nx = 3 * (size_t)scene->mesh->nv;
@@ -427,25 +376,19 @@ plume_status plume_sweep_scene_run(const char *request, char **result, char *msg
         st = plume_err_set(&err, PLUME_ENOMEM, "scene run: out of memory");
         goto done;
     }
-    memcpy(x0, plume_dynamics_positions(d), nx * sizeof *x0);
-    if (scene->has_contact && (st = monitor_start(&cm, scene, &err)) != PLUME_OK)
+    memcpy(x0, plume_run_positions(run), nx * sizeof *x0);
+    if ((st = plume_run_start(run, &err)) != PLUME_OK || (st = step_scene(run, path, n, &rec, &err)) != PLUME_OK)
         goto done;
-    rec.min_distance = cm.cap;
-    if ((st = step_scene(scene, d, contact, &cm, path, n, &rec, &err)) != PLUME_OK)
-        goto done;
-    o = run_result(scene, path, d, n, &rec, &cm, x0);
+    o = run_result(run, path, n, &rec, x0);
     *result = json_dumps(o, JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_PRESERVE_ORDER);
     if (!*result)
         st = plume_err_set(&err, PLUME_ENOMEM, "scene run: out of memory");
 done:
     json_decref(o);
-    plume_contact_broad_destroy(&cm.broad);
-    plume_contact_pairs_free(&cm.pairs);
     for (int k = 0; k < M_COUNT; k++)
         free(rec.m[k]);
     free(x0);
-    plume_dynamics_destroy(&d);
-    plume_problem_destroy(&p);
+    plume_run_destroy(&run);
     plume_scene_destroy(&scene);
     free(text);
     json_decref(req);

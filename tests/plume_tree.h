@@ -68,6 +68,7 @@
 #include "../macro/feather/feather_mesh.h"
 #include "../macro/scene/scene.h"
 #include "../macro/shell/fields.h"
+#include "../macro/scene/run.h"
 
 /* micro: layouts, cells, specimens, homogenisation, fitting */
 #include "../micro/layout.h"

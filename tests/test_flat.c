@@ -208,3 +208,48 @@ void test_flat_scene(void)
     snprintf(path, sizeof path, "rm -rf '%s'", dir);
     CHECK(system(path) == 0);
 }
+
+/* The flat scene steps under the runner's acceptance rule (macro/scene/run.h), as apps/feather does: a
+ * `linearized` step that advanced is accepted, one that did not (a ground keyframed up through the
+ * plate at t = 0.01 s: no halving can start step 3) stops the call, "converged" false. */
+void test_flat_scene_linearized(void)
+{
+    char msg[512], dir[64] = "/tmp/plume-flatl-XXXXXX", path[200], obj[200];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(obj, sizeof obj, "%s/ground.obj", dir);
+    FILE *f = fopen(obj, "w");
+    if (f) {
+        fputs("v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n", f);
+        fclose(f);
+    }
+    snprintf(path, sizeof path, "%s/through.json", dir);
+    const char *doc =
+        "{\"objects\": [{\"name\": \"ground\", \"kinematic\": {\"obj\": \"ground.obj\", \"keyframes\": "
+        "[[0, 0, 0, 0], [0.01, 0, 0, 0], [0.015, 0, 0, 0.5]]}},"
+        "{\"name\": \"plate\", \"mesh\": {\"rectangle\": [0.1, 0.1], \"edge\": 0.05, \"pattern\": \"grid\"},"
+        " \"place\": {\"translate\": [-0.05, -0.05, 0.002]}}],"
+        "\"materials\": [{\"membrane\": {\"E\": 1e9, \"nu\": 0.3, \"thickness\": 1e-3}, \"density\": 1.0}],"
+        "\"contact\": {\"model\": \"barrier\", \"dhat\": 1e-3, \"stiffness\": 10}, \"solver\": \"linearized\","
+        "\"gravity\": [0, 0, 0], \"dt\": 0.005, \"duration\": 0.015, \"max_halvings\": 4}";
+    plume_flat_scene *s = NULL;
+    CHECK(plume_flat_scene_open_json(doc, path, &s, msg, sizeof msg) == PLUME_OK && s);
+    char *rep = NULL;
+    for (int call = 0; s && call < 2; call++) {
+        CHECK(plume_flat_scene_step(s, 3, &rep, msg, sizeof msg) == PLUME_OK && rep);
+        json_t *j = rep ? json_loads(rep, 0, NULL) : NULL;
+        /* steps 1 and 2 advance (unconverged by design) and are accepted; step 3 does not advance */
+        CHECK(j && json_is_false(json_object_get(j, "converged")) &&
+              json_integer_value(json_object_get(j, "steps")) == (call == 0 ? 2 : 0));
+        CHECK(j && strcmp(json_string_value(json_object_get(j, "stop_reason")), "prescribed motion runs into a body") == 0);
+        CHECK(j && json_integer_value(json_object_get(j, "halvings")) == 4);
+        json_decref(j);
+        plume_flat_free(rep);
+        CHECK(fabs(plume_flat_scene_time(s) - 0.01) < 1e-15);
+    }
+    plume_flat_scene_close(&s);
+    snprintf(path, sizeof path, "rm -rf '%s'", dir);
+    CHECK(system(path) == 0);
+}

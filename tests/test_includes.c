@@ -31,11 +31,7 @@ enum { NFLOORS = sizeof floors / sizeof floors[0] };
 static const struct {
     const char *app, *header;
 } app_exceptions[] = {
-    {"apps/feather.c", "lib/sim/dynamics.h"},  /* the run loop: steps, halvings, restart */
-    {"apps/feather.c", "lib/io/frames.h"},     /* frames.h5 written each frame */
-    {"apps/feather.c", "lib/io/render.h"},     /* PNG renders of frames */
-    {"apps/feather.c", "lib/io/progress.h"},   /* the progress line */
-    {"apps/feather.c", "macro/scene/scene.h"},       /* the scene's settings and objects */
+    {"apps/feather.c", "macro/scene/scene.h"},  /* the scene's settings, read and overridden */
     {"apps/shell.c", "lib/sim/statics.h"},     /* load steps and their reports */
     {"apps/shell.c", "macro/scene/scene.h"},         /* the scene's probes and settings */
     {"apps/homogenize.c", "micro/homogenize.h"}, /* plume_ortho_from_tensor */

@@ -43,11 +43,13 @@ PLUME_API plume_status plume_flat_scene_open_json(const char *json, const char *
 /** Frees the scene, its problem, stepper and output series; sets *s = NULL; NULL-safe. */
 PLUME_API void plume_flat_scene_close(plume_flat_scene **s);
 
-/** Advances nsteps time steps of the scene's dt (each halved when it fails, as apps/feather does).
- * *report (may be NULL) gets {"steps", "time", "converged", "halvings", "newton_iterations",
- * "max_violation", "seconds", "stop_reason"}. A step that does not converge at the smallest step
- * is not an error: the state stays at the last converged substep, "converged" is false, and the
- * status is PLUME_OK. */
+/** Advances nsteps time steps of the scene's dt (each halved when it fails) through the scene runner
+ * (plume_run, scene.h), so under its acceptance rule (plume_run_accepts, as apps/feather): a step is
+ * accepted when it converged, or with the `linearized` solver when it advanced. *report (may be
+ * NULL) gets {"steps" (accepted), "time", "converged", "halvings", "newton_iterations",
+ * "max_violation", "seconds", "stop_reason"}. A step that is not accepted is not an error: the
+ * state stays at the last converged substep, the call stops, "converged" is false, "stop_reason"
+ * says why, and the status is PLUME_OK. */
 PLUME_API plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **report, char *msg, long nmsg);
 
 /** The scene mesh's number of vertices nv (0 for s NULL). */

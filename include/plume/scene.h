@@ -1,6 +1,6 @@
 /** \file
- * plume: load a scene (a feather, a wing, a bird: docs/scene-format.md), solve or step it, and read
- * its frames back. */
+ * plume: load a scene (a feather, a wing, a bird: docs/scene-format.md), solve it (static scenes)
+ * or step it in time with the scene runner (dynamic ones), and read its frames back. */
 #ifndef PLUME_PUBLIC_SCENE_H
 #define PLUME_PUBLIC_SCENE_H
 
@@ -80,6 +80,194 @@ PLUME_API plume_status plume_frames_read(const char *path, long k, plume_frame *
 
 /** Frees x, v and lambda of a frame read by plume_frames_read and sets them to NULL; NULL-safe. */
 PLUME_API void plume_frame_free(plume_frame *frame);
+
+
+/* ---- the scene runner ---- */
+/** Opaque scene runner (plume_run_create, freed by plume_run_destroy): the one loop that steps a
+ * dynamic scene in time. A run holds the scene's problem and stepper and does what every user of a
+ * dynamic scene needs: the acceptance rule of a step (a step is accepted when its solve converged,
+ * or with the `linearized` solver when it advanced), the plan (a number of frames, an end time, or
+ * open-ended), the frame output (a ParaView series, frames.h5 and the scene's PNG renders), a
+ * restart from the last frame of a frames file, the contact audit after every step (intersecting
+ * triangle pairs by exact predicates, the smallest distance between the bodies) and the progress
+ * line. apps/feather, the scene sweep and the flat interface (so Python) all step scenes through
+ * it. The runner prints nothing on stdout; what a caller reports is in plume_run_report. A run
+ * borrows its scene: the scene must outlive the run. Typical use:
+ *
+ *     plume_run_opts o;
+ *     plume_run_opts_default(&o);
+ *     o.output_dir = "out/strip";
+ *     o.frames = 10;
+ *     plume_run *r = NULL;
+ *     if (plume_run_create(scene, &o, &r, &err) == PLUME_OK && plume_run_to_end(r, &err) == PLUME_OK) {
+ *         plume_run_report rep;
+ *         plume_run_get_report(r, &rep);  // rep.stopped: a step was refused
+ *     }
+ *     plume_run_destroy(&r);
+ */
+typedef struct plume_run plume_run;
+
+/** Options of a run (plume_run_opts_default). The plan is the first of: frames > 0, end_time > 0,
+ * open; else the scene's duration. Strings are borrowed for plume_run_create's call and copied. */
+typedef struct {
+    /** Directory of the frames (NULL, the default: no frames are written). Created with its parents.
+     * A new run removes the frame files an earlier run left there (frame_NNNNN.{vtu,vtk,png},
+     * frame_barbs_NNNNN.vtu), then writes frames.pvd with frame_NNNNN.vtu (and frame_barbs_NNNNN.vtu
+     * with constrained barbs), frames.h5 and the PNG renders, frame 0 being the initial state. */
+    const char *output_dir;
+    long frames;      /**< > 0: run this many frames (frames x the scene's output_every steps); default 0 */
+    /** > 0: run until this time (s): steps of dt, the last one shortened to end on it when dt does not
+     * divide what is left (1e-9 of a step is round-off, not a step); default 0 */
+    double end_time;
+    /** 1: no planned end: the caller steps (plume_run_step) as long as it likes, one step of dt a
+     * call (adaptive scenes too); default 0 */
+    int open;
+    /** A frames file (lib/io/frames.h) to continue from: its last frame's time, positions, velocities
+     * and multipliers; the step and frame numbering go on from it, and with output_dir the file is
+     * copied to output_dir/frames.h5 (when it is another file) and appended to, and the series goes
+     * on. NULL (default): start from the scene's initial state. */
+    const char *restart;
+    int audit;        /**< 1 (default): the contact audit after every step (contact scenes only) */
+    int progress;     /**< 1: a progress line on stderr when it is a terminal; default 0 */
+    /** The progress line's label; NULL (default): the scene file's name without directory and
+     * .json (which also titles the renders) */
+    const char *label;
+    int render;       /**< 1 (default): the PNG renders the scene's "render" lists (with output_dir) */
+    /** -1 (default): the scene's solver; else a plume_solver_kind that replaces it (the scene is changed) */
+    int solver;
+} plume_run_opts;
+
+/** Fills o with the defaults each field names. */
+PLUME_API void plume_run_opts_default(plume_run_opts *o);
+
+/** Creates a run of the dynamic scene `scene` (borrowed; it must outlive the run; opts NULL: the
+ * defaults): checks the options (errors name the option: "plume_run_opts.frames must be >= 0"),
+ * applies the solver override to the scene and builds its problem and stepper. Nothing is read or
+ * written yet (plume_run_start). Succeeds whole (*out set) or frees what it made (*out NULL). */
+PLUME_API plume_status plume_run_create(plume_scene *scene, const plume_run_opts *opts, plume_run **out, plume_err *err);
+
+/** The same from a scene file, which the run loads and owns (errors name the file, line and key). */
+PLUME_API plume_status plume_run_open(const char *path, const plume_run_opts *opts, plume_run **out, plume_err *err);
+
+/** Frees the run, its stepper and problem (and its scene when plume_run_open loaded it); sets *r =
+ * NULL; NULL-safe. Frames already written stay. */
+PLUME_API void plume_run_destroy(plume_run **r);
+
+/** Prepares the output and the initial state: with restart, reads the frames file (errors begin
+ * with "restart: " and name the file) and continues from its last frame; otherwise writes frame 0
+ * (with output_dir). Then plans the steps and starts the progress line. The stepping functions
+ * call it first when the caller did not; a second call does nothing. A failed start leaves the run
+ * unusable but queryable (plume_run_get_report's restart_dt), to be destroyed. */
+PLUME_API plume_status plume_run_start(plume_run *r, plume_err *err);
+
+/** What happened in one call of plume_dynamics_advance. */
+typedef struct {
+    int substeps;          /**< implicit Euler steps taken (1 when nothing was halved) */
+    int halvings;          /**< times a step was halved (adaptive: cut after a failed attempt) */
+    int stalls;            /**< adaptive: attempts the solver gave up as stalled (each then halved) */
+    double dt_min;         /**< the smallest step taken (s) */
+    double dt_max;         /**< the largest step taken (s) */
+    int iterations;        /**< solver iterations over all substeps */
+    int backtracks;        /**< newton's line-search rejections (plume_solve_report) over all solves */
+    int shifts;            /**< newton's inertia shifts (plume_solve_report) over all solves */
+    int step_limited;      /**< solver steps cut short by continuous collision detection (contact) */
+    int predictions;       /**< tangent predictor solves (opts.tangent_predictor; each one factorisation) */
+    double max_violation;  /**< max relative constraint violation over the substeps */
+    int converged;         /**< every substep converged */
+    plume_reason reason;   /**< why the first attempt that failed stopped (CONVERGED if none failed) */
+    double seconds;        /**< wall time of the call */
+} plume_step_report;
+
+/** What one call of plume_run_step did. */
+typedef struct {
+    plume_step_report step;  /**< the stepper's report of the call */
+    double t0;               /**< the time before the step (s) */
+    double t1;               /**< the time after it (s) */
+    long steps;              /**< steps of dt the call covered (> 1: an adaptive scene's frame) */
+    int accepted;            /**< plume_run_accepts; 0: the run stopped (plume_run_report.stopped) */
+    long frame;              /**< the index of the frame written after the step, or -1 */
+    double contact_pairs;    /**< audit: contact stencils after the step; -1 without the audit */
+    double min_distance;     /**< audit: smallest distance between the bodies (m, capped at 10 dhat); -1 */
+    double intersecting;     /**< audit: intersecting triangle pairs; -1 */
+} plume_run_step_info;
+
+/** Takes one step of the plan: one step of dt (the last one of an end time shortened), or for an
+ * adaptive scene in a planned run, the steps up to the next frame in one call; audits it, applies
+ * the acceptance rule and writes the frame that falls due. info may be NULL. A refused step is not
+ * an error: the state stays where the stepper left it, the run is stopped (a stopped open run may
+ * still be stepped: the call tries again). Errors (a solver or contact failure, a frame that
+ * cannot be written) name the step: "step 12: ..."; PLUME_EINVAL when a planned run has no step
+ * left. */
+PLUME_API plume_status plume_run_step(plume_run *r, plume_run_step_info *info, plume_err *err);
+
+/** Steps until the next frame is written, the plan ends or a step is refused (planned runs). */
+PLUME_API plume_status plume_run_frame(plume_run *r, plume_err *err);
+
+/** Steps until the plan ends or a step is refused (planned runs), then ends the progress line. */
+PLUME_API plume_status plume_run_to_end(plume_run *r, plume_err *err);
+
+/** Non-zero when a planned run has no step left or a step was refused. */
+PLUME_API int plume_run_done(const plume_run *r);
+
+/** What a run did, for its caller to print (plume_run_get_report). Counts are over this run's
+ * calls (a restarted run counts from the restart). */
+typedef struct {
+    double time;             /**< the current time (s) */
+    long step;               /**< the scene's steps since t = 0 (a restart goes on from the file's) */
+    long next_frame;         /**< the index of the next frame (frames 0 .. next_frame - 1 exist) */
+    long frames;             /**< frames this run wrote, frame 0 of a new run included */
+    long planned_steps;      /**< steps the plan asks for (-1: open) */
+    long steps;              /**< steps accepted */
+    long substeps;           /**< implicit Euler steps taken (more than steps when some were halved) */
+    long halvings;           /**< times a step was halved */
+    long iterations;         /**< solver iterations */
+    long backtracks;         /**< newton's line-search rejections */
+    long shifts;             /**< newton's inertia shifts */
+    long predictions;        /**< tangent predictor solves */
+    double max_violation;    /**< the largest relative constraint violation of a step */
+    double solve_seconds;    /**< the steps' wall time (plume_step_report.seconds) */
+    double loop_seconds;     /**< wall time spent in the stepping functions */
+    int converged;           /**< every step converged (linearized steps do not) */
+    int stopped;             /**< a step was refused: */
+    plume_reason stop_reason;/**< why it failed (PLUME_REASON_CONVERGED when none was refused) */
+    long stop_step;          /**< its number (step + 1 when it was refused) */
+    double stop_time;        /**< the time it started from (s) */
+    int stop_halvings;       /**< the halvings it tried */
+    /** When the refused step's prescribed motion alone ran two bodies into each other, which ones
+     * and where, as a sentence starting ": the keyframed motion alone ..."; "" otherwise */
+    char stop_detail[768];
+    int audited;             /**< the contact audit ran (a contact scene with opts.audit) */
+    long steps_intersecting; /**< steps after which triangle pairs intersected */
+    long max_intersecting;   /**< most intersecting pairs after a step */
+    long max_pairs;          /**< most contact stencils of a step */
+    long step_limited;       /**< solver steps cut short by CCD (contact scenes, audit or not) */
+    double min_distance;     /**< smallest distance between the bodies (m), at most distance_cap */
+    double distance_cap;     /**< 10 dhat: a larger distance is not measured */
+    double audit_seconds;    /**< wall time of the audit */
+    double restart_dt;       /**< the dt the restart file was written with (s); 0 without restart */
+} plume_run_report;
+
+/** Fills *out with what the run did so far. */
+PLUME_API void plume_run_get_report(const plume_run *r, plume_run_report *out);
+
+/** The time of the current state (s). */
+PLUME_API double plume_run_time(const plume_run *r);
+
+/** Positions of the current state (3 nv, m); the stepper's array, valid until the next step. */
+PLUME_API const double *plume_run_positions(const plume_run *r);
+
+/** Velocities of the current state (3 nv, m/s); the stepper's array, valid until the next step. */
+PLUME_API const double *plume_run_velocities(const plume_run *r);
+
+/** The number of constraint multipliers (inextensible barbs and the like). */
+PLUME_API plume_index plume_run_constraints(const plume_run *r);
+
+/** The run's scene (its own for plume_run_open, else the caller's). */
+PLUME_API const plume_scene *plume_run_scene(const plume_run *r);
+
+/** The frames file (output_dir/frames.h5), or NULL without output_dir. */
+PLUME_API const char *plume_run_frames_path(const plume_run *r);
+
 
 #ifdef __cplusplus
 }

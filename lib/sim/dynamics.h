@@ -11,6 +11,8 @@
 #ifndef PLUME_DYNAMICS_H
 #define PLUME_DYNAMICS_H
 
+#include "../../include/plume/scene.h"
+
 #include "../core/export.h"
 #include "../core/mesh.h"
 #include "../core/problem.h"
@@ -85,23 +87,7 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
  * owns); sets *d = NULL; NULL-safe. */
 void plume_dynamics_destroy(plume_dynamics **d);
 
-/** What happened in one call of plume_dynamics_advance. */
-typedef struct {
-    int substeps;          /**< implicit Euler steps taken (1 when nothing was halved) */
-    int halvings;          /**< times a step was halved (adaptive: cut after a failed attempt) */
-    int stalls;            /**< adaptive: attempts the solver gave up as stalled (each then halved) */
-    double dt_min;         /**< the smallest step taken (s) */
-    double dt_max;         /**< the largest step taken (s) */
-    int iterations;        /**< solver iterations over all substeps */
-    int backtracks;        /**< newton's line-search rejections (plume_solve_report) over all solves */
-    int shifts;            /**< newton's inertia shifts (plume_solve_report) over all solves */
-    int step_limited;      /**< solver steps cut short by continuous collision detection (contact) */
-    int predictions;       /**< tangent predictor solves (opts.tangent_predictor; each one factorisation) */
-    double max_violation;  /**< max relative constraint violation over the substeps */
-    int converged;         /**< every substep converged */
-    plume_reason reason;   /**< why the first attempt that failed stopped (CONVERGED if none failed) */
-    double seconds;        /**< wall time of the call */
-} plume_step_report;
+
 
 /** Advances the state by dt (opts.dt when dt <= 0): one implicit Euler step, halved recursively
  * on non-convergence up to max_halvings (adaptive: as many steps as the interval needs, see

@@ -504,9 +504,11 @@ class Scene:
         """Advances n time steps of the scene's dt (each halved when it fails to converge; n = 0
         only reports).
 
-        Returns the report dict: "steps", "time" (s), "converged" (bool; False when a step did
-        not converge even at the smallest substep: the state then stays at the last converged
-        substep), "halvings", "newton_iterations", "max_violation", "seconds", "stop_reason".
+        Returns the report dict: "steps" (accepted), "time" (s), "converged" (bool; False when a
+        step was not accepted and stopped the call: it did not converge even at the smallest
+        substep, or with the "linearized" solver it did not advance; the state then stays at the
+        last converged substep), "halvings", "newton_iterations", "max_violation", "seconds",
+        "stop_reason".
         """
         h = self._live()
         n = _integer("n", n, 0)

@@ -1,0 +1,48 @@
+/* plume (private, not installed): the scene runner's state (macro/scene/run.c) and its output half
+ * (macro/scene/run_output.c: frames, renders, restart). */
+#ifndef PLUME_MACRO_INTERNAL_RUN_H
+#define PLUME_MACRO_INTERNAL_RUN_H
+
+#include "../../../lib/contact/contact.h"
+#include "../../../lib/contact/contact_broad.h"
+#include "../../../lib/io/frames.h"
+#include "../../../lib/io/progress.h"
+#include "../../shell/fields.h"
+#include "../run.h"
+
+struct plume_run {
+    plume_scene *scene;           /* borrowed, or owned when owns_scene */
+    int owns_scene;
+    plume_problem *p;
+    plume_dynamics *d;
+    plume_contact *contact;       /* the contact term's handle (owned by the problem), or NULL */
+    plume_index ncons;
+    char *output_dir, *frames_path, *restart; /* owned copies; NULL when not given */
+    char *stem, *label;           /* the scene file's name (renders' titles); the progress line's label */
+    long frames_opt;
+    double end_time;
+    int open, audit, progress, render;
+    int started;                  /* 1 started, -1 its start failed */
+    plume_fields *fields;         /* the ParaView series and the renders' fields (output_dir) */
+    /* the plan: steps nsteps (planned runs), done_plan of them taken; end time and a shortened last step */
+    long nsteps, done_plan;
+    double end;
+    int last_short;
+    plume_progress prog;
+    plume_frame_measures fm;      /* the steps since the last frame (frames.h5) */
+    plume_contact_broad *broad;   /* the audit's distances */
+    plume_contact_pairs pairs;    /* the audit's list, reused */
+    plume_run_report rep;
+};
+
+/* run_output.c */
+/* No step yet: zeros, and the contact measures -1 without contact (the distance at its cap). */
+void plume_run_measures_reset(plume_run *r);
+/* The output of a new run (stale frames removed, the series and frames file begun, frame 0) or of
+ * a restart (the state of the file's last frame, the file copied, the series continued). */
+plume_status plume_run_output_start(plume_run *r, plume_err *err);
+/* Frame k of the current state at scene step `step`: the series' VTU, frames.h5, the PNG when the
+ * scene renders k. */
+plume_status plume_run_write_frame(plume_run *r, long k, long step, plume_err *err);
+
+#endif
