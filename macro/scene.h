@@ -34,12 +34,19 @@ enum {
 extern "C" {
 #endif
 
+/** The longest moduli file name a scene material records (bytes, with the NUL). */
+#define PLUME_SCENE_PATH_MAX 4096
+
 /** One material of a scene. */
 typedef struct {
     plume_membrane_material membrane; /**< moduli in the barb frame, thickness, kappa */
     plume_bending_material bending;   /**< N m */
     double density;                   /**< surface mass density, kg/m^2 */
     int constraint;                   /**< 1: the barb edges of this material's triangles are inextensible */
+    char membrane_from[PLUME_SCENE_PATH_MAX]; /**< the moduli file ("membrane": {"from_moduli"}) the
+                                                   membrane moduli were read from, resolved against
+                                                   the scene's directory; "" when the scene sets them */
+    char bending_from[PLUME_SCENE_PATH_MAX];  /**< the same for "bending": {"from_moduli"} */
 } plume_scene_material;
 
 /** A follower end moment of a static scene (lib/core/moment.h). */
