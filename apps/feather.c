@@ -408,7 +408,8 @@ static int start_run(const options *o, const output_ctx *oc, const plume_dynamic
     remove_stale_frames(oc->outdir);
     if (plume_fields_series_start(oc->fields, oc->outdir, "frames.pvd", "frame", -1.0, &err) != PLUME_OK)
         return run_fail("%s", err.msg);
-    if (plume_frames_create(oc->frames_path, oc->scene->mesh->nv, ncons, oc->scene->dt, o->scene, &err) != PLUME_OK)
+    if (plume_frames_create(oc->frames_path, oc->scene->mesh->nv, ncons, oc->scene->dt, o->scene, &err) != PLUME_OK ||
+        plume_scene_materials_record(oc->scene, oc->frames_path, &err) != PLUME_OK)
         return run_fail("%s", err.msg);
     if ((rc = write_frame(oc, d, 0, 0, 1, fm)) != 0)
         return rc;
@@ -579,6 +580,33 @@ static int step_run(const options *o, const output_ctx *oc, plume_dynamics *d, c
     return 0;
 }
 
+/* --json "materials": each material's moduli and, when read from a file, the file */
+static json_t *materials_json(const plume_scene *scene)
+{
+    json_t *ja = json_array();
+    for (int k = 0; k < scene->nmat; k++) {
+        const plume_scene_material *m = scene->mats + k;
+        json_t *jm = json_object(), *jb = json_object();
+        json_t *jmem = json_pack("{s:f, s:f, s:f, s:f, s:f, s:f}", "E_xx", m->membrane.E_xx, "E_yy", m->membrane.E_yy,
+                                 "nu_xy", m->membrane.nu_xy, "G_xy", m->membrane.G_xy, "thickness", m->membrane.h,
+                                 "kappa", m->membrane.kappa);
+        json_object_set_new(jb, "D_long", json_real(m->bending.D_long));
+        json_object_set_new(jb, "D_trans", json_real(m->bending.D_trans));
+        json_object_set_new(jb, "D_coupling", json_real(m->bending.D_coupling));
+        json_object_set_new(jb, "D_twist", json_real(m->bending.D_twist));
+        if (m->membrane_from[0])
+            json_object_set_new(jmem, "from_moduli", json_string(m->membrane_from));
+        if (m->bending_from[0])
+            json_object_set_new(jb, "from_moduli", json_string(m->bending_from));
+        json_object_set_new(jm, "membrane", jmem);
+        json_object_set_new(jm, "bending", jb);
+        json_object_set_new(jm, "density", json_real(m->density));
+        json_object_set_new(jm, "constraint", json_boolean(m->constraint));
+        json_array_append_new(ja, jm);
+    }
+    return ja;
+}
+
 /* --json: the run's summary object (total: the app's wall time). */
 static json_t *summary_json(const options *o, const output_ctx *oc, const plume_dynamics *d, plume_index ncons,
                             const contact_monitor *cm, const run_tally *r, double total)
@@ -613,6 +641,7 @@ static json_t *summary_json(const options *o, const output_ctx *oc, const plume_
     json_object_set_new(j, "solver", json_string(plume_solver_kind_name(scene->solver)));
     json_object_set_new(j, "output_dir", json_string(oc->outdir));
     json_object_set_new(j, "frames_file", json_string(oc->frames_path));
+    json_object_set_new(j, "materials", materials_json(scene));
     if (o->restart)
         json_object_set_new(j, "restarted_from", json_string(o->restart));
     if (scene->has_contact) {

@@ -183,6 +183,13 @@ PLUME_API plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_
  * first crossing pair of triangles. */
 PLUME_API plume_status plume_scene_check_start(const plume_scene *s, plume_err *err);
 
+/** Records each material of `s` in the frames file `frames_path` (lib/io/frames.h,
+ * plume_frames_material_write): /materials/<k> with its moduli E_xx, E_yy, nu_xy, G_xy, thickness,
+ * kappa, D_long, D_trans, D_coupling, D_twist, density and constraint, and the string attributes
+ * membrane_from_moduli, bending_from_moduli naming the moduli file each part was read from (absent
+ * when the scene set it). Errors of plume_frames_material_write. */
+PLUME_API plume_status plume_scene_materials_record(const plume_scene *s, const char *frames_path, plume_err *err);
+
 /** The output fields of the scene's states (fields.h): its membrane materials, its bending term
  * and its barb edges, over the whole mesh (kinematic triangles get NaN). The caller destroys *out;
  * it borrows the scene's mesh, so the scene must outlive it. */

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "../lib/io/curves.h"
+#include "../lib/io/frames.h"
 #include "internal/scene_internal.h"
 
 /* "bending": {"from_moduli": "file.h5", "drop_couplings": false}: the bending moduli apps/homogenize
@@ -225,3 +226,30 @@ plume_status plume_scene_parse_materials(const plume_json_ctx *c, json_t *doc, p
     return PLUME_OK;
 }
 
+plume_status plume_scene_materials_record(const plume_scene *s, const char *frames_path, plume_err *err)
+{
+    if (!s || !s->mats || !frames_path)
+        return plume_err_set(err, PLUME_EINVAL, "scene materials record: invalid arguments");
+    for (int k = 0; k < s->nmat; k++) {
+        const plume_scene_material *m = s->mats + k;
+        const plume_param p[] = {{"E_xx", m->membrane.E_xx},         {"E_yy", m->membrane.E_yy},
+                                 {"nu_xy", m->membrane.nu_xy},       {"G_xy", m->membrane.G_xy},
+                                 {"thickness", m->membrane.h},       {"kappa", m->membrane.kappa},
+                                 {"D_long", m->bending.D_long},      {"D_trans", m->bending.D_trans},
+                                 {"D_coupling", m->bending.D_coupling}, {"D_twist", m->bending.D_twist},
+                                 {"density", m->density},            {"constraint", (double)m->constraint}};
+        plume_sparam sp[2];
+        int ns = 0;
+        if (m->membrane_from[0])
+            sp[ns++] = (plume_sparam){"membrane_from_moduli", m->membrane_from};
+        if (m->bending_from[0])
+            sp[ns++] = (plume_sparam){"bending_from_moduli", m->bending_from};
+        plume_status st = plume_frames_material_write(frames_path, k, p, (int)(sizeof p / sizeof p[0]), sp, ns,
+                                                      "E_xx, E_yy, G_xy, kappa: Pa; nu_xy: 1; thickness: m; D_long, "
+                                                      "D_trans, D_coupling, D_twist: N m; density: kg/m^2; constraint: 1",
+                                                      err);
+        if (st != PLUME_OK)
+            return st;
+    }
+    return PLUME_OK;
+}

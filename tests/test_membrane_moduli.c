@@ -1,6 +1,7 @@
 /* A scene material's membrane moduli from a homogenise file ("membrane": {"from_moduli": ...}),
- * the thickness the file's moduli are over, and the errors naming the scene, the key path and the
- * file. */
+ * the thickness the file's moduli are over, the errors naming the scene, the key path and the file,
+ * and the record of what each material was made of in frames.h5 (/materials/<k>) and in
+ * apps/feather --json. */
 #include <hdf5.h>
 #include <jansson.h>
 #include <math.h>
@@ -206,4 +207,90 @@ void test_membrane_moduli_bad_input(void)
     }
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     CHECK(system(cmd) == 0);
+}
+
+/* apps/feather on a scene taking both membrane and bending from a homogenise file: --json's
+ * "materials" and frames.h5's /materials/0 say the moduli used and the file; a hand-set material
+ * has no file attribute; /materials survives an append that rebuilds the file. */
+void test_membrane_moduli_recorded(void)
+{
+    char dir[64] = "/tmp/plume-memrec-XXXXXX", args[1024], path[256], frames[256], out[32768], errs[8192], buf[4096];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(path, sizeof path, "%s/m.h5", dir);
+    snprintf(args, sizeof args, "--strain-max 0 --no-convergence -o %s", path);
+    CHECK(app_run(dir, "homogenize", args, out, sizeof out, errs, sizeof errs) == 0);
+    plume_ortho m = {0, 0, 0, 0};
+    plume_err err = {{0}};
+    double D_long = NAN;
+    CHECK(plume_moduli_read(path, &m, &err) == PLUME_OK && plume_moduli_read_param(path, "D_long", &D_long, &err) == PLUME_OK);
+    write_scene(dir, "{\"from_moduli\": \"m.h5\"}", "{\"from_moduli\": \"m.h5\"}");
+    snprintf(args, sizeof args, "%s/scene.json -o %s/run --json --quiet", dir, dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
+    json_t *j = json_loads(out, 0, NULL);
+    json_t *jm = json_array_get(json_object_get(j, "materials"), 0);
+    json_t *mem = json_object_get(jm, "membrane"), *ben = json_object_get(jm, "bending");
+    CHECK(json_array_size(json_object_get(j, "materials")) == 1);
+    /* --json prints 12 significant digits */
+    CHECK_REL(json_number_value(json_object_get(mem, "E_xx")), m.E_xx, 1e-11, 0.0);
+    CHECK_REL(json_number_value(json_object_get(mem, "G_xy")), m.G_xy, 1e-11, 0.0);
+    CHECK(json_number_value(json_object_get(mem, "thickness")) == 1e-4);
+    CHECK_REL(json_number_value(json_object_get(ben, "D_long")), D_long, 1e-11, 0.0);
+    CHECK(json_is_string(json_object_get(mem, "from_moduli")) &&
+          ends_with(json_string_value(json_object_get(mem, "from_moduli")), "/m.h5"));
+    CHECK(json_is_string(json_object_get(ben, "from_moduli")) &&
+          ends_with(json_string_value(json_object_get(ben, "from_moduli")), "/m.h5"));
+    CHECK(json_is_true(json_object_get(j, "converged")));
+    json_decref(j);
+
+    snprintf(frames, sizeof frames, "%s/run/frames.h5", dir);
+    CHECK(h5_num(frames, "/materials/0", "E_xx") == m.E_xx && h5_num(frames, "/materials/0", "E_yy") == m.E_yy &&
+          h5_num(frames, "/materials/0", "nu_xy") == m.nu_xy && h5_num(frames, "/materials/0", "D_long") == D_long &&
+          h5_num(frames, "/materials/0", "thickness") == 1e-4 && h5_num(frames, "/materials/0", "density") == 0.026);
+    CHECK(h5_str(frames, "/materials/0", "membrane_from_moduli", buf, sizeof buf) == 0 && ends_with(buf, "/m.h5"));
+    CHECK(h5_str(frames, "/materials/0", "bending_from_moduli", buf, sizeof buf) == 0 && ends_with(buf, "/m.h5"));
+    CHECK(h5_str(frames, "/materials/0", "units", buf, sizeof buf) == 0 && strstr(buf, "E_xx, E_yy, G_xy, kappa: Pa") &&
+          strstr(buf, "D_twist: N m") && strstr(buf, "density: kg/m^2"));
+    plume_frames_info info;
+    CHECK(plume_frames_info_read(frames, &info, &err) == PLUME_OK && info.count == 4);
+
+    /* a hand-set material: the moduli, no file */
+    write_scene(dir, "{\"E\": 1e6, \"nu\": 0.25, \"thickness\": 1e-4}", "{\"D\": 1e-6}");
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 0);
+    j = json_loads(out, 0, NULL);
+    mem = json_object_get(json_array_get(json_object_get(j, "materials"), 0), "membrane");
+    CHECK(json_number_value(json_object_get(mem, "E_yy")) == 1e6 && json_number_value(json_object_get(mem, "G_xy")) == 4e5 &&
+          !json_object_get(mem, "from_moduli"));
+    json_decref(j);
+    CHECK(h5_num(frames, "/materials/0", "E_xx") == 1e6 && h5_num(frames, "/materials/0", "D_trans") == 1e-6);
+    CHECK(h5_str(frames, "/materials/0", "membrane_from_moduli", buf, sizeof buf) == -1 &&
+          h5_str(frames, "/materials/0", "bending_from_moduli", buf, sizeof buf) == -1);
+
+    /* an interrupted append's group (count 4, a group /frames/4): the next append rebuilds the file
+     * from its committed frames, and keeps /materials */
+    hid_t f = H5Fopen(frames, H5F_ACC_RDWR, H5P_DEFAULT);
+    hid_t g = f < 0 ? H5I_INVALID_HID : H5Gcreate2(f, "/frames/4", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    CHECK(g >= 0);
+    if (g >= 0)
+        H5Gclose(g);
+    if (f >= 0)
+        H5Fclose(f);
+    plume_frame fr = {0};
+    CHECK(plume_frames_read(frames, -1, &fr, &err) == PLUME_OK);
+    CHECK(plume_frames_append(frames, fr.nv, fr.ncons, fr.t + 0.01, fr.step + 1, fr.x, fr.v, fr.lambda, &err) == PLUME_OK);
+    plume_frame_free(&fr);
+    CHECK(plume_frames_info_read(frames, &info, &err) == PLUME_OK && info.count == 5);
+    CHECK(h5_num(frames, "/materials/0", "E_xx") == 1e6 && h5_num(frames, "/materials/0", "nu_xy") == 0.25);
+
+    /* the writer's own errors */
+    plume_param p2[2] = {{"E_xx", 1}, {"E_xx", 2}};
+    CHECK(plume_frames_material_write(frames, 0, p2, 2, NULL, 0, "", &err) == PLUME_EINVAL && strstr(err.msg, "E_xx given twice"));
+    plume_param pu = {"units", 1};
+    CHECK(plume_frames_material_write(frames, 0, &pu, 1, NULL, 0, "", &err) == PLUME_EINVAL);
+    CHECK(plume_frames_material_write(frames, -1, NULL, 0, NULL, 0, "", &err) == PLUME_EINVAL);
+    CHECK(plume_frames_material_write(path, 0, NULL, 0, NULL, 0, "", &err) == PLUME_EFORMAT && strstr(err.msg, "/frames"));
+    snprintf(args, sizeof args, "rm -rf %s", dir);
+    CHECK(system(args) == 0);
 }
