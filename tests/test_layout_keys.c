@@ -204,8 +204,8 @@ void test_layout_keys_note(void)
     CHECK(plume_layout_apply_json("{\"notes\": \"text\"}", "test", &l, &err) == PLUME_EFORMAT && strstr(err.msg, "\"notes\""));
     /* every shipped layout loads */
     const char *files[] = {"../data/layout_fig10.json", "../data/layout_barbules.json",
-                           "../data/layout_barbules_table3a.json"};
-    for (int k = 0; k < 3; k++) {
+                           "../data/layout_barbules_table3a.json", "../data/layout_feather_si.json"};
+    for (int k = 0; k < 4; k++) {
         plume_layout_default(&l);
         int ok = plume_layout_load_json(files[k], &l, &err) == PLUME_OK && plume_layout_check(&l, &err) == PLUME_OK;
         if (!ok)

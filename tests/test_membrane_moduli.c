@@ -294,3 +294,52 @@ void test_membrane_moduli_recorded(void)
     snprintf(args, sizeof args, "rm -rf %s", dir);
     CHECK(system(args) == 0);
 }
+
+/* data/feather/scene_from_cell.json: apps/homogenize on the real-scale layout writes the file the
+ * scene names (here in a scratch copy of the scene and its mesh inputs), and the vane's membrane
+ * (with its thickness) and bending are that file's, bit for bit; the rachis keeps its own. The
+ * feather steps: a few frames, every step converged without halving. */
+void test_membrane_moduli_scene_from_cell(void)
+{
+    char dir[] = "/tmp/plume-fromcell-XXXXXX", cmd[1024], path[256], out[32768], errs[4096];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(cmd, sizeof cmd, "cp ../data/feather/scene_from_cell.json ../data/feather/feather_shape.json "
+             "../data/feather/outline.obj %s/", dir);
+    CHECK(system(cmd) == 0);
+    snprintf(path, sizeof path, "%s/moduli_feather_si.h5", dir);
+    snprintf(cmd, sizeof cmd, "--config ../data/layout_feather_si.json -o %s", path);
+    CHECK(app_run(dir, "homogenize", cmd, out, sizeof out, errs, sizeof errs) == 0);
+    plume_ortho m = {0, 0, 0, 0};
+    plume_err err = {{0}};
+    double D[4] = {NAN, NAN, NAN, NAN}, h = NAN;
+    const char *names[4] = {"D_long", "D_trans", "D_coupling", "D_twist"};
+    CHECK(plume_moduli_read(path, &m, &err) == PLUME_OK && plume_moduli_read_param(path, "thickness", &h, &err) == PLUME_OK);
+    for (int k = 0; k < 4; k++)
+        CHECK(plume_moduli_read_param(path, names[k], &D[k], &err) == PLUME_OK);
+    snprintf(cmd, sizeof cmd, "%s/scene_from_cell.json", dir);
+    plume_scene *s = NULL;
+    CHECK(plume_scene_load(cmd, &s, &err) == PLUME_OK);
+    if (s) {
+        const plume_scene_material *v = &s->mats[0];
+        CHECK(v->membrane.E_xx == m.E_xx && v->membrane.E_yy == m.E_yy && v->membrane.nu_xy == m.nu_xy &&
+              v->membrane.G_xy == m.G_xy && v->membrane.h == h && h == 1.2e-4);
+        CHECK(v->bending.D_long == D[0] && v->bending.D_trans == D[1] && v->bending.D_coupling == D[2] &&
+              v->bending.D_twist == D[3]);
+        CHECK(strcmp(v->membrane_from, path) == 0 && strcmp(v->bending_from, path) == 0);
+        CHECK(s->nmat == 2 && !s->mats[1].membrane_from[0] && s->mats[1].membrane.h == 3e-3);
+    } else {
+        fprintf(stderr, "    %s\n", err.msg);
+    }
+    plume_scene_destroy(&s);
+    snprintf(cmd, sizeof cmd, "%s/scene_from_cell.json -o %s/run --frames 4 --json --quiet", dir, dir);
+    CHECK(app_run(dir, "feather", cmd, out, sizeof out, errs, sizeof errs) == 0);
+    json_t *j = json_loads(out, 0, NULL);
+    CHECK(json_is_true(json_object_get(j, "converged")) && json_integer_value(json_object_get(j, "steps")) == 4 &&
+          json_integer_value(json_object_get(j, "steps_halved")) == 0);
+    json_decref(j);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    CHECK(system(cmd) == 0);
+}
