@@ -12,7 +12,7 @@
 #     bending of Table 3 (a), with bending homogenised from explicit barbules, and with membrane and
 #     bending both homogenised from a vane at its real scale (data/layout_feather_si.json), the
 #     homogenised file read by the scene with no number copied;
-#  6. a wing of 12 feathers on a flapping bone, in contact that never interpenetrates (its time: docs/benchmarks.md).
+#  6. a wing of 12 feathers on a flapping bone, in contact that never interpenetrates.
 # Everything lands in out/: one HDF5 file (out/plume.h5) and PNG+SVG charts.
 # PLUME_DEMO_QUICK=1 runs every step but simulates the feather for 0.05 s and the wing for one
 # frame: the test suite runs `make demo` that way (scripts/doc-commands.py), in seconds.

@@ -12,7 +12,7 @@
 
 #include "app_runner.h"
 #include "harness.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../lib/io/frames.h"
 #include "../macro/scene.h"
 

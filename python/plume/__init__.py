@@ -15,7 +15,7 @@ from ._native import LIBRARY_PATH, LibraryNotFoundError, PlumeError
 from .api import (MODULI, Curve, FitResult, HomogenizeResult, Scene, TractionResult, fit,
                   homogenize, openmp_serial, traction, version)
 
-__version__ = "0.4.0"
+__version__ = "1.0.0"
 
 __all__ = ["version", "openmp_serial", "homogenize", "traction", "fit", "Scene", "Curve", "HomogenizeResult",
            "TractionResult", "FitResult", "PlumeError", "LibraryNotFoundError", "LIBRARY_PATH",
