@@ -161,6 +161,11 @@ demo: deps
 data/feather/moduli_table3a.h5: data/layout_barbules_table3a.json apps/homogenize
 	$(OMP_ENV) ./apps/homogenize --config $< -o $@
 
+# the membrane and bending moduli of data/feather/scene_from_cell.json: homogenised from the
+# real-scale layout (under a second), not kept in git
+data/feather/moduli_feather_si.h5: data/layout_feather_si.json apps/homogenize
+	$(OMP_ENV) ./apps/homogenize --config $< -o $@
+
 # The API reference: Doxygen over the public headers (include/plume/) (docs/Doxyfile; the main page is
 # docs/api.md), HTML in $(BUILD)/docs/html. Any warning fails it and is printed: an undocumented
 # public function, struct, field, enum value, typedef or macro, or a doc comment Doxygen cannot read.

@@ -17,7 +17,7 @@
 
 static const char usage[] =
     "usage: feather SCENE.json [options]\n"
-    "Steps a shell scene (mesh, materials, handles, gravity: the format is in macro/scene.h) by implicit Euler,\n"
+    "Steps a shell scene (mesh, materials, handles, gravity: the format is in docs/scene-format.md) by implicit Euler,\n"
     "each step a constrained minimisation solved to convergence (halved when it fails).\n"
     "  -o DIR              output directory (default out/<scene name>, or the restart file's directory):\n"
     "                      DIR/frames.pvd with DIR/frame_00000.vtu ... (ParaView series: strain, stress, energy\n"
@@ -144,6 +144,33 @@ static void output_dir(const options *o, const char *stem, char *outdir, size_t 
         snprintf(outdir, n, "/");
 }
 
+/* --json "materials": each material's moduli and, when read from a file, the file */
+static json_t *materials_json(const plume_scene *scene)
+{
+    json_t *ja = json_array();
+    for (int k = 0; k < scene->nmat; k++) {
+        const plume_scene_material *m = scene->mats + k;
+        json_t *jm = json_object(), *jb = json_object();
+        json_t *jmem = json_pack("{s:f, s:f, s:f, s:f, s:f, s:f}", "E_xx", m->membrane.E_xx, "E_yy", m->membrane.E_yy,
+                                 "nu_xy", m->membrane.nu_xy, "G_xy", m->membrane.G_xy, "thickness", m->membrane.h,
+                                 "kappa", m->membrane.kappa);
+        json_object_set_new(jb, "D_long", json_real(m->bending.D_long));
+        json_object_set_new(jb, "D_trans", json_real(m->bending.D_trans));
+        json_object_set_new(jb, "D_coupling", json_real(m->bending.D_coupling));
+        json_object_set_new(jb, "D_twist", json_real(m->bending.D_twist));
+        if (m->membrane_from[0])
+            json_object_set_new(jmem, "from_moduli", json_string(m->membrane_from));
+        if (m->bending_from[0])
+            json_object_set_new(jb, "from_moduli", json_string(m->bending_from));
+        json_object_set_new(jm, "membrane", jmem);
+        json_object_set_new(jm, "bending", jb);
+        json_object_set_new(jm, "density", json_real(m->density));
+        json_object_set_new(jm, "constraint", json_boolean(m->constraint));
+        json_array_append_new(ja, jm);
+    }
+    return ja;
+}
+
 /* --json: the run's summary object (total: the app's wall time). */
 static json_t *summary_json(const options *o, const plume_run *run, const char *outdir, const plume_run_report *r,
                             double total)
@@ -178,6 +205,7 @@ static json_t *summary_json(const options *o, const plume_run *run, const char *
     json_object_set_new(j, "solver", json_string(plume_solver_kind_name(scene->solver)));
     json_object_set_new(j, "output_dir", json_string(outdir));
     json_object_set_new(j, "frames_file", json_string(plume_run_frames_path(run)));
+    json_object_set_new(j, "materials", materials_json(scene));
     if (o->restart)
         json_object_set_new(j, "restarted_from", json_string(o->restart));
     if (scene->has_contact) {

@@ -35,7 +35,7 @@ static const char usage[] =
     "  --e-rel V            element edge over barb width, e-bar (default 0: chosen from the thinnest\n"
     "                       strip so that the moduli are within 1 % of the refined limit)\n"
     "  --no-convergence     skip the convergence estimate (the tensor again on a mesh twice as coarse)\n"
-    "  --strain-max E --steps N   cell response curves (default 0.05, 10; 0 for none)\n"
+    "  --strain-max E --steps N   cell response curves (default 0.05, 10; --strain-max 0: none)\n"
     "  -o FILE.h5           write /moduli (with the bending moduli as attributes D_long, D_trans,\n"
     "                       D_coupling, D_twist, D_16, D_26) and /curves/cell/{uniaxial_x,uniaxial_y,shear}\n"
     "  --plot FILE.png      chart of the cell curves (SVG beside it)\n"

@@ -9,7 +9,9 @@
 #  4. the macroscale vane of supplementary Table 4 (E_xx/E_yy = 1e4) with the native solver and
 #     with Ipopt, the penalty alternative, and sample T01 of Table 1;
 #  5. the whole feather in 3D (apps/feather, supplementary Figure 12) for 0.5 s, with the hand-set
-#     bending of Table 3 (a) and with bending homogenised from explicit barbules;
+#     bending of Table 3 (a), with bending homogenised from explicit barbules, and with membrane and
+#     bending both homogenised from a vane at its real scale (data/layout_feather_si.json), the
+#     homogenised file read by the scene with no number copied;
 #  6. a wing of 12 feathers on a flapping bone, in contact that never interpenetrates.
 # Everything lands in out/: one HDF5 file (out/plume.h5) and PNG+SVG charts.
 # PLUME_DEMO_QUICK=1 runs every step but simulates the feather for 0.05 s and the wing for one
@@ -44,6 +46,10 @@ echo "== 5. the whole feather (supplementary Figure 12): rachis held at its base
 run ./apps/feather data/feather/scene_anisotropic.json -o out/feather "${feather_time[@]}" --quiet
 echo "   the same feather with the vane's bending homogenised from explicit barbules (data/layout_barbules_table3a.json)"
 run ./apps/feather data/feather/scene_anisotropic_homogenised.json -o out/feather_homogenised "${feather_time[@]}" --quiet
+echo "   the same feather with the vane's membrane and bending homogenised from a real-scale cell (data/layout_feather_si.json):"
+echo "   the scene data/feather/scene_from_cell.json reads the file apps/homogenize writes"
+run ./apps/homogenize --config data/layout_feather_si.json -o data/feather/moduli_feather_si.h5
+run ./apps/feather data/feather/scene_from_cell.json -o out/feather_from_cell "${feather_time[@]}" --quiet
 echo "== 6. a wing: 12 overlapping feathers on a flapping bone, barrier contact + CCD (Table 3 (b))"
 run ./apps/feather data/bird/wing.json -o out/wing "${wing_time[@]}" --quiet
 echo "plume demo: outputs in out/, out/feather/ and out/wing/ (VTK series, frames.h5, PNG renders)"

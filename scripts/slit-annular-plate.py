@@ -43,7 +43,8 @@ def main():
         "note": "Slit annular plate: R_i 6, R_o 10, h 0.03, E 21e6, nu 0; the theta = 0 side of the slit clamped, "
                 "the theta = 2 pi side loaded by a line force q = 0.8 along z. %d x %d quads (%d triangles), "
                 "written by scripts/slit-annular-plate.py. Their reference at q = 0.8: W_A = 13.891 (inner "
-                "radius), W_B = 17.528 (outer radius)." % (nr, nt, 2 * nr * nt),
+                "radius), W_B = 17.528 (outer radius). Non-dimensional: the benchmark's consistent units "
+                "(lengths, moduli, loads), not SI; the keys' units (m, Pa, N) hold only by convention." % (nr, nt, 2 * nr * nt),
         "solve": "static",
         "steps": 20,
         "mesh": {"obj": os.path.basename(out) + ".obj"},

@@ -9,6 +9,7 @@
 #include "plume_tree.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"
+#include "../micro/layout_json.h"
 #include "../micro/periodic.h"
 
 /* Exact plane-stress tensor of a laminate of isotropic layers normal to y (fields are constant
@@ -309,5 +310,50 @@ void test_homogenize_curve_slopes(void)
     CHECK(plume_homogenize(&l, &o, &r, &err) == PLUME_OK);
     if (r.uniaxial_x.n == 2)
         check_slopes(&r, "strips");
+    plume_homog_result_free(&r);
+}
+
+/* The shipped real-scale layout (data/layout_feather_si.json): its cell is the exact laminate, so
+ * E_xx lies between the Reuss and Voigt bounds of the barb fraction, and the bending moduli are of
+ * a real feather's order (the paper's hand-set vane: D_long 2.5e-4 N m; the non-dimensional Figure
+ * 10 sample, 1 m thick: 3.3e7), the strips' plate bounds holding too. */
+void test_homogenize_feather_si_layout(void)
+{
+    plume_layout l;
+    plume_err err = {{0}};
+    plume_layout_default(&l);
+    CHECK(plume_layout_load_json("../data/layout_feather_si.json", &l, &err) == PLUME_OK);
+    CHECK(plume_layout_check(&l, &err) == PLUME_OK);
+    CHECK(l.kind == PLUME_LAYOUT_STRIPS && l.E_b == 2.5e9 && l.h == 1.2e-4 && l.d_B == 4e-4);
+    plume_homog_opts o;
+    plume_homog_opts_default(&o);
+    o.strain_max = 0.0;
+    plume_homog_result r;
+    plume_status st = plume_homogenize(&l, &o, &r, &err);
+    CHECK(st == PLUME_OK);
+    if (st != PLUME_OK) {
+        fprintf(stderr, "    %s\n", err.msg);
+        return;
+    }
+    double E_B = l.ratio * l.E_b, voigt = l.phi * l.E_b + (1.0 - l.phi) * E_B,
+           reuss = 1.0 / (l.phi / l.E_b + (1.0 - l.phi) / E_B);
+    CHECK(r.moduli.E_xx <= voigt * (1.0 + 1e-9) && r.moduli.E_xx >= reuss);
+    CHECK(r.moduli.E_yy <= voigt && r.moduli.E_yy >= reuss * (1.0 - 1e-6));
+    double E[2] = {l.E_b, E_B}, nu[2] = {l.nu_b, l.nu_B}, frac[2] = {l.phi, 1.0 - l.phi}, C[9];
+    laminate_exact(E, nu, frac, 2, C);
+    plume_ortho m;
+    CHECK(plume_ortho_from_tensor(C, &m, &err) == PLUME_OK);
+    CHECK_REL(r.moduli.E_xx, m.E_xx, 1e-6, 0.0);
+    CHECK_REL(r.moduli.E_yy, m.E_yy, 1e-6, 0.0);
+    CHECK_REL(r.moduli.G_xy, m.G_xy, 1e-6, 0.0);
+    /* plate: D_long between the plate Voigt and Reuss bounds of E t^3 / (12 (1 - nu^2)) */
+    double t3 = l.h * l.h * l.h / 12.0, Db = l.E_b * t3 / (1.0 - l.nu_b * l.nu_b), DB = E_B * t3 / (1.0 - l.nu_B * l.nu_B);
+    double Dv = l.phi * Db + (1.0 - l.phi) * DB, Dr = 1.0 / (l.phi / Db + (1.0 - l.phi) / DB);
+    CHECK(r.bending.D_long <= Dv * (1.0 + 1e-6) && r.bending.D_long >= Dr);
+    CHECK(r.bending.D_trans <= Dv && r.bending.D_trans >= Dr * (1.0 - 1e-6));
+    CHECK(r.bending.D_long > 1e-5 && r.bending.D_long < 1e-3);
+    fprintf(stderr, "    data/layout_feather_si.json: E_xx %.4g (Reuss %.4g, Voigt %.4g), E_yy %.4g, G_xy %.4g Pa; "
+                    "D_long %.4g, D_trans %.4g N m\n", r.moduli.E_xx, reuss, voigt, r.moduli.E_yy, r.moduli.G_xy,
+            r.bending.D_long, r.bending.D_trans);
     plume_homog_result_free(&r);
 }

@@ -323,6 +323,17 @@ static plume_status reserve_room(const char *path, plume_index nv, plume_index n
     return PLUME_OK;
 }
 
+/* /materials of the old file (plume_frames_material_write), if it has one, into the new one */
+static plume_status copy_materials(const char *path, hid_t ofid, hid_t nfid, const char *tmp, plume_err *err)
+{
+    h5_detail d;
+    if (H5Lexists(ofid, "/materials", H5P_DEFAULT) > 0 &&
+        H5Ocopy(ofid, "/materials", nfid, "/materials", H5P_DEFAULT, H5P_DEFAULT) < 0)
+        return plume_err_set(err, PLUME_EIO, "frames file '%s': cannot copy its /materials into '%s' (HDF5: %s)", path,
+                             tmp, h5_cause(&d));
+    return PLUME_OK;
+}
+
 /* Writes a new `path` holding only the committed frames of the old one (its /frames attributes and
  * groups 0 .. count-1, copied whole), through a temporary file renamed over it: the old file is
  * untouched unless the new one is complete. Why not remove the uncommitted group in place, as
@@ -353,6 +364,8 @@ static plume_status rebuild_committed(const char *path, const plume_frames_info 
             s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot copy its committed /frames/%s into '%s' (HDF5: %s)",
                               path, name, tmp, h5_cause(&d));
     }
+    if (s == PLUME_OK)
+        s = copy_materials(path, ofid, nfid, tmp, err);
     if (s == PLUME_OK) {
         hid_t a = H5Aopen(ng, "count", H5P_DEFAULT);
         long count = info->count;
@@ -598,6 +611,63 @@ plume_status plume_frames_read_measures(const char *path, long k, plume_frame_me
         }
 cleanup:
     close_frame(fid, g, fg);
+    quiet_end(&q);
+    return s;
+}
+
+plume_status plume_frames_material_write(const char *path, int k, const plume_param *params, int nparams,
+                                         const plume_sparam *sparams, int nsparams, const char *units, plume_err *err)
+{
+    if (k < 0 || nparams < 0 || nsparams < 0 || (nparams > 0 && !params) || (nsparams > 0 && !sparams))
+        return plume_err_set(err, PLUME_EINVAL, "frames file '%s': material %d: invalid arguments", path ? path : "(null)", k);
+    for (int i = 0; i < nparams + nsparams; i++) {
+        const char *name = i < nparams ? params[i].name : sparams[i - nparams].name;
+        if (!name || !*name || strcmp(name, "units") == 0 || (i >= nparams && !sparams[i - nparams].value))
+            return plume_err_set(err, PLUME_EINVAL, "frames file '%s': material %d: attribute %d has no name or value, "
+                                                    "or is named units", path ? path : "(null)", k, i);
+        for (int j = 0; j < i; j++)
+            if (strcmp(name, j < nparams ? params[j].name : sparams[j - nparams].name) == 0)
+                return plume_err_set(err, PLUME_EINVAL, "frames file '%s': material %d: attribute %s given twice",
+                                     path ? path : "(null)", k, name);
+    }
+    h5_quiet q;
+    quiet_begin(&q);
+    h5_detail d;
+    hid_t fid = H5I_INVALID_HID, g = H5I_INVALID_HID, mg = H5I_INVALID_HID, kg = H5I_INVALID_HID;
+    char name[48];
+    snprintf(name, sizeof name, "/materials/%d", k);
+    plume_status s = open_frames(path, H5F_ACC_RDWR, &fid, &g, err);
+    if (s != PLUME_OK)
+        goto cleanup;
+    if (H5Lexists(fid, "/materials", H5P_DEFAULT) > 0)
+        mg = H5Gopen2(fid, "/materials", H5P_DEFAULT);
+    else
+        mg = H5Gcreate2(fid, "/materials", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (mg >= 0 && H5Lexists(fid, name, H5P_DEFAULT) > 0 && H5Ldelete(fid, name, H5P_DEFAULT) < 0)
+        kg = H5I_INVALID_HID;
+    else if (mg >= 0)
+        kg = H5Gcreate2(fid, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    int bad = kg < 0;
+    for (int i = 0; !bad && i < nparams; i++)
+        bad = h5_write_attr_double(kg, params[i].name, params[i].value) < 0;
+    for (int i = 0; !bad && i < nsparams; i++)
+        bad = h5_write_attr_string(kg, sparams[i].name, sparams[i].value) < 0;
+    if (bad || h5_write_attr_string(kg, "units", units ? units : "") < 0) {
+        s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot write %s (HDF5: %s)", path, name, h5_cause(&d));
+        goto cleanup;
+    }
+cleanup:
+    if (kg >= 0)
+        H5Gclose(kg);
+    if (mg >= 0)
+        H5Gclose(mg);
+    if (g >= 0)
+        H5Gclose(g);
+    if (fid >= 0) {
+        herr_t closed = H5Fclose(fid);
+        if (s == PLUME_OK && (closed < 0 || sync_file(path) != 0))
+            s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot close after writing %s", path, name);
+    }
     quiet_end(&q);
     return s;
 }

@@ -9,6 +9,7 @@
  *                             the previous frame (plume_frame_measures: iterations, halvings,
  *                             seconds, contact pairs, smallest distance, intersecting pairs), each a
  *                             double attribute named after its field
+ *     /materials/<k>          attributes: what material k was made of (plume_frames_material_write)
  *
  * k = 0, 1, ... in decimal.
  *
@@ -27,6 +28,7 @@
 
 #include "../core/export.h"
 #include "../core/status.h"
+#include "curves.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -62,6 +64,18 @@ plume_status plume_frames_append_measured(const char *path, plume_index nv, plum
 
 /** The measures of frame k (k < 0: the last); PLUME_EFORMAT when the frame has none. */
 plume_status plume_frames_read_measures(const char *path, long k, plume_frame_measures *m, plume_err *err);
+
+/** Records what material `k` of the run was made of: the group `/materials/<k>` (k in decimal,
+ * beside /frames; replaced if it exists) with the numeric attributes `params`, the string
+ * attributes `sparams` and a string attribute `units` (the caller's "name: unit; ..." for the
+ * numeric ones; docs/hdf5-layout.md). The frames file must exist (plume_frames_create); an append
+ * that rebuilds the file keeps /materials. Errors: k < 0, a name that is empty, repeated or
+ * "units", a NULL array with a count > 0 (PLUME_EINVAL); not a frames file (PLUME_EFORMAT); a
+ * write failure (PLUME_EIO). */
+plume_status plume_frames_material_write(const char *path, int k, const plume_param *params, int nparams,
+                                     const plume_sparam *sparams, int nsparams, const char *units,
+                                     plume_err *err);
+
 
 #ifdef __cplusplus
 }

@@ -225,7 +225,8 @@ plume_status plume_run_output_start(plume_run *r, plume_err *err)
     remove_stale_frames(r->output_dir);
     if ((st = plume_fields_series_start(r->fields, r->output_dir, "frames.pvd", "frame", -1.0, err)) != PLUME_OK ||
         (st = plume_frames_create(r->frames_path, r->scene->mesh->nv, r->ncons, r->scene->dt, r->scene->path, err)) !=
-            PLUME_OK)
+            PLUME_OK ||
+        (st = plume_scene_materials_record(r->scene, r->frames_path, err)) != PLUME_OK)
         return st;
     return plume_run_write_frame(r, 0, 0, err);
 }

@@ -36,12 +36,19 @@ enum {
 extern "C" {
 #endif
 
+/** The longest moduli file name a scene material records (bytes, with the NUL). */
+#define PLUME_SCENE_PATH_MAX 4096
+
 /** One material of a scene. */
 typedef struct {
     plume_membrane_material membrane; /**< moduli in the barb frame, thickness, kappa */
     plume_bending_material bending;   /**< N m */
     double density;                   /**< surface mass density, kg/m^2 */
     int constraint;                   /**< 1: the barb edges of this material's triangles are inextensible */
+    char membrane_from[PLUME_SCENE_PATH_MAX]; /**< the moduli file ("membrane": {"from_moduli"}) the
+                                                   membrane moduli were read from, resolved against
+                                                   the scene's directory; "" when the scene sets them */
+    char bending_from[PLUME_SCENE_PATH_MAX];  /**< the same for "bending": {"from_moduli"} */
 } plume_scene_material;
 
 /** A follower end moment of a static scene (lib/core/moment.h). */
@@ -151,6 +158,13 @@ plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_problem **
  * bodies. PLUME_EINVAL naming the scene, the two bodies (objects' names, else "body N") and the
  * first crossing pair of triangles. */
 plume_status plume_scene_check_start(const plume_scene *s, plume_err *err);
+
+/** Records each material of `s` in the frames file `frames_path` (lib/io/frames.h,
+ * plume_frames_material_write): /materials/<k> with its moduli E_xx, E_yy, nu_xy, G_xy, thickness,
+ * kappa, D_long, D_trans, D_coupling, D_twist, density and constraint, and the string attributes
+ * membrane_from_moduli, bending_from_moduli naming the moduli file each part was read from (absent
+ * when the scene set it). Errors of plume_frames_material_write. */
+plume_status plume_scene_materials_record(const plume_scene *s, const char *frames_path, plume_err *err);
 
 /** The output fields of the scene's states (fields.h): its membrane materials, its bending term
  * and its barb edges, over the whole mesh (kinematic triangles get NaN). The caller destroys *out;

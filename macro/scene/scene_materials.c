@@ -6,13 +6,15 @@
 #include <string.h>
 
 #include "../../lib/io/curves.h"
+#include "../../lib/io/frames.h"
 #include "internal/scene_internal.h"
 
 /* "bending": {"from_moduli": "file.h5", "drop_couplings": false}: the bending moduli apps/homogenize
  * wrote as attributes of /moduli (micro/cell_plate.h's convention, the same as bending.h's). The
  * shell has no bending-twist coupling: D_16 and D_26 above 1 % of sqrt(D_ii D_twist) are refused
  * unless "drop_couplings" is true (a cell with tilted barbules has some). */
-static plume_status bending_from_moduli(const plume_json_ctx *c, json_t *jb, const char *kp, plume_bending_material *b)
+static plume_status bending_from_moduli(const plume_json_ctx *c, json_t *jb, const char *kp, plume_bending_material *b,
+                                        char *path, size_t npath)
 {
     static const char *const keys[] = {"from_moduli", "drop_couplings", NULL};
     static const char *const names[6] = {"D_long", "D_trans", "D_coupling", "D_twist", "D_16", "D_26"};
@@ -23,19 +25,18 @@ static plume_status bending_from_moduli(const plume_json_ctx *c, json_t *jb, con
         return st;
     json_t *jf = json_object_get(jb, "from_moduli"), *jd = json_object_get(jb, "drop_couplings");
     if (!json_is_string(jf))
-        return plume_json_bad(c, PLUME_EFORMAT, kf, "must be the name of an HDF5 file written by homogenize -o");
+        return plume_json_bad(c, PLUME_EFORMAT, kf, "must be the name of an HDF5 file of moduli, as apps/homogenize writes");
     if (jd && !json_is_boolean(jd)) {
         char kd[PLUME_JSON_KEY_MAX];
         plume_json_subkey(kd, kp, "drop_couplings");
         return plume_json_bad(c, PLUME_EFORMAT, kd, "must be true or false");
     }
-    char path[4096];
-    plume_json_resolve(c, json_string_value(jf), path, sizeof path);
+    plume_json_resolve(c, json_string_value(jf), path, npath);
     double v[6];
     for (int k = 0; k < 6; k++) {
         plume_err e2 = {{0}};
         if ((st = plume_moduli_read_param(path, names[k], &v[k], &e2)) != PLUME_OK)
-            return plume_json_bad(c, st, kf, "(%s): %s (a file of homogenize -o, which writes the bending moduli)",
+            return plume_json_bad(c, st, kf, "(%s): %s (a moduli file of apps/homogenize, which writes the bending moduli)",
                                   json_string_value(jf), e2.msg);
         if (!isfinite(v[k]) || (k < 4 && k != 2 && !(v[k] > 0.0)))
             return plume_json_bad(c, PLUME_EINVAL, kf, "(%s): %s must be finite%s (got %g)", json_string_value(jf),
@@ -51,6 +52,61 @@ static plume_status bending_from_moduli(const plume_json_ctx *c, json_t *jb, con
                               "sqrt(D_ii D_twist)), which the shell cannot represent; add \"drop_couplings\": true "
                               "to use it without them", json_string_value(jf), v[4], v[5], r16, r26);
     b->D_long = v[0], b->D_trans = v[1], b->D_coupling = v[2], b->D_twist = v[3];
+    return PLUME_OK;
+}
+
+/* "membrane": {"from_moduli": "file.h5", "thickness": t, "kappa": k}: E_xx, E_yy, nu_xy, G_xy from
+ * the file's /moduli (apps/homogenize -o, apps/fit), resolved against the scene's directory into
+ * `path`. A modulus key beside "from_moduli" is refused: one number, one place. The file's moduli
+ * in Pa are a membrane stiffness (N/m) over the cell's reference thickness (its "thickness"
+ * attribute), and the shell's membrane energy is h times the moduli's: the scene's thickness must
+ * therefore be the cell's. Left out it is taken from the file; given, it must equal it (relative
+ * PLUME_SCENE_THICKNESS_RTOL), else the stiffness would silently scale by h / thickness. A file
+ * without a thickness (apps/fit's) needs the scene's. */
+#define PLUME_SCENE_THICKNESS_RTOL 1e-9
+static plume_status membrane_from_moduli(const plume_json_ctx *c, json_t *mem, const char *kp, plume_membrane_material *mm,
+                                         char *path, size_t npath)
+{
+    static const char *const keys[] = {"from_moduli", "thickness", "kappa", NULL};
+    static const char *const moduli[] = {"E_xx", "E_yy", "nu_xy", "G_xy", "E", "nu", NULL};
+    char kf[PLUME_JSON_KEY_MAX], kk[PLUME_JSON_KEY_MAX];
+    plume_json_subkey(kf, kp, "from_moduli");
+    json_t *jf = json_object_get(mem, "from_moduli");
+    if (!json_is_string(jf))
+        return plume_json_bad(c, PLUME_EFORMAT, kf, "must be the name of an HDF5 file with /moduli, as apps/homogenize writes");
+    for (int k = 0; moduli[k]; k++)
+        if (json_object_get(mem, moduli[k])) {
+            plume_json_subkey(kk, kp, moduli[k]);
+            return plume_json_bad(c, PLUME_EINVAL, kk, "is given twice: here and by \"from_moduli\": \"%s\" (its /moduli); "
+                                  "remove one", json_string_value(jf));
+        }
+    plume_status st = plume_json_check_keys(c, mem, kp, keys);
+    if (st != PLUME_OK)
+        return st;
+    plume_json_resolve(c, json_string_value(jf), path, npath);
+    plume_ortho m;
+    plume_err e2 = {{0}};
+    if ((st = plume_moduli_read(path, &m, &e2)) != PLUME_OK)
+        return plume_json_bad(c, st, kf, "(%s): %s", json_string_value(jf), e2.msg);
+    mm->E_xx = m.E_xx, mm->E_yy = m.E_yy, mm->nu_xy = m.nu_xy, mm->G_xy = m.G_xy;
+    double h_file = NAN;
+    e2.msg[0] = '\0';
+    int has_h = plume_moduli_read_param(path, "thickness", &h_file, &e2) == PLUME_OK;
+    if (has_h && !(h_file > 0.0 && isfinite(h_file)))
+        return plume_json_bad(c, PLUME_EINVAL, kf, "(%s): /moduli attribute thickness must be finite and > 0 (got %g m)",
+                              json_string_value(jf), h_file);
+    int present = 0;
+    if ((st = plume_json_positive(c, mem, kp, "thickness", !has_h, 0, &mm->h, &present)) != PLUME_OK)
+        return st;
+    if (has_h && !present)
+        mm->h = h_file;
+    else if (has_h && !(fabs(mm->h - h_file) <= PLUME_SCENE_THICKNESS_RTOL * h_file)) {
+        plume_json_subkey(kk, kp, "thickness");
+        return plume_json_bad(c, PLUME_EINVAL, kk, "= %g m is not the thickness %g m the moduli of \"from_moduli\": \"%s\" "
+                              "are over (/moduli attribute thickness): the membrane stiffness would be %g times the "
+                              "cell's; leave thickness out to take the file's", mm->h, h_file, json_string_value(jf),
+                              mm->h / h_file);
+    }
     return PLUME_OK;
 }
 
@@ -75,9 +131,14 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
     json_t *mem = json_object_get(jm, "membrane");
     if (!json_is_object(mem))
         return plume_json_bad(c, PLUME_EFORMAT, kp,
-                   mem ? "must be an object {E_xx, E_yy, nu_xy, G_xy, thickness, kappa} or {E, nu, thickness, kappa}"
-                       : "is missing (an object {E_xx, E_yy, nu_xy, G_xy, thickness, kappa} or {E, nu, thickness, kappa})");
-    if (json_object_get(mem, "E")) {
+                   mem ? "must be an object {E_xx, E_yy, nu_xy, G_xy, thickness, kappa}, {E, nu, thickness, kappa} "
+                         "or {from_moduli, thickness, kappa}"
+                       : "is missing (an object {E_xx, E_yy, nu_xy, G_xy, thickness, kappa}, {E, nu, thickness, kappa} "
+                         "or {from_moduli, thickness, kappa})");
+    if (json_object_get(mem, "from_moduli")) {
+        if ((st = membrane_from_moduli(c, mem, kp, mm, out->membrane_from, sizeof out->membrane_from)) != PLUME_OK)
+            return st;
+    } else if (json_object_get(mem, "E")) {
         double E = 0.0, nu = 0.0;
         if ((st = plume_json_check_keys(c, mem, kp, iso)) != PLUME_OK || (st = plume_json_positive(c, mem, kp, "E", 1, 0, &E, NULL)) ||
             (st = plume_json_number(c, mem, kp, "nu", 0, &nu, NULL)))
@@ -98,7 +159,7 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
             (st = plume_json_positive(c, mem, kp, "G_xy", 1, 0, &mm->G_xy, NULL)))
             return st;
     }
-    if ((st = plume_json_positive(c, mem, kp, "thickness", 1, 0, &mm->h, NULL)) ||
+    if ((!out->membrane_from[0] && (st = plume_json_positive(c, mem, kp, "thickness", 1, 0, &mm->h, NULL))) ||
         (st = plume_json_positive(c, mem, kp, "kappa", 0, 1, &mm->kappa, NULL)))
         return st;
     plume_err e2 = {{0}};
@@ -116,7 +177,7 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
         out->bending.D_coupling = mm->nu_xy * out->bending.D_trans; /* D_12 = nu_xy D_22 */
         out->bending.D_twist = mm->G_xy * h3 / 12.0;                /* D_66 = G t^3 / 12 */
     } else if (json_is_object(jb) && json_object_get(jb, "from_moduli")) {
-        if ((st = bending_from_moduli(c, jb, kp, &out->bending)) != PLUME_OK)
+        if ((st = bending_from_moduli(c, jb, kp, &out->bending, out->bending_from, sizeof out->bending_from)) != PLUME_OK)
             return st;
     } else if (json_is_object(jb) && json_object_get(jb, "D")) {
         double D = 0.0;
@@ -162,5 +223,33 @@ plume_status plume_scene_parse_materials(const plume_json_ctx *c, json_t *doc, p
             return st;
     }
 
+    return PLUME_OK;
+}
+
+plume_status plume_scene_materials_record(const plume_scene *s, const char *frames_path, plume_err *err)
+{
+    if (!s || !s->mats || !frames_path)
+        return plume_err_set(err, PLUME_EINVAL, "scene materials record: invalid arguments");
+    for (int k = 0; k < s->nmat; k++) {
+        const plume_scene_material *m = s->mats + k;
+        const plume_param p[] = {{"E_xx", m->membrane.E_xx},         {"E_yy", m->membrane.E_yy},
+                                 {"nu_xy", m->membrane.nu_xy},       {"G_xy", m->membrane.G_xy},
+                                 {"thickness", m->membrane.h},       {"kappa", m->membrane.kappa},
+                                 {"D_long", m->bending.D_long},      {"D_trans", m->bending.D_trans},
+                                 {"D_coupling", m->bending.D_coupling}, {"D_twist", m->bending.D_twist},
+                                 {"density", m->density},            {"constraint", (double)m->constraint}};
+        plume_sparam sp[2];
+        int ns = 0;
+        if (m->membrane_from[0])
+            sp[ns++] = (plume_sparam){"membrane_from_moduli", m->membrane_from};
+        if (m->bending_from[0])
+            sp[ns++] = (plume_sparam){"bending_from_moduli", m->bending_from};
+        plume_status st = plume_frames_material_write(frames_path, k, p, (int)(sizeof p / sizeof p[0]), sp, ns,
+                                                      "E_xx, E_yy, G_xy, kappa: Pa; nu_xy: 1; thickness: m; D_long, "
+                                                      "D_trans, D_coupling, D_twist: N m; density: kg/m^2; constraint: 1",
+                                                      err);
+        if (st != PLUME_OK)
+            return st;
+    }
     return PLUME_OK;
 }
