@@ -531,6 +531,17 @@ class Scene:
         _native.check(_native.lib.plume_flat_scene_write_vtk(h, os.fsencode(_path("dir", dir)), msg,
                                                              _native.MSG_SIZE), msg)
 
+    def write_frames(self, path):
+        """Appends the current state as the next frame of the frames file `path` (HDF5, the
+        frames.h5 of apps/feather: time, step, positions, velocities, multipliers). The first call
+        for a path creates the file (and its directory; a file there is replaced), later ones
+        append. Read it back with plume.read_frames(path), which finds this scene's triangles
+        through the scene file it names."""
+        h = self._live()
+        msg = _native.new_msg()
+        _native.check(_native.lib.plume_flat_scene_write_frames(h, os.fsencode(_path("path", path)), msg,
+                                                                _native.MSG_SIZE), msg)
+
     # sizes and state
     @property
     def nv(self):
