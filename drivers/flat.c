@@ -782,6 +782,10 @@ plume_status plume_flat_scene_write_frames(plume_flat_scene *s, const char *path
             snprintf(scene, sizeof scene, "%s", s->scene->path);
         /* the file's directory, created with its parents as write_vtk creates its own */
         char dir[4096];
+        if (strlen(path) >= sizeof dir)
+            return finish(plume_err_set(&err, PLUME_EINVAL, "scene write_frames: the path '%.64s...' is longer than %d "
+                                                            "bytes", path, (int)sizeof dir - 1),
+                          &err, msg, nmsg);
         snprintf(dir, sizeof dir, "%s", path);
         char *slash = strrchr(dir, '/');
         if (slash && slash != dir) {
