@@ -7,10 +7,10 @@ CXX ?= c++
 OPT ?= -O2 -g
 BUILD ?= build
 DEPS_PKGS := ipopt nlopt hdf5 gsl jansson zlib
-# the version (lib/core/version.h says the same; a test checks they agree): the shared library is
+# the version (include/plume/base.h says the same; a test checks they agree): the shared library is
 # libplume.so.MAJOR.MINOR with the soname libplume.so.MAJOR
-VERSION_MAJOR := 0
-VERSION_MINOR := 4
+VERSION_MAJOR := 1
+VERSION_MINOR := 0
 VERSION_PATCH := 0
 SONAME := libplume.so.$(VERSION_MAJOR)
 SOFILE := libplume.so.$(VERSION_MAJOR).$(VERSION_MINOR)
@@ -26,7 +26,8 @@ LDLIBS += -lcholmod -lsuitesparseconfig $(PKG_LIBS) -lgmp -lmpfr -lgomp -lstdc++
 
 # lib/ in rooms (docs/design.md): core, then io, solve, contact, and the steppers in sim; macro/ and
 # micro/ above, the experiment drivers (study, sweep, stability, the flat interface) in drivers/
-# above those; the umbrella header include/plume.h over all of them
+# above those. The public face is include/plume/ (docs/library.md): one header a job, the umbrella
+# include/plume/plume.h over them; it is all that make install puts on a user's include path
 LIB_ROOMS := core io solve contact sim
 LIB_C := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.c)) $(wildcard micro/*.c) $(wildcard macro/*.c) $(wildcard drivers/*.c)
 LIB_CXX := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.cpp))
@@ -35,7 +36,9 @@ APP_SRC := $(wildcard apps/*.c)
 APPS := $(patsubst %.c,%,$(APP_SRC))
 TEST_SRC := $(wildcard tests/*.c)
 TEST_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(TEST_SRC))
-HEADERS := include/plume.h $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.h)) $(wildcard micro/*.h) $(wildcard macro/*.h) $(wildcard drivers/*.h)
+PUBLIC_HEADERS := $(wildcard include/plume/*.h)
+HEADERS := $(PUBLIC_HEADERS) $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.h)) $(wildcard micro/*.h) $(wildcard macro/*.h) \
+    $(wildcard drivers/*.h) tests/plume_tree.h
 # the benchmarks (bench/bench_NAME.c), in the order make bench runs them; each has its block in
 # docs/benchmarks.md, which scripts/bench-tables.py rewrites from the run's output (captured in
 # $(BUILD)/bench/NAME.txt) and which make test checks against what `bench_NAME --header` prints.
@@ -44,7 +47,7 @@ BENCHES ?= traction micro plate feather bending statics wing bird
 BENCH_BINS := $(patsubst bench/%.c,$(BUILD)/%,$(wildcard bench/bench_*.c))
 PRIVATE_HEADERS := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/internal/*.h)) $(wildcard macro/internal/*.h) $(wildcard drivers/internal/*.h)
 
-.PHONY: all deps deps-check test asan bench bench-docs demo docs install uninstall clean fuzz fuzz-build
+.PHONY: all deps deps-check test asan bench bench-docs demo docs install uninstall clean fuzz fuzz-build abi-check abi-update
 all: $(BUILD)/libplume.a $(BUILD)/libplume.so $(APPS)
 
 deps:
@@ -71,6 +74,7 @@ $(BUILD)/$(SOFILE): $(LIB_OBJ) lib/libplume.map
 	$(CXX) -shared -Wl,-soname,$(SONAME) -Wl,--version-script,lib/libplume.map -o $@ $(LIB_OBJ) $(LDFLAGS) $(LDLIBS)
 
 $(BUILD)/libplume.so: $(BUILD)/$(SOFILE)
+	ln -sf $(SOFILE) $(BUILD)/$(SONAME)
 	ln -sf $(SOFILE) $@
 
 APP_HEADERS := $(wildcard apps/*.h)
@@ -156,7 +160,7 @@ demo: deps
 data/feather/moduli_table3a.h5: data/layout_barbules_table3a.json apps/homogenize
 	$(OMP_ENV) ./apps/homogenize --config $< -o $@
 
-# The API reference: Doxygen over the installed headers (docs/Doxyfile; the main page is
+# The API reference: Doxygen over the public headers (include/plume/) (docs/Doxyfile; the main page is
 # docs/api.md), HTML in $(BUILD)/docs/html. Any warning fails it and is printed: an undocumented
 # public function, struct, field, enum value, typedef or macro, or a doc comment Doxygen cannot read.
 # doxygen is not a build dependency (plain make does not ask for it); make deps installs it.
@@ -172,17 +176,21 @@ docs:
 	    fi
 	@echo "API reference: $(BUILD)/docs/html/index.html"
 
-# headers under include/plume/ as in the tree (include/, lib/ROOM/, macro/, micro/, drivers/), with the umbrella plume.h at
-# its root; pkg-config's Cflags point there, so other C code writes #include <plume.h>
+# the ABI of the public face against the committed baseline abi/libplume.abi (libabigail's abidw
+# and abidiff, Debian's abigail-tools; docs/development.md, "The public face and the ABI")
+abi-check: $(BUILD)/libplume.so
+	bash scripts/abi-check.sh $(BUILD)
+abi-update: $(BUILD)/libplume.so
+	bash scripts/abi-check.sh $(BUILD) --update
+
+# the public headers (include/plume/*.h) in PREFIX/include/plume/; pkg-config's Cflags point at
+# PREFIX/include, so other C code writes #include <plume/plume.h> (or <plume/scene.h>, ...)
 install: all
 	install -d $(DESTDIR)$(PREFIX)/lib $(DESTDIR)$(PREFIX)/include/plume $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/bin
 	install -m 644 $(BUILD)/libplume.a $(BUILD)/$(SOFILE) $(DESTDIR)$(PREFIX)/lib/
 	ln -sf $(SOFILE) $(DESTDIR)$(PREFIX)/lib/$(SONAME)
 	ln -sf $(SOFILE) $(DESTDIR)$(PREFIX)/lib/libplume.so
-	for h in $(HEADERS); do install -d $(DESTDIR)$(PREFIX)/include/plume/$$(dirname $$h); \
-	    install -m 644 $$h $(DESTDIR)$(PREFIX)/include/plume/$$h; done
-	printf '/* plume: the umbrella header (the library is include/plume.h) */\n#include "include/plume.h"\n' \
-	    > $(DESTDIR)$(PREFIX)/include/plume/plume.h
+	install -m 644 $(PUBLIC_HEADERS) $(DESTDIR)$(PREFIX)/include/plume/
 	install -m 755 $(APPS) $(DESTDIR)$(PREFIX)/bin/
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBS@|$(LDLIBS)|' -e 's|@VERSION@|$(VERSION_MAJOR).$(VERSION_MINOR).$(VERSION_PATCH)|' \
 	    plume.pc.in > $(DESTDIR)$(PREFIX)/lib/pkgconfig/plume.pc

@@ -14,7 +14,6 @@
 
 #include <jansson.h>
 
-#include "../lib/io/fs.h"
 
 /* What an app's parse_args returns after printing --help (main then exits 0): a flag parser
  * never exits by itself, so it can be fuzzed (tests/fuzz/fuzz_cli_*.c). */

@@ -16,8 +16,9 @@
 
 #include "../lib/sim/dynamics.h"
 #include "../lib/io/frames.h"
-#include "../include/plume.h"
+#include "../include/plume/plume.h"
 #include "../lib/io/render.h"
+#include "../lib/io/progress.h"
 #include "../macro/scene.h"
 #include "cli.h"
 

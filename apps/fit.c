@@ -8,10 +8,7 @@
 
 #include <jansson.h>
 
-#include "../include/plume.h"
-#include "../macro/plate_bending.h"
-#include "../macro/traction_model.h"
-#include "../micro/fit.h"
+#include "../include/plume/plume.h"
 #include "cli.h"
 #include "schedule.h"
 
@@ -464,7 +461,7 @@ int main(int argc, char **argv)
     memset(model, 0, sizeof model);
     double strain_max = 0.0;
     rc = read_targets(&o, curves, &strain_max);
-    plume_macro_model mm = {o.lx, o.ly, o.h, o.edge > 0 ? o.edge : fmin(o.lx, o.ly) / 20.0, PLUME_PATCH_ALIGNED,
+    plume_macro_model mm = {o.lx, o.ly, o.h, o.edge > 0 ? o.edge : plume_traction_default_edge(o.lx, o.ly), PLUME_PATCH_ALIGNED,
                             o.constraint, 0.0, strain_max, o.steps, o.nt, o.angles, PLUME_SOLVER_NEWTON};
     plume_ortho fit;
     plume_fit_report rep;

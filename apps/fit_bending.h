@@ -163,7 +163,7 @@ static int run_bending_fit(const options *o, int rank, int size)
     /* the model: traction's macro plate, linearized (its membrane then does not enter: the barb
      * phase's isotropic stand-in), one step (the response is linear in the moment) */
     const plume_membrane_material membrane = {1e9, 1e9, 0.3, 1e9 / 2.6, 1e-4, 0.0, 0};
-    plume_plate_model pm = {t.lx,     t.ly, o->edge > 0 ? o->edge : fmin(t.lx, t.ly) / 20.0, membrane, t.n, t.angles,
+    plume_plate_model pm = {t.lx,     t.ly, o->edge > 0 ? o->edge : plume_traction_default_edge(t.lx, t.ly), membrane, t.n, t.angles,
                             t.loads, t.moments, 1, PLUME_SOLVER_LINEARIZED};
     plume_ortho start, fit;
     plume_bend_pack(&sb, &start);

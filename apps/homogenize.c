@@ -7,10 +7,12 @@
 
 #include <jansson.h>
 
-#include "../include/plume.h"
+#include "../include/plume/plume.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"
 #include "../micro/layout_json.h"
+#include "../micro/cell_mesh.h"
+#include "../macro/fields.h"
 #include "cli.h"
 
 static const char usage[] =

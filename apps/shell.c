@@ -12,7 +12,7 @@
 
 #include <jansson.h>
 
-#include "../include/plume.h"
+#include "../include/plume/plume.h"
 #include "../lib/sim/statics.h"
 #include "../macro/scene.h"
 #include "cli.h"

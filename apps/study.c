@@ -15,10 +15,7 @@
 
 #include <jansson.h>
 
-#include "../include/plume.h"
-#include "../drivers/study.h"
-#include "../drivers/stability.h"
-#include "../micro/homogenize.h"
+#include "../include/plume/plume.h"
 #include "cli.h"
 #include "schedule.h"
 

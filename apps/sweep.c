@@ -14,8 +14,7 @@
 
 #include <jansson.h>
 
-#include "../include/plume.h"
-#include "../drivers/sweep.h"
+#include "../include/plume/plume.h"
 #include "cli.h"
 #include "schedule.h"
 

@@ -10,11 +10,12 @@
 
 #include <jansson.h>
 
-#include "../include/plume.h"
+#include "../include/plume/plume.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"
 #include "../micro/layout_json.h"
 #include "../micro/micro_model.h"
+#include "../macro/fields.h"
 #include "cli.h"
 #include "traction_size.h"
 #include "traction_bending.h"
@@ -102,7 +103,7 @@ static int parse_args(int argc, char **argv, options *o)
     memset(o, 0, sizeof *o);
     o->scenario = "tilted";
     o->model = "macro";
-    o->dB_rel = 0.086, o->e_rel = 0.0;
+    o->dB_rel = plume_traction_default_barb_spacing(1.0), o->e_rel = 0.0;
     o->mesh = "aligned";
     o->solver = "newton";
     o->lx = 1.0, o->ly = 1.3, o->h = 1.0;
@@ -583,7 +584,7 @@ static int build_traction_opts(const options *o, traction_job *j)
         return fail("--solver expects newton|ipopt|linearized (got '%s')%s", o->solver, "");
     if (!(o->strain_max > 0 && o->strain_max < 10))
         return fprintf(stderr, "traction: --strain-max must be in (0, 10) (got %g)\n", o->strain_max), 2;
-    j->edge = o->edge > 0 ? o->edge : fmin(o->lx, o->ly) / 20.0;
+    j->edge = o->edge > 0 ? o->edge : plume_traction_default_edge(o->lx, o->ly);
     if (o->edge < 0)
         return fprintf(stderr, "traction: --edge must be > 0 (got %g)\n", o->edge), 2;
     to->lx = o->lx, to->ly = o->ly, to->h = o->h;

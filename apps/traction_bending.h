@@ -11,7 +11,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../include/plume.h"
+#include "../include/plume/plume.h"
 
 typedef struct {
     const char *load, *out, *model;
@@ -196,7 +196,7 @@ static int run_bending(const bending_cli *c, const plume_layout *layout, int wan
         plume_mesh *mesh = NULL;
         plume_problem *p = NULL;
         /* the in-plane moduli do not enter a linear bending test of a flat plate: the barb phase's */
-        const double edge = c->edge > 0.0 ? c->edge : fmin(c->lx, c->ly) / 20.0;
+        const double edge = c->edge > 0.0 ? c->edge : plume_traction_default_edge(c->lx, c->ly);
         plume_bend_opts bm = bo;
         bm.phases = &hom, bm.nphases = 1;
         if ((st = plume_plate_specimen(c->lx, c->ly, c->angle, edge, &mats[0], &hom, &mesh, &p, &err)) != PLUME_OK)

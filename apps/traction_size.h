@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../include/plume.h"
+#include "../include/plume/plume.h"
 
 #define SIZE_EFFECT_MAX 6
 

@@ -18,7 +18,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "../include/plume.h"
+#include "../tests/plume_tree.h"
 #include "../tests/bend_meshes.h"
 
 static double now(void)

@@ -26,7 +26,7 @@
 
 #include <jansson.h>
 
-#include "../include/plume.h"
+#include "../tests/plume_tree.h"
 #include "../lib/contact/contact_broad.h"
 
 #define SPEED_STEPS 30

@@ -11,7 +11,7 @@
 
 #include <jansson.h>
 
-#include "../include/plume.h"
+#include "../tests/plume_tree.h"
 
 #define STEPS 20
 #define DEFAULT_SCENE "data/feather/scene_anisotropic.json"

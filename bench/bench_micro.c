@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../include/plume.h"
+#include "../tests/plume_tree.h"
 #include "../micro/cell_linear.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"

@@ -13,7 +13,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "../include/plume.h"
+#include "../tests/plume_tree.h"
 #include "../micro/cell_linear.h"
 #include "../micro/cell_plate.h"
 #include "../micro/layout.h"

@@ -10,7 +10,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../include/plume.h"
+#include "../tests/plume_tree.h"
 #include "../lib/sim/statics.h"
 #include "../macro/scene.h"
 

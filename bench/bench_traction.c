@@ -14,7 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "../include/plume.h"
+#include "../tests/plume_tree.h"
 
 typedef struct {
     int ok, converged, iterations, factorizations, chord_steps;

@@ -18,7 +18,7 @@
 
 #include <jansson.h>
 
-#include "../include/plume.h"
+#include "../tests/plume_tree.h"
 #include "../lib/contact/contact_broad.h"
 
 #define STEPS 30

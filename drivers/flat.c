@@ -268,8 +268,10 @@ typedef struct {
 
 static plume_status get_traction_setup(json_t *req, const char *what, traction_setup *t, plume_err *err)
 {
-    t->lx = 1.0, t->ly = 1.3, t->h = 1.0, t->kappa = 0.0, t->edge = -1.0, t->strain_max = 0.05;
-    t->constraint = 1, t->steps = 10, t->mesh = PLUME_PATCH_ALIGNED, t->solver = PLUME_SOLVER_NEWTON;
+    plume_traction_opts d;
+    plume_traction_opts_default(&d);
+    t->lx = 1.0, t->ly = 1.3, t->h = 1.0, t->kappa = 0.0, t->edge = -1.0, t->strain_max = d.strain_max;
+    t->constraint = 1, t->steps = d.steps, t->mesh = PLUME_PATCH_ALIGNED, t->solver = PLUME_SOLVER_NEWTON;
     const char *mesh = NULL, *solver = NULL;
     plume_status st;
     if ((st = get_number(req, what, "lx", &t->lx, err)) != PLUME_OK ||
@@ -290,7 +292,7 @@ static plume_status get_traction_setup(json_t *req, const char *what, traction_s
         return plume_err_set(err, PLUME_EINVAL, "%s request: \"strain_max\" must be in (0, 10) and \"steps\" >= 1 "
                                                 "(got %g, %d)", what, t->strain_max, t->steps);
     if (t->edge < 0.0)
-        t->edge = fmin(t->lx, t->ly) / 20.0;
+        t->edge = plume_traction_default_edge(t->lx, t->ly);
     if (!(t->edge > 0.0))
         return plume_err_set(err, PLUME_EINVAL, "%s request: \"edge\" must be > 0 (got %g)", what, t->edge);
     if (mesh && plume_patch_kind_parse(mesh, &t->mesh) != PLUME_OK)
@@ -318,9 +320,9 @@ static plume_status traction_specimen(json_t *req, const traction_setup *t, int 
 {
     plume_status st;
     if (micro) {
-        /* as apps/traction: barbs 0.086 ly apart, elements chosen from the thinnest strip, unless the
-         * layout says */
-        plume_layout_set_spacing(layout, 0.086 * t->ly);
+        /* as apps/traction: barbs plume_traction_default_barb_spacing apart, elements chosen from
+         * the thinnest strip, unless the layout says */
+        plume_layout_set_spacing(layout, plume_traction_default_barb_spacing(t->ly));
         if ((st = get_layout(req, "traction", layout, err)) != PLUME_OK)
             return st;
         layout->h = t->h, layout->kappa = t->kappa;
@@ -406,7 +408,6 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     int convergence = 1;
     plume_vane vane;
     plume_vane_default(&vane);
-    vane.moduli.E_xx = 1e4, vane.moduli.E_yy = 1.0, vane.moduli.G_xy = 1.0, vane.moduli.nu_xy = 0.0;
     plume_layout layout;
     plume_layout_default(&layout);
     plume_mesh *mesh = NULL;

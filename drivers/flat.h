@@ -45,75 +45,14 @@
 #ifndef PLUME_FLAT_H
 #define PLUME_FLAT_H
 
+#include "../include/plume/flat.h"
+
 #include "../lib/core/export.h"
 #include "../lib/core/status.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/** Runs the "homogenize" request above (plume_homogenize) and gives its result in *result, a
- * malloc'ed JSON text (plume_flat_free; NULL on failure). PLUME_EFORMAT / PLUME_EINVAL for a bad
- * request, and the errors of the homogenisation, with the message in msg. */
-PLUME_API plume_status plume_flat_homogenize(const char *request, char **result, char *msg, long nmsg);
-/** Runs the "traction" request above (the macro vane or the micro specimen through
- * plume_traction_run) and gives its result in *result (plume_flat_free; NULL on failure). A run
- * that does not converge is a result ("converged": false, "stop_reason"), not an error. */
-PLUME_API plume_status plume_flat_traction(const char *request, char **result, char *msg, long nmsg);
-/** Runs the "fit" request above (plume_fit_moduli over the macro traction model) and gives its
- * result in *result (plume_flat_free; NULL on failure). */
-PLUME_API plume_status plume_flat_fit(const char *request, char **result, char *msg, long nmsg);
-/** Frees a text this interface returned (free()); NULL-safe. */
-PLUME_API void plume_flat_free(char *text);
-
-/** A dynamic scene (macro/scene.h) being stepped, with its contact and friction if it has them. */
-typedef struct plume_flat_scene plume_flat_scene;
-
-/** Loads and sets up the scene at `path` (errors name the file, line and key). */
-PLUME_API plume_status plume_flat_scene_open(const char *path, plume_flat_scene **out, char *msg, long nmsg);
-/** The same from a scene document in memory (JSON text) standing for the file `path`: relative file
- * names in it resolve against path's directory, errors name path and the key (macro/scene.h,
- * plume_scene_load_json). */
-PLUME_API plume_status plume_flat_scene_open_json(const char *json, const char *path, plume_flat_scene **out, char *msg,
-                                                  long nmsg);
-/** Frees the scene, its problem, stepper and output series; sets *s = NULL; NULL-safe. */
-PLUME_API void plume_flat_scene_close(plume_flat_scene **s);
-
-/** Advances nsteps time steps of the scene's dt (each halved when it fails, as apps/feather does).
- * *report (may be NULL) gets {"steps", "time", "converged", "halvings", "newton_iterations",
- * "max_violation", "seconds", "stop_reason"}. A step that does not converge at the smallest step
- * is not an error: the state stays at the last converged substep, "converged" is false, and the
- * status is PLUME_OK. */
-PLUME_API plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **report, char *msg, long nmsg);
-
-/** The scene mesh's number of vertices nv (0 for s NULL). */
-PLUME_API long plume_flat_scene_nv(const plume_flat_scene *s);
-/** The scene mesh's number of triangles nt (0 for s NULL). */
-PLUME_API long plume_flat_scene_nt(const plume_flat_scene *s);
-/** The time of the current state (s; NaN for s NULL). */
-PLUME_API double plume_flat_scene_time(const plume_flat_scene *s);
-
-/** Copies the current positions (3 nv, vertex-major, m) into out (caller-allocated); nothing when
- * s or out is NULL. */
-PLUME_API void plume_flat_scene_positions(const plume_flat_scene *s, double *out);
-/** Copies the current velocities (3 nv, vertex-major, m/s) into out (caller-allocated). */
-PLUME_API void plume_flat_scene_velocities(const plume_flat_scene *s, double *out);
-/** Copies the reference positions (2 nv: the material coordinates X, m) into out (caller-allocated). */
-PLUME_API void plume_flat_scene_reference(const plume_flat_scene *s, double *out);
-/** Copies the triangles (3 nt vertex ids, as longs) into out (caller-allocated). */
-PLUME_API void plume_flat_scene_triangles(const plume_flat_scene *s, long *out);
-
-/** Writes the current state as the next frame of a ParaView series in directory dir (created if
- * needed): dir/frames.pvd with dir/frame_NNNNN.vtu (and dir/frame_barbs_NNNNN.vtu when the scene
- * has constrained barbs; macro/fields.h); the first call with a dir starts its series (frame 0),
- * later calls with the same dir append. */
-PLUME_API plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, char *msg, long nmsg);
-/** Appends the current state as a frame of the frames file `path` (HDF5, docs/hdf5-layout.md: time,
- * step, positions, velocities, multipliers), which apps/feather writes too and plume_frames_read
- * reads. The first call for a path creates the file (and its directory, with its parents; a file
- * there is replaced) with the scene's absolute path in it; later calls with the same path append.
- * Errors name the file. */
-PLUME_API plume_status plume_flat_scene_write_frames(plume_flat_scene *s, const char *path, char *msg, long nmsg);
 
 #ifdef __cplusplus
 }

@@ -14,9 +14,9 @@
 #include <hdf5.h>
 #include <jansson.h>
 
-#include "../lib/io/internal/h5_atomic.h"
-#include "../lib/io/internal/h5util.h"
-#include "../lib/io/internal/input_file.h"
+#include "../lib/io/h5_atomic.h"
+#include "../lib/io/h5util.h"
+#include "../lib/io/input_file.h"
 #include "../lib/io/progress.h"
 #include "../lib/io/sample.h"
 #include "flat.h"
@@ -582,7 +582,7 @@ static plume_status fill_run_record(hid_t fid, const char *path, const void *vct
 }
 
 /* The results file is rewritten whole for each run (a copy edited and renamed over it,
- * lib/io/internal/h5_atomic.h): an HDF5 file edited in place and killed in the middle of its
+ * lib/io/h5_atomic.h): an HDF5 file edited in place and killed in the middle of its
  * metadata flush can lose links or point them at other runs' groups (measured: 45 of 130 kill
  * points of a 9-run sweep). A full disk fails the copy and leaves the file as it was. */
 plume_status plume_sweep_results_add(const char *h5path, const plume_sweep *s, int k, const char *record,

@@ -9,8 +9,8 @@
 #include <string.h>
 
 #include "../lib/contact/contact.h"
-#include "../lib/io/internal/h5util.h"
-#include "../lib/io/internal/json_read.h"
+#include "../lib/io/h5util.h"
+#include "../lib/io/json_read.h"
 #include "../macro/scene.h"
 
 void plume_sweep_scene_free(plume_sweep_scene *sc)

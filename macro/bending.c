@@ -79,7 +79,7 @@
  *
  * Nothing is allocated after create. */
 #include "bending.h"
-#include "../lib/core/internal/vec3.h"
+#include "../lib/core/vec3.h"
 
 #include "../lib/core/dense.h"
 

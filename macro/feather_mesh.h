@@ -57,7 +57,7 @@ enum {
  * curve with fewer than 2 points or non-finite coordinates, a self-intersecting outline or barb
  * curve, a rachis or barb curve whose start lies outside the outline, a side with no barb curve,
  * edge <= 0 or too small for the outline (more than 5e6 triangles). */
-PLUME_API plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_mesh **out, plume_index **barb_edges,
+plume_status plume_feather_mesh(const plume_feather_input *in, int dim, plume_mesh **out, plume_index **barb_edges,
                                           plume_index *nbarb, plume_err *err);
 
 /** Why a vane triangle owns no barb edge: the first of these that applies to one of its vertices.
@@ -78,7 +78,7 @@ enum {
 };
 
 /** Names of the reasons above ("rachis junction", "outline", "barb end", "other"); NULL out of range. */
-PLUME_API const char *plume_feather_uncovered_name(int reason);
+const char *plume_feather_uncovered_name(int reason);
 
 /** Barb coverage and quality of a feather mesh (docs/design.md, "Meshes that respect the fibres"). */
 typedef struct {
@@ -99,11 +99,11 @@ typedef struct {
  * outline when it is a boundary vertex, of the strip when a rachis triangle uses it, and ends a
  * barb when exactly one barb edge uses it. Errors: PLUME_EINVAL (NULL mesh or n, no topology,
  * vertex id out of range), PLUME_ENOMEM. */
-PLUME_API plume_status plume_feather_uncovered(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
+plume_status plume_feather_uncovered(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
                                                plume_index **tri, unsigned char **reason, plume_index *n, plume_err *err);
 
 /** plume_feather_mesh, and *stats (if non-NULL) filled as above; same outputs and errors. */
-PLUME_API plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int dim, plume_mesh **out,
+plume_status plume_feather_mesh_with_stats(const plume_feather_input *in, int dim, plume_mesh **out,
                                                      plume_index **barb_edges, plume_index *nbarb, plume_feather_stats *stats,
                                                      plume_err *err);
 

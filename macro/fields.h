@@ -39,14 +39,14 @@ typedef struct {
 } plume_field_values;
 
 /** The names of the per-triangle fields above, as a render takes them: "mean_curvature, J, ...". */
-PLUME_API const char *plume_field_names(void);
+const char *plume_field_names(void);
 /** 1 when a render can be coloured by `name`: "material", "object" or one of plume_field_names. */
-PLUME_API int plume_render_field_valid(const char *name);
+int plume_render_field_valid(const char *name);
 /** The colour-bar label of a field name (with its unit), NULL for an unknown name. */
-PLUME_API const char *plume_field_label(const char *name);
+const char *plume_field_label(const char *name);
 /** Copies the field `name` (one of plume_field_names; strain_bb etc. are components of
  * green_strain and stress) into out[v->nt]. PLUME_EINVAL naming the names for an unknown one. */
-PLUME_API plume_status plume_field_values_select(const plume_field_values *v, const char *name, double *out,
+plume_status plume_field_values_select(const plume_field_values *v, const char *name, double *out,
                                                  plume_err *err);
 
 /** Opaque field calculator of one mesh: materials, the bending term, the barb edges, the rest
@@ -60,35 +60,35 @@ typedef struct plume_fields plume_fields;
  * object (its `energies` gives the bending energy; NULL: none; its stencils are the triangles,
  * or the mesh's hinges for the hinge model), and the constrained barb edges (copied, may be
  * NULL). PLUME_EINVAL naming what is wrong, PLUME_ENOMEM. */
-PLUME_API plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt_elastic,
+plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt_elastic,
                                            const plume_membrane_material *mats, int nmat, plume_term *bending,
                                            const plume_index *barb_edges, plume_index nbarb, plume_fields **out,
                                            plume_err *err);
 /** Frees the object, its bending term and its output arrays (not the mesh); sets *f = NULL;
  * NULL-safe. */
-PLUME_API void plume_fields_destroy(plume_fields **f);
+void plume_fields_destroy(plume_fields **f);
 
 /** Computes the fields at positions x (dim * nv). */
-PLUME_API plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_values *out, plume_err *err);
+plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_values *out, plume_err *err);
 
 /** Starts a ParaView series in directory dir: files "<stem>_NNNNN.vtu" (and
  * "<stem>_barbs_NNNNN.vtu") and the collection dir/pvd_name (e.g., "frames.pvd"). With
  * resume_until >= 0 an existing collection keeps its entries of time <= resume_until (a restarted
  * run); otherwise it is replaced at the first frame. */
-PLUME_API plume_status plume_fields_series_start(plume_fields *f, const char *dir, const char *pvd_name, const char *stem,
+plume_status plume_fields_series_start(plume_fields *f, const char *dir, const char *pvd_name, const char *stem,
                                                  double resume_until, plume_err *err);
 
 /** Gives each triangle the scene object it belongs to: object i has triangles t0[i] to
  * t0[i] + nt[i] - 1 (others get -1). From then on the frames carry the cell array "object"
  * (Int32), which tells a scene's bodies apart in ParaView. PLUME_EINVAL naming a range outside
  * the mesh, PLUME_ENOMEM. */
-PLUME_API plume_status plume_fields_set_objects(plume_fields *f, int nobjects, const plume_index *t0, const plume_index *nt,
+plume_status plume_fields_set_objects(plume_fields *f, int nobjects, const plume_index *t0, const plume_index *nt,
                                                 plume_err *err);
 
 /** Writes frame `index` at time t (positions x): its .vtu files and the updated .pvd. Point data:
  * displacement; cell data: material, barb_direction, the fields above, and "object" after
  * plume_fields_set_objects. */
-PLUME_API plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err);
+plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err);
 
 #ifdef __cplusplus
 }

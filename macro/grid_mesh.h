@@ -14,7 +14,7 @@ extern "C" {
  * diagonal from its lower-left to its upper-right corner. barb_dir = d (normalised; (1, 0) if
  * d is NULL), material 0, topology built, x = X (z = 0 in shell mode). Errors (PLUME_EINVAL,
  * message): non-positive or non-finite sizes, nx or ny < 1, more than 5e6 triangles. */
-PLUME_API plume_status plume_grid_mesh(double lx, double ly, long nx, long ny, const double d[2], int dim, plume_mesh **out,
+plume_status plume_grid_mesh(double lx, double ly, long nx, long ny, const double d[2], int dim, plume_mesh **out,
                                        plume_err *err);
 
 #ifdef __cplusplus

@@ -1,6 +1,6 @@
 /* plume: the outline of an OBJ triangle mesh (macro/obj_outline.h). */
 #include "obj_outline.h"
-#include "../lib/io/internal/input_file.h"
+#include "../lib/io/input_file.h"
 
 #include <errno.h>
 #include <stdio.h>

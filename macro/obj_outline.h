@@ -13,7 +13,7 @@ extern "C" {
 /** Reads the boundary of a triangle mesh in OBJ (v x y [z] / f i j k; only x and y are used) as a
  * closed outline (the single boundary loop, counter-clockwise); *points malloc'ed [2 n].
  * Errors name the file and line. */
-PLUME_API plume_status plume_obj_outline(const char *path, double **points, plume_index *n, plume_err *err);
+plume_status plume_obj_outline(const char *path, double **points, plume_index *n, plume_err *err);
 
 #ifdef __cplusplus
 }

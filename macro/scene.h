@@ -10,6 +10,8 @@
 #ifndef PLUME_SCENE_H
 #define PLUME_SCENE_H
 
+#include "../include/plume/scene.h"
+
 #include "../lib/core/export.h"
 #include "../lib/contact/contact.h"
 #include "../lib/sim/dynamics.h"
@@ -74,7 +76,7 @@ typedef struct {
 
 /** A loaded, validated scene. Everything is owned by the scene (plume_scene_destroy). The caller
  * may change the run settings (dt, solver, ...) before plume_scene_dynamics. */
-typedef struct {
+struct plume_scene {
     char *path;                   /**< the scene file as given */
     plume_mesh *mesh;             /**< shell mode (dim 3), topology built, x = (X, 0), or for objects
                                      their placed positions */
@@ -129,44 +131,18 @@ typedef struct {
     plume_scene_moment *moments;  /**< [nmoments] */
     int nprobes;                  /**< number of probes */
     plume_scene_probe *probes;    /**< [nprobes] */
-} plume_scene;
-
-/** Reads, validates and meshes the scene in `path`. Errors (PLUME_EIO unreadable file,
- * PLUME_EFORMAT malformed JSON or a wrong type, PLUME_EINVAL a bad value) name the file, the line
- * and the key ("scene.json:12: materials[0].density must be finite and > 0 (got -1)"). */
-PLUME_API plume_status plume_scene_load(const char *path, plume_scene **out, plume_err *err);
-
-/** What a caller may change in a scene before it is meshed (convergence studies). */
-typedef struct {
-    double edge;          /**< > 0: replaces mesh.edge (feather and rectangle meshes) */
-    const char *pattern;  /**< non-NULL: replaces a rectangle's "pattern" */
-} plume_scene_load_opts;
-
-/** plume_scene_load with overrides (o may be NULL); an override that does not apply to the
- * scene's mesh (an edge for an OBJ) is an error naming the key. */
-PLUME_API plume_status plume_scene_load_with(const char *path, const plume_scene_load_opts *o, plume_scene **out,
-                                             plume_err *err);
-
-/** plume_scene_load_with on a scene document held in memory (JSON text, e.g., a file's document
- * with some keys changed: apps/sweep) instead of the file: `path` is the file it stands for, whose
- * directory relative file names (OBJ meshes, feather shapes) resolve against; errors name `path`
- * and the key, without a line (the text is not the file). The caller keeps json. */
-PLUME_API plume_status plume_scene_load_json(const char *json, const char *path, const plume_scene_load_opts *o,
-                                             plume_scene **out, plume_err *err);
-/** Frees the scene and everything it owns (mesh, materials, handles, probes, ...); sets *s = NULL;
- * NULL-safe. */
-PLUME_API void plume_scene_destroy(plume_scene **s);
+};
 
 /** Builds the problem (membrane and bending terms per material, edge-length constraints on the
  * barb edges) with x at the rest state, and the implicit Euler stepper with the scene's
  * densities, handles, gravity, dt, solver, max_halvings and max_iter. *p and *d belong to the
  * caller (destroy d first); the scene must outlive them. */
-PLUME_API plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **p, plume_dynamics **d, plume_err *err);
+plume_status plume_scene_dynamics(const plume_scene *s, plume_problem **p, plume_dynamics **d, plume_err *err);
 
 /** The same, and *contact (may be NULL; NULL without a "contact" block) the contact term's handle
  * for plume_contact_term_stats, valid as long as *p. A contact scene is first checked by
  * plume_scene_check_start. */
-PLUME_API plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_problem **p, plume_dynamics **d,
+plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_problem **p, plume_dynamics **d,
                                                     plume_contact **contact, plume_err *err);
 
 /** Checks the start of a contact scene (no-op without contact): its bodies at rest, and on the way
@@ -174,30 +150,24 @@ PLUME_API plume_status plume_scene_dynamics_contact(const plume_scene *s, plume_
  * along it, the last at t = 0), must not intersect — barrier contact cannot start from crossed
  * bodies. PLUME_EINVAL naming the scene, the two bodies (objects' names, else "body N") and the
  * first crossing pair of triangles. */
-PLUME_API plume_status plume_scene_check_start(const plume_scene *s, plume_err *err);
+plume_status plume_scene_check_start(const plume_scene *s, plume_err *err);
 
 /** The output fields of the scene's states (fields.h): its membrane materials, its bending term
  * and its barb edges, over the whole mesh (kinematic triangles get NaN). The caller destroys *out;
  * it borrows the scene's mesh, so the scene must outlive it. */
-PLUME_API plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_err *err);
-
-/** Builds the problem of a static scene (membrane, bending, constraints, the nominal loads and
- * moments; clamps and handles fixed) and its load-stepping driver (lib/sim/statics.h) with the
- * scene's steps, solver and max_iter. *p and *st belong to the caller (destroy st first); the
- * scene must outlive them. Errors: the scene is not static (PLUME_EINVAL). */
-PLUME_API plume_status plume_scene_statics(const plume_scene *s, plume_problem **p, plume_statics **st, plume_err *err);
+plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_err *err);
 
 /** The body of each vertex (body [nv], caller-allocated): the connected components of the scene's
  * mesh, numbered from 0 in vertex order; returns their count. */
-PLUME_API int plume_scene_bodies(const plume_scene *s, int *body);
+int plume_scene_bodies(const plume_scene *s, int *body);
 
 /** A broad phase over the scene's bodies (plume_scene_bodies) with the scene's self-contact
  * setting, for measuring distances and intersections after each step (apps/feather, sweeps);
  * the caller destroys *out. */
-PLUME_API plume_status plume_scene_contact_broad(const plume_scene *s, plume_contact_broad **out, plume_err *err);
+plume_status plume_scene_contact_broad(const plume_scene *s, plume_contact_broad **out, plume_err *err);
 
 /** Mean displacement (3) of probe k at positions x (3 nv). */
-PLUME_API void plume_scene_probe_displacement(const plume_scene *s, int k, const double *x, double u[3]);
+void plume_scene_probe_displacement(const plume_scene *s, int k, const double *x, double u[3]);
 
 #ifdef __cplusplus
 }

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/io/internal/obj_read.h"
+#include "../lib/io/obj_read.h"
 #include "feather_mesh.h"
 #include "grid_mesh.h"
 #include "patch_mesh.h"

@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/io/internal/obj_read.h"
+#include "../lib/io/obj_read.h"
 #include "../lib/core/rigid_motion.h"
 
 static const double deg = 3.14159265358979323846 / 180.0;

@@ -150,7 +150,7 @@
  * Nothing is allocated after create. */
 #include "shape_bending.h"
 #include "internal/shape_stencil.h"
-#include "../lib/core/internal/vec3.h"
+#include "../lib/core/vec3.h"
 
 #include <float.h>
 #include <math.h>
@@ -814,14 +814,14 @@ static plume_status own_stencil(const plume_mesh *mesh, plume_index t, const dou
     if ((st = clamp_mirrors(mesh, t, rest_x, clamped, across, F, p, &gr, err)) != PLUME_OK)
         return st;
     W->phase = phase_aware ? mesh->material[t] : -1;
-    double q = shape_choose_stencil(mesh, t, R, &gr, W, p);
+    double q = plume_shape_choose_stencil(mesh, t, R, &gr, W, p);
     if (q >= 0.0 && !(q >= SHAPE_MIN_STENCIL) && phase_aware) {
         /* the phase is too thin to hold a well-conditioned stencil: the whole mesh's */
         for (int k = 0; k < 3; k++)
             if (F->a[k] < 0)
                 p[k] = across[k];
         W->phase = -1;
-        q = shape_choose_stencil(mesh, t, R, &gr, W, p);
+        q = plume_shape_choose_stencil(mesh, t, R, &gr, W, p);
     }
     W->phase = -1;
     if (q < 0.0)
@@ -1091,7 +1091,7 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
     tri_build tb = {bslot, 0, 0, bpt, {bcoef[0], bcoef[1], bcoef[2]}};
     ctx = calloc(1, sizeof *ctx);
     fits = malloc((size_t)(nt + 1) * sizeof *fits);
-    if (!ctx || !fits || shape_search_init(&W, mesh) != 0) {
+    if (!ctx || !fits || plume_shape_search_init(&W, mesh) != 0) {
         st = plume_err_set(err, PLUME_ENOMEM, "shape bending: out of memory");
         goto cleanup;
     }
@@ -1121,6 +1121,6 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
 cleanup:
     shape_destroy(ctx);
     free(fits);
-    shape_search_free(&W);
+    plume_shape_search_free(&W);
     return st;
 }

@@ -35,7 +35,7 @@ extern "C" {
  * normalised, a degenerate reference triangle, a triangle with no well-conditioned stencil (a
  * mesh with too few vertices, e.g., one or two triangles), a rest_x that is not finite or
  * collapses a triangle. */
-PLUME_API plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
+plume_status plume_shape_bending_term_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
                                                        const double *rest_x, plume_term *out, plume_err *err);
 
 /** Options of plume_shape_bending_term_create_opts (all zero: the default term above).
@@ -70,7 +70,7 @@ typedef struct {
 
 /** The term with options (o may be NULL). Errors as above, and PLUME_EINVAL for a clamped edge
  * with no mirror plane (a collapsed rest_x triangle). */
-PLUME_API plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const plume_bending_material *mats,
+plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const plume_bending_material *mats,
                                                             int nmat, const double *rest_x, const plume_shape_bending_opts *o,
                                                             plume_term *out, plume_err *err);
 

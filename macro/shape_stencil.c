@@ -7,7 +7,7 @@
 #include <string.h>
 
 
-int shape_search_init(search_ws *W, const plume_mesh *m)
+int plume_shape_search_init(search_ws *W, const plume_mesh *m)
 {
     const plume_index nv = m->nv, nt = m->nt;
     memset(W, 0, sizeof *W);
@@ -31,7 +31,7 @@ int shape_search_init(search_ws *W, const plume_mesh *m)
     return 0;
 }
 
-void shape_search_free(search_ws *W)
+void plume_shape_search_free(search_ws *W)
 {
     free(W->vstart);
     free(W->vtri);
@@ -170,7 +170,7 @@ static int ring_candidates(search_ws *W, const plume_mesh *m, const ref_tri *R, 
     return 1;
 }
 
-double shape_choose_stencil(const plume_mesh *m, plume_index t, const ref_tri *R, const ghost_ref *gr, search_ws *W,
+double plume_shape_choose_stencil(const plume_mesh *m, plume_index t, const ref_tri *R, const ghost_ref *gr, search_ws *W,
                             plume_index p[3])
 {
     const plume_index *tv = m->tri + 3 * t;

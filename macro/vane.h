@@ -5,6 +5,8 @@
 #ifndef PLUME_VANE_H
 #define PLUME_VANE_H
 
+#include "../include/plume/traction.h"
+
 #include "../lib/core/export.h"
 #include "../lib/io/curves.h"
 #include "../lib/core/membrane.h"
@@ -15,30 +17,11 @@
 extern "C" {
 #endif
 
-/** The macroscale vane's material and how its barbs are modelled (plume_vane_default). */
-typedef struct {
-    plume_ortho moduli;   /**< Pa */
-    double h;             /**< thickness, m */
-    double kappa;         /**< compression coefficient (Pa); 0 disables it */
-    int constraint;       /**< 1: barb edges inextensible; 0: penalty (E_xx only) */
-    double align_tol;     /**< |sin| of the angle below which an edge counts as barb-aligned; default 1e-6 */
-} plume_vane;
-
-/** Fills v with a dimensionless default: E_xx 1e4, E_yy 1, nu_xy 0, G_xy 1, h 1, kappa 0,
- * constraint on, align_tol 1e-6. Callers set the moduli and thickness of their sample. */
-PLUME_API void plume_vane_default(plume_vane *v);
-
-/** The vane's membrane material (its moduli, thickness and kappa). */
-PLUME_API plume_membrane_material plume_vane_material(const plume_vane *v);
-
-/** Validates the moduli and thickness (message names the parameter: "E_yy must be finite and > 0"). */
-PLUME_API plume_status plume_vane_check(const plume_vane *v, plume_err *err);
-
 /** Edges of the mesh (topology built) parallel to the barb direction of an adjacent triangle
  * (|sin| of the angle <= align_tol); returns a malloc'ed array of 2*n vertex ids (free with
  * free()). PLUME_EINVAL (no mesh or topology, align_tol < 0) and PLUME_ENOMEM with a message in
  * err (NULL allowed). */
-PLUME_API plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_index **edges,
+plume_status plume_vane_barb_edges(const plume_mesh *m, double align_tol, plume_index **edges,
                                              plume_index *n, plume_err *err);
 
 /** Barb coverage (docs/design.md, "Meshes that respect the fibres"): counts the triangles of `m`
@@ -50,16 +33,9 @@ PLUME_API plume_status plume_vane_barb_edges(const plume_mesh *m, double align_t
  * uncovered triangle ids (*total - *covered of them; NULL when none).
  * Errors: PLUME_EINVAL (NULL mesh or outputs, no topology, vertex id out of range, naming the
  * edge), PLUME_ENOMEM, with a message in err (NULL allowed). */
-PLUME_API plume_status plume_vane_barb_coverage(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
+plume_status plume_vane_barb_coverage(const plume_mesh *m, const plume_index *barb_edges, plume_index nbarb,
                                                 int material, plume_index *covered, plume_index *total,
                                                 plume_index **uncovered, plume_err *err);
-
-/** Adds the vane membrane (every triangle, material 0) and, when v->constraint is set, the
- * inextensibility constraint of the barb edges to `p` (created over mesh->nv vertices).
- * If barb_edges/nbarb are non-NULL they receive the constrained edges (malloc'ed; NULL/0 when
- * the constraint is off). */
-PLUME_API plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, const plume_vane *v,
-                                      plume_index **barb_edges, plume_index *nbarb, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -22,14 +22,14 @@ extern "C" {
  * sparse Cholesky solve, and the area-averaged stress gives a column of C. A finite-difference
  * probe of the nonlinear cell cannot do this at a barb/barbule contrast of 1e-6: the Green strain
  * of a tiny probe loses to round-off exactly the digits the soft phase needs. */
-PLUME_API plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
+plume_status plume_cell_linear_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
                                       double h_ref, double C[9], int *iterations, plume_err *err);
 
 /** C = T^T Cb T: a tensor given in the barb frame (Voigt with engineering shear, row-major) in the
  * cell frame, T the Voigt rotation of strains from the cell frame to the barb frame with the barb
  * direction d = (cos, sin) (unit). Curvatures (k11, k22, 2 k12) rotate like strains, so plate
  * tensors D use it too. */
-PLUME_API void plume_cell_rotate_stiffness(const double Cb[9], const double d[2], double C[9]);
+void plume_cell_rotate_stiffness(const double Cb[9], const double d[2], double C[9]);
 
 #ifdef __cplusplus
 }

@@ -16,7 +16,7 @@ extern "C" {
  * and (0, b), b = d_B. Vertices on opposite sides come in matching pairs (same y on x = 0 and
  * x = a, same x on y = 0 and y = b). Every vertex has a master: itself, or the vertex it is a
  * periodic image of; shift = X_v - X_master(v) is a lattice vector. */
-typedef struct {
+struct plume_cell {
     plume_mesh *mesh;      /**< owned; triangles carry material ids and barb_dir = (1, 0). Order 2: the
                               quadratic triangles split in four, its vertices the 6-node elements' nodes */
     plume_quadratic_mesh quad; /**< order 2: the quadratic triangles (quad.split is NULL: it is `mesh`);
@@ -27,7 +27,7 @@ typedef struct {
     plume_index *master;   /**< [nv] owned */
     double *shift;         /**< [2*nv] owned */
     plume_index nmasters;  /**< distinct masters */
-} plume_cell;
+};
 
 /** Meshes the periodic cell of a layout (constrained Delaunay through lib/core/cdt.h, no Steiner
  * points on the cell boundary so the periodic pairs match). For strips the cell length a along
@@ -37,16 +37,16 @@ typedef struct {
  * message): invalid layout, strips narrower than one element is fine but a strip that the mesh
  * cannot resolve (w_B or the gap below 1e-12 d_B), a barbule strip that does not fit in its cell
  * ("cell too small for its layout": barbule extent along the barbs >= barbule_spacing). */
-PLUME_API plume_status plume_cell_mesh(const plume_layout *l, plume_cell **out, plume_err *err);
+plume_status plume_cell_mesh(const plume_layout *l, plume_cell **out, plume_err *err);
 /** Frees the cell, its meshes and arrays; sets *c = NULL; NULL-safe. */
-PLUME_API void plume_cell_destroy(plume_cell **c);
+void plume_cell_destroy(plume_cell **c);
 
 /** Elements of the cell: its quadratic triangles at order 2, its triangles at order 1. */
-PLUME_API plume_index plume_cell_elements(const plume_cell *c);
+plume_index plume_cell_elements(const plume_cell *c);
 
 /** The membrane term over a micro mesh: the linear element over `mesh` (quad NULL or empty), or the
  * quadratic one over quad's triangles with mesh's vertices as nodes (lib/core/membrane_p2.h). Planar. */
-PLUME_API plume_status plume_micro_membrane_term(const plume_mesh *mesh, const plume_quadratic_mesh *quad,
+plume_status plume_micro_membrane_term(const plume_mesh *mesh, const plume_quadratic_mesh *quad,
                                                  const plume_membrane_material *mats, int nmat, plume_term *out,
                                                  plume_err *err);
 
@@ -56,7 +56,7 @@ PLUME_API plume_status plume_micro_membrane_term(const plume_mesh *mesh, const p
  * layouts leave the empty space out. Always linear triangles (plume_micro_specimen adds the
  * quadratic nodes).
  * Triangles get material ids and barb_dir = d; topology is built. */
-PLUME_API plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, double angle_deg,
+plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, double angle_deg,
                                            plume_mesh **out, plume_err *err);
 
 #ifdef __cplusplus

@@ -4,6 +4,8 @@
 #ifndef PLUME_CELL_PLATE_H
 #define PLUME_CELL_PLATE_H
 
+#include "../include/plume/homogenize.h"
+
 #include "../lib/core/export.h"
 #include "../lib/core/membrane.h"
 #include "cell_mesh.h"
@@ -12,25 +14,8 @@
 extern "C" {
 #endif
 
-/** The bending moduli of a plate (N m) in the barb frame (1 along the barbs), with the energy
- * density of macro/bending.h plus the bending-twist couplings
- *
- *     1/2 (D_long k11^2 + D_trans k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2
- *          + 4 D_16 k11 k12 + 4 D_26 k22 k12),
- *
- * i.e., 1/2 kappa^T D kappa with kappa = (k11, k22, 2 k12) and
- * D = [D_long D_coupling D_16; D_coupling D_trans D_26; D_16 D_26 D_twist]. */
-typedef struct {
-    double D_long;     /**< D_11: curvature along the barbs */
-    double D_trans;    /**< D_22: curvature across the barbs */
-    double D_coupling; /**< D_12: coupling of k11 and k22 */
-    double D_twist;    /**< D_66: twist */
-    double D_16;       /**< coupling of k11 and the twist (0 for an orthotropic cell) */
-    double D_26;       /**< coupling of k22 and the twist (0 for an orthotropic cell) */
-} plume_plate_moduli;
-
 /** The moduli of a tensor D (3x3 row-major, the Voigt order above). */
-PLUME_API void plume_plate_moduli_from_tensor(const double D[9], plume_plate_moduli *m);
+void plume_plate_moduli_from_tensor(const double D[9], plume_plate_moduli *m);
 
 /** Sizes of a plate cell solve (optional output). */
 typedef struct {
@@ -50,7 +35,7 @@ typedef struct {
  * pairing vertices and edges. Errors: PLUME_EINVAL (invalid arguments or material, a material id
  * out of range, a degenerate triangle, an edge without its periodic image), PLUME_ENOMEM,
  * PLUME_ESINGULAR (the matrix is not positive definite: a cell falling apart). */
-PLUME_API plume_status plume_cell_plate_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
+plume_status plume_cell_plate_tensor(const plume_cell *cell, const plume_membrane_material *mats, int nmat,
                                      double D[9], plume_cell_plate_info *info, plume_err *err);
 
 #ifdef __cplusplus

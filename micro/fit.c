@@ -15,7 +15,7 @@
  * - Stopping: xtol_abs = xtol_rel on every variable (an absolute step in ln E is a relative step
  *   in E; nu_xy is of order one), and max_eval. */
 #include "fit.h"
-#include "../lib/io/internal/input_file.h"
+#include "../lib/io/input_file.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -5,6 +5,9 @@
 #ifndef PLUME_FIT_H
 #define PLUME_FIT_H
 
+#include "../include/plume/curves.h"
+#include "../include/plume/fit.h"
+
 #include "../lib/core/export.h"
 #include "../lib/io/curves.h"
 
@@ -12,55 +15,6 @@
 extern "C" {
 #endif
 
-/** Computes the model's curve for target curve `icurve` with moduli `m`: fills `out` (arrays
- * malloc'ed by the callback, freed by the fitter with plume_curve_free). Returns PLUME_OK, or an
- * error status; a model run that does not converge should return PLUME_EINFEASIBLE (the fitter
- * then treats that point as very bad rather than stopping). */
-typedef plume_status (*plume_fit_model)(void *ctx, const plume_ortho *m, int icurve, plume_curve *out,
-                                        plume_err *err);
-
-/** Which moduli are free; the others keep the start value. */
-enum {
-    PLUME_FIT_EXX = 1, /**< E_xx free */
-    PLUME_FIT_EYY = 2, /**< E_yy free */
-    PLUME_FIT_NU = 4,  /**< nu_xy free */
-    PLUME_FIT_GXY = 8  /**< G_xy free */
-};
-
-/** Options of the fit (plume_fit_opts_default). */
-typedef struct {
-    unsigned free_mask;  /**< default PLUME_FIT_EYY | PLUME_FIT_GXY (the barbs are inextensible) */
-    int max_eval;        /**< default 300 */
-    double xtol_rel;     /**< relative tolerance on the moduli; default 1e-6 */
-    double min_strain;   /**< target points with |strain| below this are skipped; default 1e-12 */
-} plume_fit_opts;
-
-/** Fills o with the defaults each field names; NULL-safe. */
-PLUME_API void plume_fit_opts_default(plume_fit_opts *o);
-
-/** How a fit went (optional output of plume_fit_moduli). */
-typedef struct {
-    int evaluations;     /**< model evaluations (each runs every curve) */
-    double residual;     /**< final RMS relative stress misfit over all points */
-    double seconds;      /**< wall time of the fit */
-    int nlopt_result;    /**< NLopt's return code (positive: success) */
-    char stop[64];       /**< "xtol reached", "maxeval reached", ... */
-} plume_fit_report;
-
-/** Minimises the RMS over every point of every target curve of
- * (model stress - target stress) / max(|target stress|, 1e-3 max |target stress of that curve|),
- * the model stress linearly interpolated at the target strains, over the free moduli (searched in
- * log space, so they stay positive; nu_xy linearly), derivative-free (NLopt LN_BOBYQA). `start`
- * gives the initial moduli and the fixed ones. Errors: no curves, empty curve, non-finite data,
- * a model error other than PLUME_EINFEASIBLE. */
-PLUME_API plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const plume_curve *targets, int ncurves,
-                                        const plume_ortho *start, const plume_fit_opts *o, plume_ortho *result,
-                                        plume_fit_report *rep, plume_err *err);
-
-/** Reads a measured curve from a text file: two columns, nominal strain and nominal stress (Pa),
- * separated by spaces, tabs or a comma; '#' starts a comment; a header line of words is skipped.
- * Errors name the file and line. wbar/iterations/seconds are zero-filled. */
-PLUME_API plume_status plume_curve_read_text(const char *path, plume_curve *out, plume_err *err);
 
 #ifdef __cplusplus
 }

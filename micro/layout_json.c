@@ -1,5 +1,5 @@
 #include "layout_json.h"
-#include "../lib/io/internal/input_file.h"
+#include "../lib/io/input_file.h"
 
 #include <jansson.h>
 

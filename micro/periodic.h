@@ -21,16 +21,16 @@ typedef struct plume_periodic plume_periodic;
  * failure). `*out` is the wrapped term to add to a problem over the cell's nv vertices, in which
  * the non-master vertices must be fixed (their coordinates are never read). `*handle` stays
  * valid while the term lives (the problem owns it) and sets Fbar / reads the average stress. */
-PLUME_API plume_status plume_periodic_term_create(const plume_cell *cell, const plume_term *inner, plume_periodic **handle,
+plume_status plume_periodic_term_create(const plume_cell *cell, const plume_term *inner, plume_periodic **handle,
                                                   plume_term *out, plume_err *err);
 
 /** Sets the macroscopic deformation gradient (2x2 row-major); identity at creation. */
-PLUME_API void plume_periodic_set_macro(plume_periodic *h, const double Fbar[4]);
+void plume_periodic_set_macro(plume_periodic *h, const double Fbar[4]);
 
 /** Average first Piola–Kirchhoff membrane stress (N/m, 2x2 row-major) = (1/A_cell) dW/dFbar, from
  * the forces of the last evaluation that computed a gradient (call plume_problem_objective with a
  * gradient at the equilibrium first). Exact at equilibrium of the master vertices. */
-PLUME_API void plume_periodic_average_stress(const plume_periodic *h, double P[4]);
+void plume_periodic_average_stress(const plume_periodic *h, double P[4]);
 
 #ifdef __cplusplus
 }

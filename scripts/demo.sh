@@ -10,7 +10,7 @@
 #     with Ipopt, the penalty alternative, and sample T01 of Table 1;
 #  5. the whole feather in 3D (apps/feather, supplementary Figure 12) for 0.5 s, with the hand-set
 #     bending of Table 3 (a) and with bending homogenised from explicit barbules;
-#  6. a wing of 12 feathers on a flapping bone, in contact that never interpenetrates (~80 s).
+#  6. a wing of 12 feathers on a flapping bone, in contact that never interpenetrates.
 # Everything lands in out/: one HDF5 file (out/plume.h5) and PNG+SVG charts.
 # PLUME_DEMO_QUICK=1 runs every step but simulates the feather for 0.05 s and the wing for one
 # frame: the test suite runs `make demo` that way (scripts/doc-commands.py), in seconds.
@@ -44,6 +44,6 @@ echo "== 5. the whole feather (supplementary Figure 12): rachis held at its base
 run ./apps/feather data/feather/scene_anisotropic.json -o out/feather "${feather_time[@]}" --quiet
 echo "   the same feather with the vane's bending homogenised from explicit barbules (data/layout_barbules_table3a.json)"
 run ./apps/feather data/feather/scene_anisotropic_homogenised.json -o out/feather_homogenised "${feather_time[@]}" --quiet
-echo "== 6. a wing: 12 overlapping feathers on a flapping bone, barrier contact + CCD (Table 3 (b)); ~80 s"
+echo "== 6. a wing: 12 overlapping feathers on a flapping bone, barrier contact + CCD (Table 3 (b))"
 run ./apps/feather data/bird/wing.json -o out/wing "${wing_time[@]}" --quiet
 echo "plume demo: outputs in out/, out/feather/ and out/wing/ (VTK series, frames.h5, PNG renders)"

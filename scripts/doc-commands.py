@@ -14,7 +14,7 @@ The convention (docs/index.md, "Runnable commands"), on the fence's info string:
     ```json file=NAME         written to NAME before the later blocks of the page run (a scene
                               shown in the page is the one the page's commands use)
     ```c excerpt=PATH         every non-empty line must occur, in order, in PATH (an excerpt of a
-                              file that the suite builds, such as docs/example.c)
+                              file that the suite builds, such as docs/examples/traction.c)
 
 Fences without these words are illustrations and are not run. The blocks of one page run in
 order in one scratch directory that mirrors the top of the source tree through symbolic links

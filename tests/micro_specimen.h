@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../micro/micro_model.h"
 
 /* The stress at `strain` (one step), NaN when the run fails (printed); seconds and elements (quadratic

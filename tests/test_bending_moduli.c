@@ -10,7 +10,7 @@
 #include "app_runner.h"
 #include "h5_units.h"
 #include "harness.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../macro/scene.h"
 #include "../micro/layout.h"
 #include "../micro/layout_json.h"

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../micro/cell_linear.h"
 #include "../micro/cell_plate.h"
 #include "../micro/layout.h"

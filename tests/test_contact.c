@@ -7,7 +7,7 @@
 
 #include "harness.h"
 #include "term_fd.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../lib/contact/contact.h"
 #include "../lib/contact/contact_broad.h"
 #include "../lib/sim/dynamics.h"

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../lib/sim/dynamics.h"
 #include "../lib/core/load.h"
 

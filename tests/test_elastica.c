@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../lib/core/load.h"
 #include "../macro/bending.h"
 

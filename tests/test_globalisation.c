@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 
 typedef struct {
     int converged, iterations, factorizations, chord_steps;

@@ -6,7 +6,7 @@
 
 #include "harness.h"
 #include "test_rng.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"
 #include "../micro/periodic.h"

@@ -8,7 +8,7 @@
 
 #include "harness.h"
 #include "micro_specimen.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../micro/cell_linear.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"

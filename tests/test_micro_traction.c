@@ -7,7 +7,7 @@
 
 #include "harness.h"
 #include "micro_specimen.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"
 #include "../micro/micro_model.h"

@@ -13,7 +13,7 @@
 #include <unistd.h>
 
 #include "harness.h"
-#include "../lib/core/internal/blas_threads.h"
+#include "../lib/core/blas_threads.h"
 #include "../lib/core/openmp_env.h"
 #include "../lib/solve/cholesky.h"
 

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 
 static int cmp_dbl(const void *a, const void *b)
 {

@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 #include "harness.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../micro/fit.h"
 
 /* One test of a specimen; the stiffness (N m), NaN when it fails (printed). */

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../lib/sim/dynamics.h"
 #include "../lib/sim/statics.h"
 #include "../macro/scene.h"

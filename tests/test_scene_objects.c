@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../lib/contact/contact_broad.h"
 #include "../lib/core/rigid_motion.h"
 #include "app_runner.h"

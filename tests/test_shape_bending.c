@@ -15,7 +15,7 @@
 #include "../lib/core/dense.h"
 #include "../lib/core/mesh.h"
 #include "../macro/shape_bending.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 
 /* The vane of supplementary Table 3 (a), D_long/D_trans = 2500; twist by Huber's rule. */
 static const plume_bending_material SB_VANE = {2.5e-4, 1e-7, 0.0, 0.0};

@@ -12,7 +12,7 @@
 #include "../lib/core/dense.h"
 #include "../lib/core/load.h"
 #include "../lib/core/moment.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../lib/sim/statics.h"
 #include "../macro/grid_mesh.h"
 #include "../macro/scene.h"

@@ -8,7 +8,7 @@
 
 #include "app_runner.h"
 #include "harness.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 #include "../drivers/study.h"
 #include "../micro/micro_model.h"
 

@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "harness.h"
-#include "../include/plume.h"
+#include "plume_tree.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846

@@ -42,7 +42,7 @@ typedef struct {
 } plume_ccd_report;
 
 /** Fills o with the defaults above (s 0.1, min_distance 0, eta 0.9, max_iter 10^6); NULL-safe. */
-PLUME_API void plume_ccd_opts_default(plume_ccd_opts *o);
+void plume_ccd_opts_default(plume_ccd_opts *o);
 
 /** Conservative time of impact of a point–triangle pair over [0, t_max] (0 < t_max <= 1).
  * On PLUME_OK, *toi in (0, t_max] with
@@ -51,11 +51,11 @@ PLUME_API void plume_ccd_opts_default(plume_ccd_opts *o);
  * the pair has no relative motion. A pair already at gap(0) <= 0 returns PLUME_EINFEASIBLE with
  * *toi = 0 (no step is safe). PLUME_EINVAL: NULL x0, x1, toi, non-finite coordinates, t_max
  * outside (0, 1], options out of range (o NULL means the defaults). rep may be NULL. */
-PLUME_API plume_status plume_ccd_point_triangle(const double x0[12], const double x1[12], double t_max,
+plume_status plume_ccd_point_triangle(const double x0[12], const double x1[12], double t_max,
                                                 const plume_ccd_opts *o, double *toi, plume_ccd_report *rep);
 
 /** The same for an edge–edge pair (ea0, ea1, eb0, eb1), including parallel and zero-length edges. */
-PLUME_API plume_status plume_ccd_edge_edge(const double x0[12], const double x1[12], double t_max,
+plume_status plume_ccd_edge_edge(const double x0[12], const double x1[12], double t_max,
                                            const plume_ccd_opts *o, double *toi, plume_ccd_report *rep);
 
 #ifdef __cplusplus

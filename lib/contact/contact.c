@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "contact_broad.h"
-#include "../core/internal/vec3.h"
+#include "../core/vec3.h"
 #include "../io/progress.h"
 
 struct plume_contact {

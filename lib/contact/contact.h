@@ -39,10 +39,10 @@ typedef struct {
 
 /** Fills o with the defaults: plume_contact_opts_default for the pair, no self contact, no margin,
  * plume_ccd_opts_default. */
-PLUME_API void plume_contact_term_opts_default(plume_contact_term_opts *o);
+void plume_contact_term_opts_default(plume_contact_term_opts *o);
 
 /** "barrier" or "penalty" (a static string; "unknown" for anything else). */
-PLUME_API const char *plume_contact_model_name(plume_contact_model m);
+const char *plume_contact_model_name(plume_contact_model m);
 
 /** What the term did (plume_contact_term_stats). */
 typedef struct {
@@ -68,7 +68,7 @@ typedef struct plume_contact plume_contact;
  * [3 nv] rest positions (the edge–edge mollifier's threshold). *out is ready for
  * plume_problem_add_term, which takes ownership; *handle (may be NULL) stays valid as long as the
  * problem and serves plume_contact_term_stats. Errors name what is wrong. */
-PLUME_API plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const plume_index *tri, const int *body,
+plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const plume_index *tri, const int *body,
                                                  const double *xrest, const plume_contact_term_opts *o, plume_term *out,
                                                  plume_contact **handle, plume_err *err);
 
@@ -76,23 +76,23 @@ PLUME_API plume_status plume_contact_term_create(plume_index nv, plume_index ntr
  * detection), when it cut the step (returns 1): its 4 vertices (point, then the triangle's; or
  * the two edges'), whether it is an edge-edge pair, and the fraction of the step it allowed. 0
  * when the last check allowed the whole step, or none ran. Any pointer may be NULL. */
-PLUME_API int plume_contact_last_limit(const plume_contact *c, plume_index v[4], int *edge_edge, double *toi);
+int plume_contact_last_limit(const plume_contact *c, plume_index v[4], int *edge_edge, double *toi);
 
 /** Copies the term's counters and timings into s (zeros for c NULL; s NULL: nothing). */
-PLUME_API void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s);
+void plume_contact_term_stats(const plume_contact *c, plume_contact_stats *s);
 
 /** The pairs of the term's last update (lagged friction reads them): *npt point–triangle then *nee
  * edge–edge stencils of 4 vertices in *stencil, their activation distances in *dhat (dhat, or the
  * reduced one of a self pair within reach at rest), and the pair options in *opts. Valid until the
  * next update; any output may be NULL. */
-PLUME_API void plume_contact_term_pairs(const plume_contact *c, plume_index *npt, plume_index *nee, const plume_index **stencil,
+void plume_contact_term_pairs(const plume_contact *c, plume_index *npt, plume_index *nee, const plume_index **stencil,
                                         const double **dhat, plume_contact_opts *opts);
 
 /** A measure that does not trust the model: the smallest distance between non-adjacent primitives
  * (point–triangle and edge–edge pairs of the broad phase b, lib/contact/contact_broad.h) at positions x,
  * or cap when no pair is closer than cap. The search looks within cap / 5 first and widens to cap only
  * when nothing is that close (the candidates grow with the cap squared). */
-PLUME_API plume_status plume_contact_min_distance(plume_contact_broad *b, const double *x, double cap, double *dmin,
+plume_status plume_contact_min_distance(plume_contact_broad *b, const double *x, double cap, double *dmin,
                                                   plume_err *err);
 
 #ifdef __cplusplus

@@ -28,7 +28,7 @@ typedef struct {
 } plume_contact_pairs;
 
 /** Frees p and zeroes the list; NULL-safe. */
-PLUME_API void plume_contact_pairs_free(plume_contact_pairs *pairs);
+void plume_contact_pairs_free(plume_contact_pairs *pairs);
 
 /* --- Generic box intersection ------------------------------------------------------------------
  * A box is 6 doubles: lo x, lo y, lo z, hi x, hi y, hi z (finite, lo <= hi). Boxes are closed:
@@ -38,11 +38,11 @@ PLUME_API void plume_contact_pairs_free(plume_contact_pairs *pairs);
 /** All pairs (i, j), i a box of a (na boxes), j a box of b (nb boxes), whose boxes intersect; each
  * once, sorted. na or nb may be 0. PLUME_EINVAL (message in err) on NULL arrays with a positive
  * count, negative counts, non-finite coordinates or lo > hi; PLUME_ENOMEM; PLUME_EDEP if CGAL threw. */
-PLUME_API plume_status plume_contact_box_pairs(plume_index na, const double *a, plume_index nb, const double *b,
+plume_status plume_contact_box_pairs(plume_index na, const double *a, plume_index nb, const double *b,
                                                plume_contact_pairs *out, plume_err *err);
 
 /** All pairs (i, j), i < j, of intersecting boxes within one set (never (i, i), never twice). */
-PLUME_API plume_status plume_contact_box_self_pairs(plume_index n, const double *boxes, plume_contact_pairs *out,
+plume_status plume_contact_box_self_pairs(plume_index n, const double *boxes, plume_contact_pairs *out,
                                                     plume_err *err);
 
 /* --- Candidate pairs of a triangle surface -----------------------------------------------------
@@ -66,7 +66,7 @@ typedef struct {
 } plume_contact_broad_opts;
 
 /** Fills o with the defaults (self_contact 1, reuse 0). */
-PLUME_API void plume_contact_broad_opts_default(plume_contact_broad_opts *o);
+void plume_contact_broad_opts_default(plume_contact_broad_opts *o);
 
 /** Opaque broad phase of one triangle surface: its topology, edges, box arrays and candidate lists,
  * reused from update to update (plume_contact_broad_create, freed by plume_contact_broad_destroy). */
@@ -87,35 +87,35 @@ typedef struct {
  * array. PLUME_EINVAL (message in err) on negative counts, NULL arrays, triangle ids out of
  * [0, nv), a triangle with a repeated vertex, a triangle whose corners lie in different bodies, or
  * self_contact = 0 without body; PLUME_ENOMEM. On failure *out is NULL and nothing is kept. */
-PLUME_API plume_status plume_contact_broad_create(plume_index nv, plume_index ntri, const plume_index *tri,
+plume_status plume_contact_broad_create(plume_index nv, plume_index ntri, const plume_index *tri,
                                                   const int *body, const plume_contact_broad_opts *opts,
                                                   plume_contact_broad **out, plume_err *err);
 /** Frees the handle and every array it owns (the candidates it returned included); sets *b = NULL;
  * NULL-safe. */
-PLUME_API void plume_contact_broad_destroy(plume_contact_broad **b);
+void plume_contact_broad_destroy(plume_contact_broad **b);
 
 /** The unique undirected edges built at create: *edges is [2 * *ne], each (i, j) with i < j, sorted;
  * owned by the handle. Edge ids of the candidates index this array. */
-PLUME_API void plume_contact_broad_edges(const plume_contact_broad *b, plume_index *ne, const plume_index **edges);
+void plume_contact_broad_edges(const plume_contact_broad *b, plume_index *ne, const plume_index **edges);
 
 /** The triangles copied at create: *tri is [3 * *ntri], owned by the handle. Triangle ids of the
  * candidates index this array. */
-PLUME_API void plume_contact_broad_triangles(const plume_contact_broad *b, plume_index *ntri, const plume_index **tri);
+void plume_contact_broad_triangles(const plume_contact_broad *b, plume_index *ntri, const plume_index **tri);
 
 /** Candidates for positions x [3*nv] (start of the step) and x1 [3*nv] (end of the step, or NULL for
  * a static query), inflation dhat >= 0. Allocates only when the candidate lists outgrow their
  * capacity. PLUME_EINVAL (message in err) on NULL b/x/out, non-finite coordinates (naming the
  * vertex) or a negative or non-finite dhat; PLUME_ENOMEM; PLUME_EDEP if CGAL threw. On failure
  * out is zeroed. */
-PLUME_API plume_status plume_contact_broad_update(plume_contact_broad *b, const double *x, const double *x1,
+plume_status plume_contact_broad_update(plume_contact_broad *b, const double *x, const double *x1,
                                                   double dhat, plume_contact_candidates *out, plume_err *err);
 
 /** Updates since create and their total wall time (benchmarks and reports); NULL-safe. */
-PLUME_API void plume_contact_broad_stats(const plume_contact_broad *b, long *updates, double *seconds);
+void plume_contact_broad_stats(const plume_contact_broad *b, long *updates, double *seconds);
 
 /** With reuse: how many of the updates ran a new box search (the others filtered the kept pairs);
  * 0 when b is NULL. */
-PLUME_API long plume_contact_broad_searches(const plume_contact_broad *b);
+long plume_contact_broad_searches(const plume_contact_broad *b);
 
 /* --- Exact intersection audit ------------------------------------------------------------------ */
 
@@ -135,7 +135,7 @@ typedef struct {
  * A triangle with a repeated vertex id is degenerate like any zero-area one, not an error.
  * PLUME_EINVAL (message in err) on NULL arrays, negative counts, ids out of range or non-finite
  * coordinates; PLUME_ENOMEM; PLUME_EDEP if CGAL threw. On failure *out and pairs->n are zero. */
-PLUME_API plume_status plume_contact_count_intersections(plume_index nv, const double *x, plume_index ntri,
+plume_status plume_contact_count_intersections(plume_index nv, const double *x, plume_index ntri,
                                                          const plume_index *tri, plume_contact_pairs *pairs,
                                                          plume_contact_audit *out, plume_err *err);
 

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../core/internal/vec3.h"
+#include "../core/vec3.h"
 
 static int finite_n(const double *x, int n)
 {

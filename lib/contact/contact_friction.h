@@ -45,15 +45,15 @@ typedef struct {
  * orthonormal P of the remaining freedom is used. PLUME_EINVAL: NULL, non-finite x, type out of
  * range; PLUME_ESINGULAR: the type's edge or triangle is degenerate (classify never returns
  * such a type). */
-PLUME_API plume_status plume_friction_pt_basis(const double x[12], plume_contact_pt_type type, plume_friction_basis *b);
+plume_status plume_friction_pt_basis(const double x[12], plume_contact_pt_type type, plume_friction_basis *b);
 
 /** The same for an edge–edge pair x = (ea0, ea1, eb0, eb1): endpoint–endpoint as point–point,
  * endpoint–line as point–edge, line–line: P = (ea, (ea x eb) x ea) normalised. ESINGULAR for a
  * zero-length edge's line or parallel lines. */
-PLUME_API plume_status plume_friction_ee_basis(const double x[12], plume_contact_ee_type type, plume_friction_basis *b);
+plume_status plume_friction_ee_basis(const double x[12], plume_contact_ee_type type, plume_friction_basis *b);
 
 /** Classifies the pair (plume_contact_pt_classify / ee_classify) and builds its frame. */
-PLUME_API plume_status plume_friction_pair_basis(int is_edge_edge, const double x[12], plume_friction_basis *b);
+plume_status plume_friction_pair_basis(int is_edge_edge, const double x[12], plume_friction_basis *b);
 
 /** IPC's friction mollifier with threshold eps_u > 0 (a displacement, eps_v dt), y >= 0:
  *   f0(y) = -y^3/(3 eps_u^2) + y^2/eps_u + eps_u/3 for y < eps_u, y beyond (C^2: f0'' = 0 at
@@ -63,7 +63,7 @@ PLUME_API plume_status plume_friction_pair_basis(int is_edge_edge, const double 
  * f1y and f2y are what the Hessian needs (mu lambda T (f1y I + f2y uh uh^T) T^T, uh = u/|u|);
  * both are finite at y = 0 (f1y = 2/eps_u, f2y = 0). Any output may be NULL. PLUME_EINVAL: y < 0
  * or not finite, eps_u <= 0 or not finite. */
-PLUME_API plume_status plume_friction_mollifier(double y, double eps_u, double *f0, double *f1, double *f1y, double *f2y);
+plume_status plume_friction_mollifier(double y, double eps_u, double *f0, double *f1, double *f1y, double *f2y);
 
 /** D = mu lambda f0(|u|), u = T^T (x - xlag), with the exact gradient g[12] = mu lambda f1y T u and
  * Hessian H[144] = mu lambda T C T^T, C = f1y I + f2y uh uh^T (g, H may be NULL). C's eigenvalues
@@ -71,7 +71,7 @@ PLUME_API plume_status plume_friction_mollifier(double y, double eps_u, double *
  * at 0 against round-off, which is IPC's projection of the 2 x 2 core. mu lambda = 0 gives zeros.
  * PLUME_EINVAL: NULL T, x, xlag or D; mu or lambda < 0 or not finite; eps_u <= 0; non-finite
  * x, xlag or T. */
-PLUME_API plume_status plume_friction_pair_energy(double mu, double lambda, double eps_u, const double T[24], const double x[12],
+plume_status plume_friction_pair_energy(double mu, double lambda, double eps_u, const double T[24], const double x[12],
                                                   const double xlag[12], double *D, double *g, double *H);
 
 /** The lagged normal force magnitude lambda of a pair at distance d, the true force |dE/dd| of the
@@ -81,10 +81,10 @@ PLUME_API plume_status plume_friction_pair_energy(double mu, double lambda, doub
  * ipc-toolkit writes its barrier in d^2 and uses -kappa (db/d(d^2)) 2 d: the same chain rule, so
  * lambda is the force in both. The edge–edge mollifier is left out, as in IPC. PLUME_EINVAL: NULL,
  * bad options, d not finite or d < 0; barrier at d = 0: PLUME_ESINGULAR. */
-PLUME_API plume_status plume_friction_normal_force(const plume_contact_opts *o, double d, double *lambda);
+plume_status plume_friction_normal_force(const plume_contact_opts *o, double d, double *lambda);
 
 /** lambda of a pair x from its classified distance (point–triangle or edge–edge). */
-PLUME_API plume_status plume_friction_pair_normal_force(const plume_contact_opts *o, int is_edge_edge, const double x[12],
+plume_status plume_friction_pair_normal_force(const plume_contact_opts *o, int is_edge_edge, const double x[12],
                                                         double *lambda);
 
 /* ---- the friction term ------------------------------------------------------------------- */
@@ -98,7 +98,7 @@ typedef struct {
 } plume_friction_opts;
 
 /** Fills o with the defaults (mu 0.3, eps_v 1e-3 m/s, dt 1e-2 s); NULL-safe. */
-PLUME_API void plume_friction_opts_default(plume_friction_opts *o);
+void plume_friction_opts_default(plume_friction_opts *o);
 
 /** One lagged contact pair: its four vertices in the layout above and its normal force. */
 typedef struct {
@@ -115,7 +115,7 @@ typedef struct plume_friction plume_friction;
  * plume_problem_add_term, which takes ownership; *handle (may be NULL) stays valid as long as the
  * problem and serves plume_friction_set_pairs. Its Hessian blocks are PSD whether or not the
  * solver asks for projection. Errors name what is wrong. */
-PLUME_API plume_status plume_friction_term_create(plume_index nv, const plume_friction_opts *o, plume_term *out,
+plume_status plume_friction_term_create(plume_index nv, const plume_friction_opts *o, plume_term *out,
                                                   plume_friction **handle, plume_err *err);
 
 /** Lags the friction: copies the pairs (npairs of them; pairs may be NULL when npairs is 0) and
@@ -126,17 +126,17 @@ PLUME_API plume_status plume_friction_term_create(plume_index nv, const plume_fr
  * never disagree. Allocates (outside any solve). On error nothing changes. PLUME_EINVAL: NULL f or
  * x_lag, npairs < 0, a vertex out of range or repeated in a pair, lambda < 0 or not finite,
  * non-finite lagged positions. */
-PLUME_API plume_status plume_friction_set_pairs(plume_friction *f, plume_index npairs, const plume_friction_pair *pairs,
+plume_status plume_friction_set_pairs(plume_friction *f, plume_index npairs, const plume_friction_pair *pairs,
                                                 const double *x_lag, plume_err *err);
 
 /** Makes the term lag itself from contact term c (lib/contact/contact.h) at the start of every time step
  * (plume_term.lag, called by the stepper): the contact's pairs within reach there, each with its
  * normal force (plume_friction_pair_normal_force, pairs with lambda 0 dropped), become the pairs.
  * c must outlive the term (both belong to one problem). */
-PLUME_API plume_status plume_friction_follow_contact(plume_friction *f, const plume_contact *c);
+plume_status plume_friction_follow_contact(plume_friction *f, const plume_contact *c);
 
 /** eps_u = eps_v dt of the term (m). */
-PLUME_API double plume_friction_eps_u(const plume_friction *f);
+double plume_friction_eps_u(const plume_friction *f);
 
 #ifdef __cplusplus
 }

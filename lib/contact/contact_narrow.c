@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "../core/dense.h"
-#include "../core/internal/vec3.h"
+#include "../core/vec3.h"
 
 /* ---- small 3-vector / 3x3 helpers (row-major 3x3) ---------------------------------------- */
 

@@ -61,13 +61,13 @@ typedef enum {
  * region of p (signs of dot products, no division); a flat triangle (see
  * PLUME_CONTACT_PARALLEL_SIN2) gets the nearest of its three segments. PLUME_EINVAL if x or type
  * is NULL or x is not finite. */
-PLUME_API plume_status plume_contact_pt_classify(const double x[12], plume_contact_pt_type *type);
+plume_status plume_contact_pt_classify(const double x[12], plume_contact_pt_type *type);
 
 /** Closest features of the segments (ea0, ea1) and (eb0, eb1), x = (ea0, ea1, eb0, eb1): the
  * clamped minimiser of the segment–segment distance; (nearly) parallel or zero-length edges get the
  * nearest of the four endpoint–segment pairs (ipc-toolkit's fallback), so LINES is never returned
  * where the line–line formula is singular. PLUME_EINVAL if x or type is NULL or x is not finite. */
-PLUME_API plume_status plume_contact_ee_classify(const double x[12], plume_contact_ee_type *type);
+plume_status plume_contact_ee_classify(const double x[12], plume_contact_ee_type *type);
 
 /** Squared distance d2 of the smooth function of `type` (point–point, point–line or point–plane)
  * at x = (p, t0, t1, t2), with its gradient g[12] and Hessian H[144] (row-major). g and H may be
@@ -75,31 +75,31 @@ PLUME_API plume_status plume_contact_ee_classify(const double x[12], plume_conta
  * point–triangle distance. PLUME_EINVAL: x or d2 NULL, type out of range, x not finite;
  * PLUME_ESINGULAR: the type's line or plane is undefined (zero-length edge, zero-area triangle;
  * classify never returns such a type). */
-PLUME_API plume_status plume_contact_pt_distance2(const double x[12], plume_contact_pt_type type, double *d2,
+plume_status plume_contact_pt_distance2(const double x[12], plume_contact_pt_type type, double *d2,
                                                   double *g, double *H);
 
 /** The same for an edge–edge pair x = (ea0, ea1, eb0, eb1) and one of the 9 edge–edge types;
  * PLUME_ESINGULAR for a zero-length edge's line or for exactly parallel lines. */
-PLUME_API plume_status plume_contact_ee_distance2(const double x[12], plume_contact_ee_type type, double *d2,
+plume_status plume_contact_ee_distance2(const double x[12], plume_contact_ee_type type, double *d2,
                                                   double *g, double *H);
 
 /** Squared point–triangle distance only (classify + distance2) of x = (p, t0, t1, t2), the
  * function continuous collision detection samples. NULL or non-finite input: PLUME_EINVAL. */
-PLUME_API plume_status plume_contact_pt_dist2(const double x[12], double *d2);
+plume_status plume_contact_pt_dist2(const double x[12], double *d2);
 /** Squared edge–edge distance only (classify + distance2) of x = (ea0, ea1, eb0, eb1), parallel
  * and zero-length edges included. NULL or non-finite input: PLUME_EINVAL. */
-PLUME_API plume_status plume_contact_ee_dist2(const double x[12], double *d2);
+plume_status plume_contact_ee_dist2(const double x[12], double *d2);
 
 /** The mollifier threshold eps_x = PLUME_CONTACT_MOLLIFIER_SCALE |ea|^2 |eb|^2 of an edge–edge pair
  * at its rest positions xrest = (ea0, ea1, eb0, eb1). Computed once per pair by the caller.
  * PLUME_EINVAL: NULL or non-finite input. */
-PLUME_API plume_status plume_contact_ee_mollifier_threshold(const double xrest[12], double *eps_x);
+plume_status plume_contact_ee_mollifier_threshold(const double xrest[12], double *eps_x);
 
 /** IPC's edge–edge mollifier m(c), c = |(ea1 - ea0) x (eb1 - eb0)|^2 (Li et al., 2020):
  * m = -c^2/eps_x^2 + 2 c/eps_x for c < eps_x, else 1; C^1 in c at eps_x, m(0) = 0. Outputs m and its
  * gradient g[12] and Hessian H[144] with respect to x (g, H may be NULL). PLUME_EINVAL: x or m NULL,
  * x not finite, eps_x not finite or <= 0. */
-PLUME_API plume_status plume_contact_ee_mollifier(const double x[12], double eps_x, double *m, double *g,
+plume_status plume_contact_ee_mollifier(const double x[12], double eps_x, double *m, double *g,
                                                   double *H);
 
 /* ---- pair potentials (docs/design.md "Contact": kept exactly) ---------------------------------- */
@@ -108,12 +108,12 @@ PLUME_API plume_status plume_contact_ee_mollifier(const double x[12], double eps
  * derivatives in d (db, d2b may be NULL). C^2 at dhat, +inf as d -> 0+, convex and decreasing
  * on (0, dhat). d <= 0 (or NaN): PLUME_ESINGULAR with *b = +INFINITY and zero derivatives — an
  * infeasible trial point, never a value to use. dhat not finite or <= 0, b NULL: PLUME_EINVAL. */
-PLUME_API plume_status plume_contact_barrier(double d, double dhat, double *b, double *db, double *d2b);
+plume_status plume_contact_barrier(double d, double dhat, double *b, double *db, double *d2b);
 
 /** p(d) = (dhat - d)^2 / 2 for 0 <= d < dhat, 0 for d >= dhat (multiply by the stiffness), with
  * derivatives (dp, d2p may be NULL); defined at d = 0, where pairs may interpenetrate. d < 0 or
  * not finite, dhat not finite or <= 0, p NULL: PLUME_EINVAL. */
-PLUME_API plume_status plume_contact_penalty(double d, double dhat, double *p, double *dp, double *d2p);
+plume_status plume_contact_penalty(double d, double dhat, double *p, double *dp, double *d2p);
 
 /** The pair potential of contact. */
 typedef enum {
@@ -145,7 +145,7 @@ enum {
 
 /** Defaults: barrier, dhat = 1e-3 (IPC's 1e-3 of a unit scene: set it from the scene's size),
  * stiffness 1, Gauss-Newton blocks (why, with measurements: docs/theory-contact.md). */
-PLUME_API void plume_contact_opts_default(plume_contact_opts *o);
+void plume_contact_opts_default(plume_contact_opts *o);
 
 /** Energy E of one point–triangle pair x = (p, t0, t1, t2): stiffness * phi(d) with phi the
  * barrier b or penalty p of the unsigned point–triangle distance d, with its gradient g[12] and
@@ -154,14 +154,14 @@ PLUME_API void plume_contact_opts_default(plume_contact_opts *o);
  * classification. Barrier at d = 0: PLUME_ESINGULAR with E = +INFINITY (infeasible trial point).
  * Penalty at d = 0 exactly: E = stiffness dhat^2/2 with zero g and H (d is not differentiable
  * there). PLUME_EINVAL: NULL o, x or E, x not finite, bad options. */
-PLUME_API plume_status plume_contact_pt_energy(const plume_contact_opts *o, const double x[12], double *E,
+plume_status plume_contact_pt_energy(const plume_contact_opts *o, const double x[12], double *E,
                                                double *g, double *H, plume_contact_pt_type *type);
 
 /** The same for an edge–edge pair x = (ea0, ea1, eb0, eb1), multiplied by the mollifier
  * m(x) of threshold eps_x (from plume_contact_ee_mollifier_threshold) so the energy stays C^1 as
  * the edges turn parallel: E = m stiffness phi(d). eps_x = 0 disables the mollifier (m = 1);
  * eps_x < 0 or not finite: PLUME_EINVAL. */
-PLUME_API plume_status plume_contact_ee_energy(const plume_contact_opts *o, const double x[12], double eps_x,
+plume_status plume_contact_ee_energy(const plume_contact_opts *o, const double x[12], double eps_x,
                                                double *E, double *g, double *H, plume_contact_ee_type *type);
 
 #ifdef __cplusplus

@@ -37,9 +37,9 @@ typedef struct {
 
 /** Triangulates; never throws; on failure returns PLUME_EINVAL (bad input: NaN, out-of-range
  * segment ids, zero points) or PLUME_EDEP (CGAL raised), with a message in err. */
-PLUME_API plume_status plume_cdt_triangulate(const plume_cdt_input *in, plume_cdt_output *out, plume_err *err);
+plume_status plume_cdt_triangulate(const plume_cdt_input *in, plume_cdt_output *out, plume_err *err);
 /** Frees the arrays of an output filled by plume_cdt_triangulate and zeroes it; NULL-safe. */
-PLUME_API void plume_cdt_output_free(plume_cdt_output *out);
+void plume_cdt_output_free(plume_cdt_output *out);
 
 #ifdef __cplusplus
 }

@@ -19,17 +19,17 @@ extern "C" {
  * ulps of the largest eigenvalue). A: row-major, only the upper triangle is read; destroyed.
  * evals[n]: eigenvalues in ascending order. evecs[n*n]: row-major, column k is the unit
  * eigenvector of evals[k] (evecs[i*n + k] = component i). */
-PLUME_API void plume_dense_sym_eig(int n, double *A, double *evals, double *evecs);
+void plume_dense_sym_eig(int n, double *A, double *evals, double *evecs);
 
 /** Replaces the symmetric n x n row-major matrix A (upper triangle read, full matrix written) by its
  * projection onto the positive semidefinite cone: negative eigenvalues clamped to 0. A matrix that
  * is already positive semidefinite is left unchanged (bit for bit when it was stored symmetric;
  * otherwise its lower triangle is mirrored from the upper one). Requires n <= PLUME_DENSE_MAX_N;
  * a larger n is a programming error and fills A with NaN so that it cannot pass unnoticed. */
-PLUME_API void plume_dense_project_psd(int n, double *A);
+void plume_dense_project_psd(int n, double *A);
 
 /** The same for any n, with a caller workspace `work` of 2*n*n + n doubles. */
-PLUME_API void plume_dense_project_psd_work(int n, double *A, double *work);
+void plume_dense_project_psd_work(int n, double *A, double *work);
 
 #ifdef __cplusplus
 }

@@ -10,7 +10,7 @@
  * G[:,c] = sum_v W[v][c] x_v. Nothing is allocated after create. */
 #include "membrane.h"
 #include "internal/membrane_law.h"
-#include "internal/vec3.h"
+#include "vec3.h"
 
 #include "dense.h"
 

@@ -22,7 +22,7 @@ extern "C" {
  * is copied. The term evaluates in dim 2 only (planar; another dim is PLUME_EINVAL). Stencils are
  * the 6 nodes in tri6's order (arity 6); per-element energies are offered. PLUME_ENOMEM if an
  * allocation fails; on failure *out is zeroed. */
-PLUME_API plume_status plume_membrane_p2_term_create(const double *X, plume_index nnodes, const plume_index *tri6,
+plume_status plume_membrane_p2_term_create(const double *X, plume_index nnodes, const plume_index *tri6,
                                                      plume_index nt, const int *material, const double *barb_dir,
                                                      const plume_membrane_material *mats, int nmat, plume_term *out,
                                                      plume_err *err);

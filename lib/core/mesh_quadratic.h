@@ -27,9 +27,9 @@ typedef struct {
 /** Builds the quadratic triangles of a planar mesh whose topology is built (plume_mesh_build_topology):
  * midpoints in the reference (X) and current (x) configurations. PLUME_EINVAL without topology;
  * on failure nothing is left allocated. */
-PLUME_API plume_status plume_mesh_quadratic(const plume_mesh *m, plume_quadratic_mesh *q, plume_err *err);
+plume_status plume_mesh_quadratic(const plume_mesh *m, plume_quadratic_mesh *q, plume_err *err);
 /** Frees the split mesh and the arrays of q and zeroes q (the struct itself is the caller's); NULL-safe. */
-PLUME_API void plume_quadratic_mesh_free(plume_quadratic_mesh *q);
+void plume_quadratic_mesh_free(plume_quadratic_mesh *q);
 
 #ifdef __cplusplus
 }

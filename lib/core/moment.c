@@ -8,7 +8,7 @@
  * end, -I / nrow on the row, so the energy -M phi has gradient -M (dphi/dt) c_i and Hessian
  * blocks -M c_i c_j (d2 phi / dt2). The term is one stencil over all its vertices. */
 #include "moment.h"
-#include "internal/vec3.h"
+#include "vec3.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -19,15 +19,15 @@ extern "C" {
  * across +-pi from the last evaluation, so it counts whole turns as long as it changes by less
  * than pi between two evaluations. Errors (PLUME_EINVAL, message): empty sets, a vertex in both,
  * a zero or non-finite axis or moment, an end whose rest direction t is parallel to the axis. */
-PLUME_API plume_status plume_moment_term_create(const plume_index *end, plume_index nend, const plume_index *row,
+plume_status plume_moment_term_create(const plume_index *end, plume_index nend, const plume_index *row,
                                                 plume_index nrow, const double axis[3], double moment, const double *X3,
                                                 plume_term *out, plume_err *err);
 
 /** Scales the moment to factor * M (load stepping). */
-PLUME_API void plume_moment_scale(plume_term *t, double factor);
+void plume_moment_scale(plume_term *t, double factor);
 
 /** phi (radians) at the last evaluation: the end's rotation about the axis. */
-PLUME_API double plume_moment_angle(const plume_term *t);
+double plume_moment_angle(const plume_term *t);
 
 #ifdef __cplusplus
 }

@@ -1,7 +1,7 @@
 /* RTLD_DEFAULT, sched_getaffinity and CPU_COUNT are GNU extensions */
 #define _GNU_SOURCE
 #include "openmp_env.h"
-#include "internal/blas_threads.h"
+#include "blas_threads.h"
 
 #include <dlfcn.h>
 #include <sched.h>
@@ -12,6 +12,7 @@
 /* the one OpenMP call plume makes, declared as the OpenMP API defines it (libgomp provides it):
  * GCC's omp.h does not parse under clang, which builds the fuzzing harnesses */
 void omp_set_max_active_levels(int max_levels);
+int omp_get_max_active_levels(void);
 
 /* OpenBLAS's thread setter, looked up at run time: the BLAS the distribution's alternatives chose
  * may be another one, without it. NULL when absent. */
@@ -29,6 +30,9 @@ static void (*openblas_setter(void))(int)
  * plume_openmp_serial was not called) */
 static int factor_threads;
 static void (*blas_setter)(int);
+/* 1 once plume_openmp_serial made OpenMP regions serial: libgomp keeps max-active-levels per
+ * thread, so every other thread that factorises sets it too (plume_openmp_thread_serial) */
+static _Atomic int serial_regions;
 
 /* the cores this process may run on */
 static int cores_available(void)
@@ -62,6 +66,13 @@ void plume_openmp_serial(void)
     if (getenv("OMP_MAX_ACTIVE_LEVELS") || getenv("OMP_THREAD_LIMIT"))
         return;
     omp_set_max_active_levels(0);
+    serial_regions = 1;
+}
+
+void plume_openmp_thread_serial(void)
+{
+    if (serial_regions && omp_get_max_active_levels() != 0)
+        omp_set_max_active_levels(0);
 }
 
 void plume_openmp_factor_threads(int threads)

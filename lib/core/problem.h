@@ -5,6 +5,8 @@
 #ifndef PLUME_PROBLEM_H
 #define PLUME_PROBLEM_H
 
+#include "../../include/plume/problem.h"
+
 #include "export.h"
 #include "status.h"
 #include "term.h"
@@ -12,10 +14,6 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/** Opaque problem handle: terms, constraints, prescribed dofs, the state x and every workspace
- * (plume_problem_create, freed by plume_problem_destroy). */
-typedef struct plume_problem plume_problem;
 
 /** Upper triangle of a symmetric n x n matrix in compressed sparse columns (row indices sorted). */
 typedef struct {
@@ -25,67 +23,28 @@ typedef struct {
     const plume_index *rowind; /**< [nnz] */
 } plume_sparsity;
 
-/** A problem over nv vertices with dim coordinates each (dof = dim*vertex + axis).
- * length_scale: a typical size of the body (m), used by solvers for step-size tolerances.
- * Free with plume_problem_destroy. PLUME_EINVAL (nv <= 0, dim not 2 or 3, length_scale not
- * finite and > 0) and PLUME_ENOMEM with a message in err (NULL allowed). */
-PLUME_API plume_status plume_problem_create(plume_index nv, int dim, double length_scale, plume_problem **out,
-                                            plume_err *err);
-/** Frees the problem, calling every term's and constraint set's destroy; sets *p = NULL; NULL-safe. */
-PLUME_API void plume_problem_destroy(plume_problem **p);
-
-/** Adds a term. The problem takes ownership of its ctx (freed with `destroy`) on success and on
- * failure. Only before plume_problem_finalize (PLUME_EINVAL after it, or without eval, arity or
- * stencil; the message in err says which). */
-PLUME_API plume_status plume_problem_add_term(plume_problem *p, const plume_term *t, plume_err *err);
-/** Adds a constraint set, with the same ownership rule as plume_problem_add_term: the problem
- * owns its ctx on success and on failure. PLUME_EINVAL after finalize, without eval or hess, or
- * with m > 0 and no stencil or scale; the message in err says which. */
-PLUME_API plume_status plume_problem_add_constraint(plume_problem *p, const plume_constraint *c, plume_err *err);
-
-/** Marks a coordinate as prescribed (its value is whatever plume_problem_x holds). Before finalize;
- * PLUME_EINVAL after it or for a dof out of range, naming the vertex and component in err. */
-PLUME_API plume_status plume_problem_fix_dof(plume_problem *p, plume_index dof, plume_err *err);
-
-/** Builds the free-dof map, the Hessian sparsity (terms and constraints) and the Jacobian
- * sparsity; drops constraints whose stencil is entirely prescribed. Allocates every workspace
- * the evaluations need, so nothing is allocated afterwards. */
-PLUME_API plume_status plume_problem_finalize(plume_problem *p, plume_err *err);
-
 /** Coordinates per vertex (2 or 3), as created. */
-PLUME_API int plume_problem_dim(const plume_problem *p);
-/** Number of vertices, as created. */
-PLUME_API plume_index plume_problem_nvert(const plume_problem *p);
-/** Number of free (unknown) coordinates, the length of u; set by finalize. */
-PLUME_API plume_index plume_problem_nfree(const plume_problem *p);
-/** Number of kept constraints (rows of g), after finalize. */
-PLUME_API plume_index plume_problem_ncons(const plume_problem *p);
+int plume_problem_dim(const plume_problem *p);
+
 /** The length scale given to plume_problem_create (m). */
-PLUME_API double plume_problem_length_scale(const plume_problem *p);
+double plume_problem_length_scale(const plume_problem *p);
 /** 1 if coordinate `dof` (in [0, dim*nv), unchecked) is prescribed, else 0. */
-PLUME_API int plume_problem_is_fixed(const plume_problem *p, plume_index dof);
+int plume_problem_is_fixed(const plume_problem *p, plume_index dof);
 
-/** Full coordinate vector (dim*nv): set prescribed values and the initial guess here. */
-PLUME_API double *plume_problem_x(plume_problem *p);
-/** u (nfree values) <- the free part of x. */
-PLUME_API void plume_problem_gather(const plume_problem *p, double *u);
 /** The free part of x <- u (nfree values); u NULL leaves x unchanged. */
-PLUME_API void plume_problem_scatter(plume_problem *p, const double *u);
-
-/** f(u) and, if grad != NULL, its gradient (nfree). Sets x's free part to u (u may be NULL: use x). */
-PLUME_API plume_status plume_problem_objective(plume_problem *p, const double *u, double *f, double *grad);
+void plume_problem_scatter(plume_problem *p, const double *u);
 
 /** Sparsity of the Hessian of the Lagrangian on the free dofs (upper triangle, fixed). */
-PLUME_API plume_sparsity plume_problem_hessian_pattern(const plume_problem *p);
+plume_sparsity plume_problem_hessian_pattern(const plume_problem *p);
 /** The part of the Hessian pattern that does not follow the state: the entries of the terms
  * without update, of the constraints and the diagonal (upper triangle, free dofs, rows sorted;
  * owned by the problem, the same arrays from finalize to destroy). Equal to the Hessian pattern
  * without contact terms. A solver orders the factorisation of every contact pattern by it. */
-PLUME_API plume_sparsity plume_problem_fixed_pattern(const plume_problem *p);
+plume_sparsity plume_problem_fixed_pattern(const plume_problem *p);
 
 /** 1 if some term or constraint set has partial_projection (PLUME_HESSIAN_PARTIAL differs from
  * EXACT). */
-PLUME_API int plume_problem_has_partial_projection(const plume_problem *p);
+int plume_problem_has_partial_projection(const plume_problem *p);
 
 /** What plume_problem_hessian assembles. */
 enum {
@@ -98,50 +57,50 @@ enum {
 /** values[nnz] <- obj_factor * Hess f(u) + sum_c lambda_c Hess g_c(u) on the fixed pattern;
  * lambda may be NULL (no constraint part). project is a PLUME_HESSIAN_* mode (any other non-zero
  * value: PROJECTED), PROJECTED giving a PSD matrix for projected Newton. */
-PLUME_API plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj_factor,
+plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj_factor,
                                              const double *lambda, int project, double *values);
 
 /** g[ncons] <- g(u); *max_rel (may be NULL) <- max_c |g_c| / scale_c. */
-PLUME_API plume_status plume_problem_constraints(plume_problem *p, const double *u, double *g, double *max_rel);
+plume_status plume_problem_constraints(plume_problem *p, const double *u, double *g, double *max_rel);
 
 /** Jacobian of g on the free dofs as triplets in a fixed order: nnz, row and column arrays
  * (owned by the problem, valid until destroy). */
-PLUME_API void plume_problem_jacobian_pattern(const plume_problem *p, plume_index *nnz,
+void plume_problem_jacobian_pattern(const plume_problem *p, plume_index *nnz,
                                               const plume_index **rows, const plume_index **cols);
 /** values[nnz] <- the Jacobian of g at u (NULL: use x) in the order of plume_problem_jacobian_pattern;
  * PLUME_EINVAL before finalize. */
-PLUME_API plume_status plume_problem_jacobian(plume_problem *p, const double *u, double *values);
+plume_status plume_problem_jacobian(plume_problem *p, const double *u, double *values);
 
 /** Generalised forces at the current x on every dof (dim*nv): grad W + J^T lambda, including the
  * prescribed dofs, where they are the reactions the supports exert (negated). lambda may be NULL. */
-PLUME_API plume_status plume_problem_forces(plume_problem *p, const double *lambda, double *force);
+plume_status plume_problem_forces(plume_problem *p, const double *lambda, double *force);
 
 /** max |grad f| over every dof, prescribed ones included (where it is the support reaction), at
  * the last evaluation of a gradient — but at least the round-off floor 1e-6 * length_scale *
  * (largest Hessian diagonal at the state finalize saw): the force scale that residuals are
  * measured against, so that a body at rest is not judged by its round-off gradients. */
-PLUME_API double plume_problem_force_scale(const plume_problem *p);
+double plume_problem_force_scale(const plume_problem *p);
 
 /** Terms whose stencils follow the state (plume_term.update, e.g., contact pairs): recomputes them
  * at the current x and, when any changed, rebuilds the Hessian pattern (*pattern_changed = 1;
  * solvers created before must then be recreated, their symbolic analysis is stale). The force
  * floor of finalize is kept. After finalize, never during a solve. */
-PLUME_API plume_status plume_problem_update_terms(plume_problem *p, int *pattern_changed, plume_err *err);
+plume_status plume_problem_update_terms(plume_problem *p, int *pattern_changed, plume_err *err);
 
 /** Calls every term's lag (plume_term.lag) with x (full vector): the start of a time step. */
-PLUME_API plume_status plume_problem_lag_terms(plume_problem *p, const double *x);
+plume_status plume_problem_lag_terms(plume_problem *p, const double *x);
 
 /** 1 when a term limits steps (plume_term.max_step): solvers then ask plume_problem_max_step. */
-PLUME_API int plume_problem_limits_steps(const plume_problem *p);
+int plume_problem_limits_steps(const plume_problem *p);
 
 /** The largest alpha in [0, 1] such that every term stays defined along u + s du, s in [0, alpha]
  * (u, du on the free dofs; prescribed dofs stay where x holds them). 1 without such terms.
  * Sets x's free part to u. */
-PLUME_API plume_status plume_problem_max_step(plume_problem *p, const double *u, const double *du, double *alpha);
+plume_status plume_problem_max_step(plume_problem *p, const double *u, const double *du, double *alpha);
 
 /** The same for a motion dx of every dof (3 nv or 2 nv values, prescribed ones included) from
  * the current x: e.g., the handles' move at the start of a time step. */
-PLUME_API plume_status plume_problem_max_motion(plume_problem *p, const double *dx, double *alpha);
+plume_status plume_problem_max_motion(plume_problem *p, const double *dx, double *alpha);
 
 /** Where a problem's evaluations spent their time since create (CPU seconds of the calling thread,
  * which other processes on the machine do not inflate; benchmarks and profiles). Evaluations
@@ -157,13 +116,13 @@ typedef struct {
 } plume_problem_timing;
 
 /** Copies the counters into *t (zeroes when p is NULL). */
-PLUME_API void plume_problem_timing_get(const plume_problem *p, plume_problem_timing *t);
+void plume_problem_timing_get(const plume_problem *p, plume_problem_timing *t);
 
 /** Relative stationarity of the Lagrangian f + lambda.g at u, on the free dofs:
  * ||grad f + J^T lambda||_inf / max(force scale, ||grad f||_inf, ||J^T lambda||_inf), with the
  * force scale above (so a loaded body at equilibrium is measured against its reactions);
  * 0 when everything vanishes. */
-PLUME_API plume_status plume_problem_kkt_residual(plume_problem *p, const double *u, const double *lambda,
+plume_status plume_problem_kkt_residual(plume_problem *p, const double *u, const double *lambda,
                                                   double *rel_residual);
 
 #ifdef __cplusplus

@@ -22,15 +22,15 @@ typedef struct {
 } plume_pslg;
 
 /** Appends a point; returns its id, or -1 when memory runs out. */
-PLUME_API plume_index plume_pslg_point(plume_pslg *g, double x, double y);
+plume_index plume_pslg_point(plume_pslg *g, double x, double y);
 /** Appends the segment (a, b); 0, or -1 when memory runs out. */
-PLUME_API int plume_pslg_segment(plume_pslg *g, plume_index a, plume_index b);
+int plume_pslg_segment(plume_pslg *g, plume_index a, plume_index b);
 /** Frees the points and segments and zeroes the graph, ready for reuse. */
-PLUME_API void plume_pslg_free(plume_pslg *g);
+void plume_pslg_free(plume_pslg *g);
 
 /** Barb direction for an angle (degrees) from the pulling axis y toward +x: d = (sin a, cos a),
  * exact on the axes (0, 90, 180 degrees). */
-PLUME_API void plume_barb_direction(double angle_deg, double d[2]);
+void plume_barb_direction(double angle_deg, double d[2]);
 
 #ifdef __cplusplus
 }

@@ -13,16 +13,16 @@ extern "C" {
 #endif
 
 /** Unit quaternion q = (w, x, y, z) of the rotation by |r| about r / |r| (the identity for r = 0). */
-PLUME_API void plume_quat_from_rotvec(const double r[3], double q[4]);
+void plume_quat_from_rotvec(const double r[3], double q[4]);
 
 /** out = R(q) v; out may alias v. */
-PLUME_API void plume_quat_rotate(const double q[4], const double v[3], double out[3]);
+void plume_quat_rotate(const double q[4], const double v[3], double out[3]);
 
 /** out = a b (first b, then a). */
-PLUME_API void plume_quat_mul(const double a[4], const double b[4], double out[4]);
+void plume_quat_mul(const double a[4], const double b[4], double out[4]);
 
 /** Spherical interpolation from a (s = 0) to b (s = 1) along the shorter arc. */
-PLUME_API void plume_quat_slerp(const double a[4], const double b[4], double s, double out[4]);
+void plume_quat_slerp(const double a[4], const double b[4], double s, double out[4]);
 
 /** A keyframed rigid motion (arrays borrowed): a point y at rest goes to
  *   pivot + offset(t) + R(t) (y - pivot). */
@@ -35,10 +35,10 @@ typedef struct {
 } plume_rigid_motion;
 
 /** The motion at time t as a quaternion q and a translation c: y -> c + R(q) y. */
-PLUME_API void plume_rigid_motion_at(const plume_rigid_motion *m, double t, double q[4], double c[3]);
+void plume_rigid_motion_at(const plume_rigid_motion *m, double t, double q[4], double c[3]);
 
 /** y at time t (out may alias y). */
-PLUME_API void plume_rigid_motion_apply(const plume_rigid_motion *m, double t, const double y[3], double out[3]);
+void plume_rigid_motion_apply(const plume_rigid_motion *m, double t, const double y[3], double out[3]);
 
 #ifdef __cplusplus
 }

@@ -4,19 +4,13 @@
 #ifndef PLUME_VERSION_H
 #define PLUME_VERSION_H
 
-#include "export.h"
+#include "../../include/plume/base.h"
 
-#define PLUME_VERSION_MAJOR 0       /**< major version of the headers compiled against */
-#define PLUME_VERSION_MINOR 4       /**< minor version of the headers compiled against */
-#define PLUME_VERSION_PATCH 0       /**< patch version of the headers compiled against */
-#define PLUME_VERSION_STRING "0.4.0" /**< "MAJOR.MINOR.PATCH" of the headers compiled against */
+#include "export.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/** "MAJOR.MINOR.PATCH" of the library linked in (static string). */
-PLUME_API const char *plume_version(void);
 
 #ifdef __cplusplus
 }

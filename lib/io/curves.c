@@ -9,8 +9,8 @@
 
 #include <hdf5.h>
 
-#include "internal/h5_atomic.h"
-#include "internal/h5util.h"
+#include "h5_atomic.h"
+#include "h5util.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -485,7 +485,7 @@ plume_status plume_bend_curve_names(const char *path, const char *scale, char **
     if (path_exists(fid, gpath) != 1 || (g = H5Gopen2(fid, gpath, H5P_DEFAULT)) < 0 || H5Gget_info(g, &info) < 0 ||
         info.nlinks == 0) {
         s = plume_err_set(err, PLUME_EFORMAT, "curves file '%s': no bending curves (no %s group or an empty one; "
-                          "apps/traction --bending LOAD -o writes them)", path, gpath);
+                          "plume_bend_curve_write writes them)", path, gpath);
         goto cleanup;
     }
     if (info.nlinks > 100000) {

@@ -7,7 +7,7 @@
 
 #include <hdf5.h>
 
-#include "internal/h5util.h"
+#include "h5util.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -26,6 +26,8 @@
 #ifndef PLUME_FRAMES_H
 #define PLUME_FRAMES_H
 
+#include "../../include/plume/scene.h"
+
 #include "../core/export.h"
 #include "../core/status.h"
 
@@ -33,38 +35,16 @@
 extern "C" {
 #endif
 
-/** What /frames holds. scene is a NUL-terminated copy (truncated to fit). */
-typedef struct {
-    long count;       /**< committed frames */
-    plume_index nv;   /**< vertices (x and v have 3 nv values) */
-    plume_index ncons;/**< multipliers per frame */
-    double dt;        /**< the run's time step (s) */
-    char scene[1024]; /**< the scene file the run was made from */
-} plume_frames_info;
-
-/** One frame. Read by plume_frames_read, which allocates x, v (3 nv) and lambda (ncons, or NULL
- * when ncons = 0); free with plume_frame_free. */
-typedef struct {
-    long index;       /**< k */
-    long step;        /**< time steps taken since t = 0 */
-    double t;         /**< time (s) */
-    plume_index nv;   /**< vertices */
-    plume_index ncons;/**< constraint multipliers */
-    double *x;        /**< [3 nv] positions (m), vertex-major */
-    double *v;        /**< [3 nv] velocities (m/s) */
-    double *lambda;   /**< [ncons] multipliers, NULL when ncons = 0 */
-} plume_frame;
-
 /** Creates `path` with an empty /frames (count 0); an existing file of that name is replaced, but
  * only once the new one is complete (built under a temporary name and renamed). Errors: nv < 1,
  * ncons < 0, dt not finite and > 0 (PLUME_EINVAL); the file cannot be written (PLUME_EIO). */
-PLUME_API plume_status plume_frames_create(const char *path, plume_index nv, plume_index ncons, double dt, const char *scene,
+plume_status plume_frames_create(const char *path, plume_index nv, plume_index ncons, double dt, const char *scene,
                                            plume_err *err);
 
 /** Appends frame number `count` (the next one) with time t, step, x and v (3 nv) and lambda
  * (ncons; may be NULL when ncons is 0). Errors: the file is missing or not a frames file, its
  * nv/ncons differ from the ones the caller gives (PLUME_EFORMAT), a write failure (PLUME_EIO). */
-PLUME_API plume_status plume_frames_append(const char *path, plume_index nv, plume_index ncons, double t, long step,
+plume_status plume_frames_append(const char *path, plume_index nv, plume_index ncons, double t, long step,
                                            const double *x, const double *v, const double *lambda, plume_err *err);
 
 /** What the steps since the previous frame did (apps/feather). Contact fields are -1 without
@@ -79,21 +59,12 @@ typedef struct {
 } plume_frame_measures;
 
 /** plume_frames_append, with the measures (may be NULL) as attributes of the frame's group. */
-PLUME_API plume_status plume_frames_append_measured(const char *path, plume_index nv, plume_index ncons, double t, long step,
+plume_status plume_frames_append_measured(const char *path, plume_index nv, plume_index ncons, double t, long step,
                                                     const double *x, const double *v, const double *lambda,
                                                     const plume_frame_measures *m, plume_err *err);
 
 /** The measures of frame k (k < 0: the last); PLUME_EFORMAT when the frame has none. */
-PLUME_API plume_status plume_frames_read_measures(const char *path, long k, plume_frame_measures *m, plume_err *err);
-
-/** Reads the /frames attributes. */
-PLUME_API plume_status plume_frames_info_read(const char *path, plume_frames_info *info, plume_err *err);
-
-/** Reads frame k (k < 0: the last committed frame). PLUME_EINVAL when k >= count or the file has
- * no frame; PLUME_EFORMAT when a dataset has the wrong size. */
-PLUME_API plume_status plume_frames_read(const char *path, long k, plume_frame *frame, plume_err *err);
-/** Frees x, v and lambda of a frame read by plume_frames_read and sets them to NULL; NULL-safe. */
-PLUME_API void plume_frame_free(plume_frame *frame);
+plume_status plume_frames_read_measures(const char *path, long k, plume_frame_measures *m, plume_err *err);
 
 #ifdef __cplusplus
 }

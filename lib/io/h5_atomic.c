@@ -1,7 +1,7 @@
 /* The atomic-write protocol for HDF5 files (docs/design.md): a file is edited as a copy and renamed
  * over the original, so a crash at any moment leaves either the old file or the new one, whole. */
-#include "internal/h5_atomic.h"
-#include "internal/h5util.h"
+#include "h5_atomic.h"
+#include "h5util.h"
 
 #include <errno.h>
 #include <fcntl.h>

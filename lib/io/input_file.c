@@ -1,5 +1,5 @@
-/* plume: opening user input files (lib/io/internal/input_file.h). */
-#include "internal/input_file.h"
+/* plume: opening user input files (lib/io/input_file.h). */
+#include "input_file.h"
 
 #include <errno.h>
 #include <string.h>

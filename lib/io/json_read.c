@@ -1,6 +1,6 @@
-/* Reading JSON inputs with errors that name the file, line and key (lib/io/internal/json_read.h). */
-#include "internal/json_read.h"
-#include "internal/input_file.h"
+/* Reading JSON inputs with errors that name the file, line and key (lib/io/json_read.h). */
+#include "json_read.h"
+#include "input_file.h"
 
 #include <errno.h>
 #include <math.h>

@@ -1,11 +1,11 @@
-/* Triangle meshes from OBJ files with their groups (lib/io/internal/obj_read.h). */
-#include "internal/obj_read.h"
+/* Triangle meshes from OBJ files with their groups (lib/io/obj_read.h). */
+#include "obj_read.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "internal/json_read.h"
+#include "json_read.h"
 
 void plume_obj_free(plume_obj_data *o)
 {

@@ -3,6 +3,8 @@
 #ifndef PLUME_PROGRESS_H
 #define PLUME_PROGRESS_H
 
+#include "../../include/plume/base.h"
+
 #include "../core/export.h"
 
 #ifdef __cplusplus
@@ -18,18 +20,15 @@ typedef struct {
 } plume_progress;
 
 /** Starts a progress line; enabled when stderr is a terminal or `force` is non-zero. */
-PLUME_API void plume_progress_start(plume_progress *p, const char *label, int total, int force);
+void plume_progress_start(plume_progress *p, const char *label, int total, int force);
 /** Rewrites the line as "\r<label> step k/total [info]  elapsed 1.2 s  eta 3.4 s", padded with
  * spaces to 79 columns so a shorter line hides a longer previous one ("eta ? s" before step 1). */
-PLUME_API void plume_progress_update(plume_progress *p, int k, const char *info);
+void plume_progress_update(plume_progress *p, int k, const char *info);
 /** Ends the line with a newline and disables p (a second call prints nothing); nothing when disabled. */
-PLUME_API void plume_progress_finish(plume_progress *p);
-
-/** Monotonic wall clock in seconds. */
-PLUME_API double plume_wall_seconds(void);
+void plume_progress_finish(plume_progress *p);
 
 /** CPU time of the whole process (every thread) in seconds, for benchmarks. */
-PLUME_API double plume_cpu_seconds(void);
+double plume_cpu_seconds(void);
 
 #ifdef __cplusplus
 }

@@ -35,7 +35,7 @@ typedef struct {
 } plume_render_opts;
 
 /** Fills o with the defaults above (title NULL). */
-PLUME_API void plume_render_opts_default(plume_render_opts *o);
+void plume_render_opts_default(plume_render_opts *o);
 
 /** Draws the triangles of `mesh` at positions x (3 nv; NULL: mesh->x, z = 0 when planar) to
  * png_path, flat-shaded: each triangle's colour is its material's (a fixed palette by material
@@ -43,7 +43,7 @@ PLUME_API void plume_render_opts_default(plume_render_opts *o);
  * view of `o` (NULL: defaults). The picture is made in a private temporary directory and
  * renamed into place. Errors: invalid arguments or view (PLUME_EINVAL), gnuplot missing or
  * failing (PLUME_EDEP, with gnuplot's last message), files (PLUME_EIO). */
-PLUME_API plume_status plume_render_png(const char *png_path, const plume_mesh *mesh, const double *x,
+plume_status plume_render_png(const char *png_path, const plume_mesh *mesh, const double *x,
                                         const plume_render_opts *o, plume_err *err);
 
 #ifdef __cplusplus

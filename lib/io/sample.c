@@ -1,7 +1,7 @@
 /* plume: traction-sample geometries from JSON (jansson). The whole file is validated on every
  * load, not just the requested entry, so a bad row is reported whichever sample is asked for. */
 #include "sample.h"
-#include "internal/input_file.h"
+#include "input_file.h"
 
 #include <jansson.h>
 

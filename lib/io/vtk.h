@@ -18,7 +18,7 @@ extern "C" {
  * ParaView reads. Written to "<path>.tmp.<pid>" and renamed, so a reader never sees half a file.
  * Errors: invalid arguments (PLUME_EINVAL), a file that cannot be written (PLUME_EIO, message
  * naming it). */
-PLUME_API plume_status plume_vtk_write(const char *path, const plume_mesh *mesh, const double *x, double t, plume_err *err);
+plume_status plume_vtk_write(const char *path, const plume_mesh *mesh, const double *x, double t, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -1,6 +1,6 @@
 /* plume: VTK XML unstructured grids with zlib-compressed appended data, and .pvd collections. */
 #include "vtu.h"
-#include "internal/input_file.h"
+#include "input_file.h"
 
 #include <errno.h>
 #include <math.h>

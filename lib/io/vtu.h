@@ -46,7 +46,7 @@ typedef struct {
 /** Writes the grid to `path` through a temporary file (`path.tmp.PID`, renamed over it: a reader
  * never sees half a file).
  * PLUME_EINVAL for a bad grid (message naming what), PLUME_EIO naming the file, PLUME_ENOMEM. */
-PLUME_API plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_err *err);
+plume_status plume_vtu_write(const char *path, const plume_vtu_grid *g, plume_err *err);
 
 /** A grid read back; everything owned (plume_vtu_data_free). Integer arrays come back as doubles. */
 typedef struct {
@@ -76,12 +76,12 @@ typedef struct {
 /** Reads a .vtu with appended raw data, zlib-compressed or not, UInt32 or UInt64 headers (what
  * plume and ParaView write). PLUME_EIO (cannot open), PLUME_EFORMAT naming the file and what is
  * wrong, PLUME_ENOMEM. */
-PLUME_API plume_status plume_vtu_read(const char *path, plume_vtu_data *out, plume_err *err);
+plume_status plume_vtu_read(const char *path, plume_vtu_data *out, plume_err *err);
 /** Frees everything plume_vtu_read allocated in d; NULL-safe. */
-PLUME_API void plume_vtu_data_free(plume_vtu_data *d);
+void plume_vtu_data_free(plume_vtu_data *d);
 
 /** The array called name among a grid's point (on_points != 0) or cell arrays, or NULL. */
-PLUME_API const plume_vtu_array *plume_vtu_find(const plume_vtu_data *d, int on_points, const char *name);
+const plume_vtu_array *plume_vtu_find(const plume_vtu_data *d, int on_points, const char *name);
 
 /** A .pvd collection being written: (time, part, file) entries, the file path relative to the
  * .pvd's folder. Every plume_pvd_add rewrites the whole file atomically, so a run that stops
@@ -89,13 +89,13 @@ PLUME_API const plume_vtu_array *plume_vtu_find(const plume_vtu_data *d, int on_
 typedef struct plume_pvd plume_pvd;
 
 /** Starts an empty collection at path (nothing is written until the first add). */
-PLUME_API plume_status plume_pvd_create(const char *path, plume_pvd **out, plume_err *err);
+plume_status plume_pvd_create(const char *path, plume_pvd **out, plume_err *err);
 /** Frees the collection (the .pvd file stays as the last add wrote it); sets *p = NULL; NULL-safe. */
-PLUME_API void plume_pvd_destroy(plume_pvd **p);
+void plume_pvd_destroy(plume_pvd **p);
 /** Adds the entry (time, part, file) and rewrites the .pvd with every entry so far (to a temporary
  * file renamed over it). PLUME_EINVAL for an empty file name, part < 0 or a non-finite time;
  * PLUME_EIO naming the file; PLUME_ENOMEM. */
-PLUME_API plume_status plume_pvd_add(plume_pvd *p, double time, int part, const char *file, plume_err *err);
+plume_status plume_pvd_add(plume_pvd *p, double time, int part, const char *file, plume_err *err);
 
 /** Reads a .pvd's entries (what plume_pvd_add wrote): n entries, times[n], parts[n], files[n]
  * (owned: plume_pvd_entries_free). PLUME_EIO / PLUME_EFORMAT naming the file. */
@@ -108,9 +108,9 @@ typedef struct {
 
 /** Reads the entries of a .pvd into out, allocating its arrays (plume_pvd_entries_free).
  * PLUME_EIO when the file cannot be opened, PLUME_EFORMAT naming the file and line. */
-PLUME_API plume_status plume_pvd_read(const char *path, plume_pvd_entries *out, plume_err *err);
+plume_status plume_pvd_read(const char *path, plume_pvd_entries *out, plume_err *err);
 /** Frees the arrays of e and zeroes it; NULL-safe. */
-PLUME_API void plume_pvd_entries_free(plume_pvd_entries *e);
+void plume_pvd_entries_free(plume_pvd_entries *e);
 
 #ifdef __cplusplus
 }

@@ -67,7 +67,7 @@ typedef struct {
 } plume_dynamics_opts;
 
 /** Fills o with the defaults each field names. */
-PLUME_API void plume_dynamics_opts_default(plume_dynamics_opts *o);
+void plume_dynamics_opts_default(plume_dynamics_opts *o);
 
 /** Opaque implicit-Euler stepper: the state (t, x, v, multipliers), the copied handles, the
  * inertia term and the solver (plume_dynamics_create, freed by plume_dynamics_destroy). */
@@ -78,12 +78,12 @@ typedef struct plume_dynamics plume_dynamics;
  * surface densities (kg/m^2, indexed by material id), fixes the handles' vertices, finalises it
  * and creates the solver. The problem stays owned by the caller and must outlive the stepper.
  * Initial state: x = the problem's x (set it first, typically the rest shape), v = 0, t = 0. */
-PLUME_API plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, const double *density, int ndensity,
+plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, const double *density, int ndensity,
                                              const plume_handle *handles, int nhandles, const plume_dynamics_opts *o,
                                              plume_dynamics **out, plume_err *err);
 /** Frees the stepper, its solver and its copies of the handles (not the problem, which the caller
  * owns); sets *d = NULL; NULL-safe. */
-PLUME_API void plume_dynamics_destroy(plume_dynamics **d);
+void plume_dynamics_destroy(plume_dynamics **d);
 
 /** What happened in one call of plume_dynamics_advance. */
 typedef struct {
@@ -108,29 +108,29 @@ typedef struct {
  * plume_dynamics_opts.adaptive). Not converging at the smallest step is reported (state
  * left at the last converged substep), not an error; errors (a solver or contact failure, memory)
  * carry a message in err (NULL allowed). */
-PLUME_API plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep, plume_err *err);
+plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_report *rep, plume_err *err);
 
 /** The time of the current state (s). */
-PLUME_API double plume_dynamics_time(const plume_dynamics *d);
+double plume_dynamics_time(const plume_dynamics *d);
 /** Positions of the current state (3 nv, m); the stepper's array, valid until it is destroyed. */
-PLUME_API const double *plume_dynamics_positions(const plume_dynamics *d);
+const double *plume_dynamics_positions(const plume_dynamics *d);
 /** Velocities of the current state (3 nv, m/s); the stepper's array, valid until it is destroyed. */
-PLUME_API const double *plume_dynamics_velocities(const plume_dynamics *d);
+const double *plume_dynamics_velocities(const plume_dynamics *d);
 /** The constraint multipliers of the last step, *m of them (m may be NULL); the stepper's array. */
-PLUME_API const double *plume_dynamics_multipliers(const plume_dynamics *d, plume_index *m);
+const double *plume_dynamics_multipliers(const plume_dynamics *d, plume_index *m);
 /** Restores a saved state: time t, positions x and velocities v (3 nv each, copied) and the
  * multipliers lambda (NULL: zero). With the multipliers too, a restarted run repeats the
  * uninterrupted one exactly. PLUME_EINVAL for a non-finite time, position or velocity, named in
  * err (NULL allowed); nothing changes then. */
-PLUME_API plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double *x, const double *v,
+plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double *x, const double *v,
                                                 const double *lambda, plume_err *err);
 
 /** Lumped vertex masses (nv, kg), for tests and energy checks; the stepper's array. */
-PLUME_API const double *plume_dynamics_masses(const plume_dynamics *d);
+const double *plume_dynamics_masses(const plume_dynamics *d);
 
 /** The native solver's numeric factorisations since the stepper was created and their wall
  * seconds (pointers may be NULL; zeros for Ipopt or d == NULL), to split a step's time. */
-PLUME_API void plume_dynamics_stats(const plume_dynamics *d, int *factorizations, double *factor_seconds);
+void plume_dynamics_stats(const plume_dynamics *d, int *factorizations, double *factor_seconds);
 
 #ifdef __cplusplus
 }

@@ -7,6 +7,16 @@
 
 #include "../io/progress.h"
 
+double plume_traction_default_edge(double lx, double ly)
+{
+    return fmin(lx, ly) / 20.0;
+}
+
+double plume_traction_default_barb_spacing(double ly)
+{
+    return 0.086 * ly;
+}
+
 void plume_traction_opts_default(plume_traction_opts *o)
 {
     memset(o, 0, sizeof *o);
@@ -292,8 +302,8 @@ static plume_status check_barbs_stretch(const plume_mesh *mesh, const grips *g, 
     if (culprit >= 0)
         return plume_err_set(err, PLUME_EINFEASIBLE,
                              "traction: inextensible barbs span both grips (e.g. the barb through (%g, %g) m), "
-                             "so the sample cannot stretch; use --constraint off, or a barb angle whose barbs "
-                             "leave through the free sides",
+                             "so the sample cannot stretch: take the constraint off the barbs (the vane's "
+                             "constraint 0), or choose a barb angle whose barbs leave through the free sides",
                              mesh->X[2 * culprit], mesh->X[2 * culprit + 1]);
     return PLUME_OK;
 }

@@ -1,13 +1,29 @@
 #include "cholesky.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <cholmod.h>
 #include "internal/cholesky_like.h"
-#include "../core/internal/blas_threads.h"
+#include "../core/blas_threads.h"
 #include "../io/progress.h"
+
+/* METIS is not reentrant: its random number generator (GKlib's) is one state for the whole
+ * process, so two analyses at once in two threads draw from each other's sequence and order the
+ * same matrix differently (measured: the tilted traction curves of two threads then differed from
+ * the serial ones in the 11th digit; with AMD alone they did not). Analyses that may call METIS
+ * hold this lock; they happen once per pattern, so threads seldom wait on it. */
+static pthread_mutex_t metis_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static cholmod_factor *analyze_with_metis(cholmod_sparse *A, cholmod_common *cm)
+{
+    pthread_mutex_lock(&metis_lock);
+    cholmod_factor *L = cholmod_l_analyze(A, cm);
+    pthread_mutex_unlock(&metis_lock);
+    return L;
+}
 
 struct plume_chol {
     cholmod_common cm;
@@ -159,6 +175,7 @@ static plume_chol *chol_start(plume_index n, int ldl)
 plume_status plume_chol_create(plume_index n, const plume_index *colptr, const plume_index *rowind,
                                int ldl, plume_chol **out, plume_err *err)
 {
+    plume_openmp_thread_serial(); /* the analysis too runs in this thread's OpenMP settings */
     if (!out || n <= 0 || !colptr || !rowind)
         return plume_err_set(err, PLUME_EINVAL, "cholesky: invalid arguments");
     *out = NULL;
@@ -175,7 +192,7 @@ plume_status plume_chol_create(plume_index n, const plume_index *colptr, const p
     memcpy(c->A->i, rowind, (size_t)nnz * sizeof(SuiteSparse_long));
     for (plume_index k = 0; k < nnz; k++)
         ((double *)c->A->x)[k] = 0.0;
-    c->L = cholmod_l_analyze(c->A, &c->cm);
+    c->L = analyze_with_metis(c->A, &c->cm);
     if (c->L && c->cm.status >= CHOLMOD_OK && !ldl && c->L->ordering != CHOLMOD_NATURAL) {
         /* LL^T: lay the matrix out in the order found, and analyse that in its natural order */
         cholmod_sparse *upper = c->A;
@@ -214,6 +231,7 @@ plume_status plume_chol_create_like(plume_index n, const plume_index *colptr, co
                                     const plume_index *base_colptr, const plume_index *base_rowind,
                                     const plume_chol *like, plume_chol **out, plume_err *err)
 {
+    plume_openmp_thread_serial(); /* the analysis too runs in this thread's OpenMP settings */
     if (!out || n <= 0 || !colptr || !rowind)
         return plume_err_set(err, PLUME_EINVAL, "cholesky: invalid arguments");
     *out = NULL;
@@ -308,7 +326,8 @@ plume_status plume_chol_factor(plume_chol *c, const double *values, double shift
         memcpy(c->A->x, values, (size_t)nnz * sizeof(double));
     }
     double beta[2] = {shift, 0.0};
-    /* large factorisations share their BLAS calls among the cores (lib/core/internal/blas_threads.h) */
+    /* large factorisations share their BLAS calls among the cores (lib/core/blas_threads.h) */
+    plume_openmp_thread_serial();
     const int threads = plume_blas_threads_for(c->flops);
     if (threads > 1)
         plume_blas_threads_set(threads);

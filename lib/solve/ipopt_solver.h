@@ -20,15 +20,15 @@ typedef struct plume_ipopt plume_ipopt;
  * tolerances and iteration cap of o. PLUME_EINVAL (no message) for a problem not finalised,
  * options out of range or sizes beyond Ipopt's int indices; PLUME_ENOMEM. Free with
  * plume_ipopt_destroy. */
-PLUME_API plume_status plume_ipopt_create(plume_problem *p, const plume_solver_opts *o, plume_ipopt **out);
+plume_status plume_ipopt_create(plume_problem *p, const plume_solver_opts *o, plume_ipopt **out);
 /** Frees the solver and its Ipopt problem; sets *s = NULL; NULL-safe. */
-PLUME_API void plume_ipopt_destroy(plume_ipopt **s);
+void plume_ipopt_destroy(plume_ipopt **s);
 /** Solves from u (nfree, in: start, out: result) and lambda (ncons, in: guess, out: multipliers),
  * as plume_solver_solve does: convergence is in rep->reason, the status is an error only for bad
  * arguments, memory or Ipopt failing. */
-PLUME_API plume_status plume_ipopt_solve(plume_ipopt *s, double *u, double *lambda, plume_solve_report *rep);
+plume_status plume_ipopt_solve(plume_ipopt *s, double *u, double *lambda, plume_solve_report *rep);
 /** Sets the relative KKT tolerance of the next solves (unchecked; plume_solver_set_tol_kkt checks). */
-PLUME_API void plume_ipopt_set_tol_kkt(plume_ipopt *s, double tol_kkt);
+void plume_ipopt_set_tol_kkt(plume_ipopt *s, double tol_kkt);
 
 #ifdef __cplusplus
 }

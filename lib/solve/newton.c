@@ -84,10 +84,10 @@ void plume_newton_destroy(plume_newton **ps)
 plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, int single_step,
                                  plume_newton **out, plume_err *err)
 {
-    return nt_create_like(p, o, single_step, NULL, out, err);
+    return plume_newton_create_like(p, o, single_step, NULL, out, err);
 }
 
-plume_status nt_create_like(plume_problem *p, const plume_solver_opts *o, int single_step, const plume_newton *like,
+plume_status plume_newton_create_like(plume_problem *p, const plume_solver_opts *o, int single_step, const plume_newton *like,
                             plume_newton **out, plume_err *err)
 {
     if (!p || !o || !out)
@@ -153,7 +153,7 @@ plume_status nt_create_like(plume_problem *p, const plume_solver_opts *o, int si
     }
     s->eliminate = s->m > 0 && o->kkt == PLUME_KKT_ELIMINATE;
     if (s->eliminate) {
-        if ((st = nt_build_elimination_pairs(s)) != PLUME_OK)
+        if ((st = plume_newton_build_elimination_pairs(s)) != PLUME_OK)
             goto fail;
         s->kval = malloc(((size_t)s->hp.nnz + 1) * sizeof *s->kval);
         if (!s->kval) {
@@ -163,7 +163,7 @@ plume_status nt_create_like(plume_problem *p, const plume_solver_opts *o, int si
         st = plume_chol_create_like(s->n, s->hp.colptr, s->hp.rowind, 0, base.colptr, base.rowind, like ? like->chol : NULL,
                                     &s->chol, err);
     } else if (s->m > 0) {
-        if ((st = nt_build_kkt_pattern(s)) != PLUME_OK)
+        if ((st = plume_newton_build_kkt_pattern(s)) != PLUME_OK)
             goto fail;
         s->kval = malloc(((size_t)s->kcolptr[nk] + 1) * sizeof *s->kval);
         if (!s->kval) {
@@ -341,7 +341,7 @@ static plume_status soc_trial(plume_newton *s, const double *u, const double *du
     for (plume_index r = 0; r < m; r++)
         s->rhs[n + r] = -s->gt[r];
     s->trial_grad = 0; /* s->ut is about to be another point */
-    *ok = nt_kkt_solve(s, s->rhs, s->rhs) == PLUME_OK;
+    *ok = plume_newton_kkt_solve(s, s->rhs, s->rhs) == PLUME_OK;
     if (!*ok)
         return PLUME_OK;
     for (plume_index i = 0; i < n; i++)
@@ -479,7 +479,7 @@ static int geodesic_acceleration(plume_newton *s, const double *u, const double 
         r[i] = -(r[i] + gm[i]) / (h * h);
     for (plume_index q = 0; q < m; q++)
         r[n + q] = -(r[n + q] + s->acc_g[q]) / (h * h);
-    if (nt_kkt_solve(s, r, r) != PLUME_OK)
+    if (plume_newton_kkt_solve(s, r, r) != PLUME_OK)
         return 1;
     double an = 0.0, vn = 0.0;
     for (plume_index i = 0; i < n; i++) {
@@ -655,7 +655,7 @@ static int chord_wanted(const plume_newton *s, const nt_run *c, int it)
 
 /* The step direction in s->sol (du, then the new multipliers): a chord direction from the last
  * factorisation (d->chord; the iterate is saved, in case the step fails its rate test), or a
- * factorisation with inertia correction or partial projection (nt_direction); then the merit's
+ * factorisation with inertia correction or partial projection (plume_newton_direction); then the merit's
  * penalty and slope along du, and continuous collision detection's bound on the step.
  * STEP_REDO: the chord direction is unusable; STEP_FAILED: the matrix is singular. */
 static plume_status step_direction(plume_newton *s, nt_run *c, nt_step *d, nt_outcome *out)
@@ -664,7 +664,7 @@ static plume_status step_direction(plume_newton *s, nt_run *c, nt_step *d, nt_ou
     plume_status st;
     *out = STEP_TAKEN;
     if (d->chord) {
-        if (nt_chord_direction(s, c->lambda, c->L, &d->step_max)) {
+        if (plume_newton_chord_direction(s, c->lambda, c->L, &d->step_max)) {
             if (s->o.verbose)
                 fprintf(stderr, "           chord direction unusable: refactorising\n");
             s->factor_valid = 0;
@@ -673,7 +673,7 @@ static plume_status step_direction(plume_newton *s, nt_run *c, nt_step *d, nt_ou
         }
         save_iterate(s, 1, c->u, c->lambda, c->f, c->g1, c->viol);
     } else {
-        st = nt_direction(s, c->u, c->lambda, &d->step_max);
+        st = plume_newton_direction(s, c->u, c->lambda, &d->step_max);
         if (st == PLUME_ESINGULAR) {
             s->factor_valid = 0;
             c->rep->reason = PLUME_REASON_NUMERICAL;
@@ -1066,7 +1066,7 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
             break;
         /* inexact Newton (Eisenstat & Walker's forcing term): the refined KKT solve needs a
          * linear residual of eta times the nonlinear residual (grad f + J^T lambda in the force
-         * rows, g in the constraint rows; nt_direction) with eta = min(1e-2, res), loose while the
+         * rows, g in the constraint rows; plume_newton_direction) with eta = min(1e-2, res), loose while the
          * residual is large, tight (down to round-off) near convergence, where it keeps the
          * quadratic rate */
         s->refine_rtol = fmax(1e-15, fmin(1e-2, c.res));

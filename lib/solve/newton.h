@@ -22,19 +22,19 @@ typedef struct plume_newton plume_newton;
  * single_step = 1 gives the `linearized` backend. Analyses the sparse pattern once. PLUME_EINVAL
  * with a message naming the options out of range; PLUME_ENOMEM; errors of the symbolic analysis.
  * Free with plume_newton_destroy. */
-PLUME_API plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, int single_step,
+plume_status plume_newton_create(plume_problem *p, const plume_solver_opts *o, int single_step,
                                            plume_newton **out, plume_err *err);
 /** Frees the solver and its factorisation; sets *s = NULL; NULL-safe. */
-PLUME_API void plume_newton_destroy(plume_newton **s);
+void plume_newton_destroy(plume_newton **s);
 /** Solves from u (nfree, in: start, out: result) and lambda (ncons, in: guess, out: multipliers),
  * as plume_solver_solve does: convergence is in rep->reason, the status is an error only for bad
  * arguments, memory or an evaluation that failed. */
-PLUME_API plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plume_solve_report *rep);
+plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plume_solve_report *rep);
 /** Sets the relative KKT tolerance of the next solves (unchecked; plume_solver_set_tol_kkt checks). */
-PLUME_API void plume_newton_set_tol_kkt(plume_newton *s, double tol_kkt);
+void plume_newton_set_tol_kkt(plume_newton *s, double tol_kkt);
 /** Symbolic analyses, numeric factorisations and factorisation seconds since creation (each output
  * may be NULL; zeros for s NULL). */
-PLUME_API void plume_newton_stats(const plume_newton *s, int *analyses, int *factorizations, double *factor_seconds);
+void plume_newton_stats(const plume_newton *s, int *analyses, int *factorizations, double *factor_seconds);
 
 #ifdef __cplusplus
 }

@@ -17,7 +17,7 @@
 
 /* KKT pattern: columns < n are the Hessian's; column n + r holds the free dofs of constraint r
  * (rows sorted) and its diagonal. */
-plume_status nt_build_kkt_pattern(plume_newton *s)
+plume_status plume_newton_build_kkt_pattern(plume_newton *s)
 {
     plume_index n = s->n, m = s->m;
     s->kcolptr = calloc((size_t)(n + m + 1), sizeof *s->kcolptr);
@@ -91,7 +91,7 @@ static plume_index hessian_slot(const plume_sparsity *hp, plume_index r, plume_i
 /* Eliminating the multipliers from the KKT system adds J_r^T J_r / dc for every constraint row
  * r: list every pair of Jacobian entries of one row with the Hessian slot it lands in (the
  * problem's Hessian pattern contains every constraint stencil, so the slot exists). */
-plume_status nt_build_elimination_pairs(plume_newton *s)
+plume_status plume_newton_build_elimination_pairs(plume_newton *s)
 {
     plume_index m = s->m;
     plume_index *cnt = calloc((size_t)(m + 1), sizeof *cnt), *start = calloc((size_t)(m + 2), sizeof *start);
@@ -384,12 +384,12 @@ static plume_status kkt_solve_j(plume_newton *s, const double *jv, const double 
     return st;
 }
 
-plume_status nt_kkt_solve(plume_newton *s, const double *r, double *out)
+plume_status plume_newton_kkt_solve(plume_newton *s, const double *r, double *out)
 {
     return kkt_solve_j(s, s->jval, r, out);
 }
 
-double nt_force_residual(plume_newton *s, const double *lambda)
+double plume_newton_force_residual(plume_newton *s, const double *lambda)
 {
     double *fr = s->rd; /* scratch: the refinement's workspace, free between solves */
     memcpy(fr, s->grad, (size_t)s->n * sizeof *fr);
@@ -406,7 +406,7 @@ double nt_force_residual(plume_newton *s, const double *lambda)
  * with zero multipliers has no sideways stiffness), so the regularisation is raised,
  * Levenberg–Marquardt style, until the step is of a sensible size (after 8 tries the last step is
  * returned as it is: the line search judges it). PLUME_ESINGULAR when no factorisation worked. */
-plume_status nt_direction(plume_newton *s, const double *u, const double *lambda, double *step_max)
+plume_status plume_newton_direction(plume_newton *s, const double *u, const double *lambda, double *step_max)
 {
     plume_index n = s->n, m = s->m;
     double L = plume_problem_length_scale(s->p), dw = 0.0, dc, hmax;
@@ -423,8 +423,8 @@ plume_status nt_direction(plume_newton *s, const double *u, const double *lambda
          * does not vanish at a constrained solution (it is balanced by J^T lambda): measured
          * against it, the refinement stopped at a linear residual as large as the nonlinear one
          * (a forcing term of about 1) and the end game lost its quadratic rate */
-        s->refine_bf = m > 0 ? nt_force_residual(s, lambda) : 0.0;
-        st = nt_kkt_solve(s, s->rhs, s->sol);
+        s->refine_bf = m > 0 ? plume_newton_force_residual(s, lambda) : 0.0;
+        st = plume_newton_kkt_solve(s, s->rhs, s->sol);
         s->refine_bf = 0.0;
         if (st != PLUME_OK && st != PLUME_ESINGULAR)
             return st;
@@ -449,7 +449,7 @@ plume_status nt_direction(plume_newton *s, const double *u, const double *lambda
  * solve) with the current residual. The fixed point is exact whatever matrix is used; only the
  * rate of convergence suffers, which the caller measures. Not usable (nonzero) when the solve
  * fails, the step is absurdly long, or (without constraints) it does not descend. */
-int nt_chord_direction(plume_newton *s, const double *lambda, double L, double *step_max)
+int plume_newton_chord_direction(plume_newton *s, const double *lambda, double L, double *step_max)
 {
     /* increment form with the factorisation's own Jacobian J_f, so that only the matrix is stale:
      *   (H_f + J_f^T J_f / dc) dx = r1 + J_f^T r2 / dc,  dlam = (J_f dx - r2) / dc,

@@ -24,7 +24,7 @@ plume_status plume_newton_linear_step(plume_newton *s, const double *u, const do
     s->refine_rtol = 1e-12; /* a predictor is worth its digits: refinement passes cost solves, not factorisations */
     s->factor_valid = 0;    /* this factorisation is not of a solve's iterate */
     double step_max = 0.0;
-    st = nt_direction(s, u, lambda, &step_max);
+    st = plume_newton_direction(s, u, lambda, &step_max);
     s->tr_sigma = sigma;
     s->refine_rtol = rtol;
     if (st != PLUME_OK)

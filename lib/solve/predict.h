@@ -23,7 +23,7 @@ extern "C" {
  * (nfree) and lambda_out (ncons, may be NULL) outputs. Leaves the solver's options and later solves
  * unchanged; counts in plume_newton_stats. PLUME_ESINGULAR when no factorisation worked;
  * PLUME_EINVAL for missing arrays; evaluation errors as returned by the problem. */
-PLUME_API plume_status plume_newton_linear_step(plume_newton *s, const double *u, const double *lambda, const double *r,
+plume_status plume_newton_linear_step(plume_newton *s, const double *u, const double *lambda, const double *r,
                                                 const double *c, double *du, double *lambda_out);
 
 #ifdef __cplusplus

@@ -111,7 +111,7 @@ static plume_status solver_create(plume_solver_kind kind, plume_problem *p, cons
     s->p = p;
     plume_status st = kind == PLUME_SOLVER_IPOPT
                           ? plume_ipopt_create(p, o, &s->ipopt)
-                          : nt_create_like(p, o, kind == PLUME_SOLVER_LINEARIZED, like ? like->newton : NULL,
+                          : plume_newton_create_like(p, o, kind == PLUME_SOLVER_LINEARIZED, like ? like->newton : NULL,
                                            &s->newton, err);
     if (st != PLUME_OK && kind == PLUME_SOLVER_IPOPT) /* Ipopt's creation keeps no message */
         plume_err_set(err, st, "ipopt: the solver could not be created (%s)", plume_strerror(st));

@@ -4,6 +4,8 @@
 #ifndef PLUME_SOLVER_H
 #define PLUME_SOLVER_H
 
+#include "../../include/plume/problem.h"
+
 #include "../core/export.h"
 #include "../core/problem.h"
 #include "options.h"
@@ -13,29 +15,6 @@
 extern "C" {
 #endif
 
-/** The solver backends (names "newton", "ipopt", "linearized"). */
-typedef enum {
-    PLUME_SOLVER_NEWTON = 0,    /**< the native projected Newton / SQP (lib/solve/newton.h) */
-    PLUME_SOLVER_IPOPT = 1,     /**< Ipopt, interior point with exact Hessians (lib/solve/ipopt_solver.h) */
-    PLUME_SOLVER_LINEARIZED = 2 /**< one full Newton step of the native solver, no convergence sought */
-} plume_solver_kind;
-
-/** Parses "newton" | "ipopt" | "linearized"; PLUME_EINVAL otherwise. */
-PLUME_API plume_status plume_solver_kind_parse(const char *s, plume_solver_kind *out);
-/** The name plume_solver_kind_parse accepts for k (static string); "unknown" out of range. */
-PLUME_API const char *plume_solver_kind_name(plume_solver_kind k);
-
-/** Opaque solver: one backend over one finalised problem (plume_solver_create, freed by
- * plume_solver_destroy). */
-typedef struct plume_solver plume_solver;
-
-/** Creates a solver for a finalised problem (kept by reference, not owned). Symbolic analysis
- * of the sparse systems happens here, once. PLUME_EINVAL for a problem not finalised or options
- * out of range, with a message naming them in err (NULL allowed). */
-PLUME_API plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p,
-                                           const plume_solver_opts *o, plume_solver **out, plume_err *err);
-/** Frees the solver (not the problem); sets *s = NULL; NULL-safe. */
-PLUME_API void plume_solver_destroy(plume_solver **s);
 /** Replaces *s by a solver of the same kind for its problem's new Hessian pattern (after
  * plume_problem_update_terms reported a change), as plume_solver_create with options o would,
  * reusing what does not depend on the new pattern: the fill-reducing order of the problem's
@@ -43,12 +22,7 @@ PLUME_API void plume_solver_destroy(plume_solver **s);
  * whose factor it keeps within 1.2 times the fixed pattern's entries, so a few contact pairs
  * more or less need no new AMD and METIS analysis. On failure *s is left as it was and err says
  * why. */
-PLUME_API plume_status plume_solver_renew(plume_solver **s, const plume_solver_opts *o, plume_err *err);
-
-/** Solves from u (nfree, in: start, out: result) and lambda (ncons, in: guess, out: multipliers
- * of the Lagrangian f + lambda.g). The problem's x holds the result on return. Returns an error
- * status only for errors (bad input, memory, dependency); convergence is in rep->reason. */
-PLUME_API plume_status plume_solver_solve(plume_solver *s, double *u, double *lambda, plume_solve_report *rep);
+plume_status plume_solver_renew(plume_solver **s, const plume_solver_opts *o, plume_err *err);
 
 /** The tangent (consistent) predictor of an increment: where the solve of a step should start when
  * the prescribed dofs move from where the problem's x holds them to x_target and the loads have
@@ -65,16 +39,16 @@ PLUME_API plume_status plume_solver_solve(plume_solver *s, double *u, double *la
  * err) for the Ipopt backend or missing arguments; PLUME_ESINGULAR when no factorisation worked
  * or the predicted states were all undefined (u, lambda then unchanged); evaluation errors at the
  * start as the problem returns them. */
-PLUME_API plume_status plume_solver_predict(plume_solver *s, double *u, double *lambda, const double *x_target,
+plume_status plume_solver_predict(plume_solver *s, double *u, double *lambda, const double *x_target,
                                             int *factorizations, plume_err *err);
 
 /** Changes the relative KKT tolerance of the next solves (tol_kkt > 0 and finite, else
  * PLUME_EINVAL with a message in err, NULL allowed): one solver, one symbolic analysis, for solves
  * that need different accuracies (traction's small-strain probe). */
-PLUME_API plume_status plume_solver_set_tol_kkt(plume_solver *s, double tol_kkt, plume_err *err);
+plume_status plume_solver_set_tol_kkt(plume_solver *s, double tol_kkt, plume_err *err);
 
 /** Time spent and count of numeric factorisations / symbolic analyses so far (benchmarks). */
-PLUME_API void plume_solver_stats(const plume_solver *s, int *analyses, int *factorizations,
+void plume_solver_stats(const plume_solver *s, int *analyses, int *factorizations,
                                   double *factor_seconds);
 
 #ifdef __cplusplus

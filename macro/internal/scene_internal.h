@@ -3,7 +3,7 @@
 #ifndef PLUME_INTERNAL_SCENE_INTERNAL_H
 #define PLUME_INTERNAL_SCENE_INTERNAL_H
 
-#include "../../lib/io/internal/json_read.h"
+#include "../../lib/io/json_read.h"
 #include "../scene.h"
 
 /* Mesh from an OBJ ("mesh": {"obj", "materials_by_group", "barb_direction"}): reference x, y,

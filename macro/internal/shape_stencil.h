@@ -80,13 +80,13 @@ typedef struct {
 
 /* The search's workspace over mesh m: its vertex -> triangles map and marks (W zeroed first).
  * Returns 0, or -1 when memory runs out (W then holds what to free). */
-int shape_search_init(search_ws *W, const plume_mesh *m);
-void shape_search_free(search_ws *W);
+int plume_shape_search_init(search_ws *W, const plume_mesh *m);
+void plume_shape_search_free(search_ws *W);
 
 /* Chooses p[3] for triangle t (natural opposite vertices in p, -1 where the edge is on the
  * boundary; ghost slots, gr->gp[k] != NULL, are kept whatever happens). Returns the chosen
  * stencil's s(M) (0 if none was found), or -1 on allocation failure. */
-double shape_choose_stencil(const plume_mesh *m, plume_index t, const ref_tri *R, const ghost_ref *gr, search_ws *W,
+double plume_shape_choose_stencil(const plume_mesh *m, plume_index t, const ref_tri *R, const ghost_ref *gr, search_ws *W,
                             plume_index p[3]);
 
 #endif

@@ -9,7 +9,7 @@
 #include <math.h>
 
 #include "../membrane.h"
-#include "vec3.h"
+#include "../vec3.h"
 
 /* Below this area ratio the current triangle is collapsed and the second derivative of J, which
  * divides by J, is dropped; the first derivative (a unit normal) stays well defined down to 0. */

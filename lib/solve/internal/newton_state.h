@@ -39,7 +39,7 @@ struct plume_newton {
     double refine_rtol;      /* refinement stops below this residual, relative to the right-hand
                                 side: the forcing term of the current iteration */
     double refine_bf;        /* > 0: the force rows' residual is judged against this instead of
-                                their right-hand side (nt_direction: the KKT residual) */
+                                their right-hand side (plume_newton_direction: the KKT residual) */
     double shift, shift_last; /* exact-Hessian shift of the last factorisation; the last nonzero one */
     double tr_sigma;         /* trust region: the regularisation added to every factorisation of
                                 this solve's iterations (0: none) */
@@ -69,21 +69,21 @@ struct plume_newton {
 };
 
 /* lib/solve/newton_kkt.c */
-plume_status nt_build_kkt_pattern(plume_newton *s);
-plume_status nt_build_elimination_pairs(plume_newton *s);
+plume_status plume_newton_build_kkt_pattern(plume_newton *s);
+plume_status plume_newton_build_elimination_pairs(plume_newton *s);
 /* [H + d I, J^T; J, -dc I] [x; l] = r with the last factorisation (out may alias r) */
-plume_status nt_kkt_solve(plume_newton *s, const double *r, double *out);
+plume_status plume_newton_kkt_solve(plume_newton *s, const double *r, double *out);
 /* the Newton/SQP direction in s->sol (factorise, solve); *step_max its largest entry */
-plume_status nt_direction(plume_newton *s, const double *u, const double *lambda, double *step_max);
+plume_status plume_newton_direction(plume_newton *s, const double *u, const double *lambda, double *step_max);
 /* max |grad f + J^T lambda| over the free dofs: the force rows' nonlinear residual, the reference
  * of the forcing term (refine_bf) */
-double nt_force_residual(plume_newton *s, const double *lambda);
+double plume_newton_force_residual(plume_newton *s, const double *lambda);
 /* a chord direction in s->sol from the last factorisation; nonzero when unusable */
-int nt_chord_direction(plume_newton *s, const double *lambda, double L, double *step_max);
+int plume_newton_chord_direction(plume_newton *s, const double *lambda, double L, double *step_max);
 
 /* plume_newton_create, the factorisation analysed in the order of like's where it fits
  * (plume_chol_create_like); like may be NULL. */
-plume_status nt_create_like(plume_problem *p, const plume_solver_opts *o, int single_step, const plume_newton *like,
+plume_status plume_newton_create_like(plume_problem *p, const plume_solver_opts *o, int single_step, const plume_newton *like,
                             plume_newton **out, plume_err *err);
 
 #endif

@@ -1,8 +1,8 @@
 /** \file
- * plume — feather vanes as strongly anisotropic elastic shells, at two scales.
- * The umbrella header: include this and link libplume (pkg-config plume). */
-#ifndef PLUME_H
-#define PLUME_H
+ * Every header of the tree, the internal ones too: the tests and the benchmarks reach below the
+ * public face (include/plume/plume.h, what a program outside the tree includes). */
+#ifndef PLUME_TREE_H
+#define PLUME_TREE_H
 
 /* core: the mesh, the problem and its energy terms, the dense algebra */
 #include "../lib/core/export.h"

@@ -14,5 +14,11 @@
 int plume_blas_threads_for(double flops);
 /* sets OpenBLAS's threads when plume manages them; nothing otherwise */
 void plume_blas_threads_set(int threads);
+/* After plume_openmp_serial, makes the calling thread's OpenMP regions serial too: libgomp keeps
+ * max-active-levels per thread, and a thread the program started itself begins with the default
+ * (measured with GCC 12's libgomp: a pthread ran a num_threads(4) region as a team of 4 after the
+ * main thread had set 0). Called before every analysis and factorisation; nothing when
+ * plume_openmp_serial was not called. */
+void plume_openmp_thread_serial(void);
 
 #endif

@@ -1,13 +1,13 @@
-/* A C program that links libplume: the tilted traction test of a vane with barbs at 45 degrees.
+/* plume example: the tilted traction test of a vane with barbs at 45 degrees (include/plume/traction.h).
  * Build against the shared library (plume.pc carries its run path, so the program starts without
  * LD_LIBRARY_PATH; set PKG_CONFIG_PATH=PREFIX/lib/pkgconfig when PREFIX is not a system one):
- *     cc example.c $(pkg-config --cflags --libs plume) -o example
+ *     cc traction.c $(pkg-config --cflags --libs plume) -o traction
  * or against the static one (nothing of plume's to find at run time):
- *     cc example.c $(pkg-config --cflags plume) $(pkg-config --variable=static_libs plume) -o example */
+ *     cc traction.c $(pkg-config --cflags plume) $(pkg-config --variable=static_libs plume) -o traction */
 #include <stdio.h>
 #include <stdlib.h>
 
-#include <plume.h>
+#include <plume/plume.h>
 
 int main(void)
 {
@@ -35,9 +35,10 @@ int main(void)
     for (plume_index k = 0; k < r.curve.n; k++)
         printf("%.4f %.6g %.6g\n", r.curve.strain[k], r.curve.stress[k], r.curve.wbar[k]);
     printf("converged: %d, iterations: %d\n", r.converged, r.newton_iterations);
+    const int ok = r.converged;
     plume_traction_result_free(&r);
     free(barbs);
     plume_problem_destroy(&p);
     plume_mesh_destroy(&mesh);
-    return 0;
+    return ok ? 0 : 1;
 }

@@ -5,7 +5,7 @@
 
 #include <stdio.h>
 
-#include "../../core/status.h"
+#include "../core/status.h"
 
 /* fopen(path, mode) for reading, after checking that path is a regular file. On failure returns
  * NULL with err set (PLUME_EIO): "<what> '<path>': cannot open: <reason>" or "...: is not a

@@ -4,7 +4,7 @@
 #ifndef PLUME_INTERNAL_OBJ_READ_H
 #define PLUME_INTERNAL_OBJ_READ_H
 
-#include "../../core/status.h"
+#include "../core/status.h"
 
 typedef struct {
     double *v;             /* [2 nv] x, y */

@@ -5,7 +5,7 @@
 
 #include <hdf5.h>
 
-#include "../../core/status.h"
+#include "../core/status.h"
 
 /* Fills an open, writable file; returns a status with `err` set on failure. */
 typedef plume_status (*plume_h5_fill_fn)(hid_t fid, const char *path, const void *ctx, plume_err *err);

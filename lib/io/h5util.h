@@ -7,7 +7,7 @@
 #include <hdf5.h>
 #include <stdio.h>
 
-#include "../../core/status.h"
+#include "../core/status.h"
 
 typedef struct {
     H5E_auto2_t func;

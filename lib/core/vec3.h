@@ -3,7 +3,7 @@
 #ifndef PLUME_INTERNAL_VEC3_H
 #define PLUME_INTERNAL_VEC3_H
 
-#include "../status.h"
+#include "status.h"
 
 static inline void cross3(const double a[3], const double b[3], double c[3])
 {

@@ -11,7 +11,7 @@
 #include <jansson.h>
 #include <stddef.h>
 
-#include "../../core/status.h"
+#include "../core/status.h"
 
 enum { PLUME_JSON_KEY_MAX = 256 };
 

@@ -1,0 +1,205 @@
+/** \file
+ * plume: homogenise a vane microstructure: barb layouts (from a layout file or set by hand), the periodic cell, and the macroscale membrane and bending moduli it gives. */
+#ifndef PLUME_PUBLIC_HOMOGENIZE_H
+#define PLUME_PUBLIC_HOMOGENIZE_H
+
+#include "problem.h"
+#include "curves.h"
+
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- from micro/layout.h ---- */
+/** The kind of microstructure (names "strips", "barbules" in JSON). */
+typedef enum {
+    PLUME_LAYOUT_STRIPS = 0,  /**< barb strips of width w_B every d_B in a soft barbule matrix */
+    PLUME_LAYOUT_BARBULES = 1 /**< barb strips joined by explicit barbule strips; empty between */
+} plume_layout_kind;
+
+/** Largest element edge over strip width (e-bar): a strip narrower than a quarter of an element
+ * is refused ("strips narrower than an element"). */
+#define PLUME_LAYOUT_MAX_E_REL 4.0
+
+/** A layout, in the barb frame: x along the barbs, y across. All lengths in m, moduli in Pa. */
+typedef struct {
+    plume_layout_kind kind; /**< strips in a matrix, or explicit barbules */
+    double phi;            /**< barb surface fraction w_B / d_B, in (0, 1) */
+    double d_B;            /**< barb spacing (period across the barbs) */
+    double E_b;            /**< barb material Young's modulus */
+    double nu_b;           /**< barb material Poisson ratio */
+    double ratio;          /**< E_B / E_b: barbule material modulus over barb modulus, > 0 */
+    double nu_B;           /**< barbule material Poisson ratio */
+    double h;              /**< reference thickness: the membrane moduli in Pa are the membrane
+                              stiffness A (N/m) over h (docs/bending-homogenisation.md) */
+    double h_barb;         /**< thickness of the barb phase; 0 (default): h */
+    double h_barbule;      /**< thickness of the barbule phase (matrix or explicit barbules); 0
+                              (default): h. Either may exceed the other (layout.c says why) */
+    double kappa;          /**< compression-term coefficient of both materials (Pa), >= 0 */
+    /* PLUME_LAYOUT_BARBULES only: */
+    double barbule_width;    /**< width of a barbule strip */
+    double barbule_spacing;  /**< distance between consecutive barbules along a barb (the period
+                                along x) */
+    double barbule_angle;    /**< angle between barbules and barbs, degrees, in (0, 180) */
+    /* meshing: */
+    int order;             /**< element order: 2 (default) quadratic triangles, which do not lock when
+                              a slender strip bends in-plane; 1 linear triangles (the paper's) */
+    double e_rel;          /**< target element edge over the barb width, e-bar = e / w_B, in
+                              (0, PLUME_LAYOUT_MAX_E_REL] and e_rel * w_B <= d_B; 0 (default): chosen
+                              from the thinnest feature (plume_layout_element_edge) */
+} plume_layout;
+
+/** Defaults: strips, phi = 0.16 (supplementary Figure 10), d_B = 1e-3, E_b = 2.5e9, nu_b = 0.3,
+ * ratio = 1e-6, nu_B = 0.3, h = 1e-4, h_barb = h_barbule = 0 (both h), kappa = 0, barbules 0.2 d_B wide every d_B at 60 deg (they
+ * span < 0.82 d_B along the barbs for any phi, so they fit the cell), order 2, e_rel = 0 (automatic). */
+PLUME_API void plume_layout_default(plume_layout *l);
+
+/** Sets the barb spacing d_B (m, > 0) and scales the barbules' width and spacing with it, so the
+ * microstructure keeps its shape at another size (a specimen's d_B = d l_y, a size-effect family). */
+PLUME_API void plume_layout_set_spacing(plume_layout *l, double d_B);
+
+/** w_B = phi d_B. */
+PLUME_API double plume_layout_barb_width(const plume_layout *l);
+
+/** What a mesh is for: the automatic element edge differs (docs/micro-convergence.md). */
+typedef enum {
+    PLUME_MESH_CELL = 0,    /**< a periodic cell (micro/cell_mesh.h) */
+    PLUME_MESH_SPECIMEN = 1 /**< a traction or bending specimen */
+} plume_mesh_use;
+
+/** The target element edge (m): e_rel * w_B when e_rel > 0, else the automatic choice for this use and
+ * element order, a fraction of the thinnest feature measured to put the default within 1 % (cell) and
+ * 2 % (specimen) of its own refined limit. */
+PLUME_API double plume_layout_element_edge(const plume_layout *l, plume_mesh_use use);
+
+/** Validates every field (PLUME_EINVAL naming the field and its value: "phi must be in (0, 1)
+ * (got 1.2)", "ratio must be > 0", "strips narrower than an element ...", "cell too small for its
+ * layout ..."). */
+PLUME_API plume_status plume_layout_check(const plume_layout *l, plume_err *err);
+
+/** The thickness of phase PLUME_MAT_BARB or PLUME_MAT_BARBULE (m): h_barb or h_barbule, or h where
+ * that is 0. */
+PLUME_API double plume_layout_thickness(const plume_layout *l, int phase);
+
+/** The two membrane materials: mats[PLUME_MAT_BARB], mats[PLUME_MAT_BARBULE] (isotropic), each with
+ * its phase's thickness (plume_layout_thickness). */
+PLUME_API void plume_layout_materials(const plume_layout *l, plume_membrane_material mats[2]);
+
+
+/* ---- from micro/layout_json.h ---- */
+/** Reads keys into *l (which holds the defaults or earlier values; absent keys are kept):
+ *   {"layout": "strips" | "barbules", "phi": 0.16, "d_B": 1e-3, "w_B": 1.6e-4, "E_b": 2.5e9,
+ *    "nu_b": 0.3, "ratio": 1e-6, "nu_B": 0.3, "thickness": 1e-4, "thickness_barb": 1e-4,
+ *    "thickness_barbule": 1e-5, "kappa": 0, "order": 2, "e_rel": 0, "barbule_width": 1e-4, "barbule_spacing": 8e-4, "barbule_angle": 60}
+ * ("w_B" sets d_B = w_B / phi after every other key). Errors name the file and the line for
+ * malformed JSON (PLUME_EFORMAT), an unknown key or a non-numeric value (PLUME_EFORMAT), an
+ * unreadable file (PLUME_EIO). Values are not range-checked here (call plume_layout_check), except
+ * the phase thicknesses: "thickness_barb" and "thickness_barbule" must be finite and > 0
+ * (PLUME_EFORMAT naming the key; left out, a phase has the "thickness"). */
+PLUME_API plume_status plume_layout_load_json(const char *path, plume_layout *l, plume_err *err);
+
+/** The same keys from a JSON text (a binding's request); `where` names it in messages
+ * ("request.layout"). */
+PLUME_API plume_status plume_layout_apply_json(const char *text, const char *where, plume_layout *l, plume_err *err);
+
+
+/* ---- from micro/cell_plate.h ---- */
+/** The bending moduli of a plate (N m) in the barb frame (1 along the barbs), with the energy
+ * density of macro/bending.h plus the bending-twist couplings
+ *
+ *     1/2 (D_long k11^2 + D_trans k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2
+ *          + 4 D_16 k11 k12 + 4 D_26 k22 k12),
+ *
+ * i.e., 1/2 kappa^T D kappa with kappa = (k11, k22, 2 k12) and
+ * D = [D_long D_coupling D_16; D_coupling D_trans D_26; D_16 D_26 D_twist]. */
+typedef struct {
+    double D_long;     /**< D_11: curvature along the barbs */
+    double D_trans;    /**< D_22: curvature across the barbs */
+    double D_coupling; /**< D_12: coupling of k11 and k22 */
+    double D_twist;    /**< D_66: twist */
+    double D_16;       /**< coupling of k11 and the twist (0 for an orthotropic cell) */
+    double D_26;       /**< coupling of k22 and the twist (0 for an orthotropic cell) */
+} plume_plate_moduli;
+
+
+/** A periodic cell of a layout (opaque here; micro/cell_mesh.h inside the library). */
+typedef struct plume_cell plume_cell;
+
+/* ---- from micro/homogenize.h ---- */
+/** Options of plume_homogenize (plume_homog_opts_default). */
+typedef struct {
+    double strain_max;     /**< final strain of the cell curves; default 0.05 (0: no curves) */
+    int steps;             /**< points of each cell curve; default 10 */
+    plume_solver_opts solver_opts; /**< options of the native solver of the cell problems; default
+                                        plume_solver_opts_default */
+    int convergence;       /**< 1 (default): estimate how converged the tensor is (refinement_change); 0: skip */
+    /** Optional (NULL: none): called with each state of the cell curves, the rest state as step 0
+     * and then every accepted step: load case (0 uniaxial x, 1 uniaxial y, 2 shear), its
+     * strain, the cell (its mesh: materials and barb directions) and the positions of all its
+     * vertices (2 nv; periodic images placed by the macroscopic gradient). A status other than
+     * PLUME_OK stops the homogenisation with that status (apps/homogenize --vtk). */
+    plume_status (*on_state)(void *user, int load_case, int step, double strain, const plume_cell *cell,
+                             const double *x);
+    void *on_state_user;   /**< passed to on_state as `user` */
+} plume_homog_opts;
+
+/** Fills o with the defaults each field names (on_state NULL). */
+PLUME_API void plume_homog_opts_default(plume_homog_opts *o);
+
+/** What plume_homogenize gives: the moduli, the bending tensor, the cell curves and how converged
+ * they are (free the curves with plume_homog_result_free). */
+typedef struct {
+    plume_ortho moduli;    /**< effective 3D moduli (Pa) in the barb frame (x along the barbs) */
+    double C[9];           /**< effective plane-stress tensor (Pa), Voigt (E11, E22, 2 E12), row-major */
+    double coupling;       /**< max(|C13|, |C23|) / sqrt(C11 C22): 0 for an orthotropic cell */
+    /** Bending, from the periodic plate cell (micro/cell_plate.h): the tensor D (N m, Voigt (k11,
+     * k22, 2 k12), row-major, barb frame). */
+    double D[9];
+    plume_plate_moduli bending; /**< the moduli of D in macro/bending.h's convention */
+    plume_index plate_dofs; /**< unknowns of the plate cell problem */
+    /** How converged the bending moduli are: the largest relative change of D_long, D_trans,
+     * D_twist on the coarser mesh of refinement_change (-1 when not estimated). */
+    double bending_change;
+    /* The cell response curves (nominal = first Piola stress over the thickness, Pa), each
+     * stress-controlled so that its initial slope is the compliance modulus above (also when the
+     * cell couples normal stresses and shear, coupling > 0). Arrays owned by the result. */
+    /** Uniaxial stress along the barbs: F = [1+e g; 0 1+w], stress P_xx, P_yy = P_xy = 0, wbar = w
+     * the lateral strain. */
+    plume_curve uniaxial_x;
+    /** Uniaxial stress across the barbs: F = [1+w 0; g 1+e], stress P_yy, P_xx = P_yx = 0, wbar = w. */
+    plume_curve uniaxial_y;
+    /** Shear: F = [1+u gamma; 0 1+v], stress P_xy, P_xx = P_yy = 0 (free normal stretches), wbar = 0. */
+    plume_curve shear;
+    plume_index elements;  /**< elements of the cell mesh (quadratic triangles at order 2) */
+    plume_index vertices;  /**< nodes of the cell mesh */
+    int order;             /**< element order used */
+    double element_edge;   /**< target element edge of the cell mesh (m) */
+    /** How converged the moduli are: the same tensor on the cell meshed with elements twice as large
+     * (half as large when the layout allows no coarser mesh), refinement_edge; the largest relative
+     * change of E_xx, E_yy, G_xy and of max_ij |C_ij - C'_ij| / sqrt(C_ii C_jj) (scale-free, so a
+     * small nu_xy's coupling counts at its weight in the energy). Under monotone convergence of
+     * order >= 1 the change from the coarser mesh bounds this run's error. -1 when not estimated. */
+    double refinement_change;
+    double moduli_change[4]; /**< the relative changes of E_xx, E_yy, nu_xy, G_xy on that mesh (-1: not estimated) */
+    double refinement_edge;  /**< the element edge of the comparison mesh (m) */
+    int newton_iterations; /**< every solve */
+    double seconds;        /**< wall time of the homogenisation */
+} plume_homog_result;
+
+/** Frees the three curves' arrays (the rest of r holds no memory); NULL-safe. */
+PLUME_API void plume_homog_result_free(plume_homog_result *r);
+
+/** Meshes the layout's periodic cell and homogenises it: the small-strain tensor from the exact
+ * linearised cell problem (micro/cell_linear.h), the bending tensor from the plate cell problem
+ * (micro/cell_plate.h), the curves from the nonlinear membrane. Errors: invalid layout or options
+ * (PLUME_EINVAL with the field named), a cell solve that does not converge (PLUME_EINFEASIBLE
+ * with the load case and the solver's reason). */
+PLUME_API plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, plume_homog_result *r,
+                                        plume_err *err);
+
+
+#ifdef __cplusplus
+}
+#endif
+#endif

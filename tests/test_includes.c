@@ -1,0 +1,197 @@
+/* Tests of the house's floors, read from its #include lines (docs/design.md, "Layout"):
+ *  - include/plume/ (the public face) includes only itself; every room may include it;
+ *  - the rooms stand on floors, lib/core < lib/io < lib/solve < lib/contact < lib/sim < micro, macro <
+ *    drivers < apps, and a file includes only its own floor or a lower one; micro and macro, on one
+ *    floor, never include each other;
+ *  - a room's internal/ headers are its own: no other room includes them;
+ *  - the apps include the public face and their own headers, nothing else. The apps that still
+ *    reach below the face are listed with what they need; the list may only shrink (an entry no
+ *    longer needed fails too, so that it is struck off).
+ * Run from tests/, as every test is. */
+#include <glob.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+
+/* the floors, lowest first; rooms of one floor share a level */
+static const struct {
+    const char *room;
+    int level;
+} floors[] = {
+    {"include/plume", 0}, {"lib/core", 1}, {"lib/io", 2}, {"lib/solve", 3}, {"lib/contact", 4}, {"lib/sim", 5},
+    {"micro", 6},         {"macro", 6},    {"drivers", 7}, {"apps", 8},
+};
+enum { NFLOORS = sizeof floors / sizeof floors[0] };
+
+/* The apps' includes below the face, each with the reason (what the face does not offer yet). */
+static const struct {
+    const char *app, *header;
+} app_exceptions[] = {
+    {"apps/feather.c", "lib/sim/dynamics.h"},  /* the run loop: steps, halvings, restart */
+    {"apps/feather.c", "lib/io/frames.h"},     /* frames.h5 written each frame */
+    {"apps/feather.c", "lib/io/render.h"},     /* PNG renders of frames */
+    {"apps/feather.c", "lib/io/progress.h"},   /* the progress line */
+    {"apps/feather.c", "macro/scene.h"},       /* the scene's settings and objects */
+    {"apps/shell.c", "lib/sim/statics.h"},     /* load steps and their reports */
+    {"apps/shell.c", "macro/scene.h"},         /* the scene's probes and settings */
+    {"apps/homogenize.c", "micro/homogenize.h"}, /* plume_ortho_from_tensor */
+    {"apps/homogenize.c", "micro/layout.h"},   /* the layout's materials (barb, barbule ids) */
+    {"apps/homogenize.c", "micro/layout_json.h"},
+    {"apps/homogenize.c", "micro/cell_mesh.h"}, /* the cell's mesh for --vtk */
+    {"apps/homogenize.c", "macro/fields.h"},   /* ParaView series of the cell */
+    {"apps/traction.c", "micro/homogenize.h"},
+    {"apps/traction.c", "micro/layout.h"},
+    {"apps/traction.c", "micro/layout_json.h"},
+    {"apps/traction.c", "micro/micro_model.h"},
+    {"apps/traction.c", "macro/fields.h"},     /* ParaView series of the specimen */
+};
+enum { NEXCEPTIONS = sizeof app_exceptions / sizeof app_exceptions[0] };
+
+/* the room of a path relative to the top ("lib/io/frames.c" -> index of lib/io), -1 outside */
+static int room_of(const char *path)
+{
+    int best = -1;
+    size_t best_len = 0;
+    for (int i = 0; i < NFLOORS; i++) {
+        size_t n = strlen(floors[i].room);
+        if (!strncmp(path, floors[i].room, n) && path[n] == '/' && n > best_len) {
+            best = i;
+            best_len = n;
+        }
+    }
+    return best;
+}
+
+/* dir + "/" + rel, with "." and ".." resolved lexically, into out (relative to the top) */
+static void join_path(const char *dir, const char *rel, char *out, size_t n)
+{
+    char buf[2 * PATH_MAX + 2], *seg[64];
+    int ns = 0;
+    snprintf(buf, sizeof buf, "%s/%s", dir, rel);
+    for (char *s = strtok(buf, "/"); s && ns < 64; s = strtok(NULL, "/")) {
+        if (!strcmp(s, "."))
+            continue;
+        if (!strcmp(s, "..")) {
+            if (ns > 0)
+                ns--;
+            continue;
+        }
+        seg[ns++] = s;
+    }
+    out[0] = 0;
+    for (int i = 0; i < ns; i++) {
+        strncat(out, seg[i], n - strlen(out) - 1);
+        if (i + 1 < ns)
+            strncat(out, "/", n - strlen(out) - 1);
+    }
+}
+
+/* the room's folder of an internal header ("lib/io/internal/x.h" -> "lib/io"), or "" */
+static void internal_owner(const char *path, char *out, size_t n)
+{
+    const char *p = strstr(path, "/internal/");
+    out[0] = 0;
+    if (p)
+        snprintf(out, n, "%.*s", (int)(p - path), path);
+}
+
+static int exception_index(const char *file, const char *target)
+{
+    for (int i = 0; i < NEXCEPTIONS; i++)
+        if (!strcmp(app_exceptions[i].app, file) && !strcmp(app_exceptions[i].header, target))
+            return i;
+    return -1;
+}
+
+void test_includes_floors(void)
+{
+    static const char *const pattern[] = {
+        "../include/plume/*.h", "../lib/*/*.[ch]",  "../lib/*/*.cpp",    "../lib/*/internal/*.h", "../micro/*.[ch]",
+        "../macro/*.[ch]",      "../macro/*/*.[ch]", "../drivers/*.[ch]", "../drivers/*/*.h",      "../apps/*.[ch]",
+    };
+    glob_t g;
+    memset(&g, 0, sizeof g);
+    for (size_t i = 0; i < sizeof pattern / sizeof pattern[0]; i++)
+        glob(pattern[i], i ? GLOB_APPEND : 0, NULL, &g);
+    CHECK(g.gl_pathc > 100);
+    int bad = 0, used[NEXCEPTIONS] = {0};
+    long includes = 0;
+    for (size_t f = 0; f < g.gl_pathc; f++) {
+        const char *file = g.gl_pathv[f] + 3; /* "lib/io/frames.c" */
+        int a = room_of(file);
+        if (a < 0)
+            continue;
+        char dir[PATH_MAX];
+        snprintf(dir, sizeof dir, "%s", file);
+        *strrchr(dir, '/') = 0;
+        FILE *in = fopen(g.gl_pathv[f], "r");
+        if (!in) {
+            CHECK(!"every source file readable");
+            continue;
+        }
+        char line[1024];
+        int lineno = 0;
+        while (fgets(line, sizeof line, in)) {
+            lineno++;
+            const char *p = line;
+            while (*p == ' ')
+                p++;
+            if (strncmp(p, "#include \"", 10) != 0)
+                continue;
+            const char *q = strchr(p + 10, '"');
+            if (!q)
+                continue;
+            char rel[PATH_MAX], target[PATH_MAX], owner[PATH_MAX], own[PATH_MAX];
+            snprintf(rel, sizeof rel, "%.*s", (int)(q - (p + 10)), p + 10);
+            join_path(dir, rel, target, sizeof target);
+            includes++;
+            int b = room_of(target);
+            if (b < 0) {
+                fprintf(stderr, "    %s:%d includes %s, outside every room\n", file, lineno, target);
+                bad++;
+                continue;
+            }
+            internal_owner(target, owner, sizeof owner);
+            snprintf(own, sizeof own, "%s", floors[a].room);
+            if (owner[0] && strcmp(owner, own) != 0) {
+                fprintf(stderr, "    %s:%d includes %s, another room's internal header\n", file, lineno, target);
+                bad++;
+            }
+            if (a == b || b == 0)
+                continue;
+            if (a == 0) {
+                fprintf(stderr, "    %s:%d: the public face includes %s\n", file, lineno, target);
+                bad++;
+            } else if (floors[b].level > floors[a].level) {
+                fprintf(stderr, "    %s:%d includes %s, a higher floor\n", file, lineno, target);
+                bad++;
+            } else if (floors[b].level == floors[a].level) {
+                fprintf(stderr, "    %s:%d includes %s: micro and macro never include each other\n", file, lineno,
+                        target);
+                bad++;
+            } else if (!strcmp(floors[a].room, "apps")) {
+                int e = exception_index(file, target);
+                if (e < 0) {
+                    fprintf(stderr, "    %s:%d includes %s, below the public face\n", file, lineno, target);
+                    bad++;
+                } else
+                    used[e] = 1;
+            }
+        }
+        fclose(in);
+    }
+    for (int i = 0; i < NEXCEPTIONS; i++)
+        if (!used[i]) {
+            fprintf(stderr, "    %s no longer includes %s: strike it off app_exceptions\n", app_exceptions[i].app,
+                    app_exceptions[i].header);
+            bad++;
+        }
+    fprintf(stderr, "    %zu files, %ld includes; %d apps' includes below the face still listed\n", g.gl_pathc, includes,
+            NEXCEPTIONS);
+    CHECK(includes > 500);
+    CHECK(bad == 0);
+    globfree(&g);
+}
