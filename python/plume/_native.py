@@ -1,4 +1,4 @@
-"""Finding and loading libplume, and the ctypes declarations of its flat C interface (drivers/flat.h).
+"""Finding and loading libplume, and the ctypes declarations of its flat C interface (include/plume/flat.h).
 
 Everything that touches ctypes lives here; plume.api builds the Python-level API on top of it.
 
@@ -110,7 +110,7 @@ def _load():
 
 lib, LIBRARY_PATH = _load()
 
-# --- declarations (drivers/flat.h, lib/core/status.h, lib/core/version.h) ---------------------------------
+# --- declarations (include/plume/flat.h and base.h) ---------------------------------------------
 
 _c_int, _c_long, _c_double, _c_char_p, _c_void_p = (ctypes.c_int, ctypes.c_long, ctypes.c_double,
                                                    ctypes.c_char_p, ctypes.c_void_p)

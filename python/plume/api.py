@@ -1,6 +1,6 @@
 """The Python API of plume: homogenisation, traction tests, fits and dynamic scenes.
 
-Each job sends a JSON request to the flat C interface (drivers/flat.h) and turns its JSON result
+Each job sends a JSON request to the flat C interface (include/plume/flat.h) and turns its JSON result
 into a small dataclass with numpy arrays. Units are SI throughout: lengths in m, moduli and
 stresses in Pa, angles in degrees, times in s. Arguments of the wrong type or shape are refused
 here (TypeError / ValueError) before anything reaches the library; values the library refuses
