@@ -8,9 +8,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <jansson.h>
 
+#include "../lib/sim/dynamics.h"
+#include "../lib/io/frames.h"
 #include "../lib/io/fs.h"
 #include "../lib/sim/traction.h"
 #include "../micro/fit.h"
@@ -591,6 +594,8 @@ struct plume_flat_scene {
     plume_fields *fields; /* the ParaView series, once write_vtk is called */
     char *vtk_dir;
     long vtk_frames;
+    long steps;           /* time steps taken since t = 0 (a frame's "step" in frames.h5) */
+    char *frames_path;    /* the frames file write_frames appends to, once called */
 };
 
 /* opens the scene document `json` standing for `path`, or (json NULL) the file at path */
@@ -647,6 +652,7 @@ void plume_flat_scene_close(plume_flat_scene **ps)
     plume_fields_destroy(&s->fields);
     free(s->vtk_dir);
     plume_run_destroy(&s->run);
+    free(s->frames_path);
     plume_scene_destroy(&s->scene);
     free(s);
     *ps = NULL;
@@ -680,6 +686,7 @@ plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **repor
         }
         done++;
     }
+    s->steps += done;
     if (report)
         st = emit(json_pack("{s:I, s:f, s:b, s:I, s:I, s:f, s:f, s:s}", "steps", (json_int_t)done, "time",
                             plume_run_time(s->run), "converged", converged, "halvings", (json_int_t)halvings,
@@ -755,5 +762,49 @@ plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, ch
     st = plume_fields_series_frame(s->fields, s->vtk_frames, plume_run_time(s->run), plume_run_positions(s->run), &err);
     if (st == PLUME_OK)
         s->vtk_frames++;
+    return finish(st, &err, msg, nmsg);
+}
+
+plume_status plume_flat_scene_write_frames(plume_flat_scene *s, const char *path, char *msg, long nmsg)
+{
+    plume_err err = {{0}};
+    if (!s || !path || !*path)
+        return finish(plume_err_set(&err, PLUME_EINVAL, "scene write_frames: invalid arguments (a scene and a path)"),
+                      &err, msg, nmsg);
+    const plume_mesh *m = s->scene->mesh;
+    plume_index ncons = 0;
+    const double *lambda = plume_dynamics_multipliers(plume_run_dynamics(s->run), &ncons);
+    plume_status st = PLUME_OK;
+    if (!s->frames_path || strcmp(s->frames_path, path) != 0) { /* a new file */
+        /* the scene by an absolute path, so that a reader finds it from any directory */
+        char cwd[4096], scene[4096 + 1024];
+        if (s->scene->path[0] != '/' && getcwd(cwd, sizeof cwd))
+            snprintf(scene, sizeof scene, "%s/%s", cwd, s->scene->path);
+        else
+            snprintf(scene, sizeof scene, "%s", s->scene->path);
+        /* the file's directory, created with its parents as write_vtk creates its own */
+        char dir[4096];
+        if (strlen(path) >= sizeof dir)
+            return finish(plume_err_set(&err, PLUME_EINVAL, "scene write_frames: the path '%.64s...' is longer than %d "
+                                                            "bytes", path, (int)sizeof dir - 1),
+                          &err, msg, nmsg);
+        snprintf(dir, sizeof dir, "%s", path);
+        char *slash = strrchr(dir, '/');
+        if (slash && slash != dir) {
+            *slash = '\0';
+            if (plume_make_dirs(dir) != 0)
+                return finish(plume_err_set(&err, PLUME_EIO, "scene write_frames: cannot create the directory '%s' of "
+                                                             "'%s': %s", dir, path, strerror(errno)),
+                              &err, msg, nmsg);
+        }
+        st = plume_frames_create(path, m->nv, ncons, s->scene->dt, scene, &err);
+        if (st != PLUME_OK)
+            return finish(st, &err, msg, nmsg);
+        free(s->frames_path);
+        if (!(s->frames_path = strdup(path)))
+            return finish(plume_err_set(&err, PLUME_ENOMEM, "out of memory"), &err, msg, nmsg);
+    }
+    st = plume_frames_append(path, m->nv, ncons, plume_run_time(s->run), s->steps, plume_run_positions(s->run),
+                             plume_run_velocities(s->run), lambda, &err);
     return finish(st, &err, msg, nmsg);
 }

@@ -18,9 +18,9 @@ fi
 # what the library and apps build and run with (all that --check, i.e. plain `make`, asks for)
 pkgs=(build-essential pkg-config libsuitesparse-dev coinor-libipopt-dev libnlopt-dev libhdf5-dev
       libgsl-dev libcgal-dev libgmp-dev libmpfr-dev libjansson-dev zlib1g-dev libopenblas0-pthread gnuplot-nox)
-# and the Python package with its tests and example (make test, make demo, make deps), and doxygen
-# for the API reference (make docs)
-[ $check -eq 0 ] && pkgs+=(python3 python3-numpy python3-matplotlib python3-setuptools python3-venv doxygen)
+# and the Python package with its tests and examples (make test, make demo, make deps; h5py for
+# plume.read_frames), and doxygen for the API reference (make docs)
+[ $check -eq 0 ] && pkgs+=(python3 python3-numpy python3-h5py python3-matplotlib python3-setuptools python3-venv doxygen)
 [ $mpi -eq 1 ] && pkgs+=(openmpi-bin libopenmpi-dev)
 missing=()
 for p in "${pkgs[@]}"; do

@@ -38,6 +38,47 @@ static int same(const double *a, const double *b, plume_index n)
     return n == 0 || memcmp(a, b, (size_t)n * sizeof *a) == 0;
 }
 
+typedef struct {
+    char (*names)[32];
+    int n, max;
+} name_list;
+
+static herr_t add_name(hid_t g, const char *name, const H5L_info_t *info, void *data)
+{
+    (void)g, (void)info;
+    name_list *l = data;
+    if (l->n < l->max)
+        snprintf(l->names[l->n], 32, "%s", name);
+    l->n++;
+    return 0;
+}
+
+/* The names of /frames' members in the order HDF5 lists them by name (h5py's and h5ls' order), at
+ * most max of them kept; how many there are, or -1. */
+static int list_frames(const char *path, char (*names)[32], int max)
+{
+    name_list l = {names, 0, max};
+    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    hid_t g = f < 0 ? H5I_INVALID_HID : H5Gopen2(f, "/frames", H5P_DEFAULT);
+    int ok = g >= 0 && H5Literate(g, H5_INDEX_NAME, H5_ITER_INC, NULL, add_name, &l) >= 0;
+    if (g >= 0)
+        H5Gclose(g);
+    if (f >= 0)
+        H5Fclose(f);
+    return ok ? l.n : -1;
+}
+
+/* The expected values of frame k of data/frames_old_names.h5 (x[i] = k + 0.1 i, v[i] = -k - 0.01 i,
+ * lambda = 1000 + k, t = 0.25 k, step k; nv 3, ncons 1) */
+static int old_frame_ok(const plume_frame *f, long k)
+{
+    int ok = f->index == k && f->step == k && f->t == 0.25 * (double)k && f->nv == 3 && f->ncons == 1 && f->x && f->v &&
+             f->lambda && f->lambda[0] == 1000.0 + (double)k;
+    for (int i = 0; ok && i < 9; i++)
+        ok = f->x[i] == (double)k + 0.1 * i && f->v[i] == -(double)k - 0.01 * i;
+    return ok;
+}
+
 /* Three frames written and read back bit for bit; the last frame and frame 1 by index. */
 void test_frames_roundtrip(void)
 {
@@ -107,14 +148,14 @@ void test_frames_roundtrip(void)
     CHECK(plume_frames_read_measures(bad, 5, &r, &err) == PLUME_EINVAL);
     /* self-describing: every dataset says its units */
     char units[32] = "";
-    CHECK(h5_units(path, "/frames/2/x", units, sizeof units) == 0 && strcmp(units, "m") == 0);
-    CHECK(h5_units(path, "/frames/2/v", units, sizeof units) == 0 && strcmp(units, "m/s") == 0);
-    CHECK(h5_units(path, "/frames/2/lambda", units, sizeof units) == 0 && strcmp(units, "N/m") == 0);
+    CHECK(h5_units(path, "/frames/0000002/x", units, sizeof units) == 0 && strcmp(units, "m") == 0);
+    CHECK(h5_units(path, "/frames/0000002/v", units, sizeof units) == 0 && strcmp(units, "m/s") == 0);
+    CHECK(h5_units(path, "/frames/0000002/lambda", units, sizeof units) == 0 && strcmp(units, "N/m") == 0);
     /* and the numeric attributes theirs, in one "units" string beside them */
     char aunits[256] = "";
     CHECK(h5_units(path, "/frames", aunits, sizeof aunits) == 0 && strstr(aunits, "dt: s"));
-    CHECK(h5_units(path, "/frames/2", aunits, sizeof aunits) == 0 && strcmp(aunits, "t: s; step: 1") == 0);
-    CHECK(h5_units(bad, "/frames/1", aunits, sizeof aunits) == 0 && strstr(aunits, "t: s;") &&
+    CHECK(h5_units(path, "/frames/0000002", aunits, sizeof aunits) == 0 && strcmp(aunits, "t: s; step: 1") == 0);
+    CHECK(h5_units(bad, "/frames/0000001", aunits, sizeof aunits) == 0 && strstr(aunits, "t: s;") &&
           strstr(aunits, "min_distance: m") && strstr(aunits, "seconds: s") && strstr(aunits, "newton_iterations: 1"));
     remove_dir(dir);
 }
@@ -133,10 +174,10 @@ void test_frames_interrupted_append(void)
     plume_err err = {{0}};
     CHECK(plume_frames_create(path, 2, 1, 0.1, "s.json", &err) == PLUME_OK);
     CHECK(plume_frames_append(path, 2, 1, 0.0, 0, x, v, l, &err) == PLUME_OK);
-    /* the crash: /frames/1 half written, count still 1 */
+    /* the crash: /frames/0000001 half written, count still 1 */
     hid_t fid = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
     CHECK(fid >= 0);
-    hid_t g = H5Gcreate2(fid, "/frames/1", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t g = H5Gcreate2(fid, "/frames/0000001", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     CHECK(g >= 0);
     H5Gclose(g);
     H5Fclose(fid);
@@ -201,10 +242,94 @@ void test_frames_killed_in_flush(void)
         plume_frame f;
         CHECK(plume_frames_read(path, -1, &f, &err) == PLUME_OK && f.index == 5 && same(f.x, x, n));
         plume_frame_free(&f);
+        /* the file had decimal names: the rebuild padded them */
+        char names[8][32];
+        CHECK(list_frames(path, names, 8) == 6 && strcmp(names[0], "0000000") == 0 && strcmp(names[5], "0000005") == 0);
     }
     free(x);
     for (long k = 0; k < 5; k++)
         plume_frame_free(&before[k]);
+    /* no temporary file left beside it */
+    snprintf(cmd, sizeof cmd, "test $(ls %s | wc -l) -eq 1", dir);
+    CHECK(system(cmd) == 0);
+    remove_dir(dir);
+}
+
+/* Frame groups are named by their number padded to seven digits, so that a listing by name (h5py,
+ * h5ls) gives them in frame order past frame 9 as well. */
+void test_frames_padded_names(void)
+{
+    char dir[64], path[128];
+    if (!scratch_dir(dir)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(path, sizeof path, "%s/frames.h5", dir);
+    double x[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+    plume_err err = {{0}};
+    CHECK(plume_frames_create(path, 1, 0, 0.5, "s.json", &err) == PLUME_OK);
+    for (long k = 0; k < 12; k++) {
+        x[0] = (double)k;
+        CHECK(plume_frames_append(path, 1, 0, 0.5 * (double)k, k, x, v, NULL, &err) == PLUME_OK);
+    }
+    char names[16][32];
+    CHECK(list_frames(path, names, 16) == 12);
+    for (int k = 0; k < 12; k++) {
+        char want[32];
+        snprintf(want, sizeof want, "%07d", k);
+        CHECK(strcmp(names[k], want) == 0);
+    }
+    plume_frame f;
+    CHECK(plume_frames_read(path, 10, &f, &err) == PLUME_OK && f.index == 10 && f.x[0] == 10.0 && f.t == 5.0);
+    plume_frame_free(&f);
+    remove_dir(dir);
+}
+
+/* A file written before the names were padded (tests/data/frames_old_names.h5: 12 frames named
+ * "0" ... "11", written by plume 0.4's plume_frames_create and plume_frames_append, nv 3, ncons 1)
+ * reads frame by frame; the first append rewrites it with padded names, every frame kept bit for
+ * bit, and lists them in order. */
+void test_frames_old_names(void)
+{
+    char dir[64], path[128], cmd[300];
+    if (!scratch_dir(dir)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(path, sizeof path, "%s/frames.h5", dir);
+    snprintf(cmd, sizeof cmd, "cp data/frames_old_names.h5 %s", path);
+    CHECK(system(cmd) == 0);
+    char names[16][32];
+    CHECK(list_frames(path, names, 16) == 12 && strcmp(names[1], "1") == 0 && strcmp(names[2], "10") == 0);
+    plume_frames_info info;
+    plume_err err = {{0}};
+    CHECK(plume_frames_info_read(path, &info, &err) == PLUME_OK && info.count == 12 && info.nv == 3 &&
+          info.ncons == 1 && info.dt == 0.25 && strcmp(info.scene, "old_style_scene.json") == 0);
+    plume_frame f;
+    for (long k = 0; k < 12; k++) {
+        CHECK(plume_frames_read(path, k, &f, &err) == PLUME_OK && old_frame_ok(&f, k));
+        plume_frame_free(&f);
+    }
+    CHECK(plume_frames_read(path, -1, &f, &err) == PLUME_OK && old_frame_ok(&f, 11));
+    plume_frame_free(&f);
+    CHECK(plume_frames_read(path, 12, &f, &err) == PLUME_EINVAL && strstr(err.msg, "no frame 12"));
+    /* the append: every old frame back bit for bit, padded names in frame order */
+    double x[9] = {0}, v[9] = {0}, l[1] = {7.0};
+    CHECK(plume_frames_append(path, 3, 1, 3.0, 12, x, v, l, &err) == PLUME_OK);
+    CHECK(plume_frames_info_read(path, &info, &err) == PLUME_OK && info.count == 13 &&
+          strcmp(info.scene, "old_style_scene.json") == 0);
+    for (long k = 0; k < 12; k++) {
+        CHECK(plume_frames_read(path, k, &f, &err) == PLUME_OK && old_frame_ok(&f, k));
+        plume_frame_free(&f);
+    }
+    CHECK(plume_frames_read(path, -1, &f, &err) == PLUME_OK && f.index == 12 && f.lambda[0] == 7.0 && f.t == 3.0);
+    plume_frame_free(&f);
+    CHECK(list_frames(path, names, 16) == 13);
+    for (int k = 0; k < 13; k++) {
+        char want[32];
+        snprintf(want, sizeof want, "%07d", k);
+        CHECK(strcmp(names[k], want) == 0);
+    }
     /* no temporary file left beside it */
     snprintf(cmd, sizeof cmd, "test $(ls %s | wc -l) -eq 1", dir);
     CHECK(system(cmd) == 0);

@@ -79,6 +79,11 @@ PLUME_API void plume_flat_scene_triangles(const plume_flat_scene *s, long *out);
  * has constrained barbs; macro/shell/fields.h); the first call with a dir starts its series (frame 0),
  * later calls with the same dir append. */
 PLUME_API plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, char *msg, long nmsg);
+/** Appends the current state as a frame of the frames file `path` (HDF5, docs/hdf5-layout.md: time,
+ * step, positions, velocities, multipliers), the file apps/feather writes too. The first call for
+ * a path creates the file (and its directory, with its parents; a file there is replaced) with the
+ * scene's absolute path in it; later calls with the same path append. Errors name the file. */
+PLUME_API plume_status plume_flat_scene_write_frames(plume_flat_scene *s, const char *path, char *msg, long nmsg);
 
 
 #ifdef __cplusplus

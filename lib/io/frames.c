@@ -29,6 +29,29 @@
 #define FRAMES_LEAF_K 256
 /* bytes reserved for the frame links' names (8 each up to frame 9999999) */
 #define FRAMES_NAME_HEAP 16384
+/* Digits of a frame group's name: "0000000", "0000001", ... Listed by name (h5py, h5ls), the groups
+ * then come in frame order. Seven digits keep every name up to frame 9999999 at 8 bytes with its
+ * NUL, the heap's unit, so FRAMES_NAME_HEAP holds as many names as it did; and they cover any run:
+ * 10^7 frames are 10^7 implicit steps at least, months of computing at the smallest scene's
+ * 0.1 s a frame. Past them the names simply grow a digit (read by number, listed out of order). */
+#define FRAME_NAME_WIDTH 7
+
+/* The name of frame k's group, written: k zero-padded to FRAME_NAME_WIDTH digits. */
+static void frame_name(long k, char name[32])
+{
+    snprintf(name, 32, "%0*ld", FRAME_NAME_WIDTH, k);
+}
+
+/* The name of frame k's group in g, read: the padded name, else the decimal one files written
+ * before the padding have ("0", "1", ...); the padded one when neither exists. */
+static void frame_name_in(hid_t g, long k, char name[32])
+{
+    char plain[32];
+    frame_name(k, name);
+    snprintf(plain, sizeof plain, "%ld", k);
+    if (strcmp(name, plain) != 0 && H5Lexists(g, name, H5P_DEFAULT) <= 0 && H5Lexists(g, plain, H5P_DEFAULT) > 0)
+        strcpy(name, plain);
+}
 
 static int write_attr_long(hid_t obj, const char *name, long v)
 {
@@ -358,11 +381,12 @@ static plume_status rebuild_committed(const char *path, const plume_frames_info 
     if (s == PLUME_OK)
         s = open_frames(tmp, H5F_ACC_RDWR, &nfid, &ng, err);
     for (long k = 0; s == PLUME_OK && k < info->count; k++) {
-        char name[32];
-        snprintf(name, sizeof name, "%ld", k);
-        if (H5Ocopy(og, name, ng, name, H5P_DEFAULT, H5P_DEFAULT) < 0)
+        char from[32], to[32]; /* an older file's decimal names become padded ones */
+        frame_name_in(og, k, from);
+        frame_name(k, to);
+        if (H5Ocopy(og, from, ng, to, H5P_DEFAULT, H5P_DEFAULT) < 0)
             s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot copy its committed /frames/%s into '%s' (HDF5: %s)",
-                              path, name, tmp, h5_cause(&d));
+                              path, from, tmp, h5_cause(&d));
     }
     if (s == PLUME_OK)
         s = copy_materials(path, ofid, nfid, tmp, err);
@@ -411,12 +435,15 @@ plume_status plume_frames_append_measured(const char *path, plume_index nv, plum
         s = open_frames(path, H5F_ACC_RDWR, &fid, &g, err);
     if (s == PLUME_OK)
         s = read_info(path, g, &info, err);
-    char name[32];
-    snprintf(name, sizeof name, "%ld", s == PLUME_OK ? info.count : 0L);
+    char name[32], stale[32];
+    frame_name(s == PLUME_OK ? info.count : 0L, name);
+    if (s == PLUME_OK)
+        frame_name_in(g, info.count, stale);
     /* a group at `count` is the remains of an interrupted append, never committed: the file,
      * closed unchanged, is rebuilt from its committed frames (rebuild_committed), since HDF5 may be
-     * unable to free that group's space */
-    if (s == PLUME_OK && H5Lexists(g, name, H5P_DEFAULT) > 0) {
+     * unable to free that group's space. A file with the decimal names of before the padding is
+     * rebuilt too, once, so that its groups keep one naming and list in frame order. */
+    if (s == PLUME_OK && (H5Lexists(g, stale, H5P_DEFAULT) > 0 || H5Lexists(g, "0", H5P_DEFAULT) > 0)) {
         H5Gclose(g);
         H5Fclose(fid);
         g = fid = H5I_INVALID_HID;
@@ -536,7 +563,7 @@ static plume_status open_frame(const char *path, long *k, hid_t *fid, hid_t *g, 
         *k = info->count - 1;
     if (*k >= info->count)
         return plume_err_set(err, PLUME_EINVAL, "frames file '%s': has no frame %ld (it holds %ld)", path, *k, info->count);
-    snprintf(name, 32, "%ld", *k);
+    frame_name_in(*g, *k, name);
     if (H5Lexists(*g, name, H5P_DEFAULT) <= 0 || (*fg = H5Gopen2(*g, name, H5P_DEFAULT)) < 0)
         return plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s is missing", path, name);
     return PLUME_OK;

@@ -11,7 +11,10 @@
  *                             double attribute named after its field
  *     /materials/<k>          attributes: what material k was made of (plume_frames_material_write)
  *
- * k = 0, 1, ... in decimal.
+ * k, in the group names, is the frame number zero-padded to seven digits (0000000, 0000001, ...),
+ * so that tools listing groups by name (h5py, h5ls) list them in frame order. Files written with
+ * plain decimal names (0, 1, ...) are read as well; the first append to one rewrites it with padded
+ * names (through a temporary file renamed over it, as for an interrupted append).
  *
  * Why not the temporary-file-and-rename protocol of lib/io/curves.c: it copies the whole file for
  * every frame, O(frames^2) bytes over a run. Instead each append opens the file read-write, adds

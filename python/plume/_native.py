@@ -1,4 +1,4 @@
-"""Finding and loading libplume, and the ctypes declarations of its flat C interface (drivers/flat.h).
+"""Finding and loading libplume, and the ctypes declarations of its flat C interface (include/plume/flat.h).
 
 Everything that touches ctypes lives here; plume.api builds the Python-level API on top of it.
 
@@ -7,11 +7,14 @@ The library is looked for, in this order:
 1. the environment variable ``PLUME_LIBRARY`` (a path to the shared library). When it is set it is
    the only candidate: an explicit choice that fails to load is an error, not a silent fallback to
    some other installed copy;
-2. ``pkg-config --variable=libdir plume`` (when pkg-config is installed and knows plume):
-   ``<libdir>/libplume.so.0``, else ``<libdir>/libplume.so``;
-3. the source tree this package sits in, ``<package dir>/../../build/libplume.so`` (use straight
+2. the path recorded when the package was installed (``pip install``: setup.py writes
+   plume/_install.py with what PLUME_LIBRARY, pkg-config or the source tree gave then), so that an
+   installed package needs no environment variable;
+3. ``pkg-config --variable=libdir plume`` (when pkg-config is installed and knows plume): the
+   library named by its soname in that libdir (plume._locate);
+4. the source tree this package sits in, ``<package dir>/../../build/libplume.so`` (use straight
    from a checkout after ``make``);
-4. ``ctypes.util.find_library("plume")`` (the dynamic loader's search path).
+5. ``ctypes.util.find_library("plume")`` (the dynamic loader's search path).
 
 A candidate that loads but lacks the flat interface (an older plume) is skipped. If none loads,
 importing plume raises :class:`LibraryNotFoundError` (an ImportError) listing what was tried.
@@ -20,9 +23,8 @@ import ctypes
 import ctypes.util
 import json
 import os
-import shutil
-import subprocess
-from pathlib import Path
+
+from . import _locate
 
 #: Size of the message buffers handed to the C functions (bytes, NUL included).
 MSG_SIZE = 4096
@@ -57,75 +59,58 @@ class PlumeError(Exception):
 
 # --- finding the library ----------------------------------------------------------------------
 
-def _pkg_config_candidates():
-    """Paths under pkg-config's libdir for plume, or [] (with a note) when it does not know plume."""
-    exe = shutil.which("pkg-config")
-    if exe is None:
-        return [], "pkg-config: not installed"
+def _recorded():
+    """(path, note): the library recorded at install (plume/_install.py), or (None, why not)."""
     try:
-        out = subprocess.run([exe, "--variable=libdir", "plume"], capture_output=True, text=True,
-                             timeout=10)
-    except (OSError, subprocess.SubprocessError) as e:
-        return [], "pkg-config: %s" % e
-    libdir = out.stdout.strip()
-    if out.returncode != 0 or not libdir:
-        return [], "pkg-config: does not know plume"
-    versioned = os.path.join(libdir, "libplume.so.0")
-    return [versioned if os.path.exists(versioned) else os.path.join(libdir, "libplume.so")], None
+        from . import _install
+    except ImportError:
+        return None, "recorded at install: nothing (not an installed copy of the package)"
+    if not _install.LIBRARY:
+        return None, "recorded at install: nothing was found then (%s)" % "; ".join(_install.NOTES)
+    return _install.LIBRARY, None
 
 
-def _candidates():
-    """(candidates, notes, exclusive): the library paths/names to try in order, notes on sources
-    that gave none, and whether the first candidate was chosen explicitly (PLUME_LIBRARY)."""
-    env = os.environ.get("PLUME_LIBRARY")
-    if env:
-        return [env], [], True
-    cands, notes = [], []
-    pc, note = _pkg_config_candidates()
-    cands += pc
-    if note:
-        notes.append(note)
-    tree = Path(__file__).resolve().parent.parent.parent / "build" / "libplume.so"
-    if tree.exists():
-        cands.append(str(tree))
-    else:
-        notes.append("source tree: no %s" % tree)
-    found = ctypes.util.find_library("plume")
-    if found:
-        cands.append(found)
-    else:
-        notes.append('ctypes.util.find_library("plume"): not found')
-    return cands, notes, False
+def _sources():
+    """The search after PLUME_LIBRARY, in order: functions giving (path, note), called only when
+    the ones before gave nothing that loads (pkg-config is a subprocess)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    yield _recorded
+    yield _locate.pkg_config
+    yield lambda: _locate.source_tree(here)
+
+    def loader():
+        found = ctypes.util.find_library("plume")
+        return (found, None) if found else (None, 'ctypes.util.find_library("plume"): not found')
+    yield loader
 
 
 def _load():
     """The first candidate that loads and has the flat interface: (CDLL, path)."""
-    cands, notes, exclusive = _candidates()
+    env = os.environ.get("PLUME_LIBRARY")
     tried = []
-    for c in cands:
-        try:
-            lib = ctypes.CDLL(c)
-        except OSError as e:
-            tried.append("%s: %s" % (c, e))
+    for source in ([lambda: (env, None)] if env else _sources()):
+        path, note = source()
+        if path is None:
+            tried.append(note)
             continue
-        if not hasattr(lib, "plume_flat_scene_open"):
-            tried.append("%s: loads but has no plume_flat_* functions (plume older than 0.2?)" % c)
-            continue
-        return lib, c
+        why = _locate.check(path)
+        if why is None:
+            return ctypes.CDLL(path), path
+        tried.append(why)
     lines = ["cannot load the plume shared library (libplume.so)."]
-    if exclusive:
+    if env:
         lines.append("PLUME_LIBRARY is set, so it was the only candidate:")
     else:
         lines.append("Tried:")
-    lines += ["  - " + t for t in tried + notes]
-    lines.append("Set PLUME_LIBRARY=/path/to/libplume.so, or run `make install` (and check that "
-                 "pkg-config or the dynamic loader finds it).")
+    lines += ["  - " + t for t in tried]
+    lines.append("Set PLUME_LIBRARY=/path/to/libplume.so, or run `make install PREFIX=<prefix>` and "
+                 "reinstall the package with PKG_CONFIG_PATH=<prefix>/lib/pkgconfig pip install ./python.")
     raise LibraryNotFoundError("\n".join(lines))
 
 
 lib, LIBRARY_PATH = _load()
 
-# --- declarations (drivers/flat.h, lib/core/status.h, lib/core/version.h) ---------------------------------
+# --- declarations (include/plume/flat.h and base.h) ---------------------------------------------
 
 _c_int, _c_long, _c_double, _c_char_p, _c_void_p = (ctypes.c_int, ctypes.c_long, ctypes.c_double,
                                                    ctypes.c_char_p, ctypes.c_void_p)
@@ -158,6 +143,7 @@ for _what in ("positions", "velocities", "reference"):
     _declare("plume_flat_scene_" + _what, None, _c_void_p, _dbl_p)
 _declare("plume_flat_scene_triangles", None, _c_void_p, _long_p)
 _declare("plume_flat_scene_write_vtk", _c_int, _c_void_p, _c_char_p, _msg_t, _c_long)
+_declare("plume_flat_scene_write_frames", _c_int, _c_void_p, _c_char_p, _msg_t, _c_long)
 
 
 # --- helpers ------------------------------------------------------------------------------------

@@ -1,6 +1,6 @@
 """The Python API of plume: homogenisation, traction tests, fits and dynamic scenes.
 
-Each job sends a JSON request to the flat C interface (drivers/flat.h) and turns its JSON result
+Each job sends a JSON request to the flat C interface (include/plume/flat.h) and turns its JSON result
 into a small dataclass with numpy arrays. Units are SI throughout: lengths in m, moduli and
 stresses in Pa, angles in degrees, times in s. Arguments of the wrong type or shape are refused
 here (TypeError / ValueError) before anything reaches the library; values the library refuses
@@ -532,6 +532,17 @@ class Scene:
         msg = _native.new_msg()
         _native.check(_native.lib.plume_flat_scene_write_vtk(h, os.fsencode(_path("dir", dir)), msg,
                                                              _native.MSG_SIZE), msg)
+
+    def write_frames(self, path):
+        """Appends the current state as the next frame of the frames file `path` (HDF5, the
+        frames.h5 of apps/feather: time, step, positions, velocities, multipliers). The first call
+        for a path creates the file (and its directory; a file there is replaced), later ones
+        append. Read it back with plume.read_frames(path), which finds this scene's triangles
+        through the scene file it names."""
+        h = self._live()
+        msg = _native.new_msg()
+        _native.check(_native.lib.plume_flat_scene_write_frames(h, os.fsencode(_path("path", path)), msg,
+                                                                _native.MSG_SIZE), msg)
 
     # sizes and state
     @property
