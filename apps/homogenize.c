@@ -8,9 +8,6 @@
 #include <jansson.h>
 
 #include "../include/plume/plume.h"
-#include "../micro/homogenize.h"
-#include "../micro/layout.h"
-#include "../micro/layout_json.h"
 #include "../micro/cell_mesh.h"
 #include "../macro/shell/fields.h"
 #include "cli.h"
@@ -175,58 +172,16 @@ static int parse_args(int argc, char **argv, options *o)
     return 0;
 }
 
-/* -o: /moduli with the refinement and bending figures and provenance, and the cell curves. Exit code. */
-static int write_results(const char *out, const plume_layout *l, const plume_homog_opts *ho, const plume_homog_result *r)
+/* -o: /moduli with the refinement and bending figures and provenance, and the cell curves
+ * (plume_homog_write: the file a scene's "from_moduli" reads). Exit code. */
+static int write_results(const char *out, const plume_layout *l, const plume_homog_result *r)
 {
     plume_err err = {{0}};
-    int rc = 0;
-    const char *kind = l->kind == PLUME_LAYOUT_STRIPS ? "strips" : "barbules";
-    char prov[512];
-    snprintf(prov, sizeof prov,
-             "plume homogenize: %s layout, phi %g, d_B %g m, E_b %g Pa, nu_b %g, ratio %g, nu_B %g, "
-             "thickness %g m (barbs %g m, barbules %g m), order %d, element edge %g m, %ld elements",
-             kind, l->phi, l->d_B, l->E_b, l->nu_b, l->ratio, l->nu_B, l->h, plume_layout_thickness(l, PLUME_MAT_BARB),
-             plume_layout_thickness(l, PLUME_MAT_BARBULE), r->order, r->element_edge, (long)r->elements);
-    plume_param params[] = {{"phi", l->phi}, {"d_B", l->d_B}, {"E_b", l->E_b}, {"nu_b", l->nu_b},
-                            {"ratio", l->ratio}, {"nu_B", l->nu_B}, {"thickness", l->h},
-                            {"thickness_barb", plume_layout_thickness(l, PLUME_MAT_BARB)},
-                            {"thickness_barbule", plume_layout_thickness(l, PLUME_MAT_BARBULE)},
-                            {"e_rel", r->element_edge / plume_layout_barb_width(l)}, {"elements", (double)r->elements},
-                            {"order", (double)r->order}, {"refinement_change", r->refinement_change}};
-    plume_param mparams[] = {{"order", (double)r->order},
-                             {"element_edge", r->element_edge},
-                             {"elements", (double)r->elements},
-                             {"refinement_change", r->refinement_change},
-                             {"refinement_edge", r->refinement_change >= 0.0 ? r->refinement_edge : -1.0},
-                             {"E_xx_change", r->moduli_change[0]},
-                             {"E_yy_change", r->moduli_change[1]},
-                             {"nu_xy_change", r->moduli_change[2]},
-                             {"G_xy_change", r->moduli_change[3]},
-                             {"D_long", r->bending.D_long},
-                             {"D_trans", r->bending.D_trans},
-                             {"D_coupling", r->bending.D_coupling},
-                             {"D_twist", r->bending.D_twist},
-                             {"D_16", r->bending.D_16},
-                             {"D_26", r->bending.D_26},
-                             {"bending_change", r->bending_change},
-                             {"thickness", l->h},
-                             {"thickness_barb", plume_layout_thickness(l, PLUME_MAT_BARB)},
-                             {"thickness_barbule", plume_layout_thickness(l, PLUME_MAT_BARBULE)}};
-    plume_sparam sp[] = {{"layout", kind}};
-    const char *names[3] = {"uniaxial_x", "uniaxial_y", "shear"};
-    const plume_curve *cv[3] = {&r->uniaxial_x, &r->uniaxial_y, &r->shear};
-    if (plume_moduli_write_params(out, &r->moduli, prov, mparams, (int)(sizeof mparams / sizeof mparams[0]), &err) !=
-        PLUME_OK) {
+    if (plume_homog_write(out, l, r, &err) != PLUME_OK) {
         fprintf(stderr, "%s: %s\n", APP, err.msg);
-        rc = 1;
+        return 1;
     }
-    for (int k = 0; k < 3 && rc == 0 && ho->strain_max > 0.0; k++)
-        if (plume_curve_write(out, "cell", names[k], cv[k], params, (int)(sizeof params / sizeof params[0]), sp, 1,
-                              &err) != PLUME_OK) {
-            fprintf(stderr, "%s: %s\n", APP, err.msg);
-            rc = 1;
-        }
-    return rc;
+    return 0;
 }
 
 /* --plot: the three responses differ by the contrast (1e6): each is drawn over its own
@@ -353,7 +308,7 @@ int main(int argc, char **argv)
     if (hs != PLUME_OK)
         return fprintf(stderr, "%s: %s\n", APP, err.msg), 1;
     if (o.out)
-        rc = write_results(o.out, &l, &ho, &r);
+        rc = write_results(o.out, &l, &r);
     if (o.plot && ho.strain_max > 0.0 && rc == 0)
         rc = plot_responses(o.plot, &ho, &r);
     report(&l, &r, o.out, o.json);

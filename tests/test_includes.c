@@ -34,9 +34,6 @@ static const struct {
     {"apps/feather.c", "macro/scene/scene.h"},  /* the scene's settings, read and overridden */
     {"apps/shell.c", "lib/sim/statics.h"},     /* load steps and their reports */
     {"apps/shell.c", "macro/scene/scene.h"},         /* the scene's probes and settings */
-    {"apps/homogenize.c", "micro/homogenize.h"}, /* plume_ortho_from_tensor */
-    {"apps/homogenize.c", "micro/layout.h"},   /* the layout's materials (barb, barbule ids) */
-    {"apps/homogenize.c", "micro/layout_json.h"},
     {"apps/homogenize.c", "micro/cell_mesh.h"}, /* the cell's mesh for --vtk */
     {"apps/homogenize.c", "macro/shell/fields.h"},   /* ParaView series of the cell */
     {"apps/traction.c", "micro/homogenize.h"},

@@ -191,6 +191,15 @@ typedef struct {
 /** Frees the three curves' arrays (the rest of r holds no memory); NULL-safe. */
 PLUME_API void plume_homog_result_free(plume_homog_result *r);
 
+/** Writes a homogenisation's results to the HDF5 file `path` (created, or updated in place; written
+ * atomically, docs/hdf5-layout.md): /moduli with E_xx, E_yy, nu_xy, G_xy, the bending moduli
+ * D_long, D_trans, D_coupling, D_twist, D_16, D_26, the thickness they are over, how converged they
+ * are and the layout as provenance, and the cell curves (those r has) under /curves/cell. This is
+ * the file a scene material reads with "from_moduli" for its membrane and its bending, and the one
+ * apps/homogenize -o writes. Errors name the file. */
+PLUME_API plume_status plume_homog_write(const char *path, const plume_layout *l, const plume_homog_result *r,
+                                         plume_err *err);
+
 /** Meshes the layout's periodic cell and homogenises it: the small-strain tensor from the exact
  * linearised cell problem (micro/cell_linear.h), the bending tensor from the plate cell problem
  * (micro/cell_plate.h), the curves from the nonlinear membrane. Errors: invalid layout or options

@@ -1,0 +1,59 @@
+/* plume: a homogenisation's results in an HDF5 file (docs/hdf5-layout.md): /moduli with the bending
+ * moduli, the thickness they are over, how converged they are and the layout's provenance, and the
+ * cell curves under /curves/cell. The file a scene material reads with "from_moduli"; apps/homogenize
+ * -o and the library's users write it the same way. */
+#include "homogenize.h"
+
+#include <stdio.h>
+
+#include "../lib/io/curves.h"
+#include "layout.h"
+
+plume_status plume_homog_write(const char *path, const plume_layout *l, const plume_homog_result *r, plume_err *err)
+{
+    if (!path || !l || !r)
+        return plume_err_set(err, PLUME_EINVAL, "homogenisation file: a path, the layout and its result are needed");
+    const char *kind = l->kind == PLUME_LAYOUT_STRIPS ? "strips" : "barbules";
+    const double h_barb = plume_layout_thickness(l, PLUME_MAT_BARB), h_barbule = plume_layout_thickness(l, PLUME_MAT_BARBULE);
+    char prov[512];
+    snprintf(prov, sizeof prov,
+             "plume homogenize: %s layout, phi %g, d_B %g m, E_b %g Pa, nu_b %g, ratio %g, nu_B %g, "
+             "thickness %g m (barbs %g m, barbules %g m), order %d, element edge %g m, %ld elements",
+             kind, l->phi, l->d_B, l->E_b, l->nu_b, l->ratio, l->nu_B, l->h, h_barb, h_barbule, r->order,
+             r->element_edge, (long)r->elements);
+    const plume_param params[] = {{"phi", l->phi}, {"d_B", l->d_B}, {"E_b", l->E_b}, {"nu_b", l->nu_b},
+                                  {"ratio", l->ratio}, {"nu_B", l->nu_B}, {"thickness", l->h},
+                                  {"thickness_barb", h_barb}, {"thickness_barbule", h_barbule},
+                                  {"e_rel", r->element_edge / plume_layout_barb_width(l)},
+                                  {"elements", (double)r->elements}, {"order", (double)r->order},
+                                  {"refinement_change", r->refinement_change}};
+    const plume_param mparams[] = {{"order", (double)r->order},
+                                   {"element_edge", r->element_edge},
+                                   {"elements", (double)r->elements},
+                                   {"refinement_change", r->refinement_change},
+                                   {"refinement_edge", r->refinement_change >= 0.0 ? r->refinement_edge : -1.0},
+                                   {"E_xx_change", r->moduli_change[0]},
+                                   {"E_yy_change", r->moduli_change[1]},
+                                   {"nu_xy_change", r->moduli_change[2]},
+                                   {"G_xy_change", r->moduli_change[3]},
+                                   {"D_long", r->bending.D_long},
+                                   {"D_trans", r->bending.D_trans},
+                                   {"D_coupling", r->bending.D_coupling},
+                                   {"D_twist", r->bending.D_twist},
+                                   {"D_16", r->bending.D_16},
+                                   {"D_26", r->bending.D_26},
+                                   {"bending_change", r->bending_change},
+                                   {"thickness", l->h},
+                                   {"thickness_barb", h_barb},
+                                   {"thickness_barbule", h_barbule}};
+    const plume_sparam sp[] = {{"layout", kind}};
+    plume_status st = plume_moduli_write_params(path, &r->moduli, prov, mparams,
+                                                (int)(sizeof mparams / sizeof mparams[0]), err);
+    static const char *const names[3] = {"uniaxial_x", "uniaxial_y", "shear"};
+    const plume_curve *cv[3] = {&r->uniaxial_x, &r->uniaxial_y, &r->shear};
+    for (int k = 0; k < 3 && st == PLUME_OK; k++)
+        if (cv[k]->n > 0)
+            st = plume_curve_write(path, "cell", names[k], cv[k], params, (int)(sizeof params / sizeof params[0]), sp,
+                                   1, err);
+    return st;
+}
