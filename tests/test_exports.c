@@ -407,6 +407,7 @@ static const struct {
     const char *name, *args;
 } example_args[] = {
     {"homogenize", "'%1$s/data/layout_barbules.json' '%2$s/examples/moduli.h5'"},
+    {"scene", "'%1$s/data/layout_feather_si.json' '%2$s/examples/scene_out'"},
 };
 
 /* The library as another C program uses it: `make install` into a fresh prefix, then every
@@ -440,7 +441,7 @@ void test_exports_installed_example(void)
     glob_t g;
     memset(&g, 0, sizeof g);
     glob("../docs/examples/*.c", 0, NULL, &g);
-    CHECK(g.gl_pathc >= 4);
+    CHECK(g.gl_pathc >= 5);
     for (size_t i = 0; i < g.gl_pathc; i++) {
         char name[256];
         const char *base = strrchr(g.gl_pathv[i], '/') + 1;
