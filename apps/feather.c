@@ -291,6 +291,11 @@ int main(int argc, char **argv)
     output_dir(&o, stem, outdir, sizeof outdir);
 
     scene->verbose = o.verbose;
+    if (scene->is_static) {
+        rc = cli_fail(APP, "%s is a static scene (\"solve\": \"static\"), which has no dynamics: apps/shell solves it",
+                      o.scene);
+        goto done;
+    }
     if ((rc = cli_output_dir(APP, "-o", outdir)) != 0)
         goto done;
     plume_run_opts ro;
@@ -302,7 +307,9 @@ int main(int argc, char **argv)
     ro.progress = !o.quiet;
     ro.label = APP;
     if ((st = plume_run_create(scene, &ro, &run, &err)) != PLUME_OK) {
-        rc = st == PLUME_EINVAL || st == PLUME_EFORMAT ? cli_fail(APP, "%s: %s", o.scene, err.msg)
+        /* the library's message names the scene file when the scene is at fault */
+        const int named = strncmp(err.msg, o.scene, strlen(o.scene)) == 0;
+        rc = st == PLUME_EINVAL || st == PLUME_EFORMAT ? cli_fail(APP, named ? "%.0s%s" : "%s: %s", o.scene, err.msg)
                                                        : run_fail("%s", err.msg);
         goto done;
     }

@@ -276,6 +276,13 @@ void test_feather_app_scene_errors(void)
         }
     }
     CHECK(app_run(dir, "feather", "--help", out, sizeof out, errs, sizeof errs) == 0 && strstr(out, "--restart"));
+    /* a static scene: exit 2, the file named once, apps/shell named, nothing written */
+    snprintf(args, sizeof args, "../data/benchmarks/cantilever_shear.json -o %s/static --quiet", dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) == 2);
+    const char *first = strstr(errs, "cantilever_shear.json");
+    CHECK(first && !strstr(first + 1, "cantilever_shear.json") && strstr(errs, "apps/shell"));
+    snprintf(args, sizeof args, "%s/static", dir);
+    CHECK(access(args, F_OK) != 0);
     free(good);
     rm_rf(dir);
 }
