@@ -169,9 +169,9 @@ void test_layout_keys_table(void)
         char *end = NULL;
         strtod(v, &end);
         if (end && *end == '\0' && end != v)
-            snprintf(json, sizeof json, "{\"%s\": %s}", rows[k].key, v);
+            snprintf(json, sizeof json, "{\"%.63s\": %.127s}", rows[k].key, v);
         else
-            snprintf(json, sizeof json, "{\"%s\": \"%s\"}", rows[k].key, v);
+            snprintf(json, sizeof json, "{\"%.63s\": \"%.127s\"}", rows[k].key, v);
         plume_layout d, set;
         plume_layout_default(&d);
         plume_layout_default(&set);
