@@ -11,10 +11,6 @@
 #include <jansson.h>
 
 #include "../include/plume/plume.h"
-#include "../micro/homogenize.h"
-#include "../micro/layout.h"
-#include "../micro/layout_json.h"
-#include "../micro/micro_model.h"
 #include "../macro/shell/fields.h"
 #include "cli.h"
 #include "traction_size.h"

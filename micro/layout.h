@@ -14,11 +14,6 @@
 extern "C" {
 #endif
 
-/** Material ids used by every micro mesh. */
-enum {
-    PLUME_MAT_BARB = 0,   /**< the barb phase */
-    PLUME_MAT_BARBULE = 1 /**< the barbule phase (soft matrix or explicit barbule strips) */
-};
 
 /** The thinnest strip of the layout (m): the barb strip, the gap between barbs, or a barbule. */
 double plume_layout_thinnest(const plume_layout *l);

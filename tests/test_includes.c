@@ -36,10 +36,6 @@ static const struct {
     {"apps/shell.c", "macro/scene/scene.h"},         /* the scene's probes and settings */
     {"apps/homogenize.c", "micro/cell_mesh.h"}, /* the cell's mesh for --vtk */
     {"apps/homogenize.c", "macro/shell/fields.h"},   /* ParaView series of the cell */
-    {"apps/traction.c", "micro/homogenize.h"},
-    {"apps/traction.c", "micro/layout.h"},
-    {"apps/traction.c", "micro/layout_json.h"},
-    {"apps/traction.c", "micro/micro_model.h"},
     {"apps/traction.c", "macro/shell/fields.h"},     /* ParaView series of the specimen */
 };
 enum { NEXCEPTIONS = sizeof app_exceptions / sizeof app_exceptions[0] };

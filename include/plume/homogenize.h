@@ -12,6 +12,12 @@ extern "C" {
 #endif
 
 /* ---- from micro/layout.h ---- */
+/** Material ids used by every micro mesh. */
+enum {
+    PLUME_MAT_BARB = 0,   /**< the barb phase */
+    PLUME_MAT_BARBULE = 1 /**< the barbule phase (soft matrix or explicit barbule strips) */
+};
+
 /** The kind of microstructure (names "strips", "barbules" in JSON). */
 typedef enum {
     PLUME_LAYOUT_STRIPS = 0,  /**< barb strips of width w_B every d_B in a soft barbule matrix */
