@@ -8,8 +8,6 @@
 #include <jansson.h>
 
 #include "../include/plume/plume.h"
-#include "../micro/cell_mesh.h"
-#include "../macro/shell/fields.h"
 #include "cli.h"
 
 static const char usage[] =
@@ -68,7 +66,7 @@ static plume_status vtk_state(void *user, int load_case, int step, double strain
             fprintf(stderr, "%s: --vtk: cannot create the directory '%s': %s\n", APP, dir, strerror(errno));
             return PLUME_EIO;
         }
-        if ((st = plume_fields_create(cell->mesh, 2, cell->mesh->nt, v->mats, 2, NULL, NULL, 0, &v->series[load_case],
+        if ((st = plume_fields_create(plume_cell_mesh_of(cell), 2, plume_cell_mesh_of(cell)->nt, v->mats, 2, NULL, NULL, 0, &v->series[load_case],
                                       &err)) != PLUME_OK ||
             (st = plume_fields_series_start(v->series[load_case], dir, "steps.pvd", "step", -1.0, &err)) != PLUME_OK) {
             fprintf(stderr, "%s: --vtk: %s\n", APP, err.msg);

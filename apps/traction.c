@@ -11,7 +11,8 @@
 #include <jansson.h>
 
 #include "../include/plume/plume.h"
-#include "../macro/shell/fields.h"
+#include "../micro/cell_mesh.h"
+#include "../micro/cell_plate.h"
 #include "cli.h"
 #include "traction_size.h"
 #include "traction_bending.h"

@@ -387,3 +387,8 @@ plume_status plume_micro_membrane_term(const plume_mesh *mesh, const plume_quadr
     return plume_membrane_p2_term_create(mesh->X, mesh->nv, quad->tri6, quad->nt, quad->material, quad->barb_dir,
                                          mats, nmat, out, err);
 }
+
+const plume_mesh *plume_cell_mesh_of(const plume_cell *cell)
+{
+    return cell ? cell->mesh : NULL;
+}

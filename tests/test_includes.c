@@ -34,9 +34,8 @@ static const struct {
     {"apps/feather.c", "macro/scene/scene.h"},  /* the scene's settings, read and overridden */
     {"apps/shell.c", "lib/sim/statics.h"},     /* load steps and their reports */
     {"apps/shell.c", "macro/scene/scene.h"},         /* the scene's probes and settings */
-    {"apps/homogenize.c", "micro/cell_mesh.h"}, /* the cell's mesh for --vtk */
-    {"apps/homogenize.c", "macro/shell/fields.h"},   /* ParaView series of the cell */
-    {"apps/traction.c", "macro/shell/fields.h"},     /* ParaView series of the specimen */
+    {"apps/traction.c", "micro/cell_mesh.h"},  /* --bending: the cell's bending tensor, as a reference */
+    {"apps/traction.c", "micro/cell_plate.h"}, /* and the specimen of the resolved layout in shell mode */
 };
 enum { NEXCEPTIONS = sizeof app_exceptions / sizeof app_exceptions[0] };
 

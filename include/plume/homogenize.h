@@ -133,6 +133,10 @@ typedef struct {
 /** A periodic cell of a layout (opaque here; micro/cell_mesh.h inside the library). */
 typedef struct plume_cell plume_cell;
 
+/** The mesh of a periodic cell (borrowed: it lives as long as the cell), e.g. for a ParaView series
+ * of the states plume_homog_opts.on_state passes (plume_fields_create, scene.h). */
+PLUME_API const plume_mesh *plume_cell_mesh_of(const plume_cell *cell);
+
 /* ---- from micro/homogenize.h ---- */
 /** Options of plume_homogenize (plume_homog_opts_default). */
 typedef struct {

@@ -269,6 +269,42 @@ PLUME_API const plume_scene *plume_run_scene(const plume_run *r);
 PLUME_API const char *plume_run_frames_path(const plume_run *r);
 
 
+
+/* ---- ParaView series of a mesh and its fields (what the runner writes; apps/traction and
+ * apps/homogenize write their specimens and cells the same way) ---- */
+/** Opaque field calculator of one mesh: materials, the bending term, the barb edges, the rest
+ * geometry, the output arrays and an open ParaView series (plume_fields_create, freed by
+ * plume_fields_destroy). */
+typedef struct plume_fields plume_fields;
+
+/** What the fields need, copied or taken: the mesh (borrowed, must outlive the object; topology
+ * built in shell mode), dim of the positions given later (2: planar, 3: shell), the first nt_elastic triangles
+ * with materials mats[mesh->material[t]], an optional bending term whose ownership passes to the
+ * object (its `energies` gives the bending energy; NULL: none; its stencils are the triangles,
+ * or the mesh's hinges for the hinge model), and the constrained barb edges (copied, may be
+ * NULL). PLUME_EINVAL naming what is wrong, PLUME_ENOMEM. */
+PLUME_API plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt_elastic,
+                                           const plume_membrane_material *mats, int nmat, plume_term *bending,
+                                           const plume_index *barb_edges, plume_index nbarb, plume_fields **out,
+                                           plume_err *err);
+
+/** Frees the object, its bending term and its output arrays (not the mesh); sets *f = NULL;
+ * NULL-safe. */
+PLUME_API void plume_fields_destroy(plume_fields **f);
+
+/** Starts a ParaView series in directory dir: files "<stem>_NNNNN.vtu" (and
+ * "<stem>_barbs_NNNNN.vtu") and the collection dir/pvd_name (e.g., "frames.pvd"). With
+ * resume_until >= 0 an existing collection keeps its entries of time <= resume_until (a restarted
+ * run); otherwise it is replaced at the first frame. */
+PLUME_API plume_status plume_fields_series_start(plume_fields *f, const char *dir, const char *pvd_name, const char *stem,
+                                                 double resume_until, plume_err *err);
+
+/** Writes frame `index` at time t (positions x): its .vtu files and the updated .pvd. Point data:
+ * displacement; cell data: material, barb_direction, the fields above, and "object" after
+ * plume_fields_set_objects. */
+PLUME_API plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err);
+
+
 #ifdef __cplusplus
 }
 #endif

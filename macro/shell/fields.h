@@ -5,6 +5,8 @@
 #ifndef PLUME_FIELDS_H
 #define PLUME_FIELDS_H
 
+#include "../../include/plume/scene.h"
+
 #include "../../lib/core/export.h"
 #include "../../lib/core/mesh.h"
 #include "../../lib/core/membrane.h"
@@ -49,34 +51,8 @@ const char *plume_field_label(const char *name);
 plume_status plume_field_values_select(const plume_field_values *v, const char *name, double *out,
                                                  plume_err *err);
 
-/** Opaque field calculator of one mesh: materials, the bending term, the barb edges, the rest
- * geometry, the output arrays and an open ParaView series (plume_fields_create, freed by
- * plume_fields_destroy). */
-typedef struct plume_fields plume_fields;
-
-/** What the fields need, copied or taken: the mesh (borrowed, must outlive the object; topology
- * built in shell mode), dim of the positions given later (2: planar, 3: shell), the first nt_elastic triangles
- * with materials mats[mesh->material[t]], an optional bending term whose ownership passes to the
- * object (its `energies` gives the bending energy; NULL: none; its stencils are the triangles,
- * or the mesh's hinges for the hinge model), and the constrained barb edges (copied, may be
- * NULL). PLUME_EINVAL naming what is wrong, PLUME_ENOMEM. */
-plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt_elastic,
-                                           const plume_membrane_material *mats, int nmat, plume_term *bending,
-                                           const plume_index *barb_edges, plume_index nbarb, plume_fields **out,
-                                           plume_err *err);
-/** Frees the object, its bending term and its output arrays (not the mesh); sets *f = NULL;
- * NULL-safe. */
-void plume_fields_destroy(plume_fields **f);
-
 /** Computes the fields at positions x (dim * nv). */
 plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_values *out, plume_err *err);
-
-/** Starts a ParaView series in directory dir: files "<stem>_NNNNN.vtu" (and
- * "<stem>_barbs_NNNNN.vtu") and the collection dir/pvd_name (e.g., "frames.pvd"). With
- * resume_until >= 0 an existing collection keeps its entries of time <= resume_until (a restarted
- * run); otherwise it is replaced at the first frame. */
-plume_status plume_fields_series_start(plume_fields *f, const char *dir, const char *pvd_name, const char *stem,
-                                                 double resume_until, plume_err *err);
 
 /** Gives each triangle the scene object it belongs to: object i has triangles t0[i] to
  * t0[i] + nt[i] - 1 (others get -1). From then on the frames carry the cell array "object"
@@ -84,11 +60,6 @@ plume_status plume_fields_series_start(plume_fields *f, const char *dir, const c
  * the mesh, PLUME_ENOMEM. */
 plume_status plume_fields_set_objects(plume_fields *f, int nobjects, const plume_index *t0, const plume_index *nt,
                                                 plume_err *err);
-
-/** Writes frame `index` at time t (positions x): its .vtu files and the updated .pvd. Point data:
- * displacement; cell data: material, barb_direction, the fields above, and "object" after
- * plume_fields_set_objects. */
-plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err);
 
 #ifdef __cplusplus
 }
