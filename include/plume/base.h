@@ -18,7 +18,7 @@
 extern "C" {
 #endif
 
-/* ---- from lib/core/version.h ---- */
+/* ---- the version ---- */
 #define PLUME_VERSION_MAJOR 1       /**< major version of the headers compiled against */
 
 #define PLUME_VERSION_MINOR 0       /**< minor version of the headers compiled against */
@@ -31,7 +31,7 @@ extern "C" {
 PLUME_API const char *plume_version(void);
 
 
-/* ---- from lib/core/status.h ---- */
+/* ---- status codes and error messages ---- */
 /** Index type for vertices, dofs and sparse entries; matches CHOLMOD's _l_ (SuiteSparse_long). */
 typedef long plume_index;
 
@@ -67,7 +67,7 @@ PLUME_API plume_status plume_err_set(plume_err *err, plume_status s, const char 
               ;
 
 
-/* ---- from lib/core/openmp_env.h ---- */
+/* ---- threads ---- */
 /** Every OpenMP parallel region of the process runs on one thread from now on (OpenMP's
  * max-active-levels set to 0, omp_set_max_active_levels), unless the environment sets
  * OMP_MAX_ACTIVE_LEVELS or OMP_THREAD_LIMIT: the user's choice wins (OMP_MAX_ACTIVE_LEVELS=1 keeps
@@ -86,7 +86,7 @@ PLUME_API void plume_openmp_serial(void);
 PLUME_API void plume_openmp_factor_threads(int threads);
 
 
-/* ---- from lib/solve/report.h ---- */
+/* ---- what a solve reports ---- */
 /** Why a solve stopped. Only CONVERGED means the tolerances below were met. */
 typedef enum {
     PLUME_REASON_CONVERGED = 0,   /**< the KKT residual and the violation met their tolerances */
@@ -144,13 +144,13 @@ typedef struct {
 
 
 
-/* ---- from lib/io/fs.h ---- */
+/* ---- folders ---- */
 /** mkdir -p: creates path and its missing parents (0777 before umask). 0 when path is a directory
  * on return; -1 with errno set otherwise (ENAMETOOLONG, ENOTDIR when path names something else). */
 PLUME_API int plume_make_dirs(const char *path);
 
 
-/* ---- from lib/io/progress.h ---- */
+/* ---- the wall clock ---- */
 /** Monotonic wall clock in seconds. */
 PLUME_API double plume_wall_seconds(void);
 

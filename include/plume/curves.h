@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-/* ---- from lib/io/curves.h ---- */
+/* ---- curves and moduli in HDF5 ---- */
 /** The homogenised / macroscale orthotropic moduli (Pa, 3D moduli). */
 typedef struct {
     double E_xx;  /**< Young's modulus along the barbs (Pa) */
@@ -126,7 +126,7 @@ PLUME_API plume_status plume_moduli_read(const char *path, plume_ortho *m, plume
 PLUME_API plume_status plume_moduli_read_param(const char *path, const char *name, double *value, plume_err *err);
 
 
-/* ---- from lib/io/plot.h ---- */
+/* ---- charts ---- */
 /** Draws stress-strain (left) and wbar-strain (right) of `ncurves` curves with their labels into
  * png_path and the same chart as SVG beside it (extension replaced by .svg). Runs gnuplot;
  * PLUME_EDEP with a message if gnuplot is missing or fails. Strain is shown in %, stress in Pa. */
@@ -152,7 +152,7 @@ PLUME_API plume_status plume_plot_curves_axes(const char *png_path, const char *
                                               plume_err *err);
 
 
-/* ---- from micro/fit.h ---- */
+/* ---- measured curves from text ---- */
 /** Reads a measured curve from a text file: two columns, nominal strain and nominal stress (Pa),
  * separated by spaces, tabs or a comma; '#' starts a comment; a header line of words is skipped.
  * Errors name the file and line. wbar/iterations/seconds are zero-filled. */

@@ -12,7 +12,7 @@
 extern "C" {
 #endif
 
-/* ---- from drivers/sweep.h ---- */
+/* ---- parameter sweeps ---- */
 /** Opaque expanded sweep: the sweep file's base request, its varied axes and run count
  * (plume_sweep_load, freed by plume_sweep_destroy). */
 typedef struct plume_sweep plume_sweep;
@@ -69,7 +69,7 @@ PLUME_API plume_status plume_sweep_summary(const char *h5path, const plume_sweep
                                            plume_err *err);
 
 
-/* ---- from drivers/study.h ---- */
+/* ---- the multiscale study ---- */
 /** Input of one run. */
 typedef struct {
     double lx;                 /**< sample width (m); default 1 (supplementary Table 4) */
@@ -125,7 +125,7 @@ PLUME_API void plume_study_result_free(plume_study_result *r);
 PLUME_API double plume_study_rel_error(double a, double ref);
 
 
-/* ---- from drivers/stability.h ---- */
+/* ---- stability measures ---- */
 /** Condition estimate (1 / CHOLMOD rcond of the Hessian's factor at rest) of the tilted 45 deg
  * sample (1 x 1.3, aligned mesh of the given edge, grips clamped) with E_yy = G_xy = 1 and
  * E_xx = ratio. constraint 0: the penalty model, whose Hessian carries the stiff mode;

@@ -18,7 +18,7 @@ enum {
     PLUME_FIT_GXY = 8  /**< G_xy free */
 };
 
-/* ---- from micro/fit.h ---- */
+/* ---- fitting ---- */
 /** Computes the model's curve for target curve `icurve` with moduli `m`: fills `out` (arrays
  * malloc'ed by the callback, freed by the fitter with plume_curve_free). Returns PLUME_OK, or an
  * error status; a model run that does not converge should return PLUME_EINFEASIBLE (the fitter
@@ -57,7 +57,7 @@ PLUME_API plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const 
                                         plume_fit_report *rep, plume_err *err);
 
 
-/* ---- from macro/shell/traction_model.h ---- */
+/* ---- the macro traction test as a model ---- */
 /** The macro traction test as a model (the ctx of plume_macro_model_curve); borrowed arrays. */
 typedef struct {
     double lx;              /**< sample width (m) */

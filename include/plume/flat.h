@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-/* ---- from drivers/flat.h ---- */
+/* ---- the flat interface ---- */
 /** Runs the "homogenize" request above (plume_homogenize) and gives its result in *result, a
  * malloc'ed JSON text (plume_flat_free; NULL on failure). PLUME_EFORMAT / PLUME_EINVAL for a bad
  * request, and the errors of the homogenisation, with the message in msg. */

@@ -11,7 +11,7 @@
 extern "C" {
 #endif
 
-/* ---- from micro/layout.h ---- */
+/* ---- barb layouts ---- */
 /** Material ids used by every micro mesh. */
 enum {
     PLUME_MAT_BARB = 0,   /**< the barb phase */
@@ -93,7 +93,7 @@ PLUME_API double plume_layout_thickness(const plume_layout *l, int phase);
 PLUME_API void plume_layout_materials(const plume_layout *l, plume_membrane_material mats[2]);
 
 
-/* ---- from micro/layout_json.h ---- */
+/* ---- layout files ---- */
 /** Reads keys into *l (which holds the defaults or earlier values; absent keys are kept):
  *   {"layout": "strips" | "barbules", "phi": 0.16, "d_B": 1e-3, "w_B": 1.6e-4, "E_b": 2.5e9,
  *    "nu_b": 0.3, "ratio": 1e-6, "nu_B": 0.3, "thickness": 1e-4, "thickness_barb": 1e-4,
@@ -111,7 +111,7 @@ PLUME_API plume_status plume_layout_load_json(const char *path, plume_layout *l,
 PLUME_API plume_status plume_layout_apply_json(const char *text, const char *where, plume_layout *l, plume_err *err);
 
 
-/* ---- from micro/cell_plate.h ---- */
+/* ---- bending moduli of a plate cell ---- */
 /** The bending moduli of a plate (N m) in the barb frame (1 along the barbs), with the energy
  * density of macro/shell/bending.h plus the bending-twist couplings
  *
@@ -137,7 +137,7 @@ typedef struct plume_cell plume_cell;
  * of the states plume_homog_opts.on_state passes (plume_fields_create, scene.h). */
 PLUME_API const plume_mesh *plume_cell_mesh_of(const plume_cell *cell);
 
-/* ---- from micro/homogenize.h ---- */
+/* ---- homogenisation ---- */
 /** Options of plume_homogenize (plume_homog_opts_default). */
 typedef struct {
     double strain_max;     /**< final strain of the cell curves; default 0.05 (0: no curves) */

@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-/* ---- from lib/core/mesh.h ---- */
+/* ---- the mesh ---- */
 /** A triangle mesh. All arrays are owned by the mesh and freed by plume_mesh_destroy.
  * Inputs (set by whoever builds the mesh): nv, nt, dim, X, x, tri, barb_dir, material.
  * Outputs of plume_mesh_build_topology: edges, edge_tri, hinges, boundary. */
@@ -54,7 +54,7 @@ PLUME_API double plume_mesh_ref_area(const plume_mesh *m, plume_index t);
 PLUME_API double plume_mesh_total_area(const plume_mesh *m);
 
 
-/* ---- from lib/core/term.h ---- */
+/* ---- energy terms and constraints ---- */
 /** An energy term is a sum over stencils; each stencil couples `arity` vertices. With d = dim and
  * k = arity*d, the term adds its energy to *energy and its gradient to grad (full vector of
  * dim*nv entries, vertex-major) and, when hblocks is non-NULL, writes one dense k x k row-major
@@ -134,7 +134,7 @@ typedef struct {
 } plume_constraint;
 
 
-/* ---- from lib/core/problem.h ---- */
+/* ---- the problem ---- */
 /** Opaque problem handle: terms, constraints, prescribed dofs, the state x and every workspace
  * (plume_problem_create, freed by plume_problem_destroy). */
 typedef struct plume_problem plume_problem;
@@ -186,7 +186,7 @@ PLUME_API void plume_problem_gather(const plume_problem *p, double *u);
 PLUME_API plume_status plume_problem_objective(plume_problem *p, const double *u, double *f, double *grad);
 
 
-/* ---- from lib/core/membrane.h ---- */
+/* ---- the membrane term ---- */
 /** One membrane material: 3D moduli (Pa) in the barb frame (x along the barbs), thickness h (m)
  * and the compression coefficient kappa (Pa; 0 disables the term). */
 typedef struct {
@@ -209,7 +209,7 @@ PLUME_API plume_status plume_membrane_term_create(const plume_mesh *mesh, int di
                                                   plume_term *out, plume_err *err);
 
 
-/* ---- from lib/core/edge_length.h ---- */
+/* ---- the inextensibility constraint ---- */
 /** A constraint set over `n` edges (pairs of vertex ids, copied) whose rest lengths are taken
  * from the reference positions X (2D, material space). Scale of constraint c is L_c^2, so the
  * relative violation |g|/L^2 is about twice the relative change of length. */
@@ -217,7 +217,7 @@ PLUME_API plume_status plume_edge_length_create(const plume_index *edges, plume_
                                                 plume_index nv, plume_constraint *out, plume_err *err);
 
 
-/* ---- from macro/shell/bending.h ---- */
+/* ---- the bending term ---- */
 /** Bending stiffness of one material (N m): for an isotropic plate D_long = D_trans =
  * E t^3 / (12 (1 - nu^2)), D_coupling = nu D, D_twist = (1 - nu) D / 2.
  * The orthotropic plate energy density, k11 along d, k22 across, k12 the twist in the barb frame:
@@ -249,7 +249,7 @@ PLUME_API plume_status plume_bending_term_create(const plume_mesh *mesh, const p
                                                  const double *rest_x, plume_term *out, plume_err *err);
 
 
-/* ---- from lib/solve/options.h ---- */
+/* ---- solver options ---- */
 /** How the native solver globalises a constrained step. */
 typedef enum {
     PLUME_LS_FILTER = 0, /**< Ipopt's filter line search (Waechter & Biegler 2006) with a second-order
@@ -335,7 +335,7 @@ typedef struct {
 PLUME_API void plume_solver_opts_default(plume_solver_opts *o);
 
 
-/* ---- from lib/solve/solver.h ---- */
+/* ---- the solvers ---- */
 /** The solver backends (names "newton", "ipopt", "linearized"). */
 typedef enum {
     PLUME_SOLVER_NEWTON = 0,    /**< the native projected Newton / SQP (lib/solve/newton.h) */
@@ -368,7 +368,7 @@ PLUME_API void plume_solver_destroy(plume_solver **s);
 PLUME_API plume_status plume_solver_solve(plume_solver *s, double *u, double *lambda, plume_solve_report *rep);
 
 
-/* ---- from lib/sim/statics.h ---- */
+/* ---- load stepping ---- */
 /** Where each solve of a load increment starts. */
 typedef enum {
     PLUME_PREDICT_NONE = 0,  /**< the last equilibrium */

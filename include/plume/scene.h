@@ -13,7 +13,7 @@ extern "C" {
 /** A loaded, validated scene (opaque): its mesh, materials, handles, loads and run settings. */
 typedef struct plume_scene plume_scene;
 
-/* ---- from macro/scene/scene.h ---- */
+/* ---- scenes ---- */
 /** Reads, validates and meshes the scene in `path`. Errors (PLUME_EIO unreadable file,
  * PLUME_EFORMAT malformed JSON or a wrong type, PLUME_EINVAL a bad value) name the file, the line
  * and the key ("scene.json:12: materials[0].density must be finite and > 0 (got -1)"). */
@@ -48,7 +48,7 @@ PLUME_API void plume_scene_destroy(plume_scene **s);
 PLUME_API plume_status plume_scene_statics(const plume_scene *s, plume_problem **p, plume_statics **st, plume_err *err);
 
 
-/* ---- from lib/io/frames.h ---- */
+/* ---- frames files ---- */
 /** What /frames holds. scene is a NUL-terminated copy (truncated to fit). */
 typedef struct {
     long count;       /**< committed frames */

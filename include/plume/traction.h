@@ -12,7 +12,7 @@
 extern "C" {
 #endif
 
-/* ---- from lib/sim/traction.h ---- */
+/* ---- the traction test ---- */
 /** Options of the traction test (plume_traction_opts_default; lx, ly and h have no default). */
 typedef struct {
     double lx;           /**< sample width along x (m), must match the mesh's reference bounding box */
@@ -93,7 +93,7 @@ PLUME_API plume_status plume_traction_run(const plume_mesh *mesh, plume_problem 
                                           plume_traction_result *res, plume_err *err);
 
 
-/* ---- from macro/shell/patch_mesh.h ---- */
+/* ---- sample meshes ---- */
 /** How a rectangular sample is meshed (names "aligned", "unaligned"). */
 typedef enum {
     PLUME_PATCH_ALIGNED = 0,  /**< corner-exact: a barb line through every corner of the sample, the
@@ -115,7 +115,7 @@ PLUME_API plume_status plume_patch_mesh(double lx, double ly, double angle_deg, 
                                         int dim, plume_mesh **out, plume_err *err);
 
 
-/* ---- from macro/shell/vane.h ---- */
+/* ---- the vane ---- */
 /** The macroscale vane's material and how its barbs are modelled (plume_vane_default). */
 typedef struct {
     plume_ortho moduli;   /**< Pa */
@@ -143,7 +143,7 @@ PLUME_API plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, con
                                       plume_index **barb_edges, plume_index *nbarb, plume_err *err);
 
 
-/* ---- from micro/micro_model.h ---- */
+/* ---- the resolved specimen ---- */
 /** Meshes the specimen [0, lx] x [0, ly] with barbs at angle_deg from the pulling axis y
  * (plume_specimen_mesh) and creates a planar problem holding the two-material membrane of the
  * layout's element order. At order 2 *mesh is the quadratic triangles split in four (its vertices
@@ -175,7 +175,7 @@ PLUME_API plume_status plume_micro_traction_convergence(const plume_layout *l, d
                                                         plume_micro_convergence *c, plume_err *err);
 
 
-/* ---- from macro/shell/plate_bending.h ---- */
+/* ---- bending tests ---- */
 /** The load of the plate test (names "cylinder", "twist"). */
 typedef enum {
     PLUME_BEND_CYLINDER = 0, /**< end moments about x: curvature k_yy along the specimen */
@@ -316,7 +316,7 @@ PLUME_API plume_status plume_plate_model_curve(void *ctx, const plume_ortho *m, 
                                                plume_err *err);
 
 
-/* ---- from lib/io/sample.h ---- */
+/* ---- the samples of supplementary Table 1 ---- */
 /** One traction sample's geometry, as read from the samples file (SI units). */
 typedef struct {
     char id[32];        /**< e.g., "L01" (longitudinal) or "T07" (transverse) */
