@@ -798,6 +798,8 @@ plume_status plume_flat_scene_write_frames(plume_flat_scene *s, const char *path
                               &err, msg, nmsg);
         }
         st = plume_frames_create(path, m->nv, ncons, s->scene->dt, scene, &err);
+        if (st == PLUME_OK) /* the moduli used, as the runner records them */
+            st = plume_scene_materials_record(s->scene, path, &err);
         if (st != PLUME_OK)
             return finish(st, &err, msg, nmsg);
         free(s->frames_path);
