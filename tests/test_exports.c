@@ -230,7 +230,8 @@ static int tree_api_uses(void)
 
 /* The global symbols libplume.a defines, as "VIS NAME" pairs: default-visibility ones in *pub,
  * hidden ones in *hid; weak C++ template instances (mangled _Z names: the CGAL shim's std and
- * Boost templates, and the DW.ref. cells of C++ exception handling) are not plume's. 0 when there is no libplume.a next to the runner. */
+ * Boost templates, and the DW.ref. cells of C++ exception handling) are not plume's, nor are
+ * AddressSanitizer's __odr_asan. markers of plume's own variables. 0 when there is no libplume.a next to the runner. */
 static int static_globals(names *pub, names *hid, names *other)
 {
     char self[PATH_MAX - 32];
@@ -259,6 +260,8 @@ static int static_globals(names *pub, names *hid, names *other)
         if (!strcmp(ndx, "UND") || (strcmp(bind, "GLOBAL") && strcmp(bind, "WEAK")))
             continue;
         if (!strcmp(bind, "WEAK") && (!strncmp(name, "_Z", 2) || !strncmp(name, "DW.ref.", 7)))
+            continue;
+        if (!strncmp(name, "__odr_asan.plume_", 17)) /* AddressSanitizer's marker of a plume_ variable */
             continue;
         if (strncmp(name, "plume_", 6) != 0)
             names_add(other, name, strlen(name));
