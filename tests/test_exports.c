@@ -304,6 +304,18 @@ static int exported(names *out, char *lib, size_t len)
     return 1;
 }
 
+/* The names of `a` that `b` lacks, each printed after `what`; their count. */
+static int missing_from(const names *a, const names *b, const char *what)
+{
+    int n = 0;
+    for (size_t i = 0; i < a->n; i++)
+        if (!names_has(b, a->name[i])) {
+            fprintf(stderr, "    %s: %s\n", what, a->name[i]);
+            n++;
+        }
+    return n;
+}
+
 void test_exports_only_the_api(void)
 {
     names api = {0}, dyn = {0};
@@ -321,18 +333,8 @@ void test_exports_only_the_api(void)
         for (size_t i = 0; i < other.n; i++)
             fprintf(stderr, "    libplume.a defines %s, not a plume_ name\n", other.name[i]);
         CHECK(other.n == 0);
-        int bad_a = 0;
-        for (size_t i = 0; i < pub.n; i++)
-            if (!names_has(&api, pub.name[i])) {
-                fprintf(stderr, "    libplume.a: %s has default visibility but is not in include/plume/\n", pub.name[i]);
-                bad_a++;
-            }
-        for (size_t i = 0; i < api.n; i++)
-            if (!names_has(&pub, api.name[i])) {
-                fprintf(stderr, "    libplume.a: %s is declared PLUME_API but not defined public\n", api.name[i]);
-                bad_a++;
-            }
-        CHECK(bad_a == 0);
+        CHECK(missing_from(&pub, &api, "libplume.a, default visibility but not in include/plume/") == 0);
+        CHECK(missing_from(&api, &pub, "libplume.a, declared PLUME_API but not defined public") == 0);
     }
     names_free(&pub);
     names_free(&hid);
@@ -360,11 +362,7 @@ void test_exports_only_the_api(void)
             bad++;
         }
     }
-    for (size_t i = 0; i < api.n; i++)
-        if (!names_has(&dyn, api.name[i])) {
-            fprintf(stderr, "    declared PLUME_API but not exported: %s\n", api.name[i]);
-            bad++;
-        }
+    bad += missing_from(&api, &dyn, "declared PLUME_API but not exported");
     CHECK(bad == 0);
     names_free(&api);
     names_free(&dyn);
