@@ -12,6 +12,7 @@
 
 #include "app_runner.h"
 #include "harness.h"
+#include "h5_units.h"
 #include "plume_tree.h"
 #include "../lib/io/frames.h"
 #include "../macro/scene/scene.h"
@@ -69,26 +70,8 @@ static double h5_num(const char *path, const char *obj, const char *name)
 
 static int h5_str(const char *path, const char *obj, const char *name, char *buf, size_t n)
 {
-    int rc = -1;
     buf[0] = '\0';
-    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (f < 0)
-        return -1;
-    if (H5Aexists_by_name(f, obj, name, H5P_DEFAULT) > 0) {
-        hid_t a = H5Aopen_by_name(f, obj, name, H5P_DEFAULT, H5P_DEFAULT), t = H5Aget_type(a);
-        char *s = NULL;
-        if (a >= 0 && t >= 0 && H5Tis_variable_str(t) > 0 && H5Aread(a, t, &s) >= 0 && s) {
-            snprintf(buf, n, "%s", s);
-            H5free_memory(s);
-            rc = 0;
-        }
-        if (t >= 0)
-            H5Tclose(t);
-        if (a >= 0)
-            H5Aclose(a);
-    }
-    H5Fclose(f);
-    return rc;
+    return h5_string_attr(path, obj, name, buf, n);
 }
 
 static int ends_with(const char *s, const char *tail)
