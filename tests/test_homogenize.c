@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "harness.h"
 #include "test_rng.h"
@@ -355,5 +356,36 @@ void test_homogenize_feather_si_layout(void)
     fprintf(stderr, "    data/layout_feather_si.json: E_xx %.4g (Reuss %.4g, Voigt %.4g), E_yy %.4g, G_xy %.4g Pa; "
                     "D_long %.4g, D_trans %.4g N m\n", r.moduli.E_xx, reuss, voigt, r.moduli.E_yy, r.moduli.G_xy,
             r.bending.D_long, r.bending.D_trans);
+    plume_homog_result_free(&r);
+}
+
+/* plume_homog_write: what it wrote reads back as the moduli; bad arguments and an unwritable path
+ * are errors naming what is wrong */
+void test_homogenize_write_errors(void)
+{
+    plume_layout l;
+    plume_layout_default(&l);
+    plume_homog_opts o;
+    plume_homog_opts_default(&o);
+    o.strain_max = 0.0;
+    o.convergence = 0;
+    plume_homog_result r;
+    plume_err err = {{0}};
+    CHECK(plume_homogenize(&l, &o, &r, &err) == PLUME_OK);
+    CHECK(plume_homog_write(NULL, &l, &r, &err) == PLUME_EINVAL && strstr(err.msg, "path"));
+    err.msg[0] = '\0';
+    CHECK(plume_homog_write("/nonexistent-dir/m.h5", &l, &r, &err) != PLUME_OK &&
+          strstr(err.msg, "/nonexistent-dir/m.h5"));
+    char path[] = "/tmp/plume-homog-write-XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0);
+    if (fd >= 0) {
+        close(fd);
+        remove(path);
+        plume_ortho back;
+        CHECK(plume_homog_write(path, &l, &r, &err) == PLUME_OK && plume_moduli_read(path, &back, &err) == PLUME_OK &&
+              back.E_xx == r.moduli.E_xx && back.G_xy == r.moduli.G_xy);
+        remove(path);
+    }
     plume_homog_result_free(&r);
 }
