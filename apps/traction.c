@@ -11,8 +11,6 @@
 #include <jansson.h>
 
 #include "../include/plume/plume.h"
-#include "../micro/cell_mesh.h"
-#include "../micro/cell_plate.h"
 #include "cli.h"
 #include "traction_size.h"
 #include "traction_bending.h"

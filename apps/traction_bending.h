@@ -140,18 +140,13 @@ static int run_bending(const bending_cli *c, const plume_layout *layout, int wan
 
     /* the cell's bending tensor: the plate's moduli and the moment that gives the curvature asked for */
     plume_err err = {{0}};
-    plume_cell *cell = NULL;
     plume_membrane_material mats[2];
     plume_layout_materials(layout, mats);
     double D[9];
-    plume_status st = plume_cell_mesh(layout, &cell, &err);
-    if (st == PLUME_OK)
-        st = plume_cell_plate_tensor(cell, mats, 2, D, NULL, &err);
-    plume_cell_destroy(&cell);
+    plume_plate_moduli pm;
+    plume_status st = plume_homogenize_bending(layout, D, &pm, &err);
     if (st != PLUME_OK)
         return fprintf(stderr, "traction: --bending: the cell's plate tensor: %s\n", err.msg), 1;
-    plume_plate_moduli pm;
-    plume_plate_moduli_from_tensor(D, &pm);
     if (fabs(pm.D_16) > 0.01 * sqrt(pm.D_long * pm.D_twist) || fabs(pm.D_26) > 0.01 * sqrt(pm.D_trans * pm.D_twist))
         return fprintf(stderr, "traction: --bending: the layout's cell couples bending and twist (D_16 %g, D_26 %g N m), "
                                "which the plate cannot represent; use a layout symmetric about the barbs (e.g. "

@@ -50,15 +50,6 @@ plume_status plume_micro_membrane_term(const plume_mesh *mesh, const plume_quadr
                                                  const plume_membrane_material *mats, int nmat, plume_term *out,
                                                  plume_err *err);
 
-/** Meshes a rectangular traction specimen [0, lx] x [0, ly] of the layout with barbs at angle_deg
- * from the y axis (as in macro/shell/patch_mesh.h: d = (sin a, cos a)); strip boundaries are mesh
- * edges, the mesh is refined to edges <= plume_layout_element_edge(l, PLUME_MESH_SPECIMEN); barbule
- * layouts leave the empty space out. Always linear triangles (plume_micro_specimen adds the
- * quadratic nodes).
- * Triangles get material ids and barb_dir = d; topology is built. */
-plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, double angle_deg,
-                                           plume_mesh **out, plume_err *err);
-
 #ifdef __cplusplus
 }
 #endif

@@ -19,6 +19,7 @@
  * Strip boundaries clipped to less than e/1000 (a line grazing a corner) are not constrained; the
  * triangles there still get their material from the centroid. */
 #include "../lib/core/pslg.h"
+#include "../include/plume/traction.h"
 #include "cell_mesh.h"
 
 #include <math.h>

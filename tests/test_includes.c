@@ -34,8 +34,6 @@ static const struct {
     {"apps/feather.c", "macro/scene/scene.h"},  /* the scene's settings, read and overridden */
     {"apps/shell.c", "lib/sim/statics.h"},     /* load steps and their reports */
     {"apps/shell.c", "macro/scene/scene.h"},         /* the scene's probes and settings */
-    {"apps/traction.c", "micro/cell_mesh.h"},  /* --bending: the cell's bending tensor, as a reference */
-    {"apps/traction.c", "micro/cell_plate.h"}, /* and the specimen of the resolved layout in shell mode */
 };
 enum { NEXCEPTIONS = sizeof app_exceptions / sizeof app_exceptions[0] };
 

@@ -9,6 +9,7 @@
 #include "harness.h"
 #include "../micro/cell_mesh.h"
 #include "../micro/layout.h"
+#include "../include/plume/traction.h"
 
 static const double pi = 3.14159265358979323846;
 

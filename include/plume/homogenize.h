@@ -210,6 +210,14 @@ PLUME_API void plume_homog_result_free(plume_homog_result *r);
 PLUME_API plume_status plume_homog_write(const char *path, const plume_layout *l, const plume_homog_result *r,
                                          plume_err *err);
 
+/** The bending part of plume_homogenize alone: the periodic plate cell of the layout (Morley
+ * triangles on its cell mesh; docs/bending-homogenisation.md) gives D (N m, Voigt (k11, k22,
+ * 2 k12), row-major, barb frame) and, when moduli is not NULL, its moduli. Much cheaper than
+ * plume_homogenize (no membrane cell problems, no curves, no convergence estimate). Errors: an
+ * invalid layout (PLUME_EINVAL naming the field), a singular cell (PLUME_ESINGULAR). */
+PLUME_API plume_status plume_homogenize_bending(const plume_layout *l, double D[9], plume_plate_moduli *moduli,
+                                                plume_err *err);
+
 /** Meshes the layout's periodic cell and homogenises it: the small-strain tensor from the exact
  * linearised cell problem (micro/cell_linear.h), the bending tensor from the plate cell problem
  * (micro/cell_plate.h), the curves from the nonlinear membrane. Errors: invalid layout or options

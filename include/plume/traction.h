@@ -144,6 +144,15 @@ PLUME_API plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, con
 
 
 /* ---- the resolved specimen ---- */
+/** Meshes a rectangular traction specimen [0, lx] x [0, ly] of the layout with barbs at angle_deg
+ * from the y axis (as in macro/shell/patch_mesh.h: d = (sin a, cos a)); strip boundaries are mesh
+ * edges, the mesh is refined to edges <= plume_layout_element_edge(l, PLUME_MESH_SPECIMEN); barbule
+ * layouts leave the empty space out. Always linear triangles (plume_micro_specimen adds the
+ * quadratic nodes).
+ * Triangles get material ids and barb_dir = d; topology is built. */
+PLUME_API plume_status plume_specimen_mesh(const plume_layout *l, double lx, double ly, double angle_deg,
+                                           plume_mesh **out, plume_err *err);
+
 /** Meshes the specimen [0, lx] x [0, ly] with barbs at angle_deg from the pulling axis y
  * (plume_specimen_mesh) and creates a planar problem holding the two-material membrane of the
  * layout's element order. At order 2 *mesh is the quadratic triangles split in four (its vertices
