@@ -10,7 +10,6 @@
 #include <jansson.h>
 
 #include "../include/plume/plume.h"
-#include "../macro/scene/scene.h"
 #include "cli.h"
 
 #define APP "feather"
@@ -102,10 +101,7 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (strcmp(a, "--restart") == 0)
             o->restart = v;
         else if (strcmp(a, "--render-field") == 0) {
-            o->render_field = v;
-            if (!plume_render_field_valid(v))
-                r = cli_fail(APP, "--render-field expects material, object or one of %s (got '%s')",
-                             plume_field_names(), v);
+            o->render_field = v; /* checked by the scene (apply_overrides) */
         } else
             o->solver = v;
         if (r)
@@ -144,39 +140,24 @@ static void output_dir(const options *o, const char *stem, char *outdir, size_t 
         snprintf(outdir, n, "/");
 }
 
-/* --json "materials": each material's moduli and, when read from a file, the file */
-static json_t *materials_json(const plume_scene *scene)
+/* The scene's description (plume_scene_describe), parsed; NULL with a message on stderr. */
+static json_t *describe(const plume_scene *scene)
 {
-    json_t *ja = json_array();
-    for (int k = 0; k < scene->nmat; k++) {
-        const plume_scene_material *m = scene->mats + k;
-        json_t *jm = json_object(), *jb = json_object();
-        json_t *jmem = json_pack("{s:f, s:f, s:f, s:f, s:f, s:f}", "E_xx", m->membrane.E_xx, "E_yy", m->membrane.E_yy,
-                                 "nu_xy", m->membrane.nu_xy, "G_xy", m->membrane.G_xy, "thickness", m->membrane.h,
-                                 "kappa", m->membrane.kappa);
-        json_object_set_new(jb, "D_long", json_real(m->bending.D_long));
-        json_object_set_new(jb, "D_trans", json_real(m->bending.D_trans));
-        json_object_set_new(jb, "D_coupling", json_real(m->bending.D_coupling));
-        json_object_set_new(jb, "D_twist", json_real(m->bending.D_twist));
-        if (m->membrane_from[0])
-            json_object_set_new(jmem, "from_moduli", json_string(m->membrane_from));
-        if (m->bending_from[0])
-            json_object_set_new(jb, "from_moduli", json_string(m->bending_from));
-        json_object_set_new(jm, "membrane", jmem);
-        json_object_set_new(jm, "bending", jb);
-        json_object_set_new(jm, "density", json_real(m->density));
-        json_object_set_new(jm, "constraint", json_boolean(m->constraint));
-        json_array_append_new(ja, jm);
-    }
-    return ja;
+    plume_err err = {{0}};
+    char *text = NULL;
+    json_t *j = NULL;
+    if (plume_scene_describe(scene, &text, &err) != PLUME_OK)
+        fprintf(stderr, "%s: %s\n", APP, err.msg);
+    else if (!(j = json_loads(text, 0, NULL)))
+        fprintf(stderr, "%s: the scene's description is not JSON\n", APP);
+    plume_free(text);
+    return j;
 }
 
 /* --json: the run's summary object (total: the app's wall time). */
-static json_t *summary_json(const options *o, const plume_run *run, const char *outdir, const plume_run_report *r,
-                            double total)
+static json_t *summary_json(const options *o, const plume_run *run, json_t *desc, const char *outdir,
+                            const plume_run_report *r, double total)
 {
-    const plume_scene *scene = plume_run_scene(run);
-    const plume_mesh *mesh = scene->mesh;
     long new_frames = r->frames - (o->restart ? 0 : 1);
     json_t *j = json_object();
     json_object_set_new(j, "frames", json_integer(r->frames));
@@ -195,23 +176,24 @@ static json_t *summary_json(const options *o, const plume_run *run, const char *
     json_object_set_new(j, "solve_seconds", json_real(r->solve_seconds));
     json_object_set_new(j, "seconds_per_frame", new_frames > 0 ? json_real(r->loop_seconds / (double)new_frames)
                                                                : json_null());
-    json_object_set_new(j, "elements", json_integer(mesh->nt));
-    json_object_set_new(j, "vertices", json_integer(mesh->nv));
+    json_object_set(j, "elements", json_object_get(desc, "elements"));
+    json_object_set(j, "vertices", json_object_get(desc, "vertices"));
     json_object_set_new(j, "constraints", json_integer(plume_run_constraints(run)));
     json_object_set_new(j, "time", json_real(r->time));
     json_object_set_new(j, "step", json_integer(r->step));
     json_object_set_new(j, "last_frame", json_integer(r->next_frame - 1));
-    json_object_set_new(j, "dt", json_real(scene->dt));
-    json_object_set_new(j, "solver", json_string(plume_solver_kind_name(scene->solver)));
+    json_object_set(j, "dt", json_object_get(desc, "dt"));
+    json_object_set(j, "solver", json_object_get(desc, "solver"));
     json_object_set_new(j, "output_dir", json_string(outdir));
     json_object_set_new(j, "frames_file", json_string(plume_run_frames_path(run)));
-    json_object_set_new(j, "materials", materials_json(scene));
+    json_object_set(j, "materials", json_object_get(desc, "materials"));
     if (o->restart)
         json_object_set_new(j, "restarted_from", json_string(o->restart));
-    if (scene->has_contact) {
+    json_t *contact = json_object_get(desc, "contact");
+    if (contact) {
         json_t *jc = json_object();
-        json_object_set_new(jc, "model", json_string(plume_contact_model_name(scene->contact.pair.model)));
-        json_object_set_new(jc, "dhat", json_real(scene->contact.pair.dhat));
+        json_object_set(jc, "model", json_object_get(contact, "model"));
+        json_object_set(jc, "dhat", json_object_get(contact, "dhat"));
         json_object_set_new(jc, "steps_intersecting", json_integer(r->steps_intersecting));
         json_object_set_new(jc, "max_intersecting_pairs", json_integer(r->max_intersecting));
         json_object_set_new(jc, "min_distance", json_real(r->min_distance));
@@ -225,44 +207,76 @@ static json_t *summary_json(const options *o, const plume_run *run, const char *
 }
 
 /* The run's summary on stdout: the JSON object (--json) or a line, and one on contact. */
-static void report(const options *o, const plume_run *run, const char *stem, const char *outdir, double total)
+static void report(const options *o, const plume_run *run, json_t *desc, const char *stem, const char *outdir,
+                   double total)
 {
     plume_run_report r;
     plume_run_get_report(run, &r);
     if (o->json) {
-        json_t *j = summary_json(o, run, outdir, &r, total);
+        json_t *j = summary_json(o, run, desc, outdir, &r, total);
         cli_print_json(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
         return;
     }
-    const plume_scene *scene = plume_run_scene(run);
+    json_t *contact = json_object_get(desc, "contact");
     long new_frames = r.frames - (o->restart ? 0 : 1);
     printf("%s: %ld steps to t = %.6g s, %ld frames (last %ld) in %s; %ld elements, %ld constraints; %ld "
            "iterations (%ld backtracks, %ld inertia shifts) and %ld predictions, %ld halvings, max violation %.2g; %.2f s (%.3g s per "
            "frame)%s\n",
-           stem, r.steps, r.time, r.frames, r.next_frame - 1, outdir, (long)scene->mesh->nt,
+           stem, r.steps, r.time, r.frames, r.next_frame - 1, outdir,
+           (long)json_integer_value(json_object_get(desc, "elements")),
            (long)plume_run_constraints(run), r.iterations, r.backtracks, r.shifts, r.predictions, r.halvings,
            r.max_violation, total, new_frames > 0 ? r.loop_seconds / (double)new_frames : 0.0,
            r.stopped ? ", stopped: a step did not converge" : !r.converged ? ", single linearised steps, not converged" : "");
-    if (scene->has_contact)
+    if (contact)
         printf("%s: contact (%s, dhat %g m): intersecting triangle pairs in %ld of %ld steps (at most %ld), "
                "smallest distance %.3g m%s, %ld steps cut short by CCD\n",
-               stem, plume_contact_model_name(scene->contact.pair.model), scene->contact.pair.dhat,
+               stem, json_string_value(json_object_get(contact, "model")),
+               json_number_value(json_object_get(contact, "dhat")),
                r.steps_intersecting, r.steps, r.max_intersecting, r.min_distance,
                r.min_distance >= r.distance_cap ? " (or more)" : "", r.step_limited);
 }
 
 /* A step that did not converge at the smallest step: what stopped the run, on stderr. */
-static void report_stop(const plume_run *run)
+static void report_stop(const plume_run *run, json_t *desc)
 {
-    const plume_scene *scene = plume_run_scene(run);
     plume_run_report r;
     plume_run_get_report(run, &r);
     fprintf(stderr,
             "%s: step %ld (t = %.6g s) did not converge even at dt / 2^%d (%s, after %d halvings)%s; "
             "stopping with %ld frame%s kept in %s (the last at step %ld)\n",
-            APP, r.stop_step, r.stop_time, scene->max_halvings, plume_reason_name(r.stop_reason), r.stop_halvings,
-            r.stop_detail, r.next_frame, r.next_frame == 1 ? "" : "s", plume_run_frames_path(run),
-            r.step - r.step % scene->output_every);
+            APP, r.stop_step, r.stop_time, (int)json_integer_value(json_object_get(desc, "max_halvings")),
+            plume_reason_name(r.stop_reason), r.stop_halvings, r.stop_detail, r.next_frame, r.next_frame == 1 ? "" : "s",
+            plume_run_frames_path(run), r.step - r.step % (long)json_integer_value(json_object_get(desc, "output_every")));
+}
+
+/* One override of the scene's settings, plume_scene_set's key = value; its error names the flag. */
+static int set_one(plume_scene *scene, const char *flag, const char *key, json_t *value)
+{
+    json_t *set = json_object();
+    json_object_set_new(set, key, value);
+    char *text = json_dumps(set, JSON_COMPACT);
+    json_decref(set);
+    plume_err err = {{0}};
+    int rc = 0;
+    if (!text)
+        rc = cli_fail(APP, "out of memory");
+    else if (plume_scene_set(scene, text, &err) != PLUME_OK) {
+        const char *why = strstr(err.msg, key); /* "plume_scene_set:1: <key> must be ..." */
+        rc = cli_fail(APP, "%s %s", flag, why ? why + strlen(key) + 1 : err.msg);
+    }
+    free(text);
+    return rc;
+}
+
+/* The command line's overrides of the scene's settings. Exit code. */
+static int apply_overrides(const options *o, plume_scene *scene)
+{
+    int rc = set_one(scene, "--verbose", "verbose", json_boolean(o->verbose));
+    if (!rc && o->solver)
+        rc = set_one(scene, "--solver", "solver", json_string(o->solver));
+    if (!rc && o->render_field)
+        rc = set_one(scene, "--render-field", "render_field", json_string(o->render_field));
+    return rc;
 }
 
 int main(int argc, char **argv)
@@ -277,21 +291,24 @@ int main(int argc, char **argv)
     plume_status st;
     plume_scene *scene = NULL;
     plume_run *run = NULL;
+    json_t *desc = NULL;
     if ((st = plume_scene_load(o.scene, &scene, &err)) != PLUME_OK)
         return cli_fail(APP, "%s", err.msg);
-    if (o.solver && plume_solver_kind_parse(o.solver, &scene->solver) != PLUME_OK) {
+    plume_solver_kind kind;
+    if (o.solver && plume_solver_kind_parse(o.solver, &kind) != PLUME_OK) {
         plume_scene_destroy(&scene);
         return cli_fail(APP, "--solver expects newton|ipopt|linearized (got '%s')", o.solver);
     }
-    if (o.render_field)
-        snprintf(scene->render_field, sizeof scene->render_field, "%s", o.render_field);
+    if ((rc = apply_overrides(&o, scene)) != 0 || !(desc = describe(scene))) {
+        rc = rc ? rc : 1;
+        goto done;
+    }
 
     char stem[256], outdir[4096];
     scene_stem(o.scene, stem, sizeof stem);
     output_dir(&o, stem, outdir, sizeof outdir);
 
-    scene->verbose = o.verbose;
-    if (scene->is_static) {
+    if (strcmp(json_string_value(json_object_get(desc, "solve")), "static") == 0) {
         rc = cli_fail(APP, "%s is a static scene (\"solve\": \"static\"), which has no dynamics: apps/shell solves it",
                       o.scene);
         goto done;
@@ -316,9 +333,10 @@ int main(int argc, char **argv)
     st = plume_run_start(run, &err);
     plume_run_report r;
     plume_run_get_report(run, &r);
-    if (o.restart && r.restart_dt > 0.0 && fabs(r.restart_dt - scene->dt) > 1e-12 * scene->dt)
+    const double dt = json_number_value(json_object_get(desc, "dt"));
+    if (o.restart && r.restart_dt > 0.0 && fabs(r.restart_dt - dt) > 1e-12 * dt)
         fprintf(stderr, "%s: warning: '%s' was written with dt = %g s, the scene now has %g s\n", APP, o.restart,
-                r.restart_dt, scene->dt);
+                r.restart_dt, dt);
     if (st != PLUME_OK) { /* the restart file's errors are bad input, named by the flag */
         rc = strncmp(err.msg, "restart: ", 9) == 0 ? cli_fail(APP, "--%s", err.msg) : run_fail("%s", err.msg);
         goto done;
@@ -329,10 +347,11 @@ int main(int argc, char **argv)
     }
     plume_run_get_report(run, &r);
     if (r.stopped)
-        report_stop(run);
-    report(&o, run, stem, outdir, plume_wall_seconds() - t_start);
+        report_stop(run, desc);
+    report(&o, run, desc, stem, outdir, plume_wall_seconds() - t_start);
     rc = r.stopped ? 3 : 0;
 done:
+    json_decref(desc);
     plume_run_destroy(&run);
     plume_scene_destroy(&scene);
     return rc;

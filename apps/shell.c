@@ -1,4 +1,4 @@
-/* apps/shell — a static shell scene (macro/scene/scene.h, "solve": "static"): clamps, point and line
+/* apps/shell — a static shell scene (docs/scene-format.md, "solve": "static"): clamps, point and line
  * loads and end moments stepped from zero to their full value, each load step a constrained
  * minimisation solved to convergence (increments cut when one fails). Prints a line per load step,
  * the probes' displacements against their references, and a JSON summary; writes the equilibrium
@@ -13,8 +13,6 @@
 #include <jansson.h>
 
 #include "../include/plume/plume.h"
-#include "../lib/sim/statics.h"
-#include "../macro/scene/scene.h"
 #include "cli.h"
 
 #define APP "shell"
@@ -22,7 +20,7 @@
 static const char usage[] =
     "usage: shell SCENE.json [options]\n"
     "Brings a static shell scene (\"solve\": \"static\"; clamps, loads, moments, probes: the format is in\n"
-    "macro/scene/scene.h) to equilibrium under load stepping, and reports its probes against their references.\n"
+    "docs/scene-format.md) to equilibrium under load stepping, and reports its probes against their references.\n"
     "  --edge E            mesh edge length (m), replacing the scene's mesh.edge (rectangle and feather meshes)\n"
     "  --pattern P         grid | delaunay | aligned: replaces a rectangle mesh's pattern\n"
     "  --steps N           load steps (overrides the scene's \"steps\")\n"
@@ -122,36 +120,64 @@ static double probe_error(const double u[3], const double ref[3], int mask)
     return r > 0.0 ? sqrt(d / r) : sqrt(d);
 }
 
-/* The command line's overrides of the scene's settings; the solver must reach an equilibrium.
- * Exit code. */
+/* The command line's overrides of the scene's settings (values checked by parse_args), as the
+ * settings object plume_scene_set takes. Exit code. */
 static int apply_overrides(const options *o, plume_scene *scene)
 {
-    if (o->solver && plume_solver_kind_parse(o->solver, &scene->solver) != PLUME_OK)
-        return cli_fail(APP, "--solver must be newton or ipopt (got '%s')", o->solver);
-    if (scene->solver == PLUME_SOLVER_LINEARIZED)
-        return cli_fail(APP, "the linearized solver takes one step and cannot reach an equilibrium: use newton or ipopt");
+    json_t *set = json_object();
+    if (o->solver) {
+        plume_solver_kind k;
+        if (plume_solver_kind_parse(o->solver, &k) != PLUME_OK) {
+            json_decref(set);
+            return cli_fail(APP, "--solver must be newton or ipopt (got '%s')", o->solver);
+        }
+        if (k == PLUME_SOLVER_LINEARIZED) {
+            json_decref(set);
+            return cli_fail(APP, "the linearized solver takes one step and cannot reach an equilibrium: use newton or ipopt");
+        }
+        json_object_set_new(set, "solver", json_string(o->solver));
+    }
     if (o->steps > 0)
-        scene->steps = o->steps;
+        json_object_set_new(set, "steps", json_integer(o->steps));
     if (o->bending)
-        scene->hinge_bending = o->bending[0] == 'h';
+        json_object_set_new(set, "bending_model", json_string(o->bending));
     if (o->predictor)
-        plume_predictor_parse(o->predictor, &scene->predictor);
+        json_object_set_new(set, "predictor", json_string(o->predictor));
     if (o->globalization)
-        plume_globalization_parse(o->globalization, &scene->globalization);
-    scene->verbose = o->verbose;
-    return 0;
+        json_object_set_new(set, "globalization", json_string(o->globalization));
+    json_object_set_new(set, "verbose", json_boolean(o->verbose));
+    char *text = json_dumps(set, JSON_COMPACT);
+    json_decref(set);
+    plume_err err = {{0}};
+    int rc = text && plume_scene_set(scene, text, &err) == PLUME_OK ? 0 : cli_fail(APP, "%s", text ? err.msg : "out of memory");
+    free(text);
+    return rc;
 }
 
-/* What the load steps did. */
-typedef struct {
-    int converged, iterations, cuts, factorizations;
-    double seconds, max_violation;
-    plume_reason reason;
-} statics_tally;
+/* The scene's description (plume_scene_describe), parsed; NULL with a message on stderr. */
+static json_t *describe(const plume_scene *scene)
+{
+    plume_err err = {{0}};
+    char *text = NULL;
+    json_t *j = NULL;
+    if (plume_scene_describe(scene, &text, &err) != PLUME_OK)
+        fprintf(stderr, "%s: %s\n", APP, err.msg);
+    else if (!(j = json_loads(text, 0, NULL)))
+        fprintf(stderr, "%s: the scene's description is not JSON\n", APP);
+    plume_free(text);
+    return j;
+}
+
+/* The name of probe q of the description. */
+static const char *probe_name(json_t *desc, size_t q)
+{
+    return json_string_value(json_object_get(json_array_get(json_object_get(desc, "probes"), q), "name"));
+}
 
 /* A load step's object (its figures and the probes' displacements at x), and its line on stderr
  * unless quiet. */
-static json_t *step_json(const plume_load_step_report *r, const plume_scene *scene, const double *x, int quiet)
+static json_t *step_json(const plume_load_step_report *r, const plume_scene *scene, json_t *desc, const double *x,
+                         int quiet)
 {
     json_t *js = json_object();
     json_object_set_new(js, "step", json_integer(r->step));
@@ -166,12 +192,12 @@ static json_t *step_json(const plume_load_step_report *r, const plume_scene *sce
                 r->factor, r->iterations, r->backtracks, r->shifts, r->cuts,
                 r->converged ? "converged" : plume_reason_name(r->reason));
     json_t *jp = json_object();
-    for (int q = 0; q < scene->nprobes; q++) {
+    for (size_t q = 0; q < json_array_size(json_object_get(desc, "probes")); q++) {
         double u[3];
-        plume_scene_probe_displacement(scene, q, x, u);
-        json_object_set_new(jp, scene->probes[q].name, json_pack("[f, f, f]", u[0], u[1], u[2]));
+        plume_scene_probe_displacement(scene, (int)q, x, u);
+        json_object_set_new(jp, probe_name(desc, q), json_pack("[f, f, f]", u[0], u[1], u[2]));
         if (!quiet)
-            fprintf(stderr, "  %s (%.5g, %.5g, %.5g)", scene->probes[q].name, u[0], u[1], u[2]);
+            fprintf(stderr, "  %s (%.5g, %.5g, %.5g)", probe_name(desc, q), u[0], u[1], u[2]);
     }
     if (!quiet)
         fputc('\n', stderr);
@@ -179,88 +205,81 @@ static json_t *step_json(const plume_load_step_report *r, const plume_scene *sce
     return js;
 }
 
-/* The load steps, each recorded in jsteps and (with -o) written as a frame of the series, until
- * one does not converge at the smallest increment. Exit code. */
-static int load_steps(const options *o, const plume_scene *scene, plume_problem *p, plume_statics *st,
-                      plume_fields *fields, json_t *jsteps, statics_tally *t)
+/* The load steps, each recorded in jsteps (and with -o written by the run as a frame of the
+ * series), until the last or one that does not converge at the smallest increment. Exit code. */
+static int load_steps(const options *o, plume_run *run, json_t *desc, json_t *jsteps)
 {
     plume_err err = {{0}};
-    plume_status s;
-    for (int k = 0; k < scene->steps; k++) {
-        plume_load_step_report r;
-        if ((s = plume_statics_step(st, &r)) != PLUME_OK)
-            return cli_fail(APP, "load step %d: %s", k + 1, plume_strerror(s));
-        t->iterations += r.iterations;
-        t->cuts += r.cuts;
-        t->factorizations += r.factorizations;
-        t->seconds += r.seconds;
-        t->max_violation = fmax(t->max_violation, r.max_violation);
-        const double *x = plume_problem_x(p);
-        json_array_append_new(jsteps, step_json(&r, scene, x, o->quiet));
-        if (o->outdir && plume_fields_series_frame(fields, r.step, r.factor, x, &err) != PLUME_OK) {
+    while (!plume_run_done(run)) {
+        plume_run_step_info info;
+        if (plume_run_step(run, &info, &err) != PLUME_OK) {
+            if (strncmp(err.msg, "load step ", 10) == 0)
+                return cli_fail(APP, "%s", err.msg);
             fprintf(stderr, "%s: %s\n", APP, err.msg);
             return 1; /* an output failure, not bad input */
         }
-        if (!r.converged) {
-            t->converged = 0;
-            t->reason = r.reason;
-            break;
-        }
+        json_array_append_new(jsteps, step_json(&info.load, plume_run_scene(run), desc, plume_run_positions(run), o->quiet));
     }
     return 0;
 }
 
 /* The probes' displacements at x against their references (each error on stderr unless quiet). */
-static json_t *probes_json(const plume_scene *scene, const double *x, int quiet)
+static json_t *probes_json(const plume_scene *scene, json_t *desc, const double *x, int quiet)
 {
     json_t *jprobes = json_object();
-    for (int q = 0; q < scene->nprobes; q++) {
-        const plume_scene_probe *pr = scene->probes + q;
+    json_t *ja = json_object_get(desc, "probes");
+    for (size_t q = 0; q < json_array_size(ja); q++) {
+        json_t *pr = json_array_get(ja, q), *ref = json_object_get(pr, "reference");
+        const char *name = probe_name(desc, q);
         double u[3];
-        plume_scene_probe_displacement(scene, q, x, u);
+        plume_scene_probe_displacement(scene, (int)q, x, u);
         json_t *j = json_object();
         json_object_set_new(j, "displacement", json_pack("[f, f, f]", u[0], u[1], u[2]));
-        if (pr->has_reference) {
-            double e = probe_error(u, pr->reference, pr->has_reference);
-            json_t *jr = json_array();
-            for (int a = 0; a < 3; a++)
-                json_array_append_new(jr, pr->has_reference & (1 << a) ? json_real(pr->reference[a]) : json_null());
-            json_object_set_new(j, "reference", jr);
+        if (json_is_array(ref)) {
+            double r[3];
+            int mask = 0;
+            for (int a = 0; a < 3; a++) {
+                json_t *c = json_array_get(ref, (size_t)a);
+                r[a] = json_is_number(c) ? json_number_value(c) : NAN;
+                mask |= json_is_number(c) ? 1 << a : 0;
+            }
+            double e = probe_error(u, r, mask);
+            json_object_set(j, "reference", ref);
             json_object_set_new(j, "relative_error", json_real(e));
-            if (pr->source)
-                json_object_set_new(j, "source", json_string(pr->source));
+            if (json_object_get(pr, "source"))
+                json_object_set(j, "source", json_object_get(pr, "source"));
             if (!quiet)
                 fprintf(stderr, "%s: %s displacement (%.6g, %.6g, %.6g), reference (%.6g, %.6g, %.6g): error %.3g %%\n",
-                        APP, pr->name, u[0], u[1], u[2], pr->reference[0], pr->reference[1], pr->reference[2], 100.0 * e);
+                        APP, name, u[0], u[1], u[2], r[0], r[1], r[2], 100.0 * e);
         }
-        json_object_set_new(jprobes, pr->name, j);
+        json_object_set_new(jprobes, name, j);
     }
     return jprobes;
 }
 
 /* --json: the run's summary on stdout (takes jprobes and jsteps). */
-static void print_json(const options *o, const plume_scene *scene, const plume_problem *p, const plume_statics *st,
-                       const statics_tally *t, json_t *jprobes, json_t *jsteps)
+static void print_json(const options *o, json_t *desc, const plume_run *run, json_t *jprobes, json_t *jsteps)
 {
-    const plume_mesh *m = scene->mesh;
+    plume_run_report r;
+    plume_run_get_report(run, &r);
     json_t *j = json_object();
     json_object_set_new(j, "scene", json_string(o->scene));
-    json_object_set_new(j, "elements", json_integer(m->nt));
-    json_object_set_new(j, "vertices", json_integer(m->nv));
-    json_object_set_new(j, "constraints", json_integer(plume_problem_ncons(p)));
-    json_object_set_new(j, "bending_model", json_string(scene->hinge_bending ? "hinge" : "shape_operator"));
-    json_object_set_new(j, "solver", json_string(plume_solver_kind_name(scene->solver)));
-    json_object_set_new(j, "load_steps", json_integer(scene->steps));
-    json_object_set_new(j, "predictor", json_string(plume_predictor_name(scene->predictor)));
-    json_object_set_new(j, "globalization", json_string(plume_globalization_name(scene->globalization)));
-    json_object_set_new(j, "load_factor", json_real(plume_statics_factor(st)));
-    json_object_set_new(j, "converged", json_boolean(t->converged));
-    json_object_set_new(j, "stop_reason", json_string(plume_reason_name(t->reason)));
-    json_object_set_new(j, "newton_iterations", json_integer(t->iterations));
-    json_object_set_new(j, "increment_cuts", json_integer(t->cuts));
-    json_object_set_new(j, "factorizations", json_integer(t->factorizations));
-    json_object_set_new(j, "max_constraint_violation", json_real(t->max_violation));
-    json_object_set_new(j, "solve_seconds", json_real(t->seconds));
+    json_object_set(j, "elements", json_object_get(desc, "elements"));
+    json_object_set(j, "vertices", json_object_get(desc, "vertices"));
+    json_object_set_new(j, "constraints", json_integer(plume_run_constraints(run)));
+    json_object_set(j, "bending_model", json_object_get(desc, "bending_model"));
+    json_object_set(j, "solver", json_object_get(desc, "solver"));
+    json_object_set(j, "load_steps", json_object_get(desc, "steps"));
+    json_object_set(j, "predictor", json_object_get(desc, "predictor"));
+    json_object_set(j, "globalization", json_object_get(desc, "globalization"));
+    json_object_set_new(j, "load_factor", json_real(r.time));
+    json_object_set_new(j, "converged", json_boolean(r.converged));
+    json_object_set_new(j, "stop_reason", json_string(plume_reason_name(r.stop_reason)));
+    json_object_set_new(j, "newton_iterations", json_integer(r.iterations));
+    json_object_set_new(j, "increment_cuts", json_integer(r.halvings));
+    json_object_set_new(j, "factorizations", json_integer(r.factorizations));
+    json_object_set_new(j, "max_constraint_violation", json_real(r.max_violation));
+    json_object_set_new(j, "solve_seconds", json_real(r.solve_seconds));
     json_object_set_new(j, "probes", jprobes);
     json_object_set_new(j, "steps", jsteps);
     cli_print_json(j, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
@@ -275,56 +294,63 @@ int main(int argc, char **argv)
         return rc == CLI_HELP ? 0 : rc;
     plume_err err = {{0}};
     plume_scene *scene = NULL;
-    plume_problem *p = NULL;
-    plume_statics *st = NULL;
-    plume_fields *fields = NULL; /* with -o: the ParaView series */
-    json_t *jsteps = json_array();
+    plume_run *run = NULL;
+    json_t *desc = NULL, *jsteps = json_array();
     plume_scene_load_opts lo = {o.edge, o.pattern};
     plume_status s = plume_scene_load_with(o.scene, &lo, &scene, &err);
     if (s != PLUME_OK) {
         rc = cli_fail(APP, "%s", err.msg);
         goto done;
     }
-    if (!scene->is_static) {
+    if (!(desc = describe(scene))) {
+        rc = 1;
+        goto done;
+    }
+    if (strcmp(json_string_value(json_object_get(desc, "solve")), "static") != 0) {
         rc = cli_fail(APP, "%s is a dynamic scene: run it with apps/feather (or add \"solve\": \"static\")", o.scene);
         goto done;
     }
     if ((rc = apply_overrides(&o, scene)) || (o.outdir && (rc = cli_output_dir(APP, "-o", o.outdir))))
         goto done;
-    if ((s = plume_scene_statics(scene, &p, &st, &err)) != PLUME_OK) {
+    json_decref(desc); /* the settings as overridden */
+    if (!(desc = describe(scene))) {
+        rc = 1;
+        goto done;
+    }
+    plume_run_opts ro;
+    plume_run_opts_default(&ro);
+    ro.output_dir = o.outdir;
+    if ((s = plume_run_create(scene, &ro, &run, &err)) != PLUME_OK || (s = plume_run_start(run, &err)) != PLUME_OK) {
         fprintf(stderr, "%s: %s\n", APP, err.msg);
         rc = s == PLUME_EINVAL ? 2 : 1;
         goto done;
     }
-    if (o.outdir && ((s = plume_scene_fields(scene, &fields, &err)) != PLUME_OK ||
-                     (s = plume_fields_series_start(fields, o.outdir, "steps.pvd", "step", -1.0, &err)) != PLUME_OK)) {
-        fprintf(stderr, "%s: %s\n", APP, err.msg);
-        rc = 1;
-        goto done;
-    }
     if (!o.quiet)
-        fprintf(stderr, "%s: %s, %ld elements, %ld vertices, %d load steps, %s bending\n", APP, o.scene,
-                (long)scene->mesh->nt, (long)scene->mesh->nv, scene->steps,
-                scene->hinge_bending ? "hinge" : "shape-operator");
-    statics_tally t = {1, 0, 0, 0, 0.0, 0.0, PLUME_REASON_CONVERGED};
-    if ((rc = load_steps(&o, scene, p, st, fields, jsteps, &t)))
+        fprintf(stderr, "%s: %s, %ld elements, %ld vertices, %ld load steps, %s bending\n", APP, o.scene,
+                (long)json_integer_value(json_object_get(desc, "elements")),
+                (long)json_integer_value(json_object_get(desc, "vertices")),
+                (long)json_integer_value(json_object_get(desc, "steps")),
+                strcmp(json_string_value(json_object_get(desc, "bending_model")), "hinge") == 0 ? "hinge"
+                                                                                                 : "shape-operator");
+    if ((rc = load_steps(&o, run, desc, jsteps)))
         goto done;
-    json_t *jprobes = probes_json(scene, plume_problem_x(p), o.quiet);
+    json_t *jprobes = probes_json(scene, desc, plume_run_positions(run), o.quiet);
     if (o.json) {
-        print_json(&o, scene, p, st, &t, jprobes, jsteps);
+        print_json(&o, desc, run, jprobes, jsteps);
         jprobes = jsteps = NULL;
     }
     json_decref(jprobes);
-    if (!t.converged) {
+    plume_run_report r;
+    plume_run_get_report(run, &r);
+    if (r.stopped) {
         fprintf(stderr, "%s: load step did not converge at the smallest increment (%s); load factor reached %.6g\n", APP,
-                plume_reason_name(t.reason), plume_statics_factor(st));
+                plume_reason_name(r.stop_reason), r.time);
         rc = 3;
     }
 done:
-    plume_fields_destroy(&fields);
     json_decref(jsteps);
-    plume_statics_destroy(&st);
-    plume_problem_destroy(&p);
+    json_decref(desc);
+    plume_run_destroy(&run);
     plume_scene_destroy(&scene);
     return rc;
 }

@@ -4,9 +4,8 @@
  *    drivers < apps (macro's own rooms: shell < feather < scene), and a file includes only its own
  *    room or a lower floor; micro and macro never include each other;
  *  - a room's internal/ headers are its own: no other room includes them;
- *  - the apps include the public face and their own headers, nothing else. The apps that still
- *    reach below the face are listed with what they need; the list may only shrink (an entry no
- *    longer needed fails too, so that it is struck off).
+ *  - the apps include the public face and their own headers, nothing else: the library's own first
+ *    users live on the face other programs get.
  * Run from tests/, as every test is. */
 #include <glob.h>
 #include <limits.h>
@@ -26,16 +25,6 @@ static const struct {
     {"macro/feather", 62}, {"macro/scene", 63}, {"drivers", 70},       {"apps", 80},
 };
 enum { NFLOORS = sizeof floors / sizeof floors[0] };
-
-/* The apps' includes below the face, each with the reason (what the face does not offer yet). */
-static const struct {
-    const char *app, *header;
-} app_exceptions[] = {
-    {"apps/feather.c", "macro/scene/scene.h"},  /* the scene's settings, read and overridden */
-    {"apps/shell.c", "lib/sim/statics.h"},     /* load steps and their reports */
-    {"apps/shell.c", "macro/scene/scene.h"},         /* the scene's probes and settings */
-};
-enum { NEXCEPTIONS = sizeof app_exceptions / sizeof app_exceptions[0] };
 
 /* the room of a path relative to the top ("lib/io/frames.c" -> index of lib/io), -1 outside */
 static int room_of(const char *path)
@@ -85,14 +74,6 @@ static void internal_owner(const char *path, char *out, size_t n)
         snprintf(out, n, "%.*s", (int)(p - path), path);
 }
 
-static int exception_index(const char *file, const char *target)
-{
-    for (int i = 0; i < NEXCEPTIONS; i++)
-        if (!strcmp(app_exceptions[i].app, file) && !strcmp(app_exceptions[i].header, target))
-            return i;
-    return -1;
-}
-
 void test_includes_floors(void)
 {
     static const char *const pattern[] = {
@@ -104,7 +85,7 @@ void test_includes_floors(void)
     for (size_t i = 0; i < sizeof pattern / sizeof pattern[0]; i++)
         glob(pattern[i], i ? GLOB_APPEND : 0, NULL, &g);
     CHECK(g.gl_pathc > 100);
-    int bad = 0, used[NEXCEPTIONS] = {0};
+    int bad = 0;
     long includes = 0;
     for (size_t f = 0; f < g.gl_pathc; f++) {
         const char *file = g.gl_pathv[f] + 3; /* "lib/io/frames.c" */
@@ -162,24 +143,13 @@ void test_includes_floors(void)
                         target);
                 bad++;
             } else if (!strcmp(floors[a].room, "apps")) {
-                int e = exception_index(file, target);
-                if (e < 0) {
-                    fprintf(stderr, "    %s:%d includes %s, below the public face\n", file, lineno, target);
-                    bad++;
-                } else
-                    used[e] = 1;
+                fprintf(stderr, "    %s:%d includes %s, below the public face\n", file, lineno, target);
+                bad++;
             }
         }
         fclose(in);
     }
-    for (int i = 0; i < NEXCEPTIONS; i++)
-        if (!used[i]) {
-            fprintf(stderr, "    %s no longer includes %s: strike it off app_exceptions\n", app_exceptions[i].app,
-                    app_exceptions[i].header);
-            bad++;
-        }
-    fprintf(stderr, "    %zu files, %ld includes; %d apps' includes below the face still listed\n", g.gl_pathc, includes,
-            NEXCEPTIONS);
+    fprintf(stderr, "    %zu files, %ld includes\n", g.gl_pathc, includes);
     CHECK(includes > 500);
     CHECK(bad == 0);
     globfree(&g);

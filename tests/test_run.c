@@ -1,4 +1,5 @@
-/* The scene runner (macro/scene/run.h): a run's frames are apps/feather's byte for byte, a restart after
+/* The scene runner (macro/scene/run.h): a run's frames are apps/feather's byte for byte (a static
+ * scene's series apps/shell's), a restart after
  * N frames is the straight run bit for bit, the acceptance rule for each solver kind, and bad
  * options named. */
 #include <math.h>
@@ -325,6 +326,72 @@ void test_run_bad_options(void)
     plume_run_destroy(&r);
     CHECK(plume_run_open("/nonexistent/scene.json", NULL, &r, &err) == PLUME_EIO && r == NULL &&
           strstr(err.msg, "/nonexistent/scene.json"));
+    plume_scene_destroy(&scene);
+    remove_tree(dir);
+}
+
+/* A static scene through the runner: apps/shell's series byte for byte, one load step a call with
+ * its report, the load factor as the time, and the options that plan a dynamic run refused. */
+void test_run_static_matches_app(void)
+{
+    const char *scene_path = "../data/benchmarks/cantilever_shear.json";
+    char dir[64] = "/tmp/plume-runs-XXXXXX", args[512], out[65536], errs[8192], a[256], b[256];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(args, sizeof args, "%s --edge 0.5 --steps 4 -o %s/app --quiet", scene_path, dir);
+    CHECK(app_run(dir, "shell", args, out, sizeof out, errs, sizeof errs) == 0);
+    plume_err err = {{0}};
+    plume_scene *scene = NULL;
+    plume_scene_load_opts lo = {0.5, NULL};
+    CHECK(plume_scene_load_with(scene_path, &lo, &scene, &err) == PLUME_OK);
+    if (!scene)
+        return;
+    CHECK(plume_scene_set(scene, "{\"steps\": 4}", &err) == PLUME_OK);
+    plume_run_opts o;
+    plume_run_opts_default(&o);
+    snprintf(a, sizeof a, "%s/lib", dir);
+    o.output_dir = a;
+    plume_run *r = NULL;
+    CHECK(plume_run_create(scene, &o, &r, &err) == PLUME_OK);
+    long k = 0, factorizations = 0;
+    double last = 0.0;
+    while (r && !plume_run_done(r)) {
+        plume_run_step_info info;
+        CHECK(plume_run_step(r, &info, &err) == PLUME_OK);
+        k++;
+        CHECK(info.accepted && info.load.converged && info.load.step == k && info.frame == k && info.steps == 1);
+        CHECK(info.t0 == last && fabs(info.t1 - 0.25 * (double)k) < 1e-12);
+        last = info.t1;
+        factorizations += info.load.factorizations;
+    }
+    plume_run_report rep;
+    plume_run_get_report(r, &rep);
+    CHECK(k == 4 && rep.steps == 4 && rep.planned_steps == 4 && rep.frames == 4 && rep.next_frame == 5);
+    CHECK(rep.converged && !rep.stopped && fabs(rep.time - 1.0) < 1e-12 && rep.factorizations == factorizations);
+    CHECK(plume_run_velocities(r) == NULL && plume_run_positions(r) != NULL && plume_run_frames_path(r) == NULL);
+    CHECK(plume_run_step(r, NULL, &err) == PLUME_EINVAL && strstr(err.msg, "no step left"));
+    plume_run_destroy(&r);
+    const char *files[] = {"steps.pvd", "step_00001.vtu", "step_00004.vtu"};
+    for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+        snprintf(a, sizeof a, "%s/app/%s", dir, files[i]);
+        snprintf(b, sizeof b, "%s/lib/%s", dir, files[i]);
+        CHECK(access(a, R_OK) == 0 && same_bytes(a, b));
+    }
+    /* what a static run cannot do */
+    const char *expect[] = {"plume_run_opts.frames", "plume_run_opts.frames", "plume_run_opts.restart",
+                            "cannot reach an equilibrium"};
+    for (int i = 0; i < 4; i++) {
+        plume_run_opts_default(&o);
+        o.frames = i == 0 ? 2 : 0;
+        o.open = i == 1;
+        o.restart = i == 2 ? "frames.h5" : NULL;
+        o.solver = i == 3 ? PLUME_SOLVER_LINEARIZED : -1;
+        r = NULL;
+        CHECK(plume_run_create(scene, &o, &r, &err) == PLUME_EINVAL && r == NULL && strstr(err.msg, expect[i]));
+        fprintf(stderr, "    %s\n", err.msg);
+    }
     plume_scene_destroy(&scene);
     remove_tree(dir);
 }

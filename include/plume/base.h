@@ -59,6 +59,9 @@ typedef struct {
                         was set, so zero-initialise the struct */
 } plume_err;
 
+/** Frees memory the library allocated for the caller (plume_scene_describe's text, ...); NULL-safe. */
+PLUME_API void plume_free(void *p);
+
 /** printf-style; safe with err == NULL. Returns `s` so callers can `return plume_err_set(...)`. */
 PLUME_API plume_status plume_err_set(plume_err *err, plume_status s, const char *fmt, ...)
 #if defined(__GNUC__)

@@ -41,11 +41,31 @@ PLUME_API plume_status plume_scene_load_json(const char *json, const char *path,
  * NULL-safe. */
 PLUME_API void plume_scene_destroy(plume_scene **s);
 
-/** Builds the problem of a static scene (membrane, bending, constraints, the nominal loads and
- * moments; clamps and handles fixed) and its load-stepping driver (lib/sim/statics.h) with the
- * scene's steps, solver and max_iter. *p and *st belong to the caller (destroy st first); the
- * scene must outlive them. Errors: the scene is not static (PLUME_EINVAL). */
-PLUME_API plume_status plume_scene_statics(const plume_scene *s, plume_problem **p, plume_statics **st, plume_err *err);
+/** Changes run settings of a loaded scene, before a run or a problem is built from it. `settings`
+ * is a JSON object of scene-file keys (docs/scene-format.md), checked as the loader checks them:
+ * "solver", "max_halvings", "max_iter", "steps", "output_every", "bending_model", "predictor",
+ * "globalization", "render_field", "camera", and "verbose" (true: the solver's iterations on
+ * stderr; not a file key), e.g. `{"solver": "ipopt", "steps": 20}`. Keys that change the mesh,
+ * the materials or the loads are not settable (reload the scene, or plume_scene_load_json).
+ * All or nothing: a refused key (PLUME_EFORMAT or PLUME_EINVAL, naming it) changes nothing. */
+PLUME_API plume_status plume_scene_set(plume_scene *s, const char *settings, plume_err *err);
+
+/** What the scene holds, as a JSON object in *json (free it with plume_free): "file", "solve"
+ * ("static" or "dynamic"), "elements", "vertices", "constrained_edges", "objects",
+ * "bending_model", "solver", "predictor", "globalization", "max_halvings", "max_iter",
+ * "verbose"; a static scene's "steps" and "probes" (each {"name", "vertices", "reference": [x,
+ * y, z] with null where a component has none, or null, "source"}); a dynamic scene's "dt",
+ * "duration", "adaptive_dt", "output_every", "render_field"; "contact" {"model", "dhat",
+ * "friction_mu"} when it has contact; "materials" (each {"membrane": {E_xx, E_yy, nu_xy, G_xy,
+ * thickness, kappa, from_moduli when read from a file}, "bending": {D_long, D_trans, D_coupling,
+ * D_twist, from_moduli}, "density", "constraint"}). Keys may be added, never removed. */
+PLUME_API plume_status plume_scene_describe(const plume_scene *s, char **json, plume_err *err);
+
+/** The mean displacement u (m) of the vertices of probe k (the order of plume_scene_describe's
+ * "probes") at positions x (3 nv, m; plume_run_positions) from the rest state; NaN for a k out of
+ * range. */
+PLUME_API void plume_scene_probe_displacement(const plume_scene *s, int k, const double *x, double u[3]);
+
 
 
 /* ---- frames files ---- */
@@ -83,15 +103,18 @@ PLUME_API void plume_frame_free(plume_frame *frame);
 
 
 /* ---- the scene runner ---- */
-/** Opaque scene runner (plume_run_create, freed by plume_run_destroy): the one loop that steps a
- * dynamic scene in time. A run holds the scene's problem and stepper and does what every user of a
- * dynamic scene needs: the acceptance rule of a step (a step is accepted when its solve converged,
- * or with the `linearized` solver when it advanced), the plan (a number of frames, an end time, or
- * open-ended), the frame output (a ParaView series, frames.h5 and the scene's PNG renders), a
- * restart from the last frame of a frames file, the contact audit after every step (intersecting
- * triangle pairs by exact predicates, the smallest distance between the bodies) and the progress
- * line. apps/feather, the scene sweep and the flat interface (so Python) all step scenes through
- * it. The runner prints nothing on stdout; what a caller reports is in plume_run_report. A run
+/** Opaque scene runner (plume_run_create, freed by plume_run_destroy): the one loop that runs a
+ * scene, stepping a dynamic scene in time or a static one through its load steps. A run holds the
+ * scene's problem and stepper and does what every user of a scene needs: the acceptance rule of a
+ * step (a step is accepted when its solve converged, or with the `linearized` solver when it
+ * advanced), the plan (a number of frames, an end time, or open-ended; a static scene's "steps"),
+ * the frame output (a ParaView series, frames.h5 and the scene's PNG renders; a static scene's
+ * series steps.pvd, one step_NNNNN.vtu a load step with the load factor as its time, and no
+ * frames.h5), a restart from the last frame of a frames file, the contact audit after every step
+ * (intersecting triangle pairs by exact predicates, the smallest distance between the bodies) and
+ * the progress line. apps/feather, apps/shell, the scene sweep and the flat interface (so Python)
+ * all run scenes through it. The runner prints nothing on stdout; what a caller reports is in
+ * plume_run_report and plume_run_step_info. A run
  * borrows its scene: the scene must outlive the run. Typical use:
  *
  *     plume_run_opts o;
@@ -140,9 +163,11 @@ typedef struct {
 /** Fills o with the defaults each field names. */
 PLUME_API void plume_run_opts_default(plume_run_opts *o);
 
-/** Creates a run of the dynamic scene `scene` (borrowed; it must outlive the run; opts NULL: the
+/** Creates a run of the scene `scene` (borrowed; it must outlive the run; opts NULL: the
  * defaults): checks the options (errors name the option: "plume_run_opts.frames must be >= 0"),
- * applies the solver override to the scene and builds its problem and stepper. Nothing is read or
+ * applies the solver override to the scene and builds its problem and stepper (a static scene: its
+ * load stepping; frames, end_time, open and restart are refused there, and so is the linearized
+ * solver, which cannot reach an equilibrium). Nothing is read or
  * written yet (plume_run_start). Succeeds whole (*out set) or frees what it made (*out NULL). */
 PLUME_API plume_status plume_run_create(plume_scene *scene, const plume_run_opts *opts, plume_run **out, plume_err *err);
 
@@ -180,9 +205,10 @@ typedef struct {
 
 /** What one call of plume_run_step did. */
 typedef struct {
-    plume_step_report step;  /**< the stepper's report of the call */
-    double t0;               /**< the time before the step (s) */
-    double t1;               /**< the time after it (s) */
+    plume_step_report step;  /**< the stepper's report of the call (dynamic scenes) */
+    plume_load_step_report load; /**< the load step's report (static scenes) */
+    double t0;               /**< the time before the step (s; static scenes: the load factor) */
+    double t1;               /**< the time after it (s; static scenes: the load factor) */
     long steps;              /**< steps of dt the call covered (> 1: an adaptive scene's frame) */
     int accepted;            /**< plume_run_accepts; 0: the run stopped (plume_run_report.stopped) */
     long frame;              /**< the index of the frame written after the step, or -1 */
@@ -212,15 +238,16 @@ PLUME_API int plume_run_done(const plume_run *r);
 /** What a run did, for its caller to print (plume_run_get_report). Counts are over this run's
  * calls (a restarted run counts from the restart). */
 typedef struct {
-    double time;             /**< the current time (s) */
+    double time;             /**< the current time (s); a static scene's load factor */
     long step;               /**< the scene's steps since t = 0 (a restart goes on from the file's) */
     long next_frame;         /**< the index of the next frame (frames 0 .. next_frame - 1 exist) */
     long frames;             /**< frames this run wrote, frame 0 of a new run included */
     long planned_steps;      /**< steps the plan asks for (-1: open) */
     long steps;              /**< steps accepted */
     long substeps;           /**< implicit Euler steps taken (more than steps when some were halved) */
-    long halvings;           /**< times a step was halved */
+    long halvings;           /**< times a step was halved (static scenes: a load increment cut) */
     long iterations;         /**< solver iterations */
+    long factorizations;     /**< numeric factorisations (static scenes; 0 for dynamic ones) */
     long backtracks;         /**< newton's line-search rejections */
     long shifts;             /**< newton's inertia shifts */
     long predictions;        /**< tangent predictor solves */

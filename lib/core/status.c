@@ -2,6 +2,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 const char *plume_strerror(plume_status s)
 {
@@ -27,4 +28,9 @@ plume_status plume_err_set(plume_err *err, plume_status s, const char *fmt, ...)
         va_end(ap);
     }
     return s;
+}
+
+void plume_free(void *p)
+{
+    free(p);
 }

@@ -1,5 +1,6 @@
 /* plume: the scene runner (macro/scene/run.h): the plan of a run, its steps and their acceptance, the
- * contact audit, the progress line and the run's report. The frames are in run_output.c. */
+ * contact audit, the progress line and the run's report. The frames are in run_output.c; a static
+ * scene's load steps in run_static.c. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -111,13 +112,18 @@ plume_status plume_run_create(plume_scene *scene, const plume_run_opts *opts, pl
     r->audit = opts->audit;
     r->progress = opts->progress;
     r->render = opts->render;
+    const plume_solver_kind solver = scene->solver;
     if (opts->solver != -1)
         scene->solver = (plume_solver_kind)opts->solver;
-    if ((st = plume_scene_dynamics_contact(scene, &r->p, &r->d, &r->contact, err)) != PLUME_OK) {
+    st = scene->is_static ? plume_run_static_create(r, opts, err)
+                          : plume_scene_dynamics_contact(scene, &r->p, &r->d, &r->contact, err);
+    if (st != PLUME_OK) {
+        scene->solver = solver; /* a failed creation leaves the scene as it was */
         plume_run_destroy(&r);
         return st;
     }
-    plume_dynamics_multipliers(r->d, &r->ncons);
+    if (r->d)
+        plume_dynamics_multipliers(r->d, &r->ncons);
     r->rep.converged = 1;
     r->rep.stop_reason = PLUME_REASON_CONVERGED;
     r->rep.planned_steps = -1;
@@ -151,6 +157,7 @@ void plume_run_destroy(plume_run **pr)
     plume_contact_broad_destroy(&r->broad);
     plume_contact_pairs_free(&r->pairs);
     plume_dynamics_destroy(&r->d);
+    plume_statics_destroy(&r->st);
     plume_problem_destroy(&r->p);
     if (r->owns_scene)
         plume_scene_destroy(&r->scene);
@@ -195,13 +202,14 @@ plume_status plume_run_start(plume_run *r, plume_err *err)
     if (r->started < 0)
         return plume_err_set(err, PLUME_EINVAL, "run: its start failed; destroy it");
     r->started = -1;
-    plume_status st = plume_run_output_start(r, err);
+    plume_status st = r->st ? plume_run_static_start(r, err) : plume_run_output_start(r, err);
     if (st != PLUME_OK)
         return st;
     plume_err why = {{0}};
     if (r->scene->has_contact && r->audit && (st = plume_scene_contact_broad(r->scene, &r->broad, &why)) != PLUME_OK)
         return plume_err_set(err, st, "contact measures: %s", why.msg);
-    plan_steps(r);
+    if (!r->st)
+        plan_steps(r);
     long total = r->nsteps < 2000000000L ? r->nsteps : 2000000000L;
     plume_progress_start(&r->prog, r->label, (int)(total > 0 ? total : 0), 0);
     if (!r->progress)
@@ -376,7 +384,7 @@ plume_status plume_run_step(plume_run *r, plume_run_step_info *info, plume_err *
     if (r->open)
         r->rep.stopped = 0; /* an open run tries again */
     double t = plume_wall_seconds();
-    st = step_once(r, info, err);
+    st = r->st ? plume_run_static_step(r, info, err) : step_once(r, info, err);
     r->rep.loop_seconds += plume_wall_seconds() - t;
     return st;
 }
@@ -414,22 +422,22 @@ void plume_run_get_report(const plume_run *r, plume_run_report *out)
     if (!r)
         return;
     *out = r->rep;
-    out->time = plume_dynamics_time(r->d);
+    out->time = plume_run_time(r);
 }
 
 double plume_run_time(const plume_run *r)
 {
-    return r ? plume_dynamics_time(r->d) : NAN;
+    return !r ? NAN : r->st ? plume_statics_factor(r->st) : plume_dynamics_time(r->d);
 }
 
 const double *plume_run_positions(const plume_run *r)
 {
-    return r ? plume_dynamics_positions(r->d) : NULL;
+    return !r ? NULL : r->st ? plume_problem_x(r->p) : plume_dynamics_positions(r->d);
 }
 
 const double *plume_run_velocities(const plume_run *r)
 {
-    return r ? plume_dynamics_velocities(r->d) : NULL;
+    return r && r->d ? plume_dynamics_velocities(r->d) : NULL;
 }
 
 plume_index plume_run_constraints(const plume_run *r)

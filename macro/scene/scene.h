@@ -140,6 +140,12 @@ struct plume_scene {
     plume_scene_probe *probes;    /**< [nprobes] */
 };
 
+/** Builds the problem of a static scene (membrane, bending, constraints, the nominal loads and
+ * moments; clamps and handles fixed) and its load-stepping driver (lib/sim/statics.h) with the
+ * scene's steps, solver and max_iter. *p and *st belong to the caller (destroy st first); the
+ * scene must outlive them. Errors: the scene is not static (PLUME_EINVAL). */
+plume_status plume_scene_statics(const plume_scene *s, plume_problem **p, plume_statics **st, plume_err *err);
+
 /** Builds the problem (membrane and bending terms per material, edge-length constraints on the
  * barb edges) with x at the rest state, and the implicit Euler stepper with the scene's
  * densities, handles, gravity, dt, solver, max_halvings and max_iter. *p and *d belong to the
@@ -179,9 +185,6 @@ int plume_scene_bodies(const plume_scene *s, int *body);
  * setting, for measuring distances and intersections after each step (apps/feather, sweeps);
  * the caller destroys *out. */
 plume_status plume_scene_contact_broad(const plume_scene *s, plume_contact_broad **out, plume_err *err);
-
-/** Mean displacement (3) of probe k at positions x (3 nv). */
-void plume_scene_probe_displacement(const plume_scene *s, int k, const double *x, double u[3]);
 
 #ifdef __cplusplus
 }

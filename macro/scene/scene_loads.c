@@ -393,8 +393,12 @@ done:
 
 void plume_scene_probe_displacement(const plume_scene *s, int k, const double *x, double u[3])
 {
-    const plume_scene_probe *pr = s->probes + k;
     u[0] = u[1] = u[2] = 0.0;
+    if (!s || !x || k < 0 || k >= s->nprobes) {
+        u[0] = u[1] = u[2] = NAN;
+        return;
+    }
+    const plume_scene_probe *pr = s->probes + k;
     for (plume_index i = 0; i < pr->n; i++) {
         plume_index v = pr->vertices[i];
         u[0] += x[3 * v] - s->mesh->X[2 * v];

@@ -1,5 +1,7 @@
 /* The run settings of a scene (macro/scene/scene.h): gravity, static or dynamic, bending model, the
- * contact block, steps, dt and duration, solver, halvings, iterations, output, render, camera. */
+ * contact block, steps, dt and duration, solver, halvings, iterations, output, render, camera; and
+ * plume_scene_set, which changes some of them after loading with the same checks. Each parser
+ * changes only the keys its document holds: the defaults are set once, before them. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,13 +31,9 @@ static plume_status parse_model(const plume_json_ctx *c, json_t *doc, plume_scen
     }
     if ((v = json_object_get(doc, "contact")) && (st = plume_scene_parse_contact(c, v, s)) != PLUME_OK)
         return st;
-    /* every scene starts from the tangent predictor: each static increment, and each dynamic step
-     * whose handles start, stop or turn (docs/solver-nonconvexity.md) */
-    s->predictor = PLUME_PREDICT_TANGENT;
     if ((v = json_object_get(doc, "predictor")) &&
         (!json_is_string(v) || plume_predictor_parse(json_string_value(v), &s->predictor) != PLUME_OK))
         return plume_json_bad(c, PLUME_EINVAL, "predictor", "must be \"secant\", \"none\", \"tangent\" or \"secant_tangent\"");
-    s->globalization = PLUME_GLOBAL_CURVED_LINE_SEARCH;
     if ((v = json_object_get(doc, "globalization")) &&
         (!json_is_string(v) || plume_globalization_parse(json_string_value(v), &s->globalization) != PLUME_OK))
         return plume_json_bad(c, PLUME_EINVAL, "globalization",
@@ -48,7 +46,6 @@ static plume_status parse_stepping(const plume_json_ctx *c, json_t *doc, plume_s
 {
     plume_status st;
     json_t *v;
-    s->steps = 10;
     long steps = s->steps;
     if ((st = plume_json_int(c, doc, "", "steps", 1, 1000000, &steps)) != PLUME_OK)
         return st;
@@ -159,6 +156,11 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
     s->max_halvings = 6;
     s->max_iter = 100;
     s->output_every = 1;
+    s->steps = 10;
+    /* every scene starts from the tangent predictor: each static increment, and each dynamic step
+     * whose handles start, stop or turn (docs/solver-nonconvexity.md) */
+    s->predictor = PLUME_PREDICT_TANGENT;
+    s->globalization = PLUME_GLOBAL_CURVED_LINE_SEARCH;
     s->camera[0] = 60.0;
     s->camera[1] = 30.0;
     snprintf(s->render_field, sizeof s->render_field, "material");
@@ -166,4 +168,42 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
         (st = parse_solver(c, doc, s)) != PLUME_OK || (st = parse_output(c, doc, s)) != PLUME_OK)
         return st;
     return parse_camera(c, doc, s);
+}
+
+/* The settings plume_scene_set may change: none of them changes the mesh, the materials or what the
+ * scene allocated ("render" does, "dt" and "duration" are checked against other keys at load). */
+static const char *const settable[] = {"solver",        "max_halvings", "max_iter", "steps", "output_every",
+                                       "bending_model", "predictor",    "globalization", "render_field",
+                                       "camera",        "verbose",      NULL};
+
+plume_status plume_scene_set(plume_scene *s, const char *settings, plume_err *err)
+{
+    if (!s || !settings)
+        return plume_err_set(err, PLUME_EINVAL, "plume_scene_set: the scene and the settings are required");
+    json_error_t je;
+    json_t *doc = json_loads(settings, 0, &je);
+    if (!doc || !json_is_object(doc)) {
+        json_decref(doc);
+        return doc ? plume_err_set(err, PLUME_EFORMAT, "plume_scene_set: the settings must be a JSON object")
+                   : plume_err_set(err, PLUME_EFORMAT, "plume_scene_set: settings:%d: %s", je.line, je.text);
+    }
+    plume_json_ctx c = {.file = "plume_scene_set", .text = (char *)settings, .err = err};
+    /* into a copy, so that a refused key changes nothing (no allowed key allocates) */
+    plume_scene tmp = *s;
+    plume_status st = plume_json_check_keys(&c, doc, "", settable);
+    long steps = tmp.steps;
+    json_t *v;
+    if (st == PLUME_OK && (st = parse_model(&c, doc, &tmp)) == PLUME_OK &&
+        (st = plume_json_int(&c, doc, "", "steps", 1, 1000000, &steps)) == PLUME_OK &&
+        (st = parse_solver(&c, doc, &tmp)) == PLUME_OK && (st = parse_output(&c, doc, &tmp)) == PLUME_OK &&
+        (st = parse_camera(&c, doc, &tmp)) == PLUME_OK && (v = json_object_get(doc, "verbose"))) {
+        if (!json_is_boolean(v))
+            st = plume_json_bad(&c, PLUME_EFORMAT, "verbose", "must be true or false");
+        tmp.verbose = json_is_true(v);
+    }
+    tmp.steps = (int)steps;
+    json_decref(doc);
+    if (st == PLUME_OK)
+        *s = tmp;
+    return st;
 }

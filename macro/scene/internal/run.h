@@ -14,7 +14,8 @@ struct plume_run {
     plume_scene *scene;           /* borrowed, or owned when owns_scene */
     int owns_scene;
     plume_problem *p;
-    plume_dynamics *d;
+    plume_dynamics *d;            /* a dynamic scene's stepper, or NULL */
+    plume_statics *st;            /* a static scene's load stepping, or NULL */
     plume_contact *contact;       /* the contact term's handle (owned by the problem), or NULL */
     plume_index ncons;
     char *output_dir, *frames_path, *restart; /* owned copies; NULL when not given */
@@ -44,5 +45,12 @@ plume_status plume_run_output_start(plume_run *r, plume_err *err);
 /* Frame k of the current state at scene step `step`: the series' VTU, frames.h5, the PNG when the
  * scene renders k. */
 plume_status plume_run_write_frame(plume_run *r, long k, long step, plume_err *err);
+
+
+/* run_static.c: a static scene's run. Its problem and load stepping (checking that the options
+ * plan no dynamic run); its output (the series steps.pvd); one load step. */
+plume_status plume_run_static_create(plume_run *r, const plume_run_opts *o, plume_err *err);
+plume_status plume_run_static_start(plume_run *r, plume_err *err);
+plume_status plume_run_static_step(plume_run *r, plume_run_step_info *info, plume_err *err);
 
 #endif
