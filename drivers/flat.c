@@ -197,14 +197,46 @@ void plume_flat_free(char *text)
 /* ------------------------------------------------------------------------------------------ */
 /* jobs */
 
+/* homogenize request.output, checked before the solve so that a bad path costs no cell solves (as
+ * apps/homogenize -o): not empty, not a directory, its directory created with its parents (as
+ * write_frames does) and writable. */
+static plume_status output_check(const char *path, plume_err *err)
+{
+    if (!*path)
+        return plume_err_set(err, PLUME_EINVAL, "homogenize request: \"output\" must name a file (got \"\")");
+    char dir[4096];
+    if (strlen(path) >= sizeof dir)
+        return plume_err_set(err, PLUME_EINVAL, "homogenize request: \"output\": the path '%.64s...' is longer than %d "
+                                                "bytes", path, (int)sizeof dir - 1);
+    struct stat sb;
+    if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+        return plume_err_set(err, PLUME_EINVAL, "homogenize request: \"output\": '%s' is a directory, not a file", path);
+    snprintf(dir, sizeof dir, "%s", path);
+    char *slash = strrchr(dir, '/');
+    if (!slash)
+        snprintf(dir, sizeof dir, ".");
+    else if (slash == dir)
+        dir[1] = '\0';
+    else
+        *slash = '\0';
+    if (plume_make_dirs(dir) != 0)
+        return plume_err_set(err, PLUME_EIO, "homogenize request: \"output\": cannot create the directory '%s' of '%s': %s",
+                             dir, path, strerror(errno));
+    if (access(dir, W_OK) != 0)
+        return plume_err_set(err, PLUME_EIO, "homogenize request: \"output\": cannot write '%s' in the directory '%s': %s",
+                             path, dir, strerror(errno));
+    return PLUME_OK;
+}
+
 plume_status plume_flat_homogenize(const char *request, char **result, char *msg, long nmsg)
 {
     plume_err err = {{0}};
     if (!result)
         return finish(plume_err_set(&err, PLUME_EINVAL, "homogenize: no result pointer"), &err, msg, nmsg);
     *result = NULL;
-    static const char *const keys[] = {"layout", "strain_max", "steps", NULL};
+    static const char *const keys[] = {"layout", "strain_max", "steps", "output", NULL};
     json_t *req;
+    const char *output = NULL;
     plume_status st = parse_request(request, "homogenize", keys, &req, &err);
     if (st != PLUME_OK)
         return finish(st, &err, msg, nmsg);
@@ -217,8 +249,16 @@ plume_status plume_flat_homogenize(const char *request, char **result, char *msg
     if ((st = get_layout(req, "homogenize", &l, &err)) != PLUME_OK ||
         (st = get_number(req, "homogenize", "strain_max", &ho.strain_max, &err)) != PLUME_OK ||
         (st = get_int(req, "homogenize", "steps", &ho.steps, &err)) != PLUME_OK ||
-        (st = plume_layout_check(&l, &err)) != PLUME_OK || (st = plume_homogenize(&l, &ho, &r, &err)) != PLUME_OK)
+        (st = get_string(req, "homogenize", "output", &output, &err)) != PLUME_OK ||
+        (st = plume_layout_check(&l, &err)) != PLUME_OK || (output && (st = output_check(output, &err)) != PLUME_OK) ||
+        (st = plume_homogenize(&l, &ho, &r, &err)) != PLUME_OK)
         goto done;
+    if (output && (st = plume_homog_write(output, &l, &r, &err)) != PLUME_OK) {
+        char why[sizeof err.msg];
+        snprintf(why, sizeof why, "%s", err.msg);
+        plume_err_set(&err, st, "homogenize request: \"output\": %s", why);
+        goto done;
+    }
     json_t *C = json_array();
     for (int k = 0; k < 9; k++)
         json_array_append_new(C, json_real(r.C[k]));
@@ -248,6 +288,8 @@ plume_status plume_flat_homogenize(const char *request, char **result, char *msg
             json_object_set_new(o, "refinement_edge", json_real(r.refinement_edge));
         }
     }
+    if (o && output)
+        json_object_set_new(o, "output", json_string(output));
     if (o && ho.strain_max > 0.0)
         json_object_set_new(o, "curves", json_pack("{s:o, s:o, s:o}", "uniaxial_x", curve_json(&r.uniaxial_x),
                                                    "uniaxial_y", curve_json(&r.uniaxial_y), "shear",

@@ -13,14 +13,16 @@
  *  - homogenize: {"layout": {...keys of a --config layout file: "layout", "phi", "d_B", "w_B",
  *    "E_b", "nu_b", "ratio", "nu_B", "thickness", "thickness_barb", "thickness_barbule", "kappa",
  *    "order", "e_rel", "barbule_width", "barbule_spacing", "barbule_angle"}, "strain_max": 0.05,
- *    "steps": 10}
+ *    "steps": 10, "output": "FILE.h5" (also write the moduli file plume_homog_write writes, the one
+ *    apps/homogenize -o writes and a scene material's "from_moduli" reads; its directory is created
+ *    with its parents, and a path that cannot be written is refused before the solve, naming it)}
  *    -> {"E_xx", "E_yy", "nu_xy", "G_xy", "C": [9], "D_long", "D_trans", "D_coupling", "D_twist",
  *        "D_16", "D_26" (N m, micro/cell_plate.h), "D": [9], "bending_change", "shear_coupling", "elements", "vertices",
  *        "newton_iterations", "seconds", "order", "element_edge", "refinement_change" (how
  *        converged: micro/homogenize.h), "moduli_change": {"E_xx", "E_yy", "nu_xy", "G_xy"},
  *        "refinement_edge", "curves": {"uniaxial_x"|"uniaxial_y"|"shear":
  *        {"strain": [], "stress": [], "wbar": [], "iterations": []}} (curves only when
- *        strain_max > 0)}
+ *        strain_max > 0), "output" (the file written, as given; only with "output")}
  *  - traction: {"model": "macro"|"micro", "angle": 45 (deg from the pull), "lx": 1, "ly": 1.3,
  *    "thickness": 1, "moduli": {"E_xx": 1e4, "E_yy": 1, "nu_xy": 0, "G_xy": 1} (all four, or
  *    the key absent for these), "kappa": 0,

@@ -10,6 +10,7 @@
 #include <jansson.h>
 
 #include "harness.h"
+#include "../lib/io/curves.h"
 #include "../lib/io/vtu.h"
 #include "../drivers/flat.h"
 #include "../micro/homogenize.h"
@@ -59,6 +60,57 @@ void test_flat_homogenize(void)
     CHECK(plume_flat_homogenize("[1, 2", &out, msg, sizeof msg) == PLUME_EFORMAT && strstr(msg, "request:1:"));
     CHECK(plume_flat_homogenize("{}", NULL, msg, sizeof msg) == PLUME_EINVAL);
     CHECK(plume_flat_homogenize("{\"steps\": \"x\"}", &out, NULL, 0) == PLUME_EINVAL); /* no message buffer */
+}
+
+/* homogenize "output": the moduli file a scene's from_moduli reads, holding the moduli of the result
+ * (its directory created); a path that cannot be written is refused before the solve, naming the key
+ * and the file, and nothing is returned */
+void test_flat_homogenize_output(void)
+{
+    char msg[512], dir[64] = "/tmp/plume-flath-XXXXXX", path[200], req[400];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(path, sizeof path, "%s/sub/cell.h5", dir);
+    snprintf(req, sizeof req, "{\"strain_max\": 0, \"layout\": {\"phi\": 0.2}, \"output\": \"%s\"}", path);
+    plume_status st;
+    json_t *j = run(plume_flat_homogenize, req, &st, msg);
+    CHECK(st == PLUME_OK && j);
+    plume_ortho m;
+    double D_long = 0.0;
+    plume_err err = {{0}};
+    CHECK(plume_moduli_read(path, &m, &err) == PLUME_OK);
+    CHECK(plume_moduli_read_param(path, "D_long", &D_long, &err) == PLUME_OK);
+    if (j) {
+        CHECK(strcmp(json_string_value(json_object_get(j, "output")), path) == 0);
+        CHECK(json_real_value(json_object_get(j, "E_xx")) == m.E_xx);
+        CHECK(json_real_value(json_object_get(j, "E_yy")) == m.E_yy);
+        CHECK(json_real_value(json_object_get(j, "nu_xy")) == m.nu_xy);
+        CHECK(json_real_value(json_object_get(j, "G_xy")) == m.G_xy);
+        CHECK(json_real_value(json_object_get(j, "D_long")) == D_long && D_long > 0.0);
+    }
+    json_decref(j);
+    /* without the key, no "output" in the result */
+    j = run(plume_flat_homogenize, "{\"strain_max\": 0, \"layout\": {\"phi\": 0.2}}", &st, msg);
+    CHECK(st == PLUME_OK && j && !json_object_get(j, "output"));
+    json_decref(j);
+    /* bad outputs: a file where a directory is wanted, a directory, an empty name, not a string */
+    char *out = (char *)1;
+    snprintf(req, sizeof req, "{\"output\": \"%s/sub/cell.h5/x.h5\"}", dir);
+    CHECK(plume_flat_homogenize(req, &out, msg, sizeof msg) == PLUME_EIO && out == NULL);
+    CHECK(strstr(msg, "\"output\"") && strstr(msg, "cell.h5/x.h5"));
+    snprintf(req, sizeof req, "{\"output\": \"%s/sub\"}", dir);
+    CHECK(plume_flat_homogenize(req, &out, msg, sizeof msg) == PLUME_EINVAL && strstr(msg, "directory"));
+    CHECK(plume_flat_homogenize("{\"output\": \"\"}", &out, msg, sizeof msg) == PLUME_EINVAL &&
+          strstr(msg, "\"output\""));
+    CHECK(plume_flat_homogenize("{\"output\": 1}", &out, msg, sizeof msg) == PLUME_EINVAL &&
+          strstr(msg, "\"output\" must be a string"));
+    CHECK(plume_flat_homogenize("{\"output\": \"a.h5\", \"outptu\": 1}", &out, msg, sizeof msg) == PLUME_EINVAL &&
+          strstr(msg, "unknown key \"outptu\""));
+    CHECK(access("a.h5", F_OK) != 0);
+    snprintf(path, sizeof path, "rm -rf '%s'", dir);
+    CHECK(system(path) == 0);
 }
 
 /* traction: a converged curve, a ParaView series on request, bad values named */

@@ -12,8 +12,11 @@ extern "C" {
 
 /* ---- the flat interface ---- */
 /** Runs the "homogenize" request above (plume_homogenize) and gives its result in *result, a
- * malloc'ed JSON text (plume_flat_free; NULL on failure). PLUME_EFORMAT / PLUME_EINVAL for a bad
- * request, and the errors of the homogenisation, with the message in msg. */
+ * malloc'ed JSON text (plume_flat_free; NULL on failure). With "output": "FILE.h5" it also writes
+ * the moduli file (plume_homog_write: what a scene's "from_moduli" reads) and the result names it
+ * ("output"). PLUME_EFORMAT / PLUME_EINVAL for a bad request, PLUME_EIO for an output that cannot
+ * be written (before the solve when its directory cannot be; the message names the key and the
+ * file), and the errors of the homogenisation, with the message in msg. */
 PLUME_API plume_status plume_flat_homogenize(const char *request, char **result, char *msg, long nmsg);
 
 /** Runs the "traction" request above (the macro vane or the micro specimen through

@@ -11,7 +11,7 @@ import math
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Dict
+from typing import Dict, Optional
 
 import numpy as np
 
@@ -69,8 +69,8 @@ class HomogenizeResult:
     D_twist, D_16, D_26: bending moduli (N m, barb frame; energy density 1/2 (D_long k11^2 + D_trans
     k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2 + 4 D_16 k11 k12 + 4 D_26 k22 k12), as a scene
     material's "bending"); D: the 3x3 bending tensor in Voigt notation (k11, k22, 2 k12; N m);
-    bending_change: how converged the bending moduli are (relative, -1: not estimated); raw: the
-    library's JSON result.
+    bending_change: how converged the bending moduli are (relative, -1: not estimated); output:
+    the moduli file written (homogenize's output, as given), or None; raw: the library's JSON result.
     """
     E_xx: float
     E_yy: float
@@ -95,6 +95,7 @@ class HomogenizeResult:
     D_26: float = 0.0
     D: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
     bending_change: float = -1.0
+    output: Optional[str] = None
     raw: dict = field(repr=False, default_factory=dict)
 
     @property
@@ -296,7 +297,7 @@ def _target(i, t):
 
 # --- jobs -----------------------------------------------------------------------------------------
 
-def homogenize(layout=None, strain_max=0.05, steps=10):
+def homogenize(layout=None, strain_max=0.05, steps=10, output=None):
     """Homogenised moduli of a microstructure layout (a periodic cell solved under three
     load cases).
 
@@ -312,15 +313,23 @@ def homogenize(layout=None, strain_max=0.05, steps=10):
             "barbule_angle" (deg). None: the default strips layout (phi 0.16, E_b 2.5e9 Pa).
         strain_max: largest strain of the three nonlinear curves (-); 0 gives the moduli only.
         steps: steps of each curve.
+        output: a file (str or path-like; "cell.h5") to write the moduli to, the one apps/homogenize
+            -o writes: /moduli with the bending moduli and how converged they are as attributes,
+            the cell curves when strain_max > 0 (docs/hdf5-layout.md). A scene material takes its
+            membrane and bending from it with {"from_moduli": "cell.h5"} (docs/scene-format.md).
+            Its directory is created with its parents; a path that cannot be written is a
+            PlumeError naming it, raised before the solve. None: nothing written.
 
     Returns:
         HomogenizeResult (moduli in Pa, bending moduli in N m; curves with steps + 1 points each,
-        the rest state first).
+        the rest state first; output: the file written, or None).
     """
     request = {"strain_max": _number("strain_max", strain_max, 0.0),
                "steps": _integer("steps", steps)}
     if layout is not None:
         request["layout"] = _mapping("layout", layout)
+    if output is not None:
+        request["output"] = _path("output", output)
     r = _native.call_job("homogenize", request)
     curves = {k: _curve(v) for k, v in (r.get("curves") or {}).items()}
     return HomogenizeResult(
@@ -337,7 +346,8 @@ def homogenize(layout=None, strain_max=0.05, steps=10):
         moduli_change={k: float(v) for k, v in (r.get("moduli_change") or {}).items()},
         **{k: float(_get(r, k, "homogenize")) for k in ("D_long", "D_trans", "D_coupling", "D_twist", "D_16", "D_26")},
         D=_array(_get(r, "D", "homogenize")).reshape(3, 3),
-        bending_change=float(_get(r, "bending_change", "homogenize")), raw=r)
+        bending_change=float(_get(r, "bending_change", "homogenize")),
+        output=_get(r, "output", "homogenize") if output is not None else None, raw=r)
 
 
 def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **options):

@@ -1,6 +1,7 @@
 """pip install of the package as a user does it (and as CI does): a fresh venv, offline, the library
 found at install time through pkg-config and recorded (setup.py, plume/_install.py); then `import
-plume` in a clean environment (env -i: no PKG_CONFIG_PATH, PLUME_LIBRARY or PYTHONPATH).
+plume` in a clean environment (env -i: no PKG_CONFIG_PATH, PLUME_LIBRARY or PYTHONPATH); and, after
+`make install PREFIX=...`, the chain example of docs/examples/python run that way.
 """
 import glob
 import os
@@ -41,9 +42,11 @@ def _pip_install(python, src, env):
                            "--no-index", src], env=env, capture_output=True, text=True, timeout=600)
 
 
-def _clean_run(python, cwd, code):
-    """python -c code in a clean environment from cwd: (returncode, stdout, stderr)."""
-    p = subprocess.run(["env", "-i", "HOME=" + cwd, "PATH=/usr/bin:/bin", python, "-c", code], cwd=cwd,
+def _clean_run(python, cwd, code, *args):
+    """python -c code (or, with code None, python args...) in a clean environment from cwd: no
+    PLUME_*, PYTHONPATH, LD_LIBRARY_PATH or PKG_CONFIG_PATH. (returncode, stdout, stderr)."""
+    argv = [python] + (["-c", code] if code is not None else []) + list(args)
+    p = subprocess.run(["env", "-i", "HOME=" + cwd, "PATH=/usr/bin:/bin"] + argv, cwd=cwd,
                        capture_output=True, text=True, timeout=120)
     return p.returncode, p.stdout.strip(), p.stderr
 
@@ -128,6 +131,30 @@ class TestPipInstall(unittest.TestCase):
         rc, out, err = _clean_run(self.python, self.run_dir, "import plume; print(plume.LIBRARY_PATH, plume.version())")
         self.assertEqual(rc, 0, err)
         self.assertEqual(out, "%s %s" % (os.path.join(libdir, soname), plume.version()))
+
+    def test_example_after_make_install(self):
+        """The user's path end to end: `make install PREFIX=...` of the build under test, pip
+        install with pkg-config finding it, then the chain example (layout -> moduli file -> scene
+        -> frames read back) run by the venv's python with no environment variable set."""
+        if shutil.which("pkg-config") is None or shutil.which("make") is None:
+            self.skipTest("no pkg-config or make")
+        real = os.path.realpath(plume.LIBRARY_PATH if os.sep in plume.LIBRARY_PATH else _native.lib._name)
+        prefix = os.path.join(self.tmp, "prefix")
+        # the build the suite runs against: everything is up to date, install only copies (as
+        # test_exports_installed_example)
+        p = subprocess.run(["make", "-s", "-C", ROOT, "BUILD=" + os.path.dirname(real), "install", "PREFIX=" + prefix],
+                           capture_output=True, text=True, timeout=600)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        env = dict(self.env, PKG_CONFIG_PATH=os.path.join(prefix, "lib", "pkgconfig"))
+        p = _pip_install(self.python, self.src, env)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        self.assertTrue(self._site_install_file()["LIBRARY"].startswith(os.path.join(prefix, "lib") + os.sep))
+        example = os.path.join(ROOT, "docs", "examples", "python", "scene_from_layout.py")
+        rc, out, err = _clean_run(self.python, self.run_dir, None, example)
+        self.assertEqual(rc, 0, out + err)
+        self.assertIn("from " + os.path.join(prefix, "lib"), out)
+        self.assertEqual(out.splitlines()[-1], "scene example: ok", out + err)
+        self.assertEqual(os.listdir(self.run_dir), [])
 
     def test_nothing_found_installs_and_says_so(self):
         p = _pip_install(self.python, self.src, self.env)

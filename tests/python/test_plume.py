@@ -237,6 +237,72 @@ class TestHomogenize(unittest.TestCase):
         self.assertGreater(p1.refinement_change, h.refinement_change)
 
 
+class TestHomogenizeOutput(unittest.TestCase):
+    """homogenize(output=...): the moduli file a scene's "from_moduli" reads (flat.h "output")."""
+
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="plume-hout-")
+        self.addCleanup(shutil.rmtree, self.tmp, True)
+
+    def test_file_reads_back_as_the_result(self):
+        import h5py
+        path = os.path.join(self.tmp, "sub", "dir", "cell.h5")  # its directories created
+        h = plume.homogenize(layout={"phi": 0.2}, strain_max=0.02, steps=2, output=path)
+        self.assertEqual(h.output, path)
+        self.assertEqual(h.raw["output"], path)
+        with h5py.File(path, "r") as f:
+            a = f["moduli"].attrs
+            for k in ("E_xx", "E_yy", "nu_xy", "G_xy", "D_long", "D_trans", "D_coupling", "D_twist", "D_16",
+                      "D_26"):
+                self.assertEqual(float(a[k]), getattr(h, k), k)  # bit for bit
+            self.assertEqual(float(a["refinement_change"]), h.refinement_change)
+            np.testing.assert_array_equal(f["curves/cell/shear/stress"][()], h.curves["shear"].stress)
+
+    def test_path_like_and_none(self):
+        import pathlib
+        path = pathlib.Path(self.tmp) / "cell.h5"
+        h = plume.homogenize(strain_max=0.0, output=path)
+        self.assertEqual(h.output, str(path))
+        self.assertTrue(path.is_file())
+        h = plume.homogenize(strain_max=0.0)
+        self.assertIsNone(h.output)
+        self.assertNotIn("output", h.raw)
+
+    def test_unwritable_output_names_the_file(self):
+        blocker = os.path.join(self.tmp, "a-file")  # a regular file where a folder is wanted
+        open(blocker, "w").close()
+        target = os.path.join(blocker, "cell.h5")
+        with self.assertRaises(plume.PlumeError) as cm:
+            plume.homogenize(strain_max=0.0, output=target)
+        self.assertIn(target, str(cm.exception))
+        self.assertIn('"output"', str(cm.exception))
+        with self.assertRaises(plume.PlumeError) as cm:  # a directory is not a file
+            plume.homogenize(strain_max=0.0, output=self.tmp)
+        self.assertIn(self.tmp, str(cm.exception))
+        with self.assertRaises(TypeError):
+            plume.homogenize(strain_max=0.0, output=1)
+
+    def test_unknown_key_still_refused(self):
+        path = os.path.join(self.tmp, "cell.h5")
+        with self.assertRaises(plume.PlumeError) as cm:
+            _native.call_job("homogenize", {"strain_max": 0.0, "output": path, "outptu": path})
+        self.assertIn("outptu", str(cm.exception))
+        self.assertFalse(os.path.exists(path))  # refused before anything was written
+
+    def test_a_scene_reads_it(self):
+        path = os.path.join(self.tmp, "cell.h5")
+        plume.homogenize(layout={"thickness": 1e-4}, strain_max=0.0, output=path)
+        scene = os.path.join(self.tmp, "vane.json")
+        with open(scene, "w") as f:
+            json.dump({"mesh": {"rectangle": [0.02, 0.01], "edge": 0.005, "barb_direction": [0, 1]},
+                       "materials": [{"membrane": {"from_moduli": "cell.h5"},
+                                      "bending": {"from_moduli": "cell.h5", "drop_couplings": True},
+                                      "density": 0.02}],
+                       "dt": 0.01, "duration": 0.01}, f)
+        with plume.Scene(scene) as s:
+            self.assertGreater(s.nv, 0)
+
+
 class TestTraction(unittest.TestCase):
     def test_macro_curve(self):
         steps = 4
