@@ -25,12 +25,32 @@ typedef char *(*schedule_execute)(void *ctx, int k);
 /* rank 0: keeps run k's record; nonzero on failure (the schedule goes on and reports it) */
 typedef int (*schedule_record)(void *ctx, int k, const char *record);
 
+#ifdef PLUME_MPI
+/* 1 once MPI is initialised (the process was started by an MPI launcher) */
+static int schedule_mpi_on;
+#endif
+
+/* 1 when an MPI launcher started this process: Open MPI's mpirun, MPICH's Hydra, a PMI or PMIx
+ * launcher such as Slurm's srun each set one of these. */
+static inline int schedule_launched(void)
+{
+    return getenv("OMPI_COMM_WORLD_SIZE") || getenv("PMI_SIZE") || getenv("PMI_RANK") || getenv("PMIX_RANK");
+}
+
+/* MPI is initialised only under a launcher: started alone, the app runs its runs in order as one
+ * process. MPI_Init without a launcher would make Open MPI fork its singleton daemon (orted) and
+ * handshake with it through PMIx: that costs time on every plain run, and on a loaded machine the
+ * handshake was seen to hang for good (the daemon died, PMIx_Init waited on it), stalling the
+ * test suite for 15-22 minutes. */
 static inline void schedule_init(int *argc, char ***argv, int *rank, int *size)
 {
     *rank = 0, *size = 1;
 #ifdef PLUME_MPI
+    if (!schedule_launched())
+        return;
     int provided;
     MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+    schedule_mpi_on = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, rank);
     MPI_Comm_size(MPI_COMM_WORLD, size);
 #else
@@ -41,7 +61,8 @@ static inline void schedule_init(int *argc, char ***argv, int *rank, int *size)
 static inline void schedule_finalize(void)
 {
 #ifdef PLUME_MPI
-    MPI_Finalize();
+    if (schedule_mpi_on)
+        MPI_Finalize();
 #endif
 }
 
@@ -49,9 +70,11 @@ static inline void schedule_finalize(void)
 static inline int schedule_share(int rc)
 {
 #ifdef PLUME_MPI
-    int all = rc;
-    MPI_Allreduce(&rc, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-    rc = all;
+    if (schedule_mpi_on) {
+        int all = rc;
+        MPI_Allreduce(&rc, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+        rc = all;
+    }
 #endif
     return rc;
 }

@@ -296,7 +296,9 @@ int main(int argc, char **argv)
     plume_scene *scene = NULL;
     plume_run *run = NULL;
     json_t *desc = NULL, *jsteps = json_array();
-    plume_scene_load_opts lo = {o.edge, o.pattern};
+    plume_scene_load_opts lo;
+    plume_scene_load_opts_default(&lo);
+    lo.edge = o.edge, lo.pattern = o.pattern;
     plume_status s = plume_scene_load_with(o.scene, &lo, &scene, &err);
     if (s != PLUME_OK) {
         rc = cli_fail(APP, "%s", err.msg);

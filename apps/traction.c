@@ -425,6 +425,7 @@ typedef struct {
     const char *moduli_source; /* "flags", "homogenised" or the --moduli file */
     plume_patch_kind kind;
     plume_traction_opts to;
+    plume_solver_opts so;        /* to's solver options */
     size_family fam;
     model_run runs[2]; /* 0 macro, 1 micro */
 } traction_job;
@@ -585,8 +586,10 @@ static int build_traction_opts(const options *o, traction_job *j)
     to->lx = o->lx, to->ly = o->ly, to->h = o->h;
     to->strain_max = o->strain_max;
     to->steps = o->steps;
-    to->solver_opts.max_iter = o->max_iter;
-    to->solver_opts.verbose = o->verbose;
+    plume_solver_opts_default(&j->so);
+    j->so.max_iter = o->max_iter;
+    j->so.verbose = o->verbose;
+    to->solver_opts = &j->so;
     to->progress = o->quiet ? 0 : 1;
     return 0;
 }

@@ -45,15 +45,18 @@ static run_result run_child(double edge, plume_solver_kind solver, native_varian
     }
     plume_traction_opts o;
     plume_traction_opts_default(&o);
+    plume_solver_opts so;
+    plume_solver_opts_default(&so);
+    o.solver_opts = &so;
     o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.strain_max = 0.05, o.steps = steps, o.solver = solver, o.progress = 0;
     if (variant == NATIVE_OLD) { /* the native solver of the previous release: l1 merit, unrefined KKT solves */
-        o.solver_opts.line_search = PLUME_LS_MERIT;
-        o.solver_opts.reuse_factorization = 0;
-        o.solver_opts.kkt_refine = 0;
+        so.line_search = PLUME_LS_MERIT;
+        so.reuse_factorization = 0;
+        so.kkt_refine = 0;
     }
     if (variant == NATIVE_NO_CHORD)
-        o.solver_opts.reuse_factorization = 0;
-    o.solver_opts.verbose = getenv("BENCH_VERBOSE") != NULL; /* --one's iteration log */
+        so.reuse_factorization = 0;
+    so.verbose = getenv("BENCH_VERBOSE") != NULL; /* --one's iteration log */
     plume_traction_result res;
     double cpu0 = plume_cpu_seconds();
     plume_status st = plume_traction_run(mesh, p, barbs, nb, &o, &res, &err);

@@ -4,14 +4,17 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../lib/core/opts.h"
 #include "../lib/core/problem.h"
 #include "../lib/sim/traction.h"
 #include "../micro/micro_model.h"
 #include "../macro/shell/vane.h"
 
-void plume_study_config_default(plume_study_config *c)
+void plume_study_config_default_sized(plume_study_config *o, size_t size)
 {
+    plume_study_config full, *c = &full;
     memset(c, 0, sizeof *c);
+    c->size = sizeof *c;
     c->lx = 1.0, c->ly = 1.3, c->h = 1.0;
     c->angle = 45.0;
     c->moduli.E_xx = 1e4, c->moduli.E_yy = 1.0, c->moduli.G_xy = 1.0, c->moduli.nu_xy = 0.0;
@@ -26,6 +29,7 @@ void plume_study_config_default(plume_study_config *c)
     c->micro = 0;
     plume_layout_default(&c->layout);
     c->layout.h = c->h; /* a micro run's thickness is the study's */
+    plume_opts_give(o, size, &full, sizeof full);
 }
 
 void plume_study_result_free(plume_study_result *r)
@@ -96,11 +100,16 @@ static void take_result(const plume_study_config *c, const plume_mesh *mesh, plu
     r->complete = n == (plume_index)c->steps + 1 && fabs(r->strain - c->strain_max) <= 1e-9 * c->strain_max;
 }
 
-plume_status plume_study_traction(const plume_study_config *c, plume_study_result *r, plume_err *err)
+plume_status plume_study_traction(const plume_study_config *given, plume_study_result *r, plume_err *err)
 {
-    if (!c || !r)
+    if (!given || !r)
         return plume_err_set(err, PLUME_EINVAL, "study: invalid arguments");
     memset(r, 0, sizeof *r);
+    plume_study_config full; /* the caller's config (as many bytes as it has) over the defaults */
+    const plume_study_config *c = &full;
+    plume_study_config_default(&full);
+    if (plume_opts_take(&full, sizeof full, given, "plume_study_config", err) != PLUME_OK)
+        return PLUME_EINVAL;
     if (!(c->steps >= 1) || !(c->max_iter >= 1) || !(c->strain_max > 0) || !isfinite(c->strain_max))
         return plume_err_set(err, PLUME_EINVAL, "study: steps and max_iter must be >= 1 and strain_max > 0 "
                              "(got %d, %d, %g)", c->steps, c->max_iter, c->strain_max);
@@ -112,16 +121,19 @@ plume_status plume_study_traction(const plume_study_config *c, plume_study_resul
     plume_status st = c->micro ? build_micro(c, &mesh, &p, err) : build_vane(c, &mesh, &p, &barbs, &nb, err);
     if (st == PLUME_OK) {
         plume_traction_opts o;
+        plume_solver_opts so;
         plume_traction_opts_default(&o);
+        plume_solver_opts_default(&so);
         o.lx = c->lx, o.ly = c->ly, o.h = c->h;
         o.strain_max = c->strain_max;
         o.steps = c->steps;
         o.solver = c->solver;
-        o.solver_opts.max_iter = c->max_iter;
+        so.max_iter = c->max_iter;
+        o.solver_opts = &so;
         /* the study reads the stress at strain_max, not the initial slope: the probe is solved with
          * the steps' tolerance, so that the times measure the models (the exact slope's probe costs
          * newton 2 -> 7 iterations at 1.2e5 triangles and a second symbolic analysis) */
-        o.probe_tol_kkt = o.solver_opts.tol_kkt;
+        o.probe_tol_kkt = so.tol_kkt;
         o.progress = 0;
         st = plume_traction_run(mesh, p, barbs, nb, &o, &tr, err);
     }

@@ -182,6 +182,7 @@ static plume_status lin_create(const plume_cell *cell, const plume_membrane_mate
     out->arity = c->na;
     out->nstencil = c->nt;
     out->stencil = c->tri;
+    out->size = sizeof *out;
     out->eval = lin_eval;
     out->destroy = lin_destroy;
     out->ctx = c;

@@ -15,6 +15,7 @@
  * - Stopping: xtol_abs = xtol_rel on every variable (an absolute step in ln E is a relative step
  *   in E; nu_xy is of order one), and max_eval. */
 #include "fit.h"
+#include "../lib/core/opts.h"
 #include "../lib/io/input_file.h"
 
 #include <ctype.h>
@@ -48,14 +49,18 @@
 /* Denominator floor relative to the largest |stress| of the curve (header). */
 #define FIT_STRESS_FLOOR 1e-3
 
-void plume_fit_opts_default(plume_fit_opts *o)
+void plume_fit_opts_default_sized(plume_fit_opts *o, size_t size)
 {
     if (!o)
         return;
-    o->free_mask = PLUME_FIT_EYY | PLUME_FIT_GXY;
-    o->max_eval = 300;
-    o->xtol_rel = 1e-6;
-    o->min_strain = 1e-12;
+    plume_fit_opts full;
+    memset(&full, 0, sizeof full);
+    full.size = sizeof full;
+    full.free_mask = PLUME_FIT_EYY | PLUME_FIT_GXY;
+    full.max_eval = 300;
+    full.xtol_rel = 1e-6;
+    full.min_strain = 1e-12;
+    plume_opts_give(o, size, &full, sizeof full);
 }
 
 /* ------------------------------------------------------------------- objective ---- */
@@ -460,10 +465,11 @@ plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const plume_curv
     double t0 = now_seconds();
     plume_status s = PLUME_OK;
     double *floor_ = NULL;
-    plume_fit_opts def;
+    plume_fit_opts def; /* the caller's options (as many bytes as it has) over the defaults */
     plume_fit_opts_default(&def);
-    if (!o)
-        o = &def;
+    if (o && plume_opts_take(&def, sizeof def, o, "plume_fit_opts", err) != PLUME_OK)
+        return PLUME_EINVAL;
+    o = &def;
     if (rep) {
         memset(rep, 0, sizeof *rep);
         rep->residual = NAN;

@@ -7,17 +7,21 @@
 #include <string.h>
 
 #include "../lib/core/membrane.h"
+#include "../lib/core/opts.h"
+#include "../lib/solve/options.h"
 #include "../lib/io/progress.h"
 #include "cell_linear.h"
 #include "periodic.h"
 
-void plume_homog_opts_default(plume_homog_opts *o)
+void plume_homog_opts_default_sized(plume_homog_opts *o, size_t size)
 {
-    memset(o, 0, sizeof *o);
-    o->strain_max = 0.05;
-    o->steps = 10;
-    o->convergence = 1;
-    plume_solver_opts_default(&o->solver_opts);
+    plume_homog_opts full;
+    memset(&full, 0, sizeof full);
+    full.size = sizeof full;
+    full.strain_max = 0.05;
+    full.steps = 10;
+    full.convergence = 1;
+    plume_opts_give(o, size, &full, sizeof full);
 }
 
 void plume_homog_result_free(plume_homog_result *r)
@@ -200,9 +204,9 @@ static plume_status refinement_estimate(const plume_layout *l, const plume_membr
 static plume_status check_opts(const plume_homog_opts *o, plume_err *err)
 {
     if (!(o->strain_max >= 0.0 && o->strain_max < 1.0))
-        return plume_err_set(err, PLUME_EINVAL, "homogenize: strain-max must be in [0, 1) (got %g)", o->strain_max);
+        return plume_err_set(err, PLUME_EINVAL, "homogenize: plume_homog_opts.strain_max must be in [0, 1) (got %g)", o->strain_max);
     if (o->strain_max > 0.0 && o->steps < 1)
-        return plume_err_set(err, PLUME_EINVAL, "homogenize: steps must be >= 1 (got %d)", o->steps);
+        return plume_err_set(err, PLUME_EINVAL, "homogenize: plume_homog_opts.steps must be >= 1 (got %d)", o->steps);
     return PLUME_OK;
 }
 
@@ -357,12 +361,19 @@ static plume_status stress_controlled_curve(cell_solver *c, int lc, const double
     return PLUME_OK;
 }
 
-plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, plume_homog_result *r,
+plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *given, plume_homog_result *r,
                               plume_err *err)
 {
-    if (!l || !o || !r)
+    if (!l || !given || !r)
         return plume_err_set(err, PLUME_EINVAL, "homogenize: invalid arguments");
     memset(r, 0, sizeof *r);
+    plume_homog_opts full; /* the caller's options over this library's defaults */
+    const plume_homog_opts *o = &full;
+    plume_solver_opts so;
+    plume_homog_opts_default(&full);
+    if (plume_opts_take(&full, sizeof full, given, "plume_homog_opts", err) != PLUME_OK ||
+        plume_solver_opts_take(&so, full.solver_opts, err) != PLUME_OK)
+        return PLUME_EINVAL;
     double t0 = plume_wall_seconds();
     plume_status st = plume_layout_check(l, err);
     if (st != PLUME_OK || (st = check_opts(o, err)) != PLUME_OK)
@@ -381,7 +392,6 @@ plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, 
      * the soft phase's stresses (ratio E_b strain) that is 1e-16 / (ratio strain) relative, so
      * no tighter tolerance can be met at high contrast; with a margin of 100 for the sums over
      * elements: 1e-5 at ratio 1e-6 and 0.1% strain steps. */
-    plume_solver_opts so = o->solver_opts;
     double contrast = fmin(l->ratio, 1.0 / l->ratio), step = o->steps > 0 ? o->strain_max / o->steps : 1.0;
     double lateral_tol = fmax(1e-10, 1e-14 / (contrast * fmax(step, 1e-12)));
     so.tol_kkt = fmax(so.tol_kkt, lateral_tol);

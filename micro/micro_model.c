@@ -5,6 +5,7 @@
 
 #include "../lib/core/membrane.h"
 #include "../lib/core/mesh_quadratic.h"
+#include "../lib/core/opts.h"
 #include "../lib/io/progress.h"
 #include "cell_mesh.h"
 
@@ -69,7 +70,10 @@ plume_status plume_micro_traction_convergence(const plume_layout *l, double lx, 
     if (st != PLUME_OK)
         goto done;
     c->refinement_elements = plume_micro_specimen_elements(l, mesh);
-    plume_traction_opts oc = *o;
+    plume_traction_opts oc; /* the caller's options (as many bytes as it has) over the defaults */
+    plume_traction_opts_default(&oc);
+    if ((st = plume_opts_take(&oc, sizeof oc, o, "plume_traction_opts", err)) != PLUME_OK)
+        goto done;
     oc.on_step = NULL;
     oc.on_step_user = NULL;
     oc.progress = 0;

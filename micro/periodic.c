@@ -108,6 +108,7 @@ plume_status plume_periodic_term_create(const plume_cell *cell, const plume_term
     out->arity = inner->arity;
     out->nstencil = inner->nstencil;
     out->stencil = h->stencil;
+    out->size = sizeof *out;
     out->eval = periodic_eval;
     out->destroy = periodic_destroy;
     out->ctx = h;

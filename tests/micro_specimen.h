@@ -24,8 +24,11 @@ static inline double tilted_specimen_stress(const plume_layout *l, double strain
     if (plume_micro_specimen(l, 1.0, 1.3, 45.0, &mesh, &p, &err) == PLUME_OK) {
         plume_traction_opts o;
         plume_traction_opts_default(&o);
+        plume_solver_opts so;
+        plume_solver_opts_default(&so);
+        o.solver_opts = &so;
         o.lx = 1.0, o.ly = 1.3, o.h = l->h, o.strain_max = strain, o.steps = 1, o.progress = 0;
-        o.probe_tol_kkt = o.solver_opts.tol_kkt;
+        o.probe_tol_kkt = so.tol_kkt;
         plume_traction_result r;
         if (plume_traction_run(mesh, p, NULL, 0, &o, &r, &err) == PLUME_OK && r.converged)
             s = r.curve.stress[r.curve.n - 1];

@@ -31,9 +31,12 @@ static traction_run tilted(plume_solver_kind kind, plume_line_search ls, int reu
     CHECK(plume_vane_add(p, m, &vane, &barbs, &nb, &err) == PLUME_OK);
     plume_traction_opts o;
     plume_traction_opts_default(&o);
+    plume_solver_opts so;
+    plume_solver_opts_default(&so);
+    o.solver_opts = &so;
     o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.steps = 5, o.strain_max = 0.05, o.progress = 0, o.solver = kind;
-    o.solver_opts.line_search = ls;
-    o.solver_opts.reuse_factorization = reuse;
+    so.line_search = ls;
+    so.reuse_factorization = reuse;
     plume_traction_result res;
     CHECK(plume_traction_run(m, p, barbs, nb, &o, &res, &err) == PLUME_OK);
     r.converged = res.converged;
@@ -96,8 +99,11 @@ static void adaptive_run(int adaptive, int cap, int steps, int constraint, plume
     CHECK(plume_vane_add(p, m, &vane, &barbs, &nb, &err) == PLUME_OK);
     plume_traction_opts o;
     plume_traction_opts_default(&o);
+    plume_solver_opts so;
+    plume_solver_opts_default(&so);
+    o.solver_opts = &so;
     o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.steps = steps, o.strain_max = 0.05, o.progress = 0;
-    o.solver_opts.max_iter = cap;
+    so.max_iter = cap;
     if (adaptive) { /* bad input: max_cuts out of [0, 30] names itself */
         o.max_cuts = 31;
         CHECK(plume_traction_run(m, p, barbs, nb, &o, r, &err) == PLUME_EINVAL && strstr(err.msg, "max_cuts"));

@@ -220,11 +220,14 @@ void test_patch_mesh_tilted_slope_monotone(void)
         CHECK(cov == tot && tot == m->nt);
         plume_traction_opts o;
         plume_traction_opts_default(&o);
+        plume_solver_opts so;
+        plume_solver_opts_default(&so);
+        o.solver_opts = &so;
         o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.steps = 1, o.strain_max = 1e-3, o.progress = 0;
-        o.solver_opts.tol_kkt = 1e-12;
+        so.tol_kkt = 1e-12;
         /* 1e-13 sat on the round-off floor of the barb lengths at edge 0.005 (1.3e-13 reached,
          * depending on the path); 1e-12 relative is 1e-9 of the 1e-3 strain */
-        o.solver_opts.tol_violation = 1e-12;
+        so.tol_violation = 1e-12;
         plume_traction_result r;
         CHECK(plume_traction_run(m, p, barbs, nb, &o, &r, &err) == PLUME_OK);
         CHECK(r.converged);

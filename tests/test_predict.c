@@ -122,13 +122,13 @@ static int build(const plume_mesh *mesh, springs *s, level *c, plume_problem **o
     if (!p)
         return 0;
     memcpy(plume_problem_x(p), mesh->x, (size_t)(3 * mesh->nv) * sizeof(double));
-    plume_term t = {.name = "linear springs", .arity = 2, .nstencil = s->ne, .stencil = s->edge,
+    plume_term t = {.size = sizeof(plume_term), .name = "linear springs", .arity = 2, .nstencil = s->ne, .stencil = s->edge,
                     .eval = springs_eval_blocks, .ctx = s};
     CHECK(plume_problem_add_term(p, &t, &err) == PLUME_OK);
     c->stencil[0] = mesh->nv / 2;
     c->stencil[1] = mesh->nv - 2;
     c->scale[0] = 1.0;
-    plume_constraint g = {.name = "level", .arity = 2, .m = 1, .stencil = c->stencil, .scale = c->scale,
+    plume_constraint g = {.size = sizeof(plume_constraint), .name = "level", .arity = 2, .m = 1, .stencil = c->stencil, .scale = c->scale,
                           .eval = level_eval, .hess = level_hess, .ctx = c};
     CHECK(plume_problem_add_constraint(p, &g, &err) == PLUME_OK);
     for (int a = 0; fix0 && a < 3; a++)
@@ -317,7 +317,9 @@ void test_newton_forcing_feather(void)
     plume_scene *s = NULL;
     plume_problem *p = NULL;
     plume_dynamics *d = NULL;
-    const plume_scene_load_opts lo = {.edge = 0.0025};
+    plume_scene_load_opts lo;
+    plume_scene_load_opts_default(&lo);
+    lo.edge = 0.0025;
     int ok = plume_scene_load_with("../data/feather/scene_anisotropic_1.25mm.json", &lo, &s, &err) == PLUME_OK &&
              plume_scene_dynamics(s, &p, &d, &err) == PLUME_OK;
     CHECK(ok);

@@ -180,7 +180,7 @@ static int strip_build(strip *st, int dim, double stiff, uint64_t seed, int at_r
             q->a[3 * s + a] = at_rest ? xv : xv + urange(&r, -0.4, 0.4);
             q->f[3 * s + a] = at_rest ? 0.0 : stiff * urange(&r, -1.0, 1.0);
         }
-    plume_term qt = {.name = "quartic points", .arity = 1, .nstencil = q->n, .stencil = q->verts, .eval = quartic_eval,
+    plume_term qt = {.size = sizeof(plume_term), .name = "quartic points", .arity = 1, .nstencil = q->n, .stencil = q->verts, .eval = quartic_eval,
                      .destroy = quartic_destroy, .ctx = q};
     plume_term mt;
     plume_constraint ec;
@@ -562,7 +562,7 @@ void test_problem_kkt_residual(void)
         }
         q->n = 2, q->verts[0] = 0, q->verts[1] = 1, q->k = 1e6;
         q->a[0] = X[0], q->a[1] = X[1], q->a[3] = X[2], q->a[4] = X[3];
-        plume_term qt = {.name = "quartic points", .arity = 1, .nstencil = q->n, .stencil = q->verts, .eval = quartic_eval,
+        plume_term qt = {.size = sizeof(plume_term), .name = "quartic points", .arity = 1, .nstencil = q->n, .stencil = q->verts, .eval = quartic_eval,
                      .destroy = quartic_destroy, .ctx = q};
         CHECK(plume_problem_add_term(p, &qt, NULL) == PLUME_OK);
         CHECK(plume_edge_length_create(edge, 1, X, 2, &ec, NULL) == PLUME_OK);
@@ -643,7 +643,7 @@ static void dummy_destroy(void *ctx)
 
 static plume_term dummy_term(dummy_ctx *c, const char *name)
 {
-    plume_term t = {.name = name, .arity = 2, .nstencil = 1, .stencil = c->stencil, .eval = dummy_eval,
+    plume_term t = {.size = sizeof(plume_term), .name = name, .arity = 2, .nstencil = 1, .stencil = c->stencil, .eval = dummy_eval,
                     .destroy = dummy_destroy, .ctx = c};
     return t;
 }
@@ -651,7 +651,8 @@ static plume_term dummy_term(dummy_ctx *c, const char *name)
 static plume_constraint dummy_constraint(dummy_ctx *c, const char *name)
 {
     c->scale[0] = 1.0;
-    plume_constraint k = {name, 2, 1, c->stencil, c->scale, dummy_geval, dummy_hess, dummy_destroy, c, 0};
+    plume_constraint k = {sizeof(plume_constraint), name, 2, 1, c->stencil, c->scale, dummy_geval, dummy_hess,
+                          dummy_destroy, c, 0};
     return k;
 }
 

@@ -109,11 +109,11 @@ static plume_problem *build(springs *fixed, springs *changing, int with_update)
     CHECK(plume_problem_create(NV, 3, 1.0, &p, NULL) == PLUME_OK);
     if (!p)
         return NULL;
-    plume_term tf = {.name = "fixed", .arity = 2, .nstencil = fixed->n, .stencil = fixed->pairs, .eval = springs_eval,
+    plume_term tf = {.size = sizeof(plume_term), .name = "fixed", .arity = 2, .nstencil = fixed->n, .stencil = fixed->pairs, .eval = springs_eval,
                      .ctx = fixed};
-    plume_term tc = {.name = "changing", .arity = 2, .nstencil = NCHANGING, .stencil = changing->sets[changing->set],
+    plume_term tc = {.size = sizeof(plume_term), .name = "changing", .arity = 2, .nstencil = NCHANGING, .stencil = changing->sets[changing->set],
                      .eval = springs_eval, .ctx = changing, .update = with_update ? springs_update : NULL};
-    plume_constraint c = {.name = "lengths", .arity = 2, .m = 3, .stencil = CPAIRS, .scale = CSCALE,
+    plume_constraint c = {.size = sizeof(plume_constraint), .name = "lengths", .arity = 2, .m = 3, .stencil = CPAIRS, .scale = CSCALE,
                           .eval = cons_eval, .hess = cons_hess};
     CHECK(plume_problem_add_term(p, &tc, NULL) == PLUME_OK && plume_problem_add_term(p, &tf, NULL) == PLUME_OK &&
           plume_problem_add_constraint(p, &c, NULL) == PLUME_OK);

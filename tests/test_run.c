@@ -344,7 +344,9 @@ void test_run_static_matches_app(void)
     CHECK(app_run(dir, "shell", args, out, sizeof out, errs, sizeof errs) == 0);
     plume_err err = {{0}};
     plume_scene *scene = NULL;
-    plume_scene_load_opts lo = {0.5, NULL};
+    plume_scene_load_opts lo;
+    plume_scene_load_opts_default(&lo);
+    lo.edge = 0.5;
     CHECK(plume_scene_load_with(scene_path, &lo, &scene, &err) == PLUME_OK);
     if (!scene)
         return;

@@ -45,7 +45,7 @@ static plume_solve_report solve_rosenbrock(plume_globalization g, int partial, d
     CHECK(plume_problem_create(1, 2, 1.0, &p, NULL) == PLUME_OK);
     if (!p)
         return rep;
-    plume_term t = {.name = "rosenbrock", .arity = 1, .nstencil = 1, .stencil = ONE_VERTEX, .eval = rosenbrock_eval,
+    plume_term t = {.size = sizeof(plume_term), .name = "rosenbrock", .arity = 1, .nstencil = 1, .stencil = ONE_VERTEX, .eval = rosenbrock_eval,
                     .partial_projection = partial};
     plume_err err;
     CHECK(plume_problem_add_term(p, &t, &err) == PLUME_OK && plume_problem_finalize(p, &err) == PLUME_OK);
@@ -144,8 +144,8 @@ void test_solver_paths_constrained(void)
         if (!p)
             return;
         static const double one[1] = {1.0};
-        plume_term t = {.name = "well", .arity = 1, .nstencil = 1, .stencil = ONE_VERTEX, .eval = well_eval};
-        plume_constraint c = {.name = "circle", .arity = 1, .m = 1, .stencil = ONE_VERTEX, .scale = one,
+        plume_term t = {.size = sizeof(plume_term), .name = "well", .arity = 1, .nstencil = 1, .stencil = ONE_VERTEX, .eval = well_eval};
+        plume_constraint c = {.size = sizeof(plume_constraint), .name = "circle", .arity = 1, .m = 1, .stencil = ONE_VERTEX, .scale = one,
                               .eval = circle_eval, .hess = circle_hess};
         plume_err err;
         CHECK(plume_problem_add_term(p, &t, &err) == PLUME_OK && plume_problem_add_constraint(p, &c, &err) == PLUME_OK &&

@@ -92,6 +92,7 @@ static plume_status spring_term(const plume_index *edges, plume_index n, const d
     memcpy(c->k, k, (size_t)n * sizeof *k);
     memcpy(c->L, L, (size_t)n * sizeof *L);
     memset(t, 0, sizeof *t);
+    t->size = sizeof *t;
     t->name = "test springs";
     t->arity = 2;
     t->nstencil = n;
@@ -163,6 +164,7 @@ static plume_status anchor_term(const plume_index *verts, plume_index n, double 
     if (f)
         memcpy(c->f, f, (size_t)(3 * n) * sizeof *f);
     memset(t, 0, sizeof *t);
+    t->size = sizeof *t;
     t->name = "test anchors";
     t->arity = 1;
     t->nstencil = n;
@@ -861,7 +863,7 @@ void test_solvers_partial_projection(void)
         CHECK(anchor_term(&v0, 1, 1.0, a, NULL, &anchor) == PLUME_OK);
         CHECK(plume_problem_add_term(p, &anchor, NULL) == PLUME_OK);
         static wave_ctx w = {{0}, 3.0};
-        plume_term t = {.name = "wave", .arity = 1, .nstencil = 1, .stencil = w.v, .eval = wave_eval, .ctx = &w,
+        plume_term t = {.size = sizeof(plume_term), .name = "wave", .arity = 1, .nstencil = 1, .stencil = w.v, .eval = wave_eval, .ctx = &w,
                         .partial_projection = 1};
         CHECK(plume_problem_add_term(p, &t, NULL) == PLUME_OK);
         CHECK(finalize(p));

@@ -162,7 +162,10 @@ void test_statics_cuts_recover(void)
         plume_statics_opts o;
         plume_statics_opts_default(&o);
         o.steps = run == 0 ? 1 : 10;
-        o.solver_opts.max_iter = run == 0 ? 6 : 100;
+        plume_solver_opts so;
+        plume_solver_opts_default(&so);
+        so.max_iter = run == 0 ? 6 : 100;
+        o.solver_opts = &so;
         plume_statics *s = NULL;
         plume_err err = {{0}};
         CHECK(plume_statics_create(p, &o, scale_load, &load, NULL, &s, &err) == PLUME_OK);
@@ -308,7 +311,9 @@ void test_statics_scene_errors(void)
 static double benchmark_error_with(const char *file, double edge, const char *pattern, plume_solver_kind solver,
                                    double tip[3], long *elements)
 {
-    plume_scene_load_opts lo = {edge, pattern};
+    plume_scene_load_opts lo;
+    plume_scene_load_opts_default(&lo);
+    lo.edge = edge, lo.pattern = pattern;
     plume_scene *s = NULL;
     plume_problem *p = NULL;
     plume_statics *st = NULL;
@@ -471,7 +476,9 @@ void test_statics_shell_app(void)
  * displacement and the Newton iterations it took */
 static int predictor_run(const char *file, plume_predictor k, double tip[3])
 {
-    plume_scene_load_opts lo = {0.25, "grid"};
+    plume_scene_load_opts lo;
+    plume_scene_load_opts_default(&lo);
+    lo.edge = 0.25, lo.pattern = "grid";
     plume_scene *s = NULL;
     plume_problem *p = NULL;
     plume_statics *st = NULL;
@@ -569,7 +576,7 @@ void test_statics_predictor_retry(void)
     CHECK(plume_problem_create(1, 2, 1.0, &p, NULL) == PLUME_OK);
     if (!p)
         return;
-    plume_term t = {0};
+    plume_term t = {.size = sizeof(plume_term)};
     t.name = "barrier spring";
     t.arity = 1;
     t.nstencil = 1;

@@ -80,7 +80,7 @@ static plume_problem *wall_problem_kappa(int limit, double kappa)
         return NULL;
     wall_ctx *c = calloc(1, sizeof *c);
     c->kappa = kappa, c->dhat = 0.1, c->k = 10.0, c->limit = limit;
-    plume_term t = {.name = "wall", .arity = 1, .nstencil = 1, .stencil = c->v, .eval = wall_eval,
+    plume_term t = {.size = sizeof(plume_term), .name = "wall", .arity = 1, .nstencil = 1, .stencil = c->v, .eval = wall_eval,
                     .destroy = free, .ctx = c, .max_step = wall_max_step};
     CHECK(plume_problem_add_term(p, &t, NULL) == PLUME_OK);
     double *x = plume_problem_x(p);
@@ -221,7 +221,7 @@ static plume_problem *near_problem(int fix_01)
         return NULL;
     near_ctx *c = calloc(1, sizeof *c);
     c->pair[0] = 0, c->pair[1] = 2, c->r = 1.0;
-    plume_term t = {.name = "near", .arity = 2, .nstencil = 0, .stencil = c->pair, .eval = near_eval,
+    plume_term t = {.size = sizeof(plume_term), .name = "near", .arity = 2, .nstencil = 0, .stencil = c->pair, .eval = near_eval,
                     .destroy = free, .ctx = c, .update = near_update};
     CHECK(plume_problem_add_term(p, &t, NULL) == PLUME_OK);
     double *x = plume_problem_x(p);

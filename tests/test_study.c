@@ -34,8 +34,11 @@ void test_study_runner_matches_direct(void)
     CHECK(plume_vane_add(p, mesh, &vane, &barbs, &nb, &err) == PLUME_OK);
     plume_traction_opts o;
     plume_traction_opts_default(&o);
+    plume_solver_opts so;
+    plume_solver_opts_default(&so);
+    o.solver_opts = &so;
     o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.strain_max = 0.05, o.steps = 2, o.progress = 0;
-    o.probe_tol_kkt = o.solver_opts.tol_kkt; /* as the runner: the study reads no initial slope */
+    o.probe_tol_kkt = so.tol_kkt; /* as the runner: the study reads no initial slope */
     plume_traction_result d;
     CHECK(plume_traction_run(mesh, p, barbs, nb, &o, &d, &err) == PLUME_OK);
     CHECK(d.converged);
@@ -72,8 +75,11 @@ void test_study_micro_matches_direct(void)
         CHECK(plume_micro_specimen(&c.layout, c.lx, c.ly, c.angle, &mesh, &p, &err) == PLUME_OK);
         plume_traction_opts o;
         plume_traction_opts_default(&o);
+        plume_solver_opts so;
+        plume_solver_opts_default(&so);
+        o.solver_opts = &so;
         o.lx = c.lx, o.ly = c.ly, o.h = c.h, o.strain_max = 0.05, o.steps = 2, o.progress = 0;
-        o.probe_tol_kkt = o.solver_opts.tol_kkt;
+        o.probe_tol_kkt = so.tol_kkt;
         plume_traction_result d;
         CHECK(plume_traction_run(mesh, p, NULL, 0, &o, &d, &err) == PLUME_OK);
         CHECK(d.converged && d.curve.n == r.curve.n);

@@ -26,12 +26,15 @@ static plume_status run_traction(double angle, double edge, plume_patch_kind kin
     if (st == PLUME_OK) {
         plume_traction_opts o;
         plume_traction_opts_default(&o);
+        plume_solver_opts so;
+        plume_solver_opts_default(&so);
+        o.solver_opts = &so;
         o.lx = 1.0, o.ly = 1.3, o.h = vane->h;
         o.strain_max = strain_max;
         o.steps = steps;
         o.solver = solver;
         o.progress = 0;
-        o.solver_opts.max_iter = 400;
+        so.max_iter = 400;
         st = plume_traction_run(mesh, p, barbs, nb, &o, res, err);
     }
     free(barbs);
@@ -121,10 +124,13 @@ static plume_status probe_run(double edge, plume_solver_kind solver, double prob
     if (st == PLUME_OK) {
         plume_traction_opts o;
         plume_traction_opts_default(&o);
+        plume_solver_opts so;
+        plume_solver_opts_default(&so);
+        o.solver_opts = &so;
         o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.steps = 1, o.strain_max = 1e-3, o.progress = 0;
         o.solver = solver;
         o.probe_tol_kkt = probe_tol;
-        o.solver_opts.tol_step = tol_step;
+        so.tol_step = tol_step;
         st = plume_traction_run(m, p, barbs, nb, &o, r, err);
     }
     free(barbs);
@@ -340,8 +346,11 @@ void test_traction_kkt_modes_agree(void)
         CHECK(plume_vane_add(p, mesh, &vane, &barbs, &nb, &err) == PLUME_OK);
         plume_traction_opts o;
         plume_traction_opts_default(&o);
+        plume_solver_opts so;
+        plume_solver_opts_default(&so);
+        o.solver_opts = &so;
         o.lx = 1.0, o.ly = 1.3, o.h = 1.0, o.steps = 4, o.progress = 0;
-        o.solver_opts.kkt = mode ? PLUME_KKT_LDL : PLUME_KKT_ELIMINATE;
+        so.kkt = mode ? PLUME_KKT_LDL : PLUME_KKT_ELIMINATE;
         CHECK(plume_traction_run(mesh, p, barbs, nb, &o, &r[mode], &err) == PLUME_OK);
         CHECK(r[mode].converged && r[mode].max_violation <= 1e-10);
         free(barbs);

@@ -106,9 +106,9 @@ int main(void)
     for (plume_index v = 0; v < nv; v++) /* at rest, along x, slightly off the line */
         x[3 * v] = L * (double)v, x[3 * v + 1] = 1e-3 * (double)(v % 2), x[3 * v + 2] = 0;
     /* the problem owns each ctx from here on, whether adding succeeds or not */
-    plume_term t_springs = {.name = "springs", .arity = 2, .nstencil = N_SPRINGS, .stencil = s->stencil,
+    plume_term t_springs = {.size = sizeof(plume_term), .name = "springs", .arity = 2, .nstencil = N_SPRINGS, .stencil = s->stencil,
                             .eval = springs_eval, .destroy = free, .ctx = s};
-    plume_term t_pull = {.name = "pull", .arity = 1, .nstencil = 1, .stencil = f->stencil, .eval = pull_eval,
+    plume_term t_pull = {.size = sizeof(plume_term), .name = "pull", .arity = 1, .nstencil = 1, .stencil = f->stencil, .eval = pull_eval,
                          .destroy = free, .ctx = f};
     plume_status st = plume_problem_add_term(p, &t_springs, &err);
     s = NULL;

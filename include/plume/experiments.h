@@ -72,6 +72,7 @@ PLUME_API plume_status plume_sweep_summary(const char *h5path, const plume_sweep
 /* ---- the multiscale study ---- */
 /** Input of one run. */
 typedef struct {
+    size_t size;               /**< sizeof the caller's struct, set by plume_study_config_default */
     double lx;                 /**< sample width (m); default 1 (supplementary Table 4) */
     double ly;                 /**< sample length between the grips (m); default 1.3 */
     double h;                  /**< thickness (m); default 1 (a micro run's layout.h follows it) */
@@ -92,8 +93,11 @@ typedef struct {
     plume_layout layout;       /**< micro only; default plume_layout_default */
 } plume_study_config;
 
-/** Fills c with the defaults each field names (layout.h set to h). */
-PLUME_API void plume_study_config_default(plume_study_config *c);
+/** Fills c (size bytes) with the defaults each field names (layout.h set to h) and sets c->size;
+ * call it through the macro plume_study_config_default(c). */
+PLUME_API void plume_study_config_default_sized(plume_study_config *c, size_t size);
+/** Fills *c with the defaults (plume_study_config_default_sized with sizeof the struct the caller compiled against). */
+#define plume_study_config_default(c) plume_study_config_default_sized((c), sizeof(plume_study_config))
 
 /** Output of one run. `curve` is owned by the result (plume_study_result_free). */
 typedef struct {

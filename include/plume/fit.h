@@ -28,14 +28,18 @@ typedef plume_status (*plume_fit_model)(void *ctx, const plume_ortho *m, int icu
 
 /** Options of the fit (plume_fit_opts_default). */
 typedef struct {
+    size_t size;         /**< sizeof the caller's struct, set by plume_fit_opts_default */
     unsigned free_mask;  /**< default PLUME_FIT_EYY | PLUME_FIT_GXY (the barbs are inextensible) */
     int max_eval;        /**< default 300 */
     double xtol_rel;     /**< relative tolerance on the moduli; default 1e-6 */
     double min_strain;   /**< target points with |strain| below this are skipped; default 1e-12 */
 } plume_fit_opts;
 
-/** Fills o with the defaults each field names; NULL-safe. */
-PLUME_API void plume_fit_opts_default(plume_fit_opts *o);
+/** Fills o (size bytes) with the defaults each field names and sets o->size; NULL-safe; call it
+ * through the macro plume_fit_opts_default(o). */
+PLUME_API void plume_fit_opts_default_sized(plume_fit_opts *o, size_t size);
+/** Fills *o with the defaults (plume_fit_opts_default_sized with sizeof the struct the caller compiled against). */
+#define plume_fit_opts_default(o) plume_fit_opts_default_sized((o), sizeof(plume_fit_opts))
 
 /** How a fit went (optional output of plume_fit_moduli). */
 typedef struct {

@@ -140,10 +140,11 @@ PLUME_API const plume_mesh *plume_cell_mesh_of(const plume_cell *cell);
 /* ---- homogenisation ---- */
 /** Options of plume_homogenize (plume_homog_opts_default). */
 typedef struct {
+    size_t size;           /**< sizeof the caller's struct, set by plume_homog_opts_default */
     double strain_max;     /**< final strain of the cell curves; default 0.05 (0: no curves) */
     int steps;             /**< points of each cell curve; default 10 */
-    plume_solver_opts solver_opts; /**< options of the native solver of the cell problems; default
-                                        plume_solver_opts_default */
+    /** options of the native solver of the cell problems; NULL (default): plume_solver_opts_default's */
+    const plume_solver_opts *solver_opts;
     int convergence;       /**< 1 (default): estimate how converged the tensor is (refinement_change); 0: skip */
     /** Optional (NULL: none): called with each state of the cell curves, the rest state as step 0
      * and then every accepted step: load case (0 uniaxial x, 1 uniaxial y, 2 shear), its
@@ -155,8 +156,11 @@ typedef struct {
     void *on_state_user;   /**< passed to on_state as `user` */
 } plume_homog_opts;
 
-/** Fills o with the defaults each field names (on_state NULL). */
-PLUME_API void plume_homog_opts_default(plume_homog_opts *o);
+/** Fills o (size bytes) with the defaults each field names (on_state NULL) and sets o->size; call it
+ * through the macro plume_homog_opts_default(o). */
+PLUME_API void plume_homog_opts_default_sized(plume_homog_opts *o, size_t size);
+/** Fills *o with the defaults (plume_homog_opts_default_sized with sizeof the struct the caller compiled against). */
+#define plume_homog_opts_default(o) plume_homog_opts_default_sized((o), sizeof(plume_homog_opts))
 
 /** What plume_homogenize gives: the moduli, the bending tensor, the cell curves and how converged
  * they are (free the curves with plume_homog_result_free). */

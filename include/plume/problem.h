@@ -60,8 +60,12 @@ PLUME_API double plume_mesh_total_area(const plume_mesh *m);
  * dim*nv entries, vertex-major) and, when hblocks is non-NULL, writes one dense k x k row-major
  * Hessian block per stencil at hblocks + s*k*k (overwritten, not added). When `project` is
  * non-zero each block is projected to the nearest positive semidefinite matrix.
- * Any of energy/grad/hblocks may be NULL. `ctx` belongs to the term; `destroy` frees it. */
+ * Any of energy/grad/hblocks may be NULL. `ctx` belongs to the term; `destroy` frees it.
+ * Fill it with designated initialisers, size first: `plume_term t = {.size = sizeof(plume_term),
+ * .name = "springs", ...}`; members left out are 0, the defaults. */
 typedef struct {
+    size_t size;                /**< sizeof(plume_term) as the caller compiled it (a struct that grows:
+                                   the library reads only that much, docs/library.md); 0 is refused */
     const char *name;           /**< name in error messages ("membrane", ...); a string that outlives the term */
     int arity;                  /**< vertices per stencil */
     plume_index nstencil;       /**< number of stencils */
@@ -116,8 +120,10 @@ typedef struct {
  * constraint with respect to its stencil's k = arity*dim coordinates at jac + c*k.
  * hess writes, per constraint, the k x k block of lambda_c * Hessian(g_c) at hblocks + c*k*k;
  * with project != 0 a block is projected to PSD. `scale` (m values, owned by ctx) gives the
- * natural size of each g_c, so |g_c| / scale_c is the relative violation reported by solvers. */
+ * natural size of each g_c, so |g_c| / scale_c is the relative violation reported by solvers.
+ * Filled as plume_term is, size first: `{.size = sizeof(plume_constraint), ...}`. */
 typedef struct {
+    size_t size;                /**< sizeof(plume_constraint) as the caller compiled it; 0 is refused */
     const char *name;           /**< name in error messages ("edge length", ...); a string that outlives the set */
     int arity;                  /**< vertices per constraint */
     plume_index m;              /**< number of constraints */
@@ -280,6 +286,8 @@ typedef enum {
 /** Options of every solver backend (the native ones read all of them, Ipopt the tolerances and the
  * cap); fill with plume_solver_opts_default, then change fields. */
 typedef struct {
+    size_t size;           /**< sizeof the caller's struct, set by plume_solver_opts_default: the
+                              library reads only that much (a struct that grows, docs/library.md) */
     int max_iter;          /**< iteration cap; default 100 */
     double tol_kkt;        /**< relative KKT residual (see plume_problem_kkt_residual); default 1e-9 */
     double tol_violation;  /**< max relative constraint violation; default 1e-10 */
@@ -331,8 +339,11 @@ typedef struct {
                               half of its best in this solve; 0 (default): only max_iter stops */
 } plume_solver_opts;
 
-/** Fills o with the defaults each field names. */
-PLUME_API void plume_solver_opts_default(plume_solver_opts *o);
+/** Fills o (size bytes) with the defaults each field names and sets o->size; call it through the
+ * macro plume_solver_opts_default(o), which passes sizeof *o. */
+PLUME_API void plume_solver_opts_default_sized(plume_solver_opts *o, size_t size);
+/** Fills *o with the defaults (plume_solver_opts_default_sized with sizeof the struct the caller compiled against). */
+#define plume_solver_opts_default(o) plume_solver_opts_default_sized((o), sizeof(plume_solver_opts))
 
 
 /* ---- the solvers ---- */
@@ -353,9 +364,10 @@ PLUME_API const char *plume_solver_kind_name(plume_solver_kind k);
  * plume_solver_destroy). */
 typedef struct plume_solver plume_solver;
 
-/** Creates a solver for a finalised problem (kept by reference, not owned). Symbolic analysis
- * of the sparse systems happens here, once. PLUME_EINVAL for a problem not finalised or options
- * out of range, with a message naming them in err (NULL allowed). */
+/** Creates a solver for a finalised problem (kept by reference, not owned) with the options o
+ * (copied; NULL: the defaults). Symbolic analysis of the sparse systems happens here, once.
+ * PLUME_EINVAL for a problem not finalised or options out of range (or not filled by
+ * plume_solver_opts_default), with a message naming them in err (NULL allowed). */
 PLUME_API plume_status plume_solver_create(plume_solver_kind kind, plume_problem *p,
                                            const plume_solver_opts *o, plume_solver **out, plume_err *err);
 
@@ -389,16 +401,21 @@ typedef enum {
 
 /** Options of the load-stepping driver (plume_statics_opts_default). */
 typedef struct {
+    size_t size;          /**< sizeof the caller's struct, set by plume_statics_opts_default */
     int steps;            /**< nominal load steps; default 10 */
     int max_cuts;         /**< an increment is halved at most this often below the nominal one; default 10 */
     plume_predictor predictor; /**< default PLUME_PREDICT_TANGENT (docs/solver-nonconvexity.md); with
                                   Ipopt, which has no tangent solve, the tangent ones act as the secant */
     plume_solver_kind solver;      /**< the backend of every solve; default newton */
-    plume_solver_opts solver_opts; /**< its options; default plume_solver_opts_default */
+    const plume_solver_opts *solver_opts; /**< its options (read at plume_statics_create); NULL
+                                             (default): plume_solver_opts_default's */
 } plume_statics_opts;
 
-/** Fills o with the defaults each field names. */
-PLUME_API void plume_statics_opts_default(plume_statics_opts *o);
+/** Fills o (size bytes) with the defaults each field names and sets o->size; call it through the
+ * macro plume_statics_opts_default(o). */
+PLUME_API void plume_statics_opts_default_sized(plume_statics_opts *o, size_t size);
+/** Fills *o with the defaults (plume_statics_opts_default_sized with sizeof the struct the caller compiled against). */
+#define plume_statics_opts_default(o) plume_statics_opts_default_sized((o), sizeof(plume_statics_opts))
 
 /** Sets the loads (and any load-dependent prescribed positions in plume_problem_x) for a load
  * factor in [0, 1]. */

@@ -21,9 +21,16 @@ PLUME_API plume_status plume_scene_load(const char *path, plume_scene **out, plu
 
 /** What a caller may change in a scene before it is meshed (convergence studies). */
 typedef struct {
-    double edge;          /**< > 0: replaces mesh.edge (feather and rectangle meshes) */
-    const char *pattern;  /**< non-NULL: replaces a rectangle's "pattern" */
+    size_t size;          /**< sizeof the caller's struct, set by plume_scene_load_opts_default */
+    double edge;          /**< > 0: replaces mesh.edge (feather and rectangle meshes); default 0 */
+    const char *pattern;  /**< non-NULL: replaces a rectangle's "pattern"; default NULL */
 } plume_scene_load_opts;
+
+/** Fills o (size bytes) with the defaults (no override) and sets o->size; call it through the macro
+ * plume_scene_load_opts_default(o). */
+PLUME_API void plume_scene_load_opts_default_sized(plume_scene_load_opts *o, size_t size);
+/** Fills *o with the defaults (plume_scene_load_opts_default_sized with sizeof the struct the caller compiled against). */
+#define plume_scene_load_opts_default(o) plume_scene_load_opts_default_sized((o), sizeof(plume_scene_load_opts))
 
 /** plume_scene_load with overrides (o may be NULL); an override that does not apply to the
  * scene's mesh (an edge for an OBJ) is an error naming the key. */
@@ -133,6 +140,7 @@ typedef struct plume_run plume_run;
 /** Options of a run (plume_run_opts_default). The plan is the first of: frames > 0, end_time > 0,
  * open; else the scene's duration. Strings are borrowed for plume_run_create's call and copied. */
 typedef struct {
+    size_t size;      /**< sizeof the caller's struct, set by plume_run_opts_default */
     /** Directory of the frames (NULL, the default: no frames are written). Created with its parents.
      * A new run removes the frame files an earlier run left there (frame_NNNNN.{vtu,vtk,png},
      * frame_barbs_NNNNN.vtu), then writes frames.pvd with frame_NNNNN.vtu (and frame_barbs_NNNNN.vtu
@@ -160,8 +168,11 @@ typedef struct {
     int solver;
 } plume_run_opts;
 
-/** Fills o with the defaults each field names. */
-PLUME_API void plume_run_opts_default(plume_run_opts *o);
+/** Fills o (size bytes) with the defaults each field names and sets o->size; call it through the
+ * macro plume_run_opts_default(o). */
+PLUME_API void plume_run_opts_default_sized(plume_run_opts *o, size_t size);
+/** Fills *o with the defaults (plume_run_opts_default_sized with sizeof the struct the caller compiled against). */
+#define plume_run_opts_default(o) plume_run_opts_default_sized((o), sizeof(plume_run_opts))
 
 /** Creates a run of the scene `scene` (borrowed; it must outlive the run; opts NULL: the
  * defaults): checks the options (errors name the option: "plume_run_opts.frames must be >= 0"),
@@ -205,6 +216,7 @@ typedef struct {
 
 /** What one call of plume_run_step did. */
 typedef struct {
+    size_t size;             /**< sizeof the struct the caller compiled against (plume_run_step sets it) */
     plume_step_report step;  /**< the stepper's report of the call (dynamic scenes) */
     plume_load_step_report load; /**< the load step's report (static scenes) */
     double t0;               /**< the time before the step (s; static scenes: the load factor) */
@@ -224,7 +236,10 @@ typedef struct {
  * still be stepped: the call tries again). Errors (a solver or contact failure, a frame that
  * cannot be written) name the step: "step 12: ..."; PLUME_EINVAL when a planned run has no step
  * left. */
-PLUME_API plume_status plume_run_step(plume_run *r, plume_run_step_info *info, plume_err *err);
+PLUME_API plume_status plume_run_step_sized(plume_run *r, plume_run_step_info *info, size_t size, plume_err *err);
+/** plume_run_step_sized with sizeof the plume_run_step_info the caller compiled against: the library
+ * writes no more of *info than that (a struct that grows, docs/library.md). */
+#define plume_run_step(r, info, err) plume_run_step_sized((r), (info), sizeof(plume_run_step_info), (err))
 
 /** Steps until the next frame is written, the plan ends or a step is refused (planned runs). */
 PLUME_API plume_status plume_run_frame(plume_run *r, plume_err *err);
@@ -238,6 +253,7 @@ PLUME_API int plume_run_done(const plume_run *r);
 /** What a run did, for its caller to print (plume_run_get_report). Counts are over this run's
  * calls (a restarted run counts from the restart). */
 typedef struct {
+    size_t size;             /**< sizeof the struct the caller compiled against (plume_run_get_report sets it) */
     double time;             /**< the current time (s); a static scene's load factor */
     long step;               /**< the scene's steps since t = 0 (a restart goes on from the file's) */
     long next_frame;         /**< the index of the next frame (frames 0 .. next_frame - 1 exist) */
@@ -274,8 +290,11 @@ typedef struct {
     double restart_dt;       /**< the dt the restart file was written with (s); 0 without restart */
 } plume_run_report;
 
-/** Fills *out with what the run did so far. */
-PLUME_API void plume_run_get_report(const plume_run *r, plume_run_report *out);
+/** Fills *out (size bytes) with what the run did so far; call it through the macro
+ * plume_run_get_report(r, out). */
+PLUME_API void plume_run_get_report_sized(const plume_run *r, plume_run_report *out, size_t size);
+/** plume_run_get_report_sized with sizeof the plume_run_report the caller compiled against. */
+#define plume_run_get_report(r, out) plume_run_get_report_sized((r), (out), sizeof(plume_run_report))
 
 /** The time of the current state (s). */
 PLUME_API double plume_run_time(const plume_run *r);

@@ -15,6 +15,7 @@ extern "C" {
 /* ---- the traction test ---- */
 /** Options of the traction test (plume_traction_opts_default; lx, ly and h have no default). */
 typedef struct {
+    size_t size;         /**< sizeof the caller's struct, set by plume_traction_opts_default */
     double lx;           /**< sample width along x (m), must match the mesh's reference bounding box */
     double ly;           /**< sample length along y, between the grips (m), likewise */
     double h;            /**< thickness (m), for the nominal stress F / (lx h) */
@@ -35,7 +36,7 @@ typedef struct {
                              iterations instead of 2, and 5 ipopt ones instead of 2 (ipopt's 2 were
                              already as exact). Set tol_kkt here when the slope is not read. */
     plume_solver_kind solver;      /**< the backend of every solve; default newton */
-    plume_solver_opts solver_opts; /**< its options; default plume_solver_opts_default */
+    const plume_solver_opts *solver_opts; /**< its options; NULL (default): plume_solver_opts_default's */
     int progress;        /**< progress line on stderr: 0 off, 1 when stderr is a terminal, 2 always */
     /** Optional (NULL: none): called with each state of the curve, the rest state as step 0 and
      * then every nominal step that converged (strain, positions x: dim * nv); a status other than
@@ -44,8 +45,11 @@ typedef struct {
     void *on_step_user;  /**< passed to on_step as `user` */
 } plume_traction_opts;
 
-/** Fills o with the defaults each field names (progress 1, on_step NULL); lx, ly, h are left 0. */
-PLUME_API void plume_traction_opts_default(plume_traction_opts *o);
+/** Fills o (size bytes) with the defaults each field names (progress 1, on_step NULL; lx, ly, h
+ * left 0) and sets o->size; call it through the macro plume_traction_opts_default(o). */
+PLUME_API void plume_traction_opts_default_sized(plume_traction_opts *o, size_t size);
+/** Fills *o with the defaults (plume_traction_opts_default_sized with sizeof the struct the caller compiled against). */
+#define plume_traction_opts_default(o) plume_traction_opts_default_sized((o), sizeof(plume_traction_opts))
 
 /** The default element edge (m) of a macro traction sample lx x ly: min(lx, ly) / 20, the one default
  * apps/traction, apps/fit, the flat interface and Python share. */
@@ -209,6 +213,7 @@ typedef enum {
 
 /** Options of the plate test (plume_bend_opts_default). */
 typedef struct {
+    size_t size;          /**< sizeof the caller's struct, set by plume_bend_opts_default */
     plume_bend_load load; /**< bending or twist; default cylinder */
     plume_bend_loading loading; /**< default PLUME_BEND_EDGE_MOMENTS */
     double lx;            /**< specimen width along x (m); default 1 */
@@ -224,11 +229,14 @@ typedef struct {
                                              (caller's array, nphases entries); default NULL */
     int nphases;          /**< entries of phases; more than the mesh's largest material id */
     plume_solver_kind solver;      /**< default newton */
-    plume_solver_opts solver_opts; /**< defaults of lib/solve/solver.h */
+    const plume_solver_opts *solver_opts; /**< its options; NULL (default): plume_solver_opts_default's */
 } plume_bend_opts;
 
-/** Fills o with the defaults each field names (moment 1). */
-PLUME_API void plume_bend_opts_default(plume_bend_opts *o);
+/** Fills o (size bytes) with the defaults each field names (moment 1) and sets o->size; call it
+ * through the macro plume_bend_opts_default(o). */
+PLUME_API void plume_bend_opts_default_sized(plume_bend_opts *o, size_t size);
+/** Fills *o with the defaults (plume_bend_opts_default_sized with sizeof the struct the caller compiled against). */
+#define plume_bend_opts_default(o) plume_bend_opts_default_sized((o), sizeof(plume_bend_opts))
 
 /** The name of a load: "twist" for PLUME_BEND_TWIST, else "cylinder" (static string). */
 PLUME_API const char *plume_bend_load_name(plume_bend_load k);

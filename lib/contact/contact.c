@@ -464,6 +464,7 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
     out->arity = 4;
     out->nstencil = 0;
     out->stencil = c->stencil;
+    out->size = sizeof *out;
     out->eval = contact_eval;
     out->destroy = contact_destroy;
     out->ctx = c;

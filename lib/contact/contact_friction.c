@@ -593,6 +593,7 @@ plume_status plume_friction_term_create(plume_index nv, const plume_friction_opt
     out->arity = 4;
     out->nstencil = 0;
     out->stencil = f->cur.v;
+    out->size = sizeof *out;
     out->eval = friction_eval;
     out->destroy = friction_destroy;
     out->ctx = f;

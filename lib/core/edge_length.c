@@ -99,6 +99,7 @@ plume_status plume_edge_length_create(const plume_index *edges, plume_index n, c
     out->m = n;
     out->stencil = c->edges;
     out->scale = c->rest2;
+    out->size = sizeof *out;
     out->eval = edge_eval;
     out->hess = edge_hess;
     out->partial_projection = 1; /* lambda clamped at 0: a compressed edge's sideways curvature dropped */

@@ -69,6 +69,7 @@ plume_status plume_load_term_create(const plume_index *vertices, plume_index n, 
     out->arity = 1;
     out->nstencil = n;
     out->stencil = c->v;
+    out->size = sizeof *out;
     out->eval = load_eval;
     out->destroy = load_destroy;
     out->ctx = c;

@@ -408,6 +408,7 @@ plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
     out->arity = 3;
     out->nstencil = nt;
     out->stencil = ctx->stencil;
+    out->size = sizeof *out;
     out->eval = membrane_eval;
     out->energies = membrane_energies;
     out->destroy = membrane_destroy;

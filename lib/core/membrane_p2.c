@@ -287,6 +287,7 @@ plume_status plume_membrane_p2_term_create(const double *X, plume_index nnodes, 
     out->arity = P2_NODES;
     out->nstencil = nt;
     out->stencil = ctx->stencil;
+    out->size = sizeof *out;
     out->eval = p2_eval;
     out->energies = p2_energies;
     out->destroy = p2_destroy;

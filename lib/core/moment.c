@@ -156,6 +156,7 @@ plume_status plume_moment_term_create(const plume_index *end, plume_index nend, 
     out->arity = (int)c->n;
     out->nstencil = 1;
     out->stencil = c->v;
+    out->size = sizeof *out;
     out->eval = moment_eval;
     out->destroy = moment_destroy;
     out->ctx = c;

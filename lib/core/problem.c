@@ -5,6 +5,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "opts.h"
+
 /* Where the element blocks of a term go in the Hessian values. Only the entries that land in the
  * upper triangle on free dofs are added (about half of each block), each value of the pattern at
  * most once per stencil, so the sums are those of a scan of the whole block, stencil after
@@ -211,10 +213,15 @@ static void *grow_slots(void *slots, int count, size_t size)
     return g;
 }
 
-plume_status plume_problem_add_term(plume_problem *p, const plume_term *t, plume_err *err)
+plume_status plume_problem_add_term(plume_problem *p, const plume_term *given, plume_err *err)
 {
-    if (!p || !t)
+    if (!p || !given)
         return plume_err_set(err, PLUME_EINVAL, "problem: add_term needs a problem and a term");
+    plume_term full = {.size = sizeof full}; /* the caller's term (as many bytes as it has), the rest 0 */
+    const plume_term *t = &full;
+    if (plume_opts_take(&full, sizeof full, given, "plume_term", err) != PLUME_OK)
+        return refuse(given->destroy, given->ctx, PLUME_EINVAL, err,
+                      "problem: plume_term.size is 0: give it sizeof(plume_term) (the term is freed)");
     if (p->finalized)
         return refuse(t->destroy, t->ctx, PLUME_EINVAL, err,
                       "problem: terms are added before plume_problem_finalize (the term is freed)");
@@ -230,10 +237,15 @@ plume_status plume_problem_add_term(plume_problem *p, const plume_term *t, plume
     return PLUME_OK;
 }
 
-plume_status plume_problem_add_constraint(plume_problem *p, const plume_constraint *c, plume_err *err)
+plume_status plume_problem_add_constraint(plume_problem *p, const plume_constraint *given, plume_err *err)
 {
-    if (!p || !c)
+    if (!p || !given)
         return plume_err_set(err, PLUME_EINVAL, "problem: add_constraint needs a problem and a constraint set");
+    plume_constraint full = {.size = sizeof full}; /* the caller's set (as many bytes as it has), the rest 0 */
+    const plume_constraint *c = &full;
+    if (plume_opts_take(&full, sizeof full, given, "plume_constraint", err) != PLUME_OK)
+        return refuse(given->destroy, given->ctx, PLUME_EINVAL, err,
+                      "problem: plume_constraint.size is 0: give it sizeof(plume_constraint) (the set is freed)");
     if (p->finalized)
         return refuse(c->destroy, c->ctx, PLUME_EINVAL, err,
                       "problem: constraints are added before plume_problem_finalize (the set is freed)");

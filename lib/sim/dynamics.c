@@ -290,7 +290,7 @@ plume_status plume_dynamics_create(const plume_mesh *mesh, plume_problem *p, con
         free(d);
         return st;
     }
-    plume_term term = {.name = "inertia", .arity = 1, .nstencil = mesh->nv, .stencil = in->stencil,
+    plume_term term = {.size = sizeof(plume_term), .name = "inertia", .arity = 1, .nstencil = mesh->nv, .stencil = in->stencil,
                        .eval = inertia_eval, .destroy = inertia_destroy, .ctx = in};
     d->inertia = in;
     if ((st = plume_problem_add_term(p, &term, err)) != PLUME_OK) {

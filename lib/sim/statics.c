@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../core/opts.h"
+
 struct plume_statics {
     plume_problem *p;
     plume_solver *solver;
@@ -24,14 +26,16 @@ struct plume_statics {
     int done;        /* nominal steps completed */
 };
 
-void plume_statics_opts_default(plume_statics_opts *o)
+void plume_statics_opts_default_sized(plume_statics_opts *o, size_t size)
 {
-    memset(o, 0, sizeof *o);
-    o->steps = 10;
-    o->max_cuts = 10;
-    o->solver = PLUME_SOLVER_NEWTON;
-    o->predictor = PLUME_PREDICT_TANGENT;
-    plume_solver_opts_default(&o->solver_opts);
+    plume_statics_opts full;
+    memset(&full, 0, sizeof full);
+    full.size = sizeof full;
+    full.steps = 10;
+    full.max_cuts = 10;
+    full.solver = PLUME_SOLVER_NEWTON;
+    full.predictor = PLUME_PREDICT_TANGENT;
+    plume_opts_give(o, size, &full, sizeof full);
 }
 
 static const char *const predictor_names[] = {"none", "secant", "tangent", "secant_tangent"};
@@ -70,12 +74,17 @@ void plume_statics_destroy(plume_statics **ps)
     *ps = NULL;
 }
 
-plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o, plume_load_scaler scale,
+plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *given, plume_load_scaler scale,
                                   void *user, void (*free_user)(void *), plume_statics **out, plume_err *err)
 {
     plume_status st = PLUME_EINVAL;
-    if (!p || !o || !scale || !out) {
+    plume_statics_opts full; /* the caller's options over this library's defaults */
+    const plume_statics_opts *o = &full;
+    plume_statics_opts_default(&full);
+    if (!p || !given || !scale || !out) {
         st = plume_err_set(err, PLUME_EINVAL, "statics: invalid arguments");
+    } else if (plume_opts_take(&full, sizeof full, given, "plume_statics_opts", err) != PLUME_OK) {
+        st = PLUME_EINVAL;
     } else if (o->steps < 1 || o->max_cuts < 0 || o->max_cuts > 50) {
         st = plume_err_set(err, PLUME_EINVAL, "statics: steps must be >= 1 and max_cuts in [0, 50] (got %d, %d)",
                            o->steps, o->max_cuts);
@@ -94,6 +103,7 @@ plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o,
     }
     s->p = p;
     s->o = *o;
+    s->o.solver_opts = NULL; /* read once, below: the caller's struct need not outlive the call */
     if (s->o.predictor >= PLUME_PREDICT_TANGENT && s->o.solver == PLUME_SOLVER_IPOPT)
         s->o.predictor = PLUME_PREDICT_SECANT; /* Ipopt has no tangent solve to lend */
     s->scale = scale;
@@ -115,7 +125,7 @@ plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *o,
         return plume_err_set(err, PLUME_ENOMEM, "statics: out of memory");
     }
     plume_err why;
-    st = plume_solver_create(o->solver, p, &o->solver_opts, &s->solver, &why);
+    st = plume_solver_create(o->solver, p, o->solver_opts, &s->solver, &why);
     if (st != PLUME_OK) {
         plume_statics_destroy(&s);
         return plume_err_set(err, st, "statics: the %s solver could not be created: %s",

@@ -5,7 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../core/opts.h"
 #include "../io/progress.h"
+#include "../solve/options.h"
 
 double plume_traction_default_edge(double lx, double ly)
 {
@@ -17,16 +19,18 @@ double plume_traction_default_barb_spacing(double ly)
     return 0.086 * ly;
 }
 
-void plume_traction_opts_default(plume_traction_opts *o)
+void plume_traction_opts_default_sized(plume_traction_opts *o, size_t size)
 {
-    memset(o, 0, sizeof *o);
-    o->strain_max = 0.05;
-    o->steps = 10;
-    o->max_cuts = 8;
-    o->probe_strain = 1e-6;
-    o->solver = PLUME_SOLVER_NEWTON;
-    plume_solver_opts_default(&o->solver_opts);
-    o->progress = 1;
+    plume_traction_opts full;
+    memset(&full, 0, sizeof full);
+    full.size = sizeof full;
+    full.strain_max = 0.05;
+    full.steps = 10;
+    full.max_cuts = 8;
+    full.probe_strain = 1e-6;
+    full.solver = PLUME_SOLVER_NEWTON;
+    full.progress = 1;
+    plume_opts_give(o, size, &full, sizeof full);
 }
 
 void plume_traction_result_free(plume_traction_result *r)
@@ -194,7 +198,7 @@ static double probe_tolerance(const plume_traction_opts *o)
 {
     if (o->probe_tol_kkt > 0.0)
         return o->probe_tol_kkt;
-    return o->solver_opts.tol_kkt * fmin(1.0, o->probe_strain * o->steps / o->strain_max);
+    return o->solver_opts->tol_kkt * fmin(1.0, o->probe_strain * o->steps / o->strain_max);
 }
 
 /* The probe solved with the relative KKT tolerance tol, tighter than the steps' (the solver's
@@ -213,7 +217,7 @@ static plume_status solve_probe_tight(const plume_mesh *mesh, plume_problem *p, 
     plume_status st = plume_solver_set_tol_kkt(s, tol, err);
     if (st == PLUME_OK)
         st = plume_solver_solve(s, u, lambda, rep);
-    plume_solver_set_tol_kkt(s, o->solver_opts.tol_kkt, err);
+    plume_solver_set_tol_kkt(s, o->solver_opts->tol_kkt, err);
     if (st != PLUME_OK)
         return plume_err_set(err, st, "traction: step 0 (probe): solver error (%s)", plume_strerror(st));
     return PLUME_OK;
@@ -445,10 +449,10 @@ static plume_status solve_step(traction_run *r, int k, double delta, double prob
     plume_status st;
     memset(tight, 0, sizeof *tight);
     plume_err why;
-    if (!r->solver && (st = plume_solver_create(o->solver, r->p, &o->solver_opts, &r->solver, &why)) != PLUME_OK)
+    if (!r->solver && (st = plume_solver_create(o->solver, r->p, o->solver_opts, &r->solver, &why)) != PLUME_OK)
         return plume_err_set(err, st, "traction: could not create the %s solver: %s", plume_solver_kind_name(o->solver),
                              why.msg);
-    if (probe && probe_tol < o->solver_opts.tol_kkt && o->solver != PLUME_SOLVER_LINEARIZED) {
+    if (probe && probe_tol < o->solver_opts->tol_kkt && o->solver != PLUME_SOLVER_LINEARIZED) {
         if ((st = solve_probe_tight(r->mesh, r->p, &r->g, o, r->solver, probe_tol, r->h.xa, delta, r->u, r->lambda,
                                     tight, err)) != PLUME_OK)
             return st;
@@ -469,7 +473,7 @@ static plume_status solve_step(traction_run *r, int k, double delta, double prob
     rep->iterations += tight->iterations; /* a tight probe that failed counts too */
     rep->seconds += tight->seconds;
     if (probe && rep->converged)
-        res->probe_tol_kkt = o->solver_opts.tol_kkt;
+        res->probe_tol_kkt = o->solver_opts->tol_kkt;
     return PLUME_OK;
 }
 
@@ -530,13 +534,22 @@ static plume_status record_step(traction_run *r, int k, double strain, const plu
 }
 
 plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const plume_index *rigid_edges,
-                                plume_index nrigid, const plume_traction_opts *o,
+                                plume_index nrigid, const plume_traction_opts *given,
                                 plume_traction_result *res, plume_err *err)
 {
-    if (!mesh || !p || !o || !res || (nrigid > 0 && !rigid_edges))
+    if (!mesh || !p || !given || !res || (nrigid > 0 && !rigid_edges))
         return plume_err_set(err, PLUME_EINVAL, "traction: invalid arguments");
     memset(res, 0, sizeof *res);
     res->failed_step = -1;
+    /* the caller's options over this library's defaults, their solver options never NULL below */
+    plume_traction_opts full;
+    plume_solver_opts so;
+    const plume_traction_opts *o = &full;
+    plume_traction_opts_default(&full);
+    if (plume_opts_take(&full, sizeof full, given, "plume_traction_opts", err) != PLUME_OK ||
+        plume_solver_opts_take(&so, full.solver_opts, err) != PLUME_OK)
+        return PLUME_EINVAL;
+    full.solver_opts = &so;
     plume_status st = check_opts(mesh, p, o, err);
     if (st != PLUME_OK)
         return st;

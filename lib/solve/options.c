@@ -2,9 +2,13 @@
 
 #include <string.h>
 
-void plume_solver_opts_default(plume_solver_opts *o)
+#include "../core/opts.h"
+
+/* The defaults into a whole struct of this library's size. */
+static void defaults(plume_solver_opts *o)
 {
     memset(o, 0, sizeof *o); /* a field added later is never left undefined */
+    o->size = sizeof *o;
     o->max_iter = 100;
     o->tol_kkt = 1e-9;
     o->tol_violation = 1e-10;
@@ -23,6 +27,19 @@ void plume_solver_opts_default(plume_solver_opts *o)
     o->trust_region = 0;
     o->curved_search = 1;
     o->stall_iterations = 0;
+}
+
+plume_status plume_solver_opts_take(plume_solver_opts *full, const plume_solver_opts *given, plume_err *err)
+{
+    defaults(full);
+    return given ? plume_opts_take(full, sizeof *full, given, "plume_solver_opts", err) : PLUME_OK;
+}
+
+void plume_solver_opts_default_sized(plume_solver_opts *o, size_t size)
+{
+    plume_solver_opts full;
+    defaults(&full);
+    plume_opts_give(o, size, &full, sizeof full);
 }
 
 static const char *const globalization_names[] = {"curved_line_search", "line_search", "trust_region"};

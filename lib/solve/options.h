@@ -16,6 +16,10 @@ extern "C" {
 /** Sets curved_search and trust_region for g. */
 void plume_solver_opts_set_globalization(plume_solver_opts *o, plume_globalization g);
 
+/* *full gets the defaults, then the caller's options `given` over them (plume_solver_opts.size bytes;
+ * NULL: the defaults alone). PLUME_EINVAL when given was not filled by plume_solver_opts_default. */
+plume_status plume_solver_opts_take(plume_solver_opts *full, const plume_solver_opts *given, plume_err *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -8,6 +8,8 @@
 #include "newton.h"
 #include "predict.h"
 #include "internal/newton_state.h"
+#include "../core/opts.h"
+#include "options.h"
 
 /* the tangent predictor's workspace (native backends): full vectors xref, dx; free ones r, gp, gm,
  * du, ut; constraint ones c, cp, cm, lnew */
@@ -98,8 +100,12 @@ static plume_status solver_create(plume_solver_kind kind, plume_problem *p, cons
 {
     if (out)
         *out = NULL;
-    if (!p || !o || !out)
-        return plume_err_set(err, PLUME_EINVAL, "solver: invalid arguments (problem, options and out are required)");
+    if (!p || !out)
+        return plume_err_set(err, PLUME_EINVAL, "solver: invalid arguments (problem and out are required)");
+    plume_solver_opts full; /* the caller's options over this library's defaults */
+    if (plume_solver_opts_take(&full, o, err) != PLUME_OK)
+        return PLUME_EINVAL;
+    o = &full;
     if ((unsigned)kind > 2)
         return plume_err_set(err, PLUME_EINVAL, "solver: unknown solver kind %d", (int)kind);
     if (!plume_problem_hessian_pattern(p).colptr)

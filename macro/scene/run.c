@@ -6,14 +6,18 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../../lib/core/opts.h"
 #include "internal/run.h"
 
-void plume_run_opts_default(plume_run_opts *o)
+void plume_run_opts_default_sized(plume_run_opts *o, size_t size)
 {
-    memset(o, 0, sizeof *o);
-    o->audit = 1;
-    o->render = 1;
-    o->solver = -1;
+    plume_run_opts full;
+    memset(&full, 0, sizeof full);
+    full.size = sizeof full;
+    full.audit = 1;
+    full.render = 1;
+    full.solver = -1;
+    plume_opts_give(o, size, &full, sizeof full);
 }
 
 int plume_run_accepts(plume_solver_kind solver, const plume_step_report *rep, double t0, double h, double t1, double dt)
@@ -74,14 +78,14 @@ static plume_status check_opts(const plume_run_opts *o, plume_err *err)
 
 plume_status plume_run_create(plume_scene *scene, const plume_run_opts *opts, plume_run **out, plume_err *err)
 {
-    plume_run_opts defaults;
-    if (!opts) {
-        plume_run_opts_default(&defaults);
-        opts = &defaults;
-    }
     if (!out)
         return plume_err_set(err, PLUME_EINVAL, "plume_run_create: out is NULL");
     *out = NULL;
+    plume_run_opts full; /* the caller's options (as many bytes as it has) over the defaults */
+    plume_run_opts_default(&full);
+    if (opts && plume_opts_take(&full, sizeof full, opts, "plume_run_opts", err) != PLUME_OK)
+        return PLUME_EINVAL;
+    opts = &full;
     if (!scene)
         return plume_err_set(err, PLUME_EINVAL, "plume_run_create: scene is NULL");
     plume_status st = check_opts(opts, err);
@@ -368,12 +372,11 @@ int plume_run_done(const plume_run *r)
     return !r || r->started < 0 || r->rep.stopped || (r->started > 0 && !r->open && r->done_plan >= r->nsteps);
 }
 
-plume_status plume_run_step(plume_run *r, plume_run_step_info *info, plume_err *err)
+/* One step into the library's whole info struct. */
+static plume_status run_step(plume_run *r, plume_run_step_info *info, plume_err *err)
 {
-    plume_run_step_info local;
-    if (!info)
-        info = &local;
     memset(info, 0, sizeof *info);
+    info->size = sizeof *info;
     info->frame = -1;
     plume_status st = plume_run_start(r, err);
     if (st != PLUME_OK)
@@ -389,12 +392,21 @@ plume_status plume_run_step(plume_run *r, plume_run_step_info *info, plume_err *
     return st;
 }
 
+plume_status plume_run_step_sized(plume_run *r, plume_run_step_info *info, size_t size, plume_err *err)
+{
+    plume_run_step_info full;
+    plume_status st = run_step(r, &full, err);
+    if (info)
+        plume_opts_give(info, size, &full, sizeof full);
+    return st;
+}
+
 plume_status plume_run_frame(plume_run *r, plume_err *err)
 {
     plume_status st = plume_run_start(r, err);
     plume_run_step_info info = {.frame = -1};
     while (st == PLUME_OK && !plume_run_done(r) && info.frame < 0 && !r->open)
-        st = plume_run_step(r, &info, err);
+        st = run_step(r, &info, err);
     if (st == PLUME_OK && r->open)
         return plume_err_set(err, PLUME_EINVAL, "plume_run_frame: an open run is stepped by plume_run_step");
     if (plume_run_done(r))
@@ -407,22 +419,27 @@ plume_status plume_run_to_end(plume_run *r, plume_err *err)
     plume_status st = plume_run_start(r, err);
     if (st == PLUME_OK && r->open)
         return plume_err_set(err, PLUME_EINVAL, "plume_run_to_end: an open run has no end (plume_run_step)");
+    plume_run_step_info info;
     while (st == PLUME_OK && !plume_run_done(r))
-        st = plume_run_step(r, NULL, err);
+        st = run_step(r, &info, err);
     if (st == PLUME_OK)
         plume_progress_finish(&r->prog);
     return st;
 }
 
-void plume_run_get_report(const plume_run *r, plume_run_report *out)
+void plume_run_get_report_sized(const plume_run *r, plume_run_report *out, size_t size)
 {
     if (!out)
         return;
-    memset(out, 0, sizeof *out);
-    if (!r)
-        return;
-    *out = r->rep;
-    out->time = plume_run_time(r);
+    plume_run_report full;
+    memset(&full, 0, sizeof full);
+    if (r) {
+        full = r->rep;
+        full.time = plume_run_time(r);
+    }
+    full.size = sizeof full;
+    memset(out, 0, size);
+    plume_opts_give(out, size, &full, sizeof full);
 }
 
 double plume_run_time(const plume_run *r)

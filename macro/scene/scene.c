@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../../lib/core/opts.h"
 #include "internal/scene_internal.h"
 
 void plume_scene_destroy(plume_scene **ps)
@@ -141,9 +142,22 @@ plume_status plume_scene_load(const char *path, plume_scene **out, plume_err *er
 
 /* The loading of a scene document in `text` (owned: freed here) that stands for the file `path`;
  * lines: errors name the line of the bad key in text (the text is the file's). */
-static plume_status load_text(char *text, const char *path, int lines, const plume_scene_load_opts *o,
+void plume_scene_load_opts_default_sized(plume_scene_load_opts *o, size_t size)
+{
+    plume_scene_load_opts full = {.size = sizeof full};
+    plume_opts_give(o, size, &full, sizeof full);
+}
+
+static plume_status load_text(char *text, const char *path, int lines, const plume_scene_load_opts *given,
                               plume_scene **out, plume_err *err)
 {
+    plume_scene_load_opts full; /* the caller's overrides (as many bytes as it has) over the defaults */
+    const plume_scene_load_opts *o = given ? &full : NULL;
+    plume_scene_load_opts_default(&full);
+    if (given && plume_opts_take(&full, sizeof full, given, "plume_scene_load_opts", err) != PLUME_OK) {
+        free(text);
+        return PLUME_EINVAL;
+    }
     plume_json_ctx c;
     memset(&c, 0, sizeof c);
     c.file = path;

@@ -57,7 +57,7 @@ plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_
     plume_membrane_material *mm = malloc((size_t)s->nmat * sizeof *mm);
     plume_bending_material *bm = malloc((size_t)s->nmat * sizeof *bm);
     plume_status st = PLUME_OK;
-    plume_term term = {0};
+    plume_term term = {.size = sizeof(plume_term)};
     int bending = 0;
     if (!mm || !bm) {
         st = plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
@@ -320,9 +320,12 @@ plume_status plume_scene_statics(const plume_scene *s, plume_problem **pp, plume
     o.steps = s->steps;
     o.predictor = s->predictor;
     o.solver = s->solver;
-    o.solver_opts.max_iter = s->max_iter;
-    o.solver_opts.verbose = s->verbose;
-    plume_solver_opts_set_globalization(&o.solver_opts, s->globalization);
+    plume_solver_opts so;
+    plume_solver_opts_default(&so);
+    so.max_iter = s->max_iter;
+    so.verbose = s->verbose;
+    plume_solver_opts_set_globalization(&so, s->globalization);
+    o.solver_opts = &so;
     st = plume_statics_create(p, &o, static_loads_scale, l, static_loads_free, pst, err);
     l = NULL; /* the driver owns it now, or has freed it */
     if (st != PLUME_OK)

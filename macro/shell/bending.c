@@ -579,6 +579,7 @@ plume_status plume_bending_term_create(const plume_mesh *mesh, const plume_bendi
     out->arity = 4;
     out->nstencil = nh;
     out->stencil = ctx->stencil;
+    out->size = sizeof *out;
     out->eval = bending_eval;
     out->energies = bending_energies;
     out->destroy = bending_destroy;

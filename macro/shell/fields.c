@@ -163,7 +163,7 @@ plume_status plume_fields_create(const plume_mesh *mesh, int dim, plume_index nt
                                  const plume_index *barb_edges, plume_index nbarb, plume_fields **out,
                                  plume_err *err)
 {
-    plume_term owned = {0};
+    plume_term owned = {.size = sizeof(plume_term)};
     if (bending) { /* taken whatever happens */
         owned = *bending;
         memset(bending, 0, sizeof *bending);

@@ -6,7 +6,9 @@
 #include <string.h>
 
 #include "../../lib/core/load.h"
+#include "../../lib/core/opts.h"
 #include "../../lib/io/progress.h"
+#include "../../lib/solve/options.h"
 #include "patch_mesh.h"
 #include "shape_bending.h"
 
@@ -14,19 +16,21 @@
 #define M_PI 3.14159265358979323846
 #endif
 
-void plume_bend_opts_default(plume_bend_opts *o)
+void plume_bend_opts_default_sized(plume_bend_opts *o, size_t size)
 {
-    memset(o, 0, sizeof *o);
-    o->load = PLUME_BEND_CYLINDER;
-    o->lx = 1.0, o->ly = 2.0;
-    o->moment = 1.0;
-    o->steps = 3;
-    o->loading = PLUME_BEND_EDGE_MOMENTS;
-    o->end_strip = 0.1;
-    o->window = 0.5;
-    o->max_rotation = 0.2;
-    o->solver = PLUME_SOLVER_NEWTON;
-    plume_solver_opts_default(&o->solver_opts);
+    plume_bend_opts full;
+    memset(&full, 0, sizeof full);
+    full.size = sizeof full;
+    full.load = PLUME_BEND_CYLINDER;
+    full.lx = 1.0, full.ly = 2.0;
+    full.moment = 1.0;
+    full.steps = 3;
+    full.loading = PLUME_BEND_EDGE_MOMENTS;
+    full.end_strip = 0.1;
+    full.window = 0.5;
+    full.max_rotation = 0.2;
+    full.solver = PLUME_SOLVER_NEWTON;
+    plume_opts_give(o, size, &full, sizeof full);
 }
 
 const char *plume_bend_load_name(plume_bend_load k)
@@ -479,7 +483,7 @@ static plume_status tolerance_of_loads(plume_solver *solver, const plume_problem
     const double floor = plume_problem_force_scale(p);
     plume_status st = PLUME_OK;
     if (floor > fl && fl > 0.0 &&
-        (st = plume_solver_set_tol_kkt(solver, o->solver_opts.tol_kkt * fl / floor, err)) != PLUME_OK)
+        (st = plume_solver_set_tol_kkt(solver, o->solver_opts->tol_kkt * fl / floor, err)) != PLUME_OK)
         plume_err_set(err, st, "bending test: cannot set the solver tolerance");
     return st;
 }
@@ -522,12 +526,21 @@ static double curve_stiffness(const plume_bend_curve *c)
     return sxx > 0.0 ? sxy / sxx : NAN;
 }
 
-plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plume_bend_opts *o, plume_bend_result *r,
-                            plume_err *err)
+plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plume_bend_opts *given,
+                            plume_bend_result *r, plume_err *err)
 {
-    if (!mesh || !p || !o || !r)
+    if (!mesh || !p || !given || !r)
         return plume_err_set(err, PLUME_EINVAL, "bending test: invalid arguments");
     memset(r, 0, sizeof *r);
+    /* the caller's options over this library's defaults, their solver options never NULL below */
+    plume_bend_opts full;
+    plume_solver_opts so;
+    const plume_bend_opts *o = &full;
+    plume_bend_opts_default(&full);
+    if (plume_opts_take(&full, sizeof full, given, "plume_bend_opts", err) != PLUME_OK ||
+        plume_solver_opts_take(&so, full.solver_opts, err) != PLUME_OK)
+        return PLUME_EINVAL;
+    full.solver_opts = &so;
     plume_status st = check_specimen(mesh, p, o, err);
     if (st != PLUME_OK)
         return st;
@@ -565,7 +578,7 @@ plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, const plum
         goto cleanup;
     }
     plume_err why = {{0}};
-    if ((st = plume_solver_create(o->solver, p, &o->solver_opts, &solver, &why)) != PLUME_OK) {
+    if ((st = plume_solver_create(o->solver, p, o->solver_opts, &solver, &why)) != PLUME_OK) {
         plume_err_set(err, st, "bending test: could not create the %s solver: %s", plume_solver_kind_name(o->solver),
                       why.msg);
         goto cleanup;

@@ -1109,6 +1109,7 @@ plume_status plume_shape_bending_term_create_opts(const plume_mesh *mesh, const 
     out->arity = ctx->arity;
     out->nstencil = nt;
     out->stencil = ctx->stencil;
+    out->size = sizeof *out;
     out->eval = shape_eval;
     out->energies = shape_energies;
     out->partial_projection = 1; /* the Gauss-Newton block: closed form, the stiffness kept */
