@@ -2,12 +2,13 @@
  * (midedge_face.c) and the edges' rest directors, and sums the kernel over the triangles on
  * (x, theta) arrays. docs/theory-bending-midedge.md has the formulation.
  *
- * Rest state. The rest director of an edge is the mean of its faces' rest normals, made
- * perpendicular to the rest edge (a boundary edge: its one face's normal); theta = 0 is that
- * director, and the rest slopes s0 are measured with it, so the rest shape stores no energy
- * whatever the mesh. On a flat rest every s0 is 0. On a curved one the mean normal is the true
- * midpoint normal only up to O(h) on an irregular mesh; what matters for the energy is that the
- * same director enters both faces' s0 (a shared rest, as the current state shares theta). */
+ * Rest state. The rest director of an edge is the caller's (plume_midedge_bending_opts) or the
+ * mean of its faces' rest normals, made perpendicular to the rest edge (a boundary edge: its one
+ * face's normal); theta = 0 is that director, and the rest slopes s0 are measured with it, so the
+ * rest shape stores no energy whatever the mesh. On a flat rest every s0 is 0. On a curved one
+ * the mean normal is the surface's midpoint normal only up to O(h) on an irregular mesh, and the
+ * rest curvatures inherit the error (tests/test_midedge_bending.c, the curved rest: 40 % of a
+ * change of curvature at h = 1/8): a curved rest wants its true normals. */
 #include "midedge_bending.h"
 #include "../../lib/core/vec3.h"
 
@@ -113,10 +114,19 @@ static plume_status build_slots(const plume_mesh *m, plume_midedge_bending *b, p
     return PLUME_OK;
 }
 
-/* Rest directors: the mean of the faces' rest normals, perpendicular to the rest edge. */
-static plume_status rest_directors(const plume_mesh *m, const double *rest_x, plume_midedge_bending *b, plume_err *err)
+/* Rest directors: the caller's, or the mean of the faces' rest normals; made perpendicular to
+ * the rest edge. */
+static plume_status rest_directors(const plume_mesh *m, const double *rest_x, const double *rest_dir,
+                                   plume_midedge_bending *b, plume_err *err)
 {
     memset(b->r0, 0, sizeof(double) * 3 * (size_t)m->ne);
+    if (rest_dir)
+        for (plume_index i = 0; i < 3 * m->ne; i++) {
+            if (!isfinite(rest_dir[i]))
+                return plume_err_set(err, PLUME_EINVAL, "midedge bending: rest director of edge %ld is not finite",
+                                     (long)(i / 3));
+            b->r0[i] = rest_dir[i];
+        }
     for (plume_index t = 0; t < m->nt; t++) {
         double p[3][3], e1[3], e2[3], N[3];
         for (int k = 0; k < 3; k++)
@@ -127,9 +137,16 @@ static plume_status rest_directors(const plume_mesh *m, const double *rest_x, pl
         const double L = sqrt(dot3(N, N));
         if (!(L > MIDEDGE_DEGENERATE_REL * (dot3(e1, e1) + dot3(e2, e2))))
             return plume_err_set(err, PLUME_EINVAL, "midedge bending: triangle %ld is degenerate in the rest shape", (long)t);
-        for (int k = 0; k < 3; k++)
-            for (int i = 0; i < 3; i++)
-                b->r0[3 * b->face_edge[3 * t + k] + i] += N[i] / L;
+        for (int k = 0; k < 3; k++) {
+            double *r = b->r0 + 3 * b->face_edge[3 * t + k];
+            if (!rest_dir)
+                for (int i = 0; i < 3; i++)
+                    r[i] += N[i] / L;
+            else if (!(dot3(r, N) > 0.0))
+                return plume_err_set(err, PLUME_EINVAL,
+                                     "midedge bending: rest director of edge %ld points away from triangle %ld",
+                                     (long)b->face_edge[3 * t + k], (long)t);
+        }
     }
     for (plume_index e = 0; e < m->ne; e++) {
         double pa[3], pb[3], E[3], d[3];
@@ -142,7 +159,9 @@ static plume_status rest_directors(const plume_mesh *m, const double *rest_x, pl
         const double dl = sqrt(dot3(d, d));
         if (!(dl > 1e-6))
             return plume_err_set(err, PLUME_EINVAL,
-                                 "midedge bending: edge %ld: its two rest faces are folded onto each other", (long)e);
+                                 rest_dir ? "midedge bending: rest director of edge %ld lies along the edge"
+                                          : "midedge bending: edge %ld: its two rest faces are folded onto each other",
+                                 (long)e);
         for (int i = 0; i < 3; i++)
             b->r0[3 * e + i] = d[i] / dl;
     }
@@ -208,6 +227,13 @@ static plume_status build_face(const plume_mesh *m, const plume_bending_material
 plume_status plume_midedge_bending_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
                                           const double *rest_x, plume_midedge_bending **out, plume_err *err)
 {
+    return plume_midedge_bending_create_opts(mesh, mats, nmat, rest_x, NULL, out, err);
+}
+
+plume_status plume_midedge_bending_create_opts(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
+                                               const double *rest_x, const plume_midedge_bending_opts *o,
+                                               plume_midedge_bending **out, plume_err *err)
+{
     if (!out)
         return plume_err_set(err, PLUME_EINVAL, "midedge bending: out is NULL");
     *out = NULL;
@@ -229,7 +255,7 @@ plume_status plume_midedge_bending_create(const plume_mesh *mesh, const plume_be
     }
     memcpy(b->tri, mesh->tri, sizeof(plume_index) * 3 * (size_t)b->nt);
     memcpy(b->edges, mesh->edges, sizeof(plume_index) * 2 * (size_t)b->ne);
-    if ((st = build_slots(mesh, b, err)) != PLUME_OK || (st = rest_directors(mesh, rest_x, b, err)) != PLUME_OK)
+    if ((st = build_slots(mesh, b, err)) != PLUME_OK || (st = rest_directors(mesh, rest_x, o ? o->rest_dir : NULL, b, err)) != PLUME_OK)
         goto cleanup;
     for (plume_index t = 0; t < b->nt; t++)
         if ((st = build_face(mesh, &mats[mesh->material[t]], rest_x, b, t, err)) != PLUME_OK)

@@ -77,6 +77,23 @@ typedef struct plume_midedge_bending plume_midedge_bending;
 plume_status plume_midedge_bending_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
                                           const double *rest_x, plume_midedge_bending **out, plume_err *err);
 
+/** Options of plume_midedge_bending_create_opts (all zero: the defaults above). rest_dir (3 ne,
+ * may be NULL) gives the rest director of each edge instead of the mean of its faces' normals:
+ * any vector on the faces' side, made perpendicular to the rest edge and normalised here. A
+ * curved rest on an irregular mesh needs it: the mean normal is the surface's normal at the
+ * edge's midpoint only up to O(h), and the rest curvatures inherit the error (a cylinder's change
+ * of curvature off by 40 % at h = 1/8 on a random Delaunay mesh, against 0.3 % with the true
+ * normals; docs/theory-bending-midedge.md, "Rest state"). */
+typedef struct {
+    const double *rest_dir; /**< [3 ne] rest directors, or NULL (borrowed) */
+} plume_midedge_bending_opts;
+
+/** The term with options (o may be NULL). Errors as above, and PLUME_EINVAL for a rest director
+ * that is not finite, lies along its edge or points away from a face's rest normal. */
+plume_status plume_midedge_bending_create_opts(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
+                                               const double *rest_x, const plume_midedge_bending_opts *o,
+                                               plume_midedge_bending **out, plume_err *err);
+
 /** Frees the term; NULL-safe, sets *b = NULL. */
 void plume_midedge_bending_destroy(plume_midedge_bending **b);
 
