@@ -32,7 +32,9 @@
  *     Hess f = (-(u v^T + v u^T) - (u . v)(I - 3 v v^T)) / |V|^2,
  * applied to n = N / |N| (N = e1 x e2 is bilinear: it adds p . (de1 x de2), p = grad_N f) and
  * to t = E / |E|. The face's Hessian is sum K_kl grad s_k grad s_l^T + sum f_k Hess s_k, with
- * f = K (s - s0); projected, the first sum alone (Gauss-Newton, PSD since K is).
+ * f = K (s - s0); projected, the first sum alone (Gauss-Newton, PSD since K is). Hess n[u] is
+ * linear in u and the same triangle's for all three slopes, so it is added once, for
+ * u = sum f_k phi_n,k, instead of once a slope (its 9x9x9 products are the kernel's largest).
  *
  * No allocation: everything lives on the stack. */
 #include "midedge_bending.h"
@@ -148,10 +150,39 @@ static int edge_director(const double E[3], double th, const double r0[3], edge_
     return 0;
 }
 
+/* Adds Hess n[u] (the Hessian of u . n in the three vertices) to the 9x9 vertex part of a 12x12
+ * block H: through N = e1 x e2 with the unit-vector Hessian, plus N's bilinear part
+ * p . (de1 x de2), p the gradient of u . n in N. */
+static void add_normal_hessian(const face_geom *G, const double u[3], double *H)
+{
+    double Hf[3][3], p[3], M12[3][3];
+    const double un = dot3(u, G->n);
+    unit_hessian(u, G->n, G->L, Hf);
+    for (int i = 0; i < 3; i++)
+        p[i] = (u[i] - un * G->n[i]) / G->L;
+    skew(p, M12);
+    /* the upper triangle, mirrored, so that H stays exactly symmetric */
+    for (int r = 0; r < 9; r++)
+        for (int c = r; c < 9; c++) {
+            const int a = r / 3, i = r % 3, b = c / 3, j = c % 3;
+            double v = 0.0;
+            for (int m = 0; m < 3; m++)
+                for (int q = 0; q < 3; q++)
+                    v += G->JN[a][m][i] * Hf[m][q] * G->JN[b][q][j];
+            /* p . (de1 x de2) = de1^T (-[p]x) de2 */
+            v += -S1[a] * S2[b] * M12[i][j] - S2[a] * S1[b] * M12[j][i];
+            H[12 * r + c] += v;
+            if (c != r)
+                H[12 * c + r] += v;
+        }
+}
+
 /* Slot k's slope, and its gradient gs[12] and Hessian Hs[144] (when non-NULL) in the face's
- * variables (x0, x1, x2, th_0, th_1, th_2); the caller zeroes gs and Hs. */
+ * variables (x0, x1, x2, th_0, th_1, th_2); the caller zeroes gs and Hs. Hs leaves out the
+ * normal's part Hess n[phi_n], written to un: it is linear in phi_n, so the face adds it once
+ * for the weighted sum of its three slopes (add_normal_hessian), not three times. */
 static int slot_slope(const plume_midedge_face *f, const double xv[9], const face_geom *G, int k, double th,
-                      const double r0[3], double *sk, double *gs, double *Hs)
+                      const double r0[3], double *sk, double *gs, double *Hs, double un[3])
 {
     const int va = (k + 1) % 3, vb = (k + 2) % 3;
     double ec[3] = {0.0, 0.0, 0.0}; /* E = sigma (x_vb - x_va) */
@@ -204,6 +235,8 @@ static int slot_slope(const plume_midedge_face *f, const double xv[9], const fac
     gs[9 + k] = gl[9];
     if (!Hs)
         return 0;
+    for (int i = 0; i < 3; i++)
+        un[i] = phi[i];
     /* Hess phi: -P_ab/Q + (P_a Q_b + P_b Q_a)/Q^2 - s Q_ab/Q + 2 s Q_a Q_b/Q^2, with
      * grad P = (0, d, g), grad Q = (d, 0, n), P_ab = I on (g, d), Q_ab = I on (n, d) */
     double Pa[9], Qa[9], Hp[9][9];
@@ -233,27 +266,6 @@ static int slot_slope(const plume_midedge_face *f, const double xv[9], const fac
                 v += J[r][a] * T[r][b];
             Hl[a][b] = Hl[b][a] = v;
         }
-    /* Hess n[phi_n]: through N with its Hessian, plus N's bilinear part p . (de1 x de2) */
-    {
-        double Hf[3][3], p[3], M12[3][3];
-        const double un = dot3(phi, G->n);
-        unit_hessian(phi, G->n, G->L, Hf);
-        for (int i = 0; i < 3; i++)
-            p[i] = (phi[i] - un * G->n[i]) / G->L;
-        skew(p, M12);
-        for (int a = 0; a < 3; a++)
-            for (int b = 0; b < 3; b++)
-                for (int i = 0; i < 3; i++)
-                    for (int j = 0; j < 3; j++) {
-                        double v = 0.0;
-                        for (int m = 0; m < 3; m++)
-                            for (int q = 0; q < 3; q++)
-                                v += G->JN[a][m][i] * Hf[m][q] * G->JN[b][q][j];
-                        /* p . (de1 x de2) = de1^T (-[p]x) de2 */
-                        v += -S1[a] * S2[b] * M12[i][j] - S2[a] * S1[b] * M12[j][i];
-                        Hl[3 * a + i][3 * b + j] += v;
-                    }
-    }
     /* Hess d[phi_d] in (E, th), then onto the edge's vertices */
     {
         const double *u = phi + 6;
@@ -335,7 +347,7 @@ int plume_midedge_face_slope(const plume_midedge_face *f, const double xv[9], in
     face_geom G;
     if (k < 0 || k > 2 || face_geometry(xv, &G) != 0)
         return -1;
-    return slot_slope(f, xv, &G, k, th, r0, s, NULL, NULL);
+    return slot_slope(f, xv, &G, k, th, r0, s, NULL, NULL, NULL);
 }
 
 int plume_midedge_face_eval(const plume_midedge_face *f, const double xv[9], const double th[3],
@@ -345,13 +357,13 @@ int plume_midedge_face_eval(const plume_midedge_face *f, const double xv[9], con
     if (face_geometry(xv, &G) != 0)
         return -1;
     const int need_grad = g || H, need_hs = H && !project;
-    double s[3], gs[3][12], Hs[3][144];
+    double s[3], gs[3][12], Hs[3][144], un[3][3];
     for (int k = 0; k < 3; k++) {
         if (need_grad)
             memset(gs[k], 0, sizeof gs[k]);
         if (need_hs)
             memset(Hs[k], 0, sizeof Hs[k]);
-        if (slot_slope(f, xv, &G, k, th[k], r0[k], &s[k], need_grad ? gs[k] : NULL, need_hs ? Hs[k] : NULL) != 0)
+        if (slot_slope(f, xv, &G, k, th[k], r0[k], &s[k], need_grad ? gs[k] : NULL, need_hs ? Hs[k] : NULL, un[k]) != 0)
             return -1;
     }
     double r[3], fk[3];
@@ -376,6 +388,12 @@ int plume_midedge_face_eval(const plume_midedge_face *f, const double xv[9], con
                     v += fk[0] * Hs[0][12 * a + b] + fk[1] * Hs[1][12 * a + b] + fk[2] * Hs[2][12 * a + b];
                 H[12 * a + b] = H[12 * b + a] = v;
             }
+        if (need_hs) {
+            double u[3];
+            for (int i = 0; i < 3; i++)
+                u[i] = fk[0] * un[0][i] + fk[1] * un[1][i] + fk[2] * un[2][i];
+            add_normal_hessian(&G, u, H);
+        }
     }
     return 0;
 }
