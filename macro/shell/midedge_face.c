@@ -40,14 +40,9 @@
 #include "midedge_bending.h"
 #include "../../lib/core/vec3.h"
 
-#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* A reference triangle whose doubled area is below this fraction of its squared edge lengths is
- * degenerate up to rounding (the membrane's and the shape operator's test). */
-#define MIDEDGE_DEGENERATE_REL (64.0 * DBL_EPSILON)
 
 /* A current triangle with |N|^2 <= this * |e1|^2 |e2|^2 has no normal. */
 #define MIDEDGE_COLLAPSED_REL 1e-28
