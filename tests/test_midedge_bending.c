@@ -482,8 +482,8 @@ done:
     plume_mesh_destroy(&m);
 }
 
-/* Re-basing the edge frames keeps every director, hence the energy and forces, and brings the
- * frames back to unit vectors perpendicular to the edges. */
+/* Re-basing the edge frames keeps every director, hence the energy: onto the edges' normal planes
+ * (lag, the angles kept), and onto the directors themselves (rebase, the angles set to 0). */
 void test_midedge_bending_lag(void)
 {
     const plume_bending_material mat = {1.0, 0.2, 0.1, 0.0};
@@ -513,6 +513,21 @@ void test_midedge_bending_lag(void)
         CHECK(derr < 1e-14);
         CHECK_REL(E2, E1, 1e-13, 0.0);
         CHECK(E1 > 0.0);
+        /* re-basing on the directors: angles 0, the same directors and energy */
+        double E3 = 0.0, amax = 0.0;
+        derr = 0.0;
+        CHECK(plume_midedge_bending_rebase(b, x, th, NULL) == PLUME_OK);
+        for (plume_index e = 0; e < m->ne; e++) {
+            double d[3];
+            plume_midedge_bending_director(b, x, th, e, d);
+            amax = fmax(amax, fabs(th[e]));
+            for (int i = 0; i < 3; i++)
+                derr = fmax(derr, fabs(d[i] - d1[3 * e + i]));
+        }
+        CHECK(plume_midedge_bending_eval(b, x, th, &E3, NULL, NULL, NULL, 0, NULL) == PLUME_OK);
+        CHECK(amax == 0.0);
+        CHECK(derr < 1e-14);
+        CHECK_REL(E3, E1, 1e-13, 0.0);
     }
     plume_midedge_bending_destroy(&b);
     free(x), free(th), free(d1);
@@ -1016,6 +1031,7 @@ void test_midedge_bending_bad_inputs(void)
             m->x[3 * vb] = m->x[3 * va], m->x[3 * vb + 1] = m->x[3 * va + 1], m->x[3 * vb + 2] = m->x[3 * va + 2] + 1.0;
             CHECK(plume_midedge_bending_lag(b, m->x, &err) == PLUME_EINVAL);
             CHECK(strstr(err.msg, "reference") != NULL);
+            CHECK(plume_midedge_bending_rebase(b, m->x, th, &err) == PLUME_EINVAL);
             memcpy(m->x + 3 * vb, saved, sizeof saved);
             free(th);
         }

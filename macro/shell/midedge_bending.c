@@ -355,3 +355,17 @@ plume_status plume_midedge_bending_lag(plume_midedge_bending *b, const double *x
     }
     return PLUME_OK;
 }
+
+plume_status plume_midedge_bending_rebase(plume_midedge_bending *b, const double *x, double *theta, plume_err *err)
+{
+    for (plume_index e = 0; e < b->ne; e++) {
+        double E[3], d[3];
+        edge_vector(b, x, e, E);
+        if (plume_midedge_director(E, theta[e], b->r0 + 3 * e, d) != 0)
+            return plume_err_set(err, PLUME_EINVAL, "midedge bending: edge %ld has turned onto its reference vector",
+                                 (long)e);
+        memcpy(b->r0 + 3 * e, d, sizeof d);
+        theta[e] = 0.0;
+    }
+    return PLUME_OK;
+}

@@ -131,6 +131,13 @@ double plume_midedge_bending_angle_of(const plume_midedge_bending *b, const doub
  * start, plume_term's lag). PLUME_EINVAL when an edge has already reached the singularity. */
 plume_status plume_midedge_bending_lag(plume_midedge_bending *b, const double *x, plume_err *err);
 
+/** Re-bases the frames on the current directors: each r0 becomes the director at (x, theta) and
+ * theta is set to 0, so the energy and every director are unchanged and the state is the
+ * directors alone (the integration's step start, docs/theory-bending-midedge.md). PLUME_EINVAL
+ * when an edge has reached its frame's singularity (theta then partly reset: call it only on a
+ * state that evaluates). */
+plume_status plume_midedge_bending_rebase(plume_midedge_bending *b, const double *x, double *theta, plume_err *err);
+
 #ifdef __cplusplus
 }
 #endif
