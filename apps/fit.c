@@ -72,8 +72,8 @@ typedef struct {
 
 static const char *const bend_moduli[4] = {"D_long", "D_trans", "D_coupling", "D_twist"};
 static const char *const bend_flags[4] = {"--D-long", "--D-trans", "--D-coupling", "--D-twist"};
-/* the fitter's slot of each (plume_bend_pack): E_xx, E_yy, nu_xy, G_xy */
-static const unsigned bend_bits[4] = {PLUME_FIT_EXX, PLUME_FIT_EYY, PLUME_FIT_NU, PLUME_FIT_GXY};
+/* the free-modulus bit of each (plume_fit_bending_moduli) */
+static const unsigned bend_bits[4] = {PLUME_FIT_D_LONG, PLUME_FIT_D_TRANS, PLUME_FIT_D_COUPLING, PLUME_FIT_D_TWIST};
 
 /* whether a is a flag of the membrane fit only */
 static int membrane_only(const char *a)
@@ -210,18 +210,22 @@ static int parse_args(int argc, char **argv, options *o)
     return 0;
 }
 
-/* --starts: the K fits, as runs of apps/schedule.h */
+/* --starts: the K fits, as runs of apps/schedule.h, of the membrane moduli (model, start,
+ * best_fit) or, with bending, of the plate's bending moduli (bmodel, bstart, best_bfit) */
 typedef struct {
     plume_fit_model model;
+    plume_fit_bending_model bmodel;
     void *mm;
-    int bending; /* the slots hold bending moduli (plume_bend_pack): labels only */
+    int bending;
     const plume_curve *curves;
     int nt;
     plume_ortho start;
+    plume_bending_material bstart;
     plume_fit_opts fo;
     /* rank 0: the best fit so far */
     int best, done;
     plume_ortho best_fit;
+    plume_bending_material best_bfit;
     plume_fit_report best_rep;
     double best_residual;
 } starts_ctx;
@@ -254,6 +258,39 @@ static plume_ortho start_point(const starts_ctx *c, int k)
     return s;
 }
 
+/* bending start k: the given one for k = 0, else D_long, D_trans and D_twist (the free ones) scaled
+ * by 10^u, u in [-1, 1), and the coupling's ratio D_coupling / sqrt(D_long D_trans) shifted by 0.4 u
+ * within (-0.9, 0.9) */
+static plume_bending_material bending_start_point(const starts_ctx *c, int k)
+{
+    plume_bending_material s = c->bstart;
+    static const int base[4] = {2, 3, 5, 7};
+    double ratio = s.D_coupling / sqrt(s.D_long * s.D_trans);
+    double *m[4] = {&s.D_long, &s.D_trans, &ratio, &s.D_twist};
+    for (int j = 0; k > 0 && j < 4; j++) {
+        if (!(c->fo.free_mask & bend_bits[j]))
+            continue;
+        double u = 2.0 * halton(k, base[j]) - 1.0;
+        *m[j] = j == 2 ? fmax(-0.9, fmin(0.9, *m[j] + 0.4 * u)) : *m[j] * pow(10.0, u);
+    }
+    s.D_coupling = ratio * sqrt(s.D_long * s.D_trans);
+    return s;
+}
+
+/* the record of a bending start: its fit and its start's D_trans and D_twist */
+static json_t *bending_start_json(const starts_ctx *c, int k)
+{
+    plume_bending_material s = bending_start_point(c, k), fit = {0};
+    plume_fit_report rep;
+    plume_err err = {{0}};
+    if (plume_fit_bending_moduli(c->bmodel, c->mm, c->curves, c->nt, &s, &c->fo, &fit, &rep, &err) != PLUME_OK)
+        return json_pack("{s:s}", "error", err.msg);
+    return json_pack("{s:f, s:f, s:f, s:f, s:f, s:i, s:s, s:f, s:f, s:f}", "D_long", fit.D_long, "D_trans", fit.D_trans,
+                     "D_coupling", fit.D_coupling, "D_twist", fit.D_twist, "residual", rep.residual, "evaluations",
+                     rep.evaluations, "stop", rep.stop, "seconds", rep.seconds, "start_D_trans", s.D_trans,
+                     "start_D_twist", s.D_twist);
+}
+
 static char *fit_start(void *vctx, int k)
 {
     starts_ctx *c = vctx;
@@ -261,7 +298,9 @@ static char *fit_start(void *vctx, int k)
     plume_fit_report rep;
     plume_err err = {{0}};
     json_t *j;
-    if (plume_fit_moduli(c->model, c->mm, c->curves, c->nt, &s, &c->fo, &fit, &rep, &err) == PLUME_OK)
+    if (c->bending)
+        j = bending_start_json(c, k);
+    else if (plume_fit_moduli(c->model, c->mm, c->curves, c->nt, &s, &c->fo, &fit, &rep, &err) == PLUME_OK)
         j = json_pack("{s:f, s:f, s:f, s:f, s:f, s:i, s:s, s:f, s:f, s:f}", "E_xx", fit.E_xx, "E_yy", fit.E_yy, "nu_xy",
                       fit.nu_xy, "G_xy", fit.G_xy, "residual", rep.residual, "evaluations", rep.evaluations, "stop",
                       rep.stop, "seconds", rep.seconds, "start_E_yy", s.E_yy, "start_G_xy", s.G_xy);
@@ -283,17 +322,28 @@ static int keep_start(void *vctx, int k, const char *record)
         fprintf(stderr, "%s: start %d: %s\n", APP, k, json_string_value(json_object_get(j, "error")));
     } else {
         double r = json_real_value(json_object_get(j, "residual"));
-        fprintf(stderr, c->bending ? "%s: start %d (D_trans %.4g, D_twist %.4g): D_trans %.6g, D_twist %.6g N m, misfit %.3g\n"
-                                   : "%s: start %d (E_yy %.4g, G_xy %.4g): E_yy %.6g, G_xy %.6g Pa, misfit %.3g\n", APP, k,
-                json_real_value(json_object_get(j, "start_E_yy")), json_real_value(json_object_get(j, "start_G_xy")),
-                json_real_value(json_object_get(j, "E_yy")), json_real_value(json_object_get(j, "G_xy")), r);
+        /* the two moduli a start's line shows: the cross-barb stiffness and the shear or twist */
+        const char *k1 = c->bending ? "D_trans" : "E_yy", *k2 = c->bending ? "D_twist" : "G_xy";
+        char s1[32], s2[32];
+        snprintf(s1, sizeof s1, "start_%s", k1);
+        snprintf(s2, sizeof s2, "start_%s", k2);
+        fprintf(stderr, "%s: start %d (%s %.4g, %s %.4g): %s %.6g, %s %.6g %s, misfit %.3g\n", APP, k, k1,
+                json_real_value(json_object_get(j, s1)), k2, json_real_value(json_object_get(j, s2)), k1,
+                json_real_value(json_object_get(j, k1)), k2, json_real_value(json_object_get(j, k2)),
+                c->bending ? "N m" : "Pa", r);
         /* the smallest misfit; ties to the lowest start, so the answer does not depend on the ranks */
         if (c->best < 0 || r < c->best_residual || (r == c->best_residual && k < c->best)) {
             c->best = k, c->best_residual = r;
-            c->best_fit = (plume_ortho){json_real_value(json_object_get(j, "E_xx")),
-                                        json_real_value(json_object_get(j, "E_yy")),
-                                        json_real_value(json_object_get(j, "nu_xy")),
-                                        json_real_value(json_object_get(j, "G_xy"))};
+            if (c->bending)
+                c->best_bfit = (plume_bending_material){.D_long = json_real_value(json_object_get(j, "D_long")),
+                                                        .D_trans = json_real_value(json_object_get(j, "D_trans")),
+                                                        .D_coupling = json_real_value(json_object_get(j, "D_coupling")),
+                                                        .D_twist = json_real_value(json_object_get(j, "D_twist"))};
+            else
+                c->best_fit = (plume_ortho){json_real_value(json_object_get(j, "E_xx")),
+                                            json_real_value(json_object_get(j, "E_yy")),
+                                            json_real_value(json_object_get(j, "nu_xy")),
+                                            json_real_value(json_object_get(j, "G_xy"))};
             memset(&c->best_rep, 0, sizeof c->best_rep);
             c->best_rep.residual = r;
             c->best_rep.evaluations = (int)json_integer_value(json_object_get(j, "evaluations"));
@@ -345,7 +395,8 @@ static int read_targets(const options *o, plume_curve *curves, double *strain_ma
 static int fit_from_starts(const options *o, int rank, int size, plume_macro_model *mm, const plume_curve *curves,
                            plume_ortho *fit, plume_fit_report *rep, int *worker)
 {
-    starts_ctx c = {plume_macro_model_curve, mm, 0, curves, o->nt, o->start, o->fo, -1, 0, {0, 0, 0, 0}, {0}, INFINITY};
+    starts_ctx c = {.model = plume_macro_model_curve, .mm = mm, .curves = curves, .nt = o->nt, .start = o->start,
+                    .fo = o->fo, .best = -1, .best_residual = INFINITY};
     int *todo = malloc((size_t)o->starts * sizeof *todo);
     for (int k = 0; k < o->starts; k++)
         todo[k] = k;

@@ -1,7 +1,7 @@
 /* apps/fit --bending: the plate's bending moduli (D_long, D_trans, D_coupling, D_twist) fitted to
  * the bending curves of apps/traction --bending with the plate test as the model
  * (plume_plate_model_curve, macro/shell/plate_bending.h), by the fitter of the membrane moduli
- * (micro/fit.h) with the moduli packed in its four slots (plume_bend_pack). Included by
+ * (plume_fit_bending_moduli, include/plume/fit.h). Included by
  * apps/fit.c only (file-local functions; it uses fit.c's options and --starts machinery). */
 #ifndef PLUME_APPS_FIT_BENDING_H
 #define PLUME_APPS_FIT_BENDING_H
@@ -162,15 +162,15 @@ static int run_bending_fit(const options *o, int rank, int size)
     }
     /* the model: traction's macro plate, linearized (its membrane then does not enter: the barb
      * phase's isotropic stand-in), one step (the response is linear in the moment) */
-    const plume_membrane_material membrane = {1e9, 1e9, 0.3, 1e9 / 2.6, 1e-4, 0.0, 0};
+    const plume_membrane_material membrane = {.moduli = {1e9, 1e9, 0.3, 1e9 / 2.6}, .h = 1e-4};
     plume_plate_model pm = {t.lx,     t.ly, o->edge > 0 ? o->edge : plume_traction_default_edge(t.lx, t.ly), membrane, t.n, t.angles,
                             t.loads, t.moments, 1, PLUME_SOLVER_LINEARIZED};
-    plume_ortho start, fit;
-    plume_bend_pack(&sb, &start);
+    plume_bending_material b = {0};
     plume_fit_report rep;
     plume_err err = {{0}};
     if (o->starts > 1 || size > 1) {
-        starts_ctx c = {plume_plate_model_curve, &pm, 1, t.curves, t.n, start, fo, -1, 0, {0, 0, 0, 0}, {0}, INFINITY};
+        starts_ctx c = {.bmodel = plume_plate_model_curve, .mm = &pm, .bending = 1, .curves = t.curves, .nt = t.n,
+                        .bstart = sb, .fo = fo, .best = -1, .best_residual = INFINITY};
         int *todo = malloc((size_t)o->starts * sizeof *todo);
         for (int k = 0; k < o->starts; k++)
             todo[k] = k;
@@ -184,24 +184,21 @@ static int run_bending_fit(const options *o, int rank, int size)
             fprintf(stderr, "%s: none of the %d starts gave a fit\n", APP, o->starts);
             rc = 1;
         } else {
-            fit = c.best_fit, rep = c.best_rep;
+            b = c.best_bfit, rep = c.best_rep;
             fprintf(stderr, "%s: the best of %d starts is start %d (misfit %.3g)\n", APP, o->starts, c.best,
                     rep.residual);
         }
-    } else if (plume_fit_moduli(plume_plate_model_curve, &pm, t.curves, t.n, &start, &fo, &fit, &rep, &err) !=
+    } else if (plume_fit_bending_moduli(plume_plate_model_curve, &pm, t.curves, t.n, &sb, &fo, &b, &rep, &err) !=
                PLUME_OK) {
         fprintf(stderr, "%s: %s\n", APP, err.msg);
         rc = 1;
     }
-    plume_bending_material b = {0};
-    if (rc == 0)
-        plume_bend_unpack(&fit, &b);
     if (rc == 0 && o->out) {
         char prov[512];
         snprintf(prov, sizeof prov, "plume fit --bending: %d curve(s) from %s%s, %d evaluations, RMS relative misfit "
                  "%.3g, %s; E_xx, E_yy, nu_xy, G_xy are the model plate's membrane, not fitted", t.n, o->bend_files[0],
                  o->nb > 1 ? " and more" : "", rep.evaluations, rep.residual, rep.stop);
-        const plume_ortho mem = {membrane.E_xx, membrane.E_yy, membrane.nu_xy, membrane.G_xy};
+        const plume_ortho mem = membrane.moduli;
         const plume_param params[] = {{"D_long", b.D_long}, {"D_trans", b.D_trans}, {"D_coupling", b.D_coupling},
                                       {"D_twist", b.D_twist}, {"D_16", 0.0},          {"D_26", 0.0},
                                       {"residual", rep.residual}, {"lx", t.lx}, {"ly", t.ly}};

@@ -74,7 +74,7 @@ plume_status plume_stability_compression(double kappa, int log_barrier, double l
     plume_problem *p = NULL;
     plume_solver *s = NULL;
     double *u = NULL;
-    plume_membrane_material mat = {1.0, 1.0, 0.0, 0.5, 1.0, kappa, log_barrier};
+    plume_membrane_material mat = {.moduli = {1.0, 1.0, 0.0, 0.5}, .h = 1.0, .kappa = kappa, .log_barrier = log_barrier};
     plume_term t;
     plume_status st = plume_patch_mesh(0.05, 1.0, 0.0, 0.05, PLUME_PATCH_ALIGNED, 2, &m, err);
     if (st == PLUME_OK && (st = plume_problem_create(m->nv, 2, 1.0, &p, err)) == PLUME_OK &&

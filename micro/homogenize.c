@@ -403,7 +403,7 @@ plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *giv
      * 1e-6, a soft direction) no relative tolerance can be met below it. Margin 100. */
     c.stress_floor = 0.0;
     for (int k = 0; k < 2; k++)
-        c.stress_floor = fmax(c.stress_floor, 1e-13 * fmax(mats[k].E_xx, mats[k].E_yy) * mats[k].h / l->h);
+        c.stress_floor = fmax(c.stress_floor, 1e-13 * fmax(mats[k].moduli.E_xx, mats[k].moduli.E_yy) * mats[k].h / l->h);
     int lin_iterations = 0;
     if ((st = plume_cell_linear_tensor(cell, mats, 2, l->h, r->C, &lin_iterations, err)) != PLUME_OK)
         goto done;

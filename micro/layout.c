@@ -169,10 +169,10 @@ void plume_layout_materials(const plume_layout *l, plume_membrane_material mats[
 {
     double E[2] = {l->E_b, l->ratio * l->E_b}, nu[2] = {l->nu_b, l->nu_B};
     for (int k = 0; k < 2; k++) { /* isotropic: E_xx = E_yy, G = E / (2 (1 + nu)) (docs/design.md) */
-        mats[k].E_xx = E[k];
-        mats[k].E_yy = E[k];
-        mats[k].nu_xy = nu[k];
-        mats[k].G_xy = E[k] / (2.0 * (1.0 + nu[k]));
+        mats[k].moduli.E_xx = E[k];
+        mats[k].moduli.E_yy = E[k];
+        mats[k].moduli.nu_xy = nu[k];
+        mats[k].moduli.G_xy = E[k] / (2.0 * (1.0 + nu[k]));
         mats[k].h = plume_layout_thickness(l, k);
         mats[k].kappa = l->kappa;
     }

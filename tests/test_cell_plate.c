@@ -153,7 +153,7 @@ void test_cell_plate_patch(void)
         plume_layout_materials(&l, mats);
         if (run == 5) { /* orthotropic, the same in both phases */
             for (int k = 0; k < 2; k++)
-                mats[k].E_xx = 3e9, mats[k].E_yy = 1e8, mats[k].nu_xy = 0.25, mats[k].G_xy = 4e7;
+                mats[k].moduli.E_xx = 3e9, mats[k].moduli.E_yy = 1e8, mats[k].moduli.nu_xy = 0.25, mats[k].moduli.G_xy = 4e7;
         }
         plume_cell *c = NULL;
         plume_err err = {{0}};

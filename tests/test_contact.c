@@ -145,8 +145,8 @@ static void drop_plates(plume_contact_model model, double stiffness, double dhat
     plume_problem *p = NULL;
     plume_err err = {{0}};
     CHECK(plume_problem_create(m->nv, 3, 1.0, &p, &err) == PLUME_OK);
-    plume_membrane_material mats[2] = {{1e6, 1e6, 0.3, 1e6 / 2.6, 1e-3, 0.0, 0},
-                                       {1e6, 1e6, 0.3, 1e6 / 2.6, 1e-3, 0.0, 0}};
+    plume_membrane_material mats[2] = {{{1e6, 1e6, 0.3, 1e6 / 2.6}, 1e-3, 0.0, 0},
+                                       {{1e6, 1e6, 0.3, 1e6 / 2.6}, 1e-3, 0.0, 0}};
     plume_term mt;
     CHECK(plume_membrane_term_create(m, 3, mats, 2, &mt, &err) == PLUME_OK && plume_problem_add_term(p, &mt, &err) == PLUME_OK);
     plume_contact_term_opts o;

@@ -325,7 +325,7 @@ void test_dynamics_terms_fd(void)
     plume_problem *p = NULL;
     plume_err err = {{0}};
     CHECK(plume_patch_mesh(1.0, 1.0, 30.0, 0.25, PLUME_PATCH_ALIGNED, 3, &mesh, &err) == PLUME_OK);
-    plume_membrane_material mat = {5.0, 2.0, 0.1, 1.0, 0.1, 10.0, 0};
+    plume_membrane_material mat = {{5.0, 2.0, 0.1, 1.0}, 0.1, 10.0, 0};
     plume_term mem, load;
     const plume_index v[2] = {1, 2};
     const double f[6] = {0.3, -0.2, 0.5, -0.1, 0.4, 0.2};

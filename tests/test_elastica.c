@@ -56,7 +56,7 @@ static double strip_deflection(double edge, double alpha, plume_index *nel)
     if (plume_patch_mesh(w, L, 0.0, edge, PLUME_PATCH_UNALIGNED, 3, &mesh, &err) != PLUME_OK)
         return NAN;
     *nel = mesh->nt;
-    plume_membrane_material mat = {1e8, 1e8, 0.3, 1e8 / 2.6, 1e-3, 0.0, 0};
+    plume_membrane_material mat = {{1e8, 1e8, 0.3, 1e8 / 2.6}, 1e-3, 0.0, 0};
     plume_bending_material bm = {D, D, 0.0, 0.0};
     plume_term mem, bend, load;
     plume_index *tip = malloc((size_t)mesh->nv * sizeof *tip), ntip = 0;

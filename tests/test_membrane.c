@@ -57,8 +57,8 @@ static double max_abs(const double *a, long n)
         }                                                                                     \
     } while (0)
 
-static const plume_membrane_material MAT_ANISO = {300.0, 2.0, 0.4, 1.2, 0.02, 0.0, 0};
-static const plume_membrane_material MAT_ISO = {10.0, 10.0, 0.3, 10.0 / 2.6, 0.02, 0.0, 0};
+static const plume_membrane_material MAT_ANISO = {{300.0, 2.0, 0.4, 1.2}, 0.02, 0.0, 0};
+static const plume_membrane_material MAT_ISO = {{10.0, 10.0, 0.3, 10.0 / 2.6}, 0.02, 0.0, 0};
 
 /* A small irregular mesh: a quadrilateral with an interior vertex, 4 triangles of different
  * shapes, alternating the two materials. */
@@ -312,7 +312,7 @@ void test_membrane_fd_compression_only(void)
     if (!m)
         return;
     for (int dim = 2; dim <= 3; dim++) {
-        plume_membrane_material mat = {1e-6, 1e-6, 0.0, 1e-6, 0.1, 1e3, 0};
+        plume_membrane_material mat = {{1e-6, 1e-6, 0.0, 1e-6}, 0.1, 1e3, 0};
         plume_term t;
         for (int k = 0; k < 4; k++)
             m->material[k] = 0;
@@ -573,12 +573,12 @@ void test_membrane_patch(void)
 void test_membrane_analytic(void)
 {
     /* stiffness: nu_xy = 0 is diag(E_xx, E_yy, G_xy); otherwise the orthotropic formula */
-    plume_membrane_material m0 = {500.0, 3.0, 0.0, 1.5, 0.01, 0.0, 0};
+    plume_membrane_material m0 = {{500.0, 3.0, 0.0, 1.5}, 0.01, 0.0, 0};
     double C[9];
     plume_membrane_stiffness(&m0, C);
     const double Cd[9] = {500.0, 0, 0, 0, 3.0, 0, 0, 0, 1.5};
     CHECK(memcmp(C, Cd, sizeof C) == 0);
-    plume_membrane_material mi = {10.0, 10.0, 0.25, 4.0, 0.01, 0.0, 0};
+    plume_membrane_material mi = {{10.0, 10.0, 0.25, 4.0}, 0.01, 0.0, 0};
     plume_membrane_stiffness(&mi, C);
     CHECK_REL(C[0], 10.0 / (1 - 0.0625), 1e-15, 0.0);
     CHECK_REL(C[1], 0.25 * 10.0 / (1 - 0.0625), 1e-15, 0.0);
@@ -629,7 +629,7 @@ void test_membrane_analytic(void)
     /* rest state: zero density, and zero energy / forces through the term */
     double I2[4] = {1, 0, 0, 1}, dx[2] = {1.0, 0.0}, dd[2] = {0.6, 0.8};
     CHECK(plume_membrane_density(&ma, 2, I2, dx) == 0.0);
-    CHECK(plume_membrane_density(&ma, 2, I2, dd) <= 1e-28 * ma.E_xx * ma.h);
+    CHECK(plume_membrane_density(&ma, 2, I2, dd) <= 1e-28 * ma.moduli.E_xx * ma.h);
     CHECK(isnan(plume_membrane_density(&ma, 4, I2, dd)));
 
     /* a single-triangle term reproduces A * density for a stretch along its barbs */
@@ -847,7 +847,7 @@ void test_membrane_bad_inputs(void)
                  {5, NAN, "kappa"}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         bad = good;
-        double *f[6] = {&bad.E_xx, &bad.E_yy, &bad.nu_xy, &bad.G_xy, &bad.h, &bad.kappa};
+        double *f[6] = {&bad.moduli.E_xx, &bad.moduli.E_yy, &bad.moduli.nu_xy, &bad.moduli.G_xy, &bad.h, &bad.kappa};
         *f[cases[i].field] = cases[i].value;
         err.msg[0] = '\0';
         CHECK(plume_membrane_material_check(&bad, &err) == PLUME_EINVAL);
@@ -856,9 +856,9 @@ void test_membrane_bad_inputs(void)
     }
     /* the limit nu_xy^2 = E_xx/E_yy exactly is rejected too */
     bad = good;
-    bad.E_xx = 4.0;
-    bad.E_yy = 1.0;
-    bad.nu_xy = 2.0;
+    bad.moduli.E_xx = 4.0;
+    bad.moduli.E_yy = 1.0;
+    bad.moduli.nu_xy = 2.0;
     CHECK(plume_membrane_material_check(&bad, &err) == PLUME_EINVAL);
 
     plume_mesh *m = small_mesh(30.0, 1.0);
@@ -872,13 +872,13 @@ void test_membrane_bad_inputs(void)
     CHECK(create_fails(NULL, 3, mats, 2, "NULL", NULL));
     CHECK(create_fails(m, 3, NULL, 2, "NULL", NULL));
     CHECK(plume_membrane_term_create(m, 3, mats, 2, NULL, NULL) == PLUME_EINVAL);
-    mats[1].E_yy = -1.0;
+    mats[1].moduli.E_yy = -1.0;
     CHECK(create_fails(m, 3, mats, 2, "material 1: E_yy must be finite and > 0 (got -1)", NULL));
     mats[1] = MAT_ISO;
-    mats[0].G_xy = NAN;
+    mats[0].moduli.G_xy = NAN;
     CHECK(create_fails(m, 3, mats, 2, "material 0: G_xy", NULL));
     mats[0] = MAT_ANISO;
-    mats[0].nu_xy = 20.0;
+    mats[0].moduli.nu_xy = 20.0;
     CHECK(create_fails(m, 3, mats, 2, "material 0: nu_xy^2", NULL));
     mats[0] = MAT_ANISO;
     mats[0].h = 0.0;

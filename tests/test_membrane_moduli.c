@@ -103,8 +103,8 @@ void test_membrane_moduli_from_file(void)
     CHECK(load(dir, "{\"from_moduli\": \"cell/m.h5\", \"kappa\": 5}", &s, &err) == PLUME_OK);
     if (s) {
         const plume_scene_material *mat = &s->mats[0];
-        CHECK(mat->membrane.E_xx == m.E_xx && mat->membrane.E_yy == m.E_yy && mat->membrane.nu_xy == m.nu_xy &&
-              mat->membrane.G_xy == m.G_xy);
+        CHECK(mat->membrane.moduli.E_xx == m.E_xx && mat->membrane.moduli.E_yy == m.E_yy && mat->membrane.moduli.nu_xy == m.nu_xy &&
+              mat->membrane.moduli.G_xy == m.G_xy);
         CHECK(mat->membrane.h == 2e-4 && mat->membrane.kappa == 5.0);
         CHECK(strcmp(mat->membrane_from, path) == 0);
         CHECK(mat->bending_from[0] == '\0');
@@ -123,7 +123,7 @@ void test_membrane_moduli_from_file(void)
           strstr(err.msg, "materials[0].membrane.thickness is missing"));
     CHECK(load(dir, "{\"from_moduli\": \"fitted.h5\", \"thickness\": 3e-4}", &s, &err) == PLUME_OK);
     if (s) {
-        CHECK(s->mats[0].membrane.E_yy == 2e5 && s->mats[0].membrane.h == 3e-4 && s->mats[0].membrane.nu_xy == 0.1);
+        CHECK(s->mats[0].membrane.moduli.E_yy == 2e5 && s->mats[0].membrane.h == 3e-4 && s->mats[0].membrane.moduli.nu_xy == 0.1);
         plume_scene_destroy(&s);
     }
     snprintf(args, sizeof args, "rm -rf %s", dir);
@@ -307,8 +307,8 @@ void test_membrane_moduli_scene_from_cell(void)
     CHECK(plume_scene_load(cmd, &s, &err) == PLUME_OK);
     if (s) {
         const plume_scene_material *v = &s->mats[0];
-        CHECK(v->membrane.E_xx == m.E_xx && v->membrane.E_yy == m.E_yy && v->membrane.nu_xy == m.nu_xy &&
-              v->membrane.G_xy == m.G_xy && v->membrane.h == h && h == 1.2e-4);
+        CHECK(v->membrane.moduli.E_xx == m.E_xx && v->membrane.moduli.E_yy == m.E_yy && v->membrane.moduli.nu_xy == m.nu_xy &&
+              v->membrane.moduli.G_xy == m.G_xy && v->membrane.h == h && h == 1.2e-4);
         CHECK(v->bending.D_long == D[0] && v->bending.D_trans == D[1] && v->bending.D_coupling == D[2] &&
               v->bending.D_twist == D[3]);
         CHECK(strcmp(v->membrane_from, path) == 0 && strcmp(v->bending_from, path) == 0);

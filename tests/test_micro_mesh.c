@@ -83,13 +83,13 @@ void test_micro_mesh_layout_defaults(void)
     l.E_b = 3e9, l.ratio = 1e-3, l.nu_b = 0.25, l.nu_B = 0.4, l.h = 2e-4, l.kappa = 5e6;
     plume_membrane_material mats[2];
     plume_layout_materials(&l, mats);
-    CHECK(mats[PLUME_MAT_BARB].E_xx == 3e9 && mats[PLUME_MAT_BARB].E_yy == 3e9);
-    CHECK(mats[PLUME_MAT_BARB].nu_xy == 0.25);
-    CHECK_REL(mats[PLUME_MAT_BARB].G_xy, 3e9 / 2.5, 1e-15, 1e-300);
-    CHECK_REL(mats[PLUME_MAT_BARBULE].E_xx, 3e6, 1e-15, 1e-300);
-    CHECK_REL(mats[PLUME_MAT_BARBULE].E_yy, 3e6, 1e-15, 1e-300);
-    CHECK(mats[PLUME_MAT_BARBULE].nu_xy == 0.4);
-    CHECK_REL(mats[PLUME_MAT_BARBULE].G_xy, 3e6 / 2.8, 1e-15, 1e-300);
+    CHECK(mats[PLUME_MAT_BARB].moduli.E_xx == 3e9 && mats[PLUME_MAT_BARB].moduli.E_yy == 3e9);
+    CHECK(mats[PLUME_MAT_BARB].moduli.nu_xy == 0.25);
+    CHECK_REL(mats[PLUME_MAT_BARB].moduli.G_xy, 3e9 / 2.5, 1e-15, 1e-300);
+    CHECK_REL(mats[PLUME_MAT_BARBULE].moduli.E_xx, 3e6, 1e-15, 1e-300);
+    CHECK_REL(mats[PLUME_MAT_BARBULE].moduli.E_yy, 3e6, 1e-15, 1e-300);
+    CHECK(mats[PLUME_MAT_BARBULE].moduli.nu_xy == 0.4);
+    CHECK_REL(mats[PLUME_MAT_BARBULE].moduli.G_xy, 3e6 / 2.8, 1e-15, 1e-300);
     for (int k = 0; k < 2; k++) {
         CHECK(mats[k].h == 2e-4 && mats[k].kappa == 5e6);
         CHECK(plume_membrane_material_check(&mats[k], &err) == PLUME_OK);

@@ -141,8 +141,8 @@ static int strip_build(strip *st, int dim, double stiff, uint64_t seed, int at_r
         m->barb_dir[2 * t] = cos(a);
         m->barb_dir[2 * t + 1] = sin(a);
     }
-    plume_membrane_material mat = {300.0, 2.0, 0.4, 1.2, 0.02, 5.0, 0};
-    mat.E_xx *= stiff, mat.E_yy *= stiff, mat.G_xy *= stiff, mat.kappa *= stiff;
+    plume_membrane_material mat = {{300.0, 2.0, 0.4, 1.2}, 0.02, 5.0, 0};
+    mat.moduli.E_xx *= stiff, mat.moduli.E_yy *= stiff, mat.moduli.G_xy *= stiff, mat.kappa *= stiff;
 
     /* current positions x = Q (F X) + noise */
     double phi = urange(&r, -3.0, 3.0), sa = urange(&r, 0.8, 1.2), sb = urange(&r, 0.8, 1.2);

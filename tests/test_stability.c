@@ -54,7 +54,7 @@ void test_stability_log_barrier_fd(void)
     memcpy(m->X, X, sizeof X);
     memcpy(m->tri, tri, sizeof tri);
     const double x0[8] = {0.02, -0.01, 0.71, 0.03, 0.66, 0.58, -0.03, 0.62}; /* J about 0.4 */
-    plume_membrane_material mat = {3.0, 1.0, 0.2, 0.7, 0.1, 50.0, 1};
+    plume_membrane_material mat = {{3.0, 1.0, 0.2, 0.7}, 0.1, 50.0, 1};
     plume_term t;
     plume_err err = {{0}};
     CHECK(plume_membrane_term_create(m, 2, &mat, 1, &t, &err) == PLUME_OK);

@@ -114,7 +114,7 @@ static plume_problem *strip_problem(plume_mesh **pm, plume_term *load)
     plume_problem *p = NULL;
     if (plume_grid_mesh(10.0, 1.0, 20, 2, NULL, 3, &m, &err) != PLUME_OK)
         return NULL;
-    plume_membrane_material mat = {1.2e6, 1.2e6, 0.0, 0.6e6, 0.1, 0.0, 0};
+    plume_membrane_material mat = {{1.2e6, 1.2e6, 0.0, 0.6e6}, 0.1, 0.0, 0};
     plume_bending_material bm = {100.0, 100.0, 0.0, 0.0};
     plume_index tip[3], nt = 0;
     for (plume_index v = 0; v < m->nv; v++)

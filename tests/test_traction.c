@@ -61,7 +61,7 @@ void test_traction_off_axis_modulus(void)
         CHECK(plume_patch_mesh(1.0, 1.3, angles[a], 0.2, PLUME_PATCH_UNALIGNED, 2, &mesh, &err) == PLUME_OK);
         if (!mesh)
             return;
-        plume_membrane_material mat = {Exx, Eyy, nu, G, h, 0.0, 0};
+        plume_membrane_material mat = {{Exx, Eyy, nu, G}, h, 0.0, 0};
         plume_term term;
         CHECK(plume_problem_create(mesh->nv, 2, 1.3, &p, &err) == PLUME_OK);
         CHECK(plume_membrane_term_create(mesh, 2, &mat, 1, &term, &err) == PLUME_OK);

@@ -196,7 +196,7 @@ void test_vtu_pvd(void)
 
 static plume_membrane_material test_material(double kappa)
 {
-    plume_membrane_material m = {2.0e9, 3.0e7, 0.3, 1.0e7, 1e-4, kappa, 0};
+    plume_membrane_material m = {{2.0e9, 3.0e7, 0.3, 1.0e7}, 1e-4, kappa, 0};
     return m;
 }
 

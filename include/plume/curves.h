@@ -3,7 +3,7 @@
 #ifndef PLUME_PUBLIC_CURVES_H
 #define PLUME_PUBLIC_CURVES_H
 
-#include "base.h"
+#include "problem.h"
 
 
 #ifdef __cplusplus
@@ -11,14 +11,6 @@ extern "C" {
 #endif
 
 /* ---- curves and moduli in HDF5 ---- */
-/** The homogenised / macroscale orthotropic moduli (Pa, 3D moduli). */
-typedef struct {
-    double E_xx;  /**< Young's modulus along the barbs (Pa) */
-    double E_yy;  /**< Young's modulus across the barbs (Pa) */
-    double nu_xy; /**< Poisson's ratio: contraction across the barbs under a pull along them */
-    double G_xy;  /**< in-plane shear modulus (Pa) */
-} plume_ortho;
-
 /** A named scalar parameter stored as an HDF5 attribute. */
 typedef struct {
     const char *name; /**< attribute name (borrowed) */

@@ -15,7 +15,11 @@ enum {
     PLUME_FIT_EXX = 1, /**< E_xx free */
     PLUME_FIT_EYY = 2, /**< E_yy free */
     PLUME_FIT_NU = 4,  /**< nu_xy free */
-    PLUME_FIT_GXY = 8  /**< G_xy free */
+    PLUME_FIT_GXY = 8, /**< G_xy free */
+    PLUME_FIT_D_LONG = 1,     /**< plume_fit_bending_moduli: D_long free */
+    PLUME_FIT_D_TRANS = 2,    /**< D_trans free */
+    PLUME_FIT_D_COUPLING = 4, /**< D_coupling free */
+    PLUME_FIT_D_TWIST = 8     /**< D_twist free */
 };
 
 /* ---- fitting ---- */
@@ -60,6 +64,23 @@ PLUME_API plume_status plume_fit_moduli(plume_fit_model model, void *ctx, const 
                                         const plume_ortho *start, const plume_fit_opts *o, plume_ortho *result,
                                         plume_fit_report *rep, plume_err *err);
 
+
+/* ---- fitting bending moduli ---- */
+/** A model of bending curves: computes curve `icurve` with the plate's bending moduli `b` (N m),
+ * as plume_fit_model does with membrane moduli (the curves' strain a curvature, 1/m, their stress
+ * a moment per width, N m / m). */
+typedef plume_status (*plume_fit_bending_model)(void *ctx, const plume_bending_material *b, int icurve,
+                                                plume_curve *out, plume_err *err);
+
+/** plume_fit_moduli for a plate's bending moduli: the same misfit and search, over the free ones
+ * of D_long, D_trans, D_twist (log space) and D_coupling (through D_coupling / sqrt(D_long
+ * D_trans), linearly in (-1, 1), so that every plate tried is positive definite); o->free_mask
+ * names them with PLUME_FIT_D_LONG, _D_TRANS, _D_COUPLING and _D_TWIST. PLUME_EINVAL for a start
+ * plate that is not positive definite. */
+PLUME_API plume_status plume_fit_bending_moduli(plume_fit_bending_model model, void *ctx, const plume_curve *targets,
+                                                int ncurves, const plume_bending_material *start,
+                                                const plume_fit_opts *o, plume_bending_material *result,
+                                                plume_fit_report *rep, plume_err *err);
 
 /* ---- the macro traction test as a model ---- */
 /** The macro traction test as a model (the ctx of plume_macro_model_curve); borrowed arrays. */

@@ -193,13 +193,19 @@ PLUME_API plume_status plume_problem_objective(plume_problem *p, const double *u
 
 
 /* ---- the membrane term ---- */
-/** One membrane material: 3D moduli (Pa) in the barb frame (x along the barbs), thickness h (m)
- * and the compression coefficient kappa (Pa; 0 disables the term). */
+/** Orthotropic membrane moduli in the barb frame (x along the barbs), 3D moduli in Pa: what
+ * homogenisation gives, a fit finds and a membrane material holds. */
 typedef struct {
     double E_xx;  /**< Young's modulus along the barbs (Pa) */
     double E_yy;  /**< Young's modulus across the barbs (Pa) */
     double nu_xy; /**< Poisson's ratio: contraction across the barbs under a pull along them */
     double G_xy;  /**< in-plane shear modulus (Pa) */
+} plume_ortho;
+
+/** One membrane material: the moduli (Pa) in the barb frame, thickness h (m) and the compression
+ * coefficient kappa (Pa; 0 disables the term). */
+typedef struct {
+    plume_ortho moduli; /**< E_xx, E_yy, nu_xy, G_xy */
     double h;     /**< thickness (m) */
     double kappa; /**< compression coefficient (Pa); 0 disables the compression term */
     int log_barrier; /**< 0: the cubic compression term (default); 1: a log barrier

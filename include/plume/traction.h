@@ -300,15 +300,6 @@ PLUME_API plume_status plume_plate_specimen(double lx, double ly, double angle_d
 PLUME_API plume_status plume_bend_expected(const double D[9], double angle_deg, plume_bend_load load, double curvature,
                                            double *moment, double *stiffness, plume_err *err);
 
-/** The bending moduli packed in the fitter's four slots (micro/fit.h fits a plume_ortho):
- * E_xx = D_long, E_yy = D_trans, G_xy = D_twist (searched in log space) and nu_xy =
- * D_coupling / sqrt(D_long D_trans) (linearly, in (-1, 1)). */
-PLUME_API void plume_bend_pack(const plume_bending_material *b, plume_ortho *m);
-
-/** The inverse of plume_bend_pack: D_long = E_xx, D_trans = E_yy, D_twist = G_xy and
- * D_coupling = nu_xy sqrt(E_xx E_yy); unchecked. */
-PLUME_API void plume_bend_unpack(const plume_ortho *m, plume_bending_material *b);
-
 /** The plate test as a model of the bending moduli, for apps/fit (micro/fit.h, plume_fit_model). */
 typedef struct {
     double lx;                        /**< specimen width (m) */
@@ -325,12 +316,13 @@ typedef struct {
                                          enter) */
 } plume_plate_model;
 
-/** plume_fit_model for the plate: runs curve icurve of ctx (a plume_plate_model) with the bending
- * moduli packed in m (plume_bend_unpack) and returns it as a plume_curve with strain = curvature
- * (1/m), stress = moment (N m / m), wbar = 0 (arrays malloc'ed, owned by out). A run that does
- * not converge, or moduli the plate refuses (D_coupling^2 > D_long D_trans), give PLUME_EINFEASIBLE. */
-PLUME_API plume_status plume_plate_model_curve(void *ctx, const plume_ortho *m, int icurve, plume_curve *out,
-                                               plume_err *err);
+/** The plate test as a model of bending curves (a plume_fit_bending_model, fit.h): runs curve icurve
+ * of ctx (a plume_plate_model) with the bending moduli b and returns it as a plume_curve with
+ * strain = curvature (1/m), stress = moment (N m / m), wbar = 0 (arrays malloc'ed, owned by out). A
+ * run that does not converge, or moduli the plate refuses (not positive definite), give
+ * PLUME_EINFEASIBLE. */
+PLUME_API plume_status plume_plate_model_curve(void *ctx, const plume_bending_material *b, int icurve,
+                                               plume_curve *out, plume_err *err);
 
 
 /* ---- the samples of supplementary Table 1 ---- */

@@ -35,48 +35,48 @@ typedef struct {
 /* 1 - nu_xy nu_yx, the plane-stress denominator; > 0 iff C is positive definite (moduli > 0). */
 static double plane_stress_det(const plume_membrane_material *m)
 {
-    double nu_yx = m->nu_xy * m->E_yy / m->E_xx;
-    return 1.0 - m->nu_xy * nu_yx;
+    double nu_yx = m->moduli.nu_xy * m->moduli.E_yy / m->moduli.E_xx;
+    return 1.0 - m->moduli.nu_xy * nu_yx;
 }
 
 plume_status plume_membrane_material_check(const plume_membrane_material *m, plume_err *err)
 {
     if (!m)
         return plume_err_set(err, PLUME_EINVAL, "material is NULL");
-    if (!(isfinite(m->E_xx) && m->E_xx > 0.0))
-        return plume_err_set(err, PLUME_EINVAL, "E_xx must be finite and > 0 (got %g)", m->E_xx);
-    if (!(isfinite(m->E_yy) && m->E_yy > 0.0))
-        return plume_err_set(err, PLUME_EINVAL, "E_yy must be finite and > 0 (got %g)", m->E_yy);
-    if (!(isfinite(m->G_xy) && m->G_xy > 0.0))
-        return plume_err_set(err, PLUME_EINVAL, "G_xy must be finite and > 0 (got %g)", m->G_xy);
-    if (!isfinite(m->nu_xy))
-        return plume_err_set(err, PLUME_EINVAL, "nu_xy must be finite (got %g)", m->nu_xy);
+    if (!(isfinite(m->moduli.E_xx) && m->moduli.E_xx > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "E_xx must be finite and > 0 (got %g)", m->moduli.E_xx);
+    if (!(isfinite(m->moduli.E_yy) && m->moduli.E_yy > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "E_yy must be finite and > 0 (got %g)", m->moduli.E_yy);
+    if (!(isfinite(m->moduli.G_xy) && m->moduli.G_xy > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "G_xy must be finite and > 0 (got %g)", m->moduli.G_xy);
+    if (!isfinite(m->moduli.nu_xy))
+        return plume_err_set(err, PLUME_EINVAL, "nu_xy must be finite (got %g)", m->moduli.nu_xy);
     if (!(isfinite(m->h) && m->h > 0.0))
         return plume_err_set(err, PLUME_EINVAL, "h must be finite and > 0 (got %g)", m->h);
     if (!(isfinite(m->kappa) && m->kappa >= 0.0))
         return plume_err_set(err, PLUME_EINVAL, "kappa must be finite and >= 0 (got %g)", m->kappa);
     double D = plane_stress_det(m);
-    if (!(D > 0.0) || !isfinite(m->E_xx / D) || !isfinite(m->E_yy / D))
+    if (!(D > 0.0) || !isfinite(m->moduli.E_xx / D) || !isfinite(m->moduli.E_yy / D))
         return plume_err_set(err, PLUME_EINVAL,
                              "nu_xy^2 must be < E_xx/E_yy for a positive definite plane-stress "
                              "tensor (got nu_xy = %g, E_xx/E_yy = %g)",
-                             m->nu_xy, m->E_xx / m->E_yy);
+                             m->moduli.nu_xy, m->moduli.E_xx / m->moduli.E_yy);
     return PLUME_OK;
 }
 
 void plume_membrane_stiffness(const plume_membrane_material *m, double C[9])
 {
-    double nu_yx = m->nu_xy * m->E_yy / m->E_xx;
-    double D = 1.0 - m->nu_xy * nu_yx;
-    C[0] = m->E_xx / D;
-    C[1] = nu_yx * m->E_xx / D;
+    double nu_yx = m->moduli.nu_xy * m->moduli.E_yy / m->moduli.E_xx;
+    double D = 1.0 - m->moduli.nu_xy * nu_yx;
+    C[0] = m->moduli.E_xx / D;
+    C[1] = nu_yx * m->moduli.E_xx / D;
     C[2] = 0.0;
     C[3] = C[1];
-    C[4] = m->E_yy / D;
+    C[4] = m->moduli.E_yy / D;
     C[5] = 0.0;
     C[6] = 0.0;
     C[7] = 0.0;
-    C[8] = m->G_xy;
+    C[8] = m->moduli.G_xy;
 }
 
 double plume_membrane_density(const plume_membrane_material *mat, int dim, const double *F,

@@ -15,8 +15,8 @@ static json_t *materials_json(const plume_scene *s)
     for (int k = 0; k < s->nmat; k++) {
         const plume_scene_material *m = s->mats + k;
         json_t *jm = json_object(), *jb = json_object();
-        json_t *jmem = json_pack("{s:f, s:f, s:f, s:f, s:f, s:f}", "E_xx", m->membrane.E_xx, "E_yy", m->membrane.E_yy,
-                                 "nu_xy", m->membrane.nu_xy, "G_xy", m->membrane.G_xy, "thickness", m->membrane.h,
+        json_t *jmem = json_pack("{s:f, s:f, s:f, s:f, s:f, s:f}", "E_xx", m->membrane.moduli.E_xx, "E_yy", m->membrane.moduli.E_yy,
+                                 "nu_xy", m->membrane.moduli.nu_xy, "G_xy", m->membrane.moduli.G_xy, "thickness", m->membrane.h,
                                  "kappa", m->membrane.kappa);
         json_object_set_new(jb, "D_long", json_real(m->bending.D_long));
         json_object_set_new(jb, "D_trans", json_real(m->bending.D_trans));

@@ -88,7 +88,7 @@ static plume_status membrane_from_moduli(const plume_json_ctx *c, json_t *mem, c
     plume_err e2 = {{0}};
     if ((st = plume_moduli_read(path, &m, &e2)) != PLUME_OK)
         return plume_json_bad(c, st, kf, "(%s): %s", json_string_value(jf), e2.msg);
-    mm->E_xx = m.E_xx, mm->E_yy = m.E_yy, mm->nu_xy = m.nu_xy, mm->G_xy = m.G_xy;
+    mm->moduli = m;
     double h_file = NAN;
     e2.msg[0] = '\0';
     int has_h = plume_moduli_read_param(path, "thickness", &h_file, &e2) == PLUME_OK;
@@ -148,15 +148,15 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
             plume_json_subkey(kn, kp, "nu");
             return plume_json_bad(c, PLUME_EINVAL, kn, "must be in (-1, 0.5) (got %g)", nu);
         }
-        mm->E_xx = mm->E_yy = E;
-        mm->nu_xy = nu;
-        mm->G_xy = E / (2.0 * (1.0 + nu));
+        mm->moduli.E_xx = mm->moduli.E_yy = E;
+        mm->moduli.nu_xy = nu;
+        mm->moduli.G_xy = E / (2.0 * (1.0 + nu));
     } else {
         if ((st = plume_json_check_keys(c, mem, kp, ortho)) != PLUME_OK ||
-            (st = plume_json_positive(c, mem, kp, "E_xx", 1, 0, &mm->E_xx, NULL)) ||
-            (st = plume_json_positive(c, mem, kp, "E_yy", 1, 0, &mm->E_yy, NULL)) ||
-            (st = plume_json_number(c, mem, kp, "nu_xy", 0, &mm->nu_xy, NULL)) ||
-            (st = plume_json_positive(c, mem, kp, "G_xy", 1, 0, &mm->G_xy, NULL)))
+            (st = plume_json_positive(c, mem, kp, "E_xx", 1, 0, &mm->moduli.E_xx, NULL)) ||
+            (st = plume_json_positive(c, mem, kp, "E_yy", 1, 0, &mm->moduli.E_yy, NULL)) ||
+            (st = plume_json_number(c, mem, kp, "nu_xy", 0, &mm->moduli.nu_xy, NULL)) ||
+            (st = plume_json_positive(c, mem, kp, "G_xy", 1, 0, &mm->moduli.G_xy, NULL)))
             return st;
     }
     if ((!out->membrane_from[0] && (st = plume_json_positive(c, mem, kp, "thickness", 1, 0, &mm->h, NULL))) ||
@@ -170,12 +170,12 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
     plume_json_subkey(kp, where, "bending");
     json_t *jb = json_object_get(jm, "bending");
     if (!jb || (json_is_string(jb) && strcmp(json_string_value(jb), "from_membrane") == 0)) {
-        double nu_yx = mm->nu_xy * mm->E_yy / mm->E_xx, h3 = mm->h * mm->h * mm->h;
-        double den = 12.0 * (1.0 - mm->nu_xy * nu_yx);
-        out->bending.D_long = mm->E_xx * h3 / den;
-        out->bending.D_trans = mm->E_yy * h3 / den;
-        out->bending.D_coupling = mm->nu_xy * out->bending.D_trans; /* D_12 = nu_xy D_22 */
-        out->bending.D_twist = mm->G_xy * h3 / 12.0;                /* D_66 = G t^3 / 12 */
+        double nu_yx = mm->moduli.nu_xy * mm->moduli.E_yy / mm->moduli.E_xx, h3 = mm->h * mm->h * mm->h;
+        double den = 12.0 * (1.0 - mm->moduli.nu_xy * nu_yx);
+        out->bending.D_long = mm->moduli.E_xx * h3 / den;
+        out->bending.D_trans = mm->moduli.E_yy * h3 / den;
+        out->bending.D_coupling = mm->moduli.nu_xy * out->bending.D_trans; /* D_12 = nu_xy D_22 */
+        out->bending.D_twist = mm->moduli.G_xy * h3 / 12.0;                /* D_66 = G t^3 / 12 */
     } else if (json_is_object(jb) && json_object_get(jb, "from_moduli")) {
         if ((st = bending_from_moduli(c, jb, kp, &out->bending, out->bending_from, sizeof out->bending_from)) != PLUME_OK)
             return st;
@@ -232,8 +232,8 @@ plume_status plume_scene_materials_record(const plume_scene *s, const char *fram
         return plume_err_set(err, PLUME_EINVAL, "scene materials record: invalid arguments");
     for (int k = 0; k < s->nmat; k++) {
         const plume_scene_material *m = s->mats + k;
-        const plume_param p[] = {{"E_xx", m->membrane.E_xx},         {"E_yy", m->membrane.E_yy},
-                                 {"nu_xy", m->membrane.nu_xy},       {"G_xy", m->membrane.G_xy},
+        const plume_param p[] = {{"E_xx", m->membrane.moduli.E_xx},         {"E_yy", m->membrane.moduli.E_yy},
+                                 {"nu_xy", m->membrane.moduli.nu_xy},       {"G_xy", m->membrane.moduli.G_xy},
                                  {"thickness", m->membrane.h},       {"kappa", m->membrane.kappa},
                                  {"D_long", m->bending.D_long},      {"D_trans", m->bending.D_trans},
                                  {"D_coupling", m->bending.D_coupling}, {"D_twist", m->bending.D_twist},

@@ -741,28 +741,15 @@ plume_status plume_bend_expected(const double D[9], double angle_deg, plume_bend
     return PLUME_OK;
 }
 
-void plume_bend_pack(const plume_bending_material *b, plume_ortho *m)
-{
-    const double g = sqrt(b->D_long * b->D_trans);
-    m->E_xx = b->D_long, m->E_yy = b->D_trans, m->G_xy = b->D_twist;
-    m->nu_xy = g > 0.0 ? b->D_coupling / g : 0.0;
-}
-
-void plume_bend_unpack(const plume_ortho *m, plume_bending_material *b)
-{
-    b->D_long = m->E_xx, b->D_trans = m->E_yy, b->D_twist = m->G_xy;
-    b->D_coupling = m->nu_xy * sqrt(m->E_xx * m->E_yy);
-}
-
-plume_status plume_plate_model_curve(void *ctx, const plume_ortho *m, int icurve, plume_curve *out, plume_err *err)
+plume_status plume_plate_model_curve(void *ctx, const plume_bending_material *bm, int icurve, plume_curve *out,
+                                     plume_err *err)
 {
     const plume_plate_model *pm = ctx;
-    if (!pm || !m || !out || icurve < 0 || icurve >= pm->ncurves)
+    if (!pm || !bm || !out || icurve < 0 || icurve >= pm->ncurves)
         return plume_err_set(err, PLUME_EINVAL, "plate model: invalid arguments");
     memset(out, 0, sizeof *out);
-    plume_bending_material b;
-    plume_bend_unpack(m, &b);
-    if (!(fabs(m->nu_xy) < 1.0) || !(b.D_twist > 0.0))
+    const plume_bending_material b = *bm;
+    if (!(b.D_coupling * b.D_coupling < b.D_long * b.D_trans) || !(b.D_twist > 0.0))
         return plume_err_set(err, PLUME_EINFEASIBLE, "plate model: moduli out of the plate's range");
     plume_mesh *mesh = NULL;
     plume_problem *p = NULL;

@@ -19,7 +19,7 @@ void plume_vane_default(plume_vane *v)
 
 plume_membrane_material plume_vane_material(const plume_vane *v)
 {
-    plume_membrane_material mat = {v->moduli.E_xx, v->moduli.E_yy, v->moduli.nu_xy, v->moduli.G_xy, v->h, v->kappa, 0};
+    plume_membrane_material mat = {.moduli = v->moduli, .h = v->h, .kappa = v->kappa};
     return mat;
 }
 
