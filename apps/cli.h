@@ -14,6 +14,7 @@
 
 #include <jansson.h>
 
+#include "../include/plume/scene.h"
 
 /* What an app's parse_args returns after printing --help (main then exits 0): a flag parser
  * never exits by itself, so it can be fuzzed (tests/fuzz/fuzz_cli_*.c). */
@@ -113,6 +114,21 @@ static inline int cli_int(const char *app, const char *flag, const char *s, int 
         return cli_fail(app, "%s expects a positive integer (got '%s')", flag, s ? s : "");
     *out = (int)v;
     return 0;
+}
+
+/* The scene's description (plume_scene_describe), parsed (the caller json_decref's it); NULL with
+ * a message on stderr. */
+static inline json_t *cli_describe(const char *app, const plume_scene *scene)
+{
+    plume_err err = {{0}};
+    char *text = NULL;
+    json_t *j = NULL;
+    if (plume_scene_describe(scene, &text, &err) != PLUME_OK)
+        fprintf(stderr, "%s: %s\n", app, err.msg);
+    else if (!(j = json_loads(text, 0, NULL)))
+        fprintf(stderr, "%s: the scene's description is not JSON\n", app);
+    plume_free(text);
+    return j;
 }
 
 #endif

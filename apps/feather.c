@@ -140,20 +140,6 @@ static void output_dir(const options *o, const char *stem, char *outdir, size_t 
         snprintf(outdir, n, "/");
 }
 
-/* The scene's description (plume_scene_describe), parsed; NULL with a message on stderr. */
-static json_t *describe(const plume_scene *scene)
-{
-    plume_err err = {{0}};
-    char *text = NULL;
-    json_t *j = NULL;
-    if (plume_scene_describe(scene, &text, &err) != PLUME_OK)
-        fprintf(stderr, "%s: %s\n", APP, err.msg);
-    else if (!(j = json_loads(text, 0, NULL)))
-        fprintf(stderr, "%s: the scene's description is not JSON\n", APP);
-    plume_free(text);
-    return j;
-}
-
 /* --json: the run's summary object (total: the app's wall time). */
 static json_t *summary_json(const options *o, const plume_run *run, json_t *desc, const char *outdir,
                             const plume_run_report *r, double total)
@@ -299,7 +285,7 @@ int main(int argc, char **argv)
         plume_scene_destroy(&scene);
         return cli_fail(APP, "--solver expects newton|ipopt|linearized (got '%s')", o.solver);
     }
-    if ((rc = apply_overrides(&o, scene)) != 0 || !(desc = describe(scene))) {
+    if ((rc = apply_overrides(&o, scene)) != 0 || !(desc = cli_describe(APP, scene))) {
         rc = rc ? rc : 1;
         goto done;
     }

@@ -154,20 +154,6 @@ static int apply_overrides(const options *o, plume_scene *scene)
     return rc;
 }
 
-/* The scene's description (plume_scene_describe), parsed; NULL with a message on stderr. */
-static json_t *describe(const plume_scene *scene)
-{
-    plume_err err = {{0}};
-    char *text = NULL;
-    json_t *j = NULL;
-    if (plume_scene_describe(scene, &text, &err) != PLUME_OK)
-        fprintf(stderr, "%s: %s\n", APP, err.msg);
-    else if (!(j = json_loads(text, 0, NULL)))
-        fprintf(stderr, "%s: the scene's description is not JSON\n", APP);
-    plume_free(text);
-    return j;
-}
-
 /* The name of probe q of the description. */
 static const char *probe_name(json_t *desc, size_t q)
 {
@@ -304,7 +290,7 @@ int main(int argc, char **argv)
         rc = cli_fail(APP, "%s", err.msg);
         goto done;
     }
-    if (!(desc = describe(scene))) {
+    if (!(desc = cli_describe(APP, scene))) {
         rc = 1;
         goto done;
     }
@@ -315,7 +301,7 @@ int main(int argc, char **argv)
     if ((rc = apply_overrides(&o, scene)) || (o.outdir && (rc = cli_output_dir(APP, "-o", o.outdir))))
         goto done;
     json_decref(desc); /* the settings as overridden */
-    if (!(desc = describe(scene))) {
+    if (!(desc = cli_describe(APP, scene))) {
         rc = 1;
         goto done;
     }

@@ -12,20 +12,8 @@
 
 #include <jansson.h>
 
-#include "../lib/sim/dynamics.h"
-#include "../lib/io/frames.h"
-#include "../lib/io/fs.h"
-#include "../lib/sim/traction.h"
-#include "../micro/fit.h"
-#include "../micro/homogenize.h"
-#include "../micro/layout_json.h"
-#include "../micro/micro_model.h"
-#include "../macro/shell/fields.h"
-#include "../macro/shell/patch_mesh.h"
-#include "../macro/scene/scene.h"
-#include "../macro/shell/traction_model.h"
-#include "../macro/shell/vane.h"
-#include "../macro/scene/run.h"
+#include "../include/plume/plume.h"
+#include "internal/scene_description.h"
 
 /* ------------------------------------------------------------------------------------------ */
 /* requests */
@@ -632,13 +620,22 @@ done:
 
 struct plume_flat_scene {
     plume_scene *scene;
-    plume_run *run;       /* open-ended, no frames, no contact audit (macro/scene/run.h) */
+    const plume_mesh *mesh; /* the scene's */
+    plume_run *run;       /* open-ended, no frames, no contact audit (include/plume/scene.h) */
     plume_fields *fields; /* the ParaView series, once write_vtk is called */
     char *vtk_dir;
     long vtk_frames;
-    long steps;           /* time steps taken since t = 0 (a frame's "step" in frames.h5) */
     char *frames_path;    /* the frames file write_frames appends to, once called */
 };
+
+/* 1 when the scene is static (its description's "solve") */
+static int is_static(const plume_scene *scene)
+{
+    json_t *j = plume_scene_description(scene, NULL);
+    int yes = j && strcmp(json_string_value(json_object_get(j, "solve")), "static") == 0;
+    json_decref(j);
+    return yes;
+}
 
 /* opens the scene document `json` standing for `path`, or (json NULL) the file at path */
 static plume_status scene_open(const char *json, const char *path, plume_flat_scene **out, char *msg, long nmsg)
@@ -652,9 +649,10 @@ static plume_status scene_open(const char *json, const char *path, plume_flat_sc
         return finish(plume_err_set(&err, PLUME_ENOMEM, "scene: out of memory"), &err, msg, nmsg);
     plume_status st = json ? plume_scene_load_json(json, path, NULL, &s->scene, &err)
                            : plume_scene_load(path, &s->scene, &err);
-    if (st == PLUME_OK && s->scene->is_static)
+    if (st == PLUME_OK && is_static(s->scene))
         st = plume_err_set(&err, PLUME_EINVAL, "%s is a static scene (\"solve\": \"static\"): run it with apps/shell",
                            path);
+    s->mesh = plume_scene_mesh(s->scene);
     plume_run_opts o;
     plume_run_opts_default(&o);
     o.open = 1;
@@ -728,7 +726,6 @@ plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **repor
         }
         done++;
     }
-    s->steps += done;
     if (report)
         st = emit(json_pack("{s:I, s:f, s:b, s:I, s:I, s:f, s:f, s:s}", "steps", (json_int_t)done, "time",
                             plume_run_time(s->run), "converged", converged, "halvings", (json_int_t)halvings,
@@ -740,12 +737,12 @@ plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **repor
 
 long plume_flat_scene_nv(const plume_flat_scene *s)
 {
-    return s ? (long)s->scene->mesh->nv : 0;
+    return s ? (long)s->mesh->nv : 0;
 }
 
 long plume_flat_scene_nt(const plume_flat_scene *s)
 {
-    return s ? (long)s->scene->mesh->nt : 0;
+    return s ? (long)s->mesh->nt : 0;
 }
 
 double plume_flat_scene_time(const plume_flat_scene *s)
@@ -756,26 +753,26 @@ double plume_flat_scene_time(const plume_flat_scene *s)
 void plume_flat_scene_positions(const plume_flat_scene *s, double *out)
 {
     if (s && out)
-        memcpy(out, plume_run_positions(s->run), (size_t)(3 * s->scene->mesh->nv) * sizeof *out);
+        memcpy(out, plume_run_positions(s->run), (size_t)(3 * s->mesh->nv) * sizeof *out);
 }
 
 void plume_flat_scene_velocities(const plume_flat_scene *s, double *out)
 {
     if (s && out)
-        memcpy(out, plume_run_velocities(s->run), (size_t)(3 * s->scene->mesh->nv) * sizeof *out);
+        memcpy(out, plume_run_velocities(s->run), (size_t)(3 * s->mesh->nv) * sizeof *out);
 }
 
 void plume_flat_scene_reference(const plume_flat_scene *s, double *out)
 {
     if (s && out)
-        memcpy(out, s->scene->mesh->X, (size_t)(2 * s->scene->mesh->nv) * sizeof *out);
+        memcpy(out, s->mesh->X, (size_t)(2 * s->mesh->nv) * sizeof *out);
 }
 
 void plume_flat_scene_triangles(const plume_flat_scene *s, long *out)
 {
     if (!s || !out)
         return;
-    const plume_mesh *m = s->scene->mesh;
+    const plume_mesh *m = s->mesh;
     for (plume_index k = 0; k < 3 * m->nt; k++)
         out[k] = (long)m->tri[k];
 }
@@ -813,42 +810,16 @@ plume_status plume_flat_scene_write_frames(plume_flat_scene *s, const char *path
     if (!s || !path || !*path)
         return finish(plume_err_set(&err, PLUME_EINVAL, "scene write_frames: invalid arguments (a scene and a path)"),
                       &err, msg, nmsg);
-    const plume_mesh *m = s->scene->mesh;
-    plume_index ncons = 0;
-    const double *lambda = plume_dynamics_multipliers(plume_run_dynamics(s->run), &ncons);
-    plume_status st = PLUME_OK;
-    if (!s->frames_path || strcmp(s->frames_path, path) != 0) { /* a new file */
-        /* the scene by an absolute path, so that a reader finds it from any directory */
-        char cwd[4096], scene[4096 + 1024];
-        if (s->scene->path[0] != '/' && getcwd(cwd, sizeof cwd))
-            snprintf(scene, sizeof scene, "%s/%s", cwd, s->scene->path);
-        else
-            snprintf(scene, sizeof scene, "%s", s->scene->path);
-        /* the file's directory, created with its parents as write_vtk creates its own */
-        char dir[4096];
-        if (strlen(path) >= sizeof dir)
-            return finish(plume_err_set(&err, PLUME_EINVAL, "scene write_frames: the path '%.64s...' is longer than %d "
-                                                            "bytes", path, (int)sizeof dir - 1),
-                          &err, msg, nmsg);
-        snprintf(dir, sizeof dir, "%s", path);
-        char *slash = strrchr(dir, '/');
-        if (slash && slash != dir) {
-            *slash = '\0';
-            if (plume_make_dirs(dir) != 0)
-                return finish(plume_err_set(&err, PLUME_EIO, "scene write_frames: cannot create the directory '%s' of "
-                                                             "'%s': %s", dir, path, strerror(errno)),
-                              &err, msg, nmsg);
-        }
-        st = plume_frames_create(path, m->nv, ncons, s->scene->dt, scene, &err);
-        if (st == PLUME_OK) /* the moduli used, as the runner records them */
-            st = plume_scene_materials_record(s->scene, path, &err);
-        if (st != PLUME_OK)
-            return finish(st, &err, msg, nmsg);
+    const int create = !s->frames_path || strcmp(s->frames_path, path) != 0; /* a new file */
+    plume_status st = plume_run_write_state(s->run, path, create, &err);
+    if (st == PLUME_OK && create) {
         free(s->frames_path);
         if (!(s->frames_path = strdup(path)))
-            return finish(plume_err_set(&err, PLUME_ENOMEM, "out of memory"), &err, msg, nmsg);
+            st = plume_err_set(&err, PLUME_ENOMEM, "out of memory");
     }
-    st = plume_frames_append(path, m->nv, ncons, plume_run_time(s->run), s->steps, plume_run_positions(s->run),
-                             plume_run_velocities(s->run), lambda, &err);
+    if (st != PLUME_OK && strncmp(err.msg, "scene write_frames", 18) != 0) {
+        plume_err why = err;
+        plume_err_set(&err, st, "scene write_frames: %s", why.msg);
+    }
     return finish(st, &err, msg, nmsg);
 }

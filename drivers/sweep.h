@@ -2,14 +2,14 @@
  * plume: parameter sweeps — a JSON sweep file expands into independent runs of one job (a
  * traction test at either scale, a homogenisation, a fit, e.g., from several starting points:
  * "vary": {"start.E_yy": [...]}, or a dynamic scene), each run a request of the flat interface
- * (drivers/flat.h) or a scene document; their results are gathered into one HDF5 file that a killed
+ * (include/plume/flat.h) or a scene document; their results are gathered into one HDF5 file that a killed
  * sweep resumes from.
  * apps/sweep executes the runs serially or spread over MPI ranks.
  *
  * The sweep file:
  *
  *     {"run": "traction" | "homogenize" | "fit" | "scene",
- *      "base": {...a request of that job, drivers/flat.h...},
+ *      "base": {...a request of that job, include/plume/flat.h...},
  *      "vary": {"key": [v1, v2, ...],                                 a list of values
  *               "key": {"from": a, "to": b, "count": n, "scale": "linear" | "log"},   a range
  *               "sample": "table1" | ["T01", "L03", ...]}}            supplementary Table 1 samples

@@ -10,8 +10,8 @@
 
 #include "../lib/io/h5util.h"
 #include "../lib/io/json_read.h"
-#include "../macro/scene/run.h"
-#include "../macro/scene/scene.h"
+#include "../include/plume/scene.h"
+#include "internal/scene_description.h"
 
 void plume_sweep_scene_free(plume_sweep_scene *sc)
 {
@@ -228,7 +228,8 @@ typedef struct {
 
 /* The scene of the request's document (its file name `path` for messages and relative files); a
  * static scene is refused. *text holds the document's text (the caller frees it). */
-static plume_status load_dynamic_scene(const char *path, json_t *doc, char **text, plume_scene **scene, plume_err *err)
+static plume_status load_dynamic_scene(const char *path, json_t *doc, char **text, plume_scene **scene, json_t **desc,
+                                       plume_err *err)
 {
     *text = json_dumps(doc, JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_PRESERVE_ORDER);
     if (!*text)
@@ -236,7 +237,9 @@ static plume_status load_dynamic_scene(const char *path, json_t *doc, char **tex
     plume_status st = plume_scene_load_json(*text, path, NULL, scene, err);
     if (st != PLUME_OK)
         return st;
-    if ((*scene)->is_static)
+    if (!(*desc = plume_scene_description(*scene, err)))
+        return PLUME_ENOMEM;
+    if (strcmp(json_string_value(json_object_get(*desc, "solve")), "static") == 0)
         return plume_err_set(err, PLUME_EINVAL,
                              "%s is a static scene (\"solve\": \"static\"): a sweep steps dynamic scenes (apps/shell "
                              "solves static ones)",
@@ -245,10 +248,11 @@ static plume_status load_dynamic_scene(const char *path, json_t *doc, char **tex
 }
 
 /* The steps of the run: the request's `steps` if > 0, else the scene's duration over dt. */
-static plume_status planned_steps(const plume_scene *scene, const char *path, long steps, long *n_out, plume_err *err)
+static plume_status planned_steps(json_t *desc, const char *path, long steps, long *n_out, plume_err *err)
 {
-    const double dt = scene->dt;
-    const long n = steps > 0 ? steps : (long)fmax(0.0, floor(scene->duration / dt + 0.5));
+    const double dt = plume_scene_description_number(desc, "dt");
+    const long n =
+        steps > 0 ? steps : (long)fmax(0.0, floor(plume_scene_description_number(desc, "duration") / dt + 0.5));
     if (n > 1000000)
         return plume_err_set(err, PLUME_EINVAL,
                              "%s: the run would take %ld steps of dt = %g s (more than 10^6): set the sweep's base.steps "
@@ -294,10 +298,10 @@ static void largest_displacement(const plume_mesh *mesh, const double *x, const 
 }
 
 /* The run's result object (plume_sweep_scene_run's document; the caller owns it). */
-static json_t *run_result(const plume_run *run, const char *path, long n, const run_record *rec, const double *x0)
+static json_t *run_result(const plume_run *run, json_t *desc, const char *path, long n, const run_record *rec,
+                          const double *x0)
 {
-    const plume_scene *scene = plume_run_scene(run);
-    const plume_mesh *mesh = scene->mesh;
+    const plume_mesh *mesh = plume_scene_mesh(plume_run_scene(run));
     const double *x = plume_run_positions(run);
     plume_run_report r;
     plume_run_get_report(run, &r);
@@ -308,7 +312,7 @@ static json_t *run_result(const plume_run *run, const char *path, long n, const 
     json_object_set_new(o, "scene", json_string(path));
     json_object_set_new(o, "vertices", json_integer(mesh->nv));
     json_object_set_new(o, "elements", json_integer(mesh->nt));
-    json_object_set_new(o, "dt", json_real(scene->dt));
+    json_object_set(o, "dt", json_object_get(desc, "dt"));
     json_object_set_new(o, "steps", json_integer(r.steps));
     json_object_set_new(o, "steps_planned", json_integer(n));
     json_object_set_new(o, "time", json_real(r.time));
@@ -323,11 +327,12 @@ static json_t *run_result(const plume_run *run, const char *path, long n, const 
     json_object_set_new(ps, "time", array_real(rec->m[M_TIME], rec->entries));
     json_object_set_new(ps, "newton_iterations", array_int(rec->m[M_ITER], rec->entries));
     json_object_set_new(ps, "halvings", array_int(rec->m[M_HALV], rec->entries));
-    if (scene->has_contact) {
+    json_t *contact = json_object_get(desc, "contact");
+    if (contact) {
         json_object_set_new(o, "contact",
-                            json_pack("{s:s, s:f, s:I, s:f, s:f, s:I, s:I, s:I}", "model",
-                                      plume_contact_model_name(scene->contact.pair.model), "dhat",
-                                      scene->contact.pair.dhat, "max_contact_pairs", (json_int_t)r.max_pairs,
+                            json_pack("{s:O, s:O, s:I, s:f, s:f, s:I, s:I, s:I}", "model",
+                                      json_object_get(contact, "model"), "dhat",
+                                      json_object_get(contact, "dhat"), "max_contact_pairs", (json_int_t)r.max_pairs,
                                       "min_distance", r.min_distance, "min_distance_cap", r.distance_cap,
                                       "max_intersecting_pairs", (json_int_t)r.max_intersecting, "steps_intersecting",
                                       (json_int_t)r.steps_intersecting, "step_limited",
@@ -346,7 +351,7 @@ plume_status plume_sweep_scene_run(const char *request, char **result, char *msg
 {
     plume_err err = {{0}};
     plume_status st = PLUME_OK;
-    json_t *req = request ? json_loads(request, 0, NULL) : NULL, *o = NULL;
+    json_t *req = request ? json_loads(request, 0, NULL) : NULL, *o = NULL, *desc = NULL;
     const char *path = json_string_value(json_object_get(req, "scene"));
     json_t *doc = json_object_get(req, "document");
     long steps = (long)json_integer_value(json_object_get(req, "steps")), n = 0;
@@ -364,11 +369,11 @@ plume_status plume_sweep_scene_run(const char *request, char **result, char *msg
     plume_run_opts ro; /* stepped one dt at a time, the contact audit on, no frames */
     plume_run_opts_default(&ro);
     ro.open = 1;
-    if ((st = load_dynamic_scene(path, doc, &text, &scene, &err)) != PLUME_OK ||
+    if ((st = load_dynamic_scene(path, doc, &text, &scene, &desc, &err)) != PLUME_OK ||
         (st = plume_run_create(scene, &ro, &run, &err)) != PLUME_OK ||
-        (st = planned_steps(scene, path, steps, &n, &err)) != PLUME_OK)
+        (st = planned_steps(desc, path, steps, &n, &err)) != PLUME_OK)
         goto done;
-    size_t nx = 3 * (size_t)scene->mesh->nv;
+    size_t nx = 3 * (size_t)plume_scene_mesh(scene)->nv;
     int nomem = !(x0 = malloc(nx * sizeof *x0));
     for (int k = 0; k < M_COUNT; k++)
         nomem |= !(rec.m[k] = malloc(((size_t)n + 1) * sizeof **rec.m));
@@ -379,7 +384,7 @@ plume_status plume_sweep_scene_run(const char *request, char **result, char *msg
     memcpy(x0, plume_run_positions(run), nx * sizeof *x0);
     if ((st = plume_run_start(run, &err)) != PLUME_OK || (st = step_scene(run, path, n, &rec, &err)) != PLUME_OK)
         goto done;
-    o = run_result(run, path, n, &rec, x0);
+    o = run_result(run, desc, path, n, &rec, x0);
     *result = json_dumps(o, JSON_REAL_PRECISION(17) | JSON_COMPACT | JSON_PRESERVE_ORDER);
     if (!*result)
         st = plume_err_set(&err, PLUME_ENOMEM, "scene run: out of memory");
@@ -392,6 +397,7 @@ done:
     plume_scene_destroy(&scene);
     free(text);
     json_decref(req);
+    json_decref(desc);
     if (msg && nmsg > 0)
         snprintf(msg, (size_t)nmsg, "%s", st == PLUME_OK ? "" : err.msg[0] ? err.msg : plume_strerror(st));
     return st;

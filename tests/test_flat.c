@@ -1,4 +1,4 @@
-/* The flat interface for bindings (drivers/flat.h): JSON requests and results that agree with the
+/* The flat interface for bindings (include/plume/flat.h): JSON requests and results that agree with the
  * library's own calls, errors that name the key, and a scene stepped through its handle (also run
  * under the sanitizers, which the Python tests are not). */
 #include <math.h>

@@ -37,7 +37,7 @@ plume_status plume_sweep_scene_set(json_t *doc, const char *key, json_t *value, 
                                    const char *scene_path, plume_err *err);
 
 /* Runs a request: loads the document, steps it, and gives the result as a JSON text (malloc'ed)
- * as the flat interface's jobs do (drivers/flat.h): {"scene", "vertices", "elements", "dt",
+ * as the flat interface's jobs do (include/plume/flat.h): {"scene", "vertices", "elements", "dt",
  * "steps" (done), "steps_planned", "time", "converged", "stop_reason", "newton_iterations",
  * "halvings", "max_violation", "max_displacement", "max_displacement_vertex", "contact": {...}
  * (contact scenes), "per_step": {"time", "newton_iterations", "halvings", and "contact_pairs",

@@ -68,6 +68,11 @@ PLUME_API plume_status plume_scene_set(plume_scene *s, const char *settings, plu
  * D_twist, from_moduli}, "density", "constraint"}). Keys may be added, never removed. */
 PLUME_API plume_status plume_scene_describe(const plume_scene *s, char **json, plume_err *err);
 
+/** The scene's mesh (borrowed: it lives as long as the scene): shell mode, reference positions X
+ * (2 nv) and the placed positions x (3 nv) of the rest state, triangles, materials and barb
+ * directions; a scene of several objects has them all, in the order of its "objects". */
+PLUME_API const plume_mesh *plume_scene_mesh(const plume_scene *s);
+
 /** The mean displacement u (m) of the vertices of probe k (the order of plume_scene_describe's
  * "probes") at positions x (3 nv, m; plume_run_positions) from the rest state; NaN for a k out of
  * range. */
@@ -314,6 +319,14 @@ PLUME_API const plume_scene *plume_run_scene(const plume_run *r);
 /** The frames file (output_dir/frames.h5), or NULL without output_dir. */
 PLUME_API const char *plume_run_frames_path(const plume_run *r);
 
+/** Writes the current state of a dynamic run (time, step, positions, velocities, multipliers) as
+ * the next frame of the frames file `path`, the run's own or another (a caller that steps an open
+ * run and keeps the states it likes: Python's Scene.write_frames). With create, the file is
+ * written anew first (its directory made with its parents), recording the scene by its absolute
+ * path, its dt and its materials, as the runner's own file; otherwise the file must hold frames of
+ * this scene's mesh. Errors name the file; PLUME_EINVAL for a static run (it has no frames file). */
+PLUME_API plume_status plume_run_write_state(plume_run *r, const char *path, int create, plume_err *err);
+
 
 
 /* ---- ParaView series of a mesh and its fields (what the runner writes; apps/traction and
@@ -349,6 +362,12 @@ PLUME_API plume_status plume_fields_series_start(plume_fields *f, const char *di
  * displacement; cell data: material, barb_direction, the fields above, and "object" after
  * plume_fields_set_objects. */
 PLUME_API plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err);
+
+/** The field calculator of a scene's states: its membrane materials, its bending term and its
+ * barb edges over the whole mesh (kinematic triangles get NaN), ready for
+ * plume_fields_series_start. The caller destroys *out; it borrows the scene's mesh, so the scene
+ * must outlive it. */
+PLUME_API plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_err *err);
 
 
 #ifdef __cplusplus

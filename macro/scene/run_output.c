@@ -230,3 +230,38 @@ plume_status plume_run_output_start(plume_run *r, plume_err *err)
         return st;
     return plume_run_write_frame(r, 0, 0, err);
 }
+
+plume_status plume_run_write_state(plume_run *r, const char *path, int create, plume_err *err)
+{
+    if (!r || !path || !*path)
+        return plume_err_set(err, PLUME_EINVAL, "plume_run_write_state: a run and a path are required");
+    if (!r->d)
+        return plume_err_set(err, PLUME_EINVAL, "plume_run_write_state: a static scene's run has no frames file");
+    const plume_mesh *m = r->scene->mesh;
+    plume_status st;
+    if (create) {
+        /* the scene by an absolute path, so that a reader finds it from any directory */
+        char cwd[4096], scene[4096 + 1024], dir[4096];
+        if (r->scene->path[0] != '/' && getcwd(cwd, sizeof cwd))
+            snprintf(scene, sizeof scene, "%s/%s", cwd, r->scene->path);
+        else
+            snprintf(scene, sizeof scene, "%s", r->scene->path);
+        if (strlen(path) >= sizeof dir)
+            return plume_err_set(err, PLUME_EINVAL, "frames file '%.64s...': the path is longer than %d bytes", path,
+                                 (int)sizeof dir - 1);
+        snprintf(dir, sizeof dir, "%s", path);
+        char *slash = strrchr(dir, '/');
+        if (slash && slash != dir) {
+            *slash = '\0';
+            if (plume_make_dirs(dir) != 0)
+                return plume_err_set(err, PLUME_EIO, "frames file '%s': cannot create the directory '%s': %s", path, dir,
+                                     strerror(errno));
+        }
+        if ((st = plume_frames_create(path, m->nv, r->ncons, r->scene->dt, scene, err)) != PLUME_OK ||
+            (st = plume_scene_materials_record(r->scene, path, err)) != PLUME_OK) /* as the runner records them */
+            return st;
+    }
+    return plume_frames_append(path, m->nv, r->ncons, plume_dynamics_time(r->d), r->rep.step,
+                               plume_dynamics_positions(r->d), plume_dynamics_velocities(r->d),
+                               plume_dynamics_multipliers(r->d, NULL), err);
+}

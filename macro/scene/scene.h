@@ -172,10 +172,6 @@ plume_status plume_scene_check_start(const plume_scene *s, plume_err *err);
  * when the scene set it). Errors of plume_frames_material_write. */
 plume_status plume_scene_materials_record(const plume_scene *s, const char *frames_path, plume_err *err);
 
-/** The output fields of the scene's states (fields.h): its membrane materials, its bending term
- * and its barb edges, over the whole mesh (kinematic triangles get NaN). The caller destroys *out;
- * it borrows the scene's mesh, so the scene must outlive it. */
-plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_err *err);
 
 /** The body of each vertex (body [nv], caller-allocated): the connected components of the scene's
  * mesh, numbered from 0 in vertex order; returns their count. */

@@ -1,4 +1,4 @@
-/* plume: what a loaded scene holds, as a JSON text (include/plume/scene.h's plume_scene_describe),
+/* plume: what a loaded scene holds, as a JSON text (include/plume/scene.h's plume_scene_describe) and its mesh,
  * and its probes' displacements: what a caller reports about a scene without its struct. */
 #include <math.h>
 #include <stdlib.h>
@@ -95,4 +95,9 @@ plume_status plume_scene_describe(const plume_scene *s, char **json, plume_err *
     *json = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(17));
     json_decref(j);
     return *json ? PLUME_OK : plume_err_set(err, PLUME_ENOMEM, "plume_scene_describe: out of memory");
+}
+
+const plume_mesh *plume_scene_mesh(const plume_scene *s)
+{
+    return s ? s->mesh : NULL;
 }
