@@ -4,11 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../include/plume/experiments.h"
 #include "../lib/core/opts.h"
-#include "../lib/core/problem.h"
-#include "../lib/sim/traction.h"
-#include "../micro/micro_model.h"
-#include "../macro/shell/vane.h"
 
 void plume_study_config_default_sized(plume_study_config *o, size_t size)
 {

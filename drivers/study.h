@@ -7,12 +7,6 @@
 
 #include "../include/plume/experiments.h"
 
-#include "../lib/core/export.h"
-#include "../lib/io/curves.h"
-#include "../lib/solve/solver.h"
-#include "../micro/layout.h"
-#include "../macro/shell/patch_mesh.h"
-
 #ifdef __cplusplus
 extern "C" {
 #endif
