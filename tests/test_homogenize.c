@@ -389,3 +389,31 @@ void test_homogenize_write_errors(void)
     }
     plume_homog_result_free(&r);
 }
+
+/* plume_homogenize_bending is plume_homogenize's bending part alone: the same D bit for bit, its
+ * moduli those of D; an invalid layout is refused naming the field. */
+void test_homogenize_bending_alone(void)
+{
+    plume_layout l;
+    plume_layout_default(&l);
+    l.kind = PLUME_LAYOUT_BARBULES;
+    plume_homog_opts o;
+    plume_homog_opts_default(&o);
+    o.strain_max = 0.0; /* no curves */
+    o.convergence = 0;
+    plume_homog_result r;
+    plume_err err = {{0}};
+    CHECK(plume_homogenize(&l, &o, &r, &err) == PLUME_OK);
+    double D[9];
+    plume_plate_moduli m;
+    CHECK(plume_homogenize_bending(&l, D, &m, &err) == PLUME_OK);
+    CHECK(memcmp(D, r.D, sizeof D) == 0);
+    CHECK(m.D_long == r.bending.D_long && m.D_trans == r.bending.D_trans && m.D_twist == r.bending.D_twist &&
+          m.D_coupling == r.bending.D_coupling);
+    fprintf(stderr, "    barbule cell: D_long %.6g, D_trans %.6g, D_twist %.6g N m, the same alone and in full\n",
+            m.D_long, m.D_trans, m.D_twist);
+    plume_homog_result_free(&r);
+    l.phi = 1.2;
+    CHECK(plume_homogenize_bending(&l, D, NULL, &err) == PLUME_EINVAL && strstr(err.msg, "phi"));
+    CHECK(plume_homogenize_bending(NULL, D, NULL, &err) == PLUME_EINVAL);
+}
