@@ -53,7 +53,7 @@ PLUME_API plume_status plume_curve_read(const char *path, const char *scale, con
 /** Frees the arrays of a curve (as plume_curve_read allocates them) and zeroes it; NULL-safe. */
 PLUME_API void plume_curve_free(plume_curve *curve);
 
-/** One curve of a plate bending test (macro/shell/plate_bending.h): n points, ownership as plume_curve's
+/** One curve of a plate bending test (plume_bend_run, traction.h): n points, ownership as plume_curve's
  * (plume_bend_curve_read's arrays: free with plume_bend_curve_free). */
 typedef struct {
     plume_index n;      /**< points (the length of every array) */

@@ -89,7 +89,7 @@ typedef struct {
     double ly;              /**< sample length between the grips (m) */
     double h;               /**< thickness (m) */
     double edge;            /**< mesh edge (m) */
-    plume_patch_kind mesh;  /**< aligned or unaligned patch mesh (macro/shell/patch_mesh.h) */
+    plume_patch_kind mesh;  /**< aligned or unaligned patch mesh (plume_patch_mesh) */
     int constraint;         /**< barbs inextensible */
     double kappa;           /**< compression coefficient of the membrane (Pa); 0 disables it */
     double strain_max;      /**< final nominal strain of each curve */

@@ -10,7 +10,7 @@
  *
  * Requests (JSON objects; every key optional unless said otherwise). A text that is not JSON is
  * PLUME_EFORMAT; an unknown key or a bad value is PLUME_EINVAL with a message naming the key:
- *  - homogenize: {"layout": {...keys of a --config layout file: "layout", "phi", "d_B", "w_B",
+ *  - homogenize: {"layout": {...keys of a layout file (docs/layout-format.md): "layout", "phi", "d_B", "w_B",
  *    "E_b", "nu_b", "ratio", "nu_B", "thickness", "thickness_barb", "thickness_barbule", "kappa",
  *    "order", "e_rel", "barbule_width", "barbule_spacing", "barbule_angle"}, "strain_max": 0.05,
  *    "steps": 10, "output": "FILE.h5" (also write the moduli file plume_homog_write writes, the one

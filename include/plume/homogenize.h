@@ -70,7 +70,7 @@ PLUME_API double plume_layout_barb_width(const plume_layout *l);
 
 /** What a mesh is for: the automatic element edge differs (docs/micro-convergence.md). */
 typedef enum {
-    PLUME_MESH_CELL = 0,    /**< a periodic cell (micro/cell_mesh.h) */
+    PLUME_MESH_CELL = 0,    /**< a periodic cell (plume_cell) */
     PLUME_MESH_SPECIMEN = 1 /**< a traction or bending specimen */
 } plume_mesh_use;
 
@@ -113,7 +113,7 @@ PLUME_API plume_status plume_layout_apply_json(const char *text, const char *whe
 
 /* ---- bending moduli of a plate cell ---- */
 /** The bending moduli of a plate (N m) in the barb frame (1 along the barbs), with the energy
- * density of macro/shell/bending.h plus the bending-twist couplings
+ * density of plume_bending_material (problem.h) plus the bending-twist couplings
  *
  *     1/2 (D_long k11^2 + D_trans k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2
  *          + 4 D_16 k11 k12 + 4 D_26 k22 k12),
@@ -130,7 +130,7 @@ typedef struct {
 } plume_plate_moduli;
 
 
-/** A periodic cell of a layout (opaque here; micro/cell_mesh.h inside the library). */
+/** A periodic cell of a layout (opaque). */
 typedef struct plume_cell plume_cell;
 
 /** The mesh of a periodic cell (borrowed: it lives as long as the cell), e.g. for a ParaView series
@@ -168,10 +168,10 @@ typedef struct {
     plume_ortho moduli;    /**< effective 3D moduli (Pa) in the barb frame (x along the barbs) */
     double C[9];           /**< effective plane-stress tensor (Pa), Voigt (E11, E22, 2 E12), row-major */
     double coupling;       /**< max(|C13|, |C23|) / sqrt(C11 C22): 0 for an orthotropic cell */
-    /** Bending, from the periodic plate cell (micro/cell_plate.h): the tensor D (N m, Voigt (k11,
+    /** Bending, from the periodic plate cell (docs/bending-homogenisation.md): the tensor D (N m, Voigt (k11,
      * k22, 2 k12), row-major, barb frame). */
     double D[9];
-    plume_plate_moduli bending; /**< the moduli of D in macro/shell/bending.h's convention */
+    plume_plate_moduli bending; /**< the moduli of D in plume_bending_material's convention */
     plume_index plate_dofs; /**< unknowns of the plate cell problem */
     /** How converged the bending moduli are: the largest relative change of D_long, D_trans,
      * D_twist on the coarser mesh of refinement_change (-1 when not estimated). */
@@ -223,8 +223,8 @@ PLUME_API plume_status plume_homogenize_bending(const plume_layout *l, double D[
                                                 plume_err *err);
 
 /** Meshes the layout's periodic cell and homogenises it: the small-strain tensor from the exact
- * linearised cell problem (micro/cell_linear.h), the bending tensor from the plate cell problem
- * (micro/cell_plate.h), the curves from the nonlinear membrane. Errors: invalid layout or options
+ * linearised cell problem, the bending tensor from the plate cell problem
+ * (docs/bending-homogenisation.md), the curves from the nonlinear membrane. Errors: invalid layout or options
  * (PLUME_EINVAL with the field named), a cell solve that does not converge (PLUME_EINFEASIBLE
  * with the load case and the solver's reason). */
 PLUME_API plume_status plume_homogenize(const plume_layout *l, const plume_homog_opts *o, plume_homog_result *r,

@@ -93,7 +93,7 @@ typedef struct {
     plume_status (*lag)(void *ctx, int dim, const double *x);
     /** Optional (NULL: not offered): the energy of each stencil at x (full vector), written to
      * e[0 .. nstencil-1]; their sum is the energy eval adds. Output fields use it (energy
-     * densities per triangle, macro/shell/fields.h). */
+     * densities per triangle, docs/paraview-output.md). */
     plume_status (*energies)(void *ctx, int dim, const double *x, double *e);
     /** 1: this term's projected blocks are a cheap closed form that keeps the term's stiffness and
      * drops only a curvature part (shape-operator bending: the Gauss-Newton block), so the native
@@ -234,7 +234,7 @@ PLUME_API plume_status plume_edge_length_create(const plume_index *edges, plume_
  * E t^3 / (12 (1 - nu^2)), D_coupling = nu D, D_twist = (1 - nu) D / 2.
  * The orthotropic plate energy density, k11 along d, k22 across, k12 the twist in the barb frame:
  *     1/2 (D_long k11^2 + D_trans k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2).
- * D_twist and D_coupling are read only by the shape-operator term (macro/shell/shape_bending.h); the
+ * D_twist and D_coupling are read only by the shape-operator term (docs/theory-bending.md); the
  * hinge term below ignores them (a hinge sees one normal curvature, not the twist). They come
  * after D_long and D_trans so that `{D_long, D_trans}` initialisers keep meaning what they did,
  * with both new fields zero (gcc -Wextra flags such partial initialisers: spell the zeros out or
@@ -332,7 +332,7 @@ typedef struct {
                               constraints) before shifting the whole matrix; default 1 */
     int curved_search;     /**< newton without constraints: a full step the line search refuses is
                               retried along u + alpha du + alpha^2/2 a, a the geodesic acceleration
-                              (lib/solve/newton.c); default 1 */
+                              (docs/solver-nonconvexity.md); default 1 */
     int trust_region;      /**< newton: globalise by an adaptive-regularisation trust region (a
                               shift sigma I added to the factorised matrix, grown when the step's
                               actual decrease of the l1 merit falls short of the quadratic model's
@@ -355,8 +355,8 @@ PLUME_API void plume_solver_opts_default_sized(plume_solver_opts *o, size_t size
 /* ---- the solvers ---- */
 /** The solver backends (names "newton", "ipopt", "linearized"). */
 typedef enum {
-    PLUME_SOLVER_NEWTON = 0,    /**< the native projected Newton / SQP (lib/solve/newton.h) */
-    PLUME_SOLVER_IPOPT = 1,     /**< Ipopt, interior point with exact Hessians (lib/solve/ipopt_solver.h) */
+    PLUME_SOLVER_NEWTON = 0,    /**< the native projected Newton / SQP (docs/theory-constraints.md) */
+    PLUME_SOLVER_IPOPT = 1,     /**< Ipopt, interior point with exact Hessians */
     PLUME_SOLVER_LINEARIZED = 2 /**< one full Newton step of the native solver, no convergence sought */
 } plume_solver_kind;
 

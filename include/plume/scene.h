@@ -158,7 +158,7 @@ typedef struct {
     /** 1: no planned end: the caller steps (plume_run_step) as long as it likes, one step of dt a
      * call (adaptive scenes too); default 0 */
     int open;
-    /** A frames file (lib/io/frames.h) to continue from: its last frame's time, positions, velocities
+    /** A frames file (docs/hdf5-layout.md) to continue from: its last frame's time, positions, velocities
      * and multipliers; the step and frame numbering go on from it, and with output_dir the file is
      * copied to output_dir/frames.h5 (when it is another file) and appended to, and the series goes
      * on. NULL (default): start from the scene's initial state. */

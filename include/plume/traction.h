@@ -104,7 +104,7 @@ typedef enum {
                                  others uniformly between (<= edge sqrt(3)/2 apart), vertices on them
                                  every ~`edge` (and boundary points only where they meet the sides),
                                  barb segments kept as edges: every triangle owns a barb edge
-                                 (check with plume_vane_barb_coverage, macro/shell/vane.h) */
+                                 (docs/theory-constraints.md) */
     PLUME_PATCH_UNALIGNED = 1 /**< quality Delaunay mesh (CGAL refinement) that ignores the barbs */
 } plume_patch_kind;
 
@@ -149,7 +149,7 @@ PLUME_API plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, con
 
 /* ---- the resolved specimen ---- */
 /** Meshes a rectangular traction specimen [0, lx] x [0, ly] of the layout with barbs at angle_deg
- * from the y axis (as in macro/shell/patch_mesh.h: d = (sin a, cos a)); strip boundaries are mesh
+ * from the y axis (as in plume_patch_mesh: d = (sin a, cos a)); strip boundaries are mesh
  * edges, the mesh is refined to edges <= plume_layout_element_edge(l, PLUME_MESH_SPECIMEN); barbule
  * layouts leave the empty space out. Always linear triangles (plume_micro_specimen adds the
  * quadratic nodes).
@@ -160,7 +160,7 @@ PLUME_API plume_status plume_specimen_mesh(const plume_layout *l, double lx, dou
 /** Meshes the specimen [0, lx] x [0, ly] with barbs at angle_deg from the pulling axis y
  * (plume_specimen_mesh) and creates a planar problem holding the two-material membrane of the
  * layout's element order. At order 2 *mesh is the quadratic triangles split in four (its vertices
- * are the elements' nodes, lib/core/mesh_quadratic.h). The caller owns *mesh and *p (not finalised: plume_traction_run clamps and finalises it). */
+ * are the elements' nodes). The caller owns *mesh and *p (not finalised: plume_traction_run clamps and finalises it). */
 PLUME_API plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, double angle_deg,
                                             plume_mesh **mesh, plume_problem **p, plume_err *err);
 
@@ -271,12 +271,12 @@ PLUME_API plume_status plume_bend_run(const plume_mesh *mesh, plume_problem *p, 
 
 /** The bending moduli of a homogeneous plate of membrane material m and its thickness h:
  * D = h^3 / 12 Q, Q the plane-stress tensor (isotropic: D_coupling = nu D, D_twist = (1 - nu) D / 2),
- * as micro/cell_plate.h takes each phase. */
+ * as the periodic plate cell takes each phase. */
 PLUME_API void plume_plate_of_membrane(const plume_membrane_material *m, plume_bending_material *b);
 
 /** A shell-mode specimen of the planar mesh `planar` (its X, triangles, material ids and barb
- * directions, copied; planar is the caller's): membrane mem[material[t]] (lib/core/membrane.h) and
- * shape-operator bending bend[material[t]] (macro/shell/shape_bending.h, phase-aware stencils: no fit
+ * directions, copied; planar is the caller's): membrane mem[material[t]] (plume_membrane_term_create) and
+ * shape-operator bending bend[material[t]] (phase-aware stencils: no fit
  * spans two materials) per triangle, nmat materials. This is how a resolved micro specimen (plume_specimen_mesh's mesh, phases by plume_plate_of_membrane) and
  * the homogeneous plate become the same kind of shell. The caller owns *mesh and *p (not
  * finalised). Errors: the terms' (PLUME_EINVAL with a message), PLUME_ENOMEM. */
@@ -285,22 +285,22 @@ PLUME_API plume_status plume_shell_specimen(const plume_mesh *planar, const plum
                                             plume_problem **p, plume_err *err);
 
 /** The homogeneous plate specimen: an unaligned (quality Delaunay) mesh of edge `edge` with barbs at
- * angle_deg from y (macro/shell/patch_mesh.h), shell mode, membrane `mem` and shape-operator bending
- * `bend` (macro/shell/shape_bending.h). The caller owns *mesh and *p (not finalised). Errors as
+ * angle_deg from y (plume_patch_mesh), shell mode, membrane `mem` and shape-operator bending
+ * `bend`. The caller owns *mesh and *p (not finalised). Errors as
  * plume_patch_mesh and the terms' (PLUME_EINVAL with a message). */
 PLUME_API plume_status plume_plate_specimen(double lx, double ly, double angle_deg, double edge,
                                             const plume_membrane_material *mem, const plume_bending_material *bend,
                                             plume_mesh **mesh, plume_problem **p, plume_err *err);
 
 /** The moment per unit width that bends (or twists) a homogeneous plate of tensor D (N m, Voigt
- * (k11, k22, 2 k12) in the barb frame, row-major, micro/cell_plate.h) with barbs at angle_deg from
+ * (k11, k22, 2 k12) in the barb frame, row-major, plume_homogenize_bending) with barbs at angle_deg from
  * y to the curvature `curvature` (1/m) in the test above: curvature / (D_s^-1)_yy, or
  * curvature / (D_s^-1)_66 twisted, D_s the tensor in the specimen frame. *stiffness (may be NULL)
  * gets that ratio. PLUME_EINVAL for a D that is not positive definite. */
 PLUME_API plume_status plume_bend_expected(const double D[9], double angle_deg, plume_bend_load load, double curvature,
                                            double *moment, double *stiffness, plume_err *err);
 
-/** The plate test as a model of the bending moduli, for apps/fit (micro/fit.h, plume_fit_model). */
+/** The plate test as a model of the bending moduli, for apps/fit (fit.h, plume_fit_model). */
 typedef struct {
     double lx;                        /**< specimen width (m) */
     double ly;                        /**< specimen length (m) */
