@@ -592,3 +592,22 @@ cleanup:
     free(vtri);
     return st;
 }
+
+plume_status plume_plate_moduli_check(const plume_bending_material *mats, int nmat, const char *term, plume_err *err)
+{
+    for (int i = 0; i < nmat; i++) {
+        const plume_bending_material *b = &mats[i];
+        const char *names[4] = {"D_long", "D_trans", "D_twist", "D_coupling"};
+        const double vals[4] = {b->D_long, b->D_trans, b->D_twist, b->D_coupling};
+        for (int f = 0; f < 4; f++)
+            if (!(isfinite(vals[f]) && vals[f] >= 0.0))
+                return plume_err_set(err, PLUME_EINVAL, "%s: material %d: %s must be finite and >= 0 (got %g)", term, i,
+                                     names[f], vals[f]);
+        if (b->D_coupling * b->D_coupling > b->D_long * b->D_trans * (1.0 + 1e-12))
+            return plume_err_set(err, PLUME_EINVAL,
+                                 "%s: material %d: D_coupling (%g) must not exceed sqrt(D_long D_trans) (%g): the plate "
+                                 "would not be positive semidefinite",
+                                 term, i, b->D_coupling, sqrt(b->D_long * b->D_trans));
+    }
+    return PLUME_OK;
+}

@@ -17,6 +17,11 @@
 extern "C" {
 #endif
 
+/** The plate moduli of the rotation-free bending terms (shape operator, midedge): every D finite
+ * and >= 0 and D_coupling^2 <= D_long D_trans (a positive semidefinite plate), for each of the nmat
+ * materials; PLUME_EINVAL naming `term`, the material and the modulus otherwise. */
+plume_status plume_plate_moduli_check(const plume_bending_material *mats, int nmat, const char *term, plume_err *err);
+
 #ifdef __cplusplus
 }
 #endif

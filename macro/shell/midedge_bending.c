@@ -30,8 +30,6 @@ struct plume_midedge_bending {
     double *r0;               /* [3 ne] reference vectors */
 };
 
-static int stiffness_ok(double v) { return isfinite(v) && v >= 0.0; }
-
 static void rest_position(const plume_mesh *m, const double *rest_x, plume_index v, double p[3])
 {
     if (rest_x) {
@@ -56,20 +54,9 @@ static plume_status check_inputs(const plume_mesh *mesh, const plume_bending_mat
     if (!mesh->edges || !mesh->edge_tri)
         return plume_err_set(err, PLUME_EINVAL,
                              "midedge bending: mesh topology not built (call plume_mesh_build_topology)");
-    for (int i = 0; i < nmat; i++) {
-        const plume_bending_material *b = &mats[i];
-        const char *names[4] = {"D_long", "D_trans", "D_twist", "D_coupling"};
-        const double vals[4] = {b->D_long, b->D_trans, b->D_twist, b->D_coupling};
-        for (int f = 0; f < 4; f++)
-            if (!stiffness_ok(vals[f]))
-                return plume_err_set(err, PLUME_EINVAL, "midedge bending: material %d: %s must be finite and >= 0 (got %g)",
-                                     i, names[f], vals[f]);
-        if (b->D_coupling * b->D_coupling > b->D_long * b->D_trans * (1.0 + 1e-12))
-            return plume_err_set(err, PLUME_EINVAL,
-                                 "midedge bending: material %d: D_coupling (%g) must not exceed sqrt(D_long D_trans) "
-                                 "(%g): the plate would not be positive semidefinite",
-                                 i, b->D_coupling, sqrt(b->D_long * b->D_trans));
-    }
+    plume_status st = plume_plate_moduli_check(mats, nmat, "midedge bending", err);
+    if (st != PLUME_OK)
+        return st;
     for (plume_index t = 0; t < mesh->nt; t++) {
         if (mesh->material[t] < 0 || mesh->material[t] >= nmat)
             return plume_err_set(err, PLUME_EINVAL, "midedge bending: triangle %ld: material id %d out of range [0, %d)",

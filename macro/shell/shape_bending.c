@@ -614,11 +614,6 @@ static void shape_destroy(void *vctx)
     free(ctx);
 }
 
-static int stiffness_ok(double D)
-{
-    return isfinite(D) && D >= 0.0;
-}
-
 /* 3x3 inverse by the adjugate; returns 0 if singular */
 static int inv3(double M[3][3], double I[3][3])
 {
@@ -933,21 +928,9 @@ static plume_status check_shape_inputs(const plume_mesh *mesh, const plume_bendi
     if (mesh->nt > 0 && (!mesh->edges || !mesh->edge_tri))
         return plume_err_set(err, PLUME_EINVAL,
                              "shape bending: mesh topology not built (call plume_mesh_build_topology)");
-    for (int i = 0; i < nmat; i++) {
-        const plume_bending_material *b = &mats[i];
-        const char *names[4] = {"D_long", "D_trans", "D_twist", "D_coupling"};
-        const double vals[4] = {b->D_long, b->D_trans, b->D_twist, b->D_coupling};
-        for (int f = 0; f < 4; f++)
-            if (!stiffness_ok(vals[f]))
-                return plume_err_set(err, PLUME_EINVAL,
-                                     "shape bending: material %d: %s must be finite and >= 0 (got %g)", i,
-                                     names[f], vals[f]);
-        if (b->D_coupling * b->D_coupling > b->D_long * b->D_trans * (1.0 + 1e-12))
-            return plume_err_set(err, PLUME_EINVAL,
-                                 "shape bending: material %d: D_coupling (%g) must not exceed sqrt(D_long D_trans) "
-                                 "(%g): the plate would not be positive semidefinite",
-                                 i, b->D_coupling, sqrt(b->D_long * b->D_trans));
-    }
+    plume_status st = plume_plate_moduli_check(mats, nmat, "shape bending", err);
+    if (st != PLUME_OK)
+        return st;
     for (plume_index t = 0; t < mesh->nt; t++) {
         if (mesh->material[t] < 0 || mesh->material[t] >= nmat)
             return plume_err_set(err, PLUME_EINVAL,
