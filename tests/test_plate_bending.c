@@ -272,6 +272,12 @@ void test_plate_bending_fit_recovers_moduli(void)
     CHECK_REL(b.D_trans, truth.D_trans, 1e-4, 0.0);
     CHECK_REL(b.D_coupling, truth.D_coupling, 1e-3, 0.0);
     CHECK_REL(b.D_twist, truth.D_twist, 1e-4, 0.0);
+    /* a start plate that is not positive definite is refused, naming the condition */
+    start.D_coupling = 2.0 * sqrt(start.D_long * start.D_trans);
+    CHECK(plume_fit_bending_moduli(plume_plate_model_curve, &pm, targets, 4, &start, &o, &b, &rep, &err) ==
+              PLUME_EINVAL &&
+          strstr(err.msg, "positive definite"));
+    CHECK(plume_fit_bending_moduli(NULL, &pm, targets, 4, &start, &o, &b, &rep, &err) == PLUME_EINVAL);
     for (int i = 0; i < 4; i++)
         plume_curve_free(&targets[i]);
 }

@@ -374,6 +374,9 @@ void test_run_static_matches_app(void)
     CHECK(rep.converged && !rep.stopped && fabs(rep.time - 1.0) < 1e-12 && rep.factorizations == factorizations);
     CHECK(plume_run_velocities(r) == NULL && plume_run_positions(r) != NULL && plume_run_frames_path(r) == NULL);
     CHECK(plume_run_step(r, NULL, &err) == PLUME_EINVAL && strstr(err.msg, "no step left"));
+    snprintf(b, sizeof b, "%s/static.h5", dir);
+    CHECK(plume_run_write_state(r, b, 1, &err) == PLUME_EINVAL && strstr(err.msg, "static") && access(b, F_OK) != 0);
+    CHECK(plume_run_write_state(r, NULL, 1, &err) == PLUME_EINVAL && strstr(err.msg, "path"));
     plume_run_destroy(&r);
     const char *files[] = {"steps.pvd", "step_00001.vtu", "step_00004.vtu"};
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
