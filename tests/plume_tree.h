@@ -66,6 +66,7 @@
 #include "../macro/shell/bending.h"
 #include "../macro/shell/shape_bending.h"
 #include "../macro/shell/midedge_bending.h"
+#include "../macro/shell/midedge_term.h"
 #include "../macro/feather/feather_mesh.h"
 #include "../macro/scene/scene.h"
 #include "../macro/shell/fields.h"

@@ -56,8 +56,8 @@ PLUME_API double plume_mesh_total_area(const plume_mesh *m);
 
 /* ---- energy terms and constraints ---- */
 /** An energy term is a sum over stencils; each stencil couples `arity` vertices. With d = dim and
- * k = arity*d, the term adds its energy to *energy and its gradient to grad (full vector of
- * dim*nv entries, vertex-major) and, when hblocks is non-NULL, writes one dense k x k row-major
+ * k = arity*d + nextra, the term adds its energy to *energy and its gradient to grad (full vector of
+ * plume_problem_ndof entries: dim*nv vertex-major, then any extra unknowns) and, when hblocks is non-NULL, writes one dense k x k row-major
  * Hessian block per stencil at hblocks + s*k*k (overwritten, not added). When `project` is
  * non-zero each block is projected to the nearest positive semidefinite matrix.
  * Any of energy/grad/hblocks may be NULL. `ctx` belongs to the term; `destroy` frees it.
@@ -70,14 +70,14 @@ typedef struct {
     int arity;                  /**< vertices per stencil */
     plume_index nstencil;       /**< number of stencils */
     const plume_index *stencil; /**< [nstencil*arity], owned by ctx */
-    /** Adds the energy and gradient and writes the Hessian blocks at x (full vector, dim*nv), as
+    /** Adds the energy and gradient and writes the Hessian blocks at x (full vector), as
      * above; a non-zero status aborts the evaluation (e.g., PLUME_EINVAL for an inverted element). */
     plume_status (*eval)(void *ctx, int dim, const double *x, double *energy, double *grad,
                          double *hblocks, int project);
     void (*destroy)(void *ctx); /**< frees ctx; NULL when there is nothing to free */
     void *ctx;                  /**< the term's data, passed to every callback */
     /** Optional (NULL for fixed stencils): terms whose stencils follow the state, such as contact
-     * pairs. Recomputes the stencils at positions x (full vector, dim*nv), returns the new array
+     * pairs. Recomputes the stencils at positions x (full vector), returns the new array
      * (owned by ctx, valid until the next update or destroy) and count, and *changed = 1 when the
      * set differs from the last one (the problem then rebuilds its Hessian pattern). Called by
      * plume_problem_update_terms, never inside a solve. */
@@ -113,6 +113,21 @@ typedef struct {
      * and the blocks' rows and columns of those places are zero; the problem does not read them.
      * 0 (default): every place of a stencil is a vertex of it. */
     int padded;
+    /** Unknowns of a stencil beyond its vertices' coordinates (0, the default: none): scalars the
+     * problem holds after the vertices (plume_problem_add_unknowns), such as the edge angles of
+     * midedge bending. A stencil's block is then k x k with k = arity*dim + nextra, the vertex
+     * coordinates first, its extras last; eval, hess_range and energies read them in x and write
+     * their gradient in grad (full vectors of plume_problem_ndof entries). Not with update or
+     * padded. */
+    int nextra;
+    /** [nstencil*nextra] the extras of each stencil as indices of the full vector, each in
+     * [dim*nv, plume_problem_ndof); owned by ctx. */
+    const plume_index *extra;
+    /** Optional (NULL: nothing to re-base): a term whose extras are coordinates in frames it keeps
+     * (the edge angles of midedge bending) re-expresses them at a step's start: it may change its
+     * frames and rewrite its own extras in x (full vector), its energy at x unchanged. Called by
+     * the steppers (statics, dynamics) between solves, never inside one. */
+    plume_status (*rebase)(void *ctx, int dim, double *x);
 } plume_term;
 
 /** A set of m equality constraints g_c(x) = 0; constraint c couples the `arity` vertices of
@@ -165,6 +180,17 @@ PLUME_API plume_status plume_problem_add_term(plume_problem *p, const plume_term
  * with m > 0 and no stencil or scale; the message in err says which. */
 PLUME_API plume_status plume_problem_add_constraint(plume_problem *p, const plume_constraint *c, plume_err *err);
 
+/** Appends n scalar unknowns after the vertices' coordinates (edge angles, ...; terms reach them
+ * through plume_term.extra) and sets *first to the index of the first in the full vector: the
+ * first call's is dim*nv. Before finalize; they start at 0 (set them in plume_problem_x, which
+ * this call moves: take the pointer again afterwards). PLUME_EINVAL after finalize or for n <= 0,
+ * PLUME_ENOMEM, with a message in err. */
+PLUME_API plume_status plume_problem_add_unknowns(plume_problem *p, plume_index n, plume_index *first, plume_err *err);
+
+/** Length of the full vector: dim*nv coordinates, then the unknowns plume_problem_add_unknowns
+ * added. */
+PLUME_API plume_index plume_problem_ndof(const plume_problem *p);
+
 /** Marks a coordinate as prescribed (its value is whatever plume_problem_x holds). Before finalize;
  * PLUME_EINVAL after it or for a dof out of range, naming the vertex and component in err. */
 PLUME_API plume_status plume_problem_fix_dof(plume_problem *p, plume_index dof, plume_err *err);
@@ -183,7 +209,8 @@ PLUME_API plume_index plume_problem_nfree(const plume_problem *p);
 /** Number of kept constraints (rows of g), after finalize. */
 PLUME_API plume_index plume_problem_ncons(const plume_problem *p);
 
-/** Full coordinate vector (dim*nv): set prescribed values and the initial guess here. */
+/** Full vector (plume_problem_ndof: dim*nv coordinates, then any added unknowns): set prescribed
+ * values and the initial guess here. */
 PLUME_API double *plume_problem_x(plume_problem *p);
 /** u (nfree values) <- the free part of x. */
 PLUME_API void plume_problem_gather(const plume_problem *p, double *u);

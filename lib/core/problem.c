@@ -195,6 +195,36 @@ void plume_problem_destroy(plume_problem **pp)
     *pp = NULL;
 }
 
+/* Grows a full-vector array of the problem from p->ndof to n entries, the new ones zero. */
+static int grow_full(void **a, plume_index old, plume_index n, size_t size)
+{
+    char *g = realloc(*a, (size_t)n * size);
+    if (!g)
+        return 0;
+    memset(g + (size_t)old * size, 0, (size_t)(n - old) * size);
+    *a = g;
+    return 1;
+}
+
+plume_status plume_problem_add_unknowns(plume_problem *p, plume_index n, plume_index *first, plume_err *err)
+{
+    if (!p || !first)
+        return plume_err_set(err, PLUME_EINVAL, "problem: add_unknowns needs a problem and first");
+    if (p->finalized)
+        return plume_err_set(err, PLUME_EINVAL, "problem: unknowns are added before plume_problem_finalize");
+    if (n <= 0)
+        return plume_err_set(err, PLUME_EINVAL, "problem: %ld unknowns to add: needs at least 1", (long)n);
+    const plume_index nd = p->ndof + n;
+    if (!grow_full((void **)&p->x, p->ndof, nd, sizeof *p->x) || !grow_full((void **)&p->fixed, p->ndof, nd, 1) ||
+        !grow_full((void **)&p->gradfull, p->ndof, nd, sizeof *p->gradfull) ||
+        !grow_full((void **)&p->jtwork, p->ndof, nd, sizeof *p->jtwork) ||
+        !grow_full((void **)&p->dxfull, p->ndof, nd, sizeof *p->dxfull))
+        return plume_err_set(err, PLUME_ENOMEM, "problem: out of memory adding %ld unknowns", (long)n);
+    *first = p->ndof;
+    p->ndof = nd;
+    return PLUME_OK;
+}
+
 /* The problem owns what it is given, also when it refuses it: free the context and return st
  * with the message `why`. */
 static plume_status refuse(void (*destroy)(void *), void *ctx, plume_status st, plume_err *err, const char *why)
@@ -229,6 +259,10 @@ plume_status plume_problem_add_term(plume_problem *p, const plume_term *given, p
         return refuse(t->destroy, t->ctx, PLUME_EINVAL, err,
                       "problem: a term needs eval, arity > 0 and, with stencils, its stencil array (the term is "
                       "freed)");
+    if (t->nextra < 0 || (t->nextra > 0 && ((t->nstencil && !t->extra) || t->update || t->padded)))
+        return refuse(t->destroy, t->ctx, PLUME_EINVAL, err,
+                      "problem: a term with extra unknowns needs nextra > 0, its extra array, and neither update "
+                      "nor padded (the term is freed)");
     term_slot *ts = grow_slots(p->terms, p->nterms, sizeof *ts);
     if (!ts)
         return refuse(t->destroy, t->ctx, PLUME_ENOMEM, err, "problem: out of memory adding a term");
@@ -310,19 +344,46 @@ static int stencil_size(const plume_index *st, int arity, int padded)
     return n;
 }
 
+/* One stencil as the problem reads it: `arity` vertex places, the first `used` of them vertices
+ * (the others padding), then `nextra` extra unknowns. Its block is k x k, k = arity*d + nextra:
+ * place a < used*d is coordinate a % d of vertex st[a / d], place arity*d + j is extra j. */
+typedef struct {
+    const plume_index *st, *ex;
+    int arity, used, nextra;
+} stencil_view;
+
+static stencil_view view_of(const plume_index *stencils, const plume_index *extras, int arity, int nextra, int padded,
+                            plume_index s)
+{
+    stencil_view v = {stencils + s * arity, extras ? extras + s * nextra : NULL, arity, 0, extras ? nextra : 0};
+    v.used = stencil_size(v.st, arity, padded);
+    return v;
+}
+
+/* The places of a stencil's block that hold unknowns, counted without the padding. */
+static int view_places(const stencil_view *v, int d) { return v->used * d + v->nextra; }
+
+/* The block index of the i-th such place. */
+static int view_slot(const stencil_view *v, int d, int i) { return i < v->used * d ? i : v->arity * d + (i - v->used * d); }
+
+/* The full-vector index of the i-th such place. */
+static plume_index view_dof(const stencil_view *v, int d, int i)
+{
+    return i < v->used * d ? v->st[i / d] * d + i % d : v->ex[i - v->used * d];
+}
+
 /* Adds the upper-triangle free pairs of one stencil to `pairs` (if non-NULL); returns their count.
  * A padded stencil's repeats of its first vertex add no pair that its first place does not. */
-static plume_index stencil_pairs(const plume_problem *p, const plume_index *st, int arity, int padded, pair *pairs)
+static plume_index stencil_pairs(const plume_problem *p, const stencil_view *v, pair *pairs)
 {
     plume_index n = 0;
-    int d = p->dim;
-    const int used = stencil_size(st, arity, padded) * d;
+    const int d = p->dim, used = view_places(v, d);
     for (int a = 0; a < used; a++) {
-        plume_index fa = p->free_of_dof[st[a / d] * d + a % d];
+        plume_index fa = p->free_of_dof[view_dof(v, d, a)];
         if (fa < 0)
             continue;
         for (int b = 0; b < used; b++) {
-            plume_index fb = p->free_of_dof[st[b / d] * d + b % d];
+            plume_index fb = p->free_of_dof[view_dof(v, d, b)];
             if (fb < 0 || fa > fb)
                 continue;
             if (pairs) {
@@ -382,9 +443,9 @@ static int stencil_blocked(const plume_problem *p, const plume_index *st, int us
  * the entries stencil_pairs counts. A padded place's block entries are zero, and skipping them
  * leaves every sum as it was. */
 static plume_status scatter_map_build(const plume_problem *p, const plume_index *stencils, int arity, int padded,
-                                      plume_index n, scatter_map *m)
+                                      const plume_index *extras, int nextra, plume_index n, scatter_map *m)
 {
-    const int d = p->dim, k = arity * d;
+    const int d = p->dim, k = arity * d + (extras ? nextra : 0);
     memset(m, 0, sizeof *m);
     m->start = malloc((size_t)(n + 1) * sizeof *m->start);
     m->bstart = malloc((size_t)(n + 1) * sizeof *m->bstart);
@@ -394,10 +455,10 @@ static plume_status scatter_map_build(const plume_problem *p, const plume_index 
     }
     m->start[0] = m->bstart[0] = 0;
     for (plume_index s = 0; s < n; s++) {
-        const plume_index *st = stencils + s * arity;
+        const stencil_view v = view_of(stencils, extras, arity, nextra, padded, s);
         plume_index np = 0;
-        const int blocked = stencil_blocked(p, st, stencil_size(st, arity, padded), arity, &np);
-        m->start[s + 1] = m->start[s] + (blocked ? 0 : stencil_pairs(p, st, arity, padded, NULL));
+        const int blocked = v.nextra == 0 && stencil_blocked(p, v.st, v.used, arity, &np);
+        m->start[s + 1] = m->start[s] + (blocked ? 0 : stencil_pairs(p, &v, NULL));
         m->bstart[s + 1] = m->bstart[s] + np;
     }
     const plume_index ne = m->start[n], nb = m->bstart[n];
@@ -411,8 +472,9 @@ static plume_status scatter_map_build(const plume_problem *p, const plume_index 
         return PLUME_ENOMEM;
     }
     for (plume_index s = 0; s < n; s++) {
-        const plume_index *st = stencils + s * arity;
-        const int used_v = stencil_size(st, arity, padded), used = used_v * d;
+        const stencil_view v = view_of(stencils, extras, arity, nextra, padded, s);
+        const plume_index *st = v.st;
+        const int used_v = v.used, used = view_places(&v, d);
         if (m->bstart[s + 1] > m->bstart[s]) {
             plume_index q = m->bstart[s];
             for (int a = 0; a < used_v; a++) {
@@ -430,14 +492,14 @@ static plume_status scatter_map_build(const plume_problem *p, const plume_index 
         }
         plume_index e = m->start[s];
         for (int a = 0; a < used; a++) {
-            plume_index fa = p->free_of_dof[st[a / d] * d + a % d];
+            plume_index fa = p->free_of_dof[view_dof(&v, d, a)];
             if (fa < 0)
                 continue;
             for (int b = 0; b < used; b++) {
-                plume_index fb = p->free_of_dof[st[b / d] * d + b % d];
+                plume_index fb = p->free_of_dof[view_dof(&v, d, b)];
                 if (fb < 0 || fa > fb)
                     continue;
-                m->src[e] = (unsigned)(a * k + b);
+                m->src[e] = (unsigned)(view_slot(&v, d, a) * k + view_slot(&v, d, b));
                 m->dst[e++] = find_entry(p, fa, fb);
             }
         }
@@ -449,6 +511,15 @@ static int stencil_ok(const plume_problem *p, const plume_index *st, plume_index
 {
     for (plume_index i = 0; i < n; i++)
         if (st[i] < 0 || st[i] >= p->nv)
+            return 0;
+    return 1;
+}
+
+/* n extras, each an unknown after the vertices' coordinates */
+static int extras_ok(const plume_problem *p, const plume_index *ex, plume_index n)
+{
+    for (plume_index i = 0; i < n; i++)
+        if (ex[i] < p->nv * p->dim || ex[i] >= p->ndof)
             return 0;
     return 1;
 }
@@ -493,6 +564,19 @@ static void release_structure(plume_problem *p, int keep_fixed)
     }
 }
 
+/* The pairs of stencil s of term t, and of constraint i of set c (stencil_pairs). */
+static plume_index term_pairs(const plume_problem *p, const plume_term *t, plume_index s, pair *pairs)
+{
+    const stencil_view v = view_of(t->stencil, t->extra, t->arity, t->nextra, t->padded, s);
+    return stencil_pairs(p, &v, pairs);
+}
+
+static plume_index constraint_pairs(const plume_problem *p, const plume_constraint *c, plume_index i, pair *pairs)
+{
+    const stencil_view v = view_of(c->stencil, NULL, c->arity, 0, 0, i);
+    return stencil_pairs(p, &v, pairs);
+}
+
 /* Largest diagonal entry of the Hessian at the current x: a stiffness scale. */
 static plume_status stiffness_scale(plume_problem *p, double *scale)
 {
@@ -520,11 +604,10 @@ static plume_status collect_pairs(const plume_problem *p, int changing, pair **o
     for (int t = 0; t < p->nterms; t++)
         if ((p->terms[t].t.update != NULL) == changing)
             for (plume_index s = 0; s < p->terms[t].t.nstencil; s++)
-                np += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity,
-                                     p->terms[t].t.padded, NULL);
+                np += term_pairs(p, &p->terms[t].t, s, NULL);
     for (int s = 0; !changing && s < p->ncsets; s++)
         for (plume_index i = 0; i < p->cons[s].c.m; i++)
-            np += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, 0, NULL);
+            np += constraint_pairs(p, &p->cons[s].c, i, NULL);
     pair *pairs = malloc((size_t)(np + 1) * sizeof *pairs);
     if (!pairs)
         return PLUME_ENOMEM;
@@ -532,11 +615,10 @@ static plume_status collect_pairs(const plume_problem *p, int changing, pair **o
     for (int t = 0; t < p->nterms; t++)
         if ((p->terms[t].t.update != NULL) == changing)
             for (plume_index s = 0; s < p->terms[t].t.nstencil; s++)
-                k += stencil_pairs(p, p->terms[t].t.stencil + s * p->terms[t].t.arity, p->terms[t].t.arity,
-                                    p->terms[t].t.padded, pairs + k);
+                k += term_pairs(p, &p->terms[t].t, s, pairs + k);
     for (int s = 0; !changing && s < p->ncsets; s++)
         for (plume_index i = 0; i < p->cons[s].c.m; i++)
-            k += stencil_pairs(p, p->cons[s].c.stencil + i * p->cons[s].c.arity, p->cons[s].c.arity, 0, pairs + k);
+            k += constraint_pairs(p, &p->cons[s].c, i, pairs + k);
     for (plume_index i = 0; !changing && i < p->nfree; i++, k++) /* the diagonal: regularisation, KKT */
         pairs[k].r = pairs[k].c = i;
     *out = pairs;
@@ -703,6 +785,12 @@ static plume_status hessian_pattern(plume_problem *p, plume_err *err)
             st = plume_err_set(err, PLUME_EINVAL, "term '%s': vertex id out of range", ts->t.name);
             goto cleanup;
         }
+        if (ts->t.nextra > 0 && !extras_ok(p, ts->t.extra, ts->t.nstencil * ts->t.nextra)) {
+            st = plume_err_set(err, PLUME_EINVAL,
+                               "term '%s': an extra unknown out of [%ld, %ld) (the unknowns after the vertices)",
+                               ts->t.name, (long)(p->nv * p->dim), (long)p->ndof);
+            goto cleanup;
+        }
     }
     if (!p->scol) {
         if ((st = collect_pairs(p, 0, &pairs, &npairs)) != PLUME_OK ||
@@ -752,9 +840,10 @@ static plume_status term_maps(plume_problem *p, int rebuild)
         term_slot *ts = p->terms + t;
         if (rebuild && !ts->t.update)
             continue; /* kept, its map moved */
-        size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
+        const size_t k = (size_t)(ts->t.arity * d + ts->t.nextra), kk = k * k;
         ts->blocks = malloc(((size_t)term_chunk(&ts->t, kk) * kk + 1) * sizeof *ts->blocks);
-        if (!ts->blocks || scatter_map_build(p, ts->t.stencil, ts->t.arity, ts->t.padded, ts->t.nstencil, &ts->hmap) != PLUME_OK)
+        if (!ts->blocks || scatter_map_build(p, ts->t.stencil, ts->t.arity, ts->t.padded, ts->t.extra, ts->t.nextra,
+                                             ts->t.nstencil, &ts->hmap) != PLUME_OK)
             return PLUME_ENOMEM;
     }
     return PLUME_OK;
@@ -769,7 +858,7 @@ static plume_status jacobian_triplets(plume_problem *p, int rebuild)
     for (int s = 0; s < p->ncsets; s++) {
         cons_slot *c = p->cons + s;
         int k = c->c.arity * d;
-        if (!rebuild && scatter_map_build(p, c->c.stencil, c->c.arity, 0, c->c.m, &c->hmap) != PLUME_OK)
+        if (!rebuild && scatter_map_build(p, c->c.stencil, c->c.arity, 0, NULL, 0, c->c.m, &c->hmap) != PLUME_OK)
             return PLUME_ENOMEM;
         for (plume_index i = 0; i < c->c.m; i++) {
             for (int a = 0; a < k; a++)
@@ -849,6 +938,27 @@ plume_status plume_problem_lag_terms(plume_problem *p, const double *x)
             return st;
     }
     return PLUME_OK;
+}
+
+plume_status plume_problem_rebase_terms(plume_problem *p)
+{
+    if (!p)
+        return PLUME_EINVAL;
+    for (int t = 0; t < p->nterms; t++) {
+        plume_term *tt = &p->terms[t].t;
+        plume_status st = tt->rebase ? tt->rebase(tt->ctx, p->dim, p->x) : PLUME_OK;
+        if (st != PLUME_OK)
+            return st;
+    }
+    return PLUME_OK;
+}
+
+int plume_problem_rebases(const plume_problem *p)
+{
+    for (int t = 0; p && t < p->nterms; t++)
+        if (p->terms[t].t.rebase)
+            return 1;
+    return 0;
 }
 
 plume_status plume_problem_update_terms(plume_problem *p, int *pattern_changed, plume_err *err)
@@ -933,6 +1043,7 @@ plume_status plume_problem_max_motion(plume_problem *p, const double *dx, double
 
 int plume_problem_dim(const plume_problem *p) { return p->dim; }
 plume_index plume_problem_nvert(const plume_problem *p) { return p->nv; }
+plume_index plume_problem_ndof(const plume_problem *p) { return p ? p->ndof : 0; }
 plume_index plume_problem_nfree(const plume_problem *p) { return p->nfree; }
 plume_index plume_problem_ncons(const plume_problem *p) { return p->ncons; }
 double plume_problem_length_scale(const plume_problem *p) { return p->length_scale; }
@@ -1070,7 +1181,8 @@ plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj
     for (int t = 0; t < p->nterms; t++) {
         term_slot *ts = p->terms + t;
         int pj = project == PLUME_HESSIAN_PARTIAL ? ts->t.partial_projection : project != 0;
-        const size_t kk = (size_t)(ts->t.arity * d) * (size_t)(ts->t.arity * d);
+        const int k = ts->t.arity * d + ts->t.nextra;
+        const size_t kk = (size_t)k * (size_t)k;
         const plume_index chunk = term_chunk(&ts->t, kk);
         plume_index first = 0;
         do { /* once with no stencils, as eval always was */
@@ -1081,7 +1193,7 @@ plume_status plume_problem_hessian(plume_problem *p, const double *u, double obj
             p->timing.hessian_eval_seconds += t1 - t0;
             if (st != PLUME_OK)
                 return st;
-            scatter_blocks(p, values, &ts->hmap, first, n, ts->blocks, ts->t.arity * d, obj_factor);
+            scatter_blocks(p, values, &ts->hmap, first, n, ts->blocks, k, obj_factor);
             t0 = now();
             p->timing.hessian_scatter_seconds += t0 - t1;
             first += n;

@@ -28,7 +28,7 @@ int plume_problem_dim(const plume_problem *p);
 
 /** The length scale given to plume_problem_create (m). */
 double plume_problem_length_scale(const plume_problem *p);
-/** 1 if coordinate `dof` (in [0, dim*nv), unchecked) is prescribed, else 0. */
+/** 1 if unknown `dof` (in [0, plume_problem_ndof), unchecked) is prescribed, else 0. */
 int plume_problem_is_fixed(const plume_problem *p, plume_index dof);
 
 /** The free part of x <- u (nfree values); u NULL leaves x unchanged. */
@@ -86,6 +86,13 @@ double plume_problem_force_scale(const plume_problem *p);
  * solvers created before must then be recreated, their symbolic analysis is stale). The force
  * floor of finalize is kept. After finalize, never during a solve. */
 plume_status plume_problem_update_terms(plume_problem *p, int *pattern_changed, plume_err *err);
+
+/** Calls every term's rebase (plume_term.rebase) on the problem's x: the start of a step, before
+ * its lag. */
+plume_status plume_problem_rebase_terms(plume_problem *p);
+
+/** 1 when a term has a rebase. */
+int plume_problem_rebases(const plume_problem *p);
 
 /** Calls every term's lag (plume_term.lag) with x (full vector): the start of a time step. */
 plume_status plume_problem_lag_terms(plume_problem *p, const double *x);

@@ -37,6 +37,7 @@ typedef struct {
     double s0[3];    /**< rest slopes */
     double c[3][3];  /**< g_k = sum_j c[k][j] x_j: the current image F N_k of edge k's outward unit material normal */
     double sigma[3]; /**< +1 when the mesh edge of slot k runs from vertex k+1 to k+2, -1 otherwise */
+    double B[9];     /**< 3x3 row-major: the curvature (k11, k22, k12) in the barb frame is B (s - s0) */
 } plume_midedge_face;
 
 /** The face kernel: energy 1/2 (s - s0)^T K (s - s0) of one triangle at vertices xv (9: x0, x1,
@@ -116,6 +117,20 @@ plume_status plume_midedge_bending_eval(const plume_midedge_bending *b, const do
                                         double *energy, double *gx, double *gtheta, double *hblocks, int project,
                                         plume_err *err);
 
+/** Writes the 12x12 blocks of triangles first .. first + count - 1 at hblocks (triangle first's
+ * first), as plume_midedge_bending_eval does; PLUME_EINVAL when a kernel fails (its id in err). */
+plume_status plume_midedge_bending_blocks(const plume_midedge_bending *b, const double *x, const double *theta,
+                                          plume_index first, plume_index count, double *hblocks, int project,
+                                          plume_err *err);
+
+/** Each triangle's energy at (x, theta) in e[nt]; PLUME_EINVAL when a kernel fails. */
+plume_status plume_midedge_bending_energies(const plume_midedge_bending *b, const double *x, const double *theta,
+                                            double *e, plume_err *err);
+
+/** Triangle t's change of curvature (k11, k22, k12) in its barb frame at (x, theta), B (s - s0). */
+plume_status plume_midedge_bending_curvature(const plume_midedge_bending *b, const double *x, const double *theta,
+                                             plume_index t, double kappa[3], plume_err *err);
+
 /** The unit director of edge e at (x, theta[e]). */
 void plume_midedge_bending_director(const plume_midedge_bending *b, const double *x, const double *theta,
                                     plume_index e, double d[3]);
@@ -137,6 +152,15 @@ plume_status plume_midedge_bending_lag(plume_midedge_bending *b, const double *x
  * when an edge has reached its frame's singularity (theta then partly reset: call it only on a
  * state that evaluates). */
 plume_status plume_midedge_bending_rebase(plume_midedge_bending *b, const double *x, double *theta, plume_err *err);
+
+/** The edges' reference vectors r0 [3 ne] (unit; theta = 0 is the part of r0 perpendicular to
+ * the edge). */
+const double *plume_midedge_bending_frames(const plume_midedge_bending *b);
+
+/** Sets the reference vectors to r0 [3 ne], each normalised (a restart's, as
+ * plume_midedge_bending_frames gave them). PLUME_EINVAL (nothing changed) when one is not finite
+ * or of zero length. */
+plume_status plume_midedge_bending_set_frames(plume_midedge_bending *b, const double *r0, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,225 @@
+/* The midedge bending term of a problem (midedge_term.h): the problem's edge unknowns phi_e =
+ * L_e theta_e in and out of the bending energy's (x, theta) arrays. */
+#include "midedge_term.h"
+#include "../../lib/core/vec3.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct plume_midedge_term {
+    plume_midedge_bending *b;
+    plume_index nv, nt, ne, first; /* the edge unknowns are x[first .. first + ne - 1] */
+    plume_index *stencil;          /* [3 nt] the triangles' vertices */
+    plume_index *extra;            /* [3 nt] first + the edge of each slot */
+    double *L;                     /* [ne] rest lengths: phi = L theta */
+    double *theta, *gtheta;        /* [ne] workspaces */
+};
+
+static void term_free(void *vctx)
+{
+    plume_midedge_term *c = vctx;
+    if (!c)
+        return;
+    plume_midedge_bending_destroy(&c->b);
+    free(c->stencil);
+    free(c->extra);
+    free(c->L);
+    free(c->theta);
+    free(c->gtheta);
+    free(c);
+}
+
+void plume_midedge_term_angles(const plume_midedge_term *t, const double *x, double *theta)
+{
+    for (plume_index e = 0; e < t->ne; e++)
+        theta[e] = x[t->first + e] / t->L[e];
+}
+
+/* Scales rows and columns 9..11 of each 12x12 block (the angles) by 1/L: the unknowns are L theta. */
+static void scale_blocks(const plume_midedge_term *c, plume_index first, plume_index count, double *hblocks)
+{
+    for (plume_index t = first; t < first + count; t++) {
+        double *H = hblocks + 144 * (size_t)(t - first), s[12];
+        for (int i = 0; i < 12; i++)
+            s[i] = i < 9 ? 1.0 : 1.0 / c->L[c->extra[3 * t + i - 9] - c->first];
+        for (int i = 0; i < 12; i++)
+            for (int j = 0; j < 12; j++)
+                H[12 * i + j] *= s[i] * s[j];
+    }
+}
+
+static plume_status term_eval(void *vctx, int dim, const double *x, double *energy, double *grad, double *hblocks,
+                              int project)
+{
+    plume_midedge_term *c = vctx;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    plume_midedge_term_angles(c, x, c->theta);
+    if (grad)
+        memset(c->gtheta, 0, (size_t)c->ne * sizeof *c->gtheta);
+    plume_status st = plume_midedge_bending_eval(c->b, x, c->theta, energy, grad, grad ? c->gtheta : NULL, hblocks,
+                                                 project, NULL);
+    if (st != PLUME_OK)
+        return st;
+    for (plume_index e = 0; grad && e < c->ne; e++)
+        grad[c->first + e] += c->gtheta[e] / c->L[e];
+    if (hblocks)
+        scale_blocks(c, 0, c->nt, hblocks);
+    return PLUME_OK;
+}
+
+static plume_status term_hess_range(void *vctx, int dim, const double *x, plume_index first, plume_index count,
+                                    double *hblocks, int project)
+{
+    plume_midedge_term *c = vctx;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    plume_midedge_term_angles(c, x, c->theta);
+    plume_status st = plume_midedge_bending_blocks(c->b, x, c->theta, first, count, hblocks, project, NULL);
+    if (st == PLUME_OK)
+        scale_blocks(c, first, count, hblocks);
+    return st;
+}
+
+static plume_status term_energies(void *vctx, int dim, const double *x, double *e)
+{
+    plume_midedge_term *c = vctx;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    plume_midedge_term_angles(c, x, c->theta);
+    return plume_midedge_bending_energies(c->b, x, c->theta, e, NULL);
+}
+
+/* A step's start: every frame becomes its director, every angle 0 (the energy unchanged). */
+static plume_status term_rebase(void *vctx, int dim, double *x)
+{
+    plume_midedge_term *c = vctx;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    plume_midedge_term_angles(c, x, c->theta);
+    plume_status st = plume_midedge_bending_rebase(c->b, x, c->theta, NULL);
+    if (st != PLUME_OK)
+        return st;
+    for (plume_index e = 0; e < c->ne; e++)
+        x[c->first + e] = 0.0;
+    return PLUME_OK;
+}
+
+const plume_midedge_bending *plume_midedge_term_bending(const plume_midedge_term *t) { return t->b; }
+
+void plume_midedge_term_directors(const plume_midedge_term *t, const double *x, double *d)
+{
+    plume_midedge_term_angles(t, x, t->theta);
+    for (plume_index e = 0; e < t->ne; e++)
+        plume_midedge_bending_director(t->b, x, t->theta, e, d + 3 * e);
+}
+
+plume_status plume_midedge_term_set_directors(plume_midedge_term *t, double *x, const double *d, plume_err *err)
+{
+    plume_status st = plume_midedge_bending_set_frames(t->b, d, err);
+    if (st != PLUME_OK)
+        return st;
+    for (plume_index e = 0; e < t->ne; e++)
+        x[t->first + e] = 0.0;
+    return PLUME_OK;
+}
+
+/* The start angle of edge e: the mean of its faces' current unit normals (x, vertex part). */
+static int start_angle(const plume_midedge_term *c, const plume_mesh *m, const double *x, plume_index e, double *theta)
+{
+    double n[3] = {0.0, 0.0, 0.0};
+    for (int s = 0; s < 2; s++) {
+        const plume_index t = m->edge_tri[2 * e + s];
+        if (t < 0)
+            continue;
+        const plume_index *v = m->tri + 3 * t;
+        double a[3], b[3], nt[3];
+        sub3(x + 3 * v[1], x + 3 * v[0], a);
+        sub3(x + 3 * v[2], x + 3 * v[0], b);
+        cross3(a, b, nt);
+        const double l = sqrt(dot3(nt, nt));
+        if (!(l > 0.0))
+            return -1;
+        for (int i = 0; i < 3; i++)
+            n[i] += nt[i] / l;
+    }
+    if (!(dot3(n, n) > 0.0))
+        return -1;
+    *theta = plume_midedge_bending_angle_of(c->b, x, e, n);
+    return isfinite(*theta) ? 0 : -1;
+}
+
+plume_status plume_midedge_term_add(plume_problem *p, const plume_mesh *mesh, const plume_bending_material *mats,
+                                    int nmat, const double *rest_x, const plume_midedge_term_opts *o,
+                                    plume_index *first, plume_midedge_term **term, plume_err *err)
+{
+    if (!p || !mesh || !first)
+        return plume_err_set(err, PLUME_EINVAL, "midedge bending: a problem, a mesh and first are required");
+    if (plume_problem_nvert(p) != mesh->nv || plume_problem_dim(p) != 3)
+        return plume_err_set(err, PLUME_EINVAL, "midedge bending: the problem must be over the mesh's %ld vertices in 3D",
+                             (long)mesh->nv);
+    plume_midedge_term *c = calloc(1, sizeof *c);
+    if (!c)
+        return plume_err_set(err, PLUME_ENOMEM, "midedge bending: out of memory");
+    const plume_midedge_bending_opts bo = {o ? o->rest_dir : NULL};
+    plume_status st = plume_midedge_bending_create_opts(mesh, mats, nmat, rest_x, &bo, &c->b, err);
+    if (st != PLUME_OK) {
+        term_free(c);
+        return st;
+    }
+    c->nv = mesh->nv, c->nt = mesh->nt, c->ne = mesh->ne;
+    c->stencil = malloc(3 * (size_t)c->nt * sizeof *c->stencil);
+    c->extra = malloc(3 * (size_t)c->nt * sizeof *c->extra);
+    c->L = malloc((size_t)(c->ne + 1) * sizeof *c->L);
+    c->theta = calloc((size_t)(c->ne + 1), sizeof *c->theta);
+    c->gtheta = calloc((size_t)(c->ne + 1), sizeof *c->gtheta);
+    if (!c->stencil || !c->extra || !c->L || !c->theta || !c->gtheta ||
+        (st = plume_problem_add_unknowns(p, c->ne, &c->first, err)) != PLUME_OK) {
+        term_free(c);
+        return st != PLUME_OK ? st : plume_err_set(err, PLUME_ENOMEM, "midedge bending: out of memory");
+    }
+    const plume_index *fe = plume_midedge_bending_face_edges(c->b);
+    memcpy(c->stencil, mesh->tri, 3 * (size_t)c->nt * sizeof *c->stencil);
+    for (plume_index i = 0; i < 3 * c->nt; i++)
+        c->extra[i] = c->first + fe[i];
+    for (plume_index e = 0; e < c->ne; e++) {
+        const plume_index a = mesh->edges[2 * e], b = mesh->edges[2 * e + 1];
+        c->L[e] = hypot(mesh->X[2 * b] - mesh->X[2 * a], mesh->X[2 * b + 1] - mesh->X[2 * a + 1]);
+    }
+    double *x = plume_problem_x(p);
+    for (plume_index e = 0; e < c->ne; e++) {
+        const plume_index a = mesh->edges[2 * e], b = mesh->edges[2 * e + 1];
+        double th = 0.0; /* a held edge keeps its rest director, theta = 0 */
+        if (!(o && o->held && o->held[a] && o->held[b]) && start_angle(c, mesh, x, e, &th) != 0) {
+            term_free(c);
+            return plume_err_set(err, PLUME_EINVAL,
+                                 "midedge bending: edge %ld: no start angle (a face collapsed at the start)", (long)e);
+        }
+        x[c->first + e] = c->L[e] * th;
+    }
+    for (plume_index e = 0; o && o->held && e < c->ne; e++)
+        if (o->held[mesh->edges[2 * e]] && o->held[mesh->edges[2 * e + 1]] &&
+            (st = plume_problem_fix_dof(p, c->first + e, err)) != PLUME_OK) {
+            term_free(c);
+            return st;
+        }
+    plume_term t = {.size = sizeof(plume_term),
+                    .name = "midedge bending",
+                    .arity = 3,
+                    .nstencil = c->nt,
+                    .stencil = c->stencil,
+                    .eval = term_eval,
+                    .destroy = term_free,
+                    .ctx = c,
+                    .energies = term_energies,
+                    .partial_projection = 1,
+                    .hess_range = term_hess_range,
+                    .nextra = 3,
+                    .extra = c->extra,
+                    .rebase = term_rebase};
+    *first = c->first;
+    if ((st = plume_problem_add_term(p, &t, err)) == PLUME_OK && term)
+        *term = c;
+    return st;
+}

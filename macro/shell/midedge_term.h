@@ -1,0 +1,59 @@
+/** \file
+ * plume: midedge bending (midedge_bending.h) as a term of a problem. The edge angles become
+ * unknowns of the problem, after the vertices' coordinates (plume_problem_add_unknowns): edge e's
+ * unknown is phi_e = L_e theta_e, its angle times its rest length, so that it is a length like the
+ * coordinates (the solvers' step tests are lengths times length_scale) and its force dE/dphi a
+ * force (the KKT residual compares it with the vertices'). Each triangle is a stencil of its three
+ * vertices and its three edges' unknowns (plume_term.nextra = 3): a 12x12 block.
+ *
+ * The frames the angles are measured in are re-based at every step's start (plume_term.rebase):
+ * each edge's reference vector becomes its director and its angle 0, so a step's state is the
+ * vertices and the directors alone, which is what a restart stores. */
+#ifndef PLUME_MIDEDGE_TERM_H
+#define PLUME_MIDEDGE_TERM_H
+
+#include "../../lib/core/problem.h"
+#include "midedge_bending.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Options of plume_midedge_term_add (all zero: none). */
+typedef struct {
+    const double *rest_dir;    /**< [3 ne] rest directors (plume_midedge_bending_opts), or NULL */
+    const unsigned char *held; /**< [nv] or NULL: vertices a clamp holds. The angle of an edge between
+                                  two held vertices is fixed at its rest value: the surface leaves the
+                                  clamp in the clamp's plane */
+} plume_midedge_term_opts;
+
+/** The term's data, kept by the problem (its ctx) and readable by whoever built it. */
+typedef struct plume_midedge_term plume_midedge_term;
+
+/** Adds the edge unknowns (mesh->ne of them, the first at *first) and the term to p, which owns
+ * it. Call it after the vertex part of plume_problem_x(p) holds the start positions: each edge's
+ * angle starts at the mean of its faces' current normals (the rest director on held edges), and
+ * the held edges' unknowns are fixed. *term (may be NULL) gets the term's data, valid while p
+ * lives. Errors as plume_midedge_bending_create's, and PLUME_EINVAL when a start angle is undefined
+ * (a face collapsed at the start). */
+plume_status plume_midedge_term_add(plume_problem *p, const plume_mesh *mesh, const plume_bending_material *mats,
+                                    int nmat, const double *rest_x, const plume_midedge_term_opts *o,
+                                    plume_index *first, plume_midedge_term **term, plume_err *err);
+
+/** The bending energy the term sums (its mesh, frames, faces). */
+const plume_midedge_bending *plume_midedge_term_bending(const plume_midedge_term *t);
+
+/** The edge angles theta[ne] of the full vector x. */
+void plume_midedge_term_angles(const plume_midedge_term *t, const double *x, double *theta);
+
+/** The edges' unit directors at the full vector x, d[3 ne]. */
+void plume_midedge_term_directors(const plume_midedge_term *t, const double *x, double *d);
+
+/** Sets the frames to directors d[3 ne] (a restart's) and the edge unknowns of x to 0: the state
+ * a re-basing leaves. PLUME_EINVAL when a director lies along its edge. */
+plume_status plume_midedge_term_set_directors(plume_midedge_term *t, double *x, const double *d, plume_err *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,347 @@
+/* Tests of midedge bending as a term of a problem (macro/shell/midedge_term.h) and of the problem's
+ * extra unknowns it needs (plume_problem_add_unknowns, plume_term.nextra): finite differences of
+ * the assembled gradient and Hessian over vertices and edge unknowns with clamped and free edges
+ * on a curved state; the re-basing at a step's start (energy and directors unchanged, angles 0);
+ * a clamped strip solved by the native Newton and by Ipopt to the same equilibrium, against the
+ * linear cantilever (and the shape operator's); the problem's refusals of bad extras. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "harness.h"
+#include "test_rng.h"
+#include "bend_meshes.h"
+#include "plume_tree.h"
+#include "../macro/shell/midedge_term.h"
+
+static void mt_dense_from_csc(plume_sparsity sp, const double *values, double *H)
+{
+    memset(H, 0, (size_t)(sp.n * sp.n) * sizeof *H);
+    for (plume_index c = 0; c < sp.n; c++)
+        for (plume_index k = sp.colptr[c]; k < sp.colptr[c + 1]; k++)
+            H[sp.rowind[k] * sp.n + c] = H[c * sp.n + sp.rowind[k]] = values[k];
+}
+
+static double mt_max_abs(const double *a, plume_index n)
+{
+    double m = 0.0;
+    for (plume_index i = 0; i < n; i++)
+        m = fmax(m, fabs(a[i]));
+    return m;
+}
+
+/* A 1 x 0.5 grid strip at h in shell mode, barbs at 30 degrees, held at x = 0 when `clamp`. */
+static plume_mesh *mt_strip(double h, unsigned char **held)
+{
+    plume_mesh *m = bm_family_mesh(BM_DELAUNAY, h, 1.0, 0.5, 30.0);
+    if (!m || !held)
+        return m;
+    *held = calloc((size_t)m->nv, 1);
+    for (plume_index v = 0; *held && v < m->nv; v++)
+        (*held)[v] = m->X[2 * v] < 1e-12;
+    return m;
+}
+
+/* Membrane + midedge bending over m, vertices at x, held vertices fixed; finalised. */
+static plume_problem *mt_problem(const plume_mesh *m, const double *x, const unsigned char *held,
+                                 const plume_bending_material *bm, plume_midedge_term **term, plume_index *first)
+{
+    plume_problem *p = NULL;
+    plume_err err = {0};
+    if (plume_problem_create(m->nv, 3, 1.0, &p, &err) != PLUME_OK)
+        return NULL;
+    const plume_membrane_material mm = {{1e5, 1e4, 0.3, 2e4}, 1e-2, 0.0, 0};
+    plume_term t;
+    memcpy(plume_problem_x(p), x, (size_t)(3 * m->nv) * sizeof *x);
+    const plume_midedge_term_opts o = {NULL, held};
+    if (plume_membrane_term_create(m, 3, &mm, 1, &t, &err) != PLUME_OK || plume_problem_add_term(p, &t, &err) != PLUME_OK ||
+        plume_midedge_term_add(p, m, bm, 1, NULL, &o, first, term, &err) != PLUME_OK) {
+        fprintf(stderr, "    %s\n", err.msg);
+        plume_problem_destroy(&p);
+        return NULL;
+    }
+    for (plume_index v = 0; held && v < m->nv; v++)
+        for (int a = 0; held[v] && a < 3; a++)
+            plume_problem_fix_dof(p, 3 * v + a, &err);
+    if (plume_problem_finalize(p, &err) != PLUME_OK) {
+        fprintf(stderr, "    finalize: %s\n", err.msg);
+        plume_problem_destroy(&p);
+    }
+    return p;
+}
+
+void test_midedge_term_problem_fd(void)
+{
+    unsigned char *held = NULL;
+    plume_mesh *m = mt_strip(0.25, &held);
+    CHECK(m && held);
+    if (!m || !held)
+        return;
+    double *x = malloc((size_t)(3 * m->nv) * sizeof *x);
+    bm_map_cylinder(m, 20.0, 1.5, x);
+    rng64 s = {17};
+    for (plume_index v = 0; v < m->nv; v++)
+        for (int a = 0; a < 3 && !held[v]; a++)
+            x[3 * v + a] += 0.01 * (2.0 * urand(&s) - 1.0);
+    const plume_bending_material bm = {1e-3, 2e-4, 0.0, 5e-5};
+    plume_midedge_term *mt = NULL;
+    plume_index first = -1;
+    plume_problem *p = mt_problem(m, x, held, &bm, &mt, &first);
+    CHECK(p && mt && first == 3 * m->nv);
+    if (!p) {
+        free(x);
+        free(held);
+        plume_mesh_destroy(&m);
+        return;
+    }
+    CHECK(plume_problem_ndof(p) == 3 * m->nv + m->ne);
+    /* the held edges' unknowns are prescribed: nfree counts the others */
+    plume_index nheld_v = 0, nheld_e = 0;
+    for (plume_index v = 0; v < m->nv; v++)
+        nheld_v += held[v];
+    for (plume_index e = 0; e < m->ne; e++)
+        nheld_e += held[m->edges[2 * e]] && held[m->edges[2 * e + 1]];
+    CHECK(nheld_e > 0);
+    const plume_index n = plume_problem_nfree(p);
+    CHECK(n == 3 * (m->nv - nheld_v) + m->ne - nheld_e);
+    /* the start angles are the mean normals' and the held ones 0 */
+    const double *xp = plume_problem_x(p);
+    for (plume_index e = 0; e < m->ne; e++)
+        if (held[m->edges[2 * e]] && held[m->edges[2 * e + 1]])
+            CHECK(xp[first + e] == 0.0);
+    /* perturb the angles too, then finite differences on the free unknowns */
+    double *u = malloc((size_t)n * sizeof *u), *g = malloc((size_t)n * sizeof *g);
+    double *gp = malloc((size_t)n * sizeof *gp), *gm = malloc((size_t)n * sizeof *gm);
+    double *H = malloc((size_t)(n * n) * sizeof *H);
+    plume_sparsity sp = plume_problem_hessian_pattern(p);
+    double *vals = malloc((size_t)sp.nnz * sizeof *vals);
+    plume_problem_gather(p, u);
+    for (plume_index i = 0; i < n; i++)
+        u[i] += 1e-3 * (2.0 * urand(&s) - 1.0);
+    double f = 0.0;
+    CHECK(plume_problem_objective(p, u, &f, g) == PLUME_OK);
+    CHECK(plume_problem_hessian(p, u, 1.0, NULL, PLUME_HESSIAN_EXACT, vals) == PLUME_OK);
+    mt_dense_from_csc(sp, vals, H);
+    const double step = 1e-6;
+    double gerr = 0.0, herr = 0.0, gerr_angle = 0.0, gs_angle = 0.0;
+    const plume_index *dof_of_free = NULL;
+    (void)dof_of_free;
+    for (plume_index i = 0; i < n; i++) {
+        const double ui = u[i];
+        double fp = 0.0, fm = 0.0;
+        u[i] = ui + step;
+        CHECK(plume_problem_objective(p, u, &fp, gp) == PLUME_OK);
+        u[i] = ui - step;
+        CHECK(plume_problem_objective(p, u, &fm, gm) == PLUME_OK);
+        u[i] = ui;
+        const double ge = fabs((fp - fm) / (2.0 * step) - g[i]);
+        gerr = fmax(gerr, ge);
+        if (i >= n - (m->ne - nheld_e)) { /* the edge unknowns come last */
+            gerr_angle = fmax(gerr_angle, ge);
+            gs_angle = fmax(gs_angle, fabs(g[i]));
+        }
+        for (plume_index j = 0; j < n; j++)
+            herr = fmax(herr, fabs((gp[j] - gm[j]) / (2.0 * step) - H[j * n + i]));
+    }
+    const double gs = mt_max_abs(g, n), hs = mt_max_abs(H, n * n);
+    fprintf(stderr, "    %ld free unknowns (%ld edges): gradient error %.2e of %.2e (angles %.2e of %.2e), Hessian %.2e of %.2e\n",
+            (long)n, (long)(m->ne - nheld_e), gerr, gs, gerr_angle, gs_angle, herr, hs);
+    CHECK(gerr <= 1e-7 * gs && gerr_angle <= 1e-6 * gs_angle && gs_angle > 1e-6 * gs);
+    CHECK(herr <= 1e-6 * hs);
+    /* the projected Hessian of the bending blocks is PSD: the whole projected matrix has no
+     * negative pivot (a dense Cholesky of it plus a tiny shift) */
+    CHECK(plume_problem_hessian(p, u, 1.0, NULL, PLUME_HESSIAN_PROJECTED, vals) == PLUME_OK);
+    mt_dense_from_csc(sp, vals, H);
+    int pd = 1;
+    for (plume_index k = 0; k < n && pd; k++) {
+        H[k * n + k] += 1e-12 * hs;
+        double d = H[k * n + k];
+        for (plume_index j = 0; j < k; j++)
+            d -= H[k * n + j] * H[k * n + j];
+        if (!(d > 0.0)) {
+            pd = 0;
+            break;
+        }
+        H[k * n + k] = sqrt(d);
+        for (plume_index i = k + 1; i < n; i++) {
+            double q = H[i * n + k];
+            for (plume_index j = 0; j < k; j++)
+                q -= H[i * n + j] * H[k * n + j];
+            H[i * n + k] = q / H[k * n + k];
+        }
+    }
+    CHECK(pd);
+    free(u);
+    free(g);
+    free(gp);
+    free(gm);
+    free(H);
+    free(vals);
+    plume_problem_destroy(&p);
+    free(x);
+    free(held);
+    plume_mesh_destroy(&m);
+}
+
+void test_midedge_term_rebase(void)
+{
+    plume_mesh *m = mt_strip(0.2, NULL);
+    CHECK(m != NULL);
+    if (!m)
+        return;
+    double *x = malloc((size_t)(3 * m->nv) * sizeof *x);
+    bm_map_cylinder(m, 60.0, 2.0, x);
+    const plume_bending_material bm = {1e-3, 1e-3, 0.0, 0.0};
+    plume_midedge_term *mt = NULL;
+    plume_index first = -1;
+    plume_problem *p = mt_problem(m, x, NULL, &bm, &mt, &first);
+    CHECK(p != NULL);
+    if (!p) {
+        free(x);
+        plume_mesh_destroy(&m);
+        return;
+    }
+    double *xp = plume_problem_x(p);
+    rng64 s = {5};
+    for (plume_index e = 0; e < m->ne; e++)
+        xp[first + e] += 0.05 * (2.0 * urand(&s) - 1.0);
+    double *d0 = malloc((size_t)(3 * m->ne) * sizeof *d0), *d1 = malloc((size_t)(3 * m->ne) * sizeof *d1);
+    double f0 = 0.0, f1 = 0.0;
+    plume_midedge_term_directors(mt, xp, d0);
+    CHECK(plume_problem_objective(p, NULL, &f0, NULL) == PLUME_OK);
+    CHECK(plume_problem_rebases(p) == 1);
+    CHECK(plume_problem_rebase_terms(p) == PLUME_OK);
+    CHECK(plume_problem_objective(p, NULL, &f1, NULL) == PLUME_OK);
+    plume_midedge_term_directors(mt, xp, d1);
+    double dd = 0.0;
+    for (plume_index i = 0; i < 3 * m->ne; i++)
+        dd = fmax(dd, fabs(d1[i] - d0[i]));
+    CHECK(mt_max_abs(xp + first, m->ne) == 0.0);
+    fprintf(stderr, "    re-basing: energy %.15g -> %.15g, directors moved %.1e\n", f0, f1, dd);
+    CHECK_REL(f1, f0, 1e-12, 0.0);
+    CHECK(dd < 1e-14);
+    free(d0);
+    free(d1);
+    free(x);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&m);
+}
+
+/* A cantilever strip (length 1, width 0.5) clamped at x = 0 under a small tip force solved by
+ * Newton and by Ipopt: the same equilibrium, and the linear beam's tip deflection F L^3 / (3 D b)
+ * (isotropic plate, nu = 0, barbs along the strip; a plate strip under plane strain deflects
+ * 1/(1-nu^2) more, 1 here). */
+void test_midedge_term_cantilever_solvers(void)
+{
+    unsigned char *held = NULL;
+    plume_mesh *m = mt_strip(1.0 / 16.0, &held);
+    CHECK(m && held);
+    if (!m || !held)
+        return;
+    for (plume_index t = 0; t < m->nt; t++)
+        m->barb_dir[2 * t] = 1.0, m->barb_dir[2 * t + 1] = 0.0;
+    const double D = 1e-3, F = 1e-6, b = 0.5;
+    const plume_bending_material bm = {D, D, 0.5 * D, 0.0}; /* D_long, D_trans, D_twist, D_coupling: nu = 0 */
+    double tip[3] = {0.0, 0.0, 0.0};
+    for (int solver = 0; solver < 3; solver++) { /* newton, ipopt, newton with the shape operator */
+        plume_midedge_term *mt = NULL;
+        plume_index first = -1;
+        plume_problem *p = NULL;
+        plume_err err = {0};
+        double *x = malloc((size_t)(3 * m->nv) * sizeof *x);
+        for (plume_index v = 0; v < m->nv; v++)
+            x[3 * v] = m->X[2 * v], x[3 * v + 1] = m->X[2 * v + 1], x[3 * v + 2] = 0.0;
+        /* the membrane, stiff, keeps the strip inextensible; the tip force spread over the tip edge */
+        CHECK(plume_problem_create(m->nv, 3, 1.0, &p, &err) == PLUME_OK);
+        memcpy(plume_problem_x(p), x, (size_t)(3 * m->nv) * sizeof *x);
+        const plume_membrane_material mm = {{1e6, 1e6, 0.0, 5e5}, 1e-2, 0.0, 0};
+        plume_term t;
+        CHECK(plume_membrane_term_create(m, 3, &mm, 1, &t, &err) == PLUME_OK && plume_problem_add_term(p, &t, &err) == PLUME_OK);
+        const plume_midedge_term_opts o = {NULL, held};
+        const plume_shape_bending_opts so = {held, 0, 0};
+        if (solver < 2)
+            CHECK(plume_midedge_term_add(p, m, &bm, 1, NULL, &o, &first, &mt, &err) == PLUME_OK);
+        else
+            CHECK(plume_shape_bending_term_create_opts(m, &bm, 1, NULL, &so, &t, &err) == PLUME_OK &&
+                  plume_problem_add_term(p, &t, &err) == PLUME_OK);
+        plume_index ntip = 0;
+        for (plume_index v = 0; v < m->nv; v++)
+            ntip += m->X[2 * v] > 1.0 - 1e-12;
+        plume_index *ids = malloc((size_t)ntip * sizeof *ids);
+        double *f = malloc((size_t)(3 * ntip) * sizeof *f);
+        ntip = 0;
+        for (plume_index v = 0; v < m->nv; v++)
+            if (m->X[2 * v] > 1.0 - 1e-12)
+                ids[ntip++] = v;
+        /* trapezoid weights along the tip edge */
+        for (plume_index i = 0; i < ntip; i++)
+            f[3 * i] = f[3 * i + 1] = 0.0, f[3 * i + 2] = F / (double)(ntip - 1) * ((m->X[2 * ids[i] + 1] < 1e-12 || m->X[2 * ids[i] + 1] > b - 1e-12) ? 0.5 : 1.0);
+        CHECK(plume_load_term_create(ids, ntip, 3, f, &t, &err) == PLUME_OK && plume_problem_add_term(p, &t, &err) == PLUME_OK);
+        for (plume_index v = 0; v < m->nv; v++)
+            for (int a = 0; held[v] && a < 3; a++)
+                plume_problem_fix_dof(p, 3 * v + a, &err);
+        CHECK(plume_problem_finalize(p, &err) == PLUME_OK);
+        plume_solver *sv = NULL;
+        CHECK(plume_solver_create(solver == 1 ? PLUME_SOLVER_IPOPT : PLUME_SOLVER_NEWTON, p, NULL, &sv, &err) == PLUME_OK);
+        const plume_index n = plume_problem_nfree(p);
+        double *u = malloc((size_t)n * sizeof *u);
+        plume_problem_gather(p, u);
+        plume_solve_report rep;
+        memset(&rep, 0, sizeof rep);
+        CHECK(sv && plume_solver_solve(sv, u, NULL, &rep) == PLUME_OK);
+        CHECK(rep.converged);
+        double w = 0.0;
+        for (plume_index i = 0; i < ntip; i++)
+            w += plume_problem_x(p)[3 * ids[i] + 2] / (double)ntip;
+        tip[solver] = w;
+        fprintf(stderr, "    %s: %s in %d iterations, tip deflection %.6e\n", solver == 1 ? "ipopt" : solver ? "shape operator" : "newton",
+                plume_reason_name(rep.reason), rep.iterations, w);
+        plume_solver_destroy(&sv);
+        plume_problem_destroy(&p);
+        free(u);
+        free(ids);
+        free(f);
+        free(x);
+    }
+    const double w_beam = F * 1.0 / (3.0 * D * b);
+    fprintf(stderr, "    linear beam: %.6e (newton %.4f of it)\n", w_beam, tip[0] / w_beam);
+    CHECK_REL(tip[1], tip[0], 1e-6, 0.0);
+    CHECK_REL(tip[0], w_beam, 5e-3, 0.0);
+    CHECK_REL(tip[2], w_beam, 1e-2, 0.0);
+    free(held);
+    plume_mesh_destroy(&m);
+}
+
+static plume_status mt_noop_eval(void *ctx, int dim, const double *x, double *energy, double *grad, double *hblocks,
+                                 int project)
+{
+    (void)ctx, (void)dim, (void)x, (void)energy, (void)grad, (void)hblocks, (void)project;
+    return PLUME_OK;
+}
+
+void test_midedge_term_bad_extras(void)
+{
+    plume_problem *p = NULL;
+    plume_err err = {0};
+    CHECK(plume_problem_create(3, 3, 1.0, &p, &err) == PLUME_OK);
+    plume_index first = -1;
+    CHECK(plume_problem_add_unknowns(p, 0, &first, &err) == PLUME_EINVAL && strstr(err.msg, "at least 1"));
+    CHECK(plume_problem_add_unknowns(p, 2, &first, &err) == PLUME_OK && first == 9 && plume_problem_ndof(p) == 11);
+    static const plume_index st[3] = {0, 1, 2}, ex_bad[1] = {3}, ex_ok[1] = {10};
+    plume_term t = {.size = sizeof(plume_term), .name = "x", .arity = 3, .nstencil = 1, .stencil = st, .eval = mt_noop_eval,
+                    .nextra = 1};
+    CHECK(plume_problem_add_term(p, &t, &err) == PLUME_EINVAL && strstr(err.msg, "extra array"));
+    t.extra = ex_bad;
+    CHECK(plume_problem_add_term(p, &t, &err) == PLUME_OK);
+    CHECK(plume_problem_finalize(p, &err) == PLUME_EINVAL && strstr(err.msg, "extra unknown out of [9, 11)"));
+    plume_problem_destroy(&p);
+    CHECK(plume_problem_create(3, 3, 1.0, &p, &err) == PLUME_OK);
+    CHECK(plume_problem_add_unknowns(p, 2, &first, &err) == PLUME_OK);
+    t.extra = ex_ok;
+    CHECK(plume_problem_add_term(p, &t, &err) == PLUME_OK);
+    CHECK(plume_problem_fix_dof(p, 9, &err) == PLUME_OK);
+    CHECK(plume_problem_finalize(p, &err) == PLUME_OK && plume_problem_nfree(p) == 10);
+    CHECK(plume_problem_add_unknowns(p, 1, &first, &err) == PLUME_EINVAL && strstr(err.msg, "before plume_problem_finalize"));
+    plume_problem_destroy(&p);
+}
