@@ -199,6 +199,16 @@ static inline void bm_map_cylinder(const plume_mesh *m, double curv_deg, double 
     }
 }
 
+/* The unit normal of bm_map_cylinder's cylinder (curvature k along the material direction at
+ * curv_deg) at the material midpoint of edge e: the exact director of a midedge term there. */
+static inline void bm_cylinder_normal(const plume_mesh *m, plume_index e, double curv_deg, double k, double nu[3])
+{
+    const double c[2] = {cos(curv_deg * BM_PI / 180.0), sin(curv_deg * BM_PI / 180.0)};
+    const double *Pa = m->X + 2 * m->edges[2 * e], *Pb = m->X + 2 * m->edges[2 * e + 1];
+    const double s = 0.5 * (c[0] * (Pa[0] + Pb[0]) + c[1] * (Pa[1] + Pb[1]));
+    nu[0] = -sin(k * s) * c[0], nu[1] = -sin(k * s) * c[1], nu[2] = cos(k * s);
+}
+
 /* Continuum energy per unit area of a cylinder of curvature k at angle phi_deg between the
  * curvature direction and the barbs: 1/2 k^2 (D_long c^4 + D_trans s^4 + (2 D_12 + 4 D_66) c^2 s^2),
  * D_66 derived by Huber's rule when D_twist == 0 (bending.h). */

@@ -862,16 +862,6 @@ void test_midedge_bending_cylinder(void)
     CHECK(gworst < 1e-8);
 }
 
-/* The cylinder's unit normal at the material midpoint of edge e: curvature k along the material
- * direction at curv_deg (bm_map_cylinder's map). */
-static void me_cylinder_normal(const plume_mesh *m, plume_index e, double curv_deg, double k, double nu[3])
-{
-    const double c[2] = {cos(curv_deg * BM_PI / 180.0), sin(curv_deg * BM_PI / 180.0)};
-    const double *Pa = m->X + 2 * m->edges[2 * e], *Pb = m->X + 2 * m->edges[2 * e + 1];
-    const double s = 0.5 * (c[0] * (Pa[0] + Pb[0]) + c[1] * (Pa[1] + Pb[1]));
-    nu[0] = -sin(k * s) * c[0], nu[1] = -sin(k * s) * c[1], nu[2] = cos(k * s);
-}
-
 /* A curved rest: a cylinder of curvature 1 along material x bent into one of curvature 2 along
  * 60 degrees (both isometric), boundary directors on the current cylinder's normals, interior
  * angles minimised. With the rest directors on the rest cylinder's normals (the option) the
@@ -900,7 +890,7 @@ void test_midedge_bending_curved_rest(void)
                 bm_map_cylinder(m, 0.0, k0, rest);
                 bm_map_cylinder(m, phi1, k1, x);
                 for (plume_index e = 0; e < m->ne; e++) {
-                    me_cylinder_normal(m, e, 0.0, k0, rdir + 3 * e);
+                    bm_cylinder_normal(m, e, 0.0, k0, rdir + 3 * e);
                     fixed[e] = m->edge_tri[2 * e + 1] < 0;
                 }
                 const double Ec = plume_mesh_total_area(m) * me_plate_density(&mat, C, barb);
@@ -912,7 +902,7 @@ void test_midedge_bending_curved_rest(void)
                         continue;
                     for (plume_index e = 0; e < m->ne; e++) {
                         double nu[3];
-                        me_cylinder_normal(m, e, phi1, k1, nu);
+                        bm_cylinder_normal(m, e, phi1, k1, nu);
                         th[e] = plume_midedge_bending_angle_of(b, x, e, nu);
                     }
                     double gn = 0.0;
