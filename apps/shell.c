@@ -25,7 +25,7 @@ static const char usage[] =
     "  --pattern P         grid | delaunay | aligned: replaces a rectangle mesh's pattern\n"
     "  --steps N           load steps (overrides the scene's \"steps\")\n"
     "  --solver S          newton | ipopt (overrides the scene's \"solver\")\n"
-    "  --bending B         shape_operator | hinge (overrides the scene's \"bending_model\")\n"
+    "  --bending B         shape_operator | hinge | midedge (overrides the scene's \"bending_model\")\n"
     "  --predictor P       secant | none | tangent | secant_tangent: where each load increment's\n"
     "                      solve starts (overrides the scene's \"predictor\"; default tangent,\n"
     "                      lib/sim/statics.h)\n"
@@ -85,8 +85,8 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (strcmp(a, "--steps") == 0) {
             r = cli_int(APP, a, v, &o->steps);
         } else if (strcmp(a, "--bending") == 0) {
-            if (strcmp(v, "shape_operator") && strcmp(v, "hinge"))
-                r = cli_fail(APP, "--bending must be shape_operator or hinge (got '%s')", v);
+            if (strcmp(v, "shape_operator") && strcmp(v, "hinge") && strcmp(v, "midedge"))
+                r = cli_fail(APP, "--bending must be shape_operator, hinge or midedge (got '%s')", v);
             o->bending = v;
         } else if (strcmp(a, "--predictor") == 0) {
             plume_predictor k;
@@ -271,6 +271,12 @@ static void print_json(const options *o, json_t *desc, const plume_run *run, jso
     cli_print_json(j, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
 }
 
+/* The bending model as the log line names it. */
+static const char *bending_label(const char *model)
+{
+    return strcmp(model, "hinge") == 0 ? "hinge" : strcmp(model, "midedge") == 0 ? "midedge" : "shape-operator";
+}
+
 int main(int argc, char **argv)
 {
     plume_openmp_serial(); /* CHOLMOD's 4-thread OpenMP loops cost more than they save here */
@@ -318,8 +324,7 @@ int main(int argc, char **argv)
                 (long)json_integer_value(json_object_get(desc, "elements")),
                 (long)json_integer_value(json_object_get(desc, "vertices")),
                 (long)json_integer_value(json_object_get(desc, "steps")),
-                strcmp(json_string_value(json_object_get(desc, "bending_model")), "hinge") == 0 ? "hinge"
-                                                                                                 : "shape-operator");
+                bending_label(json_string_value(json_object_get(desc, "bending_model"))));
     if ((rc = load_steps(&o, run, desc, jsteps)))
         goto done;
     json_t *jprobes = probes_json(scene, desc, plume_run_positions(run), o.quiet);

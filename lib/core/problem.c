@@ -953,6 +953,14 @@ plume_status plume_problem_rebase_terms(plume_problem *p)
     return PLUME_OK;
 }
 
+void *plume_problem_term_ctx(const plume_problem *p, const char *name)
+{
+    for (int t = 0; p && name && t < p->nterms; t++)
+        if (p->terms[t].t.name && strcmp(p->terms[t].t.name, name) == 0)
+            return p->terms[t].t.ctx;
+    return NULL;
+}
+
 int plume_problem_rebases(const plume_problem *p)
 {
     for (int t = 0; p && t < p->nterms; t++)

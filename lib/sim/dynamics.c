@@ -85,7 +85,10 @@ struct plume_dynamics {
     int nhandles;
     double t;
     double *x, *v, *xsave, *vsave, *u, *lambda, *lsave, *lsave2;
-    double *xh, *dx; /* [3 nv] a step's start with the handles moved; a motion checked by CCD */
+    double *xh, *dx; /* [ndof] a step's start with the handles moved; a motion checked by CCD (0 on
+                        the extras) */
+    plume_index ne;  /* the problem's unknowns after the vertices (edge angles): no mass, no velocity */
+    double *e, *esave; /* [ne] their values at the state (after the step start's re-basing) */
     plume_index n, m;
     int last_iterations; /* the solver iterations of the last step attempted */
     int past_factorizations;    /* those of solvers renewed since (plume_dynamics_stats) */
@@ -116,6 +119,8 @@ void plume_dynamics_destroy(plume_dynamics **pd)
     free(d->lambda);
     free(d->lsave);
     free(d->lsave2);
+    free(d->e);
+    free(d->esave);
     free(d);
     *pd = NULL;
 }
@@ -250,20 +255,25 @@ static plume_status alloc_state(plume_dynamics *d)
 {
     d->n = plume_problem_nfree(d->p);
     d->m = plume_problem_ncons(d->p);
-    size_t nd = (size_t)(3 * d->mesh->nv);
+    size_t nd = (size_t)(3 * d->mesh->nv), nfull = (size_t)plume_problem_ndof(d->p);
+    d->ne = (plume_index)(nfull - nd);
     d->x = malloc(nd * sizeof *d->x);
     d->v = calloc(nd, sizeof *d->v);
     d->xsave = malloc(nd * sizeof *d->xsave);
-    d->xh = malloc(nd * sizeof *d->xh);
-    d->dx = malloc(nd * sizeof *d->dx);
+    d->xh = calloc(nfull, sizeof *d->xh);
+    d->dx = calloc(nfull, sizeof *d->dx);
+    d->e = malloc((size_t)(d->ne + 1) * sizeof *d->e);
+    d->esave = malloc((size_t)(d->ne + 1) * sizeof *d->esave);
     d->vsave = malloc(nd * sizeof *d->vsave);
     d->u = malloc((size_t)(d->n + 1) * sizeof *d->u);
     d->lambda = calloc((size_t)(d->m + 1), sizeof *d->lambda);
     d->lsave = calloc((size_t)(d->m + 1), sizeof *d->lsave);
     d->lsave2 = calloc((size_t)(d->m + 1), sizeof *d->lsave2);
-    if (!d->x || !d->v || !d->xsave || !d->xh || !d->dx || !d->vsave || !d->u || !d->lambda || !d->lsave || !d->lsave2)
+    if (!d->x || !d->v || !d->xsave || !d->xh || !d->dx || !d->vsave || !d->u || !d->lambda || !d->lsave || !d->lsave2 ||
+        !d->e || !d->esave)
         return PLUME_ENOMEM;
     memcpy(d->x, plume_problem_x(d->p), nd * sizeof *d->x);
+    memcpy(d->e, plume_problem_x(d->p) + nd, (size_t)d->ne * sizeof *d->e);
     return PLUME_OK;
 }
 
@@ -411,9 +421,28 @@ static plume_status predict_start(plume_dynamics *d, const double *xh, plume_ste
     if (st == PLUME_ENOMEM)
         return plume_err_set(err, st, "dynamics: out of memory");
     if (st != PLUME_OK) {
-        memcpy(x, xh, (size_t)(3 * d->mesh->nv) * sizeof *x);
+        memcpy(x, xh, (size_t)plume_problem_ndof(d->p) * sizeof *x);
         memcpy(d->lambda, d->lsave2, (size_t)d->m * sizeof *d->lambda);
     }
+    return PLUME_OK;
+}
+
+/* A step's start, before the state is saved: the problem's x at the state (x_n and the extras),
+ * where the terms re-base their frames (plume_term.rebase: midedge bending's angles become 0, the
+ * directors kept; again after a failed attempt, where it changes nothing); the extras' state
+ * follows, and a step's extras start where they are. */
+static plume_status rebase_at_start(plume_dynamics *d, plume_err *err)
+{
+    const plume_index nd = 3 * d->mesh->nv;
+    double *x = plume_problem_x(d->p);
+    memcpy(x, d->x, (size_t)nd * sizeof *x);
+    memcpy(x + nd, d->e, (size_t)d->ne * sizeof *x);
+    plume_status st = plume_problem_rebase_terms(d->p);
+    if (st != PLUME_OK)
+        return plume_err_set(err, st, "dynamics: the terms could not re-base their frames at t = %g (%s)", d->t,
+                             plume_strerror(st));
+    memcpy(d->e, x + nd, (size_t)d->ne * sizeof *d->e);
+    memcpy(d->xh + nd, d->e, (size_t)d->ne * sizeof *d->e);
     return PLUME_OK;
 }
 
@@ -424,7 +453,7 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
     inertia_ctx *in = d->inertia;
     double *x = plume_problem_x(d->p), *xh = d->xh;
     int limits = plume_problem_limits_steps(d->p);
-    plume_status st = plume_problem_lag_terms(d->p, d->x); /* friction lags at x_n */
+    plume_status st = plume_problem_lag_terms(d->p, x); /* friction lags at x_n (x holds the state: rebase_at_start) */
     if (st != PLUME_OK)
         return plume_err_set(err, st, "dynamics: the terms could not take the state at t = %g (%s)", d->t,
                              plume_strerror(st));
@@ -510,6 +539,7 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
         d->v[i] = (x[i] - d->x[i]) / dt;
         d->x[i] = x[i];
     }
+    memcpy(d->e, x + 3 * nv, (size_t)d->ne * sizeof *d->e);
     d->t += dt;
     rep->substeps++;
     rep->dt_min = rep->substeps == 1 ? dt : fmin(rep->dt_min, dt);
@@ -521,16 +551,21 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
 static plume_status advance_rec(plume_dynamics *d, double dt, int depth, plume_step_report *rep, plume_err *err)
 {
     size_t nd = (size_t)(3 * d->mesh->nv);
+    plume_status st = rebase_at_start(d, err);
+    if (st != PLUME_OK)
+        return st;
     memcpy(d->xsave, d->x, nd * sizeof *d->x);
     memcpy(d->vsave, d->v, nd * sizeof *d->v);
+    memcpy(d->esave, d->e, (size_t)d->ne * sizeof *d->e);
     memcpy(d->lsave, d->lambda, (size_t)d->m * sizeof *d->lambda);
     int ok = 0;
-    plume_status st = try_step(d, dt, rep, &ok, err);
+    st = try_step(d, dt, rep, &ok, err);
     if (st != PLUME_OK || ok)
         return st;
     /* failed: restore and halve */
     memcpy(d->x, d->xsave, nd * sizeof *d->x);
     memcpy(d->v, d->vsave, nd * sizeof *d->v);
+    memcpy(d->e, d->esave, (size_t)d->ne * sizeof *d->e);
     memcpy(d->lambda, d->lsave, (size_t)d->m * sizeof *d->lambda);
     if (depth >= d->o.max_halvings) {
         rep->converged = 0;
@@ -555,11 +590,15 @@ static plume_status advance_adaptive(plume_dynamics *d, double span, plume_step_
         double left = t_end - d->t;
         double k = ceil(left / h * (1.0 - 1e-12));
         double step = k <= 1.0 ? left : left / k;
+        plume_status st = rebase_at_start(d, err);
+        if (st != PLUME_OK)
+            return st;
         memcpy(d->xsave, d->x, nd * sizeof *d->x);
         memcpy(d->vsave, d->v, nd * sizeof *d->v);
+        memcpy(d->esave, d->e, (size_t)d->ne * sizeof *d->e);
         memcpy(d->lsave, d->lambda, (size_t)d->m * sizeof *d->lambda);
         int ok = 0;
-        plume_status st = try_step(d, step, rep, &ok, err);
+        st = try_step(d, step, rep, &ok, err);
         if (st != PLUME_OK)
             return st;
         if (ok) {
@@ -571,6 +610,7 @@ static plume_status advance_adaptive(plume_dynamics *d, double span, plume_step_
         }
         memcpy(d->x, d->xsave, nd * sizeof *d->x);
         memcpy(d->v, d->vsave, nd * sizeof *d->v);
+        memcpy(d->e, d->esave, (size_t)d->ne * sizeof *d->e);
         memcpy(d->lambda, d->lsave, (size_t)d->m * sizeof *d->lambda);
         if (0.5 * step < h_min * (1.0 - 1e-9)) {
             rep->converged = 0;
@@ -597,6 +637,7 @@ plume_status plume_dynamics_advance(plume_dynamics *d, double dt, plume_step_rep
                                      : advance_rec(d, dt > 0.0 ? dt : d->o.dt, 0, rep, err);
     /* leave the problem's x at the state (a failed attempt may have left a trial there) */
     memcpy(plume_problem_x(d->p), d->x, (size_t)(3 * d->mesh->nv) * sizeof *d->x);
+    memcpy(plume_problem_x(d->p) + 3 * d->mesh->nv, d->e, (size_t)d->ne * sizeof *d->e);
     rep->seconds = plume_wall_seconds() - t0;
     return st;
 }
@@ -640,6 +681,7 @@ plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double 
     memcpy(d->x, x, nd * sizeof *d->x);
     memcpy(d->v, v, nd * sizeof *d->v);
     memcpy(plume_problem_x(d->p), x, nd * sizeof *x);
+    memcpy(d->e, plume_problem_x(d->p) + nd, (size_t)d->ne * sizeof *d->e); /* the extras as the problem holds them */
     if (lambda)
         memcpy(d->lambda, lambda, (size_t)d->m * sizeof *d->lambda);
     else

@@ -17,7 +17,7 @@ struct plume_statics {
     void (*free_user)(void *);
     plume_index n, m;
     double *u, *u_saved, *lambda, *lambda_saved;
-    double *xref, *xtarget; /* [dim nv] the tangent predictor's: x at the last equilibrium, at the target */
+    double *xref, *xtarget; /* [ndof] the tangent predictor's: x at the last equilibrium, at the target */
     double *u_prev;  /* the equilibrium before the last one (the secant predictor's), if have_prev */
     double factor_prev;
     int have_prev;
@@ -117,7 +117,7 @@ plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *gi
     s->u_prev = malloc((size_t)(s->n + 1) * sizeof *s->u_prev);
     s->lambda = calloc((size_t)(s->m + 1), sizeof *s->lambda);
     s->lambda_saved = calloc((size_t)(s->m + 1), sizeof *s->lambda_saved);
-    size_t nd = (size_t)plume_problem_dim(p) * (size_t)plume_problem_nvert(p) + 1;
+    size_t nd = (size_t)plume_problem_ndof(p) + 1;
     s->xref = malloc(nd * sizeof *s->xref);
     s->xtarget = malloc(nd * sizeof *s->xtarget);
     if (!s->u || !s->u_saved || !s->u_prev || !s->lambda || !s->lambda_saved || !s->xref || !s->xtarget) {
@@ -132,6 +132,24 @@ plume_status plume_statics_create(plume_problem *p, const plume_statics_opts *gi
                              plume_solver_kind_name(o->solver), why.msg);
     }
     *out = s;
+    return PLUME_OK;
+}
+
+/* At an equilibrium: the terms re-base their frames (plume_term.rebase), and the last equilibrium
+ * u_prev, in the old frames, moves as the equilibrium's unknowns did, so the secant through the two
+ * is what it was (exact where the edges did not turn between them). s->u is the equilibrium. */
+static plume_status rebase(plume_statics *s)
+{
+    if (!plume_problem_rebases(s->p))
+        return PLUME_OK;
+    plume_status st = plume_problem_rebase_terms(s->p);
+    if (st != PLUME_OK)
+        return st;
+    plume_problem_gather(s->p, s->u_saved); /* a workspace until the next increment saves into it */
+    for (plume_index i = 0; i < s->n; i++) {
+        s->u_prev[i] += s->u_saved[i] - s->u[i];
+        s->u[i] = s->u_saved[i];
+    }
     return PLUME_OK;
 }
 
@@ -160,7 +178,7 @@ plume_status plume_statics_step(plume_statics *s, plume_load_step_report *rep)
         const plume_predictor k = s->o.predictor;
         const int secant = (k == PLUME_PREDICT_SECANT || k == PLUME_PREDICT_SECANT_TANGENT) && s->have_prev;
         const int tangent = !secant && (k == PLUME_PREDICT_TANGENT || k == PLUME_PREDICT_SECANT_TANGENT);
-        const size_t nd = (size_t)plume_problem_dim(s->p) * (size_t)plume_problem_nvert(s->p);
+        const size_t nd = (size_t)plume_problem_ndof(s->p);
         double *x = plume_problem_x(s->p);
         if (!from_predictor && tangent) { /* the prescribed values at the last equilibrium (a cut leaves
                                              those of the failed target in x) */
@@ -205,6 +223,8 @@ plume_status plume_statics_step(plume_statics *s, plume_load_step_report *rep)
         if (st == PLUME_OK && sr.converged) {
             plume_problem_scatter(s->p, s->u);
             memcpy(s->u_prev, s->u_saved, (size_t)s->n * sizeof *s->u_prev);
+            if ((st = rebase(s)) != PLUME_OK)
+                return st;
             s->factor_prev = s->factor;
             s->have_prev = 1;
             s->factor = next;

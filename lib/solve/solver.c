@@ -36,7 +36,7 @@ static void predict_work_free(predict_work *w)
 
 static plume_status predict_work_alloc(predict_work *w, const plume_problem *p)
 {
-    size_t nd = (size_t)plume_problem_dim(p) * (size_t)plume_problem_nvert(p) + 1;
+    size_t nd = (size_t)plume_problem_ndof(p) + 1;
     size_t n = (size_t)plume_problem_nfree(p) + 1, m = (size_t)plume_problem_ncons(p) + 1;
     w->xref = malloc(nd * sizeof *w->xref);
     w->dx = malloc(nd * sizeof *w->dx);
@@ -208,7 +208,7 @@ plume_status plume_solver_predict(plume_solver *s, double *u, double *lambda, co
     plume_problem *p = s->p;
     predict_work *w = &s->w;
     plume_index n = plume_problem_nfree(p), m = plume_problem_ncons(p);
-    plume_index nd = (plume_index)plume_problem_dim(p) * plume_problem_nvert(p);
+    plume_index nd = plume_problem_ndof(p);
     if (m > 0 && !lambda)
         return plume_err_set(err, PLUME_EINVAL, "solver: predict needs the multipliers of a constrained problem");
     double *x = plume_problem_x(p), dmax = 0.0;

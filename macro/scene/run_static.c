@@ -43,7 +43,7 @@ plume_status plume_run_static_start(plume_run *r, plume_err *err)
     if (plume_make_dirs(r->output_dir) != 0)
         return plume_err_set(err, PLUME_EIO, "output_dir '%s': cannot create the directory: %s", r->output_dir,
                              strerror(errno));
-    plume_status st = plume_scene_fields(r->scene, &r->fields, err);
+    plume_status st = plume_scene_fields_of(r->scene, r->p, &r->fields, err);
     if (st == PLUME_OK)
         st = plume_fields_series_start(r->fields, r->output_dir, "steps.pvd", "step", -1.0, err);
     return st;

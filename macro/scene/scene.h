@@ -32,9 +32,19 @@ enum {
     PLUME_CLAMP_ROW = 4       /**< second row of a clamp with no boundary edge (rest height always fixed) */
 };
 
+/** The scene's bending term ("bending_model"). */
+enum {
+    PLUME_BENDING_SHAPE_OPERATOR = 0, /**< "shape_operator": shared edge slopes (default) */
+    PLUME_BENDING_HINGE = 1,          /**< "hinge": a dihedral angle per interior edge */
+    PLUME_BENDING_MIDEDGE = 2         /**< "midedge": an angle unknown per edge (midedge_term.h) */
+};
+
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/** The "bending_model" name of a PLUME_BENDING_* (static string). */
+const char *plume_scene_bending_name(int model);
 
 /** The longest moduli file name a scene material records (bytes, with the NUL). */
 #define PLUME_SCENE_PATH_MAX 4096
@@ -117,7 +127,7 @@ struct plume_scene {
                                      "object" (one colour per scene object), or a field of
                                      plume_field_names (macro/shell/fields.h) with a colour bar */
     double length;                /**< diagonal of the reference bounding box (m) */
-    int hinge_bending;            /**< "bending_model": "hinge"; default "shape_operator" */
+    int bending_model;            /**< "bending_model": a PLUME_BENDING_*; default "shape_operator" */
     int has_contact;              /**< a "contact" block */
     plume_contact_term_opts contact; /**< its settings */
     double friction_mu;           /**< lagged Coulomb friction between touching shells; 0: none */
@@ -145,6 +155,10 @@ struct plume_scene {
  * scene's steps, solver and max_iter. *p and *st belong to the caller (destroy st first); the
  * scene must outlive them. Errors: the scene is not static (PLUME_EINVAL). */
 plume_status plume_scene_statics(const plume_scene *s, plume_problem **p, plume_statics **st, plume_err *err);
+
+/** plume_scene_fields for a run over problem p (may be NULL): a midedge scene's bending energies
+ * are read from p's term, whose edge angles and frames they need (without p they are refused). */
+plume_status plume_scene_fields_of(const plume_scene *s, plume_problem *p, plume_fields **out, plume_err *err);
 
 /** Builds the problem (membrane and bending terms per material, edge-length constraints on the
  * barb edges) with x at the rest state, and the implicit Euler stepper with the scene's

@@ -11,22 +11,53 @@
 #include "../../lib/core/membrane.h"
 #include "../../lib/core/moment.h"
 #include "internal/scene_internal.h"
+#include "../shell/midedge_term.h"
 #include "../shell/shape_bending.h"
 
+/* The clamped vertices of mesh m ([nv], malloc'ed; NULL without clamps or out of memory). */
+static unsigned char *held_vertices(const plume_scene *s, const plume_mesh *m)
+{
+    unsigned char *held = s->clamped ? malloc((size_t)m->nv + 1) : NULL;
+    for (plume_index v = 0; held && v < m->nv; v++)
+        held[v] = (s->clamped[v] & PLUME_CLAMP_HELD) != 0;
+    return held;
+}
+
 /* The scene's bending term over mesh m (materials bm): hinges, or the shape operator with mirrored
- * stencils at clamped boundary edges (shape_bending.h). */
+ * stencils at clamped boundary edges (shape_bending.h). Midedge bending is no term alone: its
+ * unknowns belong to a problem (add_bending). */
 static plume_status bending_term(const plume_scene *s, const plume_mesh *m, const plume_bending_material *bm,
                                  plume_term *term, plume_err *err)
 {
-    if (s->hinge_bending)
+    if (s->bending_model == PLUME_BENDING_HINGE)
         return plume_bending_term_create(m, bm, s->nmat, NULL, term, err);
-    unsigned char *held = s->clamped ? malloc((size_t)m->nv + 1) : NULL;
+    unsigned char *held = held_vertices(s, m);
     if (s->clamped && !held)
         return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
-    for (plume_index v = 0; held && v < m->nv; v++)
-        held[v] = (s->clamped[v] & PLUME_CLAMP_HELD) != 0;
     const plume_shape_bending_opts so = {held, 0, 0};
     plume_status st = plume_shape_bending_term_create_opts(m, bm, s->nmat, NULL, &so, term, err);
+    free(held);
+    return st;
+}
+
+/* The scene's bending in problem p, whose x holds the start positions: a term, or for midedge the
+ * edge unknowns and their term (the clamped edges' angles fixed). */
+static plume_status add_bending(const plume_scene *s, plume_problem *p, const plume_mesh *m,
+                                const plume_bending_material *bm, plume_err *err)
+{
+    plume_status st;
+    if (s->bending_model != PLUME_BENDING_MIDEDGE) {
+        plume_term term;
+        if ((st = bending_term(s, m, bm, &term, err)) != PLUME_OK)
+            return st;
+        return plume_problem_add_term(p, &term, err);
+    }
+    unsigned char *held = held_vertices(s, m);
+    if (s->clamped && !held)
+        return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
+    const plume_midedge_term_opts o = {NULL, held};
+    plume_index first;
+    st = plume_midedge_term_add(p, m, bm, s->nmat, NULL, &o, &first, NULL, err);
     free(held);
     return st;
 }
@@ -50,6 +81,11 @@ static plume_status fields_objects(const plume_scene *s, plume_fields *f, plume_
 
 plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_err *err)
 {
+    return plume_scene_fields_of(s, NULL, out, err);
+}
+
+plume_status plume_scene_fields_of(const plume_scene *s, plume_problem *p, plume_fields **out, plume_err *err)
+{
     if (!s || !out)
         return plume_err_set(err, PLUME_EINVAL, "scene: invalid arguments");
     *out = NULL;
@@ -68,8 +104,17 @@ plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_
         bm[k] = s->mats[k].bending;
         bending |= bm[k].D_long > 0.0 || bm[k].D_trans > 0.0;
     }
-    if (bending && (st = bending_term(s, m, bm, &term, err)) != PLUME_OK)
+    if (bending && s->bending_model == PLUME_BENDING_MIDEDGE) {
+        plume_midedge_term *mt = p ? plume_problem_term_ctx(p, PLUME_MIDEDGE_TERM_NAME) : NULL;
+        if (!mt) {
+            st = plume_err_set(err, PLUME_EINVAL,
+                               "scene: a midedge scene's fields need its run's edge angles: they come with plume_run");
+            goto done;
+        }
+        plume_midedge_term_view(mt, &term);
+    } else if (bending && (st = bending_term(s, m, bm, &term, err)) != PLUME_OK) {
         goto done;
+    }
     /* the whole mesh is drawn (kinematic bodies too, with NaN fields); the elastic triangles come first */
     st = plume_fields_create(s->mesh, 3, m->nt, mm, s->nmat, bending ? &term : NULL, s->barb_edges, s->nbarb, out, err);
     if (st == PLUME_OK && s->nobjects > 0 && (st = fields_objects(s, *out, err)) != PLUME_OK)
@@ -100,11 +145,11 @@ static plume_status elastic_problem(const plume_scene *s, plume_problem **out, p
         bending |= bm[k].D_long > 0.0 || bm[k].D_trans > 0.0;
     }
     plume_term term;
+    memcpy(plume_problem_x(p), s->mesh->x, (size_t)(3 * m->nv) * sizeof(double));
     if ((st = plume_membrane_term_create(m, 3, mm, s->nmat, &term, err)) != PLUME_OK ||
         (st = plume_problem_add_term(p, &term, err)) != PLUME_OK)
         goto done;
-    if (bending && ((st = bending_term(s, m, bm, &term, err)) != PLUME_OK ||
-                    (st = plume_problem_add_term(p, &term, err)) != PLUME_OK))
+    if (bending && (st = add_bending(s, p, m, bm, err)) != PLUME_OK)
         goto done;
     if (s->nbarb > 0) {
         plume_constraint con;
@@ -112,7 +157,6 @@ static plume_status elastic_problem(const plume_scene *s, plume_problem **out, p
             (st = plume_problem_add_constraint(p, &con, err)) != PLUME_OK)
             goto done;
     }
-    memcpy(plume_problem_x(p), s->mesh->x, (size_t)(3 * m->nv) * sizeof(double));
 done:
     free(mm);
     free(bm);
@@ -301,7 +345,7 @@ plume_status plume_scene_statics(const plume_scene *s, plume_problem **pp, plume
         if (s->clamped[v] & PLUME_CLAMP_HELD)
             for (int a = 0; a < 3; a++)
                 plume_problem_fix_dof(p, 3 * v + a, err);
-        else if ((s->clamped[v] & PLUME_CLAMP_ROW) || ((s->clamped[v] & PLUME_CLAMP_ROW_EDGE) && s->hinge_bending))
+        else if ((s->clamped[v] & PLUME_CLAMP_ROW) || ((s->clamped[v] & PLUME_CLAMP_ROW_EDGE) && s->bending_model == PLUME_BENDING_HINGE))
             plume_problem_fix_dof(p, 3 * v + 2, err);
     }
     for (plume_index v = 0; v < m->nv; v++)

@@ -70,7 +70,7 @@ plume_status plume_scene_describe(const plume_scene *s, char **json, plume_err *
     json_object_set_new(j, "vertices", json_integer(s->mesh->nv));
     json_object_set_new(j, "constrained_edges", json_integer(s->nbarb));
     json_object_set_new(j, "objects", json_integer(s->nobjects));
-    json_object_set_new(j, "bending_model", json_string(s->hinge_bending ? "hinge" : "shape_operator"));
+    json_object_set_new(j, "bending_model", json_string(plume_scene_bending_name(s->bending_model)));
     json_object_set_new(j, "solver", json_string(plume_solver_kind_name(s->solver)));
     json_object_set_new(j, "predictor", json_string(plume_predictor_name(s->predictor)));
     json_object_set_new(j, "globalization", json_string(plume_globalization_name(s->globalization)));

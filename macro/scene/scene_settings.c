@@ -25,9 +25,13 @@ static plume_status parse_model(const plume_json_ctx *c, json_t *doc, plume_scen
     }
     if ((v = json_object_get(doc, "bending_model"))) {
         const char *bv = json_is_string(v) ? json_string_value(v) : "";
-        if (strcmp(bv, "hinge") != 0 && strcmp(bv, "shape_operator") != 0)
-            return plume_json_bad(c, PLUME_EINVAL, "bending_model", "must be \"shape_operator\" or \"hinge\"");
-        s->hinge_bending = bv[0] == 'h';
+        int k = PLUME_BENDING_SHAPE_OPERATOR;
+        while (k <= PLUME_BENDING_MIDEDGE && strcmp(bv, plume_scene_bending_name(k)) != 0)
+            k++;
+        if (k > PLUME_BENDING_MIDEDGE)
+            return plume_json_bad(c, PLUME_EINVAL, "bending_model",
+                                  "must be \"shape_operator\", \"hinge\" or \"midedge\"");
+        s->bending_model = k;
     }
     if ((v = json_object_get(doc, "contact")) && (st = plume_scene_parse_contact(c, v, s)) != PLUME_OK)
         return st;
@@ -168,6 +172,11 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
         (st = parse_solver(c, doc, s)) != PLUME_OK || (st = parse_output(c, doc, s)) != PLUME_OK)
         return st;
     return parse_camera(c, doc, s);
+}
+
+const char *plume_scene_bending_name(int model)
+{
+    return model == PLUME_BENDING_HINGE ? "hinge" : model == PLUME_BENDING_MIDEDGE ? "midedge" : "shape_operator";
 }
 
 /* The settings plume_scene_set may change: none of them changes the mesh, the materials or what the

@@ -106,6 +106,32 @@ static plume_status term_rebase(void *vctx, int dim, double *x)
     return PLUME_OK;
 }
 
+/* The view's eval: the energy alone */
+static plume_status view_eval(void *vctx, int dim, const double *x, double *energy, double *grad, double *hblocks,
+                              int project)
+{
+    (void)project;
+    if (grad || hblocks)
+        return PLUME_EINVAL;
+    plume_midedge_term *c = vctx;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    plume_midedge_term_angles(c, x, c->theta);
+    return plume_midedge_bending_eval(c->b, x, c->theta, energy, NULL, NULL, NULL, 0, NULL);
+}
+
+void plume_midedge_term_view(plume_midedge_term *t, plume_term *out)
+{
+    *out = (plume_term){.size = sizeof(plume_term),
+                        .name = PLUME_MIDEDGE_TERM_NAME,
+                        .arity = 3,
+                        .nstencil = t->nt,
+                        .stencil = t->stencil,
+                        .eval = view_eval,
+                        .ctx = t,
+                        .energies = term_energies};
+}
+
 const plume_midedge_bending *plume_midedge_term_bending(const plume_midedge_term *t) { return t->b; }
 
 void plume_midedge_term_directors(const plume_midedge_term *t, const double *x, double *d)
@@ -205,7 +231,7 @@ plume_status plume_midedge_term_add(plume_problem *p, const plume_mesh *mesh, co
             return st;
         }
     plume_term t = {.size = sizeof(plume_term),
-                    .name = "midedge bending",
+                    .name = PLUME_MIDEDGE_TERM_NAME,
                     .arity = 3,
                     .nstencil = c->nt,
                     .stencil = c->stencil,

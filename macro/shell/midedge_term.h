@@ -40,6 +40,13 @@ plume_status plume_midedge_term_add(plume_problem *p, const plume_mesh *mesh, co
                                     int nmat, const double *rest_x, const plume_midedge_term_opts *o,
                                     plume_index *first, plume_midedge_term **term, plume_err *err);
 
+/** The name of the term in its problem (plume_problem_term_ctx finds it by it). */
+#define PLUME_MIDEDGE_TERM_NAME "midedge bending"
+
+/** A term that reads t without owning it (destroy NULL): its triangles' energies (energies) and
+ * the energy (eval, no gradient or blocks), for output; valid while t's problem lives. */
+void plume_midedge_term_view(plume_midedge_term *t, plume_term *out);
+
 /** The bending energy the term sums (its mesh, frames, faces). */
 const plume_midedge_bending *plume_midedge_term_bending(const plume_midedge_term *t);
 
