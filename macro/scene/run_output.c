@@ -175,6 +175,11 @@ static plume_status restart_run(plume_run *r, plume_err *err)
     plume_frames_info info;
     plume_frame last = {0};
     plume_status st;
+    if (r->scene->bending_model == PLUME_BENDING_MIDEDGE) /* before anything is read or written */
+        return plume_err_set(err, PLUME_EINVAL,
+                             "restart: the scene '%s' uses midedge bending, whose edge directors the frames file does "
+                             "not hold yet (a restart would not continue the run bit for bit): run it from the start",
+                             r->scene->path);
     if ((st = plume_frames_info_read(r->restart, &info, &why)) != PLUME_OK ||
         (st = plume_frames_read(r->restart, -1, &last, &why)) != PLUME_OK) {
         plume_err_set(err, st, "restart: %s", why.msg);

@@ -52,9 +52,23 @@ static plume_status add_bending(const plume_scene *s, plume_problem *p, const pl
             return st;
         return plume_problem_add_term(p, &term, err);
     }
-    unsigned char *held = held_vertices(s, m);
-    if (s->clamped && !held)
+    /* the held edges: between clamped vertices, and between vertices of the handles, which hold
+     * their triangles' slopes as the shape operator's fits do (the handles translate: an edge's
+     * director does not turn with a rotating handle yet) */
+    for (int h = 0; h < s->nhandles; h++)
+        for (int k = 0; s->handles[h].rotations && k < 3 * s->handles[h].nkeys; k++)
+            if (s->handles[h].rotations[k] != 0.0)
+                return plume_err_set(err, PLUME_EINVAL,
+                                     "scene: handle %d rotates, and midedge bending does not turn the directors of "
+                                     "its edges with it yet: use \"bending_model\": \"shape_operator\"",
+                                     h);
+    unsigned char *held = s->clamped ? held_vertices(s, m) : calloc((size_t)m->nv + 1, 1);
+    if (!held)
         return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
+    for (int h = 0; h < s->nhandles; h++)
+        for (plume_index i = 0; i < s->handles[h].nvertices; i++)
+            if (s->handles[h].vertices[i] < m->nv)
+                held[s->handles[h].vertices[i]] = 1;
     const plume_midedge_term_opts o = {NULL, held};
     plume_index first;
     st = plume_midedge_term_add(p, m, bm, s->nmat, NULL, &o, &first, NULL, err);
@@ -111,7 +125,10 @@ plume_status plume_scene_fields_of(const plume_scene *s, plume_problem *p, plume
                                "scene: a midedge scene's fields need its run's edge angles: they come with plume_run");
             goto done;
         }
-        plume_midedge_term_view(mt, &term);
+        if ((st = plume_midedge_term_view(mt, p, &term)) != PLUME_OK) {
+            plume_err_set(err, st, "scene: out of memory");
+            goto done;
+        }
     } else if (bending && (st = bending_term(s, m, bm, &term, err)) != PLUME_OK) {
         goto done;
     }

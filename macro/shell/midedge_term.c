@@ -106,30 +106,49 @@ static plume_status term_rebase(void *vctx, int dim, double *x)
     return PLUME_OK;
 }
 
-/* The view's eval: the energy alone */
+/* A view: the term and the problem whose x holds its angles. */
+typedef struct {
+    plume_midedge_term *t;
+    plume_problem *p;
+} view_ctx;
+
+/* The view's eval: the energy alone, at positions x and the problem's angles */
 static plume_status view_eval(void *vctx, int dim, const double *x, double *energy, double *grad, double *hblocks,
                               int project)
 {
     (void)project;
-    if (grad || hblocks)
+    const view_ctx *v = vctx;
+    if (grad || hblocks || dim != 3)
         return PLUME_EINVAL;
-    plume_midedge_term *c = vctx;
-    if (dim != 3)
-        return PLUME_EINVAL;
-    plume_midedge_term_angles(c, x, c->theta);
-    return plume_midedge_bending_eval(c->b, x, c->theta, energy, NULL, NULL, NULL, 0, NULL);
+    plume_midedge_term_angles(v->t, plume_problem_x(v->p), v->t->theta);
+    return plume_midedge_bending_eval(v->t->b, x, v->t->theta, energy, NULL, NULL, NULL, 0, NULL);
 }
 
-void plume_midedge_term_view(plume_midedge_term *t, plume_term *out)
+static plume_status view_energies(void *vctx, int dim, const double *x, double *e)
 {
+    const view_ctx *v = vctx;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    plume_midedge_term_angles(v->t, plume_problem_x(v->p), v->t->theta);
+    return plume_midedge_bending_energies(v->t->b, x, v->t->theta, e, NULL);
+}
+
+plume_status plume_midedge_term_view(plume_midedge_term *t, plume_problem *p, plume_term *out)
+{
+    view_ctx *v = malloc(sizeof *v);
+    if (!v)
+        return PLUME_ENOMEM;
+    v->t = t, v->p = p;
     *out = (plume_term){.size = sizeof(plume_term),
                         .name = PLUME_MIDEDGE_TERM_NAME,
                         .arity = 3,
                         .nstencil = t->nt,
                         .stencil = t->stencil,
                         .eval = view_eval,
-                        .ctx = t,
-                        .energies = term_energies};
+                        .destroy = free,
+                        .ctx = v,
+                        .energies = view_energies};
+    return PLUME_OK;
 }
 
 const plume_midedge_bending *plume_midedge_term_bending(const plume_midedge_term *t) { return t->b; }

@@ -43,9 +43,10 @@ plume_status plume_midedge_term_add(plume_problem *p, const plume_mesh *mesh, co
 /** The name of the term in its problem (plume_problem_term_ctx finds it by it). */
 #define PLUME_MIDEDGE_TERM_NAME "midedge bending"
 
-/** A term that reads t without owning it (destroy NULL): its triangles' energies (energies) and
- * the energy (eval, no gradient or blocks), for output; valid while t's problem lives. */
-void plume_midedge_term_view(plume_midedge_term *t, plume_term *out);
+/** A term for output that reads t, the term of problem p, without owning it: its triangles'
+ * energies (energies) and the energy (eval, no gradient or blocks) at the positions it is given
+ * (3 nv) and the angles p's x holds (the state, between steps); valid while p lives. PLUME_ENOMEM. */
+plume_status plume_midedge_term_view(plume_midedge_term *t, plume_problem *p, plume_term *out);
 
 /** The bending energy the term sums (its mesh, frames, faces). */
 const plume_midedge_bending *plume_midedge_term_bending(const plume_midedge_term *t);
