@@ -53,13 +53,11 @@ void plume_fit_opts_default_sized(plume_fit_opts *o, size_t size)
 {
     if (!o)
         return;
-    plume_fit_opts full;
-    memset(&full, 0, sizeof full);
-    full.size = sizeof full;
-    full.free_mask = PLUME_FIT_EYY | PLUME_FIT_GXY;
-    full.max_eval = 300;
-    full.xtol_rel = 1e-6;
-    full.min_strain = 1e-12;
+    static const plume_fit_opts full = {.size = sizeof full,
+                                        .free_mask = PLUME_FIT_EYY | PLUME_FIT_GXY,
+                                        .max_eval = 300,
+                                        .xtol_rel = 1e-6,
+                                        .min_strain = 1e-12};
     plume_opts_give(o, size, &full, sizeof full);
 }
 

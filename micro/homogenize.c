@@ -15,12 +15,10 @@
 
 void plume_homog_opts_default_sized(plume_homog_opts *o, size_t size)
 {
-    plume_homog_opts full;
-    memset(&full, 0, sizeof full);
-    full.size = sizeof full;
-    full.strain_max = 0.05;
-    full.steps = 10;
-    full.convergence = 1;
+    static const plume_homog_opts full = {.size = sizeof full,
+                                          .strain_max = 0.05,
+                                          .steps = 10,
+                                          .convergence = 1};
     plume_opts_give(o, size, &full, sizeof full);
 }
 

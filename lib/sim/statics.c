@@ -28,13 +28,11 @@ struct plume_statics {
 
 void plume_statics_opts_default_sized(plume_statics_opts *o, size_t size)
 {
-    plume_statics_opts full;
-    memset(&full, 0, sizeof full);
-    full.size = sizeof full;
-    full.steps = 10;
-    full.max_cuts = 10;
-    full.solver = PLUME_SOLVER_NEWTON;
-    full.predictor = PLUME_PREDICT_TANGENT;
+    static const plume_statics_opts full = {.size = sizeof full,
+                                            .steps = 10,
+                                            .max_cuts = 10,
+                                            .solver = PLUME_SOLVER_NEWTON,
+                                            .predictor = PLUME_PREDICT_TANGENT};
     plume_opts_give(o, size, &full, sizeof full);
 }
 

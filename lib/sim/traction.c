@@ -21,15 +21,13 @@ double plume_traction_default_barb_spacing(double ly)
 
 void plume_traction_opts_default_sized(plume_traction_opts *o, size_t size)
 {
-    plume_traction_opts full;
-    memset(&full, 0, sizeof full);
-    full.size = sizeof full;
-    full.strain_max = 0.05;
-    full.steps = 10;
-    full.max_cuts = 8;
-    full.probe_strain = 1e-6;
-    full.solver = PLUME_SOLVER_NEWTON;
-    full.progress = 1;
+    static const plume_traction_opts full = {.size = sizeof full,
+                                             .strain_max = 0.05,
+                                             .steps = 10,
+                                             .max_cuts = 8,
+                                             .probe_strain = 1e-6,
+                                             .solver = PLUME_SOLVER_NEWTON,
+                                             .progress = 1};
     plume_opts_give(o, size, &full, sizeof full);
 }
 

@@ -11,12 +11,10 @@
 
 void plume_run_opts_default_sized(plume_run_opts *o, size_t size)
 {
-    plume_run_opts full;
-    memset(&full, 0, sizeof full);
-    full.size = sizeof full;
-    full.audit = 1;
-    full.render = 1;
-    full.solver = -1;
+    static const plume_run_opts full = {.size = sizeof full,
+                                        .audit = 1,
+                                        .render = 1,
+                                        .solver = -1};
     plume_opts_give(o, size, &full, sizeof full);
 }
 

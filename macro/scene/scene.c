@@ -144,7 +144,7 @@ plume_status plume_scene_load(const char *path, plume_scene **out, plume_err *er
  * lines: errors name the line of the bad key in text (the text is the file's). */
 void plume_scene_load_opts_default_sized(plume_scene_load_opts *o, size_t size)
 {
-    plume_scene_load_opts full = {.size = sizeof full};
+    static const plume_scene_load_opts full = {.size = sizeof full};
     plume_opts_give(o, size, &full, sizeof full);
 }
 

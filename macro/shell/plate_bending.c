@@ -18,18 +18,17 @@
 
 void plume_bend_opts_default_sized(plume_bend_opts *o, size_t size)
 {
-    plume_bend_opts full;
-    memset(&full, 0, sizeof full);
-    full.size = sizeof full;
-    full.load = PLUME_BEND_CYLINDER;
-    full.lx = 1.0, full.ly = 2.0;
-    full.moment = 1.0;
-    full.steps = 3;
-    full.loading = PLUME_BEND_EDGE_MOMENTS;
-    full.end_strip = 0.1;
-    full.window = 0.5;
-    full.max_rotation = 0.2;
-    full.solver = PLUME_SOLVER_NEWTON;
+    static const plume_bend_opts full = {.size = sizeof full,
+                                         .load = PLUME_BEND_CYLINDER,
+                                         .lx = 1.0,
+                                         .ly = 2.0,
+                                         .moment = 1.0,
+                                         .steps = 3,
+                                         .loading = PLUME_BEND_EDGE_MOMENTS,
+                                         .end_strip = 0.1,
+                                         .window = 0.5,
+                                         .max_rotation = 0.2,
+                                         .solver = PLUME_SOLVER_NEWTON};
     plume_opts_give(o, size, &full, sizeof full);
 }
 
