@@ -189,9 +189,6 @@ static plume_status build_face(const plume_mesh *m, const plume_bending_material
         const double nd = N[k][0] * d[0] + N[k][1] * d[1], np = N[k][0] * dp[0] + N[k][1] * dp[1];
         B[0][k] = l[k] / A * nd * nd, B[1][k] = l[k] / A * np * np, B[2][k] = l[k] / A * nd * np;
     }
-    for (int r = 0; r < 3; r++)
-        for (int k = 0; k < 3; k++)
-            f->B[3 * r + k] = B[r][k];
     const double D66 = mat->D_twist > 0.0 ? mat->D_twist : fmax(0.0, 0.5 * (sqrt(mat->D_long * mat->D_trans) - mat->D_coupling));
     const double Dv[3][3] = {{mat->D_long, mat->D_coupling, 0.0}, {mat->D_coupling, mat->D_trans, 0.0}, {0.0, 0.0, 4.0 * D66}};
     for (int a = 0; a < 3; a++)
@@ -276,6 +273,25 @@ plume_index plume_midedge_bending_nface(const plume_midedge_bending *b) { return
 const plume_index *plume_midedge_bending_face_edges(const plume_midedge_bending *b) { return b->face_edge; }
 const plume_midedge_face *plume_midedge_bending_face(const plume_midedge_bending *b, plume_index t) { return &b->face[t]; }
 
+/* Triangle t's kernel inputs at (x, theta). */
+static void face_inputs(const plume_midedge_bending *b, const double *x, const double *theta, plume_index t,
+                        double xv[9], double th[3], const double *r0[3])
+{
+    const plume_index *v = b->tri + 3 * t, *fe = b->face_edge + 3 * t;
+    for (int k = 0; k < 3; k++) {
+        memcpy(xv + 3 * k, x + 3 * v[k], 3 * sizeof(double));
+        th[k] = theta[fe[k]];
+        r0[k] = b->r0 + 3 * fe[k];
+    }
+}
+
+/* The error of a triangle whose kernel failed. */
+static plume_status face_failed(plume_err *err, plume_index t)
+{
+    return plume_err_set(err, PLUME_EINVAL, "midedge bending: triangle %ld has collapsed or a director has left its side",
+                         (long)t);
+}
+
 plume_status plume_midedge_bending_eval(const plume_midedge_bending *b, const double *x, const double *theta,
                                         double *energy, double *gx, double *gtheta, double *hblocks, int project,
                                         plume_err *err)
@@ -285,16 +301,11 @@ plume_status plume_midedge_bending_eval(const plume_midedge_bending *b, const do
         const plume_index *v = b->tri + 3 * t, *fe = b->face_edge + 3 * t;
         double xv[9], th[3], E = 0.0, g[12];
         const double *r0[3];
-        for (int k = 0; k < 3; k++) {
-            memcpy(xv + 3 * k, x + 3 * v[k], 3 * sizeof(double));
-            th[k] = theta[fe[k]];
-            r0[k] = b->r0 + 3 * fe[k];
-        }
+        face_inputs(b, x, theta, t, xv, th, r0);
         const int want_g = gx || gtheta;
         if (plume_midedge_face_eval(&b->face[t], xv, th, r0, &E, want_g ? g : NULL,
                                     hblocks ? hblocks + 144 * (size_t)t : NULL, project) != 0)
-            return plume_err_set(err, PLUME_EINVAL,
-                                 "midedge bending: triangle %ld has collapsed or a director has left its side", (long)t);
+            return face_failed(err, t);
         Esum += E;
         for (int k = 0; k < 3 && want_g; k++) {
             if (gx)
@@ -309,18 +320,6 @@ plume_status plume_midedge_bending_eval(const plume_midedge_bending *b, const do
     return PLUME_OK;
 }
 
-/* Triangle t's kernel inputs at (x, theta). */
-static void face_inputs(const plume_midedge_bending *b, const double *x, const double *theta, plume_index t,
-                        double xv[9], double th[3], const double *r0[3])
-{
-    const plume_index *v = b->tri + 3 * t, *fe = b->face_edge + 3 * t;
-    for (int k = 0; k < 3; k++) {
-        memcpy(xv + 3 * k, x + 3 * v[k], 3 * sizeof(double));
-        th[k] = theta[fe[k]];
-        r0[k] = b->r0 + 3 * fe[k];
-    }
-}
-
 plume_status plume_midedge_bending_blocks(const plume_midedge_bending *b, const double *x, const double *theta,
                                           plume_index first, plume_index count, double *hblocks, int project,
                                           plume_err *err)
@@ -330,8 +329,7 @@ plume_status plume_midedge_bending_blocks(const plume_midedge_bending *b, const 
         const double *r0[3];
         face_inputs(b, x, theta, t, xv, th, r0);
         if (plume_midedge_face_eval(&b->face[t], xv, th, r0, &E, NULL, hblocks + 144 * (size_t)(t - first), project) != 0)
-            return plume_err_set(err, PLUME_EINVAL,
-                                 "midedge bending: triangle %ld has collapsed or a director has left its side", (long)t);
+            return face_failed(err, t);
     }
     return PLUME_OK;
 }
@@ -345,25 +343,7 @@ plume_status plume_midedge_bending_energies(const plume_midedge_bending *b, cons
         face_inputs(b, x, theta, t, xv, th, r0);
         e[t] = 0.0;
         if (plume_midedge_face_eval(&b->face[t], xv, th, r0, &e[t], NULL, NULL, 0) != 0)
-            return plume_err_set(err, PLUME_EINVAL,
-                                 "midedge bending: triangle %ld has collapsed or a director has left its side", (long)t);
-    }
-    return PLUME_OK;
-}
-
-plume_status plume_midedge_bending_curvature(const plume_midedge_bending *b, const double *x, const double *theta,
-                                             plume_index t, double kappa[3], plume_err *err)
-{
-    double xv[9], th[3], s[3];
-    const double *r0[3];
-    face_inputs(b, x, theta, t, xv, th, r0);
-    for (int k = 0; k < 3; k++)
-        if (plume_midedge_face_slope(&b->face[t], xv, k, th[k], r0[k], &s[k]) != 0)
-            return plume_err_set(err, PLUME_EINVAL, "midedge bending: triangle %ld: slope undefined", (long)t);
-    for (int i = 0; i < 3; i++) {
-        kappa[i] = 0.0;
-        for (int k = 0; k < 3; k++)
-            kappa[i] += b->face[t].B[3 * i + k] * (s[k] - b->face[t].s0[k]);
+            return face_failed(err, t);
     }
     return PLUME_OK;
 }

@@ -37,7 +37,6 @@ typedef struct {
     double s0[3];    /**< rest slopes */
     double c[3][3];  /**< g_k = sum_j c[k][j] x_j: the current image F N_k of edge k's outward unit material normal */
     double sigma[3]; /**< +1 when the mesh edge of slot k runs from vertex k+1 to k+2, -1 otherwise */
-    double B[9];     /**< 3x3 row-major: the curvature (k11, k22, k12) in the barb frame is B (s - s0) */
 } plume_midedge_face;
 
 /** The face kernel: energy 1/2 (s - s0)^T K (s - s0) of one triangle at vertices xv (9: x0, x1,
@@ -126,10 +125,6 @@ plume_status plume_midedge_bending_blocks(const plume_midedge_bending *b, const 
 /** Each triangle's energy at (x, theta) in e[nt]; PLUME_EINVAL when a kernel fails. */
 plume_status plume_midedge_bending_energies(const plume_midedge_bending *b, const double *x, const double *theta,
                                             double *e, plume_err *err);
-
-/** Triangle t's change of curvature (k11, k22, k12) in its barb frame at (x, theta), B (s - s0). */
-plume_status plume_midedge_bending_curvature(const plume_midedge_bending *b, const double *x, const double *theta,
-                                             plume_index t, double kappa[3], plume_err *err);
 
 /** The unit director of edge e at (x, theta[e]). */
 void plume_midedge_bending_director(const plume_midedge_bending *b, const double *x, const double *theta,
