@@ -421,3 +421,27 @@ void test_midedge_term_dynamic_scene(void)
     snprintf(out, sizeof out, "rm -rf '%s'", dir);
     CHECK(system(out) == 0);
 }
+
+/* The scene's refusals around midedge: a bending model it does not know names the three it does,
+ * and the fields without a run (plume_scene_fields: no edge angles to read) say where they come
+ * from; neither changes the scene. */
+void test_midedge_term_scene_bad_inputs(void)
+{
+    plume_scene *s = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_scene_load("../data/shell/strip_scene.json", &s, &err) == PLUME_OK);
+    if (!s)
+        return;
+    CHECK(plume_scene_set(s, "{\"bending_model\": \"morley\"}", &err) == PLUME_EINVAL);
+    fprintf(stderr, "    %s\n", err.msg);
+    CHECK(strstr(err.msg, "bending_model") && strstr(err.msg, "\"midedge\""));
+    char *desc = NULL;
+    CHECK(plume_scene_describe(s, &desc, &err) == PLUME_OK && desc && strstr(desc, "shape_operator"));
+    plume_free(desc);
+    CHECK(plume_scene_set(s, "{\"bending_model\": \"midedge\"}", &err) == PLUME_OK);
+    plume_fields *f = NULL;
+    CHECK(plume_scene_fields(s, &f, &err) == PLUME_EINVAL && !f);
+    fprintf(stderr, "    %s\n", err.msg);
+    CHECK(strstr(err.msg, "midedge") && strstr(err.msg, "output_dir"));
+    plume_scene_destroy(&s);
+}

@@ -462,6 +462,12 @@ void test_statics_shell_app(void)
     rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --globalization dogleg", out, sizeof out, err,
                  sizeof err);
     CHECK(rc == 2 && strstr(err, "--globalization must be curved_line_search, line_search or trust_region (got 'dogleg')"));
+    rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --bending morley", out, sizeof out, err,
+                 sizeof err);
+    CHECK(rc == 2 && strstr(err, "--bending must be shape_operator, hinge or midedge (got 'morley')"));
+    rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --edge 0.5 --steps 2 --bending midedge --json",
+                 out, sizeof out, err, sizeof err);
+    CHECK(rc == 0 && strstr(out, "\"bending_model\": \"midedge\"") && strstr(out, "\"converged\": true"));
     rc = app_run(dir, "shell", "../data/feather/scene_anisotropic.json", out, sizeof out, err, sizeof err);
     CHECK(rc == 2 && strstr(err, "dynamic scene"));
     rc = app_run(dir, "shell", "../data/benchmarks/cantilever_shear.json --max-iter 3", out, sizeof out, err, sizeof err);

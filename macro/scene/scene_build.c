@@ -40,6 +40,15 @@ static plume_status bending_term(const plume_scene *s, const plume_mesh *m, cons
     return st;
 }
 
+/* 1 when a handle's keyframes turn it (a kinematic body's own vertices, or an attachment to one) */
+static int handle_rotates(const plume_handle *h)
+{
+    for (int k = 0; h->rotations && k < 3 * h->nkeys; k++)
+        if (h->rotations[k] != 0.0)
+            return 1;
+    return 0;
+}
+
 /* The scene's bending in problem p, whose x holds the start positions: a term, or for midedge the
  * edge unknowns and their term (the clamped edges' angles fixed). */
 static plume_status add_bending(const plume_scene *s, plume_problem *p, const plume_mesh *m,
@@ -52,23 +61,34 @@ static plume_status add_bending(const plume_scene *s, plume_problem *p, const pl
             return st;
         return plume_problem_add_term(p, &term, err);
     }
-    /* the held edges: between clamped vertices, and between vertices of the handles, which hold
-     * their triangles' slopes as the shape operator's fits do (the handles translate: an edge's
-     * director does not turn with a rotating handle yet) */
-    for (int h = 0; h < s->nhandles; h++)
-        for (int k = 0; s->handles[h].rotations && k < 3 * s->handles[h].nkeys; k++)
-            if (s->handles[h].rotations[k] != 0.0)
-                return plume_err_set(err, PLUME_EINVAL,
-                                     "scene: handle %d rotates, and midedge bending does not turn the directors of "
-                                     "its edges with it yet: use \"bending_model\": \"shape_operator\"",
-                                     h);
+    /* the held edges: between clamped vertices, and between vertices of one handle, which hold
+     * their triangles' slopes as the shape operator's fits do (an edge held by a rotating handle is
+     * refused: its director does not turn with the handle yet) */
     unsigned char *held = s->clamped ? held_vertices(s, m) : calloc((size_t)m->nv + 1, 1);
-    if (!held)
+    int *owner = calloc((size_t)m->nv + 1, sizeof *owner); /* handle + 1, or 0 */
+    if (!held || !owner) {
+        free(held);
+        free(owner);
         return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
+    }
     for (int h = 0; h < s->nhandles; h++)
         for (plume_index i = 0; i < s->handles[h].nvertices; i++)
             if (s->handles[h].vertices[i] < m->nv)
-                held[s->handles[h].vertices[i]] = 1;
+                owner[s->handles[h].vertices[i]] = h + 1, held[s->handles[h].vertices[i]] = 1;
+    st = PLUME_OK;
+    for (plume_index e = 0; e < m->ne && st == PLUME_OK; e++) {
+        const int h = owner[m->edges[2 * e]];
+        if (h > 0 && owner[m->edges[2 * e + 1]] == h && handle_rotates(&s->handles[h - 1]))
+            st = plume_err_set(err, PLUME_EINVAL,
+                               "scene: handle %d rotates, and midedge bending does not turn the directors of the edges "
+                               "it holds with it yet: use \"bending_model\": \"shape_operator\"",
+                               h - 1);
+    }
+    free(owner);
+    if (st != PLUME_OK) {
+        free(held);
+        return st;
+    }
     const plume_midedge_term_opts o = {NULL, held};
     plume_index first;
     st = plume_midedge_term_add(p, m, bm, s->nmat, NULL, &o, &first, NULL, err);
