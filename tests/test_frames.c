@@ -562,3 +562,40 @@ void test_frames_render_category(void)
     plume_mesh_destroy(&m);
     remove_dir(dir);
 }
+
+/* Arrays of the state beyond the vertices (plume_frames_append_arrays): written with the frame and
+ * read back bit for bit by name; a frame without one, a wrong count, and an array without a name
+ * are refused, naming them; a frame written with none reads as before. */
+void test_frames_state_arrays(void)
+{
+    char dir[64];
+    if (!scratch_dir(dir)) {
+        CHECK(0);
+        return;
+    }
+    char path[128];
+    snprintf(path, sizeof path, "%s/arrays.h5", dir);
+    plume_err err = {{0}};
+    const double x[6] = {0, 0, 0, 1, 0, 0}, v[6] = {0}, angles[3] = {0.1, -0.2, 1.0 / 3.0};
+    const double frames[9] = {0, 0, 1, 0, 1, 0, 1, 0, 0};
+    const plume_frame_array arrays[2] = {{"edge_angles", angles, 3, "m"}, {"edge_frames", frames, 9, "1"}};
+    CHECK(plume_frames_create(path, 2, 0, 0.01, "test", &err) == PLUME_OK);
+    CHECK(plume_frames_append(path, 2, 0, 0.0, 0, x, v, NULL, &err) == PLUME_OK);
+    CHECK(plume_frames_append_arrays(path, 2, 0, 0.01, 1, x, v, NULL, NULL, arrays, 2, &err) == PLUME_OK);
+    double back[9];
+    CHECK(plume_frames_read_array(path, -1, "edge_frames", back, 9, &err) == PLUME_OK && memcmp(back, frames, sizeof frames) == 0);
+    CHECK(plume_frames_read_array(path, 1, "edge_angles", back, 3, &err) == PLUME_OK && memcmp(back, angles, sizeof angles) == 0);
+    CHECK(plume_frames_read_array(path, 1, "edge_angles", back, 4, &err) == PLUME_EFORMAT &&
+          strstr(err.msg, "edge_angles is of the wrong size (expected 4 values)"));
+    CHECK(plume_frames_read_array(path, 0, "edge_angles", back, 3, &err) == PLUME_EFORMAT &&
+          strstr(err.msg, "/frames/0000000/edge_angles is missing"));
+    const plume_frame_array unnamed = {NULL, angles, 3, "m"};
+    CHECK(plume_frames_append_arrays(path, 2, 0, 0.02, 2, x, v, NULL, NULL, &unnamed, 1, &err) == PLUME_EINVAL &&
+          strstr(err.msg, "extra array 0 needs a name"));
+    plume_frames_info info;
+    CHECK(plume_frames_info_read(path, &info, &err) == PLUME_OK && info.count == 2);
+    plume_frame f = {0};
+    CHECK(plume_frames_read(path, 1, &f, &err) == PLUME_OK && f.t == 0.01 && f.x[3] == 1.0);
+    plume_frame_free(&f);
+    remove_dir(dir);
+}

@@ -319,7 +319,14 @@ static int write_measures(hid_t fg, const plume_frame_measures *m)
 plume_status plume_frames_append(const char *path, plume_index nv, plume_index ncons, double t, long step,
                                  const double *x, const double *v, const double *lambda, plume_err *err)
 {
-    return plume_frames_append_measured(path, nv, ncons, t, step, x, v, lambda, NULL, err);
+    return plume_frames_append_arrays(path, nv, ncons, t, step, x, v, lambda, NULL, NULL, 0, err);
+}
+
+plume_status plume_frames_append_measured(const char *path, plume_index nv, plume_index ncons, double t, long step,
+                                          const double *x, const double *v, const double *lambda,
+                                          const plume_frame_measures *m, plume_err *err)
+{
+    return plume_frames_append_arrays(path, nv, ncons, t, step, x, v, lambda, m, NULL, 0, err);
 }
 
 /* Reserves the disk space a frame needs before HDF5 writes any of it. An HDF5 file whose writes
@@ -327,14 +334,15 @@ plume_status plume_frames_append(const char *path, plume_index nv, plume_index n
  * measured with a full disk: tests/test_robustness.c). So the file is first extended by the
  * frame's data plus room for its metadata (posix_fallocate: real blocks, or ENOSPC/EFBIG now);
  * HDF5 writes into that room and trims the file to its end of allocation when it closes it. */
-static plume_status reserve_room(const char *path, plume_index nv, plume_index ncons, plume_err *err)
+static plume_status reserve_room(const char *path, plume_index nv, plume_index ncons, plume_index nextra,
+                                 plume_err *err)
 {
     int fd = open(path, O_WRONLY);
     if (fd < 0)
         return plume_err_set(err, PLUME_EIO, "frames file '%s': cannot open for writing: %s", path, strerror(errno));
     struct stat st;
     int rc = fstat(fd, &st) != 0 ? errno : 0;
-    off_t need = (off_t)(8 * (6 * (double)nv + (double)ncons)) + 65536;
+    off_t need = (off_t)(8 * (6 * (double)nv + (double)ncons + (double)nextra)) + 65536;
     if (rc == 0)
         rc = posix_fallocate(fd, st.st_size, need);
     if (rc != 0) /* nothing half-reserved left behind (a failure here changes nothing to report) */
@@ -418,19 +426,27 @@ static plume_status rebuild_committed(const char *path, const plume_frames_info 
     return s;
 }
 
-plume_status plume_frames_append_measured(const char *path, plume_index nv, plume_index ncons, double t, long step,
-                                          const double *x, const double *v, const double *lambda,
-                                          const plume_frame_measures *m, plume_err *err)
+plume_status plume_frames_append_arrays(const char *path, plume_index nv, plume_index ncons, double t, long step,
+                                        const double *x, const double *v, const double *lambda,
+                                        const plume_frame_measures *m, const plume_frame_array *arrays, int narrays,
+                                        plume_err *err)
 {
-    if (!x || !v || (ncons > 0 && !lambda) || !isfinite(t))
+    if (!x || !v || (ncons > 0 && !lambda) || !isfinite(t) || narrays < 0 || (narrays > 0 && !arrays))
         return plume_err_set(err, PLUME_EINVAL, "frames file '%s': append needs x, v, lambda and a finite time",
                              path ? path : "(null)");
+    plume_index nextra = 0;
+    for (int i = 0; i < narrays; i++) {
+        if (!arrays[i].name || !*arrays[i].name || arrays[i].n < 0 || (arrays[i].n > 0 && !arrays[i].v))
+            return plume_err_set(err, PLUME_EINVAL, "frames file '%s': extra array %d needs a name and its values",
+                                 path ? path : "(null)", i);
+        nextra += arrays[i].n;
+    }
     h5_quiet q;
     quiet_begin(&q);
     h5_detail d;
     hid_t fid = H5I_INVALID_HID, g = H5I_INVALID_HID, fg = H5I_INVALID_HID;
     plume_frames_info info;
-    plume_status s = reserve_room(path, nv, ncons, err);
+    plume_status s = reserve_room(path, nv, ncons, nextra, err);
     if (s == PLUME_OK)
         s = open_frames(path, H5F_ACC_RDWR, &fid, &g, err);
     if (s == PLUME_OK)
@@ -449,7 +465,7 @@ plume_status plume_frames_append_measured(const char *path, plume_index nv, plum
         g = fid = H5I_INVALID_HID;
         s = rebuild_committed(path, &info, err);
         if (s == PLUME_OK)
-            s = reserve_room(path, nv, ncons, err);
+            s = reserve_room(path, nv, ncons, nextra, err);
         if (s == PLUME_OK)
             s = open_frames(path, H5F_ACC_RDWR, &fid, &g, err);
     }
@@ -470,6 +486,12 @@ plume_status plume_frames_append_measured(const char *path, plume_index nv, plum
                           h5_cause(&d));
         goto cleanup;
     }
+    for (int i = 0; i < narrays; i++)
+        if (arrays[i].n > 0 && h5_write_dataset(fg, arrays[i].name, arrays[i].v, arrays[i].n, arrays[i].units) < 0) {
+            s = plume_err_set(err, PLUME_EIO, "frames file '%s': cannot write /frames/%s/%s (HDF5: %s)", path, name,
+                              arrays[i].name, h5_cause(&d));
+            goto cleanup;
+        }
     H5Gclose(fg);
     fg = H5I_INVALID_HID;
     /* The frame's group goes into the file before the commit mark changes. Without this flush both
@@ -612,6 +634,26 @@ plume_status plume_frames_read(const char *path, long k, plume_frame *f, plume_e
 cleanup:
     if (s != PLUME_OK)
         plume_frame_free(f);
+    close_frame(fid, g, fg);
+    quiet_end(&q);
+    return s;
+}
+
+plume_status plume_frames_read_array(const char *path, long k, const char *name, double *out, plume_index n,
+                                     plume_err *err)
+{
+    if (!name || (n > 0 && !out) || n < 0)
+        return plume_err_set(err, PLUME_EINVAL, "frames file: read_array needs a name and room for its values");
+    h5_quiet q;
+    quiet_begin(&q);
+    hid_t fid, g, fg;
+    plume_frames_info info;
+    char group[32];
+    plume_status s = open_frame(path, &k, &fid, &g, &fg, &info, group, err);
+    int rc = s == PLUME_OK ? read_dataset(fg, name, out, n) : 0;
+    if (rc < 0)
+        s = plume_err_set(err, PLUME_EFORMAT, "frames file '%s': /frames/%s/%s is %s (expected %ld values)", path, group,
+                          name, rc == -2 ? "of the wrong size" : "missing or unreadable", (long)n);
     close_frame(fid, g, fg);
     quiet_end(&q);
     return s;

@@ -5,6 +5,8 @@
  *     /frames                 attributes count (frames committed), nv, ncons, dt, scene (string)
  *     /frames/<k>/x, v        [3 nv] positions and velocities (m, m/s), vertex-major
  *     /frames/<k>/lambda      [ncons] constraint multipliers of the step that produced the frame
+ *     /frames/<k>/<name>      optional arrays of the state beyond the vertices (plume_frame_array:
+ *                             midedge bending's edge unknowns "edge_angles" and frames "edge_frames")
  *     /frames/<k>             attributes t (s) and step, and the run's measures of the steps since
  *                             the previous frame (plume_frame_measures: iterations, halvings,
  *                             seconds, contact pairs, smallest distance, intersecting pairs), each a
@@ -64,6 +66,26 @@ typedef struct {
 plume_status plume_frames_append_measured(const char *path, plume_index nv, plume_index ncons, double t, long step,
                                                     const double *x, const double *v, const double *lambda,
                                                     const plume_frame_measures *m, plume_err *err);
+
+/** An array of a frame beyond x, v and lambda: more of the state a restart needs. */
+typedef struct {
+    const char *name;  /**< the dataset's name in the frame's group ("edge_angles", ...) */
+    const double *v;   /**< [n] values */
+    plume_index n;     /**< their count (0: nothing written) */
+    const char *units; /**< its units attribute */
+} plume_frame_array;
+
+/** plume_frames_append_measured, with narrays more arrays in the frame's group (written before
+ * the frame is committed, like the others). */
+plume_status plume_frames_append_arrays(const char *path, plume_index nv, plume_index ncons, double t, long step,
+                                        const double *x, const double *v, const double *lambda,
+                                        const plume_frame_measures *m, const plume_frame_array *arrays, int narrays,
+                                        plume_err *err);
+
+/** Reads the array `name` of frame k (k < 0: the last) into out, which holds n values. PLUME_EFORMAT
+ * when the frame has no such array or it holds another count (both named). */
+plume_status plume_frames_read_array(const char *path, long k, const char *name, double *out, plume_index n,
+                                     plume_err *err);
 
 /** The measures of frame k (k < 0: the last); PLUME_EFORMAT when the frame has none. */
 plume_status plume_frames_read_measures(const char *path, long k, plume_frame_measures *m, plume_err *err);

@@ -11,6 +11,7 @@
 
 #include "../../lib/io/fs.h"
 #include "../../lib/io/render.h"
+#include "../shell/midedge_term.h"
 #include "internal/run.h"
 
 void plume_run_measures_reset(plume_run *r)
@@ -149,6 +150,41 @@ static plume_status render_frame(const plume_run *r, const double *x, double t, 
     return st;
 }
 
+/* The state beyond the vertices that a restart needs, as arrays of a frame: midedge bending's edge
+ * unknowns (the problem's x after the vertices, as the stepper left it) and the frames they are
+ * measured in. Returns their count (0: none). */
+static int state_arrays(plume_run *r, plume_frame_array a[2])
+{
+    plume_midedge_term *t = plume_problem_term_ctx(r->p, PLUME_MIDEDGE_TERM_NAME);
+    if (!t)
+        return 0;
+    const plume_index ne = plume_midedge_term_nedge(t);
+    a[0] = (plume_frame_array){"edge_angles", plume_problem_x(r->p) + plume_midedge_term_first(t), ne,
+                               "m (edge rest length times angle, rad)"};
+    a[1] = (plume_frame_array){"edge_frames", plume_midedge_term_frames(t), 3 * ne, "1"};
+    return 2;
+}
+
+/* A restart's state beyond the vertices (state_arrays) from frame `last` of the file: the frames
+ * set back and the edge unknowns into the problem's x, where plume_dynamics_set_state takes them. */
+static plume_status restore_state_arrays(plume_run *r, const char *file, long last, plume_err *err)
+{
+    plume_frame_array a[2];
+    if (state_arrays(r, a) == 0)
+        return PLUME_OK;
+    plume_midedge_term *t = plume_problem_term_ctx(r->p, PLUME_MIDEDGE_TERM_NAME);
+    double *frames = malloc((size_t)(a[1].n + 1) * sizeof *frames);
+    if (!frames)
+        return plume_err_set(err, PLUME_ENOMEM, "restart: out of memory");
+    plume_status st = plume_frames_read_array(file, last, a[1].name, frames, a[1].n, err);
+    if (st == PLUME_OK) /* a[0] points into the problem's x: read in place */
+        st = plume_frames_read_array(file, last, a[0].name, (double *)a[0].v, a[0].n, err);
+    if (st == PLUME_OK)
+        st = plume_midedge_term_set_frames(t, frames, err);
+    free(frames);
+    return st;
+}
+
 plume_status plume_run_write_frame(plume_run *r, long k, long step, plume_err *err)
 {
     const plume_mesh *m = r->scene->mesh;
@@ -158,8 +194,10 @@ plume_status plume_run_write_frame(plume_run *r, long k, long step, plume_err *e
     if ((st = plume_fields_series_frame(r->fields, k, t, x, err)) != PLUME_OK)
         return st;
     const double *lambda = plume_dynamics_multipliers(r->d, NULL);
-    if ((st = plume_frames_append_measured(r->frames_path, m->nv, r->ncons, t, step, x, plume_dynamics_velocities(r->d),
-                                           lambda, &r->fm, err)) != PLUME_OK)
+    plume_frame_array a[2];
+    const int na = state_arrays(r, a);
+    if ((st = plume_frames_append_arrays(r->frames_path, m->nv, r->ncons, t, step, x, plume_dynamics_velocities(r->d),
+                                         lambda, &r->fm, a, na, err)) != PLUME_OK)
         return st;
     if (wants_render(r, k) && (st = render_frame(r, x, t, k, err)) != PLUME_OK)
         return st;
@@ -175,11 +213,6 @@ static plume_status restart_run(plume_run *r, plume_err *err)
     plume_frames_info info;
     plume_frame last = {0};
     plume_status st;
-    if (r->scene->bending_model == PLUME_BENDING_MIDEDGE) /* before anything is read or written */
-        return plume_err_set(err, PLUME_EINVAL,
-                             "restart: the scene '%s' uses midedge bending, whose edge directors the frames file does "
-                             "not hold yet (a restart would not continue the run bit for bit): run it from the start",
-                             r->scene->path);
     if ((st = plume_frames_info_read(r->restart, &info, &why)) != PLUME_OK ||
         (st = plume_frames_read(r->restart, -1, &last, &why)) != PLUME_OK) {
         plume_err_set(err, st, "restart: %s", why.msg);
@@ -193,7 +226,8 @@ static plume_status restart_run(plume_run *r, plume_err *err)
                            r->restart, (long)info.nv, (long)info.ncons, r->scene->path, (long)mesh->nv, (long)r->ncons);
         goto done;
     }
-    if ((st = plume_dynamics_set_state(r->d, last.t, last.x, last.v, last.lambda, &why)) != PLUME_OK) {
+    if ((st = restore_state_arrays(r, r->restart, last.index, &why)) != PLUME_OK ||
+        (st = plume_dynamics_set_state(r->d, last.t, last.x, last.v, last.lambda, &why)) != PLUME_OK) {
         plume_err_set(err, st, "restart: the last frame of '%s': %s", r->restart, why.msg);
         goto done;
     }
@@ -266,7 +300,9 @@ plume_status plume_run_write_state(plume_run *r, const char *path, int create, p
             (st = plume_scene_materials_record(r->scene, path, err)) != PLUME_OK) /* as the runner records them */
             return st;
     }
-    return plume_frames_append(path, m->nv, r->ncons, plume_dynamics_time(r->d), r->rep.step,
-                               plume_dynamics_positions(r->d), plume_dynamics_velocities(r->d),
-                               plume_dynamics_multipliers(r->d, NULL), err);
+    plume_frame_array a[2];
+    const int na = state_arrays(r, a);
+    return plume_frames_append_arrays(path, m->nv, r->ncons, plume_dynamics_time(r->d), r->rep.step,
+                                      plume_dynamics_positions(r->d), plume_dynamics_velocities(r->d),
+                                      plume_dynamics_multipliers(r->d, NULL), NULL, a, na, err);
 }

@@ -409,10 +409,6 @@ plume_status plume_midedge_bending_set_frames(plume_midedge_bending *b, const do
             return plume_err_set(err, PLUME_EINVAL, "midedge bending: edge %ld: reference vector not finite or zero",
                                  (long)e);
     }
-    for (plume_index e = 0; e < b->ne; e++) {
-        const double n = sqrt(dot3(r0 + 3 * e, r0 + 3 * e));
-        for (int i = 0; i < 3; i++)
-            b->r0[3 * e + i] = r0[3 * e + i] / n;
-    }
+    memcpy(b->r0, r0, 3 * (size_t)b->ne * sizeof *b->r0);
     return PLUME_OK;
 }

@@ -152,9 +152,10 @@ plume_status plume_midedge_bending_rebase(plume_midedge_bending *b, const double
  * the edge). */
 const double *plume_midedge_bending_frames(const plume_midedge_bending *b);
 
-/** Sets the reference vectors to r0 [3 ne], each normalised (a restart's, as
- * plume_midedge_bending_frames gave them). PLUME_EINVAL (nothing changed) when one is not finite
- * or of zero length. */
+/** Sets the reference vectors to r0 [3 ne], copied as they are (a restart's, as
+ * plume_midedge_bending_frames gave them: the director normalises the part of r0 perpendicular to
+ * its edge, so any length works). PLUME_EINVAL (nothing changed) when one is not finite or of zero
+ * length. */
 plume_status plume_midedge_bending_set_frames(plume_midedge_bending *b, const double *r0, plume_err *err);
 
 #ifdef __cplusplus

@@ -160,14 +160,13 @@ void plume_midedge_term_directors(const plume_midedge_term *t, const double *x, 
         plume_midedge_bending_director(t->b, x, t->theta, e, d + 3 * e);
 }
 
-plume_status plume_midedge_term_set_directors(plume_midedge_term *t, double *x, const double *d, plume_err *err)
+plume_index plume_midedge_term_nedge(const plume_midedge_term *t) { return t->ne; }
+plume_index plume_midedge_term_first(const plume_midedge_term *t) { return t->first; }
+const double *plume_midedge_term_frames(const plume_midedge_term *t) { return plume_midedge_bending_frames(t->b); }
+
+plume_status plume_midedge_term_set_frames(plume_midedge_term *t, const double *r0, plume_err *err)
 {
-    plume_status st = plume_midedge_bending_set_frames(t->b, d, err);
-    if (st != PLUME_OK)
-        return st;
-    for (plume_index e = 0; e < t->ne; e++)
-        x[t->first + e] = 0.0;
-    return PLUME_OK;
+    return plume_midedge_bending_set_frames(t->b, r0, err);
 }
 
 /* The start angle of edge e: the mean of its faces' current unit normals (x, vertex part). */

@@ -7,8 +7,8 @@
  * vertices and its three edges' unknowns (plume_term.nextra = 3): a 12x12 block.
  *
  * The frames the angles are measured in are re-based at every step's start (plume_term.rebase):
- * each edge's reference vector becomes its director and its angle 0, so a step's state is the
- * vertices and the directors alone, which is what a restart stores. */
+ * each edge's reference vector becomes its director and its angle 0. The term's state is its
+ * frames with the edge unknowns; a frames file stores both, so a restart continues bit for bit. */
 #ifndef PLUME_MIDEDGE_TERM_H
 #define PLUME_MIDEDGE_TERM_H
 
@@ -57,9 +57,16 @@ void plume_midedge_term_angles(const plume_midedge_term *t, const double *x, dou
 /** The edges' unit directors at the full vector x, d[3 ne]. */
 void plume_midedge_term_directors(const plume_midedge_term *t, const double *x, double *d);
 
-/** Sets the frames to directors d[3 ne] (a restart's) and the edge unknowns of x to 0: the state
- * a re-basing leaves. PLUME_EINVAL when a director lies along its edge. */
-plume_status plume_midedge_term_set_directors(plume_midedge_term *t, double *x, const double *d, plume_err *err);
+/** The edges (mesh->ne), and the index of the first edge unknown in the problem's full vector. */
+plume_index plume_midedge_term_nedge(const plume_midedge_term *t);
+plume_index plume_midedge_term_first(const plume_midedge_term *t);
+
+/** The frames the angles are measured in, r0 [3 ne]: with the edge unknowns, the term's state (a
+ * frames file stores both, and a restart sets both back). */
+const double *plume_midedge_term_frames(const plume_midedge_term *t);
+
+/** Sets the frames to r0 [3 ne], bit for bit (plume_midedge_bending_set_frames). */
+plume_status plume_midedge_term_set_frames(plume_midedge_term *t, const double *r0, plume_err *err);
 
 #ifdef __cplusplus
 }
