@@ -793,7 +793,7 @@ plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const char *dir, ch
         s->vtk_frames = 0;
         if (!s->vtk_dir)
             return finish(plume_err_set(&err, PLUME_ENOMEM, "out of memory"), &err, msg, nmsg);
-        if (!s->fields && (st = plume_scene_fields(s->scene, &s->fields, &err)) != PLUME_OK)
+        if (!s->fields && (st = plume_run_fields(s->run, &s->fields, &err)) != PLUME_OK)
             return finish(st, &err, msg, nmsg);
         if ((st = plume_fields_series_start(s->fields, dir, "frames.pvd", "frame", -1.0, &err)) != PLUME_OK)
             return finish(st, &err, msg, nmsg);

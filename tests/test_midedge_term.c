@@ -453,7 +453,7 @@ void test_midedge_term_dynamic_scene(void)
 
 /* The scene's refusals around midedge: a bending model it does not know names the three it does,
  * and the fields without a run (plume_scene_fields: no edge angles to read) say where they come
- * from; neither changes the scene. */
+ * from; neither changes the scene. A run's fields (plume_run_fields) give the bending energy. */
 void test_midedge_term_scene_bad_inputs(void)
 {
     plume_scene *s = NULL;
@@ -471,6 +471,28 @@ void test_midedge_term_scene_bad_inputs(void)
     plume_fields *f = NULL;
     CHECK(plume_scene_fields(s, &f, &err) == PLUME_EINVAL && !f);
     fprintf(stderr, "    %s\n", err.msg);
-    CHECK(strstr(err.msg, "midedge") && strstr(err.msg, "output_dir"));
+    CHECK(strstr(err.msg, "midedge") && strstr(err.msg, "plume_run_fields"));
+    /* a run's fields: the bending energy density of a sagging strip, from the run's edge angles */
+    plume_run_opts o;
+    plume_run_opts_default(&o);
+    o.frames = 2;
+    plume_run *r = NULL;
+    CHECK(plume_run_create(s, &o, &r, &err) == PLUME_OK && plume_run_to_end(r, &err) == PLUME_OK);
+    CHECK(plume_run_fields(r, &f, &err) == PLUME_OK && f);
+    plume_field_values fv;
+    const plume_index nt = plume_scene_mesh(s)->nt;
+    double *psi = malloc((size_t)nt * sizeof *psi), worst = 0.0, total = 0.0;
+    CHECK(f && psi && plume_fields_compute(f, plume_run_positions(r), &fv, &err) == PLUME_OK &&
+          plume_field_values_select(&fv, "bending_energy", psi, &err) == PLUME_OK);
+    for (plume_index t = 0; psi && t < nt; t++) {
+        worst = isfinite(psi[t]) && psi[t] >= 0.0 ? worst : 1.0;
+        total += psi[t];
+    }
+    fprintf(stderr, "    run fields: bending energy density summed over %ld triangles %.3e J/m^2\n", (long)nt, total);
+    CHECK(worst == 0.0 && total > 0.0);
+    free(psi);
+    plume_fields_destroy(&f);
+    plume_run_destroy(&r);
+    CHECK(plume_run_fields(NULL, &f, &err) == PLUME_EINVAL && !f);
     plume_scene_destroy(&s);
 }

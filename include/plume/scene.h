@@ -366,8 +366,14 @@ PLUME_API plume_status plume_fields_series_frame(plume_fields *f, long index, do
 /** The field calculator of a scene's states: its membrane materials, its bending term and its
  * barb edges over the whole mesh (kinematic triangles get NaN), ready for
  * plume_fields_series_start. The caller destroys *out; it borrows the scene's mesh, so the scene
- * must outlive it. */
+ * must outlive it. A scene with "bending_model": "midedge" is refused: its bending energies need
+ * the edge angles of a run (plume_run_fields). */
 PLUME_API plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_err *err);
+
+/** The field calculator of a run's states (plume_scene_fields of its scene, for every bending
+ * model: midedge bending reads the run's edge angles, so give it the run's positions,
+ * plume_run_positions, between steps). The caller destroys *out before the run. */
+PLUME_API plume_status plume_run_fields(plume_run *r, plume_fields **out, plume_err *err);
 
 
 #ifdef __cplusplus

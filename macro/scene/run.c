@@ -450,6 +450,13 @@ const double *plume_run_positions(const plume_run *r)
     return !r ? NULL : r->st ? plume_problem_x(r->p) : plume_dynamics_positions(r->d);
 }
 
+plume_status plume_run_fields(plume_run *r, plume_fields **out, plume_err *err)
+{
+    if (!r || !out)
+        return plume_err_set(err, PLUME_EINVAL, "plume_run_fields: the run and out are required");
+    return plume_scene_fields_of(r->scene, r->p, out, err);
+}
+
 const double *plume_run_velocities(const plume_run *r)
 {
     return r && r->d ? plume_dynamics_velocities(r->d) : NULL;

@@ -142,8 +142,8 @@ plume_status plume_scene_fields_of(const plume_scene *s, plume_problem *p, plume
         plume_midedge_term *mt = p ? plume_problem_term_ctx(p, PLUME_MIDEDGE_TERM_NAME) : NULL;
         if (!mt) {
             st = plume_err_set(err, PLUME_EINVAL,
-                               "scene: the fields of a midedge scene (its bending energies need the edge angles of its "
-                               "run's problem) come only with a run's own output (plume_run_opts.output_dir)");
+                               "scene: the fields of a midedge scene (its bending energies need the edge angles of a "
+                               "run) come from plume_run_fields");
             goto done;
         }
         if ((st = plume_midedge_term_view(mt, p, &term)) != PLUME_OK) {
