@@ -537,6 +537,26 @@ class TestScene(unittest.TestCase):
             for d in frames:
                 self.assertGreater(os.path.getsize(os.path.join(out, d.get("file"))), 0)
 
+    def test_write_vtk_midedge(self):
+        # a midedge scene's fields read the run's edge angles (plume_run_fields)
+        with tempfile.TemporaryDirectory() as tmp:
+            with open(STRIP_SCENE) as f:
+                doc = json.load(f)
+            doc["bending_model"] = "midedge"
+            doc["mesh"]["obj"] = os.path.join(os.path.dirname(os.path.abspath(STRIP_SCENE)), doc["mesh"]["obj"])
+            path = os.path.join(tmp, "midedge.json")
+            with open(path, "w") as f:
+                json.dump(doc, f)
+            out = os.path.join(tmp, "out")
+            with plume.Scene(path) as s:
+                s.step(2)
+                s.write_vtk(out)
+                self.assertLess(s.positions[:, 2].min(), 0.0)
+            vtu = [n for n in os.listdir(out) if n.endswith(".vtu") and "barbs" not in n]
+            self.assertEqual(len(vtu), 1, sorted(os.listdir(out)))
+            with open(os.path.join(out, vtu[0]), "rb") as f:
+                self.assertIn(b"bending_energy", f.read())
+
     def test_closed_scene(self):
         s = plume.Scene(STRIP_SCENE)
         self.assertFalse(s.closed)
