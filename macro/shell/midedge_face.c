@@ -233,32 +233,30 @@ static int slot_slope(const plume_midedge_face *f, const double xv[9], const fac
     for (int i = 0; i < 3; i++)
         un[i] = phi[i];
     /* Hess phi: -P_ab/Q + (P_a Q_b + P_b Q_a)/Q^2 - s Q_ab/Q + 2 s Q_a Q_b/Q^2, with
-     * grad P = (0, d, g), grad Q = (d, 0, n), P_ab = I on (g, d), Q_ab = I on (n, d) */
-    double Pa[9], Qa[9], Hp[9][9];
+     * grad P = (0, d, g), grad Q = (d, 0, n), P_ab = I on (g, d), Q_ab = I on (n, d). Its image
+     * J^T Hess phi J is taken term by term, never as a 9x9 matrix: with jp = J^T grad P and
+     * jq = J^T grad Q, the rank-one parts are (jp jq^T + jq jp^T + 2 s jq jq^T) / Q^2, and the
+     * identity blocks give -(M + M^T), M = W^T J_d with W = (J_g + s J_n) / Q (J_n, J_g, J_d the
+     * rows of J for n, g and d). */
+    double Pa[9], Qa[9], jp[10], jq[10], W[3][10], Hl[10][10];
     for (int i = 0; i < 3; i++) {
         Pa[i] = 0.0, Pa[3 + i] = D.d[i], Pa[6 + i] = g[i];
         Qa[i] = D.d[i], Qa[3 + i] = 0.0, Qa[6 + i] = G->n[i];
     }
-    for (int a = 0; a < 9; a++)
-        for (int b = 0; b < 9; b++)
-            Hp[a][b] = (Pa[a] * Qa[b] + Pa[b] * Qa[a]) / (Q * Q) + 2.0 * s * Qa[a] * Qa[b] / (Q * Q);
-    for (int i = 0; i < 3; i++) {
-        Hp[3 + i][6 + i] -= 1.0 / Q, Hp[6 + i][3 + i] -= 1.0 / Q;
-        Hp[i][6 + i] -= s / Q, Hp[6 + i][i] -= s / Q;
+    for (int c = 0; c < 10; c++) {
+        double vp = 0.0, vq = 0.0;
+        for (int r = 0; r < 9; r++)
+            vp += Pa[r] * J[r][c], vq += Qa[r] * J[r][c];
+        jp[c] = vp, jq[c] = vq;
+        for (int i = 0; i < 3; i++)
+            W[i][c] = (J[3 + i][c] + s * J[i][c]) / Q;
     }
-    double Hl[10][10], T[9][10];
-    for (int r = 0; r < 9; r++)
-        for (int c = 0; c < 10; c++) {
-            double v = 0.0;
-            for (int m = 0; m < 9; m++)
-                v += Hp[r][m] * J[m][c];
-            T[r][c] = v;
-        }
+    const double q2 = 1.0 / (Q * Q);
     for (int a = 0; a < 10; a++)
         for (int b = a; b < 10; b++) {
-            double v = 0.0;
-            for (int r = 0; r < 9; r++)
-                v += J[r][a] * T[r][b];
+            double v = q2 * (jp[a] * jq[b] + jq[a] * jp[b] + 2.0 * s * jq[a] * jq[b]);
+            for (int i = 0; i < 3; i++)
+                v -= W[i][a] * J[6 + i][b] + W[i][b] * J[6 + i][a];
             Hl[a][b] = Hl[b][a] = v;
         }
     /* Hess d[phi_d] in (E, th), then onto the edge's vertices */
