@@ -75,7 +75,10 @@ static plume_status term_hess_range(void *vctx, int dim, const double *x, plume_
     plume_midedge_term *c = vctx;
     if (dim != 3)
         return PLUME_EINVAL;
-    plume_midedge_term_angles(c, x, c->theta);
+    for (plume_index i = 3 * first; i < 3 * (first + count); i++) { /* the angles these triangles read */
+        const plume_index e = c->extra[i] - c->first;
+        c->theta[e] = x[c->extra[i]] / c->L[e];
+    }
     plume_status st = plume_midedge_bending_blocks(c->b, x, c->theta, first, count, hblocks, project, NULL);
     if (st == PLUME_OK)
         scale_blocks(c, first, count, hblocks);
