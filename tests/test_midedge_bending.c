@@ -862,6 +862,49 @@ void test_midedge_bending_cylinder(void)
     CHECK(gworst < 1e-8);
 }
 
+/* The operator's curvature kappa = B s (the fields' curvature_barb): on a cylinder of curvature
+ * k = 1.5 along material direction 20 degrees, directors on its normals, every triangle's (bb, tt,
+ * bt) is k (c^2, s^2, c s) of the angle between the curvature and its barbs (30 degrees), to an
+ * error that falls when h halves, on the right grid and the random Delaunay mesh. */
+void test_midedge_bending_curvatures(void)
+{
+    const int fams[2] = {BM_RIGHT, BM_DELAUNAY};
+    const double k = 1.5, cdeg = 20.0, bdeg = 30.0, phi = (cdeg - bdeg) * BM_PI / 180.0;
+    const double want[3] = {k * cos(phi) * cos(phi), k * sin(phi) * sin(phi), k * cos(phi) * sin(phi)};
+    for (int fi = 0; fi < 2; fi++) {
+        double worst[3] = {0.0, 0.0, 0.0};
+        for (int hi = 0; hi < 3; hi++) {
+            plume_mesh *m = bm_family_mesh(fams[fi], 1.0 / (8 << hi), 1.0, 0.8, bdeg);
+            CHECK(m != NULL);
+            if (!m)
+                return;
+            const plume_bending_material mat = {1.0, 1e-3, 0.0, 0.0};
+            plume_midedge_bending *b = NULL;
+            double *x = malloc(sizeof(double) * 3 * (size_t)m->nv), *th = malloc(sizeof(double) * (size_t)m->ne);
+            double *kap = malloc(sizeof(double) * 3 * (size_t)m->nt);
+            CHECK(x && th && kap && plume_midedge_bending_create(m, &mat, 1, NULL, &b, NULL) == PLUME_OK);
+            if (x && th && kap && b) {
+                bm_map_cylinder(m, cdeg, k, x);
+                for (plume_index e = 0; e < m->ne; e++) {
+                    double nu[3];
+                    bm_cylinder_normal(m, e, cdeg, k, nu);
+                    th[e] = plume_midedge_bending_angle_of(b, x, e, nu);
+                }
+                CHECK(plume_midedge_bending_curvatures(b, x, th, kap, NULL) == PLUME_OK);
+                for (plume_index t = 0; t < m->nt; t++)
+                    for (int i = 0; i < 3; i++)
+                        worst[hi] = fmax(worst[hi], fabs(kap[3 * t + i] - want[i]) / k);
+            }
+            plume_midedge_bending_destroy(&b);
+            free(x), free(th), free(kap);
+            plume_mesh_destroy(&m);
+        }
+        printf("    %s: curvature (%.4f, %.4f, %.4f) on a cylinder, worst error over k %.2e, %.2e, %.2e at h = 1/8, 1/16, 1/32\n",
+               fi ? "random Delaunay" : "right grid", want[0], want[1], want[2], worst[0], worst[1], worst[2]);
+        CHECK(worst[0] < 0.05 && worst[1] < worst[0] && worst[2] < worst[1]);
+    }
+}
+
 /* A curved rest: a cylinder of curvature 1 along material x bent into one of curvature 2 along
  * 60 degrees (both isometric), boundary directors on the current cylinder's normals, interior
  * angles minimised. With the rest directors on the rest cylinder's normals (the option) the
@@ -895,7 +938,7 @@ void test_midedge_bending_curved_rest(void)
                 }
                 const double Ec = plume_mesh_total_area(m) * me_plate_density(&mat, C, barb);
                 for (int variant = 0; variant < 2; variant++) {
-                    const plume_midedge_bending_opts o = {variant == 0 ? rdir : NULL};
+                    const plume_midedge_bending_opts o = {variant == 0 ? rdir : NULL, NULL};
                     plume_midedge_bending *b = NULL;
                     CHECK(plume_midedge_bending_create_opts(m, &mat, 1, rest, &o, &b, NULL) == PLUME_OK);
                     if (!b)
@@ -969,7 +1012,7 @@ void test_midedge_bending_bad_inputs(void)
     double *rd = malloc(sizeof(double) * 3 * (size_t)m->ne);
     CHECK(rd != NULL);
     if (rd) {
-        plume_midedge_bending_opts o = {rd};
+        plume_midedge_bending_opts o = {rd, NULL};
         for (plume_index e = 0; e < m->ne; e++)
             rd[3 * e] = rd[3 * e + 1] = 0.0, rd[3 * e + 2] = 1.0;
         CHECK(plume_midedge_bending_create_opts(m, &good, 1, NULL, &o, &b, &err) == PLUME_OK && b != NULL);
@@ -1007,12 +1050,12 @@ void test_midedge_bending_bad_inputs(void)
             CHECK(plume_midedge_bending_eval(b, m->x, th, &E, NULL, NULL, NULL, 0, &err) == PLUME_OK);
             CHECK(E == 0.0);
             th[0] = 1.58;
-            CHECK(plume_midedge_bending_eval(b, m->x, th, &E, NULL, NULL, NULL, 0, &err) == PLUME_EINVAL);
+            CHECK(plume_midedge_bending_eval(b, m->x, th, &E, NULL, NULL, NULL, 0, &err) == PLUME_ESINGULAR);
             th[0] = 0.0;
             double keep[3];
             memcpy(keep, m->x + 3 * m->tri[1], sizeof keep);
             memcpy(m->x + 3 * m->tri[1], m->x + 3 * m->tri[0], sizeof keep);
-            CHECK(plume_midedge_bending_eval(b, m->x, th, &E, NULL, NULL, NULL, 0, &err) == PLUME_EINVAL);
+            CHECK(plume_midedge_bending_eval(b, m->x, th, &E, NULL, NULL, NULL, 0, &err) == PLUME_ESINGULAR);
             memcpy(m->x + 3 * m->tri[1], keep, sizeof keep);
             /* an edge turned onto its reference vector: the lag refuses it */
             const plume_index va = m->edges[0], vb = m->edges[1];

@@ -44,6 +44,15 @@ static plume_mesh *mt_strip(double h, unsigned char **held)
     return m;
 }
 
+/* The held vertices as one rigid group (plume_midedge_term_opts.group), malloc'ed; NULL for none. */
+static int *held_group(const plume_mesh *m, const unsigned char *held)
+{
+    int *g = held ? calloc((size_t)m->nv + 1, sizeof *g) : NULL;
+    for (plume_index v = 0; g && v < m->nv; v++)
+        g[v] = held[v] != 0;
+    return g;
+}
+
 /* Membrane + midedge bending over m, vertices at x, held vertices fixed; finalised. */
 static plume_problem *mt_problem(const plume_mesh *m, const double *x, const unsigned char *held,
                                  const plume_bending_material *bm, plume_midedge_term **term, plume_index *first)
@@ -55,13 +64,16 @@ static plume_problem *mt_problem(const plume_mesh *m, const double *x, const uns
     const plume_membrane_material mm = {{1e5, 1e4, 0.3, 2e4}, 1e-2, 0.0, 0};
     plume_term t;
     memcpy(plume_problem_x(p), x, (size_t)(3 * m->nv) * sizeof *x);
-    const plume_midedge_term_opts o = {NULL, held};
+    int *group = held_group(m, held);
+    const plume_midedge_term_opts o = {NULL, group};
     if (plume_membrane_term_create(m, 3, &mm, 1, &t, &err) != PLUME_OK || plume_problem_add_term(p, &t, &err) != PLUME_OK ||
         plume_midedge_term_add(p, m, bm, 1, NULL, &o, first, term, &err) != PLUME_OK) {
         fprintf(stderr, "    %s\n", err.msg);
         plume_problem_destroy(&p);
+        free(group);
         return NULL;
     }
+    free(group);
     for (plume_index v = 0; held && v < m->nv; v++)
         for (int a = 0; held[v] && a < 3; a++)
             plume_problem_fix_dof(p, 3 * v + a, &err);
@@ -70,6 +82,46 @@ static plume_problem *mt_problem(const plume_mesh *m, const double *x, const uns
         plume_problem_destroy(&p);
     }
     return p;
+}
+
+/* Central differences (step 1e-6) of a finalised problem's objective and exact Hessian over its
+ * free unknowns at u (n of them, the last nangle the edge angles); g [n], H [n n] and vals [nnz]
+ * are workspaces (g and H keep the analytic gradient and Hessian at u). */
+typedef struct {
+    double gerr, gs, gerr_angle, gs_angle, herr, hs;
+} mt_fd;
+
+static mt_fd mt_fd_errors(plume_problem *p, double *u, plume_index nangle, double *g, double *H, double *vals)
+{
+    mt_fd r = {0};
+    const plume_index n = plume_problem_nfree(p);
+    plume_sparsity sp = plume_problem_hessian_pattern(p);
+    double *gp = malloc((size_t)n * sizeof *gp), *gm = malloc((size_t)n * sizeof *gm), f = 0.0;
+    CHECK(gp && gm && plume_problem_objective(p, u, &f, g) == PLUME_OK);
+    CHECK(plume_problem_hessian(p, u, 1.0, NULL, PLUME_HESSIAN_EXACT, vals) == PLUME_OK);
+    mt_dense_from_csc(sp, vals, H);
+    const double step = 1e-6;
+    for (plume_index i = 0; gp && gm && i < n; i++) {
+        const double ui = u[i];
+        double fp = 0.0, fm = 0.0;
+        u[i] = ui + step;
+        CHECK(plume_problem_objective(p, u, &fp, gp) == PLUME_OK);
+        u[i] = ui - step;
+        CHECK(plume_problem_objective(p, u, &fm, gm) == PLUME_OK);
+        u[i] = ui;
+        const double ge = fabs((fp - fm) / (2.0 * step) - g[i]);
+        r.gerr = fmax(r.gerr, ge);
+        if (i >= n - nangle) { /* the edge unknowns come last */
+            r.gerr_angle = fmax(r.gerr_angle, ge);
+            r.gs_angle = fmax(r.gs_angle, fabs(g[i]));
+        }
+        for (plume_index j = 0; j < n; j++)
+            r.herr = fmax(r.herr, fabs((gp[j] - gm[j]) / (2.0 * step) - H[j * n + i]));
+    }
+    r.gs = mt_max_abs(g, n), r.hs = mt_max_abs(H, n * n);
+    free(gp);
+    free(gm);
+    return r;
 }
 
 void test_midedge_term_problem_fd(void)
@@ -106,50 +158,26 @@ void test_midedge_term_problem_fd(void)
     CHECK(nheld_e > 0);
     const plume_index n = plume_problem_nfree(p);
     CHECK(n == 3 * (m->nv - nheld_v) + m->ne - nheld_e);
-    /* the start angles are the mean normals' and the held ones 0 */
+    /* the start angles are the mean normals', the held ones too (the clamp is on one line: no
+     * frame), and those are fixed */
     const double *xp = plume_problem_x(p);
     for (plume_index e = 0; e < m->ne; e++)
         if (held[m->edges[2 * e]] && held[m->edges[2 * e + 1]])
-            CHECK(xp[first + e] == 0.0);
+            CHECK(isfinite(xp[first + e]) && plume_problem_is_fixed(p, first + e));
     /* perturb the angles too, then finite differences on the free unknowns */
     double *u = malloc((size_t)n * sizeof *u), *g = malloc((size_t)n * sizeof *g);
-    double *gp = malloc((size_t)n * sizeof *gp), *gm = malloc((size_t)n * sizeof *gm);
     double *H = malloc((size_t)(n * n) * sizeof *H);
     plume_sparsity sp = plume_problem_hessian_pattern(p);
     double *vals = malloc((size_t)sp.nnz * sizeof *vals);
     plume_problem_gather(p, u);
     for (plume_index i = 0; i < n; i++)
         u[i] += 1e-3 * (2.0 * urand(&s) - 1.0);
-    double f = 0.0;
-    CHECK(plume_problem_objective(p, u, &f, g) == PLUME_OK);
-    CHECK(plume_problem_hessian(p, u, 1.0, NULL, PLUME_HESSIAN_EXACT, vals) == PLUME_OK);
-    mt_dense_from_csc(sp, vals, H);
-    const double step = 1e-6;
-    double gerr = 0.0, herr = 0.0, gerr_angle = 0.0, gs_angle = 0.0;
-    const plume_index *dof_of_free = NULL;
-    (void)dof_of_free;
-    for (plume_index i = 0; i < n; i++) {
-        const double ui = u[i];
-        double fp = 0.0, fm = 0.0;
-        u[i] = ui + step;
-        CHECK(plume_problem_objective(p, u, &fp, gp) == PLUME_OK);
-        u[i] = ui - step;
-        CHECK(plume_problem_objective(p, u, &fm, gm) == PLUME_OK);
-        u[i] = ui;
-        const double ge = fabs((fp - fm) / (2.0 * step) - g[i]);
-        gerr = fmax(gerr, ge);
-        if (i >= n - (m->ne - nheld_e)) { /* the edge unknowns come last */
-            gerr_angle = fmax(gerr_angle, ge);
-            gs_angle = fmax(gs_angle, fabs(g[i]));
-        }
-        for (plume_index j = 0; j < n; j++)
-            herr = fmax(herr, fabs((gp[j] - gm[j]) / (2.0 * step) - H[j * n + i]));
-    }
-    const double gs = mt_max_abs(g, n), hs = mt_max_abs(H, n * n);
+    mt_fd fd = mt_fd_errors(p, u, n - (m->ne - nheld_e), g, H, vals);
     fprintf(stderr, "    %ld free unknowns (%ld edges): gradient error %.2e of %.2e (angles %.2e of %.2e), Hessian %.2e of %.2e\n",
-            (long)n, (long)(m->ne - nheld_e), gerr, gs, gerr_angle, gs_angle, herr, hs);
-    CHECK(gerr <= 1e-7 * gs && gerr_angle <= 1e-6 * gs_angle && gs_angle > 1e-6 * gs);
-    CHECK(herr <= 1e-6 * hs);
+            (long)n, (long)(m->ne - nheld_e), fd.gerr, fd.gs, fd.gerr_angle, fd.gs_angle, fd.herr, fd.hs);
+    CHECK(fd.gerr <= 1e-7 * fd.gs && fd.gerr_angle <= 1e-6 * fd.gs_angle && fd.gs_angle > 1e-6 * fd.gs);
+    CHECK(fd.herr <= 1e-6 * fd.hs);
+    const double hs = fd.hs;
     /* the projected Hessian of the bending blocks is PSD: the whole projected matrix has no
      * negative pivot (a dense Cholesky of it plus a tiny shift) */
     CHECK(plume_problem_hessian(p, u, 1.0, NULL, PLUME_HESSIAN_PROJECTED, vals) == PLUME_OK);
@@ -175,13 +203,102 @@ void test_midedge_term_problem_fd(void)
     CHECK(pd);
     free(u);
     free(g);
-    free(gp);
-    free(gm);
     free(H);
     free(vals);
     plume_problem_destroy(&p);
     free(x);
     free(held);
+    plume_mesh_destroy(&m);
+}
+
+/* Held edges anchored to their group: the strip turned rigidly (50 degrees about (1, 1, 0) / sqrt 2)
+ * stores no energy, as the rest does, whether held on a patch (x <= 0.25, two columns, off one
+ * line: the held edges' rest directors carried by the group's frame) or on one line (no frame: the
+ * held edges keep the directors they start with); finite differences on the free unknowns of the
+ * turned, perturbed strip; bad anchors are refused, naming the edge. */
+void test_midedge_term_anchored(void)
+{
+    const double ang = 50.0 * BM_PI / 180.0, c = cos(ang), sn = sin(ang), a = sqrt(0.5);
+    /* Rodrigues: R = c I + sn [k]x + (1 - c) k k^T, k = (a, a, 0) */
+    const double R[3][3] = {{c + (1 - c) * a * a, (1 - c) * a * a, sn * a},
+                            {(1 - c) * a * a, c + (1 - c) * a * a, -sn * a},
+                            {-sn * a, sn * a, c}};
+    const plume_bending_material bm = {1e-3, 2e-4, 0.0, 5e-5};
+    double energy[2] = {0.0, 0.0};
+    for (int patch = 0; patch < 2; patch++) {
+        unsigned char *held = NULL;
+        plume_mesh *m = mt_strip(0.25, &held);
+        CHECK(m && held);
+        if (!m || !held)
+            return;
+        for (plume_index v = 0; v < m->nv; v++)
+            held[v] = m->X[2 * v] < (patch ? 0.3 : 1e-12);
+        double *x = malloc((size_t)(3 * m->nv) * sizeof *x);
+        for (plume_index v = 0; v < m->nv; v++)
+            for (int i = 0; i < 3; i++)
+                x[3 * v + i] = R[i][0] * m->X[2 * v] + R[i][1] * m->X[2 * v + 1] + 0.1 * i;
+        plume_midedge_term *mt = NULL;
+        plume_index first = -1;
+        plume_problem *p = mt_problem(m, x, held, &bm, &mt, &first);
+        CHECK(p && mt);
+        if (p && mt) {
+            CHECK(plume_midedge_term_group_anchored(mt, 1) == patch && !plume_midedge_term_group_anchored(mt, 2));
+            const plume_index n = plume_problem_nfree(p);
+            double *u = malloc((size_t)n * sizeof *u), *g = malloc((size_t)n * sizeof *g);
+            double *H = malloc((size_t)(n * n) * sizeof *H);
+            double *vals = malloc((size_t)plume_problem_hessian_pattern(p).nnz * sizeof *vals);
+            plume_problem_gather(p, u);
+            CHECK(plume_problem_objective(p, u, &energy[patch], g) == PLUME_OK);
+            if (patch) {
+                plume_index nheld_e = 0;
+                for (plume_index e = 0; e < m->ne; e++)
+                    nheld_e += held[m->edges[2 * e]] && held[m->edges[2 * e + 1]];
+                rng64 r = {5};
+                for (plume_index i = 0; i < n; i++)
+                    u[i] += 2e-2 * (2.0 * urand(&r) - 1.0);
+                mt_fd fd = mt_fd_errors(p, u, m->ne - nheld_e, g, H, vals);
+                fprintf(stderr, "    turned, anchored: %ld free unknowns, gradient error %.2e of %.2e (angles %.2e of %.2e), "
+                        "Hessian %.2e of %.2e\n", (long)n, fd.gerr, fd.gs, fd.gerr_angle, fd.gs_angle, fd.herr, fd.hs);
+                CHECK(fd.gerr <= 1e-7 * fd.gs && fd.gerr_angle <= 1e-6 * fd.gs_angle && fd.herr <= 1e-6 * fd.hs);
+            }
+            free(u);
+            free(g);
+            free(H);
+            free(vals);
+        }
+        plume_problem_destroy(&p);
+        free(x);
+        free(held);
+        plume_mesh_destroy(&m);
+    }
+    /* membrane and bending at a rigid turn: the scale is a unit curvature over the strip, D A */
+    fprintf(stderr, "    the strip turned 50 degrees: energy %.2e (held patch, anchored), %.2e (held on one line)\n",
+            energy[1], energy[0]);
+    CHECK(fabs(energy[1]) < 1e-12 * bm.D_long * 0.5 && fabs(energy[0]) < 1e-12 * bm.D_long * 0.5);
+    /* bad anchors: out of range, and three on one line */
+    plume_mesh *m = mt_strip(0.25, NULL);
+    CHECK(m != NULL);
+    if (!m)
+        return;
+    plume_index *anchor = malloc((size_t)(3 * m->ne) * sizeof *anchor);
+    for (plume_index i = 0; i < 3 * m->ne; i++)
+        anchor[i] = -1;
+    plume_midedge_bending *b = NULL;
+    plume_err err = {{0}};
+    anchor[0] = 0, anchor[1] = 1, anchor[2] = m->nv;
+    plume_midedge_bending_opts o = {NULL, anchor};
+    CHECK(plume_midedge_bending_create_opts(m, &bm, 1, NULL, &o, &b, &err) == PLUME_EINVAL && !b &&
+          strstr(err.msg, "edge 0") && strstr(err.msg, "out of range"));
+    fprintf(stderr, "    %s\n", err.msg);
+    plume_index col[3] = {-1, -1, -1}, k = 0; /* three vertices at x = 0 */
+    for (plume_index v = 0; v < m->nv && k < 3; v++)
+        if (m->X[2 * v] < 1e-12)
+            col[k++] = v;
+    anchor[0] = col[0], anchor[1] = col[1], anchor[2] = col[2];
+    CHECK(plume_midedge_bending_create_opts(m, &bm, 1, NULL, &o, &b, &err) == PLUME_EINVAL && !b &&
+          strstr(err.msg, "one line"));
+    fprintf(stderr, "    %s\n", err.msg);
+    free(anchor);
     plume_mesh_destroy(&m);
 }
 
@@ -259,13 +376,15 @@ void test_midedge_term_cantilever_solvers(void)
         const plume_membrane_material mm = {{1e6, 1e6, 0.0, 5e5}, 1e-2, 0.0, 0};
         plume_term t;
         CHECK(plume_membrane_term_create(m, 3, &mm, 1, &t, &err) == PLUME_OK && plume_problem_add_term(p, &t, &err) == PLUME_OK);
-        const plume_midedge_term_opts o = {NULL, held};
+        int *group = held_group(m, held);
+        const plume_midedge_term_opts o = {NULL, group};
         const plume_shape_bending_opts so = {held, 0, 0};
         if (solver < 2)
             CHECK(plume_midedge_term_add(p, m, &bm, 1, NULL, &o, &first, &mt, &err) == PLUME_OK);
         else
             CHECK(plume_shape_bending_term_create_opts(m, &bm, 1, NULL, &so, &t, &err) == PLUME_OK &&
                   plume_problem_add_term(p, &t, &err) == PLUME_OK);
+        free(group);
         plume_index ntip = 0;
         for (plume_index v = 0; v < m->nv; v++)
             ntip += m->X[2 * v] > 1.0 - 1e-12;
@@ -490,9 +609,34 @@ void test_midedge_term_scene_bad_inputs(void)
     }
     fprintf(stderr, "    run fields: bending energy density summed over %ld triangles %.3e J/m^2\n", (long)nt, total);
     CHECK(worst == 0.0 && total > 0.0);
+    /* the operator's curvature: its plate energy is the energy density (flat rest), and the strip
+     * bends along its barbs */
+    const plume_mesh *sm = plume_scene_mesh(s);
+    double eworst = 0.0, kbb = 0.0, ktt = 0.0;
+    CHECK(fv.curvature != NULL);
+    for (plume_index t = 0; fv.curvature && psi && t < nt; t++) {
+        const double *kp = fv.curvature + 3 * t;
+        const plume_bending_material *bm = &s->mats[sm->material[t]].bending;
+        const double D66 = bm->D_twist > 0.0 ? bm->D_twist : 0.5 * (sqrt(bm->D_long * bm->D_trans) - bm->D_coupling);
+        const double w = 0.5 * (bm->D_long * kp[0] * kp[0] + 2.0 * bm->D_coupling * kp[0] * kp[1] + bm->D_trans * kp[1] * kp[1] +
+                                4.0 * D66 * kp[2] * kp[2]);
+        eworst = fmax(eworst, fabs(w - psi[t]));
+        kbb = fmax(kbb, fabs(kp[0])), ktt = fmax(ktt, fabs(kp[1]));
+    }
+    fprintf(stderr, "    run fields: curvature along the barbs up to %.3f 1/m, across %.3f; plate energy of the curvature "
+            "against the density %.1e of %.1e\n", kbb, ktt, eworst, mt_max_abs(psi, nt));
+    CHECK(kbb > 1.0 && ktt < 0.5 * kbb && eworst < 1e-9 * mt_max_abs(psi, nt));
+    double *kb = malloc((size_t)nt * sizeof *kb);
+    CHECK(kb && plume_field_values_select(&fv, "curvature_bb", kb, &err) == PLUME_OK && kb[0] == fv.curvature[0]);
+    free(kb);
     free(psi);
     plume_fields_destroy(&f);
     plume_run_destroy(&r);
+    /* the other models' fields have no operator curvature */
+    CHECK(plume_scene_set(s, "{\"bending_model\": \"shape_operator\"}", &err) == PLUME_OK &&
+          plume_scene_fields(s, &f, &err) == PLUME_OK && f &&
+          plume_fields_compute(f, sm->x, &fv, &err) == PLUME_OK && fv.curvature == NULL);
+    plume_fields_destroy(&f);
     CHECK(plume_run_fields(NULL, &f, &err) == PLUME_EINVAL && !f);
     plume_scene_destroy(&s);
 }

@@ -61,38 +61,38 @@ static plume_status add_bending(const plume_scene *s, plume_problem *p, const pl
             return st;
         return plume_problem_add_term(p, &term, err);
     }
-    /* the held edges: between clamped vertices, and between vertices of one handle, which hold
-     * their triangles' slopes as the shape operator's fits do (an edge held by a rotating handle is
-     * refused: its director does not turn with the handle yet) */
-    unsigned char *held = s->clamped ? held_vertices(s, m) : calloc((size_t)m->nv + 1, 1);
-    int *owner = calloc((size_t)m->nv + 1, sizeof *owner); /* handle + 1, or 0 */
-    if (!held || !owner) {
-        free(held);
-        free(owner);
+    /* the held edges: between vertices of one handle (group h + 2) and between clamped vertices of
+     * one object (group nhandles + 2 + its index; 1 in a "mesh" scene), which hold their
+     * triangles' slopes as the shape operator's fits do, their directors carried by the group's
+     * frame (a turning handle turns them, a placed object's clamp starts turned) */
+    int *group = calloc((size_t)m->nv + 1, sizeof *group);
+    if (!group)
         return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
-    }
+    for (plume_index v = 0; s->clamped && v < m->nv; v++)
+        group[v] = (s->clamped[v] & PLUME_CLAMP_HELD) != 0;
+    for (int i = 0; s->clamped && i < s->nobjects; i++)
+        for (plume_index v = s->objects[i].v0; v < s->objects[i].v0 + s->objects[i].nv && v < m->nv; v++)
+            group[v] = group[v] ? s->nhandles + 2 + i : 0;
     for (int h = 0; h < s->nhandles; h++)
         for (plume_index i = 0; i < s->handles[h].nvertices; i++)
             if (s->handles[h].vertices[i] < m->nv)
-                owner[s->handles[h].vertices[i]] = h + 1, held[s->handles[h].vertices[i]] = 1;
-    st = PLUME_OK;
-    for (plume_index e = 0; e < m->ne && st == PLUME_OK; e++) {
-        const int h = owner[m->edges[2 * e]];
-        if (h > 0 && owner[m->edges[2 * e + 1]] == h && handle_rotates(&s->handles[h - 1]))
-            st = plume_err_set(err, PLUME_EINVAL,
-                               "scene: handle %d rotates, and midedge bending does not turn the directors of the edges "
-                               "it holds with it yet: use \"bending_model\": \"shape_operator\"",
-                               h - 1);
-    }
-    free(owner);
-    if (st != PLUME_OK) {
-        free(held);
-        return st;
-    }
-    const plume_midedge_term_opts o = {NULL, held};
+                group[s->handles[h].vertices[i]] = h + 2;
+    const plume_midedge_term_opts o = {NULL, group};
     plume_index first;
-    st = plume_midedge_term_add(p, m, bm, s->nmat, NULL, &o, &first, NULL, err);
-    free(held);
+    plume_midedge_term *t = NULL;
+    st = plume_midedge_term_add(p, m, bm, s->nmat, NULL, &o, &first, &t, err);
+    /* a turning handle needs three vertices off one line to carry its edges' directors */
+    for (plume_index e = 0; st == PLUME_OK && e < m->ne; e++) {
+        const int g = group[m->edges[2 * e]];
+        if (g >= 2 && group[m->edges[2 * e + 1]] == g && handle_rotates(&s->handles[g - 2]) &&
+            !plume_midedge_term_group_anchored(t, g))
+            st = plume_err_set(err, PLUME_EINVAL,
+                               "scene: handle %d rotates and its vertices lie on one line: midedge bending cannot turn "
+                               "the directors of the edges it holds with it; widen its \"radius\" or use "
+                               "\"bending_model\": \"shape_operator\"",
+                               g - 2);
+    }
+    free(group);
     return st;
 }
 
@@ -155,6 +155,9 @@ plume_status plume_scene_fields_of(const plume_scene *s, plume_problem *p, plume
     }
     /* the whole mesh is drawn (kinematic bodies too, with NaN fields); the elastic triangles come first */
     st = plume_fields_create(s->mesh, 3, m->nt, mm, s->nmat, bending ? &term : NULL, s->barb_edges, s->nbarb, out, err);
+    if (st == PLUME_OK && bending && s->bending_model == PLUME_BENDING_MIDEDGE &&
+        (st = plume_fields_set_curvatures(*out, plume_midedge_term_view_curvatures, err)) != PLUME_OK)
+        plume_fields_destroy(out);
     if (st == PLUME_OK && s->nobjects > 0 && (st = fields_objects(s, *out, err)) != PLUME_OK)
         plume_fields_destroy(out);
 done:

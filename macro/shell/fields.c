@@ -29,6 +29,8 @@ struct plume_fields {
     double *vcurv;           /* [2 nv] per vertex: the integrated curvature and the area it is spread on */
     double *points, *disp, *mat_id, *dir3; /* [3 nv], [3 nv], [nt], [3 nt] for writing */
     double *object_id;                     /* [nt] or NULL: the scene object of each triangle */
+    plume_fields_curvature_fn curv_fn;     /* NULL, or the bending operator's curvatures */
+    double *kappa;                         /* [3 nt] with curv_fn */
     /* the series */
     plume_pvd *pvd;
     char *dir, *stem;
@@ -53,6 +55,7 @@ void plume_fields_destroy(plume_fields **pf)
     free(f->disp);
     free(f->mat_id);
     free(f->object_id);
+    free(f->kappa);
     free(f->dir3);
     free(f->crease);
     free(f->vcurv);
@@ -338,6 +341,13 @@ plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_
         }
     }
     mean_curvature(f, x);
+    if (f->curv_fn) {
+        plume_status st = f->curv_fn(f->bending.ctx, dim, x, f->kappa);
+        if (st != PLUME_OK)
+            return plume_err_set(err, st, "fields: the bending curvatures are undefined here (%s)", plume_strerror(st));
+        for (plume_index k = 3 * f->nt_el; k < 3 * m->nt; k++)
+            f->kappa[k] = NAN;
+    }
     for (plume_index b = 0; b < f->nbarb; b++) {
         const double *xa = x + dim * f->barb[2 * b], *xb = x + dim * f->barb[2 * b + 1];
         double s = 0.0;
@@ -349,6 +359,7 @@ plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_
     out->green_strain = f->strain, out->stress = f->stress, out->membrane_energy = f->psi_m;
     out->bending_energy = f->psi_b, out->J = f->J, out->mean_curvature = f->H, out->barb_strain = f->bstrain;
     out->crease_angle = f->crease;
+    out->curvature = f->curv_fn ? f->kappa : NULL;
     return PLUME_OK;
 }
 
@@ -406,6 +417,18 @@ plume_status plume_fields_set_objects(plume_fields *f, int nobjects, const plume
     return PLUME_OK;
 }
 
+plume_status plume_fields_set_curvatures(plume_fields *f, plume_fields_curvature_fn fn, plume_err *err)
+{
+    if (!f || !fn || !f->bending.eval)
+        return plume_err_set(err, PLUME_EINVAL, "fields: curvatures need a bending term and a function");
+    double *k = malloc((size_t)(3 * f->mesh->nt + 1) * sizeof *k);
+    if (!k)
+        return plume_err_set(err, PLUME_ENOMEM, "fields: out of memory");
+    free(f->kappa);
+    f->kappa = k, f->curv_fn = fn;
+    return PLUME_OK;
+}
+
 plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err)
 {
     if (!f || !x || index < 0 || !isfinite(t))
@@ -424,17 +447,20 @@ plume_status plume_fields_series_frame(plume_fields *f, long index, double t, co
             f->disp[3 * v + i] = i < dim ? x[dim * v + i] - f->x_rest[dim * v + i] : 0.0;
         }
     const plume_vtu_field pf[] = {{"displacement", 3, 0, f->disp}};
-    const plume_vtu_field cf[] = {{"material", 1, 1, f->mat_id},
-                                  {"barb_direction", 3, 0, f->dir3},
-                                  {"green_strain_barb", 3, 0, fv.green_strain},
-                                  {"stress_barb", 3, 0, fv.stress},
-                                  {"membrane_energy_density", 1, 0, fv.membrane_energy},
-                                  {"bending_energy_density", 1, 0, fv.bending_energy},
-                                  {"J", 1, 0, fv.J},
-                                  {"mean_curvature", 1, 0, fv.mean_curvature},
-                                  {"crease_angle", 1, 0, fv.crease_angle},
-                                  {"object", 1, 1, f->object_id}}; /* last: only with objects */
-    const int ncf = f->object_id ? 10 : 9;
+    plume_vtu_field cf[11] = {{"material", 1, 1, f->mat_id},
+                              {"barb_direction", 3, 0, f->dir3},
+                              {"green_strain_barb", 3, 0, fv.green_strain},
+                              {"stress_barb", 3, 0, fv.stress},
+                              {"membrane_energy_density", 1, 0, fv.membrane_energy},
+                              {"bending_energy_density", 1, 0, fv.bending_energy},
+                              {"J", 1, 0, fv.J},
+                              {"mean_curvature", 1, 0, fv.mean_curvature},
+                              {"crease_angle", 1, 0, fv.crease_angle}};
+    int ncf = 9; /* then the bending operator's curvature and the objects, when there are */
+    if (fv.curvature)
+        cf[ncf++] = (plume_vtu_field){"curvature_barb", 3, 0, fv.curvature};
+    if (f->object_id)
+        cf[ncf++] = (plume_vtu_field){"object", 1, 1, f->object_id};
     plume_vtu_grid g = {m->nv, f->points, PLUME_VTU_TRIANGLE, m->nt, m->tri, 1, ncf, pf, cf, t};
     size_t len = strlen(f->dir) + strlen(f->stem) + 64;
     char *path = malloc(len), *name = malloc(len);
@@ -482,6 +508,9 @@ static const field_entry field_table[] = {
     {"stress_tt", "stress across the barbs (Pa)", offsetof(plume_field_values, stress), 3, 1},
     {"stress_bt", "shear stress, barb frame (Pa)", offsetof(plume_field_values, stress), 3, 2},
     {"crease_angle", "crease angle (rad)", offsetof(plume_field_values, crease_angle), 1, 0},
+    {"curvature_bb", "curvature along the barbs (1/m)", offsetof(plume_field_values, curvature), 3, 0},
+    {"curvature_tt", "curvature across the barbs (1/m)", offsetof(plume_field_values, curvature), 3, 1},
+    {"curvature_bt", "twist, barb frame (1/m)", offsetof(plume_field_values, curvature), 3, 2},
 };
 
 static const field_entry *field_find(const char *name)
@@ -495,7 +524,7 @@ static const field_entry *field_find(const char *name)
 const char *plume_field_names(void)
 {
     return "mean_curvature, J, membrane_energy, bending_energy, strain_bb, strain_tt, strain_bt, stress_bb, "
-           "stress_tt, stress_bt, crease_angle";
+           "stress_tt, stress_bt, crease_angle, curvature_bb, curvature_tt, curvature_bt";
 }
 
 int plume_render_field_valid(const char *name)

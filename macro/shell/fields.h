@@ -38,6 +38,9 @@ typedef struct {
                                        interior edges (it is folded over a neighbour), else 0 */
     const double *barb_strain;      /**< [nbarb] |x_a - x_b| / L - 1 of each constrained barb edge:
                                        the inextensibility constraint's violation */
+    const double *curvature;        /**< [3 nt] 1/m or NULL: the bending operator's own curvature
+                                       (bb, tt, bt in the barb frame; plume_fields_set_curvatures),
+                                       NaN on kinematic triangles */
 } plume_field_values;
 
 /** The names of the per-triangle fields above, as a render takes them: "mean_curvature, J, ...". */
@@ -53,6 +56,15 @@ plume_status plume_field_values_select(const plume_field_values *v, const char *
 
 /** Computes the fields at positions x (dim * nv). */
 plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_values *out, plume_err *err);
+
+/** A bending term's curvatures at positions x: kappa [3 nt_elastic] (bb, tt, bt in the barb frame). */
+typedef plume_status (*plume_fields_curvature_fn)(void *bending_ctx, int dim, const double *x, double *kappa);
+
+/** From then on the fields carry the bending operator's own curvature, fn called with the bending
+ * term's ctx: plume_field_values.curvature, the cell array "curvature_barb" of the frames and the
+ * render fields curvature_bb, curvature_tt, curvature_bt (midedge bending: plume_midedge_term_view_curvatures).
+ * PLUME_EINVAL without a bending term, PLUME_ENOMEM. */
+plume_status plume_fields_set_curvatures(plume_fields *f, plume_fields_curvature_fn fn, plume_err *err);
 
 /** Gives each triangle the scene object it belongs to: object i has triangles t0[i] to
  * t0[i] + nt[i] - 1 (others get -1). From then on the frames carry the cell array "object"

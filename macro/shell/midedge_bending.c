@@ -11,6 +11,7 @@
  * change of curvature at h = 1/8): a curved rest wants its true normals. */
 #include "midedge_bending.h"
 #include "../../lib/core/vec3.h"
+#include "internal/midedge_anchor.h"
 
 #include <float.h>
 #include <math.h>
@@ -27,17 +28,10 @@ struct plume_midedge_bending {
     plume_index *edges;       /* [2 ne] copy of mesh->edges */
     plume_index *face_edge;   /* [3 nt] edge of slot k */
     plume_midedge_face *face; /* [nt] */
-    double *r0;               /* [3 ne] reference vectors */
+    double *r0;               /* [3 ne] reference vectors (an anchored edge's: its anchors' at the last re-basing) */
+    plume_midedge_anchors anchors;
 };
 
-static void rest_position(const plume_mesh *m, const double *rest_x, plume_index v, double p[3])
-{
-    if (rest_x) {
-        p[0] = rest_x[3 * v], p[1] = rest_x[3 * v + 1], p[2] = rest_x[3 * v + 2];
-    } else {
-        p[0] = m->X[2 * v], p[1] = m->X[2 * v + 1], p[2] = 0.0;
-    }
-}
 
 static plume_status check_inputs(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
                                  const double *rest_x, plume_err *err)
@@ -117,7 +111,7 @@ static plume_status rest_directors(const plume_mesh *m, const double *rest_x, co
     for (plume_index t = 0; t < m->nt; t++) {
         double p[3][3], e1[3], e2[3], N[3];
         for (int k = 0; k < 3; k++)
-            rest_position(m, rest_x, m->tri[3 * t + k], p[k]);
+            plume_midedge_rest_point(m, rest_x, m->tri[3 * t + k], p[k]);
         sub3(p[1], p[0], e1);
         sub3(p[2], p[0], e2);
         cross3(e1, e2, N);
@@ -137,8 +131,8 @@ static plume_status rest_directors(const plume_mesh *m, const double *rest_x, co
     }
     for (plume_index e = 0; e < m->ne; e++) {
         double pa[3], pb[3], E[3], d[3];
-        rest_position(m, rest_x, m->edges[2 * e], pa);
-        rest_position(m, rest_x, m->edges[2 * e + 1], pb);
+        plume_midedge_rest_point(m, rest_x, m->edges[2 * e], pa);
+        plume_midedge_rest_point(m, rest_x, m->edges[2 * e + 1], pb);
         sub3(pb, pa, E);
         const double ee = dot3(E, E), re = dot3(b->r0 + 3 * e, E);
         for (int i = 0; i < 3; i++)
@@ -189,6 +183,9 @@ static plume_status build_face(const plume_mesh *m, const plume_bending_material
         const double nd = N[k][0] * d[0] + N[k][1] * d[1], np = N[k][0] * dp[0] + N[k][1] * dp[1];
         B[0][k] = l[k] / A * nd * nd, B[1][k] = l[k] / A * np * np, B[2][k] = l[k] / A * nd * np;
     }
+    for (int r = 0; r < 3; r++)
+        for (int k = 0; k < 3; k++)
+            f->B[3 * r + k] = B[r][k];
     const double D66 = mat->D_twist > 0.0 ? mat->D_twist : fmax(0.0, 0.5 * (sqrt(mat->D_long * mat->D_trans) - mat->D_coupling));
     const double Dv[3][3] = {{mat->D_long, mat->D_coupling, 0.0}, {mat->D_coupling, mat->D_trans, 0.0}, {0.0, 0.0, 4.0 * D66}};
     for (int a = 0; a < 3; a++)
@@ -201,7 +198,7 @@ static plume_status build_face(const plume_mesh *m, const plume_bending_material
         }
     double xv[9];
     for (int k = 0; k < 3; k++)
-        rest_position(m, rest_x, v[k], xv + 3 * k);
+        plume_midedge_rest_point(m, rest_x, v[k], xv + 3 * k);
     for (int k = 0; k < 3; k++) {
         f->s0[k] = 0.0;
         if (plume_midedge_face_slope(f, xv, k, 0.0, b->r0 + 3 * b->face_edge[3 * t + k], &f->s0[k]) != 0)
@@ -209,6 +206,20 @@ static plume_status build_face(const plume_mesh *m, const plume_bending_material
                                  (long)t);
     }
     return PLUME_OK;
+}
+
+/* The anchored edges' frames, from the rest positions and the rest directors. */
+static plume_status init_anchors(const plume_mesh *m, const double *rest_x, const plume_index *anchor,
+                                 plume_midedge_bending *b, plume_err *err)
+{
+    double *rest = malloc(3 * (size_t)(m->nv > 0 ? m->nv : 1) * sizeof *rest);
+    if (!rest)
+        return plume_err_set(err, PLUME_ENOMEM, "midedge bending: out of memory for the edges' anchors");
+    for (plume_index v = 0; v < m->nv; v++)
+        plume_midedge_rest_point(m, rest_x, v, rest + 3 * v);
+    plume_status st = plume_midedge_anchors_init(&b->anchors, b->ne, b->nv, anchor, rest, b->r0, err);
+    free(rest);
+    return st;
 }
 
 plume_status plume_midedge_bending_create(const plume_mesh *mesh, const plume_bending_material *mats, int nmat,
@@ -247,6 +258,8 @@ plume_status plume_midedge_bending_create_opts(const plume_mesh *mesh, const plu
     for (plume_index t = 0; t < b->nt; t++)
         if ((st = build_face(mesh, &mats[mesh->material[t]], rest_x, b, t, err)) != PLUME_OK)
             goto cleanup;
+    if (o && o->anchor && (st = init_anchors(mesh, rest_x, o->anchor, b, err)) != PLUME_OK)
+        goto cleanup;
     *out = b;
     return PLUME_OK;
 cleanup:
@@ -264,6 +277,7 @@ void plume_midedge_bending_destroy(plume_midedge_bending **pb)
     free(b->face_edge);
     free(b->face);
     free(b->r0);
+    plume_midedge_anchors_free(&b->anchors);
     free(b);
     *pb = NULL;
 }
@@ -273,23 +287,32 @@ plume_index plume_midedge_bending_nface(const plume_midedge_bending *b) { return
 const plume_index *plume_midedge_bending_face_edges(const plume_midedge_bending *b) { return b->face_edge; }
 const plume_midedge_face *plume_midedge_bending_face(const plume_midedge_bending *b, plume_index t) { return &b->face[t]; }
 
-/* Triangle t's kernel inputs at (x, theta). */
+/* Edge e's reference vector at x: its anchors' frame (written in buf) when it has anchors, else
+ * the stored one. */
+static const double *edge_frame(const plume_midedge_bending *b, const double *x, plume_index e, double buf[3])
+{
+    return plume_midedge_anchors_frame(&b->anchors, x, e, buf) ? buf : b->r0 + 3 * e;
+}
+
+/* Triangle t's kernel inputs at (x, theta); rbuf holds the anchored edges' reference vectors. */
 static void face_inputs(const plume_midedge_bending *b, const double *x, const double *theta, plume_index t,
-                        double xv[9], double th[3], const double *r0[3])
+                        double xv[9], double th[3], const double *r0[3], double rbuf[9])
 {
     const plume_index *v = b->tri + 3 * t, *fe = b->face_edge + 3 * t;
     for (int k = 0; k < 3; k++) {
         memcpy(xv + 3 * k, x + 3 * v[k], 3 * sizeof(double));
         th[k] = theta[fe[k]];
-        r0[k] = b->r0 + 3 * fe[k];
+        r0[k] = edge_frame(b, x, fe[k], rbuf + 3 * k);
     }
 }
 
-/* The error of a triangle whose kernel failed. */
+/* The error of a triangle whose kernel failed: PLUME_ESINGULAR, the energy undefined there (a
+ * solver's trial point, which its line search then shortens, as it does for a degenerate triangle
+ * of the other terms). */
 static plume_status face_failed(plume_err *err, plume_index t)
 {
-    return plume_err_set(err, PLUME_EINVAL, "midedge bending: triangle %ld has collapsed or a director has left its side",
-                         (long)t);
+    return plume_err_set(err, PLUME_ESINGULAR,
+                         "midedge bending: triangle %ld has collapsed or a director has left its side", (long)t);
 }
 
 plume_status plume_midedge_bending_eval(const plume_midedge_bending *b, const double *x, const double *theta,
@@ -301,7 +324,8 @@ plume_status plume_midedge_bending_eval(const plume_midedge_bending *b, const do
         const plume_index *v = b->tri + 3 * t, *fe = b->face_edge + 3 * t;
         double xv[9], th[3], E = 0.0, g[12];
         const double *r0[3];
-        face_inputs(b, x, theta, t, xv, th, r0);
+        double rbuf[9];
+        face_inputs(b, x, theta, t, xv, th, r0, rbuf);
         const int want_g = gx || gtheta;
         if (plume_midedge_face_eval(&b->face[t], xv, th, r0, &E, want_g ? g : NULL,
                                     hblocks ? hblocks + 144 * (size_t)t : NULL, project) != 0)
@@ -327,7 +351,8 @@ plume_status plume_midedge_bending_blocks(const plume_midedge_bending *b, const 
     for (plume_index t = first; t < first + count; t++) {
         double xv[9], th[3], E = 0.0;
         const double *r0[3];
-        face_inputs(b, x, theta, t, xv, th, r0);
+        double rbuf[9];
+        face_inputs(b, x, theta, t, xv, th, r0, rbuf);
         if (plume_midedge_face_eval(&b->face[t], xv, th, r0, &E, NULL, hblocks + 144 * (size_t)(t - first), project) != 0)
             return face_failed(err, t);
     }
@@ -340,10 +365,28 @@ plume_status plume_midedge_bending_energies(const plume_midedge_bending *b, cons
     for (plume_index t = 0; t < b->nt; t++) {
         double xv[9], th[3];
         const double *r0[3];
-        face_inputs(b, x, theta, t, xv, th, r0);
+        double rbuf[9];
+        face_inputs(b, x, theta, t, xv, th, r0, rbuf);
         e[t] = 0.0;
         if (plume_midedge_face_eval(&b->face[t], xv, th, r0, &e[t], NULL, NULL, 0) != 0)
             return face_failed(err, t);
+    }
+    return PLUME_OK;
+}
+
+plume_status plume_midedge_bending_curvatures(const plume_midedge_bending *b, const double *x, const double *theta,
+                                              double *kappa, plume_err *err)
+{
+    for (plume_index t = 0; t < b->nt; t++) {
+        double xv[9], th[3], rbuf[9], sl[3];
+        const double *r0[3];
+        face_inputs(b, x, theta, t, xv, th, r0, rbuf);
+        for (int k = 0; k < 3; k++)
+            if (plume_midedge_face_slope(&b->face[t], xv, k, th[k], r0[k], &sl[k]) != 0)
+                return face_failed(err, t);
+        const double *B = b->face[t].B;
+        for (int r = 0; r < 3; r++)
+            kappa[3 * t + r] = B[3 * r] * sl[0] + B[3 * r + 1] * sl[1] + B[3 * r + 2] * sl[2];
     }
     return PLUME_OK;
 }
@@ -357,24 +400,26 @@ static void edge_vector(const plume_midedge_bending *b, const double *x, plume_i
 void plume_midedge_bending_director(const plume_midedge_bending *b, const double *x, const double *theta,
                                     plume_index e, double d[3])
 {
-    double E[3];
+    double E[3], buf[3];
     edge_vector(b, x, e, E);
-    if (plume_midedge_director(E, theta[e], b->r0 + 3 * e, d) != 0)
+    if (plume_midedge_director(E, theta[e], edge_frame(b, x, e, buf), d) != 0)
         d[0] = d[1] = d[2] = 0.0;
 }
 
 double plume_midedge_bending_angle_of(const plume_midedge_bending *b, const double *x, plume_index e,
                                       const double d[3])
 {
-    double E[3];
+    double E[3], buf[3];
     edge_vector(b, x, e, E);
-    return plume_midedge_angle(E, b->r0 + 3 * e, d);
+    return plume_midedge_angle(E, edge_frame(b, x, e, buf), d);
 }
 
 plume_status plume_midedge_bending_lag(plume_midedge_bending *b, const double *x, plume_err *err)
 {
     for (plume_index e = 0; e < b->ne; e++) {
         double E[3], r[3];
+        if (plume_midedge_anchors_frame(&b->anchors, x, e, b->r0 + 3 * e))
+            continue; /* the anchors' frame, perpendicular to the edge */
         edge_vector(b, x, e, E);
         /* at angle 0 the director is the normalised part of r0 perpendicular to the edge */
         if (plume_midedge_director(E, 0.0, b->r0 + 3 * e, r) != 0)
@@ -389,6 +434,8 @@ plume_status plume_midedge_bending_rebase(plume_midedge_bending *b, const double
 {
     for (plume_index e = 0; e < b->ne; e++) {
         double E[3], d[3];
+        if (plume_midedge_anchors_frame(&b->anchors, x, e, b->r0 + 3 * e))
+            continue; /* measured from its anchors' frame: the angle stays */
         edge_vector(b, x, e, E);
         if (plume_midedge_director(E, theta[e], b->r0 + 3 * e, d) != 0)
             return plume_err_set(err, PLUME_EINVAL, "midedge bending: edge %ld has turned onto its reference vector",

@@ -37,6 +37,7 @@ typedef struct {
     double s0[3];    /**< rest slopes */
     double c[3][3];  /**< g_k = sum_j c[k][j] x_j: the current image F N_k of edge k's outward unit material normal */
     double sigma[3]; /**< +1 when the mesh edge of slot k runs from vertex k+1 to k+2, -1 otherwise */
+    double B[9];     /**< 3x3 row-major: the curvature (bb, tt, bt) in the barb frame is B s (bt: kappa_12) */
 } plume_midedge_face;
 
 /** The face kernel: energy 1/2 (s - s0)^T K (s - s0) of one triangle at vertices xv (9: x0, x1,
@@ -86,6 +87,13 @@ plume_status plume_midedge_bending_create(const plume_mesh *mesh, const plume_be
  * normals; docs/theory-bending-midedge.md, "Rest state"). */
 typedef struct {
     const double *rest_dir; /**< [3 ne] rest directors, or NULL (borrowed) */
+    /** [3 ne] or NULL (borrowed): three vertices (p0, p1, p2, not on one line at rest) of a rigid
+     * group holding edge e (a clamp, a handle), or -1 in anchor[3 e] for none. An anchored edge's
+     * reference vector is its rest director carried by the anchors' frame (e1 along p1 - p0, e3
+     * normal to the three), read from x at every evaluation, so it turns with the group; its
+     * angle is measured from there and re-basing leaves it. The anchors' own coordinates enter no
+     * derivative: hold them fixed (the group does). */
+    const plume_index *anchor;
 } plume_midedge_bending_opts;
 
 /** The term with options (o may be NULL). Errors as above, and PLUME_EINVAL for a rest director
@@ -110,21 +118,27 @@ const plume_midedge_face *plume_midedge_bending_face(const plume_midedge_bending
 
 /** Adds the energy at (x [3 nv], theta [ne]) to *energy, its gradient to gx [3 nv] and gtheta
  * [ne], and writes triangle t's 12x12 block at hblocks + 144 t (project as in the face kernel).
- * Any output may be NULL. PLUME_EINVAL when a triangle's kernel fails (its id in err); the
- * outputs are then not accumulated in full. */
+ * Any output may be NULL. PLUME_ESINGULAR when a triangle's kernel fails (its id in err: the
+ * energy is undefined there, as at a solver's trial that folded a triangle); the outputs are then
+ * not accumulated in full. */
 plume_status plume_midedge_bending_eval(const plume_midedge_bending *b, const double *x, const double *theta,
                                         double *energy, double *gx, double *gtheta, double *hblocks, int project,
                                         plume_err *err);
 
 /** Writes the 12x12 blocks of triangles first .. first + count - 1 at hblocks (triangle first's
- * first), as plume_midedge_bending_eval does; PLUME_EINVAL when a kernel fails (its id in err). */
+ * first), as plume_midedge_bending_eval does; PLUME_ESINGULAR when a kernel fails (its id in err). */
 plume_status plume_midedge_bending_blocks(const plume_midedge_bending *b, const double *x, const double *theta,
                                           plume_index first, plume_index count, double *hblocks, int project,
                                           plume_err *err);
 
-/** Each triangle's energy at (x, theta) in e[nt]; PLUME_EINVAL when a kernel fails. */
+/** Each triangle's energy at (x, theta) in e[nt]; PLUME_ESINGULAR when a kernel fails. */
 plume_status plume_midedge_bending_energies(const plume_midedge_bending *b, const double *x, const double *theta,
                                             double *e, plume_err *err);
+
+/** Each triangle's curvature kappa = B s (bb, tt, bt in its barb frame, 1/m) at (x, theta) in
+ * kappa[3 nt]; PLUME_ESINGULAR when a slope is undefined (its triangle in err). */
+plume_status plume_midedge_bending_curvatures(const plume_midedge_bending *b, const double *x, const double *theta,
+                                              double *kappa, plume_err *err);
 
 /** The unit director of edge e at (x, theta[e]). */
 void plume_midedge_bending_director(const plume_midedge_bending *b, const double *x, const double *theta,

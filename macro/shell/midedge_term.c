@@ -2,6 +2,7 @@
  * L_e theta_e in and out of the bending energy's (x, theta) arrays. */
 #include "midedge_term.h"
 #include "../../lib/core/vec3.h"
+#include "internal/midedge_anchor.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -14,6 +15,8 @@ struct plume_midedge_term {
     plume_index *extra;            /* [3 nt] first + the edge of each slot */
     double *L;                     /* [ne] rest lengths: phi = L theta */
     double *theta, *gtheta;        /* [ne] workspaces */
+    int ngroup;                    /* the held vertices' groups: 1 .. ngroup - 1 */
+    plume_index *group_anchor;     /* [3 ngroup] each group's anchors, -1 for none */
 };
 
 static void term_free(void *vctx)
@@ -27,6 +30,7 @@ static void term_free(void *vctx)
     free(c->L);
     free(c->theta);
     free(c->gtheta);
+    free(c->group_anchor);
     free(c);
 }
 
@@ -136,6 +140,15 @@ static plume_status view_energies(void *vctx, int dim, const double *x, double *
     return plume_midedge_bending_energies(v->t->b, x, v->t->theta, e, NULL);
 }
 
+plume_status plume_midedge_term_view_curvatures(void *vctx, int dim, const double *x, double *kappa)
+{
+    const view_ctx *v = vctx;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    plume_midedge_term_angles(v->t, plume_problem_x(v->p), v->t->theta);
+    return plume_midedge_bending_curvatures(v->t->b, x, v->t->theta, kappa, NULL);
+}
+
 plume_status plume_midedge_term_view(plume_midedge_term *t, plume_problem *p, plume_term *out)
 {
     view_ctx *v = malloc(sizeof *v);
@@ -170,6 +183,43 @@ const double *plume_midedge_term_frames(const plume_midedge_term *t) { return pl
 plume_status plume_midedge_term_set_frames(plume_midedge_term *t, const double *r0, plume_err *err)
 {
     return plume_midedge_bending_set_frames(t->b, r0, err);
+}
+
+int plume_midedge_term_group_anchored(const plume_midedge_term *t, int g)
+{
+    return g > 0 && g < t->ngroup && t->group_anchor[3 * g] >= 0;
+}
+
+/* 1 when edge e's two vertices share a rigid group */
+static int edge_held(const plume_mesh *m, const int *group, plume_index e)
+{
+    return group && group[m->edges[2 * e]] > 0 && group[m->edges[2 * e]] == group[m->edges[2 * e + 1]];
+}
+
+/* The groups' anchors, and each held edge's ([3 ne] in *anchor, or NULL with no group). */
+static plume_status held_anchors(plume_midedge_term *c, const plume_mesh *m, const double *rest_x, const int *group,
+                                 plume_index **anchor, plume_err *err)
+{
+    *anchor = NULL;
+    if (!group)
+        return PLUME_OK;
+    c->ngroup = 1;
+    for (plume_index v = 0; v < m->nv; v++) {
+        if (group[v] < 0)
+            return plume_err_set(err, PLUME_EINVAL, "midedge bending: vertex %ld: negative group %d", (long)v, group[v]);
+        c->ngroup = group[v] >= c->ngroup ? group[v] + 1 : c->ngroup;
+    }
+    c->group_anchor = malloc(3 * (size_t)c->ngroup * sizeof *c->group_anchor);
+    *anchor = malloc(3 * (size_t)(m->ne > 0 ? m->ne : 1) * sizeof **anchor);
+    if (!c->group_anchor || !*anchor)
+        return plume_err_set(err, PLUME_ENOMEM, "midedge bending: out of memory for the held edges' anchors");
+    plume_midedge_group_anchors(m, rest_x, group, c->ngroup, c->group_anchor);
+    for (plume_index e = 0; e < m->ne; e++) {
+        const plume_index *a = c->group_anchor + 3 * group[m->edges[2 * e]];
+        for (int k = 0; k < 3; k++)
+            (*anchor)[3 * e + k] = edge_held(m, group, e) ? a[k] : -1;
+    }
+    return PLUME_OK;
 }
 
 /* The start angle of edge e: the mean of its faces' current unit normals (x, vertex part). */
@@ -209,8 +259,14 @@ plume_status plume_midedge_term_add(plume_problem *p, const plume_mesh *mesh, co
     plume_midedge_term *c = calloc(1, sizeof *c);
     if (!c)
         return plume_err_set(err, PLUME_ENOMEM, "midedge bending: out of memory");
-    const plume_midedge_bending_opts bo = {o ? o->rest_dir : NULL};
-    plume_status st = plume_midedge_bending_create_opts(mesh, mats, nmat, rest_x, &bo, &c->b, err);
+    const int *group = o ? o->group : NULL;
+    plume_index *anchor = NULL;
+    plume_status st = held_anchors(c, mesh, rest_x, group, &anchor, err);
+    if (st == PLUME_OK) {
+        const plume_midedge_bending_opts bo = {o ? o->rest_dir : NULL, anchor};
+        st = plume_midedge_bending_create_opts(mesh, mats, nmat, rest_x, &bo, &c->b, err);
+    }
+    free(anchor);
     if (st != PLUME_OK) {
         term_free(c);
         return st;
@@ -236,18 +292,19 @@ plume_status plume_midedge_term_add(plume_problem *p, const plume_mesh *mesh, co
     }
     double *x = plume_problem_x(p);
     for (plume_index e = 0; e < c->ne; e++) {
-        const plume_index a = mesh->edges[2 * e], b = mesh->edges[2 * e + 1];
-        double th = 0.0; /* a held edge keeps its rest director, theta = 0 */
-        if (!(o && o->held && o->held[a] && o->held[b]) && start_angle(c, mesh, x, e, &th) != 0) {
+        /* a held edge keeps its rest director in its group's frame (theta = 0), or where it starts
+         * when its group has no frame (its vertices on one line: a clamped edge) */
+        double th = 0.0;
+        const int anchored = edge_held(mesh, group, e) && plume_midedge_term_group_anchored(c, group[mesh->edges[2 * e]]);
+        if (!anchored && start_angle(c, mesh, x, e, &th) != 0) {
             term_free(c);
             return plume_err_set(err, PLUME_EINVAL,
                                  "midedge bending: edge %ld: no start angle (a face collapsed at the start)", (long)e);
         }
         x[c->first + e] = c->L[e] * th;
     }
-    for (plume_index e = 0; o && o->held && e < c->ne; e++)
-        if (o->held[mesh->edges[2 * e]] && o->held[mesh->edges[2 * e + 1]] &&
-            (st = plume_problem_fix_dof(p, c->first + e, err)) != PLUME_OK) {
+    for (plume_index e = 0; e < c->ne; e++)
+        if (edge_held(mesh, group, e) && (st = plume_problem_fix_dof(p, c->first + e, err)) != PLUME_OK) {
             term_free(c);
             return st;
         }

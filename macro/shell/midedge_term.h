@@ -22,9 +22,13 @@ extern "C" {
 /** Options of plume_midedge_term_add (all zero: none). */
 typedef struct {
     const double *rest_dir;    /**< [3 ne] rest directors (plume_midedge_bending_opts), or NULL */
-    const unsigned char *held; /**< [nv] or NULL: vertices a clamp holds. The angle of an edge between
-                                  two held vertices is fixed at its rest value: the surface leaves the
-                                  clamp in the clamp's plane */
+    /** [nv] or NULL: the rigid group holding each vertex, 0 for none (a clamp, a handle: one number
+     * each, > 0). The angle of an edge whose two vertices share a group is fixed: its director is
+     * the rest director carried by the group's frame (three of its vertices, internal/midedge_anchor.h),
+     * so the surface leaves a clamp in the clamp's plane and turns with a turning handle; the edges
+     * of a group whose vertices lie on one line keep the directors they start with (the mean of
+     * their faces' normals; plume_midedge_term_group_anchored says which groups have frames). */
+    const int *group;
 } plume_midedge_term_opts;
 
 /** The term's data, kept by the problem (its ctx) and readable by whoever built it. */
@@ -48,6 +52,11 @@ plume_status plume_midedge_term_add(plume_problem *p, const plume_mesh *mesh, co
  * (3 nv) and the angles p's x holds (the state, between steps); valid while p lives. PLUME_ENOMEM. */
 plume_status plume_midedge_term_view(plume_midedge_term *t, plume_problem *p, plume_term *out);
 
+/** A view's curvatures (its ctx, plume_term.ctx of plume_midedge_term_view's term): each triangle's
+ * kappa = B s (bb, tt, bt in its barb frame, 1/m) at positions x (3 nv) and the problem's angles, in
+ * kappa [3 nt] (plume_fields_set_curvatures takes it). PLUME_ESINGULAR when a slope is undefined. */
+plume_status plume_midedge_term_view_curvatures(void *view_ctx, int dim, const double *x, double *kappa);
+
 /** The bending energy the term sums (its mesh, frames, faces). */
 const plume_midedge_bending *plume_midedge_term_bending(const plume_midedge_term *t);
 
@@ -64,6 +73,9 @@ plume_index plume_midedge_term_first(const plume_midedge_term *t);
 /** The frames the angles are measured in, r0 [3 ne]: with the edge unknowns, the term's state (a
  * frames file stores both, and a restart sets both back). */
 const double *plume_midedge_term_frames(const plume_midedge_term *t);
+
+/** 1 when group g (plume_midedge_term_opts.group) has anchors: its edges' directors turn with it. */
+int plume_midedge_term_group_anchored(const plume_midedge_term *t, int g);
 
 /** Sets the frames to r0 [3 ne], bit for bit (plume_midedge_bending_set_frames). */
 plume_status plume_midedge_term_set_frames(plume_midedge_term *t, const double *r0, plume_err *err);
