@@ -289,6 +289,53 @@ static plume_sweep *run_sweep(const char *path, const char *h5)
     return s;
 }
 
+/* a sweep over the bending models: the midedge run is the flat interface's (the package's) run of
+ * the same document to the bit, and the models' strips differ */
+void test_sweep_scene_bending_models(void)
+{
+    char dir[64] = "/tmp/plume-sweepscene-XXXXXX", path[256], h5[256], strip[1200], text[2800], msg[512];
+    if (!mkdtemp(dir)) {
+        CHECK(0);
+        return;
+    }
+    data_path("shell/strip_scene.json", strip, sizeof strip);
+    snprintf(path, sizeof path, "%s/b.json", dir);
+    snprintf(h5, sizeof h5, "%s/b.h5", dir);
+    snprintf(text, sizeof text,
+             "{\"run\": \"scene\", \"base\": {\"scene\": \"%s\", \"steps\": 3}, \"vary\": {\"bending_model\": "
+             "[\"shape_operator\", \"midedge\"]}}",
+             strip);
+    write_file(path, text);
+    plume_sweep *s = run_sweep(path, h5);
+    long n0 = 0, n1 = 0;
+    double *p0 = read_dataset(h5, "/sweep/runs/0/positions", &n0), *p1 = read_dataset(h5, "/sweep/runs/1/positions", &n1);
+    CHECK(p0 && p1 && n0 == n1 && n0 > 0 && memcmp(p0, p1, (size_t)n0 * sizeof *p0) != 0);
+    json_t *d = json_load_file(strip, 0, NULL);
+    json_object_set_new(d, "bending_model", json_string("midedge"));
+    char *doc = json_dumps(d, JSON_REAL_PRECISION(17));
+    json_decref(d);
+    plume_flat_scene *fs = NULL;
+    CHECK(doc && plume_flat_scene_open_json(doc, strip, &fs, msg, sizeof msg) == PLUME_OK);
+    if (fs && p1) {
+        for (int i = 0; i < 3; i++) {
+            char *rep = NULL;
+            CHECK(plume_flat_scene_step(fs, 1, &rep, msg, sizeof msg) == PLUME_OK);
+            plume_flat_free(rep);
+        }
+        double *x = malloc((size_t)n1 * sizeof *x);
+        CHECK(x && plume_flat_scene_nv(fs) * 3 == n1);
+        if (x && plume_flat_scene_nv(fs) * 3 == n1) {
+            plume_flat_scene_positions(fs, x);
+            CHECK(memcmp(x, p1, (size_t)n1 * sizeof *x) == 0);
+        }
+        free(x);
+    }
+    plume_flat_scene_close(&fs);
+    free(doc), free(p0), free(p1);
+    plume_sweep_destroy(&s);
+    remove_dir(dir);
+}
+
 /* the strip under two moduli, recorded by the sweep, against the same scene stepped through the
  * flat interface (the file itself, and the document with the modulus changed): the same
  * positions, times and iterations to the bit */
