@@ -553,6 +553,11 @@ void test_feather_app_strip_run(void)
         if (fb)
             fclose(fb);
     }
+    /* the midedge operator's curvature needs midedge bending: refused by name otherwise */
+    snprintf(args, sizeof args, "../data/shell/strip_scene.json -o %s/curv --frames 1 --quiet --render-field curvature_bb",
+             dir);
+    CHECK(app_run(dir, "feather", args, out, sizeof out, errs, sizeof errs) != 0 && strstr(errs, "curvature_bb") &&
+          strstr(errs, "\"midedge\""));
     snprintf(path, sizeof path, "%s/run/frames.h5", dir);
     plume_frames_info info;
     plume_err err = {{0}};

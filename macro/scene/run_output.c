@@ -98,8 +98,16 @@ static const char *render_values(const plume_run *r, const double *x, double *v,
     if (strcmp(s->render_field, "material") == 0 || strcmp(s->render_field, "object") == 0)
         return NULL; /* coloured by material, or by category (render_frame) */
     plume_field_values fv;
-    if (plume_fields_compute(r->fields, x, &fv, err) != PLUME_OK ||
-        plume_field_values_select(&fv, s->render_field, v, err) != PLUME_OK)
+    if (plume_fields_compute(r->fields, x, &fv, err) != PLUME_OK)
+        return "";
+    if (strncmp(s->render_field, "curvature_", 10) == 0 && !fv.curvature) {
+        plume_err_set(err, PLUME_EINVAL,
+                      "scene: render_field \"%s\" is the midedge operator's curvature: it needs \"bending_model\": "
+                      "\"midedge\" (the scene's is \"%s\"; \"mean_curvature\" works with every model)",
+                      s->render_field, plume_scene_bending_name(s->bending_model));
+        return "";
+    }
+    if (plume_field_values_select(&fv, s->render_field, v, err) != PLUME_OK)
         return "";
     return plume_field_label(s->render_field);
 }
