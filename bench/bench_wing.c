@@ -5,7 +5,9 @@
  * elastic terms, pattern rebuilds), contact pairs, and the exact audit's intersecting pairs; the
  * barrier also with adaptive time steps ("adaptive_dt", dt_max one frame: the stepper covers each
  * frame's interval in steps it picks, figures per nominal step of dt); then the barrier's time per
- * Newton iteration split into evaluation, assembly, contact and the rest.
+ * Newton iteration split into evaluation, assembly, contact and the rest. The barrier's run also with
+ * midedge bending ("bending_model": "midedge", docs/theory-bending-midedge.md) in place of the shape
+ * operator: its iterations per step against the shape operator's, in the same run.
  * bench_wing [SCENE [--barrier]]: --barrier runs the barrier alone (the penalty takes minutes);
  * bench_wing --header prints the tables' titles and column lines alone. */
 #define _DEFAULT_SOURCE
@@ -23,8 +25,10 @@
 
 #define STEPS 30
 
-/* A copy of the scene with the given contact model and stiffness, paths made absolute. */
-static int variant(const char *scene, const char *model, double stiffness, int adaptive, char *out, size_t n)
+/* A copy of the scene with the given contact model and stiffness (and bending model, NULL: the
+ * scene's), paths made absolute. */
+static int variant(const char *scene, const char *model, double stiffness, int adaptive, const char *bending, char *out,
+                   size_t n)
 {
     char dir[PATH_MAX];
     if (!realpath(scene, dir))
@@ -52,6 +56,8 @@ static int variant(const char *scene, const char *model, double stiffness, int a
     json_object_set_new(c, "model", json_string(model));
     json_object_set_new(c, "stiffness", json_real(stiffness));
     json_object_set_new(j, "max_halvings", json_integer(3));
+    if (bending)
+        json_object_set_new(j, "bending_model", json_string(bending));
     if (adaptive) {
         json_object_set_new(j, "adaptive_dt", json_true());
         json_object_set_new(j, "dt_max", json_real(json_real_value(json_object_get(j, "dt")) *
@@ -68,7 +74,8 @@ static int variant(const char *scene, const char *model, double stiffness, int a
  * page) */
 static void header_models(const char *scene)
 {
-    printf("\nplume bench (wing): %s, first %d steps, barrier + CCD against the paper's penalty\n", scene, STEPS);
+    printf("\nplume bench (wing): %s, first %d steps, barrier + CCD against the paper's penalty, and with midedge bending\n",
+           scene, STEPS);
     printf("%-8s %9s | %8s %8s %8s %7s %6s | %6s %6s %6s %6s | %6s %9s %11s | %s\n", "model", "elements", "s/frame", "s/step", "it/step",
            "halved", "limit", "broad", "narrow", "ccd", "rest", "pairs", "intersect", "min gap", "vs barrier");
 }
@@ -89,12 +96,12 @@ int main(int argc, char **argv)
         return 0;
     }
     plume_openmp_serial();
-    const char *models[3] = {"barrier", "adaptive", "penalty"};
-    const double stiffness[3] = {1.0, 1.0, 1e11};
+    const char *models[4] = {"barrier", "adaptive", "penalty", "midedge"};
+    const double stiffness[4] = {1.0, 1.0, 1e11, 1.0};
     header_models(scene);
     double t_barrier = NAN, split[6] = {NAN, NAN, NAN, NAN, NAN, NAN}, split_hessians = NAN;
     long broad_queries = 0, broad_searches = 0;
-    const int nmodels = argc > 2 && !strcmp(argv[2], "--barrier") ? 1 : 3; /* profiling: the barrier alone */
+    const int nmodels = argc > 2 && !strcmp(argv[2], "--barrier") ? 1 : 4; /* profiling: the barrier alone */
     for (int k = 0; k < nmodels; k++) {
         char path[256];
         plume_err err = {{0}};
@@ -104,7 +111,8 @@ int main(int argc, char **argv)
         plume_contact *c = NULL;
         plume_contact_broad *measure = NULL;
         int *body = NULL;
-        if (variant(scene, k == 2 ? "penalty" : "barrier", stiffness[k], k == 1, path, sizeof path) != 0 || plume_scene_load(path, &s, &err) != PLUME_OK ||
+        if (variant(scene, k == 2 ? "penalty" : "barrier", stiffness[k], k == 1, k == 3 ? "midedge" : NULL, path, sizeof path) != 0 ||
+            plume_scene_load(path, &s, &err) != PLUME_OK ||
             plume_scene_dynamics_contact(s, &p, &d, &c, &err) != PLUME_OK) {
             printf("%-8s | setup failed: %s\n", models[k], err.msg);
             goto next;
@@ -173,7 +181,7 @@ int main(int argc, char **argv)
         plume_scene_destroy(&s);
         unlink(path);
     }
-    printf("(s/frame: s/step times the scene's output_every; pairs: most contact stencils of an update; intersect: steps with an intersecting triangle pair, CGAL exact "
+    printf("(midedge: the barrier's run with \"bending_model\": \"midedge\"; s/frame: s/step times the scene's output_every; pairs: most contact stencils of an update; intersect: steps with an intersecting triangle pair, CGAL exact "
            "audit, self-intersections included; min gap: smallest distance between primitives of different bodies)\n");
     header_iteration();
     printf("%8.2f | %8.2f | %8.2f | %8.2f | %8.2f | %8.2f | %.2f | %ld / %ld\n", 1e3 * split[0], 1e3 * split[1],

@@ -142,7 +142,8 @@ struct plume_scene {
     plume_globalization globalization; /**< "globalization": "curved_line_search" (default) |
                                      "line_search" | "trust_region" (lib/solve/solver.h) */
     unsigned char *clamped;       /**< [nv] or NULL: PLUME_CLAMP_* bits */
-    unsigned char *supported;     /**< [nv] or NULL: bit a set = coordinate a held ("supports") */
+    unsigned char *supported;     /**< [nv] or NULL: bit a set = coordinate a held ("supports"); bit
+                                     a + 3: on a symmetry plane normal to axis a ("symmetry": true) */
     double *force;                /**< [3 nv] or NULL: nominal point and line loads (N) */
     int nmoments;                 /**< number of end moments */
     plume_scene_moment *moments;  /**< [nmoments] */

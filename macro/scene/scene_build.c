@@ -77,10 +77,18 @@ static plume_status add_bending(const plume_scene *s, plume_problem *p, const pl
         for (plume_index i = 0; i < s->handles[h].nvertices; i++)
             if (s->handles[h].vertices[i] < m->nv)
                 group[s->handles[h].vertices[i]] = h + 2;
-    const plume_midedge_term_opts o = {NULL, group};
+    unsigned char *sym = s->supported ? malloc((size_t)m->nv + 1) : NULL; /* the symmetry planes */
+    if (s->supported && !sym) {
+        free(group);
+        return plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
+    }
+    for (plume_index v = 0; sym && v < m->nv; v++)
+        sym[v] = (unsigned char)((s->supported[v] >> 3) & 7);
+    const plume_midedge_term_opts o = {NULL, group, sym};
     plume_index first;
     plume_midedge_term *t = NULL;
     st = plume_midedge_term_add(p, m, bm, s->nmat, NULL, &o, &first, &t, err);
+    free(sym);
     /* a turning handle needs three vertices off one line to carry its edges' directors */
     for (plume_index e = 0; st == PLUME_OK && e < m->ne; e++) {
         const int g = group[m->edges[2 * e]];

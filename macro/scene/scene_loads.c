@@ -278,7 +278,7 @@ static plume_status parse_probe(static_parse *p, json_t *e, const char *kp, plum
     return PLUME_OK;
 }
 
-static const char *const support_keys[] = {"near", "radius", "vertices", "box", "fix", NULL};
+static const char *const support_keys[] = {"near", "radius", "vertices", "box", "fix", "symmetry", NULL};
 
 static plume_status parse_support(static_parse *p, json_t *e, const char *kp)
 {
@@ -304,10 +304,21 @@ static plume_status parse_support(static_parse *p, json_t *e, const char *kp)
     if (!bits)
         return plume_json_bad(c, PLUME_EINVAL, kf, "must name the held coordinates once each, from x, y and z "
                                                    "(e.g. \"y\" or \"xz\")");
+    /* "symmetry": true, the plane normal to the one held coordinate (midedge bending holds the
+     * directors of its edges in it) */
+    char ks[PLUME_JSON_KEY_MAX];
+    plume_json_subkey(ks, kp, "symmetry");
+    json_t *jsym = json_object_get(e, "symmetry");
+    if (jsym && !json_is_boolean(jsym))
+        return plume_json_bad(c, PLUME_EFORMAT, ks, "must be true or false");
+    const int sym = json_is_true(jsym);
+    if (sym && bits != 1 && bits != 2 && bits != 4)
+        return plume_json_bad(c, PLUME_EINVAL, ks, "needs \"fix\" to name one coordinate, the plane's normal (it names "
+                                                   "\"%s\")", f);
     if ((st = select_into(p, e, kp, &n)) != PLUME_OK)
         return st;
     for (plume_index q = 0; q < n; q++)
-        p->s->supported[p->ids[q]] |= bits;
+        p->s->supported[p->ids[q]] |= (unsigned char)(bits | (sym ? bits << 3 : 0));
     return PLUME_OK;
 }
 

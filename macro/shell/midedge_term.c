@@ -196,6 +196,22 @@ static int edge_held(const plume_mesh *m, const int *group, plume_index e)
     return group && group[m->edges[2 * e]] > 0 && group[m->edges[2 * e]] == group[m->edges[2 * e + 1]];
 }
 
+/* The symmetry plane edge e lies on: its axis 0, 1, 2, or -1 (plume_midedge_term_opts.sym). */
+static int edge_sym_axis(const plume_mesh *m, const double *rest_x, const unsigned char *sym, plume_index e)
+{
+    const plume_index a = m->edges[2 * e], b = m->edges[2 * e + 1];
+    if (!sym)
+        return -1;
+    double pa[3], pb[3];
+    plume_midedge_rest_point(m, rest_x, a, pa);
+    plume_midedge_rest_point(m, rest_x, b, pb);
+    const double len = sqrt((pb[0] - pa[0]) * (pb[0] - pa[0]) + (pb[1] - pa[1]) * (pb[1] - pa[1]) + (pb[2] - pa[2]) * (pb[2] - pa[2]));
+    for (int k = 0; k < 3; k++)
+        if ((sym[a] & sym[b] & (1 << k)) && fabs(pb[k] - pa[k]) <= 1e-9 * len)
+            return k;
+    return -1;
+}
+
 /* The groups' anchors, and each held edge's ([3 ne] in *anchor, or NULL with no group). */
 static plume_status held_anchors(plume_midedge_term *c, const plume_mesh *m, const double *rest_x, const int *group,
                                  plume_index **anchor, plume_err *err)
@@ -291,12 +307,26 @@ plume_status plume_midedge_term_add(plume_problem *p, const plume_mesh *mesh, co
         c->L[e] = hypot(mesh->X[2 * b] - mesh->X[2 * a], mesh->X[2 * b + 1] - mesh->X[2 * a + 1]);
     }
     double *x = plume_problem_x(p);
+    const unsigned char *sym = o ? o->sym : NULL;
+    const double *r0 = plume_midedge_bending_frames(c->b); /* the rest directors, before any re-basing */
+    for (plume_index e = 0; e < c->ne; e++) {
+        const int k = edge_held(mesh, group, e) ? -1 : edge_sym_axis(mesh, rest_x, sym, e);
+        if (k >= 0 && !(fabs(r0[3 * e + k]) <= 1e-6)) {
+            term_free(c);
+            return plume_err_set(err, PLUME_EINVAL,
+                                 "midedge bending: edge %ld lies on a symmetry plane normal to %c, and its rest director "
+                                 "leaves the plane (%c component %.3g): the rest shape is not symmetric there",
+                                 (long)e, "xyz"[k], "xyz"[k], r0[3 * e + k]);
+        }
+    }
     for (plume_index e = 0; e < c->ne; e++) {
         /* a held edge keeps its rest director in its group's frame (theta = 0), or where it starts
-         * when its group has no frame (its vertices on one line: a clamped edge) */
+         * when its group has no frame (its vertices on one line: a clamped edge); a symmetry edge
+         * keeps its rest director, in the plane */
         double th = 0.0;
         const int anchored = edge_held(mesh, group, e) && plume_midedge_term_group_anchored(c, group[mesh->edges[2 * e]]);
-        if (!anchored && start_angle(c, mesh, x, e, &th) != 0) {
+        const int on_plane = !edge_held(mesh, group, e) && edge_sym_axis(mesh, rest_x, sym, e) >= 0;
+        if (!anchored && !on_plane && start_angle(c, mesh, x, e, &th) != 0) {
             term_free(c);
             return plume_err_set(err, PLUME_EINVAL,
                                  "midedge bending: edge %ld: no start angle (a face collapsed at the start)", (long)e);
@@ -304,7 +334,8 @@ plume_status plume_midedge_term_add(plume_problem *p, const plume_mesh *mesh, co
         x[c->first + e] = c->L[e] * th;
     }
     for (plume_index e = 0; e < c->ne; e++)
-        if (edge_held(mesh, group, e) && (st = plume_problem_fix_dof(p, c->first + e, err)) != PLUME_OK) {
+        if ((edge_held(mesh, group, e) || edge_sym_axis(mesh, rest_x, sym, e) >= 0) &&
+            (st = plume_problem_fix_dof(p, c->first + e, err)) != PLUME_OK) {
             term_free(c);
             return st;
         }

@@ -29,6 +29,12 @@ typedef struct {
      * of a group whose vertices lie on one line keep the directors they start with (the mean of
      * their faces' normals; plume_midedge_term_group_anchored says which groups have frames). */
     const int *group;
+    /** [nv] or NULL: bit a (1, 2, 4 for x, y, z) when the vertex lies on a symmetry plane normal to
+     * axis a (its coordinate a held). An edge whose two vertices share such a plane (the same bit,
+     * the same rest coordinate) and no group is a symmetry edge: its director stays in the plane
+     * (a symmetric surface's normal does), its angle fixed at its rest director, which must lie in
+     * the plane (PLUME_EINVAL naming the edge otherwise: the rest is not symmetric there). */
+    const unsigned char *sym;
 } plume_midedge_term_opts;
 
 /** The term's data, kept by the problem (its ctx) and readable by whoever built it. */
