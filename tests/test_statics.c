@@ -287,6 +287,13 @@ void test_statics_scene_errors(void)
                       "supports[0].box selects no vertex");
     check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"supports\": {\"fix\": \"y\"}",
                       "supports must be an array");
+    /* a symmetry plane: a boolean, and one held coordinate, its normal */
+    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"supports\": [{\"box\": [0, 0, 10, 1], \"fix\": \"y\", "
+                      "\"symmetry\": 1}]",
+                      "supports[0].symmetry must be true or false");
+    check_scene_error(dir, ", \"clamps\": [{\"box\": [0, 0, 0, 1]}], \"supports\": [{\"box\": [0, 0, 10, 1], \"fix\": \"xz\", "
+                      "\"symmetry\": true}]",
+                      "supports[0].symmetry needs \"fix\" to name one coordinate");
     /* a dynamic scene refuses static keys, and a rectangle its bad pattern */
     char path[512];
     write_scene(dir,
