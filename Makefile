@@ -151,6 +151,10 @@ bench-docs:
 $(BUILD)/bench_%: bench/bench_%.c $(BUILD)/libplume.a
 	$(CC) $(CPPFLAGS) $(CFLAGS) $< -o $@ $(BUILD)/libplume.a $(LDFLAGS) $(LDLIBS)
 
+# bench_feather's bending-model part (--models) lives in its own file
+$(BUILD)/bench_feather: bench/bench_feather.c bench/feather_models.c bench/feather_models.h $(BUILD)/libplume.a
+	$(CC) $(CPPFLAGS) $(CFLAGS) bench/bench_feather.c bench/feather_models.c -o $@ $(BUILD)/libplume.a $(LDFLAGS) $(LDLIBS)
+
 # The README's main command: the tilted traction test on the shipped parameters, both solvers.
 demo: deps
 	@$(MAKE) --no-print-directory all data/feather/moduli_table3a.h5

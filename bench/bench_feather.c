@@ -2,7 +2,9 @@
  * resolutions: seconds per frame and Newton iterations per step for `newton`, `ipopt` and
  * `linearized`, side by side, over the first steps of the scene (the rachis tip being pulled).
  * Then the feather at 44.7k elements: one Newton iteration's parts and the first step's seconds
- * per iteration, bent by the shape operator and by midedge bending in the same run. */
+ * per iteration, bent by the shape operator and by midedge bending in the same run.
+ * `bench_feather --models` (not in make bench: minutes): the three bending models at the feather's
+ * three meshes (feather_models.c). */
 #define _DEFAULT_SOURCE
 #include <limits.h>
 #include <math.h>
@@ -14,10 +16,15 @@
 #include <jansson.h>
 
 #include "../tests/plume_tree.h"
+#include "feather_models.h"
 
 #define STEPS 20
 #define DEFAULT_SCENE "data/feather/scene_anisotropic.json"
 #define LARGE_SCENE "data/feather/scene_anisotropic_0.625mm.json"
+#define MODELS_STEPS 10 /* --models: the pull's first 10 steps (0.11 s, the tip a fifth of its way) */
+
+/* the feather's meshes, coarse to fine, for the bending models' part (feather_models.c) */
+static const char *const model_scenes[3] = {DEFAULT_SCENE, "data/feather/scene_anisotropic_1.25mm.json", LARGE_SCENE};
 
 /* A copy of the scene with another mesh edge and solver, paths made absolute, in /tmp. */
 static int variant(const char *scene, double edge, const char *solver, char *out, size_t n)
@@ -231,6 +238,11 @@ int main(int argc, char **argv)
     }
     if (argc > 1 && !strcmp(argv[1], "--large")) { /* bench_feather --large [SCENE [STEPS]]: that part alone */
         large_feather(argc > 2 ? argv[2] : LARGE_SCENE, argc > 3 ? atoi(argv[3]) : 1);
+        return 0;
+    }
+    if (argc > 1 && !strcmp(argv[1], "--models")) { /* bench_feather --models [MESHES [STEPS]]: that part alone */
+        const int n = argc > 2 ? atoi(argv[2]) : 3, steps = argc > 3 ? atoi(argv[3]) : MODELS_STEPS;
+        feather_models(model_scenes, n >= 1 && n <= 3 ? n : 3, steps >= 1 ? steps : MODELS_STEPS);
         return 0;
     }
     const char *scene = argc > 1 ? argv[1] : DEFAULT_SCENE;
