@@ -33,14 +33,14 @@ static int anchor_frame(const double *x, const plume_index p[3], double F[3][3])
     return 0;
 }
 
-void plume_midedge_group_anchors(const plume_mesh *m, const double *rest_x, const int *group, int ngroup,
-                                 plume_index *anchor)
+int plume_midedge_group_anchors(const plume_mesh *m, const double *rest_x, const int *group, int ngroup,
+                                plume_index *anchor)
 {
     for (int g = 0; g < 3 * ngroup; g++)
         anchor[g] = -1;
     double *best = calloc((size_t)(ngroup > 0 ? ngroup : 1), sizeof *best);
     if (!best)
-        return;
+        return -1;
     for (int pass = 0; pass < 3; pass++) {
         for (int g = 0; g < ngroup; g++)
             best[g] = 0.0;
@@ -83,6 +83,7 @@ void plume_midedge_group_anchors(const plume_mesh *m, const double *rest_x, cons
         a[0] = a[1] = a[2] = -1;
     }
     free(best);
+    return 0;
 }
 
 plume_status plume_midedge_anchors_init(plume_midedge_anchors *a, plume_index ne, plume_index nv,

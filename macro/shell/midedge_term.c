@@ -227,9 +227,8 @@ static plume_status held_anchors(plume_midedge_term *c, const plume_mesh *m, con
     }
     c->group_anchor = malloc(3 * (size_t)c->ngroup * sizeof *c->group_anchor);
     *anchor = malloc(3 * (size_t)(m->ne > 0 ? m->ne : 1) * sizeof **anchor);
-    if (!c->group_anchor || !*anchor)
+    if (!c->group_anchor || !*anchor || plume_midedge_group_anchors(m, rest_x, group, c->ngroup, c->group_anchor) != 0)
         return plume_err_set(err, PLUME_ENOMEM, "midedge bending: out of memory for the held edges' anchors");
-    plume_midedge_group_anchors(m, rest_x, group, c->ngroup, c->group_anchor);
     for (plume_index e = 0; e < m->ne; e++) {
         const plume_index *a = c->group_anchor + 3 * group[m->edges[2 * e]];
         for (int k = 0; k < 3; k++)

@@ -25,10 +25,10 @@ void plume_midedge_rest_point(const plume_mesh *m, const double *rest_x, plume_i
 
 /* Each rigid group's anchors at rest into anchor [3 ngroup]: vertices of group g (group [nv]: 0 for
  * none, else 1 .. ngroup - 1) p0 (its first), p1 (the farthest from p0) and p2 (the farthest from
- * line p0 p1), or -1 in all three when the group has no three vertices off one line (or memory ran
- * out). */
-void plume_midedge_group_anchors(const plume_mesh *m, const double *rest_x, const int *group, int ngroup,
-                                 plume_index *anchor);
+ * line p0 p1), or -1 in all three when the group has no three vertices off one line. 0, or -1 when
+ * memory ran out. */
+int plume_midedge_group_anchors(const plume_mesh *m, const double *rest_x, const int *group, int ngroup,
+                                plume_index *anchor);
 
 /* The anchors of the edges whose anchor[3 e] >= 0 (anchor [3 ne] may be NULL: none), from rest
  * positions rest [3 nv] and rest reference vectors r0 [3 ne]. PLUME_EINVAL (naming the edge) for
