@@ -640,5 +640,28 @@ void test_scene_objects_midedge_rotating_handle(void)
     fprintf(stderr, "    tip travel %.4f m (shape operator); midedge ends %.2e m from it (%.2f %% of the travel)\n", travel, gap,
             100.0 * gap / travel);
     CHECK(travel > 0.01 && gap < 0.05 * travel);
+    /* a turning attachment on one line (an OBJ strip held by its three vertices along y = 0) gives
+     * its edges no frame: refused, naming the handle */
+    char strip[PATH_MAX + 16], text[4096];
+    snprintf(strip, sizeof strip, "%s/line.obj", dir);
+    write_file(strip, "v 0 0 0\nv 0.01 0 0\nv 0.02 0 0\nv 0 0.01 0\nv 0.01 0.01 0\nv 0.02 0.01 0\n"
+                      "f 1 2 5\nf 1 5 4\nf 2 3 6\nf 2 6 5\n");
+    snprintf(text, sizeof text,
+             "{\"objects\": [{\"name\": \"plate\", \"kinematic\": {\"obj\": \"plate.obj\", \"keyframes\": "
+             "[[0, 0, 0, 0, 0, 1, 0, 0], [0.1, 0, 0, 0, 0, 1, 0, 40]]}},"
+             "{\"name\": \"s\", \"mesh\": {\"obj\": \"line.obj\"}, \"attach\": {\"to\": \"plate\", \"vertices\": [0, 1, 2]}}],"
+             "%s, \"bending_model\": \"midedge\", \"dt\": 0.005, \"duration\": 0.1}",
+             materials);
+    snprintf(path, sizeof path, "%s/line.json", dir);
+    write_file(path, text);
+    plume_scene *s = NULL;
+    plume_err err = {{0}};
+    plume_problem *p = NULL;
+    plume_dynamics *d = NULL;
+    CHECK(plume_scene_load(path, &s, &err) == PLUME_OK);
+    CHECK(s && plume_scene_dynamics(s, &p, &d, &err) == PLUME_EINVAL && !p && !d);
+    fprintf(stderr, "    %s\n", err.msg);
+    CHECK(strstr(err.msg, "rotates") && strstr(err.msg, "one line"));
+    plume_scene_destroy(&s);
     CHECK(remove_dir(dir) == 0);
 }

@@ -96,7 +96,7 @@ static plume_status add_bending(const plume_scene *s, plume_problem *p, const pl
             !plume_midedge_term_group_anchored(t, g))
             st = plume_err_set(err, PLUME_EINVAL,
                                "scene: handle %d rotates and its vertices lie on one line: midedge bending cannot turn "
-                               "the directors of the edges it holds with it; widen its \"radius\" or use "
+                               "the directors of the edges it holds with it; let it hold a vertex off that line or use "
                                "\"bending_model\": \"shape_operator\"",
                                g - 2);
     }
