@@ -311,11 +311,12 @@ plume_status plume_midedge_term_add(plume_problem *p, const plume_mesh *mesh, co
     for (plume_index e = 0; e < c->ne; e++) {
         const int k = edge_held(mesh, group, e) ? -1 : edge_sym_axis(mesh, rest_x, sym, e);
         if (k >= 0 && !(fabs(r0[3 * e + k]) <= 1e-6)) {
+            const double off = r0[3 * e + k]; /* read before the term (and its frames) is freed */
             term_free(c);
             return plume_err_set(err, PLUME_EINVAL,
                                  "midedge bending: edge %ld lies on a symmetry plane normal to %c, and its rest director "
                                  "leaves the plane (%c component %.3g): the rest shape is not symmetric there",
-                                 (long)e, "xyz"[k], "xyz"[k], r0[3 * e + k]);
+                                 (long)e, "xyz"[k], "xyz"[k], off);
         }
     }
     for (plume_index e = 0; e < c->ne; e++) {
