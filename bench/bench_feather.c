@@ -3,8 +3,8 @@
  * `linearized`, side by side, over the first steps of the scene (the rachis tip being pulled).
  * Then the feather at 44.7k elements: one Newton iteration's parts and the first step's seconds
  * per iteration, bent by the shape operator and by midedge bending in the same run.
- * Last, the three bending models at the feather's three meshes (feather_models.c; alone:
- * `bench_feather --models`, 6-7 minutes). */
+ * `bench_feather --models` (not in make bench: 6-7 minutes): the three bending models at the
+ * feather's three meshes (feather_models.c). */
 #define _DEFAULT_SOURCE
 #include <limits.h>
 #include <math.h>
@@ -234,7 +234,6 @@ int main(int argc, char **argv)
         header_steps(DEFAULT_SCENE);
         header_large_title(LARGE_SCENE);
         header_large_columns();
-        feather_models_header(MODELS_STEPS);
         return 0;
     }
     if (argc > 1 && !strcmp(argv[1], "--large")) { /* bench_feather --large [SCENE [STEPS]]: that part alone */
@@ -288,6 +287,5 @@ int main(int argc, char **argv)
         }
     }
     large_feather(LARGE_SCENE, 1);
-    feather_models(model_scenes, 3, MODELS_STEPS);
     return 0;
 }
