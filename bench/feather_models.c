@@ -15,8 +15,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cholmod.h>
-
 #include "../tests/plume_tree.h"
 #include "feather_models.h"
 
@@ -59,38 +57,12 @@ void feather_models_header(int steps)
            "|F_tip|", "sag um", "uz um");
 }
 
-/* CHOLMOD's factor entries and flops for the upper-triangle pattern hp, with the orderings of
- * lib/solve/cholesky.c (AMD and METIS, the better kept; the supernode relaxation changes neither
- * count). plume_chol keeps its cholmod_common private, so the bench analyses the pattern once
- * more; 0 when CHOLMOD fails. */
-static int cholmod_counts(const plume_sparsity *hp, plume_index n, double *lnz, double *flops)
-{
-    cholmod_common cm;
-    cholmod_l_start(&cm);
-    cm.print = 0;
-    cm.nmethods = 2;
-    cm.method[0].ordering = CHOLMOD_AMD;
-    cm.method[1].ordering = CHOLMOD_METIS;
-    cm.postorder = 1;
-    int ok = 0;
-    cholmod_sparse *A = cholmod_l_allocate_sparse((size_t)n, (size_t)n, (size_t)hp->nnz, 1, 1, 1, CHOLMOD_PATTERN, &cm);
-    if (A) {
-        memcpy(A->p, hp->colptr, (size_t)(n + 1) * sizeof(SuiteSparse_long));
-        memcpy(A->i, hp->rowind, (size_t)hp->nnz * sizeof(SuiteSparse_long));
-        cholmod_factor *L = cholmod_l_analyze(A, &cm);
-        if (L && cm.status >= CHOLMOD_OK)
-            *lnz = cm.lnz, *flops = cm.fl, ok = 1;
-        cholmod_l_free_factor(&L, &cm);
-        cholmod_l_free_sparse(&A, &cm);
-    }
-    cholmod_l_finish(&cm);
-    return ok;
-}
-
 /* The CPU seconds of one factorisation (best of 3) of the exact Hessian at the start state, shifted
- * until it succeeds, as measure_iteration in bench_feather.c; NAN when it cannot. */
-static double factorise_seconds(plume_problem *p, const plume_sparsity *hp)
+ * until it succeeds, as measure_iteration in bench_feather.c, and CHOLMOD's factor entries and
+ * flops of the ordering plume keeps (plume_chol_counts); NAN when it cannot. */
+static double factorise_seconds(plume_problem *p, const plume_sparsity *hp, double *lnz, double *flops)
 {
+    *lnz = *flops = NAN;
     plume_err err = {{0}};
     plume_chol *chol = NULL;
     const plume_index n = plume_problem_nfree(p), m = plume_problem_ncons(p);
@@ -98,6 +70,7 @@ static double factorise_seconds(plume_problem *p, const plume_sparsity *hp)
     double *lambda = calloc((size_t)m + 1, sizeof *lambda), best = NAN;
     if (!u || !values || !lambda || plume_chol_create(n, hp->colptr, hp->rowind, 0, &chol, &err) != PLUME_OK)
         goto done;
+    plume_chol_counts(chol, lnz, flops);
     plume_problem_gather(p, u);
     plume_problem_hessian(p, u, 1.0, lambda, PLUME_HESSIAN_EXACT, values);
     double hmax = 0.0;
@@ -229,9 +202,7 @@ static int pull_part(const char *scene, int model, int steps, model_row *r)
     r->ndof = (long)plume_problem_ndof(p);
     r->nfree = (long)plume_problem_nfree(p);
     r->hessian = (long)hp.nnz;
-    if (!cholmod_counts(&hp, plume_problem_nfree(p), &r->lnz, &r->flops))
-        r->lnz = r->flops = NAN;
-    r->factorise = factorise_seconds(p, &hp);
+    r->factorise = factorise_seconds(p, &hp, &r->lnz, &r->flops);
     for (; k < steps; k++) {
         plume_step_report rep;
         if (plume_dynamics_advance(d, 0.0, &rep, &err) != PLUME_OK || !rep.converged)

@@ -369,6 +369,12 @@ double plume_chol_rcond(plume_chol *c)
     return cholmod_l_rcond(c->L, &c->cm);
 }
 
+void plume_chol_counts(const plume_chol *c, double *lnz, double *flops)
+{
+    *lnz = c ? c->cm.lnz : 0.0;
+    *flops = c ? c->flops : 0.0;
+}
+
 void plume_chol_stats(const plume_chol *c, int *analyses, int *factorizations, double *factor_seconds)
 {
     if (analyses)

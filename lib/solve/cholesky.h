@@ -35,6 +35,10 @@ plume_status plume_chol_solve(plume_chol *c, const double *b, double *x);
  * (CHOLMOD's cholmod_rcond: cheap, a rough lower-bound-like estimate); 0 when singular. */
 double plume_chol_rcond(plume_chol *c);
 
+/** The factor's entries (nnz(L) without the supernodes' relaxed zeros) and flops of one
+ * factorisation, from CHOLMOD's analysis of the ordering kept (benchmarks). */
+void plume_chol_counts(const plume_chol *c, double *lnz, double *flops);
+
 /** Counts and time of factorisations since creation (benchmarks and reports). */
 void plume_chol_stats(const plume_chol *c, int *analyses, int *factorizations, double *factor_seconds);
 
