@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <jansson.h>
 
@@ -32,6 +33,13 @@ static const char usage[] =
     "                      material, object, mean_curvature, J, membrane_energy, bending_energy, strain_bb,\n"
     "                      strain_tt, strain_bt, stress_bb, stress_tt, stress_bt, crease_angle, and with midedge\n"
     "                      bending curvature_bb, curvature_tt, curvature_bt\n"
+    "  --gltf FILE.glb     also write the frames as a glTF 2.0 binary file for Blender and web viewers (a node per\n"
+    "                      scene object, normals, the frames as an animation; docs/graphics.md); overrides the\n"
+    "                      scene's \"gltf\" file, which is relative to DIR\n"
+    "  --gltf-animation A  morph (default: morph targets of one mesh per object) | frames (a mesh per frame shown\n"
+    "                      in turn)\n"
+    "  --gltf-field F      also write the render field F per vertex (attribute _F in upper case: mean_curvature,\n"
+    "                      J, strain_bb, ...)\n"
     "  --json              print a summary object on stdout\n"
     "  --quiet / --verbose no progress line / solver iterations on stderr\n"
     "  --help\n"
@@ -51,7 +59,7 @@ static int run_fail(const char *fmt, ...)
 }
 
 typedef struct {
-    const char *scene, *outdir, *restart, *solver, *render_field;
+    const char *scene, *outdir, *restart, *solver, *render_field, *gltf, *gltf_animation, *gltf_field;
     int frames, json, quiet, verbose;
     double duration;
 } options;
@@ -86,7 +94,8 @@ static int parse_args(int argc, char **argv, options *o)
             continue;
         }
         if (strcmp(a, "-o") && strcmp(a, "--frames") && strcmp(a, "--duration") && strcmp(a, "--restart") &&
-            strcmp(a, "--solver") && strcmp(a, "--render-field"))
+            strcmp(a, "--solver") && strcmp(a, "--render-field") && strcmp(a, "--gltf") &&
+            strcmp(a, "--gltf-animation") && strcmp(a, "--gltf-field"))
             return cli_fail(APP, "unknown option '%s' (see --help)", a);
         if (!v)
             return cli_fail(APP, "%s needs a value (see --help)", a);
@@ -103,7 +112,13 @@ static int parse_args(int argc, char **argv, options *o)
             o->restart = v;
         else if (strcmp(a, "--render-field") == 0) {
             o->render_field = v; /* checked by the scene (apply_overrides) */
-        } else
+        } else if (strcmp(a, "--gltf") == 0)
+            o->gltf = v;
+        else if (strcmp(a, "--gltf-animation") == 0)
+            o->gltf_animation = v;
+        else if (strcmp(a, "--gltf-field") == 0)
+            o->gltf_field = v;
+        else
             o->solver = v;
         if (r)
             return r;
@@ -174,6 +189,9 @@ static json_t *summary_json(const options *o, const plume_run *run, json_t *desc
     json_object_set_new(j, "output_dir", json_string(outdir));
     json_object_set_new(j, "frames_file", json_string(plume_run_frames_path(run)));
     json_object_set(j, "materials", json_object_get(desc, "materials"));
+    const char *gltf = json_string_value(json_object_get(json_object_get(desc, "gltf"), "file"));
+    if (gltf)
+        json_object_set_new(j, "gltf_file", gltf[0] == '/' ? json_string(gltf) : json_sprintf("%s/%s", outdir, gltf));
     if (o->restart)
         json_object_set_new(j, "restarted_from", json_string(o->restart));
     json_t *contact = json_object_get(desc, "contact");
@@ -249,7 +267,9 @@ static int set_one(plume_scene *scene, const char *flag, const char *key, json_t
         rc = cli_fail(APP, "out of memory");
     else if (plume_scene_set(scene, text, &err) != PLUME_OK) {
         const char *why = strstr(err.msg, key); /* "plume_scene_set:1: <key> must be ..." */
-        rc = cli_fail(APP, "%s %s", flag, why ? why + strlen(key) + 1 : err.msg);
+        if (why && why[strlen(key)] == '.') /* "gltf.file must ...": the flag names the sub-key */
+            why = strchr(why, ' ');
+        rc = cli_fail(APP, "%s %s", flag, why ? why + (*why == ' ' ? 1 : strlen(key) + 1) : err.msg);
     }
     free(text);
     return rc;
@@ -263,6 +283,22 @@ static int apply_overrides(const options *o, plume_scene *scene)
         rc = set_one(scene, "--solver", "solver", json_string(o->solver));
     if (!rc && o->render_field)
         rc = set_one(scene, "--render-field", "render_field", json_string(o->render_field));
+    /* the glTF flags, one at a time so that an error names its flag; --gltf's file is the
+     * caller's (relative to the working directory), the scene's relative to DIR */
+    char file[4096 + 1024], cwd[4096];
+    if (!rc && o->gltf) {
+        if (!*o->gltf)
+            return cli_fail(APP, "--gltf needs a file name");
+        if (o->gltf[0] != '/' && getcwd(cwd, sizeof cwd))
+            snprintf(file, sizeof file, "%s/%s", cwd, o->gltf);
+        else
+            snprintf(file, sizeof file, "%s", o->gltf);
+        rc = set_one(scene, "--gltf", "gltf", json_pack("{s:s}", "file", file));
+    }
+    if (!rc && o->gltf_animation)
+        rc = set_one(scene, "--gltf-animation", "gltf", json_pack("{s:s}", "animation", o->gltf_animation));
+    if (!rc && o->gltf_field)
+        rc = set_one(scene, "--gltf-field", "gltf", json_pack("{s:s}", "field", o->gltf_field));
     return rc;
 }
 

@@ -327,6 +327,37 @@ PLUME_API const char *plume_run_frames_path(const plume_run *r);
  * this scene's mesh. Errors name the file; PLUME_EINVAL for a static run (it has no frames file). */
 PLUME_API plume_status plume_run_write_state(plume_run *r, const char *path, int create, plume_err *err);
 
+/* ---- glTF export ---- */
+/** How a glTF file animates the frames (docs/graphics.md): morph targets of one mesh per object
+ * (the default), or one mesh per object and frame shown in turn. */
+enum { PLUME_GLTF_MORPH = 0, PLUME_GLTF_FRAMES = 1 };
+
+/** Options of plume_run_write_gltf (plume_gltf_opts_default). */
+typedef struct {
+    size_t size;       /**< sizeof the caller's struct, set by plume_gltf_opts_default */
+    int animation;     /**< PLUME_GLTF_MORPH (default) or PLUME_GLTF_FRAMES */
+    const char *field; /**< NULL (default), or a per-triangle field of the renders (mean_curvature, J,
+                          strain_bb, ...; docs/scene-format.md "render_field"), averaged to the vertices
+                          (weighted by area) and written as the vertex attribute "_" + its name in
+                          upper case (_MEAN_CURVATURE) */
+} plume_gltf_opts;
+
+/** Fills *o with the defaults; size is sizeof the caller's struct (use the macro
+ * plume_gltf_opts_default(o)). */
+PLUME_API void plume_gltf_opts_default_sized(plume_gltf_opts *o, size_t size);
+/** Fills *o with the defaults (plume_gltf_opts_default_sized with sizeof the struct the caller compiled against). */
+#define plume_gltf_opts_default(o) plume_gltf_opts_default_sized((o), sizeof(plume_gltf_opts))
+
+/** Writes the frames of the frames file `frames_path` (NULL: the run's own, DIR/frames.h5) as a
+ * glTF 2.0 binary file `path` (.glb): a node per scene object named as in the scene (a "mesh"
+ * scene: one, named after the scene file), a primitive per material (named by the material's
+ * "name", else material_K; kinematic bodies "kinematic"), vertex normals, metres, glTF's y up
+ * (the scene's z), the frames' times as the animation, and the scene's camera and times in the
+ * scene's extras (docs/graphics.md). The frames file must hold frames of this scene's mesh. Errors
+ * name the file, the option or the field; the file is written whole or not at all. */
+PLUME_API plume_status plume_run_write_gltf(plume_run *r, const char *frames_path, const char *path,
+                                            const plume_gltf_opts *o, plume_err *err);
+
 
 
 /* ---- ParaView series of a mesh and its fields (what the runner writes; apps/traction and

@@ -117,6 +117,12 @@ plume_status plume_run_create(plume_scene *scene, const plume_run_opts *opts, pl
     const plume_solver_kind solver = scene->solver;
     if (opts->solver != -1)
         scene->solver = (plume_solver_kind)opts->solver;
+    if (scene->is_static && scene->gltf) {
+        st = plume_err_set(err, PLUME_EINVAL, "%s: \"gltf\" is for dynamic scenes: a static scene's load steps are a "
+                           "ParaView series (steps.pvd)", scene->path ? scene->path : "scene");
+        plume_run_destroy(&r);
+        return st;
+    }
     st = scene->is_static ? plume_run_static_create(r, opts, err)
                           : plume_scene_dynamics_contact(scene, &r->p, &r->d, &r->contact, err);
     if (st != PLUME_OK) {
@@ -422,6 +428,8 @@ plume_status plume_run_to_end(plume_run *r, plume_err *err)
         st = run_step(r, &info, err);
     if (st == PLUME_OK)
         plume_progress_finish(&r->prog);
+    if (st == PLUME_OK) /* a run a step stopped too: the frames so far */
+        st = plume_run_gltf_at_end(r, err);
     return st;
 }
 

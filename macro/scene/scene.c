@@ -55,7 +55,7 @@ void plume_scene_destroy(plume_scene **ps)
 static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s, const plume_scene_load_opts *o)
 {
     static const char *const keys[] = {"mesh", "materials", "handles", "gravity", "dt", "duration", "solver",
-                                       "max_halvings", "max_iter", "output_every", "render", "render_field", "camera", "solve",
+                                       "max_halvings", "max_iter", "output_every", "render", "render_field", "camera", "gltf", "solve",
                                        "steps", "clamps", "supports", "loads", "probes", "bending_model", "contact",
                                        "objects", "predictor", "globalization", "adaptive_dt", "dt_max", NULL};
     plume_status st;

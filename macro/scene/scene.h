@@ -49,12 +49,17 @@ const char *plume_scene_bending_name(int model);
 /** The longest moduli file name a scene material records (bytes, with the NUL). */
 #define PLUME_SCENE_PATH_MAX 4096
 
+/** The longest material name (bytes, with the NUL). */
+#define PLUME_SCENE_NAME_MAX 64
+
 /** One material of a scene. */
 typedef struct {
     plume_membrane_material membrane; /**< moduli in the barb frame, thickness, kappa */
     plume_bending_material bending;   /**< N m */
     double density;                   /**< surface mass density, kg/m^2 */
     int constraint;                   /**< 1: the barb edges of this material's triangles are inextensible */
+    char name[PLUME_SCENE_NAME_MAX];  /**< the material's "name" ("vane", "rachis": glTF materials and
+                                           renderers go by it), "" when the scene gives none */
     char membrane_from[PLUME_SCENE_PATH_MAX]; /**< the moduli file ("membrane": {"from_moduli"}) the
                                                    membrane moduli were read from, resolved against
                                                    the scene's directory; "" when the scene sets them */
@@ -126,6 +131,12 @@ struct plume_scene {
     char render_field[32];        /**< what the renders are coloured by: "material" (default),
                                      "object" (one colour per scene object), or a field of
                                      plume_field_names (macro/shell/fields.h) with a colour bar */
+    int gltf;                     /**< "gltf": 1 when a dynamic run with an output directory ends
+                                     by writing its frames as glTF (plume_run_write_gltf) */
+    char gltf_file[PLUME_SCENE_PATH_MAX]; /**< its file: absolute, or relative to the output directory;
+                                     default "frames.glb" */
+    int gltf_animation;           /**< PLUME_GLTF_MORPH (default) or PLUME_GLTF_FRAMES */
+    char gltf_field[32];          /**< a render field written per vertex, "" for none */
     double length;                /**< diagonal of the reference bounding box (m) */
     int bending_model;            /**< "bending_model": a PLUME_BENDING_*; default "shape_operator" */
     int has_contact;              /**< a "contact" block */

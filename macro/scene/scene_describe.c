@@ -86,6 +86,10 @@ plume_status plume_scene_describe(const plume_scene *s, char **json, plume_err *
         json_object_set_new(j, "adaptive_dt", json_boolean(s->adaptive_dt));
         json_object_set_new(j, "output_every", json_integer(s->output_every));
         json_object_set_new(j, "render_field", json_string(s->render_field));
+        json_object_set_new(j, "gltf", !s->gltf ? json_null()
+                                                : json_pack("{s:s, s:s, s:s?}", "file", s->gltf_file, "animation",
+                                                            s->gltf_animation == PLUME_GLTF_FRAMES ? "frames" : "morph",
+                                                            "field", s->gltf_field[0] ? s->gltf_field : NULL));
     }
     if (s->has_contact)
         json_object_set_new(j, "contact", json_pack("{s:s, s:f, s:f}", "model",

@@ -114,7 +114,7 @@ static plume_status membrane_from_moduli(const plume_json_ctx *c, json_t *mem, c
 static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const char *where, int need_density,
                                    plume_scene_material *out)
 {
-    static const char *const keys[] = {"membrane", "bending", "density", "constraint", NULL};
+    static const char *const keys[] = {"name", "membrane", "bending", "density", "constraint", NULL};
     static const char *const ortho[] = {"E_xx", "E_yy", "nu_xy", "G_xy", "thickness", "kappa", NULL};
     static const char *const iso[] = {"E", "nu", "thickness", "kappa", NULL};
     static const char *const bend2[] = {"D_long", "D_trans", "D_twist", "D_coupling", NULL};
@@ -126,6 +126,14 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
     if ((st = plume_json_check_keys(c, jm, where, keys)) != PLUME_OK)
         return st;
     memset(out, 0, sizeof *out);
+    json_t *jn = json_object_get(jm, "name");
+    if (jn) {
+        plume_json_subkey(kp, where, "name");
+        if (!json_is_string(jn) || !json_string_length(jn) || json_string_length(jn) >= sizeof out->name)
+            return plume_json_bad(c, PLUME_EFORMAT, kp, "must be a non-empty string of at most %d bytes",
+                                  (int)sizeof out->name - 1);
+        snprintf(out->name, sizeof out->name, "%s", json_string_value(jn));
+    }
     plume_membrane_material *mm = &out->membrane;
     plume_json_subkey(kp, where, "membrane");
     json_t *mem = json_object_get(jm, "membrane");

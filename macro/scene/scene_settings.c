@@ -151,6 +151,51 @@ static plume_status parse_camera(const plume_json_ctx *c, json_t *doc, plume_sce
     return PLUME_OK;
 }
 
+/* "gltf": true, or {"file": name, "animation": "morph" | "frames", "field": render field}: the run's
+ * frames written as glTF when it ends (docs/graphics.md). false turns it off. */
+static plume_status parse_gltf(const plume_json_ctx *c, json_t *doc, plume_scene *s)
+{
+    static const char *const keys[] = {"file", "animation", "field", NULL};
+    json_t *v = json_object_get(doc, "gltf");
+    if (!v)
+        return PLUME_OK;
+    if (json_is_boolean(v)) {
+        s->gltf = json_is_true(v);
+        return PLUME_OK;
+    }
+    if (!json_is_object(v))
+        return plume_json_bad(c, PLUME_EFORMAT, "gltf", "must be true, false or an object {\"file\", \"animation\", "
+                              "\"field\"}");
+    plume_status st = plume_json_check_keys(c, v, "gltf", keys);
+    if (st != PLUME_OK)
+        return st;
+    json_t *f = json_object_get(v, "file"), *a = json_object_get(v, "animation"), *fl = json_object_get(v, "field");
+    if (f && (!json_is_string(f) || !json_string_length(f) || json_string_length(f) >= sizeof s->gltf_file))
+        return plume_json_bad(c, PLUME_EFORMAT, "gltf.file", "must be a file name (absolute, or relative to the output "
+                              "directory), shorter than %d bytes", (int)sizeof s->gltf_file);
+    if (a && (!json_is_string(a) ||
+              (strcmp(json_string_value(a), "morph") != 0 && strcmp(json_string_value(a), "frames") != 0)))
+        return plume_json_bad(c, PLUME_EINVAL, "gltf.animation", "must be \"morph\" (morph targets of one mesh per "
+                              "object) or \"frames\" (a mesh per frame shown in turn)");
+    if (fl) {
+        const char *name = json_string_value(fl);
+        if (!name || !plume_render_field_valid(name) || strcmp(name, "material") == 0 || strcmp(name, "object") == 0 ||
+            strlen(name) >= sizeof s->gltf_field)
+            return plume_json_bad(c, PLUME_EINVAL, "gltf.field", "must be one of %s", plume_field_names());
+        if (strncmp(name, "curvature_", 10) == 0) /* run_gltf.c reads positions only */
+            return plume_json_bad(c, PLUME_EINVAL, "gltf.field", "\"%s\" is the midedge operator's curvature, which "
+                                  "needs the edge unknowns of every frame; \"mean_curvature\" is a curvature of every "
+                                  "bending model", name);
+        snprintf(s->gltf_field, sizeof s->gltf_field, "%s", name);
+    }
+    if (f)
+        snprintf(s->gltf_file, sizeof s->gltf_file, "%s", json_string_value(f));
+    if (a)
+        s->gltf_animation = strcmp(json_string_value(a), "frames") == 0 ? PLUME_GLTF_FRAMES : PLUME_GLTF_MORPH;
+    s->gltf = 1;
+    return PLUME_OK;
+}
+
 plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, plume_scene *s)
 {
     plume_status st;
@@ -168,8 +213,10 @@ plume_status plume_scene_parse_settings(const plume_json_ctx *c, json_t *doc, pl
     s->camera[0] = 60.0;
     s->camera[1] = 30.0;
     snprintf(s->render_field, sizeof s->render_field, "material");
+    snprintf(s->gltf_file, sizeof s->gltf_file, "frames.glb");
     if ((st = parse_model(c, doc, s)) != PLUME_OK || (st = parse_stepping(c, doc, s)) != PLUME_OK ||
-        (st = parse_solver(c, doc, s)) != PLUME_OK || (st = parse_output(c, doc, s)) != PLUME_OK)
+        (st = parse_solver(c, doc, s)) != PLUME_OK || (st = parse_output(c, doc, s)) != PLUME_OK ||
+        (st = parse_gltf(c, doc, s)) != PLUME_OK)
         return st;
     return parse_camera(c, doc, s);
 }
@@ -183,7 +230,7 @@ const char *plume_scene_bending_name(int model)
  * scene allocated ("render" does, "dt" and "duration" are checked against other keys at load). */
 static const char *const settable[] = {"solver",        "max_halvings", "max_iter", "steps", "output_every",
                                        "bending_model", "predictor",    "globalization", "render_field",
-                                       "camera",        "verbose",      NULL};
+                                       "camera",        "gltf",         "verbose",       NULL};
 
 plume_status plume_scene_set(plume_scene *s, const char *settings, plume_err *err)
 {
@@ -205,6 +252,7 @@ plume_status plume_scene_set(plume_scene *s, const char *settings, plume_err *er
     if (st == PLUME_OK && (st = parse_model(&c, doc, &tmp)) == PLUME_OK &&
         (st = plume_json_int(&c, doc, "", "steps", 1, 1000000, &steps)) == PLUME_OK &&
         (st = parse_solver(&c, doc, &tmp)) == PLUME_OK && (st = parse_output(&c, doc, &tmp)) == PLUME_OK &&
+        (st = parse_gltf(&c, doc, &tmp)) == PLUME_OK &&
         (st = parse_camera(&c, doc, &tmp)) == PLUME_OK && (v = json_object_get(doc, "verbose"))) {
         if (!json_is_boolean(v))
             st = plume_json_bad(&c, PLUME_EFORMAT, "verbose", "must be true or false");

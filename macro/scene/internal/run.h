@@ -46,6 +46,9 @@ plume_status plume_run_output_start(plume_run *r, plume_err *err);
  * scene renders k. */
 plume_status plume_run_write_frame(plume_run *r, long k, long step, plume_err *err);
 
+/* run_gltf.c: the scene's "gltf" when a dynamic run with an output directory ends (nothing
+ * otherwise). */
+plume_status plume_run_gltf_at_end(plume_run *r, plume_err *err);
 
 /* run_static.c: a static scene's run. Its problem and load stepping (checking that the options
  * plan no dynamic run); its output (the series steps.pvd); one load step. */
