@@ -823,3 +823,53 @@ plume_status plume_flat_scene_write_frames(plume_flat_scene *s, const char *path
     }
     return finish(st, &err, msg, nmsg);
 }
+
+/* The scene a frames file names: as recorded when that file exists, else relative to the frames
+ * file's directory. */
+static void frames_scene(const char *frames, const char *recorded, char *out, size_t n)
+{
+    const char *slash = strrchr(frames, '/');
+    if (recorded[0] == '/' || access(recorded, R_OK) == 0 || !slash)
+        snprintf(out, n, "%s", recorded);
+    else
+        snprintf(out, n, "%.*s/%s", (int)(slash - frames), frames, recorded);
+}
+
+plume_status plume_flat_gltf_export(const char *frames, const char *path, const char *scene, const char *animation,
+                                    const char *field, char *msg, long nmsg)
+{
+    plume_err err = {{0}}, why = {{0}};
+    if (!frames || !*frames || !path || !*path)
+        return finish(plume_err_set(&err, PLUME_EINVAL, "gltf export: a frames file and an output file are required"),
+                      &err, msg, nmsg);
+    plume_gltf_opts o;
+    plume_gltf_opts_default(&o);
+    o.field = field && *field ? field : NULL;
+    if (animation && strcmp(animation, "frames") == 0)
+        o.animation = PLUME_GLTF_FRAMES;
+    else if (animation && strcmp(animation, "morph") != 0)
+        return finish(plume_err_set(&err, PLUME_EINVAL, "gltf export: animation must be \"morph\" or \"frames\" (got "
+                                    "\"%s\")", animation), &err, msg, nmsg);
+    plume_frames_info info;
+    char scene_path[sizeof info.scene + 4096];
+    plume_status st = PLUME_OK;
+    if (!scene) {
+        if ((st = plume_frames_info_read(frames, &info, &why)) != PLUME_OK)
+            return finish(plume_err_set(&err, st, "gltf export: %s", why.msg), &err, msg, nmsg);
+        frames_scene(frames, info.scene, scene_path, sizeof scene_path);
+        scene = scene_path;
+    }
+    plume_run_opts ro;
+    plume_run_opts_default(&ro);
+    ro.progress = 0;
+    plume_run *r = NULL;
+    if ((st = plume_run_open(scene, &ro, &r, &why)) != PLUME_OK)
+        plume_err_set(&err, st, "gltf export: the scene of '%s': %s", frames, why.msg);
+    else if ((st = plume_run_write_gltf(r, frames, path, &o, &err)) != PLUME_OK && strncmp(err.msg, "gltf", 4) != 0 &&
+             strncmp(err.msg, "glTF", 4) != 0) {
+        why = err;
+        plume_err_set(&err, st, "gltf export: %s", why.msg);
+    }
+    plume_run_destroy(&r);
+    return finish(st, &err, msg, nmsg);
+}

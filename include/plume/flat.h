@@ -132,6 +132,15 @@ PLUME_API plume_status plume_flat_scene_write_vtk(plume_flat_scene *s, const cha
  * scene's absolute path in it; later calls with the same path append. Errors name the file. */
 PLUME_API plume_status plume_flat_scene_write_frames(plume_flat_scene *s, const char *path, char *msg, long nmsg);
 
+/** Writes the frames of the frames file `frames` (apps/feather's frames.h5, or
+ * plume_flat_scene_write_frames') as a glTF 2.0 binary file `path` (scene.h, plume_run_write_gltf;
+ * docs/graphics.md). `scene` is the scene file they were made from; NULL: the one the frames file
+ * names (as recorded, else relative to the frames file's directory). `animation` "morph" (NULL:
+ * the default) or "frames"; `field` a render field written per vertex, or NULL. Errors name the
+ * file, the scene or the argument. */
+PLUME_API plume_status plume_flat_gltf_export(const char *frames, const char *path, const char *scene,
+                                              const char *animation, const char *field, char *msg, long nmsg);
+
 
 #ifdef __cplusplus
 }

@@ -253,9 +253,21 @@ done:
     return st;
 }
 
+/* The scene file by an absolute path, as a frames file records it: a reader (a restart, the glTF
+ * export, plume.read_frames) then finds it from any directory. */
+static void absolute_scene(const plume_run *r, char *out, size_t n)
+{
+    char cwd[4096];
+    if (r->scene->path[0] != '/' && getcwd(cwd, sizeof cwd))
+        snprintf(out, n, "%s/%s", cwd, r->scene->path);
+    else
+        snprintf(out, n, "%s", r->scene->path);
+}
+
 plume_status plume_run_output_start(plume_run *r, plume_err *err)
 {
     plume_status st;
+    char scene[4096 + 1024];
     if (r->output_dir) {
         if (plume_make_dirs(r->output_dir) != 0)
             return plume_err_set(err, PLUME_EIO, "output_dir '%s': cannot create the directory: %s", r->output_dir,
@@ -270,8 +282,9 @@ plume_status plume_run_output_start(plume_run *r, plume_err *err)
     if (!r->output_dir)
         return PLUME_OK;
     remove_stale_frames(r->output_dir);
+    absolute_scene(r, scene, sizeof scene);
     if ((st = plume_fields_series_start(r->fields, r->output_dir, "frames.pvd", "frame", -1.0, err)) != PLUME_OK ||
-        (st = plume_frames_create(r->frames_path, r->scene->mesh->nv, r->ncons, r->scene->dt, r->scene->path, err)) !=
+        (st = plume_frames_create(r->frames_path, r->scene->mesh->nv, r->ncons, r->scene->dt, scene, err)) !=
             PLUME_OK ||
         (st = plume_scene_materials_record(r->scene, r->frames_path, err)) != PLUME_OK)
         return st;
@@ -287,12 +300,8 @@ plume_status plume_run_write_state(plume_run *r, const char *path, int create, p
     const plume_mesh *m = r->scene->mesh;
     plume_status st;
     if (create) {
-        /* the scene by an absolute path, so that a reader finds it from any directory */
-        char cwd[4096], scene[4096 + 1024], dir[4096];
-        if (r->scene->path[0] != '/' && getcwd(cwd, sizeof cwd))
-            snprintf(scene, sizeof scene, "%s/%s", cwd, r->scene->path);
-        else
-            snprintf(scene, sizeof scene, "%s", r->scene->path);
+        char scene[4096 + 1024], dir[4096];
+        absolute_scene(r, scene, sizeof scene);
         if (strlen(path) >= sizeof dir)
             return plume_err_set(err, PLUME_EINVAL, "frames file '%.64s...': the path is longer than %d bytes", path,
                                  (int)sizeof dir - 1);

@@ -8,18 +8,19 @@
         s.step(10)
         s.write_frames("run/frames.h5")         # its state as a frame of a frames file
     run = plume.read_frames("run/frames.h5")    # a run read back: run.positions is (frames, nv, 3)
+    plume.export_gltf("run/frames.h5", "run/scene.glb")  # the run for Blender and web viewers
 
 The shared library libplume.so is found at import (PLUME_LIBRARY, the path recorded when the
 package was installed, pkg-config, the source tree, the dynamic loader: see plume._native); importing raises plume.LibraryNotFoundError (an
 ImportError) when none loads.
 """
 from ._native import LIBRARY_PATH, LibraryNotFoundError, PlumeError
-from .api import (MODULI, Curve, FitResult, HomogenizeResult, Scene, TractionResult, fit,
+from .api import (MODULI, Curve, FitResult, HomogenizeResult, Scene, TractionResult, export_gltf, fit,
                   homogenize, openmp_serial, traction, version)
 from .frames import Frames, read_frames
 
 __version__ = "2.0.0"
 
 __all__ = ["version", "openmp_serial", "homogenize", "traction", "fit", "Scene", "Curve", "HomogenizeResult",
-           "TractionResult", "FitResult", "Frames", "read_frames", "PlumeError", "LibraryNotFoundError", "LIBRARY_PATH",
+           "TractionResult", "FitResult", "Frames", "read_frames", "export_gltf", "PlumeError", "LibraryNotFoundError", "LIBRARY_PATH",
            "MODULI", "__version__"]

@@ -144,6 +144,7 @@ for _what in ("positions", "velocities", "reference"):
 _declare("plume_flat_scene_triangles", None, _c_void_p, _long_p)
 _declare("plume_flat_scene_write_vtk", _c_int, _c_void_p, _c_char_p, _msg_t, _c_long)
 _declare("plume_flat_scene_write_frames", _c_int, _c_void_p, _c_char_p, _msg_t, _c_long)
+_declare("plume_flat_gltf_export", _c_int, _c_char_p, _c_char_p, _c_char_p, _c_char_p, _c_char_p, _msg_t, _c_long)
 
 
 # --- helpers ------------------------------------------------------------------------------------

@@ -598,3 +598,29 @@ class Scene:
         a = np.empty((int(_native.lib.plume_flat_scene_nt(h)), 3), dtype=np.dtype(ctypes.c_long))
         _native.lib.plume_flat_scene_triangles(h, a.ctypes.data_as(ctypes.POINTER(ctypes.c_long)))
         return a.astype(np.int64, copy=False)
+
+
+# --- graphics -------------------------------------------------------------------------------------
+
+def export_gltf(frames, path, scene=None, animation="morph", field=None):
+    """Writes the frames of a frames file (frames.h5 of apps/feather, or Scene.write_frames) as a
+    glTF 2.0 binary file `path` (.glb) for Blender, web viewers and game engines: a node per scene
+    object named as in the scene, a primitive per material, vertex normals, metres, y up, the
+    frames as an animation at their times (docs/graphics.md).
+
+    `scene`: the scene file the frames were made from (None: the one the frames file names).
+    `animation`: "morph" (morph targets of one mesh per object) or "frames" (a mesh per frame
+    shown in turn). `field`: a render field (e.g. "mean_curvature", "strain_bb") written per
+    vertex as the attribute "_" + its name in upper case, or None.
+
+    Errors: plume.PlumeError naming the file, the scene or the argument."""
+    frames = _path("frames", frames)
+    path = _path("path", path)
+    if animation not in ("morph", "frames"):
+        raise ValueError("animation must be 'morph' or 'frames' (got %r)" % (animation,))
+    enc = lambda x: None if x is None else os.fsencode(x)
+    msg = _native.new_msg()
+    _native.check(_native.lib.plume_flat_gltf_export(enc(frames), enc(path),
+                                                     enc(None if scene is None else _path("scene", scene)),
+                                                     animation.encode(), None if field is None else
+                                                     _string("field", field).encode(), msg, _native.MSG_SIZE), msg)
