@@ -201,15 +201,6 @@ plume_status plume_run_write_gltf(plume_run *r, const char *frames_path, const c
         st = plume_err_set(err, PLUME_ENOMEM, "glTF: out of memory");
         goto done;
     }
-    for (int k = 0; k <= s->nmat; k++) {
-        if (k < s->nmat && s->mats[k].name[0])
-            snprintf(mat_names[k], sizeof mat_names[k], "%s", s->mats[k].name);
-        else
-            snprintf(mat_names[k], sizeof mat_names[k], k < s->nmat ? "material_%d" : "kinematic", k);
-        const float *rgb = k < s->nmat ? material_rgb[k % NCOLOURS] : body_rgb;
-        mats[k] = (plume_gltf_material){mat_names[k], {rgb[0], rgb[1], rgb[2], 1.0f}, k < s->nmat ? 0.6f : 0.8f,
-                                        k < s->nmat};
-    }
     plume_index maxnv = 0;
     for (int i = 0; i < nobj; i++) {
         int np = object_primitives(s, &obj[i], &prims[i], &tris[i]);
@@ -221,10 +212,36 @@ plume_status plume_run_write_gltf(plume_run *r, const char *frames_path, const c
             st = plume_err_set(err, PLUME_ENOMEM, "glTF: out of memory");
             goto done;
         }
-        snprintf(extras[i], 96, "{\"plume_object\": %d, \"kinematic\": %s}", i, obj[i].kinematic ? "true" : "false");
+        snprintf(extras[i], 96, "{\"plume_object\": %d, \"kinematic\": %s, \"first_vertex\": %ld}", i,
+                 obj[i].kinematic ? "true" : "false", (long)obj[i].v0);
         gm[i] = (plume_gltf_mesh){obj[i].name, (uint32_t)obj[i].nv, np, prims[i], x, f, extras[i]};
         maxnv = obj[i].nv > maxnv ? obj[i].nv : maxnv;
     }
+    /* the materials the primitives use, in the scene's order (kinematic bodies last), numbered anew */
+    int nused = 0, *index = calloc((size_t)s->nmat + 1, sizeof *index);
+    if (!index) {
+        st = plume_err_set(err, PLUME_ENOMEM, "glTF: out of memory");
+        goto done;
+    }
+    for (int i = 0; i < nobj; i++)
+        for (int p = 0; p < gm[i].nprim; p++)
+            index[prims[i][p].material] = 1;
+    for (int k = 0; k <= s->nmat; k++) {
+        if (!index[k])
+            continue;
+        if (k < s->nmat && s->mats[k].name[0])
+            snprintf(mat_names[nused], sizeof mat_names[nused], "%s", s->mats[k].name);
+        else
+            snprintf(mat_names[nused], sizeof mat_names[nused], k < s->nmat ? "material_%d" : "kinematic", k);
+        const float *rgb = k < s->nmat ? material_rgb[k % NCOLOURS] : body_rgb;
+        mats[nused] = (plume_gltf_material){mat_names[nused], {rgb[0], rgb[1], rgb[2], 1.0f}, k < s->nmat ? 0.6f : 0.8f,
+                                            k < s->nmat};
+        index[k] = nused++;
+    }
+    for (int i = 0; i < nobj; i++)
+        for (int p = 0; p < gm[i].nprim; p++)
+            prims[i][p].material = index[prims[i][p].material];
+    free(index);
     if (o.field) {
         tv = malloc(((size_t)m->nt + 1) * sizeof *tv);
         wsum = malloc((2 * (size_t)maxnv + 1) * sizeof *wsum);
@@ -258,7 +275,7 @@ plume_status plume_run_write_gltf(plume_run *r, const char *frames_path, const c
         st = plume_err_set(err, PLUME_ENOMEM, "glTF: out of memory");
         goto done;
     }
-    plume_gltf_doc d = {.nmesh = nobj, .meshes = gm, .nmat = s->nmat + 1, .mats = mats, .nframes = (int)nf,
+    plume_gltf_doc d = {.nmesh = nobj, .meshes = gm, .nmat = nused, .mats = mats, .nframes = (int)nf,
                         .times = times, .animation = o.animation, .field_name = o.field, .scene_name = r->stem,
                         .extras = scene_x};
     st = plume_gltf_write(path, &d, err);
