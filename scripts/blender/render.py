@@ -1,8 +1,9 @@
 """Render a plume run (.glb from `apps/feather --gltf`) with Blender's Cycles on the CPU.
 
-Usage (headless, Blender 3.4, e.g. Debian's `blender` package):
+Usage (headless, Blender 3.4, e.g. Debian's `blender` package; scripts/blender/blender.sh runs
+`blender -b --factory-startup` with the system's Python first on PATH):
 
-    blender -b --factory-startup --python scripts/blender/render.py -- RUN.glb \
+    scripts/blender/blender.sh --python scripts/blender/render.py -- RUN.glb \
         [--out PATH] [--frame K|A-B|all] [--size WxH] [--samples N] [--seed S] \
         [--camera ROT_X,ROT_Z]
 
@@ -139,13 +140,15 @@ def output_paths(out, glb, frames):
 
 
 def frames_per_second(times):
-    """The smallest integer fps that puts every frame time on a whole Blender frame."""
+    """The smallest integer fps up to MAX_FPS that puts every frame time on a whole Blender frame
+    (keys then sit on frames, as a user scrubbing the timeline expects); 1000 when there is none
+    (adaptive or shortened steps): go_to then reaches a frame through a subframe."""
     t = numpy.asarray(times)
     for fps in range(1, MAX_FPS + 1):
         f = t * fps
-        if numpy.abs(f - numpy.round(f)).max() < 1e-3 and len(set(numpy.round(f))) == len(t):
+        if numpy.abs(f - numpy.round(f)).max() < 1e-6 * fps and len(set(numpy.round(f))) == len(t):
             return fps
-    fail("the frame times do not fall on whole frames at any fps Blender accepts")
+    return 1000
 
 
 def import_glb(path, fps):
@@ -265,9 +268,9 @@ def assign_materials(objects, plume):
         o.color = (*TINTS[(index * 7) % len(TINTS)], 1.0)
 
 
-def frame_coords(objects, depsgraph):
-    """World coordinates of every vertex of the evaluated (deformed) objects."""
-    chunks = []
+def box_corners(objects, depsgraph):
+    """The 8 corners of each evaluated (deformed) object's world bounding box, as an (n, 3) array."""
+    corners = []
     for o in objects:
         ev = o.evaluated_get(depsgraph)
         mesh = ev.to_mesh()
@@ -275,8 +278,10 @@ def frame_coords(objects, depsgraph):
         mesh.vertices.foreach_get("co", co)
         ev.to_mesh_clear()
         m = numpy.array(ev.matrix_world)
-        chunks.append(co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3])
-    return numpy.concatenate(chunks)
+        co = co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
+        lo, hi = co.min(0), co.max(0)
+        corners += [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+    return numpy.array(corners)
 
 
 def check_morph_weights(objects, k):
@@ -293,24 +298,19 @@ def check_morph_weights(objects, k):
 
 
 def go_to(scene, times, fps, k):
-    """Show plume frame k."""
-    scene.frame_set(round(times[k] * fps))
+    """Show plume frame k (at its time exactly: a subframe when it falls between frames)."""
+    f = times[k] * fps
+    whole = math.floor(f + 1e-6)
+    scene.frame_set(whole, subframe=max(0.0, f - whole))
 
 
-def bounds(scene, objects, times, fps, frames):
-    """Vertices spanning the objects over the frames: the corners of their bounding box."""
-    lo, hi = numpy.full(3, numpy.inf), numpy.full(3, -numpy.inf)
+def frame_corners(scene, objects, times, fps, frames):
+    """The objects' bounding box corners over the frames."""
+    corners = []
     for k in frames:
         go_to(scene, times, fps, k)
-        co = frame_coords(objects, bpy.context.evaluated_depsgraph_get())
-        lo, hi = numpy.minimum(lo, co.min(0)), numpy.maximum(hi, co.max(0))
-    return lo, hi
-
-
-def camera_direction(rot_x, rot_z):
-    """Unit vector from the objects to the eye of gnuplot's `set view rot_x, rot_z`."""
-    rx, rz = math.radians(rot_x), math.radians(rot_z)
-    return Vector((math.sin(rx) * math.sin(rz), -math.sin(rx) * math.cos(rz), math.cos(rx)))
+        corners.append(box_corners(objects, bpy.context.evaluated_depsgraph_get()))
+    return numpy.concatenate(corners)
 
 
 def add_camera(scene, rot_x, rot_z, coords):
@@ -322,7 +322,7 @@ def add_camera(scene, rot_x, rot_z, coords):
     scene.collection.objects.link(cam)
     scene.camera = cam
     cam.rotation_euler = Euler((math.radians(rot_x), 0.0, math.radians(rot_z)), "XYZ")
-    centre = coords.mean(0)
+    centre = (coords.min(0) + coords.max(0)) / 2
     grown = centre + (coords - centre) * (1.0 + 2.0 * MARGIN)
     location, _ = cam.camera_fit_coords(bpy.context.evaluated_depsgraph_get(), grown.ravel().tolist())
     cam.location = location
@@ -347,9 +347,9 @@ def add_sun(scene, name, energy, elevation, azimuth, angle, color=(1.0, 1.0, 1.0
 def add_lights(scene, rot_z):
     """Key from the upper left of the camera, a fill from the right, a rim from behind."""
     view = rot_z  # azimuth of the camera, in the same convention as the suns'
-    add_sun(scene, "key", 3.2, 55.0, view - 45.0, 8.0, (1.0, 0.97, 0.92))
-    add_sun(scene, "fill", 0.9, 20.0, view + 70.0, 20.0, (0.90, 0.95, 1.0))
-    add_sun(scene, "rim", 2.2, 30.0, view + 165.0, 5.0)
+    add_sun(scene, "key", 2.2, 55.0, view - 45.0, 8.0, (1.0, 0.97, 0.92))
+    add_sun(scene, "fill", 0.6, 20.0, view + 70.0, 20.0, (0.90, 0.95, 1.0))
+    add_sun(scene, "rim", 1.6, 30.0, view + 165.0, 5.0)
 
 
 def add_ground(scene, lo, hi):
@@ -373,7 +373,7 @@ def add_world(scene):
     out = nodes.new("ShaderNodeOutputWorld")
     sky = nodes.new("ShaderNodeBackground")
     sky.inputs["Color"].default_value = (0.80, 0.82, 0.85, 1.0)
-    sky.inputs["Strength"].default_value = 0.35
+    sky.inputs["Strength"].default_value = 0.3
     coord = nodes.new("ShaderNodeTexCoord")
     split = nodes.new("ShaderNodeSeparateXYZ")
     ramp = nodes.new("ShaderNodeValToRGB")
@@ -401,7 +401,8 @@ def setup_cycles(scene, size, samples, seed):
     c.use_adaptive_sampling = True
     c.sample_clamp_indirect = 2.0
     c.blur_glossy = 1.0
-    c.max_bounces, c.transparent_max_bounces = 8, 8
+    c.max_bounces, c.diffuse_bounces, c.glossy_bounces, c.transmission_bounces = 6, 3, 2, 6
+    c.adaptive_threshold = 0.02
     import _cycles  # Blender's Cycles module: which denoisers this build has
     c.use_denoising = bool(getattr(_cycles, "with_openimagedenoise", False))
     if c.use_denoising:
@@ -440,12 +441,11 @@ def main():
     scene = bpy.context.scene
     smooth_shading(objects)
     assign_materials(objects, plume)
-    lo, hi = bounds(scene, objects, times, fps, frames)
-    corners = numpy.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+    corners = frame_corners(scene, objects, times, fps, frames)
     add_camera(scene, rot_x, rot_z, corners)
     add_lights(scene, rot_z)
     add_world(scene)
-    add_ground(scene, lo, hi)
+    add_ground(scene, corners.min(0), corners.max(0))
     setup_cycles(scene, args.size, args.samples, args.seed)
     for k, path in zip(frames, paths):
         go_to(scene, times, fps, k)

@@ -1,6 +1,6 @@
 """Blender's side of the glTF tests (tests/python/test_gltf.py runs it headless):
 
-    blender -b --factory-startup --python tests/graphics/blender_check.py -- FILE.glb FRAMES.h5 [RENDER.png]
+    scripts/blender/blender.sh --python tests/graphics/blender_check.py -- FILE.glb FRAMES.h5 [RENDER.png]
 
 imports FILE.glb with Blender's own glTF importer, goes to the last frame of the animation, and
 compares every mesh object's evaluated vertices (shape keys applied, world space, Blender's z up)

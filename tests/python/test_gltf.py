@@ -25,6 +25,7 @@ BIRD = os.path.join(ROOT, "data", "bird", "bird.json")
 VALIDATE = os.path.join(ROOT, "scripts", "gltf-validate.cjs")
 RENDER = os.path.join(ROOT, "scripts", "blender", "render.py")
 CHECK = os.path.join(ROOT, "tests", "graphics", "blender_check.py")
+BLENDER = os.path.join(ROOT, "scripts", "blender", "blender.sh")  # Blender with the system's Python
 REQUIRED = os.environ.get("PLUME_REQUIRE_GRAPHICS") == "1"
 
 
@@ -159,15 +160,14 @@ class TestBlender(unittest.TestCase):
     last frame within 1e-6 of the scene's size of frames.h5's, and renders it, not blank."""
 
     def test_wing_in_blender(self):
-        blender = shutil.which("blender")
-        if not blender:
+        if not shutil.which("blender"):
             missing(self, "Blender")
         glb, frames, out = Runs.get("wing")
         png = os.path.join(out, "render.png")
-        r = subprocess.run([blender, "-b", "--factory-startup", "--python", RENDER, "--", glb, "--out", png,
+        r = subprocess.run([BLENDER, "--python", RENDER, "--", glb, "--out", png,
                             "--size", "160x120", "--samples", "4"], capture_output=True, text=True)
         self.assertEqual(r.returncode, 0, r.stdout[-2000:] + r.stderr[-2000:])
-        r = subprocess.run([blender, "-b", "--factory-startup", "--python", CHECK, "--", glb, frames, png],
+        r = subprocess.run([BLENDER, "--python", CHECK, "--", glb, frames, png],
                            capture_output=True, text=True)
         lines = [l for l in r.stdout.splitlines() if l.startswith("blender_check: ")]
         self.assertTrue(lines, r.stdout[-2000:] + r.stderr[-2000:])
