@@ -1,7 +1,8 @@
 """A dynamic scene stepped to its end, its frames written and read back: the strip of
 data/shell/strip_scene.json, clamped at one end, sagging and swinging under gravity. Every
 "output_every" steps the state becomes a frame of out_dir/frames.h5 (the file apps/feather
-writes), which plume.read_frames reads back into numpy arrays.
+writes), which plume.read_frames reads back into numpy arrays, and plume.export_gltf writes as
+out_dir/strip.glb for Blender and web viewers (docs/graphics.md).
 
     python3 scene_frames.py [out_dir]
 
@@ -51,7 +52,14 @@ for k in range(0, len(run), max(1, len(run) // 5)):
     print("  t = %5.2f s: lowest point z = %8.5f m, largest barb multiplier %.4g N/m"
           % (run.times[k], tip[k], np.abs(run.multipliers[k]).max()))
 
-ok = (len(run) == nsteps // every + 1 + (1 if nsteps % every else 0)
+# the run for graphics tools: a glTF 2.0 binary file, the frames as morph targets
+glb = os.path.join(out, "strip.glb")
+plume.export_gltf(frames_path, glb)
+with open(glb, "rb") as f:
+    magic = f.read(4)
+print("%s: %d bytes" % (os.path.basename(glb), os.path.getsize(glb)))
+
+ok = (magic == b"glTF" and len(run) == nsteps // every + 1 + (1 if nsteps % every else 0)
       and np.array_equal(run.positions[-1], last_positions)
       and np.array_equal(run.triangles, triangles)
       and np.all(np.diff(run.times) > 0) and run.steps[-1] == nsteps
