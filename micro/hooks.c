@@ -1,0 +1,339 @@
+/* plume (micro): barbule hooks (micro/hooks.h): zero-length springs per vertex pair, grouped into
+ * hooks that slide, let go and catch again between solves. */
+#include "hooks.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The default law. strength: a single hooklet releases at about 14 uN (Kovalev, Filippov & Gorb,
+ * "Unzipping bird feathers", J. R. Soc. Interface 11, 20130988, 2014). No source gives the
+ * opening, the slide or the capture distance: the opening and the capture are assumed at the
+ * hooklet's scale (a few micrometres) and the slide is off. */
+void plume_hook_law_default(plume_hook_law *l)
+{
+    if (!l)
+        return;
+    l->strength = 1.4e-5;
+    l->opening = 2e-6;
+    l->slide = 0.0;
+    l->capture = 5e-6;
+}
+
+plume_status plume_hook_law_check(const plume_hook_law *l, plume_err *err)
+{
+    if (!l)
+        return plume_err_set(err, PLUME_EINVAL, "hook law: none given");
+    if (!(isfinite(l->strength) && l->strength > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "hook law: strength must be finite and > 0 N (got %g)", l->strength);
+    if (!(isfinite(l->opening) && l->opening > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "hook law: opening must be finite and > 0 m (got %g)", l->opening);
+    if (!(isfinite(l->slide) && l->slide >= 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "hook law: slide must be finite and >= 0 m (got %g)", l->slide);
+    if (!(isfinite(l->capture) && l->capture >= 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "hook law: capture must be finite and >= 0 m (got %g)", l->capture);
+    return PLUME_OK;
+}
+
+struct plume_hooks {
+    plume_hook_law law;
+    plume_index nv;
+    int nhooks;
+    plume_index npairs;
+    plume_index *first;   /* [nhooks + 1] */
+    plume_index *pairs;   /* [2 npairs]: a, b; the term's stencils */
+    int *hook_of;         /* [npairs] */
+    double *offset;       /* [3 npairs] rest offsets o_p (the first dim entries used) */
+    unsigned char *engaged; /* [nhooks] */
+    double *slid;         /* [nhooks] slide so far (m) */
+    long released, reengaged;
+    double dropped;
+};
+
+void plume_hooks_destroy(plume_hooks **ph)
+{
+    if (!ph || !*ph)
+        return;
+    plume_hooks *h = *ph;
+    free(h->first);
+    free(h->pairs);
+    free(h->hook_of);
+    free(h->offset);
+    free(h->engaged);
+    free(h->slid);
+    free(h);
+    *ph = NULL;
+}
+
+plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *first, const plume_index *pairs,
+                                const plume_hook_law *law, plume_hooks **out, plume_err *err)
+{
+    if (!out)
+        return plume_err_set(err, PLUME_EINVAL, "hooks: no output pointer");
+    *out = NULL;
+    plume_status st = plume_hook_law_check(law, err);
+    if (st != PLUME_OK)
+        return st;
+    if (nv < 2 || nhooks < 1 || !first || !pairs || first[0] != 0)
+        return plume_err_set(err, PLUME_EINVAL, "hooks: %d hooks over %ld vertices: need hooks, pairs and first[0] = 0",
+                             nhooks, (long)nv);
+    for (int k = 0; k < nhooks; k++)
+        if (first[k + 1] <= first[k])
+            return plume_err_set(err, PLUME_EINVAL, "hooks: hook %d has no pairs", k);
+    const plume_index np = first[nhooks];
+    for (plume_index p = 0; p < np; p++) {
+        const plume_index a = pairs[2 * p], b = pairs[2 * p + 1];
+        if (a < 0 || b < 0 || a >= nv || b >= nv || a == b)
+            return plume_err_set(err, PLUME_EINVAL, "hooks: pair %ld joins vertices %ld and %ld (of %ld): two distinct "
+                                 "vertices needed", (long)p, (long)a, (long)b, (long)nv);
+    }
+    plume_hooks *h = calloc(1, sizeof *h);
+    if (!h)
+        return plume_err_set(err, PLUME_ENOMEM, "hooks: out of memory");
+    h->law = *law, h->nv = nv, h->nhooks = nhooks, h->npairs = np;
+    h->first = malloc((size_t)(nhooks + 1) * sizeof *h->first);
+    h->pairs = malloc(2 * (size_t)np * sizeof *h->pairs);
+    h->hook_of = malloc((size_t)np * sizeof *h->hook_of);
+    h->offset = calloc(3 * (size_t)np, sizeof *h->offset);
+    h->engaged = malloc((size_t)nhooks);
+    h->slid = calloc((size_t)nhooks, sizeof *h->slid);
+    if (!h->first || !h->pairs || !h->hook_of || !h->offset || !h->engaged || !h->slid) {
+        plume_hooks_destroy(&h);
+        return plume_err_set(err, PLUME_ENOMEM, "hooks: out of memory");
+    }
+    memcpy(h->first, first, (size_t)(nhooks + 1) * sizeof *first);
+    memcpy(h->pairs, pairs, 2 * (size_t)np * sizeof *pairs);
+    memset(h->engaged, 1, (size_t)nhooks);
+    for (int k = 0; k < nhooks; k++)
+        for (plume_index p = first[k]; p < first[k + 1]; p++)
+            h->hook_of[p] = k;
+    *out = h;
+    return PLUME_OK;
+}
+
+/* the stiffness of one pair of hook k */
+static double pair_stiffness(const plume_hooks *h, int k)
+{
+    return h->law.strength / h->law.opening / (double)(h->first[k + 1] - h->first[k]);
+}
+
+/* d = x_a - x_b - o_p of pair p */
+static void pair_stretch(const plume_hooks *h, int dim, const double *x, plume_index p, double *d)
+{
+    const plume_index a = h->pairs[2 * p], b = h->pairs[2 * p + 1];
+    for (int c = 0; c < dim; c++)
+        d[c] = x[dim * a + c] - x[dim * b + c] - h->offset[3 * p + c];
+}
+
+static double pair_energy(const plume_hooks *h, int dim, const double *x, plume_index p)
+{
+    const int k = h->hook_of[p];
+    if (!h->engaged[k])
+        return 0.0;
+    double d[3];
+    pair_stretch(h, dim, x, p, d);
+    double s = 0.0;
+    for (int c = 0; c < dim; c++)
+        s += d[c] * d[c];
+    return 0.5 * pair_stiffness(h, k) * s;
+}
+
+static plume_status hooks_eval(void *ctx, int dim, const double *x, double *energy, double *grad, double *hblocks,
+                               int project)
+{
+    (void)project; /* each block is k [I -I; -I I]: positive semidefinite already */
+    const plume_hooks *h = ctx;
+    const int kb = 2 * dim;
+    for (plume_index p = 0; p < h->npairs; p++) {
+        const int k = h->hook_of[p];
+        const double kp = h->engaged[k] ? pair_stiffness(h, k) : 0.0;
+        double d[3];
+        pair_stretch(h, dim, x, p, d);
+        if (energy) {
+            double s = 0.0;
+            for (int c = 0; c < dim; c++)
+                s += d[c] * d[c];
+            *energy += 0.5 * kp * s;
+        }
+        if (grad) {
+            const plume_index a = h->pairs[2 * p], b = h->pairs[2 * p + 1];
+            for (int c = 0; c < dim; c++)
+                grad[dim * a + c] += kp * d[c], grad[dim * b + c] -= kp * d[c];
+        }
+        if (hblocks) {
+            double *B = hblocks + (size_t)p * (size_t)(kb * kb);
+            memset(B, 0, sizeof(double) * (size_t)(kb * kb));
+            for (int c = 0; c < dim; c++) {
+                B[c * kb + c] = B[(dim + c) * kb + dim + c] = kp;
+                B[c * kb + dim + c] = B[(dim + c) * kb + c] = -kp;
+            }
+        }
+    }
+    return PLUME_OK;
+}
+
+static plume_status hooks_energies(void *ctx, int dim, const double *x, double *e)
+{
+    const plume_hooks *h = ctx;
+    for (plume_index p = 0; p < h->npairs; p++)
+        e[p] = pair_energy(h, dim, x, p);
+    return PLUME_OK;
+}
+
+void plume_hooks_term(plume_hooks *h, plume_term *t)
+{
+    memset(t, 0, sizeof *t);
+    t->size = sizeof *t;
+    t->name = "hooks";
+    t->arity = 2;
+    t->nstencil = h ? h->npairs : 0;
+    t->stencil = h ? h->pairs : NULL;
+    t->eval = hooks_eval;
+    t->energies = hooks_energies;
+    t->ctx = h;
+}
+
+int plume_hooks_count(const plume_hooks *h)
+{
+    return h ? h->nhooks : 0;
+}
+
+int plume_hooks_engaged(const plume_hooks *h, int k)
+{
+    return h && k >= 0 && k < h->nhooks ? h->engaged[k] : 0;
+}
+
+void plume_hooks_force(const plume_hooks *h, int dim, const double *x, int k, double *f)
+{
+    for (int c = 0; c < dim; c++)
+        f[c] = 0.0;
+    if (!h || k < 0 || k >= h->nhooks || !h->engaged[k])
+        return;
+    const double kp = pair_stiffness(h, k);
+    for (plume_index p = h->first[k]; p < h->first[k + 1]; p++) {
+        double d[3];
+        pair_stretch(h, dim, x, p, d);
+        for (int c = 0; c < dim; c++)
+            f[c] += kp * d[c];
+    }
+}
+
+static double norm(const double *v, int dim)
+{
+    double s = 0.0;
+    for (int c = 0; c < dim; c++)
+        s += v[c] * v[c];
+    return sqrt(s);
+}
+
+double plume_hooks_max_load(const plume_hooks *h, int dim, const double *x, int *which)
+{
+    double worst = 0.0;
+    int at = -1;
+    for (int k = 0; h && k < h->nhooks; k++) {
+        if (!h->engaged[k])
+            continue;
+        double f[3];
+        plume_hooks_force(h, dim, x, k, f);
+        const double r = norm(f, dim) / h->law.strength;
+        if (at < 0 || r > worst)
+            worst = r, at = k;
+    }
+    if (which)
+        *which = at;
+    return worst;
+}
+
+/* hook k's energy at x */
+static double hook_energy(const plume_hooks *h, int dim, const double *x, int k)
+{
+    double e = 0.0;
+    for (plume_index p = h->first[k]; p < h->first[k + 1]; p++)
+        e += pair_energy(h, dim, x, p);
+    return e;
+}
+
+/* An overloaded engaged hook k (|f| > strength): it slides while its slide allows, else lets go. */
+static void overload(plume_hooks *h, int dim, const double *x, int k, const double *f, plume_hooks_events *ev)
+{
+    const double F = norm(f, dim), kh = h->law.strength / h->law.opening;
+    const double move = (F - h->law.strength) / kh; /* the return map: |F| back to the strength */
+    const double before = hook_energy(h, dim, x, k);
+    if (h->law.slide > 0.0 && h->slid[k] + move <= h->law.slide) {
+        for (plume_index p = h->first[k]; p < h->first[k + 1]; p++)
+            for (int c = 0; c < dim; c++)
+                h->offset[3 * p + c] += move * f[c] / F;
+        h->slid[k] += move;
+        ev->slid++;
+    } else {
+        h->engaged[k] = 0;
+        ev->released++;
+    }
+    ev->energy_drop += before - hook_energy(h, dim, x, k);
+}
+
+/* A released hook k catches again when the mean distance of its pairs is within the capture. */
+static void catch_again(plume_hooks *h, int dim, const double *x, int k, plume_hooks_events *ev)
+{
+    double mean = 0.0;
+    for (plume_index p = h->first[k]; p < h->first[k + 1]; p++) {
+        const plume_index a = h->pairs[2 * p], b = h->pairs[2 * p + 1];
+        double d[3];
+        for (int c = 0; c < dim; c++)
+            d[c] = x[dim * a + c] - x[dim * b + c];
+        mean += norm(d, dim);
+    }
+    mean /= (double)(h->first[k + 1] - h->first[k]);
+    if (!(h->law.capture > 0.0 && mean <= h->law.capture))
+        return;
+    for (plume_index p = h->first[k]; p < h->first[k + 1]; p++) { /* offsets at the gaps: zero force */
+        const plume_index a = h->pairs[2 * p], b = h->pairs[2 * p + 1];
+        for (int c = 0; c < dim; c++)
+            h->offset[3 * p + c] = x[dim * a + c] - x[dim * b + c];
+    }
+    h->engaged[k] = 1;
+    h->slid[k] = 0.0;
+    ev->reengaged++;
+}
+
+plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_hooks_mode mode,
+                                plume_hooks_events *ev, plume_err *err)
+{
+    if (!h || !x || dim < 1 || dim > 3)
+        return plume_err_set(err, PLUME_EINVAL, "hooks commit: hooks, positions and a dimension 1-3 are required");
+    if (mode != PLUME_HOOKS_ALL && mode != PLUME_HOOKS_ONE)
+        return plume_err_set(err, PLUME_EINVAL, "hooks commit: unknown mode %d", (int)mode);
+    plume_hooks_events e = {0};
+    int most = -1;
+    if (mode == PLUME_HOOKS_ONE)
+        plume_hooks_max_load(h, dim, x, &most);
+    unsigned char *was = malloc((size_t)h->nhooks);
+    if (!was)
+        return plume_err_set(err, PLUME_ENOMEM, "hooks commit: out of memory");
+    memcpy(was, h->engaged, (size_t)h->nhooks); /* a hook released here does not catch in the same commit */
+    for (int k = 0; k < h->nhooks; k++) {
+        if (!was[k]) {
+            catch_again(h, dim, x, k, &e);
+            continue;
+        }
+        double f[3];
+        plume_hooks_force(h, dim, x, k, f);
+        if (norm(f, dim) > h->law.strength && (mode == PLUME_HOOKS_ALL || k == most))
+            overload(h, dim, x, k, f, &e);
+    }
+    free(was);
+    h->released += e.released, h->reengaged += e.reengaged, h->dropped += e.energy_drop;
+    if (ev)
+        *ev = e;
+    return PLUME_OK;
+}
+
+void plume_hooks_totals(const plume_hooks *h, long *released, long *reengaged, double *dropped)
+{
+    if (released)
+        *released = h ? h->released : 0;
+    if (reengaged)
+        *reengaged = h ? h->reengaged : 0;
+    if (dropped)
+        *dropped = h ? h->dropped : 0.0;
+}

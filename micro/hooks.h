@@ -1,0 +1,93 @@
+/** \file
+ * plume (micro): barbule hooks, the joins between a barbule's distal end and the next barb that
+ * can let go and catch again (docs/design.md; the vane-unzipping work).
+ *
+ * A hook holds a set of vertex pairs (a on the barbule's tip, b on the barb), each a zero-length
+ * spring with its own rest offset o_p: E = sum_p k_p / 2 |x_a - x_b - o_p|^2, the hook's stiffness
+ * k = strength / opening shared equally by its pairs. Its force is F = sum_p k_p (x_a - x_b - o_p).
+ *
+ * The law is not smooth (a hook lets go at |F| = strength) and depends on the path, so the hooks
+ * change state only between solves, at an equilibrium (plume_hooks_commit), never inside a Newton
+ * iteration: there the term is a plain quadratic, exact and positive semidefinite.
+ *  - Engaged, |F| > strength: the hook slides (its pairs' offsets move together by the return
+ *    map that brings |F| back to the strength) while its slide so far stays within `slide`;
+ *    otherwise it is released.
+ *  - Released: no energy. It catches again when the mean distance of its pairs is within
+ *    `capture`, with its offsets set to the current gaps: it starts at zero force and the
+ *    commit creates no energy.
+ * A commit reports the energy the hooks lose at the same positions (released springs, slides):
+ * the dissipated part of an energy balance. */
+#ifndef PLUME_MICRO_HOOKS_H
+#define PLUME_MICRO_HOOKS_H
+
+#include "../lib/core/export.h"
+#include "../lib/core/status.h"
+#include "../lib/core/term.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** The law of one hook (SI units). */
+typedef struct {
+    double strength; /**< N, > 0: the force at which an engaged hook slides or lets go */
+    double opening;  /**< m, > 0: its elastic opening at that force (stiffness strength / opening) */
+    double slide;    /**< m, >= 0: the slide it allows before it lets go (0: none) */
+    double capture;  /**< m, >= 0: a released hook catches again within this mean gap (0: never) */
+} plume_hook_law;
+
+/** The default law (plume_hook_law_default; the sources are in docs and data/). */
+void plume_hook_law_default(plume_hook_law *l);
+/** PLUME_EINVAL naming the first bad field and its value. */
+plume_status plume_hook_law_check(const plume_hook_law *l, plume_err *err);
+
+/** Which overloaded hooks a commit changes. */
+typedef enum {
+    PLUME_HOOKS_ALL = 0,  /**< every hook at or beyond its strength */
+    PLUME_HOOKS_ONE = 1   /**< only the most loaded (a cascade then needs a solve per hook) */
+} plume_hooks_mode;
+
+typedef struct plume_hooks plume_hooks;
+
+/** nhooks hooks, hook h holding pairs first[h] .. first[h+1] - 1 of pairs (2 vertex ids each: a
+ * then b), all with the law `law`, engaged with offsets zero. Arrays are copied. Errors: a bad law,
+ * a hook without pairs, a pair whose vertices are equal or outside [0, nv) (PLUME_EINVAL, naming
+ * the hook and pair); PLUME_ENOMEM. */
+plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *first, const plume_index *pairs,
+                                const plume_hook_law *law, plume_hooks **out, plume_err *err);
+void plume_hooks_destroy(plume_hooks **h);
+
+/** The energy term of the hooks (name "hooks", arity 2, a stencil per pair; released pairs add
+ * nothing). The term borrows h, which must outlive it; its destroy does nothing. */
+void plume_hooks_term(plume_hooks *h, plume_term *t);
+
+/** Hooks, and pairs. */
+int plume_hooks_count(const plume_hooks *h);
+/** 1 engaged, 0 released. */
+int plume_hooks_engaged(const plume_hooks *h, int k);
+/** The force of hook k at positions x (dim per vertex) into f[dim]; 0 when released. */
+void plume_hooks_force(const plume_hooks *h, int dim, const double *x, int k, double *f);
+/** The largest |F| / strength over the engaged hooks at x, and which hook (-1 when none is
+ * engaged): a caller cuts its load step when this is well above 1 before committing. */
+double plume_hooks_max_load(const plume_hooks *h, int dim, const double *x, int *which);
+
+/** What a commit did. */
+typedef struct {
+    int released;        /**< hooks let go */
+    int reengaged;       /**< hooks caught again */
+    int slid;            /**< hooks that slid */
+    double energy_drop;  /**< J: the hooks' energy at x before the commit minus after (>= 0) */
+} plume_hooks_events;
+
+/** Updates the hooks' states at the equilibrium x (above) and adds the counts to the totals.
+ * `ev` (may be NULL) gets this commit's events. */
+plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_hooks_mode mode,
+                                plume_hooks_events *ev, plume_err *err);
+
+/** Totals since creation: releases, re-engagements, and the energy dropped by commits (J). */
+void plume_hooks_totals(const plume_hooks *h, long *released, long *reengaged, double *dropped);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

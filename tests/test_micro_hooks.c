@@ -1,0 +1,164 @@
+/* Barbule hooks (micro/hooks.h): the term's gradient and Hessian against finite differences,
+ * engaged and released; one hook pulled past its strength lets go with its spring energy
+ * dissipated; a hook with slide slides back to its strength, then lets go; a released hook
+ * catches again within its capture distance at zero force; bad laws and pairs named. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "harness.h"
+#include "term_fd.h"
+#include "../micro/hooks.h"
+
+/* Two hooks over 6 vertices: hook 0 with pairs (0, 3) and (1, 4), hook 1 with (2, 5). */
+static const plume_index first2[3] = {0, 2, 3}, pairs2[6] = {0, 3, 1, 4, 2, 5};
+
+void test_micro_hooks_fd(void)
+{
+    plume_hook_law law;
+    plume_hook_law_default(&law);
+    plume_hooks *h = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_hooks_create(6, 2, first2, pairs2, &law, &h, &err) == PLUME_OK);
+    plume_term t;
+    plume_hooks_term(h, &t);
+    CHECK(t.arity == 2 && t.nstencil == 3 && strcmp(t.name, "hooks") == 0);
+    double x[18];
+    for (int i = 0; i < 18; i++) /* micrometre gaps, as in a barbule specimen */
+        x[i] = 1e-6 * sin(1.7 * i + 0.3);
+    term_fd_check(&t, 6, x, 1e-9, 1e-6, "hooks, both engaged");
+    /* release hook 1 by pulling it far: its pair adds nothing, hook 0 is unchanged */
+    double y[18];
+    memcpy(y, x, sizeof x);
+    y[3 * 2] += 1e-3;
+    plume_hooks_events ev;
+    CHECK(plume_hooks_commit(h, 3, y, PLUME_HOOKS_ONE, &ev, &err) == PLUME_OK);
+    CHECK(ev.released == 1 && !plume_hooks_engaged(h, 1) && plume_hooks_engaged(h, 0));
+    term_fd_check(&t, 6, x, 1e-9, 1e-6, "hooks, hook 1 released");
+    double e[3];
+    CHECK(t.energies(t.ctx, 3, y, e) == PLUME_OK && e[2] == 0.0 && e[0] > 0.0);
+    plume_hooks_destroy(&h);
+    CHECK(h == NULL);
+}
+
+/* One hook of one pair along x: F = k d up to the strength, then released, its energy k d^2 / 2
+ * dropped; pulled back within the capture it catches at zero force and pulls again with k. */
+void test_micro_hooks_release_and_catch(void)
+{
+    plume_hook_law law;
+    plume_hook_law_default(&law);
+    const double k = law.strength / law.opening;
+    const plume_index first[2] = {0, 1}, pairs[2] = {0, 1};
+    plume_hooks *h = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_hooks_create(2, 1, first, pairs, &law, &h, &err) == PLUME_OK);
+    double x[6] = {0, 0, 0, 0, 0, 0}, f[3];
+    plume_hooks_events ev;
+    /* below the strength: nothing happens */
+    x[0] = 0.9 * law.opening;
+    CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+    CHECK(ev.released == 0 && ev.energy_drop == 0.0 && plume_hooks_engaged(h, 0));
+    plume_hooks_force(h, 3, x, 0, f);
+    CHECK_REL(f[0], 0.9 * law.strength, 1e-12, 0.0);
+    int which = -1;
+    CHECK_REL(plume_hooks_max_load(h, 3, x, &which), 0.9, 1e-12, 0.0);
+    CHECK(which == 0);
+    /* beyond it: released, k d^2 / 2 dropped */
+    x[0] = 1.2 * law.opening;
+    CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+    CHECK(ev.released == 1 && !plume_hooks_engaged(h, 0));
+    CHECK_REL(ev.energy_drop, 0.5 * k * x[0] * x[0], 1e-12, 0.0);
+    plume_hooks_force(h, 3, x, 0, f);
+    CHECK(f[0] == 0.0 && plume_hooks_max_load(h, 3, x, &which) == 0.0 && which == -1);
+    /* still away: stays released */
+    x[0] = 2.0 * law.capture;
+    CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+    CHECK(ev.reengaged == 0 && !plume_hooks_engaged(h, 0));
+    /* back within the capture: caught at zero force; pulled 0.5 opening further: F = k 0.5 opening */
+    x[0] = 0.5 * law.capture, x[1] = 0.2 * law.capture;
+    CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+    CHECK(ev.reengaged == 1 && ev.energy_drop == 0.0 && plume_hooks_engaged(h, 0));
+    plume_hooks_force(h, 3, x, 0, f);
+    CHECK(fabs(f[0]) < 1e-20 && fabs(f[1]) < 1e-20);
+    x[0] += 0.5 * law.opening;
+    plume_hooks_force(h, 3, x, 0, f);
+    CHECK_REL(f[0], 0.5 * law.strength, 1e-9, 0.0);
+    long rel = 0, re = 0;
+    double dropped = 0.0;
+    plume_hooks_totals(h, &rel, &re, &dropped);
+    CHECK(rel == 1 && re == 1);
+    CHECK_REL(dropped, 0.5 * k * pow(1.2 * law.opening, 2), 1e-12, 0.0);
+    plume_hooks_destroy(&h);
+}
+
+/* Slide: overloaded to 1.5 strength, the hook slides by 0.5 opening, back at its strength, the
+ * drop (F^2 - strength^2) / (2 k); once its slide is used up, the next overload releases it. */
+void test_micro_hooks_slide(void)
+{
+    plume_hook_law law;
+    plume_hook_law_default(&law);
+    law.slide = 0.6 * law.opening;
+    const double k = law.strength / law.opening;
+    const plume_index first[2] = {0, 2}, pairs[4] = {0, 2, 1, 3};
+    plume_hooks *h = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_hooks_create(4, 1, first, pairs, &law, &h, &err) == PLUME_OK);
+    double x[12] = {0}, f[3];
+    x[1] = x[4] = 1.5 * law.opening; /* both tips up by 1.5 openings */
+    plume_hooks_events ev;
+    CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+    CHECK(ev.slid == 1 && ev.released == 0 && plume_hooks_engaged(h, 0));
+    plume_hooks_force(h, 3, x, 0, f);
+    CHECK_REL(f[1], law.strength, 1e-12, 0.0);
+    const double F = 1.5 * law.strength;
+    CHECK_REL(ev.energy_drop, (F * F - law.strength * law.strength) / (2.0 * k), 1e-12, 0.0);
+    /* another 0.5 opening: the slide left (0.1 opening) is not enough: released */
+    x[1] = x[4] = 2.0 * law.opening;
+    CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+    CHECK(ev.slid == 0 && ev.released == 1 && !plume_hooks_engaged(h, 0));
+    plume_hooks_destroy(&h);
+}
+
+/* Two overloaded hooks: ALL releases both, ONE only the more loaded. */
+void test_micro_hooks_modes(void)
+{
+    plume_hook_law law;
+    plume_hook_law_default(&law);
+    plume_err err = {{0}};
+    double x[18] = {0};
+    x[0] = x[3] = 1.3 * law.opening; /* hook 0: 1.3 strength */
+    x[6] = 1.6 * law.opening;        /* hook 1: 1.6 strength */
+    for (int mode = 0; mode < 2; mode++) {
+        plume_hooks *h = NULL;
+        CHECK(plume_hooks_create(6, 2, first2, pairs2, &law, &h, &err) == PLUME_OK);
+        plume_hooks_events ev;
+        CHECK(plume_hooks_commit(h, 3, x, (plume_hooks_mode)mode, &ev, &err) == PLUME_OK);
+        CHECK(ev.released == (mode == PLUME_HOOKS_ALL ? 2 : 1) && !plume_hooks_engaged(h, 1));
+        CHECK(plume_hooks_engaged(h, 0) == (mode == PLUME_HOOKS_ONE));
+        plume_hooks_destroy(&h);
+    }
+}
+
+/* Bad laws and pairs are refused by name. */
+void test_micro_hooks_bad_input(void)
+{
+    plume_hook_law law;
+    plume_hook_law_default(&law);
+    plume_hooks *h = NULL;
+    plume_err err = {{0}};
+    const char *fields[] = {"strength", "opening", "slide", "capture"};
+    for (int i = 0; i < 4; i++) {
+        plume_hook_law bad = law;
+        double *v = i == 0 ? &bad.strength : i == 1 ? &bad.opening : i == 2 ? &bad.slide : &bad.capture;
+        *v = -1.0;
+        CHECK(plume_hooks_create(6, 2, first2, pairs2, &bad, &h, &err) == PLUME_EINVAL && strstr(err.msg, fields[i]) &&
+              h == NULL);
+    }
+    const plume_index same[6] = {0, 3, 1, 1, 2, 5}, empty[3] = {0, 2, 2};
+    CHECK(plume_hooks_create(6, 2, first2, same, &law, &h, &err) == PLUME_EINVAL && strstr(err.msg, "pair 1"));
+    CHECK(plume_hooks_create(5, 2, first2, pairs2, &law, &h, &err) == PLUME_EINVAL && strstr(err.msg, "pair 2"));
+    CHECK(plume_hooks_create(6, 2, empty, pairs2, &law, &h, &err) == PLUME_EINVAL && strstr(err.msg, "hook 1"));
+    CHECK(plume_hooks_create(6, 2, first2, pairs2, &law, &h, &err) == PLUME_OK);
+    CHECK(plume_hooks_commit(h, 4, NULL, PLUME_HOOKS_ALL, NULL, &err) == PLUME_EINVAL);
+    plume_hooks_destroy(&h);
+}
