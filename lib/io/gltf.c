@@ -144,6 +144,17 @@ static json_t *parse_extras(const char *text)
     return j;
 }
 
+/* Appends `node` (stolen) to nodes with the extras of the JSON text `extras` (NULL: none). */
+static void append_node(json_t *nodes, json_t *node, const char *extras)
+{
+    json_t *ex = parse_extras(extras);
+    if (node && ex)
+        json_object_set_new(node, "extras", ex);
+    else
+        json_decref(ex);
+    json_array_append_new(nodes, node);
+}
+
 static char *attribute_name(const char *field)
 {
     size_t n = strlen(field);
@@ -265,13 +276,8 @@ static void morph_object(glb_builder *b, const plume_gltf_doc *d, int i, const c
     }
     json_t *mesh = mesh_json(m->name, m, indices, attributes, targets, weights);
     json_array_append_new(meshes, mesh);
-    json_t *node = json_pack("{s:s, s:I}", "name", m->name, "mesh", (json_int_t)json_array_size(meshes) - 1);
-    json_t *ex = parse_extras(m->extras);
-    if (node && ex)
-        json_object_set_new(node, "extras", ex);
-    else
-        json_decref(ex);
-    json_array_append_new(nodes, node);
+    append_node(nodes, json_pack("{s:s, s:I}", "name", m->name, "mesh", (json_int_t)json_array_size(meshes) - 1),
+                m->extras);
     if (nt <= 0)
         return;
     /* weights at frame k: target k - 1 at 1, the others 0 (frame 0: all 0) */
@@ -327,13 +333,7 @@ static void frames_object(glb_builder *b, const plume_gltf_doc *d, int i, const 
                                                   (json_int_t)json_array_size(samplers) - 1, "target", "node",
                                                   (json_int_t)json_array_size(nodes) - 1, "path", "scale"));
     }
-    json_t *parent = json_pack("{s:s, s:o}", "name", m->name, "children", children);
-    json_t *ex = parse_extras(m->extras);
-    if (parent && ex)
-        json_object_set_new(parent, "extras", ex);
-    else
-        json_decref(ex);
-    json_array_append_new(nodes, parent);
+    append_node(nodes, json_pack("{s:s, s:o}", "name", m->name, "children", children), m->extras);
 }
 
 static json_t *materials_json(const plume_gltf_doc *d)
