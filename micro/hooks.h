@@ -1,6 +1,6 @@
 /** \file
  * plume (micro): barbule hooks, the joins between a barbule's distal end and the next barb that
- * can let go and catch again (docs/design.md; the vane-unzipping work).
+ * can let go and catch again (docs/unzipping.md).
  *
  * A hook holds a set of vertex pairs (a on the barbule's tip, b on the barb), each a zero-length
  * spring with its own rest offset o_p: E = sum_p k_p / 2 |x_a - x_b - o_p|^2, the hook's stiffness
