@@ -1,24 +1,23 @@
 #include "micro_model.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "../lib/core/membrane.h"
 #include "../lib/core/mesh_quadratic.h"
 #include "../lib/core/opts.h"
+#include "../lib/core/pslg.h"
 #include "../lib/io/progress.h"
 #include "cell_mesh.h"
+#include "hook_mesh.h"
 
-plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, double angle_deg,
-                                  plume_mesh **mesh, plume_problem **p, plume_err *err)
+/* The specimen's problem on its (linear) mesh *mesh: the quadratic split when the layout asks for it
+ * (*mesh then replaced by the split), and the two-material membrane term. */
+static plume_status specimen_problem(const plume_layout *l, double lx, double ly, plume_mesh **mesh,
+                                     plume_problem **p, plume_err *err)
 {
-    if (!l || !mesh || !p)
-        return plume_err_set(err, PLUME_EINVAL, "micro specimen: invalid arguments");
-    *mesh = NULL;
-    *p = NULL;
-    plume_status st = plume_layout_check(l, err);
-    if (st != PLUME_OK || (st = plume_specimen_mesh(l, lx, ly, angle_deg, mesh, err)) != PLUME_OK)
-        return st;
+    plume_status st;
     plume_quadratic_mesh quad = {0};
     if (l->order == 2) {
         /* the quadratic triangles' nodes are the split mesh's vertices: grips, reactions and output
@@ -41,6 +40,69 @@ plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, d
         plume_mesh_destroy(mesh);
     }
     plume_quadratic_mesh_free(&quad);
+    return st;
+}
+
+plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, double angle_deg,
+                                  plume_mesh **mesh, plume_problem **p, plume_err *err)
+{
+    if (!l || !mesh || !p)
+        return plume_err_set(err, PLUME_EINVAL, "micro specimen: invalid arguments");
+    *mesh = NULL;
+    *p = NULL;
+    plume_status st = plume_layout_check(l, err);
+    if (st != PLUME_OK || (st = plume_specimen_mesh(l, lx, ly, angle_deg, mesh, err)) != PLUME_OK)
+        return st;
+    return specimen_problem(l, lx, ly, mesh, p, err);
+}
+
+plume_status plume_micro_specimen_hooked(const plume_layout *l, double lx, double ly, double angle_deg,
+                                         const plume_hook_law *law, plume_mesh **mesh, plume_problem **p,
+                                         plume_hooks **hooks, plume_err *err)
+{
+    if (!l || !law || !mesh || !p || !hooks)
+        return plume_err_set(err, PLUME_EINVAL, "micro specimen with hooks: invalid arguments");
+    *mesh = NULL, *p = NULL, *hooks = NULL;
+    plume_mesh *closed = NULL;
+    plume_hook_mesh open = {0};
+    plume_index *first = NULL, *pairs = NULL;
+    plume_status st = plume_hook_law_check(law, err);
+    if (st != PLUME_OK || (st = plume_layout_check(l, err)) != PLUME_OK ||
+        (st = plume_specimen_mesh(l, lx, ly, angle_deg, &closed, err)) != PLUME_OK)
+        return st;
+    /* q: from a barb to the next one, as the specimen's barbules run (micro/specimen_mesh.c) */
+    double d[2];
+    plume_barb_direction(angle_deg, d);
+    const double q[2] = {-d[1], d[0]};
+    if ((st = plume_hook_mesh_open(closed, q, &open, err)) != PLUME_OK)
+        goto done;
+    *mesh = open.mesh; /* the problem is built on the opened mesh (split when quadratic) */
+    open.mesh = NULL;
+    if (l->order == 2 && open.nhooks > 0) {
+        open.mesh = *mesh; /* the join edges are looked up in the linear opened mesh */
+        st = plume_hook_mesh_quadratic_pairs(&open, &first, &pairs, err);
+        open.mesh = NULL;
+        if (st != PLUME_OK)
+            goto done;
+    }
+    if ((st = specimen_problem(l, lx, ly, mesh, p, err)) != PLUME_OK || open.nhooks == 0)
+        goto done;
+    if ((st = plume_hooks_create((*mesh)->nv, open.nhooks, first ? first : open.first, first ? pairs : open.pairs, law,
+                                 hooks, err)) != PLUME_OK)
+        goto done;
+    plume_term t;
+    plume_hooks_term(*hooks, &t);
+    st = plume_problem_add_term(*p, &t, err);
+done:
+    if (st != PLUME_OK) {
+        plume_problem_destroy(p);
+        plume_hooks_destroy(hooks);
+        plume_mesh_destroy(mesh);
+    }
+    plume_mesh_destroy(&closed);
+    plume_hook_mesh_free(&open);
+    free(first);
+    free(pairs);
     return st;
 }
 

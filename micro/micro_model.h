@@ -9,11 +9,21 @@
 #include "../lib/core/export.h"
 #include "../lib/core/problem.h"
 #include "../lib/sim/traction.h"
+#include "hooks.h"
 #include "layout.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/** plume_micro_specimen (include/plume/traction.h) with the barbules' distal ends held by hooks
+ * of the law `law` instead of shared vertices (micro/hook_mesh.h, micro/hooks.h;
+ * docs/unzipping.md): the same specimen opened at its distal joins, the membrane term and the
+ * hooks' term. *hooks is borrowed by the problem's term: destroy the problem first. A specimen
+ * without distal joins has no hooks (*hooks NULL). Succeeds whole or frees what it made. */
+plume_status plume_micro_specimen_hooked(const plume_layout *l, double lx, double ly, double angle_deg,
+                                         const plume_hook_law *law, plume_mesh **mesh, plume_problem **p,
+                                         plume_hooks **hooks, plume_err *err);
 
 #ifdef __cplusplus
 }

@@ -11,6 +11,7 @@
 #include "harness.h"
 #include "../include/plume/homogenize.h"
 #include "../lib/core/mesh_quadratic.h"
+#include "../lib/core/pslg.h"
 #include "../micro/hook_mesh.h"
 #include "../include/plume/traction.h"
 
@@ -75,8 +76,10 @@ void test_micro_hook_mesh_specimen(void)
     plume_err err = {{0}};
     plume_layout_default(&l);
     CHECK(plume_layout_load_json("../data/layout_barbules_table3a.json", &l, &err) == PLUME_OK);
-    const double angle = 45.0, a = angle * 3.14159265358979323846 / 180.0, d[2] = {cos(a), sin(a)}, q[2] = {-d[1], d[0]};
-    const double mq[2] = {-q[0], -q[1]};
+    const double angle = 45.0;
+    double d[2];
+    plume_barb_direction(angle, d);
+    const double q[2] = {-d[1], d[0]}, mq[2] = {d[1], -d[0]}; /* from a barb to the next, and back */
     plume_mesh *m = NULL;
     CHECK(plume_specimen_mesh(&l, 4e-3, 5.2e-3, angle, &m, &err) == PLUME_OK);
     if (!m) {

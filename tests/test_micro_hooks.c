@@ -1,14 +1,18 @@
 /* Barbule hooks (micro/hooks.h): the term's gradient and Hessian against finite differences,
  * engaged and released; one hook pulled past its strength lets go with its spring energy
  * dissipated; a hook with slide slides back to its strength, then lets go; a released hook
- * catches again within its capture distance at zero force; bad laws and pairs named. */
+ * catches again within its capture distance at zero force; bad laws and pairs named; a specimen
+ * held by stiff hooks pulls like the bonded one, by soft hooks softer. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "harness.h"
 #include "term_fd.h"
+#include "../include/plume/homogenize.h"
+#include "../include/plume/traction.h"
 #include "../micro/hooks.h"
+#include "../micro/micro_model.h"
 
 /* Two hooks over 6 vertices: hook 0 with pairs (0, 3) and (1, 4), hook 1 with (2, 5). */
 static const plume_index first2[3] = {0, 2, 3}, pairs2[6] = {0, 3, 1, 4, 2, 5};
@@ -161,4 +165,56 @@ void test_micro_hooks_bad_input(void)
     CHECK(plume_hooks_create(6, 2, first2, pairs2, &law, &h, &err) == PLUME_OK);
     CHECK(plume_hooks_commit(h, 4, NULL, PLUME_HOOKS_ALL, NULL, &err) == PLUME_EINVAL);
     plume_hooks_destroy(&h);
+}
+
+/* The Table 3 (a) specimen at 45 deg pulled to 2 % strain: held by stiff hooks (strength never
+ * reached) its curve is the bonded specimen's, and held by soft ones it is softer: compliance in
+ * series. */
+static double pulled_stress(const plume_layout *l, const plume_hook_law *law, int *nhooks)
+{
+    const double lx = 4e-3, ly = 5.2e-3;
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    plume_hooks *hooks = NULL;
+    plume_err err = {{0}};
+    plume_status st = law ? plume_micro_specimen_hooked(l, lx, ly, 45.0, law, &mesh, &p, &hooks, &err)
+                          : plume_micro_specimen(l, lx, ly, 45.0, &mesh, &p, &err);
+    CHECK(st == PLUME_OK);
+    *nhooks = plume_hooks_count(hooks);
+    plume_traction_opts o;
+    plume_traction_opts_default(&o);
+    o.lx = lx, o.ly = ly, o.h = l->h, o.strain_max = 0.02, o.steps = 2, o.progress = 0;
+    plume_traction_result r;
+    memset(&r, 0, sizeof r);
+    double s = NAN;
+    if (st == PLUME_OK && plume_traction_run(mesh, p, NULL, 0, &o, &r, &err) == PLUME_OK && r.converged)
+        s = r.curve.stress[r.curve.n - 1];
+    else
+        fprintf(stderr, "    traction: %s\n", err.msg);
+    plume_traction_result_free(&r);
+    plume_problem_destroy(&p);
+    plume_hooks_destroy(&hooks);
+    plume_mesh_destroy(&mesh);
+    return s;
+}
+
+void test_micro_hooks_specimen_bonded_limit(void)
+{
+    plume_layout l;
+    plume_err err = {{0}};
+    plume_layout_default(&l);
+    CHECK(plume_layout_load_json("../data/layout_barbules_table3a.json", &l, &err) == PLUME_OK);
+    plume_hook_law stiff, soft;
+    plume_hook_law_default(&stiff);
+    stiff.strength = 1e3, stiff.opening = 1e-8; /* 1e11 N/m a hook, never let go */
+    soft = stiff;
+    soft.opening = 1e-3; /* 1e6 N/m */
+    int n0 = 0, n1 = 0, n2 = 0;
+    const double bonded = pulled_stress(&l, NULL, &n0), s_stiff = pulled_stress(&l, &stiff, &n1);
+    const double s_soft = pulled_stress(&l, &soft, &n2);
+    printf("    stress at 2 %%: bonded %.6g Pa, %d stiff hooks %.6g (%+.2e), soft hooks %.6g (%+.2e)\n", bonded, n1,
+           s_stiff, s_stiff / bonded - 1.0, s_soft, s_soft / bonded - 1.0);
+    CHECK(n0 == 0 && n1 > 10 && n2 == n1);
+    CHECK(fabs(s_stiff / bonded - 1.0) < 1e-4);
+    CHECK(s_soft < s_stiff && s_soft < bonded);
 }
