@@ -43,6 +43,18 @@ typedef struct {
      * PLUME_OK stops the run with that status (output written by it, e.g., --vtk). */
     plume_status (*on_step)(void *user, int step, double strain, const double *x);
     void *on_step_user;  /**< passed to on_step as `user` */
+    /** Optional (NULL: none): called at every equilibrium of the loading steps (each increment;
+     * not the probe) with the positions x (dim * nv), for terms whose state changes
+     * between solves (barbule hooks letting go, docs/unzipping.md). *changed = 1: the state
+     * changed, and the step is solved again at the same grips, then the callback called again,
+     * up to max_settles times; *cut = 1: the change overshot, and the increment is undone and
+     * halved as a failed solve is (without adaptive stepping the step fails). A change it made
+     * is not undone when a later solve of the same increment fails. A status other than PLUME_OK
+     * stops the run with that status. */
+    plume_status (*on_equilibrium)(void *user, const double *x, int *changed, int *cut);
+    void *on_equilibrium_user; /**< passed to on_equilibrium as `user` */
+    int max_settles;     /**< solves again at the same grips per equilibrium, >= 0; default 100;
+                            a state still changing after them fails the step */
 } plume_traction_opts;
 
 /** Fills o (size bytes) with the defaults each field names (progress 1, on_step NULL; lx, ly, h

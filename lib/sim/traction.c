@@ -27,7 +27,8 @@ void plume_traction_opts_default_sized(plume_traction_opts *o, size_t size)
                                              .max_cuts = 8,
                                              .probe_strain = 1e-6,
                                              .solver = PLUME_SOLVER_NEWTON,
-                                             .progress = 1};
+                                             .progress = 1,
+                                             .max_settles = 100};
     plume_opts_give(o, size, &full, sizeof full);
 }
 
@@ -265,6 +266,8 @@ static plume_status check_opts(const plume_mesh *mesh, plume_problem *p, const p
                              o->strain_max, o->steps);
     if (o->max_cuts < 0 || o->max_cuts > 30)
         return plume_err_set(err, PLUME_EINVAL, "traction: max_cuts must be in [0, 30] (got %d)", o->max_cuts);
+    if (o->max_settles < 0)
+        return plume_err_set(err, PLUME_EINVAL, "traction: max_settles must be >= 0 (got %d)", o->max_settles);
     if (!(o->probe_tol_kkt >= 0) || !isfinite(o->probe_tol_kkt))
         return plume_err_set(err, PLUME_EINVAL, "traction: probe_tol_kkt must be finite and >= 0 (got %g)",
                              o->probe_tol_kkt);
@@ -374,6 +377,43 @@ static void free_run(traction_run *r)
     free(r->force);
 }
 
+/* At an equilibrium (sub converged): the caller's on_equilibrium, and while it changes the
+ * problem's state, a solve again at the same grips (its counts added to *sub). *cut: undo the
+ * increment. Leaves sub->converged 0 when a solve fails or the state keeps changing. */
+static plume_status settle(traction_run *r, int k, plume_solve_report *sub, int *cut, plume_err *err)
+{
+    const plume_traction_opts *o = r->o;
+    *cut = 0;
+    if (!o->on_equilibrium)
+        return PLUME_OK;
+    for (int n = 0;; n++) {
+        int changed = 0;
+        plume_status st = o->on_equilibrium(o->on_equilibrium_user, r->x, &changed, cut);
+        if (st != PLUME_OK)
+            return plume_err_set(err, st, "traction: step %d: on_equilibrium failed (%s)", k, plume_strerror(st));
+        if (*cut || !changed)
+            return PLUME_OK;
+        if (n == o->max_settles) { /* still changing: a failed step */
+            sub->converged = 0;
+            sub->reason = PLUME_REASON_ITERATION_CAP;
+            return PLUME_OK;
+        }
+        plume_solve_report again;
+        plume_problem_gather(r->p, r->u);
+        if ((st = plume_solver_solve(r->solver, r->u, r->lambda, &again)) != PLUME_OK)
+            return plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
+        sub->iterations += again.iterations;
+        sub->chord_steps += again.chord_steps;
+        sub->seconds += again.seconds;
+        sub->max_violation = fmax(sub->max_violation, again.max_violation);
+        if (!again.converged) {
+            sub->converged = 0;
+            sub->reason = again.reason;
+            return PLUME_OK;
+        }
+    }
+}
+
 /* Adaptive load stepping to the grip displacement delta: an increment that does not converge is
  * undone (back to the last equilibrium h.xa and its multipliers) and halved, up to max_cuts
  * times; after a success it grows back by doubling, never past the nominal step. Only the
@@ -404,6 +444,11 @@ static plume_status adaptive_step(traction_run *r, int k, double delta, plume_so
         plume_status st = plume_solver_solve(r->solver, r->u, r->lambda, &sub);
         if (st != PLUME_OK)
             return plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
+        int cut = 0;
+        if (sub.converged && (st = settle(r, k, &sub, &cut, err)) != PLUME_OK)
+            return st;
+        if (cut) /* the state change overshot: undone and halved like a failed solve */
+            sub.converged = 0, sub.reason = PLUME_REASON_CONVERGED;
         rep->iterations += sub.iterations;
         rep->chord_steps += sub.chord_steps;
         rep->seconds += sub.seconds;
@@ -468,6 +513,11 @@ static plume_status solve_step(traction_run *r, int k, double delta, double prob
     plume_problem_gather(r->p, r->u);
     if ((st = plume_solver_solve(r->solver, r->u, r->lambda, rep)) != PLUME_OK)
         return plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
+    int cut = 0;
+    if (!probe && rep->converged && (st = settle(r, k, rep, &cut, err)) != PLUME_OK)
+        return st;
+    if (cut) /* no increment to halve here: the step fails */
+        rep->converged = 0, rep->reason = PLUME_REASON_ITERATION_CAP;
     rep->iterations += tight->iterations; /* a tight probe that failed counts too */
     rep->seconds += tight->seconds;
     if (probe && rep->converged)
