@@ -360,8 +360,10 @@ int main(int argc, char **argv)
     if (o.restart && r.restart_dt > 0.0 && fabs(r.restart_dt - dt) > 1e-12 * dt)
         fprintf(stderr, "%s: warning: '%s' was written with dt = %g s, the scene now has %g s\n", APP, o.restart,
                 r.restart_dt, dt);
-    if (st != PLUME_OK) { /* the restart file's errors are bad input, named by the flag */
-        rc = strncmp(err.msg, "restart: ", 9) == 0 ? cli_fail(APP, "--%s", err.msg) : run_fail("%s", err.msg);
+    if (st != PLUME_OK) { /* the restart file's and the glTF file's errors are bad input, named */
+        rc = strncmp(err.msg, "restart: ", 9) == 0      ? cli_fail(APP, "--%s", err.msg)
+             : strncmp(err.msg, "glTF file ", 10) == 0 ? cli_fail(APP, "%s", err.msg)
+                                                       : run_fail("%s", err.msg);
         goto done;
     }
     if ((st = plume_run_to_end(run, &err)) != PLUME_OK) {

@@ -304,8 +304,9 @@ void test_gltf_run_objects(void)
     CHECK(system(cmd) == 0);
 }
 
-/* The scene key "gltf" writes DIR/<file> when the run ends; bad keys, a static scene, unknown or
- * midedge-only fields and another scene's frames are refused by name. */
+/* The scene key "gltf" writes DIR/<file> when the run ends; a file whose directory cannot be made,
+ * bad keys, a static scene, unknown or midedge-only fields and another scene's frames are refused
+ * by name (the directory before the run). */
 void test_gltf_scene_key(void)
 {
     char dir[64] = "/tmp/plume-gltfk-XXXXXX", path[128];
@@ -362,6 +363,23 @@ void test_gltf_scene_key(void)
     CHECK(plume_run_open("../data/shell/strip_scene.json", NULL, &r, &err) == PLUME_OK);
     CHECK(r && plume_run_write_gltf(r, frames, path, NULL, &err) == PLUME_EINVAL && strstr(err.msg, "vertices"));
     plume_run_destroy(&r);
+
+    /* a file whose directory cannot be made is refused before the run, naming it */
+    char blocker[128];
+    snprintf(blocker, sizeof blocker, "%s/a_file", dir);
+    FILE *bf = fopen(blocker, "w");
+    CHECK(bf != NULL);
+    if (bf)
+        fclose(bf);
+    json_object_set_new(doc, "gltf", json_pack("{s:s}", "file", "a_file/x.glb"));
+    free(scene_text);
+    scene_text = json_dumps(doc, 0);
+    CHECK(plume_scene_load_json(scene_text, "../data/shell/strip_on_plate.json", NULL, &s, &err) == PLUME_OK);
+    CHECK(s && plume_run_create(s, &o, &r, &err) == PLUME_OK);
+    CHECK(r && plume_run_start(r, &err) == PLUME_EIO && strstr(err.msg, "a_file/x.glb") &&
+          strstr(err.msg, "cannot create its directory"));
+    plume_run_destroy(&r);
+    plume_scene_destroy(&s);
 
     /* the key's bad values name it */
     static const char *const bad[][2] = {{"3", "gltf"},

@@ -1,5 +1,6 @@
 /* plume: a run's frames as a glTF 2.0 binary file (scene.h, plume_run_write_gltf): one node per scene
  * object, a primitive per material, the frames of a frames file as its animation (lib/io/gltf.h). */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -296,16 +297,39 @@ done:
     return st;
 }
 
+/* The scene's glTF file: absolute, or relative to the output directory. */
+static void gltf_path(const plume_run *r, char *out, size_t n)
+{
+    const plume_scene *s = r->scene;
+    if (s->gltf_file[0] == '/')
+        snprintf(out, n, "%s", s->gltf_file);
+    else
+        snprintf(out, n, "%s/%s", r->output_dir, s->gltf_file);
+}
+
+plume_status plume_run_gltf_prepare(plume_run *r, plume_err *err)
+{
+    if (!r->scene->gltf || !r->d || !r->output_dir)
+        return PLUME_OK;
+    char path[2 * PLUME_SCENE_PATH_MAX + 2];
+    gltf_path(r, path, sizeof path);
+    char *slash = strrchr(path, '/');
+    if (!slash || slash == path)
+        return PLUME_OK;
+    *slash = '\0';
+    if (plume_make_dirs(path) != 0)
+        return plume_err_set(err, PLUME_EIO, "glTF file '%s/%s': cannot create its directory: %s", path, slash + 1,
+                             strerror(errno));
+    return PLUME_OK;
+}
+
 plume_status plume_run_gltf_at_end(plume_run *r, plume_err *err)
 {
     const plume_scene *s = r->scene;
     if (!s->gltf || !r->d || !r->output_dir)
         return PLUME_OK;
     char path[2 * PLUME_SCENE_PATH_MAX + 2];
-    if (s->gltf_file[0] == '/')
-        snprintf(path, sizeof path, "%s", s->gltf_file);
-    else
-        snprintf(path, sizeof path, "%s/%s", r->output_dir, s->gltf_file);
+    gltf_path(r, path, sizeof path);
     plume_gltf_opts o;
     plume_gltf_opts_default(&o);
     o.animation = s->gltf_animation;

@@ -272,7 +272,8 @@ plume_status plume_run_output_start(plume_run *r, plume_err *err)
         if (plume_make_dirs(r->output_dir) != 0)
             return plume_err_set(err, PLUME_EIO, "output_dir '%s': cannot create the directory: %s", r->output_dir,
                                  strerror(errno));
-        if ((st = plume_scene_fields_of(r->scene, r->p, &r->fields, err)) != PLUME_OK)
+        if ((st = plume_scene_fields_of(r->scene, r->p, &r->fields, err)) != PLUME_OK ||
+            (st = plume_run_gltf_prepare(r, err)) != PLUME_OK)
             return st;
     }
     if (r->restart)

@@ -47,8 +47,10 @@ plume_status plume_run_output_start(plume_run *r, plume_err *err);
 plume_status plume_run_write_frame(plume_run *r, long k, long step, plume_err *err);
 
 /* run_gltf.c: the scene's "gltf" when a dynamic run with an output directory ends (nothing
- * otherwise). */
+ * otherwise); before the run, its file's directory made (an error names the file at once, not
+ * after the run). */
 plume_status plume_run_gltf_at_end(plume_run *r, plume_err *err);
+plume_status plume_run_gltf_prepare(plume_run *r, plume_err *err);
 
 /* run_static.c: a static scene's run. Its problem and load stepping (checking that the options
  * plan no dynamic run); its output (the series steps.pvd); one load step. */
