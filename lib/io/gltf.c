@@ -12,6 +12,8 @@
 
 #include <jansson.h>
 
+#include "../core/vec3.h"
+
 enum {
     GLB_MAGIC = 0x46546C67,      /* "glTF" */
     GLB_JSON = 0x4E4F534A,       /* "JSON" */
@@ -28,6 +30,7 @@ typedef struct {
     unsigned char *data;
     size_t n, cap;
     json_t *views, *accessors;
+    double *normal_acc; /* [3 nv] of the largest mesh: vertex_normals' sums */
     int failed; /* out of memory somewhere: reported once at the end */
 } glb_builder;
 
@@ -102,34 +105,30 @@ static int add_indices(glb_builder *b, const uint32_t *idx, size_t count)
 }
 
 /* Unit vertex normals of positions x (3 nv) over every primitive's triangles: the sum of the
- * triangles' area vectors around each vertex, normalised; (0, 1, 0) where that sum vanishes. */
-static void vertex_normals(const plume_gltf_mesh *m, const float *x, float *n)
+ * triangles' area vectors around each vertex (accumulated in acc, 3 nv), normalised; (0, 1, 0)
+ * where that sum vanishes. */
+static void vertex_normals(const plume_gltf_mesh *m, const float *x, double *acc, float *n)
 {
-    double *acc = calloc(3 * (size_t)m->nv, sizeof *acc);
-    if (acc) {
-        for (int p = 0; p < m->nprim; p++)
-            for (uint32_t t = 0; t < m->prims[p].ntri; t++) {
-                const uint32_t *v = m->prims[p].tri + 3 * (size_t)t;
-                double e1[3], e2[3], a[3];
-                for (int c = 0; c < 3; c++) {
-                    e1[c] = (double)x[3 * (size_t)v[1] + c] - x[3 * (size_t)v[0] + c];
-                    e2[c] = (double)x[3 * (size_t)v[2] + c] - x[3 * (size_t)v[0] + c];
-                }
-                a[0] = e1[1] * e2[2] - e1[2] * e2[1];
-                a[1] = e1[2] * e2[0] - e1[0] * e2[2];
-                a[2] = e1[0] * e2[1] - e1[1] * e2[0];
-                for (int k = 0; k < 3; k++)
-                    for (int c = 0; c < 3; c++)
-                        acc[3 * (size_t)v[k] + c] += a[c];
-            }
-    }
+    memset(acc, 0, 3 * (size_t)m->nv * sizeof *acc);
+    for (int p = 0; p < m->nprim; p++)
+        for (uint32_t t = 0; t < m->prims[p].ntri; t++) {
+            const uint32_t *v = m->prims[p].tri + 3 * (size_t)t;
+            double c[3][3], e1[3], e2[3], a[3];
+            for (int k = 0; k < 3; k++)
+                for (int j = 0; j < 3; j++)
+                    c[k][j] = x[3 * (size_t)v[k] + j];
+            sub3(c[1], c[0], e1);
+            sub3(c[2], c[0], e2);
+            cross3(e1, e2, a);
+            for (int k = 0; k < 3; k++)
+                for (int j = 0; j < 3; j++)
+                    acc[3 * (size_t)v[k] + j] += a[j];
+        }
     for (uint32_t i = 0; i < m->nv; i++) {
-        double *a = acc ? acc + 3 * (size_t)i : NULL;
-        double len = a ? sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) : 0.0;
+        const double *a = acc + 3 * (size_t)i, len = sqrt(dot3(a, a));
         for (int c = 0; c < 3; c++)
             n[3 * (size_t)i + c] = len > 0.0 ? (float)(a[c] / len) : (c == 1 ? 1.0f : 0.0f);
     }
-    free(acc);
 }
 
 static json_t *parse_extras(const char *text)
@@ -216,7 +215,7 @@ static json_t *frame_attributes(glb_builder *b, const plume_gltf_mesh *m, int k,
 {
     const size_t n3 = 3 * (size_t)m->nv;
     const float *x = m->x + (size_t)k * n3;
-    vertex_normals(m, x, ns);
+    vertex_normals(m, x, b->normal_acc, ns);
     memcpy(xs, x, n3 * sizeof *xs);
     if (fattr)
         field_frame(m, k, fs);
@@ -407,9 +406,10 @@ plume_status plume_gltf_write(const char *path, const plume_gltf_doc *d, plume_e
     float *work = malloc((14 * (size_t)maxv + 1) * sizeof *work);
     int *indices = malloc((size_t)maxp * sizeof *indices);
     float *times = malloc((size_t)d->nframes * sizeof *times);
+    b.normal_acc = malloc((3 * (size_t)maxv + 1) * sizeof *b.normal_acc);
     char *json = NULL;
     if (!b.views || !b.accessors || !meshes || !nodes || !channels || !samplers || (d->field_name && !fattr) || !work ||
-        !indices || !times) {
+        !indices || !times || !b.normal_acc) {
         st = plume_err_set(err, PLUME_ENOMEM, "glTF: out of memory");
         goto done;
     }
@@ -455,6 +455,7 @@ done:
     free(work);
     free(fattr);
     free(b.data);
+    free(b.normal_acc);
     json_decref(b.views);
     json_decref(b.accessors);
     json_decref(meshes);
