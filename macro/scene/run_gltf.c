@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../../lib/core/vec3.h"
 #include "../../lib/io/gltf.h"
 #include "internal/run.h"
 
@@ -51,24 +52,22 @@ static int object_ranges(const plume_run *r, object_range **out)
 }
 
 /* A triangle value per vertex of object o: the mean over its triangles, weighted by their areas at
- * x; NaN values (kinematic triangles) left out, vertices with none get NaN. */
+ * x; NaN values (kinematic triangles) left out, vertices with none get NaN. wsum: 2 o->nv doubles. */
 static void vertex_values(const plume_mesh *m, const object_range *o, const double *x, const double *tv, float *out,
                           double *wsum)
 {
-    for (plume_index i = 0; i < o->nv; i++)
-        out[i] = 0.0f, wsum[i] = 0.0;
     double *acc = wsum + o->nv;
     for (plume_index i = 0; i < o->nv; i++)
-        acc[i] = 0.0;
+        wsum[i] = acc[i] = 0.0;
     for (plume_index t = o->t0; t < o->t0 + o->nt; t++) {
         if (!isfinite(tv[t]))
             continue;
         const plume_index *v = m->tri + 3 * t;
-        double e1[3], e2[3];
-        for (int c = 0; c < 3; c++)
-            e1[c] = x[3 * v[1] + c] - x[3 * v[0] + c], e2[c] = x[3 * v[2] + c] - x[3 * v[0] + c];
-        double a0 = e1[1] * e2[2] - e1[2] * e2[1], a1 = e1[2] * e2[0] - e1[0] * e2[2], a2 = e1[0] * e2[1] - e1[1] * e2[0];
-        double area = 0.5 * sqrt(a0 * a0 + a1 * a1 + a2 * a2);
+        double e1[3], e2[3], a[3];
+        sub3(x + 3 * v[1], x + 3 * v[0], e1);
+        sub3(x + 3 * v[2], x + 3 * v[0], e2);
+        cross3(e1, e2, a);
+        const double area = 0.5 * sqrt(dot3(a, a));
         for (int k = 0; k < 3; k++)
             acc[v[k] - o->v0] += area * tv[t], wsum[v[k] - o->v0] += area;
     }
@@ -109,7 +108,7 @@ static int object_primitives(const plume_scene *s, const object_range *o, plume_
     return np;
 }
 
-/* The field's per-triangle values at x into tv, or "" through err. */
+/* The field's per-triangle values at x into tv. */
 static plume_status field_at(plume_fields *f, const char *name, const double *x, double *tv, plume_err *err)
 {
     plume_field_values fv;
@@ -117,20 +116,16 @@ static plume_status field_at(plume_fields *f, const char *name, const double *x,
     return st != PLUME_OK ? st : plume_field_values_select(&fv, name, tv, err);
 }
 
-static plume_status check_field(const plume_scene *s, const char *field, plume_err *err)
+int plume_gltf_field_refused(const char *field, char *why, size_t n)
 {
-    if (!field)
-        return PLUME_OK;
-    if (strncmp(field, "curvature_", 10) == 0)
-        return plume_err_set(err, PLUME_EINVAL,
-                             "glTF field \"%s\": the midedge operator's curvature needs its edge unknowns per frame, "
-                             "which the export does not replay; \"mean_curvature\" is a curvature of every model",
-                             field);
     if (!plume_field_label(field) || strcmp(field, "material") == 0 || strcmp(field, "object") == 0)
-        return plume_err_set(err, PLUME_EINVAL, "glTF field \"%s\" is not a field; one of: %s", field,
-                             plume_field_names());
-    (void)s;
-    return PLUME_OK;
+        snprintf(why, n, "\"%s\" is not a field; one of: %s", field, plume_field_names());
+    else if (strncmp(field, "curvature_", 10) == 0) /* the export reads positions only */
+        snprintf(why, n, "\"%s\" is the midedge operator's curvature, which needs the edge unknowns of every "
+                 "frame; \"mean_curvature\" is a curvature of every bending model", field);
+    else
+        return 0;
+    return 1;
 }
 
 /* The scene's "extras": where the file came from, the renders' camera and the frames' times. */
@@ -175,9 +170,10 @@ plume_status plume_run_write_gltf(plume_run *r, const char *frames_path, const c
                              "(got %d)", o.animation);
     const plume_scene *s = r->scene;
     const plume_mesh *m = s->mesh;
-    plume_status st = check_field(s, o.field, err);
-    if (st != PLUME_OK)
-        return st;
+    char why_field[512];
+    if (o.field && plume_gltf_field_refused(o.field, why_field, sizeof why_field))
+        return plume_err_set(err, PLUME_EINVAL, "glTF field %s", why_field);
+    plume_status st;
     plume_err why = {{0}};
     plume_frames_info info;
     if ((st = plume_frames_info_read(frames_path, &info, &why)) != PLUME_OK)

@@ -46,6 +46,12 @@ extern "C" {
 /** The "bending_model" name of a PLUME_BENDING_* (static string). */
 const char *plume_scene_bending_name(int model);
 
+/** Why `field` cannot be a glTF file's per-vertex field, into why[n] ("\"x\" is not a field; one
+ * of: ..."), or 0 when it can: a field of the renders (macro/shell/fields.h), not "material" or
+ * "object", and not the midedge operator's curvature_*, which needs every frame's edge unknowns.
+ * The scene key and plume_run_write_gltf both ask it (macro/scene/run_gltf.c). */
+int plume_gltf_field_refused(const char *field, char *why, size_t n);
+
 /** The longest moduli file name a scene material records (bytes, with the NUL). */
 #define PLUME_SCENE_PATH_MAX 4096
 

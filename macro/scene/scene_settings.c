@@ -179,13 +179,11 @@ static plume_status parse_gltf(const plume_json_ctx *c, json_t *doc, plume_scene
                               "object) or \"frames\" (a mesh per frame shown in turn)");
     if (fl) {
         const char *name = json_string_value(fl);
-        if (!name || !plume_render_field_valid(name) || strcmp(name, "material") == 0 || strcmp(name, "object") == 0 ||
-            strlen(name) >= sizeof s->gltf_field)
+        char why[512];
+        if (!name || strlen(name) >= sizeof s->gltf_field)
             return plume_json_bad(c, PLUME_EINVAL, "gltf.field", "must be one of %s", plume_field_names());
-        if (strncmp(name, "curvature_", 10) == 0) /* run_gltf.c reads positions only */
-            return plume_json_bad(c, PLUME_EINVAL, "gltf.field", "\"%s\" is the midedge operator's curvature, which "
-                                  "needs the edge unknowns of every frame; \"mean_curvature\" is a curvature of every "
-                                  "bending model", name);
+        if (plume_gltf_field_refused(name, why, sizeof why))
+            return plume_json_bad(c, PLUME_EINVAL, "gltf.field", "%s", why);
         snprintf(s->gltf_field, sizeof s->gltf_field, "%s", name);
     }
     if (f)
