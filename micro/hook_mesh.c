@@ -88,7 +88,8 @@ plume_status plume_hook_mesh_open(const plume_mesh *m, const double q[2], plume_
     plume_status st = PLUME_OK;
     plume_index *copy = malloc((size_t)m->nv * sizeof *copy), *parent = malloc((size_t)m->nv * sizeof *parent);
     plume_index *hook_of = malloc((size_t)m->nv * sizeof *hook_of), *count = NULL;
-    if (!copy || !parent || !hook_of) {
+    unsigned char *join = malloc((size_t)m->ne + 1);
+    if (!copy || !parent || !hook_of || !join) {
         st = plume_err_set(err, PLUME_ENOMEM, "hook mesh: out of memory");
         goto done;
     }
@@ -96,7 +97,7 @@ plume_status plume_hook_mesh_open(const plume_mesh *m, const double q[2], plume_
         copy[v] = -1, parent[v] = v, hook_of[v] = -1;
     plume_index njoin = 0, ncopy = 0;
     for (plume_index e = 0; e < m->ne; e++)
-        if (distal_join(m, e, q)) {
+        if ((join[e] = (unsigned char)distal_join(m, e, q))) {
             njoin++;
             const plume_index a = m->edges[2 * e], b = m->edges[2 * e + 1];
             copy[a] = copy[b] = 0;
@@ -134,7 +135,7 @@ plume_status plume_hook_mesh_open(const plume_mesh *m, const double q[2], plume_
         }
     njoin = 0;
     for (plume_index e = 0; e < m->ne; e++)
-        if (distal_join(m, e, q)) {
+        if (join[e]) {
             const plume_index a = m->edges[2 * e], b = m->edges[2 * e + 1];
             plume_index *j = out->joins + 4 * njoin;
             j[0] = a, j[1] = b, j[2] = copy[a], j[3] = copy[b];
@@ -146,6 +147,7 @@ done:
     free(parent);
     free(hook_of);
     free(count);
+    free(join);
     if (st != PLUME_OK)
         plume_hook_mesh_free(out);
     return st;

@@ -307,12 +307,8 @@ plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_
     int most = -1;
     if (mode == PLUME_HOOKS_ONE)
         plume_hooks_max_load(h, dim, x, &most);
-    unsigned char *was = malloc((size_t)h->nhooks);
-    if (!was)
-        return plume_err_set(err, PLUME_ENOMEM, "hooks commit: out of memory");
-    memcpy(was, h->engaged, (size_t)h->nhooks); /* a hook released here does not catch in the same commit */
-    for (int k = 0; k < h->nhooks; k++) {
-        if (!was[k]) {
+    for (int k = 0; k < h->nhooks; k++) { /* each hook once: one let go here does not catch here */
+        if (!h->engaged[k]) {
             catch_again(h, dim, x, k, &e);
             continue;
         }
@@ -321,7 +317,6 @@ plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_
         if (norm(f, dim) > h->law.strength && (mode == PLUME_HOOKS_ALL || k == most))
             overload(h, dim, x, k, f, &e);
     }
-    free(was);
     h->released += e.released, h->reengaged += e.reengaged, h->dropped += e.energy_drop;
     if (ev)
         *ev = e;

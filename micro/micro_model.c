@@ -74,17 +74,11 @@ plume_status plume_micro_specimen_hooked(const plume_layout *l, double lx, doubl
     double d[2];
     plume_barb_direction(angle_deg, d);
     const double q[2] = {-d[1], d[0]};
-    if ((st = plume_hook_mesh_open(closed, q, &open, err)) != PLUME_OK)
+    if ((st = plume_hook_mesh_open(closed, q, &open, err)) != PLUME_OK ||
+        (l->order == 2 && open.nhooks > 0 && (st = plume_hook_mesh_quadratic_pairs(&open, &first, &pairs, err)) != PLUME_OK))
         goto done;
     *mesh = open.mesh; /* the problem is built on the opened mesh (split when quadratic) */
     open.mesh = NULL;
-    if (l->order == 2 && open.nhooks > 0) {
-        open.mesh = *mesh; /* the join edges are looked up in the linear opened mesh */
-        st = plume_hook_mesh_quadratic_pairs(&open, &first, &pairs, err);
-        open.mesh = NULL;
-        if (st != PLUME_OK)
-            goto done;
-    }
     if ((st = specimen_problem(l, lx, ly, mesh, p, err)) != PLUME_OK || open.nhooks == 0)
         goto done;
     if ((st = plume_hooks_create((*mesh)->nv, open.nhooks, first ? first : open.first, first ? pairs : open.pairs, law,

@@ -377,6 +377,15 @@ static void free_run(traction_run *r)
     free(r->force);
 }
 
+/* A solve's counts added to those of its step. */
+static void add_report(plume_solve_report *to, const plume_solve_report *from)
+{
+    to->iterations += from->iterations;
+    to->chord_steps += from->chord_steps;
+    to->seconds += from->seconds;
+    to->max_violation = fmax(to->max_violation, from->max_violation);
+}
+
 /* At an equilibrium (sub converged): the caller's on_equilibrium, and while it changes the
  * problem's state, a solve again at the same grips (its counts added to *sub). *cut: undo the
  * increment. Leaves sub->converged 0 when a solve fails or the state keeps changing. */
@@ -402,10 +411,7 @@ static plume_status settle(traction_run *r, int k, plume_solve_report *sub, int 
         plume_problem_gather(r->p, r->u);
         if ((st = plume_solver_solve(r->solver, r->u, r->lambda, &again)) != PLUME_OK)
             return plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
-        sub->iterations += again.iterations;
-        sub->chord_steps += again.chord_steps;
-        sub->seconds += again.seconds;
-        sub->max_violation = fmax(sub->max_violation, again.max_violation);
+        add_report(sub, &again);
         if (!again.converged) {
             sub->converged = 0;
             sub->reason = again.reason;
@@ -449,10 +455,7 @@ static plume_status adaptive_step(traction_run *r, int k, double delta, plume_so
             return st;
         if (cut) /* the state change overshot: undone and halved like a failed solve */
             sub.converged = 0, sub.reason = PLUME_REASON_CONVERGED;
-        rep->iterations += sub.iterations;
-        rep->chord_steps += sub.chord_steps;
-        rep->seconds += sub.seconds;
-        rep->max_violation = fmax(rep->max_violation, sub.max_violation);
+        add_report(rep, &sub);
         if (sub.converged) {
             history_push(h, r->x, r->lambda, next, nx, m);
             r->inc = fmin(nominal, 2.0 * r->inc);
