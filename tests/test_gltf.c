@@ -314,13 +314,8 @@ void test_gltf_scene_key(void)
         CHECK(0);
         return;
     }
-    FILE *f = fopen("../data/shell/strip_on_plate.json", "rb");
-    char *text = calloc(1 << 16, 1);
-    size_t n = f && text ? fread(text, 1, (1 << 16) - 1, f) : 0;
-    if (f)
-        fclose(f);
-    CHECK(n > 0);
-    json_t *doc = json_loads(text, 0, NULL);
+    json_t *doc = json_load_file("../data/shell/strip_on_plate.json", 0, NULL);
+    CHECK(doc != NULL);
     json_object_set_new(doc, "gltf", json_pack("{s:s, s:s}", "file", "strip.glb", "animation", "frames"));
     char *scene_text = json_dumps(doc, 0);
     plume_scene *s = NULL;
@@ -407,7 +402,6 @@ void test_gltf_scene_key(void)
     json_decref(st);
     json_decref(doc);
     free(scene_text);
-    free(text);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     CHECK(system(cmd) == 0);
