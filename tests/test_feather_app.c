@@ -264,7 +264,11 @@ void test_feather_app_scene_errors(void)
     const char *bad[][2] = {{"", "no scene file"}, {"@ --frames 0", "--frames"}, {"@ --solver cg", "--solver"},
                             {"@ --bogus", "unknown option '--bogus'"}, {"/nonexistent.json", "/nonexistent.json"},
                             {"@ --frames 2 --duration 1", "exclusive"}, {"@ --restart /nonexistent.h5", "/nonexistent.h5"},
-                            {"@ --render-field curl", "--render-field must be \"material\", \"object\" or one of"}};
+                            {"@ --render-field curl", "--render-field must be \"material\", \"object\" or one of"},
+                            {"@ --gltf-animation gif", "--gltf-animation must be \"morph\""},
+                            {"@ --gltf-field nope", "--gltf-field \"nope\" is not a field"},
+                            {"@ --gltf-field curvature_bb", "midedge operator's curvature"},
+                            {"@ --gltf /dev/null/x.glb", "glTF file '/dev/null/x.glb': cannot create its directory"}};
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         char *a = replace(bad[k][0], "@", path);
         snprintf(args, sizeof args, "%s -o %s/out --quiet", a, dir);

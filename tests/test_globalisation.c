@@ -108,6 +108,9 @@ static void adaptive_run(int adaptive, int cap, int steps, int constraint, plume
         o.max_cuts = 31;
         CHECK(plume_traction_run(m, p, barbs, nb, &o, r, &err) == PLUME_EINVAL && strstr(err.msg, "max_cuts"));
         o.max_cuts = 8;
+        o.max_settles = -1; /* and max_settles below 0 */
+        CHECK(plume_traction_run(m, p, barbs, nb, &o, r, &err) == PLUME_EINVAL && strstr(err.msg, "max_settles"));
+        o.max_settles = 100;
     } else {
         o.max_cuts = 0;
     }

@@ -305,7 +305,7 @@ void test_gltf_run_objects(void)
 }
 
 /* The scene key "gltf" writes DIR/<file> when the run ends; a file whose directory cannot be made,
- * bad keys, a static scene, unknown or midedge-only fields and another scene's frames are refused
+ * bad keys, bad material names, a static scene, unknown or midedge-only fields and another scene's frames are refused
  * by name (the directory before the run). */
 void test_gltf_scene_key(void)
 {
@@ -389,6 +389,19 @@ void test_gltf_scene_key(void)
         scene_text = json_dumps(doc, 0);
         CHECK(plume_scene_load_json(scene_text, "strip_on_plate.json", NULL, &s, &err) != PLUME_OK &&
               strstr(err.msg, bad[i][1]));
+        plume_scene_destroy(&s);
+    }
+    /* a material's bad name names it */
+    json_object_set_new(doc, "gltf", json_true());
+    static const char *const bad_names[] = {"3", "\"\"",
+                                            "\"a name longer than sixty-three bytes, which is where material names stop\""};
+    for (size_t i = 0; i < sizeof bad_names / sizeof bad_names[0]; i++) {
+        json_object_set_new(json_array_get(json_object_get(doc, "materials"), 0), "name",
+                            json_loads(bad_names[i], JSON_DECODE_ANY, NULL));
+        free(scene_text);
+        scene_text = json_dumps(doc, 0);
+        CHECK(plume_scene_load_json(scene_text, "strip_on_plate.json", NULL, &s, &err) == PLUME_EFORMAT &&
+              strstr(err.msg, "materials[0].name"));
         plume_scene_destroy(&s);
     }
     /* a static scene has no frames */
