@@ -1,4 +1,5 @@
 #include "traction.h"
+#include "traction_grips.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -44,109 +45,12 @@ void plume_traction_result_free(plume_traction_result *r)
     memset(&r->curve, 0, sizeof r->curve);
 }
 
-static plume_index uf_find(plume_index *parent, plume_index i)
-{
-    while (parent[i] != i) {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    return i;
-}
-
-/* Which vertices sit on the grips and on the free sides (reference coordinates). */
-typedef struct {
-    plume_index *top, ntop, *left, nleft, *right, nright;
-    unsigned char *bottom_flag, *top_flag;
-} grips;
-
-static void grips_free(grips *g)
-{
-    free(g->top);
-    free(g->left);
-    free(g->right);
-    free(g->bottom_flag);
-    free(g->top_flag);
-}
-
-typedef struct {
-    double y;
-    plume_index v;
-} keyed_vertex;
-
-static int by_y(const void *a, const void *b)
-{
-    double ya = ((const keyed_vertex *)a)->y, yb = ((const keyed_vertex *)b)->y;
-    return (ya > yb) - (ya < yb);
-}
-
-/* sorts vertex ids by reference Y (qsort has no context argument, so sort keyed copies) */
-static plume_status sort_by_y(const double *X, plume_index *v, plume_index n)
-{
-    keyed_vertex *k = malloc((size_t)(n + 1) * sizeof *k);
-    if (!k)
-        return PLUME_ENOMEM;
-    for (plume_index i = 0; i < n; i++)
-        k[i].y = X[2 * v[i] + 1], k[i].v = v[i];
-    qsort(k, (size_t)n, sizeof *k, by_y);
-    for (plume_index i = 0; i < n; i++)
-        v[i] = k[i].v;
-    free(k);
-    return PLUME_OK;
-}
-
-static plume_status find_grips(const plume_mesh *m, double lx, double ly, grips *g, plume_err *err)
-{
-    double tol = 1e-9 * fmax(lx, ly);
-    memset(g, 0, sizeof *g);
-    size_t nv = (size_t)m->nv;
-    g->top = malloc(nv * sizeof *g->top);
-    g->left = malloc(nv * sizeof *g->left);
-    g->right = malloc(nv * sizeof *g->right);
-    g->bottom_flag = calloc(nv, 1);
-    g->top_flag = calloc(nv, 1);
-    if (!g->top || !g->left || !g->right || !g->bottom_flag || !g->top_flag)
-        return PLUME_ENOMEM;
-    plume_index nbottom = 0;
-    double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
-    for (plume_index v = 0; v < m->nv; v++) {
-        double X = m->X[2 * v], Y = m->X[2 * v + 1];
-        xmin = fmin(xmin, X), xmax = fmax(xmax, X), ymin = fmin(ymin, Y), ymax = fmax(ymax, Y);
-        if (fabs(Y) <= tol)
-            g->bottom_flag[v] = 1, nbottom++;
-        if (fabs(Y - ly) <= tol)
-            g->top_flag[v] = 1, g->top[g->ntop++] = v;
-        if (fabs(X) <= tol)
-            g->left[g->nleft++] = v;
-        if (fabs(X - lx) <= tol)
-            g->right[g->nright++] = v;
-    }
-    if (fabs(xmin) > tol || fabs(xmax - lx) > tol || fabs(ymin) > tol || fabs(ymax - ly) > tol)
-        return plume_err_set(err, PLUME_EINVAL,
-                             "traction: mesh bounding box [%g, %g] x [%g, %g] does not match the sample %g x %g m",
-                             xmin, xmax, ymin, ymax, lx, ly);
-    if (nbottom < 2 || g->ntop < 2 || g->nleft < 2 || g->nright < 2)
-        return plume_err_set(err, PLUME_EINVAL, "traction: mesh has too few vertices on the sample's edges");
-    plume_status st = sort_by_y(m->X, g->left, g->nleft);
-    return st == PLUME_OK ? sort_by_y(m->X, g->right, g->nright) : st;
-}
-
-/* trapezoidal integral over y of u_x along a side, vertices sorted by Y */
-static double side_integral(const plume_mesh *m, const double *x, int dim, const plume_index *v, plume_index n)
-{
-    double s = 0.0;
-    for (plume_index k = 0; k + 1 < n; k++) {
-        double ua = x[dim * v[k]] - m->X[2 * v[k]], ub = x[dim * v[k + 1]] - m->X[2 * v[k + 1]];
-        s += 0.5 * (ua + ub) * (m->X[2 * v[k + 1] + 1] - m->X[2 * v[k] + 1]);
-    }
-    return s;
-}
-
 /* Sets the top grip at displacement delta and predicts the free dofs. With no history
  * (da == db) the prediction is the previous state plus the increment of an affine stretch;
  * otherwise it extrapolates linearly through the last two converged states xa (at da) and xb (at
  * db) — from the small-strain probe this is the linear response, a far better start for Newton
  * than an affine stretch that loads the stiff barbs. */
-static void predict(const plume_mesh *m, plume_problem *p, const grips *g, double ly, double delta,
+static void predict(const plume_mesh *m, plume_problem *p, const plume_traction_grips *g, double ly, double delta,
                     const double *xa, double da, const double *xb, double db)
 {
     int dim = plume_problem_dim(p);
@@ -172,26 +76,6 @@ static void predict(const plume_mesh *m, plume_problem *p, const grips *g, doubl
         }
 }
 
-/* The y-reaction on the moving grip as the virtual work of the generalised forces `force` over
- * the field w = Y/ly on the y-dofs (1 on the top grip, 0 on the bottom one): the grip's reaction
- * plus sum_free w r, r the residual of equilibrium, so the two agree at equilibrium. Why the
- * probe uses it: at 1e-6 strain the forces are so small that the round-off of the stiff barbs'
- * membrane stress (E_xx times a barb strain at round-off, ~1e-16 |x| / edge, that the multipliers
- * of the final iterate do not match) is a visible part of them. The grip's sum takes that noise
- * whole from the elements along the grip; here each element's contribution is weighted by the
- * change of w across it, ~edge/ly. Measured on the tilted vane (E_xx/E_yy = 1e4, edge 0.01, 3e4
- * triangles), five converged solves of the same probe (newton, ipopt, three tolerances): the
- * slope spreads over 1e-5 Pa by the grip's sum, over 3e-8 Pa by this one. */
-static double reaction_virtual_work(const plume_mesh *m, const grips *g, const double *force, int dim, double ly)
-{
-    double F = 0.0;
-    for (plume_index v = 0; v < m->nv; v++) {
-        double w = g->top_flag[v] ? 1.0 : g->bottom_flag[v] ? 0.0 : m->X[2 * v + 1] / ly;
-        F += w * force[dim * v + 1];
-    }
-    return F;
-}
-
 /* The probe's relative KKT tolerance (plume_traction_opts.probe_tol_kkt). */
 static double probe_tolerance(const plume_traction_opts *o)
 {
@@ -206,7 +90,7 @@ static double probe_tolerance(const plume_traction_opts *o)
  * round-off floor (~1e-10 of it) the probe reaches while its displacement is still ~1e-4 off at
  * 3e4 triangles (newton converges linearly there, by ~1/50 per iteration). Below the floor the
  * solve ends on the step test (tol_step) instead, i.e. at round-off. */
-static plume_status solve_probe_tight(const plume_mesh *mesh, plume_problem *p, const grips *g,
+static plume_status solve_probe_tight(const plume_mesh *mesh, plume_problem *p, const plume_traction_grips *g,
                                       const plume_traction_opts *o, plume_solver *s, double tol, const double *xrest,
                                       double delta, double *u, double *lambda, plume_solve_report *rep,
                                       plume_err *err)
@@ -246,7 +130,7 @@ typedef struct {
     const plume_mesh *mesh;
     plume_problem *p;
     const plume_traction_opts *o;
-    grips g;
+    plume_traction_grips g;
     plume_solver *solver;    /* created at the first step */
     int dim;
     double *x;               /* the problem's positions */
@@ -259,7 +143,8 @@ typedef struct {
 static plume_status check_opts(const plume_mesh *mesh, plume_problem *p, const plume_traction_opts *o, plume_err *err)
 {
     if (!(o->lx > 0) || !(o->ly > 0) || !(o->h > 0) || !isfinite(o->lx * o->ly * o->h))
-        return plume_err_set(err, PLUME_EINVAL, "traction: lx, ly and thickness must be finite and > 0 (got %g, %g, %g)",
+        return plume_err_set(err, PLUME_EINVAL,
+                             "traction: lx, ly and thickness must be finite and > 0 (got %g, %g, %g)",
                              o->lx, o->ly, o->h);
     if (!(o->strain_max > 0) || !isfinite(o->strain_max) || o->steps < 1 || !(o->probe_strain > 0))
         return plume_err_set(err, PLUME_EINVAL, "traction: strain-max must be > 0 and steps >= 1 (got %g, %d)",
@@ -273,43 +158,6 @@ static plume_status check_opts(const plume_mesh *mesh, plume_problem *p, const p
                              o->probe_tol_kkt);
     if (plume_problem_nvert(p) != mesh->nv)
         return plume_err_set(err, PLUME_EINVAL, "traction: problem and mesh sizes differ");
-    return PLUME_OK;
-}
-
-/* barbs spanning both grips cannot stretch: union-find over the rigid edges, PLUME_EINFEASIBLE
- * when a top grip vertex is joined to a bottom one */
-static plume_status check_barbs_stretch(const plume_mesh *mesh, const grips *g, const plume_index *rigid_edges,
-                                        plume_index nrigid, plume_err *err)
-{
-    if (nrigid == 0)
-        return PLUME_OK;
-    plume_index *parent = malloc((size_t)mesh->nv * sizeof *parent);
-    if (!parent)
-        return PLUME_ENOMEM;
-    for (plume_index v = 0; v < mesh->nv; v++)
-        parent[v] = v;
-    for (plume_index e = 0; e < nrigid; e++)
-        parent[uf_find(parent, rigid_edges[2 * e])] = uf_find(parent, rigid_edges[2 * e + 1]);
-    unsigned char *root_bottom = calloc((size_t)mesh->nv, 1);
-    if (!root_bottom) {
-        free(parent);
-        return PLUME_ENOMEM;
-    }
-    for (plume_index v = 0; v < mesh->nv; v++)
-        if (g->bottom_flag[v])
-            root_bottom[uf_find(parent, v)] = 1;
-    plume_index culprit = -1;
-    for (plume_index k = 0; k < g->ntop && culprit < 0; k++)
-        if (root_bottom[uf_find(parent, g->top[k])])
-            culprit = g->top[k];
-    free(root_bottom);
-    free(parent);
-    if (culprit >= 0)
-        return plume_err_set(err, PLUME_EINFEASIBLE,
-                             "traction: inextensible barbs span both grips (e.g. the barb through (%g, %g) m), "
-                             "so the sample cannot stretch: take the constraint off the barbs (the vane's "
-                             "constraint 0), or choose a barb angle whose barbs leave through the free sides",
-                             mesh->X[2 * culprit], mesh->X[2 * culprit + 1]);
     return PLUME_OK;
 }
 
@@ -366,7 +214,7 @@ static plume_status alloc_run(traction_run *r, plume_traction_result *res)
 static void free_run(traction_run *r)
 {
     plume_solver_destroy(&r->solver);
-    grips_free(&r->g);
+    plume_traction_grips_free(&r->g);
     free(r->u);
     free(r->h.xa);
     free(r->h.xb);
@@ -558,7 +406,8 @@ static plume_status record_step(traction_run *r, int k, double strain, const plu
     if (!(r->h.da == delta)) /* the adaptive path has pushed it already */
         history_push(&r->h, r->x, r->lambda, delta, (size_t)(dim * mesh->nv), r->m);
     if (k == 0) { /* the probe's equilibrium is the first state of the history */
-        res->initial_slope = reaction_virtual_work(mesh, &r->g, r->force, dim, o->ly) / (o->lx * o->h) / strain;
+        const double F = plume_traction_reaction_virtual_work(mesh, &r->g, r->force, dim, o->ly);
+        res->initial_slope = F / (o->lx * o->h) / strain;
         res->curve.iterations[0] = rep->iterations;
         res->curve.seconds[0] = rep->seconds;
         return PLUME_OK;
@@ -567,8 +416,8 @@ static plume_status record_step(traction_run *r, int k, double strain, const plu
     for (plume_index t = 0; t < r->g.ntop; t++)
         F += r->force[dim * r->g.top[t] + 1];
     double stress = F / (o->lx * o->h);
-    double wbar = (side_integral(mesh, r->x, dim, r->g.right, r->g.nright) -
-                   side_integral(mesh, r->x, dim, r->g.left, r->g.nleft)) /
+    double wbar = (plume_traction_side_integral(mesh, r->x, dim, r->g.right, r->g.nright) -
+                   plume_traction_side_integral(mesh, r->x, dim, r->g.left, r->g.nleft)) /
                   (o->lx * o->ly);
     size_t i = (size_t)res->curve.n++;
     res->curve.strain[i] = strain;
@@ -606,8 +455,8 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         return st;
     traction_run r = {.mesh = mesh, .p = p, .o = o};
     double t_start = plume_wall_seconds();
-    if ((st = find_grips(mesh, o->lx, o->ly, &r.g, err)) != PLUME_OK ||
-        (st = check_barbs_stretch(mesh, &r.g, rigid_edges, nrigid, err)) != PLUME_OK ||
+    if ((st = plume_traction_grips_find(mesh, o->lx, o->ly, &r.g, err)) != PLUME_OK ||
+        (st = plume_traction_barbs_stretch_check(mesh, &r.g, rigid_edges, nrigid, err)) != PLUME_OK ||
         (st = place_sample(&r, err)) != PLUME_OK || (st = alloc_run(&r, res)) != PLUME_OK)
         goto cleanup;
     r.inc = o->strain_max * o->ly / o->steps;
