@@ -45,9 +45,17 @@ struct plume_hooks {
     int *hook_of;         /* [npairs] */
     double *offset;       /* [3 npairs] rest offsets o_p (the first dim entries used) */
     unsigned char *engaged; /* [nhooks] */
+    unsigned char *armed;   /* [nhooks] released and since then opened beyond the capture */
     double *slid;         /* [nhooks] slide so far (m) */
     long released, reengaged;
     double dropped;
+    double overshoot;     /* a commit allowed to cut refuses loads beyond this many strengths */
+    struct {              /* the state kept by keep(save) */
+        double *offset, *slid;
+        unsigned char *engaged, *armed;
+        long released, reengaged;
+        double dropped;
+    } kept;
 };
 
 void plume_hooks_destroy(plume_hooks **ph)
@@ -60,7 +68,12 @@ void plume_hooks_destroy(plume_hooks **ph)
     free(h->hook_of);
     free(h->offset);
     free(h->engaged);
+    free(h->armed);
     free(h->slid);
+    free(h->kept.offset);
+    free(h->kept.slid);
+    free(h->kept.engaged);
+    free(h->kept.armed);
     free(h);
     *ph = NULL;
 }
@@ -96,14 +109,22 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
     h->hook_of = malloc((size_t)np * sizeof *h->hook_of);
     h->offset = calloc(3 * (size_t)np, sizeof *h->offset);
     h->engaged = malloc((size_t)nhooks);
+    h->armed = calloc((size_t)nhooks, 1);
     h->slid = calloc((size_t)nhooks, sizeof *h->slid);
-    if (!h->first || !h->pairs || !h->hook_of || !h->offset || !h->engaged || !h->slid) {
+    h->kept.offset = calloc(3 * (size_t)np, sizeof *h->kept.offset);
+    h->kept.slid = calloc((size_t)nhooks, sizeof *h->kept.slid);
+    h->kept.engaged = malloc((size_t)nhooks);
+    h->kept.armed = calloc((size_t)nhooks, 1);
+    h->overshoot = PLUME_HOOKS_OVERSHOOT;
+    if (!h->first || !h->pairs || !h->hook_of || !h->offset || !h->engaged || !h->armed || !h->slid ||
+        !h->kept.offset || !h->kept.slid || !h->kept.engaged || !h->kept.armed) {
         plume_hooks_destroy(&h);
         return plume_err_set(err, PLUME_ENOMEM, "hooks: out of memory");
     }
     memcpy(h->first, first, (size_t)(nhooks + 1) * sizeof *first);
     memcpy(h->pairs, pairs, 2 * (size_t)np * sizeof *pairs);
     memset(h->engaged, 1, (size_t)nhooks);
+    memset(h->kept.engaged, 1, (size_t)nhooks);
     for (int k = 0; k < nhooks; k++)
         for (plume_index p = first[k]; p < first[k + 1]; p++)
             h->hook_of[p] = k;
@@ -180,7 +201,50 @@ static plume_status hooks_energies(void *ctx, int dim, const double *x, double *
     return PLUME_OK;
 }
 
-void plume_hooks_term(plume_hooks *h, plume_term *t)
+/* the term's commit: the hooks' commit at the equilibrium x, unless may_cut and a hook is loaded
+ * beyond the overshoot */
+static plume_status hooks_term_commit(void *ctx, int dim, const double *x, int may_cut, plume_commit_report *r)
+{
+    plume_hooks *h = ctx;
+    if (may_cut && plume_hooks_max_load(h, dim, x, NULL) > h->overshoot) {
+        r->overshoot = 1;
+        return PLUME_OK;
+    }
+    plume_hooks_events ev;
+    plume_status st = plume_hooks_commit(h, dim, x, PLUME_HOOKS_ALL, &ev, NULL);
+    r->changed = ev.released + ev.slid + ev.reengaged > 0;
+    r->released = ev.released, r->reengaged = ev.reengaged, r->energy_drop = ev.energy_drop;
+    return st;
+}
+
+static plume_status hooks_term_keep(void *ctx, int save)
+{
+    plume_hooks *h = ctx;
+    const size_t no = 3 * (size_t)h->npairs * sizeof(double), ns = (size_t)h->nhooks * sizeof(double);
+    const size_t nf = (size_t)h->nhooks;
+    if (save) {
+        memcpy(h->kept.offset, h->offset, no);
+        memcpy(h->kept.slid, h->slid, ns);
+        memcpy(h->kept.engaged, h->engaged, nf);
+        memcpy(h->kept.armed, h->armed, nf);
+        h->kept.released = h->released, h->kept.reengaged = h->reengaged, h->kept.dropped = h->dropped;
+    } else {
+        memcpy(h->offset, h->kept.offset, no);
+        memcpy(h->slid, h->kept.slid, ns);
+        memcpy(h->engaged, h->kept.engaged, nf);
+        memcpy(h->armed, h->kept.armed, nf);
+        h->released = h->kept.released, h->reengaged = h->kept.reengaged, h->dropped = h->kept.dropped;
+    }
+    return PLUME_OK;
+}
+
+static void hooks_term_destroy(void *ctx)
+{
+    plume_hooks *h = ctx;
+    plume_hooks_destroy(&h);
+}
+
+void plume_hooks_term(plume_hooks *h, int own, plume_term *t)
 {
     memset(t, 0, sizeof *t);
     t->size = sizeof *t;
@@ -190,6 +254,9 @@ void plume_hooks_term(plume_hooks *h, plume_term *t)
     t->stencil = h ? h->pairs : NULL;
     t->eval = hooks_eval;
     t->energies = hooks_energies;
+    t->commit = hooks_term_commit;
+    t->keep = hooks_term_keep;
+    t->destroy = own ? hooks_term_destroy : NULL;
     t->ctx = h;
 }
 
@@ -267,6 +334,7 @@ static void overload(plume_hooks *h, int dim, const double *x, int k, const doub
         ev->slid++;
     } else {
         h->engaged[k] = 0;
+        h->armed[k] = 0;
         ev->released++;
     }
     ev->energy_drop += before - hook_energy(h, dim, x, k);
@@ -284,7 +352,13 @@ static void catch_again(plume_hooks *h, int dim, const double *x, int k, plume_h
         mean += norm(d, dim);
     }
     mean /= (double)(h->first[k + 1] - h->first[k]);
-    if (!(h->law.capture > 0.0 && mean <= h->law.capture))
+    if (!(h->law.capture > 0.0))
+        return;
+    if (mean > h->law.capture) { /* opened clear of the barb: it may catch when pressed back */
+        h->armed[k] = 1;
+        return;
+    }
+    if (!h->armed[k])
         return;
     for (plume_index p = h->first[k]; p < h->first[k + 1]; p++) { /* offsets at the gaps: zero force */
         const plume_index a = h->pairs[2 * p], b = h->pairs[2 * p + 1];
@@ -292,6 +366,7 @@ static void catch_again(plume_hooks *h, int dim, const double *x, int k, plume_h
             h->offset[3 * p + c] = x[dim * a + c] - x[dim * b + c];
     }
     h->engaged[k] = 1;
+    h->armed[k] = 0;
     h->slid[k] = 0.0;
     ev->reengaged++;
 }
@@ -321,6 +396,12 @@ plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_
     if (ev)
         *ev = e;
     return PLUME_OK;
+}
+
+void plume_hooks_set_overshoot(plume_hooks *h, double ratio)
+{
+    if (h && ratio >= 1.0)
+        h->overshoot = ratio;
 }
 
 void plume_hooks_totals(const plume_hooks *h, long *released, long *reengaged, double *dropped)

@@ -12,13 +12,15 @@
  *  - Engaged, |F| > strength: the hook slides (its pairs' offsets move together by the return
  *    map that brings |F| back to the strength) while its slide so far stays within `slide`;
  *    otherwise it is released.
- *  - Released: no energy. It catches again when the mean distance of its pairs is within
- *    `capture`, with its offsets set to the current gaps: it starts at zero force and the
- *    commit creates no energy.
+ *  - Released: no energy. Once the mean distance of its pairs has exceeded `capture` (the hooklet
+ *    has cleared the barb), it catches again when that distance is back within `capture`, with its
+ *    offsets set to the current gaps: it starts at zero force and the commit creates no energy.
  * A commit reports the energy the hooks lose at the same positions (released springs, slides):
  * the dissipated part of an energy balance. */
 #ifndef PLUME_MICRO_HOOKS_H
 #define PLUME_MICRO_HOOKS_H
+
+#include "../include/plume/homogenize.h"
 
 #include "../lib/core/export.h"
 #include "../lib/core/status.h"
@@ -28,16 +30,6 @@
 extern "C" {
 #endif
 
-/** The law of one hook (SI units). */
-typedef struct {
-    double strength; /**< N, > 0: the force at which an engaged hook slides or lets go */
-    double opening;  /**< m, > 0: its elastic opening at that force (stiffness strength / opening) */
-    double slide;    /**< m, >= 0: the slide it allows before it lets go (0: none) */
-    double capture;  /**< m, >= 0: a released hook catches again within this mean gap (0: never) */
-} plume_hook_law;
-
-/** The default law (plume_hook_law_default; the sources are in docs and data/). */
-void plume_hook_law_default(plume_hook_law *l);
 /** PLUME_EINVAL naming the first bad field and its value. */
 plume_status plume_hook_law_check(const plume_hook_law *l, plume_err *err);
 
@@ -58,8 +50,15 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
 void plume_hooks_destroy(plume_hooks **h);
 
 /** The energy term of the hooks (name "hooks", arity 2, a stencil per pair; released pairs add
- * nothing). The term borrows h, which must outlive it; its destroy does nothing. */
-void plume_hooks_term(plume_hooks *h, plume_term *t);
+ * nothing), with a commit (plume_term.commit: plume_hooks_commit of every hook, or an overshoot
+ * when allowed to cut and a hook is loaded beyond plume_hooks_set_overshoot's ratio) and a keep.
+ * own: the term frees h with the problem; 0: it borrows h, which must outlive it. */
+void plume_hooks_term(plume_hooks *h, int own, plume_term *t);
+
+/** A commit allowed to cut refuses loads beyond this many strengths (>= 1; default
+ * PLUME_HOOKS_OVERSHOOT): the stepper halves its increment, so hooks let go near their strength. */
+#define PLUME_HOOKS_OVERSHOOT 1.25
+void plume_hooks_set_overshoot(plume_hooks *h, double ratio);
 
 /** Hooks, and pairs. */
 int plume_hooks_count(const plume_hooks *h);

@@ -27,6 +27,8 @@ void plume_layout_default(plume_layout *l)
     l->barbule_angle = 60.0;
     l->order = 2;
     l->e_rel = 0.0;
+    plume_hook_law_default(&l->hooks); /* the literature's opening and capture, ready when ... */
+    l->hooks.strength = 0.0;           /* ... a strength turns the hooks on: bonded by default */
 }
 
 void plume_layout_set_spacing(plume_layout *l, double d_B)
@@ -132,8 +134,16 @@ plume_status plume_layout_check(const plume_layout *l, plume_err *err)
                              "strips narrower than an element: the barb strip (%g m) is less than a quarter of the "
                              "element edge e_rel * w_B = %g m (e_rel = %g must be <= %g)",
                              w, l->e_rel * w, l->e_rel, PLUME_LAYOUT_MAX_E_REL);
-    if (l->kind == PLUME_LAYOUT_STRIPS)
+    const plume_hook_law *hk = &l->hooks;
+    if (!(hk->strength >= 0.0) || !isfinite(hk->strength))
+        return plume_err_set(err, PLUME_EINVAL, "hook_strength must be finite and >= 0, 0 for bonded barbules (got %g N)",
+                             hk->strength);
+    if (l->kind == PLUME_LAYOUT_STRIPS) {
+        if (hk->strength > 0.0)
+            return plume_err_set(err, PLUME_EINVAL, "hook_strength = %g N needs the layout \"barbules\": a strips "
+                                 "layout has no barbule ends to hook", hk->strength);
         return PLUME_OK; /* the barbule fields are not used */
+    }
     if (l->e_rel > 0.0 && l->barbule_width * PLUME_LAYOUT_MAX_E_REL < l->e_rel * w)
         return plume_err_set(err, PLUME_EINVAL,
                              "strips narrower than an element: barbule_width = %g m is less than a quarter of the "
@@ -156,6 +166,18 @@ plume_status plume_layout_check(const plume_layout *l, plume_err *err)
                              "cell too small for its layout: a barbule %g m wide at %g deg across the %g m gap "
                              "spans %g m along the barbs, not less than barbule_spacing = %g m",
                              l->barbule_width, l->barbule_angle, gap, extent, l->barbule_spacing);
+    if (hk->strength == 0.0)
+        return PLUME_OK;
+    if (!(hk->opening > 0.0) || !isfinite(hk->opening))
+        return plume_err_set(err, PLUME_EINVAL, "hook_opening must be finite and > 0 (got %g m)", hk->opening);
+    if (!(hk->slide >= 0.0) || !isfinite(hk->slide))
+        return plume_err_set(err, PLUME_EINVAL, "hook_slide must be finite and >= 0 (got %g m)", hk->slide);
+    if (!(hk->capture >= 0.0) || !isfinite(hk->capture))
+        return plume_err_set(err, PLUME_EINVAL, "hook_capture must be finite and >= 0 (got %g m)", hk->capture);
+    /* a capture beyond the spacing would catch a hooklet on the next barbule's place */
+    if (!(hk->capture < l->barbule_spacing))
+        return plume_err_set(err, PLUME_EINVAL, "hook_capture = %g m must be less than barbule_spacing = %g m",
+                             hk->capture, l->barbule_spacing);
     return PLUME_OK;
 }
 

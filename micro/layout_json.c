@@ -37,13 +37,17 @@ static const layout_key layout_keys[] = {
     {"barbule_width", KEY_NUMBER, offsetof(plume_layout, barbule_width)},
     {"barbule_spacing", KEY_NUMBER, offsetof(plume_layout, barbule_spacing)},
     {"barbule_angle", KEY_NUMBER, offsetof(plume_layout, barbule_angle)},
+    {"hook_strength", KEY_NUMBER, offsetof(plume_layout, hooks.strength)},
+    {"hook_opening", KEY_NUMBER, offsetof(plume_layout, hooks.opening)},
+    {"hook_slide", KEY_NUMBER, offsetof(plume_layout, hooks.slide)},
+    {"hook_capture", KEY_NUMBER, offsetof(plume_layout, hooks.capture)},
 };
 #define NKEYS (sizeof layout_keys / sizeof layout_keys[0])
 
 /* "unknown key" naming every key: the list a user (and the docs' test) can check against */
 static plume_status unknown_key(const char *where, const char *key, plume_err *err)
 {
-    char list[512] = "";
+    char list[640] = "";
     size_t n = 0;
     for (size_t k = 0; k < NKEYS && n < sizeof list; k++)
         n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", k ? ", " : "", layout_keys[k].key);

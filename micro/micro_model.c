@@ -51,7 +51,11 @@ plume_status plume_micro_specimen(const plume_layout *l, double lx, double ly, d
     *mesh = NULL;
     *p = NULL;
     plume_status st = plume_layout_check(l, err);
-    if (st != PLUME_OK || (st = plume_specimen_mesh(l, lx, ly, angle_deg, mesh, err)) != PLUME_OK)
+    if (st != PLUME_OK)
+        return st;
+    if (l->kind == PLUME_LAYOUT_BARBULES && l->hooks.strength > 0.0)
+        return plume_micro_specimen_hooked(l, lx, ly, angle_deg, &l->hooks, mesh, p, NULL, err);
+    if ((st = plume_specimen_mesh(l, lx, ly, angle_deg, mesh, err)) != PLUME_OK)
         return st;
     return specimen_problem(l, lx, ly, mesh, p, err);
 }
@@ -60,9 +64,12 @@ plume_status plume_micro_specimen_hooked(const plume_layout *l, double lx, doubl
                                          const plume_hook_law *law, plume_mesh **mesh, plume_problem **p,
                                          plume_hooks **hooks, plume_err *err)
 {
-    if (!l || !law || !mesh || !p || !hooks)
+    if (!l || !law || !mesh || !p)
         return plume_err_set(err, PLUME_EINVAL, "micro specimen with hooks: invalid arguments");
-    *mesh = NULL, *p = NULL, *hooks = NULL;
+    *mesh = NULL, *p = NULL;
+    if (hooks)
+        *hooks = NULL;
+    plume_hooks *made = NULL;
     plume_mesh *closed = NULL;
     plume_hook_mesh open = {0};
     plume_index *first = NULL, *pairs = NULL;
@@ -82,15 +89,18 @@ plume_status plume_micro_specimen_hooked(const plume_layout *l, double lx, doubl
     if ((st = specimen_problem(l, lx, ly, mesh, p, err)) != PLUME_OK || open.nhooks == 0)
         goto done;
     if ((st = plume_hooks_create((*mesh)->nv, open.nhooks, first ? first : open.first, first ? pairs : open.pairs, law,
-                                 hooks, err)) != PLUME_OK)
+                                 &made, err)) != PLUME_OK)
         goto done;
     plume_term t;
-    plume_hooks_term(*hooks, &t);
-    st = plume_problem_add_term(*p, &t, err);
+    plume_hooks_term(made, 1, &t);
+    st = plume_problem_add_term(*p, &t, err); /* the problem owns the hooks from here, even on failure */
+    if (st == PLUME_OK && hooks)
+        *hooks = made;
+    made = NULL;
 done:
+    plume_hooks_destroy(&made);
     if (st != PLUME_OK) {
         plume_problem_destroy(p);
-        plume_hooks_destroy(hooks);
         plume_mesh_destroy(mesh);
     }
     plume_mesh_destroy(&closed);

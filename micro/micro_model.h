@@ -19,8 +19,9 @@ extern "C" {
 /** plume_micro_specimen (include/plume/traction.h) with the barbules' distal ends held by hooks
  * of the law `law` instead of shared vertices (micro/hook_mesh.h, micro/hooks.h;
  * docs/unzipping.md): the same specimen opened at its distal joins, the membrane term and the
- * hooks' term. *hooks is borrowed by the problem's term: destroy the problem first. A specimen
- * without distal joins has no hooks (*hooks NULL). Succeeds whole or frees what it made. */
+ * hooks' term, which owns them: *hooks (may be NULL) is a view, valid while the problem lives.
+ * plume_micro_specimen calls it with the layout's own law when its hook_strength is set. A
+ * specimen without distal joins has no hooks (*hooks NULL). Succeeds whole or frees what it made. */
 plume_status plume_micro_specimen_hooked(const plume_layout *l, double lx, double ly, double angle_deg,
                                          const plume_hook_law *law, plume_mesh **mesh, plume_problem **p,
                                          plume_hooks **hooks, plume_err *err);

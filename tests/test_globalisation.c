@@ -111,6 +111,15 @@ static void adaptive_run(int adaptive, int cap, int steps, int constraint, plume
         o.max_settles = -1; /* and max_settles below 0 */
         CHECK(plume_traction_run(m, p, barbs, nb, &o, r, &err) == PLUME_EINVAL && strstr(err.msg, "max_settles"));
         o.max_settles = 100;
+        /* a load path: too long, a leg that does not move the grip, a strain that is not finite */
+        const double flat[2] = {0.05, 0.05}, nan_leg[1] = {NAN};
+        o.path = flat, o.npath = 1001;
+        CHECK(plume_traction_run(m, p, barbs, nb, &o, r, &err) == PLUME_EINVAL && strstr(err.msg, "npath"));
+        o.npath = 2;
+        CHECK(plume_traction_run(m, p, barbs, nb, &o, r, &err) == PLUME_EINVAL && strstr(err.msg, "path[1] = 0.05"));
+        o.path = nan_leg, o.npath = 1;
+        CHECK(plume_traction_run(m, p, barbs, nb, &o, r, &err) == PLUME_EINVAL && strstr(err.msg, "path[0]"));
+        o.path = NULL, o.npath = 0;
     } else {
         o.max_cuts = 0;
     }

@@ -73,9 +73,11 @@ static int ticked(const char *s, char *out, size_t n)
 static int same_layout(const plume_layout *a, const plume_layout *b)
 {
     const double x[] = {a->phi, a->d_B, a->E_b, a->nu_b, a->ratio, a->nu_B, a->h, a->h_barb, a->h_barbule, a->kappa,
-                        a->barbule_width, a->barbule_spacing, a->barbule_angle, a->e_rel};
+                        a->barbule_width, a->barbule_spacing, a->barbule_angle, a->e_rel, a->hooks.strength,
+                        a->hooks.opening, a->hooks.slide, a->hooks.capture};
     const double y[] = {b->phi, b->d_B, b->E_b, b->nu_b, b->ratio, b->nu_B, b->h, b->h_barb, b->h_barbule, b->kappa,
-                        b->barbule_width, b->barbule_spacing, b->barbule_angle, b->e_rel};
+                        b->barbule_width, b->barbule_spacing, b->barbule_angle, b->e_rel, b->hooks.strength,
+                        b->hooks.opening, b->hooks.slide, b->hooks.capture};
     for (size_t i = 0; i < sizeof x / sizeof x[0]; i++)
         if (!(fabs(x[i] - y[i]) <= 1e-12 * fabs(y[i])))
             return 0;
@@ -200,7 +202,7 @@ void test_layout_keys_note(void)
     CHECK(plume_layout_apply_json("{\"note\": \"text\"}", "test", &l, &err) == PLUME_OK);
     CHECK(plume_layout_apply_json("{\"Eb\": 2e9}", "request.layout", &l, &err) == PLUME_EFORMAT &&
           strstr(err.msg, "request.layout: unknown key \"Eb\" (expected layout, phi, d_B, w_B, E_b,") &&
-          strstr(err.msg, "barbule_angle, or note)"));
+          strstr(err.msg, "hook_capture, or note)"));
     CHECK(plume_layout_apply_json("{\"notes\": \"text\"}", "test", &l, &err) == PLUME_EFORMAT && strstr(err.msg, "\"notes\""));
     /* every shipped layout loads */
     const char *files[] = {"../data/layout_fig10.json", "../data/layout_barbules.json",

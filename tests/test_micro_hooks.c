@@ -25,7 +25,7 @@ void test_micro_hooks_fd(void)
     plume_err err = {{0}};
     CHECK(plume_hooks_create(6, 2, first2, pairs2, &law, &h, &err) == PLUME_OK);
     plume_term t;
-    plume_hooks_term(h, &t);
+    plume_hooks_term(h, 0, &t);
     CHECK(t.arity == 2 && t.nstencil == 3 && strcmp(t.name, "hooks") == 0);
     double x[18];
     for (int i = 0; i < 18; i++) /* micrometre gaps, as in a barbule specimen */
@@ -192,8 +192,7 @@ static double pulled_stress(const plume_layout *l, const plume_hook_law *law, in
     else
         fprintf(stderr, "    traction: %s\n", err.msg);
     plume_traction_result_free(&r);
-    plume_problem_destroy(&p);
-    plume_hooks_destroy(&hooks);
+    plume_problem_destroy(&p); /* and the hooks it owns */
     plume_mesh_destroy(&mesh);
     return s;
 }
@@ -219,35 +218,6 @@ void test_micro_hooks_specimen_bonded_limit(void)
     CHECK(s_soft < s_stiff && s_soft < bonded);
 }
 
-/* The traction loop's on_equilibrium: the hooks committed at every equilibrium. */
-typedef struct {
-    plume_hooks *hooks;
-    double cut_above; /* an increment that loads a hook beyond this many strengths is halved */
-    long calls, cuts;
-    plume_hooks_events total;
-} hook_driver;
-
-static plume_status commit_hooks(void *user, const double *x, int *changed, int *cut)
-{
-    hook_driver *d = user;
-    plume_err err = {{0}};
-    plume_hooks_events ev;
-    *changed = 0;
-    if ((*cut = plume_hooks_max_load(d->hooks, 2, x, NULL) > d->cut_above)) {
-        d->cuts++;
-        return PLUME_OK;
-    }
-    plume_status st = plume_hooks_commit(d->hooks, 2, x, PLUME_HOOKS_ALL, &ev, &err);
-    d->calls++;
-    d->total.released += ev.released, d->total.reengaged += ev.reengaged;
-    d->total.energy_drop += ev.energy_drop;
-    *changed = ev.released + ev.slid > 0;
-    return st;
-}
-
-/* The same specimen pulled to 5 % with hooks of 50 mN: an increment that loads a hook beyond 1.25
- * strengths is halved, so hooks let go close to their strength; each release is solved again at
- * the same grips; the stress falls below the bonded specimen's. */
 void test_micro_hooks_traction_releases(void)
 {
     plume_layout l;
@@ -263,36 +233,89 @@ void test_micro_hooks_traction_releases(void)
     for (int hooked = 0; hooked < 2; hooked++) {
         plume_mesh *mesh = NULL;
         plume_problem *p = NULL;
-        hook_driver d = {.cut_above = 1.25};
-        plume_status st = hooked ? plume_micro_specimen_hooked(&l, lx, ly, 45.0, &law, &mesh, &p, &d.hooks, &err)
+        plume_hooks *hooks = NULL;
+        plume_status st = hooked ? plume_micro_specimen_hooked(&l, lx, ly, 45.0, &law, &mesh, &p, &hooks, &err)
                                  : plume_micro_specimen(&l, lx, ly, 45.0, &mesh, &p, &err);
         CHECK(st == PLUME_OK);
         plume_traction_opts o;
         plume_traction_opts_default(&o);
         o.lx = lx, o.ly = ly, o.h = l.h, o.strain_max = 0.05, o.steps = 10, o.progress = 0;
-        if (hooked)
-            o.on_equilibrium = commit_hooks, o.on_equilibrium_user = &d;
         plume_traction_result r;
         memset(&r, 0, sizeof r);
         if (st == PLUME_OK && (st = plume_traction_run(mesh, p, NULL, 0, &o, &r, &err)) == PLUME_OK) {
             stress[hooked] = r.curve.stress[r.curve.n - 1];
-            printf("    %s: converged %d, %d iterations, %d cuts; stress (kPa) at strain 0.005 .. 0.05:",
-                   hooked ? "hooked" : "bonded", r.converged, r.newton_iterations, r.cuts);
+            printf("    %s: converged %d, %d iterations, %d cuts (%d by an overshoot); stress (kPa) at strain "
+                   "0.005 .. 0.05:", hooked ? "hooked" : "bonded", r.converged, r.newton_iterations, r.cuts,
+                   r.overshoot_cuts);
             for (long i = 1; i < (long)r.curve.n; i++)
                 printf(" %.0f", 1e-3 * r.curve.stress[i]);
-            if (hooked)
-                printf("\n    %ld commits, %ld cut by a hook beyond 1.25 strengths, %d of %d hooks released, %.3g J "
-                       "dropped", d.calls, d.cuts, d.total.released, plume_hooks_count(d.hooks), d.total.energy_drop);
+            printf("\n    work %.4g J, stored %.4g J, dissipated %.4g J, balance error %.2e", r.work, r.stored_energy,
+                   r.dissipated_energy, r.energy_balance_error);
+            if (hooked) {
+                long rel = 0;
+                plume_hooks_totals(hooks, &rel, NULL, NULL);
+                printf("; %ld of %d hooks released (the hooks count %ld), at most %d at one equilibrium",
+                       r.released, plume_hooks_count(hooks), rel, r.largest_cascade);
+                CHECK(rel == r.released); /* a cut's releases undone with it */
+                CHECK(r.dissipated_energy > 0.0);
+            } else
+                CHECK(r.dissipated_energy == 0.0 && r.released == 0);
             printf("\n");
             CHECK(r.converged && r.curve.n == 11);
+            CHECK(fabs(r.energy_balance_error) < 1e-2);
         } else
             fprintf(stderr, "    traction: %s\n", err.msg);
-        released = d.total.released;
+        if (hooked)
+            released = r.released;
         plume_traction_result_free(&r);
         plume_problem_destroy(&p);
-        plume_hooks_destroy(&d.hooks);
         plume_mesh_destroy(&mesh);
     }
     CHECK(released > 0);
     CHECK(stress[1] < stress[0]);
+}
+
+/* Load, unload, reload: the Table 3 (a) specimen at 45 deg with 50 mN hooks that catch again
+ * within 20 um, pulled to 3 %, back to 0 and to 3 % again. The unloading branch lies below the
+ * loading one (hooks let go on the way up stay open on the way down), hooks catch again as the
+ * lips close, the reload releases them again, and the loop's work is what the commits dissipated
+ * plus what is left stored, to the quadrature's error. */
+void test_micro_hooks_cycle(void)
+{
+    plume_layout l;
+    plume_err err = {{0}};
+    plume_layout_default(&l);
+    CHECK(plume_layout_load_json("../data/layout_barbules_table3a.json", &l, &err) == PLUME_OK);
+    const double lx = 4e-3, ly = 5.2e-3;
+    l.hooks.strength = 5e-2, l.hooks.opening = l.hooks.strength / 1e8, l.hooks.capture = 2e-5;
+    plume_mesh *mesh = NULL;
+    plume_problem *p = NULL;
+    CHECK(plume_micro_specimen(&l, lx, ly, 45.0, &mesh, &p, &err) == PLUME_OK);
+    const double path[3] = {0.03, 0.0, 0.03};
+    plume_traction_opts o;
+    plume_traction_opts_default(&o);
+    o.lx = lx, o.ly = ly, o.h = l.h, o.steps = 6, o.progress = 0, o.path = path, o.npath = 3;
+    plume_traction_result r;
+    memset(&r, 0, sizeof r);
+    CHECK(plume_traction_run(mesh, p, NULL, 0, &o, &r, &err) == PLUME_OK);
+    printf("    converged %d, %d points, %d iterations, %d cuts\n    strain/stress (kPa):", r.converged, (int)r.curve.n,
+           r.newton_iterations, r.cuts);
+    for (long i = 0; i < (long)r.curve.n; i++)
+        printf(" %.3f/%.0f", r.curve.strain[i], 1e-3 * r.curve.stress[i]);
+    printf("\n    work %.4g J, stored %.4g J, dissipated %.4g J, balance %.2e; released %ld, caught again %ld\n", r.work,
+           r.stored_energy, r.dissipated_energy, r.energy_balance_error, r.released, r.reengaged);
+    CHECK(r.converged && r.curve.n == 19);
+    if (r.curve.n == 19) {
+        for (int i = 1; i < 6; i++) { /* loading point i against unloading point 12 - i, the same strain */
+            CHECK(fabs(r.curve.strain[i] - r.curve.strain[12 - i]) < 1e-12);
+            CHECK(r.curve.stress[12 - i] < r.curve.stress[i]);
+        }
+        CHECK(r.curve.strain[12] == 0.0 && r.curve.strain[18] == 0.03);
+    }
+    CHECK(r.released > 0 && r.reengaged > 0);
+    CHECK(r.dissipated_energy > 0.5 * r.work); /* most of the loop's work is gone */
+    CHECK(fabs(r.energy_balance_error) < 1e-2);
+    plume_traction_result_free(&r);
+    plume_problem_destroy(&p);
+    plume_mesh_destroy(&mesh);
 }

@@ -28,6 +28,22 @@ typedef enum {
  * is refused ("strips narrower than an element"). */
 #define PLUME_LAYOUT_MAX_E_REL 4.0
 
+/** The law of a barbule hook, the join of a barbule's distal end to the next barb that lets go and
+ * catches again (SI units; docs/unzipping.md). */
+typedef struct {
+    double strength; /**< N, > 0: the force at which an engaged hook slides or lets go; 0 in a layout:
+                        no hooks, the barbules bonded to the next barb */
+    double opening;  /**< m, > 0: its elastic opening at that force (stiffness strength / opening) */
+    double slide;    /**< m, >= 0: the slide it allows before it lets go (0: none) */
+    double capture;  /**< m, >= 0: a released hook that has opened beyond this mean gap catches again
+                        when pressed back within it (0: never) */
+} plume_hook_law;
+
+/** The law from the literature: a hooklet lets go at 14 uN (Kovalev, Filippov & Gorb 2014); the
+ * opening (2 um) and the capture (5 um) are assumed at the hooklet's scale; no slide
+ * (data/layout_hooks.json cites the sources). */
+PLUME_API void plume_hook_law_default(plume_hook_law *l);
+
 /** A layout, in the barb frame: x along the barbs, y across. All lengths in m, moduli in Pa. */
 typedef struct {
     plume_layout_kind kind; /**< strips in a matrix, or explicit barbules */
@@ -48,6 +64,9 @@ typedef struct {
     double barbule_spacing;  /**< distance between consecutive barbules along a barb (the period
                                 along x) */
     double barbule_angle;    /**< angle between barbules and barbs, degrees, in (0, 180) */
+    plume_hook_law hooks;    /**< the barbules' distal ends: strength 0 (default) bonded to the next barb,
+                                else held by hooks of this law (a capture below barbule_spacing); the
+                                default's other fields are plume_hook_law_default's */
     /* meshing: */
     int order;             /**< element order: 2 (default) quadratic triangles, which do not lock when
                               a slender strip bends in-plane; 1 linear triangles (the paper's) */

@@ -55,6 +55,17 @@ PLUME_API double plume_mesh_total_area(const plume_mesh *m);
 
 
 /* ---- energy terms and constraints ---- */
+/** What the stateful terms of a problem did at an equilibrium (plume_term.commit,
+ * plume_problem_commit_terms). */
+typedef struct {
+    int changed;        /**< the state changed: the stepper solves again at the same load */
+    int overshoot;      /**< nothing changed, but a change lands too far past its threshold: the
+                           stepper halves its increment */
+    long released;      /**< links let go */
+    long reengaged;     /**< links caught again */
+    double energy_drop; /**< J, >= 0: the terms' energy at x before the commit minus after */
+} plume_commit_report;
+
 /** An energy term is a sum over stencils; each stencil couples `arity` vertices. With d = dim and
  * k = arity*d + nextra, the term adds its energy to *energy and its gradient to grad (full vector of
  * plume_problem_ndof entries: dim*nv vertex-major, then any extra unknowns) and, when hblocks is non-NULL, writes one dense k x k row-major
@@ -128,6 +139,16 @@ typedef struct {
      * frames and rewrite its own extras in x (full vector), its energy at x unchanged. Called by
      * the steppers (statics, dynamics) between solves, never inside one. */
     plume_status (*rebase)(void *ctx, int dim, double *x);
+    /** Optional (NULL: a term without a state of its own): links that let go and catch again
+     * between solves, such as barbule hooks (docs/unzipping.md). Called by
+     * plume_problem_commit_terms at an equilibrium x (full vector), never inside a solve: the
+     * term updates its state there and reports what it did in *r (zeroed before the call). When
+     * `may_cut` is non-zero and a change would land too far past its threshold, the term may
+     * change nothing and set r->overshoot instead: the stepper then halves its load increment. */
+    plume_status (*commit)(void *ctx, int dim, const double *x, int may_cut, plume_commit_report *r);
+    /** Optional, with commit: keeps the term's state (save non-zero) or returns to the kept one
+     * (save 0), so that a load increment that fails after a commit is undone whole. */
+    plume_status (*keep)(void *ctx, int save);
 } plume_term;
 
 /** A set of m equality constraints g_c(x) = 0; constraint c couples the `arity` vertices of
@@ -194,6 +215,19 @@ PLUME_API plume_index plume_problem_ndof(const plume_problem *p);
 /** Marks a coordinate as prescribed (its value is whatever plume_problem_x holds). Before finalize;
  * PLUME_EINVAL after it or for a dof out of range, naming the vertex and component in err. */
 PLUME_API plume_status plume_problem_fix_dof(plume_problem *p, plume_index dof, plume_err *err);
+
+/** Calls every term's commit (plume_term.commit) at the problem's x, an equilibrium, and sums
+ * their reports into *r (zeroed first; changed and overshoot are either's). After finalize,
+ * never during a solve. Without stateful terms *r stays zero. */
+PLUME_API plume_status plume_problem_commit_terms(plume_problem *p, int may_cut, plume_commit_report *r,
+                                                  plume_err *err);
+
+/** Calls every stateful term's keep (plume_term.keep): save non-zero keeps the current state, 0
+ * returns to the kept one. */
+PLUME_API plume_status plume_problem_keep_terms(plume_problem *p, int save, plume_err *err);
+
+/** 1 when a term has a commit (the problem has a state beyond its positions). */
+PLUME_API int plume_problem_commits(const plume_problem *p);
 
 /** Builds the free-dof map, the Hessian sparsity (terms and constraints) and the Jacobian
  * sparsity; drops constraints whose stencil is entirely prescribed. Allocates every workspace

@@ -43,18 +43,18 @@ typedef struct {
      * PLUME_OK stops the run with that status (output written by it, e.g., --vtk). */
     plume_status (*on_step)(void *user, int step, double strain, const double *x);
     void *on_step_user;  /**< passed to on_step as `user` */
-    /** Optional (NULL: none): called at every equilibrium of the loading steps (each increment;
-     * not the probe) with the positions x (dim * nv), for terms whose state changes
-     * between solves (barbule hooks letting go, docs/unzipping.md). *changed = 1: the state
-     * changed, and the step is solved again at the same grips, then the callback called again,
-     * up to max_settles times; *cut = 1: the change overshot, and the increment is undone and
-     * halved as a failed solve is (without adaptive stepping the step fails). A change it made
-     * is not undone when a later solve of the same increment fails. A status other than PLUME_OK
-     * stops the run with that status. */
-    plume_status (*on_equilibrium)(void *user, const double *x, int *changed, int *cut);
-    void *on_equilibrium_user; /**< passed to on_equilibrium as `user` */
-    int max_settles;     /**< solves again at the same grips per equilibrium, >= 0; default 100;
-                            a state still changing after them fails the step */
+    int max_settles;     /**< problems with stateful terms (plume_term.commit: barbule hooks,
+                            docs/unzipping.md): at every equilibrium of the loading steps the terms
+                            commit; a change is solved again at the same grips, up to this many
+                            times (>= 0; default 100; a state still changing after them fails the
+                            step); an overshoot undoes and halves the increment as a failed solve
+                            does (at the smallest increment the change is made anyway) */
+    const double *path;  /**< Optional (NULL: one leg from 0 to strain_max): the strains the grips
+                            go to in turn (npath values, each finite and > -1, none equal to the one
+                            before; the first leg starts at 0): load, unload, reload. Each leg takes
+                            `steps` steps, so the curve has 1 + npath * steps points; strain_max is
+                            then not used */
+    int npath;           /**< entries of path, 1 to 1000 */
 } plume_traction_opts;
 
 /** Fills o (size bytes) with the defaults each field names (progress 1, on_step NULL; lx, ly, h
@@ -86,13 +86,26 @@ typedef struct {
     plume_reason failed_reason; /**< why that step's solve stopped (meaningful when failed_step >= 0) */
     int newton_iterations;    /**< total over all steps and the probe */
     int chord_steps;          /**< newton: iterations of those that reused an earlier factorisation */
-    int cuts;                 /**< adaptive stepping: increments halved after a failed solve */
+    int cuts;                 /**< adaptive stepping: increments halved after a failed solve or an overshoot */
+    int overshoot_cuts;       /**< of those, the ones a stateful term's overshoot asked for */
     int substeps;             /**< adaptive stepping: intermediate equilibria solved between the nominal
                                  steps (the curve holds the nominal strains only) */
     double max_violation;     /**< max relative constraint violation over the converged steps */
     double seconds;           /**< wall time of the whole run */
     int factorizations;       /**< native solvers: numeric factorisations */
     double factor_seconds;    /**< native solvers: time in numeric factorisations */
+    /* the energy balance over the converged steps (J), kept whether or not a term has a state */
+    double work;              /**< the moving grip's work: its reaction integrated over every increment
+                                 by the trapezoidal rule */
+    double stored_energy;     /**< the problem's energy at the last equilibrium */
+    double dissipated_energy; /**< what the stateful terms' commits gave up: the energy lost from each
+                                 equilibrium to the one solved again after a commit at the same grips */
+    double energy_balance_error; /**< (work - stored - dissipated) / gross work, the gross work the sum of
+                                    the increments' |work| (0 when none was done): the quadrature's error
+                                    along the elastic paths, <= 1e-2 expected */
+    long released;            /**< links the stateful terms let go (barbule hooks) */
+    long reengaged;           /**< links they caught again */
+    int largest_cascade;      /**< most links let go at one equilibrium, its solves again included */
 } plume_traction_result;
 
 /** Frees the curve's arrays and zeroes the curve (the rest of r is left); NULL-safe. */

@@ -953,6 +953,52 @@ plume_status plume_problem_rebase_terms(plume_problem *p)
     return PLUME_OK;
 }
 
+plume_status plume_problem_commit_terms(plume_problem *p, int may_cut, plume_commit_report *r, plume_err *err)
+{
+    if (!p || !r)
+        return plume_err_set(err, PLUME_EINVAL, "problem: commit_terms: invalid arguments");
+    memset(r, 0, sizeof *r);
+    if (!p->finalized)
+        return plume_err_set(err, PLUME_EINVAL, "problem: commit_terms before finalize");
+    for (int t = 0; t < p->nterms; t++) {
+        plume_term *tt = &p->terms[t].t;
+        if (!tt->commit)
+            continue;
+        plume_commit_report one = {0};
+        plume_status st = tt->commit(tt->ctx, p->dim, p->x, may_cut, &one);
+        if (st != PLUME_OK)
+            return plume_err_set(err, st, "term '%s': commit failed (%s)", tt->name, plume_strerror(st));
+        r->changed |= one.changed != 0;
+        r->overshoot |= one.overshoot != 0;
+        r->released += one.released;
+        r->reengaged += one.reengaged;
+        r->energy_drop += one.energy_drop;
+    }
+    return PLUME_OK;
+}
+
+plume_status plume_problem_keep_terms(plume_problem *p, int save, plume_err *err)
+{
+    if (!p)
+        return plume_err_set(err, PLUME_EINVAL, "problem: keep_terms: no problem");
+    for (int t = 0; t < p->nterms; t++) {
+        plume_term *tt = &p->terms[t].t;
+        plume_status st = tt->keep ? tt->keep(tt->ctx, save) : PLUME_OK;
+        if (st != PLUME_OK)
+            return plume_err_set(err, st, "term '%s': %s its state failed (%s)", tt->name,
+                                 save ? "keeping" : "restoring", plume_strerror(st));
+    }
+    return PLUME_OK;
+}
+
+int plume_problem_commits(const plume_problem *p)
+{
+    for (int t = 0; p && t < p->nterms; t++)
+        if (p->terms[t].t.commit)
+            return 1;
+    return 0;
+}
+
 void *plume_problem_term_ctx(const plume_problem *p, const char *name)
 {
     for (int t = 0; p && name && t < p->nterms; t++)

@@ -76,12 +76,36 @@ static void predict(const plume_mesh *m, plume_problem *p, const plume_traction_
         }
 }
 
+/* The load path's legs (plume_traction_opts.path): how many, and the strains each starts and ends at. */
+static int path_legs(const plume_traction_opts *o)
+{
+    return o->path ? o->npath : 1;
+}
+
+static double leg_end(const plume_traction_opts *o, int j)
+{
+    return o->path ? o->path[j] : o->strain_max;
+}
+
+static double leg_start(const plume_traction_opts *o, int j)
+{
+    return j == 0 ? 0.0 : leg_end(o, j - 1);
+}
+
+/* the strain of nominal step k >= 1: step i of its leg's `steps` */
+static double step_strain(const plume_traction_opts *o, int k)
+{
+    const int j = (k - 1) / o->steps, i = (k - 1) % o->steps + 1;
+    const double a = leg_start(o, j), b = leg_end(o, j);
+    return i == o->steps ? b : a + (b - a) * i / o->steps;
+}
+
 /* The probe's relative KKT tolerance (plume_traction_opts.probe_tol_kkt). */
 static double probe_tolerance(const plume_traction_opts *o)
 {
     if (o->probe_tol_kkt > 0.0)
         return o->probe_tol_kkt;
-    return o->solver_opts->tol_kkt * fmin(1.0, o->probe_strain * o->steps / o->strain_max);
+    return o->solver_opts->tol_kkt * fmin(1.0, o->probe_strain * o->steps / fabs(leg_end(o, 0)));
 }
 
 /* The probe solved with the relative KKT tolerance tol, tighter than the steps' (the solver's
@@ -138,6 +162,18 @@ typedef struct {
     double *u, *lambda, *lambda_saved, *force;
     history h;
     double inc;              /* the current increment (adaptive stepping) */
+    double nominal;          /* the nominal increment of the current leg (grip displacement) */
+    /* the energy balance: the reaction and energy at the last accepted equilibrium, the energy at
+     * rest, the sums over the accepted increments, and the current increment's share */
+    double F_eq, E_eq, E_rest;
+    double work, gross_work, dissipated;
+    long released, reengaged;
+    int cascade;
+    struct {
+        double work, dissipated, F, E;
+        long released, reengaged;
+        int cascade;
+    } inc_energy;
 } traction_run;
 
 static plume_status check_opts(const plume_mesh *mesh, plume_problem *p, const plume_traction_opts *o, plume_err *err)
@@ -146,9 +182,24 @@ static plume_status check_opts(const plume_mesh *mesh, plume_problem *p, const p
         return plume_err_set(err, PLUME_EINVAL,
                              "traction: lx, ly and thickness must be finite and > 0 (got %g, %g, %g)",
                              o->lx, o->ly, o->h);
-    if (!(o->strain_max > 0) || !isfinite(o->strain_max) || o->steps < 1 || !(o->probe_strain > 0))
-        return plume_err_set(err, PLUME_EINVAL, "traction: strain-max must be > 0 and steps >= 1 (got %g, %d)",
-                             o->strain_max, o->steps);
+    if (o->path) {
+        if (o->npath < 1 || o->npath > 1000)
+            return plume_err_set(err, PLUME_EINVAL, "traction: npath must be in [1, 1000] with a path (got %d)",
+                                 o->npath);
+        for (int j = 0; j < o->npath; j++) {
+            if (!(o->path[j] > -1.0) || !isfinite(o->path[j]))
+                return plume_err_set(err, PLUME_EINVAL, "traction: path[%d] must be a finite strain > -1 (got %g)", j,
+                                     o->path[j]);
+            if (o->path[j] == leg_start(o, j))
+                return plume_err_set(err, PLUME_EINVAL,
+                                     "traction: path[%d] = %g is the strain the leg starts from: a leg must move the "
+                                     "grip", j, o->path[j]);
+        }
+    } else if (!(o->strain_max > 0) || !isfinite(o->strain_max))
+        return plume_err_set(err, PLUME_EINVAL, "traction: strain-max must be > 0 (got %g)", o->strain_max);
+    if (o->steps < 1 || !(o->probe_strain > 0))
+        return plume_err_set(err, PLUME_EINVAL, "traction: steps must be >= 1 and probe_strain > 0 (got %d, %g)",
+                             o->steps, o->probe_strain);
     if (o->max_cuts < 0 || o->max_cuts > 30)
         return plume_err_set(err, PLUME_EINVAL, "traction: max_cuts must be in [0, 30] (got %d)", o->max_cuts);
     if (o->max_settles < 0)
@@ -189,7 +240,7 @@ static plume_status place_sample(traction_run *r, plume_err *err)
 static plume_status alloc_run(traction_run *r, plume_traction_result *res)
 {
     const plume_index n = r->n, m = r->m;
-    const size_t nx = (size_t)(r->dim * r->mesh->nv), np = (size_t)r->o->steps + 1;
+    const size_t nx = (size_t)(r->dim * r->mesh->nv), np = (size_t)r->o->steps * (size_t)path_legs(r->o) + 1;
     r->u = malloc((size_t)(n + 1) * sizeof *r->u);
     r->lambda = calloc((size_t)(m + 1), sizeof *r->lambda);
     r->lambda_saved = calloc((size_t)(m + 1), sizeof *r->lambda_saved);
@@ -234,23 +285,54 @@ static void add_report(plume_solve_report *to, const plume_solve_report *from)
     to->max_violation = fmax(to->max_violation, from->max_violation);
 }
 
-/* At an equilibrium (sub converged): the caller's on_equilibrium, and while it changes the
- * problem's state, a solve again at the same grips (its counts added to *sub). *cut: undo the
- * increment. Leaves sub->converged 0 when a solve fails or the state keeps changing. */
-static plume_status settle(traction_run *r, int k, plume_solve_report *sub, int *cut, plume_err *err)
+/* The y-reaction on the moving grip: the sum of its vertices' forces (r->force). */
+static double grip_reaction(const traction_run *r)
 {
-    const plume_traction_opts *o = r->o;
-    *cut = 0;
-    if (!o->on_equilibrium)
-        return PLUME_OK;
+    double F = 0.0;
+    for (plume_index t = 0; t < r->g.ntop; t++)
+        F += r->force[r->dim * r->g.top[t] + 1];
+    return F;
+}
+
+/* The grip's reaction and the problem's energy at the current positions. */
+static plume_status measure(traction_run *r, double *F, double *E)
+{
+    plume_status st = plume_problem_forces(r->p, r->m ? r->lambda : NULL, r->force);
+    if (st != PLUME_OK)
+        return st;
+    *F = grip_reaction(r);
+    plume_problem_gather(r->p, r->u);
+    return plume_problem_objective(r->p, r->u, E, NULL);
+}
+
+/* At an equilibrium (sub converged): the stateful terms commit (plume_term.commit), and while
+ * they change their state, a solve again at the same grips (its counts added to *sub). Only the
+ * first commit may ask for a cut (*cut: undo the increment): the cascade that follows a release
+ * at fixed grips is the structure's, not the increment's. *changed: a commit changed something.
+ * Leaves sub->converged 0 when a solve fails or the state keeps changing. */
+static plume_status settle(traction_run *r, int k, int may_cut, plume_solve_report *sub, int *cut, int *changed,
+                           plume_err *err)
+{
+    *cut = *changed = 0;
+    int cascade = 0;
     for (int n = 0;; n++) {
-        int changed = 0;
-        plume_status st = o->on_equilibrium(o->on_equilibrium_user, r->x, &changed, cut);
+        plume_commit_report c;
+        plume_err why;
+        plume_status st = plume_problem_commit_terms(r->p, may_cut && n == 0, &c, &why);
         if (st != PLUME_OK)
-            return plume_err_set(err, st, "traction: step %d: on_equilibrium failed (%s)", k, plume_strerror(st));
-        if (*cut || !changed)
+            return plume_err_set(err, st, "traction: step %d: %s", k, why.msg);
+        if (c.overshoot) {
+            *cut = 1;
             return PLUME_OK;
-        if (n == o->max_settles) { /* still changing: a failed step */
+        }
+        r->inc_energy.released += c.released, r->inc_energy.reengaged += c.reengaged;
+        cascade += (int)c.released;
+        if (cascade > r->inc_energy.cascade)
+            r->inc_energy.cascade = cascade;
+        if (!c.changed)
+            return PLUME_OK;
+        *changed = 1;
+        if (n == r->o->max_settles) { /* still changing: a failed step */
             sub->converged = 0;
             sub->reason = PLUME_REASON_ITERATION_CAP;
             return PLUME_OK;
@@ -268,10 +350,54 @@ static plume_status settle(traction_run *r, int k, plume_solve_report *sub, int 
     }
 }
 
-/* Adaptive load stepping to the grip displacement delta: an increment that does not converge is
- * undone (back to the last equilibrium h.xa and its multipliers) and halved, up to max_cuts
- * times; after a success it grows back by doubling, never past the nominal step. Only the
- * nominal strains enter the curve. The increments' reports summed into *rep. */
+/* An increment solved to the grip displacement `next` (sub): its work by the trapezoidal rule from
+ * the last accepted equilibrium (at r->h.da), then, at a converged loading step (k > 0), the
+ * stateful terms' commits (settle) and the energy they gave up: the energy at the first
+ * equilibrium minus that at the last. Kept in r->inc_energy until the increment is accepted. */
+static plume_status close_increment(traction_run *r, int k, double next, int may_cut, plume_solve_report *sub,
+                                    int *cut, plume_err *err)
+{
+    *cut = 0;
+    memset(&r->inc_energy, 0, sizeof r->inc_energy);
+    double F1, E1;
+    plume_status st = measure(r, &F1, &E1);
+    if (st != PLUME_OK)
+        return plume_err_set(err, st, "traction: step %d: the energy could not be evaluated (%s)", k,
+                             plume_strerror(st));
+    r->inc_energy.work = 0.5 * (r->F_eq + F1) * (next - r->h.da);
+    r->inc_energy.F = F1, r->inc_energy.E = E1;
+    int changed = 0;
+    if (k == 0 || !sub->converged || !plume_problem_commits(r->p))
+        return PLUME_OK;
+    if ((st = settle(r, k, may_cut, sub, cut, &changed, err)) != PLUME_OK || *cut || !sub->converged || !changed)
+        return st;
+    if ((st = measure(r, &r->inc_energy.F, &r->inc_energy.E)) != PLUME_OK)
+        return plume_err_set(err, st, "traction: step %d: the energy could not be evaluated (%s)", k,
+                             plume_strerror(st));
+    r->inc_energy.dissipated = E1 - r->inc_energy.E;
+    return PLUME_OK;
+}
+
+/* The increment closed last becomes the run's: its energies into the sums, its equilibrium the
+ * start of the next trapezoid, the terms' state kept. */
+static plume_status accept_increment(traction_run *r, plume_err *err)
+{
+    r->work += r->inc_energy.work;
+    r->gross_work += fabs(r->inc_energy.work);
+    r->dissipated += r->inc_energy.dissipated;
+    r->released += r->inc_energy.released, r->reengaged += r->inc_energy.reengaged;
+    if (r->inc_energy.cascade > r->cascade)
+        r->cascade = r->inc_energy.cascade;
+    r->F_eq = r->inc_energy.F, r->E_eq = r->inc_energy.E;
+    memset(&r->inc_energy, 0, sizeof r->inc_energy);
+    return plume_problem_keep_terms(r->p, 1, err);
+}
+
+/* Adaptive load stepping to the grip displacement delta, up or down: an increment that does not
+ * converge, or whose commits overshoot, is undone (back to the last equilibrium h.xa, its
+ * multipliers and the terms' kept state) and halved, up to max_cuts times; after a success it
+ * grows back by doubling, never past the leg's nominal step. Only the nominal strains enter the
+ * curve. The increments' reports summed into *rep. */
 static plume_status adaptive_step(traction_run *r, int k, double delta, plume_solve_report *rep,
                                   plume_traction_result *res, plume_err *err)
 {
@@ -282,11 +408,11 @@ static plume_status adaptive_step(traction_run *r, int k, double delta, plume_so
     plume_solve_report sub;
     memset(rep, 0, sizeof *rep);
     rep->reason = PLUME_REASON_CONVERGED;
-    const double nominal = o->strain_max * o->ly / o->steps, smallest = ldexp(nominal, -o->max_cuts);
+    const double nominal = r->nominal, smallest = ldexp(nominal, -o->max_cuts), dir = delta > h->da ? 1.0 : -1.0;
     int failed = 0;
-    while (h->da < delta * (1.0 - 1e-12)) {
-        double next = fmin(delta, h->da + r->inc);
-        if (delta - next < 1e-9 * nominal)
+    while (fabs(delta - h->da) > 1e-12 * nominal) {
+        double next = h->da + dir * fmin(r->inc, fabs(delta - h->da));
+        if (fabs(delta - next) < 1e-9 * nominal)
             next = delta;
         memcpy(r->lambda_saved, r->lambda, (size_t)(m + 1) * sizeof *r->lambda);
         predict(r->mesh, r->p, &r->g, o->ly, next, h->xa, h->da, h->xb, h->db);
@@ -299,15 +425,18 @@ static plume_status adaptive_step(traction_run *r, int k, double delta, plume_so
         if (st != PLUME_OK)
             return plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
         int cut = 0;
-        if (sub.converged && (st = settle(r, k, &sub, &cut, err)) != PLUME_OK)
+        const int may_cut = r->inc * 0.5 >= smallest * (1.0 - 1e-12);
+        if (sub.converged && (st = close_increment(r, k, next, may_cut, &sub, &cut, err)) != PLUME_OK)
             return st;
-        if (cut) /* the state change overshot: undone and halved like a failed solve */
-            sub.converged = 0, sub.reason = PLUME_REASON_CONVERGED;
+        if (cut) /* a commit overshot: undone and halved like a failed solve */
+            sub.converged = 0, sub.reason = PLUME_REASON_ITERATION_CAP;
         add_report(rep, &sub);
         if (sub.converged) {
+            if ((st = accept_increment(r, err)) != PLUME_OK)
+                return st;
             history_push(h, r->x, r->lambda, next, nx, m);
             r->inc = fmin(nominal, 2.0 * r->inc);
-            if (next < delta)
+            if (next != delta)
                 res->substeps++;
             continue;
         }
@@ -316,14 +445,18 @@ static plume_status adaptive_step(traction_run *r, int k, double delta, plume_so
         failed = 1;
         memcpy(r->x, h->xa, nx * sizeof *r->x); /* back to the last equilibrium */
         memcpy(r->lambda, r->lambda_saved, (size_t)(m + 1) * sizeof *r->lambda);
+        if ((st = plume_problem_keep_terms(r->p, 0, err)) != PLUME_OK)
+            return st;
         if (r->inc * 0.5 < smallest * (1.0 - 1e-12)) {
             rep->converged = 0;
             break;
         }
         r->inc *= 0.5;
+        if (cut)
+            res->overshoot_cuts++;
         res->cuts++;
     }
-    if (h->da >= delta * (1.0 - 1e-12)) {
+    if (fabs(delta - h->da) <= 1e-12 * nominal) {
         rep->converged = 1;
         rep->reason = PLUME_REASON_CONVERGED;
         memcpy(r->x, h->xa, nx * sizeof *r->x);
@@ -334,13 +467,15 @@ static plume_status adaptive_step(traction_run *r, int k, double delta, plume_so
 /* Step k's solve to the grip displacement delta, report in *rep: the probe (k = 0) first with
  * the tight tolerance (*tight: that solve; not converged, it is solved again from zero
  * multipliers), then one solve from the predictor (the probe, the linearised solver, no cuts
- * allowed) or adaptive_step */
+ * allowed) or adaptive_step. The single-solve paths close their increment here (close_increment)
+ * and record_step accepts it. */
 static plume_status solve_step(traction_run *r, int k, double delta, double probe_tol, plume_solve_report *rep,
                                plume_solve_report *tight, plume_traction_result *res, plume_err *err)
 {
     const plume_traction_opts *o = r->o;
     const int probe = k == 0;
     plume_status st;
+    int cut = 0;
     memset(tight, 0, sizeof *tight);
     plume_err why;
     if (!r->solver && (st = plume_solver_create(o->solver, r->p, o->solver_opts, &r->solver, &why)) != PLUME_OK)
@@ -356,7 +491,7 @@ static plume_status solve_step(traction_run *r, int k, double delta, double prob
     if (tight->converged) {
         *rep = *tight;
         res->probe_tol_kkt = probe_tol;
-        return PLUME_OK;
+        return close_increment(r, k, delta, 0, rep, &cut, err);
     }
     if (!(probe || o->solver == PLUME_SOLVER_LINEARIZED || o->max_cuts == 0))
         return adaptive_step(r, k, delta, rep, res, err);
@@ -364,11 +499,10 @@ static plume_status solve_step(traction_run *r, int k, double delta, double prob
     plume_problem_gather(r->p, r->u);
     if ((st = plume_solver_solve(r->solver, r->u, r->lambda, rep)) != PLUME_OK)
         return plume_err_set(err, st, "traction: step %d: solver error (%s)", k, plume_strerror(st));
-    int cut = 0;
-    if (!probe && rep->converged && (st = settle(r, k, rep, &cut, err)) != PLUME_OK)
+    /* the linearised solver's single step is its answer: its work counts as a converged one's */
+    if ((rep->converged || rep->reason == PLUME_REASON_SINGLE_STEP) &&
+        (st = close_increment(r, k, delta, 0, rep, &cut, err)) != PLUME_OK)
         return st;
-    if (cut) /* no increment to halve here: the step fails */
-        rep->converged = 0, rep->reason = PLUME_REASON_ITERATION_CAP;
     rep->iterations += tight->iterations; /* a tight probe that failed counts too */
     rep->seconds += tight->seconds;
     if (probe && rep->converged)
@@ -403,8 +537,11 @@ static plume_status record_step(traction_run *r, int k, double strain, const plu
         res->max_violation = fmax(res->max_violation, rep->max_violation);
     if ((st = plume_problem_forces(r->p, r->m ? r->lambda : NULL, r->force)) != PLUME_OK)
         return st;
-    if (!(r->h.da == delta)) /* the adaptive path has pushed it already */
+    if (!(r->h.da == delta)) { /* the adaptive path has accepted and pushed it already */
+        if ((st = accept_increment(r, err)) != PLUME_OK)
+            return st;
         history_push(&r->h, r->x, r->lambda, delta, (size_t)(dim * mesh->nv), r->m);
+    }
     if (k == 0) { /* the probe's equilibrium is the first state of the history */
         const double F = plume_traction_reaction_virtual_work(mesh, &r->g, r->force, dim, o->ly);
         res->initial_slope = F / (o->lx * o->h) / strain;
@@ -412,10 +549,7 @@ static plume_status record_step(traction_run *r, int k, double strain, const plu
         res->curve.seconds[0] = rep->seconds;
         return PLUME_OK;
     }
-    double F = 0.0;
-    for (plume_index t = 0; t < r->g.ntop; t++)
-        F += r->force[dim * r->g.top[t] + 1];
-    double stress = F / (o->lx * o->h);
+    double stress = grip_reaction(r) / (o->lx * o->h);
     double wbar = (plume_traction_side_integral(mesh, r->x, dim, r->g.right, r->g.nright) -
                    plume_traction_side_integral(mesh, r->x, dim, r->g.left, r->g.nleft)) /
                   (o->lx * o->ly);
@@ -457,13 +591,19 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     double t_start = plume_wall_seconds();
     if ((st = plume_traction_grips_find(mesh, o->lx, o->ly, &r.g, err)) != PLUME_OK ||
         (st = plume_traction_barbs_stretch_check(mesh, &r.g, rigid_edges, nrigid, err)) != PLUME_OK ||
-        (st = place_sample(&r, err)) != PLUME_OK || (st = alloc_run(&r, res)) != PLUME_OK)
+        (st = place_sample(&r, err)) != PLUME_OK || (st = alloc_run(&r, res)) != PLUME_OK ||
+        (st = plume_problem_keep_terms(p, 1, err)) != PLUME_OK)
         goto cleanup;
-    r.inc = o->strain_max * o->ly / o->steps;
+    if ((st = measure(&r, &r.F_eq, &r.E_rest)) != PLUME_OK) {
+        plume_err_set(err, st, "traction: the energy at rest could not be evaluated (%s)", plume_strerror(st));
+        goto cleanup;
+    }
+    r.E_eq = r.E_rest;
+    const int nsteps = o->steps * path_legs(o);
     res->curve.n = 1; /* the rest state */
     res->converged = 1;
     plume_progress prog;
-    plume_progress_start(&prog, "traction", o->steps, o->progress == 2);
+    plume_progress_start(&prog, "traction", nsteps, o->progress == 2);
     if (o->progress == 0)
         prog.enabled = 0;
 
@@ -473,9 +613,13 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         goto cleanup;
     }
 
-    /* step 0 is the small-strain probe (initial slope), then the quasi-static steps */
-    for (int k = 0; k <= o->steps; k++) {
-        double strain = k == 0 ? o->probe_strain : o->strain_max * k / o->steps;
+    /* step 0 is the small-strain probe (initial slope), then the quasi-static steps, leg by leg */
+    for (int k = 0; k <= nsteps; k++) {
+        double strain = k == 0 ? o->probe_strain : step_strain(o, k);
+        if (k >= 1 && (k - 1) % o->steps == 0) { /* a leg starts: its nominal increment */
+            const int j = (k - 1) / o->steps;
+            r.nominal = r.inc = fabs(leg_end(o, j) - leg_start(o, j)) * o->ly / o->steps;
+        }
         plume_solve_report rep, tight;
         int stop;
         if ((st = solve_step(&r, k, strain * o->ly, probe_tol, &rep, &tight, res, err)) != PLUME_OK ||
@@ -486,6 +630,11 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     }
     plume_progress_finish(&prog);
     plume_solver_stats(r.solver, NULL, &res->factorizations, &res->factor_seconds);
+    res->work = r.work;
+    res->stored_energy = r.E_eq - r.E_rest;
+    res->dissipated_energy = r.dissipated;
+    res->energy_balance_error = r.gross_work > 0.0 ? (r.work - res->stored_energy - r.dissipated) / r.gross_work : 0.0;
+    res->released = r.released, res->reengaged = r.reengaged, res->largest_cascade = r.cascade;
     st = PLUME_OK;
 cleanup:
     res->seconds = plume_wall_seconds() - t_start;
