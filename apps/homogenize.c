@@ -26,6 +26,8 @@ static const char usage[] =
     "  --thickness-barb M --thickness-barbule M   each phase's own thickness (default: --thickness)\n"
     "  --kappa PA           compression-term coefficient (default 0)\n"
     "  --barbule-width M --barbule-spacing M --barbule-angle DEG   explicit barbules\n"
+    "  --hook-strength N --hook-opening M --hook-slide M --hook-capture M   barbule hooks (explicit barbules;\n"
+    "                      checked here, used by apps/traction's specimen: docs/unzipping.md)\n"
     "  --order 1|2          element order: 2 quadratic triangles (default), 1 linear (the paper's)\n"
     "  --e-rel V            element edge over barb width, e-bar (default 0: chosen from the thinnest\n"
     "                       strip so that the moduli are within 1 % of the refined limit)\n"
@@ -146,6 +148,10 @@ static int parse_args(int argc, char **argv, options *o)
         else if (strcmp(a, "--barbule-width") == 0) r = cli_double(APP, a, v, &l->barbule_width);
         else if (strcmp(a, "--barbule-spacing") == 0) r = cli_double(APP, a, v, &l->barbule_spacing);
         else if (strcmp(a, "--barbule-angle") == 0) r = cli_double(APP, a, v, &l->barbule_angle);
+        else if (strcmp(a, "--hook-strength") == 0) r = cli_double(APP, a, v, &l->hooks.strength);
+        else if (strcmp(a, "--hook-opening") == 0) r = cli_double(APP, a, v, &l->hooks.opening);
+        else if (strcmp(a, "--hook-slide") == 0) r = cli_double(APP, a, v, &l->hooks.slide);
+        else if (strcmp(a, "--hook-capture") == 0) r = cli_double(APP, a, v, &l->hooks.capture);
         else if (strcmp(a, "--e-rel") == 0) r = cli_double(APP, a, v, &l->e_rel);
         else if (strcmp(a, "--order") == 0) r = cli_int(APP, a, v, &l->order);
         else if (strcmp(a, "--strain-max") == 0) r = cli_double(APP, a, v, &o->ho.strain_max);

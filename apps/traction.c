@@ -31,15 +31,22 @@ static const char usage[] =
     "  --mesh aligned|unaligned   (default aligned)\n"
     "  --edge M            target edge length (default min(lx, ly)/20)\n"
     "  --strain-max E      final nominal strain (default 0.05)\n"
+    "  --path E1,E2,...    the strains the grip goes to in turn instead (load, unload, reload: 0.03,0,0.03),\n"
+    "                      each leg in --steps steps\n"
     "  --steps N           quasi-static steps (default 10)\n"
     "  --solver S          newton | ipopt | linearized (default newton)\n"
-    "  --max-iter N        solver iteration cap per step (default 100)\n"
+    "  --max-iter N        solver iteration cap per step (default 100)\n";
+/* the help's second half (one literal each: C99 compilers need support only 4095 characters) */
+static const char usage_micro[] =
     "Microscale layout (--model micro|both; see apps/homogenize --help):\n"
     "  --layout-config FILE.json, --layout strips|barbules, --phi V, --ratio R, --Eb PA,\n"
     "  --nu-barb V, --nu-barbule V, --dB-rel V (barb spacing over ly, default 0.086), --e-rel V\n"
     "  (element edge over barb width; default 0: chosen from the thinnest strip so that the curve is\n"
     "  within 2 % of its refined limit), --order 1|2 (element order: 2 quadratic triangles, the\n"
     "  default; 1 linear, the paper's); the layout thickness is --thickness.\n"
+    "  --hook-strength N, --hook-opening M, --hook-slide M, --hook-capture M   barbule hooks that let go\n"
+    "                      and catch again (layout --layout barbules; docs/unzipping.md; data/layout_hooks.json);\n"
+    "                      the summary then counts hooks let go and caught again and the energy dissipated\n"
     "  --no-convergence    skip the micro run's convergence estimate (the same test on a mesh twice as coarse)\n"
     "  --size-effect V[,V...]  the micro specimen again at finer barb spacings (over ly, each finer than\n"
     "                      the last): -o adds /curves/micro_dB<V>/<scenario>, --plot draws the family with the\n"
@@ -73,6 +80,11 @@ typedef struct {
     double phi, ratio, Eb, nu_barb, nu_barbule, dB_rel, e_rel;
     int phi_set, ratio_set, Eb_set, nu_barb_set, nu_barbule_set, dB_rel_set, e_rel_set, order, order_set;
     int no_convergence;
+    double hook_strength, hook_opening, hook_slide, hook_capture;
+    int hook_strength_set, hook_opening_set, hook_slide_set, hook_capture_set;
+    const char *path_arg; /* --path E1,E2,... */
+    double path[1000];
+    int npath;
     double angle, lx, ly, h, Exx, Eyy, Gxy, nu, kappa, edge, strain_max;
     int angle_set, lx_set, ly_set, h_set, constraint, steps, max_iter, json, quiet, verbose;
     int Exx_set, Eyy_set, Gxy_set, nu_set;
@@ -91,6 +103,25 @@ static int parse_double(const char *flag, const char *s, double *out)
 static int parse_int(const char *flag, const char *s, int *out)
 {
     return cli_int("traction", flag, s, out);
+}
+
+/* --path E1,E2,...: comma-separated strains into o->path (plume_traction_run checks the legs).
+ * Returns an exit code. */
+static int parse_path(options *o)
+{
+    const char *q = o->path_arg;
+    for (o->npath = 0; *q; o->npath++) {
+        char *end = NULL;
+        if (o->npath == (int)(sizeof o->path / sizeof o->path[0]))
+            return fail("--path: more than %s strains%s", "1000", "");
+        o->path[o->npath] = strtod(q, &end);
+        if (end == q || (*end != ',' && *end != '\0') || !isfinite(o->path[o->npath])) {
+            fprintf(stderr, "traction: --path: strain %d of '%s' is not a number\n", o->npath + 1, o->path_arg);
+            return 2;
+        }
+        q = *end == ',' ? end + 1 : end;
+    }
+    return o->npath > 0 ? 0 : fail("--path needs at least one strain%s%s", "", "");
 }
 
 static int parse_args(int argc, char **argv, options *o)
@@ -114,6 +145,7 @@ static int parse_args(int argc, char **argv, options *o)
 #define DBLSET(flag, field) else if (strcmp(a, flag) == 0) r = parse_double(flag, v, &o->field), o->field##_set = 1
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             fputs(usage, stdout);
+            fputs(usage_micro, stdout);
             return CLI_HELP;
         }
         DBLSET("--angle", angle);
@@ -139,6 +171,11 @@ static int parse_args(int argc, char **argv, options *o)
         DBLSET("--nu-barbule", nu_barbule);
         DBLSET("--dB-rel", dB_rel);
         DBLSET("--e-rel", e_rel);
+        DBLSET("--hook-strength", hook_strength);
+        DBLSET("--hook-opening", hook_opening);
+        DBLSET("--hook-slide", hook_slide);
+        DBLSET("--hook-capture", hook_capture);
+        else if (strcmp(a, "--path") == 0) o->path_arg = v, o->traction_only = a;
         else if (strcmp(a, "--model") == 0) o->model = v;
         else if (strcmp(a, "--layout-config") == 0) o->layout_file = v;
         else if (strcmp(a, "--layout") == 0) o->layout_kind = v;
@@ -178,7 +215,7 @@ static int parse_args(int argc, char **argv, options *o)
             i++;
         }
     }
-    return 0;
+    return o->path_arg ? parse_path(o) : 0;
 }
 
 /* data/samples.json: $PLUME_DATA, then ../data beside the executable, then ./data */
@@ -376,6 +413,13 @@ static json_t *run_json(const model_run *r, const options *o, double angle)
     json_object_set_new(j, "substeps", json_integer(r->res.substeps));
     json_object_set_new(j, "factor_seconds", json_real(r->res.factor_seconds));
     json_object_set_new(j, "seconds", json_real(r->res.seconds));
+    json_object_set_new(j, "hooks_released", json_integer(r->res.released));
+    json_object_set_new(j, "hooks_reengaged", json_integer(r->res.reengaged));
+    json_object_set_new(j, "largest_cascade", json_integer(r->res.largest_cascade));
+    json_object_set_new(j, "work", json_real(r->res.work));
+    json_object_set_new(j, "stored_energy", json_real(r->res.stored_energy));
+    json_object_set_new(j, "dissipated_energy", json_real(r->res.dissipated_energy));
+    json_object_set_new(j, "energy_balance_error", json_real(r->res.energy_balance_error));
     if (strcmp(r->scale, "micro") == 0) {
         json_object_set_new(j, "order", json_integer(r->order));
         json_object_set_new(j, "element_edge", json_real(r->edge));
@@ -405,6 +449,11 @@ static void print_summary(const model_run *r, const options *o, double angle)
            100.0 * r->res.curve.strain[last], r->res.curve.stress[last], r->res.curve.wbar[last], r->res.initial_slope,
            r->res.newton_iterations, r->res.factorizations, r->res.cuts ? ", steps cut" : "", r->res.seconds,
            r->res.converged ? "converged" : plume_reason_name(r->res.failed_reason));
+    if (r->res.released > 0 || r->res.reengaged > 0)
+        printf("%s hooks: %ld let go (at most %d at one equilibrium), %ld caught again; %.4g J dissipated of %.4g J "
+               "work, %.4g J stored (energy balance error %.2g)\n",
+               r->scale, r->res.released, r->res.largest_cascade, r->res.reengaged, r->res.dissipated_energy,
+               r->res.work, r->res.stored_energy, r->res.energy_balance_error);
     if (r->has_conv && r->conv.converged)
         printf("%s curve converged to %.2g %% (its largest stress change from a mesh of %.3g m elements, %ld of them; "
                "initial slope %.2g %%)\n",
@@ -498,6 +547,10 @@ static int build_layout(const options *o, int want_micro, plume_layout *layout)
     if (o->nu_barbule_set) layout->nu_B = o->nu_barbule;
     if (o->e_rel_set || !o->layout_file) layout->e_rel = o->e_rel;
     if (o->order_set) layout->order = o->order;
+    if (o->hook_strength_set) layout->hooks.strength = o->hook_strength;
+    if (o->hook_opening_set) layout->hooks.opening = o->hook_opening;
+    if (o->hook_slide_set) layout->hooks.slide = o->hook_slide;
+    if (o->hook_capture_set) layout->hooks.capture = o->hook_capture;
     if (o->dB_rel_set || !o->layout_file)
         plume_layout_set_spacing(layout, o->dB_rel * o->ly); /* barbule geometry kept proportional */
     if (!o->bending || o->h_set)
@@ -586,6 +639,8 @@ static int build_traction_opts(const options *o, traction_job *j)
     to->lx = o->lx, to->ly = o->ly, to->h = o->h;
     to->strain_max = o->strain_max;
     to->steps = o->steps;
+    if (o->npath > 0)
+        to->path = o->path, to->npath = o->npath;
     plume_solver_opts_default(&j->so);
     j->so.max_iter = o->max_iter;
     j->so.verbose = o->verbose;

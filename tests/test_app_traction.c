@@ -49,6 +49,15 @@ void test_app_traction_bad_inputs(void)
     expect_error("--solver magic --quiet", "newton|ipopt|linearized");
     expect_error("--frobnicate", "unknown option");
     expect_error("--moduli /nonexistent/moduli.h5 --quiet", "/nonexistent/moduli.h5");
+    /* load paths and hooks: a strain that is not a number, a leg that does not move, a negative
+     * strength, a capture beyond the barbule spacing, hooks on a strips layout */
+    expect_error("--path 0.01,x --quiet", "--path: strain 2 of '0.01,x' is not a number");
+    expect_error("--path 0.01,0.01 --quiet", "path[1] = 0.01 is the strain the leg starts from");
+    expect_error("--model micro --layout-config ../data/layout_hooks.json --lx 4e-3 --ly 5.2e-3 --hook-strength -1 "
+                 "--quiet", "hook_strength must be finite and >= 0");
+    expect_error("--model micro --layout-config ../data/layout_hooks.json --lx 4e-3 --ly 5.2e-3 --hook-capture 1e-3 "
+                 "--quiet", "hook_capture = 0.001 m must be less than barbule_spacing = 0.0008 m");
+    expect_error("--model micro --layout strips --hook-strength 1e-3 --quiet", "needs the layout \"barbules\"");
     /* malformed sample file: the message names the file and the line */
     snprintf(path, sizeof path, "%s/bad.json", scratch);
     FILE *f = fopen(path, "w");
@@ -107,6 +116,44 @@ void test_app_traction_run(void)
     plume_curve_free(&c);
     snprintf(path, sizeof path, "%s/run.svg", scratch);
     CHECK(access(path, F_OK) == 0);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
+    CHECK(system(cmd) == 0);
+}
+
+/* The shipped hooked layout (data/layout_hooks.json) loaded, unloaded and reloaded: hooks let go
+ * and catch again, the summary's energy balance closes. */
+void test_app_traction_hooks(void)
+{
+    strcpy(scratch, "/tmp/plume-app-XXXXXX");
+    if (!mkdtemp(scratch)) {
+        CHECK(0);
+        return;
+    }
+    char out[16384], err[8192];
+    int rc = run_app("--model micro --layout-config ../data/layout_hooks.json --lx 4e-3 --ly 5.2e-3 --thickness 1e-4 "
+                     "--steps 4 --path 0.003,0,0.003 --no-convergence --json --quiet",
+                     out, sizeof out, err, sizeof err);
+    CHECK(rc == 0);
+    json_error_t je;
+    json_t *j = json_loads(out, 0, &je);
+    CHECK(j != NULL);
+    if (j) {
+        const long released = (long)json_integer_value(json_object_get(j, "hooks_released"));
+        const long caught = (long)json_integer_value(json_object_get(j, "hooks_reengaged"));
+        const double W = json_real_value(json_object_get(j, "work")),
+                     D = json_real_value(json_object_get(j, "dissipated_energy")),
+                     E = json_real_value(json_object_get(j, "stored_energy")),
+                     bal = json_real_value(json_object_get(j, "energy_balance_error"));
+        printf("    %ld hooks let go, %ld caught again; work %.4g J, dissipated %.4g J, stored %.4g J, balance %.2e\n",
+               released, caught, W, D, E, bal);
+        CHECK(json_is_true(json_object_get(j, "converged")));
+        CHECK(released > 0 && caught > 0 && D > 0.0 && W > 0.0);
+        CHECK(fabs(bal) < 1e-2);
+        CHECK(json_integer_value(json_object_get(j, "largest_cascade")) >= 1);
+        json_decref(j);
+    } else
+        fprintf(stderr, "    output: %s\n    stderr: %s\n", out, err);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
     CHECK(system(cmd) == 0);

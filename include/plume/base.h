@@ -19,13 +19,13 @@ extern "C" {
 #endif
 
 /* ---- the version ---- */
-#define PLUME_VERSION_MAJOR 2       /**< major version of the headers compiled against */
+#define PLUME_VERSION_MAJOR 3       /**< major version of the headers compiled against */
 
 #define PLUME_VERSION_MINOR 0       /**< minor version of the headers compiled against */
 
 #define PLUME_VERSION_PATCH 0       /**< patch version of the headers compiled against */
 
-#define PLUME_VERSION_STRING "2.0.0" /**< "MAJOR.MINOR.PATCH" of the headers compiled against */
+#define PLUME_VERSION_STRING "3.0.0" /**< "MAJOR.MINOR.PATCH" of the headers compiled against */
 
 /** "MAJOR.MINOR.PATCH" of the library linked in (static string). */
 PLUME_API const char *plume_version(void);

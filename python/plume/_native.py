@@ -156,7 +156,7 @@ def strerror(status):
 
 
 def version():
-    """plume_version(): the library's version string, e.g. "2.0.0"."""
+    """plume_version(): the library's version string, e.g. "3.0.0"."""
     return lib.plume_version().decode()
 
 

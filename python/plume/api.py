@@ -26,7 +26,7 @@ MODULI = ("E_xx", "E_yy", "nu_xy", "G_xy")
 
 
 def version():
-    """The version of the loaded libplume, e.g. "2.0.0"."""
+    """The version of the loaded libplume, e.g. "3.0.0"."""
     return _native.version()
 
 
