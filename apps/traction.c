@@ -33,6 +33,9 @@ static const char usage[] =
     "  --strain-max E      final nominal strain (default 0.05)\n"
     "  --path E1,E2,...    the strains the grip goes to in turn instead (load, unload, reload: 0.03,0,0.03),\n"
     "                      each leg in --steps steps\n"
+    "  --peel V            the top grip turns as it pulls: a point at x moves by (1 - V + V x / lx) times the\n"
+    "                      grip's displacement (0 straight, the default; 1 about its x = 0 end)\n"
+    "  --top-grip-free V   the top grip holds x >= V lx only, the rest of its edge free (default 0)\n"
     "  --steps N           quasi-static steps (default 10)\n"
     "  --solver S          newton | ipopt | linearized (default newton)\n"
     "  --max-iter N        solver iteration cap per step (default 100)\n";
@@ -83,6 +86,7 @@ typedef struct {
     double hook_strength, hook_opening, hook_slide, hook_capture;
     int hook_strength_set, hook_opening_set, hook_slide_set, hook_capture_set;
     const char *path_arg; /* --path E1,E2,... */
+    double peel, top_grip_free;
     double path[1000];
     int npath;
     double angle, lx, ly, h, Exx, Eyy, Gxy, nu, kappa, edge, strain_max;
@@ -176,6 +180,8 @@ static int parse_args(int argc, char **argv, options *o)
         DBLSET("--hook-slide", hook_slide);
         DBLSET("--hook-capture", hook_capture);
         else if (strcmp(a, "--path") == 0) o->path_arg = v, o->traction_only = a;
+        else if (strcmp(a, "--peel") == 0) r = parse_double(a, v, &o->peel), o->traction_only = a;
+        else if (strcmp(a, "--top-grip-free") == 0) r = parse_double(a, v, &o->top_grip_free), o->traction_only = a;
         else if (strcmp(a, "--model") == 0) o->model = v;
         else if (strcmp(a, "--layout-config") == 0) o->layout_file = v;
         else if (strcmp(a, "--layout") == 0) o->layout_kind = v;
@@ -416,6 +422,8 @@ static json_t *run_json(const model_run *r, const options *o, double angle)
     json_object_set_new(j, "hooks_released", json_integer(r->res.released));
     json_object_set_new(j, "hooks_reengaged", json_integer(r->res.reengaged));
     json_object_set_new(j, "largest_cascade", json_integer(r->res.largest_cascade));
+    json_object_set_new(j, "release_events", json_integer(r->res.release_events));
+    json_object_set_new(j, "peak_stress", json_real(r->res.peak_stress));
     json_object_set_new(j, "work", json_real(r->res.work));
     json_object_set_new(j, "stored_energy", json_real(r->res.stored_energy));
     json_object_set_new(j, "dissipated_energy", json_real(r->res.dissipated_energy));
@@ -641,6 +649,15 @@ static int build_traction_opts(const options *o, traction_job *j)
     to->steps = o->steps;
     if (o->npath > 0)
         to->path = o->path, to->npath = o->npath;
+    to->peel = o->peel, to->top_grip_free = o->top_grip_free;
+    if (!(o->peel >= 0.0 && o->peel <= 1.0))
+        return fprintf(stderr, "traction: --peel must be in [0, 1] (got %g)\n", o->peel), 2;
+    if (!(o->top_grip_free >= 0.0 && o->top_grip_free < 1.0))
+        return fprintf(stderr, "traction: --top-grip-free must be in [0, 1) (got %g)\n", o->top_grip_free), 2;
+    for (int k = 0; k < o->npath; k++)
+        if (!(o->path[k] > -1.0) || o->path[k] == (k ? o->path[k - 1] : 0.0))
+            return fprintf(stderr, "traction: --path: strain %d (%g) must be > -1 and differ from the one before "
+                           "(the first from 0)\n", k + 1, o->path[k]), 2;
     plume_solver_opts_default(&j->so);
     j->so.max_iter = o->max_iter;
     j->so.verbose = o->verbose;

@@ -52,7 +52,9 @@ void test_app_traction_bad_inputs(void)
     /* load paths and hooks: a strain that is not a number, a leg that does not move, a negative
      * strength, a capture beyond the barbule spacing, hooks on a strips layout */
     expect_error("--path 0.01,x --quiet", "--path: strain 2 of '0.01,x' is not a number");
-    expect_error("--path 0.01,0.01 --quiet", "path[1] = 0.01 is the strain the leg starts from");
+    expect_error("--path 0.01,0.01 --quiet", "--path: strain 2 (0.01) must be > -1 and differ from the one before");
+    expect_error("--peel 2 --quiet", "--peel must be in [0, 1] (got 2)");
+    expect_error("--top-grip-free 1 --quiet", "--top-grip-free must be in [0, 1) (got 1)");
     expect_error("--model micro --layout-config ../data/layout_hooks.json --lx 4e-3 --ly 5.2e-3 --hook-strength -1 "
                  "--quiet", "hook_strength must be finite and >= 0");
     expect_error("--model micro --layout-config ../data/layout_hooks.json --lx 4e-3 --ly 5.2e-3 --hook-capture 1e-3 "

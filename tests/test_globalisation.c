@@ -120,6 +120,11 @@ static void adaptive_run(int adaptive, int cap, int steps, int constraint, plume
         o.path = nan_leg, o.npath = 1;
         CHECK(plume_traction_run(m, p, barbs, nb, &o, r, &err) == PLUME_EINVAL && strstr(err.msg, "path[0]"));
         o.path = NULL, o.npath = 0;
+        o.peel = 1.5; /* a grip that turns beyond its end, one that holds nothing */
+        CHECK(plume_traction_run(m, p, barbs, nb, &o, r, &err) == PLUME_EINVAL && strstr(err.msg, "peel"));
+        o.peel = 0.0, o.top_grip_free = 1.0;
+        CHECK(plume_traction_run(m, p, barbs, nb, &o, r, &err) == PLUME_EINVAL && strstr(err.msg, "top_grip_free"));
+        o.top_grip_free = 0.0;
     } else {
         o.max_cuts = 0;
     }

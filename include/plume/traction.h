@@ -55,6 +55,13 @@ typedef struct {
                             `steps` steps, so the curve has 1 + npath * steps points; strain_max is
                             then not used */
     int npath;           /**< entries of path, 1 to 1000 */
+    double peel;         /**< in [0, 1], default 0: the top grip turns as it pulls, a point at x moving
+                            by delta (1 - peel + peel x / lx); 1 holds its x = 0 end and pulls the
+                            x = lx end by delta (a zipper: the barbs' separation test). The reaction
+                            is then the force at the pulled end that does the grip's work */
+    double top_grip_free; /**< in [0, 1), default 0: the share of the top edge, from x = 0, that the
+                            top grip leaves free; the grip holds x >= top_grip_free lx only (a barb
+                            pulled by its end, free to bend: the separation test) */
 } plume_traction_opts;
 
 /** Fills o (size bytes) with the defaults each field names (progress 1, on_step NULL; lx, ly, h
@@ -106,6 +113,10 @@ typedef struct {
     long released;            /**< links the stateful terms let go (barbule hooks) */
     long reengaged;           /**< links they caught again */
     int largest_cascade;      /**< most links let go at one equilibrium, its solves again included */
+    int release_events;       /**< commits that let links go: released / release_events is the mean
+                                 number that go together */
+    double peak_stress;       /**< Pa: the largest nominal stress at any equilibrium, sub-steps included,
+                                 before the commits there (the curve holds the nominal steps only) */
 } plume_traction_result;
 
 /** Frees the curve's arrays and zeroes the curve (the rest of r is left); NULL-safe. */

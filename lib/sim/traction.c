@@ -60,7 +60,7 @@ static void predict(const plume_mesh *m, plume_problem *p, const plume_traction_
         for (plume_index i = 0; i < ndof; i++)
             x[i] = xa[i];
         for (plume_index v = 0; v < m->nv; v++)
-            x[dim * v + 1] += (delta - da) * m->X[2 * v + 1] / ly;
+            x[dim * v + 1] += (delta - da) * plume_traction_grip_shape(g, m->X[2 * v]) * m->X[2 * v + 1] / ly;
     } else {
         double s = (delta - da) / (da - db);
         for (plume_index i = 0; i < ndof; i++)
@@ -69,7 +69,7 @@ static void predict(const plume_mesh *m, plume_problem *p, const plume_traction_
     for (plume_index v = 0; v < m->nv; v++)
         if (g->top_flag[v]) {
             x[dim * v] = m->X[2 * v];
-            x[dim * v + 1] = m->X[2 * v + 1] + delta;
+            x[dim * v + 1] = m->X[2 * v + 1] + delta * plume_traction_grip_shape(g, m->X[2 * v]);
         } else if (g->bottom_flag[v]) {
             x[dim * v] = m->X[2 * v];
             x[dim * v + 1] = m->X[2 * v + 1];
@@ -166,13 +166,13 @@ typedef struct {
     /* the energy balance: the reaction and energy at the last accepted equilibrium, the energy at
      * rest, the sums over the accepted increments, and the current increment's share */
     double F_eq, E_eq, E_rest;
-    double work, gross_work, dissipated;
+    double work, gross_work, dissipated, peak;
     long released, reengaged;
-    int cascade;
+    int cascade, events;
     struct {
-        double work, dissipated, F, E;
+        double work, dissipated, F, E, peak;
         long released, reengaged;
-        int cascade;
+        int cascade, events;
     } inc_energy;
 } traction_run;
 
@@ -202,6 +202,11 @@ static plume_status check_opts(const plume_mesh *mesh, plume_problem *p, const p
                              o->steps, o->probe_strain);
     if (o->max_cuts < 0 || o->max_cuts > 30)
         return plume_err_set(err, PLUME_EINVAL, "traction: max_cuts must be in [0, 30] (got %d)", o->max_cuts);
+    if (!(o->peel >= 0.0 && o->peel <= 1.0))
+        return plume_err_set(err, PLUME_EINVAL, "traction: peel must be in [0, 1] (got %g)", o->peel);
+    if (!(o->top_grip_free >= 0.0 && o->top_grip_free < 1.0))
+        return plume_err_set(err, PLUME_EINVAL, "traction: top_grip_free must be in [0, 1) (got %g)",
+                             o->top_grip_free);
     if (o->max_settles < 0)
         return plume_err_set(err, PLUME_EINVAL, "traction: max_settles must be >= 0 (got %d)", o->max_settles);
     if (!(o->probe_tol_kkt >= 0) || !isfinite(o->probe_tol_kkt))
@@ -285,12 +290,15 @@ static void add_report(plume_solve_report *to, const plume_solve_report *from)
     to->max_violation = fmax(to->max_violation, from->max_violation);
 }
 
-/* The y-reaction on the moving grip: the sum of its vertices' forces (r->force). */
+/* The y-reaction on the moving grip: its vertices' forces (r->force), each weighted by how far
+ * the grip moves it (1 for a straight pull): the force at the grip's far end that does its work. */
 static double grip_reaction(const traction_run *r)
 {
     double F = 0.0;
-    for (plume_index t = 0; t < r->g.ntop; t++)
-        F += r->force[r->dim * r->g.top[t] + 1];
+    for (plume_index t = 0; t < r->g.ntop; t++) {
+        const plume_index v = r->g.top[t];
+        F += r->force[r->dim * v + 1] * plume_traction_grip_shape(&r->g, r->mesh->X[2 * v]);
+    }
     return F;
 }
 
@@ -327,6 +335,7 @@ static plume_status settle(traction_run *r, int k, int may_cut, plume_solve_repo
         }
         r->inc_energy.released += c.released, r->inc_energy.reengaged += c.reengaged;
         cascade += (int)c.released;
+        r->inc_energy.events += c.released > 0;
         if (cascade > r->inc_energy.cascade)
             r->inc_energy.cascade = cascade;
         if (!c.changed)
@@ -365,7 +374,7 @@ static plume_status close_increment(traction_run *r, int k, double next, int may
         return plume_err_set(err, st, "traction: step %d: the energy could not be evaluated (%s)", k,
                              plume_strerror(st));
     r->inc_energy.work = 0.5 * (r->F_eq + F1) * (next - r->h.da);
-    r->inc_energy.F = F1, r->inc_energy.E = E1;
+    r->inc_energy.F = F1, r->inc_energy.E = E1, r->inc_energy.peak = F1;
     int changed = 0;
     if (k == 0 || !sub->converged || !plume_problem_commits(r->p))
         return PLUME_OK;
@@ -386,6 +395,8 @@ static plume_status accept_increment(traction_run *r, plume_err *err)
     r->gross_work += fabs(r->inc_energy.work);
     r->dissipated += r->inc_energy.dissipated;
     r->released += r->inc_energy.released, r->reengaged += r->inc_energy.reengaged;
+    r->events += r->inc_energy.events;
+    r->peak = fmax(r->peak, r->inc_energy.peak);
     if (r->inc_energy.cascade > r->cascade)
         r->cascade = r->inc_energy.cascade;
     r->F_eq = r->inc_energy.F, r->E_eq = r->inc_energy.E;
@@ -589,7 +600,7 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         return st;
     traction_run r = {.mesh = mesh, .p = p, .o = o};
     double t_start = plume_wall_seconds();
-    if ((st = plume_traction_grips_find(mesh, o->lx, o->ly, &r.g, err)) != PLUME_OK ||
+    if ((st = plume_traction_grips_find(mesh, o->lx, o->ly, o->peel, o->top_grip_free, &r.g, err)) != PLUME_OK ||
         (st = plume_traction_barbs_stretch_check(mesh, &r.g, rigid_edges, nrigid, err)) != PLUME_OK ||
         (st = place_sample(&r, err)) != PLUME_OK || (st = alloc_run(&r, res)) != PLUME_OK ||
         (st = plume_problem_keep_terms(p, 1, err)) != PLUME_OK)
@@ -635,6 +646,8 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
     res->dissipated_energy = r.dissipated;
     res->energy_balance_error = r.gross_work > 0.0 ? (r.work - res->stored_energy - r.dissipated) / r.gross_work : 0.0;
     res->released = r.released, res->reengaged = r.reengaged, res->largest_cascade = r.cascade;
+    res->release_events = r.events;
+    res->peak_stress = r.peak / (o->lx * o->h);
     st = PLUME_OK;
 cleanup:
     res->seconds = plume_wall_seconds() - t_start;

@@ -49,11 +49,12 @@ static plume_status sort_by_y(const double *X, plume_index *v, plume_index n)
     return PLUME_OK;
 }
 
-plume_status plume_traction_grips_find(const plume_mesh *m, double lx, double ly, plume_traction_grips *g,
-                                       plume_err *err)
+plume_status plume_traction_grips_find(const plume_mesh *m, double lx, double ly, double peel, double top_free,
+                                       plume_traction_grips *g, plume_err *err)
 {
     double tol = 1e-9 * fmax(lx, ly);
     memset(g, 0, sizeof *g);
+    g->lx = lx, g->peel = peel;
     size_t nv = (size_t)m->nv;
     g->top = malloc(nv * sizeof *g->top);
     g->left = malloc(nv * sizeof *g->left);
@@ -69,7 +70,7 @@ plume_status plume_traction_grips_find(const plume_mesh *m, double lx, double ly
         xmin = fmin(xmin, X), xmax = fmax(xmax, X), ymin = fmin(ymin, Y), ymax = fmax(ymax, Y);
         if (fabs(Y) <= tol)
             g->bottom_flag[v] = 1, nbottom++;
-        if (fabs(Y - ly) <= tol)
+        if (fabs(Y - ly) <= tol && X >= top_free * lx - tol)
             g->top_flag[v] = 1, g->top[g->ntop++] = v;
         if (fabs(X) <= tol)
             g->left[g->nleft++] = v;
@@ -113,7 +114,8 @@ double plume_traction_reaction_virtual_work(const plume_mesh *m, const plume_tra
 {
     double F = 0.0;
     for (plume_index v = 0; v < m->nv; v++) {
-        double w = g->top_flag[v] ? 1.0 : g->bottom_flag[v] ? 0.0 : m->X[2 * v + 1] / ly;
+        const double s = plume_traction_grip_shape(g, m->X[2 * v]);
+        double w = g->top_flag[v] ? s : g->bottom_flag[v] ? 0.0 : s * m->X[2 * v + 1] / ly;
         F += w * force[dim * v + 1];
     }
     return F;
