@@ -397,6 +397,26 @@ static plume_status traction_vtk(const char *vtk, const plume_mesh *mesh, const 
     return PLUME_OK;
 }
 
+/* traction request.path: a list of 1 to 1000 strains into path (*n; 0 without the key); each
+ * leg is checked by plume_traction_run. */
+static plume_status get_path(json_t *req, double *path, int *n, plume_err *err)
+{
+    json_t *jp = json_object_get(req, "path");
+    *n = 0;
+    if (!jp)
+        return PLUME_OK;
+    if (!json_is_array(jp) || json_array_size(jp) < 1 || json_array_size(jp) > 1000)
+        return plume_err_set(err, PLUME_EINVAL, "traction request: \"path\" must be a list of 1 to 1000 strains");
+    size_t i;
+    json_t *v;
+    json_array_foreach(jp, i, v) {
+        if (!json_is_number(v))
+            return plume_err_set(err, PLUME_EINVAL, "traction request: \"path\"[%zu] must be a number", i);
+        path[(*n)++] = json_number_value(v);
+    }
+    return PLUME_OK;
+}
+
 /* The traction result's document; conv only when has_conv. */
 static json_t *traction_json(const plume_traction_result *res, int micro, const plume_layout *layout,
                              const plume_mesh *mesh, double angle, int has_conv, const plume_micro_convergence *conv)
@@ -418,6 +438,15 @@ static json_t *traction_json(const plume_traction_result *res, int micro, const 
         json_object_set_new(o, "refinement_change", json_real(has_conv ? conv->stress_change : -1.0));
         json_object_set_new(o, "slope_refinement_change", json_real(has_conv ? conv->slope_change : -1.0));
     }
+    json_object_set_new(o, "peak_stress", json_real(res->peak_stress));
+    json_object_set_new(o, "work", json_real(res->work));
+    json_object_set_new(o, "stored_energy", json_real(res->stored_energy));
+    json_object_set_new(o, "dissipated_energy", json_real(res->dissipated_energy));
+    json_object_set_new(o, "energy_balance_error", json_real(res->energy_balance_error));
+    json_object_set_new(o, "hooks_released", json_integer(res->released));
+    json_object_set_new(o, "hooks_reengaged", json_integer(res->reengaged));
+    json_object_set_new(o, "largest_cascade", json_integer(res->largest_cascade));
+    json_object_set_new(o, "release_events", json_integer(res->release_events));
     return o;
 }
 
@@ -429,7 +458,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     *result = NULL;
     static const char *const keys[] = {"model", "angle", "lx", "ly", "thickness", "moduli", "kappa", "constraint",
                                        "mesh", "edge", "strain_max", "steps", "solver", "layout", "vtk",
-                                       "convergence", NULL};
+                                       "convergence", "path", NULL};
     json_t *req;
     plume_status st = parse_request(request, "traction", keys, &req, &err);
     if (st != PLUME_OK)
@@ -448,7 +477,10 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     plume_fields *fields = NULL;
     plume_traction_result res;
     memset(&res, 0, sizeof res);
-    if ((st = get_traction_setup(req, "traction", &t, &err)) != PLUME_OK ||
+    double path[1000];
+    int npath = 0;
+    if ((st = get_path(req, path, &npath, &err)) != PLUME_OK ||
+        (st = get_traction_setup(req, "traction", &t, &err)) != PLUME_OK ||
         (st = get_string(req, "traction", "model", &model, &err)) != PLUME_OK ||
         (st = get_string(req, "traction", "vtk", &vtk, &err)) != PLUME_OK ||
         (st = get_bool(req, "traction", "convergence", &convergence, &err)) != PLUME_OK ||
@@ -474,6 +506,8 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     plume_traction_opts_default(&to);
     to.lx = t.lx, to.ly = t.ly, to.h = t.h, to.strain_max = t.strain_max, to.steps = t.steps, to.solver = t.solver;
     to.progress = 0;
+    if (npath > 0)
+        to.path = path, to.npath = npath;
     if ((vtk && (st = traction_vtk(vtk, mesh, mats, nmat, barbs, nbarbs, &fields, &to, &err)) != PLUME_OK) ||
         (st = plume_traction_run(mesh, p, barbs, nbarbs, &to, &res, &err)) != PLUME_OK)
         goto done;

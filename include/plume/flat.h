@@ -30,6 +30,9 @@
  *    "strain_max": 0.05, "steps": 10, "solver": "newton"|"ipopt"|"linearized",
  *    "layout": {...} (model micro; as apps/traction, the barbs are 0.086 ly apart and the
  *    elements quadratic, their edge chosen from the thinnest strip, unless it says otherwise),
+ *    "path": [0.03, 0, 0.03] (the strains the grip goes to in turn, each leg in "steps" steps;
+ *    plume_traction_opts.path; absent: one leg to strain_max), "layout" may hold the hook keys
+ *    (docs/layout-format.md),
  *    "convergence": true (model micro: the curve again on a mesh twice as coarse), "vtk": "DIR" (a ParaView series of the
  *    steps: DIR/steps.pvd with DIR/step_NNNNN.vtu, and DIR/step_barbs_NNNNN.vtu for the macro
  *    model's constrained barbs; docs/paraview-output.md)}
@@ -37,7 +40,9 @@
  *        "converged", "failed_step", "stop_reason", "newton_iterations", "max_violation",
  *        "seconds", "elements", "vertices", "angle", and for the micro model "order",
  *        "element_edge", "refinement_change" and "slope_refinement_change" (traction.h;
- *        -1 when not estimated)}
+ *        -1 when not estimated), and the energy balance and hooks: "peak_stress", "work",
+ *        "stored_energy", "dissipated_energy", "energy_balance_error", "hooks_released",
+ *        "hooks_reengaged", "largest_cascade", "release_events" (plume_traction_result)}
  *  - fit: {"targets": [{"angle": deg, "strain": [], "stress": []}, ...] (required), "start":
  *    {"E_xx", "E_yy", "nu_xy", "G_xy"} (required), "free": ["E_yy", "G_xy"], "max_eval": 300,
  *    "xtol_rel": 1e-6, and the macro traction keys above ("lx", "ly", "thickness", "kappa",

@@ -118,7 +118,11 @@ class TractionResult:
     model, angle: the request's (angle in degrees between the barbs and the pull); micro model:
     refinement_change, how converged the curve is (its largest stress change from the specimen
     meshed with elements twice as large, over the largest stress; -1: not estimated), order and
-    element_edge (m); raw: the library's JSON result.
+    element_edge (m); the energy balance (J): work (the grip's), stored_energy,
+    dissipated_energy (what hooks letting go gave up) and energy_balance_error ((work - stored -
+    dissipated) over the gross work); hooks_released and hooks_reengaged (a layout with hook keys,
+    docs/unzipping.md); peak_stress (Pa: the largest at any equilibrium, sub-steps included);
+    raw: the library's JSON result.
     """
     model: str
     angle: float
@@ -138,6 +142,13 @@ class TractionResult:
     refinement_change: float = -1.0
     order: int = 0
     element_edge: float = 0.0
+    peak_stress: float = 0.0
+    work: float = 0.0
+    stored_energy: float = 0.0
+    dissipated_energy: float = 0.0
+    energy_balance_error: float = 0.0
+    hooks_released: int = 0
+    hooks_reengaged: int = 0
     raw: dict = field(repr=False, default_factory=dict)
 
 
@@ -235,7 +246,11 @@ _MACRO_OPTIONS = {
     "lx": _number, "ly": _number, "thickness": _number, "kappa": _number, "edge": _number,
     "constraint": _boolean, "mesh": _string, "steps": _integer, "solver": _string,
 }
-_TRACTION_OPTIONS = dict(_MACRO_OPTIONS, strain_max=_number, convergence=_boolean)
+def _strains(name, x):
+    return [float(v) for v in _series(name, x)]
+
+
+_TRACTION_OPTIONS = dict(_MACRO_OPTIONS, strain_max=_number, convergence=_boolean, path=_strains)
 
 
 def _options(job, options, allowed):
@@ -373,7 +388,8 @@ def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **op
             kappa (Pa; 0), constraint (bool; True), mesh ("aligned" | "unaligned"), edge (element
             edge, m; min(lx, ly) / 20), strain_max (-; 0.05), steps (10), solver ("newton" |
             "ipopt" | "linearized"), convergence (micro model: estimate refinement_change by
-            running the test again on a mesh twice as coarse; True).
+            running the test again on a mesh twice as coarse; True), path (the strains the grip
+            goes to in turn, each leg in `steps` steps: [0.03, 0, 0.03] loads, unloads, reloads).
 
     Returns:
         TractionResult (strain -, stress Pa, wbar -, per step, the rest state first).
@@ -402,7 +418,13 @@ def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **op
         elements=int(_get(r, "elements", "traction")),
         vertices=int(_get(r, "vertices", "traction")),
         refinement_change=float(r.get("refinement_change", -1.0)), order=int(r.get("order", 0)),
-        element_edge=float(r.get("element_edge", 0.0)), raw=r)
+        element_edge=float(r.get("element_edge", 0.0)),
+        peak_stress=float(r.get("peak_stress", 0.0)), work=float(r.get("work", 0.0)),
+        stored_energy=float(r.get("stored_energy", 0.0)),
+        dissipated_energy=float(r.get("dissipated_energy", 0.0)),
+        energy_balance_error=float(r.get("energy_balance_error", 0.0)),
+        hooks_released=int(r.get("hooks_released", 0)), hooks_reengaged=int(r.get("hooks_reengaged", 0)),
+        raw=r)
 
 
 def fit(targets, start, free=("E_yy", "G_xy"), max_eval=300, xtol_rel=1e-6, **options):

@@ -360,6 +360,25 @@ class TestTraction(unittest.TestCase):
         self.assertEqual(q.refinement_change, -1.0)
         self.assertTrue(np.array_equal(q.stress, r.stress))
 
+    def test_micro_hooks_cycle(self):
+        # the shipped hooked layout loaded, unloaded and reloaded: hooks let go and catch again,
+        # the energy balance closes, and a leg that does not move is refused by name
+        with open(os.path.join(ROOT, "data", "layout_hooks.json")) as f:
+            layout = {k: v for k, v in json.load(f).items() if k != "note"}
+        r = plume.traction(model="micro", angle=45.0, lx=4e-3, ly=5.2e-3, thickness=1e-4, layout=layout,
+                           steps=4, path=[0.003, 0.0, 0.003], convergence=False)
+        self.assertTrue(r.converged)
+        self.assertEqual(r.stress.shape, (13,))
+        self.assertEqual(r.strain[8], 0.0)
+        self.assertGreater(r.hooks_released, 0)
+        self.assertGreater(r.hooks_reengaged, 0)
+        self.assertGreater(r.dissipated_energy, 0.0)
+        self.assertLess(abs(r.energy_balance_error), 1e-2)
+        self.assertAlmostEqual(r.work, r.stored_energy + r.dissipated_energy,
+                               delta=1e-2 * r.work)
+        with self.assertRaisesRegex(plume.PlumeError, r"path\[1\] = 0.003"):
+            plume.traction(path=[0.003, 0.003], steps=2)
+
     def test_vtk_series(self):
         steps = 2
         with tempfile.TemporaryDirectory() as tmp:
