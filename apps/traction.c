@@ -60,7 +60,8 @@ static const char usage_micro[] =
     "  --plot FILE.png     chart (an SVG is written beside it)\n"
     "  --vtk DIR           the deformed sample of every step as a ParaView series: DIR/<macro|micro>/steps.pvd\n"
     "                      (the nominal strain as its time) with step_NNNNN.vtu (strain, stress, energy density,\n"
-    "                      J per triangle; step_barbs_NNNNN.vtu the constrained barb edges' strain)\n"
+    "                      J per triangle; step_barbs_NNNNN.vtu the constrained barb edges' strain;\n"
+    "                      step_hooks_NNNNN.vtu each hook's pairs with state 1 engaged, 0 let go)\n"
     "Bending (both scales; docs/bending-homogenisation.md):\n"
     "  --bending LOAD      cylinder (end moments about x: curvature along y, the barbs at --angle from it) | twist;\n"
     "                      the resolved layout (order 1 triangles, each phase a shell of its thickness) and/or the\n"
@@ -347,6 +348,11 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
     plume_layout_materials(layout, mats);
     if (o->vtk && vtk_start(o, "micro", mesh, mats, 2, NULL, 0, &tv, &fields) != 0)
         goto done;
+    if (fields && layout->kind == PLUME_LAYOUT_BARBULES && layout->hooks.strength > 0.0 &&
+        (st = plume_fields_add_links(fields, p, "hooks", &err)) != PLUME_OK) { /* the hooks' states, each step */
+        fprintf(stderr, "traction: --vtk: %s\n", err.msg);
+        goto done;
+    }
     if ((st = plume_traction_run(mesh, p, NULL, 0, &tv, &run->res, &err)) != PLUME_OK) {
         fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
         goto done;

@@ -509,6 +509,8 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     if (npath > 0)
         to.path = path, to.npath = npath;
     if ((vtk && (st = traction_vtk(vtk, mesh, mats, nmat, barbs, nbarbs, &fields, &to, &err)) != PLUME_OK) ||
+        (fields && micro && layout.kind == PLUME_LAYOUT_BARBULES && layout.hooks.strength > 0.0 &&
+         (st = plume_fields_add_links(fields, p, "hooks", &err)) != PLUME_OK) ||
         (st = plume_traction_run(mesh, p, barbs, nbarbs, &to, &res, &err)) != PLUME_OK)
         goto done;
     plume_micro_convergence conv;

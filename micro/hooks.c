@@ -238,6 +238,14 @@ static plume_status hooks_term_keep(void *ctx, int save)
     return PLUME_OK;
 }
 
+static plume_status hooks_term_states(void *ctx, int *s)
+{
+    const plume_hooks *h = ctx;
+    for (plume_index p = 0; p < h->npairs; p++)
+        s[p] = h->engaged[h->hook_of[p]];
+    return PLUME_OK;
+}
+
 static void hooks_term_destroy(void *ctx)
 {
     plume_hooks *h = ctx;
@@ -256,6 +264,7 @@ void plume_hooks_term(plume_hooks *h, int own, plume_term *t)
     t->energies = hooks_energies;
     t->commit = hooks_term_commit;
     t->keep = hooks_term_keep;
+    t->states = hooks_term_states;
     t->destroy = own ? hooks_term_destroy : NULL;
     t->ctx = h;
 }

@@ -132,10 +132,10 @@ void test_app_traction_hooks(void)
         CHECK(0);
         return;
     }
-    char out[16384], err[8192];
-    int rc = run_app("--model micro --layout-config ../data/layout_hooks.json --lx 4e-3 --ly 5.2e-3 --thickness 1e-4 "
-                     "--steps 4 --path 0.003,0,0.003 --no-convergence --json --quiet",
-                     out, sizeof out, err, sizeof err);
+    char out[16384], err[8192], args[1024];
+    snprintf(args, sizeof args, "--model micro --layout-config ../data/layout_hooks.json --lx 4e-3 --ly 5.2e-3 "
+             "--thickness 1e-4 --steps 4 --path 0.003,0,0.003 --no-convergence --json --quiet --vtk %s/vtk", scratch);
+    int rc = run_app(args, out, sizeof out, err, sizeof err);
     CHECK(rc == 0);
     json_error_t je;
     json_t *j = json_loads(out, 0, &je);
@@ -156,6 +156,22 @@ void test_app_traction_hooks(void)
         json_decref(j);
     } else
         fprintf(stderr, "    output: %s\n    stderr: %s\n", out, err);
+    /* --vtk: each step's hooks as lines, their state 1 at rest and some 0 at the top of the first load */
+    for (int step = 0; step <= 4; step += 4) {
+        char path[256];
+        snprintf(path, sizeof path, "%s/vtk/micro/step_hooks_%05d.vtu", scratch, step);
+        plume_vtu_data d;
+        plume_err e = {{0}};
+        CHECK(plume_vtu_read(path, &d, &e) == PLUME_OK);
+        const plume_vtu_array *s = plume_vtu_find(&d, 0, "state");
+        CHECK(s != NULL && s->ntuples > 0);
+        double engaged = 0.0;
+        for (plume_index i = 0; s && i < s->ntuples; i++)
+            engaged += s->values[i];
+        printf("    step %d: %.0f of %ld hook pairs engaged\n", step, engaged, s ? (long)s->ntuples : 0L);
+        CHECK(s && (step == 0 ? engaged == s->ntuples : engaged < s->ntuples));
+        plume_vtu_data_free(&d);
+    }
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
     CHECK(system(cmd) == 0);

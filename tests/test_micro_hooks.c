@@ -10,6 +10,7 @@
 #include "harness.h"
 #include "term_fd.h"
 #include "../include/plume/homogenize.h"
+#include "../include/plume/scene.h"
 #include "../include/plume/traction.h"
 #include "../micro/hooks.h"
 #include "../micro/micro_model.h"
@@ -265,8 +266,18 @@ void test_micro_hooks_traction_releases(void)
             CHECK(fabs(r.energy_balance_error) < 1e-2);
         } else
             fprintf(stderr, "    traction: %s\n", err.msg);
-        if (hooked)
+        if (hooked) {
             released = r.released;
+            /* the hooks as links of a ParaView series; a term that is not there is named */
+            plume_fields *f = NULL;
+            plume_membrane_material mats[2];
+            plume_layout_materials(&l, mats);
+            CHECK(plume_fields_create(mesh, 2, mesh->nt, mats, 2, NULL, NULL, 0, &f, &err) == PLUME_OK);
+            CHECK(plume_fields_add_links(f, p, "hooks", &err) == PLUME_OK);
+            CHECK(plume_fields_add_links(f, p, "membrane_hooks", &err) == PLUME_EINVAL &&
+                  strstr(err.msg, "no term \"membrane_hooks\" of arity 2"));
+            plume_fields_destroy(&f);
+        }
         plume_traction_result_free(&r);
         plume_problem_destroy(&p);
         plume_mesh_destroy(&mesh);

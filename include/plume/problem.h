@@ -149,6 +149,9 @@ typedef struct {
     /** Optional, with commit: keeps the term's state (save non-zero) or returns to the kept one
      * (save 0), so that a load increment that fails after a commit is undone whole. */
     plume_status (*keep)(void *ctx, int save);
+    /** Optional (NULL: not offered): each stencil's state, written to s[0 .. nstencil-1] (hooks: 1
+     * engaged, 0 let go). Output uses it (plume_fields_add_links). */
+    plume_status (*states)(void *ctx, int *s);
 } plume_term;
 
 /** A set of m equality constraints g_c(x) = 0; constraint c couples the `arity` vertices of

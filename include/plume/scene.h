@@ -389,6 +389,13 @@ PLUME_API void plume_fields_destroy(plume_fields **f);
 PLUME_API plume_status plume_fields_series_start(plume_fields *f, const char *dir, const char *pvd_name, const char *stem,
                                                  double resume_until, plume_err *err);
 
+/** Each frame also writes the stencils of p's term named `term` (arity 2: links such as barbule
+ * hooks) as lines, "<stem>_<term>_NNNNN.vtu", part 2 of the collection, with cell data "state"
+ * (plume_term.states; 1 without it) and "energy" (J; plume_term.energies; 0 without it). p is
+ * borrowed: it must outlive the frames, and its x holds the frame's positions when they come from
+ * its own solves. PLUME_EINVAL naming the term when p has none of that name or its arity is not 2. */
+PLUME_API plume_status plume_fields_add_links(plume_fields *f, plume_problem *p, const char *term, plume_err *err);
+
 /** Writes frame `index` at time t (positions x): its .vtu files and the updated .pvd. Point data:
  * displacement; cell data: material, barb_direction, the fields above, and "object" after
  * plume_fields_set_objects. */

@@ -999,6 +999,14 @@ int plume_problem_commits(const plume_problem *p)
     return 0;
 }
 
+const plume_term *plume_problem_term(const plume_problem *p, const char *name)
+{
+    for (int t = 0; p && name && t < p->nterms; t++)
+        if (p->terms[t].t.name && strcmp(p->terms[t].t.name, name) == 0)
+            return &p->terms[t].t;
+    return NULL;
+}
+
 void *plume_problem_term_ctx(const plume_problem *p, const char *name)
 {
     for (int t = 0; p && name && t < p->nterms; t++)

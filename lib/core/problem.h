@@ -91,6 +91,9 @@ plume_status plume_problem_update_terms(plume_problem *p, int *pattern_changed, 
  * its lag. */
 plume_status plume_problem_rebase_terms(plume_problem *p);
 
+/** The first term named `name` (plume_term.name) as the problem holds it, or NULL. */
+const plume_term *plume_problem_term(const plume_problem *p, const char *name);
+
 /** The ctx of the first term named `name` (plume_term.name), or NULL: what built the term reads
  * its own data through it. */
 void *plume_problem_term_ctx(const plume_problem *p, const char *name);

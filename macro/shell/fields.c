@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../../lib/core/problem.h"
 #include "../../lib/io/vtu.h"
 
 #define PLUME_PI 3.14159265358979323846
@@ -33,6 +34,12 @@ struct plume_fields {
     /* the series */
     plume_pvd *pvd;
     char *dir, *stem;
+    /* plume_fields_add_links: the term of p whose stencils are written as lines */
+    plume_problem *links_p;
+    char *links_term;
+    double *link_state, *link_energy; /* [link_cap] */
+    int *link_int;                    /* [link_cap] */
+    plume_index link_cap;
 };
 
 void plume_fields_destroy(plume_fields **pf)
@@ -57,6 +64,10 @@ void plume_fields_destroy(plume_fields **pf)
     free(f->kappa);
     free(f->dir3);
     free(f->crease);
+    free(f->links_term);
+    free(f->link_state);
+    free(f->link_energy);
+    free(f->link_int);
     free(f->vcurv);
     plume_pvd_destroy(&f->pvd);
     free(f->dir);
@@ -428,6 +439,62 @@ plume_status plume_fields_set_curvatures(plume_fields *f, plume_fields_curvature
     return PLUME_OK;
 }
 
+plume_status plume_fields_add_links(plume_fields *f, plume_problem *p, const char *term, plume_err *err)
+{
+    if (!f || !p || !term)
+        return plume_err_set(err, PLUME_EINVAL, "fields: links need a problem and a term name");
+    const plume_term *tt = plume_problem_term(p, term);
+    if (!tt || tt->arity != 2)
+        return plume_err_set(err, PLUME_EINVAL, "fields: the problem has no term \"%s\" of arity 2 to write as links",
+                             term);
+    free(f->links_term);
+    if (!(f->links_term = strdup(term)))
+        return plume_err_set(err, PLUME_ENOMEM, "fields: out of memory");
+    f->links_p = p;
+    return PLUME_OK;
+}
+
+/* The links' file of a frame (plume_fields_add_links): the term's stencils (as they are at this
+ * frame) as lines, with their states and energies at x. */
+static plume_status write_links(plume_fields *f, long index, double t, const double *x, const plume_vtu_field *pf,
+                                char *path, char *name, size_t len, plume_err *err)
+{
+    const plume_term *tt = plume_problem_term(f->links_p, f->links_term);
+    if (!tt)
+        return plume_err_set(err, PLUME_EINVAL, "fields: the links' term \"%s\" is gone", f->links_term);
+    const plume_index n = tt->nstencil;
+    if (n + 1 > f->link_cap) {
+        double *s = realloc(f->link_state, (size_t)(n + 1) * sizeof *s);
+        if (s)
+            f->link_state = s;
+        double *e = realloc(f->link_energy, (size_t)(n + 1) * sizeof *e);
+        if (e)
+            f->link_energy = e;
+        int *k = realloc(f->link_int, (size_t)(n + 1) * sizeof *k);
+        if (k)
+            f->link_int = k;
+        if (!s || !e || !k)
+            return plume_err_set(err, PLUME_ENOMEM, "fields: out of memory");
+        f->link_cap = n + 1;
+    }
+    plume_status st = PLUME_OK;
+    for (plume_index i = 0; i < n; i++)
+        f->link_int[i] = 1, f->link_energy[i] = 0.0;
+    if (tt->states && (st = tt->states(tt->ctx, f->link_int)) != PLUME_OK)
+        return plume_err_set(err, st, "fields: the states of term \"%s\" failed", f->links_term);
+    if (tt->energies && (st = tt->energies(tt->ctx, f->dim, x, f->link_energy)) != PLUME_OK)
+        return plume_err_set(err, st, "fields: the energies of term \"%s\" failed", f->links_term);
+    for (plume_index i = 0; i < n; i++)
+        f->link_state[i] = f->link_int[i];
+    const plume_vtu_field lf[] = {{"state", 1, 1, f->link_state}, {"energy", 1, 0, f->link_energy}};
+    plume_vtu_grid gl = {f->mesh->nv, f->points, PLUME_VTU_LINE, n, tt->stencil, 1, 2, pf, lf, t};
+    snprintf(name, len, "%s_%s_%05ld.vtu", f->stem, f->links_term, index);
+    snprintf(path, len, "%s/%s", f->dir, name);
+    if ((st = plume_vtu_write(path, &gl, err)) != PLUME_OK)
+        return st;
+    return plume_pvd_add(f->pvd, t, 2, name, err);
+}
+
 plume_status plume_fields_series_frame(plume_fields *f, long index, double t, const double *x, plume_err *err)
 {
     if (!f || !x || index < 0 || !isfinite(t))
@@ -461,7 +528,7 @@ plume_status plume_fields_series_frame(plume_fields *f, long index, double t, co
     if (f->object_id)
         cf[ncf++] = (plume_vtu_field){"object", 1, 1, f->object_id};
     plume_vtu_grid g = {m->nv, f->points, PLUME_VTU_TRIANGLE, m->nt, m->tri, 1, ncf, pf, cf, t};
-    size_t len = strlen(f->dir) + strlen(f->stem) + 64;
+    size_t len = strlen(f->dir) + strlen(f->stem) + (f->links_term ? strlen(f->links_term) : 0) + 64;
     char *path = malloc(len), *name = malloc(len);
     if (!path || !name) {
         free(path);
@@ -482,6 +549,8 @@ plume_status plume_fields_series_frame(plume_fields *f, long index, double t, co
         if (st == PLUME_OK)
             st = plume_pvd_add(f->pvd, t, 1, name, err);
     }
+    if (st == PLUME_OK && f->links_p)
+        st = write_links(f, index, t, x, pf, path, name, len, err);
     free(path);
     free(name);
     return st;
