@@ -458,7 +458,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     *result = NULL;
     static const char *const keys[] = {"model", "angle", "lx", "ly", "thickness", "moduli", "kappa", "constraint",
                                        "mesh", "edge", "strain_max", "steps", "solver", "layout", "vtk",
-                                       "convergence", "path", NULL};
+                                       "convergence", "path", "peel", "top_grip_free", NULL};
     json_t *req;
     plume_status st = parse_request(request, "traction", keys, &req, &err);
     if (st != PLUME_OK)
@@ -508,6 +508,9 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     to.progress = 0;
     if (npath > 0)
         to.path = path, to.npath = npath;
+    if ((st = get_number(req, "traction", "peel", &to.peel, &err)) != PLUME_OK ||
+        (st = get_number(req, "traction", "top_grip_free", &to.top_grip_free, &err)) != PLUME_OK)
+        goto done;
     if ((vtk && (st = traction_vtk(vtk, mesh, mats, nmat, barbs, nbarbs, &fields, &to, &err)) != PLUME_OK) ||
         (fields && micro && layout.kind == PLUME_LAYOUT_BARBULES && layout.hooks.strength > 0.0 &&
          (st = plume_fields_add_links(fields, p, "hooks", &err)) != PLUME_OK) ||

@@ -31,7 +31,9 @@
  *    "layout": {...} (model micro; as apps/traction, the barbs are 0.086 ly apart and the
  *    elements quadratic, their edge chosen from the thinnest strip, unless it says otherwise),
  *    "path": [0.03, 0, 0.03] (the strains the grip goes to in turn, each leg in "steps" steps;
- *    plume_traction_opts.path; absent: one leg to strain_max), "layout" may hold the hook keys
+ *    plume_traction_opts.path; absent: one leg to strain_max), "peel": 0 and "top_grip_free": 0
+ *    (how the top grip turns, how much of its edge it leaves free: plume_traction_opts), "layout"
+ *    may hold the hook keys
  *    (docs/layout-format.md),
  *    "convergence": true (model micro: the curve again on a mesh twice as coarse), "vtk": "DIR" (a ParaView series of the
  *    steps: DIR/steps.pvd with DIR/step_NNNNN.vtu, and DIR/step_barbs_NNNNN.vtu for the macro

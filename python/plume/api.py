@@ -250,7 +250,8 @@ def _strains(name, x):
     return [float(v) for v in _series(name, x)]
 
 
-_TRACTION_OPTIONS = dict(_MACRO_OPTIONS, strain_max=_number, convergence=_boolean, path=_strains)
+_TRACTION_OPTIONS = dict(_MACRO_OPTIONS, strain_max=_number, convergence=_boolean, path=_strains,
+                         peel=_number, top_grip_free=_number)
 
 
 def _options(job, options, allowed):
@@ -389,7 +390,9 @@ def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **op
             edge, m; min(lx, ly) / 20), strain_max (-; 0.05), steps (10), solver ("newton" |
             "ipopt" | "linearized"), convergence (micro model: estimate refinement_change by
             running the test again on a mesh twice as coarse; True), path (the strains the grip
-            goes to in turn, each leg in `steps` steps: [0.03, 0, 0.03] loads, unloads, reloads).
+            goes to in turn, each leg in `steps` steps: [0.03, 0, 0.03] loads, unloads, reloads),
+            peel (0: the top grip pulls straight; 1: it turns about its x = 0 end), top_grip_free
+            (0: the top grip holds its whole edge; 0.9: only its last tenth, a barb pulled by its end).
 
     Returns:
         TractionResult (strain -, stress Pa, wbar -, per step, the rest state first).

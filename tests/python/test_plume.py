@@ -378,6 +378,8 @@ class TestTraction(unittest.TestCase):
                                delta=1e-2 * r.work)
         with self.assertRaisesRegex(plume.PlumeError, r"path\[1\] = 0.003"):
             plume.traction(path=[0.003, 0.003], steps=2)
+        with self.assertRaisesRegex(plume.PlumeError, r"peel must be in \[0, 1\] \(got 2\)"):
+            plume.traction(peel=2.0, steps=1)
 
     def test_vtk_series(self):
         steps = 2

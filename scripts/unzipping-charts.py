@@ -1,0 +1,118 @@
+#!/usr/bin/env python3
+"""Draws the charts of docs/unzipping.md from plume's own runs (through the Python package):
+
+    PYTHONPATH=python scripts/unzipping-charts.py OUTDIR   ->  OUTDIR/unzip_tilted.png,
+                                                              unzip_cycle.png, unzip_separation.png
+
+- unzip_tilted: the Table 3 (a) specimen at 45 deg pulled to 5 %, bonded and held by hooks of
+  three strengths (as supplementary Figure 11 sets the measured curves beside the elastic model);
+- unzip_cycle: the same with 50 mN hooks that catch again within 20 um, to 3 %, back to 0, to 3 %;
+- unzip_separation: Kovalev's barb-separation test on data/layout_kovalev.json, pulled straight
+  and by the barb's end, force against opening, beside n x 14 uN and the measured 0.27 mN mean.
+
+Takes about three minutes on one core.
+"""
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+import plume  # noqa: E402
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+
+
+def layout(name, **over):
+    with open(os.path.join(ROOT, "data", name)) as f:
+        d = {k: v for k, v in json.load(f).items() if k != "note"}
+    d.update(over)
+    return d
+
+
+def tilted(out):
+    base = dict(model="micro", angle=45.0, lx=4e-3, ly=5.2e-3, thickness=1e-4, steps=20, convergence=False)
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    r = plume.traction(layout=layout("layout_barbules_table3a.json"), **base)
+    ax.plot(100 * r.strain, 1e-3 * r.stress, "k-", label="bonded (elastic)")
+    for strength, style in ((5e-2, "C0.-"), (9.3e-3, "C1.-"), (9.3e-4, "C3.-")):
+        lay = layout("layout_hooks.json", hook_strength=strength, hook_opening=2e-6 * strength / 9.3e-4)
+        r = plume.traction(layout=lay, **base)
+        ax.plot(100 * r.strain, 1e-3 * r.stress, style, ms=3,
+                label="hooks of %.3g mN: %d let go, %.1e J dissipated" % (1e3 * strength, r.hooks_released,
+                                                                          r.dissipated_energy))
+        print("tilted, %.3g mN: peak %.4g Pa, %d released, balance %.1e" % (1e3 * strength, r.peak_stress,
+                                                                           r.hooks_released, r.energy_balance_error))
+    ax.set_xlabel("nominal strain (%)")
+    ax.set_ylabel("nominal stress (kPa)")
+    ax.set_title("Table 3 (a) specimen at 45 deg, 4 x 5.2 mm")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "unzip_tilted.png"), dpi=110)
+
+
+def cycle(out):
+    lay = layout("layout_hooks.json", hook_strength=5e-2, hook_opening=5e-10, hook_capture=2e-5)
+    r = plume.traction(model="micro", angle=45.0, lx=4e-3, ly=5.2e-3, thickness=1e-4, layout=lay, steps=12,
+                       path=[0.03, 0.0, 0.03], convergence=False)
+    n = 12
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for leg, (a, b, style, name) in enumerate(((0, n + 1, "C0.-", "load"), (n, 2 * n + 1, "C3.-", "unload"),
+                                              (2 * n, 3 * n + 1, "C2.-", "reload"))):
+        ax.plot(100 * r.strain[a:b], 1e-3 * r.stress[a:b], style, ms=3, label=name)
+    ax.set_xlabel("nominal strain (%)")
+    ax.set_ylabel("nominal stress (kPa)")
+    ax.set_title("load, unload, reload: %d let go, %d caught again; D %.2e of W %.2e J" %
+                 (r.hooks_released, r.hooks_reengaged, r.dissipated_energy, r.work), fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "unzip_cycle.png"), dpi=110)
+    print("cycle: %d released, %d caught again, balance %.1e" % (r.hooks_released, r.hooks_reengaged,
+                                                                 r.energy_balance_error))
+
+
+def separation(out):
+    lay = layout("layout_kovalev.json")
+    dB, h, strength = lay["d_B"], lay["thickness"], lay["hook_strength"]
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for lx, free, style, name in ((2.4e-4, 0.0, "C0.-", "pulled straight, 0.24 mm"),
+                                  (6e-4, 0.9, "C3.-", "pulled by the barb's end, 0.6 mm")):
+        r = plume.traction(model="micro", angle=90.0, lx=lx, ly=dB, thickness=h, layout=lay, steps=30,
+                           strain_max=0.1, top_grip_free=free, convergence=False)
+        force = 1e3 * r.stress * lx * h
+        ax.plot(1e6 * r.strain * dB, force, style, ms=3,
+                label="%s: %d hooks in %d groups, peak %.2f mN" % (name, r.hooks_released,
+                                                                   r.raw.get("release_events", 0),
+                                                                   1e3 * r.peak_stress * lx * h))
+        print("separation %s: peak %.3g mN, %d released in %d events (largest %d)" %
+              (name, 1e3 * r.peak_stress * lx * h, r.hooks_released, r.raw.get("release_events", 0),
+               r.raw.get("largest_cascade", 0)))
+    ax.axhline(0.27, color="k", ls="--", lw=1, label="Kovalev et al. 2014: mean separation force 0.27 mN")
+    ax.set_xlabel("opening at the grip (um)")
+    ax.set_ylabel("force at the pulled end (mN)")
+    ax.set_title("barb separation, each hook one 14 uN hooklet", fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "unzip_separation.png"), dpi=110)
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    out = sys.argv[1]
+    os.makedirs(out, exist_ok=True)
+    plume.openmp_serial()
+    tilted(out)
+    cycle(out)
+    separation(out)
+
+
+if __name__ == "__main__":
+    main()
