@@ -49,7 +49,6 @@ struct plume_hooks {
     double *slid;         /* [nhooks] slide so far (m) */
     long released, reengaged;
     double dropped;
-    double overshoot;     /* a commit allowed to cut refuses loads beyond this many strengths */
     struct {              /* the state kept by keep(save) */
         double *offset, *slid;
         unsigned char *engaged, *armed;
@@ -115,7 +114,6 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
     h->kept.slid = calloc((size_t)nhooks, sizeof *h->kept.slid);
     h->kept.engaged = malloc((size_t)nhooks);
     h->kept.armed = calloc((size_t)nhooks, 1);
-    h->overshoot = PLUME_HOOKS_OVERSHOOT;
     if (!h->first || !h->pairs || !h->hook_of || !h->offset || !h->engaged || !h->armed || !h->slid ||
         !h->kept.offset || !h->kept.slid || !h->kept.engaged || !h->kept.armed) {
         plume_hooks_destroy(&h);
@@ -206,7 +204,7 @@ static plume_status hooks_energies(void *ctx, int dim, const double *x, double *
 static plume_status hooks_term_commit(void *ctx, int dim, const double *x, int may_cut, plume_commit_report *r)
 {
     plume_hooks *h = ctx;
-    if (may_cut && plume_hooks_max_load(h, dim, x, NULL) > h->overshoot) {
+    if (may_cut && plume_hooks_max_load(h, dim, x, NULL) > PLUME_HOOKS_OVERSHOOT) {
         r->overshoot = 1;
         return PLUME_OK;
     }
@@ -405,12 +403,6 @@ plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_
     if (ev)
         *ev = e;
     return PLUME_OK;
-}
-
-void plume_hooks_set_overshoot(plume_hooks *h, double ratio)
-{
-    if (h && ratio >= 1.0)
-        h->overshoot = ratio;
 }
 
 void plume_hooks_totals(const plume_hooks *h, long *released, long *reengaged, double *dropped)

@@ -51,14 +51,14 @@ void plume_hooks_destroy(plume_hooks **h);
 
 /** The energy term of the hooks (name "hooks", arity 2, a stencil per pair; released pairs add
  * nothing), with a commit (plume_term.commit: plume_hooks_commit of every hook, or an overshoot
- * when allowed to cut and a hook is loaded beyond plume_hooks_set_overshoot's ratio) and a keep.
+ * when allowed to cut and a hook is loaded beyond PLUME_HOOKS_OVERSHOOT strengths), a keep and
+ * the pairs' states (1 engaged, 0 let go).
  * own: the term frees h with the problem; 0: it borrows h, which must outlive it. */
 void plume_hooks_term(plume_hooks *h, int own, plume_term *t);
 
-/** A commit allowed to cut refuses loads beyond this many strengths (>= 1; default
- * PLUME_HOOKS_OVERSHOOT): the stepper halves its increment, so hooks let go near their strength. */
+/** A commit allowed to cut refuses loads beyond this many strengths: the stepper halves its
+ * increment, so hooks let go near their strength (docs/unzipping.md). */
 #define PLUME_HOOKS_OVERSHOOT 1.25
-void plume_hooks_set_overshoot(plume_hooks *h, double ratio);
 
 /** Hooks, and pairs. */
 int plume_hooks_count(const plume_hooks *h);
