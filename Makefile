@@ -110,7 +110,8 @@ asan: deps
 	@$(MAKE) --no-print-directory all
 	@$(MAKE) --no-print-directory BUILD=build-asan OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer" \
 	    LDFLAGS="-fsanitize=address,undefined" build-asan/run_tests
-	cd tests && $(OMP_ENV) ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ../build-asan/run_tests $(TESTS)
+	cd tests && $(OMP_ENV) PLUME_TEST_SMALL=1 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	    ../build-asan/run_tests $(TESTS)
 
 # libFuzzer harnesses (tests/fuzz/README.md): the library built by clang with ASan + UBSan and
 # fuzzer coverage in build-fuzz/, each harness run on a scratch copy of its committed corpus for

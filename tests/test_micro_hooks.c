@@ -5,6 +5,7 @@
  * held by stiff hooks pulls like the bonded one, by soft hooks softer. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "harness.h"
@@ -363,8 +364,11 @@ static void separation_run(double lx, double top_free, int steps, double strain_
 void test_micro_hooks_separation(void)
 {
     const double strength = 1.4e-5, h = 1e-4, ly = 1.5e-4;
+    /* make asan's sanitised build (PLUME_TEST_SMALL) runs the end pull over 0.36 mm, the same code
+     * at a third of the cost; the figures of docs/unzipping.md are the 0.6 mm run's */
+    const double end_lx = getenv("PLUME_TEST_SMALL") ? 3.6e-4 : 6e-4;
     for (int end = 0; end < 2; end++) {
-        const double lx = end ? 6e-4 : 2.4e-4;
+        const double lx = end ? end_lx : 2.4e-4;
         plume_traction_result r;
         int n = 0;
         separation_run(lx, end ? 0.9 : 0.0, end ? 10 : 5, end ? 0.1 : 0.05, &r, &n);
