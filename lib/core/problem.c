@@ -1009,10 +1009,8 @@ const plume_term *plume_problem_term(const plume_problem *p, const char *name)
 
 void *plume_problem_term_ctx(const plume_problem *p, const char *name)
 {
-    for (int t = 0; p && name && t < p->nterms; t++)
-        if (p->terms[t].t.name && strcmp(p->terms[t].t.name, name) == 0)
-            return p->terms[t].t.ctx;
-    return NULL;
+    const plume_term *t = plume_problem_term(p, name);
+    return t ? t->ctx : NULL;
 }
 
 int plume_problem_rebases(const plume_problem *p)

@@ -546,8 +546,7 @@ static plume_status record_step(traction_run *r, int k, double strain, const plu
         return PLUME_OK;
     if (rep->converged)
         res->max_violation = fmax(res->max_violation, rep->max_violation);
-    if ((st = plume_problem_forces(r->p, r->m ? r->lambda : NULL, r->force)) != PLUME_OK)
-        return st;
+    /* r->force: the forces at this equilibrium, which close_increment measured last */
     if (!(r->h.da == delta)) { /* the adaptive path has accepted and pushed it already */
         if ((st = accept_increment(r, err)) != PLUME_OK)
             return st;
