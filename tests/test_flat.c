@@ -151,7 +151,13 @@ void test_flat_traction(void)
                             {"{\"lx\": 0}", "lx, ly and thickness"},
                             {"{\"steps\": 0}", "\"steps\" >= 1"},
                             {"{\"model\": \"micro\", \"convergence\": 1}", "\"convergence\""},
-                            {"{\"model\": \"micro\", \"layout\": {\"order\": 3}}", "\"order\" must be 1 or 2"}};
+                            {"{\"model\": \"micro\", \"layout\": {\"order\": 3}}", "\"order\" must be 1 or 2"},
+                            /* a load path that is not a list, or holds a word; grips out of range; hooks on strips */
+                            {"{\"path\": 0.03}", "\"path\" must be a list of 1 to 1000 strains"},
+                            {"{\"path\": [0.03, \"back\"]}", "\"path\"[1] must be a number"},
+                            {"{\"peel\": -0.5}", "peel must be in [0, 1]"},
+                            {"{\"top_grip_free\": 1}", "top_grip_free must be in [0, 1)"},
+                            {"{\"model\": \"micro\", \"layout\": {\"hook_strength\": 1e-3}}", "needs the layout"}};
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         char *out = NULL;
         st = plume_flat_traction(bad[k][0], &out, msg, sizeof msg);
