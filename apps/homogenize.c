@@ -26,15 +26,18 @@ static const char usage[] =
     "  --thickness-barb M --thickness-barbule M   each phase's own thickness (default: --thickness)\n"
     "  --kappa PA           compression-term coefficient (default 0)\n"
     "  --barbule-width M --barbule-spacing M --barbule-angle DEG   explicit barbules\n"
-    "  --hook-strength N --hook-opening M --hook-slide M --hook-capture M   barbule hooks (explicit barbules;\n"
-    "                      checked here, used by apps/traction's specimen: docs/unzipping.md)\n"
+    "  --hook-strength N --hook-opening M --hook-slide M --hook-capture M   barbule hooks (explicit barbules):\n"
+    "                       the moduli stay the bonded cell's; the separation law of a barb line (strength\n"
+    "                       N/m, energy J/m^2, opening and capture m) is added (docs/unzipping.md)\n"
     "  --order 1|2          element order: 2 quadratic triangles (default), 1 linear (the paper's)\n"
     "  --e-rel V            element edge over barb width, e-bar (default 0: chosen from the thinnest\n"
     "                       strip so that the moduli are within 1 % of the refined limit)\n"
     "  --no-convergence     skip the convergence estimate (the tensor again on a mesh twice as coarse)\n"
     "  --strain-max E --steps N   cell response curves (default 0.05, 10; --strain-max 0: none)\n"
     "  -o FILE.h5           write /moduli (with the bending moduli as attributes D_long, D_trans,\n"
-    "                       D_coupling, D_twist, D_16, D_26) and /curves/cell/{uniaxial_x,uniaxial_y,shear}\n"
+    "                       D_coupling, D_twist, D_16, D_26, and with hooks separation_strength,\n"
+    "                       separation_energy, separation_opening, separation_capture) and\n"
+    "                       /curves/cell/{uniaxial_x,uniaxial_y,shear}\n"
     "  --plot FILE.png      chart of the cell curves (SVG beside it)\n"
     "  --vtk DIR            the deformed cell at every step of each curve as ParaView series:\n"
     "                       DIR/{uniaxial_x,uniaxial_y,shear}/steps.pvd (the strain as the time) with\n"
@@ -178,10 +181,11 @@ static int parse_args(int argc, char **argv, options *o)
 
 /* -o: /moduli with the refinement and bending figures and provenance, and the cell curves
  * (plume_homog_write: the file a scene's "from_moduli" reads). Exit code. */
-static int write_results(const char *out, const plume_layout *l, const plume_homog_result *r)
+static int write_results(const char *out, const plume_layout *l, const plume_homog_result *r,
+                         const plume_separation_law *sep)
 {
     plume_err err = {{0}};
-    if (plume_homog_write(out, l, r, &err) != PLUME_OK) {
+    if (plume_homog_write_separation(out, l, r, sep, &err) != PLUME_OK) {
         fprintf(stderr, "%s: %s\n", APP, err.msg);
         return 1;
     }
@@ -215,7 +219,8 @@ static int plot_responses(const char *plot, const plume_homog_opts *ho, const pl
 }
 
 /* --json: the moduli, the bending tensor, the membrane tensor and the run's figures. */
-static json_t *result_json(const plume_layout *l, const plume_homog_result *r, const char *out)
+static json_t *result_json(const plume_layout *l, const plume_homog_result *r, const plume_separation_law *sep,
+                           const char *out)
 {
     json_t *j = json_object();
     json_object_set_new(j, "E_xx", json_real(r->moduli.E_xx));
@@ -255,6 +260,18 @@ static json_t *result_json(const plume_layout *l, const plume_homog_result *r, c
     json_object_set_new(j, "vertices", json_integer(r->vertices));
     json_object_set_new(j, "newton_iterations", json_integer(r->newton_iterations));
     json_object_set_new(j, "seconds", json_real(r->seconds));
+    if (sep) {
+        json_t *js = json_object();
+        json_object_set_new(js, "strength", json_real(sep->strength));
+        json_object_set_new(js, "energy", json_real(sep->energy));
+        json_object_set_new(js, "opening", json_real(sep->opening));
+        json_object_set_new(js, "capture", json_real(sep->capture));
+        json_object_set_new(js, "peak_opening", json_real(sep->peak_opening));
+        json_object_set_new(js, "cell_length", json_real(sep->cell_length));
+        json_object_set_new(js, "solves", json_integer(sep->solves));
+        json_object_set_new(js, "newton_iterations", json_integer(sep->newton_iterations));
+        json_object_set_new(j, "separation", js);
+    }
     if (out)
         json_object_set_new(j, "output", json_string(out));
     return j;
@@ -262,10 +279,11 @@ static json_t *result_json(const plume_layout *l, const plume_homog_result *r, c
 
 /* The summary on stdout: the JSON object (--json) or the moduli, the bending moduli and the
  * convergence estimate in words. */
-static void report(const plume_layout *l, const plume_homog_result *r, const char *out, int json)
+static void report(const plume_layout *l, const plume_homog_result *r, const plume_separation_law *sep,
+                   const char *out, int json)
 {
     if (json) {
-        json_t *j = result_json(l, r, out);
+        json_t *j = result_json(l, r, sep, out);
         cli_print_json(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
         return;
     }
@@ -281,6 +299,10 @@ static void report(const plume_layout *l, const plume_homog_result *r, const cha
                "nu_xy %.2g %%, G_xy %.2g %%)\n",
                100.0 * r->refinement_change, r->refinement_edge, 100.0 * r->moduli_change[0],
                100.0 * r->moduli_change[1], 100.0 * r->moduli_change[2], 100.0 * r->moduli_change[3]);
+    if (sep)
+        printf("separation of a barb line (hooks): strength %.6g N/m, energy %.6g J/m^2, traction gone at an opening "
+               "of %.4g m, catches again within %.4g m (peak at %.4g m; %d cell solves)\n",
+               sep->strength, sep->energy, sep->opening, sep->capture, sep->peak_opening, sep->solves);
 }
 
 int main(int argc, char **argv)
@@ -311,11 +333,19 @@ int main(int argc, char **argv)
         plume_fields_destroy(&vtk.series[k]);
     if (hs != PLUME_OK)
         return fprintf(stderr, "%s: %s\n", APP, err.msg), 1;
+    plume_separation_law sep, *with = NULL;
+    if (l.kind == PLUME_LAYOUT_BARBULES && l.hooks.strength > 0.0) {
+        if (plume_separation_law_of(&l, &sep, &err) != PLUME_OK) {
+            plume_homog_result_free(&r);
+            return fprintf(stderr, "%s: %s\n", APP, err.msg), 1;
+        }
+        with = &sep;
+    }
     if (o.out)
-        rc = write_results(o.out, &l, &r);
+        rc = write_results(o.out, &l, &r, with);
     if (o.plot && ho.strain_max > 0.0 && rc == 0)
         rc = plot_responses(o.plot, &ho, &r);
-    report(&l, &r, o.out, o.json);
+    report(&l, &r, with, o.out, o.json);
     plume_homog_result_free(&r);
     return rc;
 }

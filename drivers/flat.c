@@ -242,7 +242,13 @@ plume_status plume_flat_homogenize(const char *request, char **result, char *msg
         (st = plume_layout_check(&l, &err)) != PLUME_OK || (output && (st = output_check(output, &err)) != PLUME_OK) ||
         (st = plume_homogenize(&l, &ho, &r, &err)) != PLUME_OK)
         goto done;
-    if (output && (st = plume_homog_write(output, &l, &r, &err)) != PLUME_OK) {
+    plume_separation_law sep, *with = NULL; /* a layout with hooks: its barb line's separation law */
+    if (l.kind == PLUME_LAYOUT_BARBULES && l.hooks.strength > 0.0) {
+        if ((st = plume_separation_law_of(&l, &sep, &err)) != PLUME_OK)
+            goto done;
+        with = &sep;
+    }
+    if (output && (st = plume_homog_write_separation(output, &l, &r, with, &err)) != PLUME_OK) {
         char why[sizeof err.msg];
         snprintf(why, sizeof why, "%s", err.msg);
         plume_err_set(&err, st, "homogenize request: \"output\": %s", why);
@@ -277,6 +283,12 @@ plume_status plume_flat_homogenize(const char *request, char **result, char *msg
             json_object_set_new(o, "refinement_edge", json_real(r.refinement_edge));
         }
     }
+    if (o && with)
+        json_object_set_new(o, "separation",
+                            json_pack("{s:f, s:f, s:f, s:f, s:f, s:f, s:i, s:i}", "strength", sep.strength, "energy",
+                                      sep.energy, "opening", sep.opening, "capture", sep.capture, "peak_opening",
+                                      sep.peak_opening, "cell_length", sep.cell_length, "solves", sep.solves,
+                                      "newton_iterations", sep.newton_iterations));
     if (o && output)
         json_object_set_new(o, "output", json_string(output));
     if (o && ho.strain_max > 0.0)

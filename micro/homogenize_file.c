@@ -4,12 +4,15 @@
  * -o and the library's users write it the same way. */
 #include "homogenize.h"
 
+#include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "../lib/io/curves.h"
 #include "layout.h"
 
-plume_status plume_homog_write(const char *path, const plume_layout *l, const plume_homog_result *r, plume_err *err)
+plume_status plume_homog_write_separation(const char *path, const plume_layout *l, const plume_homog_result *r,
+                                          const plume_separation_law *sep, plume_err *err)
 {
     if (!path || !l || !r)
         return plume_err_set(err, PLUME_EINVAL, "homogenisation file: a path, the layout and its result are needed");
@@ -45,10 +48,15 @@ plume_status plume_homog_write(const char *path, const plume_layout *l, const pl
                                    {"bending_change", r->bending_change},
                                    {"thickness", l->h},
                                    {"thickness_barb", h_barb},
-                                   {"thickness_barbule", h_barbule}};
+                                   {"thickness_barbule", h_barbule},
+                                   {"separation_strength", sep ? sep->strength : 0.0},
+                                   {"separation_energy", sep ? sep->energy : 0.0},
+                                   {"separation_opening", sep ? sep->opening : 0.0},
+                                   {"separation_capture", sep ? sep->capture : 0.0}};
+    const int nsep = 4; /* the last attributes: written only with a law */
     const plume_sparam sp[] = {{"layout", kind}};
     plume_status st = plume_moduli_write_params(path, &r->moduli, prov, mparams,
-                                                (int)(sizeof mparams / sizeof mparams[0]), err);
+                                                (int)(sizeof mparams / sizeof mparams[0]) - (sep ? 0 : nsep), err);
     static const char *const names[3] = {"uniaxial_x", "uniaxial_y", "shear"};
     const plume_curve *cv[3] = {&r->uniaxial_x, &r->uniaxial_y, &r->shear};
     for (int k = 0; k < 3 && st == PLUME_OK; k++)
@@ -56,4 +64,32 @@ plume_status plume_homog_write(const char *path, const plume_layout *l, const pl
             st = plume_curve_write(path, "cell", names[k], cv[k], params, (int)(sizeof params / sizeof params[0]), sp,
                                    1, err);
     return st;
+}
+
+plume_status plume_homog_write(const char *path, const plume_layout *l, const plume_homog_result *r, plume_err *err)
+{
+    return plume_homog_write_separation(path, l, r, NULL, err);
+}
+
+plume_status plume_separation_read(const char *path, plume_separation_law *s, plume_err *err)
+{
+    if (!path || !s)
+        return plume_err_set(err, PLUME_EINVAL, "separation law: a path and an output are required");
+    memset(s, 0, sizeof *s);
+    static const char *const names[4] = {"separation_strength", "separation_energy", "separation_opening",
+                                         "separation_capture"};
+    double *v[4] = {&s->strength, &s->energy, &s->opening, &s->capture};
+    for (int k = 0; k < 4; k++) {
+        plume_status st = plume_moduli_read_param(path, names[k], v[k], err);
+        if (st != PLUME_OK)
+            return st;
+        const int ok = isfinite(*v[k]) && (k == 3 ? *v[k] >= 0.0 : *v[k] > 0.0);
+        if (!ok) {
+            const double bad = *v[k];
+            memset(s, 0, sizeof *s);
+            return plume_err_set(err, PLUME_EINVAL, "moduli file '%s': /moduli attribute %s = %g must be %s", path,
+                                 names[k], bad, k == 3 ? ">= 0" : "> 0");
+        }
+    }
+    return PLUME_OK;
 }

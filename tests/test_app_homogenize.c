@@ -13,6 +13,7 @@
 #include "harness.h"
 #include "../lib/io/curves.h"
 #include "../lib/io/vtu.h"
+#include "../include/plume/homogenize.h"
 
 void test_app_homogenize_and_fit(void)
 {
@@ -182,4 +183,37 @@ void test_app_homogenize_vtk(void)
     CHECK(strstr(err, "--vtk") != NULL);
     snprintf(path, sizeof path, "rm -rf '%s'", scratch);
     CHECK(system(path) == 0);
+}
+
+/* A layout with hooks: the moduli as before, and the barb line's separation law in the summary,
+ * in --json and in the file, where plume_separation_read finds it. */
+void test_app_homogenize_separation(void)
+{
+    char scratch[64] = "/tmp/plume-hom-XXXXXX", args[1024], path[256], out[16384], err[8192];
+    if (!mkdtemp(scratch)) {
+        CHECK(0);
+        return;
+    }
+    snprintf(path, sizeof path, "%s/m.h5", scratch);
+    snprintf(args, sizeof args, "--config ../data/layout_kovalev.json --e-rel 0.3 --no-convergence --strain-max 0 "
+                                "-o %s --json", path);
+    CHECK(app_run(scratch, "homogenize", args, out, sizeof out, err, sizeof err) == 0);
+    json_t *j = json_loads(out, 0, NULL), *s = json_object_get(j, "separation");
+    CHECK(json_is_object(s));
+    const double strength = json_real_value(json_object_get(s, "strength"));
+    CHECK_REL(strength, 1.4e-5 / 1.2e-5, 2e-4, 0.0); /* one 14 uN hooklet per 12 um, pulled straight */
+    CHECK(json_real_value(json_object_get(s, "energy")) > 0.0);
+    plume_separation_law law;
+    plume_err e = {{0}};
+    CHECK(plume_separation_read(path, &law, &e) == PLUME_OK);
+    CHECK_REL(law.strength, strength, 1e-10, 0.0); /* --json prints 12 digits */
+    CHECK(law.capture > 0.0 && law.opening > 0.0);
+    json_decref(j);
+    /* without --json: the summary names the law */
+    snprintf(args, sizeof args, "--config ../data/layout_kovalev.json --e-rel 0.3 --no-convergence --strain-max 0");
+    CHECK(app_run(scratch, "homogenize", args, out, sizeof out, err, sizeof err) == 0);
+    CHECK(strstr(out, "separation of a barb line (hooks): strength 1.1667") != NULL);
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
+    CHECK(system(cmd) == 0);
 }

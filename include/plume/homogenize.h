@@ -233,6 +233,41 @@ PLUME_API void plume_homog_result_free(plume_homog_result *r);
 PLUME_API plume_status plume_homog_write(const char *path, const plume_layout *l, const plume_homog_result *r,
                                          plume_err *err);
 
+/* ---- the separation law of a barb line ---- */
+/** How a barb line of the vane opens when its barbules' hooks let go, per barb length: the
+ * macroscale law homogenised from the layout's periodic cell (docs/unzipping.md). */
+typedef struct {
+    double strength;     /**< N/m: the largest traction across the barb line (force per barb length) */
+    double energy;       /**< J/m^2: the work to open it until its hooks let go, per crack area (barb
+                            length times the layout's thickness h), elastic energy given back excluded */
+    double opening;      /**< m: the opening across the barbs at which the traction is gone */
+    double capture;      /**< m: the opening back within which the line catches again (0: never) */
+    double peak_opening; /**< m: the opening at the strength, the cell's elastic stretch included */
+    double cell_length;  /**< m: the cell's period along the barbs (one barbule, one hook) */
+    int cell_hooks;      /**< hooks in the cell */
+    int solves;          /**< cell solves */
+    int newton_iterations; /**< over every solve */
+} plume_separation_law;
+
+/** The separation law of a layout with hooks (kind barbules, hooks.strength > 0): its periodic
+ * cell with the barbules' distal ends held by hooks instead of periodic images, opened across the
+ * barbs at no stretch along them, the hooks committed at every equilibrium until they let go, then
+ * closed until they catch again. Errors: an invalid layout (PLUME_EINVAL naming the field), a
+ * layout without hooks (PLUME_EINVAL), a cell solve that does not converge (PLUME_EINFEASIBLE). */
+PLUME_API plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law *out, plume_err *err);
+
+/** plume_homog_write with the separation law as well, as the /moduli attributes
+ * separation_strength (N/m), separation_energy (J/m^2), separation_opening (m) and
+ * separation_capture (m) (s NULL: plume_homog_write). */
+PLUME_API plume_status plume_homog_write_separation(const char *path, const plume_layout *l, const plume_homog_result *r,
+                                                    const plume_separation_law *s, plume_err *err);
+
+/** Reads the four separation attributes of /moduli (plume_homog_write_separation) into s (the
+ * other fields zeroed). PLUME_EIO (unreadable file), PLUME_EFORMAT (an attribute missing, naming
+ * the file and the attribute: the moduli were homogenised without hooks), PLUME_EINVAL (a value
+ * out of range: strength, energy, opening not > 0, capture < 0). */
+PLUME_API plume_status plume_separation_read(const char *path, plume_separation_law *s, plume_err *err);
+
 /** The bending part of plume_homogenize alone: the periodic plate cell of the layout (Morley
  * triangles on its cell mesh; docs/bending-homogenisation.md) gives D (N m, Voigt (k11, k22,
  * 2 k12), row-major, barb frame) and, when moduli is not NULL, its moduli. Much cheaper than

@@ -144,6 +144,12 @@ static const char *param_units(const char *name)
             return "m";
     if (strcmp(name, "angle_deg") == 0)
         return "deg";
+    if (strcmp(name, "separation_strength") == 0)
+        return "N/m";
+    if (strcmp(name, "separation_energy") == 0)
+        return "J/m^2";
+    if (strcmp(name, "separation_opening") == 0 || strcmp(name, "separation_capture") == 0)
+        return "m";
     if (strcmp(name, "seconds_total") == 0)
         return "s";
     for (int k = 0; nm[k]; k++)

@@ -70,7 +70,10 @@ class HomogenizeResult:
     k22^2 + 2 D_coupling k11 k22 + 4 D_twist k12^2 + 4 D_16 k11 k12 + 4 D_26 k22 k12), as a scene
     material's "bending"); D: the 3x3 bending tensor in Voigt notation (k11, k22, 2 k12; N m);
     bending_change: how converged the bending moduli are (relative, -1: not estimated); output:
-    the moduli file written (homogenize's output, as given), or None; raw: the library's JSON result.
+    the moduli file written (homogenize's output, as given), or None; separation: for a layout
+    with hooks, the separation law of a barb line (docs/unzipping.md): "strength" (N/m),
+    "energy" (J/m^2), "opening" and "capture" (m), "peak_opening" (m), "cell_length" (m),
+    "solves", "newton_iterations"; None without hooks; raw: the library's JSON result.
     """
     E_xx: float
     E_yy: float
@@ -96,6 +99,7 @@ class HomogenizeResult:
     D: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
     bending_change: float = -1.0
     output: Optional[str] = None
+    separation: Optional[Dict[str, float]] = None
     raw: dict = field(repr=False, default_factory=dict)
 
     @property
@@ -326,7 +330,9 @@ def homogenize(layout=None, strain_max=0.05, steps=10, output=None):
             phase's own; default "thickness"), "kappa" (Pa), "order" (1
             linear or 2 quadratic triangles, the default), "e_rel" (element edge over barb width,
             -; 0, the default, chooses it from the thinnest strip), "barbule_width" (m), "barbule_spacing" (m),
-            "barbule_angle" (deg). None: the default strips layout (phi 0.16, E_b 2.5e9 Pa).
+            "barbule_angle" (deg), "hook_strength" (N), "hook_opening", "hook_slide",
+            "hook_capture" (m): with hooks the result has the barb line's separation law. None:
+            the default strips layout (phi 0.16, E_b 2.5e9 Pa).
         strain_max: largest strain of the three nonlinear curves (-); 0 gives the moduli only.
         steps: steps of each curve.
         output: a file (str or path-like; "cell.h5") to write the moduli to, the one apps/homogenize
@@ -363,7 +369,9 @@ def homogenize(layout=None, strain_max=0.05, steps=10, output=None):
         **{k: float(_get(r, k, "homogenize")) for k in ("D_long", "D_trans", "D_coupling", "D_twist", "D_16", "D_26")},
         D=_array(_get(r, "D", "homogenize")).reshape(3, 3),
         bending_change=float(_get(r, "bending_change", "homogenize")),
-        output=_get(r, "output", "homogenize") if output is not None else None, raw=r)
+        output=_get(r, "output", "homogenize") if output is not None else None,
+        separation=({k: (int(v) if k in ("solves", "newton_iterations") else float(v))
+                     for k, v in r["separation"].items()} if "separation" in r else None), raw=r)
 
 
 def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **options):

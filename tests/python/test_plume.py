@@ -73,7 +73,7 @@ def rel(a, b):
 
 class TestLibrary(unittest.TestCase):
     def test_version(self):
-        self.assertEqual(plume.version(), "3.0.0")
+        self.assertEqual(plume.version(), "3.1.0")
         self.assertEqual(plume.__version__, plume.version())
 
     def test_openmp_serial(self):
@@ -235,6 +235,31 @@ class TestHomogenize(unittest.TestCase):
         self.assertEqual(p1.order, 1)
         self.assertGreater(p1.E_yy, 1.03 * h.E_yy)
         self.assertGreater(p1.refinement_change, h.refinement_change)
+
+
+class TestSeparationLaw(unittest.TestCase):
+    """homogenize() of a layout with hooks: the barb line's separation law (docs/unzipping.md)."""
+
+    def test_kovalev_cell(self):
+        import h5py
+        with open(os.path.join(ROOT, "data", "layout_kovalev.json")) as f:
+            layout = json.load(f)
+        layout.pop("note")
+        layout["e_rel"] = 0.3
+        tmp = tempfile.mkdtemp(prefix="plume-sep-")
+        self.addCleanup(shutil.rmtree, tmp, True)
+        h = plume.homogenize(layout, strain_max=0.0, output=os.path.join(tmp, "cell.h5"))
+        s = h.separation
+        # one 14 uN hooklet every 12 um, pulled straight across
+        self.assertLess(rel(s["strength"], 1.4e-5 / 1.2e-5), 2e-4)
+        self.assertGreater(s["energy"], 0.0)
+        self.assertGreaterEqual(s["opening"], s["peak_opening"])
+        self.assertLessEqual(s["capture"], layout["hook_capture"] * (1 + 1e-9))
+        self.assertIsInstance(s["solves"], int)
+        with h5py.File(os.path.join(tmp, "cell.h5"), "r") as f:
+            self.assertEqual(float(f["moduli"].attrs["separation_strength"]), s["strength"])  # bit for bit
+        layout.pop("hook_strength")
+        self.assertIsNone(plume.homogenize(layout, strain_max=0.0).separation)
 
 
 class TestHomogenizeOutput(unittest.TestCase):

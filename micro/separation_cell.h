@@ -1,0 +1,9 @@
+/** \file
+ * plume (micro): the separation law of a barb line from the periodic cell of a layout held by
+ * hooks (plume_separation_law_of, include/plume/homogenize.h; docs/unzipping.md). */
+#ifndef PLUME_MICRO_SEPARATION_CELL_H
+#define PLUME_MICRO_SEPARATION_CELL_H
+
+#include "../include/plume/homogenize.h"
+
+#endif

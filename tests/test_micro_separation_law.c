@@ -1,0 +1,143 @@
+/* The separation law of a barb line from the periodic cell held by hooks
+ * (plume_separation_law_of; docs/unzipping.md, "The macro law"): at 90 degrees one hooklet per
+ * period gives strength / period exactly, the opening at the strength is the hook's opening plus
+ * the bonded cell's stretch (its C22 from plume_homogenize, a computation without hooks), the
+ * energy is the triangle under that line, and the line catches again at the capture distance; a
+ * slide adds its plateau; the law written with the moduli reads back; bad input is named. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "harness.h"
+#include "../include/plume/curves.h"
+#include "../include/plume/homogenize.h"
+#include "../micro/cell_linear.h"
+#include "../micro/cell_mesh.h"
+
+/* The bonded cell's traction per opening strain (N/m): C22 h at no stretch along the barbs, from
+ * the exact linearised cell problem (micro/cell_linear.h), which knows nothing of hooks. */
+static double bonded_stiffness(const plume_layout *hooked)
+{
+    plume_layout l = *hooked;
+    l.hooks.strength = 0.0;
+    plume_cell *cell = NULL;
+    plume_membrane_material mats[2];
+    plume_layout_materials(&l, mats);
+    double C[9] = {0};
+    plume_err err = {{0}};
+    if (plume_cell_mesh(&l, &cell, &err) != PLUME_OK ||
+        plume_cell_linear_tensor(cell, mats, 2, l.h, C, NULL, &err) != PLUME_OK)
+        fprintf(stderr, "    bonded cell: %s\n", err.msg);
+    plume_cell_destroy(&cell);
+    return C[4] * l.h;
+}
+
+void test_micro_separation_law_kovalev(void)
+{
+    plume_layout l;
+    plume_layout_default(&l);
+    plume_err err = {{0}};
+    CHECK(plume_layout_load_json("../data/layout_kovalev.json", &l, &err) == PLUME_OK);
+    /* elements of 13.5 um (a third of the default's cost), and a hook opening of 20 nm so that the
+     * cell's own stretch, which the bonded cell checks, is more than half of the peak opening */
+    l.e_rel = 0.3;
+    l.hooks.opening = 2e-8;
+    plume_separation_law s;
+    CHECK(plume_separation_law_of(&l, &s, &err) == PLUME_OK);
+    if (err.msg[0])
+        fprintf(stderr, "    %s\n", err.msg);
+    printf("    strength %.6g N/m, energy %.6g J/m^2, peak opening %.6g m, opening %.6g m, capture %.6g m, "
+           "%d solves, %d Newton iterations\n", s.strength, s.energy, s.peak_opening, s.opening, s.capture, s.solves,
+           s.newton_iterations);
+    /* one hooklet of 14 uN per 12 um of barb, pulled straight across */
+    CHECK(s.cell_hooks == 1);
+    CHECK_REL(s.cell_length, l.barbule_spacing, 1e-12, 0.0);
+    CHECK(s.strength <= l.hooks.strength / l.barbule_spacing * (1.0 + 1e-4));
+    CHECK_REL(s.strength, l.hooks.strength / l.barbule_spacing, 2e-4, 0.0);
+    /* compliance in series: the hook's own opening, then the bonded cell's stretch */
+    const double K = bonded_stiffness(&l);
+    printf("    bonded C22 h %.6g N/m: elastic stretch %.6g m + hook opening %.6g m\n", K,
+           s.strength / K * l.d_B, l.hooks.opening);
+    CHECK(s.strength / K * l.d_B > 0.5 * s.peak_opening);
+    CHECK_REL(s.peak_opening, l.hooks.opening + s.strength / K * l.d_B, 0.01, 0.0);
+    /* brittle: the traction is gone at the strength's opening; the energy is the triangle */
+    CHECK_REL(s.opening, s.peak_opening, 1e-12, 0.0);
+    CHECK_REL(s.energy * l.h, 0.5 * s.strength * s.peak_opening, 0.01, 0.0);
+    /* it catches again at the capture distance, to the bisection's 1/1000 */
+    CHECK(s.capture <= l.hooks.capture * (1.0 + 1e-9));
+    CHECK(s.capture >= l.hooks.capture * (1.0 - 2e-3));
+}
+
+/* A slide holds the strength over its length: the energy gains its plateau. */
+void test_micro_separation_law_slide(void)
+{
+    plume_layout l;
+    plume_layout_default(&l);
+    plume_err err = {{0}};
+    CHECK(plume_layout_load_json("../data/layout_kovalev.json", &l, &err) == PLUME_OK);
+    l.e_rel = 0.3; /* elements 13.5 um: the slide's 40 steps on a coarser cell */
+    plume_separation_law brittle, s;
+    CHECK(plume_separation_law_of(&l, &brittle, &err) == PLUME_OK);
+    l.hooks.slide = 3e-6;
+    CHECK(plume_separation_law_of(&l, &s, &err) == PLUME_OK);
+    printf("    slide %g m: strength %.6g N/m, energy %.6g J/m^2 (brittle %.6g), opening %.6g m (brittle %.6g)\n",
+           l.hooks.slide, s.strength, s.energy, brittle.energy, s.opening, brittle.opening);
+    CHECK_REL(s.strength, brittle.strength, 1e-3, 0.0);
+    CHECK_REL(s.opening, brittle.opening + l.hooks.slide, 0.02, 0.0); /* a step is 1/40 of the slide */
+    CHECK_REL(s.energy * l.h, brittle.energy * l.h + s.strength * l.hooks.slide, 0.02, 0.0);
+}
+
+/* The shipped layout with hooks (barbules at an angle): the hook is pulled askew, so the line's
+ * strength stays below one hook's strength per period; the law is written and read back. */
+void test_micro_separation_law_file(void)
+{
+    plume_layout l;
+    plume_layout_default(&l);
+    plume_err err = {{0}};
+    CHECK(plume_layout_load_json("../data/layout_hooks.json", &l, &err) == PLUME_OK);
+    plume_separation_law s, back;
+    CHECK(plume_separation_law_of(&l, &s, &err) == PLUME_OK);
+    printf("    layout_hooks: strength %.6g N/m (one hook per period %.6g), energy %.6g J/m^2, opening %.6g m, "
+           "capture %.6g m\n", s.strength, l.hooks.strength / l.barbule_spacing, s.energy, s.opening, s.capture);
+    CHECK(s.strength > 0.0 && s.strength <= l.hooks.strength / l.barbule_spacing * (1.0 + 1e-4));
+    CHECK(s.energy > 0.0 && s.opening >= s.peak_opening && s.capture > 0.0);
+    plume_homog_result r;
+    memset(&r, 0, sizeof r);
+    r.moduli = (plume_ortho){1e9, 1e8, 0.3, 1e7};
+    r.order = 2;
+    char path[] = "/tmp/plume_separation_XXXXXX";
+    int fd = mkstemp(path);
+    CHECK(fd >= 0);
+    close(fd);
+    unlink(path);
+    CHECK(plume_homog_write_separation(path, &l, &r, &s, &err) == PLUME_OK);
+    CHECK(plume_separation_read(path, &back, &err) == PLUME_OK);
+    CHECK(back.strength == s.strength && back.energy == s.energy && back.opening == s.opening &&
+          back.capture == s.capture);
+    /* moduli without hooks: the law's absence is named */
+    CHECK(plume_homog_write(path, &l, &r, &err) == PLUME_OK);
+    CHECK(plume_separation_read(path, &back, &err) == PLUME_EFORMAT);
+    CHECK(strstr(err.msg, "separation_strength") && strstr(err.msg, path));
+    unlink(path);
+}
+
+void test_micro_separation_law_bad_input(void)
+{
+    plume_layout l;
+    plume_layout_default(&l);
+    plume_separation_law s;
+    plume_err err = {{0}};
+    CHECK(plume_separation_law_of(&l, &s, &err) == PLUME_EINVAL); /* strips */
+    CHECK(strstr(err.msg, "hook_strength") != NULL);
+    CHECK(plume_layout_load_json("../data/layout_kovalev.json", &l, &err) == PLUME_OK);
+    l.hooks.strength = 0.0; /* bonded barbules */
+    CHECK(plume_separation_law_of(&l, &s, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "hook_strength") != NULL);
+    l.hooks.strength = -1.0;
+    CHECK(plume_separation_law_of(&l, &s, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "strength") != NULL);
+    CHECK(plume_separation_read("/nonexistent/moduli.h5", &s, &err) == PLUME_EIO);
+    CHECK(strstr(err.msg, "/nonexistent/moduli.h5") != NULL);
+}
