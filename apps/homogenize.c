@@ -36,7 +36,8 @@ static const char usage[] =
     "  --strain-max E --steps N   cell response curves (default 0.05, 10; --strain-max 0: none)\n"
     "  -o FILE.h5           write /moduli (with the bending moduli as attributes D_long, D_trans,\n"
     "                       D_coupling, D_twist, D_16, D_26, and with hooks separation_strength,\n"
-    "                       separation_energy, separation_opening, separation_capture) and\n"
+    "                       separation_energy, separation_opening, separation_capture,\n"
+    "                       separation_stiffness) and\n"
     "                       /curves/cell/{uniaxial_x,uniaxial_y,shear}\n"
     "  --plot FILE.png      chart of the cell curves (SVG beside it)\n"
     "  --vtk DIR            the deformed cell at every step of each curve as ParaView series:\n"
@@ -266,6 +267,7 @@ static json_t *result_json(const plume_layout *l, const plume_homog_result *r, c
         json_object_set_new(js, "energy", json_real(sep->energy));
         json_object_set_new(js, "opening", json_real(sep->opening));
         json_object_set_new(js, "capture", json_real(sep->capture));
+        json_object_set_new(js, "stiffness", json_real(sep->stiffness));
         json_object_set_new(js, "peak_opening", json_real(sep->peak_opening));
         json_object_set_new(js, "cell_length", json_real(sep->cell_length));
         json_object_set_new(js, "solves", json_integer(sep->solves));
@@ -301,8 +303,9 @@ static void report(const plume_layout *l, const plume_homog_result *r, const plu
                100.0 * r->moduli_change[1], 100.0 * r->moduli_change[2], 100.0 * r->moduli_change[3]);
     if (sep)
         printf("separation of a barb line (hooks): strength %.6g N/m, energy %.6g J/m^2, traction gone at an opening "
-               "of %.4g m, catches again within %.4g m (peak at %.4g m; %d cell solves)\n",
-               sep->strength, sep->energy, sep->opening, sep->capture, sep->peak_opening, sep->solves);
+               "of %.4g m, catches again within %.4g m (stiffness %.4g N/m^2 while it holds, peak at %.4g m; %d cell "
+               "solves)\n", sep->strength, sep->energy, sep->opening, sep->capture, sep->stiffness, sep->peak_opening,
+               sep->solves);
 }
 
 int main(int argc, char **argv)

@@ -285,8 +285,9 @@ plume_status plume_flat_homogenize(const char *request, char **result, char *msg
     }
     if (o && with)
         json_object_set_new(o, "separation",
-                            json_pack("{s:f, s:f, s:f, s:f, s:f, s:f, s:i, s:i}", "strength", sep.strength, "energy",
-                                      sep.energy, "opening", sep.opening, "capture", sep.capture, "peak_opening",
+                            json_pack("{s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:i, s:i}", "strength", sep.strength, "energy",
+                                      sep.energy, "opening", sep.opening, "capture", sep.capture, "stiffness",
+                                      sep.stiffness, "peak_opening",
                                       sep.peak_opening, "cell_length", sep.cell_length, "solves", sep.solves,
                                       "newton_iterations", sep.newton_iterations));
     if (o && output)

@@ -52,8 +52,9 @@ plume_status plume_homog_write_separation(const char *path, const plume_layout *
                                    {"separation_strength", sep ? sep->strength : 0.0},
                                    {"separation_energy", sep ? sep->energy : 0.0},
                                    {"separation_opening", sep ? sep->opening : 0.0},
-                                   {"separation_capture", sep ? sep->capture : 0.0}};
-    const int nsep = 4; /* the last attributes: written only with a law */
+                                   {"separation_capture", sep ? sep->capture : 0.0},
+                                   {"separation_stiffness", sep ? sep->stiffness : 0.0}};
+    const int nsep = 5; /* the last attributes: written only with a law */
     const plume_sparam sp[] = {{"layout", kind}};
     plume_status st = plume_moduli_write_params(path, &r->moduli, prov, mparams,
                                                 (int)(sizeof mparams / sizeof mparams[0]) - (sep ? 0 : nsep), err);
@@ -76,10 +77,10 @@ plume_status plume_separation_read(const char *path, plume_separation_law *s, pl
     if (!path || !s)
         return plume_err_set(err, PLUME_EINVAL, "separation law: a path and an output are required");
     memset(s, 0, sizeof *s);
-    static const char *const names[4] = {"separation_strength", "separation_energy", "separation_opening",
-                                         "separation_capture"};
-    double *v[4] = {&s->strength, &s->energy, &s->opening, &s->capture};
-    for (int k = 0; k < 4; k++) {
+    static const char *const names[5] = {"separation_strength", "separation_energy", "separation_opening",
+                                         "separation_capture", "separation_stiffness"};
+    double *v[5] = {&s->strength, &s->energy, &s->opening, &s->capture, &s->stiffness};
+    for (int k = 0; k < 5; k++) {
         plume_status st = plume_moduli_read_param(path, names[k], v[k], err);
         if (st != PLUME_OK)
             return st;

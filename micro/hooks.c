@@ -47,6 +47,8 @@ struct plume_hooks {
     unsigned char *engaged; /* [nhooks] */
     unsigned char *armed;   /* [nhooks] released and since then opened beyond the capture */
     double *slid;         /* [nhooks] slide so far (m) */
+    double *scale;        /* [nhooks] hook k's strength and stiffness are the law's times scale[k] */
+    double overshoot;     /* a commit allowed to cut refuses loads beyond this many strengths */
     long released, reengaged;
     double dropped;
     struct {              /* the state kept by keep(save) */
@@ -69,6 +71,7 @@ void plume_hooks_destroy(plume_hooks **ph)
     free(h->engaged);
     free(h->armed);
     free(h->slid);
+    free(h->scale);
     free(h->kept.offset);
     free(h->kept.slid);
     free(h->kept.engaged);
@@ -103,6 +106,7 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
     if (!h)
         return plume_err_set(err, PLUME_ENOMEM, "hooks: out of memory");
     h->law = *law, h->nv = nv, h->nhooks = nhooks, h->npairs = np;
+    h->overshoot = PLUME_HOOKS_OVERSHOOT;
     h->first = malloc((size_t)(nhooks + 1) * sizeof *h->first);
     h->pairs = malloc(2 * (size_t)np * sizeof *h->pairs);
     h->hook_of = malloc((size_t)np * sizeof *h->hook_of);
@@ -110,11 +114,12 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
     h->engaged = malloc((size_t)nhooks);
     h->armed = calloc((size_t)nhooks, 1);
     h->slid = calloc((size_t)nhooks, sizeof *h->slid);
+    h->scale = malloc((size_t)nhooks * sizeof *h->scale);
     h->kept.offset = calloc(3 * (size_t)np, sizeof *h->kept.offset);
     h->kept.slid = calloc((size_t)nhooks, sizeof *h->kept.slid);
     h->kept.engaged = malloc((size_t)nhooks);
     h->kept.armed = calloc((size_t)nhooks, 1);
-    if (!h->first || !h->pairs || !h->hook_of || !h->offset || !h->engaged || !h->armed || !h->slid ||
+    if (!h->first || !h->pairs || !h->hook_of || !h->offset || !h->engaged || !h->armed || !h->slid || !h->scale ||
         !h->kept.offset || !h->kept.slid || !h->kept.engaged || !h->kept.armed) {
         plume_hooks_destroy(&h);
         return plume_err_set(err, PLUME_ENOMEM, "hooks: out of memory");
@@ -123,9 +128,11 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
     memcpy(h->pairs, pairs, 2 * (size_t)np * sizeof *pairs);
     memset(h->engaged, 1, (size_t)nhooks);
     memset(h->kept.engaged, 1, (size_t)nhooks);
-    for (int k = 0; k < nhooks; k++)
+    for (int k = 0; k < nhooks; k++) {
+        h->scale[k] = 1.0;
         for (plume_index p = first[k]; p < first[k + 1]; p++)
             h->hook_of[p] = k;
+    }
     *out = h;
     return PLUME_OK;
 }
@@ -133,7 +140,7 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
 /* the stiffness of one pair of hook k */
 static double pair_stiffness(const plume_hooks *h, int k)
 {
-    return h->law.strength / h->law.opening / (double)(h->first[k + 1] - h->first[k]);
+    return h->scale[k] * h->law.strength / h->law.opening / (double)(h->first[k + 1] - h->first[k]);
 }
 
 /* d = x_a - x_b - o_p of pair p */
@@ -204,7 +211,7 @@ static plume_status hooks_energies(void *ctx, int dim, const double *x, double *
 static plume_status hooks_term_commit(void *ctx, int dim, const double *x, int may_cut, plume_commit_report *r)
 {
     plume_hooks *h = ctx;
-    if (may_cut && plume_hooks_max_load(h, dim, x, NULL) > PLUME_HOOKS_OVERSHOOT) {
+    if (may_cut && plume_hooks_max_load(h, dim, x, NULL) > h->overshoot) {
         r->overshoot = 1;
         return PLUME_OK;
     }
@@ -267,6 +274,22 @@ void plume_hooks_term(plume_hooks *h, int own, plume_term *t)
     t->ctx = h;
 }
 
+plume_status plume_hooks_set_scale(plume_hooks *h, int k, double scale)
+{
+    if (!h || k < 0 || k >= h->nhooks || !(scale > 0.0) || !isfinite(scale))
+        return PLUME_EINVAL;
+    h->scale[k] = scale;
+    return PLUME_OK;
+}
+
+plume_status plume_hooks_set_overshoot(plume_hooks *h, double factor)
+{
+    if (!h || !(factor > 1.0) || !isfinite(factor))
+        return PLUME_EINVAL;
+    h->overshoot = factor;
+    return PLUME_OK;
+}
+
 int plume_hooks_count(const plume_hooks *h)
 {
     return h ? h->nhooks : 0;
@@ -309,7 +332,7 @@ double plume_hooks_max_load(const plume_hooks *h, int dim, const double *x, int 
             continue;
         double f[3];
         plume_hooks_force(h, dim, x, k, f);
-        const double r = norm(f, dim) / h->law.strength;
+        const double r = norm(f, dim) / (h->scale[k] * h->law.strength);
         if (at < 0 || r > worst)
             worst = r, at = k;
     }
@@ -330,8 +353,9 @@ static double hook_energy(const plume_hooks *h, int dim, const double *x, int k)
 /* An overloaded engaged hook k (|f| > strength): it slides while its slide allows, else lets go. */
 static void overload(plume_hooks *h, int dim, const double *x, int k, const double *f, plume_hooks_events *ev)
 {
-    const double F = norm(f, dim), kh = h->law.strength / h->law.opening;
-    const double move = (F - h->law.strength) / kh; /* the return map: |F| back to the strength */
+    const double strength = h->scale[k] * h->law.strength;
+    const double F = norm(f, dim), kh = strength / h->law.opening;
+    const double move = (F - strength) / kh; /* the return map: |F| back to the strength */
     const double before = hook_energy(h, dim, x, k);
     if (h->law.slide > 0.0 && h->slid[k] + move <= h->law.slide) {
         for (plume_index p = h->first[k]; p < h->first[k + 1]; p++)
@@ -396,7 +420,7 @@ plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_
         }
         double f[3];
         plume_hooks_force(h, dim, x, k, f);
-        if (norm(f, dim) > h->law.strength && (mode == PLUME_HOOKS_ALL || k == most))
+        if (norm(f, dim) > h->scale[k] * h->law.strength && (mode == PLUME_HOOKS_ALL || k == most))
             overload(h, dim, x, k, f, &e);
     }
     h->released += e.released, h->reengaged += e.reengaged, h->dropped += e.energy_drop;

@@ -51,14 +51,24 @@ void plume_hooks_destroy(plume_hooks **h);
 
 /** The energy term of the hooks (name "hooks", arity 2, a stencil per pair; released pairs add
  * nothing), with a commit (plume_term.commit: plume_hooks_commit of every hook, or an overshoot
- * when allowed to cut and a hook is loaded beyond PLUME_HOOKS_OVERSHOOT strengths), a keep and
+ * when allowed to cut and a hook is loaded beyond the overshoot, PLUME_HOOKS_OVERSHOOT strengths unless set), a keep and
  * the pairs' states (1 engaged, 0 let go).
  * own: the term frees h with the problem; 0: it borrows h, which must outlive it. */
 void plume_hooks_term(plume_hooks *h, int own, plume_term *t);
 
 /** A commit allowed to cut refuses loads beyond this many strengths: the stepper halves its
- * increment, so hooks let go near their strength (docs/unzipping.md). */
+ * increment, so hooks let go near their strength (docs/unzipping.md). The default. */
 #define PLUME_HOOKS_OVERSHOOT 1.25
+
+/** Sets the overshoot a commit allowed to cut refuses (> 1, finite): closer to 1, the hooks let go
+ * closer to their strength, at the price of more cut increments. PLUME_EINVAL otherwise. */
+plume_status plume_hooks_set_overshoot(plume_hooks *h, double factor);
+
+/** Scales hook k's strength and stiffness by `scale` (> 0, finite; 1 at creation), its opening,
+ * slide and capture unchanged: one law over hooks of different sizes, such as the pairs of a
+ * macroscale barb line, each holding its own length of line (macro/shell/split_lines.h).
+ * PLUME_EINVAL for a bad hook or scale. */
+plume_status plume_hooks_set_scale(plume_hooks *h, int k, double scale);
 
 /** Hooks, and pairs. */
 int plume_hooks_count(const plume_hooks *h);

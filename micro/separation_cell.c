@@ -319,11 +319,21 @@ plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law
         e = enext;
         load = hook_load(&c);
     }
-    /* the path so far is elastic: the work per barb length is the energy per barb length */
+    /* the path so far is elastic: the work per barb length is the energy per barb length; the
+     * hook's own opening across the line is its pairs' mean gap along y */
     if (st == PLUME_OK) {
         out->strength = T;
         out->peak_opening = e * b;
         work = E / a;
+        double gap = 0.0;
+        for (plume_index p = 0; p < c.oc.npairs; p++)
+            gap += c.xfull[2 * c.oc.pairs[2 * p + 1] + 1] - c.xfull[2 * c.oc.pairs[2 * p] + 1];
+        gap /= (double)c.oc.npairs;
+        if (!(gap > 0.0))
+            st = plume_err_set(err, PLUME_EINFEASIBLE, "separation law: the hook has not opened at its strength "
+                               "(mean gap %g m)", gap);
+        else
+            out->stiffness = T / gap;
     }
     /* 2. let go, and keep opening until the hook has cleared the capture distance. A slide is
      * crossed in 40 steps: each loads the hook beyond its strength, the commit slides it back and

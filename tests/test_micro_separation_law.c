@@ -62,6 +62,8 @@ void test_micro_separation_law_kovalev(void)
            s.strength / K * l.d_B, l.hooks.opening);
     CHECK(s.strength / K * l.d_B > 0.5 * s.peak_opening);
     CHECK_REL(s.peak_opening, l.hooks.opening + s.strength / K * l.d_B, 0.01, 0.0);
+    /* the line's own stiffness: the hook's, strength over its opening, per period */
+    CHECK_REL(s.stiffness, s.strength / l.hooks.opening, 1e-3, 0.0);
     /* brittle: the traction is gone at the strength's opening; the energy is the triangle */
     CHECK_REL(s.opening, s.peak_opening, 1e-12, 0.0);
     CHECK_REL(s.energy * l.h, 0.5 * s.strength * s.peak_opening, 0.01, 0.0);
@@ -115,7 +117,7 @@ void test_micro_separation_law_file(void)
     CHECK(plume_homog_write_separation(path, &l, &r, &s, &err) == PLUME_OK);
     CHECK(plume_separation_read(path, &back, &err) == PLUME_OK);
     CHECK(back.strength == s.strength && back.energy == s.energy && back.opening == s.opening &&
-          back.capture == s.capture);
+          back.capture == s.capture && back.stiffness == s.stiffness);
     /* moduli without hooks: the law's absence is named */
     CHECK(plume_homog_write(path, &l, &r, &err) == PLUME_OK);
     CHECK(plume_separation_read(path, &back, &err) == PLUME_EFORMAT);

@@ -242,6 +242,9 @@ typedef struct {
                             length times the layout's thickness h), elastic energy given back excluded */
     double opening;      /**< m: the opening across the barbs at which the traction is gone */
     double capture;      /**< m: the opening back within which the line catches again (0: never) */
+    double stiffness;    /**< N/m^2: the strength over the hooks' own opening across the line at the
+                            strength (the cell's elastic stretch excluded): a barb line's stiffness
+                            per length while it holds */
     double peak_opening; /**< m: the opening at the strength, the cell's elastic stretch included */
     double cell_length;  /**< m: the cell's period along the barbs (one barbule, one hook) */
     int cell_hooks;      /**< hooks in the cell */
@@ -257,15 +260,15 @@ typedef struct {
 PLUME_API plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law *out, plume_err *err);
 
 /** plume_homog_write with the separation law as well, as the /moduli attributes
- * separation_strength (N/m), separation_energy (J/m^2), separation_opening (m) and
- * separation_capture (m) (s NULL: plume_homog_write). */
+ * separation_strength (N/m), separation_energy (J/m^2), separation_opening (m),
+ * separation_capture (m) and separation_stiffness (N/m^2) (s NULL: plume_homog_write). */
 PLUME_API plume_status plume_homog_write_separation(const char *path, const plume_layout *l, const plume_homog_result *r,
                                                     const plume_separation_law *s, plume_err *err);
 
-/** Reads the four separation attributes of /moduli (plume_homog_write_separation) into s (the
+/** Reads the five separation attributes of /moduli (plume_homog_write_separation) into s (the
  * other fields zeroed). PLUME_EIO (unreadable file), PLUME_EFORMAT (an attribute missing, naming
  * the file and the attribute: the moduli were homogenised without hooks), PLUME_EINVAL (a value
- * out of range: strength, energy, opening not > 0, capture < 0). */
+ * out of range: strength, energy, opening, stiffness not > 0, capture < 0). */
 PLUME_API plume_status plume_separation_read(const char *path, plume_separation_law *s, plume_err *err);
 
 /** The bending part of plume_homogenize alone: the periodic plate cell of the layout (Morley

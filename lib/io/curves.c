@@ -148,6 +148,8 @@ static const char *param_units(const char *name)
         return "N/m";
     if (strcmp(name, "separation_energy") == 0)
         return "J/m^2";
+    if (strcmp(name, "separation_stiffness") == 0)
+        return "N/m^2";
     if (strcmp(name, "separation_opening") == 0 || strcmp(name, "separation_capture") == 0)
         return "m";
     if (strcmp(name, "seconds_total") == 0)

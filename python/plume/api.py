@@ -72,7 +72,8 @@ class HomogenizeResult:
     bending_change: how converged the bending moduli are (relative, -1: not estimated); output:
     the moduli file written (homogenize's output, as given), or None; separation: for a layout
     with hooks, the separation law of a barb line (docs/unzipping.md): "strength" (N/m),
-    "energy" (J/m^2), "opening" and "capture" (m), "peak_opening" (m), "cell_length" (m),
+    "energy" (J/m^2), "opening" and "capture" (m), "stiffness" (N/m^2), "peak_opening" (m),
+    "cell_length" (m),
     "solves", "newton_iterations"; None without hooks; raw: the library's JSON result.
     """
     E_xx: float

@@ -1,0 +1,65 @@
+/** \file
+ * plume (macro): barb lines of a vane mesh that can split and zip again (docs/unzipping.md, "The
+ * macro split"). A barb line is a chain of mesh edges along the barbs (an aligned mesh has one
+ * through every row of its vertices). Its vertices are duplicated once, when the model is built:
+ * the triangles ahead of the line (along n = (d_y, -d_x), d the barb direction) take the copies,
+ * and each (copy, original) pair is held by a link of the separation law homogenised from the
+ * cell (plume_separation_law_of): a zero-length spring of the line's stiffness times the pair's
+ * share of the line's length, which lets go when its force reaches the strength times that length
+ * and catches again within the capture distance (micro/hooks.h, one hook per pair). The split is
+ * intrinsic: while it holds, a line adds the hooks' own compliance, the part of the cell's
+ * opening that the bonded moduli do not have. */
+#ifndef PLUME_MACRO_SPLIT_LINES_H
+#define PLUME_MACRO_SPLIT_LINES_H
+
+#include "../../include/plume/homogenize.h"
+
+#include "../../lib/core/export.h"
+#include "../../lib/core/mesh.h"
+#include "../../lib/core/problem.h"
+#include "../../micro/hooks.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** A line's links let go within this many strengths: a load step that would load one further is
+ * cut (micro/hooks.h), so that the macro response resolves the strength to 2 % (the micro hooks
+ * allow PLUME_HOOKS_OVERSHOOT). */
+#define PLUME_SPLIT_OVERSHOOT 1.02
+
+/** A mesh opened along barb lines, and the pairs that hold it; everything owned
+ * (plume_split_lines_free). */
+typedef struct {
+    plume_mesh *mesh;     /**< the opened mesh: the input's vertices first (same ids), then the copies;
+                             the same triangles, those ahead of a line renumbered to its copies;
+                             topology built */
+    int nlines;           /**< lines opened */
+    double *offset;       /**< [nlines] each line's offset n . X (m) */
+    plume_index *first;   /**< [nlines + 1] line l's pairs are first[l] .. first[l+1] - 1, in order along d */
+    plume_index *pairs;   /**< [2 npairs] (copy, original) */
+    double *length;       /**< [npairs] each pair's share of its line's length (m) */
+    plume_index npairs;
+} plume_split_lines;
+
+/** Opens the barb lines of the planar mesh `m` (topology built) nearest to the offsets
+ * c[0 .. nc-1] (n . X, m), d the barb direction (unit). A line runs from boundary to boundary,
+ * and every pair of consecutive vertices on it must be a mesh edge. Errors (PLUME_EINVAL, naming
+ * the offset): no vertices on a line, a line that is not a chain of mesh edges (an unaligned
+ * mesh), two offsets on one line; PLUME_ENOMEM. */
+plume_status plume_split_lines_open(const plume_mesh *m, const double d[2], const double *c, int nc,
+                                    plume_split_lines *out, plume_err *err);
+
+/** Adds the links of the opened lines to `p` (over out->mesh's vertices, not finalised) as the
+ * hooks' term (owned by the problem; *hooks, may be NULL, is a view valid while it lives), with
+ * the law `law`: a pair of length L holds strength * L and stiffness * L. PLUME_EINVAL for a law
+ * out of range (naming the field). */
+plume_status plume_split_lines_add(plume_problem *p, const plume_split_lines *s, const plume_separation_law *law,
+                                   plume_hooks **hooks, plume_err *err);
+
+void plume_split_lines_free(plume_split_lines *s);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
