@@ -36,6 +36,9 @@ static const char usage[] =
     "  --peel V            the top grip turns as it pulls: a point at x moves by (1 - V + V x / lx) times the\n"
     "                      grip's displacement (0 straight, the default; 1 about its x = 0 end)\n"
     "  --top-grip-free V   the top grip holds x >= V lx only, the rest of its edge free (default 0)\n"
+    "  --split-lines N     macro: N barb lines spread across the sample split when their hooks let go and\n"
+    "                      zip again (aligned mesh; the separation law from --moduli FILE.h5 as apps/homogenize\n"
+    "                      writes it for a layout with hooks, or with --model both the layout's own; docs/unzipping.md)\n"
     "  --steps N           quasi-static steps (default 10)\n"
     "  --solver S          newton | ipopt | linearized (default newton)\n"
     "  --max-iter N        solver iteration cap per step (default 100)\n";
@@ -88,6 +91,7 @@ typedef struct {
     int hook_strength_set, hook_opening_set, hook_slide_set, hook_capture_set;
     const char *path_arg; /* --path E1,E2,... */
     double peel, top_grip_free;
+    int split_lines;      /* --split-lines N */
     double path[1000];
     int npath;
     double angle, lx, ly, h, Exx, Eyy, Gxy, nu, kappa, edge, strain_max;
@@ -183,6 +187,7 @@ static int parse_args(int argc, char **argv, options *o)
         else if (strcmp(a, "--path") == 0) o->path_arg = v, o->traction_only = a;
         else if (strcmp(a, "--peel") == 0) r = parse_double(a, v, &o->peel), o->traction_only = a;
         else if (strcmp(a, "--top-grip-free") == 0) r = parse_double(a, v, &o->top_grip_free), o->traction_only = a;
+        else if (strcmp(a, "--split-lines") == 0) r = parse_int(a, v, &o->split_lines), o->traction_only = a;
         else if (strcmp(a, "--model") == 0) o->model = v;
         else if (strcmp(a, "--layout-config") == 0) o->layout_file = v;
         else if (strcmp(a, "--layout") == 0) o->layout_kind = v;
@@ -248,6 +253,7 @@ typedef struct {
     int wanted;
     plume_traction_result res;
     plume_index elements, vertices, barb_edges;
+    long split_pairs;             /* macro --split-lines: vertex pairs holding the lines */
     int order;                    /* micro: element order */
     double edge;                  /* target element edge (m) */
     int has_conv;                 /* micro: conv holds the convergence estimate */
@@ -288,30 +294,43 @@ static int vtk_start(const options *o, const char *scale, const plume_mesh *mesh
 }
 
 /* The macroscale vane on an aligned or unaligned patch mesh. Returns an exit code. */
-static int run_macro(const options *o, const plume_vane *vane, plume_patch_kind kind, double angle, double edge,
-                     const plume_traction_opts *to, model_run *run)
+static int run_macro(const options *o, const plume_vane *vane, const plume_separation_law *law, plume_patch_kind kind,
+                     double angle, double edge, const plume_traction_opts *to, model_run *run)
 {
     plume_err err = {{0}};
-    plume_mesh *mesh = NULL;
+    plume_mesh *mesh = NULL, *patch = NULL;
+    plume_splits *splits = NULL;
     plume_problem *p = NULL;
     plume_index *barbs = NULL, nbarbs = 0;
     plume_fields *fields = NULL;
     plume_status st;
     int rc = 1;
-    if ((st = plume_patch_mesh(o->lx, o->ly, angle, edge, kind, 2, &mesh, &err)) != PLUME_OK) {
+    if ((st = plume_patch_mesh(o->lx, o->ly, angle, edge, kind, 2, &patch, &err)) != PLUME_OK) {
         fprintf(stderr, "traction: mesh: %s\n", err.msg);
         goto done;
     }
+    if (o->split_lines > 0 && (st = plume_splits_open(patch, angle, o->split_lines, &splits, &err)) != PLUME_OK) {
+        fprintf(stderr, "traction: --split-lines %d: %s\n", o->split_lines, err.msg);
+        goto done;
+    }
+    /* with split lines the problem lives on the opened mesh (the patch's vertices, then the copies) */
+    mesh = splits ? (plume_mesh *)plume_splits_mesh(splits) : patch;
     if ((st = plume_problem_create(mesh->nv, 2, fmax(o->lx, o->ly), &p, &err)) != PLUME_OK ||
-        (st = plume_vane_add(p, mesh, vane, &barbs, &nbarbs, &err)) != PLUME_OK) {
+        (st = plume_vane_add(p, mesh, vane, &barbs, &nbarbs, &err)) != PLUME_OK ||
+        (splits && (st = plume_splits_add(p, splits, law, &err)) != PLUME_OK)) {
         fprintf(stderr, "traction: %s\n", err.msg[0] ? err.msg : plume_strerror(st));
         goto done;
     }
     run->elements = mesh->nt, run->vertices = mesh->nv, run->barb_edges = nbarbs;
+    run->split_pairs = plume_splits_pairs(splits);
     plume_traction_opts tv = *to;
     plume_membrane_material mat = plume_vane_material(vane);
     if (o->vtk && vtk_start(o, "macro", mesh, &mat, 1, barbs, nbarbs, &tv, &fields) != 0)
         goto done;
+    if (fields && splits && (st = plume_fields_add_links(fields, p, "splits", &err)) != PLUME_OK) {
+        fprintf(stderr, "traction: --vtk: %s\n", err.msg);
+        goto done;
+    }
     if ((st = plume_traction_run(mesh, p, barbs, nbarbs, &tv, &run->res, &err)) != PLUME_OK) {
         /* the library's message already names the module */
         fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
@@ -322,7 +341,8 @@ done:
     plume_fields_destroy(&fields);
     free(barbs);
     plume_problem_destroy(&p);
-    plume_mesh_destroy(&mesh);
+    plume_splits_destroy(&splits);
+    plume_mesh_destroy(&patch);
     return rc;
 }
 
@@ -425,6 +445,8 @@ static json_t *run_json(const model_run *r, const options *o, double angle)
     json_object_set_new(j, "substeps", json_integer(r->res.substeps));
     json_object_set_new(j, "factor_seconds", json_real(r->res.factor_seconds));
     json_object_set_new(j, "seconds", json_real(r->res.seconds));
+    if (r->split_pairs > 0)
+        json_object_set_new(j, "split_pairs", json_integer(r->split_pairs));
     json_object_set_new(j, "hooks_released", json_integer(r->res.released));
     json_object_set_new(j, "hooks_reengaged", json_integer(r->res.reengaged));
     json_object_set_new(j, "largest_cascade", json_integer(r->res.largest_cascade));
@@ -463,10 +485,13 @@ static void print_summary(const model_run *r, const options *o, double angle)
            100.0 * r->res.curve.strain[last], r->res.curve.stress[last], r->res.curve.wbar[last], r->res.initial_slope,
            r->res.newton_iterations, r->res.factorizations, r->res.cuts ? ", steps cut" : "", r->res.seconds,
            r->res.converged ? "converged" : plume_reason_name(r->res.failed_reason));
+    if (r->split_pairs > 0)
+        printf("%s split lines: %ld vertex pairs hold them\n", r->scale, r->split_pairs);
     if (r->res.released > 0 || r->res.reengaged > 0)
-        printf("%s hooks: %ld let go (at most %d at one equilibrium), %ld caught again; %.4g J dissipated of %.4g J "
+        printf("%s %s: %ld let go (at most %d at one equilibrium), %ld caught again; %.4g J dissipated of %.4g J "
                "work, %.4g J stored (energy balance error %.2g)\n",
-               r->scale, r->res.released, r->res.largest_cascade, r->res.reengaged, r->res.dissipated_energy,
+               r->scale, r->split_pairs > 0 ? "split pairs" : "hooks", r->res.released, r->res.largest_cascade,
+               r->res.reengaged, r->res.dissipated_energy,
                r->res.work, r->res.stored_energy, r->res.energy_balance_error);
     if (r->has_conv && r->conv.converged)
         printf("%s curve converged to %.2g %% (its largest stress change from a mesh of %.3g m elements, %ld of them; "
@@ -486,6 +511,7 @@ typedef struct {
     plume_layout layout;
     plume_vane vane;
     const char *moduli_source; /* "flags", "homogenised" or the --moduli file */
+    plume_separation_law law;  /* --split-lines: the barb lines' separation law */
     plume_patch_kind kind;
     plume_traction_opts to;
     plume_solver_opts so;        /* to's solver options */
@@ -595,6 +621,29 @@ static int bending_main(const options *o, const plume_layout *layout, int want_m
     return run_bending(&bc, layout, want_macro, want_micro);
 }
 
+/* --split-lines: the separation law of the --moduli file, or with both models the layout's own.
+ * Returns an exit code. */
+static int split_law(const options *o, traction_job *j)
+{
+    plume_err err = {{0}};
+    if (o->mesh && strcmp(o->mesh, "aligned") != 0)
+        return fprintf(stderr, "traction: --split-lines needs --mesh aligned: a barb line that splits is a line of "
+                       "mesh edges\n"), 2;
+    if (o->moduli_file) {
+        if (plume_separation_read(o->moduli_file, &j->law, &err) != PLUME_OK)
+            return fprintf(stderr, "traction: --split-lines: %s (apps/homogenize writes it for a layout with "
+                           "hooks)\n", err.msg), 2;
+        return 0;
+    }
+    if (j->want_micro && j->layout.kind == PLUME_LAYOUT_BARBULES && j->layout.hooks.strength > 0.0) {
+        if (plume_separation_law_of(&j->layout, &j->law, &err) != PLUME_OK)
+            return fprintf(stderr, "traction: --split-lines: %s\n", err.msg), 1;
+        return 0;
+    }
+    return fprintf(stderr, "traction: --split-lines needs a separation law: --moduli FILE.h5 from apps/homogenize "
+                   "of a layout with hooks, or --model both with such a layout\n"), 2;
+}
+
 /* The macroscale vane: the moduli from the flags, the --moduli file, or (both models, no file) the
  * layout's cell homogenised on the spot, explicit flags overriding; checked when the macro model
  * runs. Returns an exit code. */
@@ -633,7 +682,7 @@ static int build_vane(const options *o, traction_job *j)
         return fprintf(stderr, "traction: --kappa must be >= 0 (got %g)\n", o->kappa), 2;
     if (j->want_macro && plume_vane_check(vane, &err) != PLUME_OK)
         return fail("moduli: %s%s", err.msg, "");
-    return 0;
+    return o->split_lines && j->want_macro ? split_law(o, j) : 0;
 }
 
 /* The mesh kind, the element edge and the traction options of the flags. Returns an exit code. */
@@ -684,7 +733,7 @@ static int run_models(const options *o, traction_job *j)
         if (!(k == 0 ? j->want_macro : j->want_micro))
             continue;
         runs[k].wanted = 1;
-        rc = k == 0 ? run_macro(o, &j->vane, j->kind, j->angle, j->edge, &j->to, &runs[0])
+        rc = k == 0 ? run_macro(o, &j->vane, &j->law, j->kind, j->angle, j->edge, &j->to, &runs[0])
                     : run_micro(o, &j->layout, j->angle, &j->to, &runs[1]);
     }
     if (rc)

@@ -13,6 +13,7 @@
 #include "harness.h"
 #include "../lib/io/curves.h"
 #include "../lib/io/vtu.h"
+#include "../include/plume/homogenize.h"
 
 static char scratch[64];
 
@@ -434,4 +435,70 @@ void test_app_traction_bending_size_effect(void)
         snprintf(png, sizeof png, "%s/b.png", scratch);
     }
     rmdir(scratch);
+}
+
+/* --split-lines: a barb line of the macro sample with the separation law apps/homogenize wrote for
+ * a layout with hooks lets go at its strength, zips again when the grip comes back within the
+ * capture distance (5 um) and lets go again on the reload; the .vtu series holds its pairs'
+ * states; bad combinations are named. */
+void test_app_traction_splits(void)
+{
+    strcpy(scratch, "/tmp/plume-app-XXXXXX");
+    if (!mkdtemp(scratch)) {
+        CHECK(0);
+        return;
+    }
+    char out[16384], err[8192], args[1024], law_path[256];
+    snprintf(law_path, sizeof law_path, "%s/cell.h5", scratch);
+    snprintf(args, sizeof args, "--config ../data/layout_kovalev.json --e-rel 0.3 --no-convergence --strain-max 0 -o %s",
+             law_path);
+    CHECK(app_run(scratch, "homogenize", args, out, sizeof out, err, sizeof err) == 0);
+    plume_separation_law law;
+    plume_err e = {{0}};
+    CHECK(plume_separation_read(law_path, &law, &e) == PLUME_OK);
+    snprintf(args, sizeof args, "--moduli %s --scenario transverse --lx 1e-3 --ly 1e-3 --thickness 1e-4 "
+             "--split-lines 1 --path 0.008,0.0045,0.008 --steps 10 --quiet --json --vtk %s/vtk", law_path, scratch);
+    CHECK(run_app(args, out, sizeof out, err, sizeof err) == 0);
+    json_t *j = json_loads(out, 0, NULL);
+    CHECK(j != NULL);
+    if (j) {
+        const long pairs = (long)json_integer_value(json_object_get(j, "split_pairs"));
+        const long released = (long)json_integer_value(json_object_get(j, "hooks_released"));
+        const long caught = (long)json_integer_value(json_object_get(j, "hooks_reengaged"));
+        const double peak = json_real_value(json_object_get(j, "peak_stress")) * 1e-4; /* N/m */
+        printf("    %ld pairs: %ld let go, %ld caught again; peak traction %.5g N/m (strength %.5g N/m)\n", pairs,
+               released, caught, peak, law.strength);
+        CHECK(json_is_true(json_object_get(j, "converged")));
+        CHECK(pairs > 10 && released == 2 * pairs && caught == pairs);
+        CHECK(peak >= law.strength * (1.0 - 1e-3) && peak <= law.strength * 1.02);
+        CHECK(fabs(json_real_value(json_object_get(j, "energy_balance_error"))) < 1e-2);
+        json_decref(j);
+    } else
+        fprintf(stderr, "    output: %s\n    stderr: %s\n", out, err);
+    /* let go at the top of the first load (step 10), caught again at 4.5 um (step 20) */
+    for (int step = 10; step <= 20; step += 10) {
+        char path[256];
+        snprintf(path, sizeof path, "%s/vtk/macro/step_splits_%05d.vtu", scratch, step);
+        plume_vtu_data d;
+        CHECK(plume_vtu_read(path, &d, &e) == PLUME_OK);
+        const plume_vtu_array *s = plume_vtu_find(&d, 0, "state");
+        double engaged = 0.0;
+        for (plume_index i = 0; s && i < s->ntuples; i++)
+            engaged += s->values[i];
+        printf("    step %d: %.0f of %ld pairs engaged\n", step, engaged, s ? (long)s->ntuples : 0L);
+        CHECK(s && s->ntuples > 0 && engaged == (step == 10 ? 0.0 : (double)s->ntuples));
+        plume_vtu_data_free(&d);
+    }
+    snprintf(args, sizeof args, "--moduli %s --split-lines 1 --mesh unaligned --quiet", law_path);
+    expect_error(args, "--split-lines needs --mesh aligned");
+    expect_error("--split-lines 1 --quiet", "--split-lines needs a separation law");
+    char plain[256];
+    snprintf(plain, sizeof plain, "%s/plain.h5", scratch);
+    snprintf(args, sizeof args, "--strain-max 0 --no-convergence -o %s", plain);
+    CHECK(app_run(scratch, "homogenize", args, out, sizeof out, err, sizeof err) == 0);
+    snprintf(args, sizeof args, "--moduli %s --split-lines 1 --quiet", plain);
+    expect_error(args, "separation_strength missing");
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
+    CHECK(system(cmd) == 0);
 }

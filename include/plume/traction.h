@@ -183,6 +183,32 @@ PLUME_API plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, con
                                       plume_index **barb_edges, plume_index *nbarb, plume_err *err);
 
 
+/* ---- barb lines that split ---- */
+/** Barb lines of a macro vane mesh opened to split and zip again (opaque; docs/unzipping.md). */
+typedef struct plume_splits plume_splits;
+
+/** Opens `nlines` barb lines of the planar mesh `m`, aligned with barbs at angle_deg (as
+ * plume_patch_mesh PLUME_PATCH_ALIGNED makes it), spread evenly across the barbs: at fractions
+ * k / (nlines + 1) of the mesh's extent across them, each the nearest line of mesh edges. Each
+ * line's vertices are duplicated (the triangles ahead of it take the copies): build the problem
+ * on plume_splits_mesh. Errors (PLUME_EINVAL, with the reason): nlines < 1, a mesh not aligned
+ * with the barbs, two lines on one line of the mesh (too many for its rows). */
+PLUME_API plume_status plume_splits_open(const plume_mesh *m, double angle_deg, int nlines, plume_splits **out,
+                                         plume_err *err);
+/** The opened mesh (owned by s): the input's vertices first, then the copies. */
+PLUME_API const plume_mesh *plume_splits_mesh(const plume_splits *s);
+/** Vertex pairs holding the lines. */
+PLUME_API long plume_splits_pairs(const plume_splits *s);
+/** Adds the links of the lines to p (created over plume_splits_mesh(s)'s vertices, not finalised)
+ * as the stateful term "splits": each pair a zero-length spring of the law's stiffness times its
+ * share of the line's length that lets go at the strength times that length and catches again
+ * within the capture distance. PLUME_EINVAL for a law out of range (naming the field). */
+PLUME_API plume_status plume_splits_add(plume_problem *p, const plume_splits *s, const plume_separation_law *law,
+                                        plume_err *err);
+/** Frees s; sets *s = NULL; NULL-safe. */
+PLUME_API void plume_splits_destroy(plume_splits **s);
+
+
 /* ---- the resolved specimen ---- */
 /** Meshes a rectangular traction specimen [0, lx] x [0, ly] of the layout with barbs at angle_deg
  * from the y axis (as in plume_patch_mesh: d = (sin a, cos a)); strip boundaries are mesh

@@ -1,9 +1,13 @@
 /* plume (macro): barb lines that split and zip again (split_lines.h; docs/unzipping.md). */
 #include "split_lines.h"
 
+#include "../../include/plume/traction.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "patch_mesh.h"
 
 void plume_split_lines_free(plume_split_lines *s)
 {
@@ -184,7 +188,77 @@ plume_status plume_split_lines_add(plume_problem *p, const plume_split_lines *s,
     }
     plume_term t;
     plume_hooks_term(h, 1, &t);
+    t.name = "splits";
     if ((st = plume_problem_add_term(p, &t, err)) == PLUME_OK && hooks)
         *hooks = h; /* the problem owns it, also on failure */
     return st;
+}
+
+/* ---- the public face (include/plume/traction.h) ---- */
+struct plume_splits {
+    plume_split_lines lines;
+};
+
+plume_status plume_splits_open(const plume_mesh *m, double angle_deg, int nlines, plume_splits **out, plume_err *err)
+{
+    if (!out)
+        return plume_err_set(err, PLUME_EINVAL, "split lines: no output");
+    *out = NULL;
+    if (!m || m->dim != 2 || !m->edges)
+        return plume_err_set(err, PLUME_EINVAL, "split lines: a planar mesh with its topology is required");
+    if (nlines < 1)
+        return plume_err_set(err, PLUME_EINVAL, "split lines: the number of lines must be >= 1 (got %d)", nlines);
+    if (!(angle_deg >= 0.0 && angle_deg <= 180.0))
+        return plume_err_set(err, PLUME_EINVAL, "split lines: the barb angle must be in [0, 180] (got %g)", angle_deg);
+    double d[2];
+    plume_patch_barb_direction(angle_deg, d);
+    const double n[2] = {d[1], -d[0]};
+    double lo = INFINITY, hi = -INFINITY;
+    for (plume_index v = 0; v < m->nv; v++) {
+        const double o = n[0] * m->X[2 * v] + n[1] * m->X[2 * v + 1];
+        lo = fmin(lo, o), hi = fmax(hi, o);
+    }
+    double *c = malloc((size_t)nlines * sizeof *c);
+    plume_splits *s = calloc(1, sizeof *s);
+    if (!c || !s) {
+        free(c);
+        free(s);
+        return plume_err_set(err, PLUME_ENOMEM, "split lines: out of memory");
+    }
+    for (int k = 0; k < nlines; k++)
+        c[k] = lo + (hi - lo) * (double)(k + 1) / (double)(nlines + 1);
+    plume_status st = plume_split_lines_open(m, d, c, nlines, &s->lines, err);
+    free(c);
+    if (st != PLUME_OK) {
+        free(s);
+        return st;
+    }
+    *out = s;
+    return PLUME_OK;
+}
+
+const plume_mesh *plume_splits_mesh(const plume_splits *s)
+{
+    return s ? s->lines.mesh : NULL;
+}
+
+long plume_splits_pairs(const plume_splits *s)
+{
+    return s ? (long)s->lines.npairs : 0;
+}
+
+plume_status plume_splits_add(plume_problem *p, const plume_splits *s, const plume_separation_law *law, plume_err *err)
+{
+    if (!s)
+        return plume_err_set(err, PLUME_EINVAL, "split lines: no lines");
+    return plume_split_lines_add(p, &s->lines, law, NULL, err);
+}
+
+void plume_splits_destroy(plume_splits **s)
+{
+    if (!s || !*s)
+        return;
+    plume_split_lines_free(&(*s)->lines);
+    free(*s);
+    *s = NULL;
 }

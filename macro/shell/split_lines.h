@@ -51,7 +51,7 @@ plume_status plume_split_lines_open(const plume_mesh *m, const double d[2], cons
                                     plume_split_lines *out, plume_err *err);
 
 /** Adds the links of the opened lines to `p` (over out->mesh's vertices, not finalised) as the
- * hooks' term (owned by the problem; *hooks, may be NULL, is a view valid while it lives), with
+ * hooks' term named "splits" (owned by the problem; *hooks, may be NULL, is a view valid while it lives), with
  * the law `law`: a pair of length L holds strength * L and stiffness * L. PLUME_EINVAL for a law
  * out of range (naming the field). */
 plume_status plume_split_lines_add(plume_problem *p, const plume_split_lines *s, const plume_separation_law *law,
