@@ -1,6 +1,6 @@
 /** \file
  * plume (micro): a barbule specimen's mesh opened at the barbules' distal ends, where hooks
- * (micro/hooks.h) hold it instead of shared vertices (docs/unzipping.md).
+ * (lib/core/hooks.h) hold it instead of shared vertices (docs/unzipping.md).
  *
  * An edge between a barb triangle and a barbule triangle is a distal join when the barb lies
  * ahead of the barbule along q, the direction from a barb to the next one (a barbule grows from

@@ -9,7 +9,7 @@
 #include "../lib/core/export.h"
 #include "../lib/core/problem.h"
 #include "../lib/sim/traction.h"
-#include "hooks.h"
+#include "../lib/core/hooks.h"
 #include "layout.h"
 
 #ifdef __cplusplus
@@ -17,7 +17,7 @@ extern "C" {
 #endif
 
 /** plume_micro_specimen (include/plume/traction.h) with the barbules' distal ends held by hooks
- * of the law `law` instead of shared vertices (micro/hook_mesh.h, micro/hooks.h;
+ * of the law `law` instead of shared vertices (micro/hook_mesh.h, lib/core/hooks.h;
  * docs/unzipping.md): the same specimen opened at its distal joins, the membrane term and the
  * hooks' term, which owns them: *hooks (may be NULL) is a view, valid while the problem lives.
  * plume_micro_specimen calls it with the layout's own law when its hook_strength is set. A

@@ -18,7 +18,7 @@
 #include "../lib/core/membrane.h"
 #include "../lib/solve/options.h"
 #include "cell_mesh.h"
-#include "hooks.h"
+#include "../lib/core/hooks.h"
 #include "periodic.h"
 
 /* The cell opened at its distal joins: its mesh and quadratic triangles with the copies, the

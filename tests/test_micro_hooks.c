@@ -1,4 +1,4 @@
-/* Barbule hooks (micro/hooks.h): the term's gradient and Hessian against finite differences,
+/* Barbule hooks (lib/core/hooks.h): the term's gradient and Hessian against finite differences,
  * engaged and released; one hook pulled past its strength lets go with its spring energy
  * dissipated; a hook with slide slides back to its strength, then lets go; a released hook
  * catches again within its capture distance at zero force; bad laws and pairs named; a specimen
@@ -13,7 +13,7 @@
 #include "../include/plume/homogenize.h"
 #include "../include/plume/scene.h"
 #include "../include/plume/traction.h"
-#include "../micro/hooks.h"
+#include "../lib/core/hooks.h"
 #include "../micro/micro_model.h"
 
 /* Two hooks over 6 vertices: hook 0 with pairs (0, 3) and (1, 4), hook 1 with (2, 5). */

@@ -6,7 +6,7 @@
  * and each (copy, original) pair is held by a link of the separation law homogenised from the
  * cell (plume_separation_law_of): a zero-length spring of the line's stiffness times the pair's
  * share of the line's length, which lets go when its force reaches the strength times that length
- * and catches again within the capture distance (micro/hooks.h, one hook per pair). The split is
+ * and catches again within the capture distance (lib/core/hooks.h, one hook per pair). The split is
  * intrinsic: while it holds, a line adds the hooks' own compliance, the part of the cell's
  * opening that the bonded moduli do not have. */
 #ifndef PLUME_MACRO_SPLIT_LINES_H
@@ -17,14 +17,14 @@
 #include "../../lib/core/export.h"
 #include "../../lib/core/mesh.h"
 #include "../../lib/core/problem.h"
-#include "../../micro/hooks.h"
+#include "../../lib/core/hooks.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /** A line's links let go within this many strengths: a load step that would load one further is
- * cut (micro/hooks.h), so that the macro response resolves the strength to 2 % (the micro hooks
+ * cut (lib/core/hooks.h), so that the macro response resolves the strength to 2 % (the micro hooks
  * allow PLUME_HOOKS_OVERSHOOT). */
 #define PLUME_SPLIT_OVERSHOOT 1.02
 

@@ -1,4 +1,4 @@
-/* plume (micro): barbule hooks (micro/hooks.h): zero-length springs per vertex pair, grouped into
+/* plume: barbule hooks (lib/core/hooks.h): zero-length springs per vertex pair, grouped into
  * hooks that slide, let go and catch again between solves. */
 #include "hooks.h"
 

@@ -1,5 +1,5 @@
 /** \file
- * plume (micro): barbule hooks, the joins between a barbule's distal end and the next barb that
+ * plume: barbule hooks, the joins between a barbule's distal end and the next barb that
  * can let go and catch again (docs/unzipping.md).
  *
  * A hook holds a set of vertex pairs (a on the barbule's tip, b on the barb), each a zero-length
@@ -20,11 +20,11 @@
 #ifndef PLUME_MICRO_HOOKS_H
 #define PLUME_MICRO_HOOKS_H
 
-#include "../include/plume/homogenize.h"
+#include "../../include/plume/homogenize.h"
 
-#include "../lib/core/export.h"
-#include "../lib/core/status.h"
-#include "../lib/core/term.h"
+#include "export.h"
+#include "status.h"
+#include "term.h"
 
 #ifdef __cplusplus
 extern "C" {
