@@ -64,9 +64,52 @@ static plume_status vtk_step(void *user, int step, double strain, const double *
 
 /* The traction request's specimen: the layout's resolved specimen (micro; its materials in mats,
  * nmat 2) or the vane on a patch mesh (macro; its barb edges in *barbs). */
-static plume_status traction_specimen(json_t *req, const plume_flat_traction_setup *t, int micro, double angle, plume_vane *vane,
-                                      plume_layout *layout, plume_mesh **mesh, plume_problem **p, plume_index **barbs,
-                                      plume_index *nbarbs, plume_membrane_material mats[2], int *nmat, plume_err *err)
+/* traction request.separation: the barb lines' law, {"strength": N/m, "stiffness": N/m^2, "capture": m}
+ * (the "separation" of a homogenize result: its other keys are taken and ignored). */
+static plume_status get_separation(json_t *req, plume_separation_law *law, plume_err *err)
+{
+    json_t *js = json_object_get(req, "separation");
+    memset(law, 0, sizeof *law);
+    if (!json_is_object(js))
+        return plume_err_set(err, PLUME_EINVAL, "traction request: \"split_lines\" needs \"separation\": the law "
+                             "{\"strength\", \"stiffness\", \"capture\"} (a homogenize result's \"separation\")");
+    static const char *const keys[] = {"strength", "stiffness", "capture"};
+    double *v[3] = {&law->strength, &law->stiffness, &law->capture};
+    for (int k = 0; k < 3; k++) {
+        json_t *x = json_object_get(js, keys[k]);
+        if (!json_is_number(x))
+            return plume_err_set(err, PLUME_EINVAL, "traction request: \"separation\".\"%s\" must be a number", keys[k]);
+        *v[k] = json_number_value(x);
+    }
+    return PLUME_OK;
+}
+
+/* traction request.split_lines: that many barb lines of the macro sample open to split
+ * (plume_splits_open), held by the law of request.separation; *splits NULL without the key. */
+static plume_status traction_splits(json_t *req, const plume_flat_traction_setup *t, int micro, double angle,
+                                    const plume_mesh *patch, plume_splits **splits, plume_separation_law *law,
+                                    plume_err *err)
+{
+    int n = 0;
+    plume_status st = plume_flat_get_int(req, "traction", "split_lines", &n, err);
+    if (st != PLUME_OK || !json_object_get(req, "split_lines"))
+        return st;
+    if (micro)
+        return plume_err_set(err, PLUME_EINVAL, "traction request: \"split_lines\" is for the macro model (the micro "
+                             "model's barbules have their own hooks)");
+    if (n < 1)
+        return plume_err_set(err, PLUME_EINVAL, "traction request: \"split_lines\" must be >= 1 (got %d)", n);
+    if (t->mesh != PLUME_PATCH_ALIGNED)
+        return plume_err_set(err, PLUME_EINVAL, "traction request: \"split_lines\" needs \"mesh\": \"aligned\"");
+    if ((st = get_separation(req, law, err)) != PLUME_OK)
+        return st;
+    return plume_splits_open(patch, angle, n, splits, err);
+}
+
+static plume_status traction_specimen(json_t *req, const plume_flat_traction_setup *t, int micro, double angle,
+                                      plume_vane *vane, plume_layout *layout, plume_mesh **mesh, plume_splits **splits,
+                                      plume_problem **p, plume_index **barbs, plume_index *nbarbs,
+                                      plume_membrane_material mats[2], int *nmat, plume_err *err)
 {
     plume_status st;
     if (micro) {
@@ -76,6 +119,9 @@ static plume_status traction_specimen(json_t *req, const plume_flat_traction_set
         if ((st = plume_flat_get_layout(req, "traction", layout, err)) != PLUME_OK)
             return st;
         layout->h = t->h, layout->kappa = t->kappa;
+        if (json_object_get(req, "split_lines"))
+            return plume_err_set(err, PLUME_EINVAL, "traction request: \"split_lines\" is for the macro model (the "
+                                 "micro model's barbules have their own hooks)");
         if ((st = plume_micro_specimen(layout, t->lx, t->ly, angle, mesh, p, err)) != PLUME_OK)
             return st;
         plume_layout_materials(layout, mats);
@@ -85,10 +131,15 @@ static plume_status traction_specimen(json_t *req, const plume_flat_traction_set
     if (json_object_get(req, "layout"))
         return plume_err_set(err, PLUME_EINVAL, "traction request: \"layout\" is for the micro model");
     vane->h = t->h, vane->kappa = t->kappa, vane->constraint = t->constraint;
+    plume_separation_law law;
     if ((st = plume_vane_check(vane, err)) != PLUME_OK ||
         (st = plume_patch_mesh(t->lx, t->ly, angle, t->edge, t->mesh, 2, mesh, err)) != PLUME_OK ||
-        (st = plume_problem_create((*mesh)->nv, 2, fmax(t->lx, t->ly), p, err)) != PLUME_OK ||
-        (st = plume_vane_add(*p, *mesh, vane, barbs, nbarbs, err)) != PLUME_OK)
+        (st = traction_splits(req, t, micro, angle, *mesh, splits, &law, err)) != PLUME_OK)
+        return st;
+    const plume_mesh *m = *splits ? plume_splits_mesh(*splits) : *mesh; /* the problem's: the opened mesh */
+    if ((st = plume_problem_create(m->nv, 2, fmax(t->lx, t->ly), p, err)) != PLUME_OK ||
+        (st = plume_vane_add(*p, m, vane, barbs, nbarbs, err)) != PLUME_OK ||
+        (*splits && (st = plume_splits_add(*p, *splits, &law, err)) != PLUME_OK))
         return st;
     mats[0] = plume_vane_material(vane);
     *nmat = 1;
@@ -176,7 +227,8 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     *result = NULL;
     static const char *const keys[] = {"model", "angle", "lx", "ly", "thickness", "moduli", "kappa", "constraint",
                                        "mesh", "edge", "strain_max", "steps", "solver", "layout", "vtk",
-                                       "convergence", "path", "peel", "top_grip_free", NULL};
+                                       "convergence", "path", "peel", "top_grip_free", "split_lines", "separation",
+                                       NULL};
     json_t *req;
     plume_status st = plume_flat_parse_request(request, "traction", keys, &req, &err);
     if (st != PLUME_OK)
@@ -190,6 +242,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     plume_layout layout;
     plume_layout_default(&layout);
     plume_mesh *mesh = NULL;
+    plume_splits *splits = NULL;
     plume_problem *p = NULL;
     plume_index *barbs = NULL, nbarbs = 0;
     plume_fields *fields = NULL;
@@ -217,9 +270,10 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     }
     plume_membrane_material mats[2];
     int nmat = 1;
-    if ((st = traction_specimen(req, &t, micro, angle, &vane, &layout, &mesh, &p, &barbs, &nbarbs, mats, &nmat, &err)) !=
-        PLUME_OK)
+    if ((st = traction_specimen(req, &t, micro, angle, &vane, &layout, &mesh, &splits, &p, &barbs, &nbarbs, mats, &nmat,
+                                &err)) != PLUME_OK)
         goto done;
+    const plume_mesh *run_mesh = splits ? plume_splits_mesh(splits) : mesh;
     plume_traction_opts to;
     plume_traction_opts_default(&to);
     to.lx = t.lx, to.ly = t.ly, to.h = t.h, to.strain_max = t.strain_max, to.steps = t.steps, to.solver = t.solver;
@@ -229,21 +283,26 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     if ((st = plume_flat_get_number(req, "traction", "peel", &to.peel, &err)) != PLUME_OK ||
         (st = plume_flat_get_number(req, "traction", "top_grip_free", &to.top_grip_free, &err)) != PLUME_OK)
         goto done;
-    if ((vtk && (st = traction_vtk(vtk, mesh, mats, nmat, barbs, nbarbs, &fields, &to, &err)) != PLUME_OK) ||
+    if ((vtk && (st = traction_vtk(vtk, run_mesh, mats, nmat, barbs, nbarbs, &fields, &to, &err)) != PLUME_OK) ||
         (fields && micro && layout.kind == PLUME_LAYOUT_BARBULES && layout.hooks.strength > 0.0 &&
          (st = plume_fields_add_links(fields, p, "hooks", &err)) != PLUME_OK) ||
-        (st = plume_traction_run(mesh, p, barbs, nbarbs, &to, &res, &err)) != PLUME_OK)
+        (fields && splits && (st = plume_fields_add_links(fields, p, "splits", &err)) != PLUME_OK) ||
+        (st = plume_traction_run(run_mesh, p, barbs, nbarbs, &to, &res, &err)) != PLUME_OK)
         goto done;
     plume_micro_convergence conv;
     int has_conv = micro && convergence && res.converged && to.solver != PLUME_SOLVER_LINEARIZED;
     if (has_conv && (st = plume_micro_traction_convergence(&layout, t.lx, t.ly, angle, &to, &res, &conv, &err)) != PLUME_OK)
         goto done;
-    st = plume_flat_emit(traction_json(&res, micro, &layout, mesh, angle, has_conv, &conv), result, &err);
+    json_t *o = traction_json(&res, micro, &layout, run_mesh, angle, has_conv, &conv);
+    if (o && splits)
+        json_object_set_new(o, "split_pairs", json_integer(plume_splits_pairs(splits)));
+    st = plume_flat_emit(o, result, &err);
 done:
     plume_traction_result_free(&res);
     plume_fields_destroy(&fields);
     free(barbs);
     plume_problem_destroy(&p);
+    plume_splits_destroy(&splits);
     plume_mesh_destroy(&mesh);
     json_decref(req);
     return plume_flat_finish(st, &err, msg, nmsg);

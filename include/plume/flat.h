@@ -22,7 +22,10 @@
  *        converged: homogenize.h), "moduli_change": {"E_xx", "E_yy", "nu_xy", "G_xy"},
  *        "refinement_edge", "curves": {"uniaxial_x"|"uniaxial_y"|"shear":
  *        {"strain": [], "stress": [], "wbar": [], "iterations": []}} (curves only when
- *        strain_max > 0), "output" (the file written, as given; only with "output")}
+ *        strain_max > 0), "output" (the file written, as given; only with "output"), and for a
+ *        layout with hooks "separation": {"strength", "energy", "opening", "capture",
+ *        "stiffness", "peak_opening", "cell_length", "solves", "newton_iterations"}
+ *        (plume_separation_law)}
  *  - traction: {"model": "macro"|"micro", "angle": 45 (deg from the pull), "lx": 1, "ly": 1.3,
  *    "thickness": 1, "moduli": {"E_xx": 1e4, "E_yy": 1, "nu_xy": 0, "G_xy": 1} (all four, or
  *    the key absent for these), "kappa": 0,
@@ -34,7 +37,9 @@
  *    plume_traction_opts.path; absent: one leg to strain_max), "peel": 0 and "top_grip_free": 0
  *    (how the top grip turns, how much of its edge it leaves free: plume_traction_opts), "layout"
  *    may hold the hook keys
- *    (docs/layout-format.md),
+ *    (docs/layout-format.md), "split_lines": N (model macro, mesh aligned: N barb lines that
+ *    split and zip again, plume_splits_open) with "separation": {"strength": N/m, "stiffness":
+ *    N/m^2, "capture": m} (their law: a homogenize result's "separation", other keys ignored),
  *    "convergence": true (model micro: the curve again on a mesh twice as coarse), "vtk": "DIR" (a ParaView series of the
  *    steps: DIR/steps.pvd with DIR/step_NNNNN.vtu, and DIR/step_barbs_NNNNN.vtu for the macro
  *    model's constrained barbs; docs/paraview-output.md)}
@@ -44,7 +49,8 @@
  *        "element_edge", "refinement_change" and "slope_refinement_change" (traction.h;
  *        -1 when not estimated), and the energy balance and hooks: "peak_stress", "work",
  *        "stored_energy", "dissipated_energy", "energy_balance_error", "hooks_released",
- *        "hooks_reengaged", "largest_cascade", "release_events" (plume_traction_result)}
+ *        "hooks_reengaged", "largest_cascade", "release_events" (plume_traction_result), and with
+ *        "split_lines" "split_pairs" (the lines' vertex pairs, which the hooks' counts count)}
  *  - fit: {"targets": [{"angle": deg, "strain": [], "stress": []}, ...] (required), "start":
  *    {"E_xx", "E_yy", "nu_xy", "G_xy"} (required), "free": ["E_yy", "G_xy"], "max_eval": 300,
  *    "xtol_rel": 1e-6, and the macro traction keys above ("lx", "ly", "thickness", "kappa",

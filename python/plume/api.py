@@ -126,8 +126,9 @@ class TractionResult:
     element_edge (m); the energy balance (J): work (the grip's), stored_energy,
     dissipated_energy (what hooks letting go gave up) and energy_balance_error ((work - stored -
     dissipated) over the gross work); hooks_released and hooks_reengaged (a layout with hook keys,
-    docs/unzipping.md); peak_stress (Pa: the largest at any equilibrium, sub-steps included);
-    raw: the library's JSON result.
+    docs/unzipping.md; with split_lines they count the lines' vertex pairs, split_pairs of them);
+    peak_stress (Pa: the largest at any equilibrium, sub-steps included); raw: the library's JSON
+    result.
     """
     model: str
     angle: float
@@ -154,6 +155,7 @@ class TractionResult:
     energy_balance_error: float = 0.0
     hooks_released: int = 0
     hooks_reengaged: int = 0
+    split_pairs: int = 0
     raw: dict = field(repr=False, default_factory=dict)
 
 
@@ -256,7 +258,7 @@ def _strains(name, x):
 
 
 _TRACTION_OPTIONS = dict(_MACRO_OPTIONS, strain_max=_number, convergence=_boolean, path=_strains,
-                         peel=_number, top_grip_free=_number)
+                         peel=_number, top_grip_free=_number, split_lines=_integer, separation=_mapping)
 
 
 def _options(job, options, allowed):
@@ -401,7 +403,11 @@ def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **op
             running the test again on a mesh twice as coarse; True), path (the strains the grip
             goes to in turn, each leg in `steps` steps: [0.03, 0, 0.03] loads, unloads, reloads),
             peel (0: the top grip pulls straight; 1: it turns about its x = 0 end), top_grip_free
-            (0: the top grip holds its whole edge; 0.9: only its last tenth, a barb pulled by its end).
+            (0: the top grip holds its whole edge; 0.9: only its last tenth, a barb pulled by its end),
+            split_lines (macro model, aligned mesh: that many barb lines spread across the sample
+            split and zip again, docs/unzipping.md) with separation (their law: the "separation"
+            of a homogenize result of a layout with hooks, or a dict with "strength" N/m,
+            "stiffness" N/m^2, "capture" m).
 
     Returns:
         TractionResult (strain -, stress Pa, wbar -, per step, the rest state first).
@@ -436,7 +442,7 @@ def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **op
         dissipated_energy=float(r.get("dissipated_energy", 0.0)),
         energy_balance_error=float(r.get("energy_balance_error", 0.0)),
         hooks_released=int(r.get("hooks_released", 0)), hooks_reengaged=int(r.get("hooks_reengaged", 0)),
-        raw=r)
+        split_pairs=int(r.get("split_pairs", 0)), raw=r)
 
 
 def fit(targets, start, free=("E_yy", "G_xy"), max_eval=300, xtol_rel=1e-6, **options):

@@ -261,6 +261,27 @@ class TestSeparationLaw(unittest.TestCase):
         layout.pop("hook_strength")
         self.assertIsNone(plume.homogenize(layout, strain_max=0.0).separation)
 
+    def test_split_line_from_the_cell(self):
+        """The law of a homogenize result splits a macro line at its strength (docs/unzipping.md)."""
+        with open(os.path.join(ROOT, "data", "layout_kovalev.json")) as f:
+            layout = json.load(f)
+        layout.pop("note")
+        layout["e_rel"] = 0.3
+        h = plume.homogenize(layout, strain_max=0.0)
+        r = plume.traction(moduli=h, angle=90.0, lx=1e-3, ly=1e-3, thickness=1e-4, strain_max=0.006, steps=12,
+                           split_lines=1, separation=h.separation)
+        self.assertTrue(r.converged)
+        self.assertGreater(r.split_pairs, 10)
+        self.assertEqual(r.hooks_released, r.split_pairs)
+        peak = r.peak_stress * 1e-4  # N/m
+        self.assertGreaterEqual(peak, h.separation["strength"] * (1 - 1e-3))
+        self.assertLessEqual(peak, h.separation["strength"] * 1.02)
+        self.assertLess(abs(r.energy_balance_error), 1e-2)
+        with self.assertRaisesRegex(plume.PlumeError, "needs \"separation\""):
+            plume.traction(moduli=h, angle=90.0, split_lines=1)
+        with self.assertRaisesRegex(plume.PlumeError, "macro model"):
+            plume.traction(model="micro", layout=layout, angle=90.0, split_lines=1, separation=h.separation)
+
 
 class TestHomogenizeOutput(unittest.TestCase):
     """homogenize(output=...): the moduli file a scene's "from_moduli" reads (flat.h "output")."""
