@@ -488,10 +488,10 @@ static void print_summary(const model_run *r, const options *o, double angle)
     if (r->split_pairs > 0)
         printf("%s split lines: %ld vertex pairs hold them\n", r->scale, r->split_pairs);
     if (r->res.released > 0 || r->res.reengaged > 0)
-        printf("%s %s: %ld let go (at most %d at one equilibrium), %ld caught again; %.4g J dissipated of %.4g J "
-               "work, %.4g J stored (energy balance error %.2g)\n",
+        printf("%s %s: %ld let go (at most %d at one equilibrium), %ld caught again, peak stress %.6g Pa; %.4g J "
+               "dissipated of %.4g J work, %.4g J stored (energy balance error %.2g)\n",
                r->scale, r->split_pairs > 0 ? "split pairs" : "hooks", r->res.released, r->res.largest_cascade,
-               r->res.reengaged, r->res.dissipated_energy,
+               r->res.reengaged, r->res.peak_stress, r->res.dissipated_energy,
                r->res.work, r->res.stored_energy, r->res.energy_balance_error);
     if (r->has_conv && r->conv.converged)
         printf("%s curve converged to %.2g %% (its largest stress change from a mesh of %.3g m elements, %ld of them; "
