@@ -335,12 +335,13 @@ plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law
         else
             out->stiffness = T / gap;
     }
-    /* 2. let go, and keep opening until the hook has cleared the capture distance. A slide is
-     * crossed in 40 steps: each loads the hook beyond its strength, the commit slides it back and
+    /* 2. let go, and keep opening until the hook has cleared the capture distance (a hook held at
+     * exactly its strength, which no commit lets go, is pulled on by 1/1000 of its opening). A slide
+     * is crossed in 40 steps: each loads the hook beyond its strength, the commit slides it back and
      * the cell is solved again. The work is summed between admissible states (every hook within its
      * strength), the states a slide passes through; the strength is the largest of their
      * tractions. */
-    const double slide_step = l->hooks.slide / 40.0 / b;
+    const double slide_step = (l->hooks.slide > 0.0 ? l->hooks.slide / 40.0 : 1e-3 * l->hooks.opening) / b;
     const double free_step = (2.0 * l->hooks.capture + l->hooks.opening + l->hooks.slide) / 10.0 / b;
     const double e_clear = (2.0 * l->hooks.capture + l->hooks.opening + l->hooks.slide) / b + e;
     double T_adm = T, e_adm = e;
