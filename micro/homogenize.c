@@ -74,20 +74,7 @@ static plume_status cell_solver_init(cell_solver *c, const plume_cell *cell, con
     }
     if ((st = plume_problem_add_term(c->p, &wrapped, err)) != PLUME_OK)
         return st;
-    /* the anchor: the master at the origin if there is one (so that Fbar X = 0 there) */
-    plume_index anchor = cell->master[0];
-    for (plume_index v = 0; v < m->nv; v++)
-        if (cell->master[v] == v && m->X[2 * v] == 0.0 && m->X[2 * v + 1] == 0.0)
-            anchor = v;
-    double *x = plume_problem_x(c->p);
-    for (plume_index v = 0; v < m->nv; v++) {
-        x[2 * v] = m->X[2 * v];
-        x[2 * v + 1] = m->X[2 * v + 1];
-        if (cell->master[v] != v || v == anchor) {
-            plume_problem_fix_dof(c->p, 2 * v, err);
-            plume_problem_fix_dof(c->p, 2 * v + 1, err);
-        }
-    }
+    plume_periodic_hold(cell, c->p, err);
     if ((st = plume_problem_finalize(c->p, err)) != PLUME_OK)
         return st;
     plume_err why;

@@ -136,3 +136,19 @@ void plume_periodic_average_stress(const plume_periodic *h, double P[4])
     for (int k = 0; k < 4; k++)
         P[k] /= h->area;
 }
+
+void plume_periodic_hold(const plume_cell *cell, plume_problem *p, plume_err *err)
+{
+    const plume_mesh *m = cell->mesh;
+    plume_index anchor = cell->master[0];
+    for (plume_index v = 0; v < m->nv; v++)
+        if (cell->master[v] == v && m->X[2 * v] == 0.0 && m->X[2 * v + 1] == 0.0)
+            anchor = v;
+    double *x = plume_problem_x(p);
+    memcpy(x, m->X, (size_t)(2 * m->nv) * sizeof *x);
+    for (plume_index v = 0; v < m->nv; v++)
+        if (cell->master[v] != v || v == anchor) {
+            plume_problem_fix_dof(p, 2 * v, err);
+            plume_problem_fix_dof(p, 2 * v + 1, err);
+        }
+}

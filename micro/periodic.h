@@ -6,6 +6,7 @@
 #define PLUME_PERIODIC_H
 
 #include "../lib/core/export.h"
+#include "../lib/core/problem.h"
 #include "../lib/core/term.h"
 #include "cell_mesh.h"
 
@@ -23,6 +24,12 @@ typedef struct plume_periodic plume_periodic;
  * valid while the term lives (the problem owns it) and sets Fbar / reads the average stress. */
 plume_status plume_periodic_term_create(const plume_cell *cell, const plume_term *inner, plume_periodic **handle,
                                                   plume_term *out, plume_err *err);
+
+/** Puts a cell problem (created over the cell mesh's nv vertices, not finalised) at rest and holds
+ * it: every vertex at its reference position, the non-master vertices fixed (the wrapper never
+ * reads them) and one anchor fixed against rigid translation, the master at the origin if there
+ * is one (so that Fbar X = 0 there), else the master of vertex 0. */
+void plume_periodic_hold(const plume_cell *cell, plume_problem *p, plume_err *err);
 
 /** Sets the macroscopic deformation gradient (2x2 row-major); identity at creation. */
 void plume_periodic_set_macro(plume_periodic *h, const double Fbar[4]);

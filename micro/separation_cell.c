@@ -203,17 +203,7 @@ static plume_status sep_cell_init(sep_cell *c, const plume_layout *l, const plum
     plume_status st1 = plume_problem_add_term(c->p, &wrapped[1], err);
     if (st != PLUME_OK || st1 != PLUME_OK)
         return st != PLUME_OK ? st : st1;
-    plume_index anchor = oc->master[0];
-    for (plume_index v = 0; v < nv; v++)
-        if (oc->master[v] == v && oc->mesh->X[2 * v] == 0.0 && oc->mesh->X[2 * v + 1] == 0.0)
-            anchor = v;
-    double *x = plume_problem_x(c->p);
-    memcpy(x, oc->mesh->X, (size_t)(2 * nv) * sizeof *x);
-    for (plume_index v = 0; v < nv; v++)
-        if (oc->master[v] != v || v == anchor) {
-            plume_problem_fix_dof(c->p, 2 * v, err);
-            plume_problem_fix_dof(c->p, 2 * v + 1, err);
-        }
+    plume_periodic_hold(oc, c->p, err);
     if ((st = plume_problem_finalize(c->p, err)) != PLUME_OK)
         return st;
     plume_solver_opts so;
