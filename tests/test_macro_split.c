@@ -10,6 +10,7 @@
 
 #include "harness.h"
 #include "../include/plume/traction.h"
+#include "../lib/core/mesh.h"
 #include "../macro/shell/split_lines.h"
 
 /* A vane of the order of data/layout_hooks.json's cell (barbs along x, pulled along y across them):
@@ -159,5 +160,30 @@ void test_macro_split_bad_input(void)
     CHECK(strstr(err.msg, "stiffness") != NULL);
     plume_problem_destroy(&p);
     plume_split_lines_free(&sl);
+    plume_mesh_destroy(&m);
+}
+
+/* plume_mesh_edge, the lookup the lines use: every edge found at its index, either order; a pair
+ * of vertices that is no edge gives -1. */
+void test_macro_split_edge_lookup(void)
+{
+    plume_err err = {{0}};
+    plume_mesh *m = NULL;
+    CHECK(plume_patch_mesh(LX, LY, 30.0, 5e-4, PLUME_PATCH_ALIGNED, 2, &m, &err) == PLUME_OK);
+    int bad = 0;
+    for (plume_index e = 0; m && e < m->ne; e++)
+        bad += plume_mesh_edge(m, m->edges[2 * e], m->edges[2 * e + 1]) != e ||
+               plume_mesh_edge(m, m->edges[2 * e + 1], m->edges[2 * e]) != e;
+    CHECK(bad == 0);
+    /* vertex 0 and a vertex not joined to it */
+    plume_index far = -1;
+    for (plume_index v = 1; m && v < m->nv && far < 0; v++) {
+        int joined = 0;
+        for (plume_index e = 0; e < m->ne; e++)
+            joined |= (m->edges[2 * e] == 0 && m->edges[2 * e + 1] == v);
+        if (!joined)
+            far = v;
+    }
+    CHECK(far > 0 && plume_mesh_edge(m, 0, far) == -1 && plume_mesh_edge(m, far, 0) == -1);
     plume_mesh_destroy(&m);
 }

@@ -25,7 +25,7 @@ typedef struct {
     int *material;         /**< [nt] material id per triangle */
 
     plume_index ne;        /**< edges (topology output) */
-    plume_index *edges;    /**< [2*ne] vertex ids, i < j */
+    plume_index *edges;    /**< [2*ne] vertex ids, i < j, sorted by (i, j) */
     plume_index *edge_tri; /**< [2*ne] adjacent triangles; second is -1 on the boundary */
     plume_index nh;        /**< interior hinges = interior edges */
     plume_index *hinges;   /**< [4*nh] (edge v0, edge v1, opposite in tri 0, opposite in tri 1) */

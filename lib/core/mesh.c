@@ -184,3 +184,19 @@ cleanup:
     free(he);
     return st;
 }
+
+plume_index plume_mesh_edge(const plume_mesh *m, plume_index u, plume_index v)
+{
+    const plume_index i = u < v ? u : v, j = u < v ? v : u;
+    plume_index lo = 0, hi = m->ne - 1;
+    while (lo <= hi) {
+        const plume_index mid = lo + (hi - lo) / 2, a = m->edges[2 * mid], b = m->edges[2 * mid + 1];
+        if (a == i && b == j)
+            return mid;
+        if (a < i || (a == i && b < j))
+            lo = mid + 1;
+        else
+            hi = mid - 1;
+    }
+    return -1;
+}

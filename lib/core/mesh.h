@@ -17,6 +17,10 @@ extern "C" {
  * no elastic energy; only their indices and manifoldness are). */
 plume_status plume_mesh_build_topology_rigid(plume_mesh *m, plume_index first_rigid, plume_err *err);
 
+/** The edge joining vertices u and v (either order), or -1: a binary search of m->edges, which
+ * plume_mesh_build_topology leaves sorted by (i, j). */
+plume_index plume_mesh_edge(const plume_mesh *m, plume_index u, plume_index v);
+
 #ifdef __cplusplus
 }
 #endif

@@ -32,16 +32,6 @@ static int cmp_along(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* 1 when u and v are the ends of a mesh edge (edges hold i < j) */
-static int is_edge(const plume_mesh *m, plume_index u, plume_index v)
-{
-    const plume_index i = u < v ? u : v, j = u < v ? v : u;
-    for (plume_index e = 0; e < m->ne; e++)
-        if (m->edges[2 * e] == i && m->edges[2 * e + 1] == j)
-            return 1;
-    return 0;
-}
-
 plume_status plume_split_lines_open(const plume_mesh *m, const double d[2], const double *c, int nc,
                                     plume_split_lines *out, plume_err *err)
 {
@@ -105,7 +95,7 @@ plume_status plume_split_lines_open(const plume_mesh *m, const double d[2], cons
         }
         qsort(row, (size_t)k, sizeof *row, cmp_along);
         for (plume_index i = 0; i + 1 < k; i++)
-            if (!is_edge(m, row[i].v, row[i + 1].v)) {
+            if (plume_mesh_edge(m, row[i].v, row[i + 1].v) < 0) {
                 st = plume_err_set(err, PLUME_EINVAL, "split lines: the line at offset %g m is not a chain of mesh "
                                    "edges (vertices %ld and %ld): split lines need a mesh aligned with the barbs",
                                    at, (long)row[i].v, (long)row[i + 1].v);
