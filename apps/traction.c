@@ -298,7 +298,8 @@ static int run_macro(const options *o, const plume_vane *vane, const plume_separ
                      double angle, double edge, const plume_traction_opts *to, model_run *run)
 {
     plume_err err = {{0}};
-    plume_mesh *mesh = NULL, *patch = NULL;
+    plume_mesh *patch = NULL;
+    const plume_mesh *mesh = NULL;
     plume_splits *splits = NULL;
     plume_problem *p = NULL;
     plume_index *barbs = NULL, nbarbs = 0;
@@ -314,7 +315,7 @@ static int run_macro(const options *o, const plume_vane *vane, const plume_separ
         goto done;
     }
     /* with split lines the problem lives on the opened mesh (the patch's vertices, then the copies) */
-    mesh = splits ? (plume_mesh *)plume_splits_mesh(splits) : patch;
+    mesh = splits ? plume_splits_mesh(splits) : patch;
     if ((st = plume_problem_create(mesh->nv, 2, fmax(o->lx, o->ly), &p, &err)) != PLUME_OK ||
         (st = plume_vane_add(p, mesh, vane, &barbs, &nbarbs, &err)) != PLUME_OK ||
         (splits && (st = plume_splits_add(p, splits, law, &err)) != PLUME_OK)) {

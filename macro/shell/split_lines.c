@@ -32,6 +32,16 @@ static int cmp_along(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* the smallest and largest offset n . X of the mesh's vertices */
+static void offset_range(const plume_mesh *m, const double n[2], double *lo, double *hi)
+{
+    *lo = INFINITY, *hi = -INFINITY;
+    for (plume_index v = 0; v < m->nv; v++) {
+        const double o = n[0] * m->X[2 * v] + n[1] * m->X[2 * v + 1];
+        *lo = fmin(*lo, o), *hi = fmax(*hi, o);
+    }
+}
+
 plume_status plume_split_lines_open(const plume_mesh *m, const double d[2], const double *c, int nc,
                                     plume_split_lines *out, plume_err *err)
 {
@@ -42,11 +52,8 @@ plume_status plume_split_lines_open(const plume_mesh *m, const double d[2], cons
         return plume_err_set(err, PLUME_EINVAL, "split lines: a planar mesh with its topology, a barb direction and "
                              "at least one offset are required");
     const double n[2] = {d[1], -d[0]};
-    double lo = INFINITY, hi = -INFINITY;
-    for (plume_index v = 0; v < m->nv; v++) {
-        const double o = n[0] * m->X[2 * v] + n[1] * m->X[2 * v + 1];
-        lo = fmin(lo, o), hi = fmax(hi, o);
-    }
+    double lo, hi;
+    offset_range(m, n, &lo, &hi);
     const double tol = 1e-9 * fmax(hi - lo, 1e-300);
     /* each requested offset snaps to the line of the nearest vertex offset */
     plume_status st = PLUME_OK;
@@ -203,11 +210,8 @@ plume_status plume_splits_open(const plume_mesh *m, double angle_deg, int nlines
     double d[2];
     plume_patch_barb_direction(angle_deg, d);
     const double n[2] = {d[1], -d[0]};
-    double lo = INFINITY, hi = -INFINITY;
-    for (plume_index v = 0; v < m->nv; v++) {
-        const double o = n[0] * m->X[2 * v] + n[1] * m->X[2 * v + 1];
-        lo = fmin(lo, o), hi = fmax(hi, o);
-    }
+    double lo, hi;
+    offset_range(m, n, &lo, &hi);
     double *c = malloc((size_t)nlines * sizeof *c);
     plume_splits *s = calloc(1, sizeof *s);
     if (!c || !s) {
