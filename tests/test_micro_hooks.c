@@ -33,6 +33,12 @@ void test_micro_hooks_fd(void)
     for (int i = 0; i < 18; i++) /* micrometre gaps, as in a barbule specimen */
         x[i] = 1e-6 * sin(1.7 * i + 0.3);
     term_fd_check(&t, 6, x, 1e-9, 1e-6, "hooks, both engaged");
+    /* a hook scaled as a split line's pair (plume_hooks_set_scale) */
+    CHECK(plume_hooks_set_scale(h, 0, 2.5) == PLUME_OK);
+    term_fd_check(&t, 6, x, 1e-9, 1e-6, "hooks, hook 0 scaled 2.5");
+    CHECK(plume_hooks_set_scale(h, 0, 1.0) == PLUME_OK);
+    CHECK(plume_hooks_set_scale(h, 0, 0.0) == PLUME_EINVAL && plume_hooks_set_scale(h, 2, 1.0) == PLUME_EINVAL);
+    CHECK(plume_hooks_set_overshoot(h, 1.0) == PLUME_EINVAL);
     /* release hook 1 by pulling it far: its pair adds nothing, hook 0 is unchanged */
     double y[18];
     memcpy(y, x, sizeof x);

@@ -281,6 +281,12 @@ class TestSeparationLaw(unittest.TestCase):
             plume.traction(moduli=h, angle=90.0, split_lines=1)
         with self.assertRaisesRegex(plume.PlumeError, "macro model"):
             plume.traction(model="micro", layout=layout, angle=90.0, split_lines=1, separation=h.separation)
+        with self.assertRaisesRegex(plume.PlumeError, "must be >= 1"):
+            plume.traction(moduli=h, angle=90.0, split_lines=0, separation=h.separation)
+        with self.assertRaisesRegex(plume.PlumeError, "aligned"):
+            plume.traction(moduli=h, angle=90.0, mesh="unaligned", split_lines=1, separation=h.separation)
+        with self.assertRaisesRegex(plume.PlumeError, "stiffness"):
+            plume.traction(moduli=h, angle=90.0, split_lines=1, separation={"strength": 1.0, "capture": 0.0})
 
 
 class TestHomogenizeOutput(unittest.TestCase):
