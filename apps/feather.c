@@ -208,6 +208,16 @@ static json_t *summary_json(const options *o, const plume_run *run, json_t *desc
         json_object_set_new(jc, "measure_seconds", json_real(r->audit_seconds));
         json_object_set_new(j, "contact", jc);
     }
+    if (r->split_pairs > 0) {
+        json_t *js = json_object();
+        json_object_set_new(js, "links", json_integer(r->split_pairs));
+        json_object_set_new(js, "splits_opened", json_integer(r->splits_opened));
+        json_object_set_new(js, "splits_closed", json_integer(r->splits_closed));
+        json_object_set_new(js, "open_length", json_real(r->split_open_now));
+        json_object_set_new(js, "longest_open_length", json_real(r->split_longest));
+        json_object_set_new(js, "dissipated_energy", json_real(r->split_dissipated));
+        json_object_set_new(j, "splits", js);
+    }
     return j;
 }
 
@@ -239,6 +249,11 @@ static void report(const options *o, const plume_run *run, json_t *desc, const c
                json_number_value(json_object_get(contact, "dhat")),
                r.steps_intersecting, r.steps, r.max_intersecting, r.min_distance,
                r.min_distance >= r.distance_cap ? " (or more)" : "", r.step_limited);
+    if (r.split_pairs > 0)
+        printf("%s: splits: %ld of %ld links opened, %ld closed again; open now %.4g m of line, longest open stretch "
+               "%.4g m; dissipated %.4g J\n",
+               stem, r.splits_opened, r.split_pairs, r.splits_closed, r.split_open_now, r.split_longest,
+               r.split_dissipated);
 }
 
 /* A step that did not converge at the smallest step: what stopped the run, on stderr. */

@@ -293,6 +293,13 @@ typedef struct {
     double distance_cap;     /**< 10 dhat: a larger distance is not measured */
     double audit_seconds;    /**< wall time of the audit */
     double restart_dt;       /**< the dt the restart file was written with (s); 0 without restart */
+    /* a scene with split lines ("splits"; docs/unzipping.md); since libplume 3.2 */
+    long split_pairs;        /**< the lines' links (vertex pairs); 0 without splits */
+    long splits_opened;      /**< links that let go, since t = 0 (a restart carries the count on) */
+    long splits_closed;      /**< links that caught again */
+    double split_open_now;   /**< the length of line open after the last step, all lines (m) */
+    double split_longest;    /**< the longest stretch of one line open at once over the run's steps (m) */
+    double split_dissipated; /**< the energy the links gave up as they let go, since t = 0 (J) */
 } plume_run_report;
 
 /** Fills *out (size bytes) with what the run did so far; call it through the macro

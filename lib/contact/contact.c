@@ -437,11 +437,13 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
     if (!c)
         return PLUME_ENOMEM;
     c->o = *o;
+    c->o.weld = NULL; /* the broad phase keeps its copy */
     c->nv = nv;
     c->limit_toi = 1.0; /* no step limited yet */
     plume_contact_broad_opts bo;
     plume_contact_broad_opts_default(&bo);
     bo.self_contact = o->self_contact;
+    bo.weld = o->weld;
     bo.reuse = 1; /* the stencil updates and every Newton step's CCD ask again as the bodies move a little */
     plume_status st = plume_contact_broad_create(nv, ntri, tri, body, &bo, &c->broad, err);
     if (st != PLUME_OK)

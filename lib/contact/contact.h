@@ -35,6 +35,8 @@ typedef struct {
                                 not where many lie just beyond dhat (the wing: 65x the pairs,
                                 1.5x the time). docs/solver-nonconvexity.md */
     plume_ccd_opts ccd;      /**< the barrier's step limit; defaults of ccd.h */
+    const plume_index *weld; /**< NULL (default), or [nv]: adjacency by welded vertices
+                                (plume_contact_broad_opts.weld; copied): a split line's lips */
 } plume_contact_term_opts;
 
 /** Fills o with the defaults: plume_contact_opts_default for the pair, no self contact, no margin,

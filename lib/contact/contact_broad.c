@@ -49,6 +49,7 @@ struct plume_contact_broad {
     plume_index *edges;  /* [2*ne] unique undirected edges, i < j, sorted */
     int *body;           /* [nv] copy, or NULL (one body) */
     int self_contact;
+    plume_index *weld;   /* [nv] or NULL (opts.weld) */
     plume_box *vbox;     /* [nv] vertex boxes (inflated), filled in vertex order each update */
     plume_box *tbox;     /* [ntri] */
     plume_box *ebox;     /* [ne] */
@@ -165,6 +166,7 @@ void plume_contact_broad_opts_default(plume_contact_broad_opts *o)
 {
     o->self_contact = 1;
     o->reuse = 0;
+    o->weld = NULL;
 }
 
 static int edge_cmp(const void *x, const void *y)
@@ -254,13 +256,14 @@ plume_status plume_contact_broad_create(plume_index nv, plume_index ntri, const 
         goto fail;
     b->tri = malloc(3 * (size_t)ntri * sizeof *b->tri + 1);
     b->body = body ? malloc((size_t)nv * sizeof *b->body + 1) : NULL;
+    b->weld = o.weld ? malloc((size_t)nv * sizeof *b->weld + 1) : NULL;
     b->vbox = malloc((size_t)nv * sizeof *b->vbox + 1);
     b->tbox = malloc((size_t)ntri * sizeof *b->tbox + 1);
     b->ebox = malloc((size_t)b->ne * sizeof *b->ebox + 1);
     b->scratch = malloc((size_t)b->ne * sizeof *b->scratch + 1);
     b->xref = b->reuse ? malloc(3 * (size_t)nv * sizeof *b->xref + 1) : NULL;
     b->vreach = b->reuse ? malloc((size_t)nv * sizeof *b->vreach + 1) : NULL;
-    if (!b->tri || (body && !b->body) || !b->vbox || !b->tbox || !b->ebox || !b->scratch ||
+    if (!b->tri || (body && !b->body) || (o.weld && !b->weld) || !b->vbox || !b->tbox || !b->ebox || !b->scratch ||
         (b->reuse && (!b->xref || !b->vreach))) {
         st = plume_err_set(err, PLUME_ENOMEM, "contact: broad: no memory for %ld vertices, %ld triangles", nv,
                            ntri);
@@ -270,6 +273,15 @@ plume_status plume_contact_broad_create(plume_index nv, plume_index ntri, const 
         memcpy(b->tri, tri, 3 * (size_t)ntri * sizeof *tri);
     if (body && nv > 0)
         memcpy(b->body, body, (size_t)nv * sizeof *body);
+    if (b->weld)
+        for (plume_index v = 0; v < nv; v++) {
+            if (o.weld[v] < 0 || o.weld[v] >= nv) {
+                st = plume_err_set(err, PLUME_EINVAL, "contact: broad: weld[%ld] = %ld is not a vertex", (long)v,
+                                   (long)o.weld[v]);
+                goto fail;
+            }
+            b->weld[v] = o.weld[v];
+        }
     *out = b;
     return PLUME_OK;
 fail:
@@ -285,6 +297,7 @@ void plume_contact_broad_destroy(plume_contact_broad **pb)
     free(b->tri);
     free(b->edges);
     free(b->body);
+    free(b->weld);
     free(b->vbox);
     free(b->tbox);
     free(b->ebox);
@@ -329,12 +342,20 @@ long plume_contact_broad_searches(const plume_contact_broad *b)
     return b ? b->searches : 0;
 }
 
-/* v is not a corner of t; and, for contact between bodies only, they lie in different bodies. */
+/* The vertex v stands for in adjacency tests (opts.weld) */
+static plume_index welded(const plume_contact_broad *b, plume_index v)
+{
+    return b->weld ? b->weld[v] : v;
+}
+
+/* v is not a corner of t (welded); and, for contact between bodies only, they lie in different
+ * bodies. */
 static int keep_vt(void *ctx, plume_index v, plume_index t)
 {
     const plume_contact_broad *b = ctx;
     const plume_index *c = b->tri + 3 * t;
-    if (v == c[0] || v == c[1] || v == c[2])
+    const plume_index w = welded(b, v);
+    if (w == welded(b, c[0]) || w == welded(b, c[1]) || w == welded(b, c[2]))
         return 0;
     return b->self_contact || b->body[v] != b->body[c[0]];
 }
@@ -343,7 +364,8 @@ static int keep_ee(void *ctx, plume_index e, plume_index f)
 {
     const plume_contact_broad *b = ctx;
     const plume_index *p = b->edges + 2 * e, *q = b->edges + 2 * f;
-    if (p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1])
+    const plume_index p0 = welded(b, p[0]), p1 = welded(b, p[1]), q0 = welded(b, q[0]), q1 = welded(b, q[1]);
+    if (p0 == q0 || p0 == q1 || p1 == q0 || p1 == q1)
         return 0;
     return b->self_contact || b->body[p[0]] != b->body[q[0]];
 }

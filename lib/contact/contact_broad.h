@@ -63,6 +63,10 @@ typedef struct {
                          same candidates, in the same order, without a new search. For a handle
                          queried again and again as a body moves a little (a contact term: the
                          stencil updates and every Newton step's CCD). Default 0. */
+    const plume_index *weld; /**< NULL (default), or [nv] (copied): the vertex each one stands for when
+                         adjacency is decided, so that primitives sharing a welded vertex are never
+                         a pair: the two lips of a split line (a copy welded to its original,
+                         macro/shell/split_lines.h) touch where they coincide as neighbours do */
 } plume_contact_broad_opts;
 
 /** Fills o with the defaults (self_contact 1, reuse 0). */

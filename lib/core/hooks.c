@@ -49,6 +49,7 @@ struct plume_hooks {
     double *slid;         /* [nhooks] slide so far (m) */
     double *scale;        /* [nhooks] hook k's strength and stiffness are the law's times scale[k] */
     double overshoot;     /* a commit allowed to cut refuses loads beyond this many strengths */
+    double seat;          /* >= 0: a caught hook pressed closer than its catch by more than this (m) seats; < 0: off */
     long released, reengaged;
     double dropped;
     struct {              /* the state kept by keep(save) */
@@ -107,6 +108,7 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
         return plume_err_set(err, PLUME_ENOMEM, "hooks: out of memory");
     h->law = *law, h->nv = nv, h->nhooks = nhooks, h->npairs = np;
     h->overshoot = PLUME_HOOKS_OVERSHOOT;
+    h->seat = -1.0;
     h->first = malloc((size_t)(nhooks + 1) * sizeof *h->first);
     h->pairs = malloc(2 * (size_t)np * sizeof *h->pairs);
     h->hook_of = malloc((size_t)np * sizeof *h->hook_of);
@@ -217,7 +219,7 @@ static plume_status hooks_term_commit(void *ctx, int dim, const double *x, int m
     }
     plume_hooks_events ev;
     plume_status st = plume_hooks_commit(h, dim, x, PLUME_HOOKS_ALL, &ev, NULL);
-    r->changed = ev.released + ev.slid + ev.reengaged > 0;
+    r->changed = ev.released + ev.slid + ev.reengaged + ev.seated > 0;
     r->released = ev.released, r->reengaged = ev.reengaged, r->energy_drop = ev.energy_drop;
     return st;
 }
@@ -279,6 +281,14 @@ plume_status plume_hooks_set_scale(plume_hooks *h, int k, double scale)
     if (!h || k < 0 || k >= h->nhooks || !(scale > 0.0) || !isfinite(scale))
         return PLUME_EINVAL;
     h->scale[k] = scale;
+    return PLUME_OK;
+}
+
+plume_status plume_hooks_set_seating(plume_hooks *h, double distance)
+{
+    if (!h || !(distance >= 0.0) || !isfinite(distance))
+        return PLUME_EINVAL;
+    h->seat = distance;
     return PLUME_OK;
 }
 
@@ -371,6 +381,40 @@ static void overload(plume_hooks *h, int dim, const double *x, int k, const doub
     ev->energy_drop += before - hook_energy(h, dim, x, k);
 }
 
+/* The mean distance of hook k's pairs at x, and the mean length of their offsets */
+static void hook_gaps(const plume_hooks *h, int dim, const double *x, int k, double *gap, double *offset)
+{
+    double g = 0.0, o = 0.0;
+    for (plume_index p = h->first[k]; p < h->first[k + 1]; p++) {
+        const plume_index a = h->pairs[2 * p], b = h->pairs[2 * p + 1];
+        double d[3];
+        for (int c = 0; c < dim; c++)
+            d[c] = x[dim * a + c] - x[dim * b + c];
+        g += norm(d, dim);
+        o += norm(h->offset + 3 * p, dim);
+    }
+    const double n = (double)(h->first[k + 1] - h->first[k]);
+    *gap = g / n, *offset = o / n;
+}
+
+/* Seating (plume_hooks_set_seating): engaged hook k, caught at a gap and pressed closer than it by
+ * more than the seating distance, takes the current gaps as its offsets (its force, a push that
+ * would otherwise let it go, is gone; its energy is dissipated). 1 when it seated. */
+static int seat(plume_hooks *h, int dim, const double *x, int k, plume_hooks_events *ev)
+{
+    double gap, offset;
+    hook_gaps(h, dim, x, k, &gap, &offset);
+    if (!(gap < offset - h->seat))
+        return 0;
+    const double before = hook_energy(h, dim, x, k);
+    for (plume_index p = h->first[k]; p < h->first[k + 1]; p++)
+        for (int c = 0; c < dim; c++)
+            h->offset[3 * p + c] = x[dim * h->pairs[2 * p] + c] - x[dim * h->pairs[2 * p + 1] + c];
+    ev->seated++;
+    ev->energy_drop += before - hook_energy(h, dim, x, k);
+    return 1;
+}
+
 /* A released hook k catches again when the mean distance of its pairs is within the capture. */
 static void catch_again(plume_hooks *h, int dim, const double *x, int k, plume_hooks_events *ev)
 {
@@ -418,6 +462,8 @@ plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_
             catch_again(h, dim, x, k, &e);
             continue;
         }
+        if (h->seat >= 0.0 && seat(h, dim, x, k, &e))
+            continue;
         double f[3];
         plume_hooks_force(h, dim, x, k, f);
         if (norm(f, dim) > h->scale[k] * h->law.strength && (mode == PLUME_HOOKS_ALL || k == most))
@@ -437,4 +483,43 @@ void plume_hooks_totals(const plume_hooks *h, long *released, long *reengaged, d
         *reengaged = h ? h->reengaged : 0;
     if (dropped)
         *dropped = h ? h->dropped : 0.0;
+}
+
+plume_index plume_hooks_state_size(const plume_hooks *h)
+{
+    return h ? 3 * (plume_index)h->nhooks + 3 * h->npairs + 3 : 0;
+}
+
+void plume_hooks_state_get(const plume_hooks *h, double *s)
+{
+    const int n = h->nhooks;
+    for (int k = 0; k < n; k++)
+        s[k] = h->engaged[k], s[n + k] = h->armed[k], s[2 * n + k] = h->slid[k];
+    memcpy(s + 3 * n, h->offset, 3 * (size_t)h->npairs * sizeof *s);
+    double *t = s + 3 * n + 3 * h->npairs;
+    t[0] = (double)h->released, t[1] = (double)h->reengaged, t[2] = h->dropped;
+}
+
+plume_status plume_hooks_state_set(plume_hooks *h, const double *s, plume_err *err)
+{
+    if (!h || !s)
+        return plume_err_set(err, PLUME_EINVAL, "hooks state: hooks and a state are required");
+    const int n = h->nhooks;
+    const plume_index size = plume_hooks_state_size(h);
+    for (plume_index i = 0; i < size; i++)
+        if (!isfinite(s[i]))
+            return plume_err_set(err, PLUME_EINVAL, "hooks state: entry %ld is not finite", (long)i);
+    for (int k = 0; k < n; k++)
+        if ((s[k] != 0.0 && s[k] != 1.0) || (s[n + k] != 0.0 && s[n + k] != 1.0) || s[2 * n + k] < 0.0)
+            return plume_err_set(err, PLUME_EINVAL, "hooks state: hook %d has engaged %g, armed %g, slid %g (flags are 0 "
+                                 "or 1, the slide >= 0)", k, s[k], s[n + k], s[2 * n + k]);
+    const double *t = s + 3 * n + 3 * h->npairs;
+    if (t[0] < 0.0 || t[1] < 0.0 || t[2] < 0.0)
+        return plume_err_set(err, PLUME_EINVAL, "hooks state: negative totals (%g released, %g caught, %g J)", t[0], t[1],
+                             t[2]);
+    for (int k = 0; k < n; k++)
+        h->engaged[k] = (unsigned char)s[k], h->armed[k] = (unsigned char)s[n + k], h->slid[k] = s[2 * n + k];
+    memcpy(h->offset, s + 3 * n, 3 * (size_t)h->npairs * sizeof *s);
+    h->released = (long)t[0], h->reengaged = (long)t[1], h->dropped = t[2];
+    return hooks_term_keep(h, 1);
 }

@@ -70,6 +70,15 @@ plume_status plume_hooks_set_overshoot(plume_hooks *h, double factor);
  * PLUME_EINVAL for a bad hook or scale. */
 plume_status plume_hooks_set_scale(plume_hooks *h, int k, double scale);
 
+/** Seating, off at creation: a hook caught again at a gap (its offsets that gap) and then pressed
+ * closer than it by more than `distance` (m, >= 0) is not pushed loose: at a commit it takes the
+ * current gaps as its offsets, its push and energy gone (dissipated), and the stepper solves
+ * again. A hook whose lips close back after it caught then stays caught, within `distance` of where
+ * they meet, instead of letting go under the push (the macro lines: closing a line by pressing
+ * its lips together, docs/unzipping.md). The hooks at creation (offsets zero) never seat.
+ * PLUME_EINVAL for a negative or non-finite distance. */
+plume_status plume_hooks_set_seating(plume_hooks *h, double distance);
+
 /** Hooks, and pairs. */
 int plume_hooks_count(const plume_hooks *h);
 /** 1 engaged, 0 released. */
@@ -85,6 +94,7 @@ typedef struct {
     int released;        /**< hooks let go */
     int reengaged;       /**< hooks caught again */
     int slid;            /**< hooks that slid */
+    int seated;          /**< caught hooks pressed closer that seated (plume_hooks_set_seating) */
     double energy_drop;  /**< J: the hooks' energy at x before the commit minus after (>= 0) */
 } plume_hooks_events;
 
@@ -95,6 +105,16 @@ plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_
 
 /** Totals since creation: releases, re-engagements, and the energy dropped by commits (J). */
 void plume_hooks_totals(const plume_hooks *h, long *released, long *reengaged, double *dropped);
+
+/** The hooks' state as doubles, everything a commit changes (engaged, armed, slide, the pairs' offsets,
+ * the totals): plume_hooks_state_size values. A restart that sets it back repeats the run bit
+ * for bit. */
+plume_index plume_hooks_state_size(const plume_hooks *h);
+void plume_hooks_state_get(const plume_hooks *h, double *s);
+/** Sets the state from s (as plume_hooks_state_get wrote it) and keeps it (plume_term.keep).
+ * PLUME_EINVAL (named) for a non-finite value, a flag not 0 or 1, a negative slide or total;
+ * nothing changes then. */
+plume_status plume_hooks_state_set(plume_hooks *h, const double *s, plume_err *err);
 
 #ifdef __cplusplus
 }

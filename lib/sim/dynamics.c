@@ -446,8 +446,55 @@ static plume_status rebase_at_start(plume_dynamics *d, plume_err *err)
     return PLUME_OK;
 }
 
-/* One implicit Euler step of size dt from the current state; 1 when it converged. */
-static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *rep, int *ok, plume_err *err)
+/* The stateful terms (plume_term.commit: split lines' links) at a converged step's solution: they
+ * commit, and while they change their state the step is solved again at the same time, from where
+ * it stands. Only the first commit may refuse a link loaded too far past its threshold (may_cut:
+ * the step can still be halved); then *ok = 0 and the step is halved. A solve that fails, or a
+ * state still changing after PLUME_DYNAMICS_MAX_SETTLES solves, fails the step the same way. */
+#define PLUME_DYNAMICS_MAX_SETTLES 100
+static plume_status settle_terms(plume_dynamics *d, int may_cut, plume_step_report *rep, int *ok, plume_err *err)
+{
+    *ok = 1;
+    for (int n = 0;; n++) {
+        plume_commit_report c;
+        plume_err why = {{0}};
+        plume_status st = plume_problem_commit_terms(d->p, may_cut && n == 0, &c, &why);
+        if (st != PLUME_OK)
+            return plume_err_set(err, st, "dynamics: at t = %g: %s", d->t, why.msg);
+        if (c.overshoot || (c.changed && n == PLUME_DYNAMICS_MAX_SETTLES)) {
+            *ok = 0;
+            if (rep->converged && !c.overshoot)
+                rep->reason = PLUME_REASON_ITERATION_CAP;
+            return PLUME_OK;
+        }
+        if (!c.changed)
+            return PLUME_OK;
+        int changed = 0;
+        if ((st = refresh_stencils(d, &changed, err)) != PLUME_OK)
+            return st;
+        plume_solve_report sr;
+        plume_problem_gather(d->p, d->u);
+        if ((st = plume_solver_solve(d->s, d->u, d->lambda, &sr)) != PLUME_OK)
+            return plume_err_set(err, st, "dynamics: the %s solver failed at t = %g (%s)",
+                                 plume_solver_kind_name(d->o.solver), d->t, plume_strerror(st));
+        rep->iterations += sr.iterations;
+        rep->backtracks += sr.backtracks;
+        rep->shifts += sr.shifts;
+        rep->step_limited += sr.step_limited;
+        if (!sr.converged) {
+            *ok = 0;
+            if (rep->converged)
+                rep->reason = sr.reason;
+            return PLUME_OK;
+        }
+        rep->max_violation = fmax(rep->max_violation, sr.max_violation);
+    }
+}
+
+/* One implicit Euler step of size dt from the current state; 1 when it converged. may_cut: the
+ * step may still be halved (stateful terms may then refuse it, settle_terms). */
+static plume_status try_step(plume_dynamics *d, double dt, int may_cut, plume_step_report *rep, int *ok,
+                             plume_err *err)
 {
     plume_index nv = d->mesh->nv;
     inertia_ctx *in = d->inertia;
@@ -535,6 +582,10 @@ static plume_status try_step(plume_dynamics *d, double dt, plume_step_report *re
     if (!sr.converged)
         rep->converged = 0, rep->reason = sr.reason;
     rep->max_violation = fmax(rep->max_violation, sr.max_violation);
+    if (plume_problem_commits(d->p)) {
+        if ((st = settle_terms(d, may_cut, rep, ok, err)) != PLUME_OK || !*ok)
+            return st;
+    }
     for (plume_index i = 0; i < 3 * nv; i++) {
         d->v[i] = (x[i] - d->x[i]) / dt;
         d->x[i] = x[i];
@@ -559,10 +610,14 @@ static plume_status advance_rec(plume_dynamics *d, double dt, int depth, plume_s
     memcpy(d->esave, d->e, (size_t)d->ne * sizeof *d->e);
     memcpy(d->lsave, d->lambda, (size_t)d->m * sizeof *d->lambda);
     int ok = 0;
-    st = try_step(d, dt, rep, &ok, err);
+    if ((st = plume_problem_keep_terms(d->p, 1, err)) != PLUME_OK)
+        return st;
+    st = try_step(d, dt, depth < d->o.max_halvings, rep, &ok, err);
     if (st != PLUME_OK || ok)
         return st;
-    /* failed: restore and halve */
+    /* failed: restore (the stateful terms too) and halve */
+    if ((st = plume_problem_keep_terms(d->p, 0, err)) != PLUME_OK)
+        return st;
     memcpy(d->x, d->xsave, nd * sizeof *d->x);
     memcpy(d->v, d->vsave, nd * sizeof *d->v);
     memcpy(d->e, d->esave, (size_t)d->ne * sizeof *d->e);
@@ -598,7 +653,9 @@ static plume_status advance_adaptive(plume_dynamics *d, double span, plume_step_
         memcpy(d->esave, d->e, (size_t)d->ne * sizeof *d->e);
         memcpy(d->lsave, d->lambda, (size_t)d->m * sizeof *d->lambda);
         int ok = 0;
-        st = try_step(d, step, rep, &ok, err);
+        if ((st = plume_problem_keep_terms(d->p, 1, err)) != PLUME_OK)
+            return st;
+        st = try_step(d, step, 0.5 * step >= h_min * (1.0 - 1e-9), rep, &ok, err);
         if (st != PLUME_OK)
             return st;
         if (ok) {
@@ -612,6 +669,8 @@ static plume_status advance_adaptive(plume_dynamics *d, double span, plume_step_
         memcpy(d->v, d->vsave, nd * sizeof *d->v);
         memcpy(d->e, d->esave, (size_t)d->ne * sizeof *d->e);
         memcpy(d->lambda, d->lsave, (size_t)d->m * sizeof *d->lambda);
+        if ((st = plume_problem_keep_terms(d->p, 0, err)) != PLUME_OK)
+            return st;
         if (0.5 * step < h_min * (1.0 - 1e-9)) {
             rep->converged = 0;
             return PLUME_OK;

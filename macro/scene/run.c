@@ -174,6 +174,7 @@ void plume_run_destroy(plume_run **pr)
     free(r->restart);
     free(r->label);
     free(r->stem);
+    free(r->split_state);
     free(r);
     *pr = NULL;
 }
@@ -216,6 +217,7 @@ plume_status plume_run_start(plume_run *r, plume_err *err)
     plume_err why = {{0}};
     if (r->scene->has_contact && r->audit && (st = plume_scene_contact_broad(r->scene, &r->broad, &why)) != PLUME_OK)
         return plume_err_set(err, st, "contact measures: %s", why.msg);
+    plume_run_splits_tally(r);
     if (!r->st)
         plan_steps(r);
     long total = r->nsteps < 2000000000L ? r->nsteps : 2000000000L;
@@ -241,6 +243,8 @@ static plume_status audit_step(plume_run *r, plume_run_step_info *info, plume_er
     if ((st = plume_contact_count_intersections(m->nv, x, m->nt, m->tri, &r->pairs, &a, &why)) != PLUME_OK ||
         (st = plume_contact_min_distance(r->broad, x, rep->distance_cap, &dmin, &why)) != PLUME_OK)
         return plume_err_set(err, st, "contact measures: %s", why.msg);
+    if (r->scene->splits)
+        a.intersecting = plume_run_splits_unwelded(r, &r->pairs);
     rep->steps_intersecting += a.intersecting > 0;
     if (a.intersecting > rep->max_intersecting)
         rep->max_intersecting = a.intersecting;
@@ -355,6 +359,7 @@ static plume_status step_once(plume_run *r, plume_run_step_info *info, plume_err
     rep->steps += k;
     if (!r->open)
         r->done_plan += k;
+    plume_run_splits_tally(r);
     if (r->output_dir && (rep->step % scene->output_every == 0 || (!r->open && r->done_plan == r->nsteps))) {
         if ((st = plume_run_write_frame(r, rep->next_frame, rep->step, err)) != PLUME_OK)
             return st;

@@ -173,6 +173,15 @@ static int state_arrays(plume_run *r, plume_frame_array a[2])
     return 2;
 }
 
+/* Every array of a frame beyond x, v and lambda: state_arrays, then the split lines' links
+ * (run_splits.c); -1 when memory runs out. */
+static int frame_arrays(plume_run *r, plume_frame_array a[3])
+{
+    int n = state_arrays(r, a);
+    const int ns = plume_run_splits_array(r, a + n);
+    return ns < 0 ? -1 : n + ns;
+}
+
 /* A restart's state beyond the vertices (state_arrays) from frame `last` of the file: the frames
  * set back and the edge unknowns into the problem's x, where plume_dynamics_set_state takes them. */
 static plume_status restore_state_arrays(plume_run *r, const char *file, long last, plume_err *err)
@@ -193,6 +202,13 @@ static plume_status restore_state_arrays(plume_run *r, const char *file, long la
     return st;
 }
 
+/* Every state array of a restart: the midedge unknowns, the split lines' links */
+static plume_status restore_frame_arrays(plume_run *r, const char *file, long last, plume_err *err)
+{
+    plume_status st = restore_state_arrays(r, file, last, err);
+    return st == PLUME_OK ? plume_run_splits_restore(r, file, last, err) : st;
+}
+
 plume_status plume_run_write_frame(plume_run *r, long k, long step, plume_err *err)
 {
     const plume_mesh *m = r->scene->mesh;
@@ -202,8 +218,10 @@ plume_status plume_run_write_frame(plume_run *r, long k, long step, plume_err *e
     if ((st = plume_fields_series_frame(r->fields, k, t, x, err)) != PLUME_OK)
         return st;
     const double *lambda = plume_dynamics_multipliers(r->d, NULL);
-    plume_frame_array a[2];
-    const int na = state_arrays(r, a);
+    plume_frame_array a[3];
+    const int na = frame_arrays(r, a);
+    if (na < 0)
+        return plume_err_set(err, PLUME_ENOMEM, "frame %ld: out of memory", k);
     if ((st = plume_frames_append_arrays(r->frames_path, m->nv, r->ncons, t, step, x, plume_dynamics_velocities(r->d),
                                          lambda, &r->fm, a, na, err)) != PLUME_OK)
         return st;
@@ -234,7 +252,7 @@ static plume_status restart_run(plume_run *r, plume_err *err)
                            r->restart, (long)info.nv, (long)info.ncons, r->scene->path, (long)mesh->nv, (long)r->ncons);
         goto done;
     }
-    if ((st = restore_state_arrays(r, r->restart, last.index, &why)) != PLUME_OK ||
+    if ((st = restore_frame_arrays(r, r->restart, last.index, &why)) != PLUME_OK ||
         (st = plume_dynamics_set_state(r->d, last.t, last.x, last.v, last.lambda, &why)) != PLUME_OK) {
         plume_err_set(err, st, "restart: the last frame of '%s': %s", r->restart, why.msg);
         goto done;
@@ -318,8 +336,10 @@ plume_status plume_run_write_state(plume_run *r, const char *path, int create, p
             (st = plume_scene_materials_record(r->scene, path, err)) != PLUME_OK) /* as the runner records them */
             return st;
     }
-    plume_frame_array a[2];
-    const int na = state_arrays(r, a);
+    plume_frame_array a[3];
+    const int na = frame_arrays(r, a);
+    if (na < 0)
+        return plume_err_set(err, PLUME_ENOMEM, "frames file '%s': out of memory", path);
     return plume_frames_append_arrays(path, m->nv, r->ncons, plume_dynamics_time(r->d), r->rep.step,
                                       plume_dynamics_positions(r->d), plume_dynamics_velocities(r->d),
                                       plume_dynamics_multipliers(r->d, NULL), NULL, a, na, err);

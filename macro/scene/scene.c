@@ -19,6 +19,7 @@ void plume_scene_destroy(plume_scene **ps)
         return;
     plume_scene *s = *ps;
     free(s->path);
+    plume_scene_splits_free(s);
     plume_mesh_destroy(&s->mesh);
     plume_mesh_destroy(&s->elastic);
     for (int k = 0; k < s->nobjects; k++)
@@ -57,7 +58,7 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s, 
     static const char *const keys[] = {"mesh", "materials", "handles", "gravity", "dt", "duration", "solver",
                                        "max_halvings", "max_iter", "output_every", "render", "render_field", "camera", "gltf", "solve",
                                        "steps", "clamps", "supports", "loads", "probes", "bending_model", "contact",
-                                       "objects", "predictor", "globalization", "adaptive_dt", "dt_max", NULL};
+                                       "objects", "predictor", "globalization", "adaptive_dt", "dt_max", "splits", NULL};
     plume_status st;
     plume_index *map = NULL, nobj = 0;
     if (!json_is_object(doc))
@@ -82,6 +83,8 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s, 
                                                                "\"handles\" and \"attach\")");
         if (s->is_static)
             return plume_json_bad(c, PLUME_EINVAL, "objects", "are for dynamic scenes (\"solve\": \"static\" takes a \"mesh\")");
+        if (json_object_get(doc, "splits"))
+            return plume_json_bad(c, PLUME_EINVAL, "splits", "belong in the object that splits (objects[k].splits)");
         if ((st = plume_scene_parse_objects(c, objects, s, o)) != PLUME_OK)
             return st;
         return plume_scene_parse_static(c, doc, s, NULL, 0);
@@ -125,6 +128,10 @@ static plume_status parse_scene(plume_json_ctx *c, json_t *doc, plume_scene *s, 
             goto done;
         }
 
+    /* split lines before anything selects vertices: handles and clamps see the copies too (an OBJ's
+     * vertex map still holds: the input's vertices come first) */
+    if ((st = plume_scene_parse_splits(c, doc, s)) != PLUME_OK)
+        goto done;
     if ((st = plume_scene_parse_handles(c, doc, s, map, nobj)) != PLUME_OK)
         goto done;
     if ((st = plume_scene_parse_static(c, doc, s, map, nobj)) != PLUME_OK)

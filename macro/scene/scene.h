@@ -21,6 +21,7 @@
 #include "../../lib/sim/statics.h"
 #include "../shell/bending.h"
 #include "../shell/fields.h"
+#include "../shell/split_lines.h"
 
 /** plume_scene.clamped bits: a clamped vertex; the second row of a clamp that holds boundary
  * edges (rest height fixed only with the hinge bending); the second row of a clamp with no
@@ -166,6 +167,12 @@ struct plume_scene {
     plume_scene_moment *moments;  /**< [nmoments] */
     int nprobes;                  /**< number of probes */
     plume_scene_probe *probes;    /**< [nprobes] */
+    /* barb lines that split and zip again ("splits", dynamic "mesh" scenes) */
+    plume_split_lines *splits;    /**< NULL, or the opened lines: their mesh is `mesh` (the copies after
+                                     the input's vertices), their pairs the links of the law below */
+    plume_separation_law split_law; /**< the lines' law (per barb length) */
+    char split_law_from[PLUME_SCENE_PATH_MAX]; /**< the moduli file it was read from, "" when the scene
+                                                   sets it */
 };
 
 /** Builds the problem of a static scene (membrane, bending, constraints, the nominal loads and
@@ -206,8 +213,13 @@ plume_status plume_scene_materials_record(const plume_scene *s, const char *fram
 
 
 /** The body of each vertex (body [nv], caller-allocated): the connected components of the scene's
- * mesh, numbered from 0 in vertex order; returns their count. */
+ * mesh, a split line's copies joined to their originals (the lips are one body's), numbered from 0
+ * in vertex order; returns their count. */
 int plume_scene_bodies(const plume_scene *s, int *body);
+
+/** Adds the links of the scene's split lines to p (the term "splits"); nothing without splits.
+ * Errors of plume_split_lines_add. */
+plume_status plume_scene_add_splits(const plume_scene *s, plume_problem *p, plume_err *err);
 
 /** A broad phase over the scene's bodies (plume_scene_bodies) with the scene's self-contact
  * setting, for measuring distances and intersections after each step (apps/feather, sweeps);

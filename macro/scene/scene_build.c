@@ -200,6 +200,8 @@ static plume_status elastic_problem(const plume_scene *s, plume_problem **out, p
         goto done;
     if (bending && (st = add_bending(s, p, m, bm, err)) != PLUME_OK)
         goto done;
+    if ((st = plume_scene_add_splits(s, p, err)) != PLUME_OK)
+        goto done;
     if (s->nbarb > 0) {
         plume_constraint con;
         if ((st = plume_edge_length_create(s->barb_edges, s->nbarb, m->X, m->nv, &con, err)) != PLUME_OK ||
@@ -223,10 +225,18 @@ static plume_status add_contact(const plume_scene *s, plume_problem *p, plume_co
     int *body = plume_scene_body_labels(s, err);
     if (!body)
         return PLUME_ENOMEM;
+    plume_index *weld = s->splits ? plume_scene_weld(s, err) : NULL;
+    if (s->splits && !weld) {
+        free(body);
+        return PLUME_ENOMEM;
+    }
+    plume_contact_term_opts co = s->contact;
+    co.weld = weld; /* a split line's lips touch where they coincide, as neighbours do */
     plume_term t;
     plume_contact *c = NULL;
-    plume_status st = plume_contact_term_create(m->nv, m->nt, m->tri, body, m->x, &s->contact, &t, &c, err);
+    plume_status st = plume_contact_term_create(m->nv, m->nt, m->tri, body, m->x, &co, &t, &c, err);
     free(body);
+    free(weld);
     if (st == PLUME_OK)
         st = plume_problem_add_term(p, &t, err);
     if (handle)

@@ -60,6 +60,8 @@ int plume_scene_bodies(const plume_scene *s, int *body)
     for (plume_index t = 0; t < m->nt; t++)
         for (int k = 1; k < 3; k++)
             parent[find_root(parent, m->tri[3 * t + k])] = find_root(parent, m->tri[3 * t]);
+    for (plume_index k = 0; s->splits && k < s->splits->npairs; k++) /* a split line's lips: one body */
+        parent[find_root(parent, s->splits->pairs[2 * k])] = find_root(parent, s->splits->pairs[2 * k + 1]);
     int n = 0;
     for (plume_index v = 0; v < m->nv; v++)
         body[v] = -1;
@@ -90,10 +92,17 @@ plume_status plume_scene_contact_broad(const plume_scene *s, plume_contact_broad
     int *body = plume_scene_body_labels(s, err);
     if (!body)
         return PLUME_ENOMEM;
+    plume_index *weld = s->splits ? plume_scene_weld(s, err) : NULL;
+    if (s->splits && !weld) {
+        free(body);
+        return PLUME_ENOMEM;
+    }
     plume_contact_broad_opts bo;
     plume_contact_broad_opts_default(&bo);
     bo.self_contact = s->contact.self_contact;
+    bo.weld = weld;
     plume_status st = plume_contact_broad_create(m->nv, m->nt, m->tri, body, &bo, out, err);
     free(body);
+    free(weld);
     return st;
 }

@@ -273,7 +273,31 @@ static plume_status object_mesh(const plume_json_ctx *c, const plume_json_ctx *c
         for (int a = 0; a < 2; a++)
             lo[a] = fmin(lo[a], m->X[2 * i + a]), hi[a] = fmax(hi[a], m->X[2 * i + a]);
     sub->length = hypot(hi[0] - lo[0], hi[1] - lo[1]);
+    /* its split lines before its handles select (they see the copies) and before its barb edges */
+    if ((st = plume_scene_parse_splits(cc, jo, sub)) != PLUME_OK)
+        return st;
     return plume_scene_constrained_edges(sub, c->err);
+}
+
+/* The object's split lines (sub->splits, its vertices from v0 on in the scene) become the scene's:
+ * one object of a scene may split (one law). */
+static plume_status take_splits(const plume_json_ctx *cc, plume_scene *sub, plume_index v0, plume_scene *s)
+{
+    if (!sub->splits)
+        return PLUME_OK;
+    if (s->splits)
+        return plume_json_bad(cc, PLUME_EINVAL, "splits", "one object of a scene may have split lines, and an earlier "
+                              "one has");
+    plume_split_lines *sl = sub->splits;
+    for (plume_index k = 0; k < 2 * sl->npairs; k++)
+        sl->pairs[k] += v0;
+    if (sl->mesh == sub->mesh)
+        sl->mesh = NULL; /* the scene's merged mesh takes its place (merged_meshes) */
+    s->splits = sl;
+    sub->splits = NULL;
+    s->split_law = sub->split_law;
+    memcpy(s->split_law_from, sub->split_law_from, sizeof s->split_law_from);
+    return PLUME_OK;
 }
 
 /* The object's "handles", added to the scene, selecting in the object's own mesh sub. */
@@ -396,6 +420,9 @@ static plume_status parse_elastic(const plume_json_ctx *c, json_t *jo, const cha
     sub.path = s->path;
     sub.nmat = s->nmat;
     sub.mats = s->mats;
+    sub.is_static = s->is_static;
+    sub.has_contact = s->has_contact;
+    sub.contact = s->contact;
     plume_index *map = NULL, nobj = 0;
     placement pl;
     plume_status st;
@@ -409,9 +436,12 @@ static plume_status parse_elastic(const plume_json_ctx *c, json_t *jo, const cha
         (ja && (st = object_attach(c, &cc, ja, s, &sub, map, nobj, kin, nkin)) != PLUME_OK) ||
         (st = own_handles(c, &cc, s, h0, sub.mesh->nv, ja != NULL, mg->nv)) != PLUME_OK)
         goto done;
-    st = append_placed(c, &sub, &pl, mg);
+    const plume_index v0 = mg->nv;
+    if ((st = append_placed(c, &sub, &pl, mg)) == PLUME_OK)
+        st = take_splits(&cc, &sub, v0, s);
 done:
     free(map);
+    plume_scene_splits_free(&sub);
     plume_mesh_destroy(&sub.mesh);
     free(sub.barb_edges);
     return st;
@@ -436,7 +466,7 @@ static plume_status copy_mesh_part(const merged *mg, plume_index nt, plume_mesh 
  * bodies parsed into kin[0 .. *nkin) (attachments refer to them by name). */
 static plume_status parse_heads(const plume_json_ctx *c, json_t *v, kinematic_body *kin, int *nkin)
 {
-    static const char *const keys[] = {"name", "mesh", "kinematic", "place", "handles", "attach", NULL};
+    static const char *const keys[] = {"name", "mesh", "kinematic", "place", "handles", "attach", "splits", NULL};
     plume_status st;
     for (size_t k = 0; k < json_array_size(v); k++) {
         char kp[PLUME_JSON_KEY_MAX], kn[PLUME_JSON_KEY_MAX];
@@ -457,8 +487,9 @@ static plume_status parse_heads(const plume_json_ctx *c, json_t *v, kinematic_bo
         if (is_kin == (json_object_get(jo, "mesh") != NULL))
             return plume_json_bad(c, PLUME_EFORMAT, kp, "needs exactly one of \"mesh\" (an elastic shell) and \"kinematic\" "
                                                         "(a rigid body moved by keyframes)");
-        if (is_kin && (json_object_get(jo, "handles") || json_object_get(jo, "attach")))
-            return plume_json_bad(c, PLUME_EINVAL, kp, "is kinematic: its keyframes move all of it (no handles or attach)");
+        if (is_kin && (json_object_get(jo, "handles") || json_object_get(jo, "attach") || json_object_get(jo, "splits")))
+            return plume_json_bad(c, PLUME_EINVAL, kp, "is kinematic: its keyframes move all of it (no handles, attach or "
+                                  "splits)");
         if (is_kin) {
             kin[*nkin].name = json_string_value(jn);
             if ((st = parse_kinematic(c, jo, kp, kin + (*nkin)++)) != PLUME_OK)
@@ -549,6 +580,8 @@ static plume_status merged_meshes(const plume_json_ctx *c, merged *mg, plume_ind
     }
     s->barb_edges = mg->barb, s->nbarb = mg->nbarb;
     mg->barb = NULL;
+    if (s->splits)
+        s->splits->mesh = s->mesh; /* the lines' mesh is the scene's (not theirs to free) */
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (plume_index i = 0; i < mg->nv; i++)
         for (int a = 0; a < 3; a++)

@@ -54,7 +54,8 @@ static plume_status first_crossing(const plume_scene *s, const int *body, const 
         return st;
     for (plume_index k = 0; k < pairs->n && !*found; k++) {
         plume_index a = pairs->p[k].a, b = pairs->p[k].b;
-        if (s->contact.self_contact || body[m->tri[3 * a]] != body[m->tri[3 * b]])
+        if ((s->contact.self_contact || body[m->tri[3 * a]] != body[m->tri[3 * b]]) &&
+            !plume_scene_welded_neighbours(s, a, b))
             *found = 1, *t1 = a, *t2 = b;
     }
     return PLUME_OK;

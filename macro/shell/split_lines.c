@@ -45,11 +45,17 @@ static void offset_range(const plume_mesh *m, const double n[2], double *lo, dou
 plume_status plume_split_lines_open(const plume_mesh *m, const double d[2], const double *c, int nc,
                                     plume_split_lines *out, plume_err *err)
 {
+    return plume_split_lines_open_held(m, d, c, nc, NULL, out, err);
+}
+
+plume_status plume_split_lines_open_held(const plume_mesh *m, const double d[2], const double *c, int nc,
+                                         const unsigned char *held, plume_split_lines *out, plume_err *err)
+{
     if (!out)
         return plume_err_set(err, PLUME_EINVAL, "split lines: no output");
     memset(out, 0, sizeof *out);
-    if (!m || m->dim != 2 || !m->edges || !d || nc < 1 || !c)
-        return plume_err_set(err, PLUME_EINVAL, "split lines: a planar mesh with its topology, a barb direction and "
+    if (!m || (m->dim != 2 && m->dim != 3) || !m->edges || !d || nc < 1 || !c)
+        return plume_err_set(err, PLUME_EINVAL, "split lines: a mesh with its topology, a barb direction and "
                              "at least one offset are required");
     const double n[2] = {d[1], -d[0]};
     double lo, hi;
@@ -108,26 +114,38 @@ plume_status plume_split_lines_open(const plume_mesh *m, const double d[2], cons
                                    at, (long)row[i].v, (long)row[i + 1].v);
                 goto done;
             }
-        const plume_index f = out->first[l];
+        plume_index f = out->first[l];
         for (plume_index i = 0; i < k; i++) {
+            if (held && held[row[i].v]) { /* stays whole: the line ends there (a crack tip) */
+                side[row[i].v] = 0;
+                continue;
+            }
             const double prev = i > 0 ? row[i].t - row[i - 1].t : 0.0, next = i + 1 < k ? row[i + 1].t - row[i].t : 0.0;
             copy[row[i].v] = nv;
-            out->pairs[2 * (f + i)] = nv++;
-            out->pairs[2 * (f + i) + 1] = row[i].v;
-            out->length[f + i] = 0.5 * (prev + next);
+            out->pairs[2 * f] = nv++;
+            out->pairs[2 * f + 1] = row[i].v;
+            out->length[f++] = 0.5 * (prev + next);
         }
-        out->first[l + 1] = f + k;
+        if (f == out->first[l]) {
+            st = plume_err_set(err, PLUME_EINVAL, "split lines: no vertex of the line at offset %g m may split (each "
+                               "touches a material that does not split)", at);
+            goto done;
+        }
+        out->first[l + 1] = f;
     }
     out->nlines = nc;
     out->npairs = out->first[nc];
-    if ((st = plume_mesh_create(nv, m->nt, 2, &out->mesh, err)) != PLUME_OK)
+    if ((st = plume_mesh_create(nv, m->nt, m->dim, &out->mesh, err)) != PLUME_OK)
         goto done;
     plume_mesh *om = out->mesh;
+    const int dim = m->dim;
     memcpy(om->X, m->X, (size_t)(2 * m->nv) * sizeof *om->X);
+    memcpy(om->x, m->x, (size_t)(dim * m->nv) * sizeof *om->x);
     for (plume_index v = 0; v < m->nv; v++)
-        if (copy[v] >= 0)
+        if (copy[v] >= 0) {
             memcpy(om->X + 2 * copy[v], m->X + 2 * v, 2 * sizeof *om->X);
-    plume_mesh_reset_current(om);
+            memcpy(om->x + dim * copy[v], m->x + dim * v, (size_t)dim * sizeof *om->x);
+        }
     for (plume_index t = 0; t < m->nt; t++) {
         const plume_index *tv = m->tri + 3 * t;
         double cn = 0.0;
@@ -136,7 +154,7 @@ plume_status plume_split_lines_open(const plume_mesh *m, const double d[2], cons
         for (int k = 0; k < 3; k++) {
             const plume_index v = tv[k];
             /* ahead of the vertex's line: the copy */
-            om->tri[3 * t + k] = side[v] && cn > out->offset[side[v] - 1] ? copy[v] : v;
+            om->tri[3 * t + k] = side[v] && copy[v] >= 0 && cn > out->offset[side[v] - 1] ? copy[v] : v;
         }
         om->material[t] = m->material[t];
         memcpy(om->barb_dir + 2 * t, m->barb_dir + 2 * t, 2 * sizeof *om->barb_dir);
@@ -174,8 +192,10 @@ plume_status plume_split_lines_add(plume_problem *p, const plume_split_lines *s,
     plume_hooks *h = NULL;
     plume_status st = plume_hooks_create(s->mesh->nv, (int)s->npairs, first, s->pairs, &per_length, &h, err);
     free(first);
-    if (st == PLUME_OK)
+    if (st == PLUME_OK) {
         plume_hooks_set_overshoot(h, PLUME_SPLIT_OVERSHOOT);
+        plume_hooks_set_seating(h, PLUME_SPLIT_SEATING * law->capture);
+    }
     for (plume_index k = 0; st == PLUME_OK && k < s->npairs; k++)
         if (plume_hooks_set_scale(h, (int)k, s->length[k]) != PLUME_OK)
             st = plume_err_set(err, PLUME_EINVAL, "split lines: pair %ld has no length along its line", (long)k);

@@ -28,6 +28,12 @@ extern "C" {
  * allow PLUME_HOOKS_OVERSHOOT). */
 #define PLUME_SPLIT_OVERSHOOT 1.02
 
+/** A link that caught again and is pressed closer seats (plume_hooks_set_seating) once the lips
+ * are this many capture distances closer than where it caught: a line pressed shut stays shut
+ * instead of letting go under the push, its lips within 5 % of the capture of where they meet
+ * (docs/unzipping.md, "Closing a line"). */
+#define PLUME_SPLIT_SEATING 0.05
+
 /** A mesh opened along barb lines, and the pairs that hold it; everything owned
  * (plume_split_lines_free). */
 typedef struct {
@@ -49,6 +55,14 @@ typedef struct {
  * mesh), two offsets on one line; PLUME_ENOMEM. */
 plume_status plume_split_lines_open(const plume_mesh *m, const double d[2], const double *c, int nc,
                                     plume_split_lines *out, plume_err *err);
+
+/** The same over a planar mesh or a flat shell (dim 2 or 3; the copies take their originals'
+ * positions x too), where the vertices with held[v] non-zero (may be NULL) never split: a line
+ * stops there, its last pair's triangles sharing the held vertex (a crack tip), such as a vane's
+ * line where it meets the rachis. A line none of whose vertices may split is refused, naming its
+ * offset. */
+plume_status plume_split_lines_open_held(const plume_mesh *m, const double d[2], const double *c, int nc,
+                                         const unsigned char *held, plume_split_lines *out, plume_err *err);
 
 /** Adds the links of the opened lines to `p` (over out->mesh's vertices, not finalised) as the
  * hooks' term named "splits" (owned by the problem; *hooks, may be NULL, is a view valid while it lives), with

@@ -34,7 +34,20 @@ struct plume_run {
     plume_contact_broad *broad;   /* the audit's distances */
     plume_contact_pairs pairs;    /* the audit's list, reused */
     plume_run_report rep;
+    double *split_state;          /* [plume_hooks_state_size] a frame's copy of the split lines' state, or NULL */
 };
+
+/* run_splits.c: the split lines' links (the problem's term "splits"), or NULL; their counts and
+ * lengths into the report after a step; their state as a frame's array (a restart sets it back). */
+struct plume_hooks *plume_run_split_hooks(const plume_run *r);
+void plume_run_splits_tally(plume_run *r);
+/* The "split_links" array of a frame (0 without splits; 1 with a[0] filled from the current state) */
+int plume_run_splits_array(plume_run *r, plume_frame_array *a);
+plume_status plume_run_splits_restore(plume_run *r, const char *file, long frame, plume_err *err);
+/* Of the audit's intersecting triangle pairs, those that share no vertex even with every split
+ * line welded shut: a line's lips touch along it (coincident while it holds), as neighbours across
+ * an edge do, and are not counted, by the audit's own rule for shared vertices */
+plume_index plume_run_splits_unwelded(plume_run *r, const plume_contact_pairs *pairs);
 
 /* run_output.c */
 /* No step yet: zeros, and the contact measures -1 without contact (the distance at its cap). */

@@ -59,6 +59,19 @@ plume_status plume_scene_parse_static(const plume_json_ctx *c, json_t *doc, plum
  * key. */
 plume_status plume_scene_parse_contact(const plume_json_ctx *c, json_t *v, plume_scene *s);
 
+/* The "splits" block of a "mesh" scene (after its mesh and materials, before anything selects
+ * vertices): opens the lines and makes the opened mesh the scene's; errors name the key. */
+plume_status plume_scene_parse_splits(const plume_json_ctx *c, json_t *doc, plume_scene *s);
+/* Frees the scene's split lines (not its mesh). */
+void plume_scene_splits_free(plume_scene *s);
+/* A new array (nv; the caller frees it) of the vertex each vertex stands for with the split lines
+ * welded shut (a copy's original; itself otherwise): contact's adjacency (plume_contact_term_opts.weld);
+ * NULL with err set when memory runs out. */
+plume_index *plume_scene_weld(const plume_scene *s, plume_err *err);
+/* 1 when triangles t1 and t2 share a vertex with the split lines welded shut: a line's lips touch
+ * there as neighbours do, and an audit of intersections does not count them (0 without splits) */
+int plume_scene_welded_neighbours(const plume_scene *s, plume_index t1, plume_index t2);
+
 /* plume_scene_bodies into a new array (nv + 1 ints; the caller frees it), or NULL with the error
  * set when memory runs out. */
 int *plume_scene_body_labels(const plume_scene *s, plume_err *err);

@@ -1,0 +1,285 @@
+/* Split lines in a scene ("splits"; docs/unzipping.md, "Splits in a scene"): a vane beside a rachis
+ * strip, pulled at its outer corner across the barbs and let back, opens a barb line from its edge
+ * to the rachis (which never splits) and zips it again; the report counts what opened and closed;
+ * a restart across the split repeats the straight run bit for bit, the links' state included;
+ * bad "splits" blocks are named. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "harness.h"
+#include "../lib/core/hooks.h"
+#include "../lib/io/frames.h"
+#include "../macro/scene/run.h"
+#include "../macro/scene/scene.h"
+
+/* The grid's spacing (m), its size (cells along x and y), the rachis' width in cells */
+#define H 5e-4
+#define NX 12
+#define NY 8
+#define NRACHIS 2
+
+/* An OBJ of the grid (x along the barbs), each cell two triangles, group "rachis" for the cells of
+ * x < NRACHIS H and "vane" for the rest, into dir/vane.obj */
+static void write_vane_obj(const char *dir)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/vane.obj", dir);
+    FILE *f = fopen(path, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    for (int j = 0; j <= NY; j++)
+        for (int i = 0; i <= NX; i++)
+            fprintf(f, "v %.17g %.17g 0\n", i * H, j * H);
+    for (int g = 0; g < 2; g++) {
+        fprintf(f, "g %s\n", g == 0 ? "rachis" : "vane");
+        for (int j = 0; j < NY; j++)
+            for (int i = 0; i < NX; i++) {
+                if ((i < NRACHIS) != (g == 0))
+                    continue;
+                const int a = j * (NX + 1) + i + 1, b = a + 1, c = a + NX + 1, d = c + 1;
+                fprintf(f, "f %d %d %d\nf %d %d %d\n", a, b, d, a, d, c);
+            }
+    }
+    fclose(f);
+}
+
+/* The scene: `splits` is the "splits" block's JSON; the outer corner below the line (x >= 5.5 mm,
+ * y <= 1.5 mm) pulled 1 mm across the barbs over 0.3 s and back over 0.3 s, then held to 0.8 s */
+static void write_scene(const char *dir, const char *name, const char *splits, const char *extra)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    fprintf(f,
+            "{\"mesh\": {\"obj\": \"vane.obj\", \"materials_by_group\": {\"rachis\": 1, \"vane\": 0}, "
+            "\"barb_direction\": [1, 0]},\n"
+            " \"materials\": [\n"
+            "  {\"name\": \"vane\", \"membrane\": {\"E_xx\": 1.2e9, \"E_yy\": 3.2e6, \"nu_xy\": 0, \"G_xy\": 1.1e6, "
+            "\"thickness\": 1e-4, \"kappa\": 5e7}, \"bending\": {\"D_long\": 2.5e-4, \"D_trans\": 1e-7}, "
+            "\"density\": 0.026, \"constraint\": false},\n"
+            "  {\"name\": \"rachis\", \"membrane\": {\"E\": 1e9, \"nu\": 0.3, \"thickness\": 1e-3, \"kappa\": 0}, "
+            "\"bending\": \"from_membrane\", \"density\": 0.5, \"constraint\": false}],\n"
+            " \"splits\": %s,\n"
+            " \"handles\": [{\"box\": [-1, -1, 1e-9, 1], \"keyframes\": [[0, 0, 0, 0]]},\n"
+            "   {\"box\": [0.00549, -1, 1, 0.00151], \"keyframes\": [[0, 0, 0, 0], [0.3, 0, -0.001, 0], [0.6, 0, 0, 0]]}],\n"
+            " \"gravity\": [0, 0, 0], \"dt\": 0.01, \"duration\": 0.8, \"max_halvings\": 8, \"output_every\": 10%s}\n",
+            splits, extra ? extra : "");
+    fclose(f);
+}
+
+static const char *LINE = "{\"materials\": [\"vane\"], \"offsets\": [0.002], "
+                          "\"law\": {\"strength\": 1.0, \"stiffness\": 5e5, \"capture\": 5e-6}}";
+
+static void make_dir(char *dir, size_t n)
+{
+    snprintf(dir, n, "/tmp/plume_splits_XXXXXX");
+    CHECK(mkdtemp(dir) != NULL);
+    write_vane_obj(dir);
+}
+
+static void remove_tree(const char *dir)
+{
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    CHECK(system(cmd) == 0);
+}
+
+/* A run of dir/scene.json to `end` (s; 0: the scene's duration) into out, restarting from
+ * `restart` (may be NULL); its report */
+static plume_status run(const char *scene, const char *out, double end, const char *restart, plume_run_report *rep,
+                        plume_err *err)
+{
+    plume_run_opts o;
+    plume_run_opts_default(&o);
+    o.output_dir = out;
+    o.end_time = end;
+    o.restart = restart;
+    o.render = 0;
+    plume_run *r = NULL;
+    plume_status st = plume_run_open(scene, &o, &r, err);
+    if (st == PLUME_OK)
+        st = plume_run_to_end(r, err);
+    if (rep)
+        plume_run_get_report(r, rep);
+    plume_run_destroy(&r);
+    return st;
+}
+
+/* The line y = 2 mm: its links are the vane's vertices on it (x = 1.5 .. 6 mm; the one at 1 mm
+ * touches the rachis); pulled, it opens from the edge to the rachis; let back, it closes. */
+void test_scene_splits_open_and_close(void)
+{
+    char dir[64], scene[128], out[128];
+    make_dir(dir, sizeof dir);
+    write_scene(dir, "scene.json", LINE, NULL);
+    snprintf(scene, sizeof scene, "%s/scene.json", dir);
+    snprintf(out, sizeof out, "%s/out", dir);
+    plume_err err = {{0}};
+    plume_scene *s = NULL;
+    CHECK(plume_scene_load(scene, &s, &err) == PLUME_OK);
+    if (!s) {
+        fprintf(stderr, "    %s\n", err.msg);
+        remove_tree(dir);
+        return;
+    }
+    const plume_split_lines *sl = s->splits;
+    CHECK(sl && sl->nlines == 1 && sl->npairs == NX - NRACHIS);
+    double length = 0.0;
+    for (plume_index k = 0; sl && k < sl->npairs; k++) {
+        const double *X = s->mesh->X + 2 * sl->pairs[2 * k + 1];
+        CHECK(X[0] > NRACHIS * H + 1e-9 && fabs(X[1] - 2e-3) < 1e-12); /* never a rachis vertex */
+        CHECK(memcmp(X, s->mesh->X + 2 * sl->pairs[2 * k], 2 * sizeof *X) == 0);
+        length += sl->length[k];
+    }
+    CHECK(fabs(length - (NX - NRACHIS - 0.5) * H) < 1e-12); /* the last pair holds half an edge */
+    plume_scene_destroy(&s);
+
+    plume_run_report half, rep;
+    CHECK(run(scene, out, 0.3, NULL, &half, &err) == PLUME_OK);
+    CHECK(run(scene, out, 0.0, NULL, &rep, &err) == PLUME_OK);
+    printf("    at the pull's end: %ld of %ld links opened, %.3g m open (longest %.3g m of %.3g); at %.2g s: %ld "
+           "closed again, %.3g m open, dissipated %.3g J; %ld iterations, %ld halvings\n",
+           half.splits_opened, half.split_pairs, half.split_open_now, half.split_longest, length, rep.time,
+           rep.splits_closed, rep.split_open_now, rep.split_dissipated, rep.iterations, rep.halvings);
+    CHECK(rep.converged && !rep.stopped);
+    CHECK(half.split_pairs == NX - NRACHIS && half.splits_closed == 0);
+    CHECK(half.split_open_now >= 0.75 * length && half.split_longest >= 0.75 * length);
+    CHECK(rep.splits_opened >= half.splits_opened && rep.splits_closed >= rep.splits_opened - 1);
+    CHECK(rep.split_open_now <= 1.01 * H);
+    CHECK(rep.split_dissipated > 0.0 && rep.split_longest >= half.split_longest);
+    remove_tree(dir);
+}
+
+/* A restart from the frame at 0.4 s (the line open, closing) repeats the straight run's last frame
+ * bit for bit: positions, velocities and the links' state */
+void test_scene_splits_restart(void)
+{
+    char dir[64], scene[128], a[128], b[128], fa[160], fb[160];
+    make_dir(dir, sizeof dir);
+    write_scene(dir, "scene.json", LINE, NULL);
+    snprintf(scene, sizeof scene, "%s/scene.json", dir);
+    snprintf(a, sizeof a, "%s/a", dir);
+    snprintf(b, sizeof b, "%s/b", dir);
+    snprintf(fa, sizeof fa, "%s/frames.h5", a);
+    snprintf(fb, sizeof fb, "%s/frames.h5", b);
+    plume_err err = {{0}};
+    plume_run_report ra, rb;
+    CHECK(run(scene, a, 0.0, NULL, &ra, &err) == PLUME_OK);
+    CHECK(run(scene, b, 0.4, NULL, NULL, &err) == PLUME_OK);
+    CHECK(run(scene, b, 0.0, fb, &rb, &err) == PLUME_OK);
+    plume_frame x = {0}, y = {0};
+    CHECK(plume_frames_read(fa, -1, &x, &err) == PLUME_OK && plume_frames_read(fb, -1, &y, &err) == PLUME_OK);
+    CHECK(x.nv == y.nv && x.index == y.index && x.step == y.step && x.nv > 0);
+    CHECK(x.x && y.x && memcmp(x.x, y.x, 3 * (size_t)x.nv * sizeof *x.x) == 0);
+    CHECK(x.v && y.v && memcmp(x.v, y.v, 3 * (size_t)x.nv * sizeof *x.v) == 0);
+    const plume_index n = 3 * (NX - NRACHIS) + 3 * (NX - NRACHIS) + 3;
+    double *sa = calloc((size_t)n, sizeof *sa), *sb = calloc((size_t)n, sizeof *sb);
+    CHECK(plume_frames_read_array(fa, -1, "split_links", sa, n, &err) == PLUME_OK);
+    CHECK(plume_frames_read_array(fb, -1, "split_links", sb, n, &err) == PLUME_OK);
+    CHECK(memcmp(sa, sb, (size_t)n * sizeof *sa) == 0);
+    CHECK(ra.splits_opened == rb.splits_opened && ra.splits_closed == rb.splits_closed &&
+          memcmp(&ra.split_dissipated, &rb.split_dissipated, sizeof ra.split_dissipated) == 0);
+    printf("    straight and restarted at 0.4 s: frame %ld the same bit for bit (%ld opened, %ld closed)\n", x.index,
+           ra.splits_opened, ra.splits_closed);
+    free(sa);
+    free(sb);
+    plume_frame_free(&x);
+    plume_frame_free(&y);
+    remove_tree(dir);
+}
+
+/* Bad "splits" blocks: each refused, naming its key */
+void test_scene_splits_bad_input(void)
+{
+    static const struct {
+        const char *splits, *extra, *expect;
+    } bad[] = {
+        {"{\"materials\": [\"vane\"], \"offsets\": [0.002], \"law\": {\"strength\": -1, \"stiffness\": 5e5, "
+         "\"capture\": 5e-6}}", NULL, "splits.law.strength"},
+        {"{\"materials\": [\"vane\"], \"offsets\": [0.002], \"law\": {\"strength\": 1, \"stiffness\": 5e5, "
+         "\"capture\": 6e-4}}", NULL, "capture 0.0006 m is not below 0.0005 m"},
+        {"{\"materials\": [\"vane\"], \"offsets\": [0.002, 0.0022], \"law\": {\"strength\": 1, \"stiffness\": 5e5, "
+         "\"capture\": 5e-6}}", NULL, "splits.offsets"},
+        {"{\"offsets\": [0.002], \"law\": {\"strength\": 1, \"stiffness\": 5e5, \"capture\": 5e-6}}", NULL,
+         "splits.materials"},
+        {"{\"materials\": [\"tail\"], \"offsets\": [0.002], \"law\": {\"strength\": 1, \"stiffness\": 5e5, "
+         "\"capture\": 5e-6}}", NULL, "splits.materials[0]"},
+        {"{\"materials\": [\"vane\"], \"law\": {\"strength\": 1, \"stiffness\": 5e5, \"capture\": 5e-6}}", NULL,
+         "\"offsets\""},
+        {"{\"materials\": [\"vane\"], \"lines\": 2, \"law\": {\"from_moduli\": \"none.h5\"}}", NULL,
+         "splits.law.from_moduli"},
+        {"{\"materials\": [\"vane\"], \"lines\": 2, \"law\": {\"strength\": 1, \"stiffness\": 5e5, \"capture\": 5e-6}}",
+         ", \"contact\": {\"dhat\": 1e-5, \"stiffness\": 1}", "\"self\": true"},
+        {"{\"materials\": [\"vane\"], \"offsets\": [0.0], \"law\": {\"strength\": 1, \"stiffness\": 5e5, "
+         "\"capture\": 5e-6}}", NULL, "lies on the mesh's edge"},
+        {"{\"materials\": [\"vane\"], \"offsets\": [0.002], \"law\": {\"strength\": 1, \"stiffness\": 5e5, "
+         "\"capture\": 5e-6}}", ", \"solve\": \"static\"", "dynamic scenes"},
+    };
+    char dir[64], scene[128];
+    make_dir(dir, sizeof dir);
+    snprintf(scene, sizeof scene, "%s/bad.json", dir);
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        write_scene(dir, "bad.json", bad[i].splits, bad[i].extra);
+        plume_err err = {{0}};
+        plume_scene *s = NULL;
+        const plume_status st = plume_scene_load(scene, &s, &err);
+        const int named = strstr(err.msg, bad[i].expect) != NULL;
+        if (st == PLUME_OK || !named)
+            fprintf(stderr, "    case %zu: status %d, '%s' (expected '%s')\n", i, (int)st, err.msg, bad[i].expect);
+        CHECK(st != PLUME_OK && named && s == NULL);
+        plume_scene_destroy(&s);
+    }
+    remove_tree(dir);
+}
+
+/* Seating: a link caught again at a gap and pressed closer keeps hold (its offsets follow the gap,
+ * the push's energy dissipated) where without seating the push lets it go; the state round-trips */
+void test_scene_splits_seating(void)
+{
+    const plume_index pairs[2] = {0, 1}, first[2] = {0, 1};
+    const plume_hook_law law = {.strength = 1e-3, .opening = 2e-6, .slide = 0.0, .capture = 5e-6};
+    for (int seating = 0; seating < 2; seating++) {
+        plume_hooks *h = NULL;
+        plume_err err = {{0}};
+        CHECK(plume_hooks_create(2, 1, first, pairs, &law, &h, &err) == PLUME_OK);
+        if (!h)
+            return;
+        if (seating)
+            CHECK(plume_hooks_set_seating(h, 0.25e-6) == PLUME_OK);
+        CHECK(plume_hooks_set_seating(h, -1.0) == PLUME_EINVAL);
+        double x[6] = {0, 3e-6, 0, 0, 0, 0};
+        plume_hooks_events ev;
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.released == 1);
+        x[1] = 1e-5; /* cleared the barb: armed */
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.reengaged == 0);
+        x[1] = 4e-6; /* back within the capture: caught at 4 um, no force */
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.reengaged == 1);
+        x[1] = 1e-6; /* pressed 3 um closer: a push of 1.5 strengths */
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+        const double k = law.strength / law.opening, drop = 0.5 * k * 3e-6 * 3e-6;
+        if (seating)
+            CHECK(ev.seated == 1 && ev.released == 0 && plume_hooks_engaged(h, 0) &&
+                  fabs(ev.energy_drop - drop) < 1e-12 * drop);
+        else
+            CHECK(ev.seated == 0 && ev.released == 1 && !plume_hooks_engaged(h, 0));
+        /* the state, out and back: the same, and a bad one refused */
+        const plume_index n = plume_hooks_state_size(h);
+        double *s = malloc((size_t)n * sizeof *s), *t = malloc((size_t)n * sizeof *t);
+        plume_hooks_state_get(h, s);
+        CHECK(plume_hooks_state_set(h, s, &err) == PLUME_OK);
+        plume_hooks_state_get(h, t);
+        CHECK(memcmp(s, t, (size_t)n * sizeof *s) == 0);
+        t[0] = 0.5;
+        CHECK(plume_hooks_state_set(h, t, &err) == PLUME_EINVAL && strstr(err.msg, "hook 0"));
+        free(s);
+        free(t);
+        plume_hooks_destroy(&h);
+    }
+}
