@@ -171,6 +171,11 @@ data/feather/moduli_table3a.h5: data/layout_barbules_table3a.json apps/homogeniz
 data/feather/moduli_feather_si.h5: data/layout_feather_si.json apps/homogenize
 	$(OMP_ENV) ./apps/homogenize --config $< -o $@
 
+# the vane's moduli and the barb lines' separation law of data/feather/scene_unzip.json: homogenised
+# from the layout with hooks (about 10 s), not kept in git
+data/feather/moduli_hooks.h5: data/layout_hooks.json apps/homogenize
+	$(OMP_ENV) ./apps/homogenize --config $< -o $@
+
 # The API reference: Doxygen over the public headers (include/plume/) (docs/Doxyfile; the main page is
 # docs/api.md), HTML in $(BUILD)/docs/html. Any warning fails it and is printed: an undocumented
 # public function, struct, field, enum value, typedef or macro, or a doc comment Doxygen cannot read.

@@ -14,20 +14,23 @@
 #     homogenised file read by the scene with no number copied;
 #  6. a wing of 12 feathers on a flapping bone, in contact that never interpenetrates, also written
 #     as glTF (out/wing/wing.glb);
-#  7. when Blender is installed, a Cycles render of the wing from that file (scripts/blender/render.py).
+#  7. when Blender is installed, a Cycles render of the wing from that file (scripts/blender/render.py);
+#  8. a vane that unzips between barbs and is preened shut (data/feather/scene_unzip.json), its
+#     moduli and its barb lines' separation law homogenised from a layout with hooks.
 # Everything lands in out/: one HDF5 file (out/plume.h5) and PNG+SVG charts.
-# PLUME_DEMO_QUICK=1 runs every step but simulates the feather for 0.05 s and the wing for one
-# frame: the test suite runs `make demo` that way (scripts/doc-commands.py), in seconds.
+# PLUME_DEMO_QUICK=1 runs every step but simulates the feather for 0.05 s, the wing for one
+# frame and the unzipping vane for 0.2 s (it splits, not yet preened): the test suite runs
+# `make demo` that way (scripts/doc-commands.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mkdir -p out
 h5=out/plume.h5
 rm -f "$h5"
 run() { echo "+ $*" >&2; "$@"; }
-feather_time=(--duration 0.5) wing_time=() finer_spacings=0.043,0.0215
+feather_time=(--duration 0.5) wing_time=() unzip_time=() finer_spacings=0.043,0.0215
 render_opts=(--frame 9 --size 720x480 --samples 32)
 if [ -n "${PLUME_DEMO_QUICK:-}" ]; then
-    feather_time=(--duration 0.05) wing_time=(--frames 1) finer_spacings=0.043
+    feather_time=(--duration 0.05) wing_time=(--frames 1) unzip_time=(--duration 0.2) finer_spacings=0.043
     render_opts=(--size 240x160 --samples 4)
 fi
 echo "== 1. homogenisation of the Figure 10 microstructure"
@@ -66,4 +69,8 @@ else
     echo "   Blender is not installed (scripts/install-deps.sh --graphics installs it): no Cycles render;"
     echo "   out/wing/wing.glb opens in any glTF viewer"
 fi
-echo "plume demo: outputs in out/, out/feather/ and out/wing/ (VTK series, frames.h5, PNG renders, wing.glb)"
+echo "== 8. a vane that unzips between barbs and is preened shut (docs/unzipping.md)"
+echo "   its moduli and its barb lines' separation law homogenised from data/layout_hooks.json"
+run ./apps/homogenize --config data/layout_hooks.json -o data/feather/moduli_hooks.h5
+run ./apps/feather data/feather/scene_unzip.json -o out/unzip "${unzip_time[@]}" --quiet
+echo "plume demo: outputs in out/, out/feather/, out/wing/ and out/unzip/ (VTK series, frames.h5, PNG renders, wing.glb)"

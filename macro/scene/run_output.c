@@ -293,6 +293,9 @@ plume_status plume_run_output_start(plume_run *r, plume_err *err)
         if ((st = plume_scene_fields_of(r->scene, r->p, &r->fields, err)) != PLUME_OK ||
             (st = plume_run_gltf_prepare(r, err)) != PLUME_OK)
             return st;
+        /* split lines: each frame's links as lines (frame_splits_NNNNN.vtu), their state and energy */
+        if (plume_run_split_hooks(r) && (st = plume_fields_add_links(r->fields, r->p, "splits", err)) != PLUME_OK)
+            return st;
     }
     if (r->restart)
         return restart_run(r, err);
