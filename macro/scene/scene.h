@@ -173,6 +173,8 @@ struct plume_scene {
     plume_separation_law split_law; /**< the lines' law (per barb length) */
     char split_law_from[PLUME_SCENE_PATH_MAX]; /**< the moduli file it was read from, "" when the scene
                                                    sets it */
+    plume_index *split_weld;      /**< [nv] with splits: the vertex each one stands for with the lines
+                                     welded shut (a copy's original; itself otherwise), else NULL */
 };
 
 /** Builds the problem of a static scene (membrane, bending, constraints, the nominal loads and

@@ -279,24 +279,54 @@ static plume_status object_mesh(const plume_json_ctx *c, const plume_json_ctx *c
     return plume_scene_constrained_edges(sub, c->err);
 }
 
-/* The object's split lines (sub->splits, its vertices from v0 on in the scene) become the scene's:
- * one object of a scene may split (one law). */
+/* The object's split lines (sub->splits, its vertices from v0 on in the scene) join the scene's,
+ * after those of earlier objects; every object that splits has one law (the scene's). */
 static plume_status take_splits(const plume_json_ctx *cc, plume_scene *sub, plume_index v0, plume_scene *s)
 {
-    if (!sub->splits)
-        return PLUME_OK;
-    if (s->splits)
-        return plume_json_bad(cc, PLUME_EINVAL, "splits", "one object of a scene may have split lines, and an earlier "
-                              "one has");
     plume_split_lines *sl = sub->splits;
+    if (!sl)
+        return PLUME_OK;
     for (plume_index k = 0; k < 2 * sl->npairs; k++)
         sl->pairs[k] += v0;
     if (sl->mesh == sub->mesh)
         sl->mesh = NULL; /* the scene's merged mesh takes its place (merged_meshes) */
-    s->splits = sl;
-    sub->splits = NULL;
-    s->split_law = sub->split_law;
-    memcpy(s->split_law_from, sub->split_law_from, sizeof s->split_law_from);
+    if (!s->splits) {
+        s->splits = sl;
+        sub->splits = NULL;
+        s->split_law = sub->split_law;
+        memcpy(s->split_law_from, sub->split_law_from, sizeof s->split_law_from);
+        return PLUME_OK;
+    }
+    const plume_separation_law *a = &s->split_law, *b = &sub->split_law;
+    if (a->strength != b->strength || a->stiffness != b->stiffness || a->capture != b->capture)
+        return plume_json_bad(cc, PLUME_EINVAL, "splits.law", "differs from an earlier object's (strength %g against %g "
+                              "N/m, stiffness %g against %g N/m^2, capture %g against %g m): the objects of a scene "
+                              "split by one law", b->strength, a->strength, b->stiffness, a->stiffness, b->capture,
+                              a->capture);
+    plume_split_lines *t = s->splits;
+    const int nl = t->nlines + sl->nlines;
+    const plume_index np = t->npairs + sl->npairs;
+    double *offset = realloc(t->offset, (size_t)nl * sizeof *offset);
+    if (offset)
+        t->offset = offset;
+    plume_index *first = realloc(t->first, (size_t)(nl + 1) * sizeof *first);
+    if (first)
+        t->first = first;
+    plume_index *pairs = realloc(t->pairs, (size_t)(2 * np) * sizeof *pairs);
+    if (pairs)
+        t->pairs = pairs;
+    double *length = realloc(t->length, (size_t)np * sizeof *length);
+    if (length)
+        t->length = length;
+    if (!offset || !first || !pairs || !length)
+        return plume_err_set(cc->err, PLUME_ENOMEM, "%s: out of memory", cc->file);
+    for (int l = 0; l < sl->nlines; l++) {
+        t->offset[t->nlines + l] = sl->offset[l];
+        t->first[t->nlines + l + 1] = t->npairs + sl->first[l + 1];
+    }
+    memcpy(t->pairs + 2 * t->npairs, sl->pairs, (size_t)(2 * sl->npairs) * sizeof *t->pairs);
+    memcpy(t->length + t->npairs, sl->length, (size_t)sl->npairs * sizeof *t->length);
+    t->nlines = nl, t->npairs = np;
     return PLUME_OK;
 }
 
@@ -580,8 +610,11 @@ static plume_status merged_meshes(const plume_json_ctx *c, merged *mg, plume_ind
     }
     s->barb_edges = mg->barb, s->nbarb = mg->nbarb;
     mg->barb = NULL;
-    if (s->splits)
+    if (s->splits) {
         s->splits->mesh = s->mesh; /* the lines' mesh is the scene's (not theirs to free) */
+        if ((st = plume_scene_splits_weld(s, c->err)) != PLUME_OK)
+            return st;
+    }
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (plume_index i = 0; i < mg->nv; i++)
         for (int a = 0; a < 3; a++)

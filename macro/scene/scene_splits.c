@@ -10,7 +10,11 @@
 
 void plume_scene_splits_free(plume_scene *s)
 {
-    if (!s || !s->splits)
+    if (!s)
+        return;
+    free(s->split_weld);
+    s->split_weld = NULL;
+    if (!s->splits)
         return;
     if (s->splits->mesh == s->mesh)
         s->splits->mesh = NULL; /* the scene's mesh: freed with the scene */
@@ -219,6 +223,7 @@ plume_status plume_scene_parse_splits(const plume_json_ctx *c, json_t *doc, plum
     s->mesh = sl->mesh; /* the opened mesh is the scene's from now on */
     s->splits = sl;
     sl = NULL;
+    st = plume_scene_splits_weld(s, c->err); /* an object's is made again for the scene's mesh */
 done:
     free(split);
     free(held);
@@ -249,23 +254,22 @@ plume_index *plume_scene_weld(const plume_scene *s, plume_err *err)
     return weld;
 }
 
-/* the vertex v stands for with the lines welded shut: a copy's original (copies are numbered in
- * their pairs' order, the first pair's copy pairs[0]) */
-static plume_index welded(const plume_split_lines *sl, plume_index v)
-{
-    const plume_index k = v - sl->pairs[0];
-    return k >= 0 && k < sl->npairs && sl->pairs[2 * k] == v ? sl->pairs[2 * k + 1] : v;
-}
-
 int plume_scene_welded_neighbours(const plume_scene *s, plume_index t1, plume_index t2)
 {
-    const plume_split_lines *sl = s->splits;
-    if (!sl)
+    const plume_index *w = s->split_weld;
+    if (!w)
         return 0;
     const plume_index *a = s->mesh->tri + 3 * t1, *b = s->mesh->tri + 3 * t2;
     for (int j = 0; j < 3; j++)
         for (int k = 0; k < 3; k++)
-            if (welded(sl, a[j]) == welded(sl, b[k]))
+            if (w[a[j]] == w[b[k]])
                 return 1;
     return 0;
+}
+
+plume_status plume_scene_splits_weld(plume_scene *s, plume_err *err)
+{
+    free(s->split_weld);
+    s->split_weld = plume_scene_weld(s, err);
+    return s->split_weld ? PLUME_OK : PLUME_ENOMEM;
 }

@@ -68,6 +68,8 @@ void plume_scene_splits_free(plume_scene *s);
  * welded shut (a copy's original; itself otherwise): contact's adjacency (plume_contact_term_opts.weld);
  * NULL with err set when memory runs out. */
 plume_index *plume_scene_weld(const plume_scene *s, plume_err *err);
+/* s->split_weld from the scene's mesh and lines (plume_scene_weld), once both are final */
+plume_status plume_scene_splits_weld(plume_scene *s, plume_err *err);
 /* 1 when triangles t1 and t2 share a vertex with the split lines welded shut: a line's lips touch
  * there as neighbours do, and an audit of intersections does not count them (0 without splits) */
 int plume_scene_welded_neighbours(const plume_scene *s, plume_index t1, plume_index t2);
