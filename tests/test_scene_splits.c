@@ -346,3 +346,73 @@ void test_scene_splits_objects(void)
     }
     remove_tree(dir);
 }
+
+/* The shipped feather with every barb a line (the mesher's barb edges, chains from the rachis
+ * out): the rachis whole, each lip with its own barb edges, the bending's stencils never on two
+ * coincident points (the force scale as the unsplit feather's, not 1e30), and the first 20 steps
+ * of the pulled tip converge, each with Newton iterations (not at iteration 0, as the stiffness
+ * of 1e32 made them) */
+void test_scene_splits_feather(void)
+{
+    static const char *const path = "../data/feather/scene_anisotropic.json";
+    FILE *f = fopen(path, "r");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    char *text = calloc(1 << 16, 1);
+    const size_t n = fread(text, 1, (1 << 16) - 1, f);
+    fclose(f);
+    CHECK(n > 0 && n < (1 << 16) - 1);
+    char *end = strrchr(text, '}'); /* the document's last brace: the splits go before it */
+    CHECK(end != NULL);
+    if (!end) {
+        free(text);
+        return;
+    }
+    snprintf(end, (size_t)(1 << 16) - (size_t)(end - text),
+             ", \"splits\": {\"materials\": [\"vane\"], \"every\": 1, \"law\": {\"strength\": 1.023, \"stiffness\": "
+             "5.8e5, \"capture\": 5e-6}}}");
+    plume_err err = {{0}};
+    plume_scene *s = NULL, *plain = NULL;
+    CHECK(plume_scene_load_json(text, path, NULL, &s, &err) == PLUME_OK);
+    CHECK(plume_scene_load(path, &plain, &err) == PLUME_OK);
+    free(text);
+    if (!s || !plain) {
+        fprintf(stderr, "    %s\n", err.msg);
+        plume_scene_destroy(&s);
+        plume_scene_destroy(&plain);
+        return;
+    }
+    const plume_split_lines *sl = s->splits;
+    CHECK(sl && sl->nlines > 20 && sl->npairs > 100);
+    for (plume_index k = 0; sl && k < sl->npairs; k++) {
+        const plume_index c = sl->pairs[2 * k], o = sl->pairs[2 * k + 1];
+        CHECK(memcmp(s->mesh->X + 2 * c, s->mesh->X + 2 * o, 2 * sizeof(double)) == 0);
+        for (plume_index t = 0; t < s->mesh->nt; t++) /* the rachis (material 1) never splits */
+            for (int j = 0; j < 3; j++)
+                if (s->mesh->tri[3 * t + j] == o || s->mesh->tri[3 * t + j] == c)
+                    CHECK(s->mesh->material[t] == 0);
+    }
+    CHECK(s->nbarb > plain->nbarb); /* each lip keeps its barb edges */
+    plume_problem *p = NULL, *q = NULL;
+    plume_dynamics *d = NULL, *e = NULL;
+    CHECK(plume_scene_dynamics(s, &p, &d, &err) == PLUME_OK && plume_scene_dynamics(plain, &q, &e, &err) == PLUME_OK);
+    const double fs = p ? plume_problem_force_scale(p) : 0.0, fq = q ? plume_problem_force_scale(q) : 0.0;
+    printf("    feather: %d lines, %ld links, %ld barb edges (unsplit %ld); force scale %.3g (unsplit %.3g)\n",
+           sl ? sl->nlines : 0, sl ? (long)sl->npairs : 0L, (long)s->nbarb, (long)plain->nbarb, fs, fq);
+    CHECK(fs > 0.0 && fs < 10.0 * fq);
+    long its = 0, steps = 0;
+    int ok = 1;
+    for (int k = 0; d && k < 20 && ok; k++) {
+        plume_step_report rep;
+        ok = plume_dynamics_advance(d, 0.0, &rep, &err) == PLUME_OK && rep.converged;
+        its += rep.iterations, steps++;
+    }
+    CHECK(ok && steps == 20 && its >= steps); /* every step iterates: no silent convergence at iteration 0 */
+    plume_dynamics_destroy(&d);
+    plume_dynamics_destroy(&e);
+    plume_problem_destroy(&p);
+    plume_problem_destroy(&q);
+    plume_scene_destroy(&s);
+    plume_scene_destroy(&plain);
+}

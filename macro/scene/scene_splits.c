@@ -88,24 +88,21 @@ static plume_status split_law(const plume_json_ctx *c, json_t *js, plume_scene *
     return PLUME_OK;
 }
 
-/* The barb direction shared by the triangles that may split (d), or an error: a line follows one
- * direction across the vane */
+/* The barb direction shared by the triangles that may split (d, *straight = 1: straight lines
+ * across the vane), or *straight = 0 where the barbs turn (a feather: lines along its barbs) */
 static plume_status split_direction(const plume_json_ctx *c, const plume_mesh *m, const unsigned char *split,
-                                    double d[2])
+                                    double d[2], int *straight)
 {
     int found = 0;
+    *straight = 1;
     for (plume_index t = 0; t < m->nt; t++) {
         if (!split[m->material[t]])
             continue;
         const double *b = m->barb_dir + 2 * t;
-        if (!found) {
+        if (!found)
             d[0] = b[0], d[1] = b[1], found = 1;
-        } else if (fabs(b[0] - d[0]) > 1e-9 || fabs(b[1] - d[1]) > 1e-9) {
-            return plume_json_bad(c, PLUME_EINVAL, "splits", "need one barb direction over the materials that split "
-                                  "(a rectangle's or an OBJ's \"barb_direction\"); triangle %ld has (%g, %g), triangle 0 "
-                                  "of them (%g, %g): a feather's barbs turn, its lines are not straight",
-                                  (long)t, b[0], b[1], d[0], d[1]);
-        }
+        else if (fabs(b[0] - d[0]) > 1e-9 || fabs(b[1] - d[1]) > 1e-9)
+            *straight = 0;
     }
     if (!found)
         return plume_json_bad(c, PLUME_EINVAL, "splits.materials", "no triangle of the mesh has these materials");
@@ -162,7 +159,8 @@ static plume_status split_capture(const plume_json_ctx *c, const plume_split_lin
     double gap = INFINITY;
     for (int a = 0; a < sl->nlines; a++)
         for (int b = a + 1; b < sl->nlines; b++)
-            gap = fmin(gap, fabs(sl->offset[a] - sl->offset[b]));
+            if (isfinite(sl->offset[a]) && isfinite(sl->offset[b])) /* a feather's chains: the edges decide */
+                gap = fmin(gap, fabs(sl->offset[a] - sl->offset[b]));
     for (plume_index e = 0; e < m->ne; e++) {
         const double *p = m->X + 2 * m->edges[2 * e], *q = m->X + 2 * m->edges[2 * e + 1];
         gap = fmin(gap, hypot(p[0] - q[0], p[1] - q[1]));
@@ -175,7 +173,7 @@ static plume_status split_capture(const plume_json_ctx *c, const plume_split_lin
 
 plume_status plume_scene_parse_splits(const plume_json_ctx *c, json_t *doc, plume_scene *s)
 {
-    static const char *const keys[] = {"offsets", "lines", "materials", "law", "note", NULL};
+    static const char *const keys[] = {"offsets", "lines", "every", "materials", "law", "note", NULL};
     json_t *js = json_object_get(doc, "splits");
     if (!js)
         return PLUME_OK;
@@ -195,21 +193,31 @@ plume_status plume_scene_parse_splits(const plume_json_ctx *c, json_t *doc, plum
     const plume_mesh *m = s->mesh;
     unsigned char *split = calloc((size_t)s->nmat + 1, 1), *held = calloc((size_t)m->nv + 1, 1);
     double *offsets = NULL, d[2] = {1.0, 0.0};
-    int n = 0;
+    int n = 0, straight = 1;
     plume_split_lines *sl = calloc(1, sizeof *sl);
     if (!split || !held || !sl) {
         st = plume_err_set(c->err, PLUME_ENOMEM, "%s: out of memory", c->file);
         goto done;
     }
-    if ((st = split_materials(c, js, s, split)) != PLUME_OK || (st = split_direction(c, m, split, d)) != PLUME_OK ||
-        (st = split_offsets(c, js, m, split, d, &offsets, &n)) != PLUME_OK || (st = split_law(c, js, s)) != PLUME_OK)
+    if ((st = split_materials(c, js, s, split)) != PLUME_OK ||
+        (st = split_direction(c, m, split, d, &straight)) != PLUME_OK || (st = split_law(c, js, s)) != PLUME_OK)
         goto done;
+    if (straight && json_object_get(js, "every")) {
+        st = plume_json_bad(c, PLUME_EINVAL, "splits.every", "is for a feather's barbs; straight barbs take "
+                            "\"offsets\" or \"lines\"");
+        goto done;
+    }
     /* a vertex that touches a material that does not split stays whole: the rachis never splits */
     for (plume_index t = 0; t < m->nt; t++)
         for (int k = 0; !split[m->material[t]] && k < 3; k++)
             held[m->tri[3 * t + k]] = 1;
     plume_err e2 = {{0}};
-    if ((st = plume_split_lines_open_held(m, d, offsets, n, held, sl, &e2)) != PLUME_OK) {
+    if (!straight) { /* a feather: along its barbs */
+        if ((st = plume_scene_split_chains(c, js, s, split, held, sl)) != PLUME_OK)
+            goto done;
+    } else if ((st = split_offsets(c, js, m, split, d, &offsets, &n)) != PLUME_OK) {
+        goto done;
+    } else if ((st = plume_split_lines_open_held(m, d, offsets, n, held, sl, &e2)) != PLUME_OK) {
         st = plume_json_bad(c, st, json_object_get(js, "offsets") ? "splits.offsets" : "splits.lines",
                             "%s (offsets here are n . X with n = (%g, %g); the scene's are along (%g, %g))", e2.msg,
                             d[1], -d[0], -d[1], d[0]);
@@ -223,7 +231,9 @@ plume_status plume_scene_parse_splits(const plume_json_ctx *c, json_t *doc, plum
     s->mesh = sl->mesh; /* the opened mesh is the scene's from now on */
     s->splits = sl;
     sl = NULL;
-    st = plume_scene_splits_weld(s, c->err); /* an object's is made again for the scene's mesh */
+    /* the mesher's barb edges: the lips' own too; the weld (an object's is made again for the scene) */
+    if ((st = plume_scene_split_barb_edges(s, s->splits, c->err)) == PLUME_OK)
+        st = plume_scene_splits_weld(s, c->err);
 done:
     free(split);
     free(held);

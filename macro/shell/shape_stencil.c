@@ -95,6 +95,22 @@ static double stencil_score(const ref_tri *R, const plume_mesh *m, const ghost_r
                             const double cen[2], double edge, double *quality)
 {
     double M[3][3], far = 0.0;
+    /* a point on one of T's vertices, or on another point (a split line's copy and its original
+     * share a reference position): its row of M vanishes or repeats, which s(M), normalising the
+     * rows, does not see (measured: a fit inverse of 9e15 and a bending stiffness of 1e32) */
+    for (int k = 0; k < 3; k++) {
+        const double *P = slot_point(m, gr, p, k);
+        double lam[3];
+        barycentric(R, P, lam);
+        for (int j = 0; j < 3; j++) {
+            const double *Q = slot_point(m, gr, p, j);
+            if ((fabs(lam[j] - 1.0) <= 1e-9 && fabs(lam[(j + 1) % 3]) <= 1e-9 && fabs(lam[(j + 2) % 3]) <= 1e-9) ||
+                (j < k && hypot(P[0] - Q[0], P[1] - Q[1]) <= 1e-9 * edge)) {
+                *quality = 0.0;
+                return 0.0;
+            }
+        }
+    }
     for (int k = 0; k < 3; k++) {
         const double *P = slot_point(m, gr, p, k);
         fit_row(R, P, M[k]);

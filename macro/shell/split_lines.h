@@ -41,7 +41,7 @@ typedef struct {
                              the same triangles, those ahead of a line renumbered to its copies;
                              topology built */
     int nlines;           /**< lines opened */
-    double *offset;       /**< [nlines] each line's offset n . X (m) */
+    double *offset;       /**< [nlines] each line's offset n . X (m); NaN for a chain (plume_split_lines_open_chains) */
     plume_index *first;   /**< [nlines + 1] line l's pairs are first[l] .. first[l+1] - 1, in order along d */
     plume_index *pairs;   /**< [2 npairs] (copy, original) */
     double *length;       /**< [npairs] each pair's share of its line's length (m) */
@@ -63,6 +63,19 @@ plume_status plume_split_lines_open(const plume_mesh *m, const double d[2], cons
  * offset. */
 plume_status plume_split_lines_open_held(const plume_mesh *m, const double d[2], const double *c, int nc,
                                          const unsigned char *held, plume_split_lines *out, plume_err *err);
+
+/** Opens lines along chains of mesh edges, such as a feather's curved barbs: chain l is the
+ * vertices cverts[cfirst[l] .. cfirst[l+1] - 1], each two in a row a mesh edge. Each vertex of a
+ * chain that may split gets a copy, taken by the triangles of its fan left of the chain (the side
+ * of (b - a) x (c - a) > 0 for a chain edge a -> b), in the reference X; the copies keep their
+ * originals' positions. A vertex stays whole where held[v] is set (may be NULL: the rachis), at a
+ * chain's end inside the mesh (a crack tip), and where its fan has triangles on one side only. The
+ * lines' offsets are NaN. Errors (PLUME_EINVAL, named): a chain of fewer than 2 vertices, a vertex
+ * outside the mesh, two vertices in a row that are not an edge, a vertex on two chains, no vertex
+ * that may split; PLUME_ENOMEM. */
+plume_status plume_split_lines_open_chains(const plume_mesh *m, int nchains, const plume_index *cfirst,
+                                           const plume_index *cverts, const unsigned char *held,
+                                           plume_split_lines *out, plume_err *err);
 
 /** Adds the links of the opened lines to `p` (over out->mesh's vertices, not finalised) as the
  * hooks' term named "splits" (owned by the problem; *hooks, may be NULL, is a view valid while it lives), with

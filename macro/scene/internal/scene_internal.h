@@ -62,6 +62,14 @@ plume_status plume_scene_parse_contact(const plume_json_ctx *c, json_t *v, plume
 /* The "splits" block of a "mesh" scene (after its mesh and materials, before anything selects
  * vertices): opens the lines and makes the opened mesh the scene's; errors name the key. */
 plume_status plume_scene_parse_splits(const plume_json_ctx *c, json_t *doc, plume_scene *s);
+/* Lines along a feather's barbs (scene_split_chains.c): the chains of the mesher's barb edges in
+ * the materials `split` ("lines": that many spread along the rachis, or "every": every k-th),
+ * opened with `held` vertices whole; errors name the key. */
+plume_status plume_scene_split_chains(const plume_json_ctx *c, json_t *js, const plume_scene *s,
+                                      const unsigned char *split, const unsigned char *held, plume_split_lines *out);
+/* After the lines opened: the mesher's barb edges (s->barb_edges, when the mesh has them) gain
+ * each lip's own copy of the edges along a line. */
+plume_status plume_scene_split_barb_edges(plume_scene *s, const plume_split_lines *sl, plume_err *err);
 /* Frees the scene's split lines (not its mesh). */
 void plume_scene_splits_free(plume_scene *s);
 /* A new array (nv; the caller frees it) of the vertex each vertex stands for with the split lines
