@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Draws the charts of docs/unzipping.md from plume's own runs (through the Python package):
 
-    PYTHONPATH=python scripts/unzipping-charts.py OUTDIR   ->  OUTDIR/unzip_tilted.png,
-                                                              unzip_cycle.png, unzip_separation.png
+    PYTHONPATH=python scripts/unzipping-charts.py OUTDIR [CHART ...]  ->  OUTDIR/unzip_tilted.png,
+        unzip_cycle.png, unzip_separation.png, unzip_macro.png, unzip_scene.png (CHART: tilted, cycle,
+        separation, macro, scene; all by default)
 
 - unzip_tilted: the Table 3 (a) specimen at 45 deg pulled to 5 %, bonded and held by hooks of
   three strengths (as supplementary Figure 11 sets the measured curves beside the elastic model);
@@ -12,8 +13,11 @@
 - unzip_macro: the macro split. Left, the tilted specimen of data/layout_hooks.json resolved
   with its hooks beside the macro vane with split lines of the cell's separation law (one line,
   and one per barb spacing). Right, one line peeled on three meshes, force against opening.
+- unzip_scene: data/feather/scene_unzip.json run by apps/feather (its moduli file made first).
+  Left, the links holding on the two lines that unzip, against time, and the bill's front edge.
+  Right, the lifted strip's middle row seen from the side at five times.
 
-Takes about three minutes on one core.
+Takes about three minutes on one core (the scene about 30 s more).
 """
 import json
 import os
@@ -149,16 +153,75 @@ def macro(out):
     fig.savefig(os.path.join(out, "unzip_macro.png"), dpi=110)
 
 
+def scene(out):
+    import subprocess
+    import tempfile
+
+    import h5py
+
+    subprocess.run(["make", "-s", "data/feather/moduli_hooks.h5"], cwd=ROOT, check=True)
+    with tempfile.TemporaryDirectory() as tmp:
+        subprocess.run([os.path.join(ROOT, "apps", "feather"), os.path.join(ROOT, "data", "feather", "scene_unzip.json"),
+                        "-o", tmp, "--quiet"], check=True)
+        with h5py.File(os.path.join(tmp, "frames.h5"), "r") as f:
+            g = f["frames"]
+            keys = sorted(g.keys(), key=int)
+            t = np.array([g[k].attrs["t"] for k in keys])
+            x = np.array([g[k]["x"][:].reshape(-1, 3) for k in keys])
+            links = np.array([g[k]["split_links"][:] for k in keys])
+    with open(os.path.join(ROOT, "data", "feather", "scene_unzip.json")) as f:
+        doc = json.load(f)
+    nlines = len(doc["objects"][0]["splits"]["offsets"])
+    X0 = x[0]
+    # split_links: engaged, armed, slide per link, 3 offsets per link, 3 totals; the links line by line
+    npairs = (links.shape[1] - 3) // 6
+    per_line = npairs // nlines
+    nv_in = 25 * 17  # vane_strip.obj's vertices come first, then the copies, then the bill's
+    engaged = links[:, :npairs].reshape(len(t), nlines, per_line).sum(axis=2)
+    keys_b = doc["objects"][1]["kinematic"]["keyframes"]
+    tb = [k[0] for k in keys_b]
+    xb = [1e3 * (k[1] - 0.002) for k in keys_b]  # the plates' front edge: bill.obj's x = 0, placed at -2 mm
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for line, style in ((0, "C0-"), (1, "C1--"), (2, "C2:")):
+        a.plot(t, engaged[:, line], style, label="line at y = %g mm" % (1e3 * doc["objects"][0]["splits"]["offsets"][line]))
+    a.set_xlabel("time (s)")
+    a.set_ylabel("links holding (of %d)" % per_line)
+    a.grid(alpha=0.3)
+    a2 = a.twinx()
+    a2.plot(tb, xb, "k-", lw=0.8, alpha=0.6, label="bill's front edge")
+    a2.set_ylabel("bill's front edge x (mm)")
+    a.legend(loc="center left", fontsize=8)
+    a2.legend(loc="lower right", fontsize=8)
+    a.set_title("lifted (to 0.4 s), then preened (0.5 to 1.3 s)")
+    row = np.where((np.abs(X0[:nv_in, 1] - 3e-3) < 1e-9))[0]
+    row = row[np.argsort(X0[row, 0])]
+    for when in (0.4, 0.7, 0.9, 1.1, 1.3):
+        k = int(np.argmin(np.abs(t - when)))
+        front = np.interp(t[k], tb, xb)
+        b.plot(1e3 * X0[row, 0], 1e3 * x[k, row, 2], ".-", ms=3, label="t = %.2g s, bill at x = %.1f mm" % (t[k], front))
+    b.set_xlabel("x along the barbs (mm)")
+    b.set_ylabel("height of the strip's middle row (mm)")
+    b.set_title("the strip between the lines at 2 and 4 mm, from the side")
+    b.grid(alpha=0.3)
+    b.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "unzip_scene.png"), dpi=110)
+    print("scene: links holding at the end %s of %d; frames %d" % (engaged[-1].tolist(), per_line, len(t)))
+
+
 def main():
-    if len(sys.argv) != 2:
+    if len(sys.argv) < 2:
         sys.exit(__doc__)
     out = sys.argv[1]
+    charts = {"tilted": tilted, "cycle": cycle, "separation": separation, "macro": macro, "scene": scene}
+    which = sys.argv[2:] or list(charts)
+    for name in which:
+        if name not in charts:
+            sys.exit("unzipping-charts: unknown chart '%s' (one of %s)" % (name, ", ".join(charts)))
     os.makedirs(out, exist_ok=True)
     plume.openmp_serial()
-    tilted(out)
-    cycle(out)
-    separation(out)
-    macro(out)
+    for name in which:
+        charts[name](out)
 
 
 if __name__ == "__main__":
