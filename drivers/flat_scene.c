@@ -126,12 +126,22 @@ plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **repor
         }
         done++;
     }
-    if (report)
-        st = plume_flat_emit(json_pack("{s:I, s:f, s:b, s:I, s:I, s:f, s:f, s:s}", "steps", (json_int_t)done, "time",
-                            plume_run_time(s->run), "converged", converged, "halvings", (json_int_t)halvings,
-                            "newton_iterations", (json_int_t)iterations, "max_violation", max_violation, "seconds",
-                            seconds, "stop_reason", plume_reason_name(reason)),
-                  report, &err);
+    if (!report)
+        return plume_flat_finish(st, &err, msg, nmsg);
+    json_t *j = json_pack("{s:I, s:f, s:b, s:I, s:I, s:f, s:f, s:s}", "steps", (json_int_t)done, "time",
+                          plume_run_time(s->run), "converged", converged, "halvings", (json_int_t)halvings,
+                          "newton_iterations", (json_int_t)iterations, "max_violation", max_violation, "seconds",
+                          seconds, "stop_reason", plume_reason_name(reason));
+    plume_run_report r;
+    plume_run_get_report(s->run, &r);
+    if (j && r.split_pairs > 0) /* the split lines since t = 0 (apps/feather's "splits") */
+        json_object_set_new(j, "splits",
+                            json_pack("{s:I, s:I, s:I, s:f, s:f, s:f}", "links", (json_int_t)r.split_pairs,
+                                      "splits_opened", (json_int_t)r.splits_opened, "splits_closed",
+                                      (json_int_t)r.splits_closed, "open_length", r.split_open_now,
+                                      "longest_open_length", r.split_longest, "dissipated_energy",
+                                      r.split_dissipated));
+    st = plume_flat_emit(j, report, &err);
     return plume_flat_finish(st, &err, msg, nmsg);
 }
 

@@ -558,7 +558,9 @@ class Scene:
         step was not accepted and stopped the call: it did not converge even at the smallest
         substep, or with the "linearized" solver it did not advance; the state then stays at the
         last converged substep), "halvings", "newton_iterations", "max_violation", "seconds",
-        "stop_reason".
+        "stop_reason"; and for a scene with split lines (its "splits" block), "splits": {"links",
+        "splits_opened", "splits_closed" (since t = 0), "open_length", "longest_open_length" (m),
+        "dissipated_energy" (J)}.
         """
         h = self._live()
         n = _integer("n", n, 0)

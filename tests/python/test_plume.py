@@ -630,6 +630,35 @@ class TestScene(unittest.TestCase):
             with open(os.path.join(out, vtu[0]), "rb") as f:
                 self.assertIn(b"bending_energy", f.read())
 
+    def test_split_lines(self):
+        # a vane 6 x 4 mm, barbs along x, held at x = 0, one barb line across it at y = 2 mm; the
+        # corner below the line pulled 1 mm across the barbs: the line lets go, and the report says
+        doc = {"mesh": {"rectangle": [6e-3, 4e-3], "edge": 5e-4, "pattern": "aligned", "barb_direction": [1, 0]},
+               "materials": [{"name": "vane", "membrane": {"E_xx": 1.2e9, "E_yy": 3.2e6, "nu_xy": 0, "G_xy": 1.1e6,
+                                                           "thickness": 1e-4, "kappa": 5e7},
+                              "bending": {"D_long": 2.5e-4, "D_trans": 1e-7}, "density": 0.026}],
+               "splits": {"materials": ["vane"], "offsets": [2e-3],
+                          "law": {"strength": 1.0, "stiffness": 5e5, "capture": 5e-6}},
+               "handles": [{"box": [-1, -1, 1e-9, 1], "keyframes": [[0, 0, 0, 0]]},
+                           {"box": [5.49e-3, -1, 1, 1.51e-3], "keyframes": [[0, 0, 0, 0], [0.3, 0, -1e-3, 0]]}],
+               "gravity": [0, 0, 0], "dt": 0.01, "duration": 0.3, "max_halvings": 8}
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "split.json")
+            with open(path, "w") as f:
+                json.dump(doc, f)
+            with plume.Scene(path) as s:
+                first = s.step(0)
+                self.assertEqual(first["splits"]["splits_opened"], 0)
+                r = s.step(30)
+        self.assertTrue(r["converged"])
+        sp = r["splits"]
+        self.assertGreater(sp["links"], 0)
+        self.assertGreater(sp["splits_opened"], sp["links"] // 2)
+        self.assertGreater(sp["open_length"], 2e-3)
+        self.assertGreater(sp["dissipated_energy"], 0.0)
+        with plume.Scene(STRIP_SCENE) as s:  # no lines, no "splits"
+            self.assertNotIn("splits", s.step(0))
+
     def test_closed_scene(self):
         s = plume.Scene(STRIP_SCENE)
         self.assertFalse(s.closed)
