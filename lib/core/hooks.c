@@ -418,15 +418,8 @@ static int seat(plume_hooks *h, int dim, const double *x, int k, plume_hooks_eve
 /* A released hook k catches again when the mean distance of its pairs is within the capture. */
 static void catch_again(plume_hooks *h, int dim, const double *x, int k, plume_hooks_events *ev)
 {
-    double mean = 0.0;
-    for (plume_index p = h->first[k]; p < h->first[k + 1]; p++) {
-        const plume_index a = h->pairs[2 * p], b = h->pairs[2 * p + 1];
-        double d[3];
-        for (int c = 0; c < dim; c++)
-            d[c] = x[dim * a + c] - x[dim * b + c];
-        mean += norm(d, dim);
-    }
-    mean /= (double)(h->first[k + 1] - h->first[k]);
+    double mean, offset;
+    hook_gaps(h, dim, x, k, &mean, &offset);
     if (!(h->law.capture > 0.0))
         return;
     if (mean > h->law.capture) { /* opened clear of the barb: it may catch when pressed back */

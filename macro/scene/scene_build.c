@@ -225,18 +225,12 @@ static plume_status add_contact(const plume_scene *s, plume_problem *p, plume_co
     int *body = plume_scene_body_labels(s, err);
     if (!body)
         return PLUME_ENOMEM;
-    plume_index *weld = s->splits ? plume_scene_weld(s, err) : NULL;
-    if (s->splits && !weld) {
-        free(body);
-        return PLUME_ENOMEM;
-    }
     plume_contact_term_opts co = s->contact;
-    co.weld = weld; /* a split line's lips touch where they coincide, as neighbours do */
+    co.weld = s->split_weld; /* a split line's lips touch where they coincide, as neighbours do */
     plume_term t;
     plume_contact *c = NULL;
     plume_status st = plume_contact_term_create(m->nv, m->nt, m->tri, body, m->x, &co, &t, &c, err);
     free(body);
-    free(weld);
     if (st == PLUME_OK)
         st = plume_problem_add_term(p, &t, err);
     if (handle)

@@ -92,17 +92,11 @@ plume_status plume_scene_contact_broad(const plume_scene *s, plume_contact_broad
     int *body = plume_scene_body_labels(s, err);
     if (!body)
         return PLUME_ENOMEM;
-    plume_index *weld = s->splits ? plume_scene_weld(s, err) : NULL;
-    if (s->splits && !weld) {
-        free(body);
-        return PLUME_ENOMEM;
-    }
     plume_contact_broad_opts bo;
     plume_contact_broad_opts_default(&bo);
     bo.self_contact = s->contact.self_contact;
-    bo.weld = weld;
+    bo.weld = s->split_weld;
     plume_status st = plume_contact_broad_create(m->nv, m->nt, m->tri, body, &bo, out, err);
     free(body);
-    free(weld);
     return st;
 }

@@ -249,7 +249,9 @@ plume_status plume_scene_add_splits(const plume_scene *s, plume_problem *p, plum
     return plume_split_lines_add(p, s->splits, &s->split_law, NULL, err);
 }
 
-plume_index *plume_scene_weld(const plume_scene *s, plume_err *err)
+/* A new array (nv) of the vertex each vertex stands for with the lines welded shut (a copy's
+ * original; itself otherwise), or NULL with err set */
+static plume_index *scene_weld(const plume_scene *s, plume_err *err)
 {
     const plume_index nv = s->mesh->nv;
     plume_index *weld = malloc((size_t)(nv + 1) * sizeof *weld);
@@ -280,6 +282,6 @@ int plume_scene_welded_neighbours(const plume_scene *s, plume_index t1, plume_in
 plume_status plume_scene_splits_weld(plume_scene *s, plume_err *err)
 {
     free(s->split_weld);
-    s->split_weld = plume_scene_weld(s, err);
+    s->split_weld = scene_weld(s, err);
     return s->split_weld ? PLUME_OK : PLUME_ENOMEM;
 }

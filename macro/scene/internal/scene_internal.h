@@ -72,11 +72,8 @@ plume_status plume_scene_split_chains(const plume_json_ctx *c, json_t *js, const
 plume_status plume_scene_split_barb_edges(plume_scene *s, const plume_split_lines *sl, plume_err *err);
 /* Frees the scene's split lines (not its mesh). */
 void plume_scene_splits_free(plume_scene *s);
-/* A new array (nv; the caller frees it) of the vertex each vertex stands for with the split lines
- * welded shut (a copy's original; itself otherwise): contact's adjacency (plume_contact_term_opts.weld);
- * NULL with err set when memory runs out. */
-plume_index *plume_scene_weld(const plume_scene *s, plume_err *err);
-/* s->split_weld from the scene's mesh and lines (plume_scene_weld), once both are final */
+/* s->split_weld (each vertex's original with the lines welded shut: contact's adjacency,
+ * plume_contact_term_opts.weld) from the scene's mesh and lines, once both are final */
 plume_status plume_scene_splits_weld(plume_scene *s, plume_err *err);
 /* 1 when triangles t1 and t2 share a vertex with the split lines welded shut: a line's lips touch
  * there as neighbours do, and an audit of intersections does not count them (0 without splits) */
