@@ -221,6 +221,8 @@ void test_scene_splits_bad_input(void)
          "\"capture\": 5e-6}}", NULL, "lies on the mesh's edge"},
         {"{\"materials\": [\"vane\"], \"offsets\": [0.002], \"law\": {\"strength\": 1, \"stiffness\": 5e5, "
          "\"capture\": 5e-6}}", ", \"solve\": \"static\"", "dynamic scenes"},
+        {"{\"materials\": [\"vane\"], \"every\": 2, \"law\": {\"strength\": 1, \"stiffness\": 5e5, "
+         "\"capture\": 5e-6}}", NULL, "splits.every"},
     };
     char dir[64], scene[128];
     make_dir(dir, sizeof dir);
@@ -376,6 +378,28 @@ void test_scene_splits_feather(void)
     plume_scene *s = NULL, *plain = NULL;
     CHECK(plume_scene_load_json(text, path, NULL, &s, &err) == PLUME_OK);
     CHECK(plume_scene_load(path, &plain, &err) == PLUME_OK);
+    /* a feather's lines are its barbs: no offsets, and one of "lines" or "every" */
+    static const struct {
+        const char *from, *to, *key;
+    } bad[] = {{"\"every\": 1", "\"offsets\": [0.01]", "splits.offsets"},
+               {"\"every\": 1", "\"every\": 1, \"lines\": 3", "\"lines\""},
+               {"\"every\": 1", "\"every\": 0", "splits.every"}};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        char *doc = malloc(1 << 16), *at = strstr(text, bad[i].from);
+        CHECK(doc && at);
+        if (!doc || !at) {
+            free(doc);
+            continue;
+        }
+        snprintf(doc, 1 << 16, "%.*s%s%s", (int)(at - text), text, bad[i].to, at + strlen(bad[i].from));
+        plume_scene *b = NULL;
+        plume_err e2 = {{0}};
+        CHECK(plume_scene_load_json(doc, path, NULL, &b, &e2) == PLUME_EINVAL && strstr(e2.msg, bad[i].key) && !b);
+        if (!strstr(e2.msg, bad[i].key))
+            fprintf(stderr, "    case %zu: '%s'\n", i, e2.msg);
+        plume_scene_destroy(&b);
+        free(doc);
+    }
     free(text);
     if (!s || !plain) {
         fprintf(stderr, "    %s\n", err.msg);
@@ -415,4 +439,32 @@ void test_scene_splits_feather(void)
     plume_problem_destroy(&q);
     plume_scene_destroy(&s);
     plume_scene_destroy(&plain);
+}
+
+/* plume_split_lines_open_chains refuses, by name, a chain whose vertices in a row are no edge, a
+ * vertex on two chains and a chain of one vertex */
+void test_scene_splits_chains_bad_input(void)
+{
+    char dir[64], scene[128];
+    make_dir(dir, sizeof dir);
+    write_scene(dir, "scene.json", LINE, NULL);
+    snprintf(scene, sizeof scene, "%s/scene.json", dir);
+    plume_err err = {{0}};
+    plume_scene *s = NULL;
+    CHECK(plume_scene_load(scene, &s, &err) == PLUME_OK);
+    if (s) {
+        const plume_index row = 2 * (NX + 1); /* the row y = 1 mm of the grid: vertices row .. row + NX */
+        const plume_index first1[2] = {0, 3}, far[3] = {row + 4, row + 6, row + 7}; /* 4 - 6: no edge */
+        const plume_index first2[3] = {0, 2, 4}, twice[4] = {row + 4, row + 5, row + 5, row + 6};
+        const plume_index first3[2] = {0, 1}, one[1] = {row + 4};
+        plume_split_lines sl;
+        CHECK(plume_split_lines_open_chains(s->mesh, 1, first1, far, NULL, &sl, &err) == PLUME_EINVAL &&
+              strstr(err.msg, "not a mesh edge"));
+        CHECK(plume_split_lines_open_chains(s->mesh, 2, first2, twice, NULL, &sl, &err) == PLUME_EINVAL &&
+              strstr(err.msg, "on chains 0 and 1"));
+        CHECK(plume_split_lines_open_chains(s->mesh, 1, first3, one, NULL, &sl, &err) == PLUME_EINVAL &&
+              strstr(err.msg, "fewer than 2"));
+    }
+    plume_scene_destroy(&s);
+    remove_tree(dir);
 }
