@@ -13,6 +13,7 @@
 #include <jansson.h>
 
 #include "../include/plume/plume.h"
+#include "../lib/core/membrane.h"
 #include "internal/flat_common.h"
 
 /* the macro traction keys of a request into t (defaults of plume_traction_opts and the apps) */
@@ -106,6 +107,31 @@ static plume_status traction_splits(json_t *req, const plume_flat_traction_setup
     return plume_splits_open(patch, angle, n, splits, err);
 }
 
+/* traction request.tensor: the macro vane's plane-stress tensor, 9 numbers (Pa, row-major, Voigt
+ * E11, E22, 2E12 in the barb frame: a homogenize result's "C"), in place of the moduli's; *has 0
+ * without the key. */
+static plume_status get_tensor(json_t *req, double C[9], int *has, plume_err *err)
+{
+    *has = 0;
+    json_t *jc = json_object_get(req, "tensor");
+    if (!jc || json_is_null(jc))
+        return PLUME_OK;
+    if (!json_is_array(jc) || json_array_size(jc) != 9)
+        return plume_err_set(err, PLUME_EINVAL, "traction request: \"tensor\" must be 9 numbers (Pa, the plane-stress "
+                             "tensor row by row; a homogenize result's \"C\")");
+    for (int k = 0; k < 9; k++) {
+        json_t *v = json_array_get(jc, (size_t)k);
+        if (!json_is_number(v))
+            return plume_err_set(err, PLUME_EINVAL, "traction request: \"tensor\"[%d] must be a number", k);
+        C[k] = json_number_value(v);
+    }
+    plume_err why;
+    if (plume_membrane_tensor_check(C, &why) != PLUME_OK)
+        return plume_err_set(err, PLUME_EINVAL, "traction request: \"tensor\": %s", why.msg);
+    *has = 1;
+    return PLUME_OK;
+}
+
 static plume_status traction_specimen(json_t *req, const plume_flat_traction_setup *t, int micro, double angle,
                                       plume_vane *vane, plume_layout *layout, plume_mesh **mesh, plume_splits **splits,
                                       plume_problem **p, plume_index **barbs, plume_index *nbarbs,
@@ -122,6 +148,9 @@ static plume_status traction_specimen(json_t *req, const plume_flat_traction_set
         if (json_object_get(req, "split_lines"))
             return plume_err_set(err, PLUME_EINVAL, "traction request: \"split_lines\" is for the macro model (the "
                                  "micro model's barbules have their own hooks)");
+        if (json_object_get(req, "tensor"))
+            return plume_err_set(err, PLUME_EINVAL, "traction request: \"tensor\" is for the macro model (the micro "
+                                 "model resolves the barbules)");
         if ((st = plume_micro_specimen(layout, t->lx, t->ly, angle, mesh, p, err)) != PLUME_OK)
             return st;
         plume_layout_materials(layout, mats);
@@ -130,6 +159,13 @@ static plume_status traction_specimen(json_t *req, const plume_flat_traction_set
     }
     if (json_object_get(req, "layout"))
         return plume_err_set(err, PLUME_EINVAL, "traction request: \"layout\" is for the micro model");
+    double C[9];
+    int has_tensor;
+    if ((st = get_tensor(req, C, &has_tensor, err)) != PLUME_OK)
+        return st;
+    if (has_tensor && json_object_get(req, "vtk"))
+        return plume_err_set(err, PLUME_EINVAL, "traction request: \"vtk\" writes the orthotropic moduli's stresses: "
+                             "not with \"tensor\"");
     vane->h = t->h, vane->kappa = t->kappa, vane->constraint = t->constraint;
     plume_separation_law law;
     if ((st = plume_vane_check(vane, err)) != PLUME_OK ||
@@ -138,7 +174,7 @@ static plume_status traction_specimen(json_t *req, const plume_flat_traction_set
         return st;
     const plume_mesh *m = *splits ? plume_splits_mesh(*splits) : *mesh; /* the problem's: the opened mesh */
     if ((st = plume_problem_create(m->nv, 2, fmax(t->lx, t->ly), p, err)) != PLUME_OK ||
-        (st = plume_vane_add(*p, m, vane, barbs, nbarbs, err)) != PLUME_OK ||
+        (st = plume_vane_add_tensor(*p, m, vane, has_tensor ? C : NULL, barbs, nbarbs, err)) != PLUME_OK ||
         (*splits && (st = plume_splits_add(*p, *splits, &law, err)) != PLUME_OK))
         return st;
     mats[0] = plume_vane_material(vane);
@@ -228,7 +264,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     static const char *const keys[] = {"model", "angle", "lx", "ly", "thickness", "moduli", "kappa", "constraint",
                                        "mesh", "edge", "strain_max", "steps", "solver", "layout", "vtk",
                                        "convergence", "path", "peel", "top_grip_free", "split_lines", "separation",
-                                       NULL};
+                                       "tensor", NULL};
     json_t *req;
     plume_status st = plume_flat_parse_request(request, "traction", keys, &req, &err);
     if (st != PLUME_OK)

@@ -303,6 +303,73 @@ void test_membrane_fd_derivatives(void)
     CHECK(nactive == 2 * 5 * 3 * 4); /* every triangle of every compressive case was active */
 }
 
+/* A monoclinic tensor (C13, C23 couple the normal strains and the shear, as in a cell of inclined
+ * barbules; docs/monoclinic-vane.md): the same finite differences, the compression term on and
+ * off; the orthotropic material given as its own tensor is the moduli's term bit for bit; tensors
+ * that are not symmetric or not positive definite are refused, naming the material. */
+void test_membrane_fd_tensor(void)
+{
+    rng64 r = {1442695040888963407ULL};
+    /* C23 / sqrt(C22 C33) = 0.9, C13 / sqrt(C11 C33) = 0.3: positive definite */
+    const double C[9] = {300.0, 1.0, 0.3 * sqrt(300.0 * 1.2), 1.0, 2.0, 0.9 * sqrt(2.0 * 1.2),
+                         0.3 * sqrt(300.0 * 1.2), 0.9 * sqrt(2.0 * 1.2), 1.2};
+    char what[160];
+    for (int dim = 2; dim <= 3; dim++) {
+        for (int ia = 0; ia < 3; ia++) {
+            const double angle = 30.0 + 50.0 * ia;
+            plume_mesh *m = small_mesh(angle, 1.5);
+            CHECK(m != NULL);
+            if (!m)
+                return;
+            for (int mode = 0; mode < 2; mode++) {
+                plume_membrane_material mats[2] = {MAT_ANISO, MAT_ISO};
+                double tensors[18];
+                memcpy(tensors, C, sizeof C);
+                plume_membrane_stiffness(&mats[1], tensors + 9);
+                if (mode == 1)
+                    mats[0].kappa = mats[1].kappa = 3e5;
+                plume_term t;
+                plume_err err;
+                CHECK(plume_membrane_term_create_tensor(m, dim, mats, tensors, 2, &t, &err) == PLUME_OK);
+                double x[15];
+                for (int rep = 0; rep < 3; rep++) {
+                    deform(&r, m, dim, mode ? 0.6 : 0.5, mode ? 0.9 : 1.5, 0.05, x);
+                    snprintf(what, sizeof what, "tensor: dim %d angle %g mode %d rep %d", dim, angle, mode, rep);
+                    fd_check(&t, m, dim, x, what);
+                }
+                t.destroy(t.ctx);
+            }
+            plume_mesh_destroy(&m);
+        }
+    }
+    /* the orthotropic tensor of a material's moduli: the same term */
+    plume_mesh *m = small_mesh(45.0, 1.0);
+    plume_membrane_material mats[2] = {MAT_ANISO, MAT_ISO};
+    double tensors[18];
+    plume_membrane_stiffness(&mats[0], tensors);
+    plume_membrane_stiffness(&mats[1], tensors + 9);
+    plume_term a, b;
+    plume_err err;
+    CHECK(plume_membrane_term_create(m, 3, mats, 2, &a, &err) == PLUME_OK);
+    CHECK(plume_membrane_term_create_tensor(m, 3, mats, tensors, 2, &b, &err) == PLUME_OK);
+    double x[15], ga[15], gb[15];
+    deform(&r, m, 3, 0.7, 1.3, 0.1, x);
+    const double ea = term_all(&a, 3, m->nv, x, ga, NULL, NULL, 0), eb = term_all(&b, 3, m->nv, x, gb, NULL, NULL, 0);
+    CHECK(ea == eb);
+    CHECK(memcmp(ga, gb, (size_t)(3 * m->nv) * sizeof *ga) == 0);
+    a.destroy(a.ctx);
+    b.destroy(b.ctx);
+    /* refused, by material */
+    tensors[9 + 5] = 2.0 * tensors[9 + 7] + 1.0; /* C23 != C32 */
+    CHECK(plume_membrane_term_create_tensor(m, 2, mats, tensors, 2, &a, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "material 1") && strstr(err.msg, "not symmetric"));
+    memcpy(tensors, C, sizeof C);
+    tensors[5] = tensors[7] = 1.01 * sqrt(C[4] * C[8]); /* |C23| > sqrt(C22 C33) */
+    CHECK(plume_membrane_term_create_tensor(m, 2, mats, tensors, 1, &a, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "material 0") && strstr(err.msg, "not positive definite"));
+    plume_mesh_destroy(&m);
+}
+
 /* the compression term alone, where it dominates, so its derivatives are checked on their own */
 void test_membrane_fd_compression_only(void)
 {

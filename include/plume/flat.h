@@ -40,6 +40,9 @@
  *    (docs/layout-format.md), "split_lines": N (model macro, mesh aligned: N barb lines that
  *    split and zip again, plume_splits_open) with "separation": {"strength": N/m, "stiffness":
  *    N/m^2, "capture": m} (their law: a homogenize result's "separation", other keys ignored),
+ *    "tensor": [9 numbers] (model macro: the membrane's plane-stress tensor in the barb frame, Pa,
+ *    row-major, in place of the moduli's orthotropic one: a homogenize result's "C";
+ *    plume_vane_add_tensor; not with "vtk"),
  *    "convergence": true (model micro: the curve again on a mesh twice as coarse), "vtk": "DIR" (a ParaView series of the
  *    steps: DIR/steps.pvd with DIR/step_NNNNN.vtu, and DIR/step_barbs_NNNNN.vtu for the macro
  *    model's constrained barbs; docs/paraview-output.md)}

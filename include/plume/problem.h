@@ -284,6 +284,17 @@ PLUME_API plume_status plume_membrane_term_create(const plume_mesh *mesh, int di
                                                   const plume_membrane_material *mats, int nmat,
                                                   plume_term *out, plume_err *err);
 
+/** As plume_membrane_term_create, with material i's plane-stress tensor tensors[9 i .. 9 i + 8]
+ * (Pa, row-major, Voigt order E11, E22, 2E12 in the barb frame, symmetric positive definite) in
+ * place of its moduli' orthotropic one: C13 and C23 couple the normal strains and the shear, as in
+ * the cell of inclined barbules (plume_homog_result.C; docs/monoclinic-vane.md). The materials'
+ * h, kappa and log_barrier still apply, and their moduli are still checked. tensors NULL: the
+ * moduli's tensors. PLUME_EINVAL naming the material for a tensor that is not finite, symmetric
+ * or positive definite. */
+PLUME_API plume_status plume_membrane_term_create_tensor(const plume_mesh *mesh, int dim,
+                                                         const plume_membrane_material *mats, const double *tensors,
+                                                         int nmat, plume_term *out, plume_err *err);
+
 
 /* ---- the inextensibility constraint ---- */
 /** A constraint set over `n` edges (pairs of vertex ids, copied) whose rest lengths are taken

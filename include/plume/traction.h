@@ -181,6 +181,14 @@ PLUME_API plume_status plume_vane_check(const plume_vane *v, plume_err *err);
  * the constraint is off). */
 PLUME_API plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, const plume_vane *v,
                                       plume_index **barb_edges, plume_index *nbarb, plume_err *err);
+/** As plume_vane_add, with the membrane's plane-stress tensor C (Pa, row-major, Voigt order E11,
+ * E22, 2E12 in the barb frame; plume_homog_result.C) in place of the moduli's orthotropic one:
+ * the vane of a cell whose normal strains and shear are coupled (inclined barbules,
+ * docs/monoclinic-vane.md). v's moduli are still checked (the penalty mode uses E_xx). C NULL:
+ * plume_vane_add. */
+PLUME_API plume_status plume_vane_add_tensor(plume_problem *p, const plume_mesh *m, const plume_vane *v,
+                                             const double C[9], plume_index **barb_edges, plume_index *nbarb,
+                                             plume_err *err);
 
 
 /* ---- barb lines that split ---- */

@@ -372,9 +372,37 @@ static plume_status reference_triangle(const plume_mesh *mesh, const plume_membr
     return PLUME_OK;
 }
 
+plume_status plume_membrane_tensor_check(const double C[9], plume_err *err)
+{
+    if (!C)
+        return plume_err_set(err, PLUME_EINVAL, "membrane tensor: none given");
+    for (int k = 0; k < 9; k++)
+        if (!isfinite(C[k]))
+            return plume_err_set(err, PLUME_EINVAL, "membrane tensor: C%d%d is not finite", k / 3 + 1, k % 3 + 1);
+    for (int i = 0; i < 3; i++)
+        for (int j = i + 1; j < 3; j++)
+            if (fabs(C[3 * i + j] - C[3 * j + i]) > 1e-9 * (fabs(C[3 * i + j]) + fabs(C[3 * j + i])))
+                return plume_err_set(err, PLUME_EINVAL, "membrane tensor: not symmetric (C%d%d = %g, C%d%d = %g)",
+                                     i + 1, j + 1, C[3 * i + j], j + 1, i + 1, C[3 * j + i]);
+    /* positive definite: the leading minors (Sylvester) */
+    const double m1 = C[0], m2 = C[0] * C[4] - C[1] * C[3];
+    const double m3 = C[0] * (C[4] * C[8] - C[5] * C[7]) - C[1] * (C[3] * C[8] - C[5] * C[6]) +
+                      C[2] * (C[3] * C[7] - C[4] * C[6]);
+    if (!(m1 > 0.0 && m2 > 0.0 && m3 > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "membrane tensor: not positive definite (leading minors %g, %g, %g)",
+                             m1, m2, m3);
+    return PLUME_OK;
+}
+
 plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
                                         const plume_membrane_material *mats, int nmat,
                                         plume_term *out, plume_err *err)
+{
+    return plume_membrane_term_create_tensor(mesh, dim, mats, NULL, nmat, out, err);
+}
+
+plume_status plume_membrane_term_create_tensor(const plume_mesh *mesh, int dim, const plume_membrane_material *mats,
+                                               const double *tensors, int nmat, plume_term *out, plume_err *err)
 {
     plume_status st = PLUME_OK;
     mem_ctx *ctx = NULL;
@@ -384,6 +412,11 @@ plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
         return plume_err_set(err, PLUME_EINVAL, "membrane: NULL mesh, materials or output");
     if ((st = check_membrane_args(mesh, dim, mats, nmat, err)) != PLUME_OK)
         return st;
+    for (int i = 0; tensors && i < nmat; i++) {
+        plume_err why;
+        if (plume_membrane_tensor_check(tensors + 9 * i, &why) != PLUME_OK)
+            return plume_err_set(err, PLUME_EINVAL, "membrane: material %d: %s", i, why.msg);
+    }
 
     const plume_index nt = mesh->nt;
     ctx = calloc(1, sizeof *ctx);
@@ -399,7 +432,7 @@ plume_status plume_membrane_term_create(const plume_mesh *mesh, int dim,
         goto cleanup;
     }
     for (int i = 0; i < nmat; i++)
-        plume_membrane_law_set(&mats[i], &ctx->mat[i]);
+        plume_membrane_law_set_tensor(&mats[i], tensors ? tensors + 9 * i : NULL, &ctx->mat[i]);
     for (plume_index t = 0; t < nt; t++)
         if ((st = reference_triangle(mesh, mats, nmat, t, ctx->stencil + 3 * t, &ctx->tri[t], err)) != PLUME_OK)
             goto cleanup;

@@ -19,6 +19,10 @@ extern "C" {
  * positive definite (nu_xy^2 < E_xx/E_yy). PLUME_EINVAL naming the parameter otherwise. */
 plume_status plume_membrane_material_check(const plume_membrane_material *mat, plume_err *err);
 
+/** Checks a plane-stress tensor C (3x3 row-major): finite, symmetric, positive definite.
+ * PLUME_EINVAL with the reason otherwise. */
+plume_status plume_membrane_tensor_check(const double C[9], plume_err *err);
+
 /** The plane-stress stiffness C (3x3 row-major, Voigt order E11, E22, 2E12) of a material. */
 void plume_membrane_stiffness(const plume_membrane_material *mat, double C[9]);
 

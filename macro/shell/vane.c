@@ -139,6 +139,12 @@ cleanup:
 plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, const plume_vane *v,
                             plume_index **barb_edges, plume_index *nbarb, plume_err *err)
 {
+    return plume_vane_add_tensor(p, m, v, NULL, barb_edges, nbarb, err);
+}
+
+plume_status plume_vane_add_tensor(plume_problem *p, const plume_mesh *m, const plume_vane *v, const double C[9],
+                                   plume_index **barb_edges, plume_index *nbarb, plume_err *err)
+{
     if (barb_edges)
         *barb_edges = NULL;
     if (nbarb)
@@ -148,7 +154,7 @@ plume_status plume_vane_add(plume_problem *p, const plume_mesh *m, const plume_v
         return st;
     plume_membrane_material mat = plume_vane_material(v);
     plume_term term;
-    if ((st = plume_membrane_term_create(m, plume_problem_dim(p), &mat, 1, &term, err)) != PLUME_OK)
+    if ((st = plume_membrane_term_create_tensor(m, plume_problem_dim(p), &mat, C, 1, &term, err)) != PLUME_OK)
         return st;
     if ((st = plume_problem_add_term(p, &term, err)) != PLUME_OK)
         return st;

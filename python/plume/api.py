@@ -257,8 +257,16 @@ def _strains(name, x):
     return [float(v) for v in _series(name, x)]
 
 
+def _tensor(name, x):
+    a = _series(name, np.ravel(np.asarray(x, dtype=float)))
+    if a.size != 9:
+        raise ValueError("%s must be the 3x3 plane-stress tensor, 9 numbers (got %d)" % (name, a.size))
+    return [float(v) for v in a]
+
+
 _TRACTION_OPTIONS = dict(_MACRO_OPTIONS, strain_max=_number, convergence=_boolean, path=_strains,
-                         peel=_number, top_grip_free=_number, split_lines=_integer, separation=_mapping)
+                         peel=_number, top_grip_free=_number, split_lines=_integer, separation=_mapping,
+                         tensor=_tensor)
 
 
 def _options(job, options, allowed):
@@ -407,7 +415,10 @@ def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **op
             split_lines (macro model, aligned mesh: that many barb lines spread across the sample
             split and zip again, docs/unzipping.md) with separation (their law: the "separation"
             of a homogenize result of a layout with hooks, or a dict with "strength" N/m,
-            "stiffness" N/m^2, "capture" m).
+            "stiffness" N/m^2, "capture" m), tensor (macro model: the membrane's plane-stress
+            tensor, 3x3 Pa in the barb frame, in place of the moduli's orthotropic one: a
+            homogenize result's C, which couples the normal strains and the shear of a cell of
+            inclined barbules; docs/monoclinic-vane.md).
 
     Returns:
         TractionResult (strain -, stress Pa, wbar -, per step, the rest state first).

@@ -73,7 +73,7 @@ def rel(a, b):
 
 class TestLibrary(unittest.TestCase):
     def test_version(self):
-        self.assertEqual(plume.version(), "3.2.0")
+        self.assertEqual(plume.version(), "3.3.0")
         self.assertEqual(plume.__version__, plume.version())
 
     def test_openmp_serial(self):
@@ -446,6 +446,34 @@ class TestTraction(unittest.TestCase):
             self.assertEqual(len(files), steps + 1)  # the rest state and every step
             for f in files:
                 self.assertGreater(os.path.getsize(os.path.join(out, f)), 0, f)
+
+    def test_tensor(self):
+        """traction(tensor=h.C): the vane of a cell with inclined barbules keeps its coupling
+        (docs/monoclinic-vane.md): at 45 degrees it is several times stiffer than the orthotropic
+        moduli make it, and bad tensors are refused by name."""
+        with open(os.path.join(ROOT, "data", "layout_barbules_table3a.json")) as f:
+            layout = {k: v for k, v in json.load(f).items() if k != "note"}
+        h = plume.homogenize(layout, strain_max=0.0)
+        self.assertGreater(h.shear_coupling, 0.05)
+        common = dict(moduli=h, angle=45.0, lx=4e-3, ly=5.2e-3, thickness=1e-4, strain_max=4e-4, steps=1, edge=2e-4)
+        ortho = plume.traction(**common)
+        tensor = plume.traction(tensor=h.C, **common)
+        self.assertTrue(ortho.converged and tensor.converged)
+        self.assertGreater(tensor.initial_slope, 5.0 * ortho.initial_slope)
+        # the orthotropic tensor of the moduli is the moduli's vane
+        nu_yx = h.nu_xy * h.E_yy / h.E_xx
+        d = 1.0 - h.nu_xy * nu_yx
+        C = [[h.E_xx / d, nu_yx * h.E_xx / d, 0.0], [nu_yx * h.E_xx / d, h.E_yy / d, 0.0], [0.0, 0.0, h.G_xy]]
+        same = plume.traction(tensor=C, **common)
+        self.assertAlmostEqual(same.initial_slope / ortho.initial_slope, 1.0, places=9)
+        with self.assertRaisesRegex(ValueError, "9 numbers"):
+            plume.traction(tensor=[1.0, 2.0], **common)
+        bad = np.array(h.C, dtype=float)
+        bad[1, 2] = bad[2, 1] = 2.0 * np.sqrt(bad[1, 1] * bad[2, 2])
+        with self.assertRaisesRegex(plume.PlumeError, "tensor.*not positive definite"):
+            plume.traction(tensor=bad, **common)
+        with self.assertRaisesRegex(plume.PlumeError, "tensor.*macro model"):
+            plume.traction(model="micro", layout=layout, tensor=h.C, angle=45.0)
 
 
 class TestErrors(unittest.TestCase):

@@ -20,24 +20,38 @@
  * Both elements reject their reference triangles by this one test. */
 #define MEMBRANE_DEGENERATE_REL (64.0 * DBL_EPSILON)
 
-/* A material as the element uses it. C is orthotropic in the barb frame, so of the plane-stress
- * tensor only C11, C12 = C21, C22 and C33 are non-zero (docs/design.md, membrane energy). */
+/* A material as the element uses it: the plane-stress tensor C in the barb frame (Voigt order E11,
+ * E22, 2E12; docs/design.md, membrane energy). An orthotropic material has C13 = C23 = 0; a
+ * monoclinic one (a cell with inclined barbules, docs/monoclinic-vane.md) couples the normal
+ * strains and the shear through them. */
 typedef struct {
-    double C11, C12, C22, C33;
+    double C11, C12, C22, C33, C13, C23;
     double kappa; /* compression coefficient (Pa) */
     int log_barrier;
 } plume_membrane_law;
 
-static inline void plume_membrane_law_set(const plume_membrane_material *mat, plume_membrane_law *m)
+/* The law of a material; C (row-major 3x3, or NULL) replaces the tensor of its moduli. */
+static inline void plume_membrane_law_set_tensor(const plume_membrane_material *mat, const double *C,
+                                                 plume_membrane_law *m)
 {
-    double C[9];
-    plume_membrane_stiffness(mat, C);
+    double Co[9];
+    if (!C) {
+        plume_membrane_stiffness(mat, Co);
+        C = Co;
+    }
     m->C11 = C[0];
     m->C12 = C[1];
+    m->C13 = C[2];
     m->C22 = C[4];
+    m->C23 = C[5];
     m->C33 = C[8];
     m->kappa = mat->kappa;
     m->log_barrier = mat->log_barrier;
+}
+
+static inline void plume_membrane_law_set(const plume_membrane_material *mat, plume_membrane_law *m)
+{
+    plume_membrane_law_set_tensor(mat, NULL, m);
 }
 
 /* Density per unit volume psi(G) (without h) for the columns g[0], g[1] of G (3-vectors, z = 0 in
@@ -46,9 +60,11 @@ static inline void plume_membrane_law_set(const plume_membrane_material *mat, pl
  *
  * With e = (E11, E22, 2E12) and s = C e, a unit change of G[i][c] changes e by
  * v_(0,i) = (g0_i, 0, g1_i), v_(1,i) = (0, g1_i, g0_i), so the Hessian blocks (dim x dim) are
- *   H00 = C11 g0 g0^T + C33 g1 g1^T + s0 I,  H11 = C22 g1 g1^T + C33 g0 g0^T + s1 I,
- *   H01 = C12 g0 g1^T + C33 g1 g0^T + s2 I   (v_a . C v_b plus the geometric term S : e_a^T e_b,
- *   S = [[s0, s2], [s2, s1]] the second Piola-Kirchhoff stress in the barb frame).
+ *   H00 = C11 g0 g0^T + C13 (g0 g1^T + g1 g0^T) + C33 g1 g1^T + s0 I,
+ *   H11 = C22 g1 g1^T + C23 (g1 g0^T + g0 g1^T) + C33 g0 g0^T + s1 I,
+ *   H01 = C12 g0 g1^T + C13 g0 g0^T + C23 g1 g1^T + C33 g1 g0^T + s2 I
+ *   (v_a . C v_b plus the geometric term S : e_a^T e_b, S = [[s0, s2], [s2, s1]] the second
+ *   Piola-Kirchhoff stress in the barb frame).
  * For J = |n|, n = g0 x g1, n^ = n/J: dJ/dg0 = g1 x n^, dJ/dg1 = n^ x g0 and
  *   d2J = (dn_a . dn_b - dJ_a dJ_b) / J + n^ . (e_i x e_j) [mixed columns only], with
  *   dn_(0,i) . dn_(0,j) = d_ij |g1|^2 - g1_i g1_j,  dn_(1,i) . dn_(1,j) = d_ij |g0|^2 - g0_i g0_j,
@@ -61,7 +77,8 @@ static inline double plume_membrane_law_density_G(const plume_membrane_law *m, c
     const double *g0 = g[0], *g1 = g[1];
     const double c11 = dot3(g0, g0), c22 = dot3(g1, g1), c12 = dot3(g0, g1);
     const double e0 = 0.5 * (c11 - 1.0), e1 = 0.5 * (c22 - 1.0), e2 = c12;
-    const double s0 = m->C11 * e0 + m->C12 * e1, s1 = m->C12 * e0 + m->C22 * e1, s2 = m->C33 * e2;
+    const double s0 = m->C11 * e0 + m->C12 * e1 + m->C13 * e2, s1 = m->C12 * e0 + m->C22 * e1 + m->C23 * e2,
+                 s2 = m->C13 * e0 + m->C23 * e1 + m->C33 * e2;
     double psi = 0.5 * (e0 * s0 + e1 * s1 + e2 * s2);
 
     /* compression term, supplementary eq. 6: psi_c = kappa/12 ((1-J)/6)^3 for J < 1 */
@@ -115,9 +132,11 @@ static inline double plume_membrane_law_density_G(const plume_membrane_law *m, c
         for (int i = 0; i < dim; i++) {
             for (int j = 0; j < dim; j++) {
                 const double dij = i == j ? 1.0 : 0.0;
-                double h00 = m->C11 * g0[i] * g0[j] + m->C33 * g1[i] * g1[j] + s0 * dij;
-                double h11 = m->C22 * g1[i] * g1[j] + m->C33 * g0[i] * g0[j] + s1 * dij;
-                double h01 = m->C12 * g0[i] * g1[j] + m->C33 * g1[i] * g0[j] + s2 * dij;
+                const double x01 = g0[i] * g1[j] + g1[i] * g0[j];
+                double h00 = m->C11 * g0[i] * g0[j] + m->C13 * x01 + m->C33 * g1[i] * g1[j] + s0 * dij;
+                double h11 = m->C22 * g1[i] * g1[j] + m->C23 * x01 + m->C33 * g0[i] * g0[j] + s1 * dij;
+                double h01 = m->C12 * g0[i] * g1[j] + m->C13 * g0[i] * g0[j] + m->C23 * g1[i] * g1[j] +
+                             m->C33 * g1[i] * g0[j] + s2 * dij;
                 if (comp) {
                     h00 += aJ * dJ0[i] * dJ0[j] + aN * (dij * c22 - g1[i] * g1[j]);
                     h11 += aJ * dJ1[i] * dJ1[j] + aN * (dij * c11 - g0[i] * g0[j]);
