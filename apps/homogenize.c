@@ -221,6 +221,7 @@ static int plot_responses(const char *plot, const plume_homog_opts *ho, const pl
 
 /* --json: the moduli, the bending tensor, the membrane tensor and the run's figures. */
 static json_t *result_json(const plume_layout *l, const plume_homog_result *r, const plume_separation_law *sep,
+                           const double *sep_tensor,
                            const char *out)
 {
     json_t *j = json_object();
@@ -272,6 +273,12 @@ static json_t *result_json(const plume_layout *l, const plume_homog_result *r, c
         json_object_set_new(js, "cell_length", json_real(sep->cell_length));
         json_object_set_new(js, "solves", json_integer(sep->solves));
         json_object_set_new(js, "newton_iterations", json_integer(sep->newton_iterations));
+        if (sep_tensor) {
+            json_t *jt = json_array();
+            for (int k = 0; k < 9; k++)
+                json_array_append_new(jt, json_real(sep_tensor[k]));
+            json_object_set_new(js, "tensor", jt);
+        }
         json_object_set_new(j, "separation", js);
     }
     if (out)
@@ -282,10 +289,10 @@ static json_t *result_json(const plume_layout *l, const plume_homog_result *r, c
 /* The summary on stdout: the JSON object (--json) or the moduli, the bending moduli and the
  * convergence estimate in words. */
 static void report(const plume_layout *l, const plume_homog_result *r, const plume_separation_law *sep,
-                   const char *out, int json)
+                   const double *sep_tensor, const char *out, int json)
 {
     if (json) {
-        json_t *j = result_json(l, r, sep, out);
+        json_t *j = result_json(l, r, sep, sep_tensor, out);
         cli_print_json(j, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
         return;
     }
@@ -337,8 +344,10 @@ int main(int argc, char **argv)
     if (hs != PLUME_OK)
         return fprintf(stderr, "%s: %s\n", APP, err.msg), 1;
     plume_separation_law sep, *with = NULL;
+    double sep_tensor[9];
     if (l.kind == PLUME_LAYOUT_BARBULES && l.hooks.strength > 0.0) {
-        if (plume_separation_law_of(&l, &sep, &err) != PLUME_OK) {
+        if (plume_separation_law_of(&l, &sep, &err) != PLUME_OK ||
+            (o.json && plume_separation_tensor(&l, sep_tensor, &err) != PLUME_OK)) {
             plume_homog_result_free(&r);
             return fprintf(stderr, "%s: %s\n", APP, err.msg), 1;
         }
@@ -348,7 +357,7 @@ int main(int argc, char **argv)
         rc = write_results(o.out, &l, &r, with);
     if (o.plot && ho.strain_max > 0.0 && rc == 0)
         rc = plot_responses(o.plot, &ho, &r);
-    report(&l, &r, with, o.out, o.json);
+    report(&l, &r, with, with ? sep_tensor : NULL, o.out, o.json);
     plume_homog_result_free(&r);
     return rc;
 }

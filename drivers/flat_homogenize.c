@@ -72,8 +72,10 @@ plume_status plume_flat_homogenize(const char *request, char **result, char *msg
                                     (st = plume_homogenize(&l, &ho, &r, &err)) != PLUME_OK)
         goto done;
     plume_separation_law sep, *with = NULL; /* a layout with hooks: its barb line's separation law */
+    double sep_tensor[9];                   /* and the hooked cell's tensor */
     if (l.kind == PLUME_LAYOUT_BARBULES && l.hooks.strength > 0.0) {
-        if ((st = plume_separation_law_of(&l, &sep, &err)) != PLUME_OK)
+        if ((st = plume_separation_law_of(&l, &sep, &err)) != PLUME_OK ||
+            (st = plume_separation_tensor(&l, sep_tensor, &err)) != PLUME_OK)
             goto done;
         with = &sep;
     }
@@ -112,13 +114,20 @@ plume_status plume_flat_homogenize(const char *request, char **result, char *msg
             json_object_set_new(o, "refinement_edge", json_real(r.refinement_edge));
         }
     }
-    if (o && with)
-        json_object_set_new(o, "separation",
-                            json_pack("{s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:i, s:i}", "strength", sep.strength, "energy",
-                                      sep.energy, "opening", sep.opening, "capture", sep.capture, "stiffness",
-                                      sep.stiffness, "peak_opening",
-                                      sep.peak_opening, "cell_length", sep.cell_length, "solves", sep.solves,
-                                      "newton_iterations", sep.newton_iterations));
+    if (o && with) {
+        json_t *js = json_pack("{s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:i, s:i}", "strength", sep.strength, "energy",
+                               sep.energy, "opening", sep.opening, "capture", sep.capture, "stiffness", sep.stiffness,
+                               "peak_opening", sep.peak_opening, "cell_length", sep.cell_length, "solves", sep.solves,
+                               "newton_iterations", sep.newton_iterations);
+        json_t *jt = json_array();
+        for (int k = 0; k < 9; k++)
+            json_array_append_new(jt, json_real(sep_tensor[k]));
+        if (js)
+            json_object_set_new(js, "tensor", jt);
+        else
+            json_decref(jt);
+        json_object_set_new(o, "separation", js);
+    }
     if (o && output)
         json_object_set_new(o, "output", json_string(output));
     if (o && ho.strain_max > 0.0)

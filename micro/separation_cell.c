@@ -218,43 +218,65 @@ static plume_status sep_cell_init(sep_cell *c, const plume_layout *l, const plum
     return c->u && c->grad && c->xfull ? PLUME_OK : PLUME_ENOMEM;
 }
 
-/* Solves at opening e (F = [1 0; 0 1 + e], the previous fluctuation on the new affine map) and
- * returns the traction across the barbs (N/m) and the cell's energy (J); xfull holds every vertex. */
-static plume_status sep_cell_solve(sep_cell *c, double e, double *traction, double *energy, plume_err *err)
+/* Solves at the average deformation gradient F (row-major; the previous fluctuation on the new
+ * affine map) and returns the cell's average membrane stress P (N/m, row-major, both terms) and
+ * energy (J); xfull holds every vertex. */
+static plume_status sep_cell_solve_F(sep_cell *c, const double F[4], double P[4], double *energy, plume_err *err)
 {
     const plume_cell *oc = &c->oc.cell;
     const plume_mesh *m = oc->mesh;
     double *x = plume_problem_x(c->p);
-    const double F[4] = {1.0, 0.0, 0.0, 1.0 + e};
     for (plume_index v = 0; v < m->nv; v++)
-        if (oc->master[v] == v)
-            x[2 * v + 1] += (F[3] - c->F[3]) * m->X[2 * v + 1];
-    memcpy(c->F, F, sizeof F);
+        if (oc->master[v] == v) {
+            const double X0 = m->X[2 * v], X1 = m->X[2 * v + 1];
+            x[2 * v] += (F[0] - c->F[0]) * X0 + (F[1] - c->F[1]) * X1;
+            x[2 * v + 1] += (F[2] - c->F[2]) * X0 + (F[3] - c->F[3]) * X1;
+        }
+    memcpy(c->F, F, sizeof c->F);
     for (int k = 0; k < 2; k++)
         plume_periodic_set_macro(c->per[k], F);
     plume_problem_gather(c->p, c->u);
     plume_solve_report rep;
     plume_status st = plume_solver_solve(c->s, c->u, NULL, &rep);
     if (st != PLUME_OK)
-        return plume_err_set(err, st, "separation law: solver error at opening strain %g (%s)", e, plume_strerror(st));
+        return plume_err_set(err, st, "separation law: solver error at F = [%g %g; %g %g] (%s)", F[0], F[1], F[2], F[3],
+                             plume_strerror(st));
     c->iterations += rep.iterations;
     c->solves++;
     if (!rep.converged)
-        return plume_err_set(err, PLUME_EINFEASIBLE, "separation law: the cell did not converge at opening strain %g (%s "
-                             "after %d iterations)", e, plume_reason_name(rep.reason), rep.iterations);
+        return plume_err_set(err, PLUME_EINFEASIBLE, "separation law: the cell did not converge at F = [%g %g; %g %g] "
+                             "(%s after %d iterations)", F[0], F[1], F[2], F[3], plume_reason_name(rep.reason),
+                             rep.iterations);
     if ((st = plume_problem_objective(c->p, c->u, energy, c->grad)) != PLUME_OK)
         return st;
-    double P[4], T = 0.0;
+    memset(P, 0, 4 * sizeof *P);
     for (int k = 0; k < 2; k++) {
-        plume_periodic_average_stress(c->per[k], P);
-        T += P[3];
+        double Pk[4];
+        plume_periodic_average_stress(c->per[k], Pk);
+        for (int i = 0; i < 4; i++)
+            P[i] += Pk[i];
     }
-    *traction = T;
     for (plume_index v = 0; v < m->nv; v++) {
         const double *xm = x + 2 * oc->master[v], *s = oc->shift + 2 * v;
         c->xfull[2 * v] = xm[0] + F[0] * s[0] + F[1] * s[1];
         c->xfull[2 * v + 1] = xm[1] + F[2] * s[0] + F[3] * s[1];
     }
+    return PLUME_OK;
+}
+
+/* Solves at opening e (F = [1 0; 0 1 + e]: no stretch along the stiff barbs, no shear) and returns
+ * the traction across the barb line: its magnitude |(P_xy, P_yy)| (N/m) and its normal part P_yy.
+ * Only the hook crosses the line, so the magnitude is the hook's force per period. */
+static plume_status sep_cell_solve(sep_cell *c, double e, double *traction, double *normal, double *energy,
+                                   plume_err *err)
+{
+    const double F[4] = {1.0, 0.0, 0.0, 1.0 + e};
+    double P[4];
+    plume_status st = sep_cell_solve_F(c, F, P, energy, err);
+    if (st != PLUME_OK)
+        return st;
+    *traction = hypot(P[1], P[3]);
+    *normal = P[3];
     return PLUME_OK;
 }
 
@@ -286,11 +308,11 @@ plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law
     st = sep_cell_init(&c, l, cell, err);
     const double b = cell->b, a = cell->a, h = l->h;
     plume_cell_destroy(&cell);
-    double T = 0.0, E = 0.0, e = 0.0, work = 0.0, eprev = 0.0;
+    double T = 0.0, Tn = 0.0, E = 0.0, e = 0.0, work = 0.0, eprev = 0.0;
     /* 1. up to the strength: a first small opening, then secant steps on the hook's load */
     const double e0 = 1e-3 * l->hooks.opening / b;
     if (st == PLUME_OK)
-        st = sep_cell_solve(&c, e = e0, &T, &E, err);
+        st = sep_cell_solve(&c, e = e0, &T, &Tn, &E, err);
     double load = st == PLUME_OK ? hook_load(&c) : 0.0, load_prev = 0.0;
     for (int it = 0; st == PLUME_OK && !(load >= 1.0 && load <= 1.0 + PLUME_SEPARATION_LOAD_TOL); it++) {
         if (it == 50 || !(load > load_prev)) {
@@ -304,13 +326,17 @@ plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law
         if (load < 1.0) { /* accepted: work along the elastic branch */
             eprev = e, load_prev = load;
         }
-        if ((st = sep_cell_solve(&c, enext, &T, &E, err)) != PLUME_OK)
+        if ((st = sep_cell_solve(&c, enext, &T, &Tn, &E, err)) != PLUME_OK)
             break;
         e = enext;
         load = hook_load(&c);
     }
     /* the path so far is elastic: the work per barb length is the energy per barb length; the
-     * hook's own opening across the line is its pairs' mean gap along y */
+     * hook's own opening across the line is its pairs' mean gap along y. The strength is the
+     * traction's magnitude: the hook lets go at its strength whatever the direction of its pull,
+     * and a leaning barbule pulls it askew (with the shear held, P_xy is half of P_yy for
+     * data/layout_hooks.json), so the line's traction at the release is one hook's strength per
+     * period in every mode, the macro link's criterion. */
     if (st == PLUME_OK) {
         out->strength = T;
         out->peak_opening = e * b;
@@ -323,7 +349,7 @@ plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law
             st = plume_err_set(err, PLUME_EINFEASIBLE, "separation law: the hook has not opened at its strength "
                                "(mean gap %g m)", gap);
         else
-            out->stiffness = T / gap;
+            out->stiffness = Tn / gap;
     }
     /* 2. let go, and keep opening until the hook has cleared the capture distance (a hook held at
      * exactly its strength, which no commit lets go, is pulled on by 1/1000 of its opening). A slide
@@ -334,16 +360,16 @@ plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law
     const double slide_step = (l->hooks.slide > 0.0 ? l->hooks.slide / 40.0 : 1e-3 * l->hooks.opening) / b;
     const double free_step = (2.0 * l->hooks.capture + l->hooks.opening + l->hooks.slide) / 10.0 / b;
     const double e_clear = (2.0 * l->hooks.capture + l->hooks.opening + l->hooks.slide) / b + e;
-    double T_adm = T, e_adm = e;
+    double T_adm = Tn, e_adm = e; /* the work is the normal traction's along the opening */
     int released = 0;
     for (int guard = 0; st == PLUME_OK; guard++) {
         plume_hooks_events ev;
         if ((st = plume_hooks_commit(c.hooks, 2, c.xfull, PLUME_HOOKS_ALL, &ev, err)) != PLUME_OK)
             break;
         if (ev.released && !released) /* the step that lets go: its work up to here */
-            work += 0.5 * (T_adm + T) * (e - e_adm) * b;
+            work += 0.5 * (T_adm + Tn) * (e - e_adm) * b;
         if (ev.released || ev.slid) { /* the change solved again at the same opening */
-            if ((st = sep_cell_solve(&c, e, &T, &E, err)) != PLUME_OK)
+            if ((st = sep_cell_solve(&c, e, &T, &Tn, &E, err)) != PLUME_OK)
                 break;
             if (ev.released && !released) {
                 released = 1;
@@ -353,8 +379,8 @@ plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law
             continue;
         }
         if (!released) { /* admissible */
-            work += 0.5 * (T_adm + T) * (e - e_adm) * b; /* per barb length */
-            T_adm = T, e_adm = e;
+            work += 0.5 * (T_adm + Tn) * (e - e_adm) * b; /* per barb length */
+            T_adm = Tn, e_adm = e;
             out->strength = fmax(out->strength, T);
         }
         if (released && e >= e_clear)
@@ -364,7 +390,7 @@ plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law
             break;
         }
         const double step = released ? free_step : slide_step;
-        if ((st = sep_cell_solve(&c, e + step, &T, &E, err)) != PLUME_OK)
+        if ((st = sep_cell_solve(&c, e + step, &T, &Tn, &E, err)) != PLUME_OK)
             break;
         e += step;
     }
@@ -376,7 +402,7 @@ plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law
         const double finest = 1e-3 * l->hooks.capture / b;
         while (st == PLUME_OK && e > 0.0) {
             const double enext = fmax(e - down, 0.0);
-            if ((st = sep_cell_solve(&c, enext, &T, &E, err)) != PLUME_OK)
+            if ((st = sep_cell_solve(&c, enext, &T, &Tn, &E, err)) != PLUME_OK)
                 break;
             c.hook.keep(c.hook.ctx, 1);
             plume_hooks_events ev;
@@ -405,4 +431,52 @@ plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law
     if (st != PLUME_OK)
         memset(out, 0, sizeof *out);
     return st;
+}
+
+/* The opened cell with its hooks engaged, strained by +-PLUME_SEPARATION_TENSOR_STRAIN in each
+ * Voigt component: the hooks are linear springs, so central differences leave only the geometric
+ * nonlinearity's second order (1e-12 relative). */
+#define PLUME_SEPARATION_TENSOR_STRAIN 1e-6
+
+plume_status plume_separation_tensor(const plume_layout *l, double C[9], plume_err *err)
+{
+    if (!l || !C)
+        return plume_err_set(err, PLUME_EINVAL, "hooked cell tensor: a layout and an output are required");
+    memset(C, 0, 9 * sizeof *C);
+    plume_status st = plume_layout_check(l, err);
+    if (st != PLUME_OK)
+        return st;
+    if (l->kind != PLUME_LAYOUT_BARBULES || !(l->hooks.strength > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "hooked cell tensor: the layout needs explicit barbules held by hooks "
+                             "(\"layout\": \"barbules\" and hook_strength > 0)");
+    plume_cell *cell = NULL;
+    if ((st = plume_cell_mesh(l, &cell, err)) != PLUME_OK)
+        return st;
+    sep_cell c;
+    st = sep_cell_init(&c, l, cell, err);
+    plume_cell_destroy(&cell);
+    const double eps = PLUME_SEPARATION_TENSOR_STRAIN;
+    for (int j = 0; j < 3 && st == PLUME_OK; j++) {
+        double Pv[2][3];
+        for (int side = 0; side < 2 && st == PLUME_OK; side++) {
+            const double d = side ? -eps : eps;
+            /* E11, E22, and 2E12 = d with a symmetric gradient (no rotation) */
+            const double F[4] = {1.0 + (j == 0 ? d : 0.0), j == 2 ? 0.5 * d : 0.0, j == 2 ? 0.5 * d : 0.0,
+                                 1.0 + (j == 1 ? d : 0.0)};
+            double P[4], E;
+            if ((st = sep_cell_solve_F(&c, F, P, &E, err)) == PLUME_OK)
+                Pv[side][0] = P[0], Pv[side][1] = P[3], Pv[side][2] = 0.5 * (P[1] + P[2]);
+        }
+        for (int i = 0; st == PLUME_OK && i < 3; i++)
+            C[3 * i + j] = (Pv[0][i] - Pv[1][i]) / (2.0 * eps) / l->h;
+    }
+    sep_cell_free(&c);
+    if (st != PLUME_OK) {
+        memset(C, 0, 9 * sizeof *C);
+        return st;
+    }
+    for (int i = 0; i < 3; i++) /* symmetric to the differences' rounding */
+        for (int j = i + 1; j < 3; j++)
+            C[3 * i + j] = C[3 * j + i] = 0.5 * (C[3 * i + j] + C[3 * j + i]);
+    return PLUME_OK;
 }

@@ -11,8 +11,10 @@
 - unzip_separation: Kovalev's barb-separation test on data/layout_kovalev.json, pulled straight
   and by the barb's end, force against opening, beside n x 14 uN and the measured 0.27 mN mean;
 - unzip_macro: the macro split. Left, the tilted specimen of data/layout_hooks.json resolved
-  with its hooks beside the macro vane with split lines of the cell's separation law (one line,
-  and one per barb spacing). Right, one line peeled on three meshes, force against opening.
+  with its hooks beside the macro vane with one split line per barb spacing of the cell's
+  separation law: on the orthotropic moduli with the hooks' compliance in the lines, and on the
+  hooked cell's tensor with stiff lines (docs/monoclinic-vane.md). Right, one line peeled on three
+  meshes, force against opening.
 - unzip_scene: data/feather/scene_unzip.json run by apps/feather (its moduli file made first).
   Left, the links holding on the two lines that unzip, against time, and the bill's front edge.
   Right, the lifted strip's middle row seen from the side at five times.
@@ -120,16 +122,20 @@ def macro(out):
     ax.plot(100 * r.strain, 1e-3 * r.stress, "k.-", ms=3,
             label="micro, hooks: peak %.3g kPa, D %.2e J" % (1e-3 * r.peak_stress, r.dissipated_energy))
     print("macro chart, micro tilted: peak %.4g Pa, D %.3g J" % (r.peak_stress, r.dissipated_energy))
-    across = (lx + ly) / np.sqrt(2.0)  # the sample's extent across the barbs at 45 deg
-    for n, style in ((1, "C0.-"), (int(round(across / lay["d_B"])), "C3.-")):
+    n = int(round((lx + ly) / np.sqrt(2.0) / lay["d_B"]))  # one line per barb spacing across the sample
+    # the orthotropic moduli with lines of the hooks' own compliance, and the hooked cell's tensor
+    # (which holds that compliance) with lines a thousand times stiffer (docs/monoclinic-vane.md)
+    sep = h.separation
+    stiff = dict(sep, stiffness=1e3 * sep["tensor"][1, 1] * t / lay["d_B"])
+    for name, style, kw in (("orthotropic moduli", "C0.-", dict(separation=sep)),
+                            ("hooked cell's tensor", "C3.-", dict(separation=stiff, tensor=sep["tensor"]))):
         m = plume.traction(moduli=h, angle=45.0, lx=lx, ly=ly, thickness=t, steps=40, strain_max=0.008, edge=1e-4,
-                           split_lines=n, separation=h.separation)
+                           split_lines=n, **kw)
         ax.plot(100 * m.strain, 1e-3 * m.stress, style, ms=3,
-                label="macro, %d split line%s: peak %.3g kPa, D %.2e J" % (n, "s" if n > 1 else "",
-                                                                          1e-3 * m.peak_stress,
-                                                                          m.dissipated_energy))
-        print("macro chart, %d lines: peak %.4g Pa, D %.3g J, balance %.1e" % (n, m.peak_stress, m.dissipated_energy,
-                                                                                m.energy_balance_error))
+                label="macro, %s, %d lines: peak %.3g kPa, D %.2e J" % (name, n, 1e-3 * m.peak_stress,
+                                                                      m.dissipated_energy))
+        print("macro chart, %s: peak %.4g Pa, D %.3g J, balance %.1e" % (name, m.peak_stress, m.dissipated_energy,
+                                                                         m.energy_balance_error))
     ax.set_xlabel("nominal strain (%)")
     ax.set_ylabel("nominal stress (kPa)")
     ax.set_title("layout_hooks.json at 45 deg, 4 x 5.2 mm: micro and macro", fontsize=10)

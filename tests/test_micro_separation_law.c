@@ -91,8 +91,9 @@ void test_micro_separation_law_slide(void)
     CHECK_REL(s.energy * l.h, brittle.energy * l.h + s.strength * l.hooks.slide, 0.02, 0.0);
 }
 
-/* The shipped layout with hooks (barbules at an angle): the hook is pulled askew, so the line's
- * strength stays below one hook's strength per period; the law is written and read back. */
+/* The shipped layout with hooks (barbules at an angle): the hook is pulled askew, with a shear
+ * traction half the normal one, yet only the hook crosses the line, so the traction's magnitude
+ * at the release is one hook's strength per period; the law is written and read back. */
 void test_micro_separation_law_file(void)
 {
     plume_layout l;
@@ -103,7 +104,8 @@ void test_micro_separation_law_file(void)
     CHECK(plume_separation_law_of(&l, &s, &err) == PLUME_OK);
     printf("    layout_hooks: strength %.6g N/m (one hook per period %.6g), energy %.6g J/m^2, opening %.6g m, "
            "capture %.6g m\n", s.strength, l.hooks.strength / l.barbule_spacing, s.energy, s.opening, s.capture);
-    CHECK(s.strength > 0.0 && s.strength <= l.hooks.strength / l.barbule_spacing * (1.0 + 1e-4));
+    CHECK(s.strength <= l.hooks.strength / l.barbule_spacing * (1.0 + 1e-4));
+    CHECK_REL(s.strength, l.hooks.strength / l.barbule_spacing, 2e-4, 0.0);
     CHECK(s.energy > 0.0 && s.opening >= s.peak_opening && s.capture > 0.0);
     plume_homog_result r;
     memset(&r, 0, sizeof r);
@@ -123,6 +125,50 @@ void test_micro_separation_law_file(void)
     CHECK(plume_separation_read(path, &back, &err) == PLUME_EFORMAT);
     CHECK(strstr(err.msg, "separation_strength") && strstr(err.msg, path));
     unlink(path);
+}
+
+/* The hooked cell's small-strain tensor (plume_separation_tensor). Hooks a thousand times stiffer
+ * than the barbule weld the cell shut: the bonded cell's tensor from the exact linearised problem,
+ * which knows nothing of hooks. The shipped hooks: a hook holds a leaning barbule's end by its
+ * position only, so the cell is softer across the barbs and in shear than the bonded cell plus the
+ * hooks' own opening in series (the line's compliance h / (k d_B) on S22 and S33), and the
+ * stretch-shear coupling stays strong. */
+void test_micro_separation_tensor(void)
+{
+    plume_layout l;
+    plume_layout_default(&l);
+    plume_err err = {{0}};
+    CHECK(plume_layout_load_json("../data/layout_hooks.json", &l, &err) == PLUME_OK);
+    double Cb[9] = {0}, Ch[9], Cs[9];
+    {
+        plume_layout b = l;
+        b.hooks.strength = 0.0;
+        plume_cell *cell = NULL;
+        plume_membrane_material mats[2];
+        plume_layout_materials(&b, mats);
+        CHECK(plume_cell_mesh(&b, &cell, &err) == PLUME_OK &&
+              plume_cell_linear_tensor(cell, mats, 2, b.h, Cb, NULL, &err) == PLUME_OK);
+        plume_cell_destroy(&cell);
+    }
+    plume_layout stiff = l;
+    stiff.hooks.opening = 1e-13; /* 9.3e9 N/m a hook */
+    CHECK(plume_separation_tensor(&stiff, Cs, &err) == PLUME_OK);
+    CHECK(plume_separation_tensor(&l, Ch, &err) == PLUME_OK);
+    printf("    bonded C22 %.6g C33 %.6g C23 %.6g; stiff hooks %.6g %.6g %.6g; shipped hooks %.6g %.6g %.6g (Pa)\n", Cb[4],
+           Cb[8], Cb[5], Cs[4], Cs[8], Cs[5], Ch[4], Ch[8], Ch[5]);
+    for (int k = 0; k < 9; k++) /* each entry to 1e-4 of the diagonal entries it couples */
+        CHECK_REL(Cs[k], Cb[k], 1e-4, sqrt(Cb[4 * (k / 3)] * Cb[4 * (k % 3)]));
+    /* compliances S22 and S33 of the 2x2 block (E22, 2E12) at held E11 */
+    const double det_b = Cb[4] * Cb[8] - Cb[5] * Cb[5], det_h = Ch[4] * Ch[8] - Ch[5] * Ch[5];
+    const double series = l.h / (5.8125e5 * l.d_B); /* the line's compliance (1/Pa), the law's stiffness */
+    CHECK(det_h > 0.0);
+    CHECK(Ch[8] / det_h > Cb[8] / det_b + 2.0 * series); /* S22 */
+    CHECK(Ch[4] / det_h > Cb[4] / det_b + 2.0 * series); /* S33 */
+    CHECK(Ch[5] / sqrt(Ch[4] * Ch[8]) > 0.8);
+    CHECK_REL(Ch[0], Cb[0], 1e-2, 0.0); /* along the barbs the hooks change nothing */
+    l.hooks.strength = 0.0;
+    CHECK(plume_separation_tensor(&l, Ch, &err) == PLUME_EINVAL);
+    CHECK(strstr(err.msg, "hook_strength") != NULL);
 }
 
 void test_micro_separation_law_bad_input(void)

@@ -284,6 +284,26 @@ void test_scene_splits_seating(void)
         free(t);
         plume_hooks_destroy(&h);
     }
+    /* a link let go with its lips held together (by a line's end) never clears the capture: with
+     * seating it catches once they are within the seating distance, without it it stays open */
+    for (int seating = 0; seating < 2; seating++) {
+        plume_hooks *h = NULL;
+        plume_err err = {{0}};
+        CHECK(plume_hooks_create(2, 1, first, pairs, &law, &h, &err) == PLUME_OK);
+        if (!h)
+            return;
+        if (seating)
+            CHECK(plume_hooks_set_seating(h, 0.25e-6) == PLUME_OK);
+        double x[6] = {0, 2.5e-6, 0, 0, 0, 0}; /* 1.25 strengths */
+        plume_hooks_events ev;
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.released == 1);
+        x[1] = 1e-6; /* back, never beyond the capture, not yet together */
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.reengaged == 0);
+        x[1] = 0.1e-6; /* together */
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+        CHECK(ev.reengaged == seating && plume_hooks_engaged(h, 0) == seating);
+        plume_hooks_destroy(&h);
+    }
 }
 
 /* Two vanes of an "objects" scene each with a line: the scene's lines are both, each pair in its

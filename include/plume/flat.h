@@ -24,7 +24,8 @@
  *        {"strain": [], "stress": [], "wbar": [], "iterations": []}} (curves only when
  *        strain_max > 0), "output" (the file written, as given; only with "output"), and for a
  *        layout with hooks "separation": {"strength", "energy", "opening", "capture",
- *        "stiffness", "peak_opening", "cell_length", "solves", "newton_iterations"}
+ *        "stiffness", "peak_opening", "cell_length", "solves", "newton_iterations", "tensor" (the
+ *        hooked cell's small-strain tensor, 9 numbers, Pa: plume_separation_tensor)}
  *        (plume_separation_law)}
  *  - traction: {"model": "macro"|"micro", "angle": 45 (deg from the pull), "lx": 1, "ly": 1.3,
  *    "thickness": 1, "moduli": {"E_xx": 1e4, "E_yy": 1, "nu_xy": 0, "G_xy": 1} (all four, or

@@ -259,6 +259,14 @@ typedef struct {
  * layout without hooks (PLUME_EINVAL), a cell solve that does not converge (PLUME_EINFEASIBLE). */
 PLUME_API plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law *out, plume_err *err);
 
+/** The small-strain plane-stress tensor C (Pa, row-major, Voigt E11, E22, 2E12 in the barb frame,
+ * as plume_homog_result.C) of the layout's cell with its hooks engaged: the hooked vane before any
+ * hook lets go. A hook holds a barbule's end by its position only, so the cell is much softer
+ * across the barbs and in shear than the bonded cell, and more than the hooks' own opening adds
+ * (docs/monoclinic-vane.md). The macro vane that unzips takes it with stiff split lines
+ * (plume_vane_add_tensor). Errors as plume_separation_law_of. */
+PLUME_API plume_status plume_separation_tensor(const plume_layout *l, double C[9], plume_err *err);
+
 /** plume_homog_write with the separation law as well, as the /moduli attributes
  * separation_strength (N/m), separation_energy (J/m^2), separation_opening (m),
  * separation_capture (m) and separation_stiffness (N/m^2) (s NULL: plume_homog_write). */

@@ -415,7 +415,10 @@ static int seat(plume_hooks *h, int dim, const double *x, int k, plume_hooks_eve
     return 1;
 }
 
-/* A released hook k catches again when the mean distance of its pairs is within the capture. */
+/* A released hook k catches again when the mean distance of its pairs is within the capture,
+ * once it has opened clear of the barb since it let go. With seating on (split lines) a hook whose
+ * lips come back within the seating distance catches too, whether or not they parted: a link by a
+ * held line end lets go with its lips a micrometre apart and never parts further. */
 static void catch_again(plume_hooks *h, int dim, const double *x, int k, plume_hooks_events *ev)
 {
     double mean, offset;
@@ -426,6 +429,8 @@ static void catch_again(plume_hooks *h, int dim, const double *x, int k, plume_h
         h->armed[k] = 1;
         return;
     }
+    if (h->seat >= 0.0 && mean <= h->seat)
+        h->armed[k] = 1;
     if (!h->armed[k])
         return;
     for (plume_index p = h->first[k]; p < h->first[k + 1]; p++) { /* offsets at the gaps: zero force */

@@ -76,6 +76,9 @@ plume_status plume_hooks_set_scale(plume_hooks *h, int k, double scale);
  * again. A hook whose lips close back after it caught then stays caught, within `distance` of where
  * they meet, instead of letting go under the push (the macro lines: closing a line by pressing
  * its lips together, docs/unzipping.md). The hooks at creation (offsets zero) never seat.
+ * With seating on, a released hook whose mean gap comes back within `distance` also catches
+ * again, whether or not it opened beyond the capture since it let go (a link by a held line end
+ * that let go with its lips together).
  * PLUME_EINVAL for a negative or non-finite distance. */
 plume_status plume_hooks_set_seating(plume_hooks *h, double distance);
 

@@ -74,7 +74,9 @@ class HomogenizeResult:
     with hooks, the separation law of a barb line (docs/unzipping.md): "strength" (N/m),
     "energy" (J/m^2), "opening" and "capture" (m), "stiffness" (N/m^2), "peak_opening" (m),
     "cell_length" (m),
-    "solves", "newton_iterations"; None without hooks; raw: the library's JSON result.
+    "solves", "newton_iterations", and "tensor": the hooked cell's 3x3 small-strain tensor (Pa,
+    as C; the vane before any hook lets go, docs/monoclinic-vane.md); None without hooks; raw:
+    the library's JSON result.
     """
     E_xx: float
     E_yy: float
@@ -257,6 +259,11 @@ def _strains(name, x):
     return [float(v) for v in _series(name, x)]
 
 
+def _law(name, x):
+    # a homogenize result's separation law: its arrays (the hooked cell's tensor) as lists
+    return {k: (np.asarray(v).tolist() if isinstance(v, np.ndarray) else v) for k, v in _mapping(name, x).items()}
+
+
 def _tensor(name, x):
     a = _series(name, np.ravel(np.asarray(x, dtype=float)))
     if a.size != 9:
@@ -265,7 +272,7 @@ def _tensor(name, x):
 
 
 _TRACTION_OPTIONS = dict(_MACRO_OPTIONS, strain_max=_number, convergence=_boolean, path=_strains,
-                         peel=_number, top_grip_free=_number, split_lines=_integer, separation=_mapping,
+                         peel=_number, top_grip_free=_number, split_lines=_integer, separation=_law,
                          tensor=_tensor)
 
 
@@ -381,7 +388,8 @@ def homogenize(layout=None, strain_max=0.05, steps=10, output=None):
         D=_array(_get(r, "D", "homogenize")).reshape(3, 3),
         bending_change=float(_get(r, "bending_change", "homogenize")),
         output=_get(r, "output", "homogenize") if output is not None else None,
-        separation=({k: (int(v) if k in ("solves", "newton_iterations") else float(v))
+        separation=({k: (int(v) if k in ("solves", "newton_iterations") else
+                         _array(v).reshape(3, 3) if k == "tensor" else float(v))
                      for k, v in r["separation"].items()} if "separation" in r else None), raw=r)
 
 

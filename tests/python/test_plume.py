@@ -256,6 +256,11 @@ class TestSeparationLaw(unittest.TestCase):
         self.assertGreaterEqual(s["opening"], s["peak_opening"])
         self.assertLessEqual(s["capture"], layout["hook_capture"] * (1 + 1e-9))
         self.assertIsInstance(s["solves"], int)
+        # the hooked cell's tensor: symmetric, softer across the barbs than the bonded cell
+        self.assertEqual(s["tensor"].shape, (3, 3))
+        self.assertTrue(np.allclose(s["tensor"], s["tensor"].T))
+        self.assertLess(s["tensor"][1, 1], h.C[1, 1])
+        self.assertLess(rel(s["tensor"][0, 0], h.C[0, 0]), 1e-2)
         with h5py.File(os.path.join(tmp, "cell.h5"), "r") as f:
             self.assertEqual(float(f["moduli"].attrs["separation_strength"]), s["strength"])  # bit for bit
         layout.pop("hook_strength")
