@@ -30,7 +30,15 @@ plume_status plume_homog_write_separation(const char *path, const plume_layout *
                                   {"e_rel", r->element_edge / plume_layout_barb_width(l)},
                                   {"elements", (double)r->elements}, {"order", (double)r->order},
                                   {"refinement_change", r->refinement_change}};
-    const plume_param mparams[] = {{"order", (double)r->order},
+    double Ch[9] = {0}; /* with a law: the hooked cell's tensor */
+    if (sep) {
+        plume_status st = plume_separation_tensor(l, Ch, err);
+        if (st != PLUME_OK)
+            return st;
+    }
+    const plume_param mparams[] = {{"C11", r->C[0]}, {"C12", r->C[1]}, {"C13", r->C[2]},
+                                   {"C22", r->C[4]}, {"C23", r->C[5]}, {"C33", r->C[8]},
+                                   {"order", (double)r->order},
                                    {"element_edge", r->element_edge},
                                    {"elements", (double)r->elements},
                                    {"refinement_change", r->refinement_change},
@@ -53,8 +61,10 @@ plume_status plume_homog_write_separation(const char *path, const plume_layout *
                                    {"separation_energy", sep ? sep->energy : 0.0},
                                    {"separation_opening", sep ? sep->opening : 0.0},
                                    {"separation_capture", sep ? sep->capture : 0.0},
-                                   {"separation_stiffness", sep ? sep->stiffness : 0.0}};
-    const int nsep = 5; /* the last attributes: written only with a law */
+                                   {"separation_stiffness", sep ? sep->stiffness : 0.0},
+                                   {"separation_C11", Ch[0]}, {"separation_C12", Ch[1]}, {"separation_C13", Ch[2]},
+                                   {"separation_C22", Ch[4]}, {"separation_C23", Ch[5]}, {"separation_C33", Ch[8]}};
+    const int nsep = 11; /* the last attributes: written only with a law */
     const plume_sparam sp[] = {{"layout", kind}};
     plume_status st = plume_moduli_write_params(path, &r->moduli, prov, mparams,
                                                 (int)(sizeof mparams / sizeof mparams[0]) - (sep ? 0 : nsep), err);

@@ -82,10 +82,16 @@ void plume_membrane_stiffness(const plume_membrane_material *m, double C[9])
 double plume_membrane_density(const plume_membrane_material *mat, int dim, const double *F,
                               const double d[2])
 {
+    return plume_membrane_density_tensor(mat, NULL, dim, F, d);
+}
+
+double plume_membrane_density_tensor(const plume_membrane_material *mat, const double *C, int dim, const double *F,
+                                     const double d[2])
+{
     if (!mat || !F || !d || (dim != 2 && dim != 3))
         return NAN;
     plume_membrane_law m;
-    plume_membrane_law_set(mat, &m);
+    plume_membrane_law_set_tensor(mat, C, &m);
     double len = hypot(d[0], d[1]);
     double R[2][2] = {{d[0] / len, -d[1] / len}, {d[1] / len, d[0] / len}};
     double g[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
@@ -98,10 +104,17 @@ double plume_membrane_density(const plume_membrane_material *mat, int dim, const
 plume_status plume_membrane_strain_stress(const plume_membrane_material *mat, int dim, const double *F,
                                           const double d[2], double E[3], double S[3], double *J)
 {
+    return plume_membrane_strain_stress_tensor(mat, NULL, dim, F, d, E, S, J);
+}
+
+plume_status plume_membrane_strain_stress_tensor(const plume_membrane_material *mat, const double *C, int dim,
+                                                 const double *F, const double d[2], double E[3], double S[3],
+                                                 double *J)
+{
     if (!mat || !F || !d || !E || !S || !J || (dim != 2 && dim != 3) || !(hypot(d[0], d[1]) > 0.0))
         return PLUME_EINVAL;
     plume_membrane_law m;
-    plume_membrane_law_set(mat, &m);
+    plume_membrane_law_set_tensor(mat, C, &m);
     double len = hypot(d[0], d[1]);
     double R[2][2] = {{d[0] / len, -d[1] / len}, {d[1] / len, d[0] / len}};
     double g[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}}, P[2][3], n[3];

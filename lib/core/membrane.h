@@ -39,6 +39,16 @@ double plume_membrane_density(const plume_membrane_material *mat, int dim, const
 plume_status plume_membrane_strain_stress(const plume_membrane_material *mat, int dim, const double *F,
                                                     const double d[2], double E[3], double S[3], double *J);
 
+/** plume_membrane_density with the plane-stress tensor C (row-major 3x3, Pa; NULL: the moduli's) in
+ * place of the material's moduli (plume_membrane_term_create_tensor). */
+double plume_membrane_density_tensor(const plume_membrane_material *mat, const double *C, int dim, const double *F,
+                                     const double d[2]);
+
+/** plume_membrane_strain_stress with the plane-stress tensor C (NULL: the moduli's). */
+plume_status plume_membrane_strain_stress_tensor(const plume_membrane_material *mat, const double *C, int dim,
+                                                 const double *F, const double d[2], double E[3], double S[3],
+                                                 double *J);
+
 #ifdef __cplusplus
 }
 #endif

@@ -144,6 +144,10 @@ static const char *param_units(const char *name)
             return "m";
     if (strcmp(name, "angle_deg") == 0)
         return "deg";
+    /* the plane-stress tensors, C11 .. C33 and separation_C11 .. separation_C33 */
+    const char *cn = strncmp(name, "separation_", 11) == 0 ? name + 11 : name;
+    if (cn[0] == 'C' && cn[1] >= '1' && cn[1] <= '3' && cn[2] >= '1' && cn[2] <= '3' && cn[3] == '\0')
+        return "Pa";
     if (strcmp(name, "separation_strength") == 0)
         return "N/m";
     if (strcmp(name, "separation_energy") == 0)
@@ -840,4 +844,22 @@ cleanup:
         H5Fclose(fid);
     quiet_end(&q);
     return s;
+}
+
+plume_status plume_moduli_read_tensor(const char *path, const char *prefix, double C[9], plume_err *err)
+{
+    static const char *const names[6] = {"C11", "C12", "C13", "C22", "C23", "C33"};
+    static const int at[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
+    if (!C)
+        return plume_err_set(err, PLUME_EINVAL, "moduli file: no output given");
+    for (int k = 0; k < 6; k++) {
+        char name[64];
+        snprintf(name, sizeof name, "%s%s", prefix ? prefix : "", names[k]);
+        double v = 0.0;
+        plume_status st = plume_moduli_read_param(path, name, &v, err);
+        if (st != PLUME_OK)
+            return st;
+        C[3 * at[k][0] + at[k][1]] = C[3 * at[k][1] + at[k][0]] = v;
+    }
+    return PLUME_OK;
 }

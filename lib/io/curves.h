@@ -12,6 +12,12 @@
 extern "C" {
 #endif
 
+/** The plane-stress tensor (Pa, row-major 3x3) a moduli file's /moduli holds as the attributes
+ * prefix + C11, C12, C13, C22, C23, C33 (prefix "": the bonded cell's, apps/homogenize -o;
+ * "separation_": the hooked cell's, with a separation law). Errors as plume_moduli_read_param
+ * (PLUME_EFORMAT naming the missing attribute). */
+plume_status plume_moduli_read_tensor(const char *path, const char *prefix, double C[9], plume_err *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -71,6 +71,10 @@ typedef struct {
                                                    membrane moduli were read from, resolved against
                                                    the scene's directory; "" when the scene sets them */
     char bending_from[PLUME_SCENE_PATH_MAX];  /**< the same for "bending": {"from_moduli"} */
+    int tensor;                       /**< the membrane's law ("membrane": {"tensor"}): 0 the moduli
+                                           (orthotropic), 1 "full" (the cell's tensor), 2 "hooked"
+                                           (the hooked cell's); docs/monoclinic-vane.md */
+    double C[9];                      /**< with tensor: the plane-stress tensor (Pa, row-major) */
 } plume_scene_material;
 
 /** A follower end moment of a static scene (lib/core/moment.h). */

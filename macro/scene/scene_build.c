@@ -126,6 +126,30 @@ plume_status plume_scene_fields(const plume_scene *s, plume_fields **out, plume_
     return plume_scene_fields_of(s, NULL, out, err);
 }
 
+/* The materials' plane-stress tensors (malloc'ed, 9 per material: a "tensor" material's own, the
+ * others' from their moduli), or NULL when no material has one (or out of memory: *nomem set). */
+static double *scene_tensors(const plume_scene *s, int *nomem)
+{
+    *nomem = 0;
+    int any = 0;
+    for (int k = 0; k < s->nmat; k++)
+        any |= s->mats[k].tensor != 0;
+    if (!any)
+        return NULL;
+    double *C = malloc((size_t)(9 * s->nmat) * sizeof *C);
+    if (!C) {
+        *nomem = 1;
+        return NULL;
+    }
+    for (int k = 0; k < s->nmat; k++) {
+        if (s->mats[k].tensor)
+            memcpy(C + 9 * k, s->mats[k].C, 9 * sizeof *C);
+        else
+            plume_membrane_stiffness(&s->mats[k].membrane, C + 9 * k);
+    }
+    return C;
+}
+
 plume_status plume_scene_fields_of(const plume_scene *s, plume_problem *p, plume_fields **out, plume_err *err)
 {
     if (!s || !out)
@@ -163,6 +187,13 @@ plume_status plume_scene_fields_of(const plume_scene *s, plume_problem *p, plume
     }
     /* the whole mesh is drawn (kinematic bodies too, with NaN fields); the elastic triangles come first */
     st = plume_fields_create(s->mesh, 3, m->nt, mm, s->nmat, bending ? &term : NULL, s->barb_edges, s->nbarb, out, err);
+    int nomem = 0;
+    double *tensors = st == PLUME_OK ? scene_tensors(s, &nomem) : NULL;
+    if (st == PLUME_OK && (nomem || (tensors && (st = plume_fields_set_tensors(*out, tensors, err)) != PLUME_OK))) {
+        st = nomem ? plume_err_set(err, PLUME_ENOMEM, "scene: out of memory") : st;
+        plume_fields_destroy(out);
+    }
+    free(tensors);
     if (st == PLUME_OK && bending && s->bending_model == PLUME_BENDING_MIDEDGE &&
         (st = plume_fields_set_curvatures(*out, plume_midedge_term_view_curvatures, err)) != PLUME_OK)
         plume_fields_destroy(out);
@@ -195,8 +226,15 @@ static plume_status elastic_problem(const plume_scene *s, plume_problem **out, p
     }
     plume_term term;
     memcpy(plume_problem_x(p), s->mesh->x, (size_t)(3 * m->nv) * sizeof(double));
-    if ((st = plume_membrane_term_create(m, 3, mm, s->nmat, &term, err)) != PLUME_OK ||
-        (st = plume_problem_add_term(p, &term, err)) != PLUME_OK)
+    int nomem = 0;
+    double *tensors = scene_tensors(s, &nomem);
+    if (nomem) {
+        st = plume_err_set(err, PLUME_ENOMEM, "scene: out of memory");
+        goto done;
+    }
+    st = plume_membrane_term_create_tensor(m, 3, mm, tensors, s->nmat, &term, err);
+    free(tensors);
+    if (st != PLUME_OK || (st = plume_problem_add_term(p, &term, err)) != PLUME_OK)
         goto done;
     if (bending && (st = add_bending(s, p, m, bm, err)) != PLUME_OK)
         goto done;

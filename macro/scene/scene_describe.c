@@ -24,6 +24,13 @@ static json_t *materials_json(const plume_scene *s)
         json_object_set_new(jb, "D_twist", json_real(m->bending.D_twist));
         if (m->membrane_from[0])
             json_object_set_new(jmem, "from_moduli", json_string(m->membrane_from));
+        if (m->tensor) {
+            json_t *jc = json_array();
+            for (int k = 0; k < 9; k++)
+                json_array_append_new(jc, json_real(m->C[k]));
+            json_object_set_new(jmem, "tensor", json_string(m->tensor == 2 ? "hooked" : "full"));
+            json_object_set_new(jmem, "C", jc);
+        }
         if (m->bending_from[0])
             json_object_set_new(jb, "from_moduli", json_string(m->bending_from));
         json_object_set_new(jm, "membrane", jmem);

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../../lib/core/membrane.h"
 #include "../../lib/io/curves.h"
 #include "../../lib/io/frames.h"
 #include "internal/scene_internal.h"
@@ -65,9 +66,9 @@ static plume_status bending_from_moduli(const plume_json_ctx *c, json_t *jb, con
  * without a thickness (apps/fit's) needs the scene's. */
 #define PLUME_SCENE_THICKNESS_RTOL 1e-9
 static plume_status membrane_from_moduli(const plume_json_ctx *c, json_t *mem, const char *kp, plume_membrane_material *mm,
-                                         char *path, size_t npath)
+                                         char *path, size_t npath, int *tensor, double C[9])
 {
-    static const char *const keys[] = {"from_moduli", "thickness", "kappa", NULL};
+    static const char *const keys[] = {"from_moduli", "thickness", "kappa", "tensor", NULL};
     static const char *const moduli[] = {"E_xx", "E_yy", "nu_xy", "G_xy", "E", "nu", NULL};
     char kf[PLUME_JSON_KEY_MAX], kk[PLUME_JSON_KEY_MAX];
     plume_json_subkey(kf, kp, "from_moduli");
@@ -89,6 +90,34 @@ static plume_status membrane_from_moduli(const plume_json_ctx *c, json_t *mem, c
     if ((st = plume_moduli_read(path, &m, &e2)) != PLUME_OK)
         return plume_json_bad(c, st, kf, "(%s): %s", json_string_value(jf), e2.msg);
     mm->moduli = m;
+    /* "tensor": "moduli" (the four moduli, orthotropic: the paper's vane), "full" (the cell's
+     * plane-stress tensor, its stretch-shear coupling kept) or "hooked" (the hooked cell's, for a
+     * vane whose lines hold by stiff links); docs/monoclinic-vane.md */
+    json_t *jt = json_object_get(mem, "tensor");
+    *tensor = 0;
+    if (jt) {
+        const char *v = json_is_string(jt) ? json_string_value(jt) : "";
+        char kt[PLUME_JSON_KEY_MAX];
+        plume_json_subkey(kt, kp, "tensor");
+        if (strcmp(v, "moduli") == 0)
+            *tensor = 0;
+        else if (strcmp(v, "full") == 0)
+            *tensor = 1;
+        else if (strcmp(v, "hooked") == 0)
+            *tensor = 2;
+        else
+            return plume_json_bad(c, PLUME_EINVAL, kt, "must be \"moduli\" (the four orthotropic moduli), \"full\" (the "
+                                  "cell's tensor) or \"hooked\" (the hooked cell's)");
+        if (*tensor) {
+            e2.msg[0] = '\0';
+            if ((st = plume_moduli_read_tensor(path, *tensor == 2 ? "separation_" : "", C, &e2)) != PLUME_OK)
+                return plume_json_bad(c, st, kt, "(%s): %s%s", json_string_value(jf), e2.msg,
+                                      *tensor == 2 ? " (apps/homogenize writes it for a layout with hooks)"
+                                                   : " (apps/homogenize writes it)");
+            if ((st = plume_membrane_tensor_check(C, &e2)) != PLUME_OK)
+                return plume_json_bad(c, st, kt, "(%s): %s", json_string_value(jf), e2.msg);
+        }
+    }
     double h_file = NAN;
     e2.msg[0] = '\0';
     int has_h = plume_moduli_read_param(path, "thickness", &h_file, &e2) == PLUME_OK;
@@ -144,7 +173,8 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
                        : "is missing (an object {E_xx, E_yy, nu_xy, G_xy, thickness, kappa}, {E, nu, thickness, kappa} "
                          "or {from_moduli, thickness, kappa})");
     if (json_object_get(mem, "from_moduli")) {
-        if ((st = membrane_from_moduli(c, mem, kp, mm, out->membrane_from, sizeof out->membrane_from)) != PLUME_OK)
+        if ((st = membrane_from_moduli(c, mem, kp, mm, out->membrane_from, sizeof out->membrane_from, &out->tensor,
+                                        out->C)) != PLUME_OK)
             return st;
     } else if (json_object_get(mem, "E")) {
         double E = 0.0, nu = 0.0;

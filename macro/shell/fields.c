@@ -17,6 +17,7 @@ struct plume_fields {
     plume_index nt_el, nbarb;
     plume_membrane_material *mats;
     int nmat;
+    double *tensors;         /* [9 nmat] or NULL: the materials' plane-stress tensors (plume_fields_set_tensors) */
     plume_term bending;      /* .eval == NULL: none */
     plume_index *barb;       /* [2 nbarb] */
     double *barb_len;        /* [nbarb] rest lengths */
@@ -50,6 +51,7 @@ void plume_fields_destroy(plume_fields **pf)
     if (f->bending.destroy)
         f->bending.destroy(f->bending.ctx);
     free(f->mats);
+    free(f->tensors);
     free(f->barb);
     free(f->barb_len);
     free(f->dminv);
@@ -323,10 +325,12 @@ plume_status plume_fields_compute(plume_fields *f, const double *x, plume_field_
         }
         const plume_membrane_material *mat = &f->mats[m->material[t]];
         const double *d = m->barb_dir + 2 * t;
-        plume_status st = plume_membrane_strain_stress(mat, dim, F, d, f->strain + 3 * t, f->stress + 3 * t, &f->J[t]);
+        const double *C = f->tensors ? f->tensors + 9 * m->material[t] : NULL;
+        plume_status st = plume_membrane_strain_stress_tensor(mat, C, dim, F, d, f->strain + 3 * t, f->stress + 3 * t,
+                                                              &f->J[t]);
         if (st != PLUME_OK)
             return plume_err_set(err, st, "fields: triangle %ld: bad barb direction or material", (long)t);
-        f->psi_m[t] = plume_membrane_density(mat, dim, F, d);
+        f->psi_m[t] = plume_membrane_density_tensor(mat, C, dim, F, d);
         f->psi_b[t] = 0.0;
     }
     if (f->bending.eval) {
@@ -402,6 +406,18 @@ plume_status plume_fields_series_start(plume_fields *f, const char *dir, const c
     }
     free(path);
     return st;
+}
+
+plume_status plume_fields_set_tensors(plume_fields *f, const double *tensors, plume_err *err)
+{
+    if (!f || !tensors)
+        return plume_err_set(err, PLUME_EINVAL, "fields: no tensors given");
+    double *t = realloc(f->tensors, (size_t)(9 * f->nmat) * sizeof *t);
+    if (!t)
+        return plume_err_set(err, PLUME_ENOMEM, "fields: out of memory");
+    memcpy(t, tensors, (size_t)(9 * f->nmat) * sizeof *t);
+    f->tensors = t;
+    return PLUME_OK;
 }
 
 plume_status plume_fields_set_objects(plume_fields *f, int nobjects, const plume_index *t0, const plume_index *nt,

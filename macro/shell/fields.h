@@ -66,6 +66,11 @@ typedef plume_status (*plume_fields_curvature_fn)(void *bending_ctx, int dim, co
  * PLUME_EINVAL without a bending term, PLUME_ENOMEM. */
 plume_status plume_fields_set_curvatures(plume_fields *f, plume_fields_curvature_fn fn, plume_err *err);
 
+/** From then on material k's stresses and energy density come from the plane-stress tensor
+ * tensors[9 k .. 9 k + 8] (Pa, row-major; plume_membrane_term_create_tensor) instead of its moduli
+ * (copied; nmat of the fields' materials). PLUME_EINVAL for a NULL tensors, PLUME_ENOMEM. */
+plume_status plume_fields_set_tensors(plume_fields *f, const double *tensors, plume_err *err);
+
 /** Gives each triangle the scene object it belongs to: object i has triangles t0[i] to
  * t0[i] + nt[i] - 1 (others get -1). From then on the frames carry the cell array "object"
  * (Int32), which tells a scene's bodies apart in ParaView. PLUME_EINVAL naming a range outside
