@@ -7,8 +7,10 @@
  * them, free (periodic only along the barbs), and one hook holds each copy to its image. The cell
  * is then opened across the barbs, F = [1 0; 0 1 + e] (no stretch along the stiff barbs), the
  * hooks committed at every equilibrium as the traction loop does, and back again to find where
- * they catch. The traction across the barb line is the cell's average membrane stress P_yy (N/m):
- * force per barb length. */
+ * they catch. The traction across the barb line is (P_xy, P_yy), the cell's average membrane
+ * stress on the line (N/m, force per barb length): only the hook crosses it, so its magnitude is the
+ * hook's force per period, and the strength is that magnitude at the release. The hooked cell's
+ * small-strain tensor (plume_separation_tensor) is measured on the same opened cell. */
 #include "separation_cell.h"
 
 #include <math.h>

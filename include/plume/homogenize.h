@@ -237,14 +237,16 @@ PLUME_API plume_status plume_homog_write(const char *path, const plume_layout *l
 /** How a barb line of the vane opens when its barbules' hooks let go, per barb length: the
  * macroscale law homogenised from the layout's periodic cell (docs/unzipping.md). */
 typedef struct {
-    double strength;     /**< N/m: the largest traction across the barb line (force per barb length) */
+    double strength;     /**< N/m: the largest traction across the barb line (force per barb length; its
+                            magnitude, normal and shear: one hook's strength per period) */
     double energy;       /**< J/m^2: the work to open it until its hooks let go, per crack area (barb
                             length times the layout's thickness h), elastic energy given back excluded */
     double opening;      /**< m: the opening across the barbs at which the traction is gone */
     double capture;      /**< m: the opening back within which the line catches again (0: never) */
-    double stiffness;    /**< N/m^2: the strength over the hooks' own opening across the line at the
-                            strength (the cell's elastic stretch excluded): a barb line's stiffness
-                            per length while it holds */
+    double stiffness;    /**< N/m^2: the traction over the hooks' own gap at the strength (the cell's
+                            elastic stretch excluded): a barb line's stiffness per length while it
+                            holds, the hooks' alone (the hooked cell's tensor has more compliance,
+                            plume_separation_tensor) */
     double peak_opening; /**< m: the opening at the strength, the cell's elastic stretch included */
     double cell_length;  /**< m: the cell's period along the barbs (one barbule, one hook) */
     int cell_hooks;      /**< hooks in the cell */

@@ -169,9 +169,9 @@ static plume_status parse_material(const plume_json_ctx *c, json_t *jm, const ch
     if (!json_is_object(mem))
         return plume_json_bad(c, PLUME_EFORMAT, kp,
                    mem ? "must be an object {E_xx, E_yy, nu_xy, G_xy, thickness, kappa}, {E, nu, thickness, kappa} "
-                         "or {from_moduli, thickness, kappa}"
+                         "or {from_moduli, thickness, kappa, tensor}"
                        : "is missing (an object {E_xx, E_yy, nu_xy, G_xy, thickness, kappa}, {E, nu, thickness, kappa} "
-                         "or {from_moduli, thickness, kappa})");
+                         "or {from_moduli, thickness, kappa, tensor})");
     if (json_object_get(mem, "from_moduli")) {
         if ((st = membrane_from_moduli(c, mem, kp, mm, out->membrane_from, sizeof out->membrane_from, &out->tensor,
                                         out->C)) != PLUME_OK)
