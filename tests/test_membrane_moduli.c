@@ -382,6 +382,11 @@ void test_membrane_moduli_tensor(void)
     write_scene(dir, "{\"from_moduli\": \"m.h5\", \"tensor\": \"full\"}", "{\"D\": 1e-7}");
     double *x1 = run_last_x(dir, &nv2);
     CHECK(x0 && x1 && nv == nv2 && memcmp(x0, x1, (size_t)(3 * nv) * sizeof *x0) == 0);
+    /* the run records the tensor it used (/materials/0) */
+    char frames[256], kind[32];
+    snprintf(frames, sizeof frames, "%s/out/frames.h5", dir);
+    CHECK(h5_num(frames, "/materials/0", "C22") == r.C[4] && h5_num(frames, "/materials/0", "C23") == 0.0);
+    CHECK(h5_str(frames, "/materials/0", "membrane_tensor", kind, sizeof kind) == 0 && strcmp(kind, "full") == 0);
     plume_scene *s = NULL;
     CHECK(plume_scene_load(strcat(strcpy(path, dir), "/scene.json"), &s, &err) == PLUME_OK);
     if (s) {

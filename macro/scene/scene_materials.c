@@ -275,16 +275,27 @@ plume_status plume_scene_materials_record(const plume_scene *s, const char *fram
                                  {"thickness", m->membrane.h},       {"kappa", m->membrane.kappa},
                                  {"D_long", m->bending.D_long},      {"D_trans", m->bending.D_trans},
                                  {"D_coupling", m->bending.D_coupling}, {"D_twist", m->bending.D_twist},
-                                 {"density", m->density},            {"constraint", (double)m->constraint}};
-        plume_sparam sp[2];
+                                 {"density", m->density},            {"constraint", (double)m->constraint},
+                                 /* with a tensor law: the tensor the membrane used */
+                                 {"C11", m->C[0]}, {"C12", m->C[1]}, {"C13", m->C[2]},
+                                 {"C22", m->C[4]}, {"C23", m->C[5]}, {"C33", m->C[8]}};
+        const int np = (int)(sizeof p / sizeof p[0]) - (m->tensor ? 0 : 6);
+        plume_sparam sp[3];
         int ns = 0;
         if (m->membrane_from[0])
             sp[ns++] = (plume_sparam){"membrane_from_moduli", m->membrane_from};
         if (m->bending_from[0])
             sp[ns++] = (plume_sparam){"bending_from_moduli", m->bending_from};
-        plume_status st = plume_frames_material_write(frames_path, k, p, (int)(sizeof p / sizeof p[0]), sp, ns,
-                                                      "E_xx, E_yy, G_xy, kappa: Pa; nu_xy: 1; thickness: m; D_long, "
-                                                      "D_trans, D_coupling, D_twist: N m; density: kg/m^2; constraint: 1",
+        if (m->tensor)
+            sp[ns++] = (plume_sparam){"membrane_tensor", m->tensor == 2 ? "hooked" : "full"};
+        plume_status st = plume_frames_material_write(frames_path, k, p, np, sp, ns,
+                                                      m->tensor ? "E_xx, E_yy, G_xy, kappa, C11, C12, C13, C22, C23, C33: "
+                                                                  "Pa; nu_xy: 1; thickness: m; D_long, D_trans, "
+                                                                  "D_coupling, D_twist: N m; density: kg/m^2; "
+                                                                  "constraint: 1"
+                                                                : "E_xx, E_yy, G_xy, kappa: Pa; nu_xy: 1; thickness: m; "
+                                                                  "D_long, D_trans, D_coupling, D_twist: N m; density: "
+                                                                  "kg/m^2; constraint: 1",
                                                       err);
         if (st != PLUME_OK)
             return st;
