@@ -60,6 +60,7 @@ static const char usage_micro[] =
     "  With --model both the macro model uses --moduli FILE.h5 if given, else the layout's moduli\n"
     "  homogenised on the spot.\n"
     "  -o FILE.h5          write /curves/<macro|micro>/<scenario>/{strain,stress,wbar,iterations,seconds}\n"
+    "                      and, with hooks or --split-lines, hooks: each pair's state at every point (1 engaged)\n"
     "  --plot FILE.png     chart (an SVG is written beside it)\n"
     "  --vtk DIR           the deformed sample of every step as a ParaView series: DIR/<macro|micro>/steps.pvd\n"
     "                      (the nominal strain as its time) with step_NNNNN.vtu (strain, stress, energy density,\n"
@@ -258,7 +259,69 @@ typedef struct {
     double edge;                  /* target element edge (m) */
     int has_conv;                 /* micro: conv holds the convergence estimate */
     plume_micro_convergence conv;
+    int *links;                   /* hooks or split lines: their pairs' states at each point of the curve */
+    long links_rows;
+    plume_index links_cols;
 } model_run;
+
+/* The links' states (1 engaged, 0 let go) of the problem's term `term` ("hooks", "splits") at every
+ * point of the curve, recorded by the traction loop's step callback, which then calls the one it
+ * replaced (--vtk's). */
+typedef struct {
+    const plume_problem *p;
+    const char *term;
+    plume_index cols;
+    long rows, cap;
+    int *v;
+    plume_status (*next)(void *user, int step, double strain, const double *x);
+    void *next_user;
+} links_record;
+
+static plume_status record_links(void *user, int step, double strain, const double *x)
+{
+    links_record *r = user;
+    plume_status st = r->next ? r->next(r->next_user, step, strain, x) : PLUME_OK;
+    if (st != PLUME_OK)
+        return st;
+    if (r->rows == r->cap) {
+        long cap = r->cap ? 2 * r->cap : 64;
+        int *v = realloc(r->v, (size_t)cap * (size_t)r->cols * sizeof *v);
+        if (!v)
+            return PLUME_ENOMEM;
+        r->v = v, r->cap = cap;
+    }
+    plume_index n = 0;
+    plume_err err = {{0}};
+    if ((st = plume_problem_term_states(r->p, r->term, r->v + r->rows * r->cols, &n, &err)) != PLUME_OK) {
+        fprintf(stderr, "traction: %s\n", err.msg);
+        return st;
+    }
+    r->rows++;
+    return PLUME_OK;
+}
+
+/* Starts recording the term's states through to's step callback (chained after the one it has). */
+static int links_start(const plume_problem *p, const char *term, plume_traction_opts *to, links_record *r)
+{
+    plume_err err = {{0}};
+    memset(r, 0, sizeof *r);
+    r->p = p, r->term = term;
+    if (plume_problem_term_states(p, term, NULL, &r->cols, &err) != PLUME_OK) {
+        fprintf(stderr, "traction: %s\n", err.msg);
+        return 1;
+    }
+    r->next = to->on_step, r->next_user = to->on_step_user;
+    to->on_step = record_links, to->on_step_user = r;
+    return 0;
+}
+
+/* Hands the recording to the run (freed with it). */
+static void links_keep(links_record *r, model_run *run)
+{
+    free(run->links);
+    run->links = r->v, run->links_rows = r->rows, run->links_cols = r->cols;
+    r->v = NULL;
+}
 
 /* --vtk: each state of the curve as a frame of the series */
 static plume_status vtk_step(void *user, int step, double strain, const double *x)
@@ -304,6 +367,7 @@ static int run_macro(const options *o, const plume_vane *vane, const plume_separ
     plume_problem *p = NULL;
     plume_index *barbs = NULL, nbarbs = 0;
     plume_fields *fields = NULL;
+    links_record rec = {0};
     plume_status st;
     int rc = 1;
     if ((st = plume_patch_mesh(o->lx, o->ly, angle, edge, kind, 2, &patch, &err)) != PLUME_OK) {
@@ -332,13 +396,17 @@ static int run_macro(const options *o, const plume_vane *vane, const plume_separ
         fprintf(stderr, "traction: --vtk: %s\n", err.msg);
         goto done;
     }
+    if (splits && o->out && links_start(p, "splits", &tv, &rec) != 0)
+        goto done;
     if ((st = plume_traction_run(mesh, p, barbs, nbarbs, &tv, &run->res, &err)) != PLUME_OK) {
         /* the library's message already names the module */
         fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
         goto done;
     }
+    links_keep(&rec, run);
     rc = 0;
 done:
+    free(rec.v);
     plume_fields_destroy(&fields);
     free(barbs);
     plume_problem_destroy(&p);
@@ -355,6 +423,7 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
     plume_mesh *mesh = NULL;
     plume_problem *p = NULL;
     plume_fields *fields = NULL;
+    links_record rec = {0};
     plume_status st;
     int rc = 1;
     if ((st = plume_micro_specimen(layout, o->lx, o->ly, angle, &mesh, &p, &err)) != PLUME_OK) {
@@ -369,15 +438,18 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
     plume_layout_materials(layout, mats);
     if (o->vtk && vtk_start(o, "micro", mesh, mats, 2, NULL, 0, &tv, &fields) != 0)
         goto done;
-    if (fields && layout->kind == PLUME_LAYOUT_BARBULES && layout->hooks.strength > 0.0 &&
-        (st = plume_fields_add_links(fields, p, "hooks", &err)) != PLUME_OK) { /* the hooks' states, each step */
+    const int hooked = layout->kind == PLUME_LAYOUT_BARBULES && layout->hooks.strength > 0.0;
+    if (fields && hooked && (st = plume_fields_add_links(fields, p, "hooks", &err)) != PLUME_OK) { /* each step */
         fprintf(stderr, "traction: --vtk: %s\n", err.msg);
         goto done;
     }
+    if (hooked && o->out && links_start(p, "hooks", &tv, &rec) != 0)
+        goto done;
     if ((st = plume_traction_run(mesh, p, NULL, 0, &tv, &run->res, &err)) != PLUME_OK) {
         fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
         goto done;
     }
+    links_keep(&rec, run);
     if (!o->no_convergence && run->res.converged && to->solver != PLUME_SOLVER_LINEARIZED) {
         /* how converged the curve is: the same test on a mesh twice as coarse (this run's mesh,
          * its problem and the fields that borrow the mesh freed first) */
@@ -393,6 +465,7 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
     }
     rc = 0;
 done:
+    free(rec.v);
     plume_fields_destroy(&fields);
     plume_problem_destroy(&p);
     plume_mesh_destroy(&mesh);
@@ -779,7 +852,9 @@ static int write_curves(const options *o, const traction_job *j)
                                   {"scenario", o->scenario}, {"sample", o->sample ? o->sample : ""},
                                   {"moduli", j->moduli_source}};
         if (plume_curve_write(o->out, runs[k].scale, o->scenario, &runs[k].res.curve, params, np, sparams, 5, &err) !=
-            PLUME_OK) {
+                PLUME_OK ||
+            (runs[k].links && plume_curve_write_states(o->out, runs[k].scale, o->scenario, "hooks", runs[k].links_rows,
+                                                       (long)runs[k].links_cols, runs[k].links, &err) != PLUME_OK)) {
             fprintf(stderr, "traction: %s\n", err.msg);
             return 1;
         }
@@ -940,7 +1015,9 @@ int main(int argc, char **argv)
         (!o.out || (rc = write_curves(&o, &j)) == 0) && (!o.plot || (rc = plot_curves(&o, &j)) == 0))
         report(&o, &j);
     size_effect_free(&j.fam);
-    for (int k = 0; k < 2; k++)
+    for (int k = 0; k < 2; k++) {
         plume_traction_result_free(&j.runs[k].res);
+        free(j.runs[k].links);
+    }
     return rc;
 }

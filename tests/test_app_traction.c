@@ -7,6 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <hdf5.h>
 #include <jansson.h>
 
 #include "app_runner.h"
@@ -135,7 +136,8 @@ void test_app_traction_hooks(void)
     }
     char out[16384], err[8192], args[1024];
     snprintf(args, sizeof args, "--model micro --layout-config ../data/layout_hooks.json --lx 4e-3 --ly 5.2e-3 "
-             "--thickness 1e-4 --steps 4 --path 0.003,0,0.003 --no-convergence --json --quiet --vtk %s/vtk", scratch);
+             "--thickness 1e-4 --steps 4 --path 0.003,0,0.003 --no-convergence --json --quiet --vtk %s/vtk "
+             "-o %s/hooks.h5", scratch, scratch);
     int rc = run_app(args, out, sizeof out, err, sizeof err);
     CHECK(rc == 0);
     json_error_t je;
@@ -157,7 +159,34 @@ void test_app_traction_hooks(void)
         json_decref(j);
     } else
         fprintf(stderr, "    output: %s\n    stderr: %s\n", out, err);
-    /* --vtk: each step's hooks as lines, their state 1 at rest and some 0 at the top of the first load */
+    /* -o: the hooks' pairs' states at every point of the curve, /curves/micro/tilted/hooks */
+    long rows = 0, cols = 0;
+    int *table = NULL;
+    {
+        char path[256];
+        snprintf(path, sizeof path, "%s/hooks.h5", scratch);
+        hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+        hid_t ds = f >= 0 ? H5Dopen2(f, "/curves/micro/tilted/hooks", H5P_DEFAULT) : -1;
+        hid_t sp = ds >= 0 ? H5Dget_space(ds) : -1;
+        hsize_t dims[2] = {0, 0};
+        if (sp >= 0 && H5Sget_simple_extent_ndims(sp) == 2 && H5Sget_simple_extent_dims(sp, dims, NULL) == 2) {
+            rows = (long)dims[0], cols = (long)dims[1];
+            table = malloc((size_t)(rows * cols) * sizeof *table);
+            if (table && H5Dread(ds, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, table) < 0) {
+                free(table);
+                table = NULL;
+            }
+        }
+        if (sp >= 0)
+            H5Sclose(sp);
+        if (ds >= 0)
+            H5Dclose(ds);
+        if (f >= 0)
+            H5Fclose(f);
+    }
+    CHECK(table != NULL && rows == 13 && cols > 0); /* the rest state and 3 legs of 4 steps */
+    /* --vtk: each step's hooks as lines, their state 1 at rest and some 0 at the top of the first load;
+     * the table's rows the same */
     for (int step = 0; step <= 4; step += 4) {
         char path[256];
         snprintf(path, sizeof path, "%s/vtk/micro/step_hooks_%05d.vtu", scratch, step);
@@ -169,10 +198,16 @@ void test_app_traction_hooks(void)
         double engaged = 0.0;
         for (plume_index i = 0; s && i < s->ntuples; i++)
             engaged += s->values[i];
-        printf("    step %d: %.0f of %ld hook pairs engaged\n", step, engaged, s ? (long)s->ntuples : 0L);
+        long in_table = 0;
+        for (long c = 0; table && c < cols; c++)
+            in_table += table[step * cols + c];
+        printf("    step %d: %.0f of %ld hook pairs engaged (the -o table: %ld of %ld)\n", step, engaged,
+               s ? (long)s->ntuples : 0L, in_table, cols);
         CHECK(s && (step == 0 ? engaged == s->ntuples : engaged < s->ntuples));
+        CHECK(s && cols == (long)s->ntuples && in_table == (long)engaged);
         plume_vtu_data_free(&d);
     }
+    free(table);
     char cmd[128];
     snprintf(cmd, sizeof cmd, "rm -rf %s", scratch);
     CHECK(system(cmd) == 0);

@@ -43,6 +43,16 @@ PLUME_API plume_status plume_curve_write(const char *path, const char *scale, co
                                          const plume_curve *curve, const plume_param *params, int nparams,
                                          const plume_sparam *sparams, int nsparams, plume_err *err);
 
+/** Writes a table of states beside a curve written by plume_curve_write: the 2-D dataset
+ * `/curves/<scale>/<scenario>/<name>` (rows x cols, 8-bit integers, row-major; replaced if there)
+ * with its "units" "1". apps/traction writes the hooks' states this way ("hooks": one row per point
+ * of the curve, one column per vertex pair, 1 engaged, 0 let go; docs/hdf5-layout.md). Written to
+ * a temporary file and renamed over `path`. PLUME_EINVAL for an empty name or one with '/', or no
+ * values; PLUME_EFORMAT when the curve's group is not there. */
+PLUME_API plume_status plume_curve_write_states(const char *path, const char *scale, const char *scenario,
+                                                const char *name, long rows, long cols, const int *states,
+                                                plume_err *err);
+
 /** Reads the curve `/curves/<scale>/<scenario>` into `curve`, whose arrays it allocates (free with
  * plume_curve_free; on failure nothing is left allocated). PLUME_EIO (unreadable file),
  * PLUME_EFORMAT (no such group, a dataset missing, not 1-D numeric, or of another length), each

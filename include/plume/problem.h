@@ -199,6 +199,14 @@ PLUME_API void plume_problem_destroy(plume_problem **p);
  * stencil; the message in err says which). */
 PLUME_API plume_status plume_problem_add_term(plume_problem *p, const plume_term *t, plume_err *err);
 
+/** The per-stencil states (plume_term.states; barbule hooks and split lines: 1 engaged, 0 let go)
+ * of the first term named `name`, written to states[0 .. *n - 1]; states NULL: only *n, its
+ * stencil count. A program records the links' states this way between steps (apps/traction's
+ * "hooks" table). PLUME_EINVAL naming the term when the problem has none of that name or it
+ * offers no states. */
+PLUME_API plume_status plume_problem_term_states(const plume_problem *p, const char *name, int *states, plume_index *n,
+                                                 plume_err *err);
+
 /** Adds a constraint set, with the same ownership rule as plume_problem_add_term: the problem
  * owns its ctx on success and on failure. PLUME_EINVAL after finalize, without eval or hess, or
  * with m > 0 and no stencil or scale; the message in err says which. */

@@ -1007,6 +1007,22 @@ const plume_term *plume_problem_term(const plume_problem *p, const char *name)
     return NULL;
 }
 
+plume_status plume_problem_term_states(const plume_problem *p, const char *name, int *states, plume_index *n,
+                                       plume_err *err)
+{
+    if (!p || !name || !n)
+        return plume_err_set(err, PLUME_EINVAL, "term states: a problem, a term name and a count are required");
+    const plume_term *t = plume_problem_term(p, name);
+    if (!t || !t->states)
+        return plume_err_set(err, PLUME_EINVAL, "term states: the problem has no term \"%s\"%s", name,
+                             t ? " with states" : "");
+    *n = t->nstencil;
+    if (!states)
+        return PLUME_OK;
+    plume_status st = t->states(t->ctx, states);
+    return st == PLUME_OK ? PLUME_OK : plume_err_set(err, st, "term states: \"%s\": %s", name, plume_strerror(st));
+}
+
 void *plume_problem_term_ctx(const plume_problem *p, const char *name)
 {
     const plume_term *t = plume_problem_term(p, name);

@@ -291,6 +291,60 @@ void plume_curve_free(plume_curve *curve)
     memset(curve, 0, sizeof *curve);
 }
 
+/* plume_curve_write_states: one 2-D dataset of states in an existing curve group */
+typedef struct {
+    const char *gpath, *name;
+    long rows, cols;
+    const int *v;
+} states_ctx;
+
+static plume_status fill_states(hid_t fid, const char *path, const void *vctx, plume_err *err)
+{
+    const states_ctx *c = vctx;
+    h5_detail d;
+    if (H5Lexists(fid, "/curves", H5P_DEFAULT) <= 0 || H5Lexists(fid, c->gpath, H5P_DEFAULT) <= 0)
+        return plume_err_set(err, PLUME_EFORMAT, "curves file '%s': no group %s (write its curve first)", path, c->gpath);
+    hid_t g = H5Gopen2(fid, c->gpath, H5P_DEFAULT), sp = H5I_INVALID_HID, ds = H5I_INVALID_HID;
+    plume_status s = PLUME_OK;
+    if (g < 0 || (H5Lexists(g, c->name, H5P_DEFAULT) > 0 && H5Ldelete(g, c->name, H5P_DEFAULT) < 0)) {
+        s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot replace %s/%s (HDF5: %s)", path, c->gpath, c->name,
+                          h5_cause(&d));
+        goto cleanup;
+    }
+    const hsize_t dims[2] = {(hsize_t)c->rows, (hsize_t)c->cols};
+    if ((sp = H5Screate_simple(2, dims, NULL)) < 0 ||
+        (ds = H5Dcreate2(g, c->name, H5T_STD_I8LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)) < 0 ||
+        (c->rows * c->cols > 0 && H5Dwrite(ds, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, c->v) < 0) ||
+        h5_write_attr_string(ds, "units", "1") < 0)
+        s = plume_err_set(err, PLUME_EIO, "curves file '%s': cannot write %s/%s (HDF5: %s)", path, c->gpath, c->name,
+                          h5_cause(&d));
+cleanup:
+    if (ds >= 0)
+        H5Dclose(ds);
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (g >= 0)
+        H5Gclose(g);
+    return s;
+}
+
+plume_status plume_curve_write_states(const char *path, const char *scale, const char *scenario, const char *name,
+                                      long rows, long cols, const int *states, plume_err *err)
+{
+    if (!path || !*path || !scale || !*scale || !scenario || !*scenario || !name || !*name || strchr(scale, '/') ||
+        strchr(scenario, '/') || strchr(name, '/') || rows < 0 || cols < 0 || (rows * cols > 0 && !states))
+        return plume_err_set(err, PLUME_EINVAL, "curves file: states need a path, a scale, a scenario and a name "
+                             "without '/', and rows x cols values");
+    char gpath[640];
+    snprintf(gpath, sizeof gpath, "/curves/%s/%s", scale, scenario);
+    states_ctx ctx = {gpath, name, rows, cols, states};
+    h5_quiet q;
+    quiet_begin(&q);
+    plume_status s = plume_h5_atomic_write(path, "curves file", fill_states, &ctx, err);
+    quiet_end(&q);
+    return s;
+}
+
 /* Reads the datasets names[0..nf) of group gpath, all of one length *n, into out[i] (malloc'ed;
  * on failure the ones read stay in out[] for the caller to free). */
 static plume_status read_fields(const char *path, const char *gpath, int nf, const char *const *names, double **out,
