@@ -135,11 +135,21 @@ void plume_hooked_cell_free(plume_hooked_cell *c)
     free(c->xfull);
 }
 
-plume_status plume_hooked_cell_init(plume_hooked_cell *c, const plume_layout *l, const plume_cell *cell, plume_err *err)
+plume_status plume_hooked_cell_init(plume_hooked_cell *c, const plume_layout *l, const char *what, plume_err *err)
 {
     memset(c, 0, sizeof *c);
     c->F[0] = c->F[3] = 1.0;
-    plume_status st = open_cell(cell, &c->oc, err);
+    plume_status st = plume_layout_check(l, err);
+    if (st != PLUME_OK)
+        return st;
+    if (l->kind != PLUME_LAYOUT_BARBULES || !(l->hooks.strength > 0.0))
+        return plume_err_set(err, PLUME_EINVAL, "%s: the layout needs explicit barbules held by hooks (\"layout\": "
+                             "\"barbules\" and hook_strength > 0)", what);
+    plume_cell *cell = NULL;
+    if ((st = plume_cell_mesh(l, &cell, err)) != PLUME_OK)
+        return st;
+    st = open_cell(cell, &c->oc, err);
+    plume_cell_destroy(&cell);
     if (st != PLUME_OK)
         return st;
     const plume_cell *oc = &c->oc.cell;

@@ -37,9 +37,10 @@ typedef struct {
     int iterations, solves;
 } plume_hooked_cell;
 
-/** Opens `cell` (the layout's bonded cell) and builds its problem with the layout's hook law,
- * F = I. Free with plume_hooked_cell_free, also after an error. */
-plume_status plume_hooked_cell_init(plume_hooked_cell *c, const plume_layout *l, const plume_cell *cell, plume_err *err);
+/** Meshes the layout's bonded cell, opens it and builds its problem with the layout's hook law,
+ * F = I. PLUME_EINVAL for an invalid layout or one without explicit barbules held by hooks (the
+ * message begins with `what`). Free with plume_hooked_cell_free, also after an error. */
+plume_status plume_hooked_cell_init(plume_hooked_cell *c, const plume_layout *l, const char *what, plume_err *err);
 
 /** Frees what plume_hooked_cell_init built. */
 void plume_hooked_cell_free(plume_hooked_cell *c);

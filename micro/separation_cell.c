@@ -22,19 +22,9 @@ plume_status plume_separation_law_of(const plume_layout *l, plume_separation_law
     if (!l || !out)
         return plume_err_set(err, PLUME_EINVAL, "separation law: a layout and an output are required");
     memset(out, 0, sizeof *out);
-    plume_status st = plume_layout_check(l, err);
-    if (st != PLUME_OK)
-        return st;
-    if (l->kind != PLUME_LAYOUT_BARBULES || !(l->hooks.strength > 0.0))
-        return plume_err_set(err, PLUME_EINVAL, "separation law: the layout needs explicit barbules held by hooks "
-                             "(\"layout\": \"barbules\" and hook_strength > 0)");
-    plume_cell *cell = NULL;
-    if ((st = plume_cell_mesh(l, &cell, err)) != PLUME_OK)
-        return st;
     plume_hooked_cell c;
-    st = plume_hooked_cell_init(&c, l, cell, err);
-    const double b = cell->b, a = cell->a, h = l->h;
-    plume_cell_destroy(&cell);
+    plume_status st = plume_hooked_cell_init(&c, l, "separation law", err);
+    const double b = c.oc.cell.b, a = c.oc.cell.a, h = l->h;
     double T = 0.0, Tn = 0.0, E = 0.0, e = 0.0, work = 0.0, eprev = 0.0;
     /* 1. up to the strength: a first small opening, then secant steps on the hook's load */
     const double e0 = 1e-3 * l->hooks.opening / b;

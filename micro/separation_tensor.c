@@ -15,18 +15,8 @@ plume_status plume_separation_tensor(const plume_layout *l, double C[9], plume_e
     if (!l || !C)
         return plume_err_set(err, PLUME_EINVAL, "hooked cell tensor: a layout and an output are required");
     memset(C, 0, 9 * sizeof *C);
-    plume_status st = plume_layout_check(l, err);
-    if (st != PLUME_OK)
-        return st;
-    if (l->kind != PLUME_LAYOUT_BARBULES || !(l->hooks.strength > 0.0))
-        return plume_err_set(err, PLUME_EINVAL, "hooked cell tensor: the layout needs explicit barbules held by hooks "
-                             "(\"layout\": \"barbules\" and hook_strength > 0)");
-    plume_cell *cell = NULL;
-    if ((st = plume_cell_mesh(l, &cell, err)) != PLUME_OK)
-        return st;
     plume_hooked_cell c;
-    st = plume_hooked_cell_init(&c, l, cell, err);
-    plume_cell_destroy(&cell);
+    plume_status st = plume_hooked_cell_init(&c, l, "hooked cell tensor", err);
     const double eps = PLUME_SEPARATION_TENSOR_STRAIN;
     for (int j = 0; j < 3 && st == PLUME_OK; j++) {
         double Pv[2][3];
