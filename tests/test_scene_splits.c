@@ -284,6 +284,23 @@ void test_scene_splits_seating(void)
         free(t);
         plume_hooks_destroy(&h);
     }
+    /* plume_problem_term_states: a problem's hooks' states by name; a term it lacks is named */
+    {
+        plume_hooks *h = NULL;
+        plume_problem *p = NULL;
+        plume_err err = {{0}};
+        CHECK(plume_hooks_create(2, 1, first, pairs, &law, &h, &err) == PLUME_OK);
+        CHECK(plume_problem_create(2, 3, 1.0, &p, &err) == PLUME_OK);
+        plume_term t;
+        plume_hooks_term(h, 1, &t);
+        CHECK(p && plume_problem_add_term(p, &t, &err) == PLUME_OK);
+        plume_index n = 0;
+        int st[1] = {-1};
+        CHECK(plume_problem_term_states(p, "hooks", NULL, &n, &err) == PLUME_OK && n == 1);
+        CHECK(plume_problem_term_states(p, "hooks", st, &n, &err) == PLUME_OK && st[0] == 1);
+        CHECK(plume_problem_term_states(p, "splits", st, &n, &err) == PLUME_EINVAL && strstr(err.msg, "\"splits\""));
+        plume_problem_destroy(&p);
+    }
     /* a link let go with its lips held together (by a line's end) never clears the capture: with
      * seating it catches once they are within the seating distance, without it it stays open */
     for (int seating = 0; seating < 2; seating++) {
