@@ -1,5 +1,6 @@
 #include "traction.h"
 #include "traction_grips.h"
+#include "internal/traction_run.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -130,13 +131,6 @@ static plume_status solve_probe_tight(const plume_mesh *mesh, plume_problem *p, 
     return PLUME_OK;
 }
 
-/* The last two converged states of a run (positions, multipliers, grip displacements), the
- * predictor's history: a is the latest. */
-typedef struct {
-    double *xa, *xb, *la, *lb;
-    double da, db;
-} history;
-
 /* the converged state (x, lambda) at grip displacement delta becomes the latest */
 static void history_push(history *h, const double *x, const double *lambda, double delta, size_t nx, plume_index m)
 {
@@ -149,32 +143,6 @@ static void history_push(history *h, const double *x, const double *lambda, doub
         memcpy(h->la, lambda, (size_t)m * sizeof *lambda);
 }
 
-/* plume_traction_run's inputs and workspaces, shared by the jobs it is split into */
-typedef struct {
-    const plume_mesh *mesh;
-    plume_problem *p;
-    const plume_traction_opts *o;
-    plume_traction_grips g;
-    plume_solver *solver;    /* created at the first step */
-    int dim;
-    double *x;               /* the problem's positions */
-    plume_index n, m;        /* free dofs, constraints */
-    double *u, *lambda, *lambda_saved, *force;
-    history h;
-    double inc;              /* the current increment (adaptive stepping) */
-    double nominal;          /* the nominal increment of the current leg (grip displacement) */
-    /* the energy balance: the reaction and energy at the last accepted equilibrium, the energy at
-     * rest, the sums over the accepted increments, and the current increment's share */
-    double F_eq, E_eq, E_rest;
-    double work, gross_work, dissipated, peak;
-    long released, reengaged;
-    int cascade, events;
-    struct {
-        double work, dissipated, F, E, peak;
-        long released, reengaged;
-        int cascade, events;
-    } inc_energy;
-} traction_run;
 
 static plume_status check_opts(const plume_mesh *mesh, plume_problem *p, const plume_traction_opts *o, plume_err *err)
 {
