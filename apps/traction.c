@@ -14,6 +14,7 @@
 #include "cli.h"
 #include "traction_size.h"
 #include "traction_bending.h"
+#include "traction_record.h"
 
 static const char usage[] =
     "usage: traction [options]\n"
@@ -264,98 +265,6 @@ typedef struct {
     plume_index links_cols;
 } model_run;
 
-/* The links' states (1 engaged, 0 let go) of the problem's term `term` ("hooks", "splits") at every
- * point of the curve, recorded by the traction loop's step callback, which then calls the one it
- * replaced (--vtk's). */
-typedef struct {
-    const plume_problem *p;
-    const char *term;
-    plume_index cols;
-    long rows, cap;
-    int *v;
-    plume_status (*next)(void *user, int step, double strain, const double *x);
-    void *next_user;
-} links_record;
-
-static plume_status record_links(void *user, int step, double strain, const double *x)
-{
-    links_record *r = user;
-    plume_status st = r->next ? r->next(r->next_user, step, strain, x) : PLUME_OK;
-    if (st != PLUME_OK)
-        return st;
-    if (r->rows == r->cap) {
-        long cap = r->cap ? 2 * r->cap : 64;
-        int *v = realloc(r->v, (size_t)cap * (size_t)r->cols * sizeof *v);
-        if (!v)
-            return PLUME_ENOMEM;
-        r->v = v, r->cap = cap;
-    }
-    plume_index n = 0;
-    plume_err err = {{0}};
-    if ((st = plume_problem_term_states(r->p, r->term, r->v + r->rows * r->cols, &n, &err)) != PLUME_OK) {
-        fprintf(stderr, "traction: %s\n", err.msg);
-        return st;
-    }
-    r->rows++;
-    return PLUME_OK;
-}
-
-/* Starts recording the term's states through to's step callback (chained after the one it has). */
-static int links_start(const plume_problem *p, const char *term, plume_traction_opts *to, links_record *r)
-{
-    plume_err err = {{0}};
-    memset(r, 0, sizeof *r);
-    r->p = p, r->term = term;
-    if (plume_problem_term_states(p, term, NULL, &r->cols, &err) != PLUME_OK) {
-        fprintf(stderr, "traction: %s\n", err.msg);
-        return 1;
-    }
-    r->next = to->on_step, r->next_user = to->on_step_user;
-    to->on_step = record_links, to->on_step_user = r;
-    return 0;
-}
-
-/* Hands the recording to the run (freed with it). */
-static void links_keep(links_record *r, model_run *run)
-{
-    free(run->links);
-    run->links = r->v, run->links_rows = r->rows, run->links_cols = r->cols;
-    r->v = NULL;
-}
-
-/* --vtk: each state of the curve as a frame of the series */
-static plume_status vtk_step(void *user, int step, double strain, const double *x)
-{
-    plume_err err = {{0}};
-    plume_status st = plume_fields_series_frame(user, step, strain, x, &err);
-    if (st != PLUME_OK)
-        fprintf(stderr, "traction: --vtk: %s\n", err.msg);
-    return st;
-}
-
-/* --vtk: the series of one model in DIR/<scale>/ (materials mats, constrained barbs), and the
- * traction options that write it. Returns an exit code. */
-static int vtk_start(const options *o, const char *scale, const plume_mesh *mesh, const plume_membrane_material *mats,
-                     int nmat, const plume_index *barbs, plume_index nbarbs, plume_traction_opts *to,
-                     plume_fields **f)
-{
-    char dir[4200];
-    plume_err err = {{0}};
-    snprintf(dir, sizeof dir, "%s/%s", o->vtk, scale);
-    if (plume_make_dirs(dir) != 0) {
-        fprintf(stderr, "traction: --vtk: cannot create the directory '%s': %s\n", dir, strerror(errno));
-        return 1;
-    }
-    if (plume_fields_create(mesh, 2, mesh->nt, mats, nmat, NULL, barbs, nbarbs, f, &err) != PLUME_OK ||
-        plume_fields_series_start(*f, dir, "steps.pvd", "step", -1.0, &err) != PLUME_OK) {
-        fprintf(stderr, "traction: --vtk: %s\n", err.msg);
-        return 1;
-    }
-    to->on_step = vtk_step;
-    to->on_step_user = *f;
-    return 0;
-}
-
 /* The macroscale vane on an aligned or unaligned patch mesh. Returns an exit code. */
 static int run_macro(const options *o, const plume_vane *vane, const plume_separation_law *law, plume_patch_kind kind,
                      double angle, double edge, const plume_traction_opts *to, model_run *run)
@@ -390,7 +299,7 @@ static int run_macro(const options *o, const plume_vane *vane, const plume_separ
     run->split_pairs = plume_splits_pairs(splits);
     plume_traction_opts tv = *to;
     plume_membrane_material mat = plume_vane_material(vane);
-    if (o->vtk && vtk_start(o, "macro", mesh, &mat, 1, barbs, nbarbs, &tv, &fields) != 0)
+    if (o->vtk && vtk_start(o->vtk, "macro", mesh, &mat, 1, barbs, nbarbs, &tv, &fields) != 0)
         goto done;
     if (fields && splits && (st = plume_fields_add_links(fields, p, "splits", &err)) != PLUME_OK) {
         fprintf(stderr, "traction: --vtk: %s\n", err.msg);
@@ -403,7 +312,7 @@ static int run_macro(const options *o, const plume_vane *vane, const plume_separ
         fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
         goto done;
     }
-    links_keep(&rec, run);
+    links_keep(&rec, &run->links, &run->links_rows, &run->links_cols);
     rc = 0;
 done:
     free(rec.v);
@@ -436,7 +345,7 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
     plume_traction_opts tv = *to;
     plume_membrane_material mats[2];
     plume_layout_materials(layout, mats);
-    if (o->vtk && vtk_start(o, "micro", mesh, mats, 2, NULL, 0, &tv, &fields) != 0)
+    if (o->vtk && vtk_start(o->vtk, "micro", mesh, mats, 2, NULL, 0, &tv, &fields) != 0)
         goto done;
     const int hooked = layout->kind == PLUME_LAYOUT_BARBULES && layout->hooks.strength > 0.0;
     if (fields && hooked && (st = plume_fields_add_links(fields, p, "hooks", &err)) != PLUME_OK) { /* each step */
@@ -449,7 +358,7 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
         fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
         goto done;
     }
-    links_keep(&rec, run);
+    links_keep(&rec, &run->links, &run->links_rows, &run->links_cols);
     if (!o->no_convergence && run->res.converged && to->solver != PLUME_SOLVER_LINEARIZED) {
         /* how converged the curve is: the same test on a mesh twice as coarse (this run's mesh,
          * its problem and the fields that borrow the mesh freed first) */
