@@ -41,6 +41,9 @@ static const char usage[] =
     "                      zip again (aligned mesh; the separation law from --moduli FILE.h5 as apps/homogenize\n"
     "                      writes it for a layout with hooks, or with --model both the layout's own; docs/unzipping.md)\n"
     "  --steps N           quasi-static steps (default 10)\n"
+    "  --checkpoint F.h5   the run's whole state after every step (positions, hooks, history, curve), replaced\n"
+    "                      atomically; --restart F.h5 continues a run from it, bit for bit, with the same flags;\n"
+    "                      --stop-after N ends the run after step N (one model: macro or micro)\n"
     "  --solver S          newton | ipopt | linearized (default newton)\n"
     "  --max-iter N        solver iteration cap per step (default 100)\n";
 /* the help's second half (one literal each: C99 compilers need support only 4095 characters) */
@@ -84,6 +87,8 @@ typedef struct {
     const char *model, *layout_file, *layout_kind;
     const char *bending, *traction_only; /* --bending LOAD; the last traction-only flag given */
     const char *size_effect;             /* --size-effect V[,V...] */
+    const char *checkpoint, *restart;    /* --checkpoint FILE.h5, --restart FILE.h5 */
+    int stop_after;                      /* --stop-after N */
     double curvature;
     int curvature_set, solver_set, steps_set;
     double phi, ratio, Eb, nu_barb, nu_barbule, dB_rel, e_rel;
@@ -203,6 +208,9 @@ static int parse_args(int argc, char **argv, options *o)
         else if (strcmp(a, "--plot") == 0) o->plot = v;
         else if (strcmp(a, "--vtk") == 0) o->vtk = v, o->traction_only = a;
         else if (strcmp(a, "--size-effect") == 0) o->size_effect = v;
+        else if (strcmp(a, "--checkpoint") == 0) o->checkpoint = v, o->traction_only = a;
+        else if (strcmp(a, "--restart") == 0) o->restart = v, o->traction_only = a;
+        else if (strcmp(a, "--stop-after") == 0) r = parse_int(a, v, &o->stop_after), o->traction_only = a;
         else if (strcmp(a, "--constraint") == 0) {
             o->traction_only = a;
             if (v && strcmp(v, "on") == 0)
@@ -261,9 +269,18 @@ typedef struct {
     int has_conv;                 /* micro: conv holds the convergence estimate */
     plume_micro_convergence conv;
     int *links;                   /* hooks or split lines: their pairs' states at each point of the curve */
+    int stop_after, nsteps;       /* --stop-after, and the schedule's steps */
     long links_rows;
     plume_index links_cols;
 } model_run;
+
+/* A traction run that failed: its message; the exit code, 2 (bad input) for a checkpoint that
+ * cannot be continued, else 1. */
+static int run_failed(const plume_err *err, plume_status st)
+{
+    fprintf(stderr, "%s\n", err->msg[0] ? err->msg : plume_strerror(st));
+    return strncmp(err->msg, "restart: ", 9) == 0 ? 2 : 1;
+}
 
 /* The macroscale vane on an aligned or unaligned patch mesh. Returns an exit code. */
 static int run_macro(const options *o, const plume_vane *vane, const plume_separation_law *law, plume_patch_kind kind,
@@ -305,11 +322,10 @@ static int run_macro(const options *o, const plume_vane *vane, const plume_separ
         fprintf(stderr, "traction: --vtk: %s\n", err.msg);
         goto done;
     }
-    if (splits && o->out && links_start(p, "splits", &tv, &rec) != 0)
+    if (splits && o->out && (links_start(p, "splits", &tv, &rec) != 0 || (o->restart && links_seed(&rec, o->restart))))
         goto done;
     if ((st = plume_traction_run(mesh, p, barbs, nbarbs, &tv, &run->res, &err)) != PLUME_OK) {
-        /* the library's message already names the module */
-        fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
+        rc = run_failed(&err, st); /* the library's message already names the module */
         goto done;
     }
     links_keep(&rec, &run->links, &run->links_rows, &run->links_cols);
@@ -322,6 +338,13 @@ done:
     plume_splits_destroy(&splits);
     plume_mesh_destroy(&patch);
     return rc;
+}
+
+/* --stop-after ended the run before its schedule's end */
+static int stopped_early(const model_run *run)
+{
+    return run->res.converged && run->stop_after > 0 && run->res.curve.n == run->stop_after + 1 &&
+           run->stop_after < run->nsteps;
 }
 
 /* The microscale specimen: the layout resolved on the sample. Returns an exit code. */
@@ -352,20 +375,22 @@ static int run_micro(const options *o, const plume_layout *layout, double angle,
         fprintf(stderr, "traction: --vtk: %s\n", err.msg);
         goto done;
     }
-    if (hooked && o->out && links_start(p, "hooks", &tv, &rec) != 0)
+    if (hooked && o->out && (links_start(p, "hooks", &tv, &rec) != 0 || (o->restart && links_seed(&rec, o->restart))))
         goto done;
     if ((st = plume_traction_run(mesh, p, NULL, 0, &tv, &run->res, &err)) != PLUME_OK) {
-        fprintf(stderr, "%s\n", err.msg[0] ? err.msg : plume_strerror(st));
+        rc = run_failed(&err, st);
         goto done;
     }
     links_keep(&rec, &run->links, &run->links_rows, &run->links_cols);
-    if (!o->no_convergence && run->res.converged && to->solver != PLUME_SOLVER_LINEARIZED) {
+    if (!o->no_convergence && run->res.converged && to->solver != PLUME_SOLVER_LINEARIZED && !stopped_early(run)) {
         /* how converged the curve is: the same test on a mesh twice as coarse (this run's mesh,
-         * its problem and the fields that borrow the mesh freed first) */
+         * its problem and the fields that borrow the mesh freed first), from rest, unrecorded */
         plume_fields_destroy(&fields);
         plume_problem_destroy(&p);
         plume_mesh_destroy(&mesh);
-        if ((st = plume_micro_traction_convergence(layout, o->lx, o->ly, angle, to, &run->res, &run->conv, &err)) !=
+        plume_traction_opts tc = *to;
+        tc.checkpoint = tc.restart = NULL, tc.stop_after = 0;
+        if ((st = plume_micro_traction_convergence(layout, o->lx, o->ly, angle, &tc, &run->res, &run->conv, &err)) !=
             PLUME_OK) {
             fprintf(stderr, "traction: micro convergence estimate: %s\n", err.msg[0] ? err.msg : plume_strerror(st));
             goto done;
@@ -430,6 +455,10 @@ static json_t *run_json(const model_run *r, const options *o, double angle)
     json_object_set_new(j, "seconds", json_real(r->res.seconds));
     if (r->split_pairs > 0)
         json_object_set_new(j, "split_pairs", json_integer(r->split_pairs));
+    if (o->restart)
+        json_object_set_new(j, "restarted_from", json_string(o->restart));
+    if (stopped_early(r))
+        json_object_set_new(j, "stopped_after", json_integer(r->stop_after));
     json_object_set_new(j, "hooks_released", json_integer(r->res.released));
     json_object_set_new(j, "hooks_reengaged", json_integer(r->res.reengaged));
     json_object_set_new(j, "largest_cascade", json_integer(r->res.largest_cascade));
@@ -468,6 +497,11 @@ static void print_summary(const model_run *r, const options *o, double angle)
            100.0 * r->res.curve.strain[last], r->res.curve.stress[last], r->res.curve.wbar[last], r->res.initial_slope,
            r->res.newton_iterations, r->res.factorizations, r->res.cuts ? ", steps cut" : "", r->res.seconds,
            r->res.converged ? "converged" : plume_reason_name(r->res.failed_reason));
+    if (o->restart)
+        printf("%s run restarted from '%s' (the counts and energies are the whole run's)\n", r->scale, o->restart);
+    if (stopped_early(r))
+        printf("%s run stopped after step %d of %d (--stop-after); continue it with --restart %s\n", r->scale,
+               r->stop_after, r->nsteps, o->checkpoint);
     if (r->split_pairs > 0)
         printf("%s split lines: %ld vertex pairs hold them\n", r->scale, r->split_pairs);
     if (r->res.released > 0 || r->res.reengaged > 0)
@@ -668,6 +702,27 @@ static int build_vane(const options *o, traction_job *j)
     return o->split_lines && j->want_macro ? split_law(o, j) : 0;
 }
 
+/* --checkpoint, --restart, --stop-after: one traction run (macro or micro, no size-effect family;
+ * a ParaView series is not continued). Returns an exit code. */
+static int restart_opts(const options *o, traction_job *j)
+{
+    const char *flag = o->restart ? "--restart" : o->checkpoint ? "--checkpoint" : o->stop_after ? "--stop-after" : NULL;
+    if (!flag)
+        return 0;
+    if (j->want_macro && j->want_micro)
+        return fail("%s needs one model (--model macro or micro)%s", flag, "");
+    if (o->size_effect)
+        return fail("%s and --size-effect cannot be combined%s", flag, "");
+    if (o->restart && o->vtk)
+        return fail("--restart does not continue a --vtk series: write it from a run without a restart%s%s", "", "");
+    if (o->stop_after < 0)
+        return fprintf(stderr, "traction: --stop-after must be >= 0 (got %d)\n", o->stop_after), 2;
+    if (o->stop_after > 0 && !o->checkpoint)
+        return fail("--stop-after needs --checkpoint FILE.h5, where the run is continued from%s%s", "", "");
+    j->to.checkpoint = o->checkpoint, j->to.restart = o->restart, j->to.stop_after = o->stop_after;
+    return 0;
+}
+
 /* The mesh kind, the element edge and the traction options of the flags. Returns an exit code. */
 static int build_traction_opts(const options *o, traction_job *j)
 {
@@ -701,7 +756,7 @@ static int build_traction_opts(const options *o, traction_job *j)
     j->so.verbose = o->verbose;
     to->solver_opts = &j->so;
     to->progress = o->quiet ? 0 : 1;
-    return 0;
+    return restart_opts(o, j);
 }
 
 /* Runs the requested models; a model that did not converge is reported, and ends the app (exit 3)
@@ -716,6 +771,7 @@ static int run_models(const options *o, traction_job *j)
         if (!(k == 0 ? j->want_macro : j->want_micro))
             continue;
         runs[k].wanted = 1;
+        runs[k].stop_after = o->stop_after, runs[k].nsteps = o->steps * (o->npath > 0 ? o->npath : 1);
         rc = k == 0 ? run_macro(o, &j->vane, &j->law, j->kind, j->angle, j->edge, &j->to, &runs[0])
                     : run_micro(o, &j->layout, j->angle, &j->to, &runs[1]);
     }
@@ -888,7 +944,10 @@ int main(int argc, char **argv)
         return rc == CLI_HELP ? 0 : rc;
     if ((o.out && (rc = cli_output_file("traction", "-o", o.out))) ||
         (o.plot && (rc = cli_output_file("traction", "--plot", o.plot))) ||
-        (o.vtk && (rc = cli_output_dir("traction", "--vtk", o.vtk))))
+        (o.vtk && (rc = cli_output_dir("traction", "--vtk", o.vtk))) ||
+        (o.checkpoint && (rc = cli_output_file("traction", "--checkpoint", o.checkpoint))) ||
+        (o.restart && access(o.restart, R_OK) != 0 &&
+         (rc = cli_fail("traction", "--restart %s: cannot read it: %s", o.restart, strerror(errno)))))
         return rc;
     if (o.bending) {
         if (o.traction_only)

@@ -63,6 +63,32 @@ static int links_start(const plume_problem *p, const char *term, plume_traction_
     return 0;
 }
 
+/* --restart: the rows the first run recorded, up to its checkpoint, from the checkpoint's table
+ * (plume_traction_checkpoint_states), so that the table covers the whole curve. Returns an exit code. */
+static int links_seed(links_record *r, const char *checkpoint)
+{
+    plume_err err = {{0}};
+    long rows = 0;
+    plume_index cols = 0;
+    if (plume_traction_checkpoint_states(checkpoint, r->term, NULL, &rows, &cols, &err) != PLUME_OK) {
+        fprintf(stderr, "traction: --restart: %s\n", err.msg);
+        return 1;
+    }
+    if (cols != r->cols) {
+        fprintf(stderr, "traction: --restart: '%s' holds the states of %ld %s pairs, this run has %ld\n", checkpoint,
+                (long)cols, r->term, (long)r->cols);
+        return 1;
+    }
+    free(r->v);
+    r->v = malloc((size_t)(rows > 0 ? rows : 1) * (size_t)(cols > 0 ? cols : 1) * sizeof *r->v);
+    if (!r->v || plume_traction_checkpoint_states(checkpoint, r->term, r->v, &rows, &cols, &err) != PLUME_OK) {
+        fprintf(stderr, "traction: --restart: %s\n", r->v ? err.msg : "out of memory");
+        return 1;
+    }
+    r->rows = r->cap = rows;
+    return 0;
+}
+
 /* Hands the recording over (*v freed first; the caller frees the new one). */
 static void links_keep(links_record *r, int **v, long *rows, plume_index *cols)
 {

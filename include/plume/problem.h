@@ -152,6 +152,15 @@ typedef struct {
     /** Optional (NULL: not offered): each stencil's state, written to s[0 .. nstencil-1] (hooks: 1
      * engaged, 0 let go). Output uses it (plume_fields_add_links). */
     plume_status (*states)(void *ctx, int *s);
+    /** Optional, with commit (NULL: the state cannot be saved, and a traction checkpoint refuses
+     * the problem): how many doubles hold everything commit changes. */
+    plume_index (*state_size)(void *ctx);
+    /** With state_size: writes that state to s[0 .. state_size - 1]. */
+    void (*state_get)(void *ctx, double *s);
+    /** With state_size: sets the state from s (as state_get wrote it) and keeps it (as keep with
+     * save non-zero); PLUME_EINVAL for values state_get cannot have written, nothing changed then.
+     * A restart that sets it back repeats a run bit for bit. */
+    plume_status (*state_set)(void *ctx, const double *s);
 } plume_term;
 
 /** A set of m equality constraints g_c(x) = 0; constraint c couples the `arity` vertices of

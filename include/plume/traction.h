@@ -62,6 +62,21 @@ typedef struct {
     double top_grip_free; /**< in [0, 1), default 0: the share of the top edge, from x = 0, that the
                             top grip leaves free; the grip holds x >= top_grip_free lx only (a barb
                             pulled by its end, free to bend: the separation test) */
+    const char *checkpoint; /**< Optional (NULL: none): an HDF5 file the run's whole state is written to
+                            after every nominal step, replaced atomically (an interrupted write leaves
+                            the last one whole): the positions, multipliers, predictor history, the
+                            stateful terms' state (plume_term.state_size; a term with commit and
+                            without it is refused), the solver's memory, the curve and the sums so
+                            far, and each curve point's per-stencil states (hooks' and split lines',
+                            plume_traction_checkpoint_states). docs/hdf5-layout.md */
+    const char *restart;    /**< Optional (NULL: from rest): a checkpoint of a run with the same sample,
+                            schedule, solver and problem sizes (compared; what differs is named, the
+                            message beginning "restart: "). The run continues after its step: the
+                            curve, counts, energies and states come out bit for bit as the run that
+                            never stopped (times excepted). on_step is called for the new steps only */
+    int stop_after;         /**< > 0: the run ends after nominal step stop_after of its schedule (a
+                            restarted run's steps counted from the start), its checkpoint written:
+                            the curve then has stop_after + 1 points, converged stays 1. 0: none */
 } plume_traction_opts;
 
 /** Fills o (size bytes) with the defaults each field names (progress 1, on_step NULL; lx, ly, h
@@ -121,6 +136,14 @@ typedef struct {
 
 /** Frees the curve's arrays and zeroes the curve (the rest of r is left); NULL-safe. */
 PLUME_API void plume_traction_result_free(plume_traction_result *r);
+
+/** The per-stencil states (1 engaged, 0 let go) of the term `term` ("hooks", "splits") at every
+ * point of the curve a traction checkpoint holds (plume_traction_opts.checkpoint): *rows points
+ * (the rest state first), *cols stencils, row by row into states (NULL: the counts only). A program
+ * that records the states itself (apps/traction's hooks table) takes the restarted run's earlier
+ * rows from here. PLUME_EIO (unreadable), PLUME_EFORMAT (no such table, named), PLUME_EINVAL. */
+PLUME_API plume_status plume_traction_checkpoint_states(const char *path, const char *term, int *states, long *rows,
+                                                        plume_index *cols, plume_err *err);
 
 /** Clamps the grips of `p` (created over mesh->nv vertices, terms and constraints added, not
  * finalised), finalises it and runs the test. `rigid_edges` (n pairs; may be 0) are the

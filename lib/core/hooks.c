@@ -259,6 +259,21 @@ static void hooks_term_destroy(void *ctx)
     plume_hooks_destroy(&h);
 }
 
+static plume_index hooks_term_state_size(void *ctx)
+{
+    return plume_hooks_state_size(ctx);
+}
+
+static void hooks_term_state_get(void *ctx, double *s)
+{
+    plume_hooks_state_get(ctx, s);
+}
+
+static plume_status hooks_term_state_set(void *ctx, const double *s)
+{
+    return plume_hooks_state_set(ctx, s, NULL);
+}
+
 void plume_hooks_term(plume_hooks *h, int own, plume_term *t)
 {
     memset(t, 0, sizeof *t);
@@ -272,6 +287,9 @@ void plume_hooks_term(plume_hooks *h, int own, plume_term *t)
     t->commit = hooks_term_commit;
     t->keep = hooks_term_keep;
     t->states = hooks_term_states;
+    t->state_size = hooks_term_state_size;
+    t->state_get = hooks_term_state_get;
+    t->state_set = hooks_term_state_set;
     t->destroy = own ? hooks_term_destroy : NULL;
     t->ctx = h;
 }

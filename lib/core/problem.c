@@ -1023,6 +1023,52 @@ plume_status plume_problem_term_states(const plume_problem *p, const char *name,
     return st == PLUME_OK ? PLUME_OK : plume_err_set(err, st, "term states: \"%s\": %s", name, plume_strerror(st));
 }
 
+plume_index plume_problem_state_size(const plume_problem *p)
+{
+    plume_index n = 0;
+    for (int t = 0; p && t < p->nterms; t++) {
+        const plume_term *tt = &p->terms[t].t;
+        if (tt->commit && !(tt->state_size && tt->state_get && tt->state_set))
+            return -1;
+        n += tt->state_size ? tt->state_size(tt->ctx) : 0;
+    }
+    return n;
+}
+
+void plume_problem_state_get(const plume_problem *p, double *s)
+{
+    for (int t = 0; p && t < p->nterms; t++) {
+        const plume_term *tt = &p->terms[t].t;
+        if (tt->state_size && tt->state_get) {
+            tt->state_get(tt->ctx, s);
+            s += tt->state_size(tt->ctx);
+        }
+    }
+}
+
+plume_status plume_problem_state_set(plume_problem *p, const double *s, plume_err *err)
+{
+    for (int t = 0; p && t < p->nterms; t++) {
+        const plume_term *tt = &p->terms[t].t;
+        if (!(tt->state_size && tt->state_set))
+            continue;
+        plume_status st = tt->state_set(tt->ctx, s);
+        if (st != PLUME_OK)
+            return plume_err_set(err, st, "term '%s': its saved state is not one it can have (%s)", tt->name,
+                                 plume_strerror(st));
+        s += tt->state_size(tt->ctx);
+    }
+    return PLUME_OK;
+}
+
+const char *plume_problem_states_term(const plume_problem *p, int i)
+{
+    for (int t = 0; p && t < p->nterms; t++)
+        if (p->terms[t].t.states && i-- == 0)
+            return p->terms[t].t.name;
+    return NULL;
+}
+
 void *plume_problem_term_ctx(const plume_problem *p, const char *name)
 {
     const plume_term *t = plume_problem_term(p, name);

@@ -98,6 +98,18 @@ const plume_term *plume_problem_term(const plume_problem *p, const char *name);
  * its own data through it. */
 void *plume_problem_term_ctx(const plume_problem *p, const char *name);
 
+/** The state of the stateful terms (plume_term.commit), every term's state_get in order: its size
+ * in doubles, or -1 when a term with commit offers no state_size (the state cannot be saved). */
+plume_index plume_problem_state_size(const plume_problem *p);
+/** Writes that state to s[0 .. plume_problem_state_size - 1]. */
+void plume_problem_state_get(const plume_problem *p, double *s);
+/** Sets it from s (as plume_problem_state_get wrote it), each term's kept state too; PLUME_EINVAL
+ * names the term that refused its part (terms before it already set). */
+plume_status plume_problem_state_set(plume_problem *p, const double *s, plume_err *err);
+/** The name of the i-th term (from 0) that offers per-stencil states (plume_term.states), NULL past
+ * the last. */
+const char *plume_problem_states_term(const plume_problem *p, int i);
+
 /** 1 when a term has a rebase. */
 int plume_problem_rebases(const plume_problem *p);
 

@@ -63,8 +63,8 @@ cleanup:
 /* The atomic-write protocol of docs/design.md: build "<path>.tmp.<pid>" (a byte copy of `path` when
  * it exists, so its other content survives), let `fill` edit it, close, fsync and rename over
  * `path`. On any failure the temporary file is removed and `path` is untouched. */
-plume_status plume_h5_atomic_write(const char *path, const char *what, plume_h5_fill_fn fill, const void *ctx,
-                                   plume_err *err)
+static plume_status atomic_write(const char *path, const char *what, plume_h5_fill_fn fill, const void *ctx,
+                                 int keep, plume_err *err)
 {
     plume_status s = PLUME_OK;
     hid_t fid = H5I_INVALID_HID;
@@ -96,7 +96,7 @@ plume_status plume_h5_atomic_write(const char *path, const char *what, plume_h5_
     }
     snprintf(tmp, len, "%s.tmp.%ld", path, (long)getpid());
 
-    if (exists) {
+    if (exists && keep) {
         s = copy_file(path, tmp, st.st_mode & 07777, what, err);
         tmp_made = 1; /* copy_file may have created it before failing */
         if (s != PLUME_OK)
@@ -155,4 +155,16 @@ cleanup:
         unlink(tmp);
     free(tmp);
     return s;
+}
+
+plume_status plume_h5_atomic_write(const char *path, const char *what, plume_h5_fill_fn fill, const void *ctx,
+                                   plume_err *err)
+{
+    return atomic_write(path, what, fill, ctx, 1, err);
+}
+
+plume_status plume_h5_atomic_replace(const char *path, const char *what, plume_h5_fill_fn fill, const void *ctx,
+                                     plume_err *err)
+{
+    return atomic_write(path, what, fill, ctx, 0, err);
 }

@@ -17,4 +17,9 @@ typedef plume_status (*plume_h5_fill_fn)(hid_t fid, const char *path, const void
 plume_status plume_h5_atomic_write(const char *path, const char *what, plume_h5_fill_fn fill, const void *ctx,
                                    plume_err *err);
 
+/* As plume_h5_atomic_write, but `fill` starts from an empty file: the old content is replaced
+ * whole (a checkpoint rewritten at every step, which would grow as an edited copy). */
+plume_status plume_h5_atomic_replace(const char *path, const char *what, plume_h5_fill_fn fill, const void *ctx,
+                                     plume_err *err);
+
 #endif

@@ -177,6 +177,8 @@ static plume_status check_opts(const plume_mesh *mesh, plume_problem *p, const p
                              o->top_grip_free);
     if (o->max_settles < 0)
         return plume_err_set(err, PLUME_EINVAL, "traction: max_settles must be >= 0 (got %d)", o->max_settles);
+    if (o->stop_after < 0)
+        return plume_err_set(err, PLUME_EINVAL, "traction: stop_after must be >= 0 (got %d)", o->stop_after);
     if (!(o->probe_tol_kkt >= 0) || !isfinite(o->probe_tol_kkt))
         return plume_err_set(err, PLUME_EINVAL, "traction: probe_tol_kkt must be finite and >= 0 (got %g)",
                              o->probe_tol_kkt);
@@ -247,6 +249,7 @@ static void free_run(traction_run *r)
     free(r->h.la);
     free(r->h.lb);
     free(r->force);
+    free(r->hist);
 }
 
 /* A solve's counts added to those of its step. */
@@ -457,9 +460,13 @@ static plume_status solve_step(traction_run *r, int k, double delta, double prob
     int cut = 0;
     memset(tight, 0, sizeof *tight);
     plume_err why;
-    if (!r->solver && (st = plume_solver_create(o->solver, r->p, o->solver_opts, &r->solver, &why)) != PLUME_OK)
-        return plume_err_set(err, st, "traction: could not create the %s solver: %s", plume_solver_kind_name(o->solver),
-                             why.msg);
+    if (!r->solver) {
+        if ((st = plume_solver_create(o->solver, r->p, o->solver_opts, &r->solver, &why)) != PLUME_OK)
+            return plume_err_set(err, st, "traction: could not create the %s solver: %s",
+                                 plume_solver_kind_name(o->solver), why.msg);
+        if (r->restarted) /* where the first run's solver stood */
+            plume_solver_set_memory(r->solver, r->memory);
+    }
     if (probe && probe_tol < o->solver_opts->tol_kkt && o->solver != PLUME_SOLVER_LINEARIZED) {
         if ((st = solve_probe_tight(r->mesh, r->p, &r->g, o, r->solver, probe_tol, r->h.xa, delta, r->u, r->lambda,
                                     tight, err)) != PLUME_OK)
@@ -487,6 +494,27 @@ static plume_status solve_step(traction_run *r, int k, double delta, double prob
     if (probe && rep->converged)
         res->probe_tol_kkt = o->solver_opts->tol_kkt;
     return PLUME_OK;
+}
+
+/* With a checkpoint or a restart: the columns of the per-stencil states' history, and a problem
+ * whose stateful terms can save their state. */
+static plume_status start_states(traction_run *r, plume_err *err)
+{
+    if (!r->o->checkpoint && !r->o->restart)
+        return PLUME_OK;
+    if (plume_problem_state_size(r->p) < 0)
+        return plume_err_set(err, PLUME_EINVAL, "traction: %s: a stateful term of the problem cannot save its state "
+                             "(plume_term.state_size)", r->o->restart ? "restart" : "checkpoint");
+    for (int t = 0;; t++) {
+        const char *name = plume_problem_states_term(r->p, t);
+        plume_index nc = 0;
+        if (!name)
+            return PLUME_OK;
+        plume_status st = plume_problem_term_states(r->p, name, NULL, &nc, err);
+        if (st != PLUME_OK)
+            return st;
+        r->hist_cols += nc;
+    }
 }
 
 /* Step k solved (rep, tight: solve_step's): its counts into the result, then, where it is an
@@ -539,6 +567,9 @@ static plume_status record_step(traction_run *r, int k, double strain, const plu
     res->curve.seconds[i] = rep->seconds;
     if (o->on_step && (st = o->on_step(o->on_step_user, k, strain, r->x)) != PLUME_OK)
         return plume_err_set(err, st, "traction: writing step %d failed (%s)", k, plume_strerror(st));
+    if (o->checkpoint && ((st = plume_traction_states_record(r, err)) != PLUME_OK ||
+                          (st = plume_traction_checkpoint_write(r, k, res, err)) != PLUME_OK))
+        return st;
     char info[128];
     snprintf(info, sizeof info, "strain %.4f  stress %.4g Pa  %d it", strain, stress, rep->iterations);
     plume_progress_update(prog, k, info);
@@ -586,13 +617,24 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         prog.enabled = 0;
 
     double probe_tol = probe_tolerance(o);
-    if (o->on_step && (st = o->on_step(o->on_step_user, 0, 0.0, r.x)) != PLUME_OK) {
-        plume_err_set(err, st, "traction: writing the rest state failed (%s)", plume_strerror(st));
+    int first = 0; /* the first step to solve: 0 (the probe) from rest, a restart's next */
+    if ((st = start_states(&r, err)) != PLUME_OK)
         goto cleanup;
+    if (o->restart) {
+        if ((st = plume_traction_checkpoint_read(&r, &first, res, err)) != PLUME_OK)
+            goto cleanup;
+        first++;
+    } else {
+        if (o->on_step && (st = o->on_step(o->on_step_user, 0, 0.0, r.x)) != PLUME_OK) {
+            plume_err_set(err, st, "traction: writing the rest state failed (%s)", plume_strerror(st));
+            goto cleanup;
+        }
+        if ((st = plume_traction_states_record(&r, err)) != PLUME_OK)
+            goto cleanup;
     }
 
     /* step 0 is the small-strain probe (initial slope), then the quasi-static steps, leg by leg */
-    for (int k = 0; k <= nsteps; k++) {
+    for (int k = first; k <= nsteps; k++) {
         double strain = k == 0 ? o->probe_strain : step_strain(o, k);
         if (k >= 1 && (k - 1) % o->steps == 0) { /* a leg starts: its nominal increment */
             const int j = (k - 1) / o->steps;
@@ -603,11 +645,12 @@ plume_status plume_traction_run(const plume_mesh *mesh, plume_problem *p, const 
         if ((st = solve_step(&r, k, strain * o->ly, probe_tol, &rep, &tight, res, err)) != PLUME_OK ||
             (st = record_step(&r, k, strain, &rep, &tight, res, &prog, &stop, err)) != PLUME_OK)
             goto cleanup;
-        if (stop)
+        if (stop || (o->stop_after > 0 && k == o->stop_after))
             break;
     }
     plume_progress_finish(&prog);
     plume_solver_stats(r.solver, NULL, &res->factorizations, &res->factor_seconds);
+    res->factorizations += r.factorizations0, res->factor_seconds += r.factor_seconds0;
     res->work = r.work;
     res->stored_energy = r.E_eq - r.E_rest;
     res->dissipated_energy = r.dissipated;

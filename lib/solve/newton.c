@@ -1103,6 +1103,16 @@ void plume_newton_set_tol_kkt(plume_newton *s, double tol_kkt)
     s->o.tol_kkt = tol_kkt;
 }
 
+double plume_newton_memory(const plume_newton *s)
+{
+    return s->shift_last;
+}
+
+void plume_newton_set_memory(plume_newton *s, double shift_last)
+{
+    s->shift_last = shift_last;
+}
+
 void plume_newton_stats(const plume_newton *s, int *analyses, int *factorizations, double *factor_seconds)
 {
     plume_chol_stats(s ? s->chol : NULL, analyses, factorizations, factor_seconds);

@@ -34,6 +34,9 @@ plume_status plume_newton_solve(plume_newton *s, double *u, double *lambda, plum
 void plume_newton_set_tol_kkt(plume_newton *s, double tol_kkt);
 /** Symbolic analyses, numeric factorisations and factorisation seconds since creation (each output
  * may be NULL; zeros for s NULL). */
+/* the last non-zero Hessian shift, the start of the next inertia correction (plume_solver_memory) */
+double plume_newton_memory(const plume_newton *s);
+void plume_newton_set_memory(plume_newton *s, double shift_last);
 void plume_newton_stats(const plume_newton *s, int *analyses, int *factorizations, double *factor_seconds);
 
 #ifdef __cplusplus

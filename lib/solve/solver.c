@@ -273,3 +273,14 @@ void plume_solver_stats(const plume_solver *s, int *analyses, int *factorization
 {
     plume_newton_stats(s ? s->newton : NULL, analyses, factorizations, factor_seconds);
 }
+
+double plume_solver_memory(const plume_solver *s)
+{
+    return s && s->newton ? plume_newton_memory(s->newton) : 0.0;
+}
+
+void plume_solver_set_memory(plume_solver *s, double memory)
+{
+    if (s && s->newton)
+        plume_newton_set_memory(s->newton, memory);
+}

@@ -51,6 +51,13 @@ plume_status plume_solver_set_tol_kkt(plume_solver *s, double tol_kkt, plume_err
 void plume_solver_stats(const plume_solver *s, int *analyses, int *factorizations,
                                   double *factor_seconds);
 
+/** What a solver carries from one solve to the next beyond its options: the native solvers' last
+ * non-zero Hessian shift, where the next inertia correction starts (0 for Ipopt, which carries
+ * nothing). A checkpoint saves it and a restart sets it back, so that the restarted solves repeat
+ * the first run's bit for bit. */
+double plume_solver_memory(const plume_solver *s);
+void plume_solver_set_memory(plume_solver *s, double memory);
+
 #ifdef __cplusplus
 }
 #endif

@@ -41,6 +41,29 @@ typedef struct {
         long released, reengaged;
         int cascade, events;
     } inc_energy;
+    /* checkpoints and restarts (traction_checkpoint.c): the per-stencil states of the terms that
+     * offer them (plume_term.states, concatenated in the terms' order), one row per point of the
+     * curve, kept when o->checkpoint is set; the solver's memory a restart sets back when the
+     * solver is created; the factorisations of the run before the restart */
+    int *hist;
+    long hist_rows, hist_cap;
+    plume_index hist_cols;
+    double memory;
+    int restarted;
+    int factorizations0;
+    double factor_seconds0;
 } traction_run;
+
+/* lib/sim/traction_checkpoint.c */
+/* The run's whole state after curve point k (its last nominal step) into o->checkpoint, replaced
+ * atomically. */
+plume_status plume_traction_checkpoint_write(const traction_run *r, int k, const plume_traction_result *res,
+                                             plume_err *err);
+/* The state of o->restart into a run placed and allocated as the first run was (its curve, sums,
+ * history, the terms' state); *k: its last nominal step. Errors begin with "restart: " and name
+ * the file and what differs. */
+plume_status plume_traction_checkpoint_read(traction_run *r, int *k, plume_traction_result *res, plume_err *err);
+/* Appends the current per-stencil states as a row of r->hist (when o->checkpoint is set). */
+plume_status plume_traction_states_record(traction_run *r, plume_err *err);
 
 #endif
