@@ -403,6 +403,17 @@ void test_membrane_moduli_tensor(void)
         moved = fmax(moved, fabs(x2[k] - x0[k]));
     printf("    coupled tensor: the last frame moves by %.3g m\n", moved);
     CHECK(x2 && moved > 1e-9);
+    /* without "tensor" the coupled cell takes its tensor (the default for a coupling above 1e-3):
+     * the same run as "full"; "moduli" asked for keeps the four moduli, as the uncoupled cell did */
+    write_scene(dir, "{\"from_moduli\": \"m.h5\"}", "{\"D\": 1e-7}");
+    double *x3 = run_last_x(dir, &nv2);
+    CHECK(x2 && x3 && nv == nv2 && memcmp(x2, x3, (size_t)(3 * nv) * sizeof *x2) == 0);
+    CHECK(h5_str(frames, "/materials/0", "membrane_tensor", kind, sizeof kind) == 0 && strcmp(kind, "full") == 0);
+    write_scene(dir, "{\"from_moduli\": \"m.h5\", \"tensor\": \"moduli\"}", "{\"D\": 1e-7}");
+    double *x4 = run_last_x(dir, &nv2);
+    CHECK(x0 && x4 && nv == nv2 && memcmp(x0, x4, (size_t)(3 * nv) * sizeof *x0) == 0);
+    free(x3);
+    free(x4);
     /* "hooked" without a law in the file; a bad name */
     snprintf(path, sizeof path, "%s/scene.json", dir);
     write_scene(dir, "{\"from_moduli\": \"m.h5\", \"tensor\": \"hooked\"}", "{\"D\": 1e-7}");

@@ -9,8 +9,11 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <hdf5.h>
+
 #include "harness.h"
 #include "../lib/core/hooks.h"
+#include "../lib/io/curves.h"
 #include "../lib/io/frames.h"
 #include "../macro/scene/run.h"
 #include "../macro/scene/scene.h"
@@ -503,5 +506,66 @@ void test_scene_splits_chains_bad_input(void)
               strstr(err.msg, "fewer than 2"));
     }
     plume_scene_destroy(&s);
+    remove_tree(dir);
+}
+
+/* A moduli file with a separation law (the five /moduli attributes apps/homogenize writes for a
+ * layout with hooks) at dir/law.h5 */
+static void write_law_file(const char *dir)
+{
+    char path[256];
+    snprintf(path, sizeof path, "%s/law.h5", dir);
+    plume_ortho m = {1.2e9, 3.2e6, 0.0, 1.1e6};
+    plume_err err = {{0}};
+    CHECK(plume_moduli_write(path, &m, "test", &err) == PLUME_OK);
+    static const char *const names[5] = {"separation_strength", "separation_energy", "separation_opening",
+                                         "separation_capture", "separation_stiffness"};
+    const double v[5] = {1.0, 0.01, 2e-6, 5e-6, 5e5};
+    hid_t f = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT), g = f >= 0 ? H5Gopen2(f, "/moduli", H5P_DEFAULT) : -1;
+    for (int k = 0; k < 5 && g >= 0; k++) {
+        hid_t sp = H5Screate(H5S_SCALAR), a = H5Acreate2(g, names[k], H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT);
+        CHECK(a >= 0 && H5Awrite(a, H5T_NATIVE_DOUBLE, &v[k]) >= 0);
+        H5Aclose(a);
+        H5Sclose(sp);
+    }
+    CHECK(g >= 0);
+    if (g >= 0)
+        H5Gclose(g);
+    if (f >= 0)
+        H5Fclose(f);
+}
+
+/* "law": {"from_moduli", "stiffness"}: the file's strength and capture with the stiffness given (stiff
+ * lines for a vane whose membrane carries the hooks' compliance); the strength or capture beside
+ * "from_moduli" refused */
+void test_scene_splits_law_stiffness(void)
+{
+    char dir[64], scene[128];
+    make_dir(dir, sizeof dir);
+    write_law_file(dir);
+    snprintf(scene, sizeof scene, "%s/s.json", dir);
+    plume_err err = {{0}};
+    plume_scene *s = NULL;
+    write_scene(dir, "s.json", "{\"materials\": [\"vane\"], \"offsets\": [0.002], \"law\": {\"from_moduli\": \"law.h5\"}}",
+                NULL);
+    CHECK(plume_scene_load(scene, &s, &err) == PLUME_OK);
+    if (s)
+        CHECK(s->split_law.strength == 1.0 && s->split_law.stiffness == 5e5 && s->split_law.capture == 5e-6);
+    else
+        fprintf(stderr, "    %s\n", err.msg);
+    plume_scene_destroy(&s);
+    write_scene(dir, "s.json", "{\"materials\": [\"vane\"], \"offsets\": [0.002], \"law\": {\"from_moduli\": \"law.h5\", "
+                "\"stiffness\": 4e8}}", NULL);
+    CHECK(plume_scene_load(scene, &s, &err) == PLUME_OK);
+    if (s)
+        CHECK(s->split_law.strength == 1.0 && s->split_law.stiffness == 4e8 && s->split_law.capture == 5e-6 &&
+              s->split_law.opening == 1.0 / 4e8);
+    plume_scene_destroy(&s);
+    write_scene(dir, "s.json", "{\"materials\": [\"vane\"], \"offsets\": [0.002], \"law\": {\"from_moduli\": \"law.h5\", "
+                "\"stiffness\": -1}}", NULL);
+    CHECK(plume_scene_load(scene, &s, &err) != PLUME_OK && strstr(err.msg, "splits.law.stiffness"));
+    write_scene(dir, "s.json", "{\"materials\": [\"vane\"], \"offsets\": [0.002], \"law\": {\"from_moduli\": \"law.h5\", "
+                "\"strength\": 2}}", NULL);
+    CHECK(plume_scene_load(scene, &s, &err) != PLUME_OK && strstr(err.msg, "splits.law") && strstr(err.msg, "not both"));
     remove_tree(dir);
 }

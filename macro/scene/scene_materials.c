@@ -65,6 +65,18 @@ static plume_status bending_from_moduli(const plume_json_ctx *c, json_t *jb, con
  * PLUME_SCENE_THICKNESS_RTOL), else the stiffness would silently scale by h / thickness. A file
  * without a thickness (apps/fit's) needs the scene's. */
 #define PLUME_SCENE_THICKNESS_RTOL 1e-9
+/* Without "tensor" a cell whose stretch-shear coupling max(|C13| / sqrt(C11 C33), |C23| /
+ * sqrt(C22 C33)) passes this takes its full tensor: the four moduli would drop the coupling
+ * (0.96 for layout_barbules_table3a.json, an 8 times too soft vane at 45 deg; 2e-5 for
+ * layout_kovalev.json and 1e-11 for the strips, which keep the moduli). docs/monoclinic-vane.md */
+#define PLUME_SCENE_COUPLING_MIN 1e-3
+
+static double tensor_coupling(const double C[9])
+{
+    const double a = C[0] * C[8] > 0.0 ? fabs(C[2]) / sqrt(C[0] * C[8]) : 0.0;
+    const double b = C[4] * C[8] > 0.0 ? fabs(C[5]) / sqrt(C[4] * C[8]) : 0.0;
+    return fmax(a, b);
+}
 static plume_status membrane_from_moduli(const plume_json_ctx *c, json_t *mem, const char *kp, plume_membrane_material *mm,
                                          char *path, size_t npath, int *tensor, double C[9])
 {
@@ -95,6 +107,9 @@ static plume_status membrane_from_moduli(const plume_json_ctx *c, json_t *mem, c
      * vane whose lines hold by stiff links); docs/monoclinic-vane.md */
     json_t *jt = json_object_get(mem, "tensor");
     *tensor = 0;
+    if (!jt && plume_moduli_read_tensor(path, "", C, &e2) == PLUME_OK && tensor_coupling(C) > PLUME_SCENE_COUPLING_MIN &&
+        plume_membrane_tensor_check(C, &e2) == PLUME_OK)
+        *tensor = 1; /* a coupled cell: the moduli would drop its coupling (the default, "full") */
     if (jt) {
         const char *v = json_is_string(jt) ? json_string_value(jt) : "";
         char kt[PLUME_JSON_KEY_MAX];

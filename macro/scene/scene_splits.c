@@ -49,8 +49,8 @@ static plume_status split_materials(const plume_json_ctx *c, json_t *js, const p
     return PLUME_OK;
 }
 
-/* "law": {"from_moduli": "file.h5"} (apps/homogenize's separation law) or {"strength", "stiffness",
- * "capture"} */
+/* "law": {"from_moduli": "file.h5"} (apps/homogenize's separation law, "stiffness" optionally
+ * replacing its stiffness) or {"strength", "stiffness", "capture"} */
 static plume_status split_law(const plume_json_ctx *c, json_t *js, plume_scene *s)
 {
     static const char *const keys[] = {"from_moduli", "strength", "stiffness", "capture", "note", NULL};
@@ -66,8 +66,9 @@ static plume_status split_law(const plume_json_ctx *c, json_t *js, plume_scene *
     memset(&s->split_law, 0, sizeof s->split_law);
     json_t *jf = json_object_get(jl, "from_moduli");
     if (jf) {
-        if (json_object_get(jl, "strength") || json_object_get(jl, "stiffness") || json_object_get(jl, "capture"))
-            return plume_json_bad(c, PLUME_EINVAL, "splits.law", "takes \"from_moduli\" or the law's numbers, not both");
+        if (json_object_get(jl, "strength") || json_object_get(jl, "capture"))
+            return plume_json_bad(c, PLUME_EINVAL, "splits.law", "takes \"from_moduli\" or the law's strength and "
+                                  "capture, not both (\"stiffness\" may replace the file's)");
         if (!json_is_string(jf))
             return plume_json_bad(c, PLUME_EFORMAT, "splits.law.from_moduli", "must be the name of an HDF5 file with "
                                   "/moduli and its separation_* attributes (apps/homogenize on a layout with hooks)");
@@ -75,6 +76,16 @@ static plume_status split_law(const plume_json_ctx *c, json_t *js, plume_scene *
         plume_err e2 = {{0}};
         if ((st = plume_separation_read(s->split_law_from, &s->split_law, &e2)) != PLUME_OK)
             return plume_json_bad(c, st, "splits.law.from_moduli", "(%s): %s", json_string_value(jf), e2.msg);
+        /* stiff lines for a vane whose membrane carries the hooks' compliance already (the hooked
+         * tensor, docs/monoclinic-vane.md): the strength and capture stay the cell's */
+        double k = 0.0;
+        int given = 0;
+        if ((st = plume_json_positive(c, jl, "splits.law", "stiffness", 0, 0, &k, &given)) != PLUME_OK)
+            return st;
+        if (given) {
+            s->split_law.stiffness = k;
+            s->split_law.opening = s->split_law.peak_opening = s->split_law.strength / k;
+        }
         return PLUME_OK;
     }
     s->split_law_from[0] = '\0';
