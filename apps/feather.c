@@ -208,6 +208,17 @@ static json_t *summary_json(const options *o, const plume_run *run, json_t *desc
         json_object_set_new(jc, "measure_seconds", json_real(r->audit_seconds));
         json_object_set_new(j, "contact", jc);
     }
+    if (r->work != 0.0 || r->kinetic_energy != 0.0 || r->potential_change != 0.0) {
+        json_t *je = json_object();
+        json_object_set_new(je, "work", json_real(r->work));
+        json_object_set_new(je, "kinetic_energy", json_real(r->kinetic_energy));
+        json_object_set_new(je, "kinetic_change", json_real(r->kinetic_change));
+        json_object_set_new(je, "potential_change", json_real(r->potential_change));
+        json_object_set_new(je, "numerical_dissipation", json_real(r->numerical_dissipation));
+        json_object_set_new(je, "commit_dissipation", json_real(r->commit_dissipation));
+        json_object_set_new(je, "energy_balance_error", json_real(r->energy_balance_error));
+        json_object_set_new(j, "energy", je);
+    }
     if (r->split_pairs > 0) {
         json_t *js = json_object();
         json_object_set_new(js, "links", json_integer(r->split_pairs));
@@ -249,6 +260,11 @@ static void report(const options *o, const plume_run *run, json_t *desc, const c
                json_number_value(json_object_get(contact, "dhat")),
                r.steps_intersecting, r.steps, r.max_intersecting, r.min_distance,
                r.min_distance >= r.distance_cap ? " (or more)" : "", r.step_limited);
+    if (r.work != 0.0 || r.kinetic_energy != 0.0 || r.potential_change != 0.0)
+        printf("%s: energy: work %.4g J = kinetic %+.4g J + potential %+.4g J + implicit Euler's dissipation %.4g J + "
+               "the splits' %.4g J (balance error %.2g)\n",
+               stem, r.work, r.kinetic_change, r.potential_change, r.numerical_dissipation, r.commit_dissipation,
+               r.energy_balance_error);
     if (r.split_pairs > 0)
         printf("%s: splits: %ld of %ld links opened, %ld closed again; open now %.4g m of line, longest open stretch "
                "%.4g m; dissipated %.4g J\n",

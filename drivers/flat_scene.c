@@ -141,6 +141,13 @@ plume_status plume_flat_scene_step(plume_flat_scene *s, int nsteps, char **repor
                                       (json_int_t)r.splits_closed, "open_length", r.split_open_now,
                                       "longest_open_length", r.split_longest, "dissipated_energy",
                                       r.split_dissipated));
+    if (j && (r.work != 0.0 || r.kinetic_energy != 0.0 || r.potential_change != 0.0)) /* apps/feather's "energy" */
+        json_object_set_new(j, "energy",
+                            json_pack("{s:f, s:f, s:f, s:f, s:f, s:f, s:f}", "work", r.work, "kinetic_energy",
+                                      r.kinetic_energy, "kinetic_change", r.kinetic_change, "potential_change",
+                                      r.potential_change, "numerical_dissipation", r.numerical_dissipation,
+                                      "commit_dissipation", r.commit_dissipation, "energy_balance_error",
+                                      r.energy_balance_error));
     st = plume_flat_emit(j, report, &err);
     return plume_flat_finish(st, &err, msg, nmsg);
 }

@@ -157,6 +157,14 @@ void test_scene_splits_open_and_close(void)
     CHECK(rep.splits_opened >= half.splits_opened && rep.splits_closed >= rep.splits_opened - 1);
     CHECK(rep.split_open_now <= 1.01 * H);
     CHECK(rep.split_dissipated > 0.0 && rep.split_longest >= half.split_longest);
+    /* the energy balance: the handles' work into kinetic and potential energy, implicit Euler's
+     * dissipation and the links' (the same as the lines' own total) */
+    printf("    energy: work %.4g J = kinetic %+.3g + potential %+.4g + implicit Euler %.4g + splits %.4g (error %.2e)\n",
+           rep.work, rep.kinetic_change, rep.potential_change, rep.numerical_dissipation, rep.commit_dissipation,
+           rep.energy_balance_error);
+    CHECK(rep.work > 0.0 && rep.numerical_dissipation > 0.0);
+    CHECK_REL(rep.commit_dissipation, rep.split_dissipated, 1e-9, 0.0);
+    CHECK(fabs(rep.energy_balance_error) < 1e-2);
     remove_tree(dir);
 }
 

@@ -300,6 +300,19 @@ typedef struct {
     double split_open_now;   /**< the length of line open after the last step, all lines (m) */
     double split_longest;    /**< the longest stretch of one line open at once over the run's steps (m) */
     double split_dissipated; /**< the energy the links gave up as they let go, since t = 0 (J) */
+    /* the energy balance of a dynamic scene over this run's steps (J; static scenes 0; since
+     * libplume 3.4; docs/apps/feather.md, "The energy balance") */
+    double work;             /**< the handles' and kinematic bodies' work on the scene */
+    double kinetic_energy;   /**< the kinetic energy of the lumped masses at the last state */
+    double kinetic_change;   /**< the kinetic energy's change over this run's steps */
+    double potential_change; /**< the potential's change (elastic, contact and gravity) */
+    double numerical_dissipation; /**< what implicit Euler's steps gave up: 1/2 |v' - v|_M^2 and the
+                                 potential's curvature along each step */
+    double commit_dissipation; /**< what the split lines' commits gave up over this run's steps */
+    double energy_balance_error; /**< (work - kinetic change - potential change - numerical - commit
+                                 dissipation) / max(the steps' gross work, the largest energy change):
+                                 the trapezoidal rule's error, and any energy moved unaccounted
+                                 (lagged friction's work) */
 } plume_run_report;
 
 /** Fills *out (size bytes) with what the run did so far; call it through the macro

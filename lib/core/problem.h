@@ -71,8 +71,9 @@ void plume_problem_jacobian_pattern(const plume_problem *p, plume_index *nnz,
  * PLUME_EINVAL before finalize. */
 plume_status plume_problem_jacobian(plume_problem *p, const double *u, double *values);
 
-/** Generalised forces at the current x on every dof (dim*nv): grad W + J^T lambda, including the
- * prescribed dofs, where they are the reactions the supports exert (negated). lambda may be NULL. */
+/** Generalised forces at the current x on every unknown (plume_problem_ndof: the vertices' dim*nv
+ * and the extras after them): grad W + J^T lambda, including the prescribed dofs, where they are
+ * the reactions the supports exert (negated). lambda may be NULL. */
 plume_status plume_problem_forces(plume_problem *p, const double *lambda, double *force);
 
 /** max |grad f| over every dof, prescribed ones included (where it is the support reaction), at

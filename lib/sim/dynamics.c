@@ -93,6 +93,8 @@ struct plume_dynamics {
     int last_iterations; /* the solver iterations of the last step attempted */
     int past_factorizations;    /* those of solvers renewed since (plume_dynamics_stats) */
     double past_factor_seconds;
+    plume_energy_ledger ledger; /* the energies since the first step (or the last set_state) */
+    double *xtmp;               /* [ndof] the problem's x while the ledger's start is measured */
 };
 
 void plume_dynamics_destroy(plume_dynamics **pd)
@@ -121,6 +123,8 @@ void plume_dynamics_destroy(plume_dynamics **pd)
     free(d->lsave2);
     free(d->e);
     free(d->esave);
+    free(d->xtmp);
+    plume_ledger_free(&d->ledger);
     free(d);
     *pd = NULL;
 }
@@ -269,8 +273,9 @@ static plume_status alloc_state(plume_dynamics *d)
     d->lambda = calloc((size_t)(d->m + 1), sizeof *d->lambda);
     d->lsave = calloc((size_t)(d->m + 1), sizeof *d->lsave);
     d->lsave2 = calloc((size_t)(d->m + 1), sizeof *d->lsave2);
+    d->xtmp = malloc(nfull * sizeof *d->xtmp);
     if (!d->x || !d->v || !d->xsave || !d->xh || !d->dx || !d->vsave || !d->u || !d->lambda || !d->lsave || !d->lsave2 ||
-        !d->e || !d->esave)
+        !d->e || !d->esave || !d->xtmp || plume_ledger_alloc(&d->ledger, d->mesh->nv, (plume_index)nfull) != PLUME_OK)
         return PLUME_ENOMEM;
     memcpy(d->x, plume_problem_x(d->p), nd * sizeof *d->x);
     memcpy(d->e, plume_problem_x(d->p) + nd, (size_t)d->ne * sizeof *d->e);
@@ -452,7 +457,8 @@ static plume_status rebase_at_start(plume_dynamics *d, plume_err *err)
  * the step can still be halved); then *ok = 0 and the step is halved. A solve that fails, or a
  * state still changing after PLUME_DYNAMICS_MAX_SETTLES solves, fails the step the same way. */
 #define PLUME_DYNAMICS_MAX_SETTLES 100
-static plume_status settle_terms(plume_dynamics *d, int may_cut, plume_step_report *rep, int *ok, plume_err *err)
+static plume_status settle_terms(plume_dynamics *d, int may_cut, plume_step_report *rep, int *ok, double *drop,
+                                 plume_err *err)
 {
     *ok = 1;
     for (int n = 0;; n++) {
@@ -467,6 +473,7 @@ static plume_status settle_terms(plume_dynamics *d, int may_cut, plume_step_repo
                 rep->reason = PLUME_REASON_ITERATION_CAP;
             return PLUME_OK;
         }
+        *drop += c.energy_drop;
         if (!c.changed)
             return PLUME_OK;
         int changed = 0;
@@ -489,6 +496,23 @@ static plume_status settle_terms(plume_dynamics *d, int may_cut, plume_step_repo
         }
         rep->max_violation = fmax(rep->max_violation, sr.max_violation);
     }
+}
+
+/* The energy ledger's start: the state's potential and kinetic energy, measured with the stencils
+ * of the first step (the problem's x set to the state meanwhile, then back to the step's start). */
+static plume_status ledger_start(plume_dynamics *d, plume_err *err)
+{
+    double *x = plume_problem_x(d->p);
+    const size_t nd = (size_t)(3 * d->mesh->nv), nfull = nd + (size_t)d->ne;
+    memcpy(d->xtmp, x, nfull * sizeof *x);
+    memcpy(x, d->x, nd * sizeof *x);
+    memcpy(x + nd, d->e, (size_t)d->ne * sizeof *x);
+    const plume_ledger_inertia li = {d->mesh->nv, d->inertia->mass, d->inertia->xt, d->inertia->inv_dt2};
+    plume_status st = plume_ledger_start(&d->ledger, d->p, d->lambda, &li, d->v);
+    memcpy(x, d->xtmp, nfull * sizeof *x);
+    return st == PLUME_OK ? PLUME_OK
+                          : plume_err_set(err, st, "dynamics: the energies at t = %g could not be evaluated (%s)", d->t,
+                                          plume_strerror(st));
 }
 
 /* One implicit Euler step of size dt from the current state; 1 when it converged. may_cut: the
@@ -543,7 +567,7 @@ static plume_status try_step(plume_dynamics *d, double dt, int may_cut, plume_st
         memcpy(x, xh, (size_t)(3 * nv) * sizeof *x);
     }
     int changed = 0;
-    if ((st = refresh_stencils(d, &changed, err)) != PLUME_OK)
+    if ((st = refresh_stencils(d, &changed, err)) != PLUME_OK || (!d->ledger.started && (st = ledger_start(d, err)) != PLUME_OK))
         return st;
     plume_problem_gather(d->p, d->u);
     plume_solve_report sr;
@@ -582,14 +606,20 @@ static plume_status try_step(plume_dynamics *d, double dt, int may_cut, plume_st
     if (!sr.converged)
         rep->converged = 0, rep->reason = sr.reason;
     rep->max_violation = fmax(rep->max_violation, sr.max_violation);
+    double drop = 0.0;
     if (plume_problem_commits(d->p)) {
-        if ((st = settle_terms(d, may_cut, rep, ok, err)) != PLUME_OK || !*ok)
+        if ((st = settle_terms(d, may_cut, rep, ok, &drop, err)) != PLUME_OK || !*ok)
             return st;
     }
     for (plume_index i = 0; i < 3 * nv; i++) {
         d->v[i] = (x[i] - d->x[i]) / dt;
         d->x[i] = x[i];
     }
+    /* the step's energies (xsave, vsave: the state it started from) */
+    const plume_ledger_inertia li = {nv, in->mass, in->xt, in->inv_dt2};
+    if ((st = plume_ledger_step(&d->ledger, d->p, d->lambda, &li, d->xsave, d->vsave, d->v, drop)) != PLUME_OK)
+        return plume_err_set(err, st, "dynamics: the energies at t = %g could not be evaluated (%s)", d->t + dt,
+                             plume_strerror(st));
     memcpy(d->e, x + 3 * nv, (size_t)d->ne * sizeof *d->e);
     d->t += dt;
     rep->substeps++;
@@ -745,5 +775,11 @@ plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double 
         memcpy(d->lambda, lambda, (size_t)d->m * sizeof *d->lambda);
     else
         memset(d->lambda, 0, (size_t)d->m * sizeof *d->lambda);
+    d->ledger.started = 0; /* the energies count from this state */
     return PLUME_OK;
+}
+
+const plume_energy_ledger *plume_dynamics_energy(const plume_dynamics *d)
+{
+    return d ? &d->ledger : NULL;
 }

@@ -17,6 +17,7 @@
 #include "../core/mesh.h"
 #include "../core/problem.h"
 #include "../solve/solver.h"
+#include "dynamics_energy.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -113,6 +114,11 @@ plume_status plume_dynamics_set_state(plume_dynamics *d, double t, const double 
 
 /** Lumped vertex masses (nv, kg), for tests and energy checks; the stepper's array. */
 const double *plume_dynamics_masses(const plume_dynamics *d);
+
+/** The energy ledger (dynamics_energy.h): the handles' work, the kinetic and potential energies,
+ * implicit Euler's and the stateful terms' dissipation, since the first step or the last
+ * plume_dynamics_set_state; the stepper's struct. */
+const plume_energy_ledger *plume_dynamics_energy(const plume_dynamics *d);
 
 /** The native solver's numeric factorisations since the stepper was created and their wall
  * seconds (pointers may be NULL; zeros for Ipopt or d == NULL), to split a step's time. */

@@ -221,7 +221,7 @@ static plume_status alloc_run(traction_run *r, plume_traction_result *res)
     r->lambda_saved = calloc((size_t)(m + 1), sizeof *r->lambda_saved);
     r->h.la = calloc((size_t)(m + 1), sizeof *r->h.la);
     r->h.lb = calloc((size_t)(m + 1), sizeof *r->h.lb);
-    r->force = malloc(nx * sizeof *r->force);
+    r->force = malloc((size_t)plume_problem_ndof(r->p) * sizeof *r->force); /* forces writes every unknown */
     r->h.xa = malloc(nx * sizeof *r->h.xa);
     r->h.xb = malloc(nx * sizeof *r->h.xb);
     res->curve.strain = calloc(np, sizeof(double));

@@ -447,6 +447,16 @@ void plume_run_get_report_sized(const plume_run *r, plume_run_report *out, size_
     if (r) {
         full = r->rep;
         full.time = plume_run_time(r);
+        const plume_energy_ledger *l = r->d ? plume_dynamics_energy(r->d) : NULL;
+        if (l && l->started) {
+            full.work = l->work;
+            full.kinetic_energy = l->ke;
+            full.kinetic_change = l->ke - l->ke0;
+            full.potential_change = l->u - l->u0;
+            full.numerical_dissipation = l->numerical;
+            full.commit_dissipation = l->commits;
+            full.energy_balance_error = plume_ledger_error(l);
+        }
     }
     full.size = sizeof full;
     memset(out, 0, size);

@@ -579,7 +579,9 @@ class Scene:
         last converged substep), "halvings", "newton_iterations", "max_violation", "seconds",
         "stop_reason"; and for a scene with split lines (its "splits" block), "splits": {"links",
         "splits_opened", "splits_closed" (since t = 0), "open_length", "longest_open_length" (m),
-        "dissipated_energy" (J)}.
+        "dissipated_energy" (J)}; and for a dynamic scene "energy": {"work", "kinetic_energy",
+        "kinetic_change", "potential_change", "numerical_dissipation", "commit_dissipation" (J, since
+        the scene was loaded), "energy_balance_error"} (docs/apps/feather.md, "The energy balance").
         """
         h = self._live()
         n = _integer("n", n, 0)

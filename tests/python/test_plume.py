@@ -689,6 +689,12 @@ class TestScene(unittest.TestCase):
         self.assertGreater(sp["splits_opened"], sp["links"] // 2)
         self.assertGreater(sp["open_length"], 2e-3)
         self.assertGreater(sp["dissipated_energy"], 0.0)
+        # the energy balance: the lines' dissipation is the splits' own, the balance closes
+        e = r["energy"]
+        self.assertAlmostEqual(e["commit_dissipation"], sp["dissipated_energy"], delta=1e-9 * sp["dissipated_energy"])
+        self.assertGreater(e["work"], 0.0)
+        self.assertGreater(e["numerical_dissipation"], 0.0)
+        self.assertLess(abs(e["energy_balance_error"]), 1e-2)
         with plume.Scene(STRIP_SCENE) as s:  # no lines, no "splits"
             self.assertNotIn("splits", s.step(0))
 
