@@ -264,7 +264,7 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     static const char *const keys[] = {"model", "angle", "lx", "ly", "thickness", "moduli", "kappa", "constraint",
                                        "mesh", "edge", "strain_max", "steps", "solver", "layout", "vtk",
                                        "convergence", "path", "peel", "top_grip_free", "split_lines", "separation",
-                                       "tensor", NULL};
+                                       "tensor", "checkpoint", "restart", "stop_after", NULL};
     json_t *req;
     plume_status st = plume_flat_parse_request(request, "traction", keys, &req, &err);
     if (st != PLUME_OK)
@@ -317,8 +317,16 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
     if (npath > 0)
         to.path = path, to.npath = npath;
     if ((st = plume_flat_get_number(req, "traction", "peel", &to.peel, &err)) != PLUME_OK ||
-        (st = plume_flat_get_number(req, "traction", "top_grip_free", &to.top_grip_free, &err)) != PLUME_OK)
+        (st = plume_flat_get_number(req, "traction", "top_grip_free", &to.top_grip_free, &err)) != PLUME_OK ||
+        (st = plume_flat_get_string(req, "traction", "checkpoint", &to.checkpoint, &err)) != PLUME_OK ||
+        (st = plume_flat_get_string(req, "traction", "restart", &to.restart, &err)) != PLUME_OK ||
+        (st = plume_flat_get_int(req, "traction", "stop_after", &to.stop_after, &err)) != PLUME_OK)
         goto done;
+    if (vtk && to.restart) {
+        st = plume_err_set(&err, PLUME_EINVAL, "traction request: \"restart\" does not continue a \"vtk\" series: "
+                           "write it from a run without a restart");
+        goto done;
+    }
     if ((vtk && (st = traction_vtk(vtk, run_mesh, mats, nmat, barbs, nbarbs, &fields, &to, &err)) != PLUME_OK) ||
         (fields && micro && layout.kind == PLUME_LAYOUT_BARBULES && layout.hooks.strength > 0.0 &&
          (st = plume_fields_add_links(fields, p, "hooks", &err)) != PLUME_OK) ||
@@ -326,7 +334,10 @@ plume_status plume_flat_traction(const char *request, char **result, char *msg, 
         (st = plume_traction_run(run_mesh, p, barbs, nbarbs, &to, &res, &err)) != PLUME_OK)
         goto done;
     plume_micro_convergence conv;
-    int has_conv = micro && convergence && res.converged && to.solver != PLUME_SOLVER_LINEARIZED;
+    const int stopped = to.stop_after > 0 && res.curve.n == to.stop_after + 1 &&
+                        to.stop_after < to.steps * (npath > 0 ? npath : 1);
+    int has_conv = micro && convergence && res.converged && to.solver != PLUME_SOLVER_LINEARIZED && !stopped;
+    to.checkpoint = to.restart = NULL, to.stop_after = 0; /* the estimate runs from rest, unrecorded */
     if (has_conv && (st = plume_micro_traction_convergence(&layout, t.lx, t.ly, angle, &to, &res, &conv, &err)) != PLUME_OK)
         goto done;
     json_t *o = traction_json(&res, micro, &layout, run_mesh, angle, has_conv, &conv);

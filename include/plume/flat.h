@@ -46,7 +46,9 @@
  *    plume_vane_add_tensor; not with "vtk"),
  *    "convergence": true (model micro: the curve again on a mesh twice as coarse), "vtk": "DIR" (a ParaView series of the
  *    steps: DIR/steps.pvd with DIR/step_NNNNN.vtu, and DIR/step_barbs_NNNNN.vtu for the macro
- *    model's constrained barbs; docs/paraview-output.md)}
+ *    model's constrained barbs; docs/paraview-output.md), "checkpoint": "FILE.h5", "restart":
+ *    "FILE.h5", "stop_after": N (the run's state after every step, a run continued from it bit
+ *    for bit, a run ended after step N: plume_traction_opts; "restart" not with "vtk")}
  *    -> {"strain": [], "stress": [], "wbar": [], "iterations": [], "initial_slope",
  *        "converged", "failed_step", "stop_reason", "newton_iterations", "max_violation",
  *        "seconds", "elements", "vertices", "angle", and for the micro model "order",

@@ -273,7 +273,7 @@ def _tensor(name, x):
 
 _TRACTION_OPTIONS = dict(_MACRO_OPTIONS, strain_max=_number, convergence=_boolean, path=_strains,
                          peel=_number, top_grip_free=_number, split_lines=_integer, separation=_law,
-                         tensor=_tensor)
+                         tensor=_tensor, checkpoint=_path, restart=_path, stop_after=_integer)
 
 
 def _options(job, options, allowed):
@@ -426,7 +426,10 @@ def traction(model="macro", angle=45.0, moduli=None, layout=None, vtk=None, **op
             "stiffness" N/m^2, "capture" m), tensor (macro model: the membrane's plane-stress
             tensor, 3x3 Pa in the barb frame, in place of the moduli's orthotropic one: a
             homogenize result's C, which couples the normal strains and the shear of a cell of
-            inclined barbules; docs/monoclinic-vane.md).
+            inclined barbules; docs/monoclinic-vane.md), checkpoint (an HDF5 file the run's whole
+            state is written to after every step), restart (such a file: the run continues after
+            its step, bit for bit as the run that never stopped, with the same options) and
+            stop_after (the run ends after that step, its checkpoint written; docs/hdf5-layout.md).
 
     Returns:
         TractionResult (strain -, stress Pa, wbar -, per step, the rest state first).

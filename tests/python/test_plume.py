@@ -480,6 +480,28 @@ class TestTraction(unittest.TestCase):
         with self.assertRaisesRegex(plume.PlumeError, "tensor.*macro model"):
             plume.traction(model="micro", layout=layout, tensor=h.C, angle=45.0)
 
+    def test_checkpoint_restart(self):
+        # a split line pulled open, let back until it catches, pulled again: stopped after step 5
+        # and restarted from its checkpoint, the same curve and counts as the run that never stopped
+        law = {"strength": 1.0, "stiffness": 5e5, "capture": 5e-6}
+        kw = dict(model="macro", angle=90.0, moduli={"E_xx": 1.2e9, "E_yy": 3.2e6, "nu_xy": 0.0, "G_xy": 1.1e6},
+                  lx=1e-3, ly=1e-3, thickness=1e-4, constraint=False, split_lines=1, separation=law,
+                  path=[0.02, 0.0005, 0.02], steps=4)
+        with tempfile.TemporaryDirectory() as tmp:
+            ck = os.path.join(tmp, "ck.h5")
+            whole = plume.traction(**kw)
+            part = plume.traction(checkpoint=ck, stop_after=5, **kw)
+            rest = plume.traction(restart=ck, **kw)
+            with self.assertRaisesRegex(plume.PlumeError, "restart: .*steps = 4, this one has 5"):
+                plume.traction(restart=ck, **dict(kw, steps=5))
+        self.assertGreater(whole.hooks_released, 0)
+        self.assertGreater(whole.hooks_reengaged, 0)
+        self.assertEqual(len(part.stress), 6)
+        self.assertTrue(np.array_equal(whole.stress, rest.stress))
+        self.assertEqual(whole.hooks_released, rest.hooks_released)
+        self.assertEqual(whole.hooks_reengaged, rest.hooks_reengaged)
+        self.assertEqual(whole.dissipated_energy, rest.dissipated_energy)
+
 
 class TestErrors(unittest.TestCase):
     def assertPlumeError(self, fn, *needles):
