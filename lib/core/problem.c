@@ -1422,7 +1422,7 @@ static plume_status add_jt_lambda(plume_problem *p, const double *lambda, double
     return PLUME_OK;
 }
 
-plume_status plume_problem_forces(plume_problem *p, const double *lambda, double *force)
+plume_status plume_problem_energy_forces(plume_problem *p, const double *lambda, double *energy, double *force)
 {
     if (!p || !p->finalized || !force)
         return PLUME_EINVAL;
@@ -1430,8 +1430,15 @@ plume_status plume_problem_forces(plume_problem *p, const double *lambda, double
     plume_status st = full_gradient(p, &f);
     if (st != PLUME_OK)
         return st;
+    if (energy)
+        *energy = f;
     memcpy(force, p->gradfull, (size_t)p->ndof * sizeof *force);
     return lambda ? add_jt_lambda(p, lambda, force) : PLUME_OK;
+}
+
+plume_status plume_problem_forces(plume_problem *p, const double *lambda, double *force)
+{
+    return plume_problem_energy_forces(p, lambda, NULL, force);
 }
 
 plume_status plume_problem_kkt_residual(plume_problem *p, const double *u, const double *lambda,

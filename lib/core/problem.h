@@ -75,6 +75,9 @@ plume_status plume_problem_jacobian(plume_problem *p, const double *u, double *v
  * and the extras after them): grad W + J^T lambda, including the prescribed dofs, where they are
  * the reactions the supports exert (negated). lambda may be NULL. */
 plume_status plume_problem_forces(plume_problem *p, const double *lambda, double *force);
+/** The same forces and, in *energy (may be NULL), the energy they are the gradient of: one
+ * evaluation where plume_problem_objective and plume_problem_forces would take two. */
+plume_status plume_problem_energy_forces(plume_problem *p, const double *lambda, double *energy, double *force);
 
 /** max |grad f| over every dof, prescribed ones included (where it is the support reaction), at
  * the last evaluation of a gradient — but at least the round-off floor 1e-6 * length_scale *

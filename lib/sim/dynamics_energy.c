@@ -9,7 +9,7 @@ plume_status plume_ledger_alloc(plume_energy_ledger *l, plume_index nv, plume_in
 {
     memset(l, 0, sizeof *l);
     l->nd = 3 * nv;
-    l->grad = calloc((size_t)ndof, sizeof *l->grad); /* plume_problem_forces writes every unknown */
+    l->grad = calloc((size_t)ndof, sizeof *l->grad); /* the forces cover every unknown */
     l->force = calloc((size_t)ndof, sizeof *l->force);
     return l->grad && l->force ? PLUME_OK : PLUME_ENOMEM;
 }
@@ -27,9 +27,7 @@ static plume_status potential(plume_problem *p, const double *lambda, const plum
                               double *grad)
 {
     double f = 0.0;
-    plume_status st = plume_problem_objective(p, NULL, &f, NULL);
-    if (st == PLUME_OK)
-        st = plume_problem_forces(p, plume_problem_ncons(p) ? lambda : NULL, grad);
+    plume_status st = plume_problem_energy_forces(p, plume_problem_ncons(p) ? lambda : NULL, &f, grad);
     if (st != PLUME_OK)
         return st;
     const double *x = plume_problem_x(p);

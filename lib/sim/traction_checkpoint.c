@@ -250,17 +250,46 @@ static int read_array(hid_t g, const char *name, double *v, plume_index n, hsize
     return rc;
 }
 
+/* The int8 table at dpath under loc (malloc'ed into *out, its rows and columns in dims): 0; -1
+ * missing or not a table; -2 unreadable or out of memory. */
+static int read_table(hid_t loc, const char *dpath, hsize_t dims[2], signed char **out)
+{
+    *out = NULL;
+    dims[0] = dims[1] = 0;
+    char parent[256];
+    snprintf(parent, sizeof parent, "%s", dpath);
+    char *slash = strrchr(parent, '/');
+    if (slash)
+        *slash = '\0';
+    if ((slash && parent[0] && H5Lexists(loc, parent, H5P_DEFAULT) <= 0) || H5Lexists(loc, dpath, H5P_DEFAULT) <= 0)
+        return -1;
+    hid_t ds = H5Dopen2(loc, dpath, H5P_DEFAULT), sp = ds < 0 ? H5I_INVALID_HID : H5Dget_space(ds);
+    int rc = -1;
+    if (sp >= 0 && H5Sget_simple_extent_ndims(sp) == 2 && H5Sget_simple_extent_dims(sp, dims, NULL) == 2) {
+        *out = malloc((size_t)(dims[0] * dims[1]) + 1);
+        rc = *out && (dims[0] * dims[1] == 0 || H5Dread(ds, H5T_NATIVE_SCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, *out) >= 0)
+                 ? 0
+                 : -2;
+    }
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (ds >= 0)
+        H5Dclose(ds);
+    if (rc != 0) {
+        free(*out);
+        *out = NULL;
+    }
+    return rc;
+}
+
 /* The run's history of per-stencil states from the checkpoint's tables (rows rows). */
 static plume_status read_history(hid_t g, traction_run *r, long rows, const char *path, plume_err *err)
 {
     if (r->hist_cols == 0 || rows == 0)
         return PLUME_OK;
     r->hist = malloc((size_t)rows * (size_t)r->hist_cols * sizeof *r->hist);
-    signed char *v = malloc((size_t)rows * (size_t)r->hist_cols + 1);
-    if (!r->hist || !v) {
-        free(v);
+    if (!r->hist)
         return plume_err_set(err, PLUME_ENOMEM, "restart: out of memory");
-    }
     r->hist_rows = r->hist_cap = rows;
     plume_index c0 = 0;
     for (int t = 0;; t++) {
@@ -271,18 +300,9 @@ static plume_status read_history(hid_t g, traction_run *r, long rows, const char
         plume_problem_term_states(r->p, name, NULL, &nc, NULL);
         char dpath[256];
         snprintf(dpath, sizeof dpath, "states/%s", name);
-        hid_t ds = H5Lexists(g, "states", H5P_DEFAULT) > 0 && H5Lexists(g, dpath, H5P_DEFAULT) > 0
-                       ? H5Dopen2(g, dpath, H5P_DEFAULT)
-                       : H5I_INVALID_HID;
-        hid_t sp = ds < 0 ? H5I_INVALID_HID : H5Dget_space(ds);
-        hsize_t dims[2] = {0, 0};
-        int ok = sp >= 0 && H5Sget_simple_extent_ndims(sp) == 2 && H5Sget_simple_extent_dims(sp, dims, NULL) == 2 &&
-                 dims[0] == (hsize_t)rows && dims[1] == (hsize_t)nc &&
-                 H5Dread(ds, H5T_NATIVE_SCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) >= 0;
-        if (sp >= 0)
-            H5Sclose(sp);
-        if (ds >= 0)
-            H5Dclose(ds);
+        hsize_t dims[2];
+        signed char *v = NULL;
+        const int ok = read_table(g, dpath, dims, &v) == 0 && dims[0] == (hsize_t)rows && dims[1] == (hsize_t)nc;
         if (!ok) {
             free(v);
             return plume_err_set(err, PLUME_EFORMAT, "restart: '%s' has no table %s of %ld x %ld states", path,
@@ -291,9 +311,9 @@ static plume_status read_history(hid_t g, traction_run *r, long rows, const char
         for (long i = 0; i < rows; i++)
             for (plume_index c = 0; c < nc; c++)
                 r->hist[(size_t)i * (size_t)r->hist_cols + (size_t)(c0 + c)] = v[(size_t)i * (size_t)nc + (size_t)c];
+        free(v);
         c0 += nc;
     }
-    free(v);
     return PLUME_OK;
 }
 
@@ -439,34 +459,23 @@ plume_status plume_traction_checkpoint_states(const char *path, const char *term
     char dpath[256];
     snprintf(dpath, sizeof dpath, GROUP "/states/%s", term);
     hid_t fid = h5_is_hdf5(path) ? H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT) : H5I_INVALID_HID;
-    int has = fid >= 0 && H5Lexists(fid, GROUP, H5P_DEFAULT) > 0 && H5Lexists(fid, GROUP "/states", H5P_DEFAULT) > 0 &&
-              H5Lexists(fid, dpath, H5P_DEFAULT) > 0;
-    hid_t ds = has ? H5Dopen2(fid, dpath, H5P_DEFAULT) : H5I_INVALID_HID;
-    hid_t sp = ds < 0 ? H5I_INVALID_HID : H5Dget_space(ds);
-    hsize_t dims[2] = {0, 0};
+    hsize_t dims[2];
+    signed char *v = NULL;
+    const int rc = fid >= 0 ? read_table(fid, dpath, dims, &v) : -1;
     plume_status st = PLUME_OK;
     if (fid < 0)
         st = plume_err_set(err, PLUME_EIO, "traction checkpoint '%s' cannot be read as an HDF5 file", path);
-    else if (!has)
-        st = plume_err_set(err, PLUME_EFORMAT, "traction checkpoint '%s' has no states of a term \"%s\" (%s)", path,
-                           term, dpath);
-    else if (sp < 0 || H5Sget_simple_extent_ndims(sp) != 2 || H5Sget_simple_extent_dims(sp, dims, NULL) != 2)
-        st = plume_err_set(err, PLUME_EFORMAT, "traction checkpoint '%s': %s is not a table", path, dpath);
+    else if (rc == -1)
+        st = plume_err_set(err, PLUME_EFORMAT, "traction checkpoint '%s' has no states table of a term \"%s\" (%s)",
+                           path, term, dpath);
+    else if (rc != 0)
+        st = plume_err_set(err, PLUME_EIO, "traction checkpoint '%s': %s cannot be read", path, dpath);
     else {
         *rows = (long)dims[0], *cols = (plume_index)dims[1];
-        signed char *v = states ? malloc((size_t)(dims[0] * dims[1]) + 1) : NULL;
-        if (states && !v)
-            st = plume_err_set(err, PLUME_ENOMEM, "traction checkpoint states: out of memory");
-        else if (states && dims[0] * dims[1] > 0 && H5Dread(ds, H5T_NATIVE_SCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, v) < 0)
-            st = plume_err_set(err, PLUME_EIO, "traction checkpoint '%s': %s cannot be read", path, dpath);
-        for (size_t i = 0; st == PLUME_OK && states && i < (size_t)(dims[0] * dims[1]); i++)
+        for (size_t i = 0; states && i < (size_t)(dims[0] * dims[1]); i++)
             states[i] = v[i];
-        free(v);
     }
-    if (sp >= 0)
-        H5Sclose(sp);
-    if (ds >= 0)
-        H5Dclose(ds);
+    free(v);
     if (fid >= 0)
         H5Fclose(fid);
     quiet_end(&q);
