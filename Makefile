@@ -10,7 +10,7 @@ DEPS_PKGS := ipopt nlopt hdf5 gsl jansson zlib
 # the version (include/plume/base.h says the same; a test checks they agree): the shared library is
 # libplume.so.MAJOR.MINOR with the soname libplume.so.MAJOR
 VERSION_MAJOR := 3
-VERSION_MINOR := 4
+VERSION_MINOR := 5
 VERSION_PATCH := 0
 SONAME := libplume.so.$(VERSION_MAJOR)
 SOFILE := libplume.so.$(VERSION_MAJOR).$(VERSION_MINOR)

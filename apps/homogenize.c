@@ -37,7 +37,7 @@ static const char usage[] =
     "  -o FILE.h5           write /moduli (with the bending moduli as attributes D_long, D_trans,\n"
     "                       D_coupling, D_twist, D_16, D_26, and with hooks separation_strength,\n"
     "                       separation_energy, separation_opening, separation_capture,\n"
-    "                       separation_stiffness) and\n"
+    "                       separation_stiffness, separation_peak_opening) and\n"
     "                       /curves/cell/{uniaxial_x,uniaxial_y,shear}\n"
     "  --plot FILE.png      chart of the cell curves (SVG beside it)\n"
     "  --vtk DIR            the deformed cell at every step of each curve as ParaView series:\n"

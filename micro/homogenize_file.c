@@ -62,9 +62,10 @@ plume_status plume_homog_write_separation(const char *path, const plume_layout *
                                    {"separation_opening", sep ? sep->opening : 0.0},
                                    {"separation_capture", sep ? sep->capture : 0.0},
                                    {"separation_stiffness", sep ? sep->stiffness : 0.0},
+                                   {"separation_peak_opening", sep ? sep->peak_opening : 0.0},
                                    {"separation_C11", Ch[0]}, {"separation_C12", Ch[1]}, {"separation_C13", Ch[2]},
                                    {"separation_C22", Ch[4]}, {"separation_C23", Ch[5]}, {"separation_C33", Ch[8]}};
-    const int nsep = 11; /* the last attributes: written only with a law */
+    const int nsep = 12; /* the last attributes: written only with a law */
     const plume_sparam sp[] = {{"layout", kind}};
     plume_status st = plume_moduli_write_params(path, &r->moduli, prov, mparams,
                                                 (int)(sizeof mparams / sizeof mparams[0]) - (sep ? 0 : nsep), err);
@@ -101,6 +102,22 @@ plume_status plume_separation_read(const char *path, plume_separation_law *s, pl
             return plume_err_set(err, PLUME_EINVAL, "moduli file '%s': /moduli attribute %s = %g must be %s", path,
                                  names[k], bad, k == 3 ? ">= 0" : "> 0");
         }
+    }
+    /* the opening at the strength: written since 3.5; without it the law is taken brittle
+     * (peak_opening = opening, no slide) */
+    s->peak_opening = s->opening;
+    if (plume_moduli_has_param(path, "separation_peak_opening")) {
+        double peak = 0.0;
+        plume_status st = plume_moduli_read_param(path, "separation_peak_opening", &peak, err);
+        if (st != PLUME_OK)
+            return st;
+        if (!(isfinite(peak) && peak > 0.0 && peak <= s->opening)) {
+            const double open = s->opening;
+            memset(s, 0, sizeof *s);
+            return plume_err_set(err, PLUME_EINVAL, "moduli file '%s': /moduli attribute separation_peak_opening = %g "
+                                 "must be > 0 and at most separation_opening (%g)", path, peak, open);
+        }
+        s->peak_opening = peak;
     }
     return PLUME_OK;
 }

@@ -1,7 +1,8 @@
 /* Barbule hooks (lib/core/hooks.h): the term's gradient and Hessian against finite differences,
  * engaged and released; one hook pulled past its strength lets go with its spring energy
  * dissipated; a hook with slide slides back to its strength, then lets go; a released hook
- * catches again within its capture distance at zero force; bad laws and pairs named; a specimen
+ * catches again within its capture distance at zero force; a softening hook follows its bilinear
+ * law and dissipates the energy under it; bad laws and pairs named; a specimen
  * held by stiff hooks pulls like the bonded one, by soft hooks softer. */
 #include <math.h>
 #include <stdio.h>
@@ -128,6 +129,83 @@ void test_micro_hooks_slide(void)
     x[1] = x[4] = 2.0 * law.opening;
     CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
     CHECK(ev.slid == 0 && ev.released == 1 && !plume_hooks_engaged(h, 0));
+    plume_hooks_destroy(&h);
+}
+
+/* Softening (a bilinear cohesive law): one pair opened step by step to 1.5 x its release opening
+ * r d0, each commit followed by what a solve at that opening sees. Past d0 the force stays on the
+ * line from the strength at d0 to zero at r d0 (within the commit's tolerance), the secant
+ * stiffness falls, unloading goes back along the secant to zero force at zero opening, and at r d0
+ * the hook lets go: what the commits dropped is the energy under the law, r / 2 x strength x d0,
+ * to the steps' resolution. Caught again it starts whole. The state round-trips, softened share
+ * included; a share outside (0, 1] and a ratio below 1 are refused. */
+void test_micro_hooks_softening(void)
+{
+    plume_hook_law law;
+    plume_hook_law_default(&law);
+    const double r = 3.0, d0 = law.opening, S = law.strength, k = S / d0;
+    const plume_index first[2] = {0, 1}, pairs[2] = {0, 1};
+    plume_hooks *h = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_hooks_create(2, 1, first, pairs, &law, &h, &err) == PLUME_OK);
+    CHECK(plume_hooks_set_softening(h, 0.5) == PLUME_EINVAL && plume_hooks_set_softening(h, NAN) == PLUME_EINVAL);
+    CHECK(plume_hooks_set_softening(h, r) == PLUME_OK);
+    double x[6] = {0}, f[3], worst = 0.0, dropped = 0.0;
+    plume_hooks_events ev;
+    int softened = 0, released_at = -1;
+    const int n = 600;
+    for (int i = 1; i <= n && released_at < 0; i++) {
+        x[0] = 1.5 * r * d0 * i / n;
+        for (int again = 0; again < 50; again++) { /* the settles of a step at this opening */
+            CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+            dropped += ev.energy_drop;
+            softened += ev.softened;
+            if (ev.released)
+                released_at = i;
+            if (!ev.softened)
+                break;
+        }
+        plume_hooks_force(h, 3, x, 0, f);
+        const double line = x[0] <= d0 ? k * x[0] : S * fmax(0.0, (r * d0 - x[0]) / ((r - 1.0) * d0));
+        if (plume_hooks_engaged(h, 0))
+            worst = fmax(worst, fabs(f[0] - line) / S);
+        if (i == n / 2) { /* halfway down the line: unload to half the opening, along the secant */
+            const double open = x[0], F = f[0];
+            x[0] = 0.5 * open;
+            CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+            CHECK(ev.softened == 0 && ev.released == 0 && ev.energy_drop == 0.0);
+            plume_hooks_force(h, 3, x, 0, f);
+            CHECK_REL(f[0], 0.5 * F, 1e-12, 0.0);
+            /* the state, softened share included, round-trips */
+            const plume_index ns = plume_hooks_state_size(h);
+            double *st = malloc((size_t)ns * sizeof *st);
+            plume_hooks_state_get(h, st);
+            CHECK(plume_hooks_state_set(h, st, &err) == PLUME_OK);
+            plume_hooks_force(h, 3, x, 0, f);
+            CHECK_REL(f[0], 0.5 * F, 1e-12, 0.0);
+            st[3 + 3] = 0.0; /* hook 0's share, after engaged, armed, slid and the pair's 3 offsets */
+            CHECK(plume_hooks_state_set(h, st, &err) == PLUME_EINVAL && strstr(err.msg, "share"));
+            free(st);
+            x[0] = open;
+        }
+    }
+    printf("    softening r = %g: %d softening commits, force off the line by %.2e strengths at most, released at "
+           "%.4f d0, dropped %.6g J (law %.6g J)\n", r, softened, worst, released_at * 1.5 * r / n,
+           dropped, 0.5 * r * S * d0);
+    CHECK(softened > 100);
+    CHECK(worst <= PLUME_HOOKS_SOFTEN_TOL + 1e-12);
+    CHECK(released_at > 0 && fabs(released_at * 1.5 * r / n - r) <= 1.5 * r / n + 1e-12);
+    CHECK_REL(dropped, 0.5 * r * S * d0, 0.02, 0.0);
+    CHECK(!plume_hooks_engaged(h, 0));
+    /* pressed back within the capture: caught whole, at its full stiffness */
+    x[0] = 2.0 * law.capture;
+    CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+    x[0] = 0.5 * law.capture;
+    CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+    CHECK(ev.reengaged == 1);
+    x[0] += 0.5 * d0;
+    plume_hooks_force(h, 3, x, 0, f);
+    CHECK_REL(f[0], 0.5 * S, 1e-9, 0.0);
     plume_hooks_destroy(&h);
 }
 

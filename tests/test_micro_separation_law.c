@@ -10,6 +10,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <hdf5.h>
+
 #include "harness.h"
 #include "../include/plume/curves.h"
 #include "../include/plume/homogenize.h"
@@ -119,7 +121,15 @@ void test_micro_separation_law_file(void)
     CHECK(plume_homog_write_separation(path, &l, &r, &s, &err) == PLUME_OK);
     CHECK(plume_separation_read(path, &back, &err) == PLUME_OK);
     CHECK(back.strength == s.strength && back.energy == s.energy && back.opening == s.opening &&
-          back.capture == s.capture && back.stiffness == s.stiffness);
+          back.capture == s.capture && back.stiffness == s.stiffness && back.peak_opening == s.peak_opening);
+    /* a file written before separation_peak_opening: read as brittle (the peak at the opening) */
+    {
+        hid_t f = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+        CHECK(f >= 0 && H5Adelete_by_name(f, "/moduli", "separation_peak_opening", H5P_DEFAULT) >= 0);
+        H5Fclose(f);
+        CHECK(plume_separation_read(path, &back, &err) == PLUME_OK);
+        CHECK(back.peak_opening == back.opening && back.opening == s.opening);
+    }
     /* moduli without hooks: the law's absence is named */
     CHECK(plume_homog_write(path, &l, &r, &err) == PLUME_OK);
     CHECK(plume_separation_read(path, &back, &err) == PLUME_EFORMAT);

@@ -190,7 +190,7 @@ void test_scene_splits_restart(void)
     CHECK(x.nv == y.nv && x.index == y.index && x.step == y.step && x.nv > 0);
     CHECK(x.x && y.x && memcmp(x.x, y.x, 3 * (size_t)x.nv * sizeof *x.x) == 0);
     CHECK(x.v && y.v && memcmp(x.v, y.v, 3 * (size_t)x.nv * sizeof *x.v) == 0);
-    const plume_index n = 3 * (NX - NRACHIS) + 3 * (NX - NRACHIS) + 3;
+    const plume_index n = 4 * (NX - NRACHIS) + 3 * (NX - NRACHIS) + 3; /* plume_hooks_state_size */
     double *sa = calloc((size_t)n, sizeof *sa), *sb = calloc((size_t)n, sizeof *sb);
     CHECK(plume_frames_read_array(fa, -1, "split_links", sa, n, &err) == PLUME_OK);
     CHECK(plume_frames_read_array(fb, -1, "split_links", sb, n, &err) == PLUME_OK);
@@ -226,6 +226,10 @@ void test_scene_splits_bad_input(void)
          "\"offsets\""},
         {"{\"materials\": [\"vane\"], \"lines\": 2, \"law\": {\"from_moduli\": \"none.h5\"}}", NULL,
          "splits.law.from_moduli"},
+        {"{\"materials\": [\"vane\"], \"lines\": 2, \"law\": {\"from_moduli\": \"none.h5\", \"slide\": 1e-6}}",
+         NULL, "splits.law.slide"},
+        {"{\"materials\": [\"vane\"], \"lines\": 2, \"law\": {\"strength\": 1, \"stiffness\": 5e5, "
+         "\"capture\": 5e-6, \"slide\": -1e-6}}", NULL, "splits.law.slide"},
         {"{\"materials\": [\"vane\"], \"lines\": 2, \"law\": {\"strength\": 1, \"stiffness\": 5e5, \"capture\": 5e-6}}",
          ", \"contact\": {\"dhat\": 1e-5, \"stiffness\": 1}", "\"self\": true"},
         {"{\"materials\": [\"vane\"], \"offsets\": [0.0], \"law\": {\"strength\": 1, \"stiffness\": 5e5, "

@@ -21,11 +21,11 @@ extern "C" {
 /* ---- the version ---- */
 #define PLUME_VERSION_MAJOR 3       /**< major version of the headers compiled against */
 
-#define PLUME_VERSION_MINOR 4       /**< minor version of the headers compiled against */
+#define PLUME_VERSION_MINOR 5       /**< minor version of the headers compiled against */
 
 #define PLUME_VERSION_PATCH 0       /**< patch version of the headers compiled against */
 
-#define PLUME_VERSION_STRING "3.4.0" /**< "MAJOR.MINOR.PATCH" of the headers compiled against */
+#define PLUME_VERSION_STRING "3.5.0" /**< "MAJOR.MINOR.PATCH" of the headers compiled against */
 
 /** "MAJOR.MINOR.PATCH" of the library linked in (static string). */
 PLUME_API const char *plume_version(void);

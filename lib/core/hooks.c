@@ -48,12 +48,14 @@ struct plume_hooks {
     unsigned char *armed;   /* [nhooks] released and since then opened beyond the capture */
     double *slid;         /* [nhooks] slide so far (m) */
     double *scale;        /* [nhooks] hook k's strength and stiffness are the law's times scale[k] */
+    double *kept_k;       /* [nhooks] the share of its stiffness hook k keeps after softening (1: none) */
+    double soften;        /* > 1: a hook past its opening softens to zero at soften x opening; <= 1 brittle */
     double overshoot;     /* a commit allowed to cut refuses loads beyond this many strengths */
     double seat;          /* >= 0: a caught hook pressed closer than its catch by more than this (m) seats; < 0: off */
     long released, reengaged;
     double dropped;
     struct {              /* the state kept by keep(save) */
-        double *offset, *slid;
+        double *offset, *slid, *kept_k;
         unsigned char *engaged, *armed;
         long released, reengaged;
         double dropped;
@@ -73,6 +75,8 @@ void plume_hooks_destroy(plume_hooks **ph)
     free(h->armed);
     free(h->slid);
     free(h->scale);
+    free(h->kept_k);
+    free(h->kept.kept_k);
     free(h->kept.offset);
     free(h->kept.slid);
     free(h->kept.engaged);
@@ -117,12 +121,14 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
     h->armed = calloc((size_t)nhooks, 1);
     h->slid = calloc((size_t)nhooks, sizeof *h->slid);
     h->scale = malloc((size_t)nhooks * sizeof *h->scale);
+    h->kept_k = malloc((size_t)nhooks * sizeof *h->kept_k);
+    h->kept.kept_k = malloc((size_t)nhooks * sizeof *h->kept.kept_k);
     h->kept.offset = calloc(3 * (size_t)np, sizeof *h->kept.offset);
     h->kept.slid = calloc((size_t)nhooks, sizeof *h->kept.slid);
     h->kept.engaged = malloc((size_t)nhooks);
     h->kept.armed = calloc((size_t)nhooks, 1);
     if (!h->first || !h->pairs || !h->hook_of || !h->offset || !h->engaged || !h->armed || !h->slid || !h->scale ||
-        !h->kept.offset || !h->kept.slid || !h->kept.engaged || !h->kept.armed) {
+        !h->kept_k || !h->kept.kept_k || !h->kept.offset || !h->kept.slid || !h->kept.engaged || !h->kept.armed) {
         plume_hooks_destroy(&h);
         return plume_err_set(err, PLUME_ENOMEM, "hooks: out of memory");
     }
@@ -131,7 +137,7 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
     memset(h->engaged, 1, (size_t)nhooks);
     memset(h->kept.engaged, 1, (size_t)nhooks);
     for (int k = 0; k < nhooks; k++) {
-        h->scale[k] = 1.0;
+        h->scale[k] = h->kept_k[k] = h->kept.kept_k[k] = 1.0;
         for (plume_index p = first[k]; p < first[k + 1]; p++)
             h->hook_of[p] = k;
     }
@@ -142,7 +148,7 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
 /* the stiffness of one pair of hook k */
 static double pair_stiffness(const plume_hooks *h, int k)
 {
-    return h->scale[k] * h->law.strength / h->law.opening / (double)(h->first[k + 1] - h->first[k]);
+    return h->kept_k[k] * h->scale[k] * h->law.strength / h->law.opening / (double)(h->first[k + 1] - h->first[k]);
 }
 
 /* d = x_a - x_b - o_p of pair p */
@@ -219,7 +225,7 @@ static plume_status hooks_term_commit(void *ctx, int dim, const double *x, int m
     }
     plume_hooks_events ev;
     plume_status st = plume_hooks_commit(h, dim, x, PLUME_HOOKS_ALL, &ev, NULL);
-    r->changed = ev.released + ev.slid + ev.reengaged + ev.seated > 0;
+    r->changed = ev.released + ev.slid + ev.reengaged + ev.seated + ev.softened > 0;
     r->released = ev.released, r->reengaged = ev.reengaged, r->energy_drop = ev.energy_drop;
     return st;
 }
@@ -232,12 +238,14 @@ static plume_status hooks_term_keep(void *ctx, int save)
     if (save) {
         memcpy(h->kept.offset, h->offset, no);
         memcpy(h->kept.slid, h->slid, ns);
+        memcpy(h->kept.kept_k, h->kept_k, ns);
         memcpy(h->kept.engaged, h->engaged, nf);
         memcpy(h->kept.armed, h->armed, nf);
         h->kept.released = h->released, h->kept.reengaged = h->reengaged, h->kept.dropped = h->dropped;
     } else {
         memcpy(h->offset, h->kept.offset, no);
         memcpy(h->slid, h->kept.slid, ns);
+        memcpy(h->kept_k, h->kept.kept_k, ns);
         memcpy(h->engaged, h->kept.engaged, nf);
         memcpy(h->armed, h->kept.armed, nf);
         h->released = h->kept.released, h->reengaged = h->kept.reengaged, h->dropped = h->kept.dropped;
@@ -310,6 +318,14 @@ plume_status plume_hooks_set_seating(plume_hooks *h, double distance)
     return PLUME_OK;
 }
 
+plume_status plume_hooks_set_softening(plume_hooks *h, double ratio)
+{
+    if (!h || !(ratio >= 1.0) || !isfinite(ratio))
+        return PLUME_EINVAL;
+    h->soften = ratio;
+    return PLUME_OK;
+}
+
 plume_status plume_hooks_set_overshoot(plume_hooks *h, double factor)
 {
     if (!h || !(factor > 1.0) || !isfinite(factor))
@@ -378,25 +394,42 @@ static double hook_energy(const plume_hooks *h, int dim, const double *x, int k)
     return e;
 }
 
-/* An overloaded engaged hook k (|f| > strength): it slides while its slide allows, else lets go. */
-static void overload(plume_hooks *h, int dim, const double *x, int k, const double *f, plume_hooks_events *ev)
+/* An overloaded engaged hook k (|f| > strength): it slides while its slide allows; with softening
+ * (plume_hooks_set_softening) it keeps the secant stiffness of the softening line at its opening
+ * until that opening reaches the line's end; else it lets go. 1 when it changed. */
+static int overload(plume_hooks *h, int dim, const double *x, int k, const double *f, plume_hooks_events *ev)
 {
     const double strength = h->scale[k] * h->law.strength;
-    const double F = norm(f, dim), kh = strength / h->law.opening;
-    const double move = (F - strength) / kh; /* the return map: |F| back to the strength */
+    const double F = norm(f, dim), k0 = strength / h->law.opening;
     const double before = hook_energy(h, dim, x, k);
-    if (h->law.slide > 0.0 && h->slid[k] + move <= h->law.slide) {
-        for (plume_index p = h->first[k]; p < h->first[k + 1]; p++)
-            for (int c = 0; c < dim; c++)
-                h->offset[3 * p + c] += move * f[c] / F;
-        h->slid[k] += move;
-        ev->slid++;
-    } else {
-        h->engaged[k] = 0;
-        h->armed[k] = 0;
-        ev->released++;
+    if (h->soften > 1.0) {
+        const double open = F / (h->kept_k[k] * k0), end = h->soften * h->law.opening;
+        if (open < end) {
+            const double limit = strength * fmin(1.0, (end - open) / (end - h->law.opening));
+            if (F <= limit + PLUME_HOOKS_SOFTEN_TOL * strength)
+                return 0;
+            h->kept_k[k] = limit / (open * k0);
+            ev->softened++;
+            ev->energy_drop += before - hook_energy(h, dim, x, k);
+            return 1;
+        }
+    } else if (h->law.slide > 0.0 && h->kept_k[k] == 1.0) {
+        const double move = (F - strength) / k0; /* the return map: |F| back to the strength */
+        if (h->slid[k] + move <= h->law.slide) {
+            for (plume_index p = h->first[k]; p < h->first[k + 1]; p++)
+                for (int c = 0; c < dim; c++)
+                    h->offset[3 * p + c] += move * f[c] / F;
+            h->slid[k] += move;
+            ev->slid++;
+            ev->energy_drop += before - hook_energy(h, dim, x, k);
+            return 1;
+        }
     }
+    h->engaged[k] = 0;
+    h->armed[k] = 0;
+    ev->released++;
     ev->energy_drop += before - hook_energy(h, dim, x, k);
+    return 1;
 }
 
 /* The mean distance of hook k's pairs at x, and the mean length of their offsets */
@@ -459,6 +492,7 @@ static void catch_again(plume_hooks *h, int dim, const double *x, int k, plume_h
     h->engaged[k] = 1;
     h->armed[k] = 0;
     h->slid[k] = 0.0;
+    h->kept_k[k] = 1.0;
     ev->reengaged++;
 }
 
@@ -482,7 +516,8 @@ plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_
             continue;
         double f[3];
         plume_hooks_force(h, dim, x, k, f);
-        if (norm(f, dim) > h->scale[k] * h->law.strength && (mode == PLUME_HOOKS_ALL || k == most))
+        const double F = norm(f, dim), strength = h->scale[k] * h->law.strength;
+        if ((F > strength || (h->kept_k[k] < 1.0 && F > 0.0)) && (mode == PLUME_HOOKS_ALL || k == most))
             overload(h, dim, x, k, f, &e);
     }
     h->released += e.released, h->reengaged += e.reengaged, h->dropped += e.energy_drop;
@@ -503,7 +538,7 @@ void plume_hooks_totals(const plume_hooks *h, long *released, long *reengaged, d
 
 plume_index plume_hooks_state_size(const plume_hooks *h)
 {
-    return h ? 3 * (plume_index)h->nhooks + 3 * h->npairs + 3 : 0;
+    return h ? 4 * (plume_index)h->nhooks + 3 * h->npairs + 3 : 0;
 }
 
 void plume_hooks_state_get(const plume_hooks *h, double *s)
@@ -512,7 +547,8 @@ void plume_hooks_state_get(const plume_hooks *h, double *s)
     for (int k = 0; k < n; k++)
         s[k] = h->engaged[k], s[n + k] = h->armed[k], s[2 * n + k] = h->slid[k];
     memcpy(s + 3 * n, h->offset, 3 * (size_t)h->npairs * sizeof *s);
-    double *t = s + 3 * n + 3 * h->npairs;
+    memcpy(s + 3 * n + 3 * h->npairs, h->kept_k, (size_t)n * sizeof *s);
+    double *t = s + 4 * n + 3 * h->npairs;
     t[0] = (double)h->released, t[1] = (double)h->reengaged, t[2] = h->dropped;
 }
 
@@ -529,13 +565,18 @@ plume_status plume_hooks_state_set(plume_hooks *h, const double *s, plume_err *e
         if ((s[k] != 0.0 && s[k] != 1.0) || (s[n + k] != 0.0 && s[n + k] != 1.0) || s[2 * n + k] < 0.0)
             return plume_err_set(err, PLUME_EINVAL, "hooks state: hook %d has engaged %g, armed %g, slid %g (flags are 0 "
                                  "or 1, the slide >= 0)", k, s[k], s[n + k], s[2 * n + k]);
-    const double *t = s + 3 * n + 3 * h->npairs;
+    const double *kk = s + 3 * n + 3 * h->npairs, *t = kk + n;
+    for (int k = 0; k < n; k++)
+        if (!(kk[k] > 0.0 && kk[k] <= 1.0))
+            return plume_err_set(err, PLUME_EINVAL, "hooks state: hook %d keeps %g of its stiffness (0 < share <= 1)",
+                                 k, kk[k]);
     if (t[0] < 0.0 || t[1] < 0.0 || t[2] < 0.0)
         return plume_err_set(err, PLUME_EINVAL, "hooks state: negative totals (%g released, %g caught, %g J)", t[0], t[1],
                              t[2]);
     for (int k = 0; k < n; k++)
         h->engaged[k] = (unsigned char)s[k], h->armed[k] = (unsigned char)s[n + k], h->slid[k] = s[2 * n + k];
     memcpy(h->offset, s + 3 * n, 3 * (size_t)h->npairs * sizeof *s);
+    memcpy(h->kept_k, kk, (size_t)n * sizeof *s);
     h->released = (long)t[0], h->reengaged = (long)t[1], h->dropped = t[2];
     return hooks_term_keep(h, 1);
 }

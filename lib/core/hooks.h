@@ -82,6 +82,19 @@ plume_status plume_hooks_set_scale(plume_hooks *h, int k, double scale);
  * PLUME_EINVAL for a negative or non-finite distance. */
 plume_status plume_hooks_set_seating(plume_hooks *h, double distance);
 
+/** A commit leaves a softened hook alone while its force exceeds the softening line by no more
+ * than this share of its strength. */
+#define PLUME_HOOKS_SOFTEN_TOL 1e-2
+
+/** Softening, off at creation (ratio 1: a hook lets go at its strength). With ratio > 1 a hook
+ * loaded to its strength at its opening d0 does not let go: its force follows a line down from the
+ * strength at d0 to zero at ratio x d0, and it lets go there. Between solves, at a commit, a hook
+ * above that line keeps the secant stiffness that puts it on the line (unloading then goes back
+ * to zero force at zero opening); inside a solve the term stays a positive semidefinite quadratic.
+ * The energy under the law is ratio / 2 x strength x d0 (a bilinear cohesive law). A hook caught
+ * again starts whole. Replaces the slide. PLUME_EINVAL for a ratio below 1 or not finite. */
+plume_status plume_hooks_set_softening(plume_hooks *h, double ratio);
+
 /** Hooks, and pairs. */
 int plume_hooks_count(const plume_hooks *h);
 /** 1 engaged, 0 released. */
@@ -98,6 +111,7 @@ typedef struct {
     int reengaged;       /**< hooks caught again */
     int slid;            /**< hooks that slid */
     int seated;          /**< caught hooks pressed closer that seated (plume_hooks_set_seating) */
+    int softened;        /**< hooks whose stiffness fell along the softening line (plume_hooks_set_softening) */
     double energy_drop;  /**< J: the hooks' energy at x before the commit minus after (>= 0) */
 } plume_hooks_events;
 

@@ -900,6 +900,28 @@ cleanup:
     return s;
 }
 
+int plume_moduli_has_param(const char *path, const char *name)
+{
+    if (!path || !name)
+        return 0;
+    h5_quiet q;
+    quiet_begin(&q);
+    int has = 0;
+    hid_t fid = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (fid >= 0) {
+        if (H5Lexists(fid, "/moduli", H5P_DEFAULT) > 0) {
+            hid_t g = H5Gopen2(fid, "/moduli", H5P_DEFAULT);
+            if (g >= 0) {
+                has = H5Aexists(g, name) > 0;
+                H5Gclose(g);
+            }
+        }
+        H5Fclose(fid);
+    }
+    quiet_end(&q);
+    return has;
+}
+
 plume_status plume_moduli_read_tensor(const char *path, const char *prefix, double C[9], plume_err *err)
 {
     static const char *const names[6] = {"C11", "C12", "C13", "C22", "C23", "C33"};

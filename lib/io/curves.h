@@ -18,6 +18,10 @@ extern "C" {
  * (PLUME_EFORMAT naming the missing attribute). */
 plume_status plume_moduli_read_tensor(const char *path, const char *prefix, double C[9], plume_err *err);
 
+/** 1 when path is a readable HDF5 file whose /moduli has the attribute `name`, else 0 (an
+ * optional attribute: the read that follows names any other fault). */
+int plume_moduli_has_param(const char *path, const char *name);
+
 #ifdef __cplusplus
 }
 #endif

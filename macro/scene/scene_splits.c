@@ -50,15 +50,16 @@ static plume_status split_materials(const plume_json_ctx *c, json_t *js, const p
 }
 
 /* "law": {"from_moduli": "file.h5"} (apps/homogenize's separation law, "stiffness" optionally
- * replacing its stiffness) or {"strength", "stiffness", "capture"} */
+ * replacing its stiffness) or {"strength", "stiffness", "capture"[, "slide"]}; a slide (the law's
+ * opening past its peak) softens the links (split_lines.h) */
 static plume_status split_law(const plume_json_ctx *c, json_t *js, plume_scene *s)
 {
-    static const char *const keys[] = {"from_moduli", "strength", "stiffness", "capture", "note", NULL};
+    static const char *const keys[] = {"from_moduli", "strength", "stiffness", "capture", "slide", "note", NULL};
     json_t *jl = json_object_get(js, "law");
     if (!json_is_object(jl))
         return plume_json_bad(c, PLUME_EFORMAT, "splits.law",
                               "%s: {\"from_moduli\": \"file.h5\"} (the separation law apps/homogenize writes with the "
-                              "moduli) or {\"strength\": N/m, \"stiffness\": N/m^2, \"capture\": m}",
+                              "moduli) or {\"strength\": N/m, \"stiffness\": N/m^2, \"capture\": m[, \"slide\": m]}",
                               jl ? "must be an object" : "is missing");
     plume_status st = plume_json_check_keys(c, jl, "splits.law", keys);
     if (st != PLUME_OK)
@@ -69,6 +70,9 @@ static plume_status split_law(const plume_json_ctx *c, json_t *js, plume_scene *
         if (json_object_get(jl, "strength") || json_object_get(jl, "capture"))
             return plume_json_bad(c, PLUME_EINVAL, "splits.law", "takes \"from_moduli\" or the law's strength and "
                                   "capture, not both (\"stiffness\" may replace the file's)");
+        if (json_object_get(jl, "slide"))
+            return plume_json_bad(c, PLUME_EINVAL, "splits.law.slide", "comes with the file's law (its opening past "
+                                  "the peak): give it with \"strength\", \"stiffness\" and \"capture\" only");
         if (!json_is_string(jf))
             return plume_json_bad(c, PLUME_EFORMAT, "splits.law.from_moduli", "must be the name of an HDF5 file with "
                                   "/moduli and its separation_* attributes (apps/homogenize on a layout with hooks)");
@@ -82,9 +86,11 @@ static plume_status split_law(const plume_json_ctx *c, json_t *js, plume_scene *
         int given = 0;
         if ((st = plume_json_positive(c, jl, "splits.law", "stiffness", 0, 0, &k, &given)) != PLUME_OK)
             return st;
-        if (given) {
+        if (given) { /* the cell's slide kept: the opening past the peak */
+            const double slide = s->split_law.opening - s->split_law.peak_opening;
             s->split_law.stiffness = k;
-            s->split_law.opening = s->split_law.peak_opening = s->split_law.strength / k;
+            s->split_law.peak_opening = s->split_law.strength / k;
+            s->split_law.opening = s->split_law.peak_opening + slide;
         }
         return PLUME_OK;
     }
@@ -93,8 +99,11 @@ static plume_status split_law(const plume_json_ctx *c, json_t *js, plume_scene *
         (st = plume_json_positive(c, jl, "splits.law", "stiffness", 1, 0, &s->split_law.stiffness, NULL)) != PLUME_OK ||
         (st = plume_json_positive(c, jl, "splits.law", "capture", 1, 1, &s->split_law.capture, NULL)) != PLUME_OK)
         return st;
-    s->split_law.opening = s->split_law.strength / s->split_law.stiffness;
-    s->split_law.peak_opening = s->split_law.opening;
+    double slide = 0.0;
+    if ((st = plume_json_positive(c, jl, "splits.law", "slide", 0, 1, &slide, NULL)) != PLUME_OK)
+        return st;
+    s->split_law.peak_opening = s->split_law.strength / s->split_law.stiffness;
+    s->split_law.opening = s->split_law.peak_opening + slide; /* a slide softens the links (split_lines.h) */
     s->split_law.energy = NAN; /* per crack area needs the cell's thickness: unknown here */
     return PLUME_OK;
 }

@@ -169,6 +169,14 @@ done:
     return st;
 }
 
+double plume_split_softening(const plume_separation_law *law)
+{
+    const double d0 = law->strength / law->stiffness, slide = law->opening - law->peak_opening;
+    if (!(law->peak_opening > 0.0) || !(slide > 1e-9 * d0) || !isfinite(slide))
+        return 1.0;
+    return 1.0 + 2.0 * slide / d0;
+}
+
 plume_status plume_split_lines_add(plume_problem *p, const plume_split_lines *s, const plume_separation_law *law,
                                    plume_hooks **hooks, plume_err *err)
 {
@@ -195,6 +203,7 @@ plume_status plume_split_lines_add(plume_problem *p, const plume_split_lines *s,
     if (st == PLUME_OK) {
         plume_hooks_set_overshoot(h, PLUME_SPLIT_OVERSHOOT);
         plume_hooks_set_seating(h, PLUME_SPLIT_SEATING * law->capture);
+        plume_hooks_set_softening(h, plume_split_softening(law));
     }
     for (plume_index k = 0; st == PLUME_OK && k < s->npairs; k++)
         if (plume_hooks_set_scale(h, (int)k, s->length[k]) != PLUME_OK)

@@ -77,10 +77,17 @@ plume_status plume_split_lines_open_chains(const plume_mesh *m, int nchains, con
                                            const plume_index *cverts, const unsigned char *held,
                                            plume_split_lines *out, plume_err *err);
 
+/** The softening of a line's links (plume_hooks_set_softening) under `law`: brittle (1) unless the
+ * law opens further after its peak (opening > peak_opening: the cell's hooks slid before they let
+ * go); then the bilinear law of the same strength, stiffness and energy, the plateau's
+ * strength x slide spread under a line down to zero: 1 + 2 slide / (strength / stiffness)
+ * (docs/unzipping.md, "Softening"). */
+double plume_split_softening(const plume_separation_law *law);
+
 /** Adds the links of the opened lines to `p` (over out->mesh's vertices, not finalised) as the
  * hooks' term named "splits" (owned by the problem; *hooks, may be NULL, is a view valid while it lives), with
- * the law `law`: a pair of length L holds strength * L and stiffness * L. PLUME_EINVAL for a law
- * out of range (naming the field). */
+ * the law `law`: a pair of length L holds strength * L and stiffness * L, and softens past its
+ * strength as plume_split_softening says. PLUME_EINVAL for a law out of range (naming the field). */
 plume_status plume_split_lines_add(plume_problem *p, const plume_split_lines *s, const plume_separation_law *law,
                                    plume_hooks **hooks, plume_err *err);
 

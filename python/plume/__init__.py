@@ -19,7 +19,7 @@ from .api import (MODULI, Curve, FitResult, HomogenizeResult, Scene, TractionRes
                   homogenize, openmp_serial, traction, version)
 from .frames import Frames, read_frames
 
-__version__ = "3.4.0"
+__version__ = "3.5.0"
 
 __all__ = ["version", "openmp_serial", "homogenize", "traction", "fit", "Scene", "Curve", "HomogenizeResult",
            "TractionResult", "FitResult", "Frames", "read_frames", "export_gltf", "PlumeError", "LibraryNotFoundError", "LIBRARY_PATH",

@@ -73,7 +73,7 @@ def rel(a, b):
 
 class TestLibrary(unittest.TestCase):
     def test_version(self):
-        self.assertEqual(plume.version(), "3.4.0")
+        self.assertEqual(plume.version(), "3.5.0")
         self.assertEqual(plume.__version__, plume.version())
 
     def test_openmp_serial(self):
