@@ -48,14 +48,16 @@ struct plume_hooks {
     unsigned char *armed;   /* [nhooks] released and since then opened beyond the capture */
     double *slid;         /* [nhooks] slide so far (m) */
     double *scale;        /* [nhooks] hook k's strength and stiffness are the law's times scale[k] */
-    double *kept_k;       /* [nhooks] the share of its stiffness hook k keeps after softening (1: none) */
+    double *dmax;         /* [nhooks] softening: the largest opening committed (m; 0: whole) */
     double soften;        /* > 1: a hook past its opening softens to zero at soften x opening; <= 1 brittle */
+    int envelope;         /* softening hooks inside solves: 0 the secant spring of their history (a
+                             load step), 1 their law (the solve at fixed load that follows) */
     double overshoot;     /* a commit allowed to cut refuses loads beyond this many strengths */
     double seat;          /* >= 0: a caught hook pressed closer than its catch by more than this (m) seats; < 0: off */
     long released, reengaged;
     double dropped;
     struct {              /* the state kept by keep(save) */
-        double *offset, *slid, *kept_k;
+        double *offset, *slid, *dmax;
         unsigned char *engaged, *armed;
         long released, reengaged;
         double dropped;
@@ -75,8 +77,8 @@ void plume_hooks_destroy(plume_hooks **ph)
     free(h->armed);
     free(h->slid);
     free(h->scale);
-    free(h->kept_k);
-    free(h->kept.kept_k);
+    free(h->dmax);
+    free(h->kept.dmax);
     free(h->kept.offset);
     free(h->kept.slid);
     free(h->kept.engaged);
@@ -121,14 +123,14 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
     h->armed = calloc((size_t)nhooks, 1);
     h->slid = calloc((size_t)nhooks, sizeof *h->slid);
     h->scale = malloc((size_t)nhooks * sizeof *h->scale);
-    h->kept_k = malloc((size_t)nhooks * sizeof *h->kept_k);
-    h->kept.kept_k = malloc((size_t)nhooks * sizeof *h->kept.kept_k);
+    h->dmax = calloc((size_t)nhooks, sizeof *h->dmax);
+    h->kept.dmax = calloc((size_t)nhooks, sizeof *h->kept.dmax);
     h->kept.offset = calloc(3 * (size_t)np, sizeof *h->kept.offset);
     h->kept.slid = calloc((size_t)nhooks, sizeof *h->kept.slid);
     h->kept.engaged = malloc((size_t)nhooks);
     h->kept.armed = calloc((size_t)nhooks, 1);
     if (!h->first || !h->pairs || !h->hook_of || !h->offset || !h->engaged || !h->armed || !h->slid || !h->scale ||
-        !h->kept_k || !h->kept.kept_k || !h->kept.offset || !h->kept.slid || !h->kept.engaged || !h->kept.armed) {
+        !h->dmax || !h->kept.dmax || !h->kept.offset || !h->kept.slid || !h->kept.engaged || !h->kept.armed) {
         plume_hooks_destroy(&h);
         return plume_err_set(err, PLUME_ENOMEM, "hooks: out of memory");
     }
@@ -137,7 +139,7 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
     memset(h->engaged, 1, (size_t)nhooks);
     memset(h->kept.engaged, 1, (size_t)nhooks);
     for (int k = 0; k < nhooks; k++) {
-        h->scale[k] = h->kept_k[k] = h->kept.kept_k[k] = 1.0;
+        h->scale[k] = 1.0;
         for (plume_index p = first[k]; p < first[k + 1]; p++)
             h->hook_of[p] = k;
     }
@@ -145,10 +147,10 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
     return PLUME_OK;
 }
 
-/* the stiffness of one pair of hook k */
+/* the stiffness of one pair of hook k (brittle law; a softening hook's is its law's k0) */
 static double pair_stiffness(const plume_hooks *h, int k)
 {
-    return h->kept_k[k] * h->scale[k] * h->law.strength / h->law.opening / (double)(h->first[k + 1] - h->first[k]);
+    return h->scale[k] * h->law.strength / h->law.opening / (double)(h->first[k + 1] - h->first[k]);
 }
 
 /* d = x_a - x_b - o_p of pair p */
@@ -159,6 +161,55 @@ static void pair_stretch(const plume_hooks *h, int dim, const double *x, plume_i
         d[c] = x[dim * a + c] - x[dim * b + c] - h->offset[3 * p + c];
 }
 
+static double norm(const double *v, int dim)
+{
+    double s = 0.0;
+    for (int c = 0; c < dim; c++)
+        s += v[c] * v[c];
+    return sqrt(s);
+}
+
+/* The softening law of hook k (one pair) as a function of its opening t = |d|, with its history
+ * dmax (plume_hooks_set_softening): the envelope f rises as k0 t to the strength at d0, falls
+ * linearly to zero at dc = soften d0; below ds = max(dmax, d0) the hook is the secant spring
+ * ks = f(ds) / ds. *W energy, *dW = W', *d2W = W'' at t. */
+typedef struct {
+    double S, d0, dc, k0, ds, ks;
+    int frozen; /* the secant spring at every opening (hooks' envelope off) */
+} soft_law;
+
+static soft_law soft_of(const plume_hooks *h, int k)
+{
+    soft_law l;
+    l.S = h->scale[k] * h->law.strength, l.d0 = h->law.opening, l.dc = h->soften * l.d0, l.k0 = l.S / l.d0;
+    l.ds = fmax(h->dmax[k], l.d0);
+    l.frozen = !h->envelope;
+    const double fs = l.ds < l.dc ? l.S * (l.dc - l.ds) / (l.dc - l.d0) : 0.0;
+    l.ks = fs / l.ds;
+    return l;
+}
+
+/* the work of the falling branch from a to b (d0 <= a <= b), capped at dc */
+static double soft_area(const soft_law *l, double a, double b)
+{
+    a = fmin(a, l->dc), b = fmin(b, l->dc);
+    const double g = l->S / (l->dc - l->d0);
+    return g * ((l->dc * b - 0.5 * b * b) - (l->dc * a - 0.5 * a * a));
+}
+
+static void soft_eval(const soft_law *l, double t, double *W, double *dW, double *d2W)
+{
+    if (t <= l->ds || l->frozen) {
+        *W = 0.5 * l->ks * t * t, *dW = l->ks * t, *d2W = l->ks;
+        return;
+    }
+    *W = 0.5 * l->ks * l->ds * l->ds + soft_area(l, l->ds, t);
+    if (t < l->dc)
+        *dW = l->S * (l->dc - t) / (l->dc - l->d0), *d2W = -l->S / (l->dc - l->d0);
+    else
+        *dW = 0.0, *d2W = 0.0;
+}
+
 static double pair_energy(const plume_hooks *h, int dim, const double *x, plume_index p)
 {
     const int k = h->hook_of[p];
@@ -166,41 +217,79 @@ static double pair_energy(const plume_hooks *h, int dim, const double *x, plume_
         return 0.0;
     double d[3];
     pair_stretch(h, dim, x, p, d);
+    if (h->soften > 1.0) {
+        const soft_law l = soft_of(h, k);
+        double W, dW, d2W;
+        soft_eval(&l, norm(d, dim), &W, &dW, &d2W);
+        return W;
+    }
     double s = 0.0;
     for (int c = 0; c < dim; c++)
         s += d[c] * d[c];
     return 0.5 * pair_stiffness(h, k) * s;
 }
 
+/* the pair's force g = dW/dd and its 3x3 stiffness H = d2W/dd2 (softening hooks; H projected to PSD
+ * when `project`, the falling branch's negative curvature along d dropped) */
+static void soft_pair(const plume_hooks *h, int k, int dim, const double *d, int project, double *W, double *g,
+                      double *H)
+{
+    const soft_law l = soft_of(h, k);
+    const double t = norm(d, dim);
+    double dW, d2W;
+    soft_eval(&l, t, W, &dW, &d2W);
+    if (t <= l.ds || l.frozen) { /* the secant spring: ks d, ks I */
+        for (int c = 0; c < dim; c++) {
+            g[c] = l.ks * d[c];
+            for (int e = 0; e < dim; e++)
+                H[c * dim + e] = c == e ? l.ks : 0.0;
+        }
+        return;
+    }
+    if (project && d2W < 0.0)
+        d2W = 0.0;
+    const double tang = dW / t;
+    for (int c = 0; c < dim; c++) {
+        g[c] = dW * d[c] / t;
+        for (int e = 0; e < dim; e++)
+            H[c * dim + e] = (d2W - tang) * d[c] * d[e] / (t * t) + (c == e ? tang : 0.0);
+    }
+}
+
 static plume_status hooks_eval(void *ctx, int dim, const double *x, double *energy, double *grad, double *hblocks,
                                int project)
 {
-    (void)project; /* each block is k [I -I; -I I]: positive semidefinite already */
     const plume_hooks *h = ctx;
     const int kb = 2 * dim;
     for (plume_index p = 0; p < h->npairs; p++) {
         const int k = h->hook_of[p];
-        const double kp = h->engaged[k] ? pair_stiffness(h, k) : 0.0;
-        double d[3];
+        double d[3], g[3] = {0.0, 0.0, 0.0}, H[9] = {0.0}, W = 0.0;
         pair_stretch(h, dim, x, p, d);
-        if (energy) {
-            double s = 0.0;
-            for (int c = 0; c < dim; c++)
-                s += d[c] * d[c];
-            *energy += 0.5 * kp * s;
+        if (!h->engaged[k]) {
+        } else if (h->soften > 1.0) {
+            soft_pair(h, k, dim, d, project, &W, g, H);
+        } else { /* k [I -I; -I I]: positive semidefinite already */
+            const double kp = pair_stiffness(h, k);
+            for (int c = 0; c < dim; c++) {
+                W += 0.5 * kp * d[c] * d[c], g[c] = kp * d[c];
+                H[c * dim + c] = kp;
+            }
         }
+        if (energy)
+            *energy += W;
         if (grad) {
             const plume_index a = h->pairs[2 * p], b = h->pairs[2 * p + 1];
             for (int c = 0; c < dim; c++)
-                grad[dim * a + c] += kp * d[c], grad[dim * b + c] -= kp * d[c];
+                grad[dim * a + c] += g[c], grad[dim * b + c] -= g[c];
         }
         if (hblocks) {
             double *B = hblocks + (size_t)p * (size_t)(kb * kb);
-            memset(B, 0, sizeof(double) * (size_t)(kb * kb));
-            for (int c = 0; c < dim; c++) {
-                B[c * kb + c] = B[(dim + c) * kb + dim + c] = kp;
-                B[c * kb + dim + c] = B[(dim + c) * kb + c] = -kp;
-            }
+            for (int c = 0; c < dim; c++)
+                for (int e = 0; e < dim; e++) {
+                    const double v = H[c * dim + e];
+                    B[c * kb + e] = B[(dim + c) * kb + dim + e] = v;
+                    B[c * kb + dim + e] = B[(dim + c) * kb + e] = -v;
+                }
         }
     }
     return PLUME_OK;
@@ -216,16 +305,71 @@ static plume_status hooks_energies(void *ctx, int dim, const double *x, double *
 
 /* the term's commit: the hooks' commit at the equilibrium x, unless may_cut and a hook is loaded
  * beyond the overshoot */
+/* Softening hooks between a load step and the solve at fixed load that follows: the largest excess
+ * of a hook's secant force over its law, in strengths, over the engaged hooks opened beyond their
+ * history (*beyond: how many). */
+static double soft_excess(const plume_hooks *h, int dim, const double *x, int *beyond)
+{
+    double worst = 0.0;
+    *beyond = 0;
+    for (int k = 0; k < h->nhooks; k++) {
+        if (!h->engaged[k])
+            continue;
+        double d[3];
+        pair_stretch(h, dim, x, h->first[k], d);
+        const double t = norm(d, dim);
+        const soft_law l = soft_of(h, k);
+        if (!(t > l.ds))
+            continue;
+        const double law = t < l.dc ? l.S * (l.dc - t) / (l.dc - l.d0) : 0.0;
+        worst = fmax(worst, (l.ks * t - law) / l.S);
+        (*beyond)++;
+    }
+    return worst;
+}
+
+static double term_energy(const plume_hooks *h, int dim, const double *x)
+{
+    double e = 0.0;
+    for (plume_index p = 0; p < h->npairs; p++)
+        e += pair_energy(h, dim, x, p);
+    return e;
+}
+
+/* The term's commit: the hooks' commit at the equilibrium x, unless may_cut and a hook is loaded
+ * beyond the overshoot. Softening hooks take two: a load step is solved with each hook the secant
+ * spring of its history (convex); where hooks opened beyond it, the first commit puts them on
+ * their law (refusing, when it may cut, a secant force above the law by more than the overshoot
+ * allows) and asks for a solve at the same load, whose Newton follows the falling branches (and
+ * any snap they cause) at fixed load; the second commit moves their histories there and puts them
+ * back on their secants, which leaves the equilibrium where it is. */
 static plume_status hooks_term_commit(void *ctx, int dim, const double *x, int may_cut, plume_commit_report *r)
 {
     plume_hooks *h = ctx;
+    if (h->soften > 1.0 && !h->envelope) {
+        int beyond = 0;
+        const double excess = soft_excess(h, dim, x, &beyond);
+        if (beyond) {
+            if (may_cut && 1.0 + excess > h->overshoot) {
+                r->overshoot = 1;
+                return PLUME_OK;
+            }
+            const double before = term_energy(h, dim, x);
+            h->envelope = 1;
+            r->changed = 1;
+            r->energy_drop = before - term_energy(h, dim, x);
+            return PLUME_OK;
+        }
+    }
     if (may_cut && plume_hooks_max_load(h, dim, x, NULL) > h->overshoot) {
         r->overshoot = 1;
         return PLUME_OK;
     }
     plume_hooks_events ev;
     plume_status st = plume_hooks_commit(h, dim, x, PLUME_HOOKS_ALL, &ev, NULL);
-    r->changed = ev.released + ev.slid + ev.reengaged + ev.seated + ev.softened > 0;
+    h->envelope = 0; /* each softened hook now on its new secant: the same force */
+    /* a softening hook's history and its release at zero force leave the equilibrium where it is */
+    r->changed = ev.released - ev.soft_released + ev.slid + ev.reengaged + ev.seated > 0;
     r->released = ev.released, r->reengaged = ev.reengaged, r->energy_drop = ev.energy_drop;
     return st;
 }
@@ -233,19 +377,20 @@ static plume_status hooks_term_commit(void *ctx, int dim, const double *x, int m
 static plume_status hooks_term_keep(void *ctx, int save)
 {
     plume_hooks *h = ctx;
+    h->envelope = 0;
     const size_t no = 3 * (size_t)h->npairs * sizeof(double), ns = (size_t)h->nhooks * sizeof(double);
     const size_t nf = (size_t)h->nhooks;
     if (save) {
         memcpy(h->kept.offset, h->offset, no);
         memcpy(h->kept.slid, h->slid, ns);
-        memcpy(h->kept.kept_k, h->kept_k, ns);
+        memcpy(h->kept.dmax, h->dmax, ns);
         memcpy(h->kept.engaged, h->engaged, nf);
         memcpy(h->kept.armed, h->armed, nf);
         h->kept.released = h->released, h->kept.reengaged = h->reengaged, h->kept.dropped = h->dropped;
     } else {
         memcpy(h->offset, h->kept.offset, no);
         memcpy(h->slid, h->kept.slid, ns);
-        memcpy(h->kept_k, h->kept.kept_k, ns);
+        memcpy(h->dmax, h->kept.dmax, ns);
         memcpy(h->engaged, h->kept.engaged, nf);
         memcpy(h->armed, h->kept.armed, nf);
         h->released = h->kept.released, h->reengaged = h->kept.reengaged, h->dropped = h->kept.dropped;
@@ -299,6 +444,7 @@ void plume_hooks_term(plume_hooks *h, int own, plume_term *t)
     t->state_get = hooks_term_state_get;
     t->state_set = hooks_term_state_set;
     t->destroy = own ? hooks_term_destroy : NULL;
+    t->partial_projection = h && h->soften > 1.0; /* set softening before the term */
     t->ctx = h;
 }
 
@@ -322,6 +468,9 @@ plume_status plume_hooks_set_softening(plume_hooks *h, double ratio)
 {
     if (!h || !(ratio >= 1.0) || !isfinite(ratio))
         return PLUME_EINVAL;
+    for (int k = 0; ratio > 1.0 && k < h->nhooks; k++)
+        if (h->first[k + 1] - h->first[k] != 1)
+            return PLUME_EINVAL;
     h->soften = ratio;
     return PLUME_OK;
 }
@@ -354,17 +503,16 @@ void plume_hooks_force(const plume_hooks *h, int dim, const double *x, int k, do
     for (plume_index p = h->first[k]; p < h->first[k + 1]; p++) {
         double d[3];
         pair_stretch(h, dim, x, p, d);
+        if (h->soften > 1.0) {
+            double W, g[3], H[9];
+            soft_pair(h, k, dim, d, 0, &W, g, H);
+            for (int c = 0; c < dim; c++)
+                f[c] += g[c];
+            continue;
+        }
         for (int c = 0; c < dim; c++)
             f[c] += kp * d[c];
     }
-}
-
-static double norm(const double *v, int dim)
-{
-    double s = 0.0;
-    for (int c = 0; c < dim; c++)
-        s += v[c] * v[c];
-    return sqrt(s);
 }
 
 double plume_hooks_max_load(const plume_hooks *h, int dim, const double *x, int *which)
@@ -394,42 +542,48 @@ static double hook_energy(const plume_hooks *h, int dim, const double *x, int k)
     return e;
 }
 
-/* An overloaded engaged hook k (|f| > strength): it slides while its slide allows; with softening
- * (plume_hooks_set_softening) it keeps the secant stiffness of the softening line at its opening
- * until that opening reaches the line's end; else it lets go. 1 when it changed. */
-static int overload(plume_hooks *h, int dim, const double *x, int k, const double *f, plume_hooks_events *ev)
+/* A softening hook k (one pair) at x: opened beyond its history, its history moves there (the
+ * energy above the new secant is dissipated); at the end of its falling branch it lets go. */
+static void soften(plume_hooks *h, int dim, const double *x, int k, plume_hooks_events *ev)
+{
+    double d[3];
+    pair_stretch(h, dim, x, h->first[k], d);
+    const double t = norm(d, dim);
+    const soft_law l = soft_of(h, k);
+    if (t <= l.ds)
+        return;
+    const double before = hook_energy(h, dim, x, k);
+    if (t >= l.dc) {
+        h->engaged[k] = 0;
+        h->armed[k] = 0;
+        ev->released++;
+        ev->soft_released++;
+    } else {
+        h->dmax[k] = t;
+        ev->softened++;
+    }
+    ev->energy_drop += before - hook_energy(h, dim, x, k);
+}
+
+/* An overloaded engaged hook k (|f| > strength): it slides while its slide allows, else lets go. */
+static void overload(plume_hooks *h, int dim, const double *x, int k, const double *f, plume_hooks_events *ev)
 {
     const double strength = h->scale[k] * h->law.strength;
-    const double F = norm(f, dim), k0 = strength / h->law.opening;
+    const double F = norm(f, dim), kh = strength / h->law.opening;
+    const double move = (F - strength) / kh; /* the return map: |F| back to the strength */
     const double before = hook_energy(h, dim, x, k);
-    if (h->soften > 1.0) {
-        const double open = F / (h->kept_k[k] * k0), end = h->soften * h->law.opening;
-        if (open < end) {
-            const double limit = strength * fmin(1.0, (end - open) / (end - h->law.opening));
-            if (F <= limit + PLUME_HOOKS_SOFTEN_TOL * strength)
-                return 0;
-            h->kept_k[k] = limit / (open * k0);
-            ev->softened++;
-            ev->energy_drop += before - hook_energy(h, dim, x, k);
-            return 1;
-        }
-    } else if (h->law.slide > 0.0 && h->kept_k[k] == 1.0) {
-        const double move = (F - strength) / k0; /* the return map: |F| back to the strength */
-        if (h->slid[k] + move <= h->law.slide) {
-            for (plume_index p = h->first[k]; p < h->first[k + 1]; p++)
-                for (int c = 0; c < dim; c++)
-                    h->offset[3 * p + c] += move * f[c] / F;
-            h->slid[k] += move;
-            ev->slid++;
-            ev->energy_drop += before - hook_energy(h, dim, x, k);
-            return 1;
-        }
+    if (h->law.slide > 0.0 && h->slid[k] + move <= h->law.slide) {
+        for (plume_index p = h->first[k]; p < h->first[k + 1]; p++)
+            for (int c = 0; c < dim; c++)
+                h->offset[3 * p + c] += move * f[c] / F;
+        h->slid[k] += move;
+        ev->slid++;
+    } else {
+        h->engaged[k] = 0;
+        h->armed[k] = 0;
+        ev->released++;
     }
-    h->engaged[k] = 0;
-    h->armed[k] = 0;
-    ev->released++;
     ev->energy_drop += before - hook_energy(h, dim, x, k);
-    return 1;
 }
 
 /* The mean distance of hook k's pairs at x, and the mean length of their offsets */
@@ -492,7 +646,7 @@ static void catch_again(plume_hooks *h, int dim, const double *x, int k, plume_h
     h->engaged[k] = 1;
     h->armed[k] = 0;
     h->slid[k] = 0.0;
-    h->kept_k[k] = 1.0;
+    h->dmax[k] = 0.0;
     ev->reengaged++;
 }
 
@@ -516,8 +670,12 @@ plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_
             continue;
         double f[3];
         plume_hooks_force(h, dim, x, k, f);
-        const double F = norm(f, dim), strength = h->scale[k] * h->law.strength;
-        if ((F > strength || (h->kept_k[k] < 1.0 && F > 0.0)) && (mode == PLUME_HOOKS_ALL || k == most))
+        if (h->soften > 1.0) {
+            if (mode == PLUME_HOOKS_ALL || k == most)
+                soften(h, dim, x, k, &e);
+            continue;
+        }
+        if (norm(f, dim) > h->scale[k] * h->law.strength && (mode == PLUME_HOOKS_ALL || k == most))
             overload(h, dim, x, k, f, &e);
     }
     h->released += e.released, h->reengaged += e.reengaged, h->dropped += e.energy_drop;
@@ -547,7 +705,7 @@ void plume_hooks_state_get(const plume_hooks *h, double *s)
     for (int k = 0; k < n; k++)
         s[k] = h->engaged[k], s[n + k] = h->armed[k], s[2 * n + k] = h->slid[k];
     memcpy(s + 3 * n, h->offset, 3 * (size_t)h->npairs * sizeof *s);
-    memcpy(s + 3 * n + 3 * h->npairs, h->kept_k, (size_t)n * sizeof *s);
+    memcpy(s + 3 * n + 3 * h->npairs, h->dmax, (size_t)n * sizeof *s);
     double *t = s + 4 * n + 3 * h->npairs;
     t[0] = (double)h->released, t[1] = (double)h->reengaged, t[2] = h->dropped;
 }
@@ -567,16 +725,16 @@ plume_status plume_hooks_state_set(plume_hooks *h, const double *s, plume_err *e
                                  "or 1, the slide >= 0)", k, s[k], s[n + k], s[2 * n + k]);
     const double *kk = s + 3 * n + 3 * h->npairs, *t = kk + n;
     for (int k = 0; k < n; k++)
-        if (!(kk[k] > 0.0 && kk[k] <= 1.0))
-            return plume_err_set(err, PLUME_EINVAL, "hooks state: hook %d keeps %g of its stiffness (0 < share <= 1)",
-                                 k, kk[k]);
+        if (kk[k] < 0.0)
+            return plume_err_set(err, PLUME_EINVAL, "hooks state: hook %d has a softening history of %g m (an opening, "
+                                 ">= 0)", k, kk[k]);
     if (t[0] < 0.0 || t[1] < 0.0 || t[2] < 0.0)
         return plume_err_set(err, PLUME_EINVAL, "hooks state: negative totals (%g released, %g caught, %g J)", t[0], t[1],
                              t[2]);
     for (int k = 0; k < n; k++)
         h->engaged[k] = (unsigned char)s[k], h->armed[k] = (unsigned char)s[n + k], h->slid[k] = s[2 * n + k];
     memcpy(h->offset, s + 3 * n, 3 * (size_t)h->npairs * sizeof *s);
-    memcpy(h->kept_k, kk, (size_t)n * sizeof *s);
+    memcpy(h->dmax, kk, (size_t)n * sizeof *s);
     h->released = (long)t[0], h->reengaged = (long)t[1], h->dropped = t[2];
     return hooks_term_keep(h, 1);
 }

@@ -82,17 +82,17 @@ plume_status plume_hooks_set_scale(plume_hooks *h, int k, double scale);
  * PLUME_EINVAL for a negative or non-finite distance. */
 plume_status plume_hooks_set_seating(plume_hooks *h, double distance);
 
-/** A commit leaves a softened hook alone while its force exceeds the softening line by no more
- * than this share of its strength. */
-#define PLUME_HOOKS_SOFTEN_TOL 1e-2
-
-/** Softening, off at creation (ratio 1: a hook lets go at its strength). With ratio > 1 a hook
- * loaded to its strength at its opening d0 does not let go: its force follows a line down from the
- * strength at d0 to zero at ratio x d0, and it lets go there. Between solves, at a commit, a hook
- * above that line keeps the secant stiffness that puts it on the line (unloading then goes back
- * to zero force at zero opening); inside a solve the term stays a positive semidefinite quadratic.
- * The energy under the law is ratio / 2 x strength x d0 (a bilinear cohesive law). A hook caught
- * again starts whole. Replaces the slide. PLUME_EINVAL for a ratio below 1 or not finite. */
+/** Softening, off at creation (ratio 1: a hook lets go at its strength, between solves). With ratio
+ * > 1 (every hook one pair; PLUME_EINVAL otherwise, and for a ratio below 1 or not finite) a hook
+ * follows a bilinear cohesive law inside the solves: its force rises to the strength at its
+ * opening d0, then falls linearly to zero at ratio x d0. Its history, the largest opening a commit
+ * saw, makes it a damage law: below that opening it is the secant spring back to zero. A commit
+ * moves the history (the energy above the new secant is dissipated) and lets the hook go at
+ * ratio x d0, where its force is zero already; neither moves the equilibrium. The energy under the
+ * law is ratio / 2 x strength x d0. The falling branch is not convex: the term's Hessian is exact,
+ * and projected by dropping that branch's negative curvature along the pair
+ * (plume_term.partial_projection, set by plume_hooks_term when softening is on: set it first). A
+ * hook caught again starts whole. Replaces the slide. */
 plume_status plume_hooks_set_softening(plume_hooks *h, double ratio);
 
 /** Hooks, and pairs. */
@@ -111,7 +111,8 @@ typedef struct {
     int reengaged;       /**< hooks caught again */
     int slid;            /**< hooks that slid */
     int seated;          /**< caught hooks pressed closer that seated (plume_hooks_set_seating) */
-    int softened;        /**< hooks whose stiffness fell along the softening line (plume_hooks_set_softening) */
+    int softened;        /**< softening hooks opened beyond their history (plume_hooks_set_softening) */
+    int soft_released;   /**< of `released`, softening hooks let go at the end of their law, at zero force */
     double energy_drop;  /**< J: the hooks' energy at x before the commit minus after (>= 0) */
 } plume_hooks_events;
 

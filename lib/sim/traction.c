@@ -287,7 +287,8 @@ static plume_status measure(traction_run *r, double *F, double *E)
 /* At an equilibrium (sub converged): the stateful terms commit (plume_term.commit), and while
  * they change their state, a solve again at the same grips (its counts added to *sub). Only the
  * first commit may ask for a cut (*cut: undo the increment): the cascade that follows a release
- * at fixed grips is the structure's, not the increment's. *changed: a commit changed something.
+ * at fixed grips is the structure's, not the increment's. *changed: a commit changed something (a
+ * state, or only the energy: a softening link's history, which leaves the equilibrium where it is).
  * Leaves sub->converged 0 when a solve fails or the state keeps changing. */
 static plume_status settle(traction_run *r, int k, int may_cut, plume_solve_report *sub, int *cut, int *changed,
                            plume_err *err)
@@ -309,6 +310,8 @@ static plume_status settle(traction_run *r, int k, int may_cut, plume_solve_repo
         r->inc_energy.events += c.released > 0;
         if (cascade > r->inc_energy.cascade)
             r->inc_energy.cascade = cascade;
+        if (c.energy_drop != 0.0) /* a softening link's history: the equilibrium stays, its energy does not */
+            *changed = 1;
         if (!c.changed)
             return PLUME_OK;
         *changed = 1;
