@@ -193,7 +193,10 @@ void test_plate_bending_both_scales(void)
     const plume_bend_load loads[4] = {PLUME_BEND_CYLINDER, PLUME_BEND_CYLINDER, PLUME_BEND_CYLINDER, PLUME_BEND_TWIST};
     const double angles[4] = {0.0, 45.0, 90.0, 0.0};
     double diff[4][3];
-    for (int is = 0; is < 3; is++) {
+    /* make asan's sanitised build (PLUME_TEST_SMALL) stops at d_B = lx / 8: the same code, the
+     * finest cell and specimen (two thirds of the time) left out */
+    const int ns = getenv("PLUME_TEST_SMALL") ? 2 : 3;
+    for (int is = 0; is < ns; is++) {
         l.d_B = lx / (4 << is);
         plume_err err = {{0}};
         plume_cell *cell = NULL;
@@ -236,10 +239,11 @@ void test_plate_bending_both_scales(void)
         }
     }
     for (int c = 0; c < 3; c++)
-        CHECK(diff[c][2] < diff[c][1] && diff[c][1] < diff[c][0]);
-    for (int c = 0; c < 3; c++)
+        for (int is = 1; is < ns; is++)
+            CHECK(diff[c][is] < diff[c][is - 1]);
+    for (int c = 0; c < 3 && ns == 3; c++)
         CHECK(diff[c][2] < 0.02);
-    for (int is = 0; is < 3; is++)
+    for (int is = 0; is < ns; is++)
         CHECK(diff[3][is] < 0.02);
 }
 

@@ -378,10 +378,12 @@ void test_statics_benchmarks(void)
                                         "../data/benchmarks/elastica_end_load.json"};
     static const char *const patterns[] = {"grid", "delaunay"};
     const double edges[3] = {0.25, 0.125, 0.0625};
+    /* make asan's sanitised build (PLUME_TEST_SMALL) leaves the 0.0625 meshes out: the same code */
+    const int n = getenv("PLUME_TEST_SMALL") ? 2 : 3;
     for (int f = 0; f < 2; f++)
         for (int q = 0; q < 2; q++) {
-            double err[3];
-            benchmark_series(files[f], patterns[q], 3, edges, err, NULL);
+            double err[3] = {0.0, 0.0, 0.0};
+            benchmark_series(files[f], patterns[q], n, edges, err, NULL);
             /* Within 1 % at every mesh and falling monotonically. The clamp holds the
              * slope on the clamp line itself (mirrored stencils), and the shared edge slopes pass
              * the patch test, so Delaunay meshes converge too (the own fit alone converged to a
@@ -389,11 +391,13 @@ void test_statics_benchmarks(void)
              * converge faster than first order (error ratio 0.28-0.38 per halving). The
              * cantilever's reference (Sze et al., ABAQUS S4R) is 0.05 % from the exact elastica,
              * the floor its Delaunay errors approach (0.123, 0.081, 0.067 %). */
-            for (int k = 0; k < 3; k++)
+            for (int k = 0; k < n; k++)
                 CHECK(err[k] < 0.01);
-            CHECK(err[1] < err[0] && err[2] < err[1]);
-            if (q == 0)
-                CHECK(err[1] <= 0.45 * err[0] && err[2] <= 0.45 * err[1]);
+            for (int k = 1; k < n; k++) {
+                CHECK(err[k] < err[k - 1]);
+                if (q == 0)
+                    CHECK(err[k] <= 0.45 * err[k - 1]);
+            }
         }
 }
 
@@ -409,7 +413,9 @@ void test_statics_rollup(void)
 {
     static const char *const patterns[] = {"grid", "delaunay"};
     const double edges[2] = {0.25, 0.125};
-    for (int q = 0; q < 2; q++) {
+    /* make asan's sanitised build (PLUME_TEST_SMALL) runs the grids only: the same code */
+    const int nq = getenv("PLUME_TEST_SMALL") ? 1 : 2;
+    for (int q = 0; q < nq; q++) {
         double err[2];
         benchmark_series("../data/benchmarks/rollup.json", patterns[q], 2, edges, err, NULL);
         CHECK(err[1] < 0.01);
@@ -428,7 +434,9 @@ void test_statics_buckling(void)
     static const char *const patterns[] = {"grid", "delaunay"};
     const double edges[2] = {0.25, 0.125};
     double tn[3], ti[3];
-    for (int q = 0; q < 2; q++) {
+    /* make asan's sanitised build (PLUME_TEST_SMALL) runs the grids only: the same code */
+    const int nq = getenv("PLUME_TEST_SMALL") ? 1 : 2;
+    for (int q = 0; q < nq; q++) {
         double err[2], tips[2][3];
         benchmark_series(file, patterns[q], 2, edges, err, tips);
         CHECK(err[1] < 0.01 && err[1] < err[0]);
