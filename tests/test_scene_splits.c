@@ -523,18 +523,20 @@ void test_scene_splits_chains_bad_input(void)
 
 /* A moduli file with a separation law (the five /moduli attributes apps/homogenize writes for a
  * layout with hooks) at dir/law.h5 */
-static void write_law_file(const char *dir)
+/* a moduli file with a separation law (1 N/m, 0.01 J/m^2, 2 um, 5 um, 5e5 N/m^2) and, unless
+ * thickness is 0, its thickness (the separation_peak_opening of a file before 3.5 missing) */
+static void write_law_file_h(const char *dir, double thickness)
 {
     char path[256];
     snprintf(path, sizeof path, "%s/law.h5", dir);
     plume_ortho m = {1.2e9, 3.2e6, 0.0, 1.1e6};
     plume_err err = {{0}};
     CHECK(plume_moduli_write(path, &m, "test", &err) == PLUME_OK);
-    static const char *const names[5] = {"separation_strength", "separation_energy", "separation_opening",
-                                         "separation_capture", "separation_stiffness"};
-    const double v[5] = {1.0, 0.01, 2e-6, 5e-6, 5e5};
+    static const char *const names[6] = {"separation_strength", "separation_energy", "separation_opening",
+                                         "separation_capture", "separation_stiffness", "thickness"};
+    const double v[6] = {1.0, 0.01, 2e-6, 5e-6, 5e5, thickness};
     hid_t f = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT), g = f >= 0 ? H5Gopen2(f, "/moduli", H5P_DEFAULT) : -1;
-    for (int k = 0; k < 5 && g >= 0; k++) {
+    for (int k = 0; k < (thickness > 0.0 ? 6 : 5) && g >= 0; k++) {
         hid_t sp = H5Screate(H5S_SCALAR), a = H5Acreate2(g, names[k], H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT);
         CHECK(a >= 0 && H5Awrite(a, H5T_NATIVE_DOUBLE, &v[k]) >= 0);
         H5Aclose(a);
@@ -547,9 +549,15 @@ static void write_law_file(const char *dir)
         H5Fclose(f);
 }
 
+static void write_law_file(const char *dir)
+{
+    write_law_file_h(dir, 1e-4);
+}
+
 /* "law": {"from_moduli", "stiffness"}: the file's strength and capture with the stiffness given (stiff
- * lines for a vane whose membrane carries the hooks' compliance); the strength or capture beside
- * "from_moduli" refused */
+ * lines for a vane whose membrane carries the hooks' compliance), softening so that they hold the
+ * cell's energy; a file without its thickness named; the strength or capture beside "from_moduli"
+ * refused */
 void test_scene_splits_law_stiffness(void)
 {
     char dir[64], scene[128];
@@ -569,10 +577,21 @@ void test_scene_splits_law_stiffness(void)
     write_scene(dir, "s.json", "{\"materials\": [\"vane\"], \"offsets\": [0.002], \"law\": {\"from_moduli\": \"law.h5\", "
                 "\"stiffness\": 4e8}}", NULL);
     CHECK(plume_scene_load(scene, &s, &err) == PLUME_OK);
-    if (s)
+    /* stiff lines keep the cell's energy, 0.01 J/m^2 x 0.1 mm = 1 uJ/m, as a plateau past their
+     * peak that their links soften over (plume_split_stiff_law) */
+    if (s) {
+        const double d0 = 1.0 / 4e8, G = 0.01 * 1e-4;
         CHECK(s->split_law.strength == 1.0 && s->split_law.stiffness == 4e8 && s->split_law.capture == 5e-6 &&
-              s->split_law.opening == 1.0 / 4e8);
+              s->split_law.peak_opening == d0);
+        CHECK_REL(s->split_law.opening, d0 + G / 1.0 - 0.5 * d0, 1e-12, 0.0);
+        CHECK_REL(0.5 * plume_split_softening(&s->split_law) * 1.0 * d0, G, 1e-9, 0.0);
+    }
     plume_scene_destroy(&s);
+    /* a file without its thickness: named */
+    write_law_file_h(dir, 0.0);
+    CHECK(plume_scene_load(scene, &s, &err) != PLUME_OK && strstr(err.msg, "thickness") &&
+          strstr(err.msg, "splits.law.from_moduli"));
+    write_law_file(dir);
     write_scene(dir, "s.json", "{\"materials\": [\"vane\"], \"offsets\": [0.002], \"law\": {\"from_moduli\": \"law.h5\", "
                 "\"stiffness\": -1}}", NULL);
     CHECK(plume_scene_load(scene, &s, &err) != PLUME_OK && strstr(err.msg, "splits.law.stiffness"));

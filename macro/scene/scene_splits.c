@@ -86,11 +86,13 @@ static plume_status split_law(const plume_json_ctx *c, json_t *js, plume_scene *
         int given = 0;
         if ((st = plume_json_positive(c, jl, "splits.law", "stiffness", 0, 0, &k, &given)) != PLUME_OK)
             return st;
-        if (given) { /* the cell's slide kept: the opening past the peak */
-            const double slide = s->split_law.opening - s->split_law.peak_opening;
-            s->split_law.stiffness = k;
-            s->split_law.peak_opening = s->split_law.strength / k;
-            s->split_law.opening = s->split_law.peak_opening + slide;
+        if (given) { /* stiff lines: they keep the cell's energy under a softening branch */
+            double h = 0.0;
+            if ((st = plume_moduli_read_param(s->split_law_from, "thickness", &h, &e2)) != PLUME_OK || !(h > 0.0))
+                return plume_json_bad(c, st != PLUME_OK ? st : PLUME_EINVAL, "splits.law.from_moduli",
+                                      "(%s): %s", json_string_value(jf),
+                                      st != PLUME_OK ? e2.msg : "its /moduli thickness must be > 0");
+            plume_split_stiff_law(&s->split_law, k, h);
         }
         return PLUME_OK;
     }

@@ -177,6 +177,17 @@ double plume_split_softening(const plume_separation_law *law)
     return 1.0 + 2.0 * slide / d0;
 }
 
+void plume_split_stiff_law(plume_separation_law *law, double stiffness, double h)
+{
+    const double energy = law->energy * h; /* J/m: the cell's, per length of line */
+    const double slide = fmax(law->opening - law->peak_opening, 0.0);
+    law->stiffness = stiffness;
+    law->peak_opening = law->strength / stiffness;
+    /* the plateau that holds that energy above the stiff link's own triangle (at least the cell's
+     * slide): plume_split_softening turns it into the bilinear law of the same energy */
+    law->opening = law->peak_opening + fmax(slide, energy / law->strength - 0.5 * law->peak_opening);
+}
+
 plume_status plume_split_lines_add(plume_problem *p, const plume_split_lines *s, const plume_separation_law *law,
                                    plume_hooks **hooks, plume_err *err)
 {

@@ -84,6 +84,14 @@ plume_status plume_split_lines_open_chains(const plume_mesh *m, int nchains, con
  * (docs/unzipping.md, "Softening"). */
 double plume_split_softening(const plume_separation_law *law);
 
+/** A law of stiff lines (the hooks' compliance carried by the membrane, the hooked cell's tensor):
+ * `law` (the cell's, with its energy per crack area) given the stiffness `stiffness` (N/m^2) and
+ * an opening past its peak such that its links, softening (plume_split_softening), hold the cell's
+ * energy per length of line, energy x h (h the cell's thickness, m), or at least the cell's slide.
+ * The energy is the cell's whole work of separation, the hooks' compliance included, which the
+ * hooked membrane also gives up where a line opens (docs/monoclinic-vane.md). */
+void plume_split_stiff_law(plume_separation_law *law, double stiffness, double h);
+
 /** Adds the links of the opened lines to `p` (over out->mesh's vertices, not finalised) as the
  * hooks' term named "splits" (owned by the problem; *hooks, may be NULL, is a view valid while it lives), with
  * the law `law`: a pair of length L holds strength * L and stiffness * L, and softens past its
