@@ -125,12 +125,12 @@ plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_
 void plume_hooks_totals(const plume_hooks *h, long *released, long *reengaged, double *dropped);
 
 /** The hooks' state as doubles, everything a commit changes (engaged, armed, slide, the pairs' offsets,
- * the totals): plume_hooks_state_size values. A restart that sets it back repeats the run bit
+ * the softening history, the totals): plume_hooks_state_size values. A restart that sets it back repeats the run bit
  * for bit. */
 plume_index plume_hooks_state_size(const plume_hooks *h);
 void plume_hooks_state_get(const plume_hooks *h, double *s);
 /** Sets the state from s (as plume_hooks_state_get wrote it) and keeps it (plume_term.keep).
- * PLUME_EINVAL (named) for a non-finite value, a flag not 0 or 1, a negative slide or total;
+ * PLUME_EINVAL (named) for a non-finite value, a flag not 0 or 1, a negative slide, history or total;
  * nothing changes then. */
 plume_status plume_hooks_state_set(plume_hooks *h, const double *s, plume_err *err);
 
