@@ -44,7 +44,7 @@ HEADERS := $(PUBLIC_HEADERS) $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/*.h)) 
 # docs/benchmarks.md, which scripts/bench-tables.py rewrites from the run's output (captured in
 # $(BUILD)/bench/NAME.txt) and which make test checks against what `bench_NAME --header` prints.
 # `make bench BENCHES=statics` runs one; `make bench-docs` rewrites the blocks from the captures.
-BENCHES ?= traction micro plate feather bending statics wing bird
+BENCHES ?= traction micro plate feather bending statics wing bird unzip
 BENCH_BINS := $(patsubst bench/%.c,$(BUILD)/%,$(wildcard bench/bench_*.c))
 PRIVATE_HEADERS := $(foreach r,$(LIB_ROOMS),$(wildcard lib/$(r)/internal/*.h)) $(wildcard macro/*/internal/*.h) $(wildcard drivers/internal/*.h)
 
