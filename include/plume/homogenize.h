@@ -271,14 +271,17 @@ PLUME_API plume_status plume_separation_tensor(const plume_layout *l, double C[9
 
 /** plume_homog_write with the separation law as well, as the /moduli attributes
  * separation_strength (N/m), separation_energy (J/m^2), separation_opening (m),
- * separation_capture (m) and separation_stiffness (N/m^2) (s NULL: plume_homog_write). */
+ * separation_capture (m), separation_stiffness (N/m^2) and separation_peak_opening (m) (s NULL:
+ * plume_homog_write). */
 PLUME_API plume_status plume_homog_write_separation(const char *path, const plume_layout *l, const plume_homog_result *r,
                                                     const plume_separation_law *s, plume_err *err);
 
-/** Reads the five separation attributes of /moduli (plume_homog_write_separation) into s (the
- * other fields zeroed). PLUME_EIO (unreadable file), PLUME_EFORMAT (an attribute missing, naming
- * the file and the attribute: the moduli were homogenised without hooks), PLUME_EINVAL (a value
- * out of range: strength, energy, opening, stiffness not > 0, capture < 0). */
+/** Reads the separation attributes of /moduli (plume_homog_write_separation) into s (the cell's
+ * length, hooks and counts zeroed): strength, energy, opening, capture and stiffness, and the
+ * peak opening, which files written before libplume 3.5 lack (then the opening: a brittle law).
+ * PLUME_EIO (unreadable file), PLUME_EFORMAT (an attribute missing, naming the file and the
+ * attribute: the moduli were homogenised without hooks), PLUME_EINVAL (a value out of range:
+ * strength, energy, opening, stiffness not > 0, capture < 0, the peak opening not in (0, opening]). */
 PLUME_API plume_status plume_separation_read(const char *path, plume_separation_law *s, plume_err *err);
 
 /** The bending part of plume_homogenize alone: the periodic plate cell of the layout (Morley

@@ -233,7 +233,10 @@ PLUME_API long plume_splits_pairs(const plume_splits *s);
 /** Adds the links of the lines to p (created over plume_splits_mesh(s)'s vertices, not finalised)
  * as the stateful term "splits": each pair a zero-length spring of the law's stiffness times its
  * share of the line's length that lets go at the strength times that length and catches again
- * within the capture distance. PLUME_EINVAL for a law out of range (naming the field). */
+ * within the capture distance. A law that opens past its peak (opening > peak_opening: the cell's
+ * hooks slide) softens instead: past the strength the pair's force falls linearly to zero, the
+ * energy under it the law's (docs/unzipping.md, "Softening the links of a sliding law").
+ * PLUME_EINVAL for a law out of range (naming the field). */
 PLUME_API plume_status plume_splits_add(plume_problem *p, const plume_splits *s, const plume_separation_law *law,
                                         plume_err *err);
 /** Frees s; sets *s = NULL; NULL-safe. */
