@@ -14,6 +14,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "../tests/hooked_vane.h"
 #include "../tests/plume_tree.h"
 
 #define LX 4e-3
@@ -29,19 +30,6 @@ static double wall(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* data/layout_hooks.json at barb spacing d_B (as tests/test_monoclinic_vane.c) */
-static void hooked_layout(double d_B, plume_layout *l)
-{
-    plume_layout_default(l);
-    l->kind = PLUME_LAYOUT_BARBULES;
-    l->phi = 0.3, l->ratio = 1.0, l->E_b = 2.5e9, l->nu_b = 0.3, l->nu_B = 0.3;
-    l->d_B = d_B;
-    l->barbule_width = 0.1 * d_B, l->barbule_spacing = 0.8 * d_B, l->barbule_angle = 60.0;
-    l->h = 1e-4, l->h_barb = 1.59e-4, l->h_barbule = 1.39e-5;
-    l->hooks.strength = 9.3e-4 * d_B / 1e-3;
-    l->hooks.opening = 2e-6, l->hooks.slide = 0.0, l->hooks.capture = 5e-6;
 }
 
 static void traction_opts(plume_traction_opts *o, plume_solver_opts *so, int max_iter)
@@ -85,8 +73,8 @@ static run_figures resolved(double d_B)
     return f;
 }
 
-/* vane C; cohesive: the lines keep the cell's energy (and a cap of 1000 Newton iterations a solve,
- * which the solves at fixed grips where whole lines snap need at 1 mm) */
+/* vane C (tests/hooked_vane.h); cohesive: the lines keep the cell's energy (and a cap of 1000
+ * Newton iterations a solve, which the solves at fixed grips where whole lines snap need at 1 mm) */
 static run_figures vane_c(double d_B, int cohesive)
 {
     run_figures f = {0, 0, NAN, NAN, NAN, NAN};
@@ -96,48 +84,14 @@ static run_figures vane_c(double d_B, int cohesive)
     plume_solver_opts so;
     traction_opts(&o, &so, cohesive ? 1000 : 100);
     plume_err err = {{0}};
-    const double t0 = wall();
-    plume_homog_opts ho;
-    plume_homog_opts_default(&ho);
-    ho.strain_max = 0.0;
-    plume_homog_result hr;
-    plume_separation_law law;
-    double C[9];
-    if (plume_homogenize(&l, &ho, &hr, &err) != PLUME_OK || plume_separation_law_of(&l, &law, &err) != PLUME_OK ||
-        plume_separation_tensor(&l, C, &err) != PLUME_OK) {
-        fprintf(stderr, "bench_unzip: the cell, d_B %g mm: %s\n", 1e3 * d_B, err.msg);
-        return f;
-    }
-    const double stiff = 1e3 * C[4] * l.h / d_B;
-    if (cohesive)
-        plume_split_stiff_law(&law, stiff, l.h);
-    else
-        law.stiffness = stiff, law.peak_opening = law.opening = law.strength / stiff;
-    plume_vane v;
-    plume_vane_default(&v);
-    v.moduli = hr.moduli, v.h = l.h;
-    plume_homog_result_free(&hr);
-    const int nlines = (int)lround((LX + LY) / sqrt(2.0) / d_B);
-    plume_mesh *mesh = NULL;
-    plume_problem *p = NULL;
-    plume_splits *sp = NULL;
-    plume_index *barbs = NULL, nb = 0;
     plume_traction_result r;
-    if (plume_patch_mesh(LX, LY, 45.0, fmin(1e-4, 0.25 * d_B), PLUME_PATCH_ALIGNED, 2, &mesh, &err) == PLUME_OK &&
-        plume_splits_open(mesh, 45.0, nlines, &sp, &err) == PLUME_OK &&
-        plume_problem_create(plume_splits_mesh(sp)->nv, 2, LY, &p, &err) == PLUME_OK &&
-        plume_vane_add_tensor(p, plume_splits_mesh(sp), &v, C, &barbs, &nb, &err) == PLUME_OK &&
-        plume_splits_add(p, sp, &law, &err) == PLUME_OK &&
-        plume_traction_run(plume_splits_mesh(sp), p, barbs, nb, &o, &r, &err) == PLUME_OK) {
+    const double t0 = wall();
+    if (hooked_vane_c(&l, LX, LY, cohesive, &o, &r, &err) == PLUME_OK) {
         take(&r, t0, &f);
         plume_traction_result_free(&r);
     } else {
         fprintf(stderr, "bench_unzip: vane C, d_B %g mm: %s\n", 1e3 * d_B, err.msg);
     }
-    free(barbs);
-    plume_problem_destroy(&p);
-    plume_splits_destroy(&sp);
-    plume_mesh_destroy(&mesh);
     return f;
 }
 

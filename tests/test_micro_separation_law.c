@@ -129,6 +129,18 @@ void test_micro_separation_law_file(void)
         H5Fclose(f);
         CHECK(plume_separation_read(path, &back, &err) == PLUME_OK);
         CHECK(back.peak_opening == back.opening && back.opening == s.opening);
+        /* a peak opening beyond the opening: refused, named */
+        f = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+        hid_t g = f >= 0 ? H5Gopen2(f, "/moduli", H5P_DEFAULT) : -1, sp = H5Screate(H5S_SCALAR);
+        hid_t a = g >= 0 ? H5Acreate2(g, "separation_peak_opening", H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT) : -1;
+        const double beyond = 2.0 * s.opening;
+        CHECK(a >= 0 && H5Awrite(a, H5T_NATIVE_DOUBLE, &beyond) >= 0);
+        H5Aclose(a);
+        H5Sclose(sp);
+        H5Gclose(g);
+        H5Fclose(f);
+        CHECK(plume_separation_read(path, &back, &err) == PLUME_EINVAL && strstr(err.msg, "separation_peak_opening") &&
+              strstr(err.msg, path));
     }
     /* moduli without hooks: the law's absence is named */
     CHECK(plume_homog_write(path, &l, &r, &err) == PLUME_OK);

@@ -14,27 +14,7 @@
 #include "../micro/homogenize.h"
 #include "../micro/layout.h"
 #include "../micro/micro_model.h"
-
-/* data/layout_barbules_table3a.json (layout_hooks.json without its hooks) at barb spacing d_B,
- * the barbules scaled with it */
-static void table3a(double d_B, plume_layout *l)
-{
-    plume_layout_default(l);
-    l->kind = PLUME_LAYOUT_BARBULES;
-    l->phi = 0.3, l->ratio = 1.0, l->E_b = 2.5e9, l->nu_b = 0.3, l->nu_B = 0.3;
-    l->d_B = d_B;
-    l->barbule_width = 0.1 * d_B, l->barbule_spacing = 0.8 * d_B, l->barbule_angle = 60.0;
-    l->h = 1e-4, l->h_barb = 1.59e-4, l->h_barbule = 1.39e-5;
-}
-
-/* data/layout_hooks.json at barb spacing d_B: the hook's strength scaled with the barbule spacing,
- * so that the line's strength per length stays one 0.93 mN hook per 0.8 mm */
-static void hooked(double d_B, plume_layout *l)
-{
-    table3a(d_B, l);
-    l->hooks.strength = 9.3e-4 * d_B / 1e-3;
-    l->hooks.opening = 2e-6, l->hooks.slide = 0.0, l->hooks.capture = 5e-6;
-}
+#include "hooked_vane.h"
 
 #define LX 4e-3
 #define LY 5.2e-3
@@ -103,7 +83,7 @@ void test_monoclinic_vane_matches_resolved(void)
     double rel[3], tensor = NAN, ortho = NAN;
     for (int k = 0; k < n; k++) {
         plume_layout l;
-        table3a(dB[k], &l);
+        table3a_layout(dB[k], &l);
         plume_homog_opts ho;
         plume_homog_opts_default(&ho);
         ho.strain_max = 0.0;
@@ -145,7 +125,7 @@ void test_monoclinic_vane_matches_resolved(void)
 static void hooked_peaks(double d_B, double *micro_peak, double *macro_peak, double *micro_slope_, double *macro_slope_)
 {
     plume_layout l;
-    hooked(d_B, &l);
+    hooked_layout(d_B, &l);
     plume_err err = {{0}};
     plume_traction_opts o;
     plume_traction_opts_default(&o);
@@ -163,38 +143,13 @@ static void hooked_peaks(double d_B, double *micro_peak, double *macro_peak, dou
     }
     plume_problem_destroy(&p);
     plume_mesh_destroy(&mesh);
-    plume_separation_law law;
-    double C[9];
-    plume_homog_opts ho;
-    plume_homog_opts_default(&ho);
-    ho.strain_max = 0.0;
-    plume_homog_result hr;
-    CHECK(plume_homogenize(&l, &ho, &hr, &err) == PLUME_OK);
-    CHECK(plume_separation_law_of(&l, &law, &err) == PLUME_OK);
-    CHECK(plume_separation_tensor(&l, C, &err) == PLUME_OK);
-    law.stiffness = 1e3 * C[4] * l.h / d_B;
-    plume_vane v;
-    plume_vane_default(&v);
-    v.moduli = hr.moduli, v.h = l.h;
-    plume_homog_result_free(&hr);
-    const int nlines = (int)lround((LX + LY) / sqrt(2.0) / d_B);
-    plume_splits *sp = NULL;
-    plume_index *barbs = NULL, nb = 0;
-    if (plume_patch_mesh(LX, LY, 45.0, fmin(1e-4, 0.25 * d_B), PLUME_PATCH_ALIGNED, 2, &mesh, &err) == PLUME_OK &&
-        plume_splits_open(mesh, 45.0, nlines, &sp, &err) == PLUME_OK &&
-        plume_problem_create(plume_splits_mesh(sp)->nv, 2, LY, &p, &err) == PLUME_OK &&
-        plume_vane_add_tensor(p, plume_splits_mesh(sp), &v, C, &barbs, &nb, &err) == PLUME_OK &&
-        plume_splits_add(p, sp, &law, &err) == PLUME_OK &&
-        plume_traction_run(plume_splits_mesh(sp), p, barbs, nb, &o, &r, &err) == PLUME_OK) {
+    if (hooked_vane_c(&l, LX, LY, 0, &o, &r, &err) == PLUME_OK) {
         *macro_peak = r.peak_stress, *macro_slope_ = r.initial_slope;
         plume_traction_result_free(&r);
     } else {
         fprintf(stderr, "    macro: %s\n", err.msg);
     }
-    free(barbs);
-    plume_problem_destroy(&p);
-    plume_splits_destroy(&sp);
-    plume_mesh_destroy(&mesh);
+    const int nlines = (int)lround((LX + LY) / sqrt(2.0) / d_B);
     printf("    d_B %.3g mm, %d lines: peak resolved %.4g kPa, macro %.4g kPa (%+.3g); slope resolved %.4g MPa, macro "
            "%.4g MPa\n", 1e3 * d_B, nlines, 1e-3 * *micro_peak, 1e-3 * *macro_peak, *macro_peak / *micro_peak - 1.0,
            1e-6 * *micro_slope_, 1e-6 * *macro_slope_);

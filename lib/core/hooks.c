@@ -147,7 +147,7 @@ plume_status plume_hooks_create(plume_index nv, int nhooks, const plume_index *f
     return PLUME_OK;
 }
 
-/* the stiffness of one pair of hook k (brittle law; a softening hook's is its law's k0) */
+/* the stiffness of one pair of hook k (the brittle law; a softening hook's is soft_of's) */
 static double pair_stiffness(const plume_hooks *h, int k)
 {
     return h->scale[k] * h->law.strength / h->law.opening / (double)(h->first[k + 1] - h->first[k]);
@@ -170,18 +170,18 @@ static double norm(const double *v, int dim)
 }
 
 /* The softening law of hook k (one pair) as a function of its opening t = |d|, with its history
- * dmax (plume_hooks_set_softening): the envelope f rises as k0 t to the strength at d0, falls
+ * dmax (plume_hooks_set_softening): the envelope f rises linearly to the strength at d0, falls
  * linearly to zero at dc = soften d0; below ds = max(dmax, d0) the hook is the secant spring
  * ks = f(ds) / ds. *W energy, *dW = W', *d2W = W'' at t. */
 typedef struct {
-    double S, d0, dc, k0, ds, ks;
+    double S, d0, dc, ds, ks;
     int frozen; /* the secant spring at every opening (hooks' envelope off) */
 } soft_law;
 
 static soft_law soft_of(const plume_hooks *h, int k)
 {
     soft_law l;
-    l.S = h->scale[k] * h->law.strength, l.d0 = h->law.opening, l.dc = h->soften * l.d0, l.k0 = l.S / l.d0;
+    l.S = h->scale[k] * h->law.strength, l.d0 = h->law.opening, l.dc = h->soften * l.d0;
     l.ds = fmax(h->dmax[k], l.d0);
     l.frozen = !h->envelope;
     const double fs = l.ds < l.dc ? l.S * (l.dc - l.ds) / (l.dc - l.d0) : 0.0;
@@ -318,10 +318,12 @@ static double soft_excess(const plume_hooks *h, int dim, const double *x, int *b
         double d[3];
         pair_stretch(h, dim, x, h->first[k], d);
         const double t = norm(d, dim);
-        const soft_law l = soft_of(h, k);
+        soft_law l = soft_of(h, k);
         if (!(t > l.ds))
             continue;
-        const double law = t < l.dc ? l.S * (l.dc - t) / (l.dc - l.d0) : 0.0;
+        double W, law, d2W;
+        l.frozen = 0; /* the law's force at t */
+        soft_eval(&l, t, &W, &law, &d2W);
         worst = fmax(worst, (l.ks * t - law) / l.S);
         (*beyond)++;
     }
