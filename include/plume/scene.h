@@ -307,12 +307,13 @@ typedef struct {
     double kinetic_change;   /**< the kinetic energy's change over this run's steps */
     double potential_change; /**< the potential's change (elastic, contact and gravity) */
     double numerical_dissipation; /**< what implicit Euler's steps gave up: 1/2 |v' - v|_M^2 and the
-                                 potential's curvature along each step */
+                                 step's forces along its chord less the potential's change there */
     double commit_dissipation; /**< what the split lines' commits gave up over this run's steps */
     double energy_balance_error; /**< (work - kinetic change - potential change - numerical - commit
                                  dissipation) / max(the steps' gross work, the largest energy change):
-                                 the trapezoidal rule's error, and any energy moved unaccounted
-                                 (lagged friction's work) */
+                                 Simpson's error on the potential along each step, and any energy
+                                 moved unaccounted (lagged friction's work, a contact pair set
+                                 renewed at a step's start) */
 } plume_run_report;
 
 /** Fills *out (size bytes) with what the run did so far; call it through the macro

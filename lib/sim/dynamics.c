@@ -464,7 +464,12 @@ static plume_status settle_terms(plume_dynamics *d, int may_cut, plume_step_repo
     for (int n = 0;; n++) {
         plume_commit_report c;
         plume_err why = {{0}};
-        plume_status st = plume_problem_commit_terms(d->p, may_cut && n == 0, &c, &why);
+        const plume_ledger_inertia li = {d->mesh->nv, d->inertia->mass, d->inertia->xt, d->inertia->inv_dt2};
+        plume_status st = plume_ledger_before_commit(&d->ledger, d->p, &li);
+        if (st != PLUME_OK)
+            return plume_err_set(err, st, "dynamics: the energies at t = %g could not be evaluated (%s)", d->t,
+                                 plume_strerror(st));
+        st = plume_problem_commit_terms(d->p, may_cut && n == 0, &c, &why);
         if (st != PLUME_OK)
             return plume_err_set(err, st, "dynamics: at t = %g: %s", d->t, why.msg);
         if (c.overshoot || (c.changed && n == PLUME_DYNAMICS_MAX_SETTLES)) {
@@ -474,6 +479,9 @@ static plume_status settle_terms(plume_dynamics *d, int may_cut, plume_step_repo
             return PLUME_OK;
         }
         *drop += c.energy_drop;
+        if ((c.changed || c.energy_drop != 0.0) && (st = plume_ledger_after_commit(&d->ledger, d->p, &li)) != PLUME_OK)
+            return plume_err_set(err, st, "dynamics: the energies at t = %g could not be evaluated (%s)", d->t,
+                                 plume_strerror(st));
         if (!c.changed)
             return PLUME_OK;
         int changed = 0;
@@ -508,7 +516,7 @@ static plume_status ledger_start(plume_dynamics *d, plume_err *err)
     memcpy(x, d->x, nd * sizeof *x);
     memcpy(x + nd, d->e, (size_t)d->ne * sizeof *x);
     const plume_ledger_inertia li = {d->mesh->nv, d->inertia->mass, d->inertia->xt, d->inertia->inv_dt2};
-    plume_status st = plume_ledger_start(&d->ledger, d->p, d->lambda, &li, d->v);
+    plume_status st = plume_ledger_start(&d->ledger, d->p, &li, d->v);
     memcpy(x, d->xtmp, nfull * sizeof *x);
     return st == PLUME_OK ? PLUME_OK
                           : plume_err_set(err, st, "dynamics: the energies at t = %g could not be evaluated (%s)", d->t,
@@ -569,6 +577,7 @@ static plume_status try_step(plume_dynamics *d, double dt, int may_cut, plume_st
     int changed = 0;
     if ((st = refresh_stencils(d, &changed, err)) != PLUME_OK || (!d->ledger.started && (st = ledger_start(d, err)) != PLUME_OK))
         return st;
+    plume_ledger_begin(&d->ledger, d->xsave, d->esave);
     plume_problem_gather(d->p, d->u);
     plume_solve_report sr;
     st = plume_solver_solve(d->s, d->u, d->lambda, &sr);
@@ -617,7 +626,7 @@ static plume_status try_step(plume_dynamics *d, double dt, int may_cut, plume_st
     }
     /* the step's energies (xsave, vsave: the state it started from) */
     const plume_ledger_inertia li = {nv, in->mass, in->xt, in->inv_dt2};
-    if ((st = plume_ledger_step(&d->ledger, d->p, d->lambda, &li, d->xsave, d->vsave, d->v, drop)) != PLUME_OK)
+    if ((st = plume_ledger_step(&d->ledger, d->p, d->lambda, &li, d->xsave, d->esave, d->vsave, d->v, drop)) != PLUME_OK)
         return plume_err_set(err, st, "dynamics: the energies at t = %g could not be evaluated (%s)", d->t + dt,
                              plume_strerror(st));
     memcpy(d->e, x + 3 * nv, (size_t)d->ne * sizeof *d->e);
