@@ -128,6 +128,7 @@ typedef struct {
     double min_distance;  /* smallest distance between non-adjacent primitives of different bodies */
     int converged;
     long step_limited;
+    double energy_error;  /* the energy balance's error over the run (lib/sim/dynamics_energy.h) */
 } drop_result;
 
 /* n plates (membrane only; sides, heights and edges as bodies_build) released over the fixed
@@ -214,6 +215,7 @@ static void drop_plates(plume_contact_model model, double stiffness, double dhat
         CHECK(plume_contact_min_distance(measure, x, 10.0 * dhat, &dmin, &err) == PLUME_OK);
         r->min_distance = fmin(r->min_distance, dmin);
     }
+    r->energy_error = plume_ledger_error(plume_dynamics_energy(d));
     plume_contact_broad_destroy(&measure);
     plume_contact_pairs_free(&pairs);
 done:
@@ -237,8 +239,8 @@ void test_contact_drop_barrier_never_intersects(void)
     drop_result r;
     drop(PLUME_CONTACT_BARRIER, 1e3, 1e-3, 0.02, 2.0, 30, 2.8e-3, &r);
     fprintf(stderr, "    barrier: %d frames, intersecting in %d, lowest vertex %.3g m, final mean height %.3g m, "
-                    "%ld limited steps\n",
-            r.frames_checked, r.intersecting_frames, r.min_gap, r.final_height, r.step_limited);
+                    "%ld limited steps, energy balance error %.2e\n",
+            r.frames_checked, r.intersecting_frames, r.min_gap, r.final_height, r.step_limited, r.energy_error);
     CHECK(r.converged && r.frames_checked == 30);
     CHECK(r.intersecting_frames == 0);
     /* it came within reach of the barrier, never touched, and was sent back up (implicit Euler

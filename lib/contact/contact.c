@@ -25,6 +25,8 @@ struct plume_contact {
     double *eps;                  /* [cap] edge–edge mollifier thresholds (0 for point–triangle) */
     plume_index *scratch;         /* [4 cap] the next update's stencils, compared with the last */
     double *x1;                   /* [3 nv] the end of a step (max_step) */
+    double *xstart;               /* [3 nv] the last state a step starts from (rebase), when has_start */
+    int has_start;
     /* self contact: pairs of one body already within reach at rest (a fine mesh next to a coarse
      * dhat) would be pushed apart from the first step; they get their own activation distance, half
      * their rest distance (sorted for bsearch) */
@@ -64,6 +66,7 @@ static void contact_destroy(void *ctx)
     free(c->eps);
     free(c->scratch);
     free(c->x1);
+    free(c->xstart);
     free(c->excl);
     free(c->excl_dhat);
     free(c->pdhat);
@@ -187,8 +190,13 @@ static plume_status contact_update(void *ctx, int dim, const double *x, const pl
     plume_contact *c = ctx;
     if (dim != 3)
         return PLUME_EINVAL;
+    /* In a time step (after a rebase) the pairs within reach of the step's last state too: the
+     * potential the step moves on from is then the one the last step ended with (a pair that
+     * acted there and is out of reach of the step's start would leave with its energy) */
+    const double *x0 = c->has_start ? c->xstart : NULL;
     plume_contact_candidates cand;
-    plume_status st = plume_contact_broad_update(c->broad, x, NULL, c->o.pair.dhat + c->o.margin, &cand, NULL);
+    plume_status st = plume_contact_broad_update(c->broad, x0 ? x0 : x, x0 ? x : NULL, c->o.pair.dhat + c->o.margin,
+                                                 &cand, NULL);
     c->st.updates++;
     if (st != PLUME_OK)
         return st;
@@ -206,6 +214,10 @@ static plume_status contact_update(void *ctx, int dim, const double *x, const pl
             continue;
         gather12(x, w + 4 * n, xs);
         st = k < cand.nvt ? plume_contact_pt_dist2(xs, &d2) : plume_contact_ee_dist2(xs, &d2);
+        if (st == PLUME_OK && !(d2 < r * r) && x0) {
+            gather12(x0, w + 4 * n, xs);
+            st = k < cand.nvt ? plume_contact_pt_dist2(xs, &d2) : plume_contact_ee_dist2(xs, &d2);
+        }
         if (st != PLUME_OK)
             return st;
         if (!(d2 < r * r))
@@ -229,6 +241,17 @@ static plume_status contact_update(void *ctx, int dim, const double *x, const pl
     c->st.candidates = n;
     *stencil = c->stencil;
     *nstencil = n;
+    return PLUME_OK;
+}
+
+/* plume_term.rebase: a time step starts from x (kept for the next updates) */
+static plume_status contact_rebase(void *ctx, int dim, double *x)
+{
+    plume_contact *c = ctx;
+    if (dim != 3)
+        return PLUME_EINVAL;
+    memcpy(c->xstart, x, (size_t)(3 * c->nv) * sizeof *x);
+    c->has_start = 1;
     return PLUME_OK;
 }
 
@@ -452,7 +475,8 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
     plume_contact_broad_triangles(c->broad, NULL, &c->tri);
     c->elen2 = malloc((size_t)(c->ne + 1) * sizeof *c->elen2);
     c->x1 = malloc((size_t)(3 * nv) * sizeof *c->x1);
-    if (!c->elen2 || !c->x1 || reserve(c, 64) != PLUME_OK) {
+    c->xstart = malloc((size_t)(3 * nv) * sizeof *c->xstart);
+    if (!c->elen2 || !c->x1 || !c->xstart || reserve(c, 64) != PLUME_OK) {
         st = plume_err_set(err, PLUME_ENOMEM, "contact: out of memory");
         goto fail;
     }
@@ -471,6 +495,7 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
     out->destroy = contact_destroy;
     out->ctx = c;
     out->update = contact_update;
+    out->rebase = contact_rebase;
     out->partial_projection = o->pair.project_psd == PLUME_CONTACT_PROJECT_GAUSS_NEWTON;
     out->max_step = o->pair.model == PLUME_CONTACT_BARRIER ? contact_max_step : NULL;
     if (handle)
