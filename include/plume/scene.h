@@ -311,9 +311,8 @@ typedef struct {
     double commit_dissipation; /**< what the split lines' commits gave up over this run's steps */
     double energy_balance_error; /**< (work - kinetic change - potential change - numerical - commit
                                  dissipation) / max(the steps' gross work, the largest energy change):
-                                 Simpson's error on the potential along each step, and any energy
-                                 moved unaccounted (lagged friction's work, a contact pair set
-                                 renewed at a step's start) */
+                                 the error of Simpson's rule on the potential along each step, and
+                                 any energy moved unaccounted (lagged friction's work) */
 } plume_run_report;
 
 /** Fills *out (size bytes) with what the run did so far; call it through the macro

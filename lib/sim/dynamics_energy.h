@@ -11,8 +11,10 @@
  * Implicit Euler's numerical dissipation is then exactly
  *     1/2 |v' - v|_M^2 + (grad U(x') + J^T lambda) . dx - dU,
  * dU the integral of grad U along the chord from x to x'. The ledger takes that integral by
- * Simpson's rule (grad U at the ends and the midpoint; the extras' chord included), which leaves
- * Simpson's error, O(|dx|^5) a step, as the residual, plus whatever else moves energy unaccounted
+ * Simpson's rule (grad U at the ends and the midpoint; the extras' chord included), the piece halved
+ * while its integral and U's change over it disagree (a barrier entered within the step; at most
+ * PLUME_LEDGER_LEVELS - 1 times), which leaves the rule's error as the residual, plus whatever else
+ * moves energy unaccounted
  * (lagged friction's work, a gradient that is not its energy's). A step whose stateful terms commit
  * (split lines) changes U at the commit's point: the chord is cut there, each piece integrated with
  * the terms' state along it, and the commit's energy drop at that point is the jump (commits: the
@@ -23,6 +25,9 @@
 
 #include "../core/problem.h"
 
+/* Simpson pieces are halved at most this many times less one */
+#define PLUME_LEDGER_LEVELS 6
+
 typedef struct {
     int started;                 /* the ledger's start state is measured */
     plume_index nd, ndof;        /* 3 nv; the vertices' and the extras' unknowns */
@@ -31,11 +36,15 @@ typedef struct {
     double *xend;                /* [ndof] a segment's end while grad U is taken at its midpoint */
     double *seg, *seg_grad;      /* [ndof] the step's current segment start (x, extras) and grad U there */
     double path;                 /* grad U's integral along the step's segments so far */
+    double seg_u;                /* U at the segment's start */
+    double *level_x[PLUME_LEDGER_LEVELS], *level_g[PLUME_LEDGER_LEVELS]; /* [ndof] each, allocated when
+                                    a piece is halved that far: its midpoint and grad U there */
+    long pieces;                 /* Simpson pieces taken (a step without commits: 1 unless halved) */
     double ke0, u0, ke, u;       /* J: at the start and at the last state */
     double work, gross_work;     /* the prescribed dofs' work, its sum of |step work| */
     double numerical, commits;   /* implicit Euler's dissipation; the stateful terms' */
     double peak_change;          /* the largest |KE - KE0| + |U - U0| reached */
-    int trapezoid_steps;         /* segments whose midpoint could not be evaluated (trapezoidal rule) */
+    int trapezoid_steps;         /* pieces whose midpoint could not be evaluated (trapezoidal rule) */
 } plume_energy_ledger;
 
 /* The inertia the ledger subtracts: lumped masses (nv), the target x~ (3 nv) and 1 / dt^2. */
