@@ -116,9 +116,10 @@ static double piece(plume_energy_ledger *l, plume_problem *p, const plume_ledger
     for (plume_index i = 0; i < l->ndof; i++)
         S += (ga[i] + 4.0 * gm[i] + gb[i]) / 6.0 * (xb[i] - xa[i]);
     const double dU = ub - ua;
-    if (level + 1 == PLUME_LEDGER_LEVELS ||
+    if (level + 1 == PLUME_LEDGER_LEVELS || l->budget < 2 ||
         fabs(S - dU) <= 1e-4 * (fabs(S) + fabs(dU)) + 1e-12 * (fabs(ua) + fabs(ub)))
         return S;
+    l->budget -= 2;
     return piece(l, p, in, xa, ga, ua, xm, gm, um, level + 1) + piece(l, p, in, xm, gm, um, xb, gb, ub, level + 1);
 }
 
@@ -154,6 +155,7 @@ void plume_ledger_begin(plume_energy_ledger *l, const double *x0, const double *
     memcpy(l->seg_grad, l->grad, (size_t)l->ndof * sizeof *l->seg_grad);
     l->seg_u = l->u;
     l->path = 0.0;
+    l->budget = PLUME_LEDGER_BUDGET;
 }
 
 plume_status plume_ledger_before_commit(plume_energy_ledger *l, plume_problem *p, const plume_ledger_inertia *in)

@@ -13,7 +13,7 @@
  * dU the integral of grad U along the chord from x to x'. The ledger takes that integral by
  * Simpson's rule (grad U at the ends and the midpoint; the extras' chord included), the piece halved
  * while its integral and U's change over it disagree (a barrier entered within the step; at most
- * PLUME_LEDGER_LEVELS - 1 times), which leaves the rule's error as the residual, plus whatever else
+ * PLUME_LEDGER_LEVELS - 1 times, PLUME_LEDGER_BUDGET pieces more a step), which leaves the rule's error as the residual, plus whatever else
  * moves energy unaccounted
  * (lagged friction's work, a gradient that is not its energy's). A step whose stateful terms commit
  * (split lines) changes U at the commit's point: the chord is cut there, each piece integrated with
@@ -25,8 +25,10 @@
 
 #include "../core/problem.h"
 
-/* Simpson pieces are halved at most this many times less one */
-#define PLUME_LEDGER_LEVELS 6
+/* Simpson pieces are halved at most this many times less one, into at most this many more pieces a
+ * step */
+#define PLUME_LEDGER_LEVELS 12
+#define PLUME_LEDGER_BUDGET 256
 
 typedef struct {
     int started;                 /* the ledger's start state is measured */
@@ -40,6 +42,7 @@ typedef struct {
     double *level_x[PLUME_LEDGER_LEVELS], *level_g[PLUME_LEDGER_LEVELS]; /* [ndof] each, allocated when
                                     a piece is halved that far: its midpoint and grad U there */
     long pieces;                 /* Simpson pieces taken (a step without commits: 1 unless halved) */
+    int budget;                  /* the halvings left to this step (PLUME_LEDGER_BUDGET at its start) */
     double ke0, u0, ke, u;       /* J: at the start and at the last state */
     double work, gross_work;     /* the prescribed dofs' work, its sum of |step work| */
     double numerical, commits;   /* implicit Euler's dissipation; the stateful terms' */
