@@ -92,7 +92,10 @@ PLUME_API void plume_openmp_factor_threads(int threads);
 /* ---- what a solve reports ---- */
 /** Why a solve stopped. Only CONVERGED means the tolerances below were met. */
 typedef enum {
-    PLUME_REASON_CONVERGED = 0,   /**< the KKT residual and the violation met their tolerances */
+    PLUME_REASON_CONVERGED = 0,   /**< the KKT residual and the violation met their tolerances; or (newton)
+                                     the violation met its tolerance and the KKT residual stopped at its
+                                     round-off floor within sqrt(tol_kkt) (the report's kkt_residual
+                                     tells which) */
     PLUME_REASON_ITERATION_CAP,   /**< max_iter reached */
     PLUME_REASON_LINE_SEARCH,     /**< no step decreased the merit function */
     PLUME_REASON_INFEASIBLE,      /**< constraints could not be satisfied */

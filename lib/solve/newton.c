@@ -4,7 +4,8 @@
  * where H is the exact Hessian of the Lagrangian (Ipopt's inertia correction: a diagonal shift
  * carried from one iteration to the next), or, failing that, the one with every element block
  * projected to PSD. The "- dc lam" term (a proximal term on the multipliers) keeps the fixed point
- * exact: at du = 0, lam_new = lam we have g = 0, whatever the small regularisation dc. Two ways to
+ * exact: at du = 0, lam_new = lam we have g = 0, whatever the small regularisation dc (a diagonal,
+ * one value per constraint scaled to the stiffness of its own dofs: newton_kkt.c). Two ways to
  * factorise:
  * - PLUME_KKT_ELIMINATE (default): the -dc I block is eliminated, leaving the SPD matrix
  *   H + dw I + J^T J / dcf on the Hessian's own pattern (edge constraints couple vertices that
@@ -76,6 +77,8 @@ void plume_newton_destroy(plume_newton **ps)
     free(s->jtl);
     free(s->acc);
     free(s->acc_g);
+    free(s->dcv);
+    free(s->dcfv);
     free(s->acc_j);
     free(s);
     *ps = NULL;
@@ -143,9 +146,11 @@ plume_status plume_newton_create_like(plume_problem *p, const plume_solver_opts 
     s->jtl = malloc((n + 1) * sizeof *s->jtl);
     s->acc = malloc((n + 1) * sizeof *s->acc);
     s->acc_g = malloc((m + 1) * sizeof *s->acc_g);
+    s->dcv = malloc((m + 1) * sizeof *s->dcv);
+    s->dcfv = malloc((m + 1) * sizeof *s->dcfv);
     s->acc_j = malloc(((size_t)s->jnnz + 1) * sizeof *s->acc_j);
     s->diagpos = malloc((nk + 1) * sizeof *s->diagpos);
-    if (!s->hval || !s->acc || !s->acc_g || !s->acc_j || !s->jval || !s->grad || !s->grad_t || !s->g || !s->gt || !s->rhs || !s->sol || !s->ut || !s->jtl ||
+    if (!s->hval || !s->acc || !s->acc_g || !s->dcv || !s->dcfv || !s->acc_j || !s->jval || !s->grad || !s->grad_t || !s->g || !s->gt || !s->rhs || !s->sol || !s->ut || !s->jtl ||
         !s->diagpos || !s->jval_f || !s->rb || !s->rr || !s->rd || !s->jval_s || !s->u_s || !s->grad_s || !s->l_s || !s->g_s || !s->u_b ||
         !s->l_b) {
         st = PLUME_ENOMEM;

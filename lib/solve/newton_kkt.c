@@ -142,8 +142,8 @@ done:
 }
 
 /* Factorises the matrix of s->hval (the Hessian just assembled) with dw on its diagonal and the
- * constraints' block regularised by dc; s->hval is left as assembled. */
-static plume_status factor_with(plume_newton *s, double dw, double dc)
+ * constraints' block regularised by dc (one per constraint); s->hval is left as assembled. */
+static plume_status factor_with(plume_newton *s, double dw, const double *dc)
 {
     plume_status st;
     dw += s->tr_sigma; /* the trust region's regularisation, on top of any inertia shift */
@@ -155,7 +155,7 @@ static plume_status factor_with(plume_newton *s, double dw, double dc)
          * refinement measures residuals against H */
         memcpy(s->kval, s->hval, (size_t)s->hp.nnz * sizeof *s->kval);
         for (plume_index k = 0; k < s->npairs; k++)
-            s->kval[s->pair_pos[k]] += s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc;
+            s->kval[s->pair_pos[k]] += s->jval[s->pair_a[k]] * s->jval[s->pair_b[k]] / dc[s->jrow[s->pair_a[k]]];
         st = plume_chol_factor(s->chol, s->kval, dw);
     } else if (s->m > 0) {
         memcpy(s->kval, s->hval, (size_t)s->hp.nnz * sizeof *s->kval);
@@ -164,7 +164,7 @@ static plume_status factor_with(plume_newton *s, double dw, double dc)
         for (plume_index k = 0; k < s->jnnz; k++)
             s->kval[s->jpos[k]] = s->jval[k];
         for (plume_index r = 0; r < s->m; r++)
-            s->kval[s->diagpos[s->n + r]] = -dc;
+            s->kval[s->diagpos[s->n + r]] = -dc[r];
         st = plume_chol_factor(s->chol, s->kval, 0.0);
     } else {
         st = plume_chol_factor(s->chol, s->hval, dw);
@@ -195,11 +195,36 @@ static double typical_diagonal(const plume_newton *s)
     return 1.0;
 }
 
+/* Each constraint's regularisation: 1e-8 |J_r|^2 / h_r, h_r the largest Hessian diagonal among the
+ * constraint's own dofs (dc, hmax and jmax, the whole matrix's, where a row has no entry or no
+ * stiffness). Scaled by the whole matrix's largest diagonal (the rachis'), the eliminated barb
+ * constraints of a vane put J^T J / dcf at 1e5 times the rachis' stiffness into vanes whose softest
+ * directions are their inertia, and CHOLMOD refused matrices that were positive definite in exact
+ * arithmetic: the wing twig's 542 inertia shifts, 41 with each constraint scaled to its own
+ * stiffness (docs/unzipping.md). */
+static void regularisation(plume_newton *s, double dc, double hmax, double jmax)
+{
+    for (plume_index r = 0; r < s->m; r++)
+        s->acc_g[r] = 0.0, s->dcfv[r] = 0.0; /* |J_r|, h_r (acc_g: free outside the line search) */
+    for (plume_index k = 0; k < s->jnnz; k++) {
+        const plume_index r = s->jrow[k], c = s->jcol[k];
+        s->acc_g[r] = fmax(s->acc_g[r], fabs(s->jval[k]));
+        s->dcfv[r] = fmax(s->dcfv[r], fabs(s->hval[s->hp.colptr[c + 1] - 1]));
+    }
+    s->refine = s->eliminate && s->o.kkt_refine;
+    for (plume_index r = 0; r < s->m; r++) {
+        const double j = s->acc_g[r] > 0.0 ? s->acc_g[r] : (jmax > 0.0 ? jmax : 1.0);
+        const double h = s->dcfv[r] > 0.0 && isfinite(s->dcfv[r]) ? s->dcfv[r] : hmax;
+        s->dcv[r] = s->acc_g[r] > 0.0 ? 1e-8 * j * j / h : dc;
+        s->dcfv[r] = s->refine ? DCF_OVER_DC * s->dcv[r] : s->dcv[r];
+    }
+}
+
 /* Assembles and factorises the Newton/KKT matrix at u with multipliers lambda, with at least
  * dw_min added to the Hessian's diagonal; raises the regularisation until the factorisation
  * succeeds. *hmax_out receives the largest Hessian diagonal (the scale of any regularisation). */
 static plume_status factorize(plume_newton *s, const double *u, const double *lambda, double dw_min,
-                              double *dc_out, double *hmax_out)
+                              double *hmax_out)
 {
     plume_status st = PLUME_ESINGULAR;
     /* Projection per element slows Newton down to a crawl where elements are indefinite but the
@@ -234,9 +259,8 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
         double jmax = 0.0;
         for (plume_index q = 0; q < s->jnnz; q++)
             jmax = fmax(jmax, fabs(s->jval[q]));
-        double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
-        *dc_out = s->dc = dc;
-        s->dcf = s->eliminate && s->o.kkt_refine ? DCF_OVER_DC * dc : dc;
+        const double dc = s->m ? 1e-8 * (jmax > 0.0 ? jmax * jmax : 1.0) / hmax : 0.0;
+        regularisation(s, dc, hmax, jmax);
         double dw = fmax(dw_min, s->m && !s->eliminate ? 1e-12 * hmax : 0.0);
         /* Exact (or partly projected) Hessian: Ipopt's inertia correction. Try no shift; if the
          * matrix is not positive definite, start from a third of the last shift that worked (or
@@ -254,7 +278,7 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
             double sh = 0.0;
             const int shifts_allowed = !(mode == PLUME_HESSIAN_EXACT && partial);
             for (int attempt = 0; attempt < 40; attempt++) {
-                st = factor_with(s, dw + sh, s->dcf);
+                st = factor_with(s, dw + sh, s->dcfv);
                 if (st != PLUME_ESINGULAR) {
                     if (st == PLUME_OK) {
                         s->diag = dw + sh + s->tr_sigma;
@@ -283,7 +307,7 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
             continue;
         }
         for (int attempt = 0; attempt < 12; attempt++) {
-            st = factor_with(s, dw, s->dcf);
+            st = factor_with(s, dw, s->dcfv);
             if (st != PLUME_ESINGULAR) {
                 if (st == PLUME_OK) {
                     s->diag = dw + s->tr_sigma;
@@ -303,11 +327,11 @@ static plume_status factorize(plume_newton *s, const double *u, const double *la
 static plume_status elim_solve(plume_newton *s, const double *jv, const double *r, double *out)
 {
     plume_index n = s->n, m = s->m;
-    const double dcf = s->dcf;
+    const double *dcf = s->dcfv;
     for (plume_index i = 0; i < n; i++)
         s->kwork[i] = r[i];
     for (plume_index k = 0; k < s->jnnz; k++)
-        s->kwork[s->jcol[k]] += jv[k] * r[n + s->jrow[k]] / dcf;
+        s->kwork[s->jcol[k]] += jv[k] * r[n + s->jrow[k]] / dcf[s->jrow[k]];
     for (plume_index q = 0; q < m; q++) /* r2 is read before out (which may alias r) is written */
         s->lwork[q] = -r[n + q];
     plume_status st = plume_chol_solve(s->chol, s->kwork, out);
@@ -316,7 +340,7 @@ static plume_status elim_solve(plume_newton *s, const double *jv, const double *
     for (plume_index k = 0; k < s->jnnz; k++)
         s->lwork[s->jrow[k]] += jv[k] * out[s->jcol[k]];
     for (plume_index q = 0; q < m; q++)
-        out[n + q] = s->lwork[q] / dcf;
+        out[n + q] = s->lwork[q] / dcf[q];
     return PLUME_OK;
 }
 
@@ -332,7 +356,7 @@ static plume_status kkt_solve_j(plume_newton *s, const double *jv, const double 
     if (!s->eliminate)
         return plume_chol_solve(s->chol, r, out);
     plume_index n = s->n, m = s->m, nk = n + m;
-    if (s->dcf == s->dc)
+    if (!s->refine)
         return elim_solve(s, jv, r, out);
     double *b = s->rb, *res = s->rr, *dx = s->rd;
     memcpy(b, r, (size_t)nk * sizeof *b);
@@ -354,7 +378,7 @@ static plume_status kkt_solve_j(plume_newton *s, const double *jv, const double 
         for (plume_index i = 0; i < n; i++)
             res[i] = b[i] - s->diag * out[i];
         for (plume_index q = 0; q < m; q++)
-            res[n + q] = b[n + q] + s->dc * out[n + q];
+            res[n + q] = b[n + q] + s->dcv[q] * out[n + q];
         const plume_index *cp = s->hp.colptr, *ri = s->hp.rowind;
         for (plume_index c = 0; c < n; c++)
             for (plume_index k = cp[c]; k < cp[c + 1]; k++) {
@@ -409,15 +433,15 @@ double plume_newton_force_residual(plume_newton *s, const double *lambda)
 plume_status plume_newton_direction(plume_newton *s, const double *u, const double *lambda, double *step_max)
 {
     plume_index n = s->n, m = s->m;
-    double L = plume_problem_length_scale(s->p), dw = 0.0, dc, hmax;
+    double L = plume_problem_length_scale(s->p), dw = 0.0, hmax;
     plume_status st = PLUME_OK;
     for (int attempt = 0; attempt < 8; attempt++) {
-        if ((st = factorize(s, u, lambda, dw, &dc, &hmax)) != PLUME_OK)
+        if ((st = factorize(s, u, lambda, dw, &hmax)) != PLUME_OK)
             return st;
         for (plume_index i = 0; i < n; i++)
             s->rhs[i] = -s->grad[i];
         for (plume_index r = 0; r < m; r++)
-            s->rhs[n + r] = -s->g[r] - dc * lambda[r];
+            s->rhs[n + r] = -s->g[r] - s->dcv[r] * lambda[r];
         /* the forcing term (refine_rtol) is relative to the nonlinear residual, the KKT residual
          * grad f + J^T lambda of the increment form, not to this right-hand side -grad f, which
          * does not vanish at a constrained solution (it is balanced by J^T lambda): measured

@@ -31,8 +31,9 @@ struct plume_newton {
     int eliminate;           /* constraints eliminated into an SPD matrix (supernodal LL^T) */
     plume_index npairs;      /* eliminate: pairs (ka, kb) of Jacobian entries of one row ... */
     plume_index *pair_a, *pair_b, *pair_pos; /* ... and the Hessian slot of (col ka, col kb) */
-    double dc;               /* the KKT regularisation of the system solved ... */
-    double dcf;              /* ... and the one factorised (>= dc, kkt_solve_j) */
+    double *dcv;             /* [m+1] the KKT regularisation of each constraint of the system solved ... */
+    double *dcfv;            /* [m+1] ... and the one factorised (>= dcv, kkt_solve_j) */
+    int refine;              /* dcfv > dcv: the solves refine against dcv */
     double diag;             /* the diagonal shift of the last factorisation */
     double *rb, *rr, *rd;    /* [n+m+1] iterative refinement */
     int refinements;         /* refinement passes in this solve */
