@@ -27,6 +27,8 @@ struct plume_contact {
     double *x1;                   /* [3 nv] the end of a step (max_step) */
     double *xstart;               /* [3 nv] the last state a step starts from (rebase), when has_start */
     int has_start;
+    double *xupd;                 /* [3 nv] the positions of the last update, when has_upd */
+    int has_upd;
     /* self contact: pairs of one body already within reach at rest (a fine mesh next to a coarse
      * dhat) would be pushed apart from the first step; they get their own activation distance, half
      * their rest distance (sorted for bsearch) */
@@ -67,6 +69,7 @@ static void contact_destroy(void *ctx)
     free(c->scratch);
     free(c->x1);
     free(c->xstart);
+    free(c->xupd);
     free(c->excl);
     free(c->excl_dhat);
     free(c->pdhat);
@@ -184,29 +187,154 @@ static plume_status reserve(plume_contact *c, plume_index n)
     return PLUME_OK;
 }
 
+/* The pairs that act at the step's last state x0 (within their dhat there), the potential's terms
+ * the step starts from: into keep (5 indices each: kind, then the 4 vertices; sorted) with their
+ * eps and dhat, their count into *nkeep (keep and its arrays allocated, freed by the caller). From
+ * the last update's pairs when it was at x0 (then they hold every pair within reach there), else
+ * from a query at x0 (a restart's first step): the same pairs either way, so a restart repeats a
+ * run bit for bit. */
+static plume_status acting_at_start(plume_contact *c, const double *x0, plume_index **keep, double **keps,
+                                    double **kdhat, plume_index *nkeep)
+{
+    const int from_last = c->has_upd && memcmp(c->xupd, x0, (size_t)(3 * c->nv) * sizeof *x0) == 0;
+    plume_contact_candidates cand = {0};
+    plume_status st = from_last ? PLUME_OK : plume_contact_broad_update(c->broad, x0, NULL, c->o.pair.dhat, &cand, NULL);
+    if (st != PLUME_OK)
+        return st;
+    c->st.broad_seconds += from_last ? 0.0 : cand.seconds;
+    const plume_index ncand = from_last ? c->npt + c->nee : cand.nvt + cand.nee;
+    *nkeep = 0;
+    *keep = malloc((size_t)(5 * ncand + 1) * sizeof **keep);
+    *keps = malloc((size_t)(ncand + 1) * sizeof **keps);
+    *kdhat = malloc((size_t)(ncand + 1) * sizeof **kdhat);
+    if (!*keep || !*keps || !*kdhat)
+        return PLUME_ENOMEM;
+    for (plume_index o = 0; o < ncand; o++) {
+        plume_index v[4];
+        int ee;
+        double dh, eps;
+        if (from_last) {
+            memcpy(v, c->stencil + 4 * o, sizeof v);
+            ee = o >= c->npt, dh = c->pdhat[o], eps = c->eps[o];
+        } else {
+            pair_vertices(c, &cand, o, v);
+            ee = o >= cand.nvt, dh = pair_dhat(c, ee, v);
+            eps = ee ? PLUME_CONTACT_MOLLIFIER_SCALE * c->elen2[cand.ee[o - cand.nvt].a] * c->elen2[cand.ee[o - cand.nvt].b]
+                     : 0.0;
+        }
+        double xs[12], d2 = 0.0;
+        gather12(x0, v, xs);
+        st = ee ? plume_contact_ee_dist2(xs, &d2) : plume_contact_pt_dist2(xs, &d2);
+        if (st != PLUME_OK)
+            return st;
+        if (!(dh > 0.0) || !(d2 < dh * dh))
+            continue;
+        plume_index *k = *keep + 5 * *nkeep;
+        k[0] = ee;
+        memcpy(k + 1, v, sizeof v);
+        (*keps)[*nkeep] = eps;
+        (*kdhat)[*nkeep] = dh;
+        (*nkeep)++;
+    }
+    /* one order whichever list they came from: sorted by key, eps and dhat following */
+    plume_index *k2 = malloc((size_t)(6 * *nkeep + 1) * sizeof *k2);
+    double *e2 = malloc((size_t)(2 * *nkeep + 1) * sizeof *e2);
+    if (!k2 || !e2) {
+        free(k2);
+        free(e2);
+        return PLUME_ENOMEM;
+    }
+    for (plume_index q = 0; q < *nkeep; q++) { /* key, then its position */
+        memcpy(k2 + 6 * q, *keep + 5 * q, 5 * sizeof *k2);
+        k2[6 * q + 5] = q;
+    }
+    qsort(k2, (size_t)*nkeep, 6 * sizeof *k2, key_cmp);
+    for (plume_index q = 0; q < *nkeep; q++) {
+        const plume_index from = k2[6 * q + 5];
+        e2[2 * q] = (*keps)[from], e2[2 * q + 1] = (*kdhat)[from];
+    }
+    for (plume_index q = 0; q < *nkeep; q++) {
+        memcpy(*keep + 5 * q, k2 + 6 * q, 5 * sizeof *k2);
+        (*keps)[q] = e2[2 * q], (*kdhat)[q] = e2[2 * q + 1];
+    }
+    free(k2);
+    free(e2);
+    return PLUME_OK;
+}
+
+/* Adds to the n stencils of w (npt point-triangle first) those of keep that are not among them,
+ * each kind after its own; *n and *npt grow */
+static plume_status merge_acting(plume_contact *c, plume_index *n, plume_index *npt, const plume_index *keep,
+                                 const double *keps, const double *kdhat, plume_index nkeep)
+{
+    plume_index *keys = malloc((size_t)(5 * *n + 1) * sizeof *keys);
+    plume_index *add = malloc((size_t)(nkeep + 1) * sizeof *add);
+    if (!keys || !add) {
+        free(keys);
+        free(add);
+        return PLUME_ENOMEM;
+    }
+    for (plume_index q = 0; q < *n; q++) {
+        keys[5 * q] = q >= *npt;
+        memcpy(keys + 5 * q + 1, c->scratch + 4 * q, 4 * sizeof *keys);
+    }
+    qsort(keys, (size_t)*n, 5 * sizeof *keys, key_cmp);
+    plume_index nadd = 0, addpt = 0;
+    for (plume_index k = 0; k < nkeep; k++)
+        if (!bsearch(keep + 5 * k, keys, (size_t)*n, 5 * sizeof *keys, key_cmp)) {
+            add[nadd++] = k;
+            addpt += keep[5 * k] == 0;
+        }
+    free(keys);
+    plume_status st = reserve(c, *n + nadd);
+    if (st != PLUME_OK || nadd == 0) {
+        free(add);
+        return st;
+    }
+    /* the edge-edge block moves up by the point-triangle pairs added before it */
+    plume_index *w = c->scratch;
+    const plume_index nee = *n - *npt;
+    memmove(w + 4 * (*npt + addpt), w + 4 * *npt, (size_t)(4 * nee) * sizeof *w);
+    memmove(c->eps + *npt + addpt, c->eps + *npt, (size_t)nee * sizeof *c->eps);
+    memmove(c->pdhat + *npt + addpt, c->pdhat + *npt, (size_t)nee * sizeof *c->pdhat);
+    plume_index ipt = *npt, iee = *n + addpt;
+    for (plume_index a = 0; a < nadd; a++) {
+        const plume_index k = add[a], at = keep[5 * k] == 0 ? ipt++ : iee++;
+        memcpy(w + 4 * at, keep + 5 * k + 1, 4 * sizeof *w);
+        c->eps[at] = keps[k];
+        c->pdhat[at] = kdhat[k];
+    }
+    *npt += addpt;
+    *n += nadd;
+    free(add);
+    return PLUME_OK;
+}
+
 static plume_status contact_update(void *ctx, int dim, const double *x, const plume_index **stencil,
                                    plume_index *nstencil, int *changed)
 {
     plume_contact *c = ctx;
     if (dim != 3)
         return PLUME_EINVAL;
-    /* In a time step (after a rebase) the pairs within reach of the step's last state too: the
-     * potential the step moves on from is then the one the last step ended with (a pair that
-     * acted there and is out of reach of the step's start would leave with its energy) */
-    const double *x0 = c->has_start ? c->xstart : NULL;
+    /* In a time step (after a rebase) the pairs that act at the step's last state stay: the
+     * potential the step moves on from is then the one the last step ended with (a pair within its
+     * dhat there but out of reach of the step's start would leave with its energy) */
+    plume_index *keep = NULL, nkeep = 0;
+    double *keps = NULL, *kdhat = NULL;
+    plume_status st = c->has_start ? acting_at_start(c, c->xstart, &keep, &keps, &kdhat, &nkeep) : PLUME_OK;
     plume_contact_candidates cand;
-    plume_status st = plume_contact_broad_update(c->broad, x0 ? x0 : x, x0 ? x : NULL, c->o.pair.dhat + c->o.margin,
-                                                 &cand, NULL);
+    if (st == PLUME_OK)
+        st = plume_contact_broad_update(c->broad, x, NULL, c->o.pair.dhat + c->o.margin, &cand, NULL);
     c->st.updates++;
-    if (st != PLUME_OK)
-        return st;
-    c->st.broad_seconds += cand.seconds;
-    if ((st = reserve(c, cand.nvt + cand.nee)) != PLUME_OK)
-        return st;
+    if (st == PLUME_OK) {
+        c->st.broad_seconds += cand.seconds;
+        st = reserve(c, cand.nvt + cand.nee);
+    }
     /* the boxes' candidates, kept when truly within reach: fewer stencils to evaluate, and a
      * pattern that changes only when a pair comes within dhat + margin or leaves it */
-    plume_index *w = c->scratch, n = 0, npt = 0;
-    for (plume_index k = 0; k < cand.nvt + cand.nee; k++) {
+    plume_index n = 0, npt = 0;
+    for (plume_index k = 0; st == PLUME_OK && k < cand.nvt + cand.nee; k++) {
+        plume_index *w = c->scratch;
         double xs[12], d2 = 0.0;
         pair_vertices(c, &cand, k, w + 4 * n);
         double dh = pair_dhat(c, k >= cand.nvt, w + 4 * n), r = dh + c->o.margin;
@@ -214,13 +342,7 @@ static plume_status contact_update(void *ctx, int dim, const double *x, const pl
             continue;
         gather12(x, w + 4 * n, xs);
         st = k < cand.nvt ? plume_contact_pt_dist2(xs, &d2) : plume_contact_ee_dist2(xs, &d2);
-        if (st == PLUME_OK && !(d2 < r * r) && x0) {
-            gather12(x0, w + 4 * n, xs);
-            st = k < cand.nvt ? plume_contact_pt_dist2(xs, &d2) : plume_contact_ee_dist2(xs, &d2);
-        }
-        if (st != PLUME_OK)
-            return st;
-        if (!(d2 < r * r))
+        if (st != PLUME_OK || !(d2 < r * r))
             continue;
         c->pdhat[n] = dh;
         /* the edge-edge mollifier's threshold from the rest lengths (0: point-triangle); written in
@@ -231,6 +353,16 @@ static plume_status contact_update(void *ctx, int dim, const double *x, const pl
         npt += k < cand.nvt;
         n++;
     }
+    if (st == PLUME_OK && nkeep > 0)
+        st = merge_acting(c, &n, &npt, keep, keps, kdhat, nkeep);
+    free(keep);
+    free(keps);
+    free(kdhat);
+    if (st != PLUME_OK)
+        return st;
+    memcpy(c->xupd, x, (size_t)(3 * c->nv) * sizeof *x);
+    c->has_upd = 1;
+    plume_index *w = c->scratch;
     *changed = npt != c->npt || n - npt != c->nee || (n > 0 && memcmp(w, c->stencil, (size_t)(4 * n) * sizeof *w) != 0);
     if (*changed) {
         c->scratch = c->stencil;
@@ -476,7 +608,8 @@ plume_status plume_contact_term_create(plume_index nv, plume_index ntri, const p
     c->elen2 = malloc((size_t)(c->ne + 1) * sizeof *c->elen2);
     c->x1 = malloc((size_t)(3 * nv) * sizeof *c->x1);
     c->xstart = malloc((size_t)(3 * nv) * sizeof *c->xstart);
-    if (!c->elen2 || !c->x1 || !c->xstart || reserve(c, 64) != PLUME_OK) {
+    c->xupd = malloc((size_t)(3 * nv) * sizeof *c->xupd);
+    if (!c->elen2 || !c->x1 || !c->xstart || !c->xupd || reserve(c, 64) != PLUME_OK) {
         st = plume_err_set(err, PLUME_ENOMEM, "contact: out of memory");
         goto fail;
     }
