@@ -200,7 +200,7 @@ static double typical_diagonal(const plume_newton *s)
  * stiffness). Scaled by the whole matrix's largest diagonal (the rachis'), the eliminated barb
  * constraints of a vane put J^T J / dcf at 1e5 times the rachis' stiffness into vanes whose softest
  * directions are their inertia, and CHOLMOD refused matrices that were positive definite in exact
- * arithmetic: the wing twig's 542 inertia shifts, 41 with each constraint scaled to its own
+ * arithmetic: the wing twig's 542 inertia shifts, 41 to 107 with each constraint scaled to its own
  * stiffness (docs/unzipping.md). */
 static void regularisation(plume_newton *s, double dc, double hmax, double jmax)
 {
