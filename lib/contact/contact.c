@@ -11,6 +11,13 @@
 #include "../core/vec3.h"
 #include "../io/progress.h"
 
+/* A pair acting at a step's last state: kind (0 point-triangle, 1 edge-edge) and its 4 vertices, the
+ * key; its mollifier threshold and activation distance */
+struct acting_pair {
+    plume_index key[5];
+    double eps, dhat;
+};
+
 struct plume_contact {
     plume_contact_term_opts o;
     plume_index nv;
@@ -29,6 +36,10 @@ struct plume_contact {
     int has_start;
     double *xupd;                 /* [3 nv] the positions of the last update, when has_upd */
     int has_upd;
+    struct acting_pair *acting;   /* [nacting] the pairs acting at xstart (sorted by key), found at the
+                                     step's first update */
+    plume_index nacting;
+    int acting_valid;             /* acting is xstart's (0 after a rebase) */
     /* self contact: pairs of one body already within reach at rest (a fine mesh next to a coarse
      * dhat) would be pushed apart from the first step; they get their own activation distance, half
      * their rest distance (sorted for bsearch) */
@@ -70,6 +81,7 @@ static void contact_destroy(void *ctx)
     free(c->x1);
     free(c->xstart);
     free(c->xupd);
+    free(c->acting);
     free(c->excl);
     free(c->excl_dhat);
     free(c->pdhat);
@@ -187,14 +199,16 @@ static plume_status reserve(plume_contact *c, plume_index n)
     return PLUME_OK;
 }
 
+static int acting_cmp(const void *a, const void *b)
+{
+    return key_cmp(((const struct acting_pair *)a)->key, ((const struct acting_pair *)b)->key);
+}
+
 /* The pairs that act at the step's last state x0 (within their dhat there), the potential's terms
- * the step starts from: into keep (5 indices each: kind, then the 4 vertices; sorted) with their
- * eps and dhat, their count into *nkeep (keep and its arrays allocated, freed by the caller). From
- * the last update's pairs when it was at x0 (then they hold every pair within reach there), else
- * from a query at x0 (a restart's first step): the same pairs either way, so a restart repeats a
- * run bit for bit. */
-static plume_status acting_at_start(plume_contact *c, const double *x0, plume_index **keep, double **keps,
-                                    double **kdhat, plume_index *nkeep)
+ * the step starts from, into c->acting (sorted by key). From the last update's pairs when it was at
+ * x0 (then they hold every pair within reach there), else from a query at x0 (a restart's first
+ * step): the same pairs in one order either way, so a restart repeats a run bit for bit. */
+static plume_status find_acting(plume_contact *c, const double *x0)
 {
     const int from_last = c->has_upd && memcmp(c->xupd, x0, (size_t)(3 * c->nv) * sizeof *x0) == 0;
     plume_contact_candidates cand = {0};
@@ -203,72 +217,42 @@ static plume_status acting_at_start(plume_contact *c, const double *x0, plume_in
         return st;
     c->st.broad_seconds += from_last ? 0.0 : cand.seconds;
     const plume_index ncand = from_last ? c->npt + c->nee : cand.nvt + cand.nee;
-    *nkeep = 0;
-    *keep = malloc((size_t)(5 * ncand + 1) * sizeof **keep);
-    *keps = malloc((size_t)(ncand + 1) * sizeof **keps);
-    *kdhat = malloc((size_t)(ncand + 1) * sizeof **kdhat);
-    if (!*keep || !*keps || !*kdhat)
+    free(c->acting);
+    c->nacting = 0;
+    c->acting = malloc((size_t)(ncand + 1) * sizeof *c->acting);
+    if (!c->acting)
         return PLUME_ENOMEM;
     for (plume_index o = 0; o < ncand; o++) {
-        plume_index v[4];
-        int ee;
-        double dh, eps;
+        struct acting_pair *a = c->acting + c->nacting;
+        plume_index *v = a->key + 1;
         if (from_last) {
-            memcpy(v, c->stencil + 4 * o, sizeof v);
-            ee = o >= c->npt, dh = c->pdhat[o], eps = c->eps[o];
+            memcpy(v, c->stencil + 4 * o, 4 * sizeof *v);
+            a->key[0] = o >= c->npt, a->dhat = c->pdhat[o], a->eps = c->eps[o];
         } else {
             pair_vertices(c, &cand, o, v);
-            ee = o >= cand.nvt, dh = pair_dhat(c, ee, v);
-            eps = ee ? PLUME_CONTACT_MOLLIFIER_SCALE * c->elen2[cand.ee[o - cand.nvt].a] * c->elen2[cand.ee[o - cand.nvt].b]
-                     : 0.0;
+            a->key[0] = o >= cand.nvt, a->dhat = pair_dhat(c, (int)a->key[0], v);
+            a->eps = a->key[0] ? PLUME_CONTACT_MOLLIFIER_SCALE * c->elen2[cand.ee[o - cand.nvt].a] *
+                                     c->elen2[cand.ee[o - cand.nvt].b]
+                               : 0.0;
         }
         double xs[12], d2 = 0.0;
         gather12(x0, v, xs);
-        st = ee ? plume_contact_ee_dist2(xs, &d2) : plume_contact_pt_dist2(xs, &d2);
+        st = a->key[0] ? plume_contact_ee_dist2(xs, &d2) : plume_contact_pt_dist2(xs, &d2);
         if (st != PLUME_OK)
             return st;
-        if (!(dh > 0.0) || !(d2 < dh * dh))
-            continue;
-        plume_index *k = *keep + 5 * *nkeep;
-        k[0] = ee;
-        memcpy(k + 1, v, sizeof v);
-        (*keps)[*nkeep] = eps;
-        (*kdhat)[*nkeep] = dh;
-        (*nkeep)++;
+        c->nacting += a->dhat > 0.0 && d2 < a->dhat * a->dhat;
     }
-    /* one order whichever list they came from: sorted by key, eps and dhat following */
-    plume_index *k2 = malloc((size_t)(6 * *nkeep + 1) * sizeof *k2);
-    double *e2 = malloc((size_t)(2 * *nkeep + 1) * sizeof *e2);
-    if (!k2 || !e2) {
-        free(k2);
-        free(e2);
-        return PLUME_ENOMEM;
-    }
-    for (plume_index q = 0; q < *nkeep; q++) { /* key, then its position */
-        memcpy(k2 + 6 * q, *keep + 5 * q, 5 * sizeof *k2);
-        k2[6 * q + 5] = q;
-    }
-    qsort(k2, (size_t)*nkeep, 6 * sizeof *k2, key_cmp);
-    for (plume_index q = 0; q < *nkeep; q++) {
-        const plume_index from = k2[6 * q + 5];
-        e2[2 * q] = (*keps)[from], e2[2 * q + 1] = (*kdhat)[from];
-    }
-    for (plume_index q = 0; q < *nkeep; q++) {
-        memcpy(*keep + 5 * q, k2 + 6 * q, 5 * sizeof *k2);
-        (*keps)[q] = e2[2 * q], (*kdhat)[q] = e2[2 * q + 1];
-    }
-    free(k2);
-    free(e2);
+    qsort(c->acting, (size_t)c->nacting, sizeof *c->acting, acting_cmp);
+    c->acting_valid = 1;
     return PLUME_OK;
 }
 
-/* Adds to the n stencils of w (npt point-triangle first) those of keep that are not among them,
+/* Adds to the n stencils of scratch (npt point-triangle first) the acting pairs not among them,
  * each kind after its own; *n and *npt grow */
-static plume_status merge_acting(plume_contact *c, plume_index *n, plume_index *npt, const plume_index *keep,
-                                 const double *keps, const double *kdhat, plume_index nkeep)
+static plume_status merge_acting(plume_contact *c, plume_index *n, plume_index *npt)
 {
     plume_index *keys = malloc((size_t)(5 * *n + 1) * sizeof *keys);
-    plume_index *add = malloc((size_t)(nkeep + 1) * sizeof *add);
+    plume_index *add = malloc((size_t)(c->nacting + 1) * sizeof *add);
     if (!keys || !add) {
         free(keys);
         free(add);
@@ -280,10 +264,10 @@ static plume_status merge_acting(plume_contact *c, plume_index *n, plume_index *
     }
     qsort(keys, (size_t)*n, 5 * sizeof *keys, key_cmp);
     plume_index nadd = 0, addpt = 0;
-    for (plume_index k = 0; k < nkeep; k++)
-        if (!bsearch(keep + 5 * k, keys, (size_t)*n, 5 * sizeof *keys, key_cmp)) {
+    for (plume_index k = 0; k < c->nacting; k++)
+        if (!bsearch(c->acting[k].key, keys, (size_t)*n, 5 * sizeof *keys, key_cmp)) {
             add[nadd++] = k;
-            addpt += keep[5 * k] == 0;
+            addpt += c->acting[k].key[0] == 0;
         }
     free(keys);
     plume_status st = reserve(c, *n + nadd);
@@ -299,10 +283,11 @@ static plume_status merge_acting(plume_contact *c, plume_index *n, plume_index *
     memmove(c->pdhat + *npt + addpt, c->pdhat + *npt, (size_t)nee * sizeof *c->pdhat);
     plume_index ipt = *npt, iee = *n + addpt;
     for (plume_index a = 0; a < nadd; a++) {
-        const plume_index k = add[a], at = keep[5 * k] == 0 ? ipt++ : iee++;
-        memcpy(w + 4 * at, keep + 5 * k + 1, 4 * sizeof *w);
-        c->eps[at] = keps[k];
-        c->pdhat[at] = kdhat[k];
+        const struct acting_pair *p = c->acting + add[a];
+        const plume_index at = p->key[0] == 0 ? ipt++ : iee++;
+        memcpy(w + 4 * at, p->key + 1, 4 * sizeof *w);
+        c->eps[at] = p->eps;
+        c->pdhat[at] = p->dhat;
     }
     *npt += addpt;
     *n += nadd;
@@ -319,9 +304,7 @@ static plume_status contact_update(void *ctx, int dim, const double *x, const pl
     /* In a time step (after a rebase) the pairs that act at the step's last state stay: the
      * potential the step moves on from is then the one the last step ended with (a pair within its
      * dhat there but out of reach of the step's start would leave with its energy) */
-    plume_index *keep = NULL, nkeep = 0;
-    double *keps = NULL, *kdhat = NULL;
-    plume_status st = c->has_start ? acting_at_start(c, c->xstart, &keep, &keps, &kdhat, &nkeep) : PLUME_OK;
+    plume_status st = c->has_start && !c->acting_valid ? find_acting(c, c->xstart) : PLUME_OK;
     plume_contact_candidates cand;
     if (st == PLUME_OK)
         st = plume_contact_broad_update(c->broad, x, NULL, c->o.pair.dhat + c->o.margin, &cand, NULL);
@@ -353,11 +336,8 @@ static plume_status contact_update(void *ctx, int dim, const double *x, const pl
         npt += k < cand.nvt;
         n++;
     }
-    if (st == PLUME_OK && nkeep > 0)
-        st = merge_acting(c, &n, &npt, keep, keps, kdhat, nkeep);
-    free(keep);
-    free(keps);
-    free(kdhat);
+    if (st == PLUME_OK && c->has_start && c->nacting > 0)
+        st = merge_acting(c, &n, &npt);
     if (st != PLUME_OK)
         return st;
     memcpy(c->xupd, x, (size_t)(3 * c->nv) * sizeof *x);
@@ -384,6 +364,7 @@ static plume_status contact_rebase(void *ctx, int dim, double *x)
         return PLUME_EINVAL;
     memcpy(c->xstart, x, (size_t)(3 * c->nv) * sizeof *x);
     c->has_start = 1;
+    c->acting_valid = 0; /* found at the step's first update */
     return PLUME_OK;
 }
 
