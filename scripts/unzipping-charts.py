@@ -179,8 +179,9 @@ def scene(out):
         doc = json.load(f)
     nlines = len(doc["objects"][0]["splits"]["offsets"])
     X0 = x[0]
-    # split_links: engaged, armed, slide per link, 3 offsets per link, 3 totals; the links line by line
-    npairs = (links.shape[1] - 3) // 6
+    # split_links: engaged, armed, slide per link, 3 offsets per link, the softening history per link,
+    # 3 totals (plume_hooks_state_get); the links line by line
+    npairs = (links.shape[1] - 3) // 7
     per_line = npairs // nlines
     nv_in = 25 * 17  # vane_strip.obj's vertices come first, then the copies, then the bill's
     engaged = links[:, :npairs].reshape(len(t), nlines, per_line).sum(axis=2)
