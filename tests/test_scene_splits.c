@@ -12,6 +12,7 @@
 #include <hdf5.h>
 
 #include "harness.h"
+#include "term_fd.h"
 #include "../lib/core/hooks.h"
 #include "../lib/io/curves.h"
 #include "../lib/io/frames.h"
@@ -256,8 +257,10 @@ void test_scene_splits_bad_input(void)
     remove_tree(dir);
 }
 
-/* Seating: a link caught again at a gap and pressed closer keeps hold (its offsets follow the gap,
- * the push's energy dissipated) where without seating the push lets it go; the state round-trips */
+/* Seating: a link caught again at a gap and pressed closer keeps hold where without seating the push
+ * lets it go. With seating on, closing a caught link is free (the contact barrier keeps its lips
+ * apart) and it holds from the closest gap it was pressed to: only opening from there loads it.
+ * The state round-trips. */
 void test_scene_splits_seating(void)
 {
     const plume_index pairs[2] = {0, 1}, first[2] = {0, 1};
@@ -278,14 +281,20 @@ void test_scene_splits_seating(void)
         CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.reengaged == 0);
         x[1] = 4e-6; /* back within the capture: caught at 4 um, no force */
         CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.reengaged == 1);
-        x[1] = 1e-6; /* pressed 3 um closer: a push of 1.5 strengths */
+        x[1] = 1e-6; /* pressed 3 um closer: a push of 1.5 strengths, or free with seating */
         CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
-        const double k = law.strength / law.opening, drop = 0.5 * k * 3e-6 * 3e-6;
-        if (seating)
-            CHECK(ev.seated == 1 && ev.released == 0 && plume_hooks_engaged(h, 0) &&
-                  fabs(ev.energy_drop - drop) < 1e-12 * drop);
-        else
+        const double k = law.strength / law.opening, push = 0.5 * k * 3e-6 * 3e-6;
+        if (seating) {
+            double f[3];
+            CHECK(ev.seated == 1 && ev.released == 0 && plume_hooks_engaged(h, 0) && fabs(ev.energy_drop) < 1e-12 * push);
+            x[1] = 2e-6; /* opened 1 um from where it seated: held at half its strength */
+            plume_hooks_force(h, 3, x, 0, f);
+            CHECK_REL(f[1], 0.5 * law.strength, 1e-9, 0.0);
+            CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.released == 0);
+            x[1] = 1e-6;
+        } else {
             CHECK(ev.seated == 0 && ev.released == 1 && !plume_hooks_engaged(h, 0));
+        }
         /* the state, out and back: the same, and a bad one refused */
         const plume_index n = plume_hooks_state_size(h);
         double *s = malloc((size_t)n * sizeof *s), *t = malloc((size_t)n * sizeof *t);
@@ -297,6 +306,37 @@ void test_scene_splits_seating(void)
         CHECK(plume_hooks_state_set(h, t, &err) == PLUME_EINVAL && strstr(err.msg, "hook 0"));
         free(s);
         free(t);
+        plume_hooks_destroy(&h);
+    }
+    /* a stiff link (a line a thousand times stiffer than the cell, vane C of docs/monoclinic-vane.md):
+     * its strength's opening, 2.9 nm, is far below the seating distance. A push is free at any
+     * depth; pressed beyond the seating distance it holds from there, and lets go 2.9 nm further
+     * open */
+    {
+        const plume_hook_law stiff = {.strength = 1.16, .opening = 2.9e-9, .slide = 0.0, .capture = 5e-6};
+        plume_hooks *h = NULL;
+        plume_err err = {{0}};
+        CHECK(plume_hooks_create(2, 1, first, pairs, &stiff, &h, &err) == PLUME_OK);
+        if (!h)
+            return;
+        CHECK(plume_hooks_set_seating(h, 0.25e-6) == PLUME_OK);
+        double x[6] = {0, 1e-5, 0, 0, 0, 0};
+        plume_hooks_events ev;
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.released == 1);
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.reengaged == 0); /* armed */
+        x[1] = 4e-6;
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.reengaged == 1);
+        x[1] = 4e-6 - 1e-8; /* closed 10 nm, less than the seating distance: free, held where it was */
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+        CHECK(ev.seated == 0 && ev.released == 0 && plume_hooks_engaged(h, 0) && plume_hooks_max_load(h, 3, x, NULL) == 0.0);
+        x[1] = 3e-6; /* closed 1 um: seated there */
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+        CHECK(ev.seated == 1 && ev.released == 0 && plume_hooks_engaged(h, 0));
+        x[1] = 3e-6 + 2e-9; /* 2 nm open from there: 0.69 strengths, held */
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.released == 0);
+        CHECK_REL(plume_hooks_max_load(h, 3, x, NULL), 2.0 / 2.9, 1e-6, 0.0);
+        x[1] = 3e-6 + 4e-9; /* 4 nm: let go */
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.released == 1);
         plume_hooks_destroy(&h);
     }
     /* plume_problem_term_states: a problem's hooks' states by name; a term it lacks is named */
@@ -334,6 +374,45 @@ void test_scene_splits_seating(void)
         x[1] = 0.1e-6; /* together */
         CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
         CHECK(ev.reengaged == seating && plume_hooks_engaged(h, 0) == seating);
+        plume_hooks_destroy(&h);
+    }
+}
+
+/* A caught link with seating on, brittle and softening: finite differences of gradient and Hessian
+ * closed beyond its catch (the closing part free: the Hessian P H P) and opened from it, away from
+ * the kink between the two; a bug that left the closing part in fails them */
+void test_scene_splits_seated_fd(void)
+{
+    const plume_index pairs[2] = {0, 1}, first[2] = {0, 1};
+    const plume_hook_law law = {.strength = 1e-3, .opening = 2e-6, .slide = 0.0, .capture = 5e-6};
+    for (int soft = 0; soft < 2; soft++) {
+        plume_hooks *h = NULL;
+        plume_err err = {{0}};
+        CHECK(plume_hooks_create(2, 1, first, pairs, &law, &h, &err) == PLUME_OK);
+        if (!h)
+            return;
+        CHECK(plume_hooks_set_seating(h, 0.25e-6) == PLUME_OK);
+        if (soft)
+            CHECK(plume_hooks_set_softening(h, 2.0) == PLUME_OK);
+        plume_term t;
+        plume_hooks_term(h, 0, &t);
+        plume_hooks_events ev;
+        double x[6] = {0, 2e-5, 0, 0, 0, 0}; /* let go (past the softening's end too) and armed */
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.released == 1);
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK);
+        x[0] = 1e-6, x[1] = 3e-6, x[2] = 2e-6; /* caught at a gap askew */
+        CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.reengaged == 1);
+        /* closed 40 % along the catch's direction, slid 0.6 um across it */
+        double y[6] = {0.6e-6 + 0.6e-6, 1.8e-6, 1.2e-6 - 0.3e-6, 0, 0, 0};
+        term_fd_check(&t, 2, y, 1e-10, 1e-6, soft ? "seated, softening, closed" : "seated, closed");
+        double E = 0.0, g[6] = {0};
+        CHECK(t.eval(t.ctx, 3, y, &E, g, NULL, 0) == PLUME_OK);
+        /* the closing is free: the force is the slide's alone, across the catch's direction */
+        CHECK(fabs(g[0] * 1.0 + g[1] * 3.0 + g[2] * 2.0) < 1e-9 * fabs(g[0]) * sqrt(14.0));
+        /* opened 0.5 um along it from the catch (below the strength) and slid 0.4 um: both sides */
+        const double s = 1.0 + 0.5e-6 / sqrt(14e-12);
+        double z[6] = {1e-6 * s + 0.4e-6, 3e-6 * s, 2e-6 * s - 0.2e-6, 0, 0, 0};
+        term_fd_check(&t, 2, z, 1e-10, 1e-6, soft ? "seated, softening, opened" : "seated, opened");
         plume_hooks_destroy(&h);
     }
 }

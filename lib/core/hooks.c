@@ -153,20 +153,58 @@ static double pair_stiffness(const plume_hooks *h, int k)
     return h->scale[k] * h->law.strength / h->law.opening / (double)(h->first[k + 1] - h->first[k]);
 }
 
-/* d = x_a - x_b - o_p of pair p */
-static void pair_stretch(const plume_hooks *h, int dim, const double *x, plume_index p, double *d)
-{
-    const plume_index a = h->pairs[2 * p], b = h->pairs[2 * p + 1];
-    for (int c = 0; c < dim; c++)
-        d[c] = x[dim * a + c] - x[dim * b + c] - h->offset[3 * p + c];
-}
-
 static double norm(const double *v, int dim)
 {
     double s = 0.0;
     for (int c = 0; c < dim; c++)
         s += v[c] * v[c];
     return sqrt(s);
+}
+
+/* d = x_a - x_b - o_p of pair p, as it is */
+static void raw_stretch(const plume_hooks *h, int dim, const double *x, plume_index p, double *d)
+{
+    const plume_index a = h->pairs[2 * p], b = h->pairs[2 * p + 1];
+    for (int c = 0; c < dim; c++)
+        d[c] = x[dim * a + c] - x[dim * b + c] - h->offset[3 * p + c];
+}
+
+/* With seating on, a pair caught at a gap (o_p != 0) holds its lips apart only as far as they were:
+ * closing them further, along n = o_p / |o_p|, is free (the contact barrier keeps them apart), and
+ * only opening and sliding stretch it. d_n = d . n of the raw stretch d and n; 0 when the pair is
+ * two-sided (seating off, or caught with its lips together). */
+static int one_sided(const plume_hooks *h, int dim, const double *d, plume_index p, double *dn, double *n)
+{
+    const double *o = h->offset + 3 * p, len = norm(o, dim);
+    if (!(h->seat >= 0.0) || !(len > 0.0))
+        return 0;
+    *dn = 0.0;
+    for (int c = 0; c < dim; c++)
+        n[c] = o[c] / len, *dn += d[c] * n[c];
+    return 1;
+}
+
+/* the stretch d of pair p that its law sees: the raw stretch, less its closing part when the pair
+ * is one-sided; *closed (when not NULL) says that part was taken and n is its direction */
+static void pair_stretch_n(const plume_hooks *h, int dim, const double *x, plume_index p, double *d, int *closed,
+                           double *n)
+{
+    double dn = 0.0, nn[3];
+    raw_stretch(h, dim, x, p, d);
+    const int c1 = one_sided(h, dim, d, p, &dn, nn) && dn < 0.0;
+    if (c1)
+        for (int c = 0; c < dim; c++)
+            d[c] -= dn * nn[c];
+    if (closed)
+        *closed = c1;
+    if (n)
+        for (int c = 0; c < dim; c++)
+            n[c] = nn[c];
+}
+
+static void pair_stretch(const plume_hooks *h, int dim, const double *x, plume_index p, double *d)
+{
+    pair_stretch_n(h, dim, x, p, d, NULL, NULL);
 }
 
 /* The softening law of hook k (one pair) as a function of its opening t = |d|, with its history
@@ -256,6 +294,20 @@ static void soft_pair(const plume_hooks *h, int k, int dim, const double *d, int
     }
 }
 
+/* H <- P H P, P = I - n n^T (n a unit vector; H symmetric dim x dim) */
+static void project_out(double *H, const double *n, int dim)
+{
+    double Hn[3] = {0.0, 0.0, 0.0}, nHn = 0.0;
+    for (int c = 0; c < dim; c++) {
+        for (int e = 0; e < dim; e++)
+            Hn[c] += H[c * dim + e] * n[e];
+        nHn += n[c] * Hn[c];
+    }
+    for (int c = 0; c < dim; c++)
+        for (int e = 0; e < dim; e++)
+            H[c * dim + e] += -Hn[c] * n[e] - n[c] * Hn[e] + nHn * n[c] * n[e];
+}
+
 static plume_status hooks_eval(void *ctx, int dim, const double *x, double *energy, double *grad, double *hblocks,
                                int project)
 {
@@ -263,8 +315,9 @@ static plume_status hooks_eval(void *ctx, int dim, const double *x, double *ener
     const int kb = 2 * dim;
     for (plume_index p = 0; p < h->npairs; p++) {
         const int k = h->hook_of[p];
-        double d[3], g[3] = {0.0, 0.0, 0.0}, H[9] = {0.0}, W = 0.0;
-        pair_stretch(h, dim, x, p, d);
+        double d[3], g[3] = {0.0, 0.0, 0.0}, H[9] = {0.0}, W = 0.0, n[3];
+        int closed = 0;
+        pair_stretch_n(h, dim, x, p, d, &closed, n);
         if (!h->engaged[k]) {
         } else if (h->soften > 1.0) {
             soft_pair(h, k, dim, d, project, &W, g, H);
@@ -275,6 +328,8 @@ static plume_status hooks_eval(void *ctx, int dim, const double *x, double *ener
                 H[c * dim + c] = kp;
             }
         }
+        if (closed && h->engaged[k]) /* d = P d_raw, P = I - n n^T: the gradient is P g = g, the Hessian P H P */
+            project_out(H, n, dim);
         if (energy)
             *energy += W;
         if (grad) {
@@ -371,7 +426,7 @@ static plume_status hooks_term_commit(void *ctx, int dim, const double *x, int m
     plume_status st = plume_hooks_commit(h, dim, x, PLUME_HOOKS_ALL, &ev, NULL);
     h->envelope = 0; /* each softened hook now on its new secant: the same force */
     /* a softening hook's history and its release at zero force leave the equilibrium where it is */
-    r->changed = ev.released - ev.soft_released + ev.slid + ev.reengaged + ev.seated > 0;
+    r->changed = ev.released - ev.soft_released + ev.slid + ev.reengaged > 0; /* a seat moves no force */
     r->released = ev.released, r->reengaged = ev.reengaged, r->energy_drop = ev.energy_drop;
     return st;
 }
@@ -604,22 +659,30 @@ static void hook_gaps(const plume_hooks *h, int dim, const double *x, int k, dou
     *gap = g / n, *offset = o / n;
 }
 
-/* Seating (plume_hooks_set_seating): engaged hook k, caught at a gap and pressed closer than it by
- * more than the seating distance, takes the current gaps as its offsets (its force, a push that
- * would otherwise let it go, is gone; its energy is dissipated). 1 when it seated. */
+/* Seating (plume_hooks_set_seating): an engaged pair caught at a gap and pressed closer than it
+ * by more than the seating distance takes the closer gap as its own: its offset shortens along n
+ * by the closing (never past zero). The closing is free (one_sided), so its force and energy stay
+ * as they are; only where the pair holds from moves. 1 when a pair of hook k seated. */
 static int seat(plume_hooks *h, int dim, const double *x, int k, plume_hooks_events *ev)
 {
-    double gap, offset;
-    hook_gaps(h, dim, x, k, &gap, &offset);
-    if (!(gap < offset - h->seat))
-        return 0;
+    int seated = 0;
     const double before = hook_energy(h, dim, x, k);
-    for (plume_index p = h->first[k]; p < h->first[k + 1]; p++)
+    for (plume_index p = h->first[k]; p < h->first[k + 1]; p++) {
+        double d[3], dn = 0.0, n[3];
+        raw_stretch(h, dim, x, p, d);
+        if (!one_sided(h, dim, d, p, &dn, n) || !(dn < -h->seat))
+            continue;
+        double *o = h->offset + 3 * p;
+        const double len = norm(o, dim), to = fmax(len + dn, 0.0);
         for (int c = 0; c < dim; c++)
-            h->offset[3 * p + c] = x[dim * h->pairs[2 * p] + c] - x[dim * h->pairs[2 * p + 1] + c];
-    ev->seated++;
-    ev->energy_drop += before - hook_energy(h, dim, x, k);
-    return 1;
+            o[c] = to > 0.0 ? n[c] * to : 0.0;
+        seated = 1;
+    }
+    if (seated) {
+        ev->seated++;
+        ev->energy_drop += before - hook_energy(h, dim, x, k);
+    }
+    return seated;
 }
 
 /* A released hook k catches again when the mean distance of its pairs is within the capture,
@@ -668,8 +731,8 @@ plume_status plume_hooks_commit(plume_hooks *h, int dim, const double *x, plume_
             catch_again(h, dim, x, k, &e);
             continue;
         }
-        if (h->seat >= 0.0 && seat(h, dim, x, k, &e))
-            continue;
+        if (h->seat >= 0.0)
+            seat(h, dim, x, k, &e);
         double f[3];
         plume_hooks_force(h, dim, x, k, f);
         if (h->soften > 1.0) {

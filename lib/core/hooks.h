@@ -70,12 +70,14 @@ plume_status plume_hooks_set_overshoot(plume_hooks *h, double factor);
  * PLUME_EINVAL for a bad hook or scale. */
 plume_status plume_hooks_set_scale(plume_hooks *h, int k, double scale);
 
-/** Seating, off at creation: a hook caught again at a gap (its offsets that gap) and then pressed
- * closer than it by more than `distance` (m, >= 0) is not pushed loose: at a commit it takes the
- * current gaps as its offsets, its push and energy gone (dissipated), and the stepper solves
- * again. A hook whose lips close back after it caught then stays caught, within `distance` of where
- * they meet, instead of letting go under the push (the macro lines: closing a line by pressing
- * its lips together, docs/unzipping.md). The hooks at creation (offsets zero) never seat.
+/** Seating, off at creation. With it on, a hook caught again at a gap (its offsets that gap) holds
+ * its lips apart only as far as they were: closing them further along the gap's direction is free
+ * (its energy sees the stretch less its closing part; the contact barrier keeps the lips apart),
+ * and only opening and sliding load it. A hook pressed closer than its catch by more than
+ * `distance` (m, >= 0) seats at a commit: each pair's offset shortens along its direction by the
+ * closing (never past zero), so that it holds from there. A seat moves no force and no energy, so
+ * the stepper does not solve again for it. The hooks at creation (offsets zero) are two-sided and
+ * never seat (the macro lines: closing a line by pressing its lips together, docs/unzipping.md).
  * With seating on, a released hook whose mean gap comes back within `distance` also catches
  * again, whether or not it opened beyond the capture since it let go (a link by a held line end
  * that let go with its lips together).

@@ -28,10 +28,9 @@ extern "C" {
  * allow PLUME_HOOKS_OVERSHOOT). */
 #define PLUME_SPLIT_OVERSHOOT 1.02
 
-/** A link that caught again and is pressed closer seats (plume_hooks_set_seating) once the lips
- * are this many capture distances closer than where it caught: a line pressed shut stays shut
- * instead of letting go under the push, its lips within 5 % of the capture of where they meet
- * (docs/unzipping.md, "Closing a line"). */
+/** A link that caught again closes freely and seats (plume_hooks_set_seating) once its lips are
+ * this many capture distances closer than where it caught: a line pressed shut holds from within
+ * 5 % of the capture of where its lips met (docs/unzipping.md, "Seating"). */
 #define PLUME_SPLIT_SEATING 0.05
 
 /** A mesh opened along barb lines, and the pairs that hold it; everything owned
