@@ -379,8 +379,9 @@ void test_scene_splits_seating(void)
 }
 
 /* A caught link with seating on, brittle and softening: finite differences of gradient and Hessian
- * closed beyond its catch (the closing part free: the Hessian P H P) and opened from it, away from
- * the kink between the two; a bug that left the closing part in fails them */
+ * closed beyond its catch (the closing part free: the Hessian P H P), opened from it, and pressed
+ * through the meeting point, away from the kinks between them; a bug that left the closing part in
+ * fails them. A seat past the meeting point moves neither energy nor force. */
 void test_scene_splits_seated_fd(void)
 {
     const plume_index pairs[2] = {0, 1}, first[2] = {0, 1};
@@ -413,6 +414,18 @@ void test_scene_splits_seated_fd(void)
         const double s = 1.0 + 0.5e-6 / sqrt(14e-12);
         double z[6] = {1e-6 * s + 0.4e-6, 3e-6 * s, 2e-6 * s - 0.2e-6, 0, 0, 0};
         term_fd_check(&t, 2, z, 1e-10, 1e-6, soft ? "seated, softening, opened" : "seated, opened");
+        /* pressed through each other, half the catch's gap beyond where they met, and slid: it
+         * resists about the meeting point */
+        double w[6] = {-0.5e-6 + 0.3e-6, -1.5e-6, -1e-6 - 0.15e-6, 0, 0, 0};
+        term_fd_check(&t, 2, w, 1e-10, 1e-6, soft ? "seated, softening, pressed through" : "seated, pressed through");
+        /* a seat moves neither energy nor force, within the band or past it */
+        double gb[6] = {0}, ga[6] = {0}, Eb = 0.0, Ea = 0.0;
+        CHECK(t.eval(t.ctx, 3, w, &Eb, gb, NULL, 0) == PLUME_OK);
+        CHECK(plume_hooks_commit(h, 3, w, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.seated == 1 && ev.released == 0);
+        CHECK(t.eval(t.ctx, 3, w, &Ea, ga, NULL, 0) == PLUME_OK);
+        CHECK(Eb > 0.0 && fabs(Ea - Eb) < 1e-12 * Eb && fabs(ev.energy_drop) < 1e-12 * Eb);
+        for (int i = 0; i < 6; i++)
+            CHECK(fabs(ga[i] - gb[i]) < 1e-12 * fabs(gb[0]) + 1e-30);
         plume_hooks_destroy(&h);
     }
 }

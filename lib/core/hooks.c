@@ -170,9 +170,10 @@ static void raw_stretch(const plume_hooks *h, int dim, const double *x, plume_in
 }
 
 /* With seating on, a pair caught at a gap (o_p != 0) holds its lips apart only as far as they were:
- * closing them further, along n = o_p / |o_p|, is free (the contact barrier keeps them apart), and
- * only opening and sliding stretch it. d_n = d . n of the raw stretch d and n; 0 when the pair is
- * two-sided (seating off, or caught with its lips together). */
+ * closing them further along n = o_p / |o_p|, down to where they meet (d . n = -|o_p|), is free,
+ * and only opening and sliding stretch it; pressed through each other it resists again, as a pair
+ * at creation does about their meeting point. d_n = d . n of the raw stretch d and n; 0 when the
+ * pair is two-sided (seating off, or caught with its lips together). */
 static int one_sided(const plume_hooks *h, int dim, const double *d, plume_index p, double *dn, double *n)
 {
     const double *o = h->offset + 3 * p, len = norm(o, dim);
@@ -184,17 +185,21 @@ static int one_sided(const plume_hooks *h, int dim, const double *d, plume_index
     return 1;
 }
 
-/* the stretch d of pair p that its law sees: the raw stretch, less its closing part when the pair
- * is one-sided; *closed (when not NULL) says that part was taken and n is its direction */
+/* the stretch d of pair p that its law sees: the raw stretch, less its free closing when the pair
+ * is one-sided (all of d_n within the free band, |o_p| of it beyond); *closed (when not NULL) says
+ * d_n is inside the band, where d does not depend on it, and n is its direction */
 static void pair_stretch_n(const plume_hooks *h, int dim, const double *x, plume_index p, double *d, int *closed,
                            double *n)
 {
-    double dn = 0.0, nn[3];
+    double dn = 0.0, nn[3] = {0.0, 0.0, 0.0};
     raw_stretch(h, dim, x, p, d);
-    const int c1 = one_sided(h, dim, d, p, &dn, nn) && dn < 0.0;
-    if (c1)
+    int c1 = 0;
+    if (one_sided(h, dim, d, p, &dn, nn) && dn < 0.0) {
+        const double band = norm(h->offset + 3 * p, dim), free_part = fmax(dn, -band);
+        c1 = dn >= -band;
         for (int c = 0; c < dim; c++)
-            d[c] -= dn * nn[c];
+            d[c] -= free_part * nn[c];
+    }
     if (closed)
         *closed = c1;
     if (n)
@@ -661,8 +666,9 @@ static void hook_gaps(const plume_hooks *h, int dim, const double *x, int k, dou
 
 /* Seating (plume_hooks_set_seating): an engaged pair caught at a gap and pressed closer than it
  * by more than the seating distance takes the closer gap as its own: its offset shortens along n
- * by the closing (never past zero). The closing is free (one_sided), so its force and energy stay
- * as they are; only where the pair holds from moves. 1 when a pair of hook k seated. */
+ * by the closing, to zero where the lips met or passed each other. The closing within the band is
+ * free and the resistance beyond it is about the meeting point (one_sided), so its force and
+ * energy stay as they are; only where the pair holds from moves. 1 when a pair of hook k seated. */
 static int seat(plume_hooks *h, int dim, const double *x, int k, plume_hooks_events *ev)
 {
     int seated = 0;
