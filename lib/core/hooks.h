@@ -71,11 +71,12 @@ plume_status plume_hooks_set_overshoot(plume_hooks *h, double factor);
 plume_status plume_hooks_set_scale(plume_hooks *h, int k, double scale);
 
 /** Seating, off at creation. With it on, a hook caught again at a gap (its offsets that gap) holds
- * its lips apart only as far as they were: closing them further along the gap's direction is free
- * (its energy sees the stretch less its closing part; the contact barrier keeps the lips apart),
- * and only opening and sliding load it. A hook pressed closer than its catch by more than
- * `distance` (m, >= 0) seats at a commit: each pair's offset shortens along its direction by the
- * closing (never past zero), so that it holds from there. A seat moves no force and no energy, so
+ * its lips apart only as far as they were: closing them further along the gap's direction, down to
+ * where they meet, is free (its energy sees the stretch less its closing part), and only opening
+ * and sliding load it; pressed through each other, it resists about their meeting point as a hook
+ * at creation does. A hook pressed closer than its catch by more than `distance` (m, >= 0) seats
+ * at a commit: each pair's offset shortens along its direction by the closing (to zero where the
+ * lips met), so that it holds from there. A seat moves no force and no energy, so
  * the stepper does not solve again for it. The hooks at creation (offsets zero) are two-sided and
  * never seat (the macro lines: closing a line by pressing its lips together, docs/unzipping.md).
  * With seating on, a released hook whose mean gap comes back within `distance` also catches
