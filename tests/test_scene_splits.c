@@ -257,22 +257,32 @@ void test_scene_splits_bad_input(void)
     remove_tree(dir);
 }
 
+/* One link between vertices 0 and 1 with the law, seating at `seating` (m; < 0: off); NULL (and a
+ * failed check) when it cannot be made */
+static plume_hooks *one_link(const plume_hook_law *law, double seating)
+{
+    static const plume_index pairs[2] = {0, 1}, first[2] = {0, 1};
+    plume_hooks *h = NULL;
+    plume_err err = {{0}};
+    CHECK(plume_hooks_create(2, 1, first, pairs, law, &h, &err) == PLUME_OK);
+    if (h && seating >= 0.0)
+        CHECK(plume_hooks_set_seating(h, seating) == PLUME_OK);
+    return h;
+}
+
 /* Seating: a link caught again at a gap and pressed closer keeps hold where without seating the push
- * lets it go. With seating on, closing a caught link is free (the contact barrier keeps its lips
- * apart) and it holds from the closest gap it was pressed to: only opening from there loads it.
+ * lets it go. With seating on, closing a caught link is free down to where its lips meet, and it
+ * holds from the closest gap it was pressed to: only opening from there loads it.
  * The state round-trips. */
 void test_scene_splits_seating(void)
 {
     const plume_index pairs[2] = {0, 1}, first[2] = {0, 1};
     const plume_hook_law law = {.strength = 1e-3, .opening = 2e-6, .slide = 0.0, .capture = 5e-6};
     for (int seating = 0; seating < 2; seating++) {
-        plume_hooks *h = NULL;
+        plume_hooks *h = one_link(&law, seating ? 0.25e-6 : -1.0);
         plume_err err = {{0}};
-        CHECK(plume_hooks_create(2, 1, first, pairs, &law, &h, &err) == PLUME_OK);
         if (!h)
             return;
-        if (seating)
-            CHECK(plume_hooks_set_seating(h, 0.25e-6) == PLUME_OK);
         CHECK(plume_hooks_set_seating(h, -1.0) == PLUME_EINVAL);
         double x[6] = {0, 3e-6, 0, 0, 0, 0};
         plume_hooks_events ev;
@@ -314,12 +324,10 @@ void test_scene_splits_seating(void)
      * open */
     {
         const plume_hook_law stiff = {.strength = 1.16, .opening = 2.9e-9, .slide = 0.0, .capture = 5e-6};
-        plume_hooks *h = NULL;
+        plume_hooks *h = one_link(&stiff, 0.25e-6);
         plume_err err = {{0}};
-        CHECK(plume_hooks_create(2, 1, first, pairs, &stiff, &h, &err) == PLUME_OK);
         if (!h)
             return;
-        CHECK(plume_hooks_set_seating(h, 0.25e-6) == PLUME_OK);
         double x[6] = {0, 1e-5, 0, 0, 0, 0};
         plume_hooks_events ev;
         CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.released == 1);
@@ -359,13 +367,10 @@ void test_scene_splits_seating(void)
     /* a link let go with its lips held together (by a line's end) never clears the capture: with
      * seating it catches once they are within the seating distance, without it it stays open */
     for (int seating = 0; seating < 2; seating++) {
-        plume_hooks *h = NULL;
+        plume_hooks *h = one_link(&law, seating ? 0.25e-6 : -1.0);
         plume_err err = {{0}};
-        CHECK(plume_hooks_create(2, 1, first, pairs, &law, &h, &err) == PLUME_OK);
         if (!h)
             return;
-        if (seating)
-            CHECK(plume_hooks_set_seating(h, 0.25e-6) == PLUME_OK);
         double x[6] = {0, 2.5e-6, 0, 0, 0, 0}; /* 1.25 strengths */
         plume_hooks_events ev;
         CHECK(plume_hooks_commit(h, 3, x, PLUME_HOOKS_ALL, &ev, &err) == PLUME_OK && ev.released == 1);
@@ -384,15 +389,12 @@ void test_scene_splits_seating(void)
  * fails them. A seat past the meeting point moves neither energy nor force. */
 void test_scene_splits_seated_fd(void)
 {
-    const plume_index pairs[2] = {0, 1}, first[2] = {0, 1};
     const plume_hook_law law = {.strength = 1e-3, .opening = 2e-6, .slide = 0.0, .capture = 5e-6};
     for (int soft = 0; soft < 2; soft++) {
-        plume_hooks *h = NULL;
+        plume_hooks *h = one_link(&law, 0.25e-6);
         plume_err err = {{0}};
-        CHECK(plume_hooks_create(2, 1, first, pairs, &law, &h, &err) == PLUME_OK);
         if (!h)
             return;
-        CHECK(plume_hooks_set_seating(h, 0.25e-6) == PLUME_OK);
         if (soft)
             CHECK(plume_hooks_set_softening(h, 2.0) == PLUME_OK);
         plume_term t;
