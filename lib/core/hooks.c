@@ -672,12 +672,14 @@ static void hook_gaps(const plume_hooks *h, int dim, const double *x, int k, dou
 static int seat(plume_hooks *h, int dim, const double *x, int k, plume_hooks_events *ev)
 {
     int seated = 0;
-    const double before = hook_energy(h, dim, x, k);
+    double before = 0.0;
     for (plume_index p = h->first[k]; p < h->first[k + 1]; p++) {
         double d[3], dn = 0.0, n[3];
         raw_stretch(h, dim, x, p, d);
         if (!one_sided(h, dim, d, p, &dn, n) || !(dn < -h->seat))
             continue;
+        if (!seated) /* the energy before the hook's first seat, only when it seats */
+            before = hook_energy(h, dim, x, k);
         double *o = h->offset + 3 * p;
         const double len = norm(o, dim), to = fmax(len + dn, 0.0);
         for (int c = 0; c < dim; c++)
